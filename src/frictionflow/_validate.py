@@ -1,0 +1,58 @@
+"""Argument checks shared by the API and the CLI.
+
+Every check raises ``ValueError`` with one line that names the parameter and
+the range it must lie in; the CLI prints that line and exits with code 2.
+"""
+
+from __future__ import annotations
+
+import math
+
+
+def finite(name: str, value: float) -> float:
+    """Return ``value`` as a float; it must be a finite real number."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite real number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must be a finite real number, got {value!r}")
+    return x
+
+
+def nonnegative(name: str, value: float) -> float:
+    """A finite number >= 0."""
+    x = finite(name, value)
+    if x < 0:
+        raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
+    return x
+
+
+def positive(name: str, value: float) -> float:
+    """A finite number > 0."""
+    x = finite(name, value)
+    if x <= 0:
+        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+    return x
+
+
+def at_least(name: str, value: float, lower: float, lower_name: str) -> float:
+    """A finite number >= ``lower`` (whose name is quoted in the message)."""
+    x = finite(name, value)
+    if x < lower:
+        raise ValueError(f"{name} must be >= {lower_name} = {lower:g}, got {value!r}")
+    return x
+
+
+def positive_int(name: str, value: int) -> int:
+    """An integer >= 1."""
+    if isinstance(value, bool) or not float(value).is_integer() or int(value) < 1:
+        raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+    return int(value)
+
+
+def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
+    """One of ``allowed``."""
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {', '.join(allowed)}, got {value!r}")
+    return value

@@ -1,0 +1,32 @@
+"""Force transmissibility TR_B (paper Eq. 6)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..trajectory import Trajectory
+
+
+def _slice(traj: Trajectory, window: tuple[float, float] | None) -> slice:
+    if window is None:
+        return slice(0, len(traj))
+    return slice(traj.index(window[0]), traj.index(window[1]) + 1)
+
+
+def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None) -> float:
+    """TR_B = max |F_tB| / F_ex over the window, F_tB = X + 2 zeta X', F_ex = F_d.
+
+    NaN when F_d = 0 (no excitation level to refer to).
+    """
+    fd = traj.friction.fd
+    if fd <= 0:
+        return float("nan")
+    s = _slice(traj, window)
+    return float(np.max(np.abs(traj.transmitted_force[s])) / fd)
+
+
+def amplitude(traj: Trajectory, window: tuple[float, float] | None = None) -> dict[str, float]:
+    """Extremes of X and X' over the window."""
+    s = _slice(traj, window)
+    x, v = traj.x[s], traj.v[s]
+    return {"X_min": float(x.min()), "X_max": float(x.max()), "V_min": float(v.min()), "V_max": float(v.max())}

@@ -1,0 +1,65 @@
+"""The ``frictionflow`` command: a thin layer over the Python API.
+
+Errors in what the user typed (bad values, unknown options, malformed
+configs) print one line ``error: ...`` on stderr and exit with code 2, before
+anything is computed or written.
+"""
+
+from __future__ import annotations
+
+import sys
+import warnings
+
+import typer
+
+app = typer.Typer(
+    name="frictionflow",
+    help="Dynamics and vibration power flow of dry-friction (mass-on-belt) oscillators.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,
+)
+
+
+
+@app.callback()
+def _root() -> None:
+    """Dynamics and vibration power flow of dry-friction (mass-on-belt) oscillators."""
+
+
+from . import simulate as _simulate  # noqa: E402,F401  (registers the command)
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):  # noqa: ANN001
+    print(f"warning: {message}", file=sys.stderr)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; returns the exit code (0 ok, 1 failure, 2 bad input)."""
+    warnings.showwarning = _one_line_warning
+    command = typer.main.get_command(app)
+    try:
+        command.main(args=argv, prog_name="frictionflow", standalone_mode=False)
+    except typer.Exit as e:
+        return e.exit_code
+    except typer.Abort:
+        print("aborted", file=sys.stderr)
+        return 1
+    except ValueError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    except Exception as e:
+        # Usage errors of click (vendored by recent typer): unknown options, bad types.
+        if hasattr(e, "format_message") and hasattr(e, "exit_code"):
+            if type(e).__name__ == "NoArgsIsHelpError":
+                print(e.format_message(), file=sys.stderr)
+            else:
+                print(f"error: {e.format_message()}", file=sys.stderr)
+            return int(e.exit_code)
+        raise
+    return 0
+
+
+def run() -> None:  # pragma: no cover - console script
+    sys.exit(main())

@@ -1,0 +1,125 @@
+"""The mass-on-belt oscillator and its dimensional <-> non-dimensional conversion.
+
+The model (paper Eq. 1-5) in non-dimensional form is::
+
+    X'' + 2 zeta X' + X = F_c(V_r),     V_r = V_b - X'
+
+with time tau = omega0 t.  The paper's Eq. 1 prints ``m x'' + 2c x' + k x``; its
+Eq. 3-4 (zeta = c / (2 m omega0), ``X'' + 2 zeta X' + X``) only follow from the
+standard form ``m x'' + c x' + k x = f_c``, which is the one used here.
+
+The friction parameters (F_d, F_s, V_d, ...) belong to the friction law
+(:mod:`frictionflow.friction`); :class:`BeltOscillator` holds the structure
+(zeta) and the belt (V_b).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+from . import _validate as check
+
+
+@dataclass(frozen=True)
+class BeltOscillator:
+    """Non-dimensional single-DOF oscillator on a belt.
+
+    Parameters
+    ----------
+    zeta:
+        Damping ratio c / (2 m omega0), >= 0 (0 is the paper's Case I).
+    vb:
+        Belt speed V_b = v_b / (omega0 l_0), any finite value.
+    """
+
+    zeta: float = 0.0
+    vb: float = 0.01
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "zeta", check.nonnegative("zeta", self.zeta))
+        object.__setattr__(self, "vb", check.finite("vb", self.vb))
+
+    def as_dict(self) -> dict[str, float]:
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class DimensionalParams:
+    """Dimensional parameters (SI or any consistent units).
+
+    ``f_ms`` (maximum static friction) defaults to ``f_d`` and ``v_d`` (the
+    Karnopp dead-zone half width) to the paper's V_d = 1e-3 in
+    non-dimensional units.
+    """
+
+    m: float
+    c: float
+    k: float
+    v_b: float
+    f_d: float
+    f_ms: float | None = None
+    v_d: float | None = None
+    l_0: float = 1.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "m", check.positive("m", self.m))
+        object.__setattr__(self, "c", check.nonnegative("c", self.c))
+        object.__setattr__(self, "k", check.positive("k", self.k))
+        object.__setattr__(self, "v_b", check.finite("v_b", self.v_b))
+        object.__setattr__(self, "f_d", check.nonnegative("f_d", self.f_d))
+        object.__setattr__(self, "l_0", check.positive("l_0", self.l_0))
+        if self.f_ms is None:
+            object.__setattr__(self, "f_ms", self.f_d)
+        object.__setattr__(self, "f_ms", check.at_least("f_ms", self.f_ms, self.f_d, "f_d"))
+        if self.v_d is None:
+            object.__setattr__(self, "v_d", 1e-3 * self.omega0 * self.l_0)
+        object.__setattr__(self, "v_d", check.positive("v_d", self.v_d))
+
+    @property
+    def omega0(self) -> float:
+        """Undamped natural frequency sqrt(k/m)."""
+        return math.sqrt(self.k / self.m)
+
+    def nondimensional(self) -> dict[str, float]:
+        """Eq. 3: zeta, V_b, F_d, F_s, V_d (and omega0 for the time scale tau = omega0 t)."""
+        w0 = self.omega0
+        force = self.k * self.l_0
+        return {
+            "zeta": self.c / (2.0 * self.m * w0),
+            "vb": self.v_b / (w0 * self.l_0),
+            "fd": self.f_d / force,
+            "fs": float(self.f_ms) / force,
+            "vd": float(self.v_d) / (w0 * self.l_0),
+            "omega0": w0,
+        }
+
+    @classmethod
+    def from_nondimensional(
+        cls,
+        *,
+        zeta: float,
+        vb: float,
+        fd: float,
+        fs: float | None = None,
+        vd: float = 1e-3,
+        m: float = 1.0,
+        k: float = 1.0,
+        l_0: float = 1.0,
+    ) -> "DimensionalParams":
+        """Inverse of :meth:`nondimensional` for a chosen mass, stiffness and length."""
+        w0 = math.sqrt(check.positive("k", k) / check.positive("m", m))
+        force = k * l_0
+        return cls(
+            m=m,
+            c=2.0 * m * w0 * zeta,
+            k=k,
+            v_b=vb * w0 * l_0,
+            f_d=fd * force,
+            f_ms=(fd if fs is None else fs) * force,
+            v_d=vd * w0 * l_0,
+            l_0=l_0,
+        )
+
+    def as_dict(self) -> dict[str, float]:
+        return asdict(self)

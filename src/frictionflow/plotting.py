@@ -1,0 +1,78 @@
+"""Figures of one run: time history, phase portrait and power flow."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+
+from .analysis.power_flow import instantaneous_power
+from .analysis.summary import Analysis
+
+FIGURE_FORMATS = (".png", ".pdf", ".svg")
+MAX_POINTS = 20_000
+
+
+def _thin(n: int, max_points: int = MAX_POINTS) -> slice:
+    return slice(None, None, max(1, n // max_points))
+
+
+def plot_run(result: Analysis, path: str | Path | None = None):
+    """Draw X(tau), X'(tau), the phase portrait and the power flow of the steady window.
+
+    Returns the matplotlib figure; saves it to ``path`` (PNG, PDF or SVG by
+    extension) when given.
+    """
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    traj = result.trajectory
+    ss = result.steady_state
+    i0, i1 = traj.index(ss.window[0]), traj.index(ss.window[1])
+    whole = _thin(len(traj))
+    win = slice(i0, i1 + 1)
+    wthin = _thin(i1 + 1 - i0)
+
+    fig, ax = plt.subplots(2, 2, figsize=(10, 7), constrained_layout=True)
+    ax[0, 0].plot(traj.t[whole], traj.x[whole], lw=0.7, label="X")
+    ax[0, 0].plot(traj.t[whole], traj.v[whole], lw=0.7, label="X'")
+    ax[0, 0].axvspan(*ss.window, color="0.9", zorder=0, label=f"window ({ss.kind})")
+    ax[0, 0].set(xlabel=r"$\tau$", title="time history")
+    ax[0, 0].legend(loc="upper right", fontsize=8)
+
+    ax[0, 1].plot(traj.x[whole], traj.v[whole], lw=0.5, color="0.7", label="whole run")
+    ax[0, 1].plot(traj.x[win][wthin], traj.v[win][wthin], lw=1.0, color="C3", label="steady-state window")
+    ax[0, 1].axhline(traj.vb, color="k", ls=":", lw=0.8, label=r"$X'=V_b$")
+    ax[0, 1].set(xlabel="X", ylabel="X'", title="phase portrait")
+    ax[0, 1].legend(loc="lower left", fontsize=8)
+
+    # The last three periods of the window (or the last 20 time units) keep the waveform legible.
+    span = 3 * ss.period if ss.period else 20.0
+    j0 = max(i0, traj.index(ss.window[1] - span))
+    last = slice(j0, i1 + 1)
+    p = instantaneous_power(traj)
+    lthin = _thin(i1 + 1 - j0)
+    tw = traj.t[last][lthin]
+    for key, label in (("P_f", r"$P_f$"), ("P_dv", r"$P_{dv}$"), ("P_heat", r"$P_{heat}$")):
+        ax[1, 0].plot(tw, p[key][last][lthin], lw=0.8, label=label)
+    ax[1, 0].set(xlabel=r"$\tau$", title="instantaneous power (end of window)")
+    ax[1, 0].legend(loc="upper right", fontsize=8)
+
+    av = result.power.averages()
+    names = ["P_fin", "P_df", "P_dv", "P_belt", "P_heat"]
+    vals = [av[k] for k in names]
+    ax[1, 1].bar(names, vals, color=["C2", "C1", "C0", "C4", "C3"])
+    ax[1, 1].set(title=f"averages (residual {result.energy_residual:.1e})")
+    ax[1, 1].ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
+
+    params = f"ζ={traj.zeta:g}, V_b={traj.vb:g}, F_d={traj.friction.fd:g}, F_s={traj.friction.fs:g}"
+    fig.suptitle(f"{params}   TR_B={result.TR_B:.4g}")
+    if path is not None:
+        fig.savefig(path)
+        plt.close(fig)
+    return fig
+
+

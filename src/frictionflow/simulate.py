@@ -1,0 +1,48 @@
+"""``simulate``: the one entry point that runs a model with a friction law and a solver."""
+
+from __future__ import annotations
+
+from . import _validate as check
+from .friction.base import FrictionLaw
+from .params import BeltOscillator
+from .solvers.base import Solver
+from .solvers.rk4 import RK4
+from .trajectory import Trajectory
+
+
+def simulate(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    solver: Solver | None = None,
+    *,
+    t_end: float = 500.0,
+    x0: float | None = None,
+    v0: float | None = None,
+    progress: bool = False,
+) -> Trajectory:
+    """Integrate the belt oscillator from tau = 0 to ``t_end``.
+
+    Parameters
+    ----------
+    model, friction:
+        The oscillator (zeta, V_b) and the friction law (F_d, F_s, ...).
+    solver:
+        A solver object; default :class:`~frictionflow.solvers.RK4` with dt = 1e-3.
+    t_end:
+        Non-dimensional end time, > 0.
+    x0, v0:
+        Initial state; defaults are the paper's X(0) = F_d, X'(0) = V_b.
+    progress:
+        Draw a progress bar on stderr for long runs.
+    """
+    if not isinstance(model, BeltOscillator):
+        raise TypeError(f"model must be a BeltOscillator, got {type(model).__name__}")
+    if not isinstance(friction, FrictionLaw):
+        raise TypeError(f"friction must be a FrictionLaw, got {type(friction).__name__}")
+    t_end = check.positive("t_end", t_end)
+    x0 = friction.fd if x0 is None else check.finite("x0", x0)
+    v0 = model.vb if v0 is None else check.finite("v0", v0)
+    solver = RK4() if solver is None else solver
+    if not solver.supports(friction):
+        raise ValueError(f"solver={solver.name} does not support friction={friction.name}")
+    return solver.solve(model, friction, x0, v0, t_end, progress=progress)
