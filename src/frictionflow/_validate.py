@@ -9,20 +9,20 @@ from __future__ import annotations
 import math
 
 
-def finite(name: str, value: float) -> float:
+def finite(name: str, value: float, allowed: str = "a finite real number") -> float:
     """Return ``value`` as a float; it must be a finite real number."""
     try:
         x = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite real number, got {value!r}") from None
+        raise ValueError(f"{name} must be {allowed}, got {value!r}") from None
     if not math.isfinite(x):
-        raise ValueError(f"{name} must be a finite real number, got {value!r}")
+        raise ValueError(f"{name} must be {allowed}, got {value!r}")
     return x
 
 
 def nonnegative(name: str, value: float) -> float:
     """A finite number >= 0."""
-    x = finite(name, value)
+    x = finite(name, value, "finite and >= 0")
     if x < 0:
         raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
     return x
@@ -30,7 +30,7 @@ def nonnegative(name: str, value: float) -> float:
 
 def positive(name: str, value: float) -> float:
     """A finite number > 0."""
-    x = finite(name, value)
+    x = finite(name, value, "finite and > 0")
     if x <= 0:
         raise ValueError(f"{name} must be finite and > 0, got {value!r}")
     return x
@@ -38,7 +38,7 @@ def positive(name: str, value: float) -> float:
 
 def at_least(name: str, value: float, lower: float, lower_name: str) -> float:
     """A finite number >= ``lower`` (whose name is quoted in the message)."""
-    x = finite(name, value)
+    x = finite(name, value, f"finite and >= {lower_name}")
     if x < lower:
         raise ValueError(f"{name} must be >= {lower_name} = {lower:g}, got {value!r}")
     return x

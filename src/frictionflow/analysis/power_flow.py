@@ -12,7 +12,8 @@ Averages over a window of length tau_p (Eq. 9):
   which would be a time fraction, not a power; the text ("the power
   dissipated by the friction") and P_dv + P_df = P_fin for periodic motion
   only hold for the magnitude of the negative part;
-* ``R_c`` = P_dv / P_fin and ``R_f`` = P_df / P_fin.
+* ``R_c`` = P_dv / P_fin and ``R_f`` = P_df / P_fin (NaN when friction puts
+  in nothing above rounding, as at an equilibrium).
 
 Beyond the paper, P_f = P_belt - P_heat with P_belt = F_c V_b the power the
 belt delivers and P_heat = F_c V_r >= 0 the heat generated at the interface
@@ -30,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core import sections as sec
 from ..trajectory import Trajectory
 
 
@@ -39,7 +41,8 @@ class PowerFlow:
 
     ``energy_residual`` is |Delta(K+U) + W_dv - W_f| over the window relative
     to the friction input W_fin; when W_fin is below 1e-12 of the stored
-    energy times the window length (an equilibrium), relative to the latter.
+    energy times the window length (an equilibrium), relative to the latter
+    (see :func:`frictionflow.core.sections.averages`).
     """
 
     window: tuple[float, float]
@@ -60,10 +63,6 @@ class PowerFlow:
         return {"window": list(self.window), **self.averages(), "energy_residual": self.energy_residual}
 
 
-def _ratio(a: float, b: float) -> float:
-    return a / b if b > 0 else float("nan")
-
-
 def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> PowerFlow:
     """Time-averaged power flow of ``traj`` over ``window`` (whole run if None).
 
@@ -77,29 +76,20 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
     if i1 <= i0:
         raise ValueError(f"window must span at least one sample, got {window}")
     t0, t1 = float(traj.t[i0]), float(traj.t[i1])
-    span = t1 - t0
-    w_dv, w_in, w_out, w_heat = traj.work[i1] - traj.work[i0]
-    w_f = w_in - w_out
-    d_energy = traj.energy[i1] - traj.energy[i0]
-    residual_abs = abs(d_energy + w_dv - w_f)
-    # Relative to the friction input; when friction puts in (next to) nothing,
-    # as at an equilibrium, relative to the stored energy over the window.
-    e_ref = float(np.mean(traj.energy[i0 : i1 + 1])) * span
-    norm = w_in if w_in > 1e-12 * e_ref else e_ref
-    residual = residual_abs / norm if norm > 0 else 0.0
-    w_belt = w_f + w_heat
-    p_in = w_in / span
+    dw = traj.work[i1] - traj.work[i0]
+    e = traj.energy
+    a = sec.averages(dw[0], dw[1], dw[2], dw[3], e[i0], e[i1], t1 - t0)
     return PowerFlow(
         window=(t0, t1),
-        P_dv=w_dv / span,
-        P_df=w_out / span,
-        P_fin=p_in,
-        P_f=w_f / span,
-        P_belt=w_belt / span,
-        P_heat=w_heat / span,
-        R_c=_ratio(w_dv / span, p_in),
-        R_f=_ratio(w_out / span, p_in),
-        energy_residual=float(residual),
+        P_dv=float(a[sec.P_DV]),
+        P_df=float(a[sec.P_DF]),
+        P_fin=float(a[sec.P_FIN]),
+        P_f=float(a[sec.P_F]),
+        P_belt=float(a[sec.P_BELT]),
+        P_heat=float(a[sec.P_HEAT]),
+        R_c=float(a[sec.R_C]),
+        R_f=float(a[sec.R_F]),
+        energy_residual=float(a[sec.RESID]),
     )
 
 

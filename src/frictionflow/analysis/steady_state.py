@@ -6,28 +6,36 @@ Three outcomes:
     The maxima and minima of X on the section X' = 0 have repeated, with the
     same period, to within ``rtol`` for at least ``min_periods`` periods.  The
     window is the whole number of trailing periods that repeat, cut at the
-    section.
+    section (at the first sample after each crossing).  Fixed-step runs
+    through a stick band jitter from cycle to cycle -- where the step lands
+    relative to the band edge changes every cycle -- so for them a sequence
+    with no significant trend over at least 8 periods is accepted, and its
+    relative spread reported as ``jitter``.
 ``equilibrium``
-    X and X' have stopped moving (spread below ``rtol`` over the tail).
+    X and X' have stopped moving (spread below ``rtol``) over the tail, the
+    last 10 % of the run (at least 4 pi).
 ``not_settled``
     Neither.  The amplitude's measured exponential rate (``decay_rate`` > 0:
     decaying, < 0: growing) and where the sequence is heading (Aitken
-    extrapolation of the amplitudes and centres) are reported; the window is
-    the last whole period, or the tail of the run.
+    extrapolation of the last amplitudes and centres) are reported; the
+    window is the last whole period, or the tail.
+
+The decision itself is :func:`frictionflow.core.sections.classify`, shared
+with the batched kernels.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 import numpy as np
 
+from ..core import sections as sec
 from ..trajectory import Trajectory
-from .sections import crossings
 
 KINDS = ("periodic", "equilibrium", "not_settled")
+HEADINGS = {sec.HEAD_NONE: None, sec.HEAD_EQUILIBRIUM: "equilibrium", sec.HEAD_PERIODIC: "periodic", sec.HEAD_GROWING: "growing"}
 
 
 @dataclass(frozen=True)
@@ -44,6 +52,7 @@ class SteadyState:
     manual_window: bool = False
     stability: str | None = None
     stick_fraction: float | None = None
+    jitter: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
@@ -51,18 +60,45 @@ class SteadyState:
         return d
 
 
-def _tail_start(t: np.ndarray) -> float:
-    span = t[-1] - t[0]
-    return t[-1] - min(span, max(0.1 * span, 4.0 * math.pi))
+def _opt(x: float) -> float | None:
+    return None if np.isnan(x) else float(x)
 
 
-def _aitken(a: np.ndarray) -> float:
-    """Limit of a geometrically converging sequence from its last three terms."""
-    a0, a1, a2 = a[-3], a[-2], a[-1]
-    den = a2 - 2.0 * a1 + a0
-    if den == 0.0:
-        return float(a2)
-    return float(a2 - (a2 - a1) ** 2 / den)
+def from_classification(cls: np.ndarray, summary: np.ndarray) -> SteadyState:
+    """A :class:`SteadyState` from the arrays of :func:`~frictionflow.core.sections.classify`."""
+    kind = KINDS[int(cls[sec.C_KIND])]
+    head = HEADINGS[int(cls[sec.C_HEAD])]
+    limit = None
+    if kind == "equilibrium" or head == "equilibrium":
+        limit = {"x": float(cls[sec.C_LIMX])}
+    elif head == "periodic":
+        limit = {"amplitude": float(cls[sec.C_LIMA]), "x_center": float(cls[sec.C_LIMX])}
+    return SteadyState(
+        kind=kind,
+        window=(float(summary[sec.S_T0]), float(summary[sec.S_T1])),
+        period=_opt(cls[sec.C_PERIOD]) if kind == "periodic" else None,
+        n_periods=int(cls[sec.C_NPER]),
+        decay_rate=_opt(cls[sec.C_DECAY]) if kind == "not_settled" else None,
+        heading=head if kind == "not_settled" else None,
+        limit=limit,
+        stick_fraction=_opt(summary[sec.S_STICK]),
+        jitter=_opt(cls[sec.C_JITTER]),
+    )
+
+
+def classify_trajectory(traj: Trajectory, rtol: float = 1e-6, min_periods: int = 3) -> tuple[np.ndarray, np.ndarray]:
+    """Section records of ``traj`` classified; returns (classification, window summary).
+
+    Only the last :data:`~frictionflow.core.sections.MAX_RECORDS` records
+    count, as in the batched kernels, so both paths give the same answer.
+    """
+    t_tail = sec.tail_start(float(traj.t[0]), float(traj.t[-1]))
+    rec, tail, fin = sec.records_from_samples(traj.t, traj.x, traj.v, traj.mode, traj.work, traj.zeta, t_tail)
+    rec = np.ascontiguousarray(rec[-sec.MAX_RECORDS :])
+    scale = sec.scale_of(rec, tail, traj.vb, traj.friction.fd)
+    h = float(np.max(np.diff(traj.t))) if len(traj) > 1 else 0.0
+    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, "dt" in traj.solver)
+    return cls, sec.window_summary(rec, tail, fin, cls, traj.friction.fd)
 
 
 def steady_state(
@@ -85,7 +121,7 @@ def steady_state(
         ``(t0, t1)`` to average over instead of the detected window; the kind
         is still the detected one.
     """
-    found = _classify(traj, rtol, min_periods)
+    found = from_classification(*classify_trajectory(traj, rtol, min_periods))
     if window is None:
         return found
     t0, t1 = float(window[0]), float(window[1])
@@ -101,74 +137,3 @@ def stick_fraction(traj: Trajectory, window: tuple[float, float]) -> float:
         return float(traj.mode[i0] == 0)
     dt = np.diff(traj.t[i0 : i1 + 1])
     return float(np.sum(dt * (traj.mode[i0:i1] == 0)) / np.sum(dt))
-
-
-def _classify(traj: Trajectory, rtol: float, min_periods: int) -> SteadyState:
-    t, x, v = traj.t, traj.x, traj.v
-    scale = max(float(np.ptp(x)), float(np.ptp(v)), abs(traj.vb), traj.friction.fd, 1e-300)
-    tol = rtol * scale
-
-    # Equilibrium: nothing moves any more over the tail.
-    ts = _tail_start(t)
-    tail = t >= ts
-    if np.ptp(x[tail]) <= tol and np.ptp(v[tail]) <= tol:
-        w = (float(ts), float(t[-1]))
-        return SteadyState("equilibrium", w, limit={"x": float(x[-1]), "v": float(v[-1])}, stick_fraction=stick_fraction(traj, w))
-
-    hi = crossings(t, x, v, -1)
-    lo = crossings(t, x, v, +1)
-    h = float(np.max(np.diff(t))) if len(t) > 1 else 0.0
-
-    # Periodic: maxima, minima and periods all repeat over the last periods.
-    n = min(len(hi.t), len(lo.t) + 1)
-    if n >= min_periods + 1:
-        xm, tm = hi.x, hi.t
-        periods = np.diff(tm)
-        last_p = periods[-1]
-        tol_p = rtol * last_p + h * h
-        m = 0  # number of trailing periods that repeat the last one
-        while m < len(periods):
-            j = len(periods) - 1 - m
-            ok = abs(xm[j] - xm[-1]) <= tol and abs(periods[j] - last_p) <= tol_p
-            if not ok:
-                break
-            m += 1
-        lo_ok = len(lo.x) >= min_periods and np.ptp(lo.x[-min_periods:]) <= tol
-        if m >= min_periods and lo_ok:
-            w = (float(tm[-1 - m]), float(tm[-1]))
-            return SteadyState(
-                "periodic",
-                w,
-                period=float((tm[-1] - tm[-1 - m]) / m),
-                n_periods=m,
-                stick_fraction=stick_fraction(traj, w),
-            )
-
-    # Not settled: measure where it is going.
-    decay = heading = limit = None
-    if len(hi.t) >= 2:
-        w = (float(hi.t[-2]), float(hi.t[-1]))
-    else:
-        w = (float(ts), float(t[-1]))
-    k = min(len(hi.x), len(lo.x))
-    if k >= 2:
-        amp = 0.5 * (hi.x[-k:] - lo.x[-k:])
-        cen = 0.5 * (hi.x[-k:] + lo.x[-k:])
-        tk = hi.t[-k:]
-        use = slice(max(0, k - 6), k)
-        if np.all(amp[use] > 0):
-            slope = np.polyfit(tk[use], np.log(amp[use]), 1)[0] if k > 2 else math.log(amp[-1] / amp[-2]) / (tk[-1] - tk[-2])
-            decay = float(-slope)
-        if k >= 3 and decay is not None:
-            a_inf = _aitken(amp)
-            c_inf = _aitken(cen)
-            if decay < 0:
-                heading = "growing"
-                limit = None
-            elif a_inf <= max(tol, 1e-3 * amp[-1]):
-                heading = "equilibrium"
-                limit = {"x": c_inf}
-            else:
-                heading = "periodic"
-                limit = {"amplitude": a_inf, "x_center": c_inf}
-    return SteadyState("not_settled", w, decay_rate=decay, heading=heading, limit=limit, stick_fraction=stick_fraction(traj, w))

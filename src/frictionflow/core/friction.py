@@ -46,16 +46,40 @@ def slip_magnitude(law, fd, fs, vs, delta, visc, speed):
 def band_force(law, fd, fs, vd, resultant, vs, delta, visc, x, v, zeta, vb):
     """Friction force of a law with a stick band |V_r| <= V_d (Karnopp's scheme).
 
-    Returns ``(F_c, mode)`` with mode -1/0/+1 for slip-/stick/slip+.
+    Branches, for one trajectory at a time: they are predicted well and keep
+    the untaken side off the chain of dependent operations.
     """
     vr = vb - v
     if vr > vd:
-        return slip_magnitude(law, fd, fs, vs, delta, visc, vr), 1
+        return slip_magnitude(law, fd, fs, vs, delta, visc, vr)
     if vr < -vd:
-        return -slip_magnitude(law, fd, fs, vs, delta, visc, -vr), -1
+        return -slip_magnitude(law, fd, fs, vs, delta, visc, -vr)
     fe = x + 2.0 * zeta * v if resultant else x
     if fe >= fs:
-        return fs, 0
+        return fs
     if fe <= -fs:
-        return -fs, 0
-    return fe, 0
+        return -fs
+    return fe
+
+
+@njit(cache=True, inline="always")
+def band_force_select(law, fd, fs, vd, resultant, vs, delta, visc, x, v, zeta, vb):
+    """:func:`band_force` computing both sides and selecting one: for loops over many lanes, which it lets vectorise."""
+    vr = vb - v
+    speed = abs(vr)
+    mag = slip_magnitude(law, fd, fs, vs, delta, visc, speed)
+    slip = mag if vr > 0.0 else -mag
+    fe = x + 2.0 * zeta * v if resultant else x
+    hold = min(max(fe, -fs), fs)  # F_s sgn(F_e) once |F_e| >= F_s
+    return slip if speed > vd else hold
+
+
+@njit(cache=True, inline="always")
+def band_mode(v, vb, vd):
+    """Friction mode -1/0/+1 (slip-/stick/slip+) of a law with a stick band."""
+    vr = vb - v
+    if vr > vd:
+        return 1
+    if vr < -vd:
+        return -1
+    return 0

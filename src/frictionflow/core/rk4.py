@@ -16,35 +16,46 @@ from __future__ import annotations
 
 from numba import njit
 
-from .friction import DELTA, FD, FS, LAW, RESULTANT, VD, VISC, VS, band_force
+from .friction import DELTA, FD, FS, LAW, RESULTANT, VD, VISC, VS, band_force, band_force_select, band_mode
 
 N_STATE = 6
+#: fused multiply-add allowed: shorter dependency chains, and the single and
+#: batched kernels share it so that they round alike
+FASTMATH = {"contract"}
 
 
 @njit(cache=True, inline="always")
-def stage(x, v, zeta, vb, law, fd, fs, vd, res, vs, dl, visc):
-    """Right-hand side at one stage: (F_c, mode, X'', P_dv, P_f+, P_f-, P_heat)."""
-    fc, mode = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
+def stage(x, v, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes):
+    """Right-hand side at one stage: (X'', P_dv, P_f+, P_f-, P_heat).
+
+    ``lanes`` (a constant at each call site) picks the select form of the law
+    for the batched kernels.
+    """
+    if lanes:
+        fc = band_force_select(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
+    else:
+        fc = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
     a = fc - x - 2.0 * zeta * v
     pf = v * fc
-    heat = fc * (vb - v) if mode != 0 else 0.0
-    return fc, mode, a, 2.0 * zeta * v * v, max(pf, 0.0), max(-pf, 0.0), heat
+    vr = vb - v
+    heat = fc * vr if abs(vr) > vd else 0.0
+    return a, 2.0 * zeta * v * v, max(pf, 0.0), max(-pf, 0.0), heat
 
 
 @njit(cache=True, inline="always")
-def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, vs, dl, visc):
+def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes=False):
     """One RK4 step of the augmented system; returns new X, X' and work increments."""
     h2 = 0.5 * dt
-    _, _, a1, d1, p1, n1, q1 = stage(x, v, zeta, vb, law, fd, fs, vd, res, vs, dl, visc)
+    a1, d1, p1, n1, q1 = stage(x, v, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes)
     x2 = x + h2 * v
     v2 = v + h2 * a1
-    _, _, a2, d2, p2, n2, q2 = stage(x2, v2, zeta, vb, law, fd, fs, vd, res, vs, dl, visc)
+    a2, d2, p2, n2, q2 = stage(x2, v2, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes)
     x3 = x + h2 * v2
     v3 = v + h2 * a2
-    _, _, a3, d3, p3, n3, q3 = stage(x3, v3, zeta, vb, law, fd, fs, vd, res, vs, dl, visc)
+    a3, d3, p3, n3, q3 = stage(x3, v3, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes)
     x4 = x + dt * v3
     v4 = v + dt * a3
-    _, _, a4, d4, p4, n4, q4 = stage(x4, v4, zeta, vb, law, fd, fs, vd, res, vs, dl, visc)
+    a4, d4, p4, n4, q4 = stage(x4, v4, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes)
     h6 = dt / 6.0
     return (
         x + h6 * (v + 2.0 * v2 + 2.0 * v3 + v4),
@@ -56,12 +67,12 @@ def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, vs, dl, visc):
     )
 
 
-@njit(cache=True)
-def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_s, out_fc, out_mode, k):
+@njit(cache=True, fastmath=FASTMATH)
+def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
     """Advance steps ``i0 .. i1-1`` (global indices), recording every ``every``-th.
 
     A sample is written before step ``i`` when ``i % every == 0`` and after the
-    last step (``i1 == n_total``).  ``out_s`` has shape (n_samples, 6).
+    last step (``i1 == n_total``); ``out_w`` has shape (n_samples, 4).
     Returns the next free sample index.
     """
     law = int(p[LAW])
@@ -78,14 +89,15 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_s, out_fc, ou
     for i in range(i0, i1):
         if due == 0:
             due = every
-            fc, mode = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
+            fc = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
+            mode = band_mode(v, vb, vd)
             out_t[k] = t0 + i * dt
-            out_s[k, 0] = x
-            out_s[k, 1] = v
-            out_s[k, 2] = wdv
-            out_s[k, 3] = wp
-            out_s[k, 4] = wn
-            out_s[k, 5] = wq
+            out_x[k] = x
+            out_v[k] = v
+            out_w[k, 0] = wdv
+            out_w[k, 1] = wp
+            out_w[k, 2] = wn
+            out_w[k, 3] = wq
             out_fc[k] = fc
             out_mode[k] = mode
             k += 1
@@ -96,14 +108,15 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_s, out_fc, ou
         wn += dn
         wq += dq
     if i1 == n_total:
-        fc, mode = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
+        fc = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
+        mode = band_mode(v, vb, vd)
         out_t[k] = t0 + n_total * dt
-        out_s[k, 0] = x
-        out_s[k, 1] = v
-        out_s[k, 2] = wdv
-        out_s[k, 3] = wp
-        out_s[k, 4] = wn
-        out_s[k, 5] = wq
+        out_x[k] = x
+        out_v[k] = v
+        out_w[k, 0] = wdv
+        out_w[k, 1] = wp
+        out_w[k, 2] = wn
+        out_w[k, 3] = wq
         out_fc[k] = fc
         out_mode[k] = mode
         k += 1

@@ -61,6 +61,9 @@ class RK4(Solver):
         radius = math.hypot(x0 - friction.fd, v0) + (friction.fs - friction.fd) + abs(model.vb)
         accel = radius * (1.0 + 2.0 * z) + friction.fs
         band_dt = friction.band / accel if accel > 0 else math.inf
+        # Slip about (F_d, 0) never gets faster than its start: the band is out of reach.
+        if abs(model.vb) - friction.band > math.hypot(x0 - friction.fd, v0):
+            band_dt = math.inf
         lam = z + math.sqrt(z * z - 1.0) if z > 1.0 else 1.0
         return {"band": band_dt, "stability": RK4_REAL_LIMIT / lam}
 
@@ -93,26 +96,25 @@ class RK4(Solver):
         n = max(1, math.ceil(t_end / self.dt - 1e-9))
         every = self.record_every or max(1, math.ceil(n / MAX_AUTO_SAMPLES))
         n_samples = -(-n // every) + 1
-        t = np.empty(n_samples)
-        s_out = np.empty((n_samples, kernel.N_STATE))
-        fc = np.empty(n_samples)
+        t, x, v, fc = (np.empty(n_samples) for _ in range(4))
         mode = np.empty(n_samples, dtype=np.int8)
+        work = np.empty((n_samples, 4))
         state = np.array([x0, v0, 0.0, 0.0, 0.0, 0.0])
         p = friction.kernel_params()
         k = 0
         with progress_bar("rk4", n, enabled=progress and n > 5 * CHUNK) as advance:
             for i0 in range(0, n, CHUNK):
                 i1 = min(n, i0 + CHUNK)
-                k = kernel.run(state, i0, i1, n, every, 0.0, self.dt, model.zeta, model.vb, p, t, s_out, fc, mode, k)
+                k = kernel.run(state, i0, i1, n, every, 0.0, self.dt, model.zeta, model.vb, p, t, x, v, fc, mode, work, k)
                 advance(i1 - i0)
         assert k == n_samples
         return Trajectory(
             t=t,
-            x=s_out[:, 0].copy(),
-            v=s_out[:, 1].copy(),
+            x=x,
+            v=v,
             fc=fc,
             mode=mode,
-            work=s_out[:, 2:].copy(),
+            work=work,
             model=model,
             friction=friction,
             solver=self.describe() | {"record_every": every, "steps": n},

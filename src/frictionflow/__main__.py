@@ -1,0 +1,5 @@
+"""``python -m frictionflow``."""
+
+from .cli import run
+
+run()

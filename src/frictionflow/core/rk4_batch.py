@@ -1,0 +1,191 @@
+"""RK4 for many parameter points at once, keeping section records instead of samples.
+
+Lanes (parameter points) are integrated in blocks of ``LANES`` in lock step:
+the inner loop over a block's lanes is free of branches the compiler cannot
+turn into selects, so it vectorises (SIMD), and blocks run in parallel over
+the cores.  Crossings of the section X' = 0 are rare; they are handled by a
+scalar pass over the block after each step.  What each lane keeps is its last
+``K`` section records, its tail aggregates and its final sample
+(:mod:`frictionflow.core.sections`), enough to classify its steady state and
+average over it without storing a trajectory.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from . import sections as sec
+from .friction import DELTA, FD, FS, KARNOPP, RESULTANT, STRIBECK, VD, VISC, VS
+from .rk4 import FASTMATH, step
+
+LANES = 64
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _lanes(law, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, vs, dl, visc):
+    """One RK4 step of every lane (vectorised)."""
+    for j in range(len(x)):
+        xj = x[j]
+        vj = v[j]
+        xn, vn, d0, d1, d2, d3 = step(xj, vj, dt, zeta[j], vb[j], law, fd[j], fs[j], vd[j], res[j], vs[j], dl[j], visc[j], True)
+        w0[j] += d0
+        w1[j] += d1
+        w2[j] += d2
+        w3[j] += d3
+        xo[j] = xj
+        vo[j] = vj
+        x[j] = xn
+        v[j] = vn
+
+
+@njit(cache=True, fastmath=FASTMATH)
+def _block(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
+    # Every per-lane quantity is its own 1-D array allocated here: the
+    # compiler then knows they do not overlap and vectorises the lane loops.
+    L = len(zeta)
+    K = rec.shape[1]
+    zeta = zeta.copy()
+    vb = vb.copy()
+    fd = p[:, FD].copy()
+    fs = p[:, FS].copy()
+    vd = p[:, VD].copy()
+    res = p[:, RESULTANT] != 0.0
+    vs = p[:, VS].copy()
+    dl = p[:, DELTA].copy()
+    visc = p[:, VISC].copy()
+    x = x0.copy()
+    v = v0.copy()
+    xo = x0.copy()
+    vo = v0.copy()
+    w0, w1, w2, w3 = np.zeros(L), np.zeros(L), np.zeros(L), np.zeros(L)
+    f0 = np.abs(x + 2.0 * zeta * v)
+    # aggregates of the running period, and of the tail
+    pvmin, pvmax, pfmax, pstk = v.copy(), v.copy(), f0.copy(), np.zeros(L)
+    txmin, txmax, tvmin, tvmax, tfmax, tstk = x.copy(), x.copy(), v.copy(), v.copy(), f0.copy(), np.zeros(L)
+    lo = np.full(L, np.nan)
+    agg = np.zeros(6)
+    wj = np.zeros(4)
+    in_tail = t_tail <= 0.0
+    if in_tail:
+        for j in range(L):
+            sec.mark(tail[j], 0.0, x[j], v[j], wj)
+    for i in range(n_steps):
+        # The law is a constant inside each call, so that the piecewise-constant
+        # laws compile without the Stribeck branch (a call to exp, which would
+        # keep the loop from vectorising).
+        if law == STRIBECK:
+            _lanes(STRIBECK, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, vs, dl, visc)
+        else:
+            _lanes(KARNOPP, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, vs, dl, visc)
+        for j in range(L):  # vectorised: the period's aggregates
+            vn = v[j]
+            f = abs(x[j] + 2.0 * zeta[j] * vn)
+            pvmin[j] = vn if vn < pvmin[j] else pvmin[j]
+            pvmax[j] = vn if vn > pvmax[j] else pvmax[j]
+            pfmax[j] = f if f > pfmax[j] else pfmax[j]
+            pstk[j] += dt if abs(vb[j] - vo[j]) <= vd[j] else 0.0
+        if in_tail:
+            for j in range(L):  # vectorised: the tail's aggregates
+                xn = x[j]
+                vn = v[j]
+                f = abs(xn + 2.0 * zeta[j] * vn)
+                txmin[j] = xn if xn < txmin[j] else txmin[j]
+                txmax[j] = xn if xn > txmax[j] else txmax[j]
+                tvmin[j] = vn if vn < tvmin[j] else tvmin[j]
+                tvmax[j] = vn if vn > tvmax[j] else tvmax[j]
+                tfmax[j] = f if f > tfmax[j] else tfmax[j]
+                tstk[j] += dt if abs(vb[j] - vo[j]) <= vd[j] else 0.0
+        ti = (i + 1) * dt
+        for j in range(L):  # scalar and rare: section crossings
+            a = vo[j]
+            b = v[j]
+            if a > 0.0 and b <= 0.0:
+                s = a / (a - b)
+                agg[2], agg[3], agg[4], agg[5] = pvmin[j], pvmax[j], pfmax[j], pstk[j]
+                wj[0], wj[1], wj[2], wj[3] = w0[j], w1[j], w2[j], w3[j]
+                slot = nrec[j] % K
+                rec[j, slot, :] = np.nan
+                xc = sec.hermite(xo[j], x[j], a * dt, b * dt, s)
+                sec.close(rec[j, slot], i * dt + s * dt, xc, ti, x[j], b, wj, agg, lo[j], nrec[j] > 0)
+                nrec[j] += 1
+                lo[j] = np.nan
+                pvmin[j] = pvmax[j] = b
+                pfmax[j] = abs(x[j] + 2.0 * zeta[j] * b)
+                pstk[j] = 0.0
+            elif a < 0.0 and b >= 0.0:
+                s = a / (a - b)
+                lo[j] = sec.hermite(xo[j], x[j], a * dt, b * dt, s)
+        if not in_tail and ti >= t_tail:
+            in_tail = True
+            for j in range(L):
+                wj[0], wj[1], wj[2], wj[3] = w0[j], w1[j], w2[j], w3[j]
+                sec.mark(tail[j], ti, x[j], v[j], wj)
+                txmin[j] = txmax[j] = x[j]
+                tvmin[j] = tvmax[j] = v[j]
+                tfmax[j] = abs(x[j] + 2.0 * zeta[j] * v[j])
+                tstk[j] = 0.0
+    for j in range(L):
+        tail[j, sec.A_XMIN], tail[j, sec.A_XMAX] = txmin[j], txmax[j]
+        tail[j, sec.A_VMIN], tail[j, sec.A_VMAX] = tvmin[j], tvmax[j]
+        tail[j, sec.A_FMAX], tail[j, sec.A_STICK] = tfmax[j], tstk[j]
+        wj[0], wj[1], wj[2], wj[3] = w0[j], w1[j], w2[j], w3[j]
+        sec.mark(fin[j], n_steps * dt, x[j], v[j], wj)
+
+
+@njit(cache=True, parallel=True)
+def run_batch(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
+    """Integrate every lane for ``n_steps``; fills ``rec`` (B, K, NF), ``nrec``, ``tail``, ``fin``."""
+    n = len(zeta)
+    nb = (n + LANES - 1) // LANES
+    for b in prange(nb):
+        s = b * LANES
+        e = min(n, s + LANES)
+        _block(law, zeta[s:e], vb[s:e], p[s:e], x0[s:e], v0[s:e], dt, n_steps, t_tail, rec[s:e], nrec[s:e], tail[s:e], fin[s:e])
+
+
+_warm = False
+
+
+def warm_up() -> None:
+    """Compile (or load from the cache) the batched kernels with wide vectors, once per process."""
+    global _warm
+    if _warm:
+        return
+    from ._vectorize import wide_vectors
+
+    z = np.zeros(1)
+    p = np.zeros((1, 8))
+    rec = np.full((1, 2, sec.NF), np.nan)
+    nrec = np.zeros(1, np.int64)
+    tail = np.full((1, sec.NA), np.nan)
+    fin = np.full((1, sec.NA), np.nan)
+    with wide_vectors():
+        run_batch(0, z, z, p, z, z, 1e-3, 1, 0.0, rec, nrec, tail, fin)
+    _warm = True
+
+
+@njit(cache=True)
+def unroll(ring, count):
+    """The records of one lane's ring in time order."""
+    K = ring.shape[0]
+    m = min(count, K)
+    out = np.empty((m, ring.shape[1]))
+    first = count - m
+    for i in range(m):
+        out[i] = ring[(first + i) % K]
+    return out
+
+
+@njit(cache=True, parallel=True)
+def summarize(rec, nrec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step):
+    """Classify every lane and average over its window: (B, NC + NS)."""
+    n = len(nrec)
+    out = np.empty((n, sec.NC + sec.NS))
+    for j in prange(n):
+        r = unroll(rec[j], nrec[j])
+        scale = sec.scale_of(r, tail[j], vb[j], fd[j])
+        c = sec.classify(r, tail[j], scale, rtol, min_periods, h, fixed_step)
+        out[j, : sec.NC] = c
+        out[j, sec.NC :] = sec.window_summary(r, tail[j], fin[j], c, fd[j])
+    return out

@@ -1,0 +1,411 @@
+"""Section records: what the steady-state classifier needs from a run.
+
+Every run -- a sampled trajectory or a lane of a batched kernel that keeps
+no samples -- is reduced to the same records, one per downward crossing of
+the section X' = 0 (a maximum of X), each with the aggregates of the period
+that ends there.  :func:`classify` then decides periodic / equilibrium /
+not settled on these records alone, so that every solver and every path
+(single run, batched sweep) is judged by one piece of code.
+
+Record fields (``rec[i, F]``):
+
+=========  ============================================================
+T          crossing time (X' interpolated linearly between samples)
+X          X at the crossing (cubic Hermite between samples)
+TS         time of the first sample after the crossing: windows start
+           and end on samples, where the work integrals are exact
+ES         K + U at that sample
+W0..W3     cumulative W_dv, W_fin, W_fout, W_heat at that sample
+VMIN..FMAX extremes of X' and |X + 2 zeta X'| over the period's samples
+STICK      time spent sticking during the period
+LO         X at the upward crossing (the minimum) inside the period, or NaN
+=========  ============================================================
+
+The extremes of X need no aggregates: they are the section values X (maxima)
+and LO (minima), interpolated between samples.
+
+The tail (the last 10 % of the run, at least 4 pi) has its own aggregates,
+used for the equilibrium test; ``fin`` holds the run's last sample.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+T, X, TS, ES, W0, W1, W2, W3, VMIN, VMAX, FMAX, STICK, LO = range(13)
+NF = 13
+# tail / final records: time, energy and works at the first tail sample (or
+# the final sample), then the extremes over the tail
+A_T, A_E, A_W0, A_W1, A_W2, A_W3, A_XMIN, A_XMAX, A_VMIN, A_VMAX, A_FMAX, A_STICK = range(12)
+NA = 12
+
+#: records kept per run: windows span at most MAX_RECORDS - 1 periods
+MAX_RECORDS = 32
+
+PERIODIC, EQUILIBRIUM, NOT_SETTLED = 0, 1, 2
+HEAD_NONE, HEAD_EQUILIBRIUM, HEAD_PERIODIC, HEAD_GROWING = 0, 1, 2, 3
+
+# what classify returns, per run
+(
+    C_KIND, C_START, C_END, C_PERIOD, C_NPER, C_DECAY, C_HEAD, C_LIMX, C_LIMA, C_JITTER,
+) = range(10)
+NC = 10
+
+
+def tail_start(t0: float, t_end: float) -> float:
+    """Start of the tail used for the equilibrium test."""
+    span = t_end - t0
+    return t_end - min(span, max(0.1 * span, 4.0 * math.pi))
+
+
+@njit(cache=True)
+def hermite(p0, p1, m0, m1, s):
+    s2 = s * s
+    s3 = s2 * s
+    return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * p1 + (s3 - s2) * m1
+
+
+@njit(cache=True)
+def records_from_samples(t, x, v, mode, work, zeta, t_tail):
+    """Section records, tail and final aggregates of a sampled run.
+
+    A period's aggregates cover the samples from the first sample after one
+    crossing to the first sample after the next, both included, and the steps
+    between them: the same span as the window they are averaged over.  The
+    batched kernels build the same records while they integrate.
+    """
+    n = len(t)
+    count = 0
+    for i in range(n - 1):
+        if v[i] > 0.0 and v[i + 1] <= 0.0:
+            count += 1
+    rec = np.full((count, NF), np.nan)
+    tail = np.full(NA, np.nan)
+    fin = np.full(NA, np.nan)
+    agg = np.zeros(6)  # xmin, xmax, vmin, vmax, fmax, stick of the running period
+    tag = np.zeros(6)  # the same over the tail (X extremes used only there)
+    k = -1
+    lo = np.nan
+    in_tail = False
+    for i in range(n):
+        xi, vi = x[i], v[i]
+        fi = abs(xi + 2.0 * zeta * vi)
+        if i > 0:
+            h = t[i] - t[i - 1]
+            stuck = h if mode[i - 1] == 0 else 0.0
+            update(agg, xi, vi, fi, stuck)
+            update(tag, xi, vi, fi, stuck)
+            if v[i - 1] > 0.0 and vi <= 0.0:
+                k += 1
+                s = v[i - 1] / (v[i - 1] - vi)
+                close(rec[k], t[i - 1] + s * h, hermite(x[i - 1], xi, v[i - 1] * h, vi * h, s), t[i], xi, vi, work[i], agg, lo, k > 0)
+                lo = np.nan
+                reset(agg, xi, vi, fi)
+            elif v[i - 1] < 0.0 and vi >= 0.0:
+                s = v[i - 1] / (v[i - 1] - vi)
+                lo = hermite(x[i - 1], xi, v[i - 1] * h, vi * h, s)
+        if not in_tail and t[i] >= t_tail:
+            in_tail = True
+            mark(tail, t[i], xi, vi, work[i])
+            reset(tag, xi, vi, fi)
+    store_tail(tail, tag)
+    mark(fin, t[n - 1], x[n - 1], v[n - 1], work[n - 1])
+    return rec, tail, fin
+
+
+@njit(cache=True, inline="always")
+def update(agg, x, v, f, stuck):
+    agg[0] = min(agg[0], x)
+    agg[1] = max(agg[1], x)
+    agg[2] = min(agg[2], v)
+    agg[3] = max(agg[3], v)
+    agg[4] = max(agg[4], f)
+    agg[5] += stuck
+
+
+@njit(cache=True, inline="always")
+def reset(agg, x, v, f):
+    agg[0] = x
+    agg[1] = x
+    agg[2] = v
+    agg[3] = v
+    agg[4] = f
+    agg[5] = 0.0
+
+
+@njit(cache=True, inline="always")
+def close(r, tc, xc, ts, x, v, w, agg, lo, with_period):
+    """Fill record ``r`` for a crossing at ``tc``; ``ts, x, v, w``: the sample after it."""
+    r[T] = tc
+    r[X] = xc
+    r[TS] = ts
+    r[ES] = 0.5 * (x * x + v * v)
+    for j in range(4):
+        r[W0 + j] = w[j]
+    if with_period:
+        r[VMIN] = agg[2]
+        r[VMAX] = agg[3]
+        r[FMAX] = agg[4]
+        r[STICK] = agg[5]
+        r[LO] = lo
+
+
+@njit(cache=True, inline="always")
+def mark(a, t, x, v, w):
+    a[A_T] = t
+    a[A_E] = 0.5 * (x * x + v * v)
+    for j in range(4):
+        a[A_W0 + j] = w[j]
+
+
+@njit(cache=True, inline="always")
+def store_tail(tail, tag):
+    tail[A_XMIN] = tag[0]
+    tail[A_XMAX] = tag[1]
+    tail[A_VMIN] = tag[2]
+    tail[A_VMAX] = tag[3]
+    tail[A_FMAX] = tag[4]
+    tail[A_STICK] = tag[5]
+
+
+@njit(cache=True)
+def _repeat_count(seq, tol):
+    m = 0
+    n = len(seq)
+    while m < n - 1 and abs(seq[n - 2 - m] - seq[n - 1]) <= tol:
+        m += 1
+    return m
+
+
+@njit(cache=True)
+def _stationary(seq):
+    """No significant linear trend (|t| < 4) in a short noisy sequence."""
+    n = len(seq)
+    km = 0.5 * (n - 1)
+    ym = 0.0
+    for i in range(n):
+        ym += seq[i]
+    ym /= n
+    sxx = 0.0
+    sxy = 0.0
+    for i in range(n):
+        sxx += (i - km) ** 2
+        sxy += (i - km) * (seq[i] - ym)
+    slope = sxy / sxx
+    ss = 0.0
+    for i in range(n):
+        r = seq[i] - ym - slope * (i - km)
+        ss += r * r
+    se = math.sqrt(ss / (n - 2) / sxx)
+    if se == 0.0:
+        return slope == 0.0
+    return abs(slope) / se < 4.0
+
+
+@njit(cache=True)
+def _aitken(a0, a1, a2):
+    den = a2 - 2.0 * a1 + a0
+    if den == 0.0:
+        return a2
+    return a2 - (a2 - a1) ** 2 / den
+
+
+@njit(cache=True)
+def classify(rec, tail, scale, rtol, min_periods, h, fixed_step):
+    """Periodic / equilibrium / not settled from section records.
+
+    ``rec`` holds the run's records in time order.  Returns an array
+    (layout ``C_*``): the kind, the first and last record of the window
+    (-1: the tail), the period, the number of periods, and for runs that are
+    not settled the amplitude's decay rate, where it is heading
+    (``HEAD_*``), the limit centre or amplitude (Aitken) -- and the jitter
+    of noisy fixed-step orbits.
+    """
+    out = np.full(NC, np.nan)
+    out[C_NPER] = 0.0
+    out[C_HEAD] = HEAD_NONE
+    tol = rtol * scale
+    n = rec.shape[0]
+
+    # Equilibrium: nothing moves over the tail.
+    if tail[A_XMAX] - tail[A_XMIN] <= tol and tail[A_VMAX] - tail[A_VMIN] <= tol:
+        out[C_KIND] = EQUILIBRIUM
+        out[C_START] = -1
+        out[C_END] = -1
+        out[C_LIMX] = 0.5 * (tail[A_XMAX] + tail[A_XMIN])
+        return out
+
+    # Periodic, strictly: maxima, minima and periods repeat to tol.
+    if n >= min_periods + 1:
+        xs = rec[:, X].copy()
+        periods = np.diff(rec[:, T].copy())
+        tol_p = rtol * periods[-1] + h * h
+        m = min(_repeat_count(xs, tol), _repeat_count(periods, tol_p) + 1)
+        lo = rec[n - min_periods :, LO].copy()
+        if m >= min_periods and not np.any(np.isnan(lo)) and lo.max() - lo.min() <= tol:
+            out[C_KIND] = PERIODIC
+            out[C_START] = n - 1 - m
+            out[C_END] = n - 1
+            out[C_PERIOD] = (rec[n - 1, T] - rec[n - 1 - m, T]) / m
+            out[C_NPER] = m
+            return out
+
+    # Periodic to within the jitter of a fixed step through a stick band.
+    k = min(n - 1, 12)
+    if fixed_step and k >= max(min_periods, 8):
+        win = rec[n - k :]
+        lo = win[:, LO].copy()
+        if win[:, STICK].max() > 0.0 and not np.any(np.isnan(lo)):
+            xs = rec[n - 1 - k :, X].copy()
+            periods = np.diff(rec[n - 1 - k :, T].copy())
+            amp = xs.max() - lo.min()
+            jitter = max(xs.max() - xs.min(), lo.max() - lo.min()) / amp if amp > 0 else 0.0
+            if (
+                jitter < 0.05
+                and periods.max() - periods.min() < 0.05 * periods[-1]
+                and _stationary(xs)
+                and _stationary(lo)
+                and _stationary(periods)
+            ):
+                out[C_KIND] = PERIODIC
+                out[C_START] = n - 1 - k
+                out[C_END] = n - 1
+                out[C_PERIOD] = (rec[n - 1, T] - rec[n - 1 - k, T]) / k
+                out[C_NPER] = k
+                out[C_JITTER] = jitter
+                return out
+
+    # Not settled: measure where it is going.
+    out[C_KIND] = NOT_SETTLED
+    if n >= 2:
+        out[C_START] = n - 2
+        out[C_END] = n - 1
+    else:
+        out[C_START] = -1
+        out[C_END] = -1
+    # amplitudes of the periods that have a minimum
+    j0 = n
+    while j0 > 0 and not math.isnan(rec[j0 - 1, LO]):
+        j0 -= 1
+    kk = n - j0
+    if kk >= 2:
+        amp = 0.5 * (rec[j0:, X] - rec[j0:, LO])
+        cen = 0.5 * (rec[j0:, X] + rec[j0:, LO])
+        tk = rec[j0:, T]
+        use = min(kk, 3)  # the latest behaviour, not the early transient
+        a = amp[kk - use :]
+        ok = True
+        for i in range(use):
+            if a[i] <= 0.0:
+                ok = False
+        if ok:
+            tt = tk[kk - use :]
+            la = np.log(a)
+            tm = tt.mean()
+            lm = la.mean()
+            slope = ((tt - tm) * (la - lm)).sum() / ((tt - tm) ** 2).sum()
+            out[C_DECAY] = -slope
+            if kk >= 3:
+                a_inf = _aitken(amp[kk - 3], amp[kk - 2], amp[kk - 1])
+                c_inf = _aitken(cen[kk - 3], cen[kk - 2], cen[kk - 1])
+                if -slope > 0.0:
+                    if a_inf <= max(tol, 1e-3 * amp[kk - 1]):
+                        out[C_HEAD] = HEAD_EQUILIBRIUM
+                        out[C_LIMX] = c_inf
+                    else:
+                        out[C_HEAD] = HEAD_PERIODIC
+                        out[C_LIMX] = c_inf
+                        out[C_LIMA] = a_inf
+                else:
+                    out[C_HEAD] = HEAD_GROWING
+    return out
+
+
+@njit(cache=True)
+def scale_of(rec, tail, vb, fd):
+    """The motion's scale: max(range of X, range of X', |V_b|, F_d) over the records and the tail."""
+    xmin, xmax = tail[A_XMIN], tail[A_XMAX]
+    vmin, vmax = tail[A_VMIN], tail[A_VMAX]
+    for i in range(rec.shape[0]):
+        xmax = max(xmax, rec[i, X])
+        if not math.isnan(rec[i, LO]):
+            xmin = min(xmin, rec[i, LO])
+            vmin = min(vmin, rec[i, VMIN])
+            vmax = max(vmax, rec[i, VMAX])
+    return max(xmax - xmin, vmax - vmin, abs(vb), fd, 1e-300)
+
+
+# what averages returns
+P_DV, P_DF, P_FIN, P_F, P_BELT, P_HEAT, R_C, R_F, RESID = range(9)
+NP = 9
+
+
+@njit(cache=True)
+def averages(dw_dv, dw_in, dw_out, dw_heat, e0, e1, span):
+    """Window averages from the changes of the work integrals and of K + U.
+
+    The residual of the power balance is relative to the friction input; when
+    friction puts in less than 1e-12 of the stored energy per unit time (an
+    equilibrium, up to rounding of the running integrals), P_fin is 0, the
+    ratios are NaN and the residual is relative to the stored energy.
+    """
+    out = np.empty(NP)
+    w_f = dw_in - dw_out
+    e_ref = max(e0, e1) * span
+    flows = dw_in > 1e-12 * e_ref
+    resid = abs(e1 - e0 + dw_dv - w_f)
+    norm = dw_in if flows else e_ref
+    out[P_DV] = dw_dv / span
+    out[P_DF] = dw_out / span
+    out[P_FIN] = dw_in / span if flows else 0.0
+    out[P_F] = w_f / span
+    out[P_BELT] = (w_f + dw_heat) / span
+    out[P_HEAT] = dw_heat / span
+    out[R_C] = out[P_DV] / out[P_FIN] if flows else np.nan
+    out[R_F] = out[P_DF] / out[P_FIN] if flows else np.nan
+    out[RESID] = resid / norm if norm > 0 else 0.0
+    return out
+
+
+# what window_summary returns (after the averages)
+S_T0, S_T1, S_TRB, S_XMIN, S_XMAX, S_VMIN, S_VMAX, S_STICK = range(NP, NP + 8)
+NS = NP + 8
+
+
+@njit(cache=True)
+def window_summary(rec, tail, fin, cls, fd):
+    """Averages, TR_B, extremes and stick fraction over the classified window."""
+    out = np.full(NS, np.nan)
+    i0 = int(cls[C_START])
+    i1 = int(cls[C_END])
+    if i0 < 0:  # the tail
+        a, b = tail, fin
+        span = b[A_T] - a[A_T]
+        xmin, xmax, vmin, vmax = tail[A_XMIN], tail[A_XMAX], tail[A_VMIN], tail[A_VMAX]
+        fmax, stick = tail[A_FMAX], tail[A_STICK]
+        dw = b[A_W0 : A_W0 + 4] - a[A_W0 : A_W0 + 4]
+        e0, e1 = a[A_E], b[A_E]
+        t0, t1 = a[A_T], b[A_T]
+    else:
+        seg = rec[i0 + 1 : i1 + 1]
+        t0, t1 = rec[i0, TS], rec[i1, TS]
+        span = t1 - t0
+        xmin, xmax = seg[:, LO].min(), rec[i0 : i1 + 1, X].max()
+        vmin, vmax = seg[:, VMIN].min(), seg[:, VMAX].max()
+        fmax, stick = seg[:, FMAX].max(), seg[:, STICK].sum()
+        dw = rec[i1, W0 : W0 + 4] - rec[i0, W0 : W0 + 4]
+        e0, e1 = rec[i0, ES], rec[i1, ES]
+    if span > 0:
+        out[:NP] = averages(dw[0], dw[1], dw[2], dw[3], e0, e1, span)
+        out[S_STICK] = stick / span
+    out[S_T0] = t0
+    out[S_T1] = t1
+    out[S_TRB] = fmax / fd if fd > 0 else np.nan
+    out[S_XMIN] = xmin
+    out[S_XMAX] = xmax
+    out[S_VMIN] = vmin
+    out[S_VMAX] = vmax
+    return out

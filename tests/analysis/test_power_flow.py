@@ -1,0 +1,98 @@
+"""Power flow (Eq. 7-9): balance over a period, independent quadrature, P_belt/P_heat split."""
+
+import numpy as np
+import pytest
+
+from frictionflow import BeltOscillator, Karnopp, RK4, analyze, instantaneous_power, power_flow, simulate
+
+
+@pytest.fixture(scope="module")
+def stick_slip():
+    """A damped stick-slip limit cycle (F_s > F_d keeps it alive despite zeta > 0)."""
+    tr = simulate(BeltOscillator(zeta=0.05, vb=0.01), Karnopp(0.02, fs=0.04), RK4(dt=1e-3), t_end=150.0)
+    return tr, analyze(tr)
+
+
+def test_stick_slip_orbit_is_periodic_with_sticking(stick_slip):
+    tr, res = stick_slip
+    assert res.steady_state.kind == "periodic"
+    assert 0.05 < res.steady_state.stick_fraction < 0.95
+
+
+def test_power_balance_closes_over_one_period_undamped(case1_run):
+    # Case I is strictly periodic under RK4: over one period P_df = P_fin exactly.
+    res = analyze(case1_run)
+    t1 = res.steady_state.window[1]
+    one = power_flow(case1_run, (t1 - res.steady_state.period, t1))
+    assert one.P_df == pytest.approx(one.P_fin, rel=1e-6)
+    assert one.energy_residual < 1e-10
+
+
+def test_power_balance_damped_stick_slip(stick_slip):
+    # Fixed-step RK4 through the stick band jitters from cycle to cycle, so
+    # K + U differs slightly between the window's ends; the balance
+    # P_dv + P_df - P_fin = -Delta(K+U)/tau_p still holds to rounding.
+    tr, res = stick_slip
+    pf = res.power
+    i0, i1 = tr.index(pf.window[0]), tr.index(pf.window[1])
+    span = pf.window[1] - pf.window[0]
+    d_e = (tr.energy[i1] - tr.energy[i0]) / span
+    # RK4 is first order in a step that crosses a switch: each crossing may
+    # leave an energy error up to |jump of X''| * |X'| * dt^2 (jump <= 2 F_s).
+    switches = np.count_nonzero(np.diff(tr.mode[i0 : i1 + 1]))
+    bound = switches * 2 * tr.friction.fs * np.max(np.abs(tr.v)) * 1e-3**2
+    assert abs(pf.P_dv + pf.P_df - pf.P_fin + d_e) * span <= bound
+    assert pf.energy_residual * pf.P_fin * span <= bound
+    # ... and the jitter it leaves is small against the flows themselves
+    assert abs(pf.R_c + pf.R_f - 1.0) < 3e-3 * max(1.0, res.steady_state.jitter / 1e-3)
+    assert pf.P_dv > 0 and pf.P_df > 0
+
+
+def test_work_integrals_agree_with_independent_quadrature(stick_slip):
+    # The solver integrates the works with its RK4 stages; the trapezoid rule on
+    # the samples is an independent estimate (first order at the switches).
+    tr, res = stick_slip
+    i0, i1 = tr.index(res.steady_state.window[0]), tr.index(res.steady_state.window[1])
+    p = instantaneous_power(tr)
+    s = slice(i0, i1 + 1)
+    span = tr.t[i1] - tr.t[i0]
+    trap = lambda y: np.trapezoid(y[s], tr.t[s]) / span  # noqa: E731
+    assert res.power.P_dv == pytest.approx(trap(p["P_dv"]), rel=1e-4)
+    assert res.power.P_fin == pytest.approx(trap(np.maximum(p["P_f"], 0)), rel=1e-3)
+    assert res.power.P_df == pytest.approx(trap(np.maximum(-p["P_f"], 0)), rel=1e-3)
+    assert res.power.P_heat == pytest.approx(trap(p["P_heat"]), rel=1e-3)
+
+
+def test_instantaneous_balance_eq8(stick_slip):
+    tr, _ = stick_slip
+    p = instantaneous_power(tr)
+    lhs = p["K_dot"] + p["P_dv"] + p["U_dot"]
+    assert np.allclose(lhs, p["P_f"], atol=1e-15)
+
+
+def test_friction_power_splits_into_belt_minus_heat(stick_slip):
+    tr, res = stick_slip
+    pf = res.power
+    assert pf.P_f == pytest.approx(pf.P_fin - pf.P_df, abs=1e-15)
+    assert pf.P_f == pytest.approx(pf.P_belt - pf.P_heat, abs=1e-12)
+    p = instantaneous_power(tr)
+    assert np.all(p["P_heat"] >= 0)
+
+
+def test_heat_is_zero_while_sticking_and_belt_work_is_fc_vb_in_slip(stick_slip):
+    tr, _ = stick_slip
+    p = instantaneous_power(tr)
+    stick = tr.mode == 0
+    assert np.all(p["P_heat"][stick] == 0)
+    slip = ~stick
+    assert np.allclose(p["P_belt"][slip], tr.fc[slip] * tr.vb, rtol=1e-12, atol=1e-18)
+
+
+def test_equilibrium_has_no_friction_input_and_residual_relative_to_energy():
+    tr = simulate(BeltOscillator(zeta=0.5, vb=0.01), Karnopp(0.02), RK4(dt=1e-2), t_end=200.0)
+    res = analyze(tr)
+    assert res.steady_state.kind == "equilibrium"
+    assert res.power.P_fin == 0.0  # below rounding of the running integrals
+    assert np.isnan(res.power.R_c) and np.isnan(res.power.R_f)
+    assert res.power.P_heat == pytest.approx(0.02 * 0.01, rel=1e-9)
+    assert res.energy_residual < 1e-9

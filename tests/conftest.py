@@ -1,0 +1,28 @@
+"""Shared fixtures and closed forms derived for the tests (not taken from the code under test)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from frictionflow import BeltOscillator, Karnopp, RK4, simulate
+
+
+def slip_solution(t, x0, v0, force, zeta):
+    """Closed form of X'' + 2 zeta X' + X = force (underdamped, zeta < 1)."""
+    w = math.sqrt(1.0 - zeta * zeta)
+    y0 = x0 - force
+    b = (v0 + zeta * y0) / w
+    e = np.exp(-zeta * t)
+    c, s = np.cos(w * t), np.sin(w * t)
+    x = force + e * (y0 * c + b * s)
+    v = e * ((-zeta * y0 + w * b) * c + (-zeta * b - w * y0) * s)
+    return x, v
+
+
+@pytest.fixture(scope="session")
+def case1_run():
+    """Paper Case I (zeta = 0, F_d = 0.02, V_b = 0.01), RK4 dt = 1e-3, 200 time units."""
+    return simulate(BeltOscillator(zeta=0.0, vb=0.01), Karnopp(0.02, stick_force="spring"), RK4(dt=1e-3), t_end=200.0)
