@@ -12,12 +12,12 @@ from dataclasses import dataclass, field, fields
 from typing import Any, Mapping
 
 from . import _validate as check
-from .friction import FrictionLaw, Karnopp
+from .friction import Coulomb, FrictionLaw, Karnopp, Stribeck
 from .params import BeltOscillator, DimensionalParams
-from .solvers import RK4, Solver
+from .solvers import RK4, Adaptive, Exact, Solver, auto_solver
 
-FRICTIONS = ("karnopp",)
-SOLVERS = ("rk4",)
+FRICTIONS = ("karnopp", "coulomb", "stribeck")
+SOLVERS = ("auto", "exact", "adaptive", "rk4")
 DIMENSIONAL_KEYS = ("m", "c", "k", "v_b", "f_d", "f_ms", "v_d", "l_0")
 
 
@@ -32,14 +32,20 @@ class RunConfig:
     vd: float = 1e-3
     x0: float | None = None
     v0: float | None = None
+    vs: float = 0.01
+    delta: float = 2.0
+    viscous: float = 0.0
     t_end: float = 500.0
     dt: float = 1e-3
     record_every: int | None = None
-    solver: str = "rk4"
+    dense_dt: float | None = None
+    ode_rtol: float = 1e-10
+    max_steps: int = 10_000_000
+    solver: str = "auto"
     friction: str = "karnopp"
     stick_force: str = "resultant"
     window: tuple[float, float] | None = None
-    rtol: float = 1e-6
+    rtol: float | None = None
     dimensional: dict[str, float] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
 
@@ -72,7 +78,10 @@ class RunConfig:
         check.choice("friction", self.friction, FRICTIONS)
         check.positive("t_end", self.t_end)
         check.positive("dt", self.dt)
-        check.positive("rtol", self.rtol)
+        if self.rtol is not None:
+            check.positive("rtol", self.rtol)
+        if self.dense_dt is not None:
+            check.positive("dense_dt", self.dense_dt)
         if self.record_every is not None:
             check.positive_int("record_every", self.record_every)
         for name in ("x0", "v0"):
@@ -82,7 +91,9 @@ class RunConfig:
             t0, t1 = self.window
             if not (0 <= t0 < t1 <= self.t_end):
                 raise ValueError(f"window must satisfy 0 <= T0 < T1 <= t_end = {self.t_end:g}, got {t0:g}:{t1:g}")
-        self.build()  # model and friction validate themselves
+        model, friction, solver = self.build()  # these validate themselves
+        if not solver.supports(friction):
+            raise ValueError(f"solver={self.solver} does not support friction={self.friction}; use solver=auto")
 
     def nondimensional(self) -> dict[str, float]:
         """zeta, V_b, F_d, F_s, V_d after converting ``dimensional`` if given."""
@@ -95,9 +106,28 @@ class RunConfig:
         """The model, friction law and solver this config describes."""
         nd = self.nondimensional()
         model = BeltOscillator(zeta=nd["zeta"], vb=nd["vb"])
-        friction = Karnopp(fd=nd["fd"], fs=nd["fs"], vd=nd["vd"], stick_force=self.stick_force)
-        solver = RK4(dt=self.dt, record_every=self.record_every)
-        return model, friction, solver
+        friction: FrictionLaw
+        if self.friction == "karnopp":
+            friction = Karnopp(fd=nd["fd"], fs=nd["fs"], vd=nd["vd"], stick_force=self.stick_force)
+        elif self.friction == "coulomb":
+            friction = Coulomb(fd=nd["fd"], fs=nd["fs"], stick_force=self.stick_force)
+        else:
+            fs = nd["fs"] if nd["fs"] is not None else 2.0 * nd["fd"]
+            friction = Stribeck(fd=nd["fd"], fs=fs, vs=self.vs, delta=self.delta, viscous=self.viscous, stick_force=self.stick_force)
+        return model, friction, self.make_solver(friction)
+
+    def make_solver(self, friction: FrictionLaw) -> Solver:
+        """The solver this config names (``auto``: exact for piecewise-constant laws, else adaptive)."""
+        if self.solver == "rk4":
+            return RK4(dt=self.dt, record_every=self.record_every)
+        if self.solver == "exact":
+            return Exact(dense_dt=self.dense_dt)
+        if self.solver == "adaptive":
+            return Adaptive(rtol=self.ode_rtol, max_steps=self.max_steps, dense_dt=self.dense_dt)
+        chosen = auto_solver(friction)
+        if isinstance(chosen, Exact):
+            return Exact(dense_dt=self.dense_dt)
+        return Adaptive(rtol=self.ode_rtol, max_steps=self.max_steps, dense_dt=self.dense_dt)
 
 
 def parse_window(value: Any) -> tuple[float, float]:

@@ -6,7 +6,7 @@ from . import _validate as check
 from .friction.base import FrictionLaw
 from .params import BeltOscillator
 from .solvers.base import Solver
-from .solvers.rk4 import RK4
+from .solvers.auto import auto_solver
 from .trajectory import Trajectory
 
 
@@ -27,7 +27,9 @@ def simulate(
     model, friction:
         The oscillator (zeta, V_b) and the friction law (F_d, F_s, ...).
     solver:
-        A solver object; default :class:`~frictionflow.solvers.RK4` with dt = 1e-3.
+        A solver object; default: :class:`~frictionflow.solvers.Exact` for
+        piecewise-constant laws (Karnopp, Coulomb), else
+        :class:`~frictionflow.solvers.Adaptive`.
     t_end:
         Non-dimensional end time, > 0.
     x0, v0:
@@ -42,7 +44,7 @@ def simulate(
     t_end = check.positive("t_end", t_end)
     x0 = friction.fd if x0 is None else check.finite("x0", x0)
     v0 = model.vb if v0 is None else check.finite("v0", v0)
-    solver = RK4() if solver is None else solver
+    solver = auto_solver(friction) if solver is None else solver
     if not solver.supports(friction):
         raise ValueError(f"solver={solver.name} does not support friction={friction.name}")
     return solver.solve(model, friction, x0, v0, t_end, progress=progress)

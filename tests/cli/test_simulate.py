@@ -27,7 +27,8 @@ def test_json_has_the_documented_keys(capsys):
     d = json.loads(out)  # exactly one JSON object on stdout
     assert {"params", "solver", "steady_state", "averages", "TR_B", "amplitude", "energy_residual"} <= d.keys()
     assert {"zeta", "vb", "fd", "fs", "vd"} <= d["params"].keys()
-    assert {"kind", "period", "window"} <= d["steady_state"].keys()
+    assert {"kind", "period", "window", "stability", "stick_fraction"} <= d["steady_state"].keys()
+    assert d["solver"]["name"] == "exact" and isinstance(d["events"], int)
     assert {"P_dv", "P_df", "P_fin", "R_c", "R_f", "P_belt", "P_heat"} <= d["averages"].keys()
     assert {"X_min", "X_max", "V_min", "V_max"} <= d["amplitude"].keys()
     assert d["steady_state"]["kind"] == "periodic"
@@ -35,11 +36,19 @@ def test_json_has_the_documented_keys(capsys):
 
 
 def test_period_is_null_unless_periodic(capsys):
-    code, out, _ = run(capsys, "simulate", "--zeta", "0.01", "--json", *FAST)
+    # the paper's method sees a decaying spiral it cannot classify yet ...
+    code, out, _ = run(capsys, "simulate", "--zeta", "0.01", "--solver", "rk4", "--json", *FAST)
     d = json.loads(out)
     assert d["steady_state"]["kind"] == "not_settled"
     assert d["steady_state"]["period"] is None
     assert d["steady_state"]["decay_rate"] == pytest.approx(0.01, rel=1e-3)
+    # ... the exact solver (the default) knows the spiral never reaches the band again
+    code, out, _ = run(capsys, "simulate", "--zeta", "0.01", "--json", *FAST)
+    d = json.loads(out)
+    assert d["steady_state"]["kind"] == "equilibrium" and d["steady_state"]["period"] is None
+    assert d["steady_state"]["stability"] == "stable"
+    assert d["steady_state"]["decay_rate"] == pytest.approx(0.01, rel=1e-12)
+    assert d["averages"]["P_fin"] == 0.0 and d["TR_B"] == 1.0
 
 
 def test_defaults_are_the_papers(capsys):
@@ -80,7 +89,7 @@ def test_dimensional_input_is_converted_and_reported(capsys):
 @pytest.mark.parametrize("ext", [".csv", ".nc"])
 def test_out_writes_the_trajectory(tmp_path, capsys, ext):
     path = tmp_path / f"traj{ext}"
-    code, _, err = run(capsys, "simulate", "--out", str(path), "--record-every", "10", *FAST)
+    code, _, err = run(capsys, "simulate", "--solver", "rk4", "--out", str(path), "--record-every", "10", *FAST)
     assert code == 0, err
     if ext == ".nc":
         ds = xr.open_dataset(path)
@@ -92,6 +101,15 @@ def test_out_writes_the_trajectory(tmp_path, capsys, ext):
         data = np.genfromtxt(path, delimiter=",", names=True)
         assert data.dtype.names[:4] == ("tau", "X", "V", "F_c")
         assert len(data) == 40_000 // 20 + 1
+
+
+def test_exact_out_is_sampled_densely(tmp_path, capsys):
+    path = tmp_path / "traj.nc"
+    code, _, err = run(capsys, "simulate", "--out", str(path), "--t-end", "40")
+    assert code == 0, err
+    with xr.open_dataset(path) as ds:
+        assert ds.attrs["solver_name"] == "exact"
+        assert np.max(np.diff(ds["tau"].values)) <= 2 * np.pi / 200 + 1e-12
 
 
 @pytest.mark.parametrize("ext", [".png", ".pdf", ".svg"])
@@ -117,6 +135,9 @@ BAD = [
     (["--t-end", "-5"], "t_end"),
     (["--bogus", "1"], "--bogus"),
     (["--solver", "euler"], "solver"),
+    (["--friction", "stribeck", "--solver", "exact"], "solver=exact"),
+    (["--friction", "stribeck", "--vs", "0"], "vs"),
+    (["--friction", "tanh"], "friction"),
     (["--stick-force", "both"], "stick_force"),
     (["--window", "30:10"], "window"),
     (["--fd", "abc"], "--fd"),
@@ -163,7 +184,7 @@ def test_missing_config(tmp_path, capsys):
 
 
 def test_coarse_step_warns_on_stderr(capsys):
-    code, out, err = run(capsys, "simulate", "--vb", "0.1", "--dt", "0.05", "--t-end", "20", "--json")
+    code, out, err = run(capsys, "simulate", "--solver", "rk4", "--vb", "0.1", "--dt", "0.05", "--t-end", "20", "--json")
     assert code == 0
     assert err.startswith("warning: dt=0.05") and "use dt <=" in err
     json.loads(out)

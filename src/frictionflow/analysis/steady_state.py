@@ -33,6 +33,7 @@ import numpy as np
 
 from ..core import sections as sec
 from ..trajectory import Trajectory
+from .equilibrium import sliding_equilibrium
 
 KINDS = ("periodic", "equilibrium", "not_settled")
 HEADINGS = {sec.HEAD_NONE: None, sec.HEAD_EQUILIBRIUM: "equilibrium", sec.HEAD_PERIODIC: "periodic", sec.HEAD_GROWING: "growing"}
@@ -121,13 +122,54 @@ def steady_state(
         ``(t0, t1)`` to average over instead of the detected window; the kind
         is still the detected one.
     """
-    found = from_classification(*classify_trajectory(traj, rtol, min_periods))
+    found = _terminal(traj)
+    if found is None:
+        found = from_classification(*classify_trajectory(traj, rtol, min_periods))
+        found = replace(found, stability=_stability(traj, found))
     if window is None:
         return found
     t0, t1 = float(window[0]), float(window[1])
     if not (traj.t[0] <= t0 < t1 <= traj.t[-1]):
         raise ValueError(f"window must satisfy {traj.t[0]:g} <= T0 < T1 <= {traj.t[-1]:g}, got {t0:g}:{t1:g}")
     return replace(found, window=(t0, t1), manual_window=True, stick_fraction=stick_fraction(traj, (t0, t1)))
+
+
+def _terminal(traj: Trajectory) -> SteadyState | None:
+    """The analytic verdict of a solver that knows the run has entered its final slip phase.
+
+    From a slip phase that can never again reach the stick boundary, a
+    damped oscillator with a constant slip force decays onto the sliding
+    equilibrium however short the run.  (Undamped, it circles for ever: that
+    case is left to the section records, which find it periodic.)
+    """
+    t_term = traj.extra.get("t_terminal")
+    if t_term is None or traj.extra.get("terminal_mode", 0) == 0:
+        return None
+    eq = sliding_equilibrium(traj.model, traj.friction)
+    if eq.stability != "stable":
+        return None
+    return SteadyState(
+        "equilibrium",
+        (float(t_term), float(traj.t[-1])),
+        decay_rate=eq.decay_rate,
+        limit={"x": eq.x},
+        stability="stable",
+        stick_fraction=0.0,
+    )
+
+
+def _stability(traj: Trajectory, ss: SteadyState) -> str | None:
+    """Stability of what the run settled on, where it is known without Floquet analysis."""
+    if ss.kind == "equilibrium":
+        if ss.stick_fraction:
+            return None  # resting in a stick band: not the sliding equilibrium
+        return sliding_equilibrium(traj.model, traj.friction).stability
+    if ss.kind == "periodic":
+        if ss.stick_fraction and ss.stick_fraction > 0:
+            return "stable"  # a stick phase collapses every perturbation (a zero multiplier)
+        if traj.zeta == 0.0 and traj.friction.piecewise_constant:
+            return "neutral"  # one of the family of undamped slip circles
+    return None
 
 
 def stick_fraction(traj: Trajectory, window: tuple[float, float]) -> float:

@@ -55,19 +55,55 @@ def _clean(obj: Any) -> Any:
     return obj
 
 
+#: convergence tolerance of the steady-state test, by solver: fixed-step RK4
+#: resolves orbits to about 1e-6, the adaptive solver to its rtol, the exact
+#: solver to rounding
+DEFAULT_RTOL = {"rk4": 1e-6, "adaptive": 1e-8, "exact": 1e-10}
+
+
 def analyze(
     traj: Trajectory,
     *,
     window: tuple[float, float] | None = None,
-    rtol: float = 1e-6,
+    rtol: float | None = None,
     min_periods: int = 3,
 ) -> Analysis:
-    """Find the steady state of ``traj`` and evaluate power flow, TR_B and amplitudes over it."""
+    """Find the steady state of ``traj`` and evaluate power flow, TR_B and amplitudes over it.
+
+    When a solver has shown that the run ends in steady sliding (see
+    :func:`~frictionflow.analysis.steady_state.steady_state`), the averages,
+    TR_B and amplitudes are those of the equilibrium itself, and the energy
+    residual is that of the whole run.
+    """
+    if rtol is None:
+        rtol = DEFAULT_RTOL.get(traj.solver.get("name", ""), 1e-6)
     ss = steady_state(traj, rtol=rtol, min_periods=min_periods, window=window)
+    if ss.kind == "equilibrium" and traj.extra.get("t_terminal") is not None and not ss.manual_window:
+        return _at_equilibrium(traj, ss)
     return Analysis(
         trajectory=traj,
         steady_state=ss,
         power=power_flow(traj, ss.window),
         TR_B=transmissibility(traj, ss.window),
         amplitude=amplitude(traj, ss.window),
+    )
+
+
+def _at_equilibrium(traj: Trajectory, ss: SteadyState) -> Analysis:
+    x = ss.limit["x"] if ss.limit else float(traj.x[-1])
+    fc = x  # at rest in slip, X = F_c
+    belt = fc * traj.vb
+    whole = power_flow(traj)
+    nan = float("nan")
+    power = PowerFlow(
+        window=ss.window, P_dv=0.0, P_df=0.0, P_fin=0.0, P_f=0.0, P_belt=belt, P_heat=belt,
+        R_c=nan, R_f=nan, energy_residual=whole.energy_residual,
+    )
+    fd = traj.friction.fd
+    return Analysis(
+        trajectory=traj,
+        steady_state=ss,
+        power=power,
+        TR_B=abs(x) / fd if fd > 0 else nan,
+        amplitude={"X_min": x, "X_max": x, "V_min": 0.0, "V_max": 0.0},
     )

@@ -49,6 +49,9 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
+    except RuntimeError as e:  # a run that could not finish (the adaptive step cap, ...)
+        print(f"error: {e}", file=sys.stderr)
+        return 1
     except Exception as e:
         # Usage errors of click (vendored by recent typer): unknown options, bad types.
         if hasattr(e, "format_message") and hasattr(e, "exit_code"):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
 from typing import Any, Optional
@@ -31,6 +32,9 @@ def simulate(
     vb: Optional[float] = typer.Option(None, "--vb", help="Belt speed V_b [0.01]."),
     zeta: Optional[float] = typer.Option(None, "--zeta", help="Damping ratio zeta >= 0 [0]."),
     vd: Optional[float] = typer.Option(None, "--vd", help="Karnopp band half-width V_d > 0 [1e-3]."),
+    vs: Optional[float] = typer.Option(None, "--vs", help="Stribeck velocity V_s > 0 [0.01]."),
+    delta: Optional[float] = typer.Option(None, "--delta", help="Stribeck exponent > 0 [2]."),
+    viscous: Optional[float] = typer.Option(None, "--viscous", help="Viscous friction coefficient >= 0 (Stribeck) [0]."),
     dimensional: Optional[str] = typer.Option(
         None, "--dimensional", help="Dimensional input instead: 'm=..,c=..,k=..,v_b=..,f_d=..[,f_ms=..,v_d=..,l_0=..]'."
     ),
@@ -39,13 +43,16 @@ def simulate(
     t_end: Optional[float] = typer.Option(None, "--t-end", help="End time tau > 0 [500]."),
     dt: Optional[float] = typer.Option(None, "--dt", help="RK4 step > 0 [1e-3]."),
     record_every: Optional[int] = typer.Option(None, "--record-every", help="Keep every k-th RK4 step."),
-    solver: Optional[str] = typer.Option(None, "--solver", help="Solver: rk4 [rk4]."),
-    friction: Optional[str] = typer.Option(None, "--friction", help="Friction law: karnopp [karnopp]."),
+    dense_dt: Optional[float] = typer.Option(None, "--dense-dt", help="Exact/adaptive: also sample every DENSE_DT [2pi/200 with --out/--plot]."),
+    ode_rtol: Optional[float] = typer.Option(None, "--ode-rtol", help="Adaptive solver's relative tolerance [1e-10]."),
+    max_steps: Optional[int] = typer.Option(None, "--max-steps", help="Adaptive solver's step cap [1e7]."),
+    solver: Optional[str] = typer.Option(None, "--solver", help="auto (exact for karnopp/coulomb, adaptive for stribeck), exact, adaptive or rk4 [auto]."),
+    friction: Optional[str] = typer.Option(None, "--friction", help="Friction law: karnopp, coulomb or stribeck [karnopp]."),
     stick_force: Optional[str] = typer.Option(
         None, "--stick-force", help="Force held while sticking: resultant (X+2zeta X') or spring (X, the paper's) [resultant]."
     ),
     window: Optional[str] = typer.Option(None, "--window", help="Average over T0:T1 instead of the detected steady-state window."),
-    rtol: Optional[float] = typer.Option(None, "--rtol", help="Steady-state convergence tolerance [1e-6]."),
+    rtol: Optional[float] = typer.Option(None, "--rtol", help="Steady-state convergence tolerance [rk4 1e-6, adaptive 1e-8, exact 1e-10]."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
     out: Optional[Path] = typer.Option(None, "--out", help="Write the trajectory (.csv or .nc)."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Draw time history, phase portrait and power flow (.png, .pdf, .svg)."),
@@ -53,7 +60,8 @@ def simulate(
 ) -> None:
     """Simulate one run, find its steady state and report power flow and TR_B."""
     options = dict(
-        fd=fd, fs=fs, vb=vb, zeta=zeta, vd=vd, x0=x0, v0=v0, t_end=t_end, dt=dt, record_every=record_every,
+        fd=fd, fs=fs, vb=vb, zeta=zeta, vd=vd, vs=vs, delta=delta, viscous=viscous, x0=x0, v0=v0, t_end=t_end,
+        dt=dt, record_every=record_every, dense_dt=dense_dt, ode_rtol=ode_rtol, max_steps=max_steps,
         solver=solver, friction=friction, stick_force=stick_force, window=window, rtol=rtol,
         dimensional=parse_dimensional(dimensional) if dimensional is not None else None,
     )
@@ -64,6 +72,8 @@ def simulate(
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "plot")
 
+    if (out is not None or plot is not None) and cfg.dense_dt is None:
+        cfg.dense_dt = 2 * math.pi / 200  # files and figures want the curve, not just its switches
     model, law, solv = cfg.build()
     traj = run_simulation(model, law, solv, t_end=cfg.t_end, x0=cfg.x0, v0=cfg.v0, progress=sys.stderr.isatty())
     result = analyze(traj, window=cfg.window, rtol=cfg.rtol)

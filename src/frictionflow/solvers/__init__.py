@@ -1,6 +1,16 @@
-"""Solvers: strategy objects over compiled kernels."""
+"""Solvers: strategy objects over compiled kernels.
 
+=============  =============================================================
+``Exact``      switch to switch in closed form (Karnopp, Coulomb): the default
+``Adaptive``   Dormand-Prince 5(4), switches located (Stribeck, user laws)
+``RK4``        fixed-step classical RK4 through a stick band (the paper's method)
+=============  =============================================================
+"""
+
+from .adaptive import Adaptive, StepLimitError
+from .auto import auto_solver
 from .base import CoarseStepWarning, Solver
+from .exact import Exact
 from .rk4 import RK4
 
-__all__ = ["CoarseStepWarning", "RK4", "Solver"]
+__all__ = ["Adaptive", "CoarseStepWarning", "Exact", "RK4", "Solver", "StepLimitError", "auto_solver"]

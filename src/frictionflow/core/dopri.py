@@ -1,0 +1,363 @@
+"""Adaptive Dormand-Prince 5(4) with dense output, for smooth nonlinear slip laws.
+
+Slip phases are integrated with the embedded pair (the coefficients of
+Dormand & Prince 1980, dense output of Shampine 1986 as in SciPy's RK45);
+every switch (V_r = 0) is located on the dense output to machine precision
+and the integration restarts there in the mode the stick rule selects.
+There is no sign() inside the integrator: within a slip phase the slip
+direction is fixed, so the right-hand side is smooth and nothing chatters.
+Stick phases (X' = V_b) are closed forms.
+
+The state is augmented with the running integrals of 2 zeta X'^2, of
+P_f = X' F_c (signed; split into in/out at the zeros of X', which are
+located as well) and of the interface heat F_c V_r.
+
+``slip_force(p, speed)`` is a module global: for a user-defined slip law the
+kernel is rebuilt around the user's function (see
+:func:`frictionflow.solvers.adaptive.kernel_for`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .friction import DELTA, FD, FS, LAW, RESULTANT, VISC, VS, slip_magnitude
+
+A21 = 1 / 5
+A31, A32 = 3 / 40, 9 / 40
+A41, A42, A43 = 44 / 45, -56 / 15, 32 / 9
+A51, A52, A53, A54 = 19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729
+A61, A62, A63, A64, A65 = 9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656
+B1, B3, B4, B5, B6 = 35 / 384, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84
+E1, E3, E4, E5, E6, E7 = -71 / 57600, 71 / 16695, -71 / 1920, 17253 / 339200, -22 / 525, 1 / 40
+P = np.array([
+    [1, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
+    [0, 0, 0, 0],
+    [0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799],
+    [0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
+    [0, 127303824393 / 49829197408, -318862633887 / 49829197408, 701980252875 / 199316789632],
+    [0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
+    [0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
+])
+NY = 5  # X, X', W_dv, W_f (signed), W_heat
+H_MAX = 0.25  # about 1/25 of the natural period
+OK, STEP_CAP, TINY_STEP, FULL = 0, 1, 2, 3
+EPS = 2.220446049250313e-16
+
+
+@njit(cache=True)
+def slip_force(p, speed):
+    """Friction magnitude while slipping at ``speed`` (a built-in law)."""
+    return slip_magnitude(int(p[LAW]), p[FD], p[FS], p[VS], p[DELTA], p[VISC], speed)
+
+
+@njit(cache=True)
+def rhs(y, d, zeta, vb, p, out):
+    """Slip in direction d: X'' = d F(|V_r|) - X - 2 zeta X', with the work integrands."""
+    x = y[0]
+    v = y[1]
+    vr = vb - v
+    f = d * slip_force(p, abs(vr))
+    out[0] = v
+    out[1] = f - x - 2.0 * zeta * v
+    out[2] = 2.0 * zeta * v * v
+    out[3] = v * f
+    out[4] = f * vr
+
+
+@njit(cache=True)
+def dense(y0, K, h, theta, out):
+    """The continuous extension at y0 + theta h."""
+    q1 = theta
+    q2 = theta * theta
+    q3 = q2 * theta
+    q4 = q3 * theta
+    for i in range(NY):
+        acc = 0.0
+        for s in range(7):
+            acc += K[s, i] * (P[s, 0] * q1 + P[s, 1] * q2 + P[s, 2] * q3 + P[s, 3] * q4)
+        out[i] = y0[i] + h * acc
+
+
+@njit(cache=True)
+def at_rest(x, zeta, vb, fs, res, p):
+    """Mode at V_r = 0: 0 (stick) or the slip direction +-1 the stick rule selects."""
+    fe = x + 2.0 * zeta * vb if res else x
+    outward = fe * vb > 0.0 or vb == 0.0
+    if abs(fe) < fs * (1.0 - 1e-14) or (abs(fe) <= fs and not outward):
+        return 0
+    f0 = slip_force(p, 0.0)
+    tol = 1e-12 * (abs(f0) + abs(x) + 2.0 * zeta * abs(vb))
+    for d in (1.0 if fe > 0.0 else -1.0, -1.0 if fe > 0.0 else 1.0):
+        a = d * f0 - x - 2.0 * zeta * vb
+        # slip+ means X' falls below V_b: needs X'' < 0 (or ~0, with X''' = -V_b < 0)
+        if d * a < -tol or (abs(a) <= tol and d * vb > 0.0):
+            return int(d)
+    return 0
+
+
+@njit(cache=True)
+def _g(kind, y, a, zeta, vb, d):
+    """Event functions: 0 the switch d (V_b - X') (> 0 inside), 1 X', 2 X'', 3 X' + 2 zeta X''."""
+    if kind == 0:
+        return d * (vb - y[1])
+    if kind == 1:
+        return y[1]
+    if kind == 2:
+        return a
+    return y[1] + 2.0 * zeta * a
+
+
+@njit(cache=True)
+def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
+        out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
+    """Integrate to ``t_end``; returns (samples, events, status, t, h) -- t, h where it stopped."""
+    fs = p[FS]
+    res = p[RESULTANT] != 0.0
+    K = np.empty((7, NY))
+    y = np.zeros(NY)
+    yn = np.empty(NY)
+    ys = np.empty(NY)
+    tmp = np.empty(NY)
+    w = np.zeros(4)  # W_dv, W_fin, W_fout, W_heat at the last sample
+    wf_last = 0.0
+    t = 0.0
+    x, v = x0, v0
+    if v0 == vb:
+        mode = at_rest(x0, zeta, vb, fs, res, p)
+    else:
+        mode = 1 if vb - v0 > 0.0 else -1
+    k = 0
+    ne = 0
+    steps = 0
+    h = 0.0
+    if len(out_t) < 2:
+        return 0, 0, FULL, t, h
+    out_t[0], out_x[0], out_v[0] = t, x, v
+    out_fc[0] = (x + 2.0 * zeta * vb) if mode == 0 else mode * slip_force(p, abs(vb - v))
+    out_mode[0] = mode
+    out_w[0, :] = w
+    k = 1
+    next_dense = dense_dt if dense_dt > 0.0 else np.inf
+    tail_done = t_tail <= 0.0
+    while t < t_end:
+        if mode == 0:
+            # stick: X' = V_b until |F_e| = F_s
+            fe0 = x + 2.0 * zeta * vb if res else x
+            T = t_end - t
+            if vb > 0.0:
+                T = min(T, (fs - fe0) / vb)
+            elif vb < 0.0:
+                T = min(T, (-fs - fe0) / vb)
+            T = max(T, 0.0)
+            fcz = -(x + 2.0 * zeta * vb) / vb if vb != 0.0 else -1.0
+            ta = 0.0
+            while True:
+                tb = T
+                tag = 0
+                if ta < fcz < tb:
+                    tb = fcz
+                if not tail_done and ta < t_tail - t < tb:
+                    tb = t_tail - t
+                    tag = 1
+                if next_dense - t < tb and next_dense - t > ta:
+                    tb = next_dense - t
+                    tag = 2
+                L = tb - ta
+                xa = x + vb * ta
+                w[0] += 2.0 * zeta * vb * vb * L
+                pf = vb * ((xa + 2.0 * zeta * vb) * L + 0.5 * vb * L * L)
+                if pf > 0.0:
+                    w[1] += pf
+                else:
+                    w[2] -= pf
+                ta = tb
+                if tag == 1:
+                    tail_done = True
+                if tag == 2:
+                    next_dense += dense_dt
+                if ta >= T:
+                    break
+                if k >= len(out_t):
+                    return k, ne, FULL, t, h
+                out_t[k], out_x[k], out_v[k] = t + ta, x + vb * ta, vb
+                out_fc[k] = x + vb * ta + 2.0 * zeta * vb
+                out_mode[k] = 0
+                out_w[k, :] = w
+                k += 1
+            t += T
+            x += vb * T
+            v = vb
+            if t >= t_end:
+                break
+            mode = at_rest(x, zeta, vb, fs, res, p)
+            if mode == 0:
+                # |F_e| = F_s but neither slip direction is consistent (possible with
+                # F_e = X when zeta V_b is large): the interface holds for good
+                fs = np.inf
+                continue
+        else:
+            # slip: Dormand-Prince from (x, v) with the direction fixed
+            d = float(mode)
+            y[0], y[1], y[2], y[3], y[4] = x, v, 0.0, 0.0, 0.0
+            w_base = w.copy()
+            wf_base = 0.0
+            wf_last = 0.0
+            rhs(y, d, zeta, vb, p, K[0])
+            if h <= 0.0:
+                h = 0.01 * max(1e-3, min(1.0, (abs(x) + abs(v) + 1e-6) / (abs(K[0, 1]) + 1e-12)))
+            switched = False
+            while t < t_end and not switched:
+                steps += 1
+                if steps > max_steps:
+                    return k, ne, STEP_CAP, t, h
+                if h < 1e-14 * (1.0 + abs(t)):
+                    return k, ne, TINY_STEP, t, h
+                # at most H_MAX: the event search looks at signs at step ends only
+                h = min(h, H_MAX, t_end - t)
+                # the stages
+                for i in range(NY):
+                    tmp[i] = y[i] + h * A21 * K[0, i]
+                rhs(tmp, d, zeta, vb, p, K[1])
+                for i in range(NY):
+                    tmp[i] = y[i] + h * (A31 * K[0, i] + A32 * K[1, i])
+                rhs(tmp, d, zeta, vb, p, K[2])
+                for i in range(NY):
+                    tmp[i] = y[i] + h * (A41 * K[0, i] + A42 * K[1, i] + A43 * K[2, i])
+                rhs(tmp, d, zeta, vb, p, K[3])
+                for i in range(NY):
+                    tmp[i] = y[i] + h * (A51 * K[0, i] + A52 * K[1, i] + A53 * K[2, i] + A54 * K[3, i])
+                rhs(tmp, d, zeta, vb, p, K[4])
+                for i in range(NY):
+                    tmp[i] = y[i] + h * (A61 * K[0, i] + A62 * K[1, i] + A63 * K[2, i] + A64 * K[3, i] + A65 * K[4, i])
+                rhs(tmp, d, zeta, vb, p, K[5])
+                for i in range(NY):
+                    yn[i] = y[i] + h * (B1 * K[0, i] + B3 * K[2, i] + B4 * K[3, i] + B5 * K[4, i] + B6 * K[5, i])
+                rhs(yn, d, zeta, vb, p, K[6])
+                err = 0.0
+                for i in range(NY):  # the work integrals too: their dense output is what samples see
+                    e = h * (E1 * K[0, i] + E3 * K[2, i] + E4 * K[3, i] + E5 * K[4, i] + E6 * K[5, i] + E7 * K[6, i])
+                    sc = atol + rtol * max(abs(y[i]), abs(yn[i]))
+                    err = max(err, abs(e) / sc)
+                if err > 1.0:
+                    h *= max(0.2, 0.9 * err ** -0.2)
+                    continue
+                # accepted: events on the dense output, in time order
+                theta_end = 1.0
+                g_sw = _g(0, yn, K[6, 1], zeta, vb, d)
+                if g_sw <= 0.0:
+                    theta_end = _root(0, y, K, h, zeta, vb, d, p)
+                    switched = True
+                th = 0.0
+                while True:
+                    # the earliest sample point in (th, theta_end]
+                    best = theta_end
+                    kind = -1
+                    for kk in range(1, 4):
+                        ga = _gd(kk, y, K, h, th, zeta, vb, d, p, ys, tmp)
+                        gb = _gd(kk, y, K, h, theta_end, zeta, vb, d, p, ys, tmp)
+                        if ga * gb < 0.0:
+                            r = _root_between(kk, y, K, h, th, theta_end, zeta, vb, d, p, ys, tmp)
+                            if r < best:
+                                best = r
+                                kind = kk
+                    tt = t + best * h
+                    if not tail_done and t_tail <= tt:
+                        best = (t_tail - t) / h
+                        kind = 4
+                        tt = t_tail
+                    if next_dense <= tt:
+                        best = (next_dense - t) / h
+                        kind = 5
+                        tt = next_dense
+                    dense(y, K, h, best, ys)
+                    if kind == 1:
+                        ys[1] = 0.0  # exactly: the section crossing is a sample
+                    # works since the phase began, split at the zeros of X'
+                    dwf = ys[3] - wf_last
+                    if dwf > 0.0:
+                        w[1] += dwf
+                    else:
+                        w[2] -= dwf
+                    wf_last = ys[3]
+                    w[0] = w_base[0] + ys[2]
+                    w[3] = w_base[3] + ys[4]
+                    if kind == 4:
+                        tail_done = True
+                    if kind == 5:
+                        next_dense += dense_dt
+                    if k >= len(out_t):
+                        return k, ne, FULL, t, h
+                    if switched and kind == -1:
+                        ys[1] = vb  # exactly at the switch
+                    out_t[k], out_x[k], out_v[k] = tt, ys[0], ys[1]
+                    out_fc[k] = d * slip_force(p, abs(vb - ys[1]))
+                    out_mode[k] = mode
+                    out_w[k, :] = w
+                    k += 1
+                    th = best
+                    if kind == -1:
+                        break
+                t += theta_end * h
+                if switched:
+                    x, v = ys[0], vb
+                else:
+                    for i in range(NY):
+                        y[i] = yn[i]
+                    K[0, :] = K[6, :]
+                    x, v = y[0], y[1]
+                    h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
+            if switched:
+                new = at_rest(x, zeta, vb, fs, res, p)
+                if ne < len(ev_t):
+                    ev_t[ne] = t
+                    ev_mode[ne] = new
+                ne += 1
+                mode = new
+                out_mode[k - 1] = mode
+                out_fc[k - 1] = (x + 2.0 * zeta * vb) if mode == 0 else mode * slip_force(p, 0.0)
+    return k, ne, OK, t, h
+
+
+@njit(cache=True)
+def _gd(kind, y, K, h, theta, zeta, vb, d, p, ys, tmp):
+    dense(y, K, h, theta, ys)
+    rhs(ys, d, zeta, vb, p, tmp)
+    return _g(kind, ys, tmp[1], zeta, vb, d)
+
+
+@njit(cache=True)
+def _root_between(kind, y, K, h, lo, hi, zeta, vb, d, p, ys, tmp):
+    """Bisection for a sign change of event ``kind`` on the dense output, theta in (lo, hi]."""
+    glo = _gd(kind, y, K, h, lo, zeta, vb, d, p, ys, tmp)
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        gm = _gd(kind, y, K, h, mid, zeta, vb, d, p, ys, tmp)
+        if gm * glo > 0.0:
+            lo = mid
+            glo = gm
+        else:
+            hi = mid
+    return hi
+
+
+@njit(cache=True)
+def _root(kind, y, K, h, zeta, vb, d, p):
+    """The switch: first theta in (0, 1] where d (V_b - X') <= 0 on the dense output."""
+    ys = np.empty(NY)
+    tmp = np.empty(NY)
+    lo, hi = 0.0, 1.0
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if _gd(kind, y, K, h, mid, zeta, vb, d, p, ys, tmp) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return hi

@@ -1,0 +1,149 @@
+"""Adaptive Dormand-Prince 5(4) with located switches, for nonlinear slip laws."""
+
+from __future__ import annotations
+
+import types
+from functools import lru_cache
+from typing import Any, Callable
+
+import numpy as np
+from numba import njit
+from numba.core.registry import CPUDispatcher
+
+from .. import _validate as check
+from .._progress import progress_bar
+from ..core import dopri, sections
+from ..friction.base import FrictionLaw
+from ..friction.stribeck import SlipLaw
+from ..params import BeltOscillator
+from ..trajectory import Trajectory
+from .base import Solver
+
+
+class StepLimitError(RuntimeError):
+    """The adaptive solver hit its step cap (or a vanishing step) before the end."""
+
+
+_KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "run")
+
+
+@lru_cache(maxsize=32)
+def kernel_for(func: Callable[[float], float] | None) -> tuple[Callable, bool]:
+    """The ``run`` kernel for a slip law: the built-in one, or one rebuilt around a user function.
+
+    Returns (kernel, compiled).  A user function numba cannot compile runs in
+    the Python version of the same kernel.
+    """
+    if func is None:
+        return dopri.run, True
+    jitted = func if isinstance(func, CPUDispatcher) else njit(func)
+
+    @njit
+    def user_force(p, speed):
+        return jitted(speed)
+
+    try:
+        user_force(np.zeros(8), 0.5)
+        return _rebuild(user_force, compiled=True), True
+    except Exception:
+        def py_force(p, speed):
+            return float(func(speed))
+
+        return _rebuild(py_force, compiled=False), False
+
+
+def _rebuild(force: Callable, compiled: bool) -> Callable:
+    g = dict(vars(dopri))
+    g["slip_force"] = force
+    for name in _KERNEL_FUNCS:
+        code = getattr(dopri, name).py_func
+        fn = types.FunctionType(code.__code__, g, name, code.__defaults__)
+        g[name] = njit(fn) if compiled else fn
+    return g["run"]
+
+
+class Adaptive(Solver):
+    """Embedded Runge-Kutta 5(4) (Dormand-Prince) with every switch located.
+
+    Slip phases are integrated adaptively with the slip direction fixed (no
+    sign() inside the integrator, so nothing chatters at V_r = 0); each
+    switch is located on the dense output and the run restarts there in the
+    mode Coulomb's stick rule selects; stick phases are closed forms.
+
+    Parameters
+    ----------
+    rtol, atol:
+        Error tolerances on X and X' per step.
+    max_steps:
+        Step cap; when hit the run stops with :class:`StepLimitError` saying where.
+    dense_dt:
+        Also sample the dense output every ``dense_dt``.
+    """
+
+    name = "adaptive"
+
+    def __init__(self, rtol: float = 1e-10, atol: float = 1e-13, max_steps: int = 10_000_000, dense_dt: float | None = None) -> None:
+        self.rtol = check.positive("rtol", rtol)
+        self.atol = check.positive("atol", atol)
+        self.max_steps = check.positive_int("max_steps", max_steps)
+        self.dense_dt = None if dense_dt is None else check.positive("dense_dt", dense_dt)
+
+    def describe(self) -> dict[str, Any]:
+        return {"name": self.name, "rtol": self.rtol, "atol": self.atol, "max_steps": self.max_steps, "dense_dt": self.dense_dt}
+
+    def supports(self, friction: FrictionLaw) -> bool:
+        return friction.name in ("coulomb", "stribeck", "user")
+
+    def solve(
+        self,
+        model: BeltOscillator,
+        friction: FrictionLaw,
+        x0: float,
+        v0: float,
+        t_end: float,
+        progress: bool = False,
+    ) -> Trajectory:
+        if not self.supports(friction):
+            raise ValueError(f"solver=adaptive does not support friction={friction.name}")
+        run, _ = kernel_for(friction.func if isinstance(friction, SlipLaw) else None)
+        p = friction.kernel_params()
+        dense_dt = self.dense_dt or 0.0
+        cap = int(64 * t_end) + 256 + (int(t_end / dense_dt) + 2 if dense_dt else 0)
+        t_tail = sections.tail_start(0.0, t_end)
+        with progress_bar("adaptive", 1, enabled=progress and t_end > 1e5) as advance:
+            while True:
+                t, x, v, fc = (np.empty(cap) for _ in range(4))
+                mode = np.empty(cap, dtype=np.int8)
+                work = np.empty((cap, 4))
+                ev_t = np.empty(cap)
+                ev_mode = np.empty(cap, dtype=np.int64)
+                n, ne, status, t_stop, h = run(
+                    float(x0), float(v0), float(t_end), model.zeta, model.vb, p, self.rtol, self.atol, self.max_steps,
+                    dense_dt, t_tail, t, x, v, fc, mode, work, ev_t, ev_mode,
+                )
+                if status == dopri.FULL or ne > cap:
+                    cap *= 4
+                    continue
+                break
+            advance(1)
+        if status in (dopri.STEP_CAP, dopri.TINY_STEP):
+            why = f"max_steps={self.max_steps} reached" if status == dopri.STEP_CAP else "the step size vanished"
+            raise StepLimitError(
+                f"adaptive: {why} at tau={t_stop:.10g} (X={x[n - 1]:.6g}, X'={v[n - 1]:.6g}, "
+                f"mode {int(mode[n - 1]):+d}, step {h:.3g}) after {ne} switches; "
+                "raise max_steps or loosen rtol/atol, or check the slip law near V_r = 0"
+            )
+        return Trajectory(
+            t=t[:n].copy(),
+            x=x[:n].copy(),
+            v=v[:n].copy(),
+            fc=fc[:n].copy(),
+            mode=mode[:n].copy(),
+            work=work[:n].copy(),
+            model=model,
+            friction=friction,
+            solver=self.describe(),
+            events={"t": ev_t[:ne].copy(), "mode": ev_mode[:ne].copy()},
+        )
+
+
