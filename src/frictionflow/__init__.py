@@ -1,8 +1,8 @@
 """frictionflow: dynamics and vibration power flow of dry-friction oscillators.
 
->>> from frictionflow import BeltOscillator, Karnopp, RK4, simulate, analyze
->>> traj = simulate(BeltOscillator(zeta=0.0, vb=0.01), Karnopp(fd=0.02), RK4(dt=1e-3), t_end=100)
->>> result = analyze(traj)
+>>> from frictionflow import BeltOscillator, Coulomb, simulate, analyze
+>>> traj = simulate(BeltOscillator(zeta=0.05, vb=0.01), Coulomb(fd=0.02, fs=0.04), t_end=100)
+>>> result = analyze(traj)           # the exact solver by default
 >>> result.steady_state.kind
 'periodic'
 """
@@ -20,10 +20,11 @@ from .analysis import (
     steady_state,
     transmissibility,
 )
-from .friction import FrictionLaw, Karnopp
+from .analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
+from .friction import Coulomb, FrictionLaw, Karnopp, SlipLaw, Stribeck
 from .params import BeltOscillator, DimensionalParams
 from .simulate import simulate
-from .solvers import RK4, CoarseStepWarning, Solver
+from .solvers import RK4, Adaptive, CoarseStepWarning, Exact, Solver, StepLimitError
 from .trajectory import Trajectory
 
 try:
@@ -32,16 +33,23 @@ except PackageNotFoundError:  # running from a source tree
     __version__ = "0+unknown"
 
 __all__ = [
+    "Adaptive",
     "Analysis",
     "BeltOscillator",
     "CoarseStepWarning",
+    "Coulomb",
     "DimensionalParams",
+    "Exact",
     "FrictionLaw",
     "Karnopp",
     "PowerFlow",
     "RK4",
+    "SlidingEquilibrium",
+    "SlipLaw",
     "Solver",
     "SteadyState",
+    "StepLimitError",
+    "Stribeck",
     "Trajectory",
     "__version__",
     "amplitude",
@@ -49,6 +57,7 @@ __all__ = [
     "instantaneous_power",
     "power_flow",
     "simulate",
+    "sliding_equilibrium",
     "steady_state",
     "transmissibility",
 ]

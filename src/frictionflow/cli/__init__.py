@@ -28,7 +28,11 @@ def _root() -> None:
     """Dynamics and vibration power flow of dry-friction (mass-on-belt) oscillators."""
 
 
-from . import simulate as _simulate  # noqa: E402,F401  (registers the command)
+# each module registers its command(s)
+from . import simulate as _simulate  # noqa: E402,F401
+from . import reproduce as _reproduce  # noqa: E402,F401
+from . import sweep as _sweep  # noqa: E402,F401
+from . import orbit as _orbit  # noqa: E402,F401
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None):  # noqa: ANN001

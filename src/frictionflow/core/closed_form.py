@@ -54,6 +54,12 @@ def coefficients(dyn, zeta, force, x0, v0):
 @njit(cache=True)
 def state(dyn, zeta, force, x0, v0, t):
     """(X, X', X'') at time t after the phase starts at (x0, v0)."""
+    return state_with(coefficients(dyn, zeta, force, x0, v0), dyn, zeta, force, x0, v0, t)
+
+
+@njit(cache=True, inline="always")
+def state_with(co, dyn, zeta, force, x0, v0, t):
+    """:func:`state` with the phase's :func:`coefficients` computed once by the caller."""
     if dyn == LIN:
         return x0 + v0 * t, v0, 0.0
     if dyn == EXP:
@@ -62,7 +68,7 @@ def state(dyn, zeta, force, x0, v0, t):
             return x0 + v0 * t, v0, 0.0
         e = math.exp(-c * t)
         return x0 + v0 * (-math.expm1(-c * t)) / c, v0 * e, -c * v0 * e
-    reg, r1, r2, p, q = coefficients(dyn, zeta, force, x0, v0)
+    reg, r1, r2, p, q = co
     if reg == UNDER:
         e = math.exp(-r1 * t)
         cs = math.cos(r2 * t)

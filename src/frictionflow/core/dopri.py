@@ -199,6 +199,17 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
                 # F_e = X when zeta V_b is large): the interface holds for good
                 fs = np.inf
                 continue
+            if ne < len(ev_t):
+                ev_t[ne] = t
+                ev_mode[ne] = mode
+            ne += 1
+            if k >= len(out_t):
+                return k, ne, FULL, t, h
+            out_t[k], out_x[k], out_v[k] = t, x, v
+            out_fc[k] = mode * slip_force(p, 0.0)
+            out_mode[k] = mode
+            out_w[k, :] = w
+            k += 1
         else:
             # slip: Dormand-Prince from (x, v) with the direction fixed
             d = float(mode)
@@ -319,6 +330,14 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
                 mode = new
                 out_mode[k - 1] = mode
                 out_fc[k - 1] = (x + 2.0 * zeta * vb) if mode == 0 else mode * slip_force(p, 0.0)
+    if out_t[k - 1] < t_end:  # a run that ends sticking
+        if k >= len(out_t):
+            return k, ne, FULL, t, h
+        out_t[k], out_x[k], out_v[k] = t_end, x, v
+        out_fc[k] = x + 2.0 * zeta * vb
+        out_mode[k] = 0
+        out_w[k, :] = w
+        k += 1
     return k, ne, OK, t, h
 
 

@@ -150,13 +150,16 @@ def _accel(dyn, zeta, force, x, v):
 @njit(cache=True)
 def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev):
     """Does the motion stay in ``mode``'s region for a positive time from (x, v)?"""
+    # A switch is located to a few ulps of time; X' there is then off the boundary
+    # by |X''| times that: far below this tolerance, far above rounding.
+    vtol = 1e-10 * (abs(vb) + abs(v) + vd + abs(x) + fs)
     if law == KARNOPP and (mode == EDGE_LO or mode == EDGE_HI):
         edge = vb - vd if mode == EDGE_LO else vb + vd
-        if abs(v - edge) > 64.0 * EPS * (abs(vb) + vd):
+        if abs(v - edge) > vtol:
             return False
         if res or zeta == 0.0:
             return False  # the band holds the mass itself: no sliding on its edge
-    if law == COULOMB and mode == STICK and abs(v - vb) > 64.0 * EPS * (abs(vb) + abs(v)) + 1e-300:
+    if law == COULOMB and mode == STICK and abs(v - vb) > vtol:
         return False
     dyn, force, _ = dynamics(mode, zeta, fd, fs, res)
     a, j = _accel(dyn, zeta, force, x, v)
@@ -218,18 +221,18 @@ def region_mode(law, zeta, vb, fd, fs, vd, res, x, v):
     return HOLD
 
 
-@njit(cache=True)
-def _g(dyn, zeta, force, x0, v0, a, b, c, t):
-    x, v, acc = cf.state(dyn, zeta, force, x0, v0, t)
+@njit(cache=True, inline="always")
+def _g(co, dyn, zeta, force, x0, v0, a, b, c, t):
+    x, v, acc = cf.state_with(co, dyn, zeta, force, x0, v0, t)
     return a * x + b * v - c, a * v + b * acc
 
 
 @njit(cache=True)
-def _refine(dyn, zeta, force, x0, v0, a, b, c, s, lo, hi):
+def _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, lo, hi):
     """First time in (lo, hi] where s g <= 0, given s g(hi) <= 0 and g monotone on [lo, hi]."""
     t = 0.5 * (lo + hi)
     for _ in range(200):
-        g, dg = _g(dyn, zeta, force, x0, v0, a, b, c, t)
+        g, dg = _g(co, dyn, zeta, force, x0, v0, a, b, c, t)
         if s * g > 0.0:
             lo = t
         else:
@@ -240,12 +243,19 @@ def _refine(dyn, zeta, force, x0, v0, a, b, c, s, lo, hi):
         tn = t - g / dg if dg != 0.0 else 0.5 * (lo + hi)
         if not (lo < tn < hi):
             tn = 0.5 * (lo + hi)
+        elif abs(tn - t) <= 2.0 * EPS * hi:
+            # converged to rounding: return the side of the root that is outside
+            if s * g <= 0.0:
+                return t
+            tn = min(hi, t + 4.0 * EPS * hi)
+            gn, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, tn)
+            return tn if s * gn <= 0.0 else hi
         t = tn
     return hi
 
 
 @njit(cache=True)
-def _search(dyn, zeta, force, x0, v0, a, b, c, s, horizon, crit):
+def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon, crit):
     """First crossing of one boundary in (0, horizon]: (time or inf, never crossed at all).
 
     g is monotone between its critical points; a crossing is bracketed on the
@@ -265,9 +275,9 @@ def _search(dyn, zeta, force, x0, v0, a, b, c, s, horizon, crit):
         m = cf.critical_points(dyn, zeta, force, x0, v0, a, b, t_a, horizon, crit)
         for i in range(m + 1):
             t_b = crit[i] if i < m else horizon
-            gb, dgb = _g(dyn, zeta, force, x0, v0, a, b, c, t_b)
+            gb, dgb = _g(co, dyn, zeta, force, x0, v0, a, b, c, t_b)
             if s * gb < -(graze if i < m else tiny):
-                return _refine(dyn, zeta, force, x0, v0, a, b, c, s, t_a, t_b), False
+                return _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, t_a, t_b), False
             if dyn == cf.OSC and zeta > 0.0 and g_inf > 0.0 and cf.envelope(dyn, zeta, force, x0, v0, a, b, t_b) < g_inf:
                 return np.inf, True  # the decaying oscillation stays inside for ever
             if t_b >= period:
@@ -276,7 +286,7 @@ def _search(dyn, zeta, force, x0, v0, a, b, c, s, horizon, crit):
         if m < len(crit) or t_a >= horizon:
             break
     # Nothing up to the horizon; after its last critical point g is monotone.
-    gh, dgh = _g(dyn, zeta, force, x0, v0, a, b, c, horizon)
+    gh, dgh = _g(co, dyn, zeta, force, x0, v0, a, b, c, horizon)
     if dyn == cf.LIN or (dyn == cf.EXP and zeta == 0.0):
         return np.inf, s * dgh >= 0.0
     if dyn == cf.EXP:
@@ -302,8 +312,9 @@ def next_event(dyn, zeta, force, x0, v0, ev, n_ev, t_max, crit):
     best = np.inf
     which = -1
     never = True
+    co = cf.coefficients(dyn, zeta, force, x0, v0)
     for k in range(n_ev):
-        tc, nv = _search(dyn, zeta, force, x0, v0, ev[k, 0], ev[k, 1], ev[k, 2], ev[k, 3], min(t_max, best), crit)
+        tc, nv = _search(co, dyn, zeta, force, x0, v0, ev[k, 0], ev[k, 1], ev[k, 2], ev[k, 3], min(t_max, best), crit)
         if tc < best:
             best = tc
             which = k
@@ -404,6 +415,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
                 return k, ne, DONE, t_terminal, t
         # Walk the phase in windows of 16 pi, emitting the samples inside.
         xp, vp = x, v  # phase start
+        co = cf.coefficients(dyn, zeta, force, xp, vp)
         ta, xa, va = 0.0, x, v
         while ta < T:
             tw = min(T, ta + 16.0 * math.pi)
@@ -440,15 +452,15 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             pts[n] = tw
             n += 1
             tags[nz:n] = 0
-            order = np.argsort(pts[:n], kind="mergesort")
+            _sort_tagged(pts, tags, n)
             for i in range(n):
-                tb = pts[order[i]]
+                tb = pts[i]
                 if tb <= ta:
                     continue
                 if tb == tw and tw == T:
                     break  # the phase end is emitted after the switch
-                xb, vb_, _ = cf.state(dyn, zeta, force, xp, vp, tb)
-                vzero = tags[order[i]] == 1
+                xb, vb_, _ = cf.state_with(co, dyn, zeta, force, xp, vp, tb)
+                vzero = tags[i] == 1
                 if vzero:
                     vb_ = 0.0  # exactly: the section crossing is then a sample
                 _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xb, vb_, tb - ta, w)
@@ -469,7 +481,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
                         return k, ne, DONE, t_terminal, t + tb
             if tw == T:
                 # the last piece, up to the phase end
-                xb, vb_, _ = cf.state(dyn, zeta, force, xp, vp, T)
+                xb, vb_, _ = cf.state_with(co, dyn, zeta, force, xp, vp, T)
                 _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xb, vb_, T - ta, w)
                 ta, xa, va = T, xb, vb_
             else:
@@ -535,3 +547,18 @@ def _repeats(ring_x, ring_t, n, min_periods, tol_x, rtol):
         if abs(pj - p_last) > rtol * p_last:
             return False
     return True
+
+
+@njit(cache=True)
+def _sort_tagged(pts, tags, n):
+    """Insertion sort of pts[:n] carrying tags along (n is small; no allocation)."""
+    for i in range(1, n):
+        p = pts[i]
+        g = tags[i]
+        j = i - 1
+        while j >= 0 and pts[j] > p:
+            pts[j + 1] = pts[j]
+            tags[j + 1] = tags[j]
+            j -= 1
+        pts[j + 1] = p
+        tags[j + 1] = g

@@ -57,7 +57,7 @@ class FrictionLaw(ABC):
         p[kf.LAW] = self.code
         p[kf.FD] = self.fd
         p[kf.FS] = self.fs
-        p[kf.VD] = self.band
+        p[kf.VD] = getattr(self, "band", 0.0)  # laws without a band (user laws) never reach RK4
         p[kf.RESULTANT] = 1.0 if self.stick_force == "resultant" else 0.0
         self._fill_kernel_params(p)
         return p
