@@ -1,0 +1,1 @@
+"""``frictionflow reproduce``: registered by this module (under construction)."""

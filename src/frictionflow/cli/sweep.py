@@ -1,0 +1,1 @@
+"""``frictionflow sweep``: registered by this module (under construction)."""
