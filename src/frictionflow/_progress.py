@@ -34,3 +34,32 @@ def progress_bar(description: str, total: float, enabled: bool = True) -> Iterat
     with bar:
         task = bar.add_task(description, total=total)
         yield lambda n: bar.advance(task, n)
+
+
+@contextmanager
+def points_bar(description: str, total: int, done: int = 0, enabled: bool = True) -> Iterator[Callable[[float], None]]:
+    """A bar counting points, with points/s and the time left."""
+    if not enabled:
+        yield lambda n: None
+        return
+    from rich.progress import TaskProgressColumn
+
+    bar = Progress(
+        TextColumn("[bold]{task.description}"),
+        BarColumn(),
+        TaskProgressColumn(),
+        MofNCompleteColumn(),
+        TextColumn("{task.fields[rate]} points/s"),
+        TimeElapsedColumn(),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+    )
+    with bar:
+        task = bar.add_task(description, total=total, completed=done, rate="-")
+
+        def advance(n: float) -> None:
+            bar.advance(task, n)
+            speed = bar.tasks[task].speed
+            bar.update(task, rate=f"{speed:,.0f}" if speed else "-")
+
+        yield advance

@@ -55,6 +55,7 @@ HEAD_NONE, HEAD_EQUILIBRIUM, HEAD_PERIODIC, HEAD_GROWING = 0, 1, 2, 3
 NC = 10
 
 
+@njit(cache=True)
 def tail_start(t0: float, t_end: float) -> float:
     """Start of the tail used for the equilibrium test."""
     span = t_end - t0

@@ -1,0 +1,167 @@
+"""Steady-state results for many parameter points per call, parallel over the cores.
+
+Each kernel takes per-point model and friction parameters and returns one
+row of results per point (layout ``R_*``), the same quantities
+``frictionflow simulate --json`` reports, computed by the same section-record
+classifier (:mod:`.sections`).  The exact and adaptive kernels stop a point
+early once its section values repeat (``rtol``, ``min_periods``) or, for
+the exact solver, once it is in a slip phase it can never leave (the sliding
+equilibrium): the rest of the run would change nothing.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from . import dopri, exact, rk4_batch
+from . import sections as sec
+from .friction import FD
+
+(
+    R_KIND, R_PERIOD, R_P_DV, R_P_DF, R_P_FIN, R_R_C, R_R_F, R_P_BELT, R_P_HEAT, R_TR_B,
+    R_X_MIN, R_X_MAX, R_V_MIN, R_V_MAX, R_STICK, R_RESID,
+) = range(16)
+NR = 16
+
+
+@njit(cache=True)
+def _row_from(rec, tail, fin, cls, fd, out):
+    """Fill a result row from a classification and its window summary."""
+    s = sec.window_summary(rec, tail, fin, cls, fd)
+    out[R_KIND] = cls[sec.C_KIND]
+    out[R_PERIOD] = cls[sec.C_PERIOD] if cls[sec.C_KIND] == sec.PERIODIC else np.nan
+    out[R_P_DV] = s[sec.P_DV]
+    out[R_P_DF] = s[sec.P_DF]
+    out[R_P_FIN] = s[sec.P_FIN]
+    out[R_R_C] = s[sec.R_C]
+    out[R_R_F] = s[sec.R_F]
+    out[R_P_BELT] = s[sec.P_BELT]
+    out[R_P_HEAT] = s[sec.P_HEAT]
+    out[R_TR_B] = s[sec.S_TRB]
+    out[R_X_MIN] = s[sec.S_XMIN]
+    out[R_X_MAX] = s[sec.S_XMAX]
+    out[R_V_MIN] = s[sec.S_VMIN]
+    out[R_V_MAX] = s[sec.S_VMAX]
+    out[R_STICK] = s[sec.S_STICK]
+    out[R_RESID] = s[sec.RESID]
+
+
+@njit(cache=True)
+def _equilibrium_row(x_eq, vb, fd, resid, out):
+    """The sliding equilibrium's row (as :func:`frictionflow.analyze` reports it)."""
+    out[:] = np.nan
+    out[R_KIND] = sec.EQUILIBRIUM
+    out[R_P_DV] = 0.0
+    out[R_P_DF] = 0.0
+    out[R_P_FIN] = 0.0
+    out[R_P_BELT] = x_eq * vb
+    out[R_P_HEAT] = x_eq * vb
+    out[R_TR_B] = abs(x_eq) / fd if fd > 0.0 else np.nan
+    out[R_X_MIN] = x_eq
+    out[R_X_MAX] = x_eq
+    out[R_V_MIN] = 0.0
+    out[R_V_MAX] = 0.0
+    out[R_STICK] = 0.0
+    out[R_RESID] = resid
+
+
+@njit(cache=True)
+def _classify_samples(t, x, v, mode, work, zeta, vb, fd, rtol, min_periods, h, fixed_step, out):
+    t_tail = sec.tail_start(t[0], t[-1])
+    rec, tail, fin = sec.records_from_samples(t, x, v, mode, work, zeta, t_tail)
+    if rec.shape[0] > sec.MAX_RECORDS:
+        rec = rec[rec.shape[0] - sec.MAX_RECORDS :].copy()
+    scale = sec.scale_of(rec, tail, vb, fd)
+    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, fixed_step)
+    _row_from(rec, tail, fin, cls, fd, out)
+
+
+@njit(cache=True, parallel=True)
+def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, out):
+    """Exact solver for every point (rows of ``p``: friction kernel parameters)."""
+    n = len(zeta)
+    for j in prange(n):
+        cap = int(16.0 * t_end / (2.0 * math.pi)) + 64
+        while True:
+            t = np.empty(cap)
+            x = np.empty(cap)
+            v = np.empty(cap)
+            fc = np.empty(cap)
+            mode = np.empty(cap, dtype=np.int8)
+            work = np.empty((cap, 4))
+            ev_t = np.empty(1)
+            ev_mode = np.empty(1, dtype=np.int64)
+            t_mode = np.zeros(1, dtype=np.int64)
+            k, ne, status, t_term, t_stop = exact.run(
+                x0[j], v0[j], t_end, zeta[j], vb[j], p[j], 0.0, sec.tail_start(0.0, t_end), True, True, rtol, min_periods,
+                t, x, v, fc, mode, work, ev_t, ev_mode, t_mode,
+            )
+            if status != exact.FULL:
+                break
+            cap *= 4
+        fd = p[j, FD]
+        if status == exact.STUCK:
+            out[j, :] = np.nan
+            out[j, R_KIND] = sec.NOT_SETTLED
+        elif t_term >= 0.0 and t_mode[0] != 0 and zeta[j] > 0.0:
+            # a final slip phase: it decays onto X* = +-F_d (the residual is the run's)
+            a = sec.averages(work[k - 1, 0], work[k - 1, 1], work[k - 1, 2], work[k - 1, 3], 0.5 * (x0[j] ** 2 + v0[j] ** 2),
+                             0.5 * (x[k - 1] ** 2 + v[k - 1] ** 2), max(t[k - 1], 1e-300))
+            _equilibrium_row(t_mode[0] * fd, vb[j], fd, a[sec.RESID], out[j])
+        else:
+            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], fd, rtol, min_periods, 0.0, False, out[j])
+
+
+@njit(cache=True, parallel=True)
+def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, out):
+    """Adaptive Dormand-Prince for every point (built-in slip laws)."""
+    n = len(zeta)
+    for j in prange(n):
+        cap = int(64.0 * t_end) + 256
+        while True:
+            t = np.empty(cap)
+            x = np.empty(cap)
+            v = np.empty(cap)
+            fc = np.empty(cap)
+            mode = np.empty(cap, dtype=np.int8)
+            work = np.empty((cap, 4))
+            ev_t = np.empty(1)
+            ev_mode = np.empty(1, dtype=np.int64)
+            k, ne, status, t_stop, h = dopri.run(
+                x0[j], v0[j], t_end, zeta[j], vb[j], p[j], ode_rtol, ode_atol, max_steps, 0.0, sec.tail_start(0.0, t_end),
+                t, x, v, fc, mode, work, ev_t, ev_mode,
+            )
+            if status != dopri.FULL:
+                break
+            cap *= 4
+        if status != dopri.OK:
+            out[j, :] = np.nan
+            out[j, R_KIND] = sec.NOT_SETTLED
+        else:
+            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j, FD], rtol, min_periods, 0.0, False, out[j])
+
+
+@njit(cache=True, parallel=True)
+def _rk4_rows(rec, nrec, tail, fin, vb, fd, rtol, min_periods, dt, out):
+    n = len(nrec)
+    for j in prange(n):
+        r = rk4_batch.unroll(rec[j], nrec[j])
+        scale = sec.scale_of(r, tail[j], vb[j], fd[j])
+        cls = sec.classify(r, tail[j], scale, rtol, min_periods, dt, True)
+        _row_from(r, tail[j], fin[j], cls, fd[j], out[j])
+
+
+def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, out) -> None:
+    """Batched fixed-step RK4 (lanes in lock step, SIMD) for every point."""
+    n = len(zeta)
+    steps = max(1, int(math.ceil(t_end / dt - 1e-9)))
+    rec = np.full((n, sec.MAX_RECORDS, sec.NF), np.nan)
+    nrec = np.zeros(n, np.int64)
+    tail = np.full((n, sec.NA), np.nan)
+    fin = np.full((n, sec.NA), np.nan)
+    rk4_batch.warm_up()
+    rk4_batch.run_batch(law, zeta, vb, p, x0, v0, dt, steps, sec.tail_start(0.0, steps * dt), rec, nrec, tail, fin)
+    _rk4_rows(rec, nrec, tail, fin, vb, np.ascontiguousarray(p[:, FD]), rtol, min_periods, dt, out)

@@ -1,0 +1,19 @@
+"""Parameter sweeps: many simulations, one labelled dataset, resumable, local or on a Dask cluster."""
+
+from .compute import KIND_NAMES, VARIABLES, compute_chunk
+from .config import GRID_KEYS, SweepConfig, load_sweep, parse_sweep
+from .plotting import plot_cut, plot_map
+from .runner import run_sweep
+
+__all__ = [
+    "GRID_KEYS",
+    "KIND_NAMES",
+    "VARIABLES",
+    "SweepConfig",
+    "compute_chunk",
+    "load_sweep",
+    "parse_sweep",
+    "plot_cut",
+    "plot_map",
+    "run_sweep",
+]

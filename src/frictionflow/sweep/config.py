@@ -1,0 +1,181 @@
+"""Sweep configs: the run settings of ``simulate`` plus a ``[grid]`` of parameters.
+
+::
+
+    friction = "coulomb"
+    fs = 0.04
+    t_end = 500.0
+
+    [grid]
+    zeta = { start = 0.0, stop = 0.1, num = 51 }
+    vb = { start = 1e-3, stop = 0.1, num = 41, scale = "log" }
+    fd = [0.01, 0.02, 0.04]
+    vd = 1e-3                # a number: fixed, not an axis
+
+Every key is checked before any work: unknown keys, empty axes, bad ranges
+and invalid parameter values are refused with the key named.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+
+from .. import _validate as check
+from ..config import RunConfig
+from ..io import read_config
+
+GRID_KEYS = ("vb", "zeta", "fd", "fs", "vd", "vs", "delta", "x0", "v0")
+#: settings that make no sense in a sweep (outputs of one run)
+NOT_IN_SWEEPS = ("window", "dimensional", "record_every", "dense_dt")
+
+
+@dataclass
+class SweepConfig:
+    """A validated sweep: fixed run settings, the swept axes, and how to chunk them."""
+
+    run: RunConfig
+    axes: dict[str, np.ndarray]
+    fixed: dict[str, float] = field(default_factory=dict)
+    source: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        return tuple(self.axes)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(a) for a in self.axes.values())
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape, dtype=np.int64))
+
+    def fingerprint(self) -> str:
+        """A hash of everything that determines the results (to refuse resuming a changed sweep)."""
+        text = json.dumps(self.source, sort_keys=True, default=str)
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    def point_params(self, index: tuple[np.ndarray, ...]) -> dict[str, np.ndarray]:
+        """Per-point parameter arrays for grid indices (one index array per axis)."""
+        base = self.run
+        n = len(index[0]) if index else 1
+        out: dict[str, np.ndarray] = {}
+        for key in GRID_KEYS:
+            if key in self.axes:
+                out[key] = self.axes[key][index[self.dims.index(key)]]
+            else:
+                val = getattr(base, key)
+                out[key] = np.full(n, np.nan if val is None else float(val))
+        return out
+
+
+def _axis(key: str, value: Any) -> np.ndarray | float:
+    """A grid entry: a number (fixed), a list, or {start, stop, num, scale}."""
+    where = f"grid.{key}"
+    if isinstance(value, bool):
+        raise ValueError(f"{where} must be a number, a list or a {{start, stop, num, scale}} table, got {value!r}")
+    if isinstance(value, (int, float)):
+        return check.finite(where, value)
+    if isinstance(value, list):
+        if not value:
+            raise ValueError(f"{where} is an empty list; give at least one value")
+        arr = np.array([check.finite(f"{where}[{i}]", v) for i, v in enumerate(value)])
+        if len(np.unique(arr)) != len(arr):
+            raise ValueError(f"{where} has repeated values")
+        return arr
+    if isinstance(value, Mapping):
+        allowed = {"start", "stop", "num", "scale"}
+        extra = set(value) - allowed
+        if extra:
+            raise ValueError(f"{where}: unknown key {sorted(extra)[0]!r}; allowed: num, scale, start, stop")
+        missing = {"start", "stop", "num"} - set(value)
+        if missing:
+            raise ValueError(f"{where}: missing {', '.join(sorted(missing))}")
+        start = check.finite(f"{where}.start", value["start"])
+        stop = check.finite(f"{where}.stop", value["stop"])
+        num = check.positive_int(f"{where}.num", value["num"])
+        scale = check.choice(f"{where}.scale", value.get("scale", "linear"), ("linear", "log"))
+        if num > 1 and start == stop:
+            raise ValueError(f"{where}: start == stop with num > 1 gives repeated values")
+        if scale == "log":
+            if start <= 0 or stop <= 0:
+                raise ValueError(f"{where}: a log axis needs start > 0 and stop > 0, got {start:g}, {stop:g}")
+            return np.geomspace(start, stop, num)
+        return np.linspace(start, stop, num)
+    raise ValueError(f"{where} must be a number, a list or a {{start, stop, num, scale}} table, got {value!r}")
+
+
+def parse_sweep(values: Mapping[str, Any], source: str = "config") -> SweepConfig:
+    """Validate a sweep config mapping (a parsed TOML file)."""
+    values = dict(values)
+    grid = values.pop("grid", None)
+    if grid is None or not isinstance(grid, Mapping) or not grid:
+        raise ValueError(f"{source}: a non-empty [grid] table of parameters to sweep is required")
+    for key in NOT_IN_SWEEPS:
+        if key in values:
+            raise ValueError(f"{source}: key {key!r} is not used by sweeps")
+    unknown = [k for k in grid if k not in GRID_KEYS]
+    if unknown:
+        raise ValueError(f"{source}: unknown grid key {unknown[0]!r}; allowed: {', '.join(GRID_KEYS)}")
+    both = [k for k in grid if k in values]
+    if both:
+        raise ValueError(f"{source}: {both[0]!r} is given both at the top level and in [grid]")
+    axes: dict[str, np.ndarray] = {}
+    fixed: dict[str, float] = {}
+    for key, val in grid.items():
+        a = _axis(key, val)
+        if isinstance(a, np.ndarray):
+            axes[key] = a
+        else:
+            fixed[key] = a
+    run = RunConfig.from_mapping({**values, **fixed}, source=source)
+    if not axes:
+        raise ValueError(f"{source}: [grid] fixes every parameter; give at least one list or range to sweep")
+    cfg = SweepConfig(run=run, axes=axes, fixed=fixed, source={"settings": values, "grid": {k: _jsonable(v) for k, v in grid.items()}})
+    _check_points(cfg)
+    return cfg
+
+
+def _jsonable(v: Any) -> Any:
+    return dict(v) if isinstance(v, Mapping) else v
+
+
+def _check_points(cfg: SweepConfig) -> None:
+    """Every value on every axis must make a valid model, law and solver (checked per axis, extremes suffice)."""
+    for key, arr in cfg.axes.items():
+        for val in (arr.min(), arr.max()):
+            try:
+                RunConfig.from_mapping({**cfg.source["settings"], **cfg.fixed, key: float(val)}, source="grid")
+            except ValueError as e:
+                raise ValueError(f"grid.{key}: {val:g} is not valid ({e})") from None
+    # F_s >= F_d must hold across both axes together
+    fd = cfg.axes.get("fd", np.array([cfg.run.fd]))
+    fs = cfg.axes.get("fs")
+    if fs is not None and fs.min() < fd.max():
+        raise ValueError(f"grid.fs: every F_s must be >= every F_d (min fs {fs.min():g} < max fd {fd.max():g})")
+
+
+def load_sweep(path: str) -> SweepConfig:
+    """Read and validate a sweep config file."""
+    return parse_sweep(read_config(path), source=str(path))
+
+
+def chunk_shape(shape: tuple[int, ...], target: int) -> tuple[int, ...]:
+    """Chunks of about ``target`` points, filling the last axes first (C order)."""
+    out = []
+    left = max(1, target)
+    for n in reversed(shape):
+        c = max(1, min(n, left))
+        out.append(c)
+        left = max(1, left // c)
+    return tuple(reversed(out))
+
+
+def n_chunks(shape: tuple[int, ...], chunks: tuple[int, ...]) -> tuple[int, ...]:
+    return tuple(math.ceil(n / c) for n, c in zip(shape, chunks))

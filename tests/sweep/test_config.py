@@ -1,0 +1,69 @@
+"""Sweep configs: every bad key or value is refused up front, with the key named."""
+
+import numpy as np
+import pytest
+
+from frictionflow.cli import main
+from frictionflow.sweep import parse_sweep
+from frictionflow.sweep.config import chunk_shape
+
+BASE = {"friction": "coulomb", "fs": 0.04, "grid": {"zeta": [0.0, 0.05]}}
+
+
+def test_axes_numbers_lists_and_ranges():
+    cfg = parse_sweep({
+        "friction": "karnopp",
+        "grid": {
+            "zeta": {"start": 0.0, "stop": 0.1, "num": 5},
+            "vb": {"start": 1e-3, "stop": 1e-1, "num": 3, "scale": "log"},
+            "fd": [0.01, 0.02],
+            "vd": 2e-3,
+        },
+    })
+    assert cfg.dims == ("zeta", "vb", "fd") and cfg.shape == (5, 3, 2) and cfg.size == 30
+    assert np.allclose(cfg.axes["vb"], [1e-3, 1e-2, 1e-1])
+    assert cfg.fixed == {"vd": 2e-3} and cfg.run.vd == 2e-3
+
+
+@pytest.mark.parametrize(
+    "change, key",
+    [
+        ({"bogus": 1}, "bogus"),
+        ({"grid": {"zeta": [0.0], "speed": [1.0]}}, "speed"),
+        ({"grid": {"zeta": []}}, "grid.zeta"),
+        ({"grid": {"zeta": {"start": 0, "stop": 1}}}, "num"),
+        ({"grid": {"zeta": {"start": 0, "stop": 1, "num": 0}}}, "grid.zeta.num"),
+        ({"grid": {"zeta": {"start": 0, "stop": 1, "num": 3, "scale": "log"}}}, "grid.zeta"),
+        ({"grid": {"zeta": {"start": 0, "stop": 1, "num": 3, "step": 1}}}, "step"),
+        ({"grid": {"zeta": [-0.1, 0.1]}}, "grid.zeta"),
+        ({"grid": {"zeta": [0.1, "a"]}}, "grid.zeta[1]"),
+        ({"grid": {"fd": [0.01, 0.05]}}, "grid.fd"),  # F_s = 0.04 < 0.05
+        ({"grid": {"vb": [0.01, float("nan")]}}, "grid.vb[1]"),
+        ({"zeta": 0.1, "grid": {"zeta": [0.0, 0.1]}}, "zeta"),
+        ({"grid": {}}, "[grid]"),
+        ({"grid": {"zeta": 0.1}}, "[grid]"),
+        ({"window": "1:2"}, "window"),
+        ({"solver": "euler"}, "solver"),
+    ],
+)
+def test_bad_configs_name_the_key(change, key):
+    cfg = {**BASE, **change}
+    with pytest.raises(ValueError) as e:
+        parse_sweep(cfg)
+    assert key in str(e.value)
+
+
+def test_cli_refuses_a_bad_config_with_exit_2(tmp_path, capsys):
+    path = tmp_path / "bad.toml"
+    path.write_text('friction = "coulomb"\n[grid]\nzeta = []\n')
+    out = tmp_path / "out.zarr"
+    assert main(["sweep", str(path), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and "grid.zeta" in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+def test_chunks_fill_the_last_axes_first():
+    assert chunk_shape((10, 20, 30), 600) == (1, 20, 30)
+    assert chunk_shape((10, 20, 30), 100) == (1, 3, 30)
+    assert chunk_shape((4,), 100) == (4,)
