@@ -74,6 +74,9 @@ def simulate(
 
     if (out is not None or plot is not None) and cfg.dense_dt is None:
         cfg.dense_dt = 2 * math.pi / 200  # files and figures want the curve, not just its switches
+    if cfg.window is not None:
+        # windows snap to samples: sample finely enough that a hand-set window lands within 1e-3
+        cfg.dense_dt = min(cfg.dense_dt or 1e-3, 1e-3)
     model, law, solv = cfg.build()
     traj = run_simulation(model, law, solv, t_end=cfg.t_end, x0=cfg.x0, v0=cfg.v0, progress=sys.stderr.isatty())
     result = analyze(traj, window=cfg.window, rtol=cfg.rtol)
