@@ -19,12 +19,12 @@ kernel is rebuilt around the user's function (see
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from numba import njit
 
 from .friction import DELTA, FD, FS, LAW, RESULTANT, VISC, VS, slip_magnitude
+from .samples import emit
 
 A21 = 1 / 5
 A31, A32 = 3 / 40, 9 / 40
@@ -134,12 +134,10 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
     ne = 0
     steps = 0
     h = 0.0
+    outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
     if len(out_t) < 2:
         return 0, 0, FULL, t, h
-    out_t[0], out_x[0], out_v[0] = t, x, v
-    out_fc[0] = (x + 2.0 * zeta * vb) if mode == 0 else mode * slip_force(p, abs(vb - v))
-    out_mode[0] = mode
-    out_w[0, :] = w
+    emit(outs, 0, t, x, v, (x + 2.0 * zeta * vb) if mode == 0 else mode * slip_force(p, abs(vb - v)), mode, w)
     k = 1
     next_dense = dense_dt if dense_dt > 0.0 else np.inf
     tail_done = t_tail <= 0.0
@@ -181,12 +179,8 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
                     next_dense += dense_dt
                 if ta >= T:
                     break
-                if k >= len(out_t):
+                if not emit(outs, k, t + ta, x + vb * ta, vb, x + vb * ta + 2.0 * zeta * vb, 0, w):
                     return k, ne, FULL, t, h
-                out_t[k], out_x[k], out_v[k] = t + ta, x + vb * ta, vb
-                out_fc[k] = x + vb * ta + 2.0 * zeta * vb
-                out_mode[k] = 0
-                out_w[k, :] = w
                 k += 1
             t += T
             x += vb * T
@@ -203,19 +197,14 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
                 ev_t[ne] = t
                 ev_mode[ne] = mode
             ne += 1
-            if k >= len(out_t):
+            if not emit(outs, k, t, x, v, mode * slip_force(p, 0.0), mode, w):
                 return k, ne, FULL, t, h
-            out_t[k], out_x[k], out_v[k] = t, x, v
-            out_fc[k] = mode * slip_force(p, 0.0)
-            out_mode[k] = mode
-            out_w[k, :] = w
             k += 1
         else:
             # slip: Dormand-Prince from (x, v) with the direction fixed
             d = float(mode)
             y[0], y[1], y[2], y[3], y[4] = x, v, 0.0, 0.0, 0.0
             w_base = w.copy()
-            wf_base = 0.0
             wf_last = 0.0
             rhs(y, d, zeta, vb, p, K[0])
             if h <= 0.0:
@@ -300,14 +289,10 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
                         tail_done = True
                     if kind == 5:
                         next_dense += dense_dt
-                    if k >= len(out_t):
-                        return k, ne, FULL, t, h
                     if switched and kind == -1:
                         ys[1] = vb  # exactly at the switch
-                    out_t[k], out_x[k], out_v[k] = tt, ys[0], ys[1]
-                    out_fc[k] = d * slip_force(p, abs(vb - ys[1]))
-                    out_mode[k] = mode
-                    out_w[k, :] = w
+                    if not emit(outs, k, tt, ys[0], ys[1], d * slip_force(p, abs(vb - ys[1])), mode, w):
+                        return k, ne, FULL, t, h
                     k += 1
                     th = best
                     if kind == -1:
@@ -331,12 +316,8 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
                 out_mode[k - 1] = mode
                 out_fc[k - 1] = (x + 2.0 * zeta * vb) if mode == 0 else mode * slip_force(p, 0.0)
     if out_t[k - 1] < t_end:  # a run that ends sticking
-        if k >= len(out_t):
+        if not emit(outs, k, t_end, x, v, x + 2.0 * zeta * vb, 0, w):
             return k, ne, FULL, t, h
-        out_t[k], out_x[k], out_v[k] = t_end, x, v
-        out_fc[k] = x + 2.0 * zeta * vb
-        out_mode[k] = 0
-        out_w[k, :] = w
         k += 1
     return k, ne, OK, t, h
 

@@ -38,6 +38,7 @@ import numpy as np
 from numba import njit
 
 from . import closed_form as cf
+from .samples import emit
 from .friction import COULOMB, FD, FS, KARNOPP, LAW, RESULTANT, VD
 
 SLIP_POS, SLIP_NEG, HOLD, SAT_POS, SAT_NEG, EDGE_LO, EDGE_HI, STICK = range(1, 9)
@@ -395,12 +396,9 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     t_terminal = -1.0
     zero_len = 0
     dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
-    if k >= len(out_t):
+    outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
+    if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta), friction_mode(mode), w):
         return k, ne, FULL, t_terminal, t
-    out_t[k], out_x[k], out_v[k] = t, x, v
-    out_fc[k] = friction_force(fck, force, x, v, zeta)
-    out_mode[k] = friction_mode(mode)
-    out_w[k, :] = w
     k += 1
     while t < t_end:
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
@@ -464,12 +462,8 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
                 if vzero:
                     vb_ = 0.0  # exactly: the section crossing is then a sample
                 _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xb, vb_, tb - ta, w)
-                if k >= len(out_t):
+                if not emit(outs, k, t + tb, xb, vb_, friction_force(fck, force, xb, vb_, zeta), friction_mode(mode), w):
                     return k, ne, FULL, t_terminal, t + ta
-                out_t[k], out_x[k], out_v[k] = t + tb, xb, vb_
-                out_fc[k] = friction_force(fck, force, xb, vb_, zeta)
-                out_mode[k] = friction_mode(mode)
-                out_w[k, :] = w
                 k += 1
                 ta, xa, va = tb, xb, vb_
                 xmax_seen = max(xmax_seen, abs(xb))
@@ -505,21 +499,13 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             ev_mode[ne] = mode
         ne += 1
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
-        if k >= len(out_t):
+        if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta), friction_mode(mode), w):
             return k, ne, FULL, t_terminal, t
-        out_t[k], out_x[k], out_v[k] = t, x, v
-        out_fc[k] = friction_force(fck, force, x, v, zeta)
-        out_mode[k] = friction_mode(mode)
-        out_w[k, :] = w
         k += 1
     if out_t[k - 1] < t_end:
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
-        if k >= len(out_t):
+        if not emit(outs, k, t_end, x, v, friction_force(fck, force, x, v, zeta), friction_mode(mode), w):
             return k, ne, FULL, t_terminal, t
-        out_t[k], out_x[k], out_v[k] = t_end, x, v
-        out_fc[k] = friction_force(fck, force, x, v, zeta)
-        out_mode[k] = friction_mode(mode)
-        out_w[k, :] = w
         k += 1
     return k, ne, DONE, t_terminal, t_end
 

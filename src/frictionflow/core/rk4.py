@@ -67,6 +67,19 @@ def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes=False):
     )
 
 
+@njit(cache=True, inline="always")
+def _record(k, t, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, out_t, out_x, out_v, out_fc, out_mode, out_w):
+    out_t[k] = t
+    out_x[k] = x
+    out_v[k] = v
+    out_fc[k] = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
+    out_mode[k] = band_mode(v, vb, vd)
+    out_w[k, 0] = wdv
+    out_w[k, 1] = wp
+    out_w[k, 2] = wn
+    out_w[k, 3] = wq
+
+
 @njit(cache=True, fastmath=FASTMATH)
 def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
     """Advance steps ``i0 .. i1-1`` (global indices), recording every ``every``-th.
@@ -89,17 +102,7 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
     for i in range(i0, i1):
         if due == 0:
             due = every
-            fc = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
-            mode = band_mode(v, vb, vd)
-            out_t[k] = t0 + i * dt
-            out_x[k] = x
-            out_v[k] = v
-            out_w[k, 0] = wdv
-            out_w[k, 1] = wp
-            out_w[k, 2] = wn
-            out_w[k, 3] = wq
-            out_fc[k] = fc
-            out_mode[k] = mode
+            _record(k, t0 + i * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, out_t, out_x, out_v, out_fc, out_mode, out_w)
             k += 1
         due -= 1
         x, v, ddv, dp, dn, dq = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, vs, dl, visc)
@@ -108,17 +111,7 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
         wn += dn
         wq += dq
     if i1 == n_total:
-        fc = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
-        mode = band_mode(v, vb, vd)
-        out_t[k] = t0 + n_total * dt
-        out_x[k] = x
-        out_v[k] = v
-        out_w[k, 0] = wdv
-        out_w[k, 1] = wp
-        out_w[k, 2] = wn
-        out_w[k, 3] = wq
-        out_fc[k] = fc
-        out_mode[k] = mode
+        _record(k, t0 + n_total * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, out_t, out_x, out_v, out_fc, out_mode, out_w)
         k += 1
     s[0], s[1], s[2], s[3], s[4], s[5] = x, v, wdv, wp, wn, wq
     return k

@@ -17,7 +17,7 @@ from ..friction.base import FrictionLaw
 from ..friction.stribeck import SlipLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
-from .base import Solver
+from .base import Solver, output_buffers, trajectory_from
 
 
 class StepLimitError(RuntimeError):
@@ -112,14 +112,10 @@ class Adaptive(Solver):
         t_tail = sections.tail_start(0.0, t_end)
         with progress_bar("adaptive", 1, enabled=progress and t_end > 1e5) as advance:
             while True:
-                t, x, v, fc = (np.empty(cap) for _ in range(4))
-                mode = np.empty(cap, dtype=np.int8)
-                work = np.empty((cap, 4))
-                ev_t = np.empty(cap)
-                ev_mode = np.empty(cap, dtype=np.int64)
+                bufs = output_buffers(cap)
                 n, ne, status, t_stop, h = run(
                     float(x0), float(v0), float(t_end), model.zeta, model.vb, p, self.rtol, self.atol, self.max_steps,
-                    dense_dt, t_tail, t, x, v, fc, mode, work, ev_t, ev_mode,
+                    dense_dt, t_tail, *bufs,
                 )
                 if status == dopri.FULL or ne > cap:
                     cap *= 4
@@ -128,22 +124,10 @@ class Adaptive(Solver):
             advance(1)
         if status in (dopri.STEP_CAP, dopri.TINY_STEP):
             why = f"max_steps={self.max_steps} reached" if status == dopri.STEP_CAP else "the step size vanished"
+            x, v, mode = bufs[1], bufs[2], bufs[4]
             raise StepLimitError(
                 f"adaptive: {why} at tau={t_stop:.10g} (X={x[n - 1]:.6g}, X'={v[n - 1]:.6g}, "
                 f"mode {int(mode[n - 1]):+d}, step {h:.3g}) after {ne} switches; "
                 "raise max_steps or loosen rtol/atol, or check the slip law near V_r = 0"
             )
-        return Trajectory(
-            t=t[:n].copy(),
-            x=x[:n].copy(),
-            v=v[:n].copy(),
-            fc=fc[:n].copy(),
-            mode=mode[:n].copy(),
-            work=work[:n].copy(),
-            model=model,
-            friction=friction,
-            solver=self.describe(),
-            events={"t": ev_t[:ne].copy(), "mode": ev_mode[:ne].copy()},
-        )
-
-
+        return trajectory_from(bufs, n, ne, model, friction, self.describe())

@@ -11,6 +11,8 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from typing import Any
 
+import numpy as np
+
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -49,3 +51,28 @@ class Solver(ABC):
         d = self.describe()
         args = ", ".join(f"{k}={v!r}" for k, v in d.items() if k != "name")
         return f"{type(self).__name__}({args})"
+
+
+def output_buffers(cap: int) -> tuple[np.ndarray, ...]:
+    """Arrays an event-driven kernel writes into: t, x, v, fc, mode, work, event times, event modes."""
+    t, x, v, fc = (np.empty(cap) for _ in range(4))
+    return t, x, v, fc, np.empty(cap, dtype=np.int8), np.empty((cap, 4)), np.empty(cap), np.empty(cap, dtype=np.int64)
+
+
+def trajectory_from(
+    buffers: tuple[np.ndarray, ...],
+    n: int,
+    n_events: int,
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    solver: dict[str, Any],
+    extra: dict[str, Any] | None = None,
+) -> Trajectory:
+    """A :class:`Trajectory` of the first ``n`` samples and ``n_events`` events in ``buffers``."""
+    t, x, v, fc, mode, work, ev_t, ev_mode = buffers
+    return Trajectory(
+        t=t[:n].copy(), x=x[:n].copy(), v=v[:n].copy(), fc=fc[:n].copy(), mode=mode[:n].copy(), work=work[:n].copy(),
+        model=model, friction=friction, solver=solver,
+        events={"t": ev_t[:n_events].copy(), "mode": ev_mode[:n_events].copy()},
+        extra=extra or {},
+    )

@@ -14,7 +14,7 @@ from ..core import sections
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
-from .base import Solver
+from .base import Solver, output_buffers, trajectory_from
 
 
 class Exact(Solver):
@@ -63,33 +63,19 @@ class Exact(Solver):
         t_tail = sections.tail_start(0.0, t_end)
         with progress_bar("exact", 1, enabled=progress and t_end > 1e5) as advance:
             while True:
-                t, x, v, fc = (np.empty(cap) for _ in range(4))
-                mode = np.empty(cap, dtype=np.int8)
-                work = np.empty((cap, 4))
-                ev_t = np.empty(cap)
-                ev_mode = np.empty(cap, dtype=np.int64)
+                bufs = output_buffers(cap)
                 t_mode = np.zeros(1, dtype=np.int64)
                 n, ne, status, t_term, _ = kernel.run(
                     float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, False, False, 0.0, 3,
-                    t, x, v, fc, mode, work, ev_t, ev_mode, t_mode,
+                    *bufs, t_mode,
                 )
                 if status == kernel.FULL or ne > cap:
                     cap *= 4
                     continue
                 if status == kernel.STUCK:
+                    t, x, v = bufs[:3]
                     raise RuntimeError(f"exact: repeated zero-length phases at tau={t[n - 1]:.17g}, X={x[n - 1]:.17g}, X'={v[n - 1]:.17g}")
                 break
             advance(1)
-        return Trajectory(
-            t=t[:n].copy(),
-            x=x[:n].copy(),
-            v=v[:n].copy(),
-            fc=fc[:n].copy(),
-            mode=mode[:n].copy(),
-            work=work[:n].copy(),
-            model=model,
-            friction=friction,
-            solver=self.describe(),
-            events={"t": ev_t[:ne].copy(), "mode": ev_mode[:ne].copy()},
-            extra={"t_terminal": None if t_term < 0 else float(t_term), "terminal_mode": int(t_mode[0])},
-        )
+        extra = {"t_terminal": None if t_term < 0 else float(t_term), "terminal_mode": int(t_mode[0])}
+        return trajectory_from(bufs, n, ne, model, friction, self.describe(), extra)

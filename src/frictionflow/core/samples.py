@@ -1,0 +1,21 @@
+"""Writing samples into a run's output arrays (shared by the event-driven kernels)."""
+
+from numba import njit
+
+
+@njit(cache=True)
+def emit(outs, k, t, x, v, fc, mode, w):
+    """Write sample ``k`` into ``outs`` = (t, x, v, fc, mode, work); False when the arrays are full.
+
+    ``w`` holds the four cumulative work integrals.
+    """
+    out_t, out_x, out_v, out_fc, out_mode, out_w = outs
+    if k >= len(out_t):
+        return False
+    out_t[k] = t
+    out_x[k] = x
+    out_v[k] = v
+    out_fc[k] = fc
+    out_mode[k] = mode
+    out_w[k, :] = w
+    return True
