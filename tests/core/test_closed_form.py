@@ -51,7 +51,7 @@ def test_integral_of_v2_matches_quadrature(dyn, zeta, force, x0, v0):
 @pytest.mark.parametrize("a, b", [(1.0, 0.0), (0.0, 1.0), (1.0, 0.1)])
 def test_critical_points_are_where_g_turns(dyn, zeta, force, x0, v0, a, b):
     out = np.empty(64)
-    n = cf.critical_points(dyn, zeta, force, x0, v0, a, b, 0.0, 20.0, out)
+    n = cf.critical_points(cf.coefficients(dyn, zeta, force, x0, v0), dyn, a, b, 0.0, 20.0, out)
     for t in out[:n]:
         _, v, acc = cf.state(dyn, zeta, force, x0, v0, t)
         jerk = -v - 2 * zeta * acc
@@ -68,6 +68,6 @@ def test_critical_points_are_where_g_turns(dyn, zeta, force, x0, v0, a, b):
 def test_underdamped_critical_points_repeat_every_half_period():
     out = np.empty(64)
     zeta = 0.1
-    n = cf.critical_points(cf.OSC, zeta, 0.0, 0.1, 0.0, 0.0, 1.0, 0.0, 30.0, out)
+    n = cf.critical_points(cf.coefficients(cf.OSC, zeta, 0.0, 0.1, 0.0), cf.OSC, 0.0, 1.0, 0.0, 30.0, out)
     assert n >= 8
     assert np.allclose(np.diff(out[:n]), math.pi / math.sqrt(1 - zeta**2), rtol=1e-12)

@@ -192,7 +192,7 @@ def _print_continuation(report: dict[str, Any]) -> None:
     table = Table(title=f"continuation in {report['param']} from {report['from']:g} to {report['to']:g}")
     for col in ("branch", "kind", "seed", "points", "range", "end"):
         table.add_column(col)
-    for i, (pts, info) in enumerate(zip(report["branches"], report["branch_info"])):
+    for i, (pts, info) in enumerate(zip(report["branches"], report["branch_info"], strict=True)):
         vals = [p["value"] for p in pts]
         table.add_row(str(i), info["kind"], info["seed"], str(len(pts)), f"{min(vals):.6g}..{max(vals):.6g}", info["end"])
     console.print(table)

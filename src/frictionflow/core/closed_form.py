@@ -88,18 +88,17 @@ def state_with(co, dyn, zeta, force, x0, v0, t):
 
 
 @njit(cache=True)
-def critical_points(dyn, zeta, force, x0, v0, a, b, t_from, t_max, out):
+def critical_points(co, dyn, a, b, t_from, t_max, out):
     """Times in (t_from, t_max) where g = a X + b X' has g' = 0, ascending; returns how many.
 
-    For OSC underdamped they repeat every pi / w; at most ``len(out)`` are
-    returned (the caller asks again from the last one).
+    ``co``: the phase's :func:`coefficients`.  For OSC underdamped the times
+    repeat every pi / w; at most ``len(out)`` are returned (the caller asks
+    again from the last one).
     """
     n = 0
-    if dyn == LIN or (dyn == EXP and zeta == 0.0):
-        return 0  # g is linear in t
-    if dyn == EXP:
-        return 0  # g = const + k e^{-ct}: monotone
-    reg, r1, r2, p, q = coefficients(dyn, zeta, force, x0, v0)
+    if dyn != OSC:
+        return 0  # LIN: g linear in t; EXP: g = const + k e^{-ct}; both monotone
+    reg, r1, r2, p, q = co
     if reg == UNDER:
         # g - const = e^{-r1 t}(P cos + Q sin); g' = e^{-r1 t}(P' cos + Q' sin)
         vc = r2 * q - r1 * p
@@ -146,16 +145,16 @@ def critical_points(dyn, zeta, force, x0, v0, a, b, t_from, t_max, out):
 
 
 @njit(cache=True)
-def envelope(dyn, zeta, force, x0, v0, a, b, t):
-    """An upper bound of |g(s) - g(inf)| for all s >= t (inf where none decays)."""
+def envelope(co, dyn, zeta, a, b):
+    """(A, r) with |g(s) - g(inf)| <= A e^{-r s} for all s (A = inf where there is no such bound)."""
     if dyn != OSC or zeta <= 0.0:
-        return np.inf
-    reg, r1, r2, p, q = coefficients(dyn, zeta, force, x0, v0)
+        return np.inf, 0.0
+    reg, r1, r2, p, q = co
     if reg == UNDER:
         vc = r2 * q - r1 * p
         vs = -(r2 * p + r1 * q)
-        return math.exp(-r1 * t) * math.hypot(a * p + b * vc, a * q + b * vs)
-    return np.inf  # non-oscillating: at most two roots, found by bracketing
+        return math.hypot(a * p + b * vc, a * q + b * vs), r1
+    return np.inf, 0.0  # non-oscillating: at most two roots, found by bracketing
 
 
 @njit(cache=True)

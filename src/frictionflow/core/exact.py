@@ -244,11 +244,11 @@ def _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, lo, hi):
         tn = t - g / dg if dg != 0.0 else 0.5 * (lo + hi)
         if not (lo < tn < hi):
             tn = 0.5 * (lo + hi)
-        elif abs(tn - t) <= 2.0 * EPS * hi:
+        elif abs(tn - t) <= 2.0 * EPS * abs(tn):
             # converged to rounding: return the side of the root that is outside
             if s * g <= 0.0:
                 return t
-            tn = min(hi, t + 4.0 * EPS * hi)
+            tn = min(hi, t + 4.0 * EPS * abs(t))
             gn, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, tn)
             return tn if s * gn <= 0.0 else hi
         t = tn
@@ -271,15 +271,28 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon, crit):
     period = np.inf
     if dyn == cf.OSC and zeta == 0.0:
         period = 2.0 * math.pi
+    if dyn == cf.LIN:
+        # g = g0 + g1 t exactly: no bracketing needed (and none of its rounding)
+        g0, g1 = _g(co, dyn, zeta, force, x0, v0, a, b, c, 0.0)
+        if s * g1 >= 0.0:
+            return np.inf, True
+        tc = -g0 / g1
+        if tc > horizon:
+            return np.inf, False
+        # the first representable time on the outside
+        while s * _g(co, dyn, zeta, force, x0, v0, a, b, c, tc)[0] > 0.0:
+            tc = np.nextafter(tc, np.inf)
+        return max(tc, 0.0), False
+    env, rate = cf.envelope(co, dyn, zeta, a, b)
     t_a = 0.0
     while True:
-        m = cf.critical_points(dyn, zeta, force, x0, v0, a, b, t_a, horizon, crit)
+        m = cf.critical_points(co, dyn, a, b, t_a, horizon, crit)
         for i in range(m + 1):
             t_b = crit[i] if i < m else horizon
             gb, dgb = _g(co, dyn, zeta, force, x0, v0, a, b, c, t_b)
             if s * gb < -(graze if i < m else tiny):
                 return _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, t_a, t_b), False
-            if dyn == cf.OSC and zeta > 0.0 and g_inf > 0.0 and cf.envelope(dyn, zeta, force, x0, v0, a, b, t_b) < g_inf:
+            if g_inf > 0.0 and env * math.exp(-rate * t_b) < g_inf:
                 return np.inf, True  # the decaying oscillation stays inside for ever
             if t_b >= period:
                 return np.inf, True  # undamped: g repeats with period 2 pi
@@ -293,7 +306,7 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon, crit):
     if dyn == cf.EXP:
         return np.inf, g_inf_exp(zeta, x0, v0, a, b, c, s) > 0.0
     if dyn == cf.OSC and zeta >= 1.0:
-        return np.inf, g_inf > 0.0 and cf.critical_points(dyn, zeta, force, x0, v0, a, b, horizon, np.inf, crit) == 0
+        return np.inf, g_inf > 0.0 and cf.critical_points(co, dyn, a, b, horizon, np.inf, crit) == 0
     return np.inf, False
 
 
@@ -418,18 +431,18 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         while ta < T:
             tw = min(T, ta + 16.0 * math.pi)
             n = 0
-            m = cf.critical_points(dyn, zeta, force, xp, vp, 1.0, 0.0, ta, tw, crit)  # X' = 0
+            m = cf.critical_points(co, dyn, 1.0, 0.0, ta, tw, crit)  # X' = 0
             for i in range(m):
                 pts[n] = crit[i]
                 tags[n] = 1
                 n += 1
             nz = n
-            m = cf.critical_points(dyn, zeta, force, xp, vp, 0.0, 1.0, ta, tw, crit)  # extremes of X'
+            m = cf.critical_points(co, dyn, 0.0, 1.0, ta, tw, crit)  # extremes of X'
             for i in range(m):
                 pts[n] = crit[i]
                 n += 1
             if zeta > 0.0:
-                m = cf.critical_points(dyn, zeta, force, xp, vp, 1.0, 2.0 * zeta, ta, tw, crit)  # of X + 2 zeta X'
+                m = cf.critical_points(co, dyn, 1.0, 2.0 * zeta, ta, tw, crit)  # of X + 2 zeta X'
                 for i in range(m):
                     pts[n] = crit[i]
                     n += 1

@@ -1,0 +1,37 @@
+"""Orbit speed: one Poincare-map evaluation, one shooting, one continuation.
+
+    python benchmarks/bench_orbits.py
+
+Prints milliseconds per Poincare-map evaluation (flow to the next section
+crossing with its monodromy) for the closed-form engine (Coulomb) and the
+solve_ivp engine (Stribeck), per Newton shooting from a guess, and the time
+of a continuation through a fold of cycles (Stribeck, zeta 0.2 -> 0.4).
+"""
+
+from __future__ import annotations
+
+from _common import best_of, header
+
+from frictionflow import BeltOscillator, Coulomb, Stribeck
+from frictionflow.orbits import continuation, make_flow, shoot
+
+
+def main() -> None:
+    header("frictionflow orbits")
+    cases = {
+        "coulomb (closed form)": (BeltOscillator(zeta=0.05, vb=0.01), Coulomb(0.02, 0.04), 0.045),
+        "stribeck (solve_ivp)": (BeltOscillator(zeta=0.3, vb=0.016), Stribeck(0.02, 0.04, 0.01), 0.031),
+    }
+    for name, (model, law, x) in cases.items():
+        flow = make_flow(model, law)
+        flow.run((x, 0.0), returns=1)  # compile / warm up
+        t_map = best_of(lambda flow=flow, x=x: flow.run((x, 0.0), returns=1), repeat=5)
+        t_shoot = best_of(lambda model=model, law=law, x=x: shoot(model, law, x), repeat=3)
+        print(f"{name:24s} Poincare map {1e3 * t_map:8.2f} ms   shooting {1e3 * t_shoot:8.1f} ms")
+    model, law = cases["stribeck (solve_ivp)"][:2]
+    t_cont = best_of(lambda: continuation(model, law, "zeta", 0.2, 0.4, seeds=("hopf",), n_equilibria=21), repeat=1)
+    print(f"continuation through a fold of cycles: {t_cont:.2f} s")
+
+
+if __name__ == "__main__":
+    main()

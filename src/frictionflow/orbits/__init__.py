@@ -1,0 +1,45 @@
+"""Periodic orbits, Floquet multipliers, continuation and bifurcation diagrams.
+
+>>> from frictionflow import BeltOscillator, Coulomb
+>>> from frictionflow.orbits import find_orbit
+>>> orbit = find_orbit(BeltOscillator(zeta=0.05, vb=0.01), Coulomb(fd=0.02, fs=0.04))
+>>> orbit.stable, orbit.has_stick          # a stick phase: nontrivial multiplier 0
+(True, True)
+
+Modules: :mod:`.hybrid` (phases, switches, saltation matrices),
+:mod:`.flow_exact` / :mod:`.flow_smooth` (flow maps with their Jacobians),
+:mod:`.shooting` (Newton on the Poincare map), :mod:`.floquet`,
+:mod:`.equilibria`, :mod:`.arclength` (pseudo-arclength), :mod:`.continuation`,
+:mod:`.sweep`, :mod:`.plotting`.
+"""
+
+from .branches import Bifurcation, Branch, BranchPoint, ContinuationResult
+from .continuation import continuation
+from .floquet import fd_monodromy, multipliers
+from .flow import make_flow
+from .hybrid import Phase, Segment, Switch, saltation
+from .parameters import parameter_names, with_param
+from .shooting import PeriodicOrbit, ShootingError, find_orbit, shoot
+from .sweep import sweep
+
+__all__ = [
+    "Bifurcation",
+    "Branch",
+    "BranchPoint",
+    "ContinuationResult",
+    "PeriodicOrbit",
+    "Phase",
+    "Segment",
+    "ShootingError",
+    "Switch",
+    "continuation",
+    "fd_monodromy",
+    "find_orbit",
+    "make_flow",
+    "multipliers",
+    "parameter_names",
+    "saltation",
+    "shoot",
+    "sweep",
+    "with_param",
+]

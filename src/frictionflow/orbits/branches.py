@@ -1,0 +1,148 @@
+"""What continuation returns: branches of points, bifurcations, and their JSON form."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from ._json import jsonable
+from .equilibria import Equilibrium
+from .measures import OrbitMeasures, equilibrium_measures
+from .shooting import PeriodicOrbit
+
+#: the per-point quantities every branch point reports (besides value, kind, stability)
+POINT_POWER = ("P_fin", "P_df", "P_dv", "R_c", "R_f", "P_belt", "P_heat")
+
+
+@dataclass(frozen=True)
+class BranchPoint:
+    """One solution on a branch: an equilibrium or a periodic orbit at parameter ``value``.
+
+    ``x`` is X* for an equilibrium and the orbit's X on the section X' = 0
+    for a periodic orbit.  ``multiplier`` is the nontrivial Floquet
+    multiplier of an orbit; ``eigenvalues`` those of an equilibrium.
+    """
+
+    value: float
+    kind: str
+    stability: str
+    x: float
+    measures: OrbitMeasures
+    period: float | None = None
+    multiplier: complex | None = None
+    eigenvalues: tuple[complex, ...] | None = None
+    stick_fraction: float = 0.0
+    modes: tuple[str, ...] = ()
+    orbit: PeriodicOrbit | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def amplitude(self) -> float:
+        """(X_max - X_min) / 2; 0 at an equilibrium."""
+        return self.measures.amplitude
+
+    @property
+    def stable(self) -> bool:
+        return self.stability == "stable"
+
+    @classmethod
+    def from_orbit(cls, value: float, orbit: PeriodicOrbit) -> BranchPoint:
+        return cls(
+            value=value,
+            kind="periodic",
+            stability=orbit.stability,
+            x=orbit.state[0],
+            measures=orbit.measures,
+            period=orbit.period,
+            multiplier=orbit.multiplier,
+            stick_fraction=orbit.stick_fraction,
+            modes=orbit.segment.modes,
+            orbit=orbit,
+        )
+
+    @classmethod
+    def from_equilibrium(cls, eq: Equilibrium, vb: float, fd: float) -> BranchPoint:
+        return cls(
+            value=eq.value,
+            kind="equilibrium",
+            stability=eq.stability,
+            x=eq.x,
+            measures=equilibrium_measures(eq.x, vb, fd),
+            eigenvalues=tuple(complex(e) for e in eq.eigenvalues),
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        av = self.measures.averages()
+        d: dict[str, Any] = {
+            "value": self.value,
+            "kind": self.kind,
+            "stability": self.stability,
+            "stable": self.stable,
+            "period": self.period,
+            "amplitude": self.amplitude,
+            "X": self.x,
+            "X_max": self.measures.extremes["X_max"],
+            "X_min": self.measures.extremes["X_min"],
+            **{k: av[k] for k in POINT_POWER},
+            "TR_B": self.measures.TR_B,
+            "stick_fraction": self.stick_fraction,
+        }
+        if self.kind == "periodic":
+            d["multiplier"] = self.multiplier
+            d["modes"] = list(self.modes)
+        else:
+            d["eigenvalues"] = list(self.eigenvalues or ())
+        return d
+
+
+@dataclass
+class Branch:
+    """A connected set of solutions, in the order continuation found them."""
+
+    kind: str
+    points: list[BranchPoint]
+    seed: str
+    end: str = ""
+
+    def values(self) -> list[float]:
+        return [p.value for p in self.points]
+
+
+@dataclass(frozen=True)
+class Bifurcation:
+    """A special point: ``type`` is hopf, fold, grazing, switching, period_blowup or branch_end."""
+
+    type: str
+    value: float
+    branch: int | None = None
+    detail: dict[str, Any] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": self.type, "value": self.value, "branch": self.branch, **self.detail}
+
+
+@dataclass
+class ContinuationResult:
+    """Branches of equilibria and periodic orbits in one parameter, with the bifurcations found."""
+
+    param: str
+    start: float
+    stop: float
+    params: dict[str, Any]
+    branches: list[Branch]
+    bifurcations: list[Bifurcation]
+    sweep: list[dict[str, Any]] | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: ``branches`` is a list of lists of points; ``branch_info`` says how each began and ended."""
+        d: dict[str, Any] = {
+            "param": self.param,
+            "from": self.start,
+            "to": self.stop,
+            "params": self.params,
+            "branches": [[p.to_dict() for p in b.points] for b in self.branches],
+            "branch_info": [{"kind": b.kind, "seed": b.seed, "end": b.end, "points": len(b.points)} for b in self.branches],
+            "bifurcations": [b.to_dict() for b in self.bifurcations],
+        }
+        if self.sweep is not None:
+            d["sweep"] = self.sweep
+        return jsonable(d)

@@ -1,0 +1,80 @@
+"""Floquet multipliers of a periodic orbit and what they say about its stability.
+
+The monodromy matrix M maps a perturbation at a point of the orbit to the
+perturbation one period later.  Perturbing along the flow only shifts the
+phase, so one multiplier is always 1 (the trivial one); in this plane system
+the other one, mu, decides stability: |mu| < 1 stable, > 1 unstable.  It is
+also the slope of the Poincare map, and det M = mu.
+
+A stick phase (X' = V_b held) forgets perturbations of X', and the remaining
+perturbation of X only shifts when the stick phase ends -- a shift in time.
+So an orbit with a stick phase has mu = 0 exactly: it is superstable, every
+nearby motion lands on it within one period.
+
+mu is never negative here: inside a phase det Phi = exp(int div f) > 0, and
+a switch that both vector fields cross the same way has
+det S = (grad h . f+) / (grad h . f-) > 0 (0 into stick).  A plane flow
+cannot flip orientation, so there is no period doubling (mu = -1) to find;
+stability is lost at mu = 1 (folds) or where an orbit ceases to exist.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..friction.base import FrictionLaw
+from ..params import BeltOscillator
+from ..simulate import simulate
+from ..solvers.base import Solver
+
+#: |mu| within this of 1 is reported as neutral (a family of orbits, as the undamped slip circles)
+NEUTRAL_TOL = 1e-7
+
+
+def multipliers(monodromy: np.ndarray) -> np.ndarray:
+    """All Floquet multipliers (eigenvalues of M), largest modulus first."""
+    mu = np.linalg.eigvals(np.asarray(monodromy, dtype=float)).astype(complex)
+    return mu[np.argsort(-np.abs(mu), kind="stable")]
+
+
+def nontrivial(monodromy: np.ndarray) -> complex:
+    """The multiplier that is not the trivial 1 (the one farther from 1)."""
+    mu = multipliers(monodromy)
+    return complex(mu[int(np.argmax(np.abs(mu - 1.0)))])
+
+
+def classify(mu: complex, tol: float = NEUTRAL_TOL) -> str:
+    """``stable``, ``unstable`` or ``neutral`` from the nontrivial multiplier."""
+    r = abs(mu)
+    if r < 1.0 - tol:
+        return "stable"
+    if r > 1.0 + tol:
+        return "unstable"
+    return "neutral"
+
+
+def fd_monodromy(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    state: tuple[float, float],
+    period: float,
+    *,
+    eps: float | None = None,
+    solver: Solver | None = None,
+) -> np.ndarray:
+    """M by central differences of the time-``period`` map, integrated by :func:`frictionflow.simulate`.
+
+    Independent of the phase Jacobians and saltation matrices: a check on
+    them.  ``eps`` defaults to 1e-6 of the orbit's scale.
+    """
+    scale = max(abs(state[0]), abs(model.vb), friction.fs, 1e-12)
+    h = 1e-6 * scale if eps is None else eps
+    cols = []
+    for e in (np.array([1.0, 0.0]), np.array([0.0, 1.0])):
+        ends = []
+        for sign in (1.0, -1.0):
+            x0, v0 = np.asarray(state, dtype=float) + sign * h * e
+            traj = simulate(model, friction, solver, t_end=period, x0=float(x0), v0=float(v0))
+            ends.append(np.array([traj.x[-1], traj.v[-1]]))
+        cols.append((ends[0] - ends[1]) / (2.0 * h))
+    return np.column_stack(cols)

@@ -1,0 +1,76 @@
+"""Power flow, TR_B and amplitudes of one period of an orbit.
+
+One period is integrated again by the package's own solver (exact or
+adaptive) from the orbit's point on the section, so the averages are the
+solver's exact work integrals over exactly one period -- the same numbers
+``frictionflow simulate`` reports for a converged run, without the transient.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..analysis.power_flow import PowerFlow, power_flow
+from ..analysis.transmissibility import amplitude, transmissibility
+from ..friction.base import FrictionLaw
+from ..params import BeltOscillator
+from ..simulate import simulate
+from ..solvers.base import Solver
+from ..trajectory import Trajectory
+
+POWER_KEYS = ("P_fin", "P_df", "P_dv", "R_c", "R_f", "P_belt", "P_heat", "P_f")
+
+
+@dataclass(frozen=True)
+class OrbitMeasures:
+    """Averages over one period, TR_B and the extremes of X and X'."""
+
+    power: PowerFlow
+    TR_B: float
+    extremes: dict[str, float]
+
+    @property
+    def amplitude(self) -> float:
+        """Half the peak-to-peak displacement, (X_max - X_min) / 2."""
+        return 0.5 * (self.extremes["X_max"] - self.extremes["X_min"])
+
+    def averages(self) -> dict[str, float]:
+        return {k: getattr(self.power, k) for k in POWER_KEYS}
+
+
+def one_period(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    state: tuple[float, float],
+    period: float,
+    *,
+    solver: Solver | None = None,
+    dense_dt: float | None = None,
+) -> Trajectory:
+    """One period from ``state`` by :func:`frictionflow.simulate` (optionally densely sampled)."""
+    if solver is None and dense_dt is not None:
+        from ..solvers.auto import auto_solver
+
+        solver = type(auto_solver(friction))(dense_dt=dense_dt)
+    return simulate(model, friction, solver, t_end=period, x0=float(state[0]), v0=float(state[1]))
+
+
+def measure(model: BeltOscillator, friction: FrictionLaw, state: tuple[float, float], period: float, *, solver: Solver | None = None) -> OrbitMeasures:
+    """Power flow, TR_B and extremes of the orbit through ``state`` with ``period``."""
+    if not (period > 0 and math.isfinite(period)):
+        raise ValueError(f"period must be finite and > 0, got {period!r}")
+    traj = one_period(model, friction, state, period, solver=solver)
+    return OrbitMeasures(power=power_flow(traj), TR_B=transmissibility(traj), extremes=amplitude(traj))
+
+
+def equilibrium_measures(x_star: float, vb: float, fd: float) -> OrbitMeasures:
+    """The same quantities at the sliding equilibrium: no motion, so no vibration power.
+
+    The belt still delivers F_c V_b = X* V_b, all of it turned into heat at
+    the interface; R_c, R_f are undefined (nothing enters the vibration).
+    """
+    nan = float("nan")
+    belt = x_star * vb
+    power = PowerFlow(window=(0.0, 0.0), P_dv=0.0, P_df=0.0, P_fin=0.0, P_f=0.0, P_belt=belt, P_heat=belt, R_c=nan, R_f=nan, energy_residual=0.0)
+    return OrbitMeasures(power=power, TR_B=abs(x_star) / fd if fd > 0 else nan, extremes={"X_min": x_star, "X_max": x_star, "V_min": 0.0, "V_max": 0.0})

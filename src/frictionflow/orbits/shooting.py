@@ -1,0 +1,287 @@
+"""Periodic orbits by Newton shooting on a Poincare map.
+
+The section is X' = 0 with X'' < 0 (the maxima of X).  Every periodic orbit
+of this plane system winds around the sliding equilibrium at X' = 0, so it
+crosses the section; a point of the section is fixed by X alone, and the
+Poincare map P is a scalar map X -> X.  Its slope is the nontrivial Floquet
+multiplier (the section-projected monodromy matrix, see
+:meth:`~.hybrid.Segment.section_jacobian`), so Newton on P(X) - X = 0 needs
+no finite differences.  With a stick phase P' = 0: P is locally constant and
+Newton converges in a step or two.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..friction.base import FrictionLaw
+from ..params import BeltOscillator
+from ..simulate import simulate
+from ..solvers.base import Solver
+from ..trajectory import Trajectory
+from . import floquet
+from ._json import jsonable
+from .flow import Flow, make_flow
+from .hybrid import Segment
+from .measures import OrbitMeasures, measure, one_period
+
+#: a converged fixed point must also have |G / (x - X*)| below this (see :func:`newton`)
+H_TOL = 1e-3
+#: Newton gives up after this many step halvings, or this many damped steps in a row
+_MAX_HALVINGS = 12
+_MAX_DAMPED = 6
+
+
+class ShootingError(RuntimeError):
+    """Newton shooting did not find a periodic orbit from the given start."""
+
+
+@dataclass(frozen=True)
+class PeriodicOrbit:
+    """A periodic orbit, its Floquet multipliers and its power flow.
+
+    ``state`` = (X, 0) is where it crosses the section; ``returns`` how many
+    section crossings make one period (1 for a simple orbit).
+    """
+
+    model: BeltOscillator
+    friction: FrictionLaw
+    state: tuple[float, float]
+    period: float
+    returns: int
+    segment: Segment
+    monodromy: np.ndarray
+    residual: float
+    iterations: int
+    measures: OrbitMeasures
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        """All Floquet multipliers, the trivial one (= 1 up to rounding) included."""
+        return floquet.multipliers(self.monodromy)
+
+    @property
+    def multiplier(self) -> complex:
+        """The nontrivial multiplier (the slope of the Poincare map)."""
+        return floquet.nontrivial(self.monodromy)
+
+    @property
+    def stability(self) -> str:
+        return floquet.classify(self.multiplier)
+
+    @property
+    def stable(self) -> bool:
+        return self.stability == "stable"
+
+    @property
+    def stick_fraction(self) -> float:
+        return self.segment.stick_time / self.period
+
+    @property
+    def has_stick(self) -> bool:
+        return self.segment.stick_time > 0.0
+
+    @property
+    def amplitude(self) -> float:
+        return self.measures.amplitude
+
+    def trajectory(self, dense_dt: float | None = None, solver: Solver | None = None) -> Trajectory:
+        """One period integrated by the package's solver (``dense_dt`` for smooth plots)."""
+        return one_period(self.model, self.friction, self.state, self.period, solver=solver, dense_dt=dense_dt)
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready report (NaN becomes None, complex numbers [re, im])."""
+        seg = self.segment
+        return jsonable(
+            {
+                "params": {"zeta": self.model.zeta, "vb": self.model.vb, **self.friction.as_dict()},
+                "state": {"X": self.state[0], "V": self.state[1]},
+                "period": self.period,
+                "returns": self.returns,
+                "floquet_multipliers": [complex(m) for m in self.multipliers],
+                "multiplier": self.multiplier,
+                "stable": self.stable,
+                "stability": self.stability,
+                "stick_fraction": self.stick_fraction,
+                "has_stick": self.has_stick,
+                "amplitude": self.amplitude,
+                "extremes": self.measures.extremes,
+                "averages": self.measures.averages(),
+                "TR_B": self.measures.TR_B,
+                "energy_residual": self.measures.power.energy_residual,
+                "monodromy": self.monodromy,
+                "phases": [{"mode": p.mode, "duration": p.duration} for p in seg.phases],
+                "switches": [{"kind": s.kind, "t": s.t, "from": s.before, "to": s.after} for s in seg.switches],
+                "newton": {"iterations": self.iterations, "residual": self.residual},
+            }
+        )
+
+
+def default_tol(friction: FrictionLaw) -> float:
+    """Newton tolerance relative to the orbit's scale: rounding for closed forms, ~100 rtol for solve_ivp."""
+    return 1e-12 if friction.piecewise_constant else 1e-9
+
+
+def _scale(model: BeltOscillator, friction: FrictionLaw) -> float:
+    return max(friction.fs, abs(model.vb), 1e-12)
+
+
+def poincare(flow: Flow, x: float, returns: int = 1) -> tuple[Segment, float, float]:
+    """(segment, P(x), P'(x)) of the section map from (x, 0)."""
+    seg = flow.run((x, 0.0), returns=returns)
+    return seg, float(seg.y1[0]), float(seg.section_jacobian()[0, 0])
+
+
+def newton(
+    flow: Flow, x: float, *, x_star: float = math.nan, returns: int = 1, tol_abs: float, max_iter: int = 40
+) -> tuple[float, Segment, float, int]:
+    """Solve G(x) = P(x) - x = 0 by Newton with backtracking; returns (x, segment, G, iterations).
+
+    The sliding equilibrium X* is a trivial fixed point of P (a zero-amplitude
+    "orbit") that Newton would happily converge to near a Hopf point.  It is
+    deflated: Newton runs on H = G / (x - X*), whose step is
+    -G / (P' - 1 - G / (x - X*)), and which does not vanish at X* (there
+    H = mu_eq - 1).  ``x_star`` NaN switches deflation off.
+    """
+
+    def merit(g: float, xx: float) -> float:
+        if not math.isfinite(x_star):
+            return abs(g)
+        return abs(g / (xx - x_star)) if xx != x_star else math.inf
+
+    seg, px, dp = poincare(flow, x, returns)
+    r = px - x
+    damped = 0
+    for it in range(max_iter + 1):
+        # |G| small only because x crept onto X* is no orbit: H must be small too
+        if abs(r) <= tol_abs and (not math.isfinite(x_star) or merit(r, x) <= H_TOL):
+            return x, seg, r, it
+        if it == max_iter:
+            break
+        g = dp - 1.0 - (r / (x - x_star) if math.isfinite(x_star) else 0.0)
+        if not math.isfinite(g) or g == 0.0:
+            raise ShootingError(f"the Poincare map has slope {dp:.6g} at X={x:.10g}: Newton cannot proceed (a fold, or a family of neutral orbits)")
+        step = -r / g
+        lam = 1.0
+        m0 = merit(r, x)
+        for _ in range(_MAX_HALVINGS):  # backtrack until the merit falls
+            xn = x + lam * step
+            try:
+                segn, pn, dpn = poincare(flow, xn, returns)
+                rn = pn - xn
+                mn = merit(rn, xn)
+            except RuntimeError:
+                mn = math.inf
+            if mn < m0:
+                break
+            lam *= 0.5
+        else:
+            raise ShootingError(f"Newton stalled at X={x:.10g} (residual {r:.3g}): no nearby periodic orbit")
+        damped = damped + 1 if lam < 1.0 else 0
+        if damped > _MAX_DAMPED:  # creeping along without a root in sight
+            raise ShootingError(f"Newton stalled at X={x:.10g} (residual {r:.3g}): no nearby periodic orbit")
+        x, seg, r, dp = xn, segn, rn, dpn
+    raise ShootingError(f"Newton did not converge in {max_iter} iterations (X={x:.10g}, residual {r:.3g})")
+
+
+def shoot(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    x_guess: float,
+    *,
+    returns: int = 1,
+    tol: float | None = None,
+    max_iter: int = 40,
+    flow: Flow | None = None,
+    solver: Solver | None = None,
+) -> PeriodicOrbit:
+    """The periodic orbit through (X, 0) near ``x_guess`` on the section."""
+    if returns < 1:
+        raise ValueError(f"returns must be an integer >= 1, got {returns!r}")
+    flow = make_flow(model, friction) if flow is None else flow
+    scale = _scale(model, friction)
+    tol_abs = (default_tol(friction) if tol is None else tol) * scale
+    x_star = friction.sliding_equilibrium(model.vb)
+    x, seg, r, it = newton(flow, float(x_guess), x_star=x_star, returns=returns, tol_abs=tol_abs, max_iter=max_iter)
+    orbit = orbit_from_segment(model, friction, seg, residual=r, iterations=it, returns=returns, solver=solver)
+    if orbit.amplitude < 1e-9 * scale:
+        raise ShootingError(f"shooting converged onto the sliding equilibrium X={x:.10g}: no periodic orbit near this start")
+    return orbit
+
+
+def orbit_from_segment(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    seg: Segment,
+    *,
+    residual: float,
+    iterations: int,
+    returns: int = 1,
+    solver: Solver | None = None,
+) -> PeriodicOrbit:
+    """The :class:`PeriodicOrbit` whose one period is ``seg`` (a converged fixed point of P)."""
+    state = (float(seg.y0[0]), 0.0)
+    return PeriodicOrbit(
+        model=model,
+        friction=friction,
+        state=state,
+        period=seg.duration,
+        returns=returns,
+        segment=seg,
+        monodromy=seg.jacobian(),  # the time-T map at the fixed point
+        residual=float(residual),
+        iterations=iterations,
+        measures=measure(model, friction, state, seg.duration, solver=solver),
+    )
+
+
+def find_orbit(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    *,
+    x0: float | None = None,
+    v0: float | None = None,
+    transient: float = 500.0,
+    returns: int = 1,
+    tol: float | None = None,
+    max_iter: int = 40,
+    solver: Solver | None = None,
+) -> PeriodicOrbit:
+    """Find a periodic orbit from a start state, after an optional transient.
+
+    Parameters
+    ----------
+    x0, v0:
+        Start state (default X = F_d, X' = V_b, as :func:`frictionflow.simulate`).
+    transient:
+        First simulate this long from the start (> 0: converge towards an
+        attractor, 0: shoot straight from the start, a guess of an unstable
+        orbit).  The state is then carried to the section, where Newton starts.
+    returns:
+        Section crossings per period (2 for a period-2 orbit, ...).
+    tol:
+        Newton tolerance on P(X) - X relative to max(F_s, |V_b|).
+    solver:
+        Solver for the transient and for the power-flow period
+        (default: exact for piecewise-constant laws, else adaptive).
+    """
+    x = friction.fd if x0 is None else float(x0)
+    v = model.vb if v0 is None else float(v0)
+    if transient < 0 or not math.isfinite(transient):
+        raise ValueError(f"transient must be finite and >= 0, got {transient!r}")
+    flow = make_flow(model, friction)  # refuses laws it cannot differentiate, before any work
+    if transient > 0:
+        traj = simulate(model, friction, solver, t_end=transient, x0=x, v0=v)
+        x, v = float(traj.x[-1]), float(traj.v[-1])
+    x_star = friction.sliding_equilibrium(model.vb)
+    if abs(x - x_star) + abs(v) <= 1e-9 * _scale(model, friction):
+        raise ShootingError(f"the start (X={x:.10g}, X'={v:.3g}) is the sliding equilibrium: no orbit to follow from it")
+    try:
+        guess = flow.run((x, v), returns=1).y1[0]
+    except RuntimeError as e:
+        raise ShootingError(f"from X={x:.10g}, X'={v:.10g} the motion never reaches the section X' = 0: {e}") from None
+    return shoot(model, friction, guess, returns=returns, tol=tol, max_iter=max_iter, flow=flow, solver=solver)

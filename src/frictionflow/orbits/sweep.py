@@ -1,0 +1,51 @@
+"""Brute-force parameter sweep: what long simulations settle on, to overlay on a bifurcation diagram.
+
+Simulations only find attractors (and only those the start state leads to),
+which is exactly why they are a useful independent check of the stable parts
+of continued branches.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
+from ..analysis import analyze
+from ..friction.base import FrictionLaw
+from ..params import BeltOscillator
+from ..simulate import simulate
+from ..solvers.base import Solver
+from .parameters import with_param
+
+
+def sweep(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    param: str,
+    values: Iterable[float],
+    *,
+    t_end: float = 500.0,
+    x0: float | None = None,
+    v0: float | None = None,
+    solver: Solver | None = None,
+) -> list[dict[str, Any]]:
+    """Simulate and analyze at each value of ``param``; one dict per value (NaN where undefined)."""
+    out = []
+    for lam in values:
+        m, law = with_param(model, friction, param, float(lam))
+        res = analyze(simulate(m, law, solver, t_end=t_end, x0=x0, v0=v0))
+        ss, av = res.steady_state, res.power.averages()
+        out.append(
+            {
+                "value": float(lam),
+                "kind": ss.kind,
+                "period": ss.period,
+                "amplitude": 0.5 * (res.amplitude["X_max"] - res.amplitude["X_min"]),
+                "X_max": res.amplitude["X_max"],
+                "X_min": res.amplitude["X_min"],
+                "stick_fraction": ss.stick_fraction,
+                **{k: av[k] for k in ("P_fin", "P_df", "P_dv", "R_c", "R_f")},
+                "TR_B": res.TR_B,
+            }
+        )
+    return out
