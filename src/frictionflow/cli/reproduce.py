@@ -1,1 +1,58 @@
-"""``frictionflow reproduce``: registered by this module (under construction)."""
+"""``frictionflow reproduce``: every figure of the reference paper, its data, and the report."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING, Optional
+
+import typer
+
+from . import app
+
+if TYPE_CHECKING:
+    from ..paper import Summary
+
+
+@app.command()
+def reproduce(
+    out: Path = typer.Option(..., "--out", help="Output directory (created if missing; its parent must exist)."),
+    t_end: Optional[float] = typer.Option(None, "--t-end", help="Run length of Figs. 2-6; averages over the last cycle before it [600]."),
+    dt: Optional[float] = typer.Option(None, "--dt", help="RK4 step of the paper's method [1e-3]."),
+    workers: Optional[int] = typer.Option(None, "--workers", help="Processes to use [up to 2]."),
+    quick: bool = typer.Option(False, "--quick", help="Reduced grids and shorter auxiliary runs: a smoke test, not the published figures."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object (verdicts, files, timings) instead of the table."),
+) -> None:
+    """Reproduce Figs. 2-6 of the paper with its method and the exact solver; write figures, data and report.html."""
+    from ..paper import Settings
+    from ..paper import reproduce as run_reproduction
+
+    base = Settings.quick() if quick else Settings()
+    changes = {k: v for k, v in (("t_end", t_end), ("dt", dt)) if v is not None}
+    if t_end is not None and t_end > base.window_t_end:
+        changes["window_t_end"] = t_end  # the window study covers at least the run length
+    settings = dataclasses.replace(base, **changes)  # validated by Settings
+    # reproduce() checks --out and --workers before it computes or writes anything
+    summary = run_reproduction(out, settings, workers=workers, progress=sys.stderr.isatty())
+    if as_json:
+        print(json.dumps(summary.to_dict()))
+    else:
+        _print_summary(summary)
+
+
+def _print_summary(summary: Summary) -> None:
+    """The verdicts as a table, and where the report is."""
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=f"paper claims checked: {summary.counts()}")
+    table.add_column("figure")
+    table.add_column("claim")
+    table.add_column("verdict")
+    for c in summary.claims:
+        table.add_row(c.figure, c.key, c.verdict)
+    console = Console()
+    console.print(table)
+    console.print(f"report: {summary.report}  ({len(summary.files)} files, {summary.seconds:.1f} s)")
