@@ -1,10 +1,13 @@
 """The result of a simulation: samples of the motion and running work integrals.
 
 Every solver returns a :class:`Trajectory`.  Besides t, X, X', F_c and the
-friction mode it carries the *cumulative* work integrals (damper, friction in,
-friction out, interface heat) at every sample, integrated by the solver itself,
-so averages over any window are differences of two samples rather than a
-re-quadrature of a discontinuous signal.
+friction mode it carries the work integrals (damper, friction in, friction
+out, interface heat) between consecutive samples, integrated by the solver
+itself, so an average over any window is a sum of the solver's own integrals
+rather than a re-quadrature of a discontinuous signal.  They are kept as
+increments, not running totals: every integrand is >= 0, so a window's sum is
+accurate to rounding of *its own* size even deep in a decay, where a
+difference of two large running totals would keep nothing.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ import numpy as np
 from .friction.base import FrictionLaw
 from .params import BeltOscillator
 
-#: column order of :attr:`Trajectory.work`
+#: column order of :attr:`Trajectory.dwork` and :attr:`Trajectory.work`
 WORK_NAMES = ("W_dv", "W_fin", "W_fout", "W_heat")
 MODE_NAMES = {-1: "slip-", 0: "stick", 1: "slip+"}
 
@@ -32,10 +35,10 @@ class Trajectory:
         Time tau, displacement X, velocity X', friction force F_c.
     mode:
         Friction mode at each sample: +1 slip+ (V_r > 0), 0 stick, -1 slip-.
-    work:
-        (n, 4) cumulative integrals from t[0]: ``W_dv`` = int 2 zeta X'^2,
-        ``W_fin`` = int max(P_f, 0), ``W_fout`` = int max(-P_f, 0),
-        ``W_heat`` = int F_c V_r over slip (P_f = X' F_c).
+    dwork:
+        (n, 4) integrals over (t[i-1], t[i]] (row 0 is zero): ``W_dv`` =
+        int 2 zeta X'^2, ``W_fin`` = int max(P_f, 0), ``W_fout`` =
+        int max(-P_f, 0), ``W_heat`` = int F_c V_r over slip (P_f = X' F_c).
     model, friction:
         What was simulated.
     solver:
@@ -49,7 +52,7 @@ class Trajectory:
     v: np.ndarray
     fc: np.ndarray
     mode: np.ndarray
-    work: np.ndarray
+    dwork: np.ndarray
     model: BeltOscillator
     friction: FrictionLaw
     solver: dict[str, Any]
@@ -67,6 +70,15 @@ class Trajectory:
     @property
     def vb(self) -> float:
         return self.model.vb
+
+    @property
+    def work(self) -> np.ndarray:
+        """Running totals of the work integrals from t[0] (for plots and files; windows use :attr:`dwork`)."""
+        return np.cumsum(self.dwork, axis=0)
+
+    def window_work(self, i0: int, i1: int) -> np.ndarray:
+        """The four work integrals over samples (i0, i1]."""
+        return self.dwork[i0 + 1 : i1 + 1].sum(axis=0)
 
     @property
     def acceleration(self) -> np.ndarray:

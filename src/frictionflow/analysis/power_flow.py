@@ -20,8 +20,10 @@ belt delivers and P_heat = F_c V_r >= 0 the heat generated at the interface
 while slipping (0 while sticking, where V_r is taken as 0 -- inside
 Karnopp's band this makes P_belt = F_c X' there).
 
-The averages are differences of the running work integrals the solver
-integrated; the energy residual checks them against the change of K + U.
+The averages are sums of the work integrals the solver integrated between
+samples (all >= 0, so accurate to rounding of the window's own size, even
+deep in a decaying transient); the energy residual checks them against the
+change of K + U.
 """
 
 from __future__ import annotations
@@ -76,7 +78,7 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
     if i1 <= i0:
         raise ValueError(f"window must span at least one sample, got {window}")
     t0, t1 = float(traj.t[i0]), float(traj.t[i1])
-    dw = traj.work[i1] - traj.work[i0]
+    dw = traj.window_work(i0, i1)
     e = traj.energy
     a = sec.averages(dw[0], dw[1], dw[2], dw[3], e[i0], e[i1], t1 - t0)
     return PowerFlow(

@@ -94,12 +94,12 @@ def classify_trajectory(traj: Trajectory, rtol: float = 1e-6, min_periods: int =
     count, as in the batched kernels, so both paths give the same answer.
     """
     t_tail = sec.tail_start(float(traj.t[0]), float(traj.t[-1]))
-    rec, tail, fin = sec.records_from_samples(traj.t, traj.x, traj.v, traj.mode, traj.work, traj.zeta, t_tail)
+    rec, tail, fin = sec.records_from_samples(traj.t, traj.x, traj.v, traj.mode, traj.dwork, traj.zeta, t_tail)
     rec = np.ascontiguousarray(rec[-sec.MAX_RECORDS :])
     scale = sec.scale_of(rec, tail, traj.vb, traj.friction.fd)
     h = float(np.max(np.diff(traj.t))) if len(traj) > 1 else 0.0
     cls = sec.classify(rec, tail, scale, rtol, min_periods, h, "dt" in traj.solver)
-    return cls, sec.window_summary(rec, tail, fin, cls, traj.friction.fd)
+    return cls, sec.window_summary(rec, tail, fin, cls, traj.friction.fd, traj.vb)
 
 
 def steady_state(

@@ -70,15 +70,14 @@ def analyze(
 ) -> Analysis:
     """Find the steady state of ``traj`` and evaluate power flow, TR_B and amplitudes over it.
 
-    When a solver has shown that the run ends in steady sliding (see
-    :func:`~frictionflow.analysis.steady_state.steady_state`), the averages,
-    TR_B and amplitudes are those of the equilibrium itself, and the energy
-    residual is that of the whole run.
+    For an equilibrium the averages, TR_B and amplitudes are those of the
+    equilibrium itself (the motion left over the tail is below the
+    convergence tolerance) and the energy residual is that of the whole run.
     """
     if rtol is None:
         rtol = DEFAULT_RTOL.get(traj.solver.get("name", ""), 1e-6)
     ss = steady_state(traj, rtol=rtol, min_periods=min_periods, window=window)
-    if ss.kind == "equilibrium" and traj.extra.get("t_terminal") is not None and not ss.manual_window:
+    if ss.kind == "equilibrium" and not ss.manual_window:
         return _at_equilibrium(traj, ss)
     return Analysis(
         trajectory=traj,
@@ -90,10 +89,11 @@ def analyze(
 
 
 def _at_equilibrium(traj: Trajectory, ss: SteadyState) -> Analysis:
+    """The equilibrium's own values: at rest, X = F_c; sliding, the belt's power is all heat."""
     x = ss.limit["x"] if ss.limit else float(traj.x[-1])
-    fc = x  # at rest in slip, X = F_c
-    belt = fc * traj.vb
-    whole = power_flow(traj)
+    sliding = not (ss.stick_fraction and ss.stick_fraction >= 0.5)
+    belt = x * traj.vb if sliding else 0.0
+    whole = power_flow(traj)  # at rest nothing is left to balance: check the whole run
     nan = float("nan")
     power = PowerFlow(
         window=ss.window, P_dv=0.0, P_df=0.0, P_fin=0.0, P_f=0.0, P_belt=belt, P_heat=belt,

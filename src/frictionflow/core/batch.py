@@ -28,9 +28,9 @@ NR = 16
 
 
 @njit(cache=True)
-def _row_from(rec, tail, fin, cls, fd, out):
+def _row_from(rec, tail, fin, cls, fd, vb, out):
     """Fill a result row from a classification and its window summary."""
-    s = sec.window_summary(rec, tail, fin, cls, fd)
+    s = sec.window_summary(rec, tail, fin, cls, fd, vb)
     out[R_KIND] = cls[sec.C_KIND]
     out[R_PERIOD] = cls[sec.C_PERIOD] if cls[sec.C_KIND] == sec.PERIODIC else np.nan
     out[R_P_DV] = s[sec.P_DV]
@@ -76,7 +76,7 @@ def _classify_samples(t, x, v, mode, work, zeta, vb, fd, rtol, min_periods, h, f
         rec = rec[rec.shape[0] - sec.MAX_RECORDS :].copy()
     scale = sec.scale_of(rec, tail, vb, fd)
     cls = sec.classify(rec, tail, scale, rtol, min_periods, h, fixed_step)
-    _row_from(rec, tail, fin, cls, fd, out)
+    _row_from(rec, tail, fin, cls, fd, vb, out)
 
 
 @njit(cache=True, parallel=True)
@@ -108,7 +108,8 @@ def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, out):
             out[j, R_KIND] = sec.NOT_SETTLED
         elif t_term >= 0.0 and t_mode[0] != 0 and zeta[j] > 0.0:
             # a final slip phase: it decays onto X* = +-F_d (the residual is the run's)
-            a = sec.averages(work[k - 1, 0], work[k - 1, 1], work[k - 1, 2], work[k - 1, 3], 0.5 * (x0[j] ** 2 + v0[j] ** 2),
+            tot = work[:k].sum(axis=0)
+            a = sec.averages(tot[0], tot[1], tot[2], tot[3], 0.5 * (x0[j] ** 2 + v0[j] ** 2),
                              0.5 * (x[k - 1] ** 2 + v[k - 1] ** 2), max(t[k - 1], 1e-300))
             _equilibrium_row(t_mode[0] * fd, vb[j], fd, a[sec.RESID], out[j])
         else:
@@ -151,7 +152,7 @@ def _rk4_rows(rec, nrec, tail, fin, vb, fd, rtol, min_periods, dt, out):
         r = rk4_batch.unroll(rec[j], nrec[j])
         scale = sec.scale_of(r, tail[j], vb[j], fd[j])
         cls = sec.classify(r, tail[j], scale, rtol, min_periods, dt, True)
-        _row_from(r, tail[j], fin[j], cls, fd[j], out[j])
+        _row_from(r, tail[j], fin[j], cls, fd[j], vb[j], out[j])
 
 
 def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, out) -> None:

@@ -122,7 +122,7 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
     yn = np.empty(NY)
     ys = np.empty(NY)
     tmp = np.empty(NY)
-    w = np.zeros(4)  # W_dv, W_fin, W_fout, W_heat at the last sample
+    w = np.zeros(4)  # W_dv, W_fin, W_fout, W_heat since the last sample
     wf_last = 0.0
     t = 0.0
     x, v = x0, v0
@@ -204,8 +204,9 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
             # slip: Dormand-Prince from (x, v) with the direction fixed
             d = float(mode)
             y[0], y[1], y[2], y[3], y[4] = x, v, 0.0, 0.0, 0.0
-            w_base = w.copy()
-            wf_last = 0.0
+            wf_last = 0.0  # the phase's integrals (from ys) at the last sample
+            wdv_last = 0.0
+            wq_last = 0.0
             rhs(y, d, zeta, vb, p, K[0])
             if h <= 0.0:
                 h = 0.01 * max(1e-3, min(1.0, (abs(x) + abs(v) + 1e-6) / (abs(K[0, 1]) + 1e-12)))
@@ -283,8 +284,10 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
                     else:
                         w[2] -= dwf
                     wf_last = ys[3]
-                    w[0] = w_base[0] + ys[2]
-                    w[3] = w_base[3] + ys[4]
+                    w[0] += ys[2] - wdv_last
+                    w[3] += ys[4] - wq_last
+                    wdv_last = ys[2]
+                    wq_last = ys[4]
                     if kind == 4:
                         tail_done = True
                     if kind == 5:

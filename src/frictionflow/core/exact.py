@@ -392,7 +392,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     crit = np.empty(64)
     pts = np.empty(512 + (int(16.0 * math.pi / dense_dt) + 2 if dense_dt > 0.0 else 0))
     tags = np.zeros(len(pts), dtype=np.int8)  # 1: a zero of X'
-    w = np.zeros(4)
+    w = np.zeros(4)  # the work integrals since the last sample (emit restarts them)
     ring_x = np.full(min_periods + 2, np.nan)
     ring_t = np.full(min_periods + 2, np.nan)
     n_cross = 0

@@ -1,15 +1,16 @@
 """Classical fixed-step RK4 (the paper's method), friction evaluated at every stage.
 
-The state is augmented with four running work integrals so that power-flow
-averages are integrated by the same RK4 quadrature as the motion:
+The state is augmented with four work integrals so that power-flow averages
+are integrated by the same RK4 quadrature as the motion (each sample records
+what accumulated since the previous one, then the sums restart):
 
 * ``W_dv``   = int 2 zeta X'^2            (damper)
 * ``W_pos``  = int max(P_f, 0)            (friction power in, P_f = X' F_c)
 * ``W_neg``  = int max(-P_f, 0)           (friction power out, as a magnitude)
 * ``W_heat`` = int F_c V_r over slip      (heat at the interface)
 
-``s`` (length 6) holds ``X, X', W_dv, W_pos, W_neg, W_heat`` and is updated in
-place, so a long run can be advanced chunk by chunk (progress bars).
+``s`` (length 6) holds ``X, X'`` and the four sums since the last sample; it is
+updated in place, so a long run can be advanced chunk by chunk (progress bars).
 """
 
 from __future__ import annotations
@@ -104,6 +105,7 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
             due = every
             _record(k, t0 + i * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, out_t, out_x, out_v, out_fc, out_mode, out_w)
             k += 1
+            wdv = wp = wn = wq = 0.0
         due -= 1
         x, v, ddv, dp, dn, dq = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, vs, dl, visc)
         wdv += ddv

@@ -58,7 +58,11 @@ def _block(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
     v = v0.copy()
     xo = x0.copy()
     vo = v0.copy()
-    w0, w1, w2, w3 = np.zeros(L), np.zeros(L), np.zeros(L), np.zeros(L)
+    w0, w1, w2, w3 = np.zeros(L), np.zeros(L), np.zeros(L), np.zeros(L)  # work of the running period
+    # The tail's work: periods closed in the tail, minus what the period under
+    # way when the tail began had done by then, plus the open period at the end.
+    tws = np.zeros((L, 4))
+    tot = np.zeros((L, 4))  # the whole run's work (closed periods)
     f0 = np.abs(x + 2.0 * zeta * v)
     # aggregates of the running period, and of the tail
     pvmin, pvmax, pfmax, pstk = v.copy(), v.copy(), f0.copy(), np.zeros(L)
@@ -109,6 +113,11 @@ def _block(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
                 xc = sec.hermite(xo[j], x[j], a * dt, b * dt, s)
                 sec.close(rec[j, slot], i * dt + s * dt, xc, ti, x[j], b, wj, agg, lo[j], nrec[j] > 0)
                 nrec[j] += 1
+                for q in range(4):
+                    tot[j, q] += wj[q]
+                    if in_tail:
+                        tws[j, q] += wj[q]
+                w0[j] = w1[j] = w2[j] = w3[j] = 0.0
                 lo[j] = np.nan
                 pvmin[j] = pvmax[j] = b
                 pfmax[j] = abs(x[j] + 2.0 * zeta[j] * b)
@@ -119,18 +128,21 @@ def _block(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
         if not in_tail and ti >= t_tail:
             in_tail = True
             for j in range(L):
-                wj[0], wj[1], wj[2], wj[3] = w0[j], w1[j], w2[j], w3[j]
+                tws[j, 0], tws[j, 1], tws[j, 2], tws[j, 3] = -w0[j], -w1[j], -w2[j], -w3[j]
                 sec.mark(tail[j], ti, x[j], v[j], wj)
                 txmin[j] = txmax[j] = x[j]
                 tvmin[j] = tvmax[j] = v[j]
                 tfmax[j] = abs(x[j] + 2.0 * zeta[j] * v[j])
                 tstk[j] = 0.0
     for j in range(L):
+        tail[j, sec.A_W0], tail[j, sec.A_W1] = tws[j, 0] + w0[j], tws[j, 1] + w1[j]
+        tail[j, sec.A_W2], tail[j, sec.A_W3] = tws[j, 2] + w2[j], tws[j, 3] + w3[j]
         tail[j, sec.A_XMIN], tail[j, sec.A_XMAX] = txmin[j], txmax[j]
         tail[j, sec.A_VMIN], tail[j, sec.A_VMAX] = tvmin[j], tvmax[j]
         tail[j, sec.A_FMAX], tail[j, sec.A_STICK] = tfmax[j], tstk[j]
-        wj[0], wj[1], wj[2], wj[3] = w0[j], w1[j], w2[j], w3[j]
+        wj[0], wj[1], wj[2], wj[3] = tot[j, 0] + w0[j], tot[j, 1] + w1[j], tot[j, 2] + w2[j], tot[j, 3] + w3[j]
         sec.mark(fin[j], n_steps * dt, x[j], v[j], wj)
+        fin[j, sec.A_E0] = 0.5 * (x0[j] * x0[j] + v0[j] * v0[j])
 
 
 @njit(cache=True, parallel=True)
@@ -187,5 +199,5 @@ def summarize(rec, nrec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step):
         scale = sec.scale_of(r, tail[j], vb[j], fd[j])
         c = sec.classify(r, tail[j], scale, rtol, min_periods, h, fixed_step)
         out[j, : sec.NC] = c
-        out[j, sec.NC :] = sec.window_summary(r, tail[j], fin[j], c, fd[j])
+        out[j, sec.NC :] = sec.window_summary(r, tail[j], fin[j], c, fd[j], vb[j])
     return out

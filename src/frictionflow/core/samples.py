@@ -7,7 +7,8 @@ from numba import njit
 def emit(outs, k, t, x, v, fc, mode, w):
     """Write sample ``k`` into ``outs`` = (t, x, v, fc, mode, work); False when the arrays are full.
 
-    ``w`` holds the four cumulative work integrals.
+    ``w`` holds the four work integrals accumulated since the previous sample;
+    they are written and restart from zero.
     """
     out_t, out_x, out_v, out_fc, out_mode, out_w = outs
     if k >= len(out_t):
@@ -18,4 +19,5 @@ def emit(outs, k, t, x, v, fc, mode, w):
     out_fc[k] = fc
     out_mode[k] = mode
     out_w[k, :] = w
+    w[:] = 0.0
     return True

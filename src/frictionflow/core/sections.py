@@ -15,7 +15,7 @@ X          X at the crossing (cubic Hermite between samples)
 TS         time of the first sample after the crossing: windows start
            and end on samples, where the work integrals are exact
 ES         K + U at that sample
-W0..W3     cumulative W_dv, W_fin, W_fout, W_heat at that sample
+W0..W3     W_dv, W_fin, W_fout, W_heat over the period that ends there
 VMIN..FMAX extremes of X' and |X + 2 zeta X'| over the period's samples
 STICK      time spent sticking during the period
 LO         X at the upward crossing (the minimum) inside the period, or NaN
@@ -37,10 +37,10 @@ from numba import njit
 
 T, X, TS, ES, W0, W1, W2, W3, VMIN, VMAX, FMAX, STICK, LO = range(13)
 NF = 13
-# tail / final records: time, energy and works at the first tail sample (or
-# the final sample), then the extremes over the tail
-A_T, A_E, A_W0, A_W1, A_W2, A_W3, A_XMIN, A_XMAX, A_VMIN, A_VMAX, A_FMAX, A_STICK = range(12)
-NA = 12
+# tail / final records: time and energy at the first tail sample (or the
+# final sample); for the tail, its work integrals and extremes
+A_T, A_E, A_W0, A_W1, A_W2, A_W3, A_XMIN, A_XMAX, A_VMIN, A_VMAX, A_FMAX, A_STICK, A_E0 = range(13)
+NA = 13  # fin: A_W* hold the whole run's work integrals and A_E0 its initial K + U
 
 #: records kept per run: windows span at most MAX_RECORDS - 1 periods
 MAX_RECORDS = 32
@@ -70,13 +70,15 @@ def hermite(p0, p1, m0, m1, s):
 
 
 @njit(cache=True)
-def records_from_samples(t, x, v, mode, work, zeta, t_tail):
+def records_from_samples(t, x, v, mode, dwork, zeta, t_tail):
     """Section records, tail and final aggregates of a sampled run.
 
-    A period's aggregates cover the samples from the first sample after one
-    crossing to the first sample after the next, both included, and the steps
-    between them: the same span as the window they are averaged over.  The
-    batched kernels build the same records while they integrate.
+    ``dwork[i]``: the work integrals over (t[i-1], t[i]].  A period's
+    aggregates and work integrals cover the samples from the first sample
+    after one crossing to the first sample after the next, both included,
+    and the steps between them: the same span as the window they are
+    averaged over.  The batched kernels build the same records while they
+    integrate.
     """
     n = len(t)
     count = 0
@@ -88,6 +90,8 @@ def records_from_samples(t, x, v, mode, work, zeta, t_tail):
     fin = np.full(NA, np.nan)
     agg = np.zeros(6)  # xmin, xmax, vmin, vmax, fmax, stick of the running period
     tag = np.zeros(6)  # the same over the tail (X extremes used only there)
+    pw = np.zeros(4)  # work integrals of the running period
+    tw = np.zeros(4)  # and of the tail
     k = -1
     lo = np.nan
     in_tail = False
@@ -99,21 +103,31 @@ def records_from_samples(t, x, v, mode, work, zeta, t_tail):
             stuck = h if mode[i - 1] == 0 else 0.0
             update(agg, xi, vi, fi, stuck)
             update(tag, xi, vi, fi, stuck)
+            for j in range(4):
+                pw[j] += dwork[i, j]
+                if in_tail:
+                    tw[j] += dwork[i, j]
             if v[i - 1] > 0.0 and vi <= 0.0:
                 k += 1
                 s = v[i - 1] / (v[i - 1] - vi)
-                close(rec[k], t[i - 1] + s * h, hermite(x[i - 1], xi, v[i - 1] * h, vi * h, s), t[i], xi, vi, work[i], agg, lo, k > 0)
+                close(rec[k], t[i - 1] + s * h, hermite(x[i - 1], xi, v[i - 1] * h, vi * h, s), t[i], xi, vi, pw, agg, lo, k > 0)
                 lo = np.nan
                 reset(agg, xi, vi, fi)
+                pw[:] = 0.0
             elif v[i - 1] < 0.0 and vi >= 0.0:
                 s = v[i - 1] / (v[i - 1] - vi)
                 lo = hermite(x[i - 1], xi, v[i - 1] * h, vi * h, s)
         if not in_tail and t[i] >= t_tail:
             in_tail = True
-            mark(tail, t[i], xi, vi, work[i])
+            mark(tail, t[i], xi, vi, tw)
             reset(tag, xi, vi, fi)
-    store_tail(tail, tag)
-    mark(fin, t[n - 1], x[n - 1], v[n - 1], work[n - 1])
+    store_tail(tail, tag, tw)
+    total = np.zeros(4)
+    for i in range(n):
+        for j in range(4):
+            total[j] += dwork[i, j]
+    mark(fin, t[n - 1], x[n - 1], v[n - 1], total)
+    fin[A_E0] = 0.5 * (x[0] * x[0] + v[0] * v[0])
     return rec, tail, fin
 
 
@@ -163,7 +177,9 @@ def mark(a, t, x, v, w):
 
 
 @njit(cache=True, inline="always")
-def store_tail(tail, tag):
+def store_tail(tail, tag, tw):
+    for j in range(4):
+        tail[A_W0 + j] = tw[j]
     tail[A_XMIN] = tag[0]
     tail[A_XMAX] = tag[1]
     tail[A_VMIN] = tag[2]
@@ -346,27 +362,29 @@ NP = 9
 
 @njit(cache=True)
 def averages(dw_dv, dw_in, dw_out, dw_heat, e0, e1, span):
-    """Window averages from the changes of the work integrals and of K + U.
+    """Window averages from the work integrals over the window and the change of K + U.
 
-    The residual of the power balance is relative to the friction input; when
-    friction puts in less than 1e-12 of the stored energy per unit time (an
-    equilibrium, up to rounding of the running integrals), P_fin is 0, the
-    ratios are NaN and the residual is relative to the stored energy.
+    The residual of the power balance is relative to the friction input (to
+    the largest flow when friction puts in nothing; for a whole number of
+    periods they are the same), but never to less than 1e-12 of the stored
+    energy K + U: below that the
+    change of K + U itself is lost to rounding, so the balance cannot be
+    checked more finely (deep in a decay, or at an equilibrium).  The ratios
+    are NaN when friction puts in nothing.
     """
     out = np.empty(NP)
     w_f = dw_in - dw_out
-    e_ref = max(e0, e1) * span
-    flows = dw_in > 1e-12 * e_ref
+    floor = 1e-12 * max(e0, e1)
     resid = abs(e1 - e0 + dw_dv - w_f)
-    norm = dw_in if flows else e_ref
+    norm = max(dw_in, dw_out, dw_dv, floor)
     out[P_DV] = dw_dv / span
     out[P_DF] = dw_out / span
-    out[P_FIN] = dw_in / span if flows else 0.0
+    out[P_FIN] = dw_in / span
     out[P_F] = w_f / span
     out[P_BELT] = (w_f + dw_heat) / span
     out[P_HEAT] = dw_heat / span
-    out[R_C] = out[P_DV] / out[P_FIN] if flows else np.nan
-    out[R_F] = out[P_DF] / out[P_FIN] if flows else np.nan
+    out[R_C] = dw_dv / dw_in if dw_in > 0.0 else np.nan
+    out[R_F] = dw_out / dw_in if dw_in > 0.0 else np.nan
     out[RESID] = resid / norm if norm > 0 else 0.0
     return out
 
@@ -377,8 +395,13 @@ NS = NP + 8
 
 
 @njit(cache=True)
-def window_summary(rec, tail, fin, cls, fd):
-    """Averages, TR_B, extremes and stick fraction over the classified window."""
+def window_summary(rec, tail, fin, cls, fd, vb):
+    """Averages, TR_B, extremes and stick fraction over the classified window.
+
+    For an equilibrium they are the equilibrium's own: no motion, no
+    friction input, the belt's power all heat if the mass rests sliding (0 if
+    it rests in a stick band); the residual is the tail's.
+    """
     out = np.full(NS, np.nan)
     i0 = int(cls[C_START])
     i1 = int(cls[C_END])
@@ -387,7 +410,7 @@ def window_summary(rec, tail, fin, cls, fd):
         span = b[A_T] - a[A_T]
         xmin, xmax, vmin, vmax = tail[A_XMIN], tail[A_XMAX], tail[A_VMIN], tail[A_VMAX]
         fmax, stick = tail[A_FMAX], tail[A_STICK]
-        dw = b[A_W0 : A_W0 + 4] - a[A_W0 : A_W0 + 4]
+        dw = tail[A_W0 : A_W0 + 4].copy()
         e0, e1 = a[A_E], b[A_E]
         t0, t1 = a[A_T], b[A_T]
     else:
@@ -397,7 +420,9 @@ def window_summary(rec, tail, fin, cls, fd):
         xmin, xmax = seg[:, LO].min(), rec[i0 : i1 + 1, X].max()
         vmin, vmax = seg[:, VMIN].min(), seg[:, VMAX].max()
         fmax, stick = seg[:, FMAX].max(), seg[:, STICK].sum()
-        dw = rec[i1, W0 : W0 + 4] - rec[i0, W0 : W0 + 4]
+        dw = np.zeros(4)
+        for j in range(4):
+            dw[j] = seg[:, W0 + j].sum()
         e0, e1 = rec[i0, ES], rec[i1, ES]
     if span > 0:
         out[:NP] = averages(dw[0], dw[1], dw[2], dw[3], e0, e1, span)
@@ -409,4 +434,16 @@ def window_summary(rec, tail, fin, cls, fd):
     out[S_XMAX] = xmax
     out[S_VMIN] = vmin
     out[S_VMAX] = vmax
+    if cls[C_KIND] == EQUILIBRIUM:
+        x_eq = cls[C_LIMX]
+        sliding = out[S_STICK] < 0.5
+        out[P_DV] = out[P_DF] = out[P_FIN] = out[P_F] = 0.0
+        out[P_BELT] = out[P_HEAT] = x_eq * vb if sliding else 0.0
+        out[R_C] = out[R_F] = np.nan
+        out[S_TRB] = abs(x_eq) / fd if fd > 0 else np.nan
+        out[S_XMIN] = out[S_XMAX] = x_eq
+        out[S_VMIN] = out[S_VMAX] = 0.0
+        # the balance of the whole run (at rest there is nothing left to check)
+        whole = averages(fin[A_W0], fin[A_W1], fin[A_W2], fin[A_W3], fin[A_E0], fin[A_E], max(fin[A_T], 1e-300))
+        out[RESID] = whole[RESID]
     return out

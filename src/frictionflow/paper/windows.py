@@ -60,8 +60,9 @@ class WindowAverages:
 def tail(traj: Trajectory, t_from: float) -> Trajectory:
     """The part of ``traj`` from ``t_from`` on (views, not copies): windows at the end need no more."""
     i = traj.index(t_from)
-    return replace(traj, t=traj.t[i:], x=traj.x[i:], v=traj.v[i:], fc=traj.fc[i:], mode=traj.mode[i:],
-                   work=traj.work[i:])
+    dwork = traj.dwork[i:].copy()
+    dwork[0] = 0.0  # the integrals before t_from are not part of the tail
+    return replace(traj, t=traj.t[i:], x=traj.x[i:], v=traj.v[i:], fc=traj.fc[i:], mode=traj.mode[i:], dwork=dwork)
 
 
 class Cycles:

@@ -71,7 +71,7 @@ def trajectory_from(
     """A :class:`Trajectory` of the first ``n`` samples and ``n_events`` events in ``buffers``."""
     t, x, v, fc, mode, work, ev_t, ev_mode = buffers
     return Trajectory(
-        t=t[:n].copy(), x=x[:n].copy(), v=v[:n].copy(), fc=fc[:n].copy(), mode=mode[:n].copy(), work=work[:n].copy(),
+        t=t[:n].copy(), x=x[:n].copy(), v=v[:n].copy(), fc=fc[:n].copy(), mode=mode[:n].copy(), dwork=work[:n].copy(),
         model=model, friction=friction, solver=solver,
         events={"t": ev_t[:n_events].copy(), "mode": ev_mode[:n_events].copy()},
         extra=extra or {},

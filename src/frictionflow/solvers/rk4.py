@@ -114,7 +114,7 @@ class RK4(Solver):
             v=v,
             fc=fc,
             mode=mode,
-            work=work,
+            dwork=work,
             model=model,
             friction=friction,
             solver=self.describe() | {"record_every": every, "steps": n},
