@@ -10,6 +10,7 @@ from rich.progress import (
     BarColumn,
     MofNCompleteColumn,
     Progress,
+    TaskProgressColumn,
     TextColumn,
     TimeElapsedColumn,
     TimeRemainingColumn,
@@ -17,49 +18,27 @@ from rich.progress import (
 
 
 @contextmanager
-def progress_bar(description: str, total: float, enabled: bool = True) -> Iterator[Callable[[float], None]]:
-    """Yield ``advance(n)``; draws a bar on stderr when ``enabled``."""
+def progress_bar(
+    description: str, total: float, enabled: bool = True, done: float = 0, unit: str | None = None
+) -> Iterator[Callable[[float], None]]:
+    """Yield ``advance(n)``; draws a bar on stderr when ``enabled``.
+
+    With ``unit`` (e.g. "points") the bar also shows the rate in units/s.
+    """
     if not enabled:
         yield lambda n: None
         return
-    bar = Progress(
-        TextColumn("[bold]{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        TimeRemainingColumn(),
-        console=Console(stderr=True),
-        transient=False,
-    )
-    with bar:
-        task = bar.add_task(description, total=total)
-        yield lambda n: bar.advance(task, n)
-
-
-@contextmanager
-def points_bar(description: str, total: int, done: int = 0, enabled: bool = True) -> Iterator[Callable[[float], None]]:
-    """A bar counting points, with points/s and the time left."""
-    if not enabled:
-        yield lambda n: None
-        return
-    from rich.progress import TaskProgressColumn
-
-    bar = Progress(
-        TextColumn("[bold]{task.description}"),
-        BarColumn(),
-        TaskProgressColumn(),
-        MofNCompleteColumn(),
-        TextColumn("{task.fields[rate]} points/s"),
-        TimeElapsedColumn(),
-        TimeRemainingColumn(),
-        console=Console(stderr=True),
-    )
+    columns = [TextColumn("[bold]{task.description}"), BarColumn(), TaskProgressColumn(), MofNCompleteColumn()]
+    if unit:
+        columns.append(TextColumn("{task.fields[rate]} " + unit + "/s"))
+    bar = Progress(*columns, TimeElapsedColumn(), TimeRemainingColumn(), console=Console(stderr=True))
     with bar:
         task = bar.add_task(description, total=total, completed=done, rate="-")
 
         def advance(n: float) -> None:
             bar.advance(task, n)
-            speed = bar.tasks[task].speed
-            bar.update(task, rate=f"{speed:,.0f}" if speed else "-")
+            if unit:
+                speed = bar.tasks[task].speed
+                bar.update(task, rate=f"{speed:,.0f}" if speed else "-")
 
         yield advance

@@ -79,6 +79,13 @@ def _classify_samples(t, x, v, mode, work, zeta, vb, fd, rtol, min_periods, h, f
     _row_from(rec, tail, fin, cls, fd, vb, out)
 
 
+@njit(cache=True)
+def _buffers(cap):
+    """One point's sample arrays (events are not kept: one slot, never read)."""
+    return (np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap, dtype=np.int8),
+            np.empty((cap, 4)), np.empty(1), np.empty(1, dtype=np.int64))
+
+
 @njit(cache=True, parallel=True)
 def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, out):
     """Exact solver for every point (rows of ``p``: friction kernel parameters)."""
@@ -86,14 +93,7 @@ def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, out):
     for j in prange(n):
         cap = int(16.0 * t_end / (2.0 * math.pi)) + 64
         while True:
-            t = np.empty(cap)
-            x = np.empty(cap)
-            v = np.empty(cap)
-            fc = np.empty(cap)
-            mode = np.empty(cap, dtype=np.int8)
-            work = np.empty((cap, 4))
-            ev_t = np.empty(1)
-            ev_mode = np.empty(1, dtype=np.int64)
+            t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
             t_mode = np.zeros(1, dtype=np.int64)
             k, ne, status, t_term, t_stop = exact.run(
                 x0[j], v0[j], t_end, zeta[j], vb[j], p[j], 0.0, sec.tail_start(0.0, t_end), True, True, rtol, min_periods,
@@ -123,14 +123,7 @@ def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, r
     for j in prange(n):
         cap = int(64.0 * t_end) + 256
         while True:
-            t = np.empty(cap)
-            x = np.empty(cap)
-            v = np.empty(cap)
-            fc = np.empty(cap)
-            mode = np.empty(cap, dtype=np.int8)
-            work = np.empty((cap, 4))
-            ev_t = np.empty(1)
-            ev_mode = np.empty(1, dtype=np.int64)
+            t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
             k, ne, status, t_stop, h = dopri.run(
                 x0[j], v0[j], t_end, zeta[j], vb[j], p[j], ode_rtol, ode_atol, max_steps, 0.0, sec.tail_start(0.0, t_end),
                 t, x, v, fc, mode, work, ev_t, ev_mode,

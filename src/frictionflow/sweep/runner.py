@@ -61,14 +61,14 @@ def run_sweep(
     store = SweepStore(out, cfg, chunks, restart=restart)
     chunks = store.chunks  # a resumed sweep keeps the chunks it was started with
     todo = store.todo()
-    from .._progress import points_bar
+    from .._progress import progress_bar
 
     own_client = None
     if client is None and scheduler is not None:
         from distributed import Client
 
         client = own_client = Client(scheduler)
-    with points_bar("sweep", cfg.size, done=store.points_done(), enabled=progress) as advance:
+    with progress_bar("sweep", cfg.size, enabled=progress, done=store.points_done(), unit="points") as advance:
         if client is None:
             for chunk in todo:
                 res = compute_chunk(cfg.source, chunk, chunks)
