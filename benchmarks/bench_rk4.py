@@ -103,7 +103,7 @@ def main() -> None:
     t_k = best_of(kernel_only(n_c), 3) / n_c
     t_c = best_of(lambda: compiled(n_c), 3) / n_c
     lanes, n_b = 4096, 20_000
-    t_b = best_of(lambda: batched(lanes, n_b), 3) / (lanes * n_b)
+    t_b = best_of(lambda: batched(lanes, n_b), 7) / (lanes * n_b)
     print(f"plain Python          {t_py * 1e9:9.1f} ns/step")
     print(f"compiled kernel       {t_k * 1e9:9.1f} ns/step   ({t_py / t_k:6.0f}x plain Python; goal <= 40 ns)")
     print(f"simulate() end to end {t_c * 1e9:9.1f} ns/step   ({t_py / t_c:6.0f}x plain Python; allocating 5e6 samples included)")
