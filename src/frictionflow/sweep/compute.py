@@ -41,9 +41,8 @@ def chunk_slices(chunk: tuple[int, ...], chunks: tuple[int, ...], shape: tuple[i
     return tuple(slice(c * k, min((c + 1) * k, n)) for c, k, n in zip(chunk, chunks, shape))
 
 
-def _friction_rows(cfg: SweepConfig, pts: dict[str, np.ndarray]) -> np.ndarray:
+def _friction_rows(cfg: SweepConfig, law: Any, pts: dict[str, np.ndarray]) -> np.ndarray:
     """Per-point kernel parameters from one validated template law."""
-    _, law, _ = cfg.run.build()
     n = len(pts["zeta"])
     p = np.tile(law.kernel_params(), (n, 1))
     fd = pts["fd"]
@@ -67,12 +66,12 @@ def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[
     index = np.indices([s.stop - s.start for s in sl]).reshape(len(sl), -1)
     index = tuple(ix + s.start for ix, s in zip(index, sl))
     pts = cfg.point_params(index)
-    p = _friction_rows(cfg, pts)
+    run = cfg.run
+    _, law, solver = run.build()
+    p = _friction_rows(cfg, law, pts)
     zeta, vb = pts["zeta"], pts["vb"]
     x0 = np.where(np.isnan(pts["x0"]), p[:, kf.FD], pts["x0"])
     v0 = np.where(np.isnan(pts["v0"]), vb, pts["v0"])
-    run = cfg.run
-    _, law, solver = run.build()
     rtol = run.rtol if run.rtol is not None else DEFAULT_RTOL[solver.name]
     out = np.empty((len(zeta), batch.NR))
     if solver.name == "exact":
