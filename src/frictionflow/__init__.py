@@ -22,6 +22,7 @@ from .analysis import (
 )
 from .analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
 from .friction import Coulomb, FrictionLaw, Karnopp, SlipLaw, Stribeck
+from .modes import SwitchMode
 from .params import BeltOscillator, DimensionalParams
 from .simulate import simulate
 from .solvers import RK4, Adaptive, CoarseStepWarning, Exact, Solver, StepLimitError
@@ -50,6 +51,7 @@ __all__ = [
     "SteadyState",
     "StepLimitError",
     "Stribeck",
+    "SwitchMode",
     "Trajectory",
     "__version__",
     "amplitude",

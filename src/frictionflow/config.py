@@ -1,133 +1,27 @@
 """Run settings shared by the CLI commands and TOML configs.
 
-One :class:`RunConfig` holds what ``frictionflow simulate`` accepts; it is
-built from a mapping (a TOML file, CLI options or both) whose keys are the CLI
-option names with underscores (``t_end``, ``stick_force``, ...).  Every value
-is validated here, before any work starts, so a bad input costs nothing.
+A :class:`RunConfig` holds the settings given for one run, by parameter name
+(the CLI option names with underscores: ``t_end``, ``stick_force``, ...).
+Which names exist, their ranges and defaults come from the declarations
+(:func:`frictionflow.parameters.declared`): the oscillator's, every registered
+law's and solver's, and the run's own below.  Every value is validated here,
+before any work starts, so a bad input costs nothing.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
 from typing import Any, Mapping
 
 from . import _validate as check
-from .friction import Coulomb, FrictionLaw, Karnopp, Stribeck
+from .friction import FrictionLaw, law_class, law_names
+from .parameters import Param, declared, positive_real
 from .params import BeltOscillator, DimensionalParams
-from .solvers import RK4, Adaptive, Exact, Solver, auto_solver
+from .solvers import Solver
+from .solvers.registry import build_solver, solver_names
 
-FRICTIONS = ("karnopp", "coulomb", "stribeck")
-SOLVERS = ("auto", "exact", "adaptive", "rk4")
 DIMENSIONAL_KEYS = ("m", "c", "k", "v_b", "f_d", "f_ms", "v_d", "l_0")
-
-
-@dataclass
-class RunConfig:
-    """Everything that defines one run and its analysis."""
-
-    fd: float = 0.02
-    fs: float | None = None
-    vb: float = 0.01
-    zeta: float = 0.0
-    vd: float = 1e-3
-    x0: float | None = None
-    v0: float | None = None
-    vs: float = 0.01
-    delta: float = 2.0
-    viscous: float = 0.0
-    t_end: float = 500.0
-    dt: float = 1e-3
-    record_every: int | None = None
-    dense_dt: float | None = None
-    ode_rtol: float = 1e-10
-    max_steps: int = 10_000_000
-    solver: str = "auto"
-    friction: str = "karnopp"
-    stick_force: str = "resultant"
-    window: tuple[float, float] | None = None
-    rtol: float | None = None
-    dimensional: dict[str, float] | None = None
-    extra: dict[str, Any] = field(default_factory=dict)
-
-    @classmethod
-    def keys(cls) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(cls) if f.name != "extra")
-
-    @classmethod
-    def from_mapping(cls, values: Mapping[str, Any], *, source: str = "config") -> "RunConfig":
-        """Build and validate from a mapping; unknown keys are refused by name."""
-        known = set(cls.keys())
-        unknown = [k for k in values if k.replace("-", "_") not in known]
-        if unknown:
-            raise ValueError(f"{source}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(known))}")
-        kw = {k.replace("-", "_"): v for k, v in values.items() if v is not None}
-        if "window" in kw:
-            kw["window"] = parse_window(kw["window"])
-        if "dimensional" in kw:
-            both = [k for k in ("zeta", "vb", "fd", "fs", "vd") if k in kw]
-            if both:
-                raise ValueError(f"{source}: give {both[0]} or dimensional, not both")
-            kw["dimensional"] = _dimensional_table(kw["dimensional"])
-        cfg = cls(**kw)
-        cfg.validate()
-        return cfg
-
-    def validate(self) -> None:
-        """Raise ValueError naming the first bad setting."""
-        check.choice("solver", self.solver, SOLVERS)
-        check.choice("friction", self.friction, FRICTIONS)
-        check.positive("t_end", self.t_end)
-        check.positive("dt", self.dt)
-        if self.rtol is not None:
-            check.positive("rtol", self.rtol)
-        if self.dense_dt is not None:
-            check.positive("dense_dt", self.dense_dt)
-        if self.record_every is not None:
-            check.positive_int("record_every", self.record_every)
-        for name in ("x0", "v0"):
-            if getattr(self, name) is not None:
-                check.finite(name, getattr(self, name))
-        if self.window is not None:
-            t0, t1 = self.window
-            if not (0 <= t0 < t1 <= self.t_end):
-                raise ValueError(f"window must satisfy 0 <= T0 < T1 <= t_end = {self.t_end:g}, got {t0:g}:{t1:g}")
-        model, friction, solver = self.build()  # these validate themselves
-        if not solver.supports(friction):
-            raise ValueError(f"solver={self.solver} does not support friction={self.friction}; use solver=auto")
-
-    def nondimensional(self) -> dict[str, float]:
-        """zeta, V_b, F_d, F_s, V_d after converting ``dimensional`` if given."""
-        if self.dimensional is not None:
-            nd = DimensionalParams(**self.dimensional).nondimensional()
-            return {k: nd[k] for k in ("zeta", "vb", "fd", "fs", "vd")}
-        return {"zeta": self.zeta, "vb": self.vb, "fd": self.fd, "fs": self.fs, "vd": self.vd}
-
-    def build(self) -> tuple[BeltOscillator, FrictionLaw, Solver]:
-        """The model, friction law and solver this config describes."""
-        nd = self.nondimensional()
-        model = BeltOscillator(zeta=nd["zeta"], vb=nd["vb"])
-        friction: FrictionLaw
-        if self.friction == "karnopp":
-            friction = Karnopp(fd=nd["fd"], fs=nd["fs"], vd=nd["vd"], stick_force=self.stick_force)
-        elif self.friction == "coulomb":
-            friction = Coulomb(fd=nd["fd"], fs=nd["fs"], stick_force=self.stick_force)
-        else:
-            fs = nd["fs"] if nd["fs"] is not None else 2.0 * nd["fd"]
-            friction = Stribeck(fd=nd["fd"], fs=fs, vs=self.vs, delta=self.delta, viscous=self.viscous, stick_force=self.stick_force)
-        return model, friction, self.make_solver(friction)
-
-    def make_solver(self, friction: FrictionLaw) -> Solver:
-        """The solver this config names (``auto``: exact for piecewise-constant laws, else adaptive)."""
-        if self.solver == "rk4":
-            return RK4(dt=self.dt, record_every=self.record_every)
-        if self.solver == "exact":
-            return Exact(dense_dt=self.dense_dt)
-        if self.solver == "adaptive":
-            return Adaptive(rtol=self.ode_rtol, max_steps=self.max_steps, dense_dt=self.dense_dt)
-        chosen = auto_solver(friction)
-        if isinstance(chosen, Exact):
-            return Exact(dense_dt=self.dense_dt)
-        return Adaptive(rtol=self.ode_rtol, max_steps=self.max_steps, dense_dt=self.dense_dt)
+#: what a dimensional input sets (by Eq. 3)
+DIMENSIONAL_SETS = ("zeta", "vb", "fd", "fs", "vd")
 
 
 def parse_window(value: Any) -> tuple[float, float]:
@@ -148,10 +42,12 @@ def parse_window(value: Any) -> tuple[float, float]:
     return t0, t1
 
 
-def parse_dimensional(text: str) -> dict[str, float]:
-    """``"m=1,c=0.02,k=1,v_b=0.01,f_d=0.02"`` -> dict, keys checked."""
+def parse_dimensional(value: Any) -> dict[str, float]:
+    """``"m=1,c=0.02,k=1,v_b=0.01,f_d=0.02"`` (or a TOML table) -> dict, keys checked."""
+    if not isinstance(value, str):
+        return _dimensional_table(value)
     out: dict[str, Any] = {}
-    for item in filter(None, (s.strip() for s in text.split(","))):
+    for item in filter(None, (s.strip() for s in value.split(","))):
         key, sep, val = item.partition("=")
         if not sep:
             raise ValueError(f"dimensional must be KEY=VALUE pairs separated by commas, got {item!r}")
@@ -171,3 +67,110 @@ def _dimensional_table(table: Any) -> dict[str, float]:
     if missing:
         raise ValueError(f"dimensional: missing {', '.join(missing)} (required: m, c, k, v_b, f_d)")
     return out
+
+
+#: the run's own parameters (the oscillator, laws and solvers declare theirs)
+RUN_PARAMETERS: tuple[Param, ...] = (
+    positive_real("t_end", "tau_end", "end time", "run", 500.0),
+    Param("x0", "X(0)", "initial displacement", "run", None, default_text="F_d", sweepable=True),
+    Param("v0", "X'(0)", "initial velocity", "run", None, default_text="V_b", sweepable=True),
+    Param("friction", "", "friction law", "run", "karnopp", kind="choice", choices=law_names()),
+    Param("solver", "", "solver (auto: exact for piecewise-constant laws, else adaptive)", "run", "auto",
+          kind="choice", choices=solver_names()),
+    Param("window", "", "average over T0:T1 instead of the detected steady-state window", "run", None,
+          kind="text", parse=parse_window),
+    positive_real("rtol", "", "steady-state convergence tolerance", "run", None,
+                  default_text="rk4 1e-6, adaptive 1e-8, exact 1e-10"),
+    Param("dimensional", "", "dimensional input instead: 'm=..,c=..,k=..,v_b=..,f_d=..[,f_ms=..,v_d=..,l_0=..]'",
+          "run", None, kind="text", parse=parse_dimensional),
+)
+
+
+class RunConfig:
+    """The settings of one run and its analysis: the values given, by name; the rest default.
+
+    Attribute access gives a setting's value (``cfg.t_end``): the value given,
+    else its declared default (None for a default that depends on other
+    values, such as F_s = F_d).
+    """
+
+    def __init__(self, given: Mapping[str, Any] | None = None) -> None:
+        self.given: dict[str, Any] = {k: v for k, v in (given or {}).items() if v is not None}
+
+    def __getattr__(self, name: str) -> Any:
+        params = declared()
+        if name.startswith("_") or name not in params:
+            raise AttributeError(name)
+        value = self.__dict__["given"].get(name)
+        if value is None and not callable(params[name].default):
+            value = params[name].default
+        return value
+
+    def __repr__(self) -> str:
+        return f"RunConfig({self.given!r})"
+
+    @staticmethod
+    def keys() -> tuple[str, ...]:
+        return tuple(declared())
+
+    @classmethod
+    def from_mapping(cls, values: Mapping[str, Any], *, source: str = "config") -> "RunConfig":
+        """Build and validate from a mapping; unknown keys are refused by name."""
+        params = declared()
+        given: dict[str, Any] = {}
+        for key, value in values.items():
+            name = key.replace("-", "_")
+            if name not in params:
+                raise ValueError(f"{source}: unknown key {key!r}; allowed: {', '.join(sorted(params))}")
+            if value is not None:
+                given[name] = params[name].check(value)
+        if "dimensional" in given:
+            both = [k for k in DIMENSIONAL_SETS if k in given]
+            if both:
+                raise ValueError(f"{source}: give {both[0]} or dimensional, not both")
+        cfg = cls(given)
+        cfg.validate()
+        return cfg
+
+    def replace(self, **changes: Any) -> "RunConfig":
+        """A copy with some settings changed (validated)."""
+        return RunConfig.from_mapping({**self.given, **changes})
+
+    def validate(self) -> None:
+        """Raise ValueError naming the first bad setting."""
+        if self.window is not None:
+            t0, t1 = self.window
+            if not (0 <= t0 < t1 <= self.t_end):
+                raise ValueError(f"window must satisfy 0 <= T0 < T1 <= t_end = {self.t_end:g}, got {t0:g}:{t1:g}")
+        law = law_class(self.friction)
+        own = {p.name for p in law.parameters}
+        foreign = [k for k in self.given if declared()[k].owner == "law" and k not in own]
+        if foreign:
+            raise ValueError(f"{foreign[0]} is not a parameter of friction={self.friction} "
+                             f"(its parameters: {', '.join(p.name for p in law.parameters)})")
+        self.build()  # the model, law and solver validate themselves and each other
+
+    def values(self) -> dict[str, Any]:
+        """Every setting given, with a dimensional input converted to the model's and law's parameters."""
+        values = dict(self.given)
+        if self.dimensional is not None:
+            nd = DimensionalParams(**self.dimensional).nondimensional()
+            own = {p.name for p in law_class(self.friction).parameters} | {"zeta", "vb"}
+            values.update({k: nd[k] for k in DIMENSIONAL_SETS if k in own})
+        return values
+
+    def nondimensional(self) -> dict[str, float]:
+        """zeta, V_b, F_d, F_s, V_d after converting ``dimensional`` if given."""
+        values = self.values()
+        return {k: values.get(k, getattr(self, k)) for k in DIMENSIONAL_SETS}
+
+    def build(self) -> tuple[BeltOscillator, FrictionLaw, Solver]:
+        """The model, friction law and solver this config describes."""
+        values = self.values()
+        model = BeltOscillator.from_values(values)
+        friction = law_class(self.friction).from_values(values)
+        return model, friction, self.make_solver(friction)
+
+    def make_solver(self, friction: FrictionLaw) -> Solver:
+        """The solver this config names (``auto``: exact for piecewise-constant laws, else adaptive)."""
+        return build_solver(self.solver, friction, self.given)

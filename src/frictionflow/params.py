@@ -17,8 +17,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
+from typing import Any, ClassVar, Mapping
 
 from . import _validate as check
+from .parameters import Param, nonnegative_real, resolve
+
+ZETA = nonnegative_real("zeta", "zeta", "damping ratio", "oscillator", 0.0, sweepable=True)
+VB = Param("vb", "V_b", "belt speed", "oscillator", 0.01, sweepable=True)
 
 
 @dataclass(frozen=True)
@@ -35,10 +40,16 @@ class BeltOscillator:
 
     zeta: float = 0.0
     vb: float = 0.01
+    parameters: ClassVar[tuple[Param, ...]] = (ZETA, VB)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "zeta", check.nonnegative("zeta", self.zeta))
-        object.__setattr__(self, "vb", check.finite("vb", self.vb))
+        for key, value in resolve(self.parameters, asdict(self)).items():
+            object.__setattr__(self, key, value)
+
+    @classmethod
+    def from_values(cls, values: Mapping[str, Any]) -> "BeltOscillator":
+        """Build from a mapping of parameter values (missing or None: the defaults)."""
+        return cls(**resolve(cls.parameters, values))
 
     def as_dict(self) -> dict[str, float]:
         return asdict(self)

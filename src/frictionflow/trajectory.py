@@ -22,7 +22,20 @@ from .params import BeltOscillator
 
 #: column order of :attr:`Trajectory.dwork` and :attr:`Trajectory.work`
 WORK_NAMES = ("W_dv", "W_fin", "W_fout", "W_heat")
+#: the per-sample friction mode codes of :attr:`Trajectory.mode`
 MODE_NAMES = {-1: "slip-", 0: "stick", 1: "slip+"}
+
+#: (units, long name) of each variable of :meth:`Trajectory.to_xarray`
+DATASET_VARIABLES = {
+    "X": ("1", "displacement X = x / l_0"),
+    "V": ("1", "velocity X' = dX/dtau"),
+    "F_c": ("1", "friction force on the mass F_c = f_c / (k l_0)"),
+    "mode": ("1", "friction mode: 1 slip+ (V_r > 0), 0 stick, -1 slip-"),
+    "W_dv": ("1", "cumulative damper work int 2 zeta X'^2 dtau"),
+    "W_fin": ("1", "cumulative friction input int max(X' F_c, 0) dtau"),
+    "W_fout": ("1", "cumulative friction output int max(-X' F_c, 0) dtau"),
+    "W_heat": ("1", "cumulative interface heat int F_c V_r dtau over slip"),
+}
 
 
 @dataclass
@@ -44,7 +57,10 @@ class Trajectory:
     solver:
         Description of the solver and its settings.
     events:
-        Switch times and the modes entered (solvers that locate switches).
+        Switches, for solvers that locate them (else ``None``): ``"t"`` the
+        switch times and ``"mode"`` the mode entered at each, an ``int8``
+        array of :class:`~frictionflow.modes.SwitchMode` values (never a
+        kernel's own codes; ``SwitchMode(m)`` gives an element's member).
     """
 
     t: np.ndarray
@@ -105,7 +121,30 @@ class Trajectory:
         return i if self.t[i] - t < t - self.t[i - 1] else i - 1
 
     def to_xarray(self):
-        """The samples as an :class:`xarray.Dataset` with units and long names."""
-        from .io import trajectory_to_dataset
+        """The samples as an :class:`xarray.Dataset` over ``tau`` with units and long names.
 
-        return trajectory_to_dataset(self)
+        The work columns are running totals (:attr:`work`); the model, law
+        and solver settings become attributes.
+        """
+        import xarray as xr  # imported here: it is slow to import and only exports need it
+
+        data = {"X": self.x, "V": self.v, "F_c": self.fc, "mode": self.mode}
+        data.update({name: self.work[:, j] for j, name in enumerate(WORK_NAMES)})
+        ds = xr.Dataset(
+            {k: ("tau", np.asarray(v)) for k, v in data.items()},
+            coords={"tau": ("tau", self.t, {"units": "1", "long_name": "non-dimensional time tau = omega0 t"})},
+        )
+        for k, (units, long_name) in DATASET_VARIABLES.items():
+            ds[k].attrs.update(units=units, long_name=long_name)
+        ds["mode"].attrs.update(_mode_flags())
+        ds.attrs.update({"zeta": self.model.zeta, "vb": self.model.vb})
+        ds.attrs.update({f"friction_{k}": v for k, v in self.friction.as_dict().items()})
+        ds.attrs.update({f"solver_{k}": v for k, v in self.solver.items() if v is not None})
+        return ds
+
+
+def _mode_flags() -> dict[str, Any]:
+    """CF ``flag_values`` / ``flag_meanings`` of the sample mode codes."""
+    codes = sorted(MODE_NAMES)
+    meanings = (MODE_NAMES[k].replace("+", "_pos").replace("-", "_neg") for k in codes)
+    return {"flag_values": np.array(codes, dtype=np.int8), "flag_meanings": " ".join(meanings)}

@@ -7,7 +7,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from frictionflow import (
-    Adaptive, BeltOscillator, Coulomb, Exact, RK4, SlipLaw, StepLimitError, Stribeck, analyze, simulate, sliding_equilibrium,
+    Adaptive, BeltOscillator, Coulomb, Exact, RK4, SlipLaw, StepLimitError, Stribeck, SwitchMode, analyze, simulate,
+    sliding_equilibrium,
 )
 
 
@@ -79,7 +80,7 @@ def test_naive_sign_integration_chatters_where_ours_does_not():
     with pytest.raises(Cap):
         solve_ivp(sign_rhs, (0, t_end), [x0, v0], method="RK45", rtol=1e-8, atol=1e-12)
     tr = simulate(BeltOscillator(zeta=zeta, vb=vb), Coulomb(fd), Adaptive(rtol=1e-8), t_end=t_end, x0=x0, v0=v0)
-    stick = tr.events["t"][list(tr.events["mode"]).index(0)]
+    stick = tr.events["t"][list(tr.events["mode"]).index(SwitchMode.STICK)]
     # 100,000 evaluations did not carry scipy through the stick phase ...
     assert stick < calls["t"] < stick + 1.0
     # ... which our solver crosses with a few hundred steps

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from frictionflow import BeltOscillator, Coulomb, Exact, Karnopp, RK4, analyze, simulate
+from frictionflow import BeltOscillator, Coulomb, Exact, Karnopp, RK4, SwitchMode, analyze, simulate
 
 
 def undamped_stick_slip(fd, fs, vb):
@@ -74,7 +74,7 @@ def test_switch_times_agree_with_root_finding_on_the_closed_form():
     t_slip = brentq(lambda t: v(t) - vb, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15)
     # events alternate stick -> slip -> stick; compare every slip duration after the first stick
     modes = tr.events["mode"]
-    starts = [i for i in range(len(ev) - 1) if modes[i] == 1 and modes[i + 1] == 8]
+    starts = [i for i in range(len(ev) - 1) if modes[i] == SwitchMode.SLIP_POSITIVE and modes[i + 1] == SwitchMode.STICK]
     assert len(starts) > 3
     for i in starts[1:]:
         assert ev[i + 1] - ev[i] == pytest.approx(t_slip, abs=1e-12)
@@ -113,8 +113,8 @@ def test_filippov_sliding_on_the_band_edge_is_what_rk4_chatters_around():
     # mass out, slip pushes it back: it slides on X' = V_b - V_d until F_d - X - 2 zeta X' = 0.
     m, law = BeltOscillator(zeta=0.05, vb=0.01), Karnopp(0.02, 0.04, stick_force="spring")
     tr = simulate(m, law, Exact(), t_end=20)
-    assert 6 in tr.events["mode"]  # EDGE_LO
-    i = list(tr.events["mode"]).index(6)
+    assert SwitchMode.BAND_EDGE_LOWER in tr.events["mode"]
+    i = list(tr.events["mode"]).index(SwitchMode.BAND_EDGE_LOWER)
     t0, t1 = tr.events["t"][i], tr.events["t"][i + 1]
     x1 = law.fd - 2 * m.zeta * (m.vb - law.vd)
     j = np.searchsorted(tr.t, t1)

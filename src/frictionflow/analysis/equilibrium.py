@@ -1,32 +1,51 @@
-"""The steady-sliding equilibrium and its linear stability.
+"""The steady-sliding equilibrium, its linear stability and its reported values.
 
-Sliding at the belt speed, X' = 0 and X* = F(V_b).  Linearised about it,
-with F'(V_b) the slope of the slip law, perturbations obey
+Sliding at the belt speed, X' = 0 and X* = F(V_b), F the signed slip force.
+Linearised about it, with F'(V_b) the slope of the slip law, perturbations
+obey
 
-    x'' + (2 zeta + F'(V_b)) x' + x = 0
+    x'' + (2 zeta + F'(V_b)) x' + x = 0,   A = [[0, 1], [-1, -(2 zeta + F'(V_b))]]
 
 so the equilibrium is stable when 2 zeta + F'(V_b) > 0 and loses stability
 in a Hopf bifurcation where 2 zeta + F'(V_b) = 0 (a falling slip law,
 F' < 0, feeds energy in: the negative-damping mechanism of friction-induced
-vibration).
+vibration).  det A = 1 > 0: no eigenvalue crosses zero, so there is no fold
+of equilibria either.
+
+This is the one definition: :func:`frictionflow.analyze`, the orbit
+continuation (:mod:`frictionflow.orbits.equilibria`) and the batched sweep
+kernels all use it, the values reported at the equilibrium through
+:func:`frictionflow.core.sections.equilibrium_row`.
 """
 
 from __future__ import annotations
 
 import cmath
+import math
 from dataclasses import dataclass
 
+import numpy as np
+
+from .. import quantities as Q
+from ..core import sections as sec
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
+from .power_flow import PowerFlow
+from .transmissibility import amplitude_of
 
 
 @dataclass(frozen=True)
 class SlidingEquilibrium:
-    """X* = F(V_b), its effective damping 2 zeta + F'(V_b) and what follows from it."""
+    """X* = F(V_b), its effective damping 2 zeta + F'(V_b) and what follows from it.
+
+    ``value`` is the parameter value it was computed at along a parameter
+    (continuation), NaN otherwise.
+    """
 
     x: float
     damping: float
     eigenvalues: tuple[complex, complex]
+    value: float = math.nan
 
     @property
     def stability(self) -> str:
@@ -41,13 +60,34 @@ class SlidingEquilibrium:
         """-max Re(lambda): how fast perturbations decay (negative: grow)."""
         return -max(l.real for l in self.eigenvalues)
 
+    @property
+    def jacobian(self) -> np.ndarray:
+        """A, the slip vector field's Jacobian at X* (trace A = -damping)."""
+        return np.array([[0.0, 1.0], [-1.0, -self.damping]])
 
-def sliding_equilibrium(model: BeltOscillator, friction: FrictionLaw) -> SlidingEquilibrium:
-    """The equilibrium of steady sliding at V_r = V_b and its linear stability."""
+
+def eigenvalues(damping: float) -> tuple[complex, complex]:
+    """Roots of l^2 + c l + 1 = 0, c = ``damping`` (for |c| < 2 the one with Im > 0 first)."""
+    root = cmath.sqrt(damping * damping / 4.0 - 1.0)
+    return (-damping / 2.0 + root, -damping / 2.0 - root)
+
+
+def sliding_equilibrium(model: BeltOscillator, friction: FrictionLaw, value: float = math.nan) -> SlidingEquilibrium:
+    """The equilibrium of steady sliding at V_r = V_b and its linear stability.
+
+    X* is NaN where the law holds the mass instead (inside Karnopp's band).
+    """
     c = 2.0 * model.zeta + friction.slip_slope(abs(model.vb))
-    root = cmath.sqrt(c * c / 4.0 - 1.0)
-    return SlidingEquilibrium(
-        x=friction.sliding_equilibrium(model.vb),
-        damping=c,
-        eigenvalues=(-c / 2.0 + root, -c / 2.0 - root),
-    )
+    return SlidingEquilibrium(x=friction.sliding_equilibrium(model.vb), damping=c, eigenvalues=eigenvalues(c), value=value)
+
+
+def equilibrium_values(
+    x: float, vb: float, fd: float, *, window: tuple[float, float], stick: float | None = 0.0, residual: float = 0.0
+) -> tuple[PowerFlow, float, dict[str, float]]:
+    """Power flow, TR_B and amplitudes of the equilibrium X* = ``x``, from the table's rules.
+
+    ``stick`` (None: unknown) says whether the mass rests sliding or in a
+    stick band; ``residual`` is the energy residual to report.
+    """
+    row = sec.equilibrium_row(float(x), float(vb), float(fd), math.nan if stick is None else float(stick), float(residual))
+    return PowerFlow.from_row(window, row), float(row[Q.INDEX["TR_B"]]), amplitude_of(row)

@@ -33,14 +33,19 @@ from typing import Any
 
 import numpy as np
 
+from .. import quantities as Q
 from ..core import sections as sec
 from ..trajectory import Trajectory
 
 
 @dataclass(frozen=True)
+@Q.table_fields(Q.AVERAGES, after="window")
 class PowerFlow:
     """Average power flow over a window, and the residual of the power balance.
 
+    Its fields after ``window`` are the quantities ``simulate --json`` reports
+    in ``averages`` (:data:`frictionflow.quantities.AVERAGES`: P_dv, P_df,
+    P_fin, R_c, R_f, P_belt, P_heat, P_f), in the table's order.
     ``energy_residual`` is |Delta(K+U) + W_dv - W_f| over the window relative
     to the friction input W_fin; when W_fin is below 1e-12 of the stored
     energy times the window length (an equilibrium), relative to the latter
@@ -48,18 +53,16 @@ class PowerFlow:
     """
 
     window: tuple[float, float]
-    P_dv: float
-    P_df: float
-    P_fin: float
-    P_f: float
-    P_belt: float
-    P_heat: float
-    R_c: float
-    R_f: float
     energy_residual: float
 
+    @classmethod
+    def from_row(cls, window: tuple[float, float], row: np.ndarray) -> PowerFlow:
+        """The power flow held by ``row``, a row of the table's layout (:mod:`frictionflow.quantities`)."""
+        values = {n: float(row[Q.INDEX[n]]) for n in (*Q.AVERAGES, "energy_residual")}
+        return cls(window=window, **values)
+
     def averages(self) -> dict[str, float]:
-        return {k: getattr(self, k) for k in ("P_dv", "P_df", "P_fin", "R_c", "R_f", "P_belt", "P_heat", "P_f")}
+        return {k: getattr(self, k) for k in Q.AVERAGES}
 
     def to_dict(self) -> dict[str, Any]:
         return {"window": list(self.window), **self.averages(), "energy_residual": self.energy_residual}
@@ -80,19 +83,7 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
     t0, t1 = float(traj.t[i0]), float(traj.t[i1])
     dw = traj.window_work(i0, i1)
     e = traj.energy
-    a = sec.averages(dw[0], dw[1], dw[2], dw[3], e[i0], e[i1], t1 - t0)
-    return PowerFlow(
-        window=(t0, t1),
-        P_dv=float(a[sec.P_DV]),
-        P_df=float(a[sec.P_DF]),
-        P_fin=float(a[sec.P_FIN]),
-        P_f=float(a[sec.P_F]),
-        P_belt=float(a[sec.P_BELT]),
-        P_heat=float(a[sec.P_HEAT]),
-        R_c=float(a[sec.R_C]),
-        R_f=float(a[sec.R_F]),
-        energy_residual=float(a[sec.RESID]),
-    )
+    return PowerFlow.from_row((t0, t1), sec.averages(dw[0], dw[1], dw[2], dw[3], e[i0], e[i1], t1 - t0))
 
 
 def instantaneous_power(traj: Trajectory) -> dict[str, np.ndarray]:

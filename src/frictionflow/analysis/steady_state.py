@@ -31,11 +31,12 @@ from typing import Any
 
 import numpy as np
 
+from .. import quantities as Q
 from ..core import sections as sec
 from ..trajectory import Trajectory
 from .equilibrium import sliding_equilibrium
 
-KINDS = ("periodic", "equilibrium", "not_settled")
+KINDS = Q.KINDS
 HEADINGS = {sec.HEAD_NONE: None, sec.HEAD_EQUILIBRIUM: "equilibrium", sec.HEAD_PERIODIC: "periodic", sec.HEAD_GROWING: "growing"}
 
 

@@ -6,7 +6,9 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from .. import quantities as Q
 from ..trajectory import Trajectory
+from .equilibrium import equilibrium_values
 from .power_flow import PowerFlow, power_flow
 from .steady_state import SteadyState, steady_state
 from .transmissibility import amplitude, transmissibility
@@ -27,16 +29,19 @@ class Analysis:
         return self.power.energy_residual
 
     def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready dict (NaN becomes None)."""
+        """A JSON-ready dict (NaN becomes None); the reports in the order of the quantities table."""
         traj = self.trajectory
-        d = {
-            "params": {"zeta": traj.model.zeta, "vb": traj.model.vb, **traj.friction.as_dict()},
-            "solver": traj.solver,
+        report = {
             "steady_state": self.steady_state.to_dict(),
             "averages": self.power.averages(),
             "TR_B": self.TR_B,
             "amplitude": self.amplitude,
             "energy_residual": self.power.energy_residual,
+        }
+        d = {
+            "params": {"zeta": traj.model.zeta, "vb": traj.model.vb, **traj.friction.as_dict()},
+            "solver": traj.solver,
+            **{key: report[key] for key in Q.REPORTS},
         }
         if traj.events is not None:
             d["events"] = int(len(traj.events["t"]))
@@ -91,19 +96,8 @@ def analyze(
 def _at_equilibrium(traj: Trajectory, ss: SteadyState) -> Analysis:
     """The equilibrium's own values: at rest, X = F_c; sliding, the belt's power is all heat."""
     x = ss.limit["x"] if ss.limit else float(traj.x[-1])
-    sliding = not (ss.stick_fraction and ss.stick_fraction >= 0.5)
-    belt = x * traj.vb if sliding else 0.0
     whole = power_flow(traj)  # at rest nothing is left to balance: check the whole run
-    nan = float("nan")
-    power = PowerFlow(
-        window=ss.window, P_dv=0.0, P_df=0.0, P_fin=0.0, P_f=0.0, P_belt=belt, P_heat=belt,
-        R_c=nan, R_f=nan, energy_residual=whole.energy_residual,
+    power, trb, amp = equilibrium_values(
+        x, traj.vb, traj.friction.fd, window=ss.window, stick=ss.stick_fraction, residual=whole.energy_residual
     )
-    fd = traj.friction.fd
-    return Analysis(
-        trajectory=traj,
-        steady_state=ss,
-        power=power,
-        TR_B=abs(x) / fd if fd > 0 else nan,
-        amplitude={"X_min": x, "X_max": x, "V_min": 0.0, "V_max": 0.0},
-    )
+    return Analysis(trajectory=traj, steady_state=ss, power=power, TR_B=trb, amplitude=amp)

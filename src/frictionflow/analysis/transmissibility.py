@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import quantities as Q
 from ..trajectory import Trajectory
 
 
@@ -26,7 +27,13 @@ def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None
 
 
 def amplitude(traj: Trajectory, window: tuple[float, float] | None = None) -> dict[str, float]:
-    """Extremes of X and X' over the window."""
+    """Extremes of X and X' over the window (the table's ``amplitude`` quantities, in its order)."""
     s = _slice(traj, window)
     x, v = traj.x[s], traj.v[s]
-    return {"X_min": float(x.min()), "X_max": float(x.max()), "V_min": float(v.min()), "V_max": float(v.max())}
+    found = {"X_min": x.min(), "X_max": x.max(), "V_min": v.min(), "V_max": v.max()}
+    return {n: float(found[n]) for n in Q.AMPLITUDE}
+
+
+def amplitude_of(row: np.ndarray) -> dict[str, float]:
+    """The ``amplitude`` quantities held by ``row``, a row of the table's layout."""
+    return {n: float(row[Q.INDEX[n]]) for n in Q.AMPLITUDE}

@@ -9,32 +9,18 @@ from typing import Any, Optional
 import numpy as np
 import typer
 
-from ..config import RunConfig, parse_dimensional
+from ..config import RunConfig
 from ..io import check_output_path
 from ..plotting import FIGURE_FORMATS
 from . import app
-from .simulate import merged_config
+from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
 
-# the model options shared with ``simulate`` (same names, same defaults)
-_FD = typer.Option(None, "--fd", help="Kinetic friction F_d >= 0 [0.02].")
-_FS = typer.Option(None, "--fs", help="Maximum static friction F_s >= F_d [F_d; stribeck 2 F_d].")
-_VB = typer.Option(None, "--vb", help="Belt speed V_b [0.01].")
-_ZETA = typer.Option(None, "--zeta", help="Damping ratio zeta >= 0 [0].")
-_VD = typer.Option(None, "--vd", help="Karnopp band half-width V_d > 0 [1e-3].")
-_VS = typer.Option(None, "--vs", help="Stribeck velocity V_s > 0 [0.01].")
-_DELTA = typer.Option(None, "--delta", help="Stribeck exponent > 0 [2].")
-_VISCOUS = typer.Option(None, "--viscous", help="Viscous friction coefficient >= 0 (Stribeck) [0].")
-_DIMENSIONAL = typer.Option(None, "--dimensional", help="Dimensional input instead: 'm=..,c=..,k=..,v_b=..,f_d=..[,f_ms=..,v_d=..,l_0=..]'.")
-_FRICTION = typer.Option(None, "--friction", help="Friction law: karnopp, coulomb or stribeck [karnopp].")
-_STICK = typer.Option(None, "--stick-force", help="Force held while sticking: resultant (X+2zeta X') or spring (X) [resultant].")
-_SOLVER = typer.Option(None, "--solver", help="Solver of the transient and the power-flow period: auto, exact or adaptive [auto].")
-_CONFIG = typer.Option(None, "--config", help="TOML file with any of the model options (names with underscores).")
+MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "solver", "dimensional"))
+SOLVER_HELP = "Solver of the transient and the power-flow period: auto, exact or adaptive [auto]."
 
 
-def _config(config: Optional[Path], **options: Any) -> RunConfig:
-    dim = options.pop("dimensional")
-    options["dimensional"] = parse_dimensional(dim) if dim is not None else None
-    cfg = merged_config(config, options)
+def _config(config: Optional[Path], params: dict[str, Any]) -> RunConfig:
+    cfg = merged_config(config, params)
     if cfg.solver == "rk4":
         raise ValueError("solver=rk4 cannot locate switches exactly; use auto, exact or adaptive for orbits")
     return cfg
@@ -45,36 +31,23 @@ def _dump(report: dict[str, Any]) -> None:
 
 
 @app.command()
+@with_parameters(MODEL, {"x0": "Start X [F_d].", "v0": "Start X' [V_b].", "solver": SOLVER_HELP,
+                         "t_end": "Transient simulated from the start before shooting [500]."})
 def orbit(
-    fd: Optional[float] = _FD,
-    fs: Optional[float] = _FS,
-    vb: Optional[float] = _VB,
-    zeta: Optional[float] = _ZETA,
-    vd: Optional[float] = _VD,
-    vs: Optional[float] = _VS,
-    delta: Optional[float] = _DELTA,
-    viscous: Optional[float] = _VISCOUS,
-    dimensional: Optional[str] = _DIMENSIONAL,
-    x0: Optional[float] = typer.Option(None, "--x0", help="Start X [F_d]."),
-    v0: Optional[float] = typer.Option(None, "--v0", help="Start X' [V_b]."),
-    t_end: Optional[float] = typer.Option(None, "--t-end", help="Transient simulated from the start before shooting [500]."),
+    params: dict[str, Any],
     guess: bool = typer.Option(False, "--guess", help="Shoot from the start state itself, without a transient (to reach unstable orbits)."),
     returns: int = typer.Option(1, "--returns", help="Crossings of the section X'=0 per period (2: period-2 orbit)."),
     tol: Optional[float] = typer.Option(None, "--tol", help="Newton tolerance on P(X)-X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws]."),
     fd_check: bool = typer.Option(False, "--fd-check", help="Also report the monodromy matrix by finite differences of simulations."),
-    solver: Optional[str] = _SOLVER,
-    friction: Optional[str] = _FRICTION,
-    stick_force: Optional[str] = _STICK,
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Draw the orbit: phase portrait, time history, power (.png, .pdf, .svg)."),
-    config: Optional[Path] = _CONFIG,
+    config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Find a periodic orbit by Newton shooting; report its Floquet multipliers, power flow and TR_B."""
     from ..orbits import find_orbit
     from ..orbits.floquet import fd_monodromy
 
-    cfg = _config(config, fd=fd, fs=fs, vb=vb, zeta=zeta, vd=vd, vs=vs, delta=delta, viscous=viscous, dimensional=dimensional,
-                  x0=x0, v0=v0, t_end=t_end, solver=solver, friction=friction, stick_force=stick_force)
+    cfg = _config(config, params)
     if returns < 1:
         raise ValueError(f"returns must be an integer >= 1, got {returns}")
     if tol is not None and not tol > 0:
@@ -99,40 +72,28 @@ def orbit(
 
 
 @app.command("continue")
+@with_parameters(MODEL, {"x0": "Start X of the seed and sweep simulations [F_d].", "solver": SOLVER_HELP,
+                         "v0": "Start X' of the seed and sweep simulations [V_b].",
+                         "t_end": "Length of the seed and sweep simulations [500]."})
 def continue_(
-    param: str = typer.Option(..., "--param", help="Parameter to continue: zeta, vb, fd, fs, vd, vs, delta or viscous."),
+    params: dict[str, Any],
+    param: str = typer.Option(..., "--param", help="Parameter to continue: the oscillator's or the law's (zeta, vb, fd, ...)."),
     start: float = typer.Option(..., "--from", help="Start value of the parameter."),
     stop: float = typer.Option(..., "--to", help="End value of the parameter."),
-    fd: Optional[float] = _FD,
-    fs: Optional[float] = _FS,
-    vb: Optional[float] = _VB,
-    zeta: Optional[float] = _ZETA,
-    vd: Optional[float] = _VD,
-    vs: Optional[float] = _VS,
-    delta: Optional[float] = _DELTA,
-    viscous: Optional[float] = _VISCOUS,
-    dimensional: Optional[str] = _DIMENSIONAL,
-    x0: Optional[float] = typer.Option(None, "--x0", help="Start X of the seed and sweep simulations [F_d]."),
-    v0: Optional[float] = typer.Option(None, "--v0", help="Start X' of the seed and sweep simulations [V_b]."),
-    t_end: Optional[float] = typer.Option(None, "--t-end", help="Length of the seed and sweep simulations [500]."),
     seeds: str = typer.Option("hopf,start,stop", "--seeds", help="Where orbit branches start: hopf, start, stop (comma-separated)."),
     points: int = typer.Option(101, "--points", help="Grid points of the equilibrium branch."),
     max_points: int = typer.Option(300, "--max-points", help="Points per orbit branch at most."),
     max_period: float = typer.Option(500.0, "--max-period", help="A branch ends (period_blowup) once its period exceeds this."),
     step: float = typer.Option(0.02, "--step", help="First arclength step, relative to the interval."),
     sweep: int = typer.Option(0, "--sweep", help="Overlay this many brute-force simulations across the interval."),
-    solver: Optional[str] = _SOLVER,
-    friction: Optional[str] = _FRICTION,
-    stick_force: Optional[str] = _STICK,
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (branches, bifurcations) to stdout."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Bifurcation diagram and power along the branches (.png, .pdf, .svg)."),
-    config: Optional[Path] = _CONFIG,
+    config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Continue equilibria and periodic orbits in one parameter; report Hopf points, folds, grazing and power along branches."""
     from ..orbits import continuation
 
-    cfg = _config(config, fd=fd, fs=fs, vb=vb, zeta=zeta, vd=vd, vs=vs, delta=delta, viscous=viscous, dimensional=dimensional,
-                  x0=x0, v0=v0, t_end=t_end, solver=solver, friction=friction, stick_force=stick_force)
+    cfg = _config(config, params)
     seed_list = tuple(s.strip() for s in seeds.split(",") if s.strip())
     for name, value, low in (("points", points, 2), ("max-points", max_points, 2), ("sweep", sweep, 0)):
         if value < low:

@@ -11,61 +11,25 @@ from typing import Any, Optional
 import typer
 
 from ..analysis import analyze
-from ..config import RunConfig, parse_dimensional
-from ..io import TRAJECTORY_FORMATS, check_output_path, read_config, write_trajectory
+from ..config import RunConfig
+from ..io import TRAJECTORY_FORMATS, check_output_path, write_trajectory
 from ..plotting import FIGURE_FORMATS
 from ..simulate import simulate as run_simulation
 from . import app
-
-
-def merged_config(config: Optional[Path], options: dict[str, Any]) -> RunConfig:
-    """Config file values, overridden by the options given on the command line."""
-    values: dict[str, Any] = read_config(config) if config is not None else {}
-    values.update({k: v for k, v in options.items() if v is not None})
-    return RunConfig.from_mapping(values, source=str(config) if config else "options")
+from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
 
 
 @app.command()
+@with_parameters(parameter_names(("oscillator", "law", "solver", "run")))
 def simulate(
-    fd: Optional[float] = typer.Option(None, "--fd", help="Kinetic friction F_d >= 0 [0.02]."),
-    fs: Optional[float] = typer.Option(None, "--fs", help="Maximum static friction F_s >= F_d [F_d]."),
-    vb: Optional[float] = typer.Option(None, "--vb", help="Belt speed V_b [0.01]."),
-    zeta: Optional[float] = typer.Option(None, "--zeta", help="Damping ratio zeta >= 0 [0]."),
-    vd: Optional[float] = typer.Option(None, "--vd", help="Karnopp band half-width V_d > 0 [1e-3]."),
-    vs: Optional[float] = typer.Option(None, "--vs", help="Stribeck velocity V_s > 0 [0.01]."),
-    delta: Optional[float] = typer.Option(None, "--delta", help="Stribeck exponent > 0 [2]."),
-    viscous: Optional[float] = typer.Option(None, "--viscous", help="Viscous friction coefficient >= 0 (Stribeck) [0]."),
-    dimensional: Optional[str] = typer.Option(
-        None, "--dimensional", help="Dimensional input instead: 'm=..,c=..,k=..,v_b=..,f_d=..[,f_ms=..,v_d=..,l_0=..]'."
-    ),
-    x0: Optional[float] = typer.Option(None, "--x0", help="Initial X [F_d]."),
-    v0: Optional[float] = typer.Option(None, "--v0", help="Initial X' [V_b]."),
-    t_end: Optional[float] = typer.Option(None, "--t-end", help="End time tau > 0 [500]."),
-    dt: Optional[float] = typer.Option(None, "--dt", help="RK4 step > 0 [1e-3]."),
-    record_every: Optional[int] = typer.Option(None, "--record-every", help="Keep every k-th RK4 step."),
-    dense_dt: Optional[float] = typer.Option(None, "--dense-dt", help="Exact/adaptive: also sample every DENSE_DT [2pi/200 with --out/--plot]."),
-    ode_rtol: Optional[float] = typer.Option(None, "--ode-rtol", help="Adaptive solver's relative tolerance [1e-10]."),
-    max_steps: Optional[int] = typer.Option(None, "--max-steps", help="Adaptive solver's step cap [1e7]."),
-    solver: Optional[str] = typer.Option(None, "--solver", help="auto (exact for karnopp/coulomb, adaptive for stribeck), exact, adaptive or rk4 [auto]."),
-    friction: Optional[str] = typer.Option(None, "--friction", help="Friction law: karnopp, coulomb or stribeck [karnopp]."),
-    stick_force: Optional[str] = typer.Option(
-        None, "--stick-force", help="Force held while sticking: resultant (X+2zeta X') or spring (X, the paper's) [resultant]."
-    ),
-    window: Optional[str] = typer.Option(None, "--window", help="Average over T0:T1 instead of the detected steady-state window."),
-    rtol: Optional[float] = typer.Option(None, "--rtol", help="Steady-state convergence tolerance [rk4 1e-6, adaptive 1e-8, exact 1e-10]."),
+    params: dict[str, Any],
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
     out: Optional[Path] = typer.Option(None, "--out", help="Write the trajectory (.csv or .nc)."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Draw time history, phase portrait and power flow (.png, .pdf, .svg)."),
-    config: Optional[Path] = typer.Option(None, "--config", help="TOML file with any of these options (names with underscores)."),
+    config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Simulate one run, find its steady state and report power flow and TR_B."""
-    options = dict(
-        fd=fd, fs=fs, vb=vb, zeta=zeta, vd=vd, vs=vs, delta=delta, viscous=viscous, x0=x0, v0=v0, t_end=t_end,
-        dt=dt, record_every=record_every, dense_dt=dense_dt, ode_rtol=ode_rtol, max_steps=max_steps,
-        solver=solver, friction=friction, stick_force=stick_force, window=window, rtol=rtol,
-        dimensional=parse_dimensional(dimensional) if dimensional is not None else None,
-    )
-    cfg = merged_config(config, options)
+    cfg = merged_config(config, params)
     # Output paths are checked before any work so a bad one costs nothing.
     if out is not None:
         check_output_path(out, TRAJECTORY_FORMATS, "out")
@@ -73,10 +37,10 @@ def simulate(
         check_output_path(plot, FIGURE_FORMATS, "plot")
 
     if (out is not None or plot is not None) and cfg.dense_dt is None:
-        cfg.dense_dt = 2 * math.pi / 200  # files and figures want the curve, not just its switches
+        cfg = cfg.replace(dense_dt=2 * math.pi / 200)  # files and figures want the curve, not just its switches
     if cfg.window is not None:
         # windows snap to samples: sample finely enough that a hand-set window lands within 1e-3
-        cfg.dense_dt = min(cfg.dense_dt or 1e-3, 1e-3)
+        cfg = cfg.replace(dense_dt=min(cfg.dense_dt or 1e-3, 1e-3))
     model, law, solv = cfg.build()
     traj = run_simulation(model, law, solv, t_end=cfg.t_end, x0=cfg.x0, v0=cfg.v0, progress=sys.stderr.isatty())
     result = analyze(traj, window=cfg.window, rtol=cfg.rtol)

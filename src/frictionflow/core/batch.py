@@ -1,12 +1,14 @@
 """Steady-state results for many parameter points per call, parallel over the cores.
 
 Each kernel takes per-point model and friction parameters and returns one
-row of results per point (layout ``R_*``), the same quantities
-``frictionflow simulate --json`` reports, computed by the same section-record
-classifier (:mod:`.sections`).  The exact and adaptive kernels stop a point
-early once its section values repeat (``rtol``, ``min_periods``) or, for
-the exact solver, once it is in a slip phase it can never leave (the sliding
-equilibrium): the rest of the run would change nothing.
+row of results per point: the swept quantities of the table in
+:mod:`frictionflow.quantities`, in its order (positions ``R_*``) -- the
+same quantities ``frictionflow simulate --json`` reports, computed by the
+same section-record classifier (:mod:`.sections`).  The exact and adaptive
+kernels stop a point early once its section values repeat (``rtol``,
+``min_periods``) or, for the exact solver, once it is in a slip phase it can
+never leave (the sliding equilibrium): the rest of the run would change
+nothing.
 """
 
 from __future__ import annotations
@@ -16,56 +18,28 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from .. import quantities as Q
 from . import dopri, exact, rk4_batch
 from . import sections as sec
-from .friction import FD
+from .friction import FD, slip_magnitude_of
 
+# The result row is the first NR entries of the table's layout, the one
+# sections fills.  Positions by name; numba reads them as constants.
 (
     R_KIND, R_PERIOD, R_P_DV, R_P_DF, R_P_FIN, R_R_C, R_R_F, R_P_BELT, R_P_HEAT, R_TR_B,
     R_X_MIN, R_X_MAX, R_V_MIN, R_V_MAX, R_STICK, R_RESID,
-) = range(16)
-NR = 16
+) = (Q.index(n) for n in (
+    "kind", "period", "P_dv", "P_df", "P_fin", "R_c", "R_f", "P_belt", "P_heat", "TR_B",
+    "X_min", "X_max", "V_min", "V_max", "stick_fraction", "energy_residual",
+))
+NR = Q.NR
 
 
 @njit(cache=True)
-def _row_from(rec, tail, fin, cls, fd, vb, out):
-    """Fill a result row from a classification and its window summary."""
-    s = sec.window_summary(rec, tail, fin, cls, fd, vb)
-    out[R_KIND] = cls[sec.C_KIND]
-    out[R_PERIOD] = cls[sec.C_PERIOD] if cls[sec.C_KIND] == sec.PERIODIC else np.nan
-    out[R_P_DV] = s[sec.P_DV]
-    out[R_P_DF] = s[sec.P_DF]
-    out[R_P_FIN] = s[sec.P_FIN]
-    out[R_R_C] = s[sec.R_C]
-    out[R_R_F] = s[sec.R_F]
-    out[R_P_BELT] = s[sec.P_BELT]
-    out[R_P_HEAT] = s[sec.P_HEAT]
-    out[R_TR_B] = s[sec.S_TRB]
-    out[R_X_MIN] = s[sec.S_XMIN]
-    out[R_X_MAX] = s[sec.S_XMAX]
-    out[R_V_MIN] = s[sec.S_VMIN]
-    out[R_V_MAX] = s[sec.S_VMAX]
-    out[R_STICK] = s[sec.S_STICK]
-    out[R_RESID] = s[sec.RESID]
-
-
-@njit(cache=True)
-def _equilibrium_row(x_eq, vb, fd, resid, out):
-    """The sliding equilibrium's row (as :func:`frictionflow.analyze` reports it)."""
+def _not_settled(out):
+    """The row of a point without a result."""
     out[:] = np.nan
-    out[R_KIND] = sec.EQUILIBRIUM
-    out[R_P_DV] = 0.0
-    out[R_P_DF] = 0.0
-    out[R_P_FIN] = 0.0
-    out[R_P_BELT] = x_eq * vb
-    out[R_P_HEAT] = x_eq * vb
-    out[R_TR_B] = abs(x_eq) / fd if fd > 0.0 else np.nan
-    out[R_X_MIN] = x_eq
-    out[R_X_MAX] = x_eq
-    out[R_V_MIN] = 0.0
-    out[R_V_MAX] = 0.0
-    out[R_STICK] = 0.0
-    out[R_RESID] = resid
+    out[R_KIND] = sec.NOT_SETTLED
 
 
 @njit(cache=True)
@@ -76,7 +50,7 @@ def _classify_samples(t, x, v, mode, work, zeta, vb, fd, rtol, min_periods, h, f
         rec = rec[rec.shape[0] - sec.MAX_RECORDS :].copy()
     scale = sec.scale_of(rec, tail, vb, fd)
     cls = sec.classify(rec, tail, scale, rtol, min_periods, h, fixed_step)
-    _row_from(rec, tail, fin, cls, fd, vb, out)
+    out[:] = sec.window_summary(rec, tail, fin, cls, fd, vb)[:NR]
 
 
 @njit(cache=True)
@@ -104,14 +78,14 @@ def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, out):
             cap *= 4
         fd = p[j, FD]
         if status == exact.STUCK:
-            out[j, :] = np.nan
-            out[j, R_KIND] = sec.NOT_SETTLED
+            _not_settled(out[j])
         elif t_term >= 0.0 and t_mode[0] != 0 and zeta[j] > 0.0:
-            # a final slip phase: it decays onto X* = +-F_d (the residual is the run's)
+            # a final slip phase: it decays onto X* = F(V_b), sliding (the residual is the run's)
             tot = work[:k].sum(axis=0)
             a = sec.averages(tot[0], tot[1], tot[2], tot[3], 0.5 * (x0[j] ** 2 + v0[j] ** 2),
                              0.5 * (x[k - 1] ** 2 + v[k - 1] ** 2), max(t[k - 1], 1e-300))
-            _equilibrium_row(t_mode[0] * fd, vb[j], fd, a[sec.RESID], out[j])
+            x_eq = t_mode[0] * slip_magnitude_of(p[j], abs(vb[j]))
+            out[j, :] = sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID])[:NR]
         else:
             _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], fd, rtol, min_periods, 0.0, False, out[j])
 
@@ -132,8 +106,7 @@ def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, r
                 break
             cap *= 4
         if status != dopri.OK:
-            out[j, :] = np.nan
-            out[j, R_KIND] = sec.NOT_SETTLED
+            _not_settled(out[j])
         else:
             _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j, FD], rtol, min_periods, 0.0, False, out[j])
 
@@ -145,7 +118,7 @@ def _rk4_rows(rec, nrec, tail, fin, vb, fd, rtol, min_periods, dt, out):
         r = rk4_batch.unroll(rec[j], nrec[j])
         scale = sec.scale_of(r, tail[j], vb[j], fd[j])
         cls = sec.classify(r, tail[j], scale, rtol, min_periods, dt, True)
-        _row_from(r, tail[j], fin[j], cls, fd[j], vb[j], out[j])
+        out[j, :] = sec.window_summary(r, tail[j], fin[j], cls, fd[j], vb[j])[:NR]
 
 
 def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, out) -> None:

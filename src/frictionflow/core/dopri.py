@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .friction import DELTA, FD, FS, LAW, RESULTANT, VISC, VS, slip_magnitude
+from .friction import FS, RESULTANT, rest_mode, slip_magnitude_of
 from .samples import emit
 
 A21 = 1 / 5
@@ -51,7 +51,7 @@ EPS = 2.220446049250313e-16
 @njit(cache=True)
 def slip_force(p, speed):
     """Friction magnitude while slipping at ``speed`` (a built-in law)."""
-    return slip_magnitude(int(p[LAW]), p[FD], p[FS], p[VS], p[DELTA], p[VISC], speed)
+    return slip_magnitude_of(p, speed)
 
 
 @njit(cache=True)
@@ -84,19 +84,8 @@ def dense(y0, K, h, theta, out):
 
 @njit(cache=True)
 def at_rest(x, zeta, vb, fs, res, p):
-    """Mode at V_r = 0: 0 (stick) or the slip direction +-1 the stick rule selects."""
-    fe = x + 2.0 * zeta * vb if res else x
-    outward = fe * vb > 0.0 or vb == 0.0
-    if abs(fe) < fs * (1.0 - 1e-14) or (abs(fe) <= fs and not outward):
-        return 0
-    f0 = slip_force(p, 0.0)
-    tol = 1e-12 * (abs(f0) + abs(x) + 2.0 * zeta * abs(vb))
-    for d in (1.0 if fe > 0.0 else -1.0, -1.0 if fe > 0.0 else 1.0):
-        a = d * f0 - x - 2.0 * zeta * vb
-        # slip+ means X' falls below V_b: needs X'' < 0 (or ~0, with X''' = -V_b < 0)
-        if d * a < -tol or (abs(a) <= tol and d * vb > 0.0):
-            return int(d)
-    return 0
+    """Mode at V_r = 0 by Coulomb's stick rule (:func:`~frictionflow.core.friction.rest_mode`)."""
+    return rest_mode(x, zeta, vb, fs, res, slip_force(p, 0.0))
 
 
 @njit(cache=True)

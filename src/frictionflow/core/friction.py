@@ -1,49 +1,86 @@
-"""Friction laws as compiled scalar functions.
+"""The physical rules of friction as compiled scalar functions, written once for every kernel.
 
-A law reaches the kernels as a float64 array ``p`` with this layout:
+* :func:`slip_magnitude` / :func:`slip_slope`: |F| and dF/d|V_r| of the law
+  with code ``law`` while slipping, dispatched to each law's own compiled
+  functions (in its module in :mod:`frictionflow.friction`).
+* :func:`rest_mode`: Coulomb's set-valued stick rule at V_r = 0 (used by the
+  adaptive kernel and the Python orbit flows).
+* :func:`band_force` / :func:`band_mode`: Karnopp's stick band |V_r| <= V_d
+  (fixed-step RK4).
 
-===========  =====================================================
-``p[LAW]``   law code: KARNOPP, COULOMB or STRIBECK
-``p[FD]``    kinetic friction F_d
-``p[FS]``    maximum static friction F_s
-``p[VD]``    stick-band half width V_d (Karnopp's; for the other
-             laws the band fixed-step RK4 uses)
-``p[RESULTANT]`` 1.0: F_e = X + 2 zeta X'; 0.0: F_e = X
-``p[VS]``    Stribeck velocity V_s
-``p[DELTA]`` Stribeck exponent delta
-``p[VISC]``  viscous friction coefficient (Stribeck)
-===========  =====================================================
+A law's parameters arrive as plain floats in the layout of :mod:`.layout`
+(re-exported here).  A new law with a compiled slip force adds its code to
+:mod:`.layout` and one line to each of the two dispatchers below.
 """
 
 from __future__ import annotations
 
-import math
-
 from numba import njit
 
-KARNOPP = 0
-COULOMB = 1
-STRIBECK = 2
-
-LAW, FD, FS, VD, RESULTANT, VS, DELTA, VISC = range(8)
-N_PARAMS = 8
-
-#: friction mode codes recorded by the solvers
-SLIP_NEG = -1
-STICK = 0
-SLIP_POS = 1
+from ..friction import cubic, stribeck
+from .layout import (  # noqa: F401  (re-exported: the kernels import the layout from here)
+    COULOMB, CUBIC, FD, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, SLIP_NEG, SLIP_POS, STICK,
+    STRIBECK, VD,
+)
 
 
 @njit(cache=True, inline="always")
-def slip_magnitude(law, fd, fs, vs, delta, visc, speed):
-    """|F| while slipping at relative speed ``speed`` >= 0."""
+def slip_magnitude(law, fd, fs, a, b, c, speed):
+    """|F| while slipping at relative speed ``speed`` >= 0 (a, b, c: the law's own parameters)."""
     if law == STRIBECK:
-        return fd + (fs - fd) * math.exp(-((speed / vs) ** delta)) + visc * speed
+        return stribeck.magnitude(fd, fs, a, b, c, speed)
+    if law == CUBIC:
+        return cubic.magnitude(fd, fs, a, b, c, speed)
     return fd
 
 
 @njit(cache=True, inline="always")
-def band_force(law, fd, fs, vd, resultant, vs, delta, visc, x, v, zeta, vb):
+def slip_slope(law, fd, fs, a, b, c, speed):
+    """d|F|/d|V_r| at ``speed`` > 0 (at 0: the limit from above)."""
+    if law == STRIBECK:
+        return stribeck.slope(fd, fs, a, b, c, speed)
+    if law == CUBIC:
+        return cubic.slope(fd, fs, a, b, c, speed)
+    return 0.0
+
+
+@njit(cache=True)
+def slip_magnitude_of(p, speed):
+    """:func:`slip_magnitude` of the law whose kernel parameters are ``p``."""
+    return slip_magnitude(int(p[LAW]), p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C], speed)
+
+
+@njit(cache=True)
+def slip_slope_of(p, speed):
+    """:func:`slip_slope` of the law whose kernel parameters are ``p``."""
+    return slip_slope(int(p[LAW]), p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C], speed)
+
+
+@njit(cache=True)
+def rest_mode(x, zeta, vb, fs, resultant, f0):
+    """Coulomb's stick rule at V_r = 0: 0 to stick, or the slip direction +-1.
+
+    The mass sticks while the force the interface must hold, |F_e| with
+    F_e = X + 2 zeta V_b (``resultant``) or X, is below F_s -- or on F_s
+    while sticking would move F_e back inwards.  Otherwise it slips in the
+    direction d whose slip force d F(0+) = d ``f0`` drives V_r away from 0.
+    """
+    fe = x + 2.0 * zeta * vb if resultant else x
+    outward = fe * vb > 0.0 or vb == 0.0
+    if abs(fe) < fs * (1.0 - 1e-14) or (abs(fe) <= fs and not outward):
+        return 0
+    tol = 1e-12 * (abs(f0) + abs(x) + 2.0 * zeta * abs(vb))
+    first = 1.0 if fe > 0.0 else -1.0
+    for d in (first, -first):
+        a = d * f0 - x - 2.0 * zeta * vb
+        # slip+ means X' falls below V_b: needs X'' < 0 (or ~0, with X''' = -V_b < 0)
+        if d * a < -tol or (abs(a) <= tol and d * vb > 0.0):
+            return int(d)
+    return 0
+
+
+@njit(cache=True, inline="always")
+def band_force(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb):
     """Friction force of a law with a stick band |V_r| <= V_d (Karnopp's scheme).
 
     Branches, for one trajectory at a time: they are predicted well and keep
@@ -51,9 +88,9 @@ def band_force(law, fd, fs, vd, resultant, vs, delta, visc, x, v, zeta, vb):
     """
     vr = vb - v
     if vr > vd:
-        return slip_magnitude(law, fd, fs, vs, delta, visc, vr)
+        return slip_magnitude(law, fd, fs, a, b, c, vr)
     if vr < -vd:
-        return -slip_magnitude(law, fd, fs, vs, delta, visc, -vr)
+        return -slip_magnitude(law, fd, fs, a, b, c, -vr)
     fe = x + 2.0 * zeta * v if resultant else x
     if fe >= fs:
         return fs
@@ -63,11 +100,11 @@ def band_force(law, fd, fs, vd, resultant, vs, delta, visc, x, v, zeta, vb):
 
 
 @njit(cache=True, inline="always")
-def band_force_select(law, fd, fs, vd, resultant, vs, delta, visc, x, v, zeta, vb):
+def band_force_select(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb):
     """:func:`band_force` computing both sides and selecting one: for loops over many lanes, which it lets vectorise."""
     vr = vb - v
     speed = abs(vr)
-    mag = slip_magnitude(law, fd, fs, vs, delta, visc, speed)
+    mag = slip_magnitude(law, fd, fs, a, b, c, speed)
     slip = mag if vr > 0.0 else -mag
     fe = x + 2.0 * zeta * v if resultant else x
     hold = min(max(fe, -fs), fs)  # F_s sgn(F_e) once |F_e| >= F_s

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from .friction import DELTA, FD, FS, LAW, RESULTANT, VD, VISC, VS, band_force, band_force_select, band_mode
+from .friction import FD, FS, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, VD, band_force, band_force_select, band_mode
 
 N_STATE = 6
 #: fused multiply-add allowed: shorter dependency chains, and the single and
@@ -26,16 +26,16 @@ FASTMATH = {"contract"}
 
 
 @njit(cache=True, inline="always")
-def stage(x, v, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes):
+def stage(x, v, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes):
     """Right-hand side at one stage: (X'', P_dv, P_f+, P_f-, P_heat).
 
     ``lanes`` (a constant at each call site) picks the select form of the law
     for the batched kernels.
     """
     if lanes:
-        fc = band_force_select(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
+        fc = band_force_select(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb)
     else:
-        fc = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
+        fc = band_force(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb)
     a = fc - x - 2.0 * zeta * v
     pf = v * fc
     vr = vb - v
@@ -44,19 +44,19 @@ def stage(x, v, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes):
 
 
 @njit(cache=True, inline="always")
-def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes=False):
+def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False):
     """One RK4 step of the augmented system; returns new X, X' and work increments."""
     h2 = 0.5 * dt
-    a1, d1, p1, n1, q1 = stage(x, v, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes)
+    a1, d1, p1, n1, q1 = stage(x, v, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
     x2 = x + h2 * v
     v2 = v + h2 * a1
-    a2, d2, p2, n2, q2 = stage(x2, v2, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes)
+    a2, d2, p2, n2, q2 = stage(x2, v2, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
     x3 = x + h2 * v2
     v3 = v + h2 * a2
-    a3, d3, p3, n3, q3 = stage(x3, v3, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes)
+    a3, d3, p3, n3, q3 = stage(x3, v3, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
     x4 = x + dt * v3
     v4 = v + dt * a3
-    a4, d4, p4, n4, q4 = stage(x4, v4, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes)
+    a4, d4, p4, n4, q4 = stage(x4, v4, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
     h6 = dt / 6.0
     return (
         x + h6 * (v + 2.0 * v2 + 2.0 * v3 + v4),
@@ -69,11 +69,11 @@ def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, lanes=False):
 
 
 @njit(cache=True, inline="always")
-def _record(k, t, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, out_t, out_x, out_v, out_fc, out_mode, out_w):
+def _record(k, t, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w):
     out_t[k] = t
     out_x[k] = x
     out_v[k] = v
-    out_fc[k] = band_force(law, fd, fs, vd, res, vs, dl, visc, x, v, zeta, vb)
+    out_fc[k] = band_force(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb)
     out_mode[k] = band_mode(v, vb, vd)
     out_w[k, 0] = wdv
     out_w[k, 1] = wp
@@ -94,26 +94,26 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
     fs = p[FS]
     vd = p[VD]
     res = p[RESULTANT] != 0.0
-    vs = p[VS]
-    dl = p[DELTA]
-    visc = p[VISC]
+    la = p[LAW_A]
+    lb = p[LAW_B]
+    lc = p[LAW_C]
     x, v, wdv, wp, wn, wq = s[0], s[1], s[2], s[3], s[4], s[5]
     # a countdown instead of i % every: an integer division per step costs more than the step
     due = (every - i0 % every) % every
     for i in range(i0, i1):
         if due == 0:
             due = every
-            _record(k, t0 + i * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            _record(k, t0 + i * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
             k += 1
             wdv = wp = wn = wq = 0.0
         due -= 1
-        x, v, ddv, dp, dn, dq = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, vs, dl, visc)
+        x, v, ddv, dp, dn, dq = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc)
         wdv += ddv
         wp += dp
         wn += dn
         wq += dq
     if i1 == n_total:
-        _record(k, t0 + n_total * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, vs, dl, visc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+        _record(k, t0 + n_total * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
         k += 1
     s[0], s[1], s[2], s[3], s[4], s[5] = x, v, wdv, wp, wn, wq
     return k

@@ -16,19 +16,19 @@ import numpy as np
 from numba import njit, prange
 
 from . import sections as sec
-from .friction import DELTA, FD, FS, KARNOPP, RESULTANT, STRIBECK, VD, VISC, VS
+from .friction import COULOMB, N_PARAMS, FD, FS, KARNOPP, LAW_A, LAW_B, LAW_C, RESULTANT, VD
 from .rk4 import FASTMATH, step
 
 LANES = 64
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
-def _lanes(law, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, vs, dl, visc):
+def _lanes(law, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la, lb, lc):
     """One RK4 step of every lane (vectorised)."""
     for j in range(len(x)):
         xj = x[j]
         vj = v[j]
-        xn, vn, d0, d1, d2, d3 = step(xj, vj, dt, zeta[j], vb[j], law, fd[j], fs[j], vd[j], res[j], vs[j], dl[j], visc[j], True)
+        xn, vn, d0, d1, d2, d3 = step(xj, vj, dt, zeta[j], vb[j], law, fd[j], fs[j], vd[j], res[j], la[j], lb[j], lc[j], True)
         w0[j] += d0
         w1[j] += d1
         w2[j] += d2
@@ -51,9 +51,9 @@ def _block(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
     fs = p[:, FS].copy()
     vd = p[:, VD].copy()
     res = p[:, RESULTANT] != 0.0
-    vs = p[:, VS].copy()
-    dl = p[:, DELTA].copy()
-    visc = p[:, VISC].copy()
+    la = p[:, LAW_A].copy()
+    lb = p[:, LAW_B].copy()
+    lc = p[:, LAW_C].copy()
     x = x0.copy()
     v = v0.copy()
     xo = x0.copy()
@@ -75,13 +75,13 @@ def _block(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
         for j in range(L):
             sec.mark(tail[j], 0.0, x[j], v[j], wj)
     for i in range(n_steps):
-        # The law is a constant inside each call, so that the piecewise-constant
-        # laws compile without the Stribeck branch (a call to exp, which would
-        # keep the loop from vectorising).
-        if law == STRIBECK:
-            _lanes(STRIBECK, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, vs, dl, visc)
+        # The piecewise-constant laws pass a constant code, so that they compile
+        # without the smooth laws' branches (calls to exp and friends, which
+        # would keep the loop from vectorising); a smooth law is loop-invariant.
+        if law == KARNOPP or law == COULOMB:
+            _lanes(KARNOPP, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la, lb, lc)
         else:
-            _lanes(KARNOPP, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, vs, dl, visc)
+            _lanes(law, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la, lb, lc)
         for j in range(L):  # vectorised: the period's aggregates
             vn = v[j]
             f = abs(x[j] + 2.0 * zeta[j] * vn)
@@ -167,7 +167,7 @@ def warm_up() -> None:
     from ._vectorize import wide_vectors
 
     z = np.zeros(1)
-    p = np.zeros((1, 8))
+    p = np.zeros((1, N_PARAMS))
     rec = np.full((1, 2, sec.NF), np.nan)
     nrec = np.zeros(1, np.int64)
     tail = np.full((1, sec.NA), np.nan)

@@ -35,6 +35,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .. import quantities as Q
+
 T, X, TS, ES, W0, W1, W2, W3, VMIN, VMAX, FMAX, STICK, LO = range(13)
 NF = 13
 # tail / final records: time and energy at the first tail sample (or the
@@ -45,7 +47,7 @@ NA = 13  # fin: A_W* hold the whole run's work integrals and A_E0 its initial K 
 #: records kept per run: windows span at most MAX_RECORDS - 1 periods
 MAX_RECORDS = 32
 
-PERIODIC, EQUILIBRIUM, NOT_SETTLED = 0, 1, 2
+PERIODIC, EQUILIBRIUM, NOT_SETTLED = (Q.KINDS.index(k) for k in ("periodic", "equilibrium", "not_settled"))
 HEAD_NONE, HEAD_EQUILIBRIUM, HEAD_PERIODIC, HEAD_GROWING = 0, 1, 2, 3
 
 # what classify returns, per run
@@ -355,9 +357,21 @@ def scale_of(rec, tail, vb, fd):
     return max(xmax - xmin, vmax - vmin, abs(vb), fd, 1e-300)
 
 
-# what averages returns
-P_DV, P_DF, P_FIN, P_F, P_BELT, P_HEAT, R_C, R_F, RESID = range(9)
-NP = 9
+# Positions of the quantities in the table's layout (frictionflow.quantities):
+# averages, window_summary and equilibrium_row fill rows of it.  Numba reads
+# these module globals as compile-time constants.
+KIND, PERIOD, P_DV, P_DF, P_FIN, P_F, P_BELT, P_HEAT, R_C, R_F, RESID = (
+    Q.index(n) for n in ("kind", "period", "P_dv", "P_df", "P_fin", "P_f", "P_belt", "P_heat", "R_c", "R_f", "energy_residual")
+)
+S_TRB, S_XMIN, S_XMAX, S_VMIN, S_VMAX, S_STICK = (
+    Q.index(n) for n in ("TR_B", "X_min", "X_max", "V_min", "V_max", "stick_fraction")
+)
+NQ = Q.NQ
+# window_summary also returns the window, after the quantities
+S_T0, S_T1 = NQ, NQ + 1
+NS = NQ + 2
+# the value of each quantity at an equilibrium: its rule's position in Q.EQUILIBRIUM_RULES
+EQ_RULE = tuple(Q.EQUILIBRIUM_RULES.index(q.at_equilibrium) for q in Q.TABLE)
 
 
 @njit(cache=True)
@@ -370,9 +384,10 @@ def averages(dw_dv, dw_in, dw_out, dw_heat, e0, e1, span):
     energy K + U: below that the
     change of K + U itself is lost to rounding, so the balance cannot be
     checked more finely (deep in a decay, or at an equilibrium).  The ratios
-    are NaN when friction puts in nothing.
+    are NaN when friction puts in nothing.  Returns a row of the table's
+    layout with the averages and the residual filled in (the rest NaN).
     """
-    out = np.empty(NP)
+    out = np.full(NQ, np.nan)
     w_f = dw_in - dw_out
     floor = 1e-12 * max(e0, e1)
     resid = abs(e1 - e0 + dw_dv - w_f)
@@ -389,18 +404,32 @@ def averages(dw_dv, dw_in, dw_out, dw_heat, e0, e1, span):
     return out
 
 
-# what window_summary returns (after the averages)
-S_T0, S_T1, S_TRB, S_XMIN, S_XMAX, S_VMIN, S_VMAX, S_STICK = range(NP, NP + 8)
-NS = NP + 8
+@njit(cache=True)
+def equilibrium_row(x, vb, fd, stick, resid):
+    """Every quantity's value at the equilibrium X* = ``x`` (a row of the table's layout).
+
+    Each quantity's rule (its ``at_equilibrium`` in :mod:`frictionflow.quantities`)
+    picks its value: no motion, no friction input, the belt's power X* V_b
+    all heat while the mass rests sliding (0 resting in a stick band,
+    ``stick`` >= 1/2), TR_B = |X*| / F_d; ``stick`` and ``resid`` are the
+    stick fraction and energy residual to report.
+    """
+    belt = 0.0 if stick >= 0.5 else x * vb
+    trb = abs(x) / fd if fd > 0.0 else np.nan
+    # one value per rule, in the order of Q.EQUILIBRIUM_RULES
+    value = np.array([float(EQUILIBRIUM), np.nan, 0.0, x, belt, trb, stick, resid])
+    out = np.empty(NQ)
+    for i in range(NQ):
+        out[i] = value[EQ_RULE[i]]
+    return out
 
 
 @njit(cache=True)
 def window_summary(rec, tail, fin, cls, fd, vb):
-    """Averages, TR_B, extremes and stick fraction over the classified window.
+    """Every quantity over the classified window (table layout), then the window (``S_T0``, ``S_T1``).
 
-    For an equilibrium they are the equilibrium's own: no motion, no
-    friction input, the belt's power all heat if the mass rests sliding (0 if
-    it rests in a stick band); the residual is the tail's.
+    For an equilibrium they are the equilibrium's own (:func:`equilibrium_row`);
+    the residual is the whole run's.
     """
     out = np.full(NS, np.nan)
     i0 = int(cls[C_START])
@@ -425,8 +454,11 @@ def window_summary(rec, tail, fin, cls, fd, vb):
             dw[j] = seg[:, W0 + j].sum()
         e0, e1 = rec[i0, ES], rec[i1, ES]
     if span > 0:
-        out[:NP] = averages(dw[0], dw[1], dw[2], dw[3], e0, e1, span)
+        out[:NQ] = averages(dw[0], dw[1], dw[2], dw[3], e0, e1, span)
         out[S_STICK] = stick / span
+    out[KIND] = cls[C_KIND]
+    if cls[C_KIND] == PERIODIC:
+        out[PERIOD] = cls[C_PERIOD]
     out[S_T0] = t0
     out[S_T1] = t1
     out[S_TRB] = fmax / fd if fd > 0 else np.nan
@@ -435,15 +467,7 @@ def window_summary(rec, tail, fin, cls, fd, vb):
     out[S_VMIN] = vmin
     out[S_VMAX] = vmax
     if cls[C_KIND] == EQUILIBRIUM:
-        x_eq = cls[C_LIMX]
-        sliding = out[S_STICK] < 0.5
-        out[P_DV] = out[P_DF] = out[P_FIN] = out[P_F] = 0.0
-        out[P_BELT] = out[P_HEAT] = x_eq * vb if sliding else 0.0
-        out[R_C] = out[R_F] = np.nan
-        out[S_TRB] = abs(x_eq) / fd if fd > 0 else np.nan
-        out[S_XMIN] = out[S_XMAX] = x_eq
-        out[S_VMIN] = out[S_VMAX] = 0.0
         # the balance of the whole run (at rest there is nothing left to check)
         whole = averages(fin[A_W0], fin[A_W1], fin[A_W2], fin[A_W3], fin[A_E0], fin[A_E], max(fin[A_T], 1e-300))
-        out[RESID] = whole[RESID]
+        out[:NQ] = equilibrium_row(cls[C_LIMX], vb, fd, out[S_STICK], whole[RESID])
     return out

@@ -1,8 +1,14 @@
-"""Friction laws."""
+"""Friction laws, one module each, registered by name (:mod:`.registry`)."""
 
 from .base import STICK_FORCES, FrictionLaw
+from .karnopp import Karnopp  # noqa: I001  (registration order: the CLI lists laws in it)
 from .coulomb import Coulomb
-from .karnopp import Karnopp
-from .stribeck import SlipLaw, Stribeck
+from .stribeck import Stribeck
+from .cubic import Cubic
+from .user import SlipLaw
+from .registry import law_class, law_classes, law_names, register
 
-__all__ = ["STICK_FORCES", "Coulomb", "FrictionLaw", "Karnopp", "SlipLaw", "Stribeck"]
+__all__ = [
+    "STICK_FORCES", "Coulomb", "Cubic", "FrictionLaw", "Karnopp", "SlipLaw", "Stribeck",
+    "law_class", "law_classes", "law_names", "register",
+]

@@ -1,69 +1,120 @@
 """What every friction law provides.
 
-A law is a small immutable object that validates its parameters in
-``__init__`` and can hand the compiled kernels a flat float array
-(:meth:`FrictionLaw.kernel_params`, layout in
-:mod:`frictionflow.core.friction`).  Kernels know nothing of these
-classes.
+A law is a small immutable object whose parameters are declared once
+(:class:`~frictionflow.parameters.Param`, the class attribute ``parameters``)
+and validated in ``__init__``.  It hands the compiled kernels a flat float
+array (:meth:`FrictionLaw.kernel_params`, layout in
+:mod:`frictionflow.core.layout`); the same mapping from parameter values to
+kernel slots (:meth:`FrictionLaw.kernel_columns`) fills the per-point rows of a
+sweep.  Kernels know nothing of these classes.
+
+To add a law: one module with a subclass (its ``parameters``, ``kernel_slots``
+and, for a smooth slip curve, compiled ``magnitude``/``slope`` functions),
+decorated with :func:`~frictionflow.friction.registry.register`, imported in
+``friction/__init__.py``; a compiled law also gets a code in
+:mod:`frictionflow.core.layout` and a line in each dispatcher of
+:mod:`frictionflow.core.friction`.
 """
 
 from __future__ import annotations
 
-from abc import ABC, abstractmethod
-from typing import Any
+from typing import Any, Callable, ClassVar, Mapping
 
 import numpy as np
 
-from .. import _validate as check
-from ..core import friction as kf
+from ..core import layout
+from ..parameters import Param, nonnegative_real, positive_real, resolve
 
 STICK_FORCES = ("resultant", "spring")
 
+# Parameters several laws share: declared once here, listed by each law.
+FD = nonnegative_real("fd", "F_d", "kinetic friction", "law", 0.02, sweepable=True)
+FS = Param("fs", "F_s", "maximum static friction", "law", lambda v: v["fd"], default_text="F_d",
+           lower=0.0, sweepable=True)
+STICK_FORCE = Param("stick_force", "", "force held while sticking: resultant (X+2zeta X') or spring (X, the paper's)",
+                    "law", "resultant", kind="choice", choices=STICK_FORCES)
+RK4_BAND = positive_real("rk4_band", "", "stick band half width of fixed-step RK4 (other solvers ignore it)", "law", 1e-4,
+                         report=False)
 
-class FrictionLaw(ABC):
+
+class FrictionLaw:
     """Base class of friction laws F_c(X, X') acting on the mass.
 
-    Attributes
-    ----------
-    fd:
-        Kinetic (dynamic) friction level F_d >= 0.
-    fs:
-        Maximum static friction F_s >= F_d (defaults to F_d).
-    stick_force:
-        Which force the interface has to hold while sticking:
-        ``"resultant"`` (X + 2 zeta X', the complete force; default) or
-        ``"spring"`` (X only, the paper's F_e = X).
+    Class attributes a law sets
+    ---------------------------
+    name:
+        Registry name (``--friction NAME``).
+    code:
+        Law code of its compiled slip force (:mod:`frictionflow.core.layout`).
+    parameters:
+        Its parameters, in the order of the JSON ``params``.
+    kernel_slots:
+        Kernel slot of each parameter beyond F_d, F_s and the stick force.
+    piecewise_constant:
+        The slip force is constant (the exact event-driven solver applies).
+    stick_rule:
+        ``"band"`` (Karnopp's velocity band) or ``"switch"`` (Coulomb's set-valued rule at V_r = 0).
     """
 
-    name: str = "abstract"
-    code: int = -1
-    #: True when the slip force is constant (the exact event-driven solver applies)
-    piecewise_constant: bool = True
+    name: ClassVar[str] = "abstract"
+    code: ClassVar[int] = -1
+    parameters: ClassVar[tuple[Param, ...]] = (FD, FS, STICK_FORCE)
+    kernel_slots: ClassVar[dict[str, int]] = {}
+    piecewise_constant: ClassVar[bool] = True
+    stick_rule: ClassVar[str] = "switch"
+    #: buildable by name from a config (user laws need a function)
+    configurable: ClassVar[bool] = True
+    #: compiled (fd, fs, a, b, c, speed) -> |F| and its slope, for smooth laws
+    magnitude: ClassVar[Callable[..., float] | None] = None
+    slope: ClassVar[Callable[..., float] | None] = None
 
-    def __init__(self, fd: float, fs: float | None, stick_force: str) -> None:
-        self.fd = check.nonnegative("fd", fd)
-        self.fs = self.fd if fs is None else check.at_least("fs", fs, self.fd, "fd")
-        self.stick_force = check.choice("stick_force", stick_force, STICK_FORCES)
+    fd: float
+    fs: float
+    stick_force: str
+    #: a user's slip function (the adaptive kernel is rebuilt around it); None for built-in laws
+    func: Callable[[float], float] | None = None
+
+    def _assign(self, **given: Any) -> None:
+        """Validate and set every declared parameter (defaults from the declarations)."""
+        values = resolve(self.parameters, given)
+        for key, value in values.items():
+            setattr(self, key, value)
+        self._check_values()
+
+    def _check_values(self) -> None:
+        """Rules between parameters (F_s >= F_d)."""
+        if self.fs < self.fd:
+            raise ValueError(f"fs must be >= fd = {self.fd:g}, got {self.fs!r}")
+
+    @classmethod
+    def from_values(cls, values: Mapping[str, Any]) -> "FrictionLaw":
+        """Build from a mapping of parameter values (missing or None: the defaults)."""
+        return cls(**{p.name: values.get(p.name) for p in cls.parameters if values.get(p.name) is not None})
+
+    def values(self) -> dict[str, Any]:
+        """Every declared parameter's value, in declaration order."""
+        return {p.name: getattr(self, p.name) for p in self.parameters}
 
     # -- what the kernels see -------------------------------------------------
     @property
-    def band(self) -> float:
-        """Half-width of the velocity band that fixed-step RK4 treats as stick."""
-        return self.vd  # type: ignore[attr-defined]
+    def band(self) -> float | None:
+        """Half-width of the velocity band that fixed-step RK4 treats as stick (None: RK4 cannot run the law)."""
+        return getattr(self, "rk4_band", None)
+
+    @classmethod
+    def kernel_columns(cls, v: Mapping[str, Any]) -> dict[int, Any]:
+        """Kernel slot -> value from resolved parameter values (scalars, or per-point arrays of a sweep)."""
+        cols = {layout.LAW: cls.code, layout.FD: v["fd"], layout.FS: v["fs"],
+                layout.RESULTANT: 1.0 if v["stick_force"] == "resultant" else 0.0}
+        cols.update({slot: v[name] for name, slot in cls.kernel_slots.items()})
+        return cols
 
     def kernel_params(self) -> np.ndarray:
-        """Flat float64 array in the layout of :mod:`~frictionflow.core.friction`."""
-        p = np.zeros(kf.N_PARAMS)
-        p[kf.LAW] = self.code
-        p[kf.FD] = self.fd
-        p[kf.FS] = self.fs
-        p[kf.VD] = getattr(self, "band", 0.0)  # laws without a band (user laws) never reach RK4
-        p[kf.RESULTANT] = 1.0 if self.stick_force == "resultant" else 0.0
-        self._fill_kernel_params(p)
+        """Flat float64 array in the layout of :mod:`~frictionflow.core.layout`."""
+        p = np.zeros(layout.N_PARAMS)
+        for slot, value in self.kernel_columns(self.values()).items():
+            p[slot] = value
         return p
-
-    def _fill_kernel_params(self, p: np.ndarray) -> None:
-        """Laws with more parameters than F_d, F_s, V_d fill them in here."""
 
     # -- physics ---------------------------------------------------------------
     def slip_force(self, vr: Any) -> np.ndarray:
@@ -71,13 +122,27 @@ class FrictionLaw(ABC):
         vr = np.asarray(vr, dtype=float)
         return np.sign(vr) * self.slip_magnitude(np.abs(vr))
 
-    @abstractmethod
     def slip_magnitude(self, speed: Any) -> np.ndarray:
-        """|F| while slipping at relative speed ``speed`` > 0."""
+        """|F| while slipping at relative speed ``speed`` >= 0 (the compiled law, element by element)."""
+        s = np.asarray(speed, dtype=float)
+        if self.magnitude is None:
+            return np.full_like(s, self.fd)
+        args = self._kernel_args()
+        return np.vectorize(lambda u: self.magnitude(*args, u), otypes=[float])(s)
 
-    def slip_slope(self, vr: float) -> float:
-        """dF/dV_r of the slip law at ``vr`` > 0 (0 for constant laws)."""
-        return 0.0
+    def slip_slope(self, speed: float) -> float:
+        """d|F|/d|V_r| at ``speed`` > 0 (the limit from above at 0; 0 for constant laws)."""
+        if self.slope is None:
+            return 0.0
+        return float(self.slope(*self._kernel_args(), float(speed)))
+
+    def _kernel_args(self) -> tuple[float, ...]:
+        p = self.kernel_params()
+        return (p[layout.FD], p[layout.FS], p[layout.LAW_A], p[layout.LAW_B], p[layout.LAW_C])
+
+    def hopf_damping(self, vb: float) -> float:
+        """zeta at which steady sliding at belt speed ``vb`` changes stability: 2 zeta + F'(V_b) = 0."""
+        return -0.5 * self.slip_slope(abs(vb))
 
     def sliding_equilibrium(self, vb: float) -> float:
         """X* of steady sliding at belt speed ``vb`` (X* = F(V_b))."""
@@ -92,14 +157,14 @@ class FrictionLaw(ABC):
 
     def as_dict(self) -> dict[str, Any]:
         """Parameters for reports and JSON."""
-        return {"friction": self.name, "fd": self.fd, "fs": self.fs, "stick_force": self.stick_force}
+        return {"friction": self.name} | {p.name: getattr(self, p.name) for p in self.parameters if p.report}
 
     def __repr__(self) -> str:
-        args = ", ".join(f"{k}={v!r}" for k, v in self.as_dict().items() if k != "friction")
+        args = ", ".join(f"{k}={v!r}" for k, v in self.values().items())
         return f"{type(self).__name__}({args})"
 
     def __eq__(self, other: object) -> bool:
-        return type(self) is type(other) and self.as_dict() == other.as_dict()  # type: ignore[attr-defined]
+        return type(self) is type(other) and self.values() == other.values()  # type: ignore[attr-defined]
 
     def __hash__(self) -> int:
-        return hash(tuple(self.as_dict().items()))
+        return hash((type(self), tuple(self.values().items())))

@@ -2,15 +2,12 @@
 
 from __future__ import annotations
 
-from typing import Any
-
-import numpy as np
-
-from .. import _validate as check
-from ..core import friction as kf
-from .base import FrictionLaw
+from ..core import layout
+from .base import FD, FS, RK4_BAND, STICK_FORCE, FrictionLaw
+from .registry import register
 
 
+@register
 class Coulomb(FrictionLaw):
     """Set-valued Coulomb friction, without a velocity band.
 
@@ -32,15 +29,9 @@ class Coulomb(FrictionLaw):
     """
 
     name = "coulomb"
-    code = kf.COULOMB
+    code = layout.COULOMB
+    parameters = (FD, FS, STICK_FORCE, RK4_BAND)
+    kernel_slots = {"rk4_band": layout.VD}
 
     def __init__(self, fd: float = 0.02, fs: float | None = None, stick_force: str = "resultant", rk4_band: float = 1e-4) -> None:
-        super().__init__(fd, fs, stick_force)
-        self.rk4_band = check.positive("rk4_band", rk4_band)
-
-    @property
-    def band(self) -> float:
-        return self.rk4_band
-
-    def slip_magnitude(self, speed: Any) -> np.ndarray:
-        return np.full_like(np.asarray(speed, dtype=float), self.fd)
+        self._assign(fd=fd, fs=fs, stick_force=stick_force, rk4_band=rk4_band)

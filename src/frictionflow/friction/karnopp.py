@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
-from .. import _validate as check
-from .base import FrictionLaw
-from ..core import friction as kf
+from ..core import layout
+from ..parameters import positive_real
+from .base import FD, FS, STICK_FORCE, FrictionLaw
+from .registry import register
+
+VD = positive_real("vd", "V_d", "Karnopp stick-band half width", "law", 1e-3, sweepable=True)
 
 
+@register
 class Karnopp(FrictionLaw):
     """Karnopp's model: Coulomb friction with a stick band |V_r| <= V_d.
 
@@ -34,28 +36,20 @@ class Karnopp(FrictionLaw):
     """
 
     name = "karnopp"
-    code = kf.KARNOPP
+    code = layout.KARNOPP
+    parameters = (FD, FS, STICK_FORCE, VD)
+    kernel_slots = {"vd": layout.VD}
+    stick_rule = "band"
 
-    def __init__(
-        self,
-        fd: float = 0.02,
-        fs: float | None = None,
-        vd: float = 1e-3,
-        stick_force: str = "resultant",
-    ) -> None:
-        super().__init__(fd, fs, stick_force)
-        self.vd = check.positive("vd", vd)
+    def __init__(self, fd: float = 0.02, fs: float | None = None, vd: float = 1e-3, stick_force: str = "resultant") -> None:
+        self._assign(fd=fd, fs=fs, vd=vd, stick_force=stick_force)
 
-    def slip_magnitude(self, speed: Any) -> np.ndarray:
-        return np.full_like(np.asarray(speed, dtype=float), self.fd)
+    @property
+    def band(self) -> float:
+        return self.vd
 
     def sliding_equilibrium(self, vb: float) -> float:
-        # Inside the band the mass would be held, not slide: X* solves X = F_e-balance.
+        # Inside the band the mass is held, not sliding: no sliding equilibrium.
         if abs(vb) > self.vd:
             return float(np.sign(vb) * self.fd)
         return float("nan")
-
-    def as_dict(self) -> dict[str, Any]:
-        d = super().as_dict()
-        d["vd"] = self.vd
-        return d

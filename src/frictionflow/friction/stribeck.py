@@ -1,17 +1,41 @@
-"""Stribeck friction and user-defined slip laws."""
+"""Stribeck friction: Coulomb's stick rule with a falling (and optionally viscous) slip curve."""
 
 from __future__ import annotations
 
 import math
-from typing import Any, Callable
 
-import numpy as np
+from numba import njit
 
-from .. import _validate as check
-from ..core import friction as kf
-from .base import FrictionLaw
+from ..core import layout
+from ..parameters import nonnegative_real, positive_real
+from .base import FD, FS, RK4_BAND, STICK_FORCE, FrictionLaw
+from .registry import register
+
+VS = positive_real("vs", "V_s", "Stribeck velocity", "law", 0.01, sweepable=True)
+DELTA = positive_real("delta", "delta", "Stribeck exponent", "law", 2.0, sweepable=True)
+VISCOUS = nonnegative_real("viscous", "c_v", "viscous friction coefficient", "law", 0.0, sweepable=True)
 
 
+@njit(cache=True, inline="always")
+def magnitude(fd, fs, vs, delta, visc, speed):
+    """F(s) = F_d + (F_s - F_d) exp(-(s / V_s)^delta) + c_v s."""
+    return fd + (fs - fd) * math.exp(-((speed / vs) ** delta)) + visc * speed
+
+
+@njit(cache=True, inline="always")
+def slope(fd, fs, vs, delta, visc, speed):
+    """F'(s); at s = 0 the limit from above (-inf for delta < 1 with F_s > F_d)."""
+    if speed <= 0.0:
+        if delta > 1.0 or fs == fd:
+            return visc
+        if delta == 1.0:
+            return visc - (fs - fd) / vs
+        return -math.inf
+    u = (speed / vs) ** delta
+    return visc - (fs - fd) * delta * u / speed * math.exp(-u)
+
+
+@register
 class Stribeck(FrictionLaw):
     """Coulomb's stick rule with a Stribeck curve in slip.
 
@@ -25,7 +49,8 @@ class Stribeck(FrictionLaw):
     Parameters
     ----------
     fd, fs:
-        Kinetic level F_d and static level F_s >= F_d (the slip force at V_r -> 0).
+        Kinetic level F_d and static level F_s >= F_d (the slip force at
+        V_r -> 0; default 2 F_d).
     vs:
         Stribeck velocity V_s > 0.
     delta:
@@ -39,108 +64,21 @@ class Stribeck(FrictionLaw):
     """
 
     name = "stribeck"
-    code = kf.STRIBECK
+    code = layout.STRIBECK
+    parameters = (FD, FS.with_default(lambda v: 2.0 * v["fd"], "2 F_d"), STICK_FORCE, VS, DELTA, VISCOUS, RK4_BAND)
+    kernel_slots = {"rk4_band": layout.VD, "vs": layout.LAW_A, "delta": layout.LAW_B, "viscous": layout.LAW_C}
     piecewise_constant = False
+    magnitude = staticmethod(magnitude)
+    slope = staticmethod(slope)
 
     def __init__(
         self,
         fd: float = 0.02,
-        fs: float = 0.04,
+        fs: float | None = None,
         vs: float = 0.01,
         delta: float = 2.0,
         viscous: float = 0.0,
         stick_force: str = "resultant",
         rk4_band: float = 1e-4,
     ) -> None:
-        super().__init__(fd, fs, stick_force)
-        self.vs = check.positive("vs", vs)
-        self.delta = check.positive("delta", delta)
-        self.viscous = check.nonnegative("viscous", viscous)
-        self.rk4_band = check.positive("rk4_band", rk4_band)
-
-    @property
-    def band(self) -> float:
-        return self.rk4_band
-
-    def _fill_kernel_params(self, p: np.ndarray) -> None:
-        p[kf.VS] = self.vs
-        p[kf.DELTA] = self.delta
-        p[kf.VISC] = self.viscous
-
-    def slip_magnitude(self, speed: Any) -> np.ndarray:
-        s = np.asarray(speed, dtype=float)
-        return self.fd + (self.fs - self.fd) * np.exp(-((s / self.vs) ** self.delta)) + self.viscous * s
-
-    def slip_slope(self, vr: float) -> float:
-        """dF/dV_r at V_r = vr > 0."""
-        u = (vr / self.vs) ** self.delta
-        return -(self.fs - self.fd) * self.delta * u / vr * math.exp(-u) + self.viscous if vr > 0 else float("-inf")
-
-    def hopf_damping(self, vb: float) -> float:
-        """zeta at which the sliding equilibrium at belt speed vb changes stability: 2 zeta + F'(V_b) = 0."""
-        return -0.5 * self.slip_slope(abs(vb))
-
-    def as_dict(self) -> dict[str, Any]:
-        return super().as_dict() | {"vs": self.vs, "delta": self.delta, "viscous": self.viscous}
-
-
-class SlipLaw(FrictionLaw):
-    """A user-defined slip law with Coulomb's stick rule.
-
-    Parameters
-    ----------
-    func:
-        ``func(speed) -> float``: the friction magnitude while slipping at
-        relative speed ``speed`` > 0.  A numba-compilable function (plain
-        ``math``/``numpy`` code, or already ``numba.njit``-ed) runs compiled;
-        anything else runs in the Python version of the adaptive solver.
-    fs:
-        Maximum static friction F_s (defaults to ``func(0)``).
-    fd:
-        Reference friction level used for TR_B and the default X(0) (defaults
-        to ``func`` at 100 V_b-independent units, i.e. ``func(1e2)``).
-    dfunc:
-        Optional derivative of ``func`` (for the equilibrium's stability); by
-        default a central difference.
-    """
-
-    name = "user"
-    code = kf.STRIBECK  # only the adaptive solver runs it, with the user's function
-    piecewise_constant = False
-
-    def __init__(
-        self,
-        func: Callable[[float], float],
-        fs: float | None = None,
-        fd: float | None = None,
-        dfunc: Callable[[float], float] | None = None,
-        stick_force: str = "resultant",
-    ) -> None:
-        if not callable(func):
-            raise ValueError(f"func must be callable, got {func!r}")
-        self.func = func
-        self.dfunc = dfunc
-        f0 = float(func(0.0))
-        super().__init__(float(func(1e2)) if fd is None else fd, f0 if fs is None else fs, stick_force)
-
-    @property
-    def band(self) -> float:  # pragma: no cover - RK4 does not run user laws
-        raise AttributeError("user slip laws run only with the adaptive solver")
-
-    def slip_magnitude(self, speed: Any) -> np.ndarray:
-        return np.vectorize(lambda s: float(self.func(float(s))), otypes=[float])(speed)
-
-    def slip_slope(self, vr: float) -> float:
-        if self.dfunc is not None:
-            return float(self.dfunc(vr))
-        h = 1e-6 * max(abs(vr), 1e-6)
-        return (float(self.func(vr + h)) - float(self.func(vr - h))) / (2 * h)
-
-    def as_dict(self) -> dict[str, Any]:
-        return super().as_dict() | {"func": getattr(self.func, "__name__", repr(self.func))}
-
-    def __hash__(self) -> int:
-        return id(self)
-
-    def __eq__(self, other: object) -> bool:
-        return self is other
+        self._assign(fd=fd, fs=fs, vs=vs, delta=delta, viscous=viscous, stick_force=stick_force, rk4_band=rk4_band)

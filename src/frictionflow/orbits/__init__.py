@@ -10,7 +10,7 @@ Modules: :mod:`.hybrid` (phases, switches, saltation matrices),
 :mod:`.flow_exact` / :mod:`.flow_smooth` (flow maps with their Jacobians),
 :mod:`.shooting` (Newton on the Poincare map), :mod:`.floquet`,
 :mod:`.equilibria`, :mod:`.arclength` (pseudo-arclength), :mod:`.continuation`,
-:mod:`.sweep`, :mod:`.plotting`.
+:mod:`.brute_force` (simulations to overlay), :mod:`.plotting`.
 """
 
 from .branches import Bifurcation, Branch, BranchPoint, ContinuationResult
@@ -20,7 +20,7 @@ from .flow import make_flow
 from .hybrid import Phase, Segment, Switch, saltation
 from .parameters import parameter_names, with_param
 from .shooting import PeriodicOrbit, ShootingError, find_orbit, shoot
-from .sweep import sweep
+from .brute_force import sweep
 
 __all__ = [
     "Bifurcation",

@@ -5,13 +5,15 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from .. import quantities as Q
 from ._json import jsonable
 from .equilibria import Equilibrium
 from .measures import OrbitMeasures, equilibrium_measures
 from .shooting import PeriodicOrbit
 
-#: the per-point quantities every branch point reports (besides value, kind, stability)
-POINT_POWER = ("P_fin", "P_df", "P_dv", "R_c", "R_f", "P_belt", "P_heat")
+#: the averages every branch point reports (besides value, kind, stability), in the paper's
+#: order; not P_f, which equals P_dv on a periodic orbit
+POINT_POWER = tuple(n for n in Q.PAPER_AVERAGES if n != "P_f")
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,7 @@ from .equilibria import equilibrium, equilibrium_branch, hopf_points
 from .flow import make_flow
 from .parameters import with_param
 from .shooting import ShootingError, find_orbit, orbit_from_segment
-from .sweep import sweep as brute_force_sweep
+from .brute_force import sweep as brute_force_sweep
 
 SEEDS = ("hopf", "start", "stop")
 

@@ -19,19 +19,24 @@ from ..core import closed_form as cf
 from ..core import exact as ke
 from ..core.friction import FD, FS, LAW, RESULTANT, VD
 from ..friction.base import FrictionLaw
+from ..modes import SwitchMode
 from ..params import BeltOscillator
+from ..solvers.events import EXACT_EVENT_MODES
 from .hybrid import Phase, Segment, Switch, saltation
 
-MODE_NAMES = {
-    ke.SLIP_POS: "slip+",
-    ke.SLIP_NEG: "slip-",
-    ke.STICK: "stick",
-    ke.HOLD: "stick",  # Karnopp's band holding the mass
-    ke.SAT_POS: "band-sat+",
-    ke.SAT_NEG: "band-sat-",
-    ke.EDGE_LO: "edge-lo",
-    ke.EDGE_HI: "edge-hi",
+#: how phases and switches name each mode (orbit reports and JSON use these labels)
+PHASE_LABELS = {
+    SwitchMode.SLIP_POSITIVE: "slip+",
+    SwitchMode.SLIP_NEGATIVE: "slip-",
+    SwitchMode.STICK: "stick",
+    SwitchMode.BAND_HOLD: "stick",  # Karnopp's band holding the mass
+    SwitchMode.BAND_SATURATED_POSITIVE: "band-sat+",
+    SwitchMode.BAND_SATURATED_NEGATIVE: "band-sat-",
+    SwitchMode.BAND_EDGE_LOWER: "edge-lo",
+    SwitchMode.BAND_EDGE_UPPER: "edge-hi",
 }
+#: the walk below runs on the exact kernel's codes; name them through the solver's own table
+MODE_NAMES = {code: PHASE_LABELS[mode] for code, mode in EXACT_EVENT_MODES.items()}
 #: phases shorter than this many rounding units in a row mean the mode logic is stuck
 _MAX_ZERO_PHASES = 8
 

@@ -24,9 +24,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from ..core.friction import rest_mode, slip_magnitude_of, slip_slope_of
 from ..friction.base import FrictionLaw
-from ..friction.coulomb import Coulomb
-from ..friction.stribeck import SlipLaw, Stribeck
 from ..params import BeltOscillator
 from .hybrid import Phase, Segment, Switch, saltation
 
@@ -35,31 +34,21 @@ _MAX_ZERO_PHASES = 8
 
 
 def slip_curve(law: FrictionLaw) -> tuple[Callable[[float], float], Callable[[float], float]]:
-    """Scalar F(s) and F'(s) of the slip magnitude at relative speed s >= 0 (fast: no arrays)."""
-    if isinstance(law, Stribeck):
-        fd, dfs, vs, delta, cv = law.fd, law.fs - law.fd, law.vs, law.delta, law.viscous
-        if delta < 1.0 and dfs > 0.0:
-            raise ValueError(
-                f"delta = {delta:g} < 1: the Stribeck curve has infinite slope at V_r = 0, "
-                "where the variational equations (and Floquet multipliers) are not defined"
-            )
-
-        def F(s: float) -> float:
-            return fd + dfs * math.exp(-((s / vs) ** delta)) + cv * s
-
-        def dF(s: float) -> float:
-            if s <= 0.0:  # the limit s -> 0+ (delta >= 1 here)
-                return cv if delta > 1.0 else cv - dfs / vs
-            u = (s / vs) ** delta
-            return cv - dfs * delta * u / s * math.exp(-u)
-
-        return F, dF
-    if isinstance(law, Coulomb):
+    """Scalar F(s) and F'(s) of the slip magnitude at relative speed s >= 0: the law's own functions."""
+    if law.stick_rule != "switch":
+        raise ValueError(f"friction={law.name} has no Coulomb stick rule with a slip curve (use the closed-form flow)")
+    if law.func is not None:  # a user's function
+        return (lambda s: float(law.func(s))), (lambda s: float(law.slip_slope(max(s, 1e-12))))
+    if law.magnitude is None:  # constant slip force
         fd = law.fd
         return (lambda s: fd), (lambda s: 0.0)
-    if isinstance(law, SlipLaw):
-        return (lambda s: float(law.func(s))), (lambda s: float(law.slip_slope(max(s, 1e-12))))
-    raise ValueError(f"friction={law.name} has no Coulomb stick rule with a slip curve (use the closed-form flow)")
+    if math.isinf(law.slip_slope(0.0)):
+        raise ValueError(
+            f"friction={law.name}: the slip curve has infinite slope at V_r = 0 (Stribeck delta < 1), "
+            "where the variational equations (and Floquet multipliers) are not defined"
+        )
+    p = law.kernel_params()
+    return (lambda s: slip_magnitude_of(p, s)), (lambda s: slip_slope_of(p, s))
 
 
 class _Event:
@@ -87,23 +76,8 @@ class SmoothFlow:
 
     # -- the stick rule -----------------------------------------------------
     def rest_mode(self, x: float) -> int:
-        """At V_r = 0: 0 to stick, or the slip direction +-1 Coulomb's rule selects.
-
-        Stick while |F_e| <= F_s (strictly inside, or on the limit while
-        sticking would move F_e back inwards); otherwise slip in the direction
-        in which X'' drives V_r away from 0 (same rule as the adaptive solver).
-        """
-        zeta, vb = self.zeta, self.vb
-        fe = x + 2.0 * zeta * vb if self.res else x
-        outward = fe * vb > 0.0 or vb == 0.0
-        if abs(fe) < self.fs * (1.0 - 1e-14) or (abs(fe) <= self.fs and not outward):
-            return 0
-        tol = 1e-12 * (abs(self.f0) + abs(x) + 2.0 * zeta * abs(vb))
-        for d in ((1, -1) if fe > 0.0 else (-1, 1)):
-            a = d * self.f0 - x - 2.0 * zeta * vb
-            if d * a < -tol or (abs(a) <= tol and d * vb > 0.0):  # slip+ needs X' to fall below V_b
-                return d
-        return 0
+        """At V_r = 0: 0 to stick, or the slip direction +-1 Coulomb's rule selects (the kernels' rule)."""
+        return rest_mode(x, self.zeta, self.vb, self.fs, self.res, self.f0)
 
     def field(self, mode: int, x: float, v: float) -> np.ndarray:
         """The vector field (X', X'') of ``mode`` (+-1 slip, 0 stick) at (x, v)."""

@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .. import quantities as Q
+from ..analysis.equilibrium import equilibrium_values
 from ..analysis.power_flow import PowerFlow, power_flow
 from ..analysis.transmissibility import amplitude, transmissibility
 from ..friction.base import FrictionLaw
@@ -19,7 +21,8 @@ from ..simulate import simulate
 from ..solvers.base import Solver
 from ..trajectory import Trajectory
 
-POWER_KEYS = ("P_fin", "P_df", "P_dv", "R_c", "R_f", "P_belt", "P_heat", "P_f")
+#: the averages an orbit reports, in the paper's order
+POWER_KEYS = Q.PAPER_AVERAGES
 
 
 @dataclass(frozen=True)
@@ -70,7 +73,5 @@ def equilibrium_measures(x_star: float, vb: float, fd: float) -> OrbitMeasures:
     The belt still delivers F_c V_b = X* V_b, all of it turned into heat at
     the interface; R_c, R_f are undefined (nothing enters the vibration).
     """
-    nan = float("nan")
-    belt = x_star * vb
-    power = PowerFlow(window=(0.0, 0.0), P_dv=0.0, P_df=0.0, P_fin=0.0, P_f=0.0, P_belt=belt, P_heat=belt, R_c=nan, R_f=nan, energy_residual=0.0)
-    return OrbitMeasures(power=power, TR_B=abs(x_star) / fd if fd > 0 else nan, extremes={"X_min": x_star, "X_max": x_star, "V_min": 0.0, "V_max": 0.0})
+    power, trb, extremes = equilibrium_values(x_star, vb, fd, window=(0.0, 0.0))
+    return OrbitMeasures(power=power, TR_B=trb, extremes=extremes)

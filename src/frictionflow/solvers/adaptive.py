@@ -14,10 +14,16 @@ from .. import _validate as check
 from .._progress import progress_bar
 from ..core import dopri, sections
 from ..friction.base import FrictionLaw
-from ..friction.stribeck import SlipLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
+from ..parameters import Param, positive_real
 from .base import Solver, output_buffers, trajectory_from
+from .events import ADAPTIVE_EVENT_MODES
+from .exact import DENSE_DT
+
+ODE_RTOL = positive_real("ode_rtol", "", "adaptive solver's relative tolerance", "solver", 1e-10)
+MAX_STEPS = Param("max_steps", "", "adaptive solver's step cap", "solver", 10_000_000, default_text="1e7",
+                  kind="int", lower=1)
 
 
 class StepLimitError(RuntimeError):
@@ -81,6 +87,8 @@ class Adaptive(Solver):
     """
 
     name = "adaptive"
+    parameters = (ODE_RTOL, MAX_STEPS, DENSE_DT)
+    keywords = {"ode_rtol": "rtol"}
 
     def __init__(self, rtol: float = 1e-10, atol: float = 1e-13, max_steps: int = 10_000_000, dense_dt: float | None = None) -> None:
         self.rtol = check.positive("rtol", rtol)
@@ -92,7 +100,7 @@ class Adaptive(Solver):
         return {"name": self.name, "rtol": self.rtol, "atol": self.atol, "max_steps": self.max_steps, "dense_dt": self.dense_dt}
 
     def supports(self, friction: FrictionLaw) -> bool:
-        return friction.name in ("coulomb", "stribeck", "user")
+        return friction.stick_rule == "switch"
 
     def solve(
         self,
@@ -105,7 +113,7 @@ class Adaptive(Solver):
     ) -> Trajectory:
         if not self.supports(friction):
             raise ValueError(f"solver=adaptive does not support friction={friction.name}")
-        run, _ = kernel_for(friction.func if isinstance(friction, SlipLaw) else None)
+        run, _ = kernel_for(friction.func)
         p = friction.kernel_params()
         dense_dt = self.dense_dt or 0.0
         cap = int(64 * t_end) + 256 + (int(t_end / dense_dt) + 2 if dense_dt else 0)
@@ -130,4 +138,4 @@ class Adaptive(Solver):
                 f"mode {int(mode[n - 1]):+d}, step {h:.3g}) after {ne} switches; "
                 "raise max_steps or loosen rtol/atol, or check the slip law near V_r = 0"
             )
-        return trajectory_from(bufs, n, ne, model, friction, self.describe())
+        return trajectory_from(bufs, n, ne, model, friction, self.describe(), event_modes=ADAPTIVE_EVENT_MODES)

@@ -9,13 +9,16 @@ state, end time) into a :class:`~frictionflow.trajectory.Trajectory` whose
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from typing import Any
+from typing import Any, ClassVar, Mapping
 
 import numpy as np
 
 from ..friction.base import FrictionLaw
+from ..parameters import Param, resolve
+from ..modes import SwitchMode
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
+from .events import switch_modes
 
 
 class CoarseStepWarning(UserWarning):
@@ -26,6 +29,15 @@ class Solver(ABC):
     """Base class of solvers."""
 
     name: str = "abstract"
+    #: its settings, declared once (CLI options, config keys); ``keywords`` maps them to ``__init__``
+    parameters: ClassVar[tuple[Param, ...]] = ()
+    keywords: ClassVar[dict[str, str]] = {}
+
+    @classmethod
+    def from_values(cls, values: Mapping[str, Any]) -> "Solver":
+        """Build from a mapping of parameter values (missing or None: the declared defaults)."""
+        resolved = resolve(cls.parameters, values)
+        return cls(**{cls.keywords.get(k, k): v for k, v in resolved.items()})
 
     @abstractmethod
     def solve(
@@ -67,12 +79,19 @@ def trajectory_from(
     friction: FrictionLaw,
     solver: dict[str, Any],
     extra: dict[str, Any] | None = None,
+    *,
+    event_modes: Mapping[int, SwitchMode],
 ) -> Trajectory:
-    """A :class:`Trajectory` of the first ``n`` samples and ``n_events`` events in ``buffers``."""
+    """A :class:`Trajectory` of the first ``n`` samples and ``n_events`` events in ``buffers``.
+
+    ``event_modes`` is the solver's table from its kernel's mode codes to
+    :class:`SwitchMode` (see :mod:`.events`): the events leave the solver in
+    public values only.
+    """
     t, x, v, fc, mode, work, ev_t, ev_mode = buffers
     return Trajectory(
         t=t[:n].copy(), x=x[:n].copy(), v=v[:n].copy(), fc=fc[:n].copy(), mode=mode[:n].copy(), dwork=work[:n].copy(),
         model=model, friction=friction, solver=solver,
-        events={"t": ev_t[:n_events].copy(), "mode": ev_mode[:n_events].copy()},
+        events={"t": ev_t[:n_events].copy(), "mode": switch_modes(ev_mode[:n_events], event_modes)},
         extra=extra or {},
     )

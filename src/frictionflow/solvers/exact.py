@@ -14,7 +14,12 @@ from ..core import sections
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
+from ..parameters import positive_real
 from .base import Solver, output_buffers, trajectory_from
+from .events import EXACT_EVENT_MODES
+
+DENSE_DT = positive_real("dense_dt", "", "exact/adaptive: also sample every DENSE_DT", "solver", None,
+                         default_text="only switches and sections; 2pi/200 with --out/--plot")
 
 
 class Exact(Solver):
@@ -35,6 +40,7 @@ class Exact(Solver):
     """
 
     name = "exact"
+    parameters = (DENSE_DT,)
 
     def __init__(self, dense_dt: float | None = None) -> None:
         self.dense_dt = None if dense_dt is None else check.positive("dense_dt", dense_dt)
@@ -78,4 +84,4 @@ class Exact(Solver):
                 break
             advance(1)
         extra = {"t_terminal": None if t_term < 0 else float(t_term), "terminal_mode": int(t_mode[0])}
-        return trajectory_from(bufs, n, ne, model, friction, self.describe(), extra)
+        return trajectory_from(bufs, n, ne, model, friction, self.describe(), extra, event_modes=EXACT_EVENT_MODES)

@@ -13,7 +13,12 @@ from .._progress import progress_bar
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
+from ..parameters import Param, positive_real
 from .base import CoarseStepWarning, Solver
+
+DT = positive_real("dt", "", "RK4 step", "solver", 1e-3)
+RECORD_EVERY = Param("record_every", "", "keep every k-th RK4 step", "solver", None, default_text="every step, up to 5e6 samples",
+                     kind="int", lower=1)
 from ..core import rk4 as kernel
 
 #: RK4's stability limit h*|lambda| on the negative real axis
@@ -42,6 +47,7 @@ class RK4(Solver):
     """
 
     name = "rk4"
+    parameters = (DT, RECORD_EVERY)
 
     def __init__(self, dt: float = 1e-3, record_every: int | None = None) -> None:
         self.dt = check.positive("dt", dt)
@@ -51,7 +57,7 @@ class RK4(Solver):
         return {"name": self.name, "dt": self.dt, "record_every": self.record_every}
 
     def supports(self, friction: FrictionLaw) -> bool:
-        return hasattr(friction, "band")
+        return friction.band is not None
 
     def step_limits(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float) -> dict[str, float]:
         """Largest steps that resolve the stick band and keep RK4 stable."""

@@ -10,53 +10,32 @@ from typing import Any
 
 import numpy as np
 
+from .. import quantities as Q
 from ..analysis.summary import DEFAULT_RTOL
 from ..core import batch
-from ..core import friction as kf
+from ..core import layout as kf
+from ..friction.base import FrictionLaw
+from ..parameters import with_defaults
 from .config import SweepConfig, parse_sweep
 
-#: the result variables, in the kernels' row order: (name, units, long name)
-VARIABLES = (
-    ("kind", "1", "steady state: 0 periodic, 1 equilibrium, 2 not settled"),
-    ("period", "1", "period of the periodic steady state (tau units; NaN unless periodic)"),
-    ("P_dv", "1", "time-averaged power dissipated by the damper"),
-    ("P_df", "1", "time-averaged power taken out by friction (magnitude of the negative part of X' F_c)"),
-    ("P_fin", "1", "time-averaged power put in by friction (positive part of X' F_c)"),
-    ("R_c", "1", "power dissipation ratio of the damper P_dv / P_fin"),
-    ("R_f", "1", "power dissipation ratio of friction P_df / P_fin"),
-    ("P_belt", "1", "time-averaged power delivered by the belt F_c V_b"),
-    ("P_heat", "1", "time-averaged heat generated at the interface F_c V_r"),
-    ("TR_B", "1", "force transmissibility max|X + 2 zeta X'| / F_d"),
-    ("X_min", "1", "minimum displacement over the steady-state window"),
-    ("X_max", "1", "maximum displacement over the steady-state window"),
-    ("V_min", "1", "minimum velocity over the steady-state window"),
-    ("V_max", "1", "maximum velocity over the steady-state window"),
-    ("stick_fraction", "1", "share of the steady-state window spent sticking"),
-    ("energy_residual", "1", "relative residual of the power balance over the window"),
-)
-KIND_NAMES = ("periodic", "equilibrium", "not_settled")
+#: the result variables, in the kernels' row order: (name, units, long name), from the quantities table
+VARIABLES = tuple((q.name, q.units, q.long_name) for q in Q.SWEPT)
+KIND_NAMES = Q.KINDS
 
 
 def chunk_slices(chunk: tuple[int, ...], chunks: tuple[int, ...], shape: tuple[int, ...]) -> tuple[slice, ...]:
     return tuple(slice(c * k, min((c + 1) * k, n)) for c, k, n in zip(chunk, chunks, shape))
 
 
-def _friction_rows(cfg: SweepConfig, law: Any, pts: dict[str, np.ndarray]) -> np.ndarray:
-    """Per-point kernel parameters from one validated template law."""
+def _friction_rows(cfg: SweepConfig, law: FrictionLaw, pts: dict[str, np.ndarray]) -> np.ndarray:
+    """Per-point kernel parameters: the law's settings, with the swept ones (and what defaults to them) per point."""
     n = len(pts["zeta"])
-    p = np.tile(law.kernel_params(), (n, 1))
-    fd = pts["fd"]
-    fs = np.where(np.isnan(pts["fs"]), fd, pts["fs"])
-    if law.name == "stribeck" and "fs" not in cfg.axes and cfg.run.fs is None:
-        fs = 2.0 * fd  # the Stribeck default, as in RunConfig.build
-    p[:, kf.FD] = fd
-    p[:, kf.FS] = fs
-    if law.name == "karnopp":
-        p[:, kf.VD] = pts["vd"]
-    if law.name == "stribeck":
-        p[:, kf.VS] = pts["vs"]
-        p[:, kf.DELTA] = pts["delta"]
-    return p
+    swept = {p.name: pts[p.name] for p in law.parameters if p.name in cfg.axes}
+    values = with_defaults(law.parameters, {**cfg.run.values(), **swept})
+    rows = np.zeros((n, kf.N_PARAMS))
+    for slot, column in type(law).kernel_columns(values).items():
+        rows[:, slot] = column
+    return rows
 
 
 def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[int, ...]) -> np.ndarray:

@@ -22,21 +22,11 @@ from typing import Iterator
 
 import numpy as np
 
-from .compute import KIND_NAMES, VARIABLES
+from .. import quantities as Q
+from ..parameters import declared
 from .config import GRID_KEYS, SweepConfig, n_chunks
 
 DONE = "_chunks_done"
-AXIS_META = {
-    "vb": "belt speed V_b = v_b / (omega0 l_0)",
-    "zeta": "damping ratio zeta = c / (2 m omega0)",
-    "fd": "kinetic friction F_d = f_d / (k l_0)",
-    "fs": "maximum static friction F_s = f_ms / (k l_0)",
-    "vd": "Karnopp stick-band half width V_d",
-    "vs": "Stribeck velocity V_s",
-    "delta": "Stribeck exponent",
-    "x0": "initial displacement X(0)",
-    "v0": "initial velocity X'(0)",
-}
 
 
 def provenance(cfg: SweepConfig) -> dict[str, str]:
@@ -108,16 +98,12 @@ class SweepStore:
         for name, values in cfg.axes.items():
             a = root.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8", dimension_names=(name,))
             a[:] = values
-            a.attrs.update(units="1", long_name=AXIS_META[name])
-        for (name, units, long_name) in VARIABLES:
-            if name == "kind":
-                a = root.create_array(name, shape=cfg.shape, chunks=self.chunks, dtype="i1", fill_value=-1, dimension_names=cfg.dims)
-                a.attrs.update(
-                    units=units, long_name=long_name, flag_values=[0, 1, 2], flag_meanings=" ".join(KIND_NAMES),
-                )
-            else:
-                a = root.create_array(name, shape=cfg.shape, chunks=self.chunks, dtype="f8", fill_value=np.nan, dimension_names=cfg.dims)
-                a.attrs.update(units=units, long_name=long_name)
+            a.attrs.update(declared()[name].attrs)
+        for q in Q.SWEPT:  # the result variables, as the quantities table describes them
+            a = root.create_array(q.name, shape=cfg.shape, chunks=self.chunks, dtype=q.dtype, fill_value=_fill(q), dimension_names=cfg.dims)
+            a.attrs.update(units=q.units, long_name=q.long_name)
+            if q.flags:
+                a.attrs.update(flag_values=list(range(len(q.flags))), flag_meanings=" ".join(q.flags))
         total = int(np.prod(self.grid))
         root.create_array(DONE, shape=(total,), chunks=(1,), dtype="i1", fill_value=0, dimension_names=("_chunk",))
         attrs = provenance(cfg)
@@ -163,12 +149,12 @@ class SweepStore:
         from .compute import chunk_slices
 
         sl = chunk_slices(chunk, self.chunks, self.cfg.shape)
-        for j, (name, _, _) in enumerate(VARIABLES):
-            arr = self.root[name]
-            if name == "kind":
-                arr[sl] = np.where(np.isnan(results[j]), -1, results[j]).astype(np.int8)
-            else:
+        for j, q in enumerate(Q.SWEPT):  # results: the kernels' rows, in the table's order
+            arr = self.root[q.name]
+            if q.dtype == "f8":
                 arr[sl] = results[j]
+            else:
+                arr[sl] = np.where(np.isnan(results[j]), _fill(q), results[j]).astype(q.dtype)
         self.root[DONE][self._flat(chunk)] = 1
 
     def finish(self):
@@ -188,6 +174,11 @@ class SweepStore:
         os.replace(tmp, self.target)
         shutil.rmtree(self.path)
         return xr.open_dataset(self.target)
+
+
+def _fill(q: Q.Quantity) -> float:
+    """The value of a point not computed yet: NaN, or -1 for an integer code."""
+    return np.nan if q.dtype == "f8" else -1
 
 
 def iter_chunks(grid: tuple[int, ...]) -> Iterator[tuple[int, ...]]:

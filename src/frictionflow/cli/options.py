@@ -1,0 +1,69 @@
+"""The CLI options of the declared parameters, in one place for every command.
+
+:func:`with_parameters` adds an option for each declared parameter of the
+chosen owners (:mod:`frictionflow.parameters`) to a command function, so that
+a parameter added to a law, a solver or the oscillator appears on every
+command that takes it, with its help text from the declaration.  The command
+receives them as one mapping ``params`` (only those given: the rest is None).
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+from pathlib import Path
+from typing import Any, Callable, Optional
+
+import typer
+
+from ..config import RunConfig
+from ..io import read_config
+from ..parameters import Param, declared
+
+#: the run's parameters every model command takes (the others are command-specific)
+MODEL_RUN = ("x0", "v0", "t_end", "friction", "solver", "dimensional")
+
+_TYPES = {"real": float, "int": int, "choice": str, "text": str}
+
+
+def parameter_names(owners: tuple[str, ...], run: tuple[str, ...] = ()) -> tuple[str, ...]:
+    """Declared parameters of ``owners``, plus the run parameters named in ``run``."""
+    return tuple(n for n, p in declared().items() if p.owner in owners or n in run)
+
+
+def _option(p: Param, help_override: dict[str, str]) -> inspect.Parameter:
+    annotation = Optional[_TYPES[p.kind]]
+    option = typer.Option(None, p.flag, help=help_override.get(p.name, p.help()))
+    return inspect.Parameter(p.name, inspect.Parameter.KEYWORD_ONLY, default=option, annotation=annotation)
+
+
+def with_parameters(names: tuple[str, ...], help_override: dict[str, str] | None = None) -> Callable:
+    """Decorator: give a command one option per parameter in ``names``, passed to it as ``params``."""
+    params = declared()
+    extra = [_option(params[n], help_override or {}) for n in names]
+
+    def decorate(fn: Callable) -> Callable:
+        own = [q for q in inspect.signature(fn, eval_str=True).parameters.values() if q.name != "params"]
+
+        @functools.wraps(fn)
+        def command(**kwargs: Any) -> Any:
+            given = {n: kwargs.pop(n) for n in names}
+            return fn(params=given, **kwargs)
+
+        # typer must read this signature (annotations evaluated), not the function's
+        command.__signature__ = inspect.Signature([*extra, *(q.replace(kind=inspect.Parameter.KEYWORD_ONLY) for q in own)])  # type: ignore[attr-defined]
+        command.__annotations__ = {}
+        del command.__wrapped__
+        return command
+
+    return decorate
+
+
+def merged_config(config: Optional[Path], options: dict[str, Any]) -> RunConfig:
+    """Config file values, overridden by the options given on the command line."""
+    values: dict[str, Any] = read_config(config) if config is not None else {}
+    values.update({k: v for k, v in options.items() if v is not None})
+    return RunConfig.from_mapping(values, source=str(config) if config else "options")
+
+
+CONFIG_OPTION = typer.Option(None, "--config", help="TOML file with any of these options (names with underscores).")

@@ -1,0 +1,40 @@
+"""The friction laws by name: what the CLI, configs, sweeps and orbits look laws up in.
+
+A law registers itself with :func:`register` (a class decorator) in its own
+module; :mod:`frictionflow.friction` imports every built-in law's module.
+Nothing outside this package names a law.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .base import FrictionLaw
+
+_LAWS: dict[str, type["FrictionLaw"]] = {}
+
+
+def register(cls: type["FrictionLaw"]) -> type["FrictionLaw"]:
+    """Class decorator: make ``cls`` available by its ``name`` (``--friction NAME``)."""
+    if cls.name in _LAWS and _LAWS[cls.name] is not cls:
+        raise ValueError(f"a friction law named {cls.name!r} is registered already")
+    _LAWS[cls.name] = cls
+    return cls
+
+
+def law_names(configurable: bool = True) -> tuple[str, ...]:
+    """Names of the registered laws (``configurable``: only those a config or the CLI can build)."""
+    return tuple(n for n, c in _LAWS.items() if c.configurable or not configurable)
+
+
+def law_classes() -> tuple[type["FrictionLaw"], ...]:
+    return tuple(_LAWS.values())
+
+
+def law_class(name: str) -> type["FrictionLaw"]:
+    """The law registered as ``name``; ValueError listing the names otherwise."""
+    cls = _LAWS.get(name)
+    if cls is None or not cls.configurable:
+        raise ValueError(f"friction must be one of {', '.join(law_names())}, got {name!r}")
+    return cls

@@ -1,0 +1,215 @@
+"""Every parameter declared once: name, symbol, meaning, unit, default, allowed range and owner.
+
+A :class:`Param` is the single source for everything said about a parameter:
+validation (``check``, one-line ``ValueError`` naming it and its range), the
+CLI option (``--name``, its help), the TOML key (its ``name``), whether it can
+be a sweep axis, the JSON ``params`` and the xarray attributes (``units``,
+``long_name``).  The owners declare their own parameters -- the oscillator in
+:mod:`frictionflow.params`, each friction law in its module, each solver in
+its module, the run in :mod:`frictionflow.config` -- and :func:`declared`
+collects them; nothing else lists parameter names.
+
+A default is a value, or a function of the other values of the same owner
+(``fs`` defaults to ``fd``): it then works on scalars and on the per-point
+arrays of a sweep alike.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Any, Callable, Mapping
+
+OWNERS = ("oscillator", "law", "solver", "run")
+KINDS = ("real", "int", "choice", "text")
+
+
+@dataclass(frozen=True)
+class Param:
+    """One parameter.
+
+    Attributes
+    ----------
+    name:
+        Key in the API, configs, sweep grids and JSON (``t_end``); the CLI option is ``--t-end``.
+    symbol, meaning, unit:
+        For help texts and the xarray attributes (``long_name = "meaning symbol"``).
+    owner:
+        ``oscillator``, ``law``, ``solver`` or ``run``.
+    default:
+        A value, a function of the owner's other (resolved) values, or None (none: optional).
+    default_text:
+        How the default reads in help texts (by default ``str(default)``).
+    lower, upper, lower_open, upper_open:
+        The allowed range of a ``real`` or ``int`` (None: unbounded; ``real`` is always finite).
+    kind:
+        ``real``, ``int``, ``choice`` (one of ``choices``) or ``text`` (free text, parsed by its owner).
+    sweepable:
+        Whether it can be a sweep axis (every ``real`` of the oscillator, a law or the initial state).
+    report:
+        Whether it appears in the JSON ``params`` of a run.
+    """
+
+    name: str
+    symbol: str
+    meaning: str
+    owner: str
+    default: Any = None
+    default_text: str | None = None
+    lower: float | None = None
+    upper: float | None = None
+    lower_open: bool = False
+    upper_open: bool = False
+    kind: str = "real"
+    choices: tuple[str, ...] = ()
+    unit: str = "1"
+    sweepable: bool = False
+    report: bool = True
+    #: for ``text``: turns the given value (text, or a TOML list/table) into the setting
+    parse: Callable[[Any], Any] | None = None
+
+    def __post_init__(self) -> None:
+        if self.owner not in OWNERS or self.kind not in KINDS:
+            raise ValueError(f"{self.name}: owner must be one of {OWNERS} and kind one of {KINDS}")
+
+    # -- validation ------------------------------------------------------------
+    @property
+    def allowed(self) -> str:
+        """The allowed values in words, as error messages and help texts say them."""
+        if self.kind == "choice":
+            return "one of " + ", ".join(self.choices)
+        if self.kind == "text":
+            return "text"
+        base = "an integer" if self.kind == "int" else "finite"
+        parts = []
+        if self.lower is not None:
+            parts.append(f"{'>' if self.lower_open else '>='} {self.lower:g}")
+        if self.upper is not None:
+            parts.append(f"{'<' if self.upper_open else '<='} {self.upper:g}")
+        if not parts:
+            return "an integer" if self.kind == "int" else "a finite real number"
+        return f"{base} and {' and '.join(parts)}"
+
+    def check(self, value: Any) -> Any:
+        """``value`` converted and validated; ValueError naming this parameter otherwise."""
+        if self.kind == "choice":
+            if value not in self.choices:
+                raise ValueError(f"{self.name} must be {self.allowed}, got {value!r}")
+            return value
+        if self.kind == "text":
+            if self.parse is not None:
+                return self.parse(value)
+            if not isinstance(value, str):
+                raise ValueError(f"{self.name} must be text, got {value!r}")
+            return value
+        x = self._number(value)
+        if (self.lower is not None and (x < self.lower or (self.lower_open and x == self.lower))) or (
+            self.upper is not None and (x > self.upper or (self.upper_open and x == self.upper))
+        ):
+            raise ValueError(f"{self.name} must be {self.allowed}, got {value!r}")
+        return x
+
+    def _number(self, value: Any) -> float | int:
+        bad = ValueError(f"{self.name} must be {self.allowed}, got {value!r}")
+        if isinstance(value, (bool, str)) or value is None:
+            raise bad  # true/"10" in a config are mistakes, not numbers
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            raise bad from None
+        if not math.isfinite(x):
+            raise bad
+        if self.kind == "int":
+            if not x.is_integer():
+                raise bad
+            return int(x)
+        return x
+
+    # -- defaults ----------------------------------------------------------------
+    def default_for(self, values: Mapping[str, Any]) -> Any:
+        """The default given the owner's other resolved values."""
+        return self.default(values) if callable(self.default) else self.default
+
+    # -- presentation ------------------------------------------------------------
+    @property
+    def flag(self) -> str:
+        return "--" + self.name.replace("_", "-")
+
+    @property
+    def long_name(self) -> str:
+        return f"{self.meaning} {self.symbol}".strip()
+
+    @property
+    def attrs(self) -> dict[str, str]:
+        """xarray attributes of a variable or coordinate holding this parameter."""
+        return {"units": self.unit, "long_name": self.long_name}
+
+    def help(self) -> str:
+        """One line for ``--help``: meaning, symbol, range and default."""
+        shown = self.default_text if self.default_text is not None else (None if self.default is None else f"{self.default:g}" if isinstance(self.default, float) else str(self.default))
+        text = f"{self.meaning[0].upper()}{self.meaning[1:]} {self.symbol}".rstrip()
+        if self.kind in ("real", "int") and self.allowed not in ("a finite real number", "an integer"):
+            text += ", " + self.allowed.removeprefix("finite and ").removeprefix("an integer and ")
+        if self.kind == "choice":
+            text += ": " + ", ".join(self.choices)
+        return text + (f" [{shown}]." if shown is not None else ".")
+
+    def with_default(self, default: Any, text: str | None = None) -> "Param":
+        """The same parameter with another owner's default (Stribeck's F_s = 2 F_d)."""
+        return replace(self, default=default, default_text=text)
+
+
+def resolve(params: tuple[Param, ...], given: Mapping[str, Any]) -> dict[str, Any]:
+    """Validated values of ``params`` from ``given`` (None or missing: the default), in declaration order."""
+    return with_defaults(params, {k: (None if v is None else params_by_name(params)[k].check(v))
+                                  for k, v in given.items() if k in params_by_name(params)})
+
+
+def with_defaults(params: tuple[Param, ...], values: Mapping[str, Any]) -> dict[str, Any]:
+    """``values`` completed with the defaults, in declaration order; no checks (values may be per-point arrays).
+
+    Defaults that are functions see the values resolved before them.
+    """
+    out: dict[str, Any] = {}
+    for p in params:
+        v = values.get(p.name)
+        out[p.name] = p.default_for(out) if v is None else v
+    return out
+
+
+def params_by_name(params: tuple[Param, ...]) -> dict[str, Param]:
+    return {p.name: p for p in params}
+
+
+def declared() -> dict[str, Param]:
+    """Every parameter of the package by name (oscillator, every registered law and solver, the run)."""
+    from .config import RUN_PARAMETERS
+    from .friction.registry import law_classes
+    from .params import BeltOscillator
+    from .solvers.registry import solver_classes
+
+    out: dict[str, Param] = {}
+    owners: list[tuple[Param, ...]] = [BeltOscillator.parameters]
+    owners += [cls.parameters for cls in law_classes()]
+    owners += [cls.parameters for cls in solver_classes()]
+    owners.append(RUN_PARAMETERS)
+    for group in owners:
+        for p in group:
+            out.setdefault(p.name, p)  # shared law parameters (fd, fs, ...) are one declaration
+    return out
+
+
+def sweep_axes() -> tuple[str, ...]:
+    """Names that can be sweep axes: the real parameters of the oscillator, the laws and the initial state."""
+    return tuple(name for name, p in declared().items() if p.sweepable)
+
+
+def positive_real(name: str, symbol: str, meaning: str, owner: str, default: Any, **kw: Any) -> Param:
+    """A real > 0."""
+    return Param(name, symbol, meaning, owner, default, lower=0.0, lower_open=True, **kw)
+
+
+def nonnegative_real(name: str, symbol: str, meaning: str, owner: str, default: Any, **kw: Any) -> Param:
+    """A real >= 0."""
+    return Param(name, symbol, meaning, owner, default, lower=0.0, **kw)
+
