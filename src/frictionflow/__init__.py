@@ -21,7 +21,7 @@ from .analysis import (
     transmissibility,
 )
 from .analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
-from .friction import Coulomb, FrictionLaw, Karnopp, SlipLaw, Stribeck
+from .friction import Coulomb, Cubic, FrictionLaw, Karnopp, SlipLaw, Stribeck
 from .modes import SwitchMode
 from .params import BeltOscillator, DimensionalParams
 from .simulate import simulate
@@ -39,6 +39,7 @@ __all__ = [
     "BeltOscillator",
     "CoarseStepWarning",
     "Coulomb",
+    "Cubic",
     "DimensionalParams",
     "Exact",
     "FrictionLaw",

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from frictionflow import BeltOscillator, Coulomb, Stribeck
+from frictionflow import BeltOscillator, Coulomb, Karnopp, Stribeck, sliding_equilibrium
 from frictionflow.orbits import continuation
-from frictionflow.orbits.equilibria import equilibrium, hopf_points
+from frictionflow.orbits.equilibria import equilibrium, equilibrium_branch, hopf_points
 
 FD, FS, VS = 0.02, 0.04, 0.01
 
@@ -62,3 +62,19 @@ def test_constant_friction_has_no_hopf_point():
     eq = equilibrium(BeltOscillator(zeta=0.05, vb=0.01), Coulomb(FD, FS))
     assert eq.x == FD and eq.stability == "stable"
     assert equilibrium(BeltOscillator(zeta=0.05, vb=0.0), Coulomb(FD, FS)) is None
+
+
+def test_the_branch_is_made_of_the_analysis_equilibria():
+    # one definition: the continuation's equilibria are those frictionflow.analyze reports
+    model, law = BeltOscillator(zeta=0.1, vb=0.01), Stribeck(FD, FS, VS, delta=1.0, viscous=0.05)
+    for eq in equilibrium_branch(model, law, "vb", np.linspace(0.005, 0.05, 7)):
+        same = sliding_equilibrium(BeltOscillator(zeta=0.1, vb=eq.value), law)
+        assert (eq.x, eq.damping, eq.eigenvalues) == (same.x, same.damping, same.eigenvalues)
+        assert eq.stability == ("stable" if 2 * 0.1 + slope(eq.value, 1.0, 0.05) > 0 else "unstable")
+
+
+def test_no_sliding_equilibrium_inside_karnopps_band():
+    law = Karnopp(FD, FS, vd=1e-3)
+    assert math.isnan(sliding_equilibrium(BeltOscillator(zeta=0.05, vb=5e-4), law).x)
+    assert equilibrium(BeltOscillator(zeta=0.05, vb=5e-4), law) is None
+    assert equilibrium(BeltOscillator(zeta=0.05, vb=0.01), law).x == FD

@@ -57,7 +57,7 @@ def state(dyn, zeta, force, x0, v0, t):
     return state_with(coefficients(dyn, zeta, force, x0, v0), dyn, zeta, force, x0, v0, t)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def state_with(co, dyn, zeta, force, x0, v0, t):
     """:func:`state` with the phase's :func:`coefficients` computed once by the caller."""
     if dyn == LIN:
@@ -88,16 +88,15 @@ def state_with(co, dyn, zeta, force, x0, v0, t):
 
 
 @njit(cache=True)
-def critical_points(co, dyn, a, b, t_from, t_max, out):
-    """Times in (t_from, t_max) where g = a X + b X' has g' = 0, ascending; returns how many.
+def first_critical(co, dyn, a, b, t_from):
+    """(t, step): the first time > ``t_from`` where g = a X + b X' has g' = 0, and the spacing of the next ones.
 
-    ``co``: the phase's :func:`coefficients`.  For OSC underdamped the times
-    repeat every pi / w; at most ``len(out)`` are returned (the caller asks
-    again from the last one).
+    ``co``: the phase's :func:`coefficients`.  OSC underdamped: g' = 0 every
+    pi / w from t on; otherwise there is at most one such time (step = inf);
+    t = inf when there is none.
     """
-    n = 0
     if dyn != OSC:
-        return 0  # LIN: g linear in t; EXP: g = const + k e^{-ct}; both monotone
+        return np.inf, np.inf  # LIN: g linear in t; EXP: g = const + k e^{-ct}; both monotone
     reg, r1, r2, p, q = co
     if reg == UNDER:
         # g - const = e^{-r1 t}(P cos + Q sin); g' = e^{-r1 t}(P' cos + Q' sin)
@@ -108,40 +107,47 @@ def critical_points(co, dyn, a, b, t_from, t_max, out):
         P1 = -r1 * P + r2 * Q
         Q1 = -r1 * Q - r2 * P
         if P1 == 0.0 and Q1 == 0.0:
-            return 0
+            return np.inf, np.inf
         phi = math.atan2(Q1, P1)
         # zeros of cos(r2 t - phi): r2 t = phi + pi/2 + k pi
         t0 = (phi + 0.5 * math.pi) / r2
         step = math.pi / r2
-        k = math.ceil((t_from - t0) / step)
-        t = t0 + k * step
+        t = t0 + math.ceil((t_from - t0) / step) * step
         if t <= t_from:
             t += step
-        while t < t_max and n < len(out):
-            out[n] = t
-            n += 1
-            t += step
-        return n
+        return t, step
+    t = np.inf
     if reg == CRIT:
         # g - const = e^{-t}(P + Q t)
         P = a * p + b * (q - p)
         Q = a * q - b * q
         if Q != 0.0:
             t = (Q - P) / Q
-            if t_from < t < t_max:
-                out[0] = t
-                return 1
-        return 0
-    P = (a + b * r1) * p
-    Q = (a + b * r2) * q
-    if P != 0.0 and Q != 0.0:
-        ratio = -r2 * Q / (r1 * P)
-        if ratio > 0.0:
-            t = math.log(ratio) / (r1 - r2)
-            if t_from < t < t_max:
-                out[0] = t
-                return 1
-    return 0
+    else:
+        P = (a + b * r1) * p
+        Q = (a + b * r2) * q
+        if P != 0.0 and Q != 0.0:
+            ratio = -r2 * Q / (r1 * P)
+            if ratio > 0.0:
+                t = math.log(ratio) / (r1 - r2)
+    return (t if t > t_from else np.inf), np.inf
+
+
+@njit(cache=True)
+def critical_points(co, dyn, a, b, t_from, t_max, out):
+    """Times in (t_from, t_max) where g = a X + b X' has g' = 0, ascending; returns how many.
+
+    ``co``: the phase's :func:`coefficients`.  For OSC underdamped the times
+    repeat every pi / w; at most ``len(out)`` are returned (the caller asks
+    again from the last one).
+    """
+    t, step = first_critical(co, dyn, a, b, t_from)
+    n = 0
+    while t < t_max and n < len(out):
+        out[n] = t
+        n += 1
+        t += step
+    return n
 
 
 @njit(cache=True)
@@ -167,21 +173,7 @@ def integral_v2(dyn, zeta, force, x0, v0, T):
         return v0 * v0 * (-math.expm1(-2.0 * c * T)) / (2.0 * c)
     reg, r1, r2, p, q = coefficients(dyn, zeta, force, x0, v0)
     if reg == UNDER:
-        C = r2 * q - r1 * p
-        D = -(r2 * p + r1 * q)
-        s = 0.5 * (C * C + D * D)
-        dc = 0.5 * (C * C - D * D)
-        ds = C * D
-        al = -2.0 * r1
-        be = 2.0 * r2
-        i0 = -math.expm1(al * T) / (-al) if al != 0.0 else T
-        e = math.exp(al * T)
-        cb = math.cos(be * T)
-        sb = math.sin(be * T)
-        den = al * al + be * be
-        ic = (e * (al * cb + be * sb) - al) / den
-        is_ = (e * (al * sb - be * cb) + be) / den
-        return s * i0 + dc * ic + ds * is_
+        return _v2_under(r1, r2, p, q, T)
     if reg == CRIT:
         C = q - p
         D = -q
@@ -193,3 +185,31 @@ def integral_v2(dyn, zeta, force, x0, v0, T):
     P = r1 * p
     Q = r2 * q
     return P * P * math.expm1(2 * r1 * T) / (2 * r1) + 2 * P * Q * math.expm1((r1 + r2) * T) / (r1 + r2) + Q * Q * math.expm1(2 * r2 * T) / (2 * r2)
+
+
+@njit(cache=True)
+def _v2_under(r1, r2, p, q, T):
+    """int_0^T X'^2 for X' = e^{-r1 t}(C cos r2 t + D sin r2 t) (OSC underdamped coefficients p, q).
+
+    X'^2 = e^{-2 r1 t}(s + dc cos 2 r2 t + ds sin 2 r2 t).  One expm1 and one
+    sine/cosine pair serve all three terms (the double angle from the single).
+    """
+    C = r2 * q - r1 * p
+    D = -(r2 * p + r1 * q)
+    s = 0.5 * (C * C + D * D)
+    dc = 0.5 * (C * C - D * D)
+    ds = C * D
+    em = math.expm1(-r1 * T)  # e^{-r1 T} - 1, exact also for small r1 T
+    e = 1.0 + em if em > -0.5 else math.exp(-r1 * T)
+    e2 = e * e  # e^{-2 r1 T}
+    i0 = -em * (em + 2.0) / (2.0 * r1) if r1 != 0.0 else T  # (1 - e^{-2 r1 T}) / (2 r1)
+    c1 = math.cos(r2 * T)
+    s1 = math.sin(r2 * T)
+    cb = (c1 - s1) * (c1 + s1)  # cos 2 r2 T
+    sb = 2.0 * s1 * c1  # sin 2 r2 T
+    al = -2.0 * r1
+    be = 2.0 * r2
+    den = al * al + be * be
+    ic = (e2 * (al * cb + be * sb) - al) / den
+    is_ = (e2 * (al * sb - be * cb) + be) / den
+    return s * i0 + dc * ic + ds * is_

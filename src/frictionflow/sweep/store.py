@@ -108,12 +108,11 @@ class SweepStore:
         root.create_array(DONE, shape=(total,), chunks=(1,), dtype="i1", fill_value=0, dimension_names=("_chunk",))
         attrs = provenance(cfg)
         fixed = {k: v for k, v in cfg.fixed.items()}
-        relevant = {"fd", "fs", "vb", "zeta", "x0", "v0"}
-        relevant |= {"vd"} if cfg.run.friction == "karnopp" else set()
-        relevant |= {"vs", "delta"} if cfg.run.friction == "stribeck" else set()
-        for key in GRID_KEYS:
-            if key in relevant and key not in cfg.axes and getattr(cfg.run, key, None) is not None:
-                fixed.setdefault(key, getattr(cfg.run, key))
+        model, law, _ = cfg.run.build()  # every setting of a point, defaults resolved
+        settings = {**model.as_dict(), **law.values(), "x0": cfg.run.x0, "v0": cfg.run.v0}
+        for key, value in settings.items():
+            if key in GRID_KEYS and key not in cfg.axes and value is not None:
+                fixed.setdefault(key, value)
         attrs.update({f"fixed_{k}": float(v) for k, v in fixed.items()})
         attrs.update({"friction": cfg.run.friction, "solver": cfg.run.solver, "stick_force": cfg.run.stick_force, "t_end": cfg.run.t_end})
         attrs["chunk_shape"] = list(self.chunks)
