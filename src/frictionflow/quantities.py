@@ -30,9 +30,8 @@ Adding a quantity
    :func:`~frictionflow.core.sections.window_summary` (at
    ``INDEX[name]``), and, if it is reported in ``amplitude``, in
    :func:`frictionflow.analysis.transmissibility.amplitude`.
-3. Numba's cache keys a kernel on its own source file only: after changing
-   the table, delete ``src/frictionflow/core/__pycache__`` so that the
-   kernels compile with the new positions.
+3. Nothing to clear by hand: the kernels' numba cache is dropped whenever
+   this table or any kernel source changes (:mod:`frictionflow.core._cache`).
 4. If the sweep output changes, record the golden outputs again
    (``python -m tests.golden.record``) and say so in the CHANGELOG.
 """
