@@ -14,9 +14,10 @@ from typing import Any, Mapping
 
 from . import _validate as check
 from .friction import FrictionLaw, law_class, law_names
-from .parameters import Param, declared, positive_real
+from .parameters import STATE_MAX, Param, declared
 from .params import BeltOscillator, DimensionalParams
 from .solvers import Solver
+from .solvers.base import DEFAULT_MAX_MEMORY
 from .solvers.registry import build_solver, solver_names
 
 DIMENSIONAL_KEYS = ("m", "c", "k", "v_b", "f_d", "f_ms", "v_d", "l_0")
@@ -71,16 +72,20 @@ def _dimensional_table(table: Any) -> dict[str, float]:
 
 #: the run's own parameters (the oscillator, laws and solvers declare theirs)
 RUN_PARAMETERS: tuple[Param, ...] = (
-    positive_real("t_end", "tau_end", "end time", "run", 500.0),
-    Param("x0", "X(0)", "initial displacement", "run", None, default_text="F_d", sweepable=True),
-    Param("v0", "X'(0)", "initial velocity", "run", None, default_text="V_b", sweepable=True),
+    Param("t_end", "tau_end", "end time", "run", 500.0, lower=0.0, lower_open=True, upper=1e12),
+    Param("x0", "X(0)", "initial displacement", "run", None, default_text="F_d", lower=-STATE_MAX, upper=STATE_MAX,
+          sweepable=True),
+    Param("v0", "X'(0)", "initial velocity", "run", None, default_text="V_b", lower=-STATE_MAX, upper=STATE_MAX,
+          sweepable=True),
     Param("friction", "", "friction law", "run", "karnopp", kind="choice", choices=law_names()),
     Param("solver", "", "solver (auto: exact for piecewise-constant laws, else adaptive)", "run", "auto",
           kind="choice", choices=solver_names()),
     Param("window", "", "average over T0:T1 instead of the detected steady-state window", "run", None,
           kind="text", parse=parse_window),
-    positive_real("rtol", "", "steady-state convergence tolerance", "run", None,
+    Param("rtol", "", "steady-state convergence tolerance", "run", None, lower=1e-15, upper=1.0,
                   default_text="rk4 1e-6, adaptive 1e-8, exact 1e-10"),
+    Param("max_memory", "", "GiB the samples of a run may take (a longer run is refused up front)", "run",
+          DEFAULT_MAX_MEMORY, lower=0.0, lower_open=True, upper=1e6, unit="GiB"),
     Param("dimensional", "", "dimensional input instead: 'm=..,c=..,k=..,v_b=..,f_d=..[,f_ms=..,v_d=..,l_0=..]'",
           "run", None, kind="text", parse=parse_dimensional),
 )

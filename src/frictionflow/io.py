@@ -1,13 +1,25 @@
-"""File formats: reading TOML configs, writing trajectories (CSV, NetCDF), checking output paths.
+"""File formats: reading TOML configs, writing trajectories (CSV, NetCDF), checking and writing output paths.
 
 What a trajectory *is* as a table (its xarray form) belongs to
 :meth:`frictionflow.trajectory.Trajectory.to_xarray`; this module only
 imports :mod:`.trajectory`, never the other way round.
+
+Every file the package writes goes through :func:`atomic_write`: it is
+written under a temporary name beside its target and renamed into place only
+when complete, so a failure or a kill never leaves a partial file under the
+target's name.  :func:`check_output_path` refuses, before any work, the
+paths that could not be written at all.
 """
 
 from __future__ import annotations
 
+import errno
+import os
+import re
+import secrets
 import tomllib
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -16,6 +28,8 @@ import numpy as np
 from .trajectory import WORK_NAMES, Trajectory
 
 TRAJECTORY_FORMATS = (".csv", ".nc")
+#: bytes of the target's stem kept in a temporary's name (so that it fits wherever the target fits)
+_TEMP_STEM_BYTES = 64
 
 
 def trajectory_to_dataset(traj: Trajectory):
@@ -23,35 +37,263 @@ def trajectory_to_dataset(traj: Trajectory):
     return traj.to_xarray()
 
 
-def check_output_path(path: str | Path, allowed: tuple[str, ...], name: str) -> Path:
-    """Refuse an output path whose extension is not one of ``allowed``, before any work."""
+# -- checks before any work ---------------------------------------------------------------------
+
+def check_output_path(path: str | Path, allowed: tuple[str, ...] | None, name: str) -> Path:
+    """Refuse, before any work, an output path that could not be written.
+
+    ``allowed`` lists the extensions accepted (None: any); ``name`` is the
+    option or argument that gave the path, named in the error.  Refused: a
+    wrong extension, an existing directory, a parent that is missing, not a
+    directory or not writable, an existing file that is read-only, and a name
+    too long for the file system.
+    """
     p = Path(path)
-    if p.suffix.lower() not in allowed:
+    if allowed is not None and p.suffix.lower() not in allowed:
         raise ValueError(f"{name} must end in one of {', '.join(allowed)}, got {str(path)!r}")
-    if not p.parent.exists():
-        raise ValueError(f"{name}: directory {str(p.parent)!r} does not exist")
+    problem = _guarded(_output_problem, p, "write")
+    if problem is not None:
+        raise ValueError(f"{name}: {problem}")
     return p
 
 
-def write_trajectory(traj: Trajectory, path: str | Path) -> Path:
-    """Write ``traj`` as CSV or NetCDF, chosen by the extension."""
-    p = check_output_path(path, TRAJECTORY_FORMATS, "out")
-    if p.suffix.lower() == ".nc":
-        traj.to_xarray().to_netcdf(p)
-        return p
-    cols = np.column_stack([traj.t, traj.x, traj.v, traj.fc, traj.mode, traj.work])
-    header = ",".join(["tau", "X", "V", "F_c", "mode", *WORK_NAMES])
-    np.savetxt(p, cols, delimiter=",", header=header, comments="", fmt="%.17g")
-    return p
-
-
-def read_config(path: str | Path) -> dict[str, Any]:
-    """Parse a TOML config; a missing or malformed file raises ValueError."""
+def check_output_dir(path: str | Path, name: str) -> Path:
+    """Refuse, before any work, an output directory that could not be created or written into."""
     p = Path(path)
+    problem = _guarded(_output_dir_problem, p, "write")
+    if problem is not None:
+        # "out must be a directory, ..." reads as a sentence; the rest as "out: why"
+        raise ValueError(f"{name} {problem}" if problem.startswith("must ") else f"{name}: {problem}")
+    return p
+
+
+def check_input_path(path: str | Path, name: str) -> Path:
+    """Refuse, before any work, an input file that is missing, a directory, under a file or unreadable."""
+    p = Path(path)
+    problem = _guarded(_input_problem, p, "read")
+    if problem is not None:
+        raise ValueError(f"{name}: {problem}")
+    return p
+
+
+def _guarded(problem: Callable[[Path], str | None], p: Path, verb: str) -> str | None:
+    """``problem(p)``, or the system's reason when ``p`` cannot even be looked up (a name too long, ...)."""
+    try:
+        return problem(p)
+    except OSError as e:
+        return f"cannot {verb} {str(p)!r}: {_reason(e)}"
+
+
+def _input_problem(p: Path) -> str | None:
+    """Why ``p`` could not be read, or None."""
+    if p.is_dir():
+        return f"{str(p)!r} is a directory, not a file"
+    if not p.exists():
+        blocker = _file_ancestor(p)
+        if blocker is not None:
+            return f"{str(blocker)!r} is a file, not a directory (in {str(p)!r})"
+        return f"file {str(p)!r} not found"
+    if not os.access(p, os.R_OK):
+        return f"{str(p)!r} is not readable (permission denied)"
+    return None
+
+
+def _output_problem(p: Path) -> str | None:
+    """Why file ``p`` could not be written, or None."""
+    return _directory_problem(p.parent) or _name_problem(p) or _target_problem(p)
+
+
+def _output_dir_problem(p: Path) -> str | None:
+    """Why directory ``p`` could not be created or written into, or None."""
+    if too_long := _name_problem(p):  # first: a name too long cannot even be looked up
+        return too_long
+    if p.is_dir():
+        return _directory_problem(p)
+    if p.exists():
+        return f"must be a directory, got the file {str(p)!r}"
+    if not p.parent.exists() and _file_ancestor(p.parent) is None:
+        return f"parent directory {str(p.parent)!r} does not exist"
+    return _directory_problem(p.parent)
+
+
+def _name_problem(p: Path) -> str | None:
+    """A name or path too long for the file system (checked first: looking such a path up fails)."""
+    size, longest = len(os.fsencode(p.name)), _limit(p.parent, "PC_NAME_MAX", 255)
+    if size > longest:
+        return f"the file name of {str(p)!r} is too long ({size} bytes; at most {longest} here)"
+    if len(os.fsencode(os.path.abspath(p))) >= _limit(p.parent, "PC_PATH_MAX", 4096):
+        return f"the path {str(p)!r} is too long"
+    return None
+
+
+def _target_problem(p: Path) -> str | None:
+    """An existing directory, or a read-only file, where the file should go."""
+    if p.is_dir():
+        return f"{str(p)!r} is a directory"
+    if p.exists() and not os.access(p, os.W_OK):
+        return f"{str(p)!r} exists and is read-only"
+    return None
+
+
+def _directory_problem(d: Path) -> str | None:
+    """Why files cannot be created in directory ``d``, or None."""
+    if d.is_dir():
+        if os.access(d, os.W_OK | os.X_OK):
+            return None
+        why = "on a read-only file system" if _read_only(d) else "not writable (permission denied)"
+        return f"directory {str(d)!r} is {why}"
+    if d.exists():
+        return f"{str(d)!r} is a file, not a directory"
+    blocker = _file_ancestor(d)
+    if blocker is not None:
+        return f"{str(blocker)!r} is a file, not a directory"
+    return f"directory {str(d)!r} does not exist"
+
+
+def _file_ancestor(p: Path) -> Path | None:
+    """The nearest existing ancestor of ``p`` when it is a file (``p`` lies under a file), else None."""
+    for a in p.parents:
+        if a.exists():
+            return None if a.is_dir() else a
+    return None
+
+
+def _read_only(d: Path) -> bool:
+    try:
+        return bool(os.statvfs(d).f_flag & os.ST_RDONLY)
+    except OSError:
+        return False
+
+
+def _limit(d: Path, key: str, default: int) -> int:
+    """A file-system limit (``PC_NAME_MAX``, ``PC_PATH_MAX``) of directory ``d``."""
+    try:
+        return int(os.pathconf(d if d.is_dir() else ".", key))
+    except (OSError, ValueError, AttributeError):  # no pathconf (Windows) or no such limit
+        return default
+
+
+# -- atomic writing -------------------------------------------------------------------------------
+
+def temporary_path(path: str | Path, token: str | None = None) -> Path:
+    """A hidden temporary name beside ``path`` with its extension (which writers read the format from)."""
+    p = Path(path)
+    stem = os.fsdecode(os.fsencode(p.stem)[:_TEMP_STEM_BYTES])
+    suffix = p.suffix if len(p.suffix) <= 16 else ""
+    return p.with_name(f".{stem}.{token or secrets.token_hex(4)}.tmp{suffix}")
+
+
+def stale_temporaries(path: str | Path) -> list[Path]:
+    """Temporaries of ``path`` left by writers that were killed (only safe to remove when no writer runs)."""
+    p = Path(path)
+    pattern = re.compile(re.escape(temporary_path(p, "TOKEN").name).replace("TOKEN", "[0-9a-f]{8}"))
+    try:
+        return [q for q in p.parent.iterdir() if pattern.fullmatch(q.name)]
+    except OSError:
+        return []
+
+
+@contextmanager
+def atomic_write(path: str | Path, name: str = "path") -> Iterator[Path]:
+    """Yield a temporary path beside ``path``; rename it to ``path`` only when the block completes.
+
+    The block writes the whole file to the temporary path.  On any failure
+    (or interruption) the temporary is removed and ``path`` is left as it
+    was; a file-system failure (permission denied, disk full, a directory in
+    the way, a name too long, ...) becomes a one-line ``ValueError`` naming
+    ``name`` (the option that gave the path) and the path.
+    """
+    target = Path(path)
+    if target.is_symlink():
+        target = target.resolve()  # replace the file it points to, as writing through it would, not the link
+    tmp = temporary_path(target)
+    try:
+        yield tmp
+        _sync(tmp)  # the data on disk before the name: a crash cannot leave a named, empty file
+        os.replace(tmp, target)
+    except BaseException as e:
+        problem = _write_problem(e, target.parent)  # before removing: the disk is still full
+        _remove(tmp)
+        if problem is None:
+            raise
+        raise ValueError(f"{name}: cannot write {str(target)!r}: {problem}") from None
+
+
+def _sync(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _remove(path: Path) -> None:
+    try:
+        os.unlink(path)
+    except FileNotFoundError:
+        pass
+
+
+def _write_problem(e: BaseException, directory: Path) -> str | None:
+    """What a failed write hit, in a few words, when it was the file system; None for anything else."""
+    if isinstance(e, OSError):
+        return _reason(e)
+    if isinstance(e, RuntimeError) and str(e).startswith("NetCDF:"):
+        # the NetCDF library reports a full disk as a generic "HDF error"
+        return os.strerror(errno.ENOSPC).lower() if _full(directory) else str(e)
+    return None
+
+
+def _reason(e: OSError) -> str:
+    """The system's words for an OSError ("permission denied"), without the errno and path."""
+    text = e.strerror or str(e) or type(e).__name__
+    return text[0].lower() + text[1:]
+
+
+def _full(directory: Path) -> bool:
+    try:
+        return os.statvfs(directory).f_bavail == 0
+    except OSError:
+        return False
+
+
+def write_figure(fig, path: str | Path, name: str = "path", *, close: bool = True, **savefig: Any) -> Path:
+    """Save a matplotlib figure atomically (format by the extension) and, unless ``close=False``, close it."""
+    import matplotlib.pyplot as plt
+
+    try:
+        with atomic_write(path, name) as tmp:
+            fig.savefig(tmp, **savefig)
+    finally:
+        if close:
+            plt.close(fig)
+    return Path(path)
+
+
+# -- trajectories and configs ---------------------------------------------------------------------
+
+def write_trajectory(traj: Trajectory, path: str | Path, *, name: str = "out") -> Path:
+    """Write ``traj`` as CSV or NetCDF, chosen by the extension; ``name`` is the option named in errors."""
+    p = check_output_path(path, TRAJECTORY_FORMATS, name)
+    with atomic_write(p, name) as tmp:
+        if p.suffix.lower() == ".nc":
+            traj.to_xarray().to_netcdf(tmp)
+        else:
+            cols = np.column_stack([traj.t, traj.x, traj.v, traj.fc, traj.mode, traj.work])
+            header = ",".join(["tau", "X", "V", "F_c", "mode", *WORK_NAMES])
+            np.savetxt(tmp, cols, delimiter=",", header=header, comments="", fmt="%.17g")
+    return p
+
+
+def read_config(path: str | Path, name: str = "config") -> dict[str, Any]:
+    """Parse a TOML config; a missing, unreadable or malformed file raises ValueError naming ``name``."""
+    p = check_input_path(path, name)
     try:
         with open(p, "rb") as f:
             return tomllib.load(f)
-    except FileNotFoundError:
-        raise ValueError(f"config: file {str(path)!r} not found") from None
     except tomllib.TOMLDecodeError as e:
-        raise ValueError(f"config: {str(path)!r} is not valid TOML ({e})") from None
+        raise ValueError(f"{name}: {str(path)!r} is not valid TOML ({e})") from None
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{name}: {str(path)!r} is not UTF-8 text (byte {e.start})") from None
+    except OSError as e:
+        raise ValueError(f"{name}: cannot read {str(path)!r}: {_reason(e)}") from None

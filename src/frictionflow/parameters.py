@@ -21,6 +21,11 @@ from dataclasses import dataclass, replace
 from typing import Any, Callable, Mapping
 
 OWNERS = ("oscillator", "law", "solver", "run")
+#: The model is non-dimensional (natural frequency 1, forces in units of k l_0):
+#: coefficients beyond MODEL_MAX and states beyond STATE_MAX describe nothing
+#: physical, and their products in the power balance would approach overflow.
+MODEL_MAX = 1e3
+STATE_MAX = 1e6
 KINDS = ("real", "int", "choice", "text")
 
 
@@ -81,14 +86,14 @@ class Param:
         if self.kind == "text":
             return "text"
         base = "an integer" if self.kind == "int" else "finite"
-        parts = []
-        if self.lower is not None:
-            parts.append(f"{'>' if self.lower_open else '>='} {self.lower:g}")
-        if self.upper is not None:
-            parts.append(f"{'<' if self.upper_open else '<='} {self.upper:g}")
-        if not parts:
-            return "an integer" if self.kind == "int" else "a finite real number"
-        return f"{base} and {' and '.join(parts)}"
+        lo, hi = self.lower, self.upper
+        if lo is not None and hi is not None:
+            return f"{base} and in {'(' if self.lower_open else '['}{lo:g}, {hi:g}{')' if self.upper_open else ']'}"
+        if lo is not None:
+            return f"{base} and {'>' if self.lower_open else '>='} {lo:g}"
+        if hi is not None:
+            return f"{base} and {'<' if self.upper_open else '<='} {hi:g}"
+        return "an integer" if self.kind == "int" else "a finite real number"
 
     def check(self, value: Any) -> Any:
         """``value`` converted and validated; ValueError naming this parameter otherwise."""

@@ -20,10 +20,10 @@ from dataclasses import asdict, dataclass
 from typing import Any, ClassVar, Mapping
 
 from . import _validate as check
-from .parameters import Param, nonnegative_real, resolve
+from .parameters import MODEL_MAX, Param, nonnegative_real, resolve
 
-ZETA = nonnegative_real("zeta", "zeta", "damping ratio", "oscillator", 0.0, sweepable=True)
-VB = Param("vb", "V_b", "belt speed", "oscillator", 0.01, sweepable=True)
+ZETA = nonnegative_real("zeta", "zeta", "damping ratio", "oscillator", 0.0, upper=MODEL_MAX, sweepable=True)
+VB = Param("vb", "V_b", "belt speed", "oscillator", 0.01, lower=-MODEL_MAX, upper=MODEL_MAX, sweepable=True)
 
 
 @dataclass(frozen=True)

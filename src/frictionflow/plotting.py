@@ -8,6 +8,7 @@ from pathlib import Path
 
 from .analysis.power_flow import instantaneous_power
 from .analysis.summary import Analysis
+from .io import write_figure
 
 FIGURE_FORMATS = (".png", ".pdf", ".svg")
 MAX_POINTS = 20_000
@@ -17,7 +18,7 @@ def _thin(n: int, max_points: int = MAX_POINTS) -> slice:
     return slice(None, None, max(1, n // max_points))
 
 
-def plot_run(result: Analysis, path: str | Path | None = None):
+def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "path"):
     """Draw X(tau), X'(tau), the phase portrait and the power flow of the steady window.
 
     Returns the matplotlib figure; saves it to ``path`` (PNG, PDF or SVG by
@@ -71,8 +72,7 @@ def plot_run(result: Analysis, path: str | Path | None = None):
     params = f"ζ={traj.zeta:g}, V_b={traj.vb:g}, F_d={traj.friction.fd:g}, F_s={traj.friction.fs:g}"
     fig.suptitle(f"{params}   TR_B={result.TR_B:.4g}")
     if path is not None:
-        fig.savefig(path)
-        plt.close(fig)
+        write_figure(fig, path, name)  # atomic: no partial figure on failure
     return fig
 
 

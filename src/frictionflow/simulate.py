@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
-from . import _validate as check
+from .config import RUN_PARAMETERS
 from .friction.base import FrictionLaw
 from .params import BeltOscillator
-from .solvers.base import Solver
+from .solvers.base import DEFAULT_MAX_MEMORY, Solver
 from .solvers.auto import auto_solver
 from .trajectory import Trajectory
+
+RUN = {p.name: p for p in RUN_PARAMETERS}
 
 
 def simulate(
@@ -19,6 +21,7 @@ def simulate(
     x0: float | None = None,
     v0: float | None = None,
     progress: bool = False,
+    max_memory: float = DEFAULT_MAX_MEMORY,
 ) -> Trajectory:
     """Integrate the belt oscillator from tau = 0 to ``t_end``.
 
@@ -36,15 +39,18 @@ def simulate(
         Initial state; defaults are the paper's X(0) = F_d, X'(0) = V_b.
     progress:
         Draw a progress bar on stderr for long runs.
+    max_memory:
+        GiB the samples may take; a longer run is refused up front, saying so.
     """
     if not isinstance(model, BeltOscillator):
         raise TypeError(f"model must be a BeltOscillator, got {type(model).__name__}")
     if not isinstance(friction, FrictionLaw):
         raise TypeError(f"friction must be a FrictionLaw, got {type(friction).__name__}")
-    t_end = check.positive("t_end", t_end)
-    x0 = friction.fd if x0 is None else check.finite("x0", x0)
-    v0 = model.vb if v0 is None else check.finite("v0", v0)
+    t_end, x0, v0, max_memory = (RUN[k].check(v) if v is not None else None for k, v in
+                                 (("t_end", t_end), ("x0", x0), ("v0", v0), ("max_memory", max_memory)))
+    x0 = friction.fd if x0 is None else x0
+    v0 = model.vb if v0 is None else v0
     solver = auto_solver(friction) if solver is None else solver
     if not solver.supports(friction):
         raise ValueError(f"solver={solver.name} does not support friction={friction.name}")
-    return solver.solve(model, friction, x0, v0, t_end, progress=progress)
+    return solver.solve(model, friction, x0, v0, t_end, progress=progress, max_memory=max_memory)

@@ -82,7 +82,7 @@ def test_fs_defaults_to_fd_and_is_validated():
         Karnopp(fd=0.04, fs=0.03)
     with pytest.raises(ValueError, match=r"^fd must be"):
         Karnopp(fd=-0.01)
-    with pytest.raises(ValueError, match=r"^vd must be finite and > 0"):
+    with pytest.raises(ValueError, match=r"^vd must be finite and in \(0, 1000\]"):
         Karnopp(fd=0.01, vd=0.0)
     with pytest.raises(ValueError, match=r"^stick_force must be one of"):
         Karnopp(fd=0.01, stick_force="both")

@@ -6,7 +6,8 @@ import warnings
 import numpy as np
 import pytest
 
-from frictionflow import BeltOscillator, CoarseStepWarning, Karnopp, RK4, analyze, simulate
+from frictionflow import BeltOscillator, CoarseStepWarning, Coulomb, Karnopp, RK4, analyze, simulate
+from frictionflow.solvers.rk4 import ThinnedOutputWarning
 from frictionflow.solvers import rk4 as rk4_module
 
 from ..conftest import slip_solution
@@ -93,13 +94,33 @@ def test_undamped_orbit_power_flow_is_the_derived_one(case1_run):
     assert pf.energy_residual < 1e-10
 
 
-def test_record_every_keeps_work_integrals_exact(case1_run):
+def test_record_every_keeps_every_kth_step_and_both_steps_around_each_event(case1_run):
     thin = simulate(BeltOscillator(zeta=0.0, vb=0.01), Karnopp(0.02, stick_force="spring"), RK4(dt=1e-3, record_every=7), t_end=200.0)
-    assert len(thin) == math.ceil(200_000 / 7) + 1
-    assert thin.t[-1] == pytest.approx(200.0)
-    assert np.array_equal(thin.x[:-1], case1_run.x[:-1:7])
-    # the same step integrals, summed in groups of 7 instead of one by one
+    idx = np.rint(thin.t / 1e-3).astype(int)
+    assert set(range(0, 200_001, 7)) <= set(idx.tolist()) and idx[-1] == 200_000
+    assert np.array_equal(thin.x, case1_run.x[idx]) and np.array_equal(thin.v, case1_run.v[idx])  # the same steps
+    assert len(thin) < 0.2 * len(case1_run)
+    # the same step integrals, summed in groups instead of one by one
     assert np.allclose(thin.window_work(0, len(thin) - 1), case1_run.window_work(0, len(case1_run) - 1), rtol=1e-13, atol=0)
+
+
+@pytest.mark.parametrize("every", [13, 500])
+def test_thinned_output_classifies_and_averages_as_every_step(every):
+    model, law = BeltOscillator(zeta=0.05, vb=0.01), Coulomb(0.02, 0.04)
+    full = analyze(simulate(model, law, RK4(dt=1e-3), t_end=200.0)).to_dict()
+    thin = analyze(simulate(model, law, RK4(dt=1e-3, record_every=every), t_end=200.0)).to_dict()
+    assert thin["steady_state"]["kind"] == full["steady_state"]["kind"] == "periodic"
+    assert thin["steady_state"]["window"] == full["steady_state"]["window"]
+    assert thin["steady_state"]["period"] == pytest.approx(full["steady_state"]["period"], rel=1e-13)
+    assert thin["amplitude"] == full["amplitude"] and thin["TR_B"] == full["TR_B"]
+    for key, value in full["averages"].items():
+        assert thin["averages"][key] == pytest.approx(value, rel=1e-11), key
+
+
+def test_automatic_thinning_is_announced(monkeypatch):
+    monkeypatch.setattr(rk4_module, "MAX_AUTO_SAMPLES", 1000)
+    with pytest.warns(ThinnedOutputWarning, match="keeping one step in 2 "):
+        simulate(BeltOscillator(zeta=0.05, vb=0.01), Coulomb(0.02, 0.04), RK4(dt=1e-3), t_end=2.0)
 
 
 def test_chunked_run_equals_one_call(monkeypatch, case1_run):
@@ -134,5 +155,5 @@ def test_bad_step(bad, name):
 
 
 def test_bad_t_end():
-    with pytest.raises(ValueError, match=r"^t_end must be finite and > 0"):
+    with pytest.raises(ValueError, match=r"^t_end must be finite and in \(0, "):
         simulate(BeltOscillator(), Karnopp(), RK4(), t_end=0.0)

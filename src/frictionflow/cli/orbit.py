@@ -10,7 +10,8 @@ import numpy as np
 import typer
 
 from ..config import RunConfig
-from ..io import check_output_path
+from ..parameters import Param
+from ..io import check_input_path, check_output_path
 from ..plotting import FIGURE_FORMATS
 from . import app
 from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
@@ -19,7 +20,27 @@ MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "fricti
 SOLVER_HELP = "Solver of the transient and the power-flow period: auto, exact or adaptive [auto]."
 
 
+#: the orbit commands' own settings, with their ranges (bounded: each point costs a shooting or a simulation)
+COMMAND_PARAMETERS = {p.name: p for p in (
+    Param("returns", "", "crossings of the section per period", "run", 1, kind="int", lower=1, upper=64),
+    Param("tol", "", "Newton tolerance", "run", None, lower=0.0, lower_open=True, upper=1e-3),
+    Param("points", "", "grid points of the equilibrium branch", "run", 101, kind="int", lower=2, upper=100_000),
+    Param("max_points", "", "points per orbit branch", "run", 300, kind="int", lower=2, upper=100_000),
+    Param("sweep", "", "brute-force simulations", "run", 0, kind="int", lower=0, upper=10_000),
+    Param("max_period", "", "period at which a branch ends", "run", 500.0, lower=0.0, lower_open=True, upper=1e6),
+    Param("step", "", "first arclength step", "run", 0.02, lower=0.0, lower_open=True, upper=1.0),
+)}
+
+
+def _check(**values: Any) -> None:
+    for name, value in values.items():
+        if value is not None:
+            COMMAND_PARAMETERS[name].check(value)
+
+
 def _config(config: Optional[Path], params: dict[str, Any]) -> RunConfig:
+    if config is not None:
+        check_input_path(config, "--config")  # before reading it, naming the option
     cfg = merged_config(config, params)
     if cfg.solver == "rk4":
         raise ValueError("solver=rk4 cannot locate switches exactly; use auto, exact or adaptive for orbits")
@@ -48,12 +69,9 @@ def orbit(
     from ..orbits.floquet import fd_monodromy
 
     cfg = _config(config, params)
-    if returns < 1:
-        raise ValueError(f"returns must be an integer >= 1, got {returns}")
-    if tol is not None and not tol > 0:
-        raise ValueError(f"tol must be > 0, got {tol}")
+    _check(returns=returns, tol=tol)
     if plot is not None:
-        check_output_path(plot, FIGURE_FORMATS, "plot")
+        check_output_path(plot, FIGURE_FORMATS, "--plot")  # before any work: a bad path writes nothing
     model, law, solv = cfg.build()
     found = find_orbit(model, law, x0=cfg.x0, v0=cfg.v0, transient=0.0 if guess else cfg.t_end, returns=returns, tol=tol, solver=solv)
     report = found.to_dict()
@@ -64,7 +82,7 @@ def orbit(
     if plot is not None:
         from ..orbits.plotting import plot_orbit
 
-        plot_orbit(found, plot)
+        plot_orbit(found, plot, name="--plot")
     if as_json:
         _dump(report)
     else:
@@ -95,14 +113,9 @@ def continue_(
 
     cfg = _config(config, params)
     seed_list = tuple(s.strip() for s in seeds.split(",") if s.strip())
-    for name, value, low in (("points", points, 2), ("max-points", max_points, 2), ("sweep", sweep, 0)):
-        if value < low:
-            raise ValueError(f"{name} must be an integer >= {low}, got {value}")
-    for name, value in (("max-period", max_period), ("step", step)):
-        if not value > 0:
-            raise ValueError(f"{name} must be > 0, got {value}")
+    _check(points=points, max_points=max_points, sweep=sweep, max_period=max_period, step=step)
     if plot is not None:
-        check_output_path(plot, FIGURE_FORMATS, "plot")
+        check_output_path(plot, FIGURE_FORMATS, "--plot")  # before any work: a bad path writes nothing
     model, law, solv = cfg.build()
     result = continuation(
         model, law, param, start, stop, seeds=seed_list, transient=cfg.t_end, n_equilibria=points, max_points=max_points,
@@ -111,7 +124,7 @@ def continue_(
     if plot is not None:
         from ..orbits.plotting import plot_bifurcation
 
-        plot_bifurcation(result, plot)
+        plot_bifurcation(result, plot, name="--plot")
     report = result.to_dict()
     if as_json:
         _dump(report)

@@ -12,7 +12,7 @@ import typer
 
 from ..analysis import analyze
 from ..config import RunConfig
-from ..io import TRAJECTORY_FORMATS, check_output_path, write_trajectory
+from ..io import TRAJECTORY_FORMATS, check_input_path, check_output_path, write_trajectory
 from ..plotting import FIGURE_FORMATS
 from ..simulate import simulate as run_simulation
 from . import app
@@ -29,12 +29,14 @@ def simulate(
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Simulate one run, find its steady state and report power flow and TR_B."""
+    # Every path is checked before any work, so a bad one costs nothing and writes nothing.
+    if config is not None:
+        check_input_path(config, "--config")
     cfg = merged_config(config, params)
-    # Output paths are checked before any work so a bad one costs nothing.
     if out is not None:
-        check_output_path(out, TRAJECTORY_FORMATS, "out")
+        check_output_path(out, TRAJECTORY_FORMATS, "--out")
     if plot is not None:
-        check_output_path(plot, FIGURE_FORMATS, "plot")
+        check_output_path(plot, FIGURE_FORMATS, "--plot")
 
     if (out is not None or plot is not None) and cfg.dense_dt is None:
         cfg = cfg.replace(dense_dt=2 * math.pi / 200)  # files and figures want the curve, not just its switches
@@ -42,17 +44,18 @@ def simulate(
         # windows snap to samples: sample finely enough that a hand-set window lands within 1e-3
         cfg = cfg.replace(dense_dt=min(cfg.dense_dt or 1e-3, 1e-3))
     model, law, solv = cfg.build()
-    traj = run_simulation(model, law, solv, t_end=cfg.t_end, x0=cfg.x0, v0=cfg.v0, progress=sys.stderr.isatty())
+    traj = run_simulation(model, law, solv, t_end=cfg.t_end, x0=cfg.x0, v0=cfg.v0, progress=sys.stderr.isatty(),
+                          max_memory=cfg.max_memory)
     result = analyze(traj, window=cfg.window, rtol=cfg.rtol)
     report = result.to_dict()
     if cfg.dimensional is not None:
         report["dimensional"] = cfg.dimensional | {"omega0": model_omega0(cfg)}
     if out is not None:
-        write_trajectory(traj, out)
+        write_trajectory(traj, out, name="--out")
     if plot is not None:
         from ..plotting import plot_run
 
-        plot_run(result, plot)
+        plot_run(result, plot, name="--plot")
     if as_json:
         print(json.dumps(report))
     else:

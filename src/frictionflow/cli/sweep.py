@@ -1,12 +1,20 @@
-"""``frictionflow sweep``."""
+"""``frictionflow sweep``, and ``frictionflow sweep --verify OUT``.
+
+Exit codes: 0 done (or, with ``--verify``, intact); 1 a failure that is not
+the input's fault -- the output in use by another run, a scheduler that does
+not answer, a damaged output (``--verify``: any damage), an interruption;
+2 bad input (including an output that is not a sweep, or another sweep).
+"""
 
 from __future__ import annotations
 
 import json
+import signal
 import sys
 import time
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Optional
+from typing import Iterator, Optional
 
 import numpy as np
 import typer
@@ -16,21 +24,46 @@ from . import app
 
 @app.command()
 def sweep(
-    config: Path = typer.Argument(..., help="TOML file: simulate's settings plus a [grid] table of swept parameters."),
-    out: Path = typer.Option(..., "--out", help="Results: PATH.zarr (chunked, for large grids) or PATH.nc."),
+    config: Optional[Path] = typer.Argument(None, help="TOML file: simulate's settings plus a [grid] table of swept parameters."),
+    out: Optional[str] = typer.Option(None, "--out", metavar="PATH", help="Results: PATH.zarr (chunked, for large grids) or PATH.nc."),
+    verify: Optional[str] = typer.Option(
+        None, "--verify", metavar="OUT", help="Check the sweep output OUT without computing: each bad chunk, then a summary; exit code 1 if damaged."
+    ),
     restart: bool = typer.Option(False, "--restart", help="Discard an existing output (required when the config changed)."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT; default: this machine's cores."),
+    scheduler_timeout: float = typer.Option(5.0, "--scheduler-timeout", metavar="SECONDS", help="Seconds to wait for the scheduler to answer."),
     chunk_size: Optional[int] = typer.Option(None, "--chunk-size", help="Points per chunk (a task and a unit of commit)."),
-    as_json: bool = typer.Option(False, "--json", help="Print a JSON summary (dims, counts per kind, points/s)."),
+    as_json: bool = typer.Option(False, "--json", help="Print a JSON summary (dims, counts per kind, points/s; with --verify the findings)."),
 ) -> None:
-    """Sweep parameters over a grid; resumes where it stopped if killed."""
+    """Sweep parameters over a grid; resumes where it stopped if killed, recomputing any damaged chunk."""
+    if verify is not None:
+        if config is not None or out is not None:
+            raise ValueError("--verify OUT checks an existing output: give it no CONFIG and no --out")
+        _verify(verify, as_json)
+        return
+    if config is None:
+        raise ValueError("missing CONFIG: a sweep's TOML file (or --verify OUT to check an output)")
+    if out is None:
+        raise ValueError("missing option --out (PATH.zarr or PATH.nc)")
+    _run(config, out, restart, scheduler, scheduler_timeout, chunk_size, as_json)
+
+
+def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeout: float, chunk_size: Optional[int], as_json: bool) -> None:
+    """Compute (or resume) the sweep and print its summary."""
     from ..sweep import KIND_NAMES, load_sweep, run_sweep
 
     cfg = load_sweep(str(config))
     if chunk_size is not None and chunk_size < 1:
         raise ValueError(f"chunk-size must be an integer >= 1, got {chunk_size}")
+    if not (timeout > 0 and np.isfinite(timeout)):
+        raise ValueError(f"--scheduler-timeout must be a number of seconds > 0, got {timeout}")
     t0 = time.perf_counter()
-    ds = run_sweep(cfg, out, restart=restart, scheduler=scheduler, chunk_size=chunk_size, progress=sys.stderr.isatty())
+    with _sigterm_as_interrupt():
+        try:
+            ds = run_sweep(cfg, out, restart=restart, scheduler=scheduler, chunk_size=chunk_size, progress=sys.stderr.isatty(), scheduler_timeout=timeout)
+        except KeyboardInterrupt:  # the lock is released by now; the command ends as "aborted" (exit code 1)
+            print(f"interrupted: {out} keeps the chunks finished so far; run the same command to resume", file=sys.stderr)
+            raise
     elapsed = time.perf_counter() - t0
     kinds = np.asarray(ds["kind"].values)
     counts = {name: int(np.count_nonzero(kinds == i)) for i, name in enumerate(KIND_NAMES)}
@@ -48,3 +81,37 @@ def sweep(
     else:
         dims = " x ".join(f"{d}={n}" for d, n in summary["dims"].items())
         print(f"{summary['points']} points ({dims}) -> {out}: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
+
+
+def _verify(path: str, as_json: bool) -> None:
+    """Check an output: one line per bad chunk and a summary line; exit code 1 when damaged."""
+    from ..sweep.store import verify_sweep
+
+    found = verify_sweep(path)
+    if as_json:
+        print(json.dumps(found.as_dict()))
+    else:
+        for line in found.lines():
+            print(line)
+    if not found.intact:
+        raise RuntimeError(found.summary())  # one line on stderr, exit code 1
+    if not as_json:
+        print(found.summary())
+
+
+@contextmanager
+def _sigterm_as_interrupt() -> Iterator[None]:
+    """SIGTERM handled like Ctrl-C, so that the output's lock is released on ``kill`` too."""
+
+    def interrupt(signum, frame):  # noqa: ANN001
+        raise KeyboardInterrupt
+
+    try:
+        previous = signal.signal(signal.SIGTERM, interrupt)
+    except ValueError:  # not the main thread: leave signals alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)

@@ -173,7 +173,21 @@ def integral_v2(dyn, zeta, force, x0, v0, T):
         return v0 * v0 * (-math.expm1(-2.0 * c * T)) / (2.0 * c)
     reg, r1, r2, p, q = coefficients(dyn, zeta, force, x0, v0)
     if reg == UNDER:
-        return _v2_under(r1, r2, p, q, T)
+        C = r2 * q - r1 * p
+        D = -(r2 * p + r1 * q)
+        s = 0.5 * (C * C + D * D)
+        dc = 0.5 * (C * C - D * D)
+        ds = C * D
+        al = -2.0 * r1
+        be = 2.0 * r2
+        i0 = -math.expm1(al * T) / (-al) if al != 0.0 else T
+        e = math.exp(al * T)
+        cb = math.cos(be * T)
+        sb = math.sin(be * T)
+        den = al * al + be * be
+        ic = (e * (al * cb + be * sb) - al) / den
+        is_ = (e * (al * sb - be * cb) + be) / den
+        return s * i0 + dc * ic + ds * is_
     if reg == CRIT:
         C = q - p
         D = -q
@@ -185,31 +199,3 @@ def integral_v2(dyn, zeta, force, x0, v0, T):
     P = r1 * p
     Q = r2 * q
     return P * P * math.expm1(2 * r1 * T) / (2 * r1) + 2 * P * Q * math.expm1((r1 + r2) * T) / (r1 + r2) + Q * Q * math.expm1(2 * r2 * T) / (2 * r2)
-
-
-@njit(cache=True)
-def _v2_under(r1, r2, p, q, T):
-    """int_0^T X'^2 for X' = e^{-r1 t}(C cos r2 t + D sin r2 t) (OSC underdamped coefficients p, q).
-
-    X'^2 = e^{-2 r1 t}(s + dc cos 2 r2 t + ds sin 2 r2 t).  One expm1 and one
-    sine/cosine pair serve all three terms (the double angle from the single).
-    """
-    C = r2 * q - r1 * p
-    D = -(r2 * p + r1 * q)
-    s = 0.5 * (C * C + D * D)
-    dc = 0.5 * (C * C - D * D)
-    ds = C * D
-    em = math.expm1(-r1 * T)  # e^{-r1 T} - 1, exact also for small r1 T
-    e = 1.0 + em if em > -0.5 else math.exp(-r1 * T)
-    e2 = e * e  # e^{-2 r1 T}
-    i0 = -em * (em + 2.0) / (2.0 * r1) if r1 != 0.0 else T  # (1 - e^{-2 r1 T}) / (2 r1)
-    c1 = math.cos(r2 * T)
-    s1 = math.sin(r2 * T)
-    cb = (c1 - s1) * (c1 + s1)  # cos 2 r2 T
-    sb = 2.0 * s1 * c1  # sin 2 r2 T
-    al = -2.0 * r1
-    be = 2.0 * r2
-    den = al * al + be * be
-    ic = (e2 * (al * cb + be * sb) - al) / den
-    is_ = (e2 * (al * sb - be * cb) + be) / den
-    return s * i0 + dc * ic + ds * is_

@@ -28,6 +28,12 @@ exactly 0), extremes of X' and of X + 2 zeta X', the start of the tail, an
 optional dense grid, and the end -- each with the exact cumulative work
 integrals, so that the section records and the steady-state classifier of
 :mod:`.sections` apply unchanged and see exact values.
+
+Speed: the helpers on the hot path take and return scalars (a mode's
+boundaries are a tuple, not an array): every call of a compiled function
+with an array argument costs two atomic reference-count updates per array,
+more than the closed form itself.  The arrays are touched in :func:`run`
+and in the functions it inlines only.
 """
 
 from __future__ import annotations
@@ -38,8 +44,9 @@ import numpy as np
 from numba import njit
 
 from . import closed_form as cf
-from .samples import emit
+from . import sections as sec
 from .friction import COULOMB, FD, FS, KARNOPP, LAW, RESULTANT, VD
+from .samples import emit
 
 SLIP_POS, SLIP_NEG, HOLD, SAT_POS, SAT_NEG, EDGE_LO, EDGE_HI, STICK = range(1, 9)
 FC_CONST, FC_RES, FC_SPRING = 0, 1, 2
@@ -49,7 +56,10 @@ COULOMB_ORDER = np.array([STICK, SLIP_POS, SLIP_NEG])
 # status codes
 DONE, FULL, STUCK = 0, 1, 2
 EPS = 2.220446049250313e-16
+#: rows of the ``ev`` arrays of :func:`boundaries` (a mode has at most 4 boundaries)
 MAX_EVENTS_PER_MODE = 5
+#: a sample at least every WINDOW of a long phase
+WINDOW = 16.0 * math.pi
 
 
 @njit(cache=True)
@@ -88,69 +98,52 @@ def friction_force(fck, force, x, v, zeta):
 
 
 @njit(cache=True)
-def boundaries(mode, law, zeta, vb, fd, fs, vd, res, ev):
-    """Fill ``ev[k] = (a, b, c, s)``: the mode holds while s (a X + b X' - c) > 0."""
+def mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res):
+    """(n, ((a, b, c, s), ...)): the mode holds while s (a X + b X' - c) > 0 for each of the first n of 4."""
     be = 2.0 * zeta if res else 0.0  # F_e = X + be X'
-    n = 0
+    z = (0.0, 0.0, 0.0, 0.0)
     if law == COULOMB:
         if mode == SLIP_POS:
-            ev[0] = (0.0, 1.0, vb, -1.0)
-            return 1
+            return 1, ((0.0, 1.0, vb, -1.0), z, z, z)
         if mode == SLIP_NEG:
-            ev[0] = (0.0, 1.0, vb, 1.0)
-            return 1
+            return 1, ((0.0, 1.0, vb, 1.0), z, z, z)
         # STICK at X' = V_b: F_e with X' = V_b
-        ev[0] = (1.0, 0.0, fs - be * vb, -1.0)
-        ev[1] = (1.0, 0.0, -fs - be * vb, 1.0)
-        return 2
+        return 2, ((1.0, 0.0, fs - be * vb, -1.0), (1.0, 0.0, -fs - be * vb, 1.0), z, z)
     lo = vb - vd  # lower band edge (V_r = +V_d)
     hi = vb + vd
     if mode == SLIP_POS:
-        ev[0] = (0.0, 1.0, lo, -1.0)
-        return 1
+        return 1, ((0.0, 1.0, lo, -1.0), z, z, z)
     if mode == SLIP_NEG:
-        ev[0] = (0.0, 1.0, hi, 1.0)
-        return 1
+        return 1, ((0.0, 1.0, hi, 1.0), z, z, z)
     if mode == EDGE_LO:
-        ev[0] = (-1.0, -2.0 * zeta, -fd, 1.0)  # slip+ pushes back: F_d - X - 2 zeta X' > 0
-        ev[1] = (0.0, 2.0 * zeta, 0.0, 1.0)  # the band pushes out: -2 zeta X' < 0
-        ev[2] = (1.0, be, fs, -1.0)  # F_e < F_s
-        return 3
+        # slip+ pushes back: F_d - X - 2 zeta X' > 0; the band pushes out: -2 zeta X' < 0; F_e < F_s
+        return 3, ((-1.0, -2.0 * zeta, -fd, 1.0), (0.0, 2.0 * zeta, 0.0, 1.0), (1.0, be, fs, -1.0), z)
     if mode == EDGE_HI:
-        ev[0] = (1.0, 2.0 * zeta, -fd, 1.0)  # slip- pushes back: -F_d - X - 2 zeta X' < 0
-        ev[1] = (0.0, 2.0 * zeta, 0.0, -1.0)  # the band pushes out: -2 zeta X' > 0
-        ev[2] = (1.0, be, -fs, 1.0)  # F_e > -F_s
-        return 3
-    ev[0] = (0.0, 1.0, lo, 1.0)
-    ev[1] = (0.0, 1.0, hi, -1.0)
-    n = 2
+        # slip- pushes back: -F_d - X - 2 zeta X' < 0; the band pushes out: -2 zeta X' > 0; F_e > -F_s
+        return 3, ((1.0, 2.0 * zeta, -fd, 1.0), (0.0, 2.0 * zeta, 0.0, -1.0), (1.0, be, -fs, 1.0), z)
+    band = ((0.0, 1.0, lo, 1.0), (0.0, 1.0, hi, -1.0))
     if mode == HOLD:
-        ev[2] = (1.0, be, fs, -1.0)
-        ev[3] = (1.0, be, -fs, 1.0)
-        return 4
+        return 4, (band[0], band[1], (1.0, be, fs, -1.0), (1.0, be, -fs, 1.0))
     if mode == SAT_POS:
-        ev[2] = (1.0, be, fs, 1.0)
-        return 3
+        return 3, (band[0], band[1], (1.0, be, fs, 1.0), z)
     if mode == SAT_NEG:
-        ev[2] = (1.0, be, -fs, -1.0)
-        return 3
+        return 3, (band[0], band[1], (1.0, be, -fs, -1.0), z)
+    return 2, (band[0], band[1], z, z)
+
+
+@njit(cache=True)
+def boundaries(mode, law, zeta, vb, fd, fs, vd, res, ev):
+    """Fill ``ev[k] = (a, b, c, s)`` (:func:`mode_boundaries`); returns how many."""
+    n, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
+    for k in range(n):
+        for i in range(4):
+            ev[k, i] = bs[k][i]
     return n
 
 
 @njit(cache=True)
-def _accel(dyn, zeta, force, x, v):
-    if dyn == cf.OSC:
-        a = force - x - 2.0 * zeta * v
-        return a, -v - 2.0 * zeta * a
-    if dyn == cf.EXP:
-        a = -2.0 * zeta * v
-        return a, -2.0 * zeta * a
-    return 0.0, 0.0
-
-
-@njit(cache=True)
-def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev):
-    """Does the motion stay in ``mode``'s region for a positive time from (x, v)?"""
+def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None):
+    """Does the motion stay in ``mode``'s region for a positive time from (x, v)?  (``ev``: not used.)"""
     # A switch is located to a few ulps of time; X' there is then off the boundary
     # by |X''| times that: far below this tolerance, far above rounding.
     vtol = 1e-10 * (abs(vb) + abs(v) + vd + abs(x) + fs)
@@ -163,14 +156,18 @@ def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev):
     if law == COULOMB and mode == STICK and abs(v - vb) > vtol:
         return False
     dyn, force, _ = dynamics(mode, zeta, fd, fs, res)
-    a, j = _accel(dyn, zeta, force, x, v)
+    a = j = 0.0  # X'' and its rate (LIN, and Coulomb's stick with X' = V_b held)
     if law == COULOMB and mode == STICK:
         v = vb
-        a = 0.0
-        j = 0.0
-    n = boundaries(mode, law, zeta, vb, fd, fs, vd, res, ev)
+    elif dyn == cf.OSC:
+        a = force - x - 2.0 * zeta * v
+        j = -v - 2.0 * zeta * a
+    elif dyn == cf.EXP:
+        a = -2.0 * zeta * v
+        j = -2.0 * zeta * a
+    n, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
     for k in range(n):
-        ca, cb, cc, s = ev[k, 0], ev[k, 1], ev[k, 2], ev[k, 3]
+        ca, cb, cc, s = bs[k]
         g0 = s * (ca * x + cb * v - cc)
         tol0 = 256.0 * EPS * (abs(ca * x) + abs(cb * v) + abs(cc)) + 1e-300
         if g0 > tol0:
@@ -191,11 +188,11 @@ def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev):
 
 
 @njit(cache=True)
-def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev):
-    """The mode the motion continues in from (x, v); -1 if none is consistent."""
+def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None):
+    """The mode the motion continues in from (x, v); -1 if none is consistent.  (``ev``: not used.)"""
     order = COULOMB_ORDER if law == COULOMB else KARNOPP_ORDER
     for m in order:
-        if consistent(m, law, zeta, vb, fd, fs, vd, res, x, v, ev):
+        if consistent(m, law, zeta, vb, fd, fs, vd, res, x, v):
             return m
     return -1
 
@@ -222,22 +219,33 @@ def region_mode(law, zeta, vb, fd, fs, vd, res, x, v):
     return HOLD
 
 
-@njit(cache=True, inline="always")
+# -- switch times ---------------------------------------------------------------------------------
+@njit(cache=True)
 def _g(co, dyn, zeta, force, x0, v0, a, b, c, t):
+    """g = a X + b X' - c and g' at t, and (X, X') there."""
     x, v, acc = cf.state_with(co, dyn, zeta, force, x0, v0, t)
-    return a * x + b * v - c, a * v + b * acc
+    return a * x + b * v - c, a * v + b * acc, x, v
 
 
 @njit(cache=True)
 def _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, lo, hi):
-    """First time in (lo, hi] where s g <= 0, given s g(hi) <= 0 and g monotone on [lo, hi]."""
+    """First time in (lo, hi] where s g <= 0, given s g(hi) <= 0 and g monotone on [lo, hi].
+
+    Returns the time and (X, X') there -- NaN when that is ``hi`` and ``hi``
+    was not evaluated here.  Newton's iteration from the middle, kept inside
+    the bracket.  (The switch times are the same to the last bit as those
+    recorded before issue 9: a faster iteration lands on a neighbouring
+    double, and in undamped runs the difference shows in quantities that are
+    rounding noise.)
+    """
     t = 0.5 * (lo + hi)
+    x_hi = v_hi = np.nan
     for _ in range(200):
-        g, dg = _g(co, dyn, zeta, force, x0, v0, a, b, c, t)
+        g, dg, x, v = _g(co, dyn, zeta, force, x0, v0, a, b, c, t)
         if s * g > 0.0:
             lo = t
         else:
-            hi = t
+            hi, x_hi, v_hi = t, x, v
         if hi - lo <= 2.0 * EPS * hi:
             break
         # Newton from the current point, kept inside the bracket
@@ -247,98 +255,128 @@ def _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, lo, hi):
         elif abs(tn - t) <= 2.0 * EPS * abs(tn):
             # converged to rounding: return the side of the root that is outside
             if s * g <= 0.0:
-                return t
+                return t, x, v
             tn = min(hi, t + 4.0 * EPS * abs(t))
-            gn, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, tn)
-            return tn if s * gn <= 0.0 else hi
+            gn, _, xn, vn = _g(co, dyn, zeta, force, x0, v0, a, b, c, tn)
+            if s * gn <= 0.0:
+                return tn, xn, vn
+            break
         t = tn
-    return hi
+    return hi, x_hi, v_hi
 
 
 @njit(cache=True)
-def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon, crit):
-    """First crossing of one boundary in (0, horizon]: (time or inf, never crossed at all).
+def _search_lin(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
+    """:func:`_search` for X' constant: g = g0 + g1 t exactly, no bracketing needed (and none of its rounding)."""
+    g0, g1, _, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, 0.0)
+    if s * g1 >= 0.0:
+        return np.inf, True, np.nan, np.nan
+    tc = -g0 / g1
+    if tc > horizon:
+        return np.inf, False, np.nan, np.nan
+    # the first representable time on the outside
+    while True:
+        g, _, x, v = _g(co, dyn, zeta, force, x0, v0, a, b, c, tc)
+        if s * g <= 0.0:
+            break
+        tc = np.nextafter(tc, np.inf)
+    if tc < 0.0:
+        return 0.0, False, np.nan, np.nan
+    return tc, False, x, v
+
+
+@njit(cache=True)
+def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
+    """First crossing of one boundary in (0, horizon]: (time or inf, never crossed at all, X, X' there).
 
     g is monotone between its critical points; a crossing is bracketed on the
     first such interval whose end lies outside.  A critical point outside by
     less than 1e-12 of g's scale is a touch (grazing), not a crossing.
     ``never`` certifies that no crossing can come after the horizon either.
+    X and X' at the crossing are NaN where they were not evaluated.
     """
+    if dyn == cf.LIN:
+        return _search_lin(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon)
     scale = abs(a * x0) + abs(b * v0) + abs(c) + 1e-300
     graze = 1e-12 * scale  # a critical point this close to the boundary only touches it
     tiny = 256.0 * EPS * scale  # a g that stays on the boundary (within rounding) does not cross it
     g_inf = s * (a * force - c)
-    period = np.inf
-    if dyn == cf.OSC and zeta == 0.0:
-        period = 2.0 * math.pi
-    if dyn == cf.LIN:
-        # g = g0 + g1 t exactly: no bracketing needed (and none of its rounding)
-        g0, g1 = _g(co, dyn, zeta, force, x0, v0, a, b, c, 0.0)
-        if s * g1 >= 0.0:
-            return np.inf, True
-        tc = -g0 / g1
-        if tc > horizon:
-            return np.inf, False
-        # the first representable time on the outside
-        while s * _g(co, dyn, zeta, force, x0, v0, a, b, c, tc)[0] > 0.0:
-            tc = np.nextafter(tc, np.inf)
-        return max(tc, 0.0), False
+    period = 2.0 * math.pi if dyn == cf.OSC and zeta == 0.0 else np.inf
     env, rate = cf.envelope(co, dyn, zeta, a, b)
     t_a = 0.0
+    # the critical points of g, generated as needed (most phases end at the first or second)
+    t_b, step = cf.first_critical(co, dyn, a, b, 0.0)
     while True:
-        m = cf.critical_points(co, dyn, a, b, t_a, horizon, crit)
-        for i in range(m + 1):
-            t_b = crit[i] if i < m else horizon
-            gb, dgb = _g(co, dyn, zeta, force, x0, v0, a, b, c, t_b)
-            if s * gb < -(graze if i < m else tiny):
-                return _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, t_a, t_b), False
-            if g_inf > 0.0 and env * math.exp(-rate * t_b) < g_inf:
-                return np.inf, True  # the decaying oscillation stays inside for ever
-            if t_b >= period:
-                return np.inf, True  # undamped: g repeats with period 2 pi
-            t_a = t_b
-        if m < len(crit) or t_a >= horizon:
+        last = t_b >= horizon  # the horizon ends the last interval
+        if last:
+            t_b = horizon
+        gb, _, _, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, t_b)
+        if s * gb < -(tiny if last else graze):
+            tc, xc, vc = _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, t_a, t_b)
+            return tc, False, xc, vc
+        if g_inf > 0.0 and env * math.exp(-rate * t_b) < g_inf:
+            return np.inf, True, np.nan, np.nan  # the decaying oscillation stays inside for ever
+        if t_b >= period:
+            return np.inf, True, np.nan, np.nan  # undamped: g repeats with period 2 pi
+        if last:
             break
-    # Nothing up to the horizon; after its last critical point g is monotone.
-    gh, dgh = _g(co, dyn, zeta, force, x0, v0, a, b, c, horizon)
-    if dyn == cf.LIN or (dyn == cf.EXP and zeta == 0.0):
-        return np.inf, s * dgh >= 0.0
+        t_a = t_b
+        t_b += step
+    return np.inf, _never_after(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon, g_inf), np.nan, np.nan
+
+
+@njit(cache=True)
+def _never_after(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon, g_inf):
+    """No crossing up to the horizon: can there be one later?  (After its last critical point g is monotone.)"""
+    if dyn == cf.EXP and zeta == 0.0:
+        _, dgh, _, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, horizon)
+        return s * dgh >= 0.0
     if dyn == cf.EXP:
-        return np.inf, g_inf_exp(zeta, x0, v0, a, b, c, s) > 0.0
+        return s * (a * (x0 + v0 / (2.0 * zeta)) - c) > 0.0  # s g(inf): X -> x0 + v0 / (2 zeta), X' -> 0
     if dyn == cf.OSC and zeta >= 1.0:
-        return np.inf, g_inf > 0.0 and cf.critical_points(co, dyn, a, b, horizon, np.inf, crit) == 0
-    return np.inf, False
+        return g_inf > 0.0 and cf.first_critical(co, dyn, a, b, horizon)[0] == np.inf
+    return False
 
 
 @njit(cache=True)
-def g_inf_exp(zeta, x0, v0, a, b, c, s):
-    """s g(inf) for the EXP motion (X -> x0 + v0 / (2 zeta), X' -> 0)."""
-    return s * (a * (x0 + v0 / (2.0 * zeta)) - c)
+def first_switch(co, dyn, zeta, force, x0, v0, n_b, bs, t_max):
+    """Earliest boundary crossing in (0, t_max]: (time, boundary index, never, X, X' there).
 
-
-@njit(cache=True)
-def next_event(dyn, zeta, force, x0, v0, ev, n_ev, t_max, crit):
-    """Earliest boundary crossing in (0, t_max]: (time, boundary index, never).
-
-    ``never`` is True when no boundary can ever be crossed from here: the
-    phase lasts for ever (the run has reached its final phase).
+    ``co``: the phase's coefficients; ``n_b, bs``: its boundaries
+    (:func:`mode_boundaries`).  ``never`` is True when no boundary can ever
+    be crossed from here: the phase lasts for ever (the run has reached its
+    final phase).  X and X' are NaN where the search did not evaluate them.
     """
     best = np.inf
     which = -1
     never = True
-    co = cf.coefficients(dyn, zeta, force, x0, v0)
-    for k in range(n_ev):
-        tc, nv = _search(co, dyn, zeta, force, x0, v0, ev[k, 0], ev[k, 1], ev[k, 2], ev[k, 3], min(t_max, best), crit)
+    xb = vb = np.nan
+    for k in range(n_b):
+        a, b, c, s = bs[k]
+        tc, nv, xc, vc = _search(co, dyn, zeta, force, x0, v0, a, b, c, s, min(t_max, best))
         if tc < best:
-            best = tc
-            which = k
+            best, which, xb, vb = tc, k, xc, vc
         never = never and nv
-    return best, which, never and which < 0
+    return best, which, never and which < 0, xb, vb
 
 
 @njit(cache=True)
+def next_event(dyn, zeta, force, x0, v0, ev, n_ev, t_max, crit=None):
+    """Earliest crossing of the boundaries ``ev[:n_ev]`` (:func:`boundaries`) in (0, t_max]: (time, index, never).
+
+    See :func:`first_switch`.  ``crit`` is not used (kept for callers).
+    """
+    bs = ((ev[0, 0], ev[0, 1], ev[0, 2], ev[0, 3]), (ev[1, 0], ev[1, 1], ev[1, 2], ev[1, 3]),
+          (ev[2, 0], ev[2, 1], ev[2, 2], ev[2, 3]), (ev[3, 0], ev[3, 1], ev[3, 2], ev[3, 3]))  # rows past n_ev unused
+    co = cf.coefficients(dyn, zeta, force, x0, v0)
+    tau, which, never, _, _ = first_switch(co, dyn, zeta, force, x0, v0, min(n_ev, 4), bs, t_max)
+    return tau, which, never
+
+
+# -- samples and work integrals ---------------------------------------------------------------------
+@njit(cache=True)
 def _fc_zero(dyn, fck, zeta, x0, v0, t_max):
-    """When a state-dependent F_c crosses 0 in (0, t_max) (P_f changes sign there), else -1."""
+    """When a state-dependent F_c crosses 0 in (0, t_max) (P_f changes sign there), else inf."""
     if fck == FC_RES and v0 != 0.0:  # LIN: X + 2 zeta V_0 = x0 + v0 t + 2 zeta v0
         t = -(x0 + 2.0 * zeta * v0) / v0
     elif fck == FC_SPRING and v0 != 0.0:
@@ -346,31 +384,102 @@ def _fc_zero(dyn, fck, zeta, x0, v0, t_max):
             c = 2.0 * zeta
             arg = 1.0 + c * x0 / v0
             if not (0.0 < arg < 1.0):
-                return -1.0
+                return np.inf
             t = -math.log(arg) / c
         else:
             t = -x0 / v0
     else:
-        return -1.0
-    return t if 0.0 < t < t_max else -1.0
+        return np.inf
+    return t if 0.0 < t < t_max else np.inf
 
 
 @njit(cache=True)
-def _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xb, vb_, L, w):
-    """Add the work integrals over one piece (P_f of one sign) to ``w``."""
-    w[0] += 2.0 * zeta * cf.integral_v2(dyn, zeta, force, xa, va, L)
+def _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xb, vb_, L):
+    """The work integrals over one piece (P_f of one sign): (W_dv, W_fin, W_fout, W_heat)."""
+    w_dv = 2.0 * zeta * cf.integral_v2(dyn, zeta, force, xa, va, L)
     if fck == FC_CONST:
         pf = force * (xb - xa)
     elif fck == FC_SPRING:
         pf = 0.5 * (xb * xb - xa * xa)
     else:
         pf = va * ((xa + 2.0 * zeta * va) * L + 0.5 * va * L * L)
-    if pf > 0.0:
-        w[1] += pf
+    heat = force * (vb * L - (xb - xa)) if slipping else 0.0
+    return w_dv, max(pf, 0.0), max(-pf, 0.0), heat
+
+
+@njit(cache=True)
+def _window(co, dyn, zeta, t, ta, tz, tt, dense_dt):
+    """The sources of samples in the window of a phase that starts at ``ta`` (times from the phase start).
+
+    (c0, s0, c1, s1, c2, s2, tz, tt, j, td, tw): the next zero of X', extreme
+    of X' and of X + 2 zeta X' after ``ta`` with their steps; the zero of a
+    state-dependent F_c and the start of the tail if still ahead; the dense
+    grid (index, time); the window's end, ``ta`` + :data:`WINDOW`.  Inf: none.
+    A phase is walked in windows, each source restarting at the window's
+    start, so that the sample times are those of the window-by-window walk
+    the golden outputs were recorded with.
+    """
+    c0, s0 = cf.first_critical(co, dyn, 1.0, 0.0, ta)  # X' = 0
+    c1, s1 = cf.first_critical(co, dyn, 0.0, 1.0, ta)  # extremes of X'
+    c2, s2 = np.inf, np.inf
+    if zeta > 0.0:
+        c2, s2 = cf.first_critical(co, dyn, 1.0, 2.0 * zeta, ta)  # of X + 2 zeta X'
+    j = td = np.inf
+    if dense_dt > 0.0:
+        j = math.floor((t + ta) / dense_dt) + 1.0
+        td = j * dense_dt - t
+    return c0, s0, c1, s1, c2, s2, (tz if tz > ta else np.inf), (tt if tt > ta else np.inf), j, td, ta + WINDOW
+
+
+@njit(cache=True)
+def _next_sample(src, t, dense_dt):
+    """(time, source, sources advanced): the earliest next time of the sources (:func:`_window`).
+
+    source: 0 a zero of X', 1 another, 2 the window's end.  On a tie the
+    window's end comes first (a point on it belongs to neither window), then
+    the sources in their order; the others give the same time again next,
+    and the caller drops the repeat.
+    """
+    c0, s0, c1, s1, c2, s2, tz, tt, j, td, tw = src
+    tb = min(min(c0, c1), min(c2, tz), min(min(tt, td), tw))
+    kind = 1
+    if tb == tw:
+        kind = 2
+    elif tb == c0:
+        kind = 0
+        c0 += s0
+    elif tb == c1:
+        c1 += s1
+    elif tb == c2:
+        c2 += s2
+    elif tb == tz:
+        tz = np.inf
+    elif tb == tt:
+        tt = np.inf
     else:
-        w[2] -= pf
-    if slipping:
-        w[3] += force * (vb * L - (xb - xa))
+        j += 1.0
+        td = j * dense_dt - t
+    return tb, kind, (c0, s0, c1, s1, c2, s2, tz, tt, j, td, tw)
+
+
+@njit(cache=True)
+def _section(ring_x, ring_t, n, x, t, tol_x, rtol):
+    """Record the n-th maximum of X (X' falling through 0); True when the maxima and their periods have repeated.
+
+    ``ring_x``, ``ring_t``: X and times of the last maxima, oldest first
+    (filled once n reaches their length).  The ``len - 2`` maxima before the
+    newest and as many periods must repeat it (:func:`~.sections.repeat_counts`).
+    """
+    m = len(ring_x)
+    for i in range(m - 1):
+        ring_x[i] = ring_x[i + 1]
+        ring_t[i] = ring_t[i + 1]
+    ring_x[m - 1] = x
+    ring_t[m - 1] = t
+    if n < m:
+        return False
+    m_x, m_p = sec.repeat_counts(ring_x, ring_t, tol_x, rtol, 0.0)
+    return m_x >= m - 2 and m_p >= m - 2
 
 
 @njit(cache=True)
@@ -388,18 +497,16 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     law = int(p[LAW])
     fd, fs, vd = p[FD], p[FS], p[VD]
     res = p[RESULTANT] != 0.0
-    ev = np.empty((MAX_EVENTS_PER_MODE, 4))
-    crit = np.empty(64)
-    pts = np.empty(512 + (int(16.0 * math.pi / dense_dt) + 2 if dense_dt > 0.0 else 0))
-    tags = np.zeros(len(pts), dtype=np.int8)  # 1: a zero of X'
     w = np.zeros(4)  # the work integrals since the last sample (emit restarts them)
-    ring_x = np.full(min_periods + 2, np.nan)
-    ring_t = np.full(min_periods + 2, np.nan)
-    n_cross = 0
-    xmax_seen = abs(x0)
+    # stop_periodic: X and times of the last maxima of X, how many, and the largest |X| sampled
+    ring_x = np.empty(min_periods + 2)
+    ring_t = np.empty(min_periods + 2)
+    n_max = 0
+    x_seen = abs(x0)
+    outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
     t = 0.0
     x, v = x0, v0
-    mode = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev)
+    mode = select_mode(law, zeta, vb, fd, fs, vd, res, x, v)
     if mode < 0:
         mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v)
     if mode == STICK:
@@ -408,97 +515,72 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     ne = 0
     t_terminal = -1.0
     zero_len = 0
-    dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
-    outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
-    if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta), friction_mode(mode), w):
-        return k, ne, FULL, t_terminal, t
-    k += 1
-    while t < t_end:
+    while True:
+        # a phase starts (the run's start, or a switch): its first sample
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
-        slipping = friction_mode(mode) != 0
-        n_ev = boundaries(mode, law, zeta, vb, fd, fs, vd, res, ev)
-        tau, which, never = next_event(dyn, zeta, force, x, v, ev, n_ev, t_end - t, crit)
+        if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta), friction_mode(mode), w):
+            return k, ne, FULL, t_terminal, t
+        k += 1
+        if t >= t_end:
+            break
+        co = cf.coefficients(dyn, zeta, force, x, v)
+        n_b, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
+        tau, which, never, xe, ve = first_switch(co, dyn, zeta, force, x, v, n_b, bs, t_end - t)
         T = tau if which >= 0 else t_end - t
         if never and t_terminal < 0.0:
             t_terminal = t
             t_mode[0] = friction_mode(mode)
             if stop_terminal:
                 return k, ne, DONE, t_terminal, t
-        # Walk the phase in windows of 16 pi, emitting the samples inside.
-        xp, vp = x, v  # phase start
-        co = cf.coefficients(dyn, zeta, force, xp, vp)
+        if which < 0 or math.isnan(xe):
+            xe, ve, _ = cf.state_with(co, dyn, zeta, force, x, v, T)
+        # The samples inside the phase, in time order, each with the work integrals since the previous one.
+        # (Written out here rather than in a function: a call with the output arrays costs two atomic
+        # reference-count updates per array, per phase.)
+        fmode = friction_mode(mode)
+        slipping = fmode != 0
+        tz = _fc_zero(dyn, fck, zeta, x, v, T)
+        tt = t_tail - t if 0.0 < t_tail - t < T else np.inf
+        src = _window(co, dyn, zeta, t, 0.0, tz, tt, dense_dt)
         ta, xa, va = 0.0, x, v
-        while ta < T:
-            tw = min(T, ta + 16.0 * math.pi)
-            n = 0
-            m = cf.critical_points(co, dyn, 1.0, 0.0, ta, tw, crit)  # X' = 0
-            for i in range(m):
-                pts[n] = crit[i]
-                tags[n] = 1
-                n += 1
-            nz = n
-            m = cf.critical_points(co, dyn, 0.0, 1.0, ta, tw, crit)  # extremes of X'
-            for i in range(m):
-                pts[n] = crit[i]
-                n += 1
-            if zeta > 0.0:
-                m = cf.critical_points(co, dyn, 1.0, 2.0 * zeta, ta, tw, crit)  # of X + 2 zeta X'
-                for i in range(m):
-                    pts[n] = crit[i]
-                    n += 1
-            tz = _fc_zero(dyn, fck, zeta, xp, vp, T)
-            if ta < tz < tw:
-                pts[n] = tz
-                n += 1
-            if ta < t_tail - t < tw:
-                pts[n] = t_tail - t
-                n += 1
-            if dense_dt > 0.0:
-                j = math.floor((t + ta) / dense_dt) + 1
-                while j * dense_dt - t < tw and n < len(pts) - 1:
-                    if j * dense_dt - t > ta:
-                        pts[n] = j * dense_dt - t
-                        n += 1
-                    j += 1
-            pts[n] = tw
-            n += 1
-            tags[nz:n] = 0
-            _sort_tagged(pts, tags, n)
-            for i in range(n):
-                tb = pts[i]
-                if tb <= ta:
-                    continue
-                if tb == tw and tw == T:
-                    break  # the phase end is emitted after the switch
-                xb, vb_, _ = cf.state_with(co, dyn, zeta, force, xp, vp, tb)
-                vzero = tags[i] == 1
-                if vzero:
-                    vb_ = 0.0  # exactly: the section crossing is then a sample
-                _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xb, vb_, tb - ta, w)
-                if not emit(outs, k, t + tb, xb, vb_, friction_force(fck, force, xb, vb_, zeta), friction_mode(mode), w):
-                    return k, ne, FULL, t_terminal, t + ta
-                k += 1
-                ta, xa, va = tb, xb, vb_
-                xmax_seen = max(xmax_seen, abs(xb))
-                if vzero and stop_periodic and _falling(dyn, zeta, force, xp, vp, tb):
-                    ring_x[n_cross % len(ring_x)] = xb
-                    ring_t[n_cross % len(ring_t)] = t + tb
-                    n_cross += 1
-                    if _repeats(ring_x, ring_t, n_cross, min_periods, rtol * max(xmax_seen, abs(vb), fd, 1e-300), rtol):
-                        return k, ne, DONE, t_terminal, t + tb
-            if tw == T:
-                # the last piece, up to the phase end
-                xb, vb_, _ = cf.state_with(co, dyn, zeta, force, xp, vp, T)
-                _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xb, vb_, T - ta, w)
-                ta, xa, va = T, xb, vb_
-            else:
-                ta = tw
+        while True:
+            tb, kind, src = _next_sample(src, t, dense_dt)
+            if tb >= T:
+                break
+            if kind == 2:
+                src = _window(co, dyn, zeta, t, tb, tz, tt, dense_dt)
+            if tb <= ta:
+                continue  # the same time from another source
+            vzero = kind == 0
+            xb, vb_, acc = cf.state_with(co, dyn, zeta, force, x, v, tb)
+            if vzero:
+                vb_ = 0.0  # exactly: the section crossing is then a sample
+            d0, d1, d2, d3 = _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xb, vb_, tb - ta)
+            w[0] += d0
+            w[1] += d1
+            w[2] += d2
+            w[3] += d3
+            if not emit(outs, k, t + tb, xb, vb_, friction_force(fck, force, xb, vb_, zeta), fmode, w):
+                return k, ne, FULL, t_terminal, t + ta
+            k += 1
+            ta, xa, va = tb, xb, vb_
+            x_seen = max(x_seen, abs(xb))
+            if vzero and stop_periodic and acc < 0.0:
+                n_max += 1
+                if _section(ring_x, ring_t, n_max, xb, t + tb, rtol * max(x_seen, abs(vb), fd, 1e-300), rtol):
+                    return k, ne, DONE, t_terminal, t + tb
+        # the last piece, up to the phase end: its work goes with the switch's sample
+        d0, d1, d2, d3 = _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xe, ve, T - ta)
+        w[0] += d0
+        w[1] += d1
+        w[2] += d2
+        w[3] += d3
         t += T
-        x, v = xa, va
+        x, v = xe, ve
         if which < 0:
             break
         # The switch: which mode continues?
-        new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev)
+        new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v)
         if new < 0:
             new = region_mode(law, zeta, vb, fd, fs, vd, res, x, v)
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
@@ -511,53 +593,10 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             ev_t[ne] = t
             ev_mode[ne] = mode
         ne += 1
-        dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
-        if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta), friction_mode(mode), w):
-            return k, ne, FULL, t_terminal, t
-        k += 1
     if out_t[k - 1] < t_end:
+        # the run ends inside a phase
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
         if not emit(outs, k, t_end, x, v, friction_force(fck, force, x, v, zeta), friction_mode(mode), w):
             return k, ne, FULL, t_terminal, t
         k += 1
     return k, ne, DONE, t_terminal, t_end
-
-
-@njit(cache=True)
-def _falling(dyn, zeta, force, xp, vp, tb):
-    """X' goes from + to - at tb (a maximum of X)."""
-    _, _, a = cf.state(dyn, zeta, force, xp, vp, tb)
-    return a < 0.0
-
-
-@njit(cache=True)
-def _repeats(ring_x, ring_t, n, min_periods, tol_x, rtol):
-    """The last min_periods + 1 maxima of X and their periods repeat."""
-    if n < min_periods + 2:
-        return False
-    K = len(ring_x)
-    last = (n - 1) % K
-    p_last = ring_t[last] - ring_t[(n - 2) % K]
-    for i in range(1, min_periods + 1):
-        j = (n - 1 - i) % K
-        if abs(ring_x[j] - ring_x[last]) > tol_x:
-            return False
-        pj = ring_t[j] - ring_t[(n - 2 - i) % K]
-        if abs(pj - p_last) > rtol * p_last:
-            return False
-    return True
-
-
-@njit(cache=True)
-def _sort_tagged(pts, tags, n):
-    """Insertion sort of pts[:n] carrying tags along (n is small; no allocation)."""
-    for i in range(1, n):
-        p = pts[i]
-        g = tags[i]
-        j = i - 1
-        while j >= 0 and pts[j] > p:
-            pts[j + 1] = pts[j]
-            tags[j + 1] = tags[j]
-            j -= 1
-        pts[j + 1] = p
-        tags[j + 1] = g

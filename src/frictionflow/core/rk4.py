@@ -117,3 +117,61 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
         k += 1
     s[0], s[1], s[2], s[3], s[4], s[5] = x, v, wdv, wp, wn, wq
     return k
+
+
+@njit(cache=True, inline="always")
+def _sign(u):
+    return (u > 0.0) - (u < 0.0)
+
+
+@njit(cache=True, fastmath=FASTMATH)
+def run_thinned(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
+    """As :func:`run` keeping every ``every``-th step, and both steps around every event the analysis reads.
+
+    The events: a sign change of X' (section crossings, extremes of X), of X''
+    (extremes of X'), of X' + 2 zeta X'' (extremes of the wall force), a change
+    of friction mode, and the start of the tail ``t_tail``.  Between two kept
+    samples none of these happens, so the section records, window aggregates
+    and stick times built from the kept samples are those of every step
+    (:func:`frictionflow.core.sections.records_from_samples`), and the work
+    integrals are exact sums.  ``s`` (length 8) also carries X'' of the current
+    state and whether it is kept already.  Returns (next free sample, next
+    step): it stops early when fewer than 3 samples fit.
+    """
+    law = int(p[LAW])
+    fd, fs, vd, res = p[FD], p[FS], p[VD], p[RESULTANT] != 0.0
+    la, lb, lc = p[LAW_A], p[LAW_B], p[LAW_C]
+    x, v, wdv, wp, wn, wq, a, kept = s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7] != 0.0
+    cap = len(out_t)
+    i = i0
+    while i < i1:
+        if k + 3 > cap:
+            break
+        t = t0 + i * dt
+        if i % every == 0 and not kept:
+            _record(k, t, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            k += 1
+            wdv = wp = wn = wq = 0.0
+            kept = True
+        xn, vn, ddv, dp, dn, dq = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc)
+        an = band_force(law, fd, fs, vd, res, la, lb, lc, xn, vn, zeta, vb) - xn - 2.0 * zeta * vn
+        event = (_sign(v) != _sign(vn) or _sign(a) != _sign(an) or _sign(v + 2.0 * zeta * a) != _sign(vn + 2.0 * zeta * an)
+                 or band_mode(v, vb, vd) != band_mode(vn, vb, vd) or (t < t_tail <= t + dt))
+        if event and not kept:
+            _record(k, t, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            k += 1
+            wdv = wp = wn = wq = 0.0
+        wdv += ddv
+        wp += dp
+        wn += dn
+        wq += dq
+        x, v, a = xn, vn, an
+        kept = False
+        i += 1
+        if event or i == n_total:
+            _record(k, t0 + i * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            k += 1
+            wdv = wp = wn = wq = 0.0
+            kept = True
+    s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7] = x, v, wdv, wp, wn, wq, a, 1.0 if kept else 0.0
+    return k, i

@@ -3,7 +3,9 @@
 from numba import njit
 
 
-@njit(cache=True)
+# Inlined: a call of a compiled function costs two atomic reference-count
+# updates per array argument -- here seven arrays, several times the writes.
+@njit(inline="always")
 def emit(outs, k, t, x, v, fc, mode, w):
     """Write sample ``k`` into ``outs`` = (t, x, v, fc, mode, work); False when the arrays are full.
 
@@ -18,6 +20,7 @@ def emit(outs, k, t, x, v, fc, mode, w):
     out_v[k] = v
     out_fc[k] = fc
     out_mode[k] = mode
-    out_w[k, :] = w
-    w[:] = 0.0
+    for j in range(4):
+        out_w[k, j] = w[j]
+        w[j] = 0.0
     return True

@@ -200,6 +200,27 @@ def _repeat_count(seq, tol):
 
 
 @njit(cache=True)
+def repeat_counts(xs, ts, tol_x, rtol, h2):
+    """How far back the section values repeat the last ones: (maxima, periods).
+
+    ``xs``, ``ts``: the maxima of X and their times, oldest first.  Counts the
+    maxima before the last that equal it within ``tol_x``, and the periods
+    (differences of ``ts``) before the last that equal it within ``rtol``
+    times it plus ``h2``, consecutively back from the end.  The one test of
+    periodicity, shared by :func:`classify` and the exact kernel's early stop.
+    """
+    n = len(xs)
+    m_x = _repeat_count(xs, tol_x)
+    m_p = 0
+    if n >= 2:
+        p_last = ts[n - 1] - ts[n - 2]
+        tol_p = rtol * p_last + h2
+        while m_p < n - 2 and abs((ts[n - 2 - m_p] - ts[n - 3 - m_p]) - p_last) <= tol_p:
+            m_p += 1
+    return m_x, m_p
+
+
+@njit(cache=True)
 def _stationary(seq):
     """No significant linear trend (|t| < 4) in a short noisy sequence."""
     n = len(seq)
@@ -259,10 +280,8 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step):
 
     # Periodic, strictly: maxima, minima and periods repeat to tol.
     if n >= min_periods + 1:
-        xs = rec[:, X].copy()
-        periods = np.diff(rec[:, T].copy())
-        tol_p = rtol * periods[-1] + h * h
-        m = min(_repeat_count(xs, tol), _repeat_count(periods, tol_p) + 1)
+        m_x, m_p = repeat_counts(rec[:, X].copy(), rec[:, T].copy(), tol, rtol, h * h)
+        m = min(m_x, m_p + 1)
         lo = rec[n - min_periods :, LO].copy()
         if m >= min_periods and not np.any(np.isnan(lo)) and lo.max() - lo.min() <= tol:
             out[C_KIND] = PERIODIC

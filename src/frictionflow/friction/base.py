@@ -23,18 +23,18 @@ from typing import Any, Callable, ClassVar, Mapping
 import numpy as np
 
 from ..core import layout
-from ..parameters import Param, nonnegative_real, positive_real, resolve
+from ..parameters import MODEL_MAX, Param, nonnegative_real, positive_real, resolve
 
 STICK_FORCES = ("resultant", "spring")
 
 # Parameters several laws share: declared once here, listed by each law.
-FD = nonnegative_real("fd", "F_d", "kinetic friction", "law", 0.02, sweepable=True)
+FD = nonnegative_real("fd", "F_d", "kinetic friction", "law", 0.02, upper=MODEL_MAX, sweepable=True)
 FS = Param("fs", "F_s", "maximum static friction", "law", lambda v: v["fd"], default_text="F_d",
-           lower=0.0, sweepable=True)
+           lower=0.0, upper=MODEL_MAX, sweepable=True)
 STICK_FORCE = Param("stick_force", "", "force held while sticking: resultant (X+2zeta X') or spring (X, the paper's)",
                     "law", "resultant", kind="choice", choices=STICK_FORCES)
 RK4_BAND = positive_real("rk4_band", "", "stick band half width of fixed-step RK4 (other solvers ignore it)", "law", 1e-4,
-                         report=False)
+                         upper=MODEL_MAX, report=False)
 
 
 class FrictionLaw:

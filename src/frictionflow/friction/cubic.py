@@ -20,13 +20,13 @@ from typing import Any, Mapping
 from numba import njit
 
 from ..core import layout
-from ..parameters import nonnegative_real, positive_real
+from ..parameters import MODEL_MAX, nonnegative_real, positive_real
 from .base import FS, RK4_BAND, STICK_FORCE, FrictionLaw
 from .registry import register
 
 MU_S = FS.with_default(0.04, None)
-K1 = nonnegative_real("k1", "k_1", "cubic law's linear falling coefficient", "law", 0.3, sweepable=True)
-K3 = positive_real("k3", "k_3", "cubic law's cubic rising coefficient", "law", 10.0, sweepable=True)
+K1 = nonnegative_real("k1", "k_1", "cubic law's linear falling coefficient", "law", 0.3, upper=MODEL_MAX, sweepable=True)
+K3 = positive_real("k3", "k_3", "cubic law's cubic rising coefficient", "law", 10.0, upper=MODEL_MAX ** 2, sweepable=True)
 
 
 @njit(cache=True, inline="always")

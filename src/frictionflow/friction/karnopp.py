@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import layout
-from ..parameters import positive_real
+from ..parameters import MODEL_MAX, positive_real
 from .base import FD, FS, STICK_FORCE, FrictionLaw
 from .registry import register
 
-VD = positive_real("vd", "V_d", "Karnopp stick-band half width", "law", 1e-3, sweepable=True)
+VD = positive_real("vd", "V_d", "Karnopp stick-band half width", "law", 1e-3, upper=MODEL_MAX, sweepable=True)
 
 
 @register

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from ..io import write_figure
 from .branches import Branch, ContinuationResult
 from .shooting import PeriodicOrbit
 
@@ -63,7 +64,7 @@ def _value(point, quantity: str) -> float:
     return point.measures.averages()[quantity]
 
 
-def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None, *, sweep: bool = True):
+def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None, *, sweep: bool = True, name: str = "path"):
     """Amplitude, power flow, power ratios and TR_B against the parameter, one panel each.
 
     Returns the figure; saves it to ``path`` when given.
@@ -97,8 +98,7 @@ def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None,
     ax[1, 1].set(xlabel=result.param, ylabel="TR_B", title="force transmissibility")
     fig.suptitle(_title(result))
     if path is not None:
-        fig.savefig(path)
-        plt.close(fig)
+        write_figure(fig, path, name)  # atomic: no partial figure on failure
     return fig
 
 
@@ -128,7 +128,7 @@ def _title(result: ContinuationResult) -> str:
     return f"continuation in {result.param} ({result.params.get('friction')}: {fixed})"
 
 
-def plot_orbit(orbit: PeriodicOrbit, path: str | Path | None = None):
+def plot_orbit(orbit: PeriodicOrbit, path: str | Path | None = None, *, name: str = "path"):
     """Phase portrait, X(tau) and the instantaneous friction and damper power over one period."""
     from ..analysis.power_flow import instantaneous_power
 
@@ -155,6 +155,5 @@ def plot_orbit(orbit: PeriodicOrbit, path: str | Path | None = None):
     mu = orbit.multiplier
     fig.suptitle(f"{orbit.stability} orbit, multiplier {mu.real:.4g}{mu.imag:+.2g}j, stick fraction {orbit.stick_fraction:.3f}, TR_B {orbit.measures.TR_B:.4g}")
     if path is not None:
-        fig.savefig(path)
-        plt.close(fig)
+        write_figure(fig, path, name)  # atomic: no partial figure on failure
     return fig

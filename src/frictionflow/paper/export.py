@@ -11,6 +11,11 @@ from typing import Any
 
 import xarray as xr
 
+from ..io import atomic_write, write_figure
+
+#: the option named when a file of the reproduction cannot be written
+OPTION = "out"
+
 #: name -> long_name of every variable and coordinate the studies write
 LONG_NAMES: dict[str, str] = {
     "solver": "rk4: the paper's method (fixed-step RK4 through the Karnopp band); exact: event-driven closed form",
@@ -109,24 +114,28 @@ def write_dataset(ds: xr.Dataset, out_dir: Path, stem: str) -> list[Path]:
     dimensions, ``stem_<dims>.csv`` for each other group of variables sharing dimensions."""
     out_dir = Path(out_dir)
     paths = [out_dir / f"{stem}.nc"]
-    ds.to_netcdf(paths[0])
+    with atomic_write(paths[0], OPTION) as tmp:
+        ds.to_netcdf(tmp)
     groups: dict[tuple[str, ...], list[str]] = {}
     for name, var in ds.data_vars.items():
         groups.setdefault(tuple(str(d) for d in var.dims), []).append(str(name))
     primary = max(groups, key=len)
     for dims, names in groups.items():
         path = out_dir / (f"{stem}.csv" if dims == primary else f"{stem}_{'-'.join(dims) or 'scalars'}.csv")
-        ds[names].to_dataframe().to_csv(path)
+        with atomic_write(path, OPTION) as tmp:
+            ds[names].to_dataframe().to_csv(tmp)
         paths.append(path)
     return paths
 
 
 def save_figure(fig, out_dir: Path, stem: str) -> list[Path]:
-    """Save ``fig`` as ``stem.png`` and ``stem.pdf`` and close it."""
+    """Save ``fig`` as ``stem.png`` and ``stem.pdf`` (each atomically) and close it."""
     import matplotlib.pyplot as plt
 
     paths = [Path(out_dir) / f"{stem}.png", Path(out_dir) / f"{stem}.pdf"]
-    fig.savefig(paths[0], dpi=110)
-    fig.savefig(paths[1])
-    plt.close(fig)
+    try:
+        write_figure(fig, paths[0], OPTION, close=False, dpi=110)
+        write_figure(fig, paths[1], OPTION, close=False)
+    finally:
+        plt.close(fig)
     return paths

@@ -22,9 +22,10 @@ import xarray as xr
 
 from .. import _validate as check
 from .._progress import progress_bar
+from ..io import atomic_write, check_output_dir, check_output_path
 from . import band, fig2, fig3, fig4, fig5, fig6, sweep, transient
 from .claims import Claim, evaluate
-from .export import annotate, save_figure, write_dataset
+from .export import OPTION, annotate, save_figure, write_dataset
 from .report import write_report
 from .results import Runner
 from .settings import Settings
@@ -175,13 +176,24 @@ def _executor(workers: int) -> Executor:
 
 
 def check_out_dir(out_dir: str | Path) -> Path:
-    """The output directory, created if missing; its parent must exist."""
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"out must be a directory, got the file {str(out)!r}")
-    if not out.exists() and not out.parent.exists():
-        raise ValueError(f"out: parent directory {str(out.parent)!r} does not exist")
+    """The output directory, created if missing; its parent must exist.
+
+    Checked before any work: the directory can be created or written, and no
+    file :func:`reproduce` writes under a known name is blocked (a directory
+    in its place, a read-only file).
+    """
+    out = check_output_dir(out_dir, OPTION)
+    if out.is_dir():
+        for name in output_names():
+            check_output_path(out / name, None, OPTION)
     return out
+
+
+def output_names() -> list[str]:
+    """The files :func:`reproduce` writes whose names are known before computing."""
+    names = [f"{stem}{ext}" for stem in FIGURES for ext in (".png", ".pdf")]
+    names += [f"{stem}{ext}" for stem, _title in DATASETS.values() for ext in (".nc", ".csv")]
+    return names + ["claims.json", "report.html"]
 
 
 def reproduce(out_dir: str | Path, settings: Settings | None = None, *, workers: int | None = None,
@@ -237,7 +249,8 @@ def reproduce(out_dir: str | Path, settings: Settings | None = None, *, workers:
                 advance(1)
             lap("figures and data files")
             claims = evaluate(data)
-            (out / "claims.json").write_text(json.dumps([c.__dict__ for c in claims], indent=1), encoding="utf-8")
+            with atomic_write(out / "claims.json", OPTION) as tmp:
+                tmp.write_text(json.dumps([c.__dict__ for c in claims], indent=1), encoding="utf-8")
             report = write_report(out, data, claims, CAPTIONS, settings, time.perf_counter() - start)
             advance(1)
             lap("claims and report")

@@ -13,8 +13,10 @@ from pathlib import Path
 
 import xarray as xr
 
+from ..io import atomic_write
 from .cases import select
 from .claims import Claim, g
+from .export import OPTION
 from .settings import Settings
 
 CSS = """
@@ -202,5 +204,6 @@ def write_report(out: Path, data: dict[str, xr.Dataset], claims: list[Claim], ca
     parts.append("<p class='files'>Data: every figure's data as NetCDF (units and long names in the attributes) "
                  "and CSV; <code>claims.json</code> lists the verdicts.</p></body></html>")
     path = out / "report.html"
-    path.write_text("\n".join(parts), encoding="utf-8")
+    with atomic_write(path, OPTION) as tmp:
+        tmp.write_text("\n".join(parts), encoding="utf-8")
     return path

@@ -16,14 +16,15 @@ from ..core import dopri, sections
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
-from ..parameters import Param, positive_real
-from .base import Solver, output_buffers, trajectory_from
+from ..parameters import Param
+from .base import DEFAULT_MAX_MEMORY, Solver, run_growing, trajectory_from
 from .events import ADAPTIVE_EVENT_MODES
 from .exact import DENSE_DT
 
-ODE_RTOL = positive_real("ode_rtol", "", "adaptive solver's relative tolerance", "solver", 1e-10)
+# below 1e-14 the error estimate is rounding; above 1e-2 the switches are not located
+ODE_RTOL = Param("ode_rtol", "", "adaptive solver's relative tolerance", "solver", 1e-10, lower=1e-14, upper=1e-2)
 MAX_STEPS = Param("max_steps", "", "adaptive solver's step cap", "solver", 10_000_000, default_text="1e7",
-                  kind="int", lower=1)
+                  kind="int", lower=1, upper=1e12)
 
 
 class StepLimitError(RuntimeError):
@@ -102,6 +103,15 @@ class Adaptive(Solver):
     def supports(self, friction: FrictionLaw) -> bool:
         return friction.stick_rule == "switch"
 
+    def sample_estimate(self, t_end: float) -> int:
+        """Room for the samples of a run to ``t_end`` (measured: up to ~26 per time unit), the dense grid included."""
+        dense = int(t_end / self.dense_dt) + 2 if self.dense_dt else 0
+        return int(40 * t_end) + 256 + dense
+
+    @staticmethod
+    def _full(result: tuple, bufs: tuple[np.ndarray, ...]) -> bool:
+        return result[2] == dopri.FULL or result[1] > len(bufs[0])
+
     def solve(
         self,
         model: BeltOscillator,
@@ -110,25 +120,22 @@ class Adaptive(Solver):
         v0: float,
         t_end: float,
         progress: bool = False,
+        max_memory: float = DEFAULT_MAX_MEMORY,
     ) -> Trajectory:
         if not self.supports(friction):
             raise ValueError(f"solver=adaptive does not support friction={friction.name}")
         run, _ = kernel_for(friction.func)
         p = friction.kernel_params()
         dense_dt = self.dense_dt or 0.0
-        cap = int(64 * t_end) + 256 + (int(t_end / dense_dt) + 2 if dense_dt else 0)
         t_tail = sections.tail_start(0.0, t_end)
+
+        def kernel(bufs: tuple[np.ndarray, ...]) -> tuple:
+            return run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, self.rtol, self.atol, self.max_steps,
+                       dense_dt, t_tail, *bufs)
+
         with progress_bar("adaptive", 1, enabled=progress and t_end > 1e5) as advance:
-            while True:
-                bufs = output_buffers(cap)
-                n, ne, status, t_stop, h = run(
-                    float(x0), float(v0), float(t_end), model.zeta, model.vb, p, self.rtol, self.atol, self.max_steps,
-                    dense_dt, t_tail, *bufs,
-                )
-                if status == dopri.FULL or ne > cap:
-                    cap *= 4
-                    continue
-                break
+            (n, ne, status, t_stop, h), bufs = run_growing(
+                kernel, self.sample_estimate(t_end), self._full, max_memory, self.sized(t_end))
             advance(1)
         if status in (dopri.STEP_CAP, dopri.TINY_STEP):
             why = f"max_steps={self.max_steps} reached" if status == dopri.STEP_CAP else "the step size vanished"

@@ -9,7 +9,7 @@ state, end time) into a :class:`~frictionflow.trajectory.Trajectory` whose
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from typing import Any, ClassVar, Mapping
+from typing import Any, Callable, ClassVar, Mapping
 
 import numpy as np
 
@@ -19,6 +19,42 @@ from ..modes import SwitchMode
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from .events import switch_modes
+
+
+#: what one kept sample costs: t, X, X', F_c, mode, four work integrals, one event slot
+BYTES_PER_SAMPLE = 4 * 8 + 1 + 4 * 8 + 2 * 8
+#: memory a run's samples may take unless the caller says otherwise (GiB)
+DEFAULT_MAX_MEMORY = 4.0
+
+
+def check_memory(samples: float, max_memory: float, what: str) -> None:
+    """Refuse, with the numbers and the settings that would fix it, a run whose samples exceed ``max_memory`` GiB.
+
+    ``what`` names the run by the settings its size follows (:meth:`Solver.sized`).
+    """
+    need = samples * BYTES_PER_SAMPLE / 2**30
+    if need > max_memory:
+        raise ValueError(
+            f"{what} needs about {samples:.3g} samples ({need:.3g} GiB) but max_memory={max_memory:g} GiB: "
+            "shorten the run, sample it less densely, or raise max_memory"
+        )
+
+
+def run_growing(kernel: Callable[[tuple[np.ndarray, ...]], tuple], cap: int,
+                full: Callable[[tuple, tuple[np.ndarray, ...]], bool],
+                max_memory: float, what: str) -> tuple[tuple, tuple[np.ndarray, ...]]:
+    """Run ``kernel(buffers)`` with room for ``cap`` samples, four times more each time it reports them ``full``.
+
+    An event-driven run cannot know its number of samples in advance; a retry
+    costs at most a third of the run again.  Returns the kernel's result and the buffers.
+    """
+    while True:
+        check_memory(cap, max_memory, what)
+        buffers = output_buffers(cap)
+        result = kernel(buffers)
+        if not full(result, buffers):
+            return result, buffers
+        cap *= 4
 
 
 class CoarseStepWarning(UserWarning):
@@ -48,8 +84,9 @@ class Solver(ABC):
         v0: float,
         t_end: float,
         progress: bool = False,
+        max_memory: float = DEFAULT_MAX_MEMORY,
     ) -> Trajectory:
-        """Integrate from (x0, v0) at tau = 0 to ``t_end``."""
+        """Integrate from (x0, v0) at tau = 0 to ``t_end``, keeping at most ``max_memory`` GiB of samples."""
 
     def supports(self, friction: FrictionLaw) -> bool:
         """Whether this solver can integrate ``friction``."""
@@ -58,6 +95,11 @@ class Solver(ABC):
     def describe(self) -> dict[str, Any]:
         """Name and settings, for reports and JSON."""
         return {"name": self.name}
+
+    def sized(self, t_end: float) -> str:
+        """The run's length and the settings its number of samples follows (for messages)."""
+        sampling = {k: v for k, v in self.describe().items() if k in ("dt", "dense_dt", "record_every") and v is not None}
+        return f"t_end={t_end:g} with solver={self.name}" + "".join(f", {k}={v:g}" for k, v in sampling.items())
 
     def __repr__(self) -> str:
         d = self.describe()

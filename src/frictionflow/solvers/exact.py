@@ -14,11 +14,11 @@ from ..core import sections
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
-from ..parameters import positive_real
-from .base import Solver, output_buffers, trajectory_from
+from ..parameters import MODEL_MAX, positive_real
+from .base import DEFAULT_MAX_MEMORY, Solver, run_growing, trajectory_from
 from .events import EXACT_EVENT_MODES
 
-DENSE_DT = positive_real("dense_dt", "", "exact/adaptive: also sample every DENSE_DT", "solver", None,
+DENSE_DT = positive_real("dense_dt", "", "exact/adaptive: also sample every DENSE_DT", "solver", None, upper=MODEL_MAX,
                          default_text="only switches and sections; 2pi/200 with --out/--plot")
 
 
@@ -51,6 +51,15 @@ class Exact(Solver):
     def supports(self, friction: FrictionLaw) -> bool:
         return friction.piecewise_constant
 
+    def sample_estimate(self, t_end: float) -> int:
+        """Room for the samples of a run to ``t_end``: ~8 per natural period, the dense grid included."""
+        dense = int(t_end / self.dense_dt) + 2 if self.dense_dt else 0
+        return int(16 * t_end / (2 * math.pi)) + 64 + dense
+
+    @staticmethod
+    def _full(result: tuple, bufs: tuple[np.ndarray, ...]) -> bool:
+        return result[2] == kernel.FULL or result[1] > len(bufs[0])
+
     def solve(
         self,
         model: BeltOscillator,
@@ -59,29 +68,24 @@ class Exact(Solver):
         v0: float,
         t_end: float,
         progress: bool = False,
+        max_memory: float = DEFAULT_MAX_MEMORY,
     ) -> Trajectory:
         if not self.supports(friction):
             raise ValueError(f"solver=exact does not support friction={friction.name} (its slip force is not constant)")
         dense = self.dense_dt or 0.0
-        # samples: ~8 per natural period plus the dense grid; grown on demand
-        cap = int(16 * t_end / (2 * math.pi)) + 64 + (int(t_end / dense) + 2 if dense else 0)
         p = friction.kernel_params()
         t_tail = sections.tail_start(0.0, t_end)
+        t_mode = np.zeros(1, dtype=np.int64)
+
+        def run(bufs: tuple[np.ndarray, ...]) -> tuple:
+            return kernel.run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, False, False, 0.0, 3,
+                              *bufs, t_mode)
+
         with progress_bar("exact", 1, enabled=progress and t_end > 1e5) as advance:
-            while True:
-                bufs = output_buffers(cap)
-                t_mode = np.zeros(1, dtype=np.int64)
-                n, ne, status, t_term, _ = kernel.run(
-                    float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, False, False, 0.0, 3,
-                    *bufs, t_mode,
-                )
-                if status == kernel.FULL or ne > cap:
-                    cap *= 4
-                    continue
-                if status == kernel.STUCK:
-                    t, x, v = bufs[:3]
-                    raise RuntimeError(f"exact: repeated zero-length phases at tau={t[n - 1]:.17g}, X={x[n - 1]:.17g}, X'={v[n - 1]:.17g}")
-                break
+            (n, ne, status, t_term, _), bufs = run_growing(run, self.sample_estimate(t_end), self._full, max_memory, self.sized(t_end))
             advance(1)
+        if status == kernel.STUCK:
+            t, x, v = bufs[:3]
+            raise RuntimeError(f"exact: repeated zero-length phases at tau={t[n - 1]:.17g}, X={x[n - 1]:.17g}, X'={v[n - 1]:.17g}")
         extra = {"t_terminal": None if t_term < 0 else float(t_term), "terminal_mode": int(t_mode[0])}
         return trajectory_from(bufs, n, ne, model, friction, self.describe(), extra, event_modes=EXACT_EVENT_MODES)

@@ -13,12 +13,14 @@ from .._progress import progress_bar
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
-from ..parameters import Param, positive_real
-from .base import CoarseStepWarning, Solver
+from ..parameters import MODEL_MAX, Param
+from ..core import sections
+from .base import DEFAULT_MAX_MEMORY, CoarseStepWarning, Solver, check_memory
 
-DT = positive_real("dt", "", "RK4 step", "solver", 1e-3)
+# (a step below 1e-9 or more steps than MAX_STEPS would run for days: refused up front)
+DT = Param("dt", "", "RK4 step", "solver", 1e-3, lower=1e-9, upper=MODEL_MAX)
 RECORD_EVERY = Param("record_every", "", "keep every k-th RK4 step", "solver", None, default_text="every step, up to 5e6 samples",
-                     kind="int", lower=1)
+                     kind="int", lower=1, upper=1e12)
 from ..core import rk4 as kernel
 
 #: RK4's stability limit h*|lambda| on the negative real axis
@@ -26,6 +28,18 @@ RK4_REAL_LIMIT = 2.785
 #: without ``record_every`` the run keeps at most this many samples
 MAX_AUTO_SAMPLES = 5_000_000
 CHUNK = 2_000_000
+#: more steps than this would run for hours (at ~30 ns each): refused up front
+MAX_STEPS = 10**11
+
+
+class ThinnedOutputWarning(UserWarning):
+    """RK4 keeps only part of its steps (the analysis is unaffected: events are kept)."""
+
+
+def _arrays(n: int) -> tuple[np.ndarray, ...]:
+    """t, X, X', F_c, mode and work arrays for ``n`` samples."""
+    t, x, v, fc = (np.empty(n) for _ in range(4))
+    return t, x, v, fc, np.empty(n, dtype=np.int8), np.empty((n, 4))
 
 
 class RK4(Solver):
@@ -94,34 +108,63 @@ class RK4(Solver):
         v0: float,
         t_end: float,
         progress: bool = False,
+        max_memory: float = DEFAULT_MAX_MEMORY,
     ) -> Trajectory:
         if not self.supports(friction):
             raise ValueError(f"solver=rk4 does not support friction={friction.name}")
+        n = self.steps(t_end)
         for msg in self.check_step(model, friction, x0, v0):
             warnings.warn(msg, CoarseStepWarning, stacklevel=3)
-        n = max(1, math.ceil(t_end / self.dt - 1e-9))
         every = self.record_every or max(1, math.ceil(n / MAX_AUTO_SAMPLES))
-        n_samples = -(-n // every) + 1
-        t, x, v, fc = (np.empty(n_samples) for _ in range(4))
-        mode = np.empty(n_samples, dtype=np.int8)
-        work = np.empty((n_samples, 4))
-        state = np.array([x0, v0, 0.0, 0.0, 0.0, 0.0])
+        if every > 1 and self.record_every is None:
+            warnings.warn(f"rk4: {n} steps; keeping one step in {every} and the steps around every section crossing, "
+                          "extreme and mode change, so that classification and averages are those of every step "
+                          "(record_every sets the thinning)", ThinnedOutputWarning, stacklevel=3)
         p = friction.kernel_params()
-        k = 0
+        args = (self.dt, model.zeta, model.vb, p)
         with progress_bar("rk4", n, enabled=progress and n > 5 * CHUNK) as advance:
-            for i0 in range(0, n, CHUNK):
-                i1 = min(n, i0 + CHUNK)
-                k = kernel.run(state, i0, i1, n, every, 0.0, self.dt, model.zeta, model.vb, p, t, x, v, fc, mode, work, k)
-                advance(i1 - i0)
-        assert k == n_samples
+            if every == 1:
+                out = self._every_step(n, x0, v0, args, max_memory, t_end, advance)
+            else:
+                out = self._thinned(n, every, x0, v0, args, max_memory, t_end, advance)
         return Trajectory(
-            t=t,
-            x=x,
-            v=v,
-            fc=fc,
-            mode=mode,
-            dwork=work,
-            model=model,
-            friction=friction,
-            solver=self.describe() | {"record_every": every, "steps": n},
+            *out[:5], dwork=out[5], model=model, friction=friction, solver=self.describe() | {"record_every": every, "steps": n},
         )
+
+    def steps(self, t_end: float) -> int:
+        """Steps to reach ``t_end``; ValueError when that is none or more than :data:`MAX_STEPS`."""
+        if self.dt > t_end:
+            raise ValueError(f"dt must be <= t_end = {t_end:g}, got {self.dt:g}")
+        n = max(1, math.ceil(t_end / self.dt - 1e-9))
+        if n > MAX_STEPS:
+            raise ValueError(f"t_end={t_end:g} with dt={self.dt:g} makes {n:.3g} RK4 steps, more than {MAX_STEPS:.0e} "
+                             "(hours of computing): raise dt or shorten t_end")
+        return n
+
+    def _every_step(self, n: int, x0: float, v0: float, args: tuple, max_memory: float, t_end: float, advance) -> tuple:
+        check_memory(n + 1, max_memory, self.sized(t_end))
+        t, x, v, fc, mode, work = _arrays(n + 1)
+        state = np.array([x0, v0, 0.0, 0.0, 0.0, 0.0])
+        k = 0
+        for i0 in range(0, n, CHUNK):
+            i1 = min(n, i0 + CHUNK)
+            k = kernel.run(state, i0, i1, n, 1, 0.0, *args, t, x, v, fc, mode, work, k)
+            advance(i1 - i0)
+        return t, x, v, fc, mode, work
+
+    def _thinned(self, n: int, every: int, x0: float, v0: float, args: tuple, max_memory: float, t_end: float, advance) -> tuple:
+        # room for the regular samples and ~25 event samples per natural period; grown on demand
+        cap = n // every + int(4 * t_end) + 64
+        bufs = _arrays(cap)
+        state = np.array([x0, v0, 0.0, 0.0, 0.0, 0.0, np.nan, 0.0])
+        t_tail = sections.tail_start(0.0, n * self.dt)
+        k = i = 0
+        while i < n:
+            check_memory(len(bufs[0]), max_memory, self.sized(t_end))
+            i1 = min(n, i + CHUNK)
+            k, i_done = kernel.run_thinned(state, i, i1, n, every, 0.0, args[0], t_tail, *args[1:], *bufs, k)
+            advance(i_done - i)
+            i = i_done
+            if i < i1:  # full: more room, and on from where it stopped
+                bufs = tuple(np.concatenate([b, np.empty((len(b),) + b.shape[1:], b.dtype)]) for b in bufs)
+        return tuple(b[:k] for b in bufs)

@@ -2,6 +2,7 @@
 
 from .compute import KIND_NAMES, VARIABLES, compute_chunk
 from .config import GRID_KEYS, SweepConfig, load_sweep, parse_sweep
+from .store import verify_sweep
 from .plotting import plot_cut, plot_map
 from .runner import run_sweep
 
@@ -16,4 +17,5 @@ __all__ = [
     "plot_cut",
     "plot_map",
     "run_sweep",
+    "verify_sweep",
 ]

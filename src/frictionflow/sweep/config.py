@@ -29,11 +29,15 @@ import numpy as np
 from .. import _validate as check
 from ..config import RunConfig
 from ..friction import law_class
-from ..parameters import sweep_axes
+from ..parameters import declared, sweep_axes
+from ..solvers.base import check_memory
 from ..io import read_config
 
 #: what can be an axis: every sweepable declared parameter (the oscillator's, the laws', the initial state)
 GRID_KEYS = sweep_axes()
+#: values on one axis, and grid points, at most (10^10 points: days of computing at 4e4 points/s)
+MAX_AXIS = 10**7
+MAX_POINTS = 10**10
 #: settings that make no sense in a sweep (outputs of one run)
 NOT_IN_SWEEPS = ("window", "dimensional", "record_every", "dense_dt")
 
@@ -78,17 +82,34 @@ class SweepConfig:
         return out
 
 
+def _value(key: str, where: str, value: Any) -> float:
+    """One grid value, checked by the parameter's declaration (a boolean or text is not a number)."""
+    try:
+        return float(declared()[key].check(value))
+    except ValueError as e:
+        raise ValueError(f"{where}: {e}") from None
+
+
+def _count(where: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not float(value).is_integer() \
+            or not 1 <= value <= MAX_AXIS:
+        raise ValueError(f"{where} must be an integer in [1, {MAX_AXIS}], got {value!r}")
+    return int(value)
+
+
 def _axis(key: str, value: Any) -> np.ndarray | float:
     """A grid entry: a number (fixed), a list, or {start, stop, num, scale}."""
     where = f"grid.{key}"
     if isinstance(value, bool):
         raise ValueError(f"{where} must be a number, a list or a {{start, stop, num, scale}} table, got {value!r}")
     if isinstance(value, (int, float)):
-        return check.finite(where, value)
+        return _value(key, where, value)
     if isinstance(value, list):
         if not value:
             raise ValueError(f"{where} is an empty list; give at least one value")
-        arr = np.array([check.finite(f"{where}[{i}]", v) for i, v in enumerate(value)])
+        if len(value) > MAX_AXIS:
+            raise ValueError(f"{where} has {len(value)} values; at most {MAX_AXIS}")
+        arr = np.array([_value(key, f"{where}[{i}]", v) for i, v in enumerate(value)])
         if len(np.unique(arr)) != len(arr):
             raise ValueError(f"{where} has repeated values")
         return arr
@@ -100,9 +121,9 @@ def _axis(key: str, value: Any) -> np.ndarray | float:
         missing = {"start", "stop", "num"} - set(value)
         if missing:
             raise ValueError(f"{where}: missing {', '.join(sorted(missing))}")
-        start = check.finite(f"{where}.start", value["start"])
-        stop = check.finite(f"{where}.stop", value["stop"])
-        num = check.positive_int(f"{where}.num", value["num"])
+        start = _value(key, f"{where}.start", value["start"])
+        stop = _value(key, f"{where}.stop", value["stop"])
+        num = _count(f"{where}.num", value["num"])
         scale = check.choice(f"{where}.scale", value.get("scale", "linear"), ("linear", "log"))
         if num > 1 and start == stop:
             raise ValueError(f"{where}: start == stop with num > 1 gives repeated values")
@@ -140,9 +161,26 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config") -> SweepConfi
     run = RunConfig.from_mapping({**values, **fixed}, source=source)
     if not axes:
         raise ValueError(f"{source}: [grid] fixes every parameter; give at least one list or range to sweep")
+    points = math.prod(len(a) for a in axes.values())
+    if points > MAX_POINTS:
+        raise ValueError(f"{source}: the grid has {points:.3g} points; at most {MAX_POINTS:.0e}")
     cfg = SweepConfig(run=run, axes=axes, fixed=fixed, source={"settings": values, "grid": {k: _jsonable(v) for k, v in grid.items()}})
     _check_points(cfg)
+    _check_size(cfg)
     return cfg
+
+
+def _check_size(cfg: SweepConfig) -> None:
+    """Each parallel point's samples must fit max_memory; RK4's steps must be countable."""
+    import numba
+
+    _, _, solver = cfg.run.build()
+    if solver.name == "rk4":
+        solver.steps(cfg.run.t_end)  # the batched RK4 keeps section records, not samples
+        return
+    threads = numba.get_num_threads()
+    check_memory(solver.sample_estimate(cfg.run.t_end) * threads, cfg.run.max_memory,
+                 f"{solver.sized(cfg.run.t_end)} on {threads} threads")
 
 
 def _jsonable(v: Any) -> Any:

@@ -5,6 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from ..io import write_figure
+
 
 def _select(ds, var: str, keep: tuple[str, ...], sel: dict[str, Any]):
     da = ds[var]
@@ -16,7 +18,8 @@ def _select(ds, var: str, keep: tuple[str, ...], sel: dict[str, Any]):
     return da
 
 
-def plot_map(ds, var: str, x: str, y: str, path: str | Path | None = None, log: tuple[bool, bool] = (False, False), **sel: Any):
+def plot_map(ds, var: str, x: str, y: str, path: str | Path | None = None, log: tuple[bool, bool] = (False, False), *,
+             name: str = "path", **sel: Any):
     """Heat map of ``var`` over parameters ``x`` and ``y`` (other swept parameters fixed by ``sel``)."""
     import matplotlib
 
@@ -32,12 +35,11 @@ def plot_map(ds, var: str, x: str, y: str, path: str | Path | None = None, log: 
     if sel:
         ax.set_title(", ".join(f"{k}={v:g}" for k, v in sel.items()))
     if path is not None:
-        fig.savefig(path)
-        plt.close(fig)
+        write_figure(fig, path, name)  # atomic: no partial figure on failure
     return fig
 
 
-def plot_cut(ds, var: str, x: str, path: str | Path | None = None, hue: str | None = None, **sel: Any):
+def plot_cut(ds, var: str, x: str, path: str | Path | None = None, hue: str | None = None, *, name: str = "path", **sel: Any):
     """Line cut of ``var`` along ``x``, one line per value of ``hue`` (if given)."""
     import matplotlib
 
@@ -56,6 +58,5 @@ def plot_cut(ds, var: str, x: str, path: str | Path | None = None, hue: str | No
         ax.legend(fontsize=8)
     ax.set(xlabel=x, ylabel=var)
     if path is not None:
-        fig.savefig(path)
-        plt.close(fig)
+        write_figure(fig, path, name)  # atomic: no partial figure on failure
     return fig

@@ -1,14 +1,26 @@
-"""Run a sweep: locally on this machine's cores, or as Dask tasks on a cluster."""
+"""Run a sweep: locally on this machine's cores, or as Dask tasks on a cluster.
+
+A run holds the output's lock (:mod:`.lock`) from before it touches the
+output until it returns, fails or is interrupted; a resumed output is
+checked chunk by chunk first (:meth:`SweepStore.verify`).
+"""
 
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 from typing import Any
 
 from .compute import compute_chunk
 from .config import SweepConfig, chunk_shape, load_sweep, parse_sweep
-from .store import SweepStore
+from .lock import STALE_AFTER, SweepLock
+from .store import RepairWarning, SweepStore, Verification, check_out, verify_sweep
+
+__all__ = ["SCHEDULER_TIMEOUT", "default_chunk_size", "run_sweep", "verify_sweep"]
+
+#: seconds to wait for a Dask scheduler before giving up
+SCHEDULER_TIMEOUT = 5.0
 
 #: points per task when none is given: each task should be ~0.1-1 s of work
 DEFAULT_CHUNK = {"exact": 8192, "adaptive": 256}
@@ -32,6 +44,8 @@ def run_sweep(
     scheduler: str | None = None,
     chunk_size: int | None = None,
     progress: bool = False,
+    scheduler_timeout: float = SCHEDULER_TIMEOUT,
+    lock_stale_after: float = STALE_AFTER,
 ):
     """Compute a sweep into ``out`` (.zarr or .nc) and return it as an :class:`xarray.Dataset`.
 
@@ -47,27 +61,85 @@ def run_sweep(
         machine's cores.
     chunk_size:
         Points per chunk (a chunk is a task and a unit of commit).
+    scheduler_timeout:
+        Seconds to wait for ``scheduler`` to answer (RuntimeError naming the address after that).
+    lock_stale_after:
+        Seconds after which another host's untouched lock on ``out`` counts as stale.
+
+    Raises :class:`~frictionflow.sweep.lock.OutputInUseError` at once when
+    another run holds ``out``.  An existing output is checked before it is
+    resumed: damaged chunks are recomputed, with a warning saying which.
     """
-    if isinstance(config, (str, Path)):
-        cfg = load_sweep(str(config))
-    elif isinstance(config, SweepConfig):
-        cfg = config
-    else:
-        cfg = parse_sweep(config)
+    cfg = _as_config(config)
     size = chunk_size or default_chunk_size(cfg)
     if size < 1:
         raise ValueError(f"chunk_size must be >= 1, got {size}")
-    chunks = chunk_shape(cfg.shape, size)
-    store = SweepStore(out, cfg, chunks, restart=restart)
-    chunks = store.chunks  # a resumed sweep keeps the chunks it was started with
-    todo = store.todo()
+    if not (isinstance(scheduler_timeout, (int, float)) and math.isfinite(scheduler_timeout) and scheduler_timeout > 0):
+        raise ValueError(f"scheduler_timeout must be a number of seconds > 0, got {scheduler_timeout!r}")
+    check_out(out)
+    with SweepLock(out, stale_after=lock_stale_after):
+        own_client = _connect(scheduler, scheduler_timeout) if client is None and scheduler is not None else None
+        try:
+            store = SweepStore(out, cfg, chunk_shape(cfg.shape, size), restart=restart)
+            if store.resumed:
+                _report(store.verify(repair=True), store)
+            _compute(store, cfg, own_client or client, progress)
+        finally:
+            if own_client is not None:
+                own_client.close()
+        return store.finish()  # still locked: a .nc is converted by this run only
+
+
+def _as_config(config: SweepConfig | dict[str, Any] | str | Path) -> SweepConfig:
+    if isinstance(config, (str, Path)):
+        return load_sweep(str(config))
+    if isinstance(config, SweepConfig):
+        return config
+    return parse_sweep(config)
+
+
+def _connect(address: str, timeout: float):
+    """A client of the scheduler at ``address``; a one-line error naming it when it cannot be reached in time.
+
+    A malformed address is bad input (ValueError, exit code 2); a scheduler
+    that does not answer is a failure of the environment (RuntimeError,
+    exit code 1).
+    """
+    try:
+        from distributed import Client
+    except ImportError:
+        raise RuntimeError("--scheduler needs the 'distributed' package (pip install distributed)") from None
+    try:
+        # not the default client: a failed one must not linger as it (xarray's writes would then look for it)
+        return Client(address, timeout=timeout, set_as_default=False)
+    except ValueError as e:
+        raise ValueError(f"scheduler: bad address {address!r} ({e})") from None
+    except Exception as e:  # OSError / TimeoutError from the comm layer, whatever the cause
+        why = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        why = f"no answer within {timeout:g} s" if "timed out" in why.lower() or isinstance(e, TimeoutError) else why
+        raise RuntimeError(f"cannot connect to the Dask scheduler at {address}: {why}; is it running? (--scheduler-timeout sets the wait)") from None
+
+
+def _report(found: Verification, store: SweepStore) -> None:
+    """Warn about what checking a resumed output found (nothing when all was well)."""
+    out = store.target
+    if found.problems or (found.unrecorded and not store.complete):  # (an older .nc is kept as it is)
+        what = "; ".join(found.problems) if found.problems else "no chunk checksums recorded (an older store)"
+        warnings.warn(
+            f"{out}: {what}: checked every chunk's data instead, kept {found.unknown} complete chunks and recorded their checksums anew",
+            RepairWarning,
+            stacklevel=3,
+        )
+    if found.bad:
+        kinds = ", ".join(f"{n} {k}" for k, n in found.counts().items())
+        warnings.warn(f"{out}: recomputing {len(found.bad)} of {found.n_chunks} chunks that were damaged: {kinds}", RepairWarning, stacklevel=3)
+
+
+def _compute(store: SweepStore, cfg: SweepConfig, client: Any, progress: bool) -> None:
+    """Compute the chunks still to do, committing each as it comes."""
     from .._progress import progress_bar
 
-    own_client = None
-    if client is None and scheduler is not None:
-        from distributed import Client
-
-        client = own_client = Client(scheduler)
+    todo, chunks = store.todo(), store.chunks  # a resumed sweep keeps the chunks it was started with
     with progress_bar("sweep", cfg.size, enabled=progress, done=store.points_done(), unit="points") as advance:
         if client is None:
             for chunk in todo:
@@ -75,12 +147,8 @@ def run_sweep(
                 store.write(chunk, res)
                 advance(res[0].size)
         else:
-            try:
+            with client.as_current():  # (ours is not the default client: see _connect)
                 _run_dask(client, cfg, store, todo, chunks, advance)
-            finally:
-                if own_client is not None:
-                    own_client.close()
-    return store.finish()
 
 
 def _run_dask(client: Any, cfg: SweepConfig, store: SweepStore, todo: list, chunks: tuple[int, ...], advance) -> None:

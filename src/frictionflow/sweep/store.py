@@ -1,24 +1,41 @@
-"""Where sweep results go: a Zarr store written chunk by chunk, resumable after a crash.
+"""Where sweep results go: a Zarr store written chunk by chunk, resumable after a crash, checked on resume.
 
 Each task computes exactly one chunk of the store (all variables), so every
-write replaces whole Zarr chunks.  After a chunk's data is written its flag
-in ``_chunks_done`` (one Zarr chunk, hence one file, per flag) is set; a
-sweep killed at any moment and started again recomputes exactly the chunks
-whose flag is not set -- a chunk half-written when the process died is
-simply written again, with the same values.  When every chunk is done the
-flags are removed, leaving a plain labelled dataset.  A ``.nc`` output is
-journalled in ``PATH.partial.zarr`` and converted at the end.
+write replaces whole Zarr chunks.  After a chunk's data is written its entry
+in ``_sweep/chunks_done`` (one Zarr chunk, hence one file, per entry) is set
+to the chunk's checksum (:func:`chunk_checksum`: the first 8 bytes of the
+SHA-256 of its variables as written); 0 means not done.  Flag and checksum
+are one value written at once, so they cannot disagree.
+
+A sweep killed at any moment and started again recomputes the chunks whose
+flag is not set -- a chunk half-written when the process died is simply
+written again, with the same values.  Before that it reads back every chunk
+it would skip (:meth:`SweepStore.verify`): one whose data is missing,
+unreadable (a truncated file) or no longer matches its checksum is
+recomputed too, with a warning saying how many and why.  Flags that cannot
+be read (an emptied flag file) lose only their checksums: those chunks are
+checked for complete, readable data instead (every chunk file is written,
+even an all-NaN one, so a missing file is damage), kept or recomputed, and
+the flags are written anew.
+
+The flags stay in the finished store, in its ``_sweep`` group, which
+:func:`xarray.open_zarr` does not read, so that :func:`verify_sweep`
+(``frictionflow sweep --verify``) can check the store later.  A ``.nc``
+output is journalled in ``PATH.partial.zarr`` and converted at the end, with
+the checksums in its ``_sweep`` group.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
-import os
 import platform
 import shutil
+from collections import Counter
+from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import Iterator
+from typing import Iterator, NamedTuple, Sequence
 
 import numpy as np
 
@@ -26,7 +43,18 @@ from .. import quantities as Q
 from ..parameters import declared
 from .config import GRID_KEYS, SweepConfig, n_chunks
 
-DONE = "_chunks_done"
+#: the sweep's bookkeeping group (not part of the dataset: xarray reads only the root's arrays)
+BOOK = "_sweep"
+#: per chunk: 0 while not done, then its checksum
+DONE = f"{BOOK}/chunks_done"
+#: the 0/1 flags of stores written before checksums were recorded
+LEGACY_DONE = "_chunks_done"
+_BOOK_ATTRS = {
+    "description": "frictionflow sweep bookkeeping: per chunk (C order over the chunk grid) 0 = not computed, "
+    "else the first 8 bytes (little-endian) of the SHA-256 of the chunk's variables as written, in table order, NaN canonical",
+}
+#: the first bytes of a NetCDF-4 (HDF5) and of a classic NetCDF file
+_NC_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
 
 
 def provenance(cfg: SweepConfig) -> dict[str, str]:
@@ -48,47 +76,214 @@ def provenance(cfg: SweepConfig) -> dict[str, str]:
     }
 
 
+def chunk_checksum(values: Sequence[np.ndarray]) -> int:
+    """A chunk's checksum: SHA-256 of its variables as stored (table order), first 8 bytes; never 0.
+
+    NaN is hashed in one bit pattern: the kernels' NaN and the one a format
+    reads back may differ in sign, not in meaning.
+    """
+    h = hashlib.sha256()
+    for v in values:
+        v = np.ascontiguousarray(v)
+        if v.dtype.kind == "f":
+            v = np.where(np.isnan(v), np.nan, v)
+        h.update(v.tobytes())
+    return int.from_bytes(h.digest()[:8], "little") or 1  # 0 means "not done"
+
+
+def check_out(path: str | Path) -> Path:
+    """Refuse, before any work, an output that cannot be a sweep's: its extension, its directory."""
+    from ..io import _directory_problem
+
+    p = Path(path)
+    if p.suffix.lower() not in (".zarr", ".nc"):
+        raise ValueError(f"out must end in .zarr or .nc, got {str(path)!r}")
+    problem = _directory_problem(p.parent)
+    if problem is not None:
+        raise ValueError(f"out: {problem}")
+    return p
+
+
+class RepairWarning(UserWarning):
+    """A resumed output had damage, now being repaired (chunks recomputed, flags rewritten)."""
+
+
+class DamagedStoreError(RuntimeError):
+    """A store damaged beyond what a rerun repairs (its metadata, an unopenable file): ``--restart`` is needed."""
+
+    def __init__(self, target: Path, problem: str) -> None:
+        self.problem = problem
+        super().__init__(f"out: {str(target)!r} is damaged: {problem}; use --restart to start over")
+
+
+class ChunkReadError(Exception):
+    """A chunk's data cannot be read (a truncated or corrupt file); the message names the variable."""
+
+
+class BadChunk(NamedTuple):
+    """A committed chunk that cannot be kept."""
+
+    chunk: tuple[int, ...]
+    where: str  #: the grid block, e.g. ``zeta[0:6] vb[0:2]``
+    reason: str  #: ``missing: ...``, ``unreadable: ...``, ``checksum mismatch`` or ``incomplete: ...``
+
+    @property
+    def kind(self) -> str:
+        return self.reason.split(":")[0]
+
+
+@dataclass
+class Verification:
+    """What checking a sweep store found (:meth:`SweepStore.verify`, :func:`verify_sweep`)."""
+
+    path: Path
+    n_chunks: int
+    done: int = 0  #: committed chunks found intact
+    bad: list[BadChunk] = field(default_factory=list)
+    problems: list[str] = field(default_factory=list)  #: damage beyond single chunks (the done-flags, ...)
+    unrecorded: bool = False  #: no checksums at all (an older store): data checked for completeness only
+    unknown: int = 0  #: chunks whose checksum was lost or never recorded, checked for complete data instead
+    repairable: bool = True  #: whether running the sweep again repairs it (else ``--restart`` is needed)
+
+    @property
+    def intact(self) -> bool:
+        return not self.bad and not self.problems
+
+    def counts(self) -> dict[str, int]:
+        """Bad chunks per kind of damage."""
+        return dict(Counter(b.kind for b in self.bad))
+
+    def lines(self) -> list[str]:
+        """One line per bad chunk."""
+        return [f"{self.path}: chunk {b.chunk} ({b.where}): {b.reason}" for b in self.bad]
+
+    def summary(self) -> str:
+        """One line: intact (and whether complete), or what is damaged."""
+        if self.intact:
+            state = "complete" if self.done == self.n_chunks else f"incomplete, {self.n_chunks - self.done} chunks still to compute"
+            note = "; no checksums recorded (an older store): data checked for completeness only" if self.unrecorded else ""
+            return f"{self.path}: intact: {self.done} of {self.n_chunks} chunks verified ({state}){note}"
+        parts = list(self.problems)
+        if self.bad:
+            kinds = ", ".join(f"{n} {k}" for k, n in self.counts().items())
+            parts.append(f"{len(self.bad)} of {self.n_chunks} chunks bad ({kinds})")
+        fix = "run the same sweep again to recompute what is bad" if self.repairable else "run the sweep again with --restart"
+        return f"{self.path}: damaged: {'; '.join(parts)}; {fix}"
+
+    def as_dict(self) -> dict:
+        return {
+            "out": str(self.path),
+            "intact": self.intact,
+            "chunks": self.n_chunks,
+            "verified": self.done,
+            "bad": [{"chunk": list(b.chunk), "where": b.where, "reason": b.reason} for b in self.bad],
+            "problems": self.problems,
+            "checksums_recorded": not self.unrecorded,
+        }
+
+
 class SweepStore:
-    """A sweep's Zarr store: created, or reopened to resume."""
+    """A sweep's Zarr store: created, or reopened to resume (or, with :meth:`existing`, to be checked)."""
 
     def __init__(self, path: str | Path, cfg: SweepConfig, chunks: tuple[int, ...], restart: bool = False) -> None:
-        import zarr
-
-        self.target = Path(path)
-        suffix = self.target.suffix.lower()
-        if suffix not in (".zarr", ".nc"):
-            raise ValueError(f"out must end in .zarr or .nc, got {str(path)!r}")
-        if not self.target.parent.exists():
-            raise ValueError(f"out: directory {str(self.target.parent)!r} does not exist")
-        self.netcdf = suffix == ".nc"
-        self.path = self.target.with_name(self.target.name + ".partial.zarr") if self.netcdf else self.target
+        self._locate(check_out(path))
         self.cfg = cfg
+        self.shape = cfg.shape
+        self.dims = cfg.dims
         self.chunks = chunks
         self.grid = n_chunks(cfg.shape, chunks)
         if restart:
             for p in (self.path, self.target):
-                if p.is_dir():
-                    shutil.rmtree(p)
-                elif p.exists():
-                    p.unlink()
-        self.complete = False
+                _remove(p)
+        #: an existing output: what it holds is checked (:meth:`verify`) before it is trusted
+        self.resumed = self.path.exists() or self.target.exists()
         if self.path.exists():
-            try:
-                root = zarr.open_group(str(self.path), mode="r+")
-            except Exception:
-                raise ValueError(f"out: {str(self.target)!r} exists and is not a sweep; use --restart to replace it") from None
-            if root.attrs.get("config_sha256") != cfg.fingerprint():
+            self._reopen(mode="r+")
+            if self.root.attrs.get("config_sha256") != cfg.fingerprint():
                 raise ValueError(f"out: {str(self.target)!r} holds a different sweep (its config changed); use --restart to start over")
-            self.root = root
-            self.chunks = tuple(root.attrs["chunk_shape"])  # resume with the chunks it was started with
-            self.grid = n_chunks(cfg.shape, self.chunks)
         elif self.target.exists():  # a finished NetCDF sweep
-            if _nc_fingerprint(self.target) != cfg.fingerprint():
-                raise ValueError(f"out: {str(self.target)!r} exists and holds a different sweep; use --restart to replace it")
-            self.complete = True
-            self.root = None
+            self._open_nc()
+            if self._nc.attrs.get("config_sha256") != cfg.fingerprint():
+                self.close()
+                raise ValueError(f"out: {str(self.target)!r} holds a different sweep (its config changed); use --restart to replace it")
         else:
             self.root = self._create()
+
+    @classmethod
+    def existing(cls, path: str | Path) -> "SweepStore":
+        """An existing output opened read-only, to be checked: no config needed."""
+        self = cls.__new__(cls)
+        self._locate(Path(path))
+        if self.target.suffix.lower() not in (".zarr", ".nc"):
+            raise ValueError(f"out must end in .zarr or .nc, got {str(path)!r}")
+        self.cfg = None
+        self.resumed = True
+        if self.path.exists():
+            self._reopen(mode="r")
+        elif self.target.exists():
+            self._open_nc()
+        else:
+            raise ValueError(f"out: {str(self.target)!r} does not exist")
+        return self
+
+    def _locate(self, target: Path) -> None:
+        self.target = target
+        self.netcdf = target.suffix.lower() == ".nc"
+        self.path = target.with_name(target.name + ".partial.zarr") if self.netcdf else target
+        self.complete = False
+        self.root = None
+        self._nc = None
+        self._vars = None
+        self._flag_array = None
+
+    def _reopen(self, mode: str) -> None:
+        """Open the existing Zarr store, refusing anything that is not a sweep's."""
+        import zarr
+
+        shown = str(self.target)
+        if not self.path.is_dir():
+            raise ValueError(f"out: {shown!r} exists and is not a Zarr store (it is a file); use --restart to replace it")
+        try:
+            root = zarr.open_group(str(self.path), mode=mode)
+            attrs = dict(root.attrs)
+        except Exception:
+            raise ValueError(f"out: {shown!r} exists and is not a Zarr store; use --restart to replace it") from None
+        if "config_sha256" not in attrs or "chunk_shape" not in attrs:
+            raise ValueError(f"out: {shown!r} is a Zarr store but not a frictionflow sweep; use --restart to replace it")
+        self.root = root
+        self.chunks = tuple(int(c) for c in attrs["chunk_shape"])  # resume with the chunks it was started with
+        self._layout_from(lambda name: self.root[name])
+
+    def _open_nc(self) -> None:
+        """Open a finished NetCDF sweep (raw values: as written), refusing anything that is not one."""
+        import xarray as xr
+
+        shown = str(self.target)
+        if self.target.is_dir():
+            raise ValueError(f"out: {shown!r} is a directory, not a NetCDF file; use --restart to replace it")
+        try:
+            self._nc = xr.open_dataset(self.target, mask_and_scale=False, decode_times=False, cache=False)
+        except Exception as e:
+            if _nc_magic(self.target):  # ours or not, it claims to be NetCDF: damaged
+                raise DamagedStoreError(self.target, f"a NetCDF file that cannot be opened ({_short(e)})") from None
+            raise ValueError(f"out: {shown!r} exists and is not a NetCDF file; use --restart to replace it") from None
+        attrs = self._nc.attrs
+        if "config_sha256" not in attrs or "chunk_shape" not in attrs or Q.SWEPT[0].name not in self._nc:
+            self._nc.close()
+            raise ValueError(f"out: {shown!r} is a NetCDF file but not a frictionflow sweep; use --restart to replace it")
+        self.complete = True
+        self.chunks = tuple(int(c) for c in np.atleast_1d(attrs["chunk_shape"]))
+        self._layout_from(lambda name: self._nc[name])
+
+    def _layout_from(self, get) -> None:
+        """Shape, dims and chunk grid from the stored ``kind`` variable."""
+        try:
+            first = get(Q.SWEPT[0].name)
+            self.shape = tuple(first.shape)
+            self.dims = tuple(getattr(first, "dims", None) or first.metadata.dimension_names)
+        except Exception as e:
+            raise DamagedStoreError(self.target, f"its variable {Q.SWEPT[0].name!r} cannot be read ({_short(e)})") from None
+        self.grid = n_chunks(self.shape, self.chunks)
 
     def _create(self):
         import zarr
@@ -104,8 +299,7 @@ class SweepStore:
             a.attrs.update(units=q.units, long_name=q.long_name)
             if q.flags:
                 a.attrs.update(flag_values=list(range(len(q.flags))), flag_meanings=" ".join(q.flags))
-        total = int(np.prod(self.grid))
-        root.create_array(DONE, shape=(total,), chunks=(1,), dtype="i1", fill_value=0, dimension_names=("_chunk",))
+        self._create_flags(root)
         attrs = provenance(cfg)
         fixed = {k: v for k, v in cfg.fixed.items()}
         model, law, _ = cfg.run.build()  # every setting of a point, defaults resolved
@@ -119,60 +313,287 @@ class SweepStore:
         root.attrs.update(attrs)
         return root
 
+    def _create_flags(self, root):
+        """The done-flag array (all 0), in the bookkeeping group; replaces a damaged one."""
+        total = int(np.prod(self.grid))
+        book = root.require_group(BOOK)
+        book.attrs.update(_BOOK_ATTRS)
+        self._flag_array = book.create_array(
+            "chunks_done", shape=(total,), chunks=(1,), dtype="u8", fill_value=0, dimension_names=("chunk",), overwrite=True
+        )
+        return self._flag_array
+
     # -- chunks ------------------------------------------------------------------
     def _flat(self, chunk: tuple[int, ...]) -> int:
         return int(np.ravel_multi_index(chunk, self.grid))
 
-    def todo(self) -> list[tuple[int, ...]]:
-        """Chunks whose results are not yet committed, in order."""
-        if self.complete or DONE not in self.root:
-            return []
-        done = self.root[DONE][:]
-        return [tuple(int(i) for i in np.unravel_index(f, self.grid)) for f in np.nonzero(done == 0)[0]]
+    def _chunk(self, flat: int) -> tuple[int, ...]:
+        return tuple(int(i) for i in np.unravel_index(flat, self.grid))
+
+    def _slices(self, chunk: tuple[int, ...]) -> tuple[slice, ...]:
+        from .compute import chunk_slices
+
+        return chunk_slices(chunk, self.chunks, self.shape)
+
+    def _where(self, chunk: tuple[int, ...]) -> str:
+        return " ".join(f"{d}[{s.start}:{s.stop}]" for d, s in zip(self.dims, self._slices(chunk)))
+
+    def _flags(self):
+        if self._flag_array is None:
+            self._flag_array = self.root[DONE]
+        return self._flag_array
+
+    def _arrays(self) -> list:
+        """The result variables' arrays, writing every chunk file (even all-fill ones: a missing file is then damage)."""
+        if self._vars is None:
+            arrays = []
+            for q in Q.SWEPT:
+                try:
+                    arrays.append(self.root[q.name].with_config({"write_empty_chunks": True}))
+                except Exception as e:
+                    raise DamagedStoreError(self.target, f"its variable {q.name!r} cannot be read ({_short(e)})") from None
+            self._vars = arrays
+        return self._vars
+
+    def todo(self) -> Iterator[tuple[int, ...]]:
+        """Chunks whose results are not yet committed, in order (lazily: a grid may have millions)."""
+        if self.complete:
+            return iter(())
+        if not self.resumed:  # just created: every chunk, without reading a flag file per chunk
+            return iter_chunks(self.grid)
+        return (self._chunk(f) for f in np.nonzero(self._flags()[:] == 0)[0])
 
     def points_done(self) -> int:
         """How many grid points are committed."""
-        from .compute import chunk_slices
-
-        if self.complete or DONE not in self.root:
-            return self.cfg.size
-        done = np.nonzero(self.root[DONE][:])[0]
-        total = 0
-        for f in done:
-            sl = chunk_slices(tuple(np.unravel_index(f, self.grid)), self.chunks, self.cfg.shape)
-            total += int(np.prod([s.stop - s.start for s in sl]))
-        return total
+        if self.complete:
+            return int(np.prod(self.shape))
+        if not self.resumed:
+            return 0
+        done = np.unravel_index(np.nonzero(self._flags()[:])[0], self.grid)
+        sizes = [np.minimum(c, n - i * c) for i, c, n in zip(done, self.chunks, self.shape)]  # edge chunks are smaller
+        return int(np.sum(np.prod(sizes, axis=0))) if len(done[0]) else 0
 
     def write(self, chunk: tuple[int, ...], results: np.ndarray) -> None:
-        """Commit one chunk: its data first, then its flag."""
-        from .compute import chunk_slices
+        """Commit one chunk: its data first, then its flag, which is the data's checksum."""
+        values = [_stored(q, results[j]) for j, q in enumerate(Q.SWEPT)]  # results: the kernels' rows, in the table's order
+        self._commit(chunk, values)
 
-        sl = chunk_slices(chunk, self.chunks, self.cfg.shape)
-        for j, q in enumerate(Q.SWEPT):  # results: the kernels' rows, in the table's order
-            arr = self.root[q.name]
-            if q.dtype == "f8":
-                arr[sl] = results[j]
+    def _commit(self, chunk: tuple[int, ...], values: list[np.ndarray]) -> None:
+        sl = self._slices(chunk)
+        for arr, v in zip(self._arrays(), values):
+            arr[sl] = v
+        self._flags()[self._flat(chunk)] = np.uint64(chunk_checksum(values))
+
+    # -- checking ------------------------------------------------------------------
+    def verify(self, repair: bool = False) -> Verification:
+        """Read back every committed chunk and compare it with its checksum.
+
+        With ``repair``, the flags of bad chunks are cleared (so that
+        :meth:`todo` lists them), lost or missing checksums of chunks whose
+        data is complete are recorded, damaged flags are written anew, and a
+        damaged finished NetCDF file is rebuilt as a journal of its good
+        chunks.
+        """
+        report = Verification(self.target, int(np.prod(self.grid)))
+        try:
+            flags, unknown = self._read_flags(report)
+            self._check_chunks(flags, unknown, report)
+        except DamagedStoreError as e:
+            if repair:
+                raise
+            report.problems.append(e.problem)
+            report.repairable = False
+            return report
+        if repair:
+            self._repair(flags, report)
+        return report
+
+    def _read_flags(self, report: Verification) -> tuple[np.ndarray, np.ndarray]:
+        """The recorded checksums (0: not done), and which chunks' checksums are unknown (lost or never recorded)."""
+        total = report.n_chunks
+        if self.complete:
+            return self._nc_flags(report)
+        try:
+            book = self.root[BOOK]
+        except KeyError:  # no bookkeeping group: a store from before the checksums
+            return self._legacy_flags(report)
+        except Exception as e:
+            return self._lost_flags(report, f"the bookkeeping group is unreadable ({_short(e)})")
+        try:
+            arr = book["chunks_done"]
+            if tuple(arr.shape) != (total,):
+                return self._lost_flags(report, f"the done-flag array has shape {tuple(arr.shape)}, not ({total},)")
+        except KeyError:
+            return self._lost_flags(report, "the done-flag array is missing")
+        except Exception as e:
+            return self._lost_flags(report, f"the done-flag array is unreadable ({_short(e)})")
+        try:
+            return np.asarray(arr[:], dtype="u8"), np.zeros(total, bool)
+        except Exception:
+            return self._flags_one_by_one(arr, report)
+
+    def _flags_one_by_one(self, arr, report: Verification) -> tuple[np.ndarray, np.ndarray]:
+        """Flags read singly, when some cannot be read (an emptied flag file): those checksums are lost."""
+        total = report.n_chunks
+        flags, unknown = np.zeros(total, "u8"), np.zeros(total, bool)
+        for f in range(total):
+            try:
+                flags[f] = arr[f]
+            except Exception:
+                unknown[f] = True
+        report.problems.append(f"done-flags: {int(unknown.sum())} of {total} unreadable (their checksums are lost)")
+        return flags, unknown
+
+    def _lost_flags(self, report: Verification, why: str) -> tuple[np.ndarray, np.ndarray]:
+        report.problems.append(f"done-flags: {why}")
+        return np.zeros(report.n_chunks, "u8"), np.ones(report.n_chunks, bool)
+
+    def _legacy_flags(self, report: Verification) -> tuple[np.ndarray, np.ndarray]:
+        """A store without checksums: its 0/1 flags if it still has them (in progress), else every chunk."""
+        report.unrecorded = True
+        total = report.n_chunks
+        try:
+            unknown = np.asarray(self.root[LEGACY_DONE][:]) != 0
+        except Exception:
+            unknown = np.ones(total, bool)  # finished (its flags were removed then) or damaged: check all
+        return np.zeros(total, "u8"), unknown
+
+    def _nc_flags(self, report: Verification) -> tuple[np.ndarray, np.ndarray]:
+        """The checksums a finished NetCDF sweep carries in its ``_sweep`` group (every chunk is done)."""
+        import xarray as xr
+
+        total = report.n_chunks
+        try:
+            with xr.open_dataset(self.target, group=BOOK, cache=False) as book:
+                flags = np.asarray(book["chunks_done"].values, dtype="u8")
+        except Exception:
+            report.unrecorded = True
+            return np.zeros(total, "u8"), np.ones(total, bool)
+        if flags.shape != (total,):
+            return self._lost_flags(report, f"the done-flag array has shape {flags.shape}, not ({total},)")
+        unknown = flags == 0
+        if unknown.any():
+            report.problems.append(f"done-flags: {int(unknown.sum())} of {total} chunks unflagged in a finished file")
+        return flags, unknown
+
+    def _check_chunks(self, flags: np.ndarray, unknown: np.ndarray, report: Verification) -> None:
+        """Check every committed chunk (and every one of unknown state); clear the flags of bad ones, record lost checksums."""
+        for f in np.nonzero((flags != 0) | unknown)[0]:
+            chunk = self._chunk(f)
+            recorded = None if unknown[f] else int(flags[f])
+            reason, checksum = self._check_chunk(chunk, recorded)
+            if reason == "not computed":  # unknown state and no data at all: simply still to do
+                continue
+            if reason is None:
+                flags[f] = checksum
+                report.done += 1
+                report.unknown += int(recorded is None)
             else:
-                arr[sl] = np.where(np.isnan(results[j]), _fill(q), results[j]).astype(q.dtype)
-        self.root[DONE][self._flat(chunk)] = 1
+                flags[f] = 0
+                report.bad.append(BadChunk(chunk, self._where(chunk), reason))
+
+    def _check_chunk(self, chunk: tuple[int, ...], recorded: int | None) -> tuple[str | None, int]:
+        """Why chunk cannot be kept (None if it can), and its checksum as read."""
+        missing = self._missing_files(chunk)
+        if missing and recorded is None and len(missing) == len(Q.SWEPT):
+            return "not computed", 0
+        if missing:
+            return f"missing: {', '.join(missing)}", 0
+        try:
+            values = self._read(chunk)
+        except ChunkReadError as e:
+            return f"unreadable: {e}", 0
+        checksum = chunk_checksum(values)
+        if recorded is None:  # checksum lost: the data must at least be complete
+            unset = int(np.count_nonzero(values[0] < 0))  # kind is -1 where nothing was written
+            return (f"incomplete: {unset} points without a result", 0) if unset else (None, checksum)
+        return (None, checksum) if checksum == recorded else ("checksum mismatch", 0)
+
+    def _missing_files(self, chunk: tuple[int, ...]) -> list[str]:
+        """Variables whose chunk file is absent (a Zarr store writes every one)."""
+        if self._nc is not None:
+            return []
+        missing = []
+        for q, arr in zip(Q.SWEPT, self._arrays()):
+            key = arr.metadata.encode_chunk_key(chunk)
+            if not (self.path / q.name / key).is_file():
+                missing.append(q.name)
+        return missing
+
+    def _read(self, chunk: tuple[int, ...]) -> list[np.ndarray]:
+        """A chunk's variables as stored, in table order; an error names the variable that failed."""
+        sl = self._slices(chunk)
+        values = []
+        for j, q in enumerate(Q.SWEPT):
+            try:
+                v = self._nc[q.name][sl].values if self._nc is not None else self._arrays()[j][sl]
+            except Exception as e:
+                raise ChunkReadError(f"{q.name} ({_short(e)})") from None
+            values.append(np.asarray(v).astype(q.dtype, copy=False))
+        return values
+
+    def _repair(self, flags: np.ndarray, report: Verification) -> None:
+        """Make the bookkeeping match what was found: bad chunks to do, checksums recorded, flags rewritten."""
+        if self.complete:
+            if not report.intact:
+                self._rebuild_journal(flags)
+            return
+        if report.problems or report.unrecorded:  # the flag array itself cannot be trusted: write it anew
+            shutil.rmtree(self.path / BOOK, ignore_errors=True)
+            arr = self._create_flags(self.root)
+            arr[:] = flags
+            if report.unrecorded and LEGACY_DONE in self.root:
+                del self.root[LEGACY_DONE]
+            return
+        for b in report.bad:
+            self._flags()[self._flat(b.chunk)] = 0
+
+    def _rebuild_journal(self, flags: np.ndarray) -> None:
+        """A damaged finished NetCDF sweep: its good chunks copied into a new journal, the bad ones left to do."""
+        self.root = self._create()
+        for f in np.nonzero(flags)[0]:
+            chunk = self._chunk(f)
+            self._commit(chunk, self._read(chunk))  # read from the NetCDF file, written into the journal
+        self._nc.close()
+        self._nc = None
+        self.complete = False
+
+    def close(self) -> None:
+        """Close a NetCDF file opened for checking."""
+        if self._nc is not None:
+            self._nc.close()
+            self._nc = None
 
     def finish(self):
-        """Remove the flags (and convert to NetCDF); returns the dataset (lazily opened)."""
+        """Convert to NetCDF if asked (the checksums stay, in ``_sweep``); returns the dataset (lazily opened)."""
         import xarray as xr
 
         if self.complete:
+            self.close()
             return xr.open_dataset(self.target)
-        if DONE in self.root:
-            del self.root[DONE]
         if not self.netcdf:
             return xr.open_zarr(str(self.path), consolidated=False)
+        from ..io import atomic_write, stale_temporaries
+
+        # a conversion killed earlier left its temporary (and the journal, so it is simply redone)
+        for old in [*stale_temporaries(self.target), self.target.with_name(self.target.name + ".tmp")]:
+            old.unlink(missing_ok=True)
         ds = xr.open_zarr(str(self.path), consolidated=False)
-        tmp = self.target.with_name(self.target.name + ".tmp")
-        ds.to_netcdf(tmp)
-        ds.close()
-        os.replace(tmp, self.target)
-        shutil.rmtree(self.path)
+        try:
+            with atomic_write(self.target, "out") as tmp:  # r.nc appears only complete
+                ds.to_netcdf(tmp)
+                self._record_checksums(tmp)
+        finally:
+            ds.close()
+        shutil.rmtree(self.path)  # after the rename: a kill in between leaves the journal to convert again
         return xr.open_dataset(self.target)
+
+    def _record_checksums(self, nc: Path) -> None:
+        """The chunks' checksums into the NetCDF file's ``_sweep`` group (which xarray's default group omits)."""
+        import xarray as xr
+
+        book = xr.Dataset({"chunks_done": ("chunk", np.asarray(self._flags()[:], dtype="u8"))}, attrs=_BOOK_ATTRS)
+        book.to_netcdf(nc, mode="a", group=BOOK)
 
 
 def _fill(q: Q.Quantity) -> float:
@@ -180,16 +601,57 @@ def _fill(q: Q.Quantity) -> float:
     return np.nan if q.dtype == "f8" else -1
 
 
+def _stored(q: Q.Quantity, row: np.ndarray) -> np.ndarray:
+    """A kernel result row as the variable stores it (an integer code: NaN becomes the fill value)."""
+    if q.dtype == "f8":
+        return np.asarray(row, dtype="f8")
+    return np.where(np.isnan(row), _fill(q), row).astype(q.dtype)
+
+
 def iter_chunks(grid: tuple[int, ...]) -> Iterator[tuple[int, ...]]:
     for f in range(int(np.prod(grid))):
         yield tuple(int(i) for i in np.unravel_index(f, grid))
 
 
-def _nc_fingerprint(path: Path) -> str | None:
-    import xarray as xr
+def verify_sweep(path: str | Path) -> Verification:
+    """Check a sweep output (``.zarr``, ``.nc``, or a ``.nc`` still in its journal) without computing.
 
+    Every committed chunk is read back and compared with its checksum.  The
+    result lists each bad chunk and why (:attr:`Verification.bad`), and
+    damage beyond single chunks (:attr:`Verification.problems`);
+    :attr:`Verification.intact` says whether all is well.  Raises ValueError
+    for a path that is not a sweep output at all.
+    """
+    target = Path(path)
     try:
-        with xr.open_dataset(path) as ds:
-            return ds.attrs.get("config_sha256")
-    except Exception:
-        return None
+        store = SweepStore.existing(target)
+    except DamagedStoreError as e:
+        return Verification(target, 0, problems=[e.problem], repairable=False)
+    try:
+        return store.verify()
+    finally:
+        store.close()
+
+
+def _remove(p: Path) -> None:
+    """Remove a file or a directory tree, if there."""
+    if p.is_dir():
+        shutil.rmtree(p)
+    elif p.exists() or p.is_symlink():
+        p.unlink()
+
+
+def _nc_magic(path: Path) -> bool:
+    """Whether ``path`` starts like a NetCDF (HDF5 or classic) file."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(8)
+    except OSError:
+        return False
+    return any(head.startswith(m) for m in _NC_MAGIC)
+
+
+def _short(e: BaseException) -> str:
+    """An exception in a few words, for a one-line message."""
+    text = str(e).strip().splitlines()[0] if str(e).strip() else ""
+    return f"{type(e).__name__}: {text}" if text else type(e).__name__
