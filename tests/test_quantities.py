@@ -70,7 +70,7 @@ def test_the_kernel_row_is_the_table_prefix():
 
 def test_sweep_variables_and_result_dataclass_follow_the_table():
     assert VARIABLES == tuple((q.name, q.units, q.long_name) for q in Q.SWEPT)
-    assert KIND_NAMES == Q.KINDS == ("periodic", "equilibrium", "not_settled")
+    assert KIND_NAMES == Q.KINDS == ("periodic", "equilibrium", "not_settled", "diverged")
     assert [f.name for f in dataclasses.fields(PowerFlow)] == ["window", *Q.AVERAGES, "energy_residual"]
     assert POWER_KEYS == Q.PAPER_AVERAGES
     assert POINT_POWER == tuple(n for n in Q.PAPER_AVERAGES if n != "P_f")
@@ -130,8 +130,8 @@ def test_sweep_dataset_stores_the_rows_under_the_table_names(tmp_path, points, k
         assert ds[q.name].attrs["units"] == q.units and ds[q.name].attrs["long_name"] == q.long_name
         assert same(float(ds[q.name].values.ravel()[0]), kernel_rows[0, Q.index(q.name)]), q.name
     assert ds["kind"].dtype == np.int8
-    assert ds["kind"].attrs["flag_meanings"] == "periodic equilibrium not_settled"
-    assert list(ds["kind"].attrs["flag_values"]) == [0, 1, 2]
+    assert ds["kind"].attrs["flag_meanings"] == "periodic equilibrium not_settled diverged"
+    assert list(ds["kind"].attrs["flag_values"]) == [0, 1, 2, 3]
 
 
 # -- the sliding equilibrium, written once ------------------------------------------------------

@@ -41,7 +41,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 #: the steady-state kinds, by code (the ``kind`` variable's flag meanings)
-KINDS = ("periodic", "equilibrium", "not_settled")
+#: (``diverged``: the state left the floating-point range; nothing else is reported)
+KINDS = ("periodic", "equilibrium", "not_settled", "diverged")
 
 #: how a quantity's value at the sliding equilibrium X* follows from X*,
 #: V_b, F_d, the stick fraction and the energy residual
@@ -74,7 +75,7 @@ class Quantity:
 
 
 TABLE = (
-    Quantity("kind", "steady state: 0 periodic, 1 equilibrium, 2 not settled", "steady_state", "kind", dtype="i1", flags=KINDS),
+    Quantity("kind", "steady state: 0 periodic, 1 equilibrium, 2 not settled, 3 diverged", "steady_state", "kind", dtype="i1", flags=KINDS),
     Quantity("period", "period of the periodic steady state (tau units; NaN unless periodic)", "steady_state", "nan"),
     Quantity("P_dv", "time-averaged power dissipated by the damper", "averages", "zero"),
     Quantity("P_df", "time-averaged power taken out by friction (magnitude of the negative part of X' F_c)", "averages", "zero"),

@@ -67,3 +67,20 @@ def test_chunks_fill_the_last_axes_first():
     assert chunk_shape((10, 20, 30), 600) == (1, 20, 30)
     assert chunk_shape((10, 20, 30), 100) == (1, 3, 30)
     assert chunk_shape((4,), 100) == (4,)
+
+
+def test_sizes_and_steps_are_checked_up_front(tmp_path):
+    from frictionflow.solvers.base import CoarseStepWarning
+
+    base = {"friction": "coulomb", "fs": 0.04, "grid": {"zeta": [0.1, 0.2]}}
+    with pytest.raises(ValueError, match=r"t_end=1e\+09 with solver=exact.*max_memory=4 GiB"):
+        parse_sweep({**base, "t_end": 1e9})
+    with pytest.raises(ValueError, match=r"grid.zeta\[1\]: zeta must be"):
+        parse_sweep({"grid": {"zeta": [0.1, True]}})
+    with pytest.raises(ValueError, match=r"grid.zeta.num must be an integer"):
+        parse_sweep({"grid": {"zeta": {"start": 0.0, "stop": 1.0, "num": "3"}}})
+    with pytest.raises(ValueError, match=r"the grid has 2e\+10 points"):
+        parse_sweep({"grid": {"zeta": {"start": 0.0, "stop": 0.1, "num": 100_000},
+                              "vb": {"start": 0.01, "stop": 0.1, "num": 100_000}, "fd": [0.01, 0.02]}})
+    with pytest.warns(CoarseStepWarning, match=r"grid.vb = 0.1: dt=0.5 lets X' jump across the stick band"):
+        parse_sweep({"solver": "rk4", "dt": 0.5, "t_end": 50.0, "grid": {"vb": [0.01, 0.1]}})

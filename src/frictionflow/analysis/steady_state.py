@@ -103,6 +103,15 @@ def classify_trajectory(traj: Trajectory, rtol: float = 1e-6, min_periods: int =
     return cls, sec.window_summary(rec, tail, fin, cls, traj.friction.fd, traj.vb)
 
 
+def _diverged(traj: Trajectory) -> SteadyState | None:
+    """``diverged`` from the first sample whose state is not finite (the window runs from it to the end)."""
+    bad = ~(np.isfinite(traj.x) & np.isfinite(traj.v))
+    if not bad.any():
+        return None
+    i = int(np.argmax(bad))
+    return SteadyState(kind="diverged", window=(float(traj.t[i]), float(traj.t[-1])))
+
+
 def steady_state(
     traj: Trajectory,
     *,
@@ -123,6 +132,9 @@ def steady_state(
         ``(t0, t1)`` to average over instead of the detected window; the kind
         is still the detected one.
     """
+    found = _diverged(traj)
+    if found is not None:
+        return found
     found = _terminal(traj)
     if found is None:
         found = from_classification(*classify_trajectory(traj, rtol, min_periods))

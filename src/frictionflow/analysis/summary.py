@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 from .. import quantities as Q
@@ -84,6 +84,11 @@ def analyze(
     ss = steady_state(traj, rtol=rtol, min_periods=min_periods, window=window)
     if ss.kind == "equilibrium" and not ss.manual_window:
         return _at_equilibrium(traj, ss)
+    if ss.kind == "diverged":  # nothing about the motion is meaningful: every number is NaN
+        nan = float("nan")
+        power = PowerFlow(**{f.name: nan for f in fields(PowerFlow)} | {"window": ss.window})
+        return Analysis(trajectory=traj, steady_state=ss, power=power, TR_B=nan,
+                        amplitude={k: nan for k in Q.AMPLITUDE})
     return Analysis(
         trajectory=traj,
         steady_state=ss,

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import sys
+import warnings
 from pathlib import Path
 from typing import Any, Optional
 
@@ -47,6 +48,9 @@ def simulate(
     traj = run_simulation(model, law, solv, t_end=cfg.t_end, x0=cfg.x0, v0=cfg.v0, progress=sys.stderr.isatty(),
                           max_memory=cfg.max_memory)
     result = analyze(traj, window=cfg.window, rtol=cfg.rtol)
+    if result.steady_state.kind == "diverged":
+        warnings.warn(f"the motion left the floating-point range at tau={result.steady_state.window[0]:.6g}: "
+                      "steady state 'diverged', no averages")
     report = result.to_dict()
     if cfg.dimensional is not None:
         report["dimensional"] = cfg.dimensional | {"omega0": model_omega0(cfg)}

@@ -43,14 +43,24 @@ def _not_settled(out):
 
 
 @njit(cache=True)
+def _row(rec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step, out):
+    """A point's result row from its section records -- or ``diverged`` if its state left the float range."""
+    if not np.isfinite(fin[sec.A_E]):
+        out[:] = np.nan
+        out[R_KIND] = sec.DIVERGED
+        return
+    scale = sec.scale_of(rec, tail, vb, fd)
+    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, fixed_step)
+    out[:] = sec.window_summary(rec, tail, fin, cls, fd, vb)[:NR]
+
+
+@njit(cache=True)
 def _classify_samples(t, x, v, mode, work, zeta, vb, fd, rtol, min_periods, h, fixed_step, out):
     t_tail = sec.tail_start(t[0], t[-1])
     rec, tail, fin = sec.records_from_samples(t, x, v, mode, work, zeta, t_tail)
     if rec.shape[0] > sec.MAX_RECORDS:
         rec = rec[rec.shape[0] - sec.MAX_RECORDS :].copy()
-    scale = sec.scale_of(rec, tail, vb, fd)
-    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, fixed_step)
-    out[:] = sec.window_summary(rec, tail, fin, cls, fd, vb)[:NR]
+    _row(rec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step, out)
 
 
 @njit(cache=True)
@@ -115,10 +125,7 @@ def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, r
 def _rk4_rows(rec, nrec, tail, fin, vb, fd, rtol, min_periods, dt, out):
     n = len(nrec)
     for j in prange(n):
-        r = rk4_batch.unroll(rec[j], nrec[j])
-        scale = sec.scale_of(r, tail[j], vb[j], fd[j])
-        cls = sec.classify(r, tail[j], scale, rtol, min_periods, dt, True)
-        out[j, :] = sec.window_summary(r, tail[j], fin[j], cls, fd[j], vb[j])[:NR]
+        _row(rk4_batch.unroll(rec[j], nrec[j]), tail[j], fin[j], vb[j], fd[j], rtol, min_periods, dt, True, out[j])
 
 
 def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, out) -> None:

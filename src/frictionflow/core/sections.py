@@ -47,7 +47,7 @@ NA = 13  # fin: A_W* hold the whole run's work integrals and A_E0 its initial K 
 #: records kept per run: windows span at most MAX_RECORDS - 1 periods
 MAX_RECORDS = 32
 
-PERIODIC, EQUILIBRIUM, NOT_SETTLED = (Q.KINDS.index(k) for k in ("periodic", "equilibrium", "not_settled"))
+PERIODIC, EQUILIBRIUM, NOT_SETTLED, DIVERGED = (Q.KINDS.index(k) for k in ("periodic", "equilibrium", "not_settled", "diverged"))
 HEAD_NONE, HEAD_EQUILIBRIUM, HEAD_PERIODIC, HEAD_GROWING = 0, 1, 2, 3
 
 # what classify returns, per run

@@ -21,6 +21,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
@@ -30,7 +31,7 @@ from .. import _validate as check
 from ..config import RunConfig
 from ..friction import law_class
 from ..parameters import declared, sweep_axes
-from ..solvers.base import check_memory
+from ..solvers.base import CoarseStepWarning, check_memory
 from ..io import read_config
 
 #: what can be an axis: every sweepable declared parameter (the oscillator's, the laws', the initial state)
@@ -135,8 +136,12 @@ def _axis(key: str, value: Any) -> np.ndarray | float:
     raise ValueError(f"{where} must be a number, a list or a {{start, stop, num, scale}} table, got {value!r}")
 
 
-def parse_sweep(values: Mapping[str, Any], source: str = "config") -> SweepConfig:
-    """Validate a sweep config mapping (a parsed TOML file)."""
+def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_points: bool = True) -> SweepConfig:
+    """Validate a sweep config mapping (a parsed TOML file).
+
+    ``check_points=False`` skips what only needs checking once per sweep (every
+    axis's extremes, memory, step warnings): for the chunks of a validated sweep.
+    """
     values = dict(values)
     grid = values.pop("grid", None)
     if grid is None or not isinstance(grid, Mapping) or not grid:
@@ -165,9 +170,24 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config") -> SweepConfi
     if points > MAX_POINTS:
         raise ValueError(f"{source}: the grid has {points:.3g} points; at most {MAX_POINTS:.0e}")
     cfg = SweepConfig(run=run, axes=axes, fixed=fixed, source={"settings": values, "grid": {k: _jsonable(v) for k, v in grid.items()}})
-    _check_points(cfg)
-    _check_size(cfg)
+    if check_points:
+        _check_points(cfg)
+        _check_size(cfg)
     return cfg
+
+
+def _warn_coarse_steps(cfg: SweepConfig) -> None:
+    """RK4's step warnings of ``simulate``, for the extreme values of every axis (once each)."""
+    found: list[str] = []
+    for key, arr in cfg.axes.items():
+        for val in (arr.min(), arr.max()):
+            run = RunConfig.from_mapping({**cfg.source["settings"], **cfg.fixed, key: float(val)}, source="grid")
+            model, law, solver = run.build()
+            x0 = law.fd if run.x0 is None else run.x0
+            v0 = model.vb if run.v0 is None else run.v0
+            found += [f"grid.{key} = {val:g}: {m}" for m in solver.check_step(model, law, x0, v0)]
+    for message in found[:3]:
+        warnings.warn(message, CoarseStepWarning, stacklevel=3)
 
 
 def _check_size(cfg: SweepConfig) -> None:
@@ -177,6 +197,7 @@ def _check_size(cfg: SweepConfig) -> None:
     _, _, solver = cfg.run.build()
     if solver.name == "rk4":
         solver.steps(cfg.run.t_end)  # the batched RK4 keeps section records, not samples
+        _warn_coarse_steps(cfg)
         return
     threads = numba.get_num_threads()
     check_memory(solver.sample_estimate(cfg.run.t_end) * threads, cfg.run.max_memory,
