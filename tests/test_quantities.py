@@ -97,7 +97,7 @@ def kernel_rows(points):
     zeta = np.array([z for z, _, _ in points])
     vb = np.array([v for _, v, _ in points])
     out = np.empty((len(points), batch.NR))
-    batch.exact_points(p, zeta, vb, np.full(len(points), FD), vb.copy(), 300.0, DEFAULT_RTOL["exact"], 3, out)
+    batch.exact_points(p, zeta, vb, np.full(len(points), FD), vb.copy(), 300.0, DEFAULT_RTOL["exact"], 3, 1e-13, out)
     return out
 
 

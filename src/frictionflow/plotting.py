@@ -1,4 +1,10 @@
-"""Figures of one run: time history, phase portrait and power flow."""
+"""Figures of one run: time history, phase portrait and power flow.
+
+Every figure draws the true curve between the solver's samples
+(:meth:`~frictionflow.trajectory.Trajectory.dense`: closed form or the
+solver's interpolant at >= 64 points per natural period), never straight
+lines between switches.
+"""
 
 from __future__ import annotations
 
@@ -30,7 +36,7 @@ def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "p
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    traj = result.trajectory
+    traj = result.trajectory.dense()  # the true curve between samples, not straight lines between switches
     ss = result.steady_state
     i0, i1 = traj.index(ss.window[0]), traj.index(ss.window[1])
     whole = _thin(len(traj))
@@ -76,3 +82,33 @@ def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "p
     return fig
 
 
+def plot_trajectory(traj, path: str | Path | None = None, *, name: str = "path"):
+    """X and X' against tau, and the phase portrait, on the true curve; the switches marked.
+
+    Returns the matplotlib figure; saves it to ``path`` (PNG, PDF or SVG by
+    extension) when given.
+    """
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    curve = traj.dense()
+    whole = _thin(len(curve))
+    sw = traj.switches()
+    fig, ax = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)
+    ax[0].plot(curve.t[whole], curve.x[whole], lw=0.8, label="X")
+    ax[0].plot(curve.t[whole], curve.v[whole], lw=0.8, label="X'")
+    ax[0].plot(traj.t[sw], traj.x[sw], "k.", ms=3, label="switches")
+    ax[0].set(xlabel=r"$\tau$", title="time history")
+    ax[0].legend(loc="upper right", fontsize=8)
+    ax[1].plot(curve.x[whole], curve.v[whole], lw=0.8, color="C3")
+    ax[1].plot(traj.x[sw], traj.v[sw], "k.", ms=3, label="switches")
+    ax[1].axhline(traj.vb, color="k", ls=":", lw=0.8, label=r"$X'=V_b$")
+    ax[1].set(xlabel="X", ylabel="X'", title="phase portrait")
+    ax[1].legend(loc="lower left", fontsize=8)
+    fig.suptitle(f"{traj.friction!r}, ζ={traj.zeta:g}, V_b={traj.vb:g}, solver {traj.solver.get('name', '?')}", fontsize=9)
+    if path is not None:
+        write_figure(fig, path, name)
+    return fig

@@ -8,6 +8,13 @@ rather than a re-quadrature of a discontinuous signal.  They are kept as
 increments, not running totals: every integrand is >= 0, so a window's sum is
 accurate to rounding of *its own* size even deep in a decay, where a
 difference of two large running totals would keep nothing.
+
+A trajectory is also a continuous object: ``traj(t)`` (or :meth:`Trajectory.at`)
+gives (X, X') at any time of its span -- in closed form for the exact solver,
+by Hermite interpolation of the steps for the others (see
+:mod:`frictionflow._continuous`) -- :meth:`Trajectory.sample` resamples it,
+and :meth:`Trajectory.dense`, :meth:`Trajectory.to_xarray` and the figures show
+the true curve between the samples, with the samples and switches marked.
 """
 
 from __future__ import annotations
@@ -17,6 +24,8 @@ from typing import Any
 
 import numpy as np
 
+from . import _continuous as cont
+from ._display import Row, Summarized, num, system_row
 from .friction.base import FrictionLaw
 from .params import BeltOscillator
 
@@ -35,12 +44,16 @@ DATASET_VARIABLES = {
     "W_fin": ("1", "cumulative friction input int max(X' F_c, 0) dtau"),
     "W_fout": ("1", "cumulative friction output int max(-X' F_c, 0) dtau"),
     "W_heat": ("1", "cumulative interface heat int F_c V_r dtau over slip"),
+    "is_sample": ("1", "the solver's own sample (False: a point added on the true curve between samples)"),
+    "switch": ("1", "a sample where the friction mode switches"),
 }
 
 
-@dataclass
-class Trajectory:
-    """Samples of one run.
+@dataclass(repr=False)
+class Trajectory(Summarized):
+    """Samples of one run, and the motion between them.
+
+    ``traj(t)`` evaluates (X, X') anywhere in the span (:meth:`at`).
 
     Attributes
     ----------
@@ -61,6 +74,11 @@ class Trajectory:
         switch times and ``"mode"`` the mode entered at each, an ``int8``
         array of :class:`~frictionflow.modes.SwitchMode` values (never a
         kernel's own codes; ``SwitchMode(m)`` gives an element's member).
+    extra:
+        Solver-specific facts (the exact solver: when the final phase began).
+    recorded:
+        Which points are the solver's own samples, for trajectories made by
+        :meth:`dense` or :meth:`sample` (None: every point is one).
     """
 
     t: np.ndarray
@@ -74,9 +92,99 @@ class Trajectory:
     solver: dict[str, Any]
     events: dict[str, np.ndarray] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
+    recorded: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.t)
+
+    # -- display ----------------------------------------------------------------
+    def _summary(self) -> tuple[str, list[Row]]:
+        settings = ", ".join(f"{k}={v:g}" for k, v in self.solver.items()
+                             if k not in ("name", "max_steps", "steps") and isinstance(v, (int, float)) and v is not None)
+        rows = [
+            system_row(self.model, self.friction),
+            ("solver", self.solver.get("name", "?") + (f" ({settings})" if settings else "")),
+            ("span", f"tau {num(self.t[0])} .. {num(self.t[-1])}" if len(self.t) else "empty"),
+            ("samples", f"{len(self.t)}" + ("" if self.recorded is None else f" ({int(self.recorded.sum())} recorded)")),
+            ("switches", self._switch_text()),
+        ]
+        return "Trajectory", rows
+
+    def _switch_text(self) -> str:
+        if self.events is not None:
+            return f"{len(self.events['t'])}"
+        changes = int(np.count_nonzero(np.diff(self.mode))) if len(self.mode) else 0
+        return f"{changes} mode changes between samples (not located by this solver)"
+
+    def plot(self, path: Any = None):
+        """X(tau), X'(tau) and the phase portrait on the true curve, switches marked; returns the figure."""
+        from .plotting import plot_trajectory
+
+        return plot_trajectory(self, path)
+
+    # -- the motion at any time -------------------------------------------------------
+    def at(self, t: Any) -> tuple[Any, Any]:
+        """(X, X') at time(s) ``t`` in the span: floats for a scalar, arrays shaped like ``t`` otherwise.
+
+        Closed form for the exact solver (to rounding), quintic Hermite on
+        the steps for the adaptive one (error O(h^6), below its tolerance),
+        cubic Hermite between samples for RK4 (O(h^4)); see
+        :mod:`frictionflow._continuous`.  ValueError outside the span.
+        """
+        ts = np.asarray(t, dtype=float)
+        x, v = cont.interpolant(self).state(ts.ravel())
+        if ts.ndim == 0:
+            return float(x[0]), float(v[0])
+        return x.reshape(ts.shape), v.reshape(ts.shape)
+
+    __call__ = at
+
+    def sample(self, dt: float, start: float | None = None, stop: float | None = None) -> "Trajectory":
+        """The motion resampled every ``dt`` from ``start`` to ``stop`` (default: the span), as a Trajectory.
+
+        X, X', F_c and the mode come from :meth:`at` and the law; the work
+        integrals are the solver's over whole sample intervals and a
+        Gauss-Legendre quadrature of the interpolated integrands over parts
+        of one (:func:`frictionflow._continuous.dwork_at`).
+        """
+        if not dt > 0:
+            raise ValueError(f"dt must be > 0, got {dt!r}")
+        t0 = self.t[0] if start is None else float(start)
+        t1 = self.t[-1] if stop is None else float(stop)
+        times = t0 + dt * np.arange(int(np.floor((t1 - t0) / dt * (1 + 1e-12))) + 1)
+        return self._at_times(times, np.isin(times, self.t))
+
+    def dense(self, points_per_period: int = cont.POINTS_PER_PERIOD) -> "Trajectory":
+        """The samples plus points on the true curve filling every gap wider than 2 pi / ``points_per_period``.
+
+        The solver's own samples keep their values exactly and are marked in
+        :attr:`recorded`; what the analysis finds in it is what it finds in
+        ``self``.  A run already sampled that densely comes back unchanged.
+        """
+        times, is_sample = cont.dense_times(self.t, points_per_period)
+        if is_sample.all():
+            return self
+        interp = cont.interpolant(self)
+        out = self._at_times(times, is_sample, interp, cont.dwork_on_grid(self, interp, times, is_sample))
+        keep = np.flatnonzero(is_sample)
+        for name in ("x", "v", "fc", "mode"):  # the samples as recorded, not re-evaluated
+            getattr(out, name)[keep] = getattr(self, name)
+        if self.recorded is not None:
+            out.recorded[keep] = self.recorded
+        return out
+
+    def _at_times(self, times: np.ndarray, recorded: np.ndarray, interp=None, dwork=None) -> "Trajectory":
+        """A Trajectory evaluated at ``times`` (ascending, in the span)."""
+        interp = interp or cont.interpolant(self)
+        x, v = interp.state(times)
+        fc, mode = interp.force(times, x, v)
+        dwork = cont.dwork_at(self, interp, times) if dwork is None else dwork
+        return Trajectory(t=times, x=x, v=v, fc=fc, mode=mode, dwork=dwork, model=self.model, friction=self.friction,
+                          solver=dict(self.solver), events=self.events, extra=dict(self.extra), recorded=recorded)
+
+    def switches(self) -> np.ndarray:
+        """True at the points where the friction mode switches (the located switches, or a mode change for RK4)."""
+        return cont.switch_flags(self)
 
     # -- derived quantities --------------------------------------------------
     @property
@@ -120,19 +228,29 @@ class Trajectory:
             return len(self.t) - 1
         return i if self.t[i] - t < t - self.t[i - 1] else i - 1
 
-    def to_xarray(self):
-        """The samples as an :class:`xarray.Dataset` over ``tau`` with units and long names.
+    def to_xarray(self, dense: bool = True, points_per_period: int = cont.POINTS_PER_PERIOD):
+        """The motion as an :class:`xarray.Dataset` over ``tau`` with units and long names.
 
-        The work columns are running totals (:attr:`work`); the model, law
-        and solver settings become attributes.
+        ``dense`` (default): the true curve, the samples plus points filling
+        every gap wider than 2 pi / ``points_per_period`` (:meth:`dense`);
+        ``dense=False``: the samples only.  ``is_sample`` marks the solver's
+        own samples (``ds.where(ds.is_sample, drop=True)`` gives them back)
+        and ``switch`` the samples where the friction mode switches.  The
+        work columns are running totals (:attr:`work`); the model, law and
+        solver settings become attributes.
         """
         import xarray as xr  # imported here: it is slow to import and only exports need it
 
-        data = {"X": self.x, "V": self.v, "F_c": self.fc, "mode": self.mode}
-        data.update({name: self.work[:, j] for j, name in enumerate(WORK_NAMES)})
+        traj = self.dense(points_per_period) if dense else self
+        is_sample = np.ones(len(traj.t), dtype=bool) if traj.recorded is None else traj.recorded.copy()
+        switch = np.zeros(len(traj.t), dtype=bool)
+        switch[is_sample] = self.switches() if self.recorded is None else self.switches()[self.recorded]
+        data = {"X": traj.x, "V": traj.v, "F_c": traj.fc, "mode": traj.mode}
+        data.update({name: traj.work[:, j] for j, name in enumerate(WORK_NAMES)})
+        data.update(is_sample=is_sample, switch=switch)
         ds = xr.Dataset(
             {k: ("tau", np.asarray(v)) for k, v in data.items()},
-            coords={"tau": ("tau", self.t, {"units": "1", "long_name": "non-dimensional time tau = omega0 t"})},
+            coords={"tau": ("tau", traj.t, {"units": "1", "long_name": "non-dimensional time tau = omega0 t"})},
         )
         for k, (units, long_name) in DATASET_VARIABLES.items():
             ds[k].attrs.update(units=units, long_name=long_name)

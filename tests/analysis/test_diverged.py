@@ -34,6 +34,8 @@ def test_batch_rows_of_a_point_whose_energy_overflowed_are_diverged():
     fin = np.zeros(sections.NA)
     fin[sections.A_E] = math.inf
     out = np.zeros(batch.NR)
-    batch._row(rec, tail, fin, 0.01, 0.02, 1e-8, 3, 0.0, False, out)
+    p = np.zeros(8)
+    p[1] = 0.02
+    batch._row(rec, tail, fin, p, 0.0, 0.01, 1e-8, 3, 0.0, False, 0.0, out)
     assert KINDS[int(out[batch.R_KIND])] == "diverged"
     assert np.isnan(np.delete(out, batch.R_KIND)).all()

@@ -71,3 +71,20 @@ def test_underdamped_critical_points_repeat_every_half_period():
     n = cf.critical_points(cf.coefficients(cf.OSC, zeta, 0.0, 0.1, 0.0), cf.OSC, 0.0, 1.0, 0.0, 30.0, out)
     assert n >= 8
     assert np.allclose(np.diff(out[:n]), math.pi / math.sqrt(1 - zeta**2), rtol=1e-12)
+
+
+@pytest.mark.parametrize("dyn, zeta, force, x0, v0", CASES)
+@pytest.mark.parametrize("a, b", [(1.0, 0.0), (0.0, 1.0), (1.0, 0.1)])
+def test_first_critical_steps_through_the_critical_points(dyn, zeta, force, x0, v0, a, b):
+    # the kernels generate critical points one at a time from (first, step): the same times, bit for bit
+    co = cf.coefficients(dyn, zeta, force, x0, v0)
+    out = np.empty(64)
+    for t_from in (0.0, 1.3, 7.0):
+        n = cf.critical_points(co, dyn, a, b, t_from, 20.0, out)
+        t, step = cf.first_critical(co, dyn, a, b, t_from)
+        got = []
+        while t < 20.0:
+            got.append(t)
+            t += step
+        assert got == list(out[:n])
+        assert all(g > t_from for g in got)

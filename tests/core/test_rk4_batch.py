@@ -35,7 +35,7 @@ def test_batch_equals_single_runs(lanes):
     fin = np.full((n, sec.NA), np.nan)
     rk4_batch.warm_up()
     rk4_batch.run_batch(0, zeta, vb, p, fd.copy(), vb.copy(), dt, steps, sec.tail_start(0.0, t_end), rec, nrec, tail, fin)
-    out = rk4_batch.summarize(rec, nrec, tail, fin, vb, fd, 1e-6, 3, dt, True)
+    out = rk4_batch.summarize(rec, nrec, tail, fin, vb, fd, 1e-6, 3, dt, True, 1e-6)
     kinds = set()
     for j in range(0, n, 3):
         tr = simulate(BeltOscillator(zeta=zeta[j], vb=vb[j]), laws[j], RK4(dt=dt), t_end=t_end)

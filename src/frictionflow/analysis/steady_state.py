@@ -27,11 +27,12 @@ with the batched kernels.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 
 from .. import quantities as Q
+from ..core import certificate
 from ..core import sections as sec
 from ..trajectory import Trajectory
 from .equilibrium import sliding_equilibrium
@@ -88,6 +89,25 @@ def from_classification(cls: np.ndarray, summary: np.ndarray) -> SteadyState:
     )
 
 
+#: convergence tolerance of the steady-state test, by solver: fixed-step RK4
+#: resolves orbits to about 1e-6, the adaptive solver to its rtol, the exact
+#: solver to rounding
+DEFAULT_RTOL = {"rk4": 1e-6, "adaptive": 1e-8, "exact": 1e-10}
+
+
+def section_noise(solver: Mapping[str, Any]) -> float:
+    """The solver's relative error in a section value: below it repetition cannot be judged.
+
+    Rounding for the closed forms; for the adaptive solver ten times its rtol
+    (local errors of the steps of a period partly cancel); for fixed-step RK4 about the
+    tolerance its classification uses (1e-6 of the motion at dt = 1e-3).
+    """
+    name = solver.get("name")
+    if name == "adaptive":
+        return 10.0 * float(solver.get("rtol", 1e-10))
+    return {"exact": 1e-13, "rk4": DEFAULT_RTOL["rk4"]}.get(name, 0.0)
+
+
 def classify_trajectory(traj: Trajectory, rtol: float = 1e-6, min_periods: int = 3) -> tuple[np.ndarray, np.ndarray]:
     """Section records of ``traj`` classified; returns (classification, window summary).
 
@@ -99,7 +119,7 @@ def classify_trajectory(traj: Trajectory, rtol: float = 1e-6, min_periods: int =
     rec = np.ascontiguousarray(rec[-sec.MAX_RECORDS :])
     scale = sec.scale_of(rec, tail, traj.vb, traj.friction.fd)
     h = float(np.max(np.diff(traj.t))) if len(traj) > 1 else 0.0
-    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, "dt" in traj.solver)
+    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, "dt" in traj.solver, section_noise(traj.solver) * scale)
     return cls, sec.window_summary(rec, tail, fin, cls, traj.friction.fd, traj.vb)
 
 
@@ -135,7 +155,7 @@ def steady_state(
     found = _diverged(traj)
     if found is not None:
         return found
-    found = _terminal(traj)
+    found = _terminal(traj) or _certified(traj)
     if found is None:
         found = from_classification(*classify_trajectory(traj, rtol, min_periods))
         found = replace(found, stability=_stability(traj, found))
@@ -169,6 +189,25 @@ def _terminal(traj: Trajectory) -> SteadyState | None:
         stability="stable",
         stick_fraction=0.0,
     )
+
+
+def _certified(traj: Trajectory) -> SteadyState | None:
+    """``equilibrium`` by the energy certificate: the run ends inside the certified disc about X*.
+
+    From inside the disc (:mod:`frictionflow.core.certificate`) the motion
+    provably converges onto X* without sticking again; the window starts where
+    the run entered it for good.
+    """
+    r = certificate.radius(traj.friction, traj.zeta, traj.vb)
+    if r <= 0.0:
+        return None
+    eq = sliding_equilibrium(traj.model, traj.friction)
+    inside = ((traj.x - eq.x) ** 2 + traj.v**2 <= r * r) & (traj.mode == np.sign(traj.vb))
+    if not inside[-1]:
+        return None
+    first = len(inside) - int(np.argmin(inside[::-1])) if not inside.all() else 0
+    return SteadyState("equilibrium", (float(traj.t[first]), float(traj.t[-1])), decay_rate=eq.decay_rate,
+                       limit={"x": eq.x}, stability="stable", stick_fraction=0.0)
 
 
 def _stability(traj: Trajectory, ss: SteadyState) -> str | None:

@@ -7,16 +7,21 @@ from dataclasses import dataclass, fields
 from typing import Any
 
 from .. import quantities as Q
+from .._display import Row, Summarized, num, pairs, system_row
 from ..trajectory import Trajectory
 from .equilibrium import equilibrium_values
 from .power_flow import PowerFlow, power_flow
-from .steady_state import SteadyState, steady_state
+from .steady_state import DEFAULT_RTOL, SteadyState, steady_state
 from .transmissibility import amplitude, transmissibility
 
 
-@dataclass(frozen=True)
-class Analysis:
-    """Steady state, power flow, TR_B and amplitudes over the steady-state window."""
+@dataclass(frozen=True, repr=False)
+class Analysis(Summarized):
+    """Steady state, power flow, TR_B and amplitudes over the steady-state window.
+
+    Shows itself as a short summary (``repr``, and a table in notebooks);
+    :meth:`plot` draws the run.
+    """
 
     trajectory: Trajectory
     steady_state: SteadyState
@@ -27,6 +32,34 @@ class Analysis:
     @property
     def energy_residual(self) -> float:
         return self.power.energy_residual
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        traj, ss = self.trajectory, self.steady_state
+        av = self.power.averages()
+        kind = ", ".join(x for x in (ss.kind, ss.stability) if x)
+        if ss.period:
+            kind += f", period {num(ss.period, 8)}"
+        if ss.decay_rate is not None:
+            kind += f", decay rate {num(ss.decay_rate, 4)}" + (f", heading {ss.heading}" if ss.heading else "")
+        rows = [
+            system_row(traj.model, traj.friction),
+            ("solver", str(traj.solver.get("name", "?"))),
+            ("steady state", kind),
+            ("window", f"tau {num(ss.window[0])} .. {num(ss.window[1])}"
+             + (f", stick fraction {num(ss.stick_fraction, 4)}" if ss.stick_fraction is not None else "")),
+            ("power", pairs({k: av[k] for k in ("P_fin", "P_df", "P_dv")})),
+            ("ratios", pairs({k: av[k] for k in ("R_c", "R_f")})),
+            ("belt, heat", pairs({k: av[k] for k in ("P_belt", "P_heat")})),
+            ("TR_B", num(self.TR_B)),
+            ("residual", num(self.energy_residual, 2)),
+        ]
+        return "Analysis", rows
+
+    def plot(self, path: Any = None):
+        """Time history, phase portrait, power and averages (:func:`frictionflow.plotting.plot_run`); returns the figure."""
+        from ..plotting import plot_run
+
+        return plot_run(self, path)
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready dict (NaN becomes None); the reports in the order of the quantities table."""
@@ -60,10 +93,7 @@ def _clean(obj: Any) -> Any:
     return obj
 
 
-#: convergence tolerance of the steady-state test, by solver: fixed-step RK4
-#: resolves orbits to about 1e-6, the adaptive solver to its rtol, the exact
-#: solver to rounding
-DEFAULT_RTOL = {"rk4": 1e-6, "adaptive": 1e-8, "exact": 1e-10}
+DEFAULT_RTOL = DEFAULT_RTOL  # re-exported: the sweeps read it from here
 
 
 def analyze(

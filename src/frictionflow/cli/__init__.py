@@ -16,15 +16,27 @@ app = typer.Typer(
     name="frictionflow",
     help="Dynamics and vibration power flow of dry-friction (mass-on-belt) oscillators.",
     no_args_is_help=True,
-    add_completion=False,
+    add_completion=True,  # --install-completion / --show-completion (see the README)
     pretty_exceptions_enable=False,
     rich_markup_mode=None,
 )
 
 
 
+def _print_version(value: bool) -> None:
+    """Eager ``--version``: print and stop before any command is needed."""
+    if value:
+        from .. import __version__
+
+        print(f"frictionflow {__version__}")
+        raise typer.Exit(0)
+
+
 @app.callback()
-def _root() -> None:
+def _root(
+    version: bool = typer.Option(False, "--version", help="Print the version and exit.",
+                                 callback=_print_version, is_eager=True),
+) -> None:
     """Dynamics and vibration power flow of dry-friction (mass-on-belt) oscillators."""
 
 
@@ -33,6 +45,25 @@ from . import simulate as _simulate  # noqa: E402,F401
 from . import reproduce as _reproduce  # noqa: E402,F401
 from . import sweep as _sweep  # noqa: E402,F401
 from . import orbit as _orbit  # noqa: E402,F401
+
+#: one line per command for the command list (click would cut the docstring at its first period)
+SHORT_HELP = {
+    "simulate": "Simulate one run: steady state, power flow and TR_B.",
+    "reproduce": "Reproduce Figs. 2-6 of the paper, with a report.",
+    "sweep": "Sweep parameters over a grid (resumable, local or Dask).",
+    "orbit": "Find a periodic orbit and its Floquet multipliers.",
+    "continue": "Continue equilibria and periodic orbits in one parameter.",
+}
+
+
+def _set_short_help() -> None:
+    """Give every registered command its line of :data:`SHORT_HELP` (without editing the command modules)."""
+    for info in app.registered_commands:
+        name = info.name or info.callback.__name__.replace("_", "-")
+        info.short_help = SHORT_HELP.get(name, info.short_help)
+
+
+_set_short_help()
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None):  # noqa: ANN001

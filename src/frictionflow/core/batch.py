@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit, prange
 
 from .. import quantities as Q
-from . import dopri, exact, rk4_batch
+from . import certificate, dopri, exact, rk4_batch
 from . import sections as sec
 from .friction import FD, slip_magnitude_of
 
@@ -43,24 +43,34 @@ def _not_settled(out):
 
 
 @njit(cache=True)
-def _row(rec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step, out):
-    """A point's result row from its section records -- or ``diverged`` if its state left the float range."""
+def _row(rec, tail, fin, p, zeta, vb, rtol, min_periods, h, fixed_step, noise, out):
+    """A point's result row: ``diverged`` if its state left the float range, the equilibrium if the
+    certificate proves it (:mod:`.certificate`), else what its section records say."""
+    fd = p[FD]
     if not np.isfinite(fin[sec.A_E]):
         out[:] = np.nan
         out[R_KIND] = sec.DIVERGED
         return
+    x_eq = math.copysign(slip_magnitude_of(p, abs(vb)), vb)
+    if (vb - fin[sec.A_VEND]) * vb > 0.0:  # slipping with the belt at the end: is it in the certified disc?
+        r = certificate.certified_radius(p, zeta, vb)
+        if certificate.inside(x_eq, vb, r, fin[sec.A_XEND], fin[sec.A_VEND]):
+            whole = sec.averages(fin[sec.A_W0], fin[sec.A_W1], fin[sec.A_W2], fin[sec.A_W3], fin[sec.A_E0],
+                                 fin[sec.A_E], max(fin[sec.A_T], 1e-300))
+            out[:] = sec.equilibrium_row(x_eq, vb, fd, 0.0, whole[sec.RESID])[:NR]
+            return
     scale = sec.scale_of(rec, tail, vb, fd)
-    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, fixed_step)
+    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise * scale)
     out[:] = sec.window_summary(rec, tail, fin, cls, fd, vb)[:NR]
 
 
 @njit(cache=True)
-def _classify_samples(t, x, v, mode, work, zeta, vb, fd, rtol, min_periods, h, fixed_step, out):
+def _classify_samples(t, x, v, mode, work, zeta, vb, p, rtol, min_periods, h, fixed_step, noise, out):
     t_tail = sec.tail_start(t[0], t[-1])
     rec, tail, fin = sec.records_from_samples(t, x, v, mode, work, zeta, t_tail)
     if rec.shape[0] > sec.MAX_RECORDS:
         rec = rec[rec.shape[0] - sec.MAX_RECORDS :].copy()
-    _row(rec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step, out)
+    _row(rec, tail, fin, p, zeta, vb, rtol, min_periods, h, fixed_step, noise, out)
 
 
 @njit(cache=True)
@@ -71,7 +81,7 @@ def _buffers(cap):
 
 
 @njit(cache=True, parallel=True)
-def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, out):
+def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out):
     """Exact solver for every point (rows of ``p``: friction kernel parameters)."""
     n = len(zeta)
     for j in prange(n):
@@ -97,11 +107,11 @@ def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, out):
             x_eq = t_mode[0] * slip_magnitude_of(p[j], abs(vb[j]))
             out[j, :] = sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID])[:NR]
         else:
-            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], fd, rtol, min_periods, 0.0, False, out[j])
+            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, False, noise, out[j])
 
 
 @njit(cache=True, parallel=True)
-def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, out):
+def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out):
     """Adaptive Dormand-Prince for every point (built-in slip laws)."""
     n = len(zeta)
     for j in prange(n):
@@ -118,17 +128,17 @@ def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, r
         if status != dopri.OK:
             _not_settled(out[j])
         else:
-            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j, FD], rtol, min_periods, 0.0, False, out[j])
+            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, False, noise, out[j])
 
 
 @njit(cache=True, parallel=True)
-def _rk4_rows(rec, nrec, tail, fin, vb, fd, rtol, min_periods, dt, out):
+def _rk4_rows(rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out):
     n = len(nrec)
     for j in prange(n):
-        _row(rk4_batch.unroll(rec[j], nrec[j]), tail[j], fin[j], vb[j], fd[j], rtol, min_periods, dt, True, out[j])
+        _row(rk4_batch.unroll(rec[j], nrec[j]), tail[j], fin[j], p[j], zeta[j], vb[j], rtol, min_periods, dt, True, noise, out[j])
 
 
-def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, out) -> None:
+def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, noise, out) -> None:
     """Batched fixed-step RK4 (lanes in lock step, SIMD) for every point."""
     n = len(zeta)
     steps = max(1, int(math.ceil(t_end / dt - 1e-9)))
@@ -138,4 +148,4 @@ def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, out) -> N
     fin = np.full((n, sec.NA), np.nan)
     rk4_batch.warm_up()
     rk4_batch.run_batch(law, zeta, vb, p, x0, v0, dt, steps, sec.tail_start(0.0, steps * dt), rec, nrec, tail, fin)
-    _rk4_rows(rec, nrec, tail, fin, vb, np.ascontiguousarray(p[:, FD]), rtol, min_periods, dt, out)
+    _rk4_rows(rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out)

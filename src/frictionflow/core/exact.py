@@ -60,16 +60,8 @@ EPS = 2.220446049250313e-16
 MAX_EVENTS_PER_MODE = 5
 #: a sample at least every WINDOW of a long phase
 WINDOW = 16.0 * math.pi
-
-
-@njit(cache=True)
-def friction_mode(mode):
-    """Recorded friction mode: +1 slip+, -1 slip-, 0 stick (band, edge)."""
-    if mode == SLIP_POS:
-        return 1
-    if mode == SLIP_NEG:
-        return -1
-    return 0
+#: the friction mode recorded for each mode: +1 slip+, -1 slip-, 0 stick (band, edge)
+FRICTION_MODE = (0, 1, -1, 0, 0, 0, 0, 0, 0)
 
 
 @njit(cache=True)
@@ -266,26 +258,6 @@ def _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, lo, hi):
 
 
 @njit(cache=True)
-def _search_lin(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
-    """:func:`_search` for X' constant: g = g0 + g1 t exactly, no bracketing needed (and none of its rounding)."""
-    g0, g1, _, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, 0.0)
-    if s * g1 >= 0.0:
-        return np.inf, True, np.nan, np.nan
-    tc = -g0 / g1
-    if tc > horizon:
-        return np.inf, False, np.nan, np.nan
-    # the first representable time on the outside
-    while True:
-        g, _, x, v = _g(co, dyn, zeta, force, x0, v0, a, b, c, tc)
-        if s * g <= 0.0:
-            break
-        tc = np.nextafter(tc, np.inf)
-    if tc < 0.0:
-        return 0.0, False, np.nan, np.nan
-    return tc, False, x, v
-
-
-@njit(cache=True)
 def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
     """First crossing of one boundary in (0, horizon]: (time or inf, never crossed at all, X, X' there).
 
@@ -296,7 +268,21 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
     X and X' at the crossing are NaN where they were not evaluated.
     """
     if dyn == cf.LIN:
-        return _search_lin(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon)
+        # g = g0 + g1 t exactly: no bracketing needed (and none of its rounding)
+        g0, g1, _, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, 0.0)
+        if s * g1 >= 0.0:
+            return np.inf, True, np.nan, np.nan
+        tc = -g0 / g1
+        if tc > horizon:
+            return np.inf, False, np.nan, np.nan
+        while True:  # the first representable time on the outside
+            g, _, x, v = _g(co, dyn, zeta, force, x0, v0, a, b, c, tc)
+            if s * g <= 0.0:
+                break
+            tc = np.nextafter(tc, np.inf)
+        if tc < 0.0:
+            return 0.0, False, np.nan, np.nan
+        return tc, False, x, v
     scale = abs(a * x0) + abs(b * v0) + abs(c) + 1e-300
     graze = 1e-12 * scale  # a critical point this close to the boundary only touches it
     tiny = 256.0 * EPS * scale  # a g that stays on the boundary (within rounding) does not cross it
@@ -322,20 +308,16 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
             break
         t_a = t_b
         t_b += step
-    return np.inf, _never_after(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon, g_inf), np.nan, np.nan
-
-
-@njit(cache=True)
-def _never_after(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon, g_inf):
-    """No crossing up to the horizon: can there be one later?  (After its last critical point g is monotone.)"""
+    # Nothing up to the horizon; after its last critical point g is monotone: can it cross later?
+    never = False
     if dyn == cf.EXP and zeta == 0.0:
         _, dgh, _, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, horizon)
-        return s * dgh >= 0.0
-    if dyn == cf.EXP:
-        return s * (a * (x0 + v0 / (2.0 * zeta)) - c) > 0.0  # s g(inf): X -> x0 + v0 / (2 zeta), X' -> 0
-    if dyn == cf.OSC and zeta >= 1.0:
-        return g_inf > 0.0 and cf.first_critical(co, dyn, a, b, horizon)[0] == np.inf
-    return False
+        never = s * dgh >= 0.0
+    elif dyn == cf.EXP:
+        never = s * (a * (x0 + v0 / (2.0 * zeta)) - c) > 0.0  # s g(inf): X -> x0 + v0 / (2 zeta), X' -> 0
+    elif dyn == cf.OSC and zeta >= 1.0:
+        never = g_inf > 0.0 and cf.first_critical(co, dyn, a, b, horizon)[0] == np.inf
+    return np.inf, never, np.nan, np.nan
 
 
 @njit(cache=True)
@@ -499,8 +481,8 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     res = p[RESULTANT] != 0.0
     w = np.zeros(4)  # the work integrals since the last sample (emit restarts them)
     # stop_periodic: X and times of the last maxima of X, how many, and the largest |X| sampled
-    ring_x = np.empty(min_periods + 2)
-    ring_t = np.empty(min_periods + 2)
+    ring = np.zeros(2 * min_periods + 4)  # (np.zeros as for w: one allocation routine to compile)
+    ring_x, ring_t = ring[: min_periods + 2], ring[min_periods + 2 :]
     n_max = 0
     x_seen = abs(x0)
     outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
@@ -518,7 +500,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     while True:
         # a phase starts (the run's start, or a switch): its first sample
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
-        if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta), friction_mode(mode), w):
+        if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta), FRICTION_MODE[mode], w):
             return k, ne, FULL, t_terminal, t
         k += 1
         if t >= t_end:
@@ -529,7 +511,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         T = tau if which >= 0 else t_end - t
         if never and t_terminal < 0.0:
             t_terminal = t
-            t_mode[0] = friction_mode(mode)
+            t_mode[0] = FRICTION_MODE[mode]
             if stop_terminal:
                 return k, ne, DONE, t_terminal, t
         if which < 0 or math.isnan(xe):
@@ -537,7 +519,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         # The samples inside the phase, in time order, each with the work integrals since the previous one.
         # (Written out here rather than in a function: a call with the output arrays costs two atomic
         # reference-count updates per array, per phase.)
-        fmode = friction_mode(mode)
+        fmode = FRICTION_MODE[mode]
         slipping = fmode != 0
         tz = _fc_zero(dyn, fck, zeta, x, v, T)
         tt = t_tail - t if 0.0 < t_tail - t < T else np.inf
@@ -596,7 +578,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     if out_t[k - 1] < t_end:
         # the run ends inside a phase
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
-        if not emit(outs, k, t_end, x, v, friction_force(fck, force, x, v, zeta), friction_mode(mode), w):
+        if not emit(outs, k, t_end, x, v, friction_force(fck, force, x, v, zeta), FRICTION_MODE[mode], w):
             return k, ne, FULL, t_terminal, t
         k += 1
     return k, ne, DONE, t_terminal, t_end

@@ -143,6 +143,7 @@ def _block(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
         wj[0], wj[1], wj[2], wj[3] = tot[j, 0] + w0[j], tot[j, 1] + w1[j], tot[j, 2] + w2[j], tot[j, 3] + w3[j]
         sec.mark(fin[j], n_steps * dt, x[j], v[j], wj)
         fin[j, sec.A_E0] = 0.5 * (x0[j] * x0[j] + v0[j] * v0[j])
+        fin[j, sec.A_XEND], fin[j, sec.A_VEND] = x[j], v[j]
 
 
 @njit(cache=True, parallel=True)
@@ -190,14 +191,14 @@ def unroll(ring, count):
 
 
 @njit(cache=True, parallel=True)
-def summarize(rec, nrec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step):
+def summarize(rec, nrec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step, noise):
     """Classify every lane and average over its window: (B, NC + NS)."""
     n = len(nrec)
     out = np.empty((n, sec.NC + sec.NS))
     for j in prange(n):
         r = unroll(rec[j], nrec[j])
         scale = sec.scale_of(r, tail[j], vb[j], fd[j])
-        c = sec.classify(r, tail[j], scale, rtol, min_periods, h, fixed_step)
+        c = sec.classify(r, tail[j], scale, rtol, min_periods, h, fixed_step, noise * scale)
         out[j, : sec.NC] = c
         out[j, sec.NC :] = sec.window_summary(r, tail[j], fin[j], c, fd[j], vb[j])
     return out

@@ -41,8 +41,8 @@ T, X, TS, ES, W0, W1, W2, W3, VMIN, VMAX, FMAX, STICK, LO = range(13)
 NF = 13
 # tail / final records: time and energy at the first tail sample (or the
 # final sample); for the tail, its work integrals and extremes
-A_T, A_E, A_W0, A_W1, A_W2, A_W3, A_XMIN, A_XMAX, A_VMIN, A_VMAX, A_FMAX, A_STICK, A_E0 = range(13)
-NA = 13  # fin: A_W* hold the whole run's work integrals and A_E0 its initial K + U
+A_T, A_E, A_W0, A_W1, A_W2, A_W3, A_XMIN, A_XMAX, A_VMIN, A_VMAX, A_FMAX, A_STICK, A_E0, A_XEND, A_VEND = range(15)
+NA = 15  # fin: A_W* hold the whole run's work integrals, A_E0 its initial K + U, A_XEND/A_VEND its final state
 
 #: records kept per run: windows span at most MAX_RECORDS - 1 periods
 MAX_RECORDS = 32
@@ -130,6 +130,7 @@ def records_from_samples(t, x, v, mode, dwork, zeta, t_tail):
             total[j] += dwork[i, j]
     mark(fin, t[n - 1], x[n - 1], v[n - 1], total)
     fin[A_E0] = 0.5 * (x[0] * x[0] + v[0] * v[0])
+    fin[A_XEND], fin[A_VEND] = x[n - 1], v[n - 1]
     return rec, tail, fin
 
 
@@ -221,6 +222,23 @@ def repeat_counts(xs, ts, tol_x, rtol, h2):
 
 
 @njit(cache=True)
+def _monotone_amplitude(rec, noise):
+    """The amplitudes X - LO of these records shrink (or grow) at every step, by more than ``noise`` in all."""
+    n = rec.shape[0]
+    if n < 3:
+        return False
+    first = rec[0, X] - rec[0, LO]
+    last = rec[n - 1, X] - rec[n - 1, LO]
+    if not abs(last - first) > noise:
+        return False
+    sign = 1.0 if last > first else -1.0
+    for i in range(1, n):
+        if not sign * ((rec[i, X] - rec[i, LO]) - (rec[i - 1, X] - rec[i - 1, LO])) > 0.0:
+            return False
+    return True
+
+
+@njit(cache=True)
 def _stationary(seq):
     """No significant linear trend (|t| < 4) in a short noisy sequence."""
     n = len(seq)
@@ -254,10 +272,14 @@ def _aitken(a0, a1, a2):
 
 
 @njit(cache=True)
-def classify(rec, tail, scale, rtol, min_periods, h, fixed_step):
+def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
     """Periodic / equilibrium / not settled from section records.
 
-    ``rec`` holds the run's records in time order.  Returns an array
+    ``rec`` holds the run's records in time order.  Repetition is judged
+    relative to the oscillation's own amplitude (``rtol`` times it), never
+    finer than ``noise``, the solver's error in a section value; an
+    oscillation whose amplitude shrinks or grows monotonically by more than
+    that noise is never periodic.  Returns an array
     (layout ``C_*``): the kind, the first and last record of the window
     (-1: the tail), the period, the number of periods, and for runs that are
     not settled the amplitude's decay rate, where it is heading
@@ -280,10 +302,13 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step):
 
     # Periodic, strictly: maxima, minima and periods repeat to tol.
     if n >= min_periods + 1:
-        m_x, m_p = repeat_counts(rec[:, X].copy(), rec[:, T].copy(), tol, rtol, h * h)
-        m = min(m_x, m_p + 1)
         lo = rec[n - min_periods :, LO].copy()
-        if m >= min_periods and not np.any(np.isnan(lo)) and lo.max() - lo.min() <= tol:
+        amp = rec[n - 1, X] - rec[n - 1, LO]
+        tol_c = max(rtol * amp, noise) if amp > 0.0 else tol
+        m_x, m_p = repeat_counts(rec[:, X].copy(), rec[:, T].copy(), tol_c, rtol, h * h)
+        m = min(m_x, m_p + 1)
+        if (m >= min_periods and not np.any(np.isnan(lo)) and lo.max() - lo.min() <= tol_c
+                and not _monotone_amplitude(rec[n - 1 - min_periods :], 2.0 * noise)):
             out[C_KIND] = PERIODIC
             out[C_START] = n - 1 - m
             out[C_END] = n - 1

@@ -117,6 +117,12 @@ class FrictionLaw:
         return p
 
     # -- physics ---------------------------------------------------------------
+    def kernel_force(self) -> Callable[[np.ndarray, float], float] | None:
+        """The compiled ``(p, speed) -> |F|`` the kernels use for this law (None: it cannot be compiled)."""
+        from ..core.friction import slip_magnitude_of  # the kernels import the laws: import them late
+
+        return slip_magnitude_of
+
     def slip_force(self, vr: Any) -> np.ndarray:
         """Friction force on the mass while slipping at relative velocity ``vr`` (signed)."""
         vr = np.asarray(vr, dtype=float)

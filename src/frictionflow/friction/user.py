@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import Any, Callable
 
 import numpy as np
@@ -9,6 +10,25 @@ import numpy as np
 from ..core import layout
 from .base import FD, FS, STICK_FORCE, FrictionLaw
 from .registry import register
+
+
+@lru_cache(maxsize=32)
+def compiled_force(func: Callable[[float], float]) -> Callable[[np.ndarray, float], float] | None:
+    """``func`` as a compiled ``(p, speed) -> |F|`` (the kernels' signature), or None if numba cannot compile it."""
+    from numba import njit
+    from numba.core.registry import CPUDispatcher
+
+    jitted = func if isinstance(func, CPUDispatcher) else njit(func)
+
+    @njit
+    def user_force(p, speed):
+        return jitted(speed)
+
+    try:
+        user_force(np.zeros(layout.N_PARAMS), 0.5)
+    except Exception:  # not numba-compilable: the kernels run it in Python
+        return None
+    return user_force
 
 
 @register
@@ -52,6 +72,9 @@ class SlipLaw(FrictionLaw):
         self.dfunc = dfunc
         f0 = float(func(0.0))
         self._assign(fd=float(func(1e2)) if fd is None else fd, fs=f0 if fs is None else fs, stick_force=stick_force)
+
+    def kernel_force(self) -> Callable[[np.ndarray, float], float] | None:
+        return compiled_force(self.func)
 
     @property
     def band(self) -> None:

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .. import quantities as Q
+from .._display import Row, Summarized, num
 from ._json import jsonable
 from .equilibria import Equilibrium
 from .measures import OrbitMeasures, equilibrium_measures
@@ -122,9 +123,12 @@ class Bifurcation:
         return {"type": self.type, "value": self.value, "branch": self.branch, **self.detail}
 
 
-@dataclass
-class ContinuationResult:
-    """Branches of equilibria and periodic orbits in one parameter, with the bifurcations found."""
+@dataclass(repr=False)
+class ContinuationResult(Summarized):
+    """Branches of equilibria and periodic orbits in one parameter, with the bifurcations found.
+
+    Shows itself as a short summary; :meth:`plot` draws the bifurcation diagram.
+    """
 
     param: str
     start: float
@@ -133,6 +137,27 @@ class ContinuationResult:
     branches: list[Branch]
     bifurcations: list[Bifurcation]
     sweep: list[dict[str, Any]] | None = None
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        fixed = ", ".join(f"{k}={num(v, 4)}" for k, v in self.params.items()
+                          if k != self.param and isinstance(v, (int, float)) and not isinstance(v, bool))
+        kinds = [f"{b.kind} ({b.seed}, {len(b.points)} points{', ' + b.end if b.end else ''})" for b in self.branches]
+        bifs = [f"{b.type} at {num(b.value)}" for b in self.bifurcations]
+        rows = [
+            ("parameter", f"{self.param} from {num(self.start)} to {num(self.stop)}"),
+            ("fixed", f"{self.params.get('friction', '?')}: {fixed}"),
+            ("branches", _first(kinds, 3) or "none"),
+            ("bifurcations", _first(bifs, 4) or "none"),
+        ]
+        if self.sweep is not None:
+            rows.append(("simulations", f"{len(self.sweep)} overlaid"))
+        return "ContinuationResult", rows
+
+    def plot(self, path: Any = None):
+        """Bifurcation diagram, power and TR_B along the branches (:func:`~frictionflow.orbits.plotting.plot_bifurcation`)."""
+        from .plotting import plot_bifurcation
+
+        return plot_bifurcation(self, path)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ``branches`` is a list of lists of points; ``branch_info`` says how each began and ended."""
@@ -148,3 +173,9 @@ class ContinuationResult:
         if self.sweep is not None:
             d["sweep"] = self.sweep
         return jsonable(d)
+
+
+def _first(items: list[str], n: int) -> str:
+    """The first ``n`` items joined, and how many more (a summary stays a few lines long)."""
+    more = f"; and {len(items) - n} more" if len(items) > n else ""
+    return "; ".join(items[:n]) + more

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from .._display import Row, Summarized, num, pairs, system_row
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..simulate import simulate
@@ -40,12 +41,13 @@ class ShootingError(RuntimeError):
     """Newton shooting did not find a periodic orbit from the given start."""
 
 
-@dataclass(frozen=True)
-class PeriodicOrbit:
+@dataclass(frozen=True, repr=False)
+class PeriodicOrbit(Summarized):
     """A periodic orbit, its Floquet multipliers and its power flow.
 
     ``state`` = (X, 0) is where it crosses the section; ``returns`` how many
-    section crossings make one period (1 for a simple orbit).
+    section crossings make one period (1 for a simple orbit).  Shows itself
+    as a short summary; :meth:`plot` draws it.
     """
 
     model: BeltOscillator
@@ -88,6 +90,26 @@ class PeriodicOrbit:
     @property
     def amplitude(self) -> float:
         return self.measures.amplitude
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        av = self.measures.averages()
+        rows = [
+            system_row(self.model, self.friction),
+            ("period", f"{num(self.period, 10)}" + (f" ({self.returns} section crossings)" if self.returns > 1 else "")),
+            ("section", f"X={num(self.state[0], 10)}, X'=0; amplitude {num(self.amplitude)}"),
+            ("stability", f"{self.stability}, multiplier {num(self.multiplier)}"),
+            ("stick fraction", num(self.stick_fraction, 4)),
+            ("power", pairs({k: av[k] for k in ("P_fin", "P_df", "P_dv")})),
+            ("TR_B", num(self.measures.TR_B)),
+            ("Newton", f"{self.iterations} iterations, residual {num(self.residual, 2)}"),
+        ]
+        return "PeriodicOrbit", rows
+
+    def plot(self, path: Any = None):
+        """Phase portrait, X(tau) and power over one period (:func:`~frictionflow.orbits.plotting.plot_orbit`)."""
+        from .plotting import plot_orbit
+
+        return plot_orbit(self, path)
 
     def trajectory(self, dense_dt: float | None = None, solver: Solver | None = None) -> Trajectory:
         """One period integrated by the package's solver (``dense_dt`` for smooth plots)."""

@@ -2,17 +2,15 @@
 
 from __future__ import annotations
 
-import types
 from functools import lru_cache
 from typing import Any, Callable
 
 import numpy as np
-from numba import njit
-from numba.core.registry import CPUDispatcher
 
 from .. import _validate as check
 from .._progress import progress_bar
 from ..core import dopri, sections
+from ..core._rebind import rebind
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -34,39 +32,30 @@ class StepLimitError(RuntimeError):
 _KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "run")
 
 
-@lru_cache(maxsize=32)
-def kernel_for(func: Callable[[float], float] | None) -> tuple[Callable, bool]:
-    """The ``run`` kernel for a slip law: the built-in one, or one rebuilt around a user function.
+def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
+    """The ``run`` kernel for a law: the built-in one, or one rebuilt around a user's slip function.
 
     Returns (kernel, compiled).  A user function numba cannot compile runs in
     the Python version of the same kernel.
     """
-    if func is None:
+    if friction.func is None:
         return dopri.run, True
-    jitted = func if isinstance(func, CPUDispatcher) else njit(func)
+    return _user_kernel(friction.func, friction.kernel_force())
 
-    @njit
-    def user_force(p, speed):
-        return jitted(speed)
 
-    try:
-        user_force(np.zeros(8), 0.5)
-        return _rebuild(user_force, compiled=True), True
-    except Exception:
-        def py_force(p, speed):
-            return float(func(speed))
+@lru_cache(maxsize=32)
+def _user_kernel(func: Callable[[float], float], force: Callable | None) -> tuple[Callable, bool]:
+    if force is not None:
+        return _rebuild(force, compiled=True), True
 
-        return _rebuild(py_force, compiled=False), False
+    def py_force(p, speed):
+        return float(func(speed))
+
+    return _rebuild(py_force, compiled=False), False
 
 
 def _rebuild(force: Callable, compiled: bool) -> Callable:
-    g = dict(vars(dopri))
-    g["slip_force"] = force
-    for name in _KERNEL_FUNCS:
-        code = getattr(dopri, name).py_func
-        fn = types.FunctionType(code.__code__, g, name, code.__defaults__)
-        g[name] = njit(fn) if compiled else fn
-    return g["run"]
+    return rebind(dopri, _KERNEL_FUNCS, compiled, slip_force=force)["run"]
 
 
 class Adaptive(Solver):
@@ -124,7 +113,7 @@ class Adaptive(Solver):
     ) -> Trajectory:
         if not self.supports(friction):
             raise ValueError(f"solver=adaptive does not support friction={friction.name}")
-        run, _ = kernel_for(friction.func)
+        run, _ = kernel_for(friction)
         p = friction.kernel_params()
         dense_dt = self.dense_dt or 0.0
         t_tail = sections.tail_start(0.0, t_end)

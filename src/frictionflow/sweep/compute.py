@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from .. import quantities as Q
-from ..analysis.summary import DEFAULT_RTOL
+from ..analysis.steady_state import DEFAULT_RTOL, section_noise
 from ..core import batch
 from ..core import layout as kf
 from ..friction.base import FrictionLaw
@@ -54,10 +54,11 @@ def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[
     rtol = run.rtol if run.rtol is not None else DEFAULT_RTOL[solver.name]
     out = np.empty((len(zeta), batch.NR))
     if solver.name == "exact":
-        batch.exact_points(p, zeta, vb, x0, v0, run.t_end, rtol, 3, out)
+        batch.exact_points(p, zeta, vb, x0, v0, run.t_end, rtol, 3, section_noise(solver.describe()), out)
     elif solver.name == "adaptive":
-        batch.adaptive_points(p, zeta, vb, x0, v0, run.t_end, run.ode_rtol, 1e-13, run.max_steps, rtol, 3, out)
+        batch.adaptive_points(p, zeta, vb, x0, v0, run.t_end, run.ode_rtol, 1e-13, run.max_steps, rtol, 3,
+                              section_noise(solver.describe()), out)
     else:
-        batch.rk4_points(int(p[0, kf.LAW]), p, zeta, vb, x0, v0, run.t_end, run.dt, rtol, 3, out)
+        batch.rk4_points(int(p[0, kf.LAW]), p, zeta, vb, x0, v0, run.t_end, run.dt, rtol, 3, section_noise(solver.describe()), out)
     shape = tuple(s.stop - s.start for s in sl)
     return out.T.reshape((batch.NR, *shape))

@@ -49,6 +49,10 @@ def run_sweep(
 ):
     """Compute a sweep into ``out`` (.zarr or .nc) and return it as an :class:`xarray.Dataset`.
 
+    Raises :class:`~frictionflow.sweep.lock.OutputInUseError` at once when
+    another run holds ``out``.  An existing output is checked before it is
+    resumed: damaged chunks are recomputed, with a warning saying which.
+
     Parameters
     ----------
     config:
@@ -65,10 +69,6 @@ def run_sweep(
         Seconds to wait for ``scheduler`` to answer (RuntimeError naming the address after that).
     lock_stale_after:
         Seconds after which another host's untouched lock on ``out`` counts as stale.
-
-    Raises :class:`~frictionflow.sweep.lock.OutputInUseError` at once when
-    another run holds ``out``.  An existing output is checked before it is
-    resumed: damaged chunks are recomputed, with a warning saying which.
     """
     cfg = _as_config(config)
     size = chunk_size or default_chunk_size(cfg)

@@ -1,0 +1,384 @@
+"""A trajectory between its samples: the motion at any time of the span.
+
+:meth:`Trajectory.at <frictionflow.trajectory.Trajectory.at>` delegates here,
+to the interpolant of the solver that made the run (:func:`interpolant`):
+
+``exact``
+    The closed form itself.  Between two samples the motion is one phase of
+    constant-coefficient dynamics (:mod:`frictionflow.core.closed_form`): OSC
+    X'' + 2 zeta X' + X = F about a constant F (slip at +-F_d, Karnopp's
+    saturated band at +-F_s), LIN X'' = 0 (stick, Karnopp's band holding
+    F_e = X + 2 zeta X', sliding on a band edge) or EXP X'' = -2 zeta X'
+    (Karnopp's band holding F_e = X).  Which one follows a sample is read
+    from the switch record ``events`` (the mode entered at each switch); the
+    first phase, before any switch, from the first samples themselves.
+    Accurate to rounding (~1e-15 relative).
+``adaptive``
+    Quintic Hermite interpolation in each step of a slip phase, from X, X'
+    and X'' = F_c - X - 2 zeta X' at both ends (the solver samples every
+    step).  Error O(h^6) in X and O(h^5) in X' for a step h: below the
+    solver's own tolerance at the steps its error control picks.  Stick
+    phases (X' = V_b) are exact.
+``rk4`` (and anything else)
+    Cubic Hermite interpolation between samples: X from X and X', X' from
+    X' and X'' at both ends.  Error O(h^4) for a sample spacing h (1e-12 of
+    the amplitude at the default dt = 1e-3); the numerical solution itself
+    is RK4's.
+
+F_c and the friction mode at any time follow the law (:meth:`Interpolant.force`).
+The work integrals at points added between samples (:func:`dwork_on_grid`)
+are Gauss-Legendre quadratures of the interpolated integrands over short
+steps, corrected at each sample so that every sample interval keeps the
+solver's own integrals: an analysis of a densified trajectory finds what it
+finds in the samples.  The adaptive solver's samples at events inside a step
+come from its own dense output (4th order): their error, not the
+interpolation's, dominates there.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .modes import SwitchMode
+
+#: dense sampling of figures and datasets: at least this many points per natural period 2 pi
+POINTS_PER_PERIOD = 64
+OSC, LIN, EXP = 0, 1, 2
+#: 8-point Gauss-Legendre nodes and weights on [0, 1] (the work integrals at added points)
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(8)
+_GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
+
+
+def interpolant(traj) -> "Interpolant":
+    """The interpolant of ``traj`` by the solver that made it (see the module's docstring)."""
+    name = traj.solver.get("name")
+    if name == "exact" and traj.events is not None:
+        return ClosedForm(traj)
+    if name == "adaptive":
+        return QuinticHermite(traj)
+    return CubicHermite(traj)
+
+
+class Interpolant:
+    """The motion of ``traj`` between its samples (a subclass per solver)."""
+
+    def __init__(self, traj) -> None:
+        self.traj = traj
+        self.zeta = traj.model.zeta
+        self.vb = traj.model.vb
+
+    def interval(self, t: np.ndarray) -> np.ndarray:
+        """Index i of the interval [t_i, t_i+1] holding each time (the last sample at or before it)."""
+        ts = self.traj.t
+        lo, hi = ts[0], ts[-1]
+        bad = (t < lo) | (t > hi) | np.isnan(t)
+        if np.any(bad):
+            raise ValueError(f"t must lie in the trajectory's span [{lo:g}, {hi:g}], got {t[bad][0]!r}")
+        i = np.searchsorted(ts, t, side="right") - 1
+        return np.clip(i, 0, max(len(ts) - 2, 0))
+
+    def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(X, X') at the times ``t`` (an array inside the span)."""
+        raise NotImplementedError
+
+    def force(self, t: np.ndarray, x: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(F_c, mode) at times ``t`` where the state is (x, v): slip by the law, stick as sampled."""
+        i = self.interval(t)
+        mode = self.traj.mode[i].astype(np.int8)
+        return self._slip_or(mode, x, v, x + 2.0 * self.zeta * v), mode
+
+    def _slip_or(self, mode: np.ndarray, x: np.ndarray, v: np.ndarray, stick: np.ndarray) -> np.ndarray:
+        """The law's slip force where ``mode`` slips, ``stick`` elsewhere."""
+        fc = np.array(stick, dtype=float)
+        slip = mode != 0
+        if np.any(slip):
+            speed = np.abs(self.vb - v[slip])
+            fc[slip] = mode[slip] * np.asarray(self.traj.friction.slip_magnitude(speed), dtype=float)
+        return fc
+
+    def acceleration_left(self) -> np.ndarray:
+        """X'' at the right end of each interval as the interval's own phase sees it (before a switch there)."""
+        tr = self.traj
+        mode, nxt = tr.mode[:-1], tr.mode[1:]
+        fc_right = np.where(nxt == mode, tr.fc[1:], 0.0)
+        switched = (nxt != mode) & (mode != 0)
+        if np.any(switched):
+            speed = np.abs(self.vb - tr.v[1:][switched])
+            fc_right[switched] = mode[switched] * np.asarray(tr.friction.slip_magnitude(speed), dtype=float)
+        return fc_right - tr.x[1:] - 2.0 * self.zeta * tr.v[1:]
+
+
+# -- the exact solver: closed forms ----------------------------------------------------------------
+
+class ClosedForm(Interpolant):
+    """The exact solver's phases in closed form (vectorised; the same laws as :mod:`.core.closed_form`)."""
+
+    def __init__(self, traj) -> None:
+        super().__init__(traj)
+        self.dyn, self.centre = self._phases()
+
+    def _phases(self) -> tuple[np.ndarray, np.ndarray]:
+        """(motion type, OSC centre F) of the phase that follows each sample."""
+        tr = self.traj
+        ev_t, ev_mode = tr.events["t"], tr.events["mode"].astype(np.int64)
+        k = np.searchsorted(ev_t, tr.t, side="right")  # switches up to each sample
+        modes = np.concatenate([[int(self._first_phase())], ev_mode])[k]  # k = 0: the first phase
+        # lookup tables indexed by SwitchMode value + 1 (the values run from -1)
+        table = self._table()
+        dyn, centre = np.zeros(len(SwitchMode), dtype=np.int8), np.zeros(len(SwitchMode))
+        for mode, (d, c) in table.items():
+            dyn[mode + 1], centre[mode + 1] = d, c
+        return dyn[modes + 1], centre[modes + 1]
+
+    def _table(self) -> dict[SwitchMode, tuple[int, float]]:
+        """Motion type and OSC centre of each mode (as :func:`frictionflow.core.exact.dynamics`)."""
+        law = self.traj.friction
+        fd, fs = law.fd, getattr(law, "fs", law.fd)
+        hold = EXP if law.stick_force == "spring" and self.zeta > 0.0 else LIN
+        S = SwitchMode
+        return {
+            S.SLIP_POSITIVE: (OSC, fd), S.SLIP_NEGATIVE: (OSC, -fd), S.STICK: (LIN, 0.0),
+            S.BAND_HOLD: (hold, 0.0), S.BAND_SATURATED_POSITIVE: (OSC, fs), S.BAND_SATURATED_NEGATIVE: (OSC, -fs),
+            S.BAND_EDGE_LOWER: (LIN, 0.0), S.BAND_EDGE_UPPER: (LIN, 0.0),
+        }
+
+    def _first_phase(self) -> SwitchMode:
+        """The mode of the run's first phase (no switch records it).
+
+        The candidates are the modes whose F_c matches the first sample's;
+        where several do (the start lies on a boundary between them), the one
+        whose motion reaches the phase's last sample (the first switch, or
+        the end of the run: X is continuous there).
+        """
+        tr = self.traj
+        x, v, fc, m = tr.x[0], tr.v[0], tr.fc[0], int(tr.mode[0])
+        if m != 0:
+            return SwitchMode(m)
+        table = self._table()
+        tol = 1e-12 * (abs(x) + abs(v) + abs(fc) + tr.friction.fs + 1e-300)
+        found = [s for s in table if s not in (SwitchMode.SLIP_POSITIVE, SwitchMode.SLIP_NEGATIVE)
+                 and abs(self._fc_of(s, table, x, v) - fc) <= tol]
+        if tr.friction.stick_rule == "switch":  # Coulomb-type laws stick only in STICK
+            found = [s for s in found if s == SwitchMode.STICK] or [SwitchMode.STICK]
+        elif SwitchMode.STICK in found:
+            found.remove(SwitchMode.STICK)
+        ev_t = tr.events["t"]
+        last = np.searchsorted(tr.t, ev_t[0], side="left") if len(ev_t) else len(tr.t) - 1
+        if len(found) <= 1 or tr.t[last] <= tr.t[0]:
+            return found[0] if found else SwitchMode.BAND_HOLD
+        s = tr.t[last] - tr.t[0]
+        miss = [abs(self._one(table[c][0], table[c][1], x, v, s)[0] - tr.x[last]) for c in found]
+        return found[int(np.argmin(miss))]
+
+    def _fc_of(self, mode: SwitchMode, table: dict, x: float, v: float) -> float:
+        dyn, centre = table[mode]
+        return centre if dyn == OSC else (x if dyn == EXP else x + 2.0 * self.zeta * v)
+
+    def _one(self, dyn: int, centre: float, x: float, v: float, s: float) -> tuple[float, float]:
+        xs, vs = self._evaluate(np.array([dyn]), np.array([centre]), np.array([x]), np.array([v]), np.array([s]))
+        return float(xs[0]), float(vs[0])
+
+    def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        i = self.interval(t)
+        tr = self.traj
+        return self._evaluate(self.dyn[i], self.centre[i], tr.x[i], tr.v[i], t - tr.t[i])
+
+    def _evaluate(self, dyn, centre, x0, v0, s) -> tuple[np.ndarray, np.ndarray]:
+        """X and X' a time ``s`` into phases of type ``dyn`` started at (x0, v0)."""
+        x = x0 + v0 * s  # LIN
+        v = np.array(v0, dtype=float)
+        osc, exp = dyn == OSC, dyn == EXP
+        if np.any(exp) and self.zeta > 0.0:
+            c = 2.0 * self.zeta
+            x[exp] = x0[exp] + v0[exp] * (-np.expm1(-c * s[exp])) / c
+            v[exp] = v0[exp] * np.exp(-c * s[exp])
+        if np.any(osc):
+            y, vy = _oscillation(self.zeta, x0[osc] - centre[osc], v0[osc], s[osc])
+            x[osc], v[osc] = centre[osc] + y, vy
+        return x, v
+
+    def force(self, t, x, v):
+        i = self.interval(t)
+        dyn = self.dyn[i]
+        fc = np.where(dyn == OSC, self.centre[i], np.where(dyn == EXP, x, x + 2.0 * self.zeta * v))
+        return fc, self.traj.mode[i].astype(np.int8)
+
+
+def _oscillation(zeta: float, y0, v0, s) -> tuple[np.ndarray, np.ndarray]:
+    """Y'' + 2 zeta Y' + Y = 0 from (y0, v0): (Y, Y') after time ``s``, for every damping regime."""
+    if zeta < 1.0:
+        w = math.sqrt(1.0 - zeta * zeta)
+        q = (v0 + zeta * y0) / w
+        e, c, sn = np.exp(-zeta * s), np.cos(w * s), np.sin(w * s)
+        return e * (y0 * c + q * sn), e * ((w * q - zeta * y0) * c - (w * y0 + zeta * q) * sn)
+    if zeta == 1.0:
+        q = v0 + y0
+        e = np.exp(-s)
+        return e * (y0 + q * s), e * (q - y0 - q * s)
+    r = math.sqrt(zeta * zeta - 1.0)
+    l1, l2 = -zeta + r, -zeta - r
+    a = (v0 - l2 * y0) / (l1 - l2)
+    b = y0 - a
+    e1, e2 = np.exp(l1 * s), np.exp(l2 * s)
+    return a * e1 + b * e2, l1 * a * e1 + l2 * b * e2
+
+
+# -- the adaptive solver and RK4: Hermite interpolation -----------------------------------------------
+
+class QuinticHermite(Interpolant):
+    """The adaptive solver's steps: quintic Hermite in slip, the exact line in stick."""
+
+    def __init__(self, traj) -> None:
+        super().__init__(traj)
+        tr = traj
+        self.acc = tr.fc - tr.x - 2.0 * self.zeta * tr.v
+        self.acc_right = self.acceleration_left() if len(tr.t) > 1 else np.zeros(0)
+
+    def state(self, t):
+        tr = self.traj
+        i = self.interval(t)
+        if len(tr.t) < 2:
+            return np.full(t.shape, tr.x[0]), np.full(t.shape, tr.v[0])
+        h = tr.t[i + 1] - tr.t[i]
+        s = np.divide(t - tr.t[i], h, out=np.zeros_like(t), where=h > 0)
+        x, v = _quintic(s, h, tr.x[i], tr.v[i], self.acc[i], tr.x[i + 1], tr.v[i + 1], self.acc_right[i])
+        stick = tr.mode[i] == 0  # X' = V_b held: a straight line, exactly
+        x[stick] = tr.x[i][stick] + tr.v[i][stick] * (t[stick] - tr.t[i][stick])
+        v[stick] = tr.v[i][stick]
+        return x, v
+
+
+class CubicHermite(Interpolant):
+    """Interpolation between the samples of a fixed-step run (RK4): cubic Hermite in X and in X'."""
+
+    def __init__(self, traj) -> None:
+        super().__init__(traj)
+        tr = traj
+        self.acc = tr.fc - tr.x - 2.0 * self.zeta * tr.v
+
+    def state(self, t):
+        tr = self.traj
+        i = self.interval(t)
+        if len(tr.t) < 2:
+            return np.full(t.shape, tr.x[0]), np.full(t.shape, tr.v[0])
+        h = tr.t[i + 1] - tr.t[i]
+        s = np.divide(t - tr.t[i], h, out=np.zeros_like(t), where=h > 0)
+        x = _cubic(s, h, tr.x[i], tr.v[i], tr.x[i + 1], tr.v[i + 1])
+        v = _cubic(s, h, tr.v[i], self.acc[i], tr.v[i + 1], self.acc[i + 1])
+        return x, v
+
+    def force(self, t, x, v):
+        """Where the law has a stick band (RK4): the band's rule at the interpolated state."""
+        law = self.traj.friction
+        band = law.band
+        if band is None:
+            return super().force(t, x, v)
+        vr = self.vb - v
+        mode = np.where(vr > band, 1, np.where(vr < -band, -1, 0)).astype(np.int8)
+        held = np.clip(law.stick_force_value(x, v, self.zeta), -law.fs, law.fs)
+        return self._slip_or(mode, x, v, held), mode
+
+
+def _cubic(s, h, y0, d0, y1, d1):
+    """Cubic Hermite at s in [0, 1] of an interval of length h with values y and slopes d at its ends."""
+    s2, s3 = s * s, s * s * s
+    return (2 * s3 - 3 * s2 + 1) * y0 + (s3 - 2 * s2 + s) * h * d0 + (3 * s2 - 2 * s3) * y1 + (s3 - s2) * h * d1
+
+
+def _quintic(s, h, x0, v0, a0, x1, v1, a1):
+    """Quintic Hermite X and its derivative X' at s in [0, 1] from X, X', X'' at both ends."""
+    s2 = s * s
+    s3, s4, s5 = s2 * s, s2 * s2, s2 * s2 * s
+    h2 = h * h
+    x = ((1 - 10 * s3 + 15 * s4 - 6 * s5) * x0 + (s - 6 * s3 + 8 * s4 - 3 * s5) * h * v0
+         + 0.5 * (s2 - 3 * s3 + 3 * s4 - s5) * h2 * a0 + (10 * s3 - 15 * s4 + 6 * s5) * x1
+         + (-4 * s3 + 7 * s4 - 3 * s5) * h * v1 + 0.5 * (s3 - 2 * s4 + s5) * h2 * a1)
+    dx = ((-30 * s2 + 60 * s3 - 30 * s4) * x0 + (1 - 18 * s2 + 32 * s3 - 15 * s4) * h * v0
+          + 0.5 * (2 * s - 9 * s2 + 12 * s3 - 5 * s4) * h2 * a0 + (30 * s2 - 60 * s3 + 30 * s4) * x1
+          + (-12 * s2 + 28 * s3 - 15 * s4) * h * v1 + 0.5 * (3 * s2 - 8 * s3 + 5 * s4) * h2 * a1)
+    v = np.divide(dx, h, out=np.array(v0, dtype=float), where=h > 0)  # a zero-length interval: its start
+    return x, v
+
+
+# -- dense grids and the work integrals at added points ---------------------------------------------
+
+def dense_times(t: np.ndarray, points_per_period: int = POINTS_PER_PERIOD) -> tuple[np.ndarray, np.ndarray]:
+    """(times, is_sample): the samples ``t`` and evenly spaced points filling every gap above 2 pi / ``points_per_period``."""
+    gap = 2.0 * math.pi / points_per_period
+    dt = np.diff(t)
+    extra = np.maximum(np.ceil(dt / gap).astype(np.int64) - 1, 0)  # points added inside each interval
+    counts = np.concatenate([[1], extra + 1])
+    total = int(counts.sum())
+    start = np.repeat(np.concatenate([[t[0]], t[:-1]]), counts)
+    step = np.repeat(np.concatenate([[0.0], dt / (extra + 1)]), counts)
+    first = np.cumsum(counts) - counts  # index of each sample's block
+    k = np.arange(total) - np.repeat(first, counts)  # 0 at the sample ending each block ...
+    owner = np.repeat(np.arange(len(t)), counts)
+    is_sample = k == counts[owner] - 1
+    # ... which sits at the end of its block: the added points come before it, k + 1 steps after the previous sample
+    times = np.where(is_sample, t[owner], start + (k + 1) * step)
+    return times, is_sample
+
+
+def dwork_on_grid(traj, interp: Interpolant, grid: np.ndarray, is_sample: np.ndarray) -> np.ndarray:
+    """Work increments (n, 4) over each step of ``grid``, a time grid holding every sample of ``traj``.
+
+    A step ending at an added point: an 8-point Gauss-Legendre quadrature of
+    the interpolated integrands over it (the grid's steps are short: see
+    :func:`dense_times`).  A step ending at a sample: the solver's own
+    increment since the previous sample less the added steps before it, so
+    that every sample interval sums to the solver's exact integrals and each
+    increment stays accurate to rounding of its own size.
+    """
+    inc = np.zeros((len(grid), 4))
+    added = np.flatnonzero(~is_sample)
+    if len(added):
+        a, b = grid[added - 1], grid[added]
+        nodes = a[:, None] + (b - a)[:, None] * _GL_X[None, :]
+        f = _integrands(interp, nodes.ravel()).reshape(len(added), len(_GL_X), 4)
+        inc[added] = (b - a)[:, None] * np.einsum("k,nkj->nj", _GL_W, f)
+    sample_no = np.cumsum(is_sample) - 1  # the sample at or before each row
+    before = np.zeros((len(traj.t), 4))  # the added steps inside each sample interval, by the sample ending it
+    for col in range(4):
+        before[:, col] = np.bincount(sample_no[added] + 1, weights=inc[added, col], minlength=len(traj.t) + 1)[:len(traj.t)]
+    inc[is_sample] = traj.dwork - before
+    return inc
+
+
+def dwork_at(traj, interp: Interpolant, times: np.ndarray) -> np.ndarray:
+    """Work increments (n, 4) between consecutive ``times`` (ascending, in the span); row 0 is zero."""
+    grid, is_sample = dense_times(traj.t)
+    extra = np.setdiff1d(times, grid)
+    merged = np.concatenate([grid, extra])
+    order = np.argsort(merged, kind="stable")  # samples before an added point at the same time
+    merged, flags = merged[order], np.concatenate([is_sample, np.zeros(len(extra), dtype=bool)])[order]
+    inc = dwork_on_grid(traj, interp, merged, flags)
+    rows = np.searchsorted(merged, times, side="right") - 1  # the last row at each time
+    # each step's increments summed (short sums: no difference of large running totals)
+    start, end = rows[:-1] + 1, rows[1:] + 1
+    total = np.zeros((len(times), 4))
+    if len(times) > 1:
+        padded = np.vstack([inc[: end[-1]], np.zeros((1, 4))])  # reduceat needs every start in range
+        sums = np.add.reduceat(padded, np.minimum(start, end[-1]), axis=0)
+        total[1:] = np.where((end > start)[:, None], sums, 0.0)  # reduceat gives a row, not 0, for an empty step
+    return total
+
+
+def _integrands(interp: Interpolant, t: np.ndarray) -> np.ndarray:
+    """2 zeta X'^2, max(P_f, 0), max(-P_f, 0) and the slip heat F_c V_r at times ``t``."""
+    x, v = interp.state(t)
+    fc, mode = interp.force(t, x, v)
+    pf = v * fc
+    heat = np.where(mode != 0, fc * (interp.vb - v), 0.0)
+    return np.column_stack([2.0 * interp.zeta * v * v, np.maximum(pf, 0.0), np.maximum(-pf, 0.0), heat])
+
+
+def switch_flags(traj) -> np.ndarray:
+    """True at the samples where the friction mode switches: the located switches (``events``), or a mode change."""
+    if traj.events is not None:
+        return np.isin(traj.t, traj.events["t"])
+    flags = np.zeros(len(traj.t), dtype=bool)
+    flags[1:] = traj.mode[1:] != traj.mode[:-1]
+    return flags
