@@ -306,6 +306,8 @@ def _quintic(s, h, x0, v0, a0, x1, v1, a1):
 
 def dense_times(t: np.ndarray, points_per_period: int = POINTS_PER_PERIOD) -> tuple[np.ndarray, np.ndarray]:
     """(times, is_sample): the samples ``t`` and evenly spaced points filling every gap above 2 pi / ``points_per_period``."""
+    if not (isinstance(points_per_period, (int, np.integer)) and points_per_period >= 1):
+        raise ValueError(f"points_per_period must be an integer >= 1, got {points_per_period!r}")
     gap = 2.0 * math.pi / points_per_period
     dt = np.diff(t)
     extra = np.maximum(np.ceil(dt / gap).astype(np.int64) - 1, 0)  # points added inside each interval

@@ -21,25 +21,32 @@ from .outputs import DATA, cli_json, simulate_json, sweep_arrays
 REL = 1e-12
 #: keys whose values are rounding noise at this absolute level
 NOISE = {"energy_residual": 1e-14}
+#: (relative tolerance, residual noise) of cases whose computation changed on purpose, and why
+CASE_TOLERANCE = {
+    # The batched adaptive kernel now stops once the section values repeat to the classification's
+    # rtol (1e-8, issue 11's speed): the averages are over fewer periods of the same converged cycle.
+    "sweep_adaptive": (1e-8, 1e-8),
+}
 #: keys that are not results (wall times)
 IGNORED = {"seconds", "timings", "created"}
 
 
-def assert_same(new: Any, old: Any, where: str = "") -> None:
+def assert_same(new: Any, old: Any, where: str = "", rel: float = REL, noise: float | None = None) -> None:
     """Recursive comparison of JSON values with the tolerances above."""
     if isinstance(old, dict):
         assert isinstance(new, dict), where
         assert sorted(set(new) - IGNORED) == sorted(set(old) - IGNORED), f"{where}: keys differ"
         for k in old:
             if k not in IGNORED:
-                assert_same(new[k], old[k], f"{where}.{k}")
+                assert_same(new[k], old[k], f"{where}.{k}", rel, noise)
     elif isinstance(old, list):
         assert isinstance(new, list) and len(new) == len(old), f"{where}: length {len(new)} != {len(old)}"
         for i, (a, b) in enumerate(zip(new, old)):
-            assert_same(a, b, f"{where}[{i}]")
+            assert_same(a, b, f"{where}[{i}]", rel, noise)
     elif isinstance(old, float) and not isinstance(new, bool) and isinstance(new, (int, float)):
         key = where.rsplit(".", 1)[-1].split("[")[0]
-        ok = (math.isnan(old) and math.isnan(new)) or math.isclose(new, old, rel_tol=REL, abs_tol=NOISE.get(key, 0.0))
+        abs_tol = NOISE.get(key, 0.0) if noise is None or key not in NOISE else noise
+        ok = (math.isnan(old) and math.isnan(new)) or math.isclose(new, old, rel_tol=rel, abs_tol=abs_tol)
         assert ok, f"{where}: {new!r} != {old!r}"
     else:
         assert new == old and type(new) is type(old), f"{where}: {new!r} != {old!r}"
@@ -61,7 +68,8 @@ def test_orbit_and_continue(name):
 
 @pytest.mark.parametrize("name", sorted(SWEEPS))
 def test_sweep(name, tmp_path):
-    assert_same(sweep_arrays(SWEEPS[name], tmp_path), golden(name), name)
+    rel, noise = CASE_TOLERANCE.get(name, (REL, None))
+    assert_same(sweep_arrays(SWEEPS[name], tmp_path), golden(name), name, rel, noise)
 
 
 def test_the_comparison_fails_on_a_changed_number():

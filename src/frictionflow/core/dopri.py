@@ -24,6 +24,7 @@ import numpy as np
 from numba import njit
 
 from .friction import FS, RESULTANT, rest_mode, slip_magnitude_of
+from . import sections as sec
 from .samples import emit
 
 A21 = 1 / 5
@@ -101,9 +102,16 @@ def _g(kind, y, a, zeta, vb, d):
 
 
 @njit(cache=True)
-def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
+def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
         out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
-    """Integrate to ``t_end``; returns (samples, events, status, t, h) -- t, h where it stopped."""
+    """Integrate to ``t_end``; returns (samples, events, status, t, h) -- t, h where it stopped.
+
+    ``stop`` = (stop_rtol, min_periods, r_cert, x_eq) lets a run whose end is
+    already known stop early, at a section X' = 0 (sweeps; zeros: off): when it
+    is inside the certified disc of radius ``r_cert`` about ``x_eq``
+    (:mod:`.certificate`), or when its last ``min_periods + 1`` maxima and
+    minima of X and their periods repeat to ``stop_rtol`` of the amplitude.
+    """
     fs = p[FS]
     res = p[RESULTANT] != 0.0
     K = np.empty((7, NY))
@@ -123,6 +131,10 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
     ne = 0
     steps = 0
     h = 0.0
+    stop_rtol, min_periods, r_cert, x_eq = stop
+    ring = np.full((4, int(min_periods) + 2), np.nan)  # X and times of the last maxima, then minima
+    n_max = 0
+    n_min = 0
     outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
     if len(out_t) < 2:
         return 0, 0, FULL, t, h
@@ -286,6 +298,16 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
                     if not emit(outs, k, tt, ys[0], ys[1], d * slip_force(p, abs(vb - ys[1])), mode, w):
                         return k, ne, FULL, t, h
                     k += 1
+                    if kind == 1 and (stop_rtol > 0.0 or r_cert > 0.0):
+                        falling = d * slip_force(p, abs(vb)) - ys[0] < 0.0  # X'' at X' = 0
+                        if falling:
+                            sec.push_section(ring[0], ring[1], ys[0], tt)
+                            n_max += 1
+                        else:
+                            sec.push_section(ring[2], ring[3], ys[0], tt)
+                            n_min += 1
+                        if _known_end(ring, n_max, n_min, ys[0], mode, vb, stop_rtol, r_cert, x_eq):
+                            return k, ne, OK, tt, h
                     th = best
                     if kind == -1:
                         break
@@ -312,6 +334,18 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail,
             return k, ne, FULL, t, h
         k += 1
     return k, ne, OK, t, h
+
+
+@njit(cache=True)
+def _known_end(ring, n_max, n_min, x, mode, vb, stop_rtol, r_cert, x_eq):
+    """At a section: inside the certified disc, or maxima and minima repeating (see :func:`run`)."""
+    if r_cert > 0.0 and mode * vb > 0.0 and (x - x_eq) ** 2 <= r_cert * r_cert:
+        return True
+    if stop_rtol <= 0.0 or n_min == 0:
+        return False
+    m = ring.shape[1]
+    tol = stop_rtol * (ring[0, m - 1] - ring[2, m - 1])
+    return sec.ring_repeats(ring[0], ring[1], n_max, tol, stop_rtol) and sec.ring_repeats(ring[2], ring[3], n_min, tol, stop_rtol)
 
 
 @njit(cache=True)

@@ -239,6 +239,27 @@ def _monotone_amplitude(rec, noise):
 
 
 @njit(cache=True)
+def push_section(ring_x, ring_t, x, t):
+    """Shift the section value ``x`` at time ``t`` into a ring of the last ones, oldest first."""
+    m = len(ring_x)
+    for i in range(m - 1):
+        ring_x[i] = ring_x[i + 1]
+        ring_t[i] = ring_t[i + 1]
+    ring_x[m - 1] = x
+    ring_t[m - 1] = t
+
+
+@njit(cache=True)
+def ring_repeats(ring_x, ring_t, n, tol_x, rtol):
+    """A full ring (``n`` values pushed) whose last ``len - 2`` values and periods repeat the newest (:func:`repeat_counts`)."""
+    m = len(ring_x)
+    if n < m:
+        return False
+    m_x, m_p = repeat_counts(ring_x, ring_t, tol_x, rtol, 0.0)
+    return m_x >= m - 2 and m_p >= m - 2
+
+
+@njit(cache=True)
 def _stationary(seq):
     """No significant linear trend (|t| < 4) in a short noisy sequence."""
     n = len(seq)

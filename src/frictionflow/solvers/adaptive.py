@@ -29,7 +29,9 @@ class StepLimitError(RuntimeError):
     """The adaptive solver hit its step cap (or a vanishing step) before the end."""
 
 
-_KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "run")
+_KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "_known_end", "run")
+#: a single run goes to its end (sweeps stop where the end is known: core.batch)
+NO_STOP = (0.0, 3, 0.0, 0.0)
 
 
 def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
@@ -120,7 +122,7 @@ class Adaptive(Solver):
 
         def kernel(bufs: tuple[np.ndarray, ...]) -> tuple:
             return run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, self.rtol, self.atol, self.max_steps,
-                       dense_dt, t_tail, *bufs)
+                       dense_dt, t_tail, NO_STOP, *bufs)
 
         with progress_bar("adaptive", 1, enabled=progress and t_end > 1e5) as advance:
             (n, ne, status, t_stop, h), bufs = run_growing(

@@ -12,6 +12,14 @@
     fd = [0.01, 0.02, 0.04]
     vd = 1e-3                # a number: fixed, not an axis
 
+A ``sample`` entry is one axis of initial states drawn at random (uniformly
+in each range, from a seeded PCG64 stream: the same points on every machine
+and numpy version), for basins of attraction::
+
+    [grid]
+    sample = { num = 2000, seed = 1, x0 = [-0.3, 0.35], v0 = [-0.3, 0.3] }
+    vb = [0.10, 0.12]        # the same sample at each V_b
+
 Every key is checked before any work: unknown keys, empty axes, bad ranges
 and invalid parameter values are refused with the key named.
 """
@@ -41,6 +49,9 @@ MAX_AXIS = 10**7
 MAX_POINTS = 10**10
 #: settings that make no sense in a sweep (outputs of one run)
 NOT_IN_SWEEPS = ("window", "dimensional", "record_every", "dense_dt")
+#: the grid entry (and axis) of a random sample of initial states, and what it may draw
+SAMPLE = "sample"
+SAMPLE_KEYS = ("x0", "v0")
 
 
 @dataclass
@@ -51,6 +62,8 @@ class SweepConfig:
     axes: dict[str, np.ndarray]
     fixed: dict[str, float] = field(default_factory=dict)
     source: dict[str, Any] = field(default_factory=dict)
+    #: per point of the ``sample`` axis: the drawn values of each sampled parameter
+    sample: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def dims(self) -> tuple[str, ...]:
@@ -77,6 +90,8 @@ class SweepConfig:
         for key in GRID_KEYS:
             if key in self.axes:
                 out[key] = self.axes[key][index[self.dims.index(key)]]
+            elif key in self.sample:  # drawn: one value per point of the sample axis
+                out[key] = self.sample[key][index[self.dims.index(SAMPLE)]]
             else:
                 val = getattr(base, key)  # None (NaN): a default that depends on other values
                 out[key] = np.full(n, np.nan if val is None else float(val))
@@ -136,6 +151,41 @@ def _axis(key: str, value: Any) -> np.ndarray | float:
     raise ValueError(f"{where} must be a number, a list or a {{start, stop, num, scale}} table, got {value!r}")
 
 
+def _sample(value: Any) -> dict[str, np.ndarray]:
+    """``{num, seed, x0 = [low, high], v0 = [low, high]}``: the drawn values of each sampled parameter."""
+    where = f"grid.{SAMPLE}"
+    if not isinstance(value, Mapping):
+        raise ValueError(f"{where} must be a table {{num, seed, x0 = [low, high], v0 = [low, high]}}, got {value!r}")
+    extra = set(value) - {"num", "seed", *SAMPLE_KEYS}
+    if extra:
+        raise ValueError(f"{where}: unknown key {sorted(extra)[0]!r}; allowed: num, seed, {', '.join(SAMPLE_KEYS)}")
+    if "num" not in value or not set(SAMPLE_KEYS) & set(value):
+        raise ValueError(f"{where}: needs num and at least one of {', '.join(SAMPLE_KEYS)}")
+    num = _count(f"{where}.num", value["num"])
+    seed = value.get("seed", 0)
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
+        raise ValueError(f"{where}.seed must be an integer in [0, 2^63), got {seed!r}")
+    keys = [k for k in SAMPLE_KEYS if k in value]  # declaration order: the same draw whatever the table's order
+    bits = np.random.PCG64(seed).random_raw(num * len(keys)).reshape(num, len(keys))
+    unit = (bits >> np.uint64(11)).astype(np.float64) * 2.0**-53  # uniform in [0, 1), from the raw stream only
+    out = {}
+    for j, key in enumerate(keys):
+        bounds = value[key]
+        if not isinstance(bounds, list) or len(bounds) != 2:
+            raise ValueError(f"{where}.{key} must be a range [low, high], got {bounds!r}")
+        low, high = (_value(key, f"{where}.{key}[{i}]", b) for i, b in enumerate(bounds))
+        if low > high:
+            raise ValueError(f"{where}.{key}: low {low:g} > high {high:g}")
+        out[key] = low + (high - low) * unit[:, j]
+    return out
+
+
+def _ranges(cfg: SweepConfig):
+    """(key, values) of every parameter that varies: the axes, and the sample's draws instead of its index."""
+    yield from ((k, a) for k, a in cfg.axes.items() if k != SAMPLE)
+    yield from cfg.sample.items()
+
+
 def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_points: bool = True) -> SweepConfig:
     """Validate a sweep config mapping (a parsed TOML file).
 
@@ -149,16 +199,20 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_poin
     for key in NOT_IN_SWEEPS:
         if key in values:
             raise ValueError(f"{source}: key {key!r} is not used by sweeps")
-    unknown = [k for k in grid if k not in GRID_KEYS]
+    unknown = [k for k in grid if k not in GRID_KEYS and k != SAMPLE]
     if unknown:
-        raise ValueError(f"{source}: unknown grid key {unknown[0]!r}; allowed: {', '.join(GRID_KEYS)}")
-    both = [k for k in grid if k in values]
+        raise ValueError(f"{source}: unknown grid key {unknown[0]!r}; allowed: {', '.join((*GRID_KEYS, SAMPLE))}")
+    sample = _sample(grid[SAMPLE]) if SAMPLE in grid else {}
+    both = [k for k in [*grid, *sample] if k in values]
     if both:
         raise ValueError(f"{source}: {both[0]!r} is given both at the top level and in [grid]")
+    twice = [k for k in sample if k in grid]
+    if twice:
+        raise ValueError(f"{source}: {twice[0]!r} is both sampled (grid.{SAMPLE}) and a [grid] entry")
     axes: dict[str, np.ndarray] = {}
     fixed: dict[str, float] = {}
     for key, val in grid.items():
-        a = _axis(key, val)
+        a = np.arange(len(next(iter(sample.values()))), dtype=float) if key == SAMPLE else _axis(key, val)
         if isinstance(a, np.ndarray):
             axes[key] = a
         else:
@@ -169,7 +223,8 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_poin
     points = math.prod(len(a) for a in axes.values())
     if points > MAX_POINTS:
         raise ValueError(f"{source}: the grid has {points:.3g} points; at most {MAX_POINTS:.0e}")
-    cfg = SweepConfig(run=run, axes=axes, fixed=fixed, source={"settings": values, "grid": {k: _jsonable(v) for k, v in grid.items()}})
+    cfg = SweepConfig(run=run, axes=axes, fixed=fixed, source={"settings": values, "grid": {k: _jsonable(v) for k, v in grid.items()}},
+                      sample=sample)
     if check_points:
         _check_points(cfg)
         _check_size(cfg)
@@ -179,7 +234,7 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_poin
 def _warn_coarse_steps(cfg: SweepConfig) -> None:
     """RK4's step warnings of ``simulate``, for the extreme values of every axis (once each)."""
     found: list[str] = []
-    for key, arr in cfg.axes.items():
+    for key, arr in _ranges(cfg):
         for val in (arr.min(), arr.max()):
             run = RunConfig.from_mapping({**cfg.source["settings"], **cfg.fixed, key: float(val)}, source="grid")
             model, law, solver = run.build()
@@ -210,7 +265,7 @@ def _jsonable(v: Any) -> Any:
 
 def _check_points(cfg: SweepConfig) -> None:
     """Every value on every axis must make a valid model, law and solver (checked per axis, extremes suffice)."""
-    for key, arr in cfg.axes.items():
+    for key, arr in _ranges(cfg):
         for val in (arr.min(), arr.max()):
             try:
                 RunConfig.from_mapping({**cfg.source["settings"], **cfg.fixed, key: float(val)}, source="grid")

@@ -41,7 +41,7 @@ import numpy as np
 
 from .. import quantities as Q
 from ..parameters import declared
-from .config import GRID_KEYS, SweepConfig, n_chunks
+from .config import GRID_KEYS, SAMPLE, SweepConfig, n_chunks
 
 #: the sweep's bookkeeping group (not part of the dataset: xarray reads only the root's arrays)
 BOOK = "_sweep"
@@ -53,6 +53,8 @@ _BOOK_ATTRS = {
     "description": "frictionflow sweep bookkeeping: per chunk (C order over the chunk grid) 0 = not computed, "
     "else the first 8 bytes (little-endian) of the SHA-256 of the chunk's variables as written, in table order, NaN canonical",
 }
+#: the ``sample`` axis (not a parameter: the index of a drawn initial state)
+_SAMPLE_ATTRS = {"units": "1", "long_name": "index of the randomly drawn point (its values: the sampled coordinates)"}
 #: the first bytes of a NetCDF-4 (HDF5) and of a classic NetCDF file
 _NC_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
 
@@ -244,7 +246,8 @@ class SweepStore:
         if not self.path.is_dir():
             raise ValueError(f"out: {shown!r} exists and is not a Zarr store (it is a file); use --restart to replace it")
         try:
-            root = zarr.open_group(str(self.path), mode=mode)
+            # the files themselves, not the consolidated snapshot: the bookkeeping may have changed or be damaged since
+            root = zarr.open_group(str(self.path), mode=mode, use_consolidated=False)
             attrs = dict(root.attrs)
         except Exception:
             raise ValueError(f"out: {shown!r} exists and is not a Zarr store; use --restart to replace it") from None
@@ -293,10 +296,16 @@ class SweepStore:
         for name, values in cfg.axes.items():
             a = root.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8", dimension_names=(name,))
             a[:] = values
+            a.attrs.update(_SAMPLE_ATTRS if name == SAMPLE else declared()[name].attrs)
+        for name, values in cfg.sample.items():  # the drawn values, coordinates along the sample axis
+            a = root.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8", dimension_names=(SAMPLE,))
+            a[:] = values
             a.attrs.update(declared()[name].attrs)
         for q in Q.SWEPT:  # the result variables, as the quantities table describes them
             a = root.create_array(q.name, shape=cfg.shape, chunks=self.chunks, dtype=q.dtype, fill_value=_fill(q), dimension_names=cfg.dims)
             a.attrs.update(units=q.units, long_name=q.long_name)
+            if cfg.sample:  # (CF: xarray then reads the drawn values as coordinates, not variables)
+                a.attrs["coordinates"] = " ".join(cfg.sample)
             if q.flags:
                 a.attrs.update(flag_values=list(range(len(q.flags))), flag_meanings=" ".join(q.flags))
         self._create_flags(root)
@@ -572,7 +581,8 @@ class SweepStore:
             self.close()
             return xr.open_dataset(self.target)
         if not self.netcdf:
-            return xr.open_zarr(str(self.path), consolidated=False)
+            _consolidate(self.path)  # xarray.open_zarr then reads one metadata document, without a warning
+            return xr.open_zarr(str(self.path), consolidated=True)
         from ..io import atomic_write, stale_temporaries
 
         # a conversion killed earlier left its temporary (and the journal, so it is simply redone)
@@ -594,6 +604,17 @@ class SweepStore:
 
         book = xr.Dataset({"chunks_done": ("chunk", np.asarray(self._flags()[:], dtype="u8"))}, attrs=_BOOK_ATTRS)
         book.to_netcdf(nc, mode="a", group=BOOK)
+
+
+def _consolidate(path: Path) -> None:
+    """All metadata of a finished store into its root document (zarr's note that Zarr v3 does not specify this yet, silenced)."""
+    import warnings
+
+    import zarr
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*[Cc]onsolidated metadata.*")
+        zarr.consolidate_metadata(str(path))
 
 
 def _fill(q: Q.Quantity) -> float:

@@ -1,0 +1,107 @@
+"""Sphinx configuration of the frictionflow documentation.
+
+Build (warnings are errors, the gallery is executed)::
+
+    pip install ".[docs]" && sphinx-build -W -b html docs docs/_build/html
+"""
+
+from __future__ import annotations
+
+import re
+from importlib.metadata import version as _version
+
+import matplotlib
+
+matplotlib.use("Agg")  # the gallery draws off screen
+
+project = "frictionflow"
+author = "the frictionflow authors"
+copyright = "the frictionflow authors"  # noqa: A001 - Sphinx's name
+release = _version("frictionflow")
+version = release
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+    "sphinx_gallery.gen_gallery",
+]
+
+# -- API reference from the docstrings (NumPy style, read by napoleon) ----------------------------
+autosummary_generate = True
+autodoc_default_options = {"members": True, "show-inheritance": False}
+autodoc_member_order = "bysource"
+autodoc_typehints = "description"
+autodoc_typehints_format = "short"
+napoleon_numpy_docstring = True
+napoleon_google_docstring = False
+napoleon_use_rtype = False
+# the docstrings name parameters such as "t, x, v, fc:" that are not cross-reference targets
+nitpicky = False
+
+# -- the gallery: every example runs at each build, so none can rot --------------------------------
+sphinx_gallery_conf = {
+    "examples_dirs": "examples",
+    "gallery_dirs": "auto_examples",
+    "filename_pattern": r"/plot_",  # run every plot_*.py
+    "within_subsection_order": "FileNameSortKey",
+    "download_all_examples": False,
+    "remove_config_comments": True,
+    "abort_on_example_error": True,
+    "show_memory": False,
+    "matplotlib_animations": False,
+    "reset_modules": ("matplotlib",),
+    # the examples' run times are written here, not beside the sources
+    "write_computation_times": False,
+}
+
+# -- HTML ---------------------------------------------------------------------------------------
+html_theme = "furo"
+html_title = f"frictionflow {release}"
+# examples/ holds the gallery's sources; sphinx-gallery turns them into auto_examples/
+exclude_patterns = ["_build", "examples", "Thumbs.db", ".DS_Store"]
+# a class page documents its members itself (dataclass fields made by decorators cannot be listed by import)
+templates_path = ["_templates"]
+
+
+# Docstrings are written for the terminal: |V_r| is an absolute value, not a
+# reStructuredText substitution.  Escape it outside literals before the
+# docstring is parsed.
+_LITERAL = re.compile(r"(``.*?``|`[^`]*`_?)")
+
+
+def _escape_math_text(line: str) -> str:
+    parts = _LITERAL.split(line)
+    for i in range(0, len(parts), 2):  # the even parts lie outside literals
+        parts[i] = parts[i].replace("|", r"\|")
+    return "".join(parts)
+
+
+def _plain_docstrings(app, what, name, obj, options, lines):  # noqa: ANN001 - Sphinx's hook signature
+    """Escape math pipes, and end a field list napoleon made with a blank line before the text after it."""
+    out: list[str] = []
+    in_literal_block = in_fields = False
+    for line in lines:
+        indented = line.startswith((" ", "\t"))
+        if line.rstrip().endswith("::"):
+            in_literal_block = True
+        elif in_literal_block and line.strip() and not indented:
+            in_literal_block = False
+        if line.startswith(":"):
+            in_fields = True
+        elif in_fields and line.strip() and not indented:
+            out.append("")  # docutils wants a blank line after a field list
+            in_fields = False
+        elif not line.strip():
+            in_fields = False
+        if not in_literal_block and not line.lstrip().startswith(("..", ">>>", "=")):
+            line = _escape_math_text(line)
+        out.append(line)
+    lines[:] = out
+
+
+def setup(app):  # noqa: ANN001, ANN201
+    app.connect("autodoc-process-docstring", _plain_docstrings)
+

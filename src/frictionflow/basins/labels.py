@@ -1,0 +1,255 @@
+"""Attractors told apart and labelled over a whole sweep dataset.
+
+Labelling runs once, after the sweep, over every point together, so a label
+means the same attractor in every chunk (and on every Dask worker): no chunk
+names an attractor on its own.
+
+What counts as one attractor
+----------------------------
+* **equilibrium** -- points of kind ``equilibrium``, told apart by their
+  position X* (one for a single-valued slip law at V_b != 0);
+* **periodic orbits** -- points of kind ``periodic``, told apart by their
+  period T, amplitude A = X_max - X_min and stick fraction s.  An orbit that
+  sticks (s > ``Tolerances.stick``) is a ``stick_slip_cycle``, else a
+  ``slip_cycle``; several of one sort are numbered by amplitude
+  (``stick_slip_cycle``, ``stick_slip_cycle_2``, ...);
+* ``not_settled`` and ``diverged`` are outcomes, not attractors, and keep
+  their own codes (-1, -2).
+
+Points go together when, along every feature, the sorted values have no gap
+wider than the tolerance (single linkage, feature by feature, until no gap is
+left; :func:`clusters`).  The result depends only on the set of values, not
+on their order or on how the sweep was chunked.
+
+Why the default tolerances (:class:`Tolerances`) are 1e-3
+----------------------------------------------------------
+A point is classified ``periodic`` once successive returns to its section
+agree to the steady-state tolerance (1e-8 adaptive, 1e-10 exact, 1e-6 RK4),
+so two points on one orbit report T, A and s equal to about 1e-6 or better
+(the bistable Stribeck case of the tests spreads by < 1e-8).  Distinct
+attractors of a friction oscillator differ by far more: a stick-slip cycle
+and a pure-slip cycle at the same parameters differ in stick fraction by its
+whole value and in amplitude by tens of percent; only orbits near a
+bifurcation (a fold, a grazing) come closer than 1e-3, and those are what a
+basin study should not split hairs over.  1e-3 sits orders of magnitude from
+both: relative for T and A (with an absolute floor ``floor`` for amplitudes
+and positions near 0), absolute for s (a share of time).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+from .. import quantities as Q
+
+#: the codes of the outcomes that are not attractors
+NOT_SETTLED, DIVERGED = -1, -2
+OUTCOMES = {NOT_SETTLED: "not_settled", DIVERGED: "diverged"}
+_KIND = {name: code for code, name in enumerate(Q.KINDS)}
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """How close two points' steady states must be to count as one attractor (see the module docstring)."""
+
+    period: float = 1e-3  #: relative, on the period T
+    amplitude: float = 1e-3  #: relative, on the amplitude X_max - X_min and on the equilibrium's X*
+    stick: float = 1e-3  #: absolute, on the stick fraction (and the least stick fraction of a stick-slip cycle)
+    floor: float = 1e-9  #: absolute floor of the amplitude and position comparisons (solver noise)
+
+    def __post_init__(self) -> None:
+        for name, value in asdict(self).items():
+            if not (isinstance(value, (int, float)) and np.isfinite(value) and 0 <= value < 1):
+                raise ValueError(f"tolerance {name} must be a number in [0, 1), got {value!r}")
+
+    def as_dict(self) -> dict[str, float]:
+        return asdict(self)
+
+
+@dataclass
+class Attractor:
+    """One attractor found among some points: its name, kind and representative (median) steady state."""
+
+    name: str
+    kind: str  #: ``equilibrium`` or ``periodic``
+    members: np.ndarray  #: flat indices of its points
+    period: float
+    amplitude: float
+    stick_fraction: float
+    x_mid: float  #: (X_max + X_min) / 2: X* for the equilibrium
+
+
+def _relative(rel: float, floor: float) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    return lambda a, b: rel * np.maximum(np.abs(a), np.abs(b)) + floor
+
+
+def _absolute(tol: float) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    return lambda a, b: np.full(len(a), tol)
+
+
+def clusters(idx: np.ndarray, features: list[np.ndarray], gaps: list[Callable]) -> list[np.ndarray]:
+    """Split points ``idx`` at every gap wider than allowed along any feature, until no feature has one.
+
+    ``features[k][i]`` is feature k of point i; ``gaps[k](a, b)`` the widest
+    gap allowed between neighbouring sorted values a <= b.  The clusters come
+    back in no particular order; each holds its points in ascending order.
+    """
+    for values, allowed in zip(features, gaps):
+        v = values[idx]
+        order = np.argsort(v, kind="stable")
+        sv = v[order]
+        cut = np.nonzero(np.diff(sv) > allowed(sv[:-1], sv[1:]))[0]
+        if len(cut):
+            return [c for part in np.split(idx[order], cut + 1) for c in clusters(np.sort(part), features, gaps)]
+    return [idx]
+
+
+def find_attractors(q: dict[str, np.ndarray], tol: Tolerances) -> list[Attractor]:
+    """The attractors among points with flat quantities ``q`` (kind, period, X_min, X_max, stick_fraction)."""
+    kind = q["kind"]
+    amp = q["X_max"] - q["X_min"]
+    mid = 0.5 * (q["X_max"] + q["X_min"])
+    found: list[Attractor] = []
+    eq = np.nonzero(kind == _KIND["equilibrium"])[0]
+    for members in sorted(clusters(eq, [mid], [_relative(tol.amplitude, tol.floor)]), key=lambda m: np.median(mid[m])):
+        found.append(_attractor("equilibrium", "equilibrium", members, q, amp, mid))
+    per = np.nonzero(kind == _KIND["periodic"])[0]
+    gaps = [_relative(tol.amplitude, tol.floor), _relative(tol.period, 0.0), _absolute(tol.stick)]
+    cycles = [_attractor("", "periodic", m, q, amp, mid) for m in clusters(per, [amp, q["period"], q["stick_fraction"]], gaps)]
+    for sort in ("slip_cycle", "stick_slip_cycle"):
+        mine = sorted((c for c in cycles if (c.stick_fraction > tol.stick) == (sort == "stick_slip_cycle")),
+                      key=lambda c: (c.amplitude, c.period))
+        for i, c in enumerate(mine):
+            c.name = sort if i == 0 else f"{sort}_{i + 1}"
+            found.append(c)
+    _number_equilibria(found)
+    return found
+
+
+def _number_equilibria(found: list[Attractor]) -> None:
+    """Several equilibria (rest positions of a stick band, ...) are numbered by position."""
+    eqs = [a for a in found if a.kind == "equilibrium"]
+    for i, a in enumerate(eqs[1:], start=2):
+        a.name = f"equilibrium_{i}"
+
+
+def _attractor(name: str, kind: str, members: np.ndarray, q: dict[str, np.ndarray], amp: np.ndarray, mid: np.ndarray) -> Attractor:
+    """Median values: robust to the odd point still a little off the orbit."""
+    med = lambda a: float(np.median(a[members]))  # noqa: E731
+    period = med(q["period"]) if kind == "periodic" else float("nan")
+    return Attractor(name, kind, members, period, med(amp) if kind == "periodic" else 0.0, med(q["stick_fraction"]), med(mid))
+
+
+def codes(groups: list[list[Attractor]]) -> dict[str, int]:
+    """One code per attractor name over all groups: 0, 1, ... by amplitude (averaged where it exists), then name.
+
+    The equilibrium (amplitude 0) comes first; ``not_settled`` and
+    ``diverged`` are -1 and -2 (:data:`OUTCOMES`).
+    """
+    amps: dict[str, list[float]] = {}
+    for found in groups:
+        for a in found:
+            amps.setdefault(a.name, []).append(a.amplitude)
+    order = sorted(amps, key=lambda n: (float(np.mean(amps[n])), n))
+    return {name: i for i, name in enumerate(order)}
+
+
+def labels_of(kind: np.ndarray, found: list[Attractor], code: dict[str, int]) -> np.ndarray:
+    """Per point (flat): the code of its attractor, -1 not settled, -2 diverged."""
+    out = np.full(kind.shape, NOT_SETTLED, dtype=np.int8)
+    out[kind == _KIND["diverged"]] = DIVERGED
+    for a in found:
+        out[a.members] = code[a.name]
+    return out
+
+
+def meanings(code: dict[str, int]) -> tuple[list[int], str]:
+    """CF ``flag_values`` and ``flag_meanings`` of the labels: the attractors, then not_settled and diverged."""
+    pairs = sorted(code.items(), key=lambda kv: kv[1]) + [(n, c) for c, n in OUTCOMES.items()]
+    return [c for _, c in pairs], " ".join(n for n, _ in pairs)
+
+
+def describe(tol: Tolerances) -> dict[str, Any]:
+    """Dataset attributes saying how the labels were made."""
+    return {
+        "labels": "attractors found over the whole dataset after the sweep; periodic orbits told apart by period "
+        "(relative tolerance label_tol_period), amplitude X_max - X_min (relative, label_tol_amplitude, floor label_tol_floor) "
+        "and stick fraction (absolute, label_tol_stick); equilibria by position; codes 0.. ordered by amplitude, "
+        "-1 not settled, -2 diverged",
+        **{f"label_tol_{k}": float(v) for k, v in tol.as_dict().items()},
+    }
+
+
+#: the per-outcome tables of a labelled dataset: (variable, what it holds, units)
+TABLES = (
+    ("basin_count", "points whose steady state is this outcome", "1"),
+    ("basin_stability", "basin stability: fraction of the initial states ending on this outcome", "1"),
+    ("basin_stability_stderr", "binomial standard error of the basin stability sqrt(p (1 - p) / N)", "1"),
+    ("attractor_period", "period of the attractor (median over its points; NaN unless periodic)", "1"),
+    ("attractor_amplitude", "amplitude X_max - X_min of the attractor (median over its points)", "1"),
+    ("attractor_stick_fraction", "stick fraction of the attractor (median over its points)", "1"),
+    ("attractor_x_mid", "middle (X_max + X_min) / 2 of the attractor: X* for the equilibrium", "1"),
+)
+
+
+def label_attractors(ds, along: str | None = None, tolerances: Tolerances | None = None):
+    """A finished sweep ``ds`` with the attractor label of every point and the basin-stability tables.
+
+    Attractors are found over all points at once (per value of ``along``, a
+    swept parameter, when given: a basin-stability study against it) and
+    share one set of codes.  Adds ``label`` (the sweep's dims), an
+    ``outcome`` dimension (the codes: attractors 0.., -1 not settled, -2
+    diverged) and the :data:`TABLES` over ([``along``,] ``outcome``).
+    Returns the new dataset and, per group, the attractors found.
+    """
+    import xarray as xr
+
+    tol = tolerances or Tolerances()
+    kind = np.asarray(ds["kind"].values)
+    if (kind < 0).any():
+        raise ValueError(f"{int((kind < 0).sum())} points have no result (an unfinished sweep); finish it first")
+    dims = tuple(ds["kind"].dims)
+    if along is not None and along not in dims:
+        raise ValueError(f"along: {along!r} is not a dimension of the dataset ({', '.join(dims)})")
+    order = (along, *[d for d in dims if d != along]) if along else dims
+    q = {n: np.asarray(ds[n].transpose(*order).values) for n in ("kind", "period", "X_min", "X_max", "stick_fraction")}
+    n_groups = q["kind"].shape[0] if along else 1
+    flat = [{n: v[g].ravel() if along else v.ravel() for n, v in q.items()} for g in range(n_groups)]
+    found = [find_attractors(f, tol) for f in flat]
+    code = codes(found)
+    label = np.stack([labels_of(f["kind"], a, code) for f, a in zip(flat, found)]).reshape(q["kind"].shape)
+    values, names = meanings(code)
+    tables = _tables(flat, found, values, names.split())
+    lead = (along,) if along else ()
+    out = ds.assign(label=(order, label)).transpose(*dims, ...)
+    out["label"].attrs.update(long_name="attractor the initial state ends on", flag_values=values, flag_meanings=names)
+    out = out.assign_coords(outcome=("outcome", np.asarray(values, dtype=np.int8)))
+    out["outcome"].attrs.update(long_name="outcome code (as label)", flag_values=values, flag_meanings=names)
+    for (var, long_name, units), table in zip(TABLES, tables):
+        out[var] = xr.DataArray(table if along else table[0], dims=(*lead, "outcome"), attrs={"long_name": long_name, "units": units})
+    out.attrs.update(describe(tol))
+    return out, found
+
+
+def _tables(flat: list[dict[str, np.ndarray]], found: list[list[Attractor]], values: list[int], names: list[str]) -> list[np.ndarray]:
+    """The :data:`TABLES` as arrays (group, outcome)."""
+    shape = (len(flat), len(values))
+    count = np.zeros(shape, dtype=np.int64)
+    props = [np.full(shape, np.nan) for _ in range(4)]
+    for g, (f, attractors) in enumerate(zip(flat, found)):
+        by_name = {a.name: a for a in attractors}
+        kind = f["kind"]
+        for j, name in enumerate(names):
+            a = by_name.get(name)
+            if a is not None:
+                count[g, j] = len(a.members)
+                for p, v in zip(props, (a.period, a.amplitude, a.stick_fraction, a.x_mid)):
+                    p[g, j] = v
+            elif name in OUTCOMES.values():
+                count[g, j] = int(np.count_nonzero(kind == _KIND[name]))
+    n = np.array([len(f["kind"]) for f in flat])[:, None]
+    p = count / n
+    return [count, p, np.sqrt(p * (1.0 - p) / n), *props]

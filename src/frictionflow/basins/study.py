@@ -1,0 +1,358 @@
+"""Basins of attraction and basin stability, computed as a sweep over initial states.
+
+:func:`basins` builds a sweep (:mod:`frictionflow.sweep`) whose axes are the
+initial state -- a grid ``x0 x v0``, or one ``sample`` axis of seeded random
+initial states -- and, for a basin-stability study, one parameter in front of
+them; runs it with :func:`~frictionflow.sweep.run_sweep` (chunked,
+resumable, local or Dask); then labels the attractors over the whole dataset
+(:func:`~frictionflow.basins.labels.label_attractors`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import tempfile
+import time
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from .._display import Summarized, num
+from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS
+from .labels import OUTCOMES, Attractor, Tolerances, label_attractors
+
+#: what an output dataset can be
+DATASET_FORMATS = (".nc", ".zarr")
+
+
+@dataclass(repr=False)
+class Basins(Summarized):
+    """The result of :func:`basins`: the labelled dataset and the basin stability of each outcome.
+
+    ``dataset`` holds every point's steady-state quantities, its ``label`` and
+    the per-outcome tables (``basin_stability``, ``basin_stability_stderr``,
+    ``attractor_period``, ...; see :data:`~frictionflow.basins.labels.TABLES`).
+    ``attractors`` lists, per value of the varied parameter (one entry
+    without ``vary``), the attractors found there.
+    """
+
+    dataset: Any
+    attractors: list[list[Attractor]]
+    codes: dict[str, int]
+    tolerances: Tolerances
+    design: dict[str, Any]
+    vary: str | None = None
+    seconds: float = float("nan")
+    files: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def names(self) -> list[str]:
+        """Every outcome by code: the attractors (0, 1, ...), then ``not_settled`` and ``diverged``."""
+        return str(self.dataset["outcome"].attrs["flag_meanings"]).split()
+
+    @property
+    def fractions(self) -> dict[str, Any]:
+        """Basin stability per outcome name (an array over the varied parameter's values with ``vary``)."""
+        return self._by_name("basin_stability")
+
+    @property
+    def stderr(self) -> dict[str, Any]:
+        """Binomial standard error sqrt(p (1 - p) / N) of each fraction."""
+        return self._by_name("basin_stability_stderr")
+
+    def _by_name(self, var: str) -> dict[str, Any]:
+        da = self.dataset[var]
+        return {n: (float(da.isel(outcome=j)) if self.vary is None else da.isel(outcome=j).values) for j, n in enumerate(self.names)}
+
+    def outcomes(self, index: int | None = None) -> list[dict[str, Any]]:
+        """One dict per outcome (name, code, kind, count, fraction, stderr, period, amplitude, stick fraction, X mid).
+
+        With ``vary``, ``index`` picks the varied parameter's value.
+        """
+        ds = self.dataset if self.vary is None else self.dataset.isel({self.vary: index or 0})
+        kinds = {a.name: a.kind for group in self.attractors for a in group}
+        rows = []
+        for j, name in enumerate(self.names):
+            row = {"name": name, "code": int(ds["outcome"][j]), "kind": kinds.get(name, name)}
+            row["count"] = int(ds["basin_count"][j])
+            for key, var in (("fraction", "basin_stability"), ("stderr", "basin_stability_stderr"), ("period", "attractor_period"),
+                             ("amplitude", "attractor_amplitude"), ("stick_fraction", "attractor_stick_fraction"), ("x_mid", "attractor_x_mid")):
+                v = float(ds[var][j])
+                row[key] = None if math.isnan(v) else v
+            rows.append(row)
+        return rows
+
+    def to_dict(self) -> dict[str, Any]:
+        """Everything ``frictionflow basins --json`` prints (NaN as null)."""
+        report: dict[str, Any] = {"design": self.design, "tolerances": self.tolerances.as_dict(),
+                                  "labels": {str(c): n for c, n in zip(self.dataset["outcome"].values.tolist(), self.names)}}
+        if self.vary is None:
+            report["outcomes"] = self.outcomes()
+        else:
+            values = self.dataset[self.vary].values
+            report["vary"] = self.vary
+            report["results"] = [{self.vary: float(v), "outcomes": self.outcomes(i)} for i, v in enumerate(values)]
+        report["seconds"] = self.seconds
+        report.update(self.files)
+        return report
+
+    def plot(self, path: str | Path | None = None, *, name: str = "path"):
+        """The basin map (or, with ``vary``, basin stability against the parameter); saved to ``path`` if given."""
+        from .plotting import plot_basins
+
+        return plot_basins(self, path, name=name)
+
+    def _summary(self) -> tuple[str, list[tuple[str, str]]]:
+        points = self.design["points"]
+        title = f"basins: {points} initial states ({self.design['kind']})" + (f" at {len(self.dataset[self.vary])} values of {self.vary}" if self.vary else "")
+        rows = []
+        for j, name in enumerate(self.names):
+            p, se = self.fractions[name], self.stderr[name]
+            if self.vary is None:
+                rows.append((name, f"{num(p, 4)} ± {num(se, 2)}"))
+            elif np.any(np.asarray(p) > 0):
+                rows.append((name, ", ".join(num(x, 3) for x in p)))
+        return title, rows
+
+
+def basins(
+    settings: Mapping[str, Any] | None = None,
+    *,
+    x0: Sequence[float],
+    v0: Sequence[float],
+    sample: int | None = None,
+    seed: int = 0,
+    vary: Mapping[str, Any] | None = None,
+    out: str | Path | None = None,
+    plot: str | Path | None = None,
+    store: str | Path | None = None,
+    restart: bool = False,
+    chunk_size: int | None = None,
+    client: Any = None,
+    scheduler: str | None = None,
+    progress: bool = False,
+    tolerances: Tolerances | None = None,
+    **params: Any,
+) -> Basins:
+    """Basins of attraction of the initial states, and their basin stability.
+
+    Parameters
+    ----------
+    settings, params:
+        The fixed run settings, as in a sweep's TOML file or ``simulate``'s
+        options (``friction``, ``fd``, ``zeta``, ``vb``, ``t_end``, ``solver``, ...),
+        as a mapping and/or keywords.
+    x0, v0:
+        Ranges of the initial state: ``(low, high, n)`` for an n-point grid
+        axis, or ``(low, high)`` with ``sample``.
+    sample, seed:
+        Draw ``sample`` initial states uniformly in the ranges instead (one
+        ``sample`` axis; the same points for a given seed everywhere).
+    vary:
+        ``{name: values}``: a basin-stability study against one parameter
+        (values: a list or ``{start, stop, num[, scale]}``), the same initial
+        states at each value, attractors labelled per value.
+    out:
+        The labelled dataset, ``.nc`` or ``.zarr`` (written atomically).
+    plot:
+        The basin map, or with ``vary`` the basin-stability curves (.png, .pdf, .svg).
+    store:
+        The sweep's own store (``.zarr``, resumable, kept).  Default: beside
+        ``out`` (``OUT.sweep.zarr``), removed once ``out`` is written, so that
+        an interrupted run resumes; a temporary directory without ``out``.
+    restart, chunk_size, client, scheduler, progress:
+        As for :func:`~frictionflow.sweep.run_sweep`.
+    tolerances:
+        How close steady states must be to be one attractor (:class:`Tolerances`).
+
+    Returns
+    -------
+    Basins
+        The labelled dataset, the attractors, fractions and standard errors.
+    """
+    from ..io import check_output_path
+    from ..plotting import FIGURE_FORMATS
+    from ..sweep import parse_sweep, run_sweep
+    from ..sweep.store import check_out
+
+    tol = tolerances or Tolerances()
+    if not isinstance(tol, Tolerances):
+        raise ValueError(f"tolerances must be a Tolerances, got {tol!r}")
+    values = {**(settings or {}), **params}
+    grid, design = _design(x0, v0, sample, seed)
+    along = _vary(vary, values, grid)
+    cfg = parse_sweep({**values, "grid": grid}, source="basins")
+    if out is not None:
+        check_out(out)  # .nc or .zarr in a writable directory: refused before any work
+    if plot is not None:
+        check_output_path(plot, FIGURE_FORMATS, "plot")
+    design["points"] = int(cfg.size // (len(cfg.axes[along]) if along else 1))
+    t0 = time.perf_counter()
+    with _sweep_store(store, out) as (path, keep):
+        ds = run_sweep(cfg, path, restart=restart, client=client, scheduler=scheduler, chunk_size=chunk_size, progress=progress)
+        try:
+            ds = _plain(ds.load())
+        finally:
+            ds.close()
+        labelled, found = label_attractors(ds, along, tol)
+        labelled.attrs.update(_design_attrs(design, along))
+        result = Basins(labelled, found, _codes(labelled), tol, design, along, time.perf_counter() - t0)
+        if out is not None:
+            write_dataset(labelled, out)
+            result.files["out"] = str(out)
+        keep[0] = keep[0] or out is None  # the sweep store goes once the output holds everything
+    if plot is not None:
+        result.plot(plot, name="plot")
+        result.files["plot"] = str(plot)
+    return result
+
+
+def _range(name: str, value: Any, with_count: bool) -> tuple[float, float, int | None]:
+    """``(low, high, n)`` or ``(low, high)``, checked; n is None for a sample's range."""
+    want = "(low, high, n)" if with_count else "(low, high) (the sample's size is sample)"
+    try:
+        parts = list(value)
+    except TypeError:
+        raise ValueError(f"{name} must be {want}, got {value!r}") from None
+    if len(parts) != (3 if with_count else 2):
+        raise ValueError(f"{name} must be {want}, got {value!r}")
+    low, high = (_real(name, v) for v in parts[:2])
+    if not low <= high:
+        raise ValueError(f"{name}: low {low:g} > high {high:g}")
+    if not with_count:
+        return low, high, None
+    n = parts[2]
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"{name}: the number of points must be an integer >= 1, got {n!r}")
+    if n > 1 and low == high:
+        raise ValueError(f"{name}: low == high with {n} points")
+    return low, high, int(n)
+
+
+def _real(name: str, v: Any) -> float:
+    if isinstance(v, (bool, str)) or v is None:
+        raise ValueError(f"{name} must hold numbers, got {v!r}")
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must hold numbers, got {v!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must hold finite numbers, got {v!r}")
+    return x
+
+
+def _design(x0: Any, v0: Any, sample: int | None, seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The sweep's grid entries of the initial states, and the design as reported."""
+    if sample is None:
+        (a, b, n), (c, d, m) = _range("x0", x0, True), _range("v0", v0, True)
+        grid = {"x0": {"start": a, "stop": b, "num": n}, "v0": {"start": c, "stop": d, "num": m}}
+        return grid, {"kind": "grid", "x0": [a, b, n], "v0": [c, d, m]}
+    if isinstance(sample, bool) or not isinstance(sample, (int, np.integer)) or sample < 1:
+        raise ValueError(f"sample must be an integer >= 1, got {sample!r}")
+    (a, b, _), (c, d, _) = _range("x0", x0, False), _range("v0", v0, False)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+        raise ValueError(f"seed must be an integer, got {seed!r}")
+    grid = {SAMPLE: {"num": int(sample), "seed": int(seed), "x0": [a, b], "v0": [c, d]}}
+    return grid, {"kind": "sample", "x0": [a, b], "v0": [c, d], "sample": int(sample), "seed": int(seed)}
+
+
+def _vary(vary: Mapping[str, Any] | None, values: Mapping[str, Any], grid: dict[str, Any]) -> str | None:
+    """Put the varied parameter in front of the grid (chunks then hold whole slices of initial states)."""
+    if vary is None:
+        return None
+    if not isinstance(vary, Mapping) or len(vary) != 1:
+        raise ValueError(f"vary must be one {{name: values}}, got {vary!r}")
+    (name, axis), = vary.items()
+    if name not in GRID_KEYS or name in SAMPLE_KEYS:
+        allowed = ", ".join(k for k in GRID_KEYS if k not in SAMPLE_KEYS)
+        raise ValueError(f"vary: {name!r} cannot be varied; one of {allowed}")
+    if name in values:
+        raise ValueError(f"vary: {name} is also given as a fixed setting; give one or the other")
+    if isinstance(axis, np.ndarray):
+        axis = axis.tolist()
+    if not isinstance(axis, (list, tuple, Mapping)):
+        raise ValueError(f"vary: {name} must be a list of values or {{start, stop, num[, scale]}}, got {axis!r}")
+    grid_items = list(grid.items())
+    grid.clear()
+    grid.update({name: list(axis) if isinstance(axis, tuple) else axis, **dict(grid_items)})
+    return name
+
+
+def _design_attrs(design: dict[str, Any], along: str | None) -> dict[str, Any]:
+    out = {f"basins_{k}": v for k, v in design.items()}
+    if along:
+        out["basins_vary"] = along
+    return out
+
+
+def _codes(ds) -> dict[str, int]:
+    names = str(ds["outcome"].attrs["flag_meanings"]).split()
+    return {n: int(c) for n, c in zip(names, ds["outcome"].values) if n not in OUTCOMES.values()}
+
+
+def _plain(ds):
+    """The sweep dataset in memory, without the store's encodings (they would be imposed on the output)."""
+    for var in ds.variables.values():
+        var.encoding = {}
+    if SAMPLE in ds.dims:
+        ds = ds.assign_coords({SAMPLE: ds[SAMPLE].astype(np.int64).assign_attrs(ds[SAMPLE].attrs)})
+    return ds
+
+
+class _sweep_store:
+    """Where the sweep runs (see :func:`basins`, ``store``); yields (path, [keep]) and removes it unless kept."""
+
+    def __init__(self, store: str | Path | None, out: str | Path | None) -> None:
+        self.given = store
+        self.out = out
+        self.tmp: str | None = None
+
+    def __enter__(self):
+        if self.given is not None:
+            self.path, self.keep = Path(self.given), [True]
+            if self.path.suffix.lower() != ".zarr":
+                raise ValueError(f"store must end in .zarr, got {str(self.given)!r}")
+        elif self.out is not None:
+            self.path, self.keep = Path(self.out).with_name(Path(self.out).name + ".sweep.zarr"), [False]
+        else:
+            self.tmp = tempfile.mkdtemp(prefix="frictionflow-basins-")
+            self.path, self.keep = Path(self.tmp) / "sweep.zarr", [False]
+        return self.path, self.keep
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if self.tmp is not None:  # a temporary store cannot be resumed: always removed
+            shutil.rmtree(self.tmp, ignore_errors=True)
+        elif exc_type is None and not self.keep[0]:
+            shutil.rmtree(self.path, ignore_errors=True)
+
+
+def write_dataset(ds, path: str | Path, name: str = "out") -> Path:
+    """Write ``ds`` as NetCDF or (consolidated) Zarr by the extension, atomically: complete or not at all."""
+    from ..io import atomic_write, temporary_path
+
+    p = Path(path)
+    if p.suffix.lower() == ".nc":
+        with atomic_write(p, name) as tmp:
+            ds.to_netcdf(tmp)
+        return p
+    tmp = temporary_path(p)
+    try:
+        with warnings.catch_warnings():  # zarr's note that Zarr v3 does not specify consolidated metadata yet
+            warnings.filterwarnings("ignore", message=".*[Cc]onsolidated metadata.*")
+            ds.to_zarr(tmp, mode="w", consolidated=True)
+        old = temporary_path(p) if p.exists() else None
+        if old is not None:
+            os.replace(p, old)  # a directory cannot be renamed over a non-empty one: move the old one aside
+        os.replace(tmp, p)
+    except OSError as e:
+        raise ValueError(f"{name}: cannot write {str(p)!r}: {e.strerror or e}") from None
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True) if old.is_dir() else old.unlink(missing_ok=True)
+    return p
