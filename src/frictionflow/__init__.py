@@ -21,6 +21,7 @@ from .analysis import (
     transmissibility,
 )
 from .analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
+from .basins import Basins, basins
 from .friction import Coulomb, Cubic, FrictionLaw, Karnopp, SlipLaw, Stribeck
 from .modes import SwitchMode
 from .params import BeltOscillator, DimensionalParams
@@ -36,6 +37,7 @@ except PackageNotFoundError:  # running from a source tree
 __all__ = [
     "Adaptive",
     "Analysis",
+    "Basins",
     "BeltOscillator",
     "CoarseStepWarning",
     "Coulomb",
@@ -57,6 +59,7 @@ __all__ = [
     "__version__",
     "amplitude",
     "analyze",
+    "basins",
     "instantaneous_power",
     "power_flow",
     "simulate",

@@ -97,6 +97,8 @@ def clusters(idx: np.ndarray, features: list[np.ndarray], gaps: list[Callable]) 
     gap allowed between neighbouring sorted values a <= b.  The clusters come
     back in no particular order; each holds its points in ascending order.
     """
+    if len(idx) == 0:
+        return []
     for values, allowed in zip(features, gaps):
         v = values[idx]
         order = np.argsort(v, kind="stable")

@@ -185,7 +185,7 @@ def basins(
         raise ValueError(f"tolerances must be a Tolerances, got {tol!r}")
     values = {**(settings or {}), **params}
     grid, design = _design(x0, v0, sample, seed)
-    along = _vary(vary, values, grid)
+    along, grid = _vary(vary, values, grid)
     cfg = parse_sweep({**values, "grid": grid}, source="basins")
     if out is not None:
         check_out(out)  # .nc or .zarr in a writable directory: refused before any work
@@ -193,7 +193,7 @@ def basins(
         check_output_path(plot, FIGURE_FORMATS, "plot")
     design["points"] = int(cfg.size // (len(cfg.axes[along]) if along else 1))
     t0 = time.perf_counter()
-    with _sweep_store(store, out) as (path, keep):
+    with _sweep_store(store, out) as path:
         ds = run_sweep(cfg, path, restart=restart, client=client, scheduler=scheduler, chunk_size=chunk_size, progress=progress)
         try:
             ds = _plain(ds.load())
@@ -205,7 +205,6 @@ def basins(
         if out is not None:
             write_dataset(labelled, out)
             result.files["out"] = str(out)
-        keep[0] = keep[0] or out is None  # the sweep store goes once the output holds everything
     if plot is not None:
         result.plot(plot, name="plot")
         result.files["plot"] = str(plot)
@@ -261,10 +260,10 @@ def _design(x0: Any, v0: Any, sample: int | None, seed: int) -> tuple[dict[str, 
     return grid, {"kind": "sample", "x0": [a, b], "v0": [c, d], "sample": int(sample), "seed": int(seed)}
 
 
-def _vary(vary: Mapping[str, Any] | None, values: Mapping[str, Any], grid: dict[str, Any]) -> str | None:
-    """Put the varied parameter in front of the grid (chunks then hold whole slices of initial states)."""
+def _vary(vary: Mapping[str, Any] | None, values: Mapping[str, Any], grid: dict[str, Any]) -> tuple[str | None, dict[str, Any]]:
+    """The varied parameter, and the grid with it in front (chunks then hold whole slices of initial states)."""
     if vary is None:
-        return None
+        return None, grid
     if not isinstance(vary, Mapping) or len(vary) != 1:
         raise ValueError(f"vary must be one {{name: values}}, got {vary!r}")
     (name, axis), = vary.items()
@@ -277,10 +276,7 @@ def _vary(vary: Mapping[str, Any] | None, values: Mapping[str, Any], grid: dict[
         axis = axis.tolist()
     if not isinstance(axis, (list, tuple, Mapping)):
         raise ValueError(f"vary: {name} must be a list of values or {{start, stop, num[, scale]}}, got {axis!r}")
-    grid_items = list(grid.items())
-    grid.clear()
-    grid.update({name: list(axis) if isinstance(axis, tuple) else axis, **dict(grid_items)})
-    return name
+    return name, {name: list(axis) if isinstance(axis, tuple) else axis, **grid}
 
 
 def _design_attrs(design: dict[str, Any], along: str | None) -> dict[str, Any]:
@@ -305,7 +301,7 @@ def _plain(ds):
 
 
 class _sweep_store:
-    """Where the sweep runs (see :func:`basins`, ``store``); yields (path, [keep]) and removes it unless kept."""
+    """Where the sweep runs (see :func:`basins`, ``store``); yields its path and removes it unless it was given."""
 
     def __init__(self, store: str | Path | None, out: str | Path | None) -> None:
         self.given = store
@@ -314,20 +310,20 @@ class _sweep_store:
 
     def __enter__(self):
         if self.given is not None:
-            self.path, self.keep = Path(self.given), [True]
+            self.path = Path(self.given)
             if self.path.suffix.lower() != ".zarr":
                 raise ValueError(f"store must end in .zarr, got {str(self.given)!r}")
         elif self.out is not None:
-            self.path, self.keep = Path(self.out).with_name(Path(self.out).name + ".sweep.zarr"), [False]
+            self.path = Path(self.out).with_name(Path(self.out).name + ".sweep.zarr")
         else:
             self.tmp = tempfile.mkdtemp(prefix="frictionflow-basins-")
-            self.path, self.keep = Path(self.tmp) / "sweep.zarr", [False]
-        return self.path, self.keep
+            self.path = Path(self.tmp) / "sweep.zarr"
+        return self.path
 
     def __exit__(self, exc_type, exc, tb) -> None:
         if self.tmp is not None:  # a temporary store cannot be resumed: always removed
             shutil.rmtree(self.tmp, ignore_errors=True)
-        elif exc_type is None and not self.keep[0]:
+        elif exc_type is None and self.given is None:  # the output holds everything now; kept on failure to resume
             shutil.rmtree(self.path, ignore_errors=True)
 
 
@@ -340,7 +336,7 @@ def write_dataset(ds, path: str | Path, name: str = "out") -> Path:
         with atomic_write(p, name) as tmp:
             ds.to_netcdf(tmp)
         return p
-    tmp = temporary_path(p)
+    tmp, old = temporary_path(p), None
     try:
         with warnings.catch_warnings():  # zarr's note that Zarr v3 does not specify consolidated metadata yet
             warnings.filterwarnings("ignore", message=".*[Cc]onsolidated metadata.*")
@@ -350,9 +346,13 @@ def write_dataset(ds, path: str | Path, name: str = "out") -> Path:
             os.replace(p, old)  # a directory cannot be renamed over a non-empty one: move the old one aside
         os.replace(tmp, p)
     except OSError as e:
+        if old is not None and not p.exists():
+            os.replace(old, p)  # the previous output back in place: complete or not at all
         raise ValueError(f"{name}: cannot write {str(p)!r}: {e.strerror or e}") from None
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True) if old.is_dir() else old.unlink(missing_ok=True)
+    if old is not None and old.is_dir():
+        shutil.rmtree(old, ignore_errors=True)
+    elif old is not None:
+        old.unlink(missing_ok=True)
     return p

@@ -45,6 +45,7 @@ from . import simulate as _simulate  # noqa: E402,F401
 from . import reproduce as _reproduce  # noqa: E402,F401
 from . import sweep as _sweep  # noqa: E402,F401
 from . import orbit as _orbit  # noqa: E402,F401
+from . import basins as _basins  # noqa: E402,F401
 
 #: one line per command for the command list (click would cut the docstring at its first period)
 SHORT_HELP = {

@@ -259,7 +259,8 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
                     best = theta_end
                     kind = -1
                     for kk in range(1, 4):
-                        ga = _gd(kk, y, K, h, th, zeta, vb, d, p, ys, tmp)
+                        # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
+                        ga = _g(kk, y, K[0, 1], zeta, vb, d) if th == 0.0 else _gd(kk, y, K, h, th, zeta, vb, d, p, ys, tmp)
                         gb = _gd(kk, y, K, h, theta_end, zeta, vb, d, p, ys, tmp)
                         if ga * gb < 0.0:
                             r = _root_between(kk, y, K, h, th, theta_end, zeta, vb, d, p, ys, tmp)

@@ -498,7 +498,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     t_terminal = -1.0
     zero_len = 0
     while True:
-        # a phase starts (the run's start, or a switch): its first sample
+        # a phase starts (the run's start, or a switch) or the run ends: a sample
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
         if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta), FRICTION_MODE[mode], w):
             return k, ne, FULL, t_terminal, t
@@ -557,10 +557,11 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         w[1] += d1
         w[2] += d2
         w[3] += d3
-        t += T
         x, v = xe, ve
         if which < 0:
-            break
+            t = t_end  # the run ends inside the phase: its last sample, at the top of the loop
+            continue
+        t += T
         # The switch: which mode continues?
         new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v)
         if new < 0:
@@ -575,10 +576,4 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             ev_t[ne] = t
             ev_mode[ne] = mode
         ne += 1
-    if out_t[k - 1] < t_end:
-        # the run ends inside a phase
-        dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
-        if not emit(outs, k, t_end, x, v, friction_force(fck, force, x, v, zeta), FRICTION_MODE[mode], w):
-            return k, ne, FULL, t_terminal, t
-        k += 1
     return k, ne, DONE, t_terminal, t_end

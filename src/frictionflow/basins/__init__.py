@@ -1,0 +1,18 @@
+"""Basins of attraction and basin stability of the friction oscillator.
+
+>>> from frictionflow import basins
+>>> b = basins(friction="stribeck", fd=0.02, fs=0.04, vs=0.05, delta=1.0, zeta=0.03, vb=0.12,
+...            t_end=300.0, x0=(-0.3, 0.35), v0=(-0.3, 0.3), sample=500, seed=1)   # doctest: +SKIP
+>>> b.fractions                                                                       # doctest: +SKIP
+{'equilibrium': 0.09, 'stick_slip_cycle': 0.91, 'not_settled': 0.0, 'diverged': 0.0}
+
+The initial states are a sweep (:mod:`frictionflow.sweep`: chunked,
+resumable, local or Dask); the attractors are labelled afterwards over the
+whole dataset (:mod:`.labels`).
+"""
+
+from .labels import DIVERGED, NOT_SETTLED, Attractor, Tolerances, label_attractors
+from .plotting import plot_basins
+from .study import Basins, basins, write_dataset
+
+__all__ = ["DIVERGED", "NOT_SETTLED", "Attractor", "Basins", "Tolerances", "basins", "label_attractors", "plot_basins", "write_dataset"]

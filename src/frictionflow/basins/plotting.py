@@ -1,0 +1,87 @@
+"""Figures of basins: the basin map over the initial states, and basin stability against a parameter."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..io import write_figure
+
+if TYPE_CHECKING:
+    from .study import Basins
+
+#: one colour per outcome name, the same in every figure
+_COLOURS = {"equilibrium": "tab:blue", "slip_cycle": "tab:orange", "stick_slip_cycle": "tab:red",
+            "not_settled": "0.75", "diverged": "black"}
+_MORE = ("tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan")
+
+
+def colour(name: str, i: int) -> str:
+    """The colour of outcome ``name`` (the i-th outcome)."""
+    return _COLOURS.get(name, _MORE[i % len(_MORE)])
+
+
+def plot_basins(result: "Basins", path: str | Path | None = None, *, name: str = "path"):
+    """The basin map, or with ``vary`` the basin-stability curves; saved atomically to ``path`` if given."""
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.8), constrained_layout=True)
+    if result.vary is None:
+        _map(ax, result)
+    else:
+        _curves(ax, result)
+    ds = result.dataset
+    law = ds.attrs.get("friction", "")
+    fixed = ", ".join(f"{k.removeprefix('fixed_')}={ds.attrs[k]:g}" for k in ("fixed_zeta", "fixed_vb") if k in ds.attrs)
+    ax.set_title(f"{law}: {fixed}, t_end={ds.attrs.get('t_end', float('nan')):g}", fontsize=9)
+    if path is not None:
+        write_figure(fig, path, name, dpi=110)  # atomic: no partial figure on failure
+    return fig
+
+
+def _present(result: "Basins") -> list[tuple[int, str]]:
+    """(index, name) of the outcomes that some point reaches."""
+    counts = np.asarray(result.dataset["basin_count"]).reshape(-1, len(result.names))
+    return [(j, n) for j, n in enumerate(result.names) if counts[:, j].sum() > 0]
+
+
+def _map(ax, result: "Basins") -> None:
+    """Every initial state coloured by its outcome; the legend gives each basin's stability."""
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    ds = result.dataset
+    shown = _present(result)
+    codes = [int(ds["outcome"][j]) for j, _ in shown]
+    index = np.full(int(max(codes) - min(codes) + 1), -1)
+    for k, c in enumerate(codes):
+        index[c - min(codes)] = k  # code -> colour slot
+    slot = index[np.asarray(ds["label"].values) - min(codes)]
+    cmap = ListedColormap([colour(n, j) for j, n in shown])
+    if "sample" in ds.dims:
+        ax.scatter(ds["x0"].values, ds["v0"].values, c=slot, cmap=cmap, vmin=-0.5, vmax=len(shown) - 0.5, s=6, linewidths=0)
+    else:
+        ax.pcolormesh(ds["x0"].values, ds["v0"].values, slot.T if ds["label"].dims == ("x0", "v0") else slot,
+                      cmap=cmap, vmin=-0.5, vmax=len(shown) - 0.5, shading="auto")
+    for j, n in shown:
+        if n.startswith("equilibrium"):
+            ax.plot(float(ds["attractor_x_mid"][j]), 0.0, marker="*", ms=12, color="white", mec="black", ls="none")
+    p, se = result.fractions, result.stderr
+    ax.legend(handles=[Patch(color=colour(n, j), label=f"{n}: {p[n]:.3f} ± {se[n]:.3f}") for j, n in shown],
+              fontsize=8, loc="upper right", framealpha=0.85)
+    ax.set(xlabel="X(0)", ylabel="X'(0)")
+
+
+def _curves(ax, result: "Basins") -> None:
+    """Basin stability of each outcome against the varied parameter, with binomial error bars."""
+    x = result.dataset[result.vary].values
+    for j, n in _present(result):
+        ax.errorbar(x, result.fractions[n], yerr=result.stderr[n], marker="o", ms=4, capsize=2, color=colour(n, j), label=n)
+    ax.set(xlabel=result.vary, ylabel="basin stability", ylim=(-0.02, 1.02))
+    ax.legend(fontsize=8)

@@ -1,0 +1,132 @@
+"""``frictionflow basins``: basins of attraction and basin stability over initial states.
+
+Exit codes as for ``frictionflow sweep``: 0 done, 1 a failure that is not
+the input's fault (the sweep's store in use, an interruption), 2 bad input.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Any, Optional
+
+import typer
+
+from ..sweep.config import NOT_IN_SWEEPS
+from . import app
+from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
+
+#: the model's options, as a sweep takes them; the initial state is a range here (--x0, --v0), not a value
+MODEL = tuple(n for n in parameter_names(("oscillator", "law", "solver"), run=("t_end", "friction", "solver", "rtol", "max_memory"))
+              if n not in NOT_IN_SWEEPS)
+
+
+@app.command(short_help="Basins of attraction and basin stability over initial states.")
+@with_parameters(MODEL, {"t_end": "Length of every simulation [500]; points not settled by then are labelled not_settled."})
+def basins(
+    params: dict[str, Any],
+    x0: str = typer.Option(..., "--x0", metavar="FROM:TO[:N]", help="Range of X(0): FROM:TO:N grid points, or FROM:TO with --sample."),
+    v0: str = typer.Option(..., "--v0", metavar="FROM:TO[:N]", help="Range of X'(0), as --x0."),
+    sample: Optional[int] = typer.Option(None, "--sample", metavar="N", help="N random initial states in the ranges instead of a grid."),
+    seed: int = typer.Option(0, "--seed", help="Seed of --sample (the same points for a seed on every machine)."),
+    vary: Optional[str] = typer.Option(
+        None, "--vary", metavar="NAME=FROM:TO:N|NAME=V1,V2,..",
+        help="Basin stability against one parameter (vb, zeta, fd, ...): the same initial states at each value."),
+    out: Optional[Path] = typer.Option(None, "--out", metavar="PATH", help="Labelled dataset: PATH.nc or PATH.zarr."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Basin map, or with --vary basin stability against the parameter (.png, .pdf, .svg)."),
+    store: Optional[Path] = typer.Option(
+        None, "--store", metavar="PATH.zarr",
+        help="Keep the sweep's resumable store here [beside --out, removed once --out is written]."),
+    tol: Optional[float] = typer.Option(None, "--tol", help="Tolerance telling attractors apart: relative on period and amplitude, absolute on stick fraction [1e-3]."),
+    restart: bool = typer.Option(False, "--restart", help="Discard an existing sweep store (needed when the settings changed)."),
+    chunk_size: Optional[int] = typer.Option(None, "--chunk-size", help="Initial states per chunk (a task and a unit of commit)."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT; default: this machine's cores."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object: the attractors, basin stability and standard errors."),
+    config: Optional[Path] = CONFIG_OPTION,
+) -> None:
+    """Basins of attraction of the initial states at fixed parameters: attractors, basin stability (with binomial standard errors), map and dataset."""
+    from ..basins import Tolerances
+    from ..basins import basins as run_basins
+    from .sweep import _sigterm_as_interrupt
+
+    settings = merged_config(config, params).given
+    tolerances = Tolerances() if tol is None else Tolerances(period=tol, amplitude=tol, stick=tol)
+    if chunk_size is not None and chunk_size < 1:
+        raise ValueError(f"--chunk-size must be an integer >= 1, got {chunk_size}")
+    x, v = parse_range("--x0", x0, sample is None), parse_range("--v0", v0, sample is None)
+    with _sigterm_as_interrupt():
+        try:
+            result = run_basins(settings, x0=x, v0=v, sample=sample, seed=seed, vary=parse_vary(vary), out=out, plot=plot,
+                                store=store, restart=restart, chunk_size=chunk_size, scheduler=scheduler,
+                                progress=sys.stderr.isatty(), tolerances=tolerances)
+        except KeyboardInterrupt:
+            print("interrupted: the sweep's store keeps the chunks finished so far; run the same command to resume", file=sys.stderr)
+            raise
+    if as_json:
+        print(json.dumps(result.to_dict(), allow_nan=False))
+    else:
+        _print(result)
+
+
+def parse_range(name: str, text: str, with_count: bool) -> tuple:
+    """``FROM:TO:N`` (a grid) or ``FROM:TO`` (a sample's range) -> a tuple; ValueError naming the option."""
+    parts = text.split(":")
+    want = "FROM:TO:N" if with_count else "FROM:TO (with --sample the number of points is --sample)"
+    if len(parts) != (3 if with_count else 2):
+        raise ValueError(f"{name} must be {want}, got {text!r}")
+    try:
+        values: list[Any] = [float(p) for p in parts[:2]]
+        if with_count:
+            values.append(int(parts[2]))
+    except ValueError:
+        raise ValueError(f"{name} must be {want} with numbers, got {text!r}") from None
+    return tuple(values)
+
+
+def parse_vary(text: Optional[str]) -> Optional[dict[str, Any]]:
+    """``NAME=FROM:TO:N`` (a linear range) or ``NAME=V1,V2,...`` -> ``{name: values}`` as :func:`basins` takes."""
+    if text is None:
+        return None
+    name, sep, values = text.partition("=")
+    name = name.strip().replace("-", "_")
+    if not sep or not name or not values.strip():
+        raise ValueError(f"--vary must be NAME=FROM:TO:N or NAME=V1,V2,..., got {text!r}")
+    try:
+        if ":" in values:
+            start, stop, num = values.split(":")
+            return {name: {"start": float(start), "stop": float(stop), "num": int(num)}}
+        return {name: [float(v) for v in values.split(",")]}
+    except ValueError:
+        raise ValueError(f"--vary must be NAME=FROM:TO:N or NAME=V1,V2,... with numbers, got {text!r}") from None
+
+
+def _print(result) -> None:
+    """The outcomes as a table (with --vary: basin stability per value)."""
+    from rich.console import Console
+    from rich.table import Table
+
+    from .._display import num
+
+    console = Console()
+    title, _ = result._summary()
+    if result.vary is None:
+        table = Table(title=title)
+        for col in ("outcome", "code", "basin stability", "period", "amplitude", "stick fraction"):
+            table.add_column(col, justify="left" if col == "outcome" else "right")
+        for o in result.outcomes():
+            table.add_row(o["name"], str(o["code"]), f"{o['fraction']:.4f} ± {o['stderr']:.4f}", num(o["period"]), num(o["amplitude"]),
+                          num(o["stick_fraction"]))
+    else:
+        report = result.to_dict()["results"]
+        names = [o["name"] for o in report[0]["outcomes"]]
+        table = Table(title=title + " (basin stability ± standard error)")
+        table.add_column(result.vary, justify="right")
+        for n in names:
+            table.add_column(n, justify="right")
+        for r in report:
+            table.add_row(num(r[result.vary]), *(f"{o['fraction']:.3f} ± {o['stderr']:.3f}" for o in r["outcomes"]))
+    console.print(table)
+    for key in ("out", "plot"):
+        if key in result.files:
+            console.print(f"{key}: {result.files[key]}")
