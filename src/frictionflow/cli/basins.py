@@ -112,11 +112,12 @@ def _print(result) -> None:
     title, _ = result._summary()
     if result.vary is None:
         table = Table(title=title)
-        for col in ("outcome", "code", "basin stability", "period", "amplitude", "stick fraction"):
-            table.add_column(col, justify="left" if col == "outcome" else "right")
+        table.add_column("outcome", no_wrap=True)
+        for col in ("code", "fraction", "std. error", "period", "amplitude", "stick"):
+            table.add_column(col, justify="right")
         for o in result.outcomes():
-            table.add_row(o["name"], str(o["code"]), f"{o['fraction']:.4f} ± {o['stderr']:.4f}", num(o["period"]), num(o["amplitude"]),
-                          num(o["stick_fraction"]))
+            table.add_row(o["name"], str(o["code"]), f"{o['fraction']:.4f}", f"{o['stderr']:.4f}", num(o["period"]), num(o["amplitude"], 4),
+                          num(o["stick_fraction"], 4))
     else:
         report = result.to_dict()["results"]
         names = [o["name"] for o in report[0]["outcomes"]]

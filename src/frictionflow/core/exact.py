@@ -445,23 +445,13 @@ def _next_sample(src, t, dense_dt):
 
 
 @njit(cache=True)
-def _section(ring_x, ring_t, n, x, t, tol_x, rtol):
-    """Record the n-th maximum of X (X' falling through 0); True when the maxima and their periods have repeated.
-
-    ``ring_x``, ``ring_t``: X and times of the last maxima, oldest first
-    (filled once n reaches their length).  The ``len - 2`` maxima before the
-    newest and as many periods must repeat it (:func:`~.sections.repeat_counts`).
-    """
-    m = len(ring_x)
-    for i in range(m - 1):
-        ring_x[i] = ring_x[i + 1]
-        ring_t[i] = ring_t[i + 1]
-    ring_x[m - 1] = x
-    ring_t[m - 1] = t
-    if n < m:
+def _repeated(ring, m, n_max, n_min, rtol, noise):
+    """Maxima and minima of X repeat to rtol of the amplitude (not below ``noise``), as the classifier judges them."""
+    if n_min == 0:
         return False
-    m_x, m_p = sec.repeat_counts(ring_x, ring_t, tol_x, rtol, 0.0)
-    return m_x >= m - 2 and m_p >= m - 2
+    tol = max(rtol * (ring[m - 1] - ring[3 * m - 1]), noise)
+    return (sec.ring_repeats(ring[:m], ring[m : 2 * m], n_max, tol, rtol)
+            and sec.ring_repeats(ring[2 * m : 3 * m], ring[3 * m :], n_min, tol, rtol))
 
 
 @njit(cache=True)
@@ -480,10 +470,11 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     fd, fs, vd = p[FD], p[FS], p[VD]
     res = p[RESULTANT] != 0.0
     w = np.zeros(4)  # the work integrals since the last sample (emit restarts them)
-    # stop_periodic: X and times of the last maxima of X, how many, and the largest |X| sampled
-    ring = np.zeros(2 * min_periods + 4)  # (np.zeros as for w: one allocation routine to compile)
-    ring_x, ring_t = ring[: min_periods + 2], ring[min_periods + 2 :]
+    # stop_periodic: X and times of the last maxima, then minima, of X, how many, and the largest |X| sampled
+    m = min_periods + 2
+    ring = np.zeros(4 * m)  # (np.zeros as for w: one allocation routine to compile)
     n_max = 0
+    n_min = 0
     x_seen = abs(x0)
     outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
     t = 0.0
@@ -547,9 +538,14 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             k += 1
             ta, xa, va = tb, xb, vb_
             x_seen = max(x_seen, abs(xb))
-            if vzero and stop_periodic and acc < 0.0:
-                n_max += 1
-                if _section(ring_x, ring_t, n_max, xb, t + tb, rtol * max(x_seen, abs(vb), fd, 1e-300), rtol):
+            if vzero and stop_periodic:
+                if acc < 0.0:  # a maximum of X
+                    sec.push_section(ring[:m], ring[m : 2 * m], xb, t + tb)
+                    n_max += 1
+                else:
+                    sec.push_section(ring[2 * m : 3 * m], ring[3 * m :], xb, t + tb)
+                    n_min += 1
+                if acc < 0.0 and _repeated(ring, m, n_max, n_min, rtol, 1e-13 * max(x_seen, abs(vb), fd)):
                     return k, ne, DONE, t_terminal, t + tb
         # the last piece, up to the phase end: its work goes with the switch's sample
         d0, d1, d2, d3 = _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xe, ve, T - ta)
