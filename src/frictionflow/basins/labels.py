@@ -97,16 +97,21 @@ def clusters(idx: np.ndarray, features: list[np.ndarray], gaps: list[Callable]) 
     gap allowed between neighbouring sorted values a <= b.  The clusters come
     back in no particular order; each holds its points in ascending order.
     """
-    if len(idx) == 0:
-        return []
-    for values, allowed in zip(features, gaps):
-        v = values[idx]
-        order = np.argsort(v, kind="stable")
-        sv = v[order]
-        cut = np.nonzero(np.diff(sv) > allowed(sv[:-1], sv[1:]))[0]
-        if len(cut):
-            return [c for part in np.split(idx[order], cut + 1) for c in clusters(np.sort(part), features, gaps)]
-    return [idx]
+    done: list[np.ndarray] = []
+    todo = [idx] if len(idx) else []
+    while todo:  # (a stack, not recursion: any number of splits)
+        part = todo.pop()
+        for values, allowed in zip(features, gaps):
+            v = values[part]
+            order = np.argsort(v, kind="stable")
+            sv = v[order]
+            cut = np.nonzero(np.diff(sv) > allowed(sv[:-1], sv[1:]))[0]
+            if len(cut):
+                todo.extend(np.sort(piece) for piece in np.split(part[order], cut + 1))
+                break
+        else:
+            done.append(part)
+    return done
 
 
 def find_attractors(q: dict[str, np.ndarray], tol: Tolerances) -> list[Attractor]:
@@ -115,10 +120,11 @@ def find_attractors(q: dict[str, np.ndarray], tol: Tolerances) -> list[Attractor
     amp = q["X_max"] - q["X_min"]
     mid = 0.5 * (q["X_max"] + q["X_min"])
     found: list[Attractor] = []
-    eq = np.nonzero(kind == _KIND["equilibrium"])[0]
+    # (a point without finite values cannot be told apart: it stays unlabelled, i.e. not settled)
+    eq = np.nonzero((kind == _KIND["equilibrium"]) & np.isfinite(mid))[0]
     for members in sorted(clusters(eq, [mid], [_relative(tol.amplitude, tol.floor)]), key=lambda m: np.median(mid[m])):
         found.append(_attractor("equilibrium", "equilibrium", members, q, amp, mid))
-    per = np.nonzero(kind == _KIND["periodic"])[0]
+    per = np.nonzero((kind == _KIND["periodic"]) & np.isfinite(amp + q["period"] + q["stick_fraction"]))[0]
     gaps = [_relative(tol.amplitude, tol.floor), _relative(tol.period, 0.0), _absolute(tol.stick)]
     cycles = [_attractor("", "periodic", m, q, amp, mid) for m in clusters(per, [amp, q["period"], q["stick_fraction"]], gaps)]
     for sort in ("slip_cycle", "stick_slip_cycle"):

@@ -31,7 +31,7 @@ def plot_basins(result: "Basins", path: str | Path | None = None, *, name: str =
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6.4, 4.8), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(6.4, 4.8) if result.vary else (5.4, 5.0), constrained_layout=True)
     if result.vary is None:
         _map(ax, result)
     else:
@@ -73,9 +73,12 @@ def _map(ax, result: "Basins") -> None:
         if n.startswith("equilibrium"):
             ax.plot(float(ds["attractor_x_mid"][j]), 0.0, marker="*", ms=12, color="white", mec="black", ls="none")
     p, se = result.fractions, result.stderr
-    ax.legend(handles=[Patch(color=colour(n, j), label=f"{n}: {p[n]:.3f} ± {se[n]:.3f}") for j, n in shown],
+    ax.legend(handles=[Patch(color=colour(n, j), label=f"{n}: {p[n]:.3g} ± {se[n]:.1g}") for j, n in shown],
               fontsize=8, loc="upper right", framealpha=0.85)
     ax.set(xlabel="X(0)", ylabel="X'(0)")
+    spans = np.ptp(ds["x0"].values), np.ptp(ds["v0"].values)
+    if min(spans) > 0 and 1 / 3 < spans[0] / spans[1] < 3:
+        ax.set_aspect("equal")  # X and X' in the same units: the energy's level sets look round
 
 
 def _curves(ax, result: "Basins") -> None:
@@ -83,5 +86,7 @@ def _curves(ax, result: "Basins") -> None:
     x = result.dataset[result.vary].values
     for j, n in _present(result):
         ax.errorbar(x, result.fractions[n], yerr=result.stderr[n], marker="o", ms=4, capsize=2, color=colour(n, j), label=n)
-    ax.set(xlabel=result.vary, ylabel="basin stability", ylim=(-0.02, 1.02))
+    from ..parameters import declared
+
+    ax.set(xlabel=declared()[result.vary].long_name, ylabel="basin stability", ylim=(-0.02, 1.02))
     ax.legend(fontsize=8)

@@ -108,8 +108,9 @@ class Basins(Summarized):
         return plot_basins(self, path, name=name)
 
     def _summary(self) -> tuple[str, list[tuple[str, str]]]:
-        points = self.design["points"]
-        title = f"basins: {points} initial states ({self.design['kind']})" + (f" at {len(self.dataset[self.vary])} values of {self.vary}" if self.vary else "")
+        title = f"basins: {self.design['points']} initial states ({self.design['kind']})"
+        if self.vary:
+            title += f" at {len(self.dataset[self.vary])} values of {self.vary}"
         rows = []
         for j, name in enumerate(self.names):
             p, se = self.fractions[name], self.stderr[name]
@@ -194,11 +195,11 @@ def basins(
     design["points"] = int(cfg.size // (len(cfg.axes[along]) if along else 1))
     t0 = time.perf_counter()
     with _sweep_store(store, out) as path:
-        ds = run_sweep(cfg, path, restart=restart, client=client, scheduler=scheduler, chunk_size=chunk_size, progress=progress)
+        lazy = run_sweep(cfg, path, restart=restart, client=client, scheduler=scheduler, chunk_size=chunk_size, progress=progress)
         try:
-            ds = _plain(ds.load())
+            ds = _plain(lazy.load())
         finally:
-            ds.close()
+            lazy.close()
         labelled, found = label_attractors(ds, along, tol)
         labelled.attrs.update(_design_attrs(design, along))
         result = Basins(labelled, found, _codes(labelled), tol, design, along, time.perf_counter() - t0)

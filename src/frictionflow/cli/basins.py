@@ -38,7 +38,8 @@ def basins(
     store: Optional[Path] = typer.Option(
         None, "--store", metavar="PATH.zarr",
         help="Keep the sweep's resumable store here [beside --out, removed once --out is written]."),
-    tol: Optional[float] = typer.Option(None, "--tol", help="Tolerance telling attractors apart: relative on period and amplitude, absolute on stick fraction [1e-3]."),
+    tol: Optional[float] = typer.Option(
+        None, "--tol", help="Tolerance telling attractors apart: relative on period and amplitude, absolute on stick fraction [1e-3]."),
     restart: bool = typer.Option(False, "--restart", help="Discard an existing sweep store (needed when the settings changed)."),
     chunk_size: Optional[int] = typer.Option(None, "--chunk-size", help="Initial states per chunk (a task and a unit of commit)."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT; default: this machine's cores."),
@@ -55,6 +56,7 @@ def basins(
     if chunk_size is not None and chunk_size < 1:
         raise ValueError(f"--chunk-size must be an integer >= 1, got {chunk_size}")
     x, v = parse_range("--x0", x0, sample is None), parse_range("--v0", v0, sample is None)
+    _check_outputs(out, plot)
     with _sigterm_as_interrupt():
         try:
             result = run_basins(settings, x0=x, v0=v, sample=sample, seed=seed, vary=parse_vary(vary), out=out, plot=plot,
@@ -67,6 +69,21 @@ def basins(
         print(json.dumps(result.to_dict(), allow_nan=False))
     else:
         _print(result)
+
+
+def _check_outputs(out: Optional[Path], plot: Optional[Path]) -> None:
+    """Refuse, before any work and naming the option, outputs that could not be written."""
+    from ..basins.study import DATASET_FORMATS
+    from ..io import check_output_path
+    from ..plotting import FIGURE_FORMATS
+    from ..sweep.store import check_out
+
+    if out is not None:
+        if out.suffix.lower() not in DATASET_FORMATS:
+            raise ValueError(f"--out must end in one of {', '.join(DATASET_FORMATS)}, got {str(out)!r}")
+        check_out(out)  # its directory (a .zarr is a directory: an existing one is replaced)
+    if plot is not None:
+        check_output_path(plot, FIGURE_FORMATS, "--plot")
 
 
 def parse_range(name: str, text: str, with_count: bool) -> tuple:
@@ -113,20 +130,20 @@ def _print(result) -> None:
     if result.vary is None:
         table = Table(title=title)
         table.add_column("outcome", no_wrap=True)
-        for col in ("code", "fraction", "std. error", "period", "amplitude", "stick"):
+        for col in ("code", "fraction", "s.e.", "period", "amplitude", "stick"):
             table.add_column(col, justify="right")
         for o in result.outcomes():
             table.add_row(o["name"], str(o["code"]), f"{o['fraction']:.4f}", f"{o['stderr']:.4f}", num(o["period"]), num(o["amplitude"], 4),
                           num(o["stick_fraction"], 4))
     else:
         report = result.to_dict()["results"]
-        names = [o["name"] for o in report[0]["outcomes"]]
-        table = Table(title=title + " (basin stability ± standard error)")
+        reached = [j for j, o in enumerate(report[0]["outcomes"]) if any(r["outcomes"][j]["count"] for r in report)]
+        table = Table(title=f"basin stability ± standard error, {result.design['points']} initial states ({result.design['kind']})")
         table.add_column(result.vary, justify="right")
-        for n in names:
-            table.add_column(n, justify="right")
+        for j in reached:
+            table.add_column(report[0]["outcomes"][j]["name"], justify="right", no_wrap=True)
         for r in report:
-            table.add_row(num(r[result.vary]), *(f"{o['fraction']:.3f} ± {o['stderr']:.3f}" for o in r["outcomes"]))
+            table.add_row(num(r[result.vary]), *(f"{r['outcomes'][j]['fraction']:.3f} ± {r['outcomes'][j]['stderr']:.3f}" for j in reached))
     console.print(table)
     for key in ("out", "plot"):
         if key in result.files:

@@ -223,17 +223,18 @@ def repeat_counts(xs, ts, tol_x, rtol, h2):
 
 @njit(cache=True)
 def _monotone_amplitude(rec, noise):
-    """The amplitudes X - LO of these records shrink (or grow) at every step, by more than ``noise`` in all."""
+    """The amplitudes X - LO of these records shrink (or grow) at every step by more than ``noise``.
+
+    A converged cycle whose window still holds the last step of its transient
+    changes by rounding after it: not monotone.
+    """
     n = rec.shape[0]
     if n < 3:
         return False
-    first = rec[0, X] - rec[0, LO]
-    last = rec[n - 1, X] - rec[n - 1, LO]
-    if not abs(last - first) > noise:
-        return False
-    sign = 1.0 if last > first else -1.0
+    first = rec[1, X] - rec[1, LO] - (rec[0, X] - rec[0, LO])
+    sign = 1.0 if first > 0.0 else -1.0
     for i in range(1, n):
-        if not sign * ((rec[i, X] - rec[i, LO]) - (rec[i - 1, X] - rec[i - 1, LO])) > 0.0:
+        if not sign * ((rec[i, X] - rec[i, LO]) - (rec[i - 1, X] - rec[i - 1, LO])) > noise:
             return False
     return True
 

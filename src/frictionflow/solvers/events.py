@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+from functools import lru_cache
+
 import numpy as np
 
 from ..core import exact as ke
@@ -45,10 +47,22 @@ def switch_modes(codes: np.ndarray, table: Mapping[int, SwitchMode]) -> np.ndarr
     rather than let a kernel code through.
     """
     codes = np.asarray(codes, dtype=np.int64)
-    unknown = sorted(set(np.unique(codes).tolist()) - set(table))
-    if unknown:
+    lookup, low = _lookup(tuple(sorted(table.items())))
+    index = codes - low
+    if index.size and (index.min() < 0 or index.max() >= len(lookup) or (lookup[index] == _MISSING).any()):
+        unknown = sorted(set(codes.tolist()) - set(table))
         raise ValueError(f"kernel mode code(s) {unknown} have no SwitchMode in the table")
-    # vectorised lookup (runs can have ~1e5 switches): codes -> positions in the sorted keys
-    keys = np.array(sorted(table), dtype=np.int64)
-    values = np.array([table[k] for k in keys], dtype=np.int8)
-    return values[np.searchsorted(keys, codes)]
+    return lookup[index]
+
+
+_MISSING = np.int8(-128)
+
+
+@lru_cache(maxsize=8)
+def _lookup(items: tuple[tuple[int, SwitchMode], ...]) -> tuple[np.ndarray, int]:
+    """A dense array from kernel code (offset by the smallest) to SwitchMode value: one indexing per call."""
+    low, high = items[0][0], items[-1][0]
+    lookup = np.full(high - low + 1, _MISSING, dtype=np.int8)
+    for code, mode in items:
+        lookup[code - low] = mode
+    return lookup, low
