@@ -111,24 +111,22 @@ class Param:
         if (self.lower is not None and (x < self.lower or (self.lower_open and x == self.lower))) or (
             self.upper is not None and (x > self.upper or (self.upper_open and x == self.upper))
         ):
-            raise ValueError(f"{self.name} must be {self.allowed}, got {value!r}")
+            raise self._bad(value)
         return x
 
     def _number(self, value: Any) -> float | int:
-        bad = ValueError(f"{self.name} must be {self.allowed}, got {value!r}")
         if isinstance(value, (bool, str)) or value is None:
-            raise bad  # true/"10" in a config are mistakes, not numbers
+            raise self._bad(value)  # true/"10" in a config are mistakes, not numbers
         try:
             x = float(value)
         except (TypeError, ValueError):
-            raise bad from None
-        if not math.isfinite(x):
-            raise bad
-        if self.kind == "int":
-            if not x.is_integer():
-                raise bad
-            return int(x)
-        return x
+            raise self._bad(value) from None
+        if not math.isfinite(x) or (self.kind == "int" and not x.is_integer()):
+            raise self._bad(value)
+        return int(x) if self.kind == "int" else x
+
+    def _bad(self, value: Any) -> ValueError:
+        return ValueError(f"{self.name} must be {self.allowed}, got {value!r}")
 
     # -- defaults ----------------------------------------------------------------
     def default_for(self, values: Mapping[str, Any]) -> Any:

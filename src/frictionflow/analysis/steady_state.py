@@ -26,6 +26,7 @@ with the batched kernels.
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass, replace
 from typing import Any, Mapping
 
@@ -125,9 +126,9 @@ def classify_trajectory(traj: Trajectory, rtol: float = 1e-6, min_periods: int =
 
 def _diverged(traj: Trajectory) -> SteadyState | None:
     """``diverged`` from the first sample whose state is not finite (the window runs from it to the end)."""
-    bad = ~(np.isfinite(traj.x) & np.isfinite(traj.v))
-    if not bad.any():
+    if math.isfinite(traj.x[-1]) and math.isfinite(traj.v[-1]):  # a state that overflowed stays non-finite
         return None
+    bad = ~(np.isfinite(traj.x) & np.isfinite(traj.v))
     i = int(np.argmax(bad))
     return SteadyState(kind="diverged", window=(float(traj.t[i]), float(traj.t[-1])))
 
@@ -198,6 +199,11 @@ def _certified(traj: Trajectory) -> SteadyState | None:
     provably converges onto X* without sticking again; the window starts where
     the run entered it for good.
     """
+    if traj.mode[-1] != np.sign(traj.vb):  # not slipping with the belt at the end
+        return None
+    x_eq = float(traj.friction.sliding_equilibrium(traj.vb))
+    if not (traj.x[-1] - x_eq) ** 2 + traj.v[-1] ** 2 < traj.vb**2:  # no disc is larger than V_b
+        return None
     r = certificate.radius(traj.friction, traj.zeta, traj.vb)
     if r <= 0.0:
         return None

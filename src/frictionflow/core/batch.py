@@ -52,7 +52,9 @@ def _row(rec, tail, fin, p, zeta, vb, rtol, min_periods, h, fixed_step, noise, o
         out[R_KIND] = sec.DIVERGED
         return
     x_eq = math.copysign(slip_magnitude_of(p, abs(vb)), vb)
-    if (vb - fin[sec.A_VEND]) * vb > 0.0:  # slipping with the belt at the end: is it in the certified disc?
+    x, v = fin[sec.A_XEND], fin[sec.A_VEND]
+    # slipping with the belt at the end, closer to X* than V_b (no disc is larger): is it in the certified disc?
+    if (vb - v) * vb > 0.0 and (x - x_eq) ** 2 + v * v < vb * vb:
         r = certificate.certified_radius(p, zeta, vb)
         if certificate.inside(x_eq, vb, r, fin[sec.A_XEND], fin[sec.A_VEND]):
             whole = sec.averages(fin[sec.A_W0], fin[sec.A_W1], fin[sec.A_W2], fin[sec.A_W3], fin[sec.A_E0],

@@ -19,8 +19,8 @@ from numba import njit
 
 from ..friction import cubic, stribeck
 from .layout import (  # noqa: F401  (re-exported: the kernels import the layout from here)
-    COULOMB, CUBIC, FD, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, SLIP_NEG, SLIP_POS, STICK,
-    STRIBECK, VD,
+    COULOMB, CUBIC, FD, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, SLIP_NEG, SLIP_POS, SMOOTH_LAWS,
+    STICK, STRIBECK, VD,
 )
 
 

@@ -19,6 +19,8 @@ KARNOPP = 0
 COULOMB = 1
 STRIBECK = 2
 CUBIC = 3
+#: the codes with a compiled slip curve (batched RK4 compiles one loop for each)
+SMOOTH_LAWS = (STRIBECK, CUBIC)
 
 LAW, FD, FS, VD, RESULTANT, LAW_A, LAW_B, LAW_C = range(8)
 N_PARAMS = 8

@@ -15,9 +15,11 @@ updated in place, so a long run can be advanced chunk by chunk (progress bars).
 
 from __future__ import annotations
 
-from numba import njit
+from numba import literal_unroll, njit
 
-from .friction import FD, FS, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, VD, band_force, band_force_select, band_mode
+from .friction import (
+    COULOMB, FD, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, SMOOTH_LAWS, VD, band_force, band_force_select, band_mode,
+)
 
 N_STATE = 6
 #: fused multiply-add allowed: shorter dependency chains, and the single and
@@ -87,9 +89,20 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
 
     A sample is written before step ``i`` when ``i % every == 0`` and after the
     last step (``i1 == n_total``); ``out_w`` has shape (n_samples, 4).
-    Returns the next free sample index.
+    Returns the next free sample index.  Each law's loop is compiled with its
+    code as a constant, so that it holds only that law's slip force.
     """
     law = int(p[LAW])
+    if law == KARNOPP or law == COULOMB:
+        return _run(KARNOPP, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
+    for code in literal_unroll(SMOOTH_LAWS):
+        if law == code:
+            k = _run(code, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
+    return k
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _run(law, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
     fd = p[FD]
     fs = p[FS]
     vd = p[VD]

@@ -13,10 +13,10 @@ average over it without storing a trajectory.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import literal_unroll, njit, prange
 
 from . import sections as sec
-from .friction import COULOMB, N_PARAMS, FD, FS, KARNOPP, LAW_A, LAW_B, LAW_C, RESULTANT, VD
+from .friction import COULOMB, FD, FS, KARNOPP, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, SMOOTH_LAWS, VD
 from .rk4 import FASTMATH, step
 
 LANES = 64
@@ -75,13 +75,15 @@ def _block(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
         for j in range(L):
             sec.mark(tail[j], 0.0, x[j], v[j], wj)
     for i in range(n_steps):
-        # The piecewise-constant laws pass a constant code, so that they compile
-        # without the smooth laws' branches (calls to exp and friends, which
-        # would keep the loop from vectorising); a smooth law is loop-invariant.
+        # Each law's loop is compiled with its code as a constant, so that it holds
+        # only that law's slip force: another law's branch (a call to exp, say)
+        # would keep every loop from vectorising.
         if law == KARNOPP or law == COULOMB:
             _lanes(KARNOPP, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la, lb, lc)
         else:
-            _lanes(law, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la, lb, lc)
+            for code in literal_unroll(SMOOTH_LAWS):
+                if law == code:
+                    _lanes(code, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la, lb, lc)
         for j in range(L):  # vectorised: the period's aggregates
             vn = v[j]
             f = abs(x[j] + 2.0 * zeta[j] * vn)

@@ -47,7 +47,7 @@ def switch_modes(codes: np.ndarray, table: Mapping[int, SwitchMode]) -> np.ndarr
     rather than let a kernel code through.
     """
     codes = np.asarray(codes, dtype=np.int64)
-    lookup, low = _lookup(tuple(sorted(table.items())))
+    lookup, low = _LOOKUPS.get(id(table)) or _LOOKUPS.setdefault(id(table), _lookup(tuple(sorted(table.items()))))
     index = codes - low
     if index.size and (index.min() < 0 or index.max() >= len(lookup) or (lookup[index] == _MISSING).any()):
         unknown = sorted(set(codes.tolist()) - set(table))
@@ -56,6 +56,8 @@ def switch_modes(codes: np.ndarray, table: Mapping[int, SwitchMode]) -> np.ndarr
 
 
 _MISSING = np.int8(-128)
+#: the dense lookup of each (module-constant) table, by identity: built once
+_LOOKUPS: dict[int, tuple[np.ndarray, int]] = {}
 
 
 @lru_cache(maxsize=8)
