@@ -88,7 +88,7 @@ def batched(n_lanes: int, n: int) -> None:
     fin = np.full((n_lanes, sections.NA), np.nan)
     t_tail = sections.tail_start(0.0, n * DT)
     rk4_batch.run_batch(0, zeta, vb, p, fd.copy(), vb.copy(), DT, n, t_tail, rec, nrec, tail, fin)
-    rk4_batch.summarize(rec, nrec, tail, fin, vb, fd, 1e-6, 3, DT, True)
+    rk4_batch.summarize(rec, nrec, tail, fin, vb, fd, 1e-6, 3, DT, True, 1e-6)
 
 
 def main() -> None:

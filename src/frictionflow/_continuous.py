@@ -69,6 +69,12 @@ class Interpolant:
         self.zeta = traj.model.zeta
         self.vb = traj.model.vb
 
+    def _local(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The sample interval of each time, its length, and the time's fraction of it (Hermite forms)."""
+        i = self.interval(t)
+        h = self.traj.t[i + 1] - self.traj.t[i]
+        return i, h, np.divide(t - self.traj.t[i], h, out=np.zeros_like(t), where=h > 0)
+
     def interval(self, t: np.ndarray) -> np.ndarray:
         """Index i of the interval [t_i, t_i+1] holding each time (the last sample at or before it)."""
         ts = self.traj.t
@@ -238,11 +244,9 @@ class QuinticHermite(Interpolant):
 
     def state(self, t):
         tr = self.traj
-        i = self.interval(t)
         if len(tr.t) < 2:
             return np.full(t.shape, tr.x[0]), np.full(t.shape, tr.v[0])
-        h = tr.t[i + 1] - tr.t[i]
-        s = np.divide(t - tr.t[i], h, out=np.zeros_like(t), where=h > 0)
+        i, h, s = self._local(t)
         x, v = _quintic(s, h, tr.x[i], tr.v[i], self.acc[i], tr.x[i + 1], tr.v[i + 1], self.acc_right[i])
         stick = tr.mode[i] == 0  # X' = V_b held: a straight line, exactly
         x[stick] = tr.x[i][stick] + tr.v[i][stick] * (t[stick] - tr.t[i][stick])
@@ -260,11 +264,9 @@ class CubicHermite(Interpolant):
 
     def state(self, t):
         tr = self.traj
-        i = self.interval(t)
         if len(tr.t) < 2:
             return np.full(t.shape, tr.x[0]), np.full(t.shape, tr.v[0])
-        h = tr.t[i + 1] - tr.t[i]
-        s = np.divide(t - tr.t[i], h, out=np.zeros_like(t), where=h > 0)
+        i, h, s = self._local(t)
         x = _cubic(s, h, tr.x[i], tr.v[i], tr.x[i + 1], tr.v[i + 1])
         v = _cubic(s, h, tr.v[i], self.acc[i], tr.v[i + 1], self.acc[i + 1])
         return x, v
