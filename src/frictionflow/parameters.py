@@ -164,8 +164,8 @@ class Param:
 
 def resolve(params: tuple[Param, ...], given: Mapping[str, Any]) -> dict[str, Any]:
     """Validated values of ``params`` from ``given`` (None or missing: the default), in declaration order."""
-    return with_defaults(params, {k: (None if v is None else params_by_name(params)[k].check(v))
-                                  for k, v in given.items() if k in params_by_name(params)})
+    by_name = params_by_name(params)
+    return with_defaults(params, {k: (None if v is None else by_name[k].check(v)) for k, v in given.items() if k in by_name})
 
 
 def with_defaults(params: tuple[Param, ...], values: Mapping[str, Any]) -> dict[str, Any]:
@@ -185,7 +185,24 @@ def params_by_name(params: tuple[Param, ...]) -> dict[str, Param]:
 
 
 def declared() -> dict[str, Param]:
-    """Every parameter of the package by name (oscillator, every registered law and solver, the run)."""
+    """Every parameter of the package by name (oscillator, every registered law and solver, the run).
+
+    Built once; registering a law (:func:`frictionflow.friction.register`) rebuilds it.
+    """
+    if not _DECLARED:
+        _DECLARED.update(_collect())
+    return _DECLARED
+
+
+_DECLARED: dict[str, Param] = {}
+
+
+def forget_declarations() -> None:
+    """Drop the collected declarations (a law was registered)."""
+    _DECLARED.clear()
+
+
+def _collect() -> dict[str, Param]:
     from .config import RUN_PARAMETERS
     from .friction.registry import law_classes
     from .params import BeltOscillator

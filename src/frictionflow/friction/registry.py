@@ -20,6 +20,9 @@ def register(cls: type["FrictionLaw"]) -> type["FrictionLaw"]:
     if cls.name in _LAWS and _LAWS[cls.name] is not cls:
         raise ValueError(f"a friction law named {cls.name!r} is registered already")
     _LAWS[cls.name] = cls
+    from ..parameters import forget_declarations  # its parameters join the declared ones
+
+    forget_declarations()
     return cls
 
 
