@@ -84,3 +84,27 @@ def test_sizes_and_steps_are_checked_up_front(tmp_path):
                               "vb": {"start": 0.01, "stop": 0.1, "num": 100_000}, "fd": [0.01, 0.02]}})
     with pytest.warns(CoarseStepWarning, match=r"grid.vb = 0.1: dt=0.5 lets X' jump across the stick band"):
         parse_sweep({"solver": "rk4", "dt": 0.5, "t_end": 50.0, "grid": {"vb": [0.01, 0.1]}})
+
+
+def test_a_huge_grid_is_never_materialised(tmp_path):
+    # issue 10: a 1e5 x 1e5 grid took 3.2 GB before any chunk was written; now memory is O(chunk)
+    import tracemalloc
+
+    from frictionflow.sweep.config import chunk_shape
+    from frictionflow.sweep.store import SweepStore
+
+    tracemalloc.start()
+    cfg = parse_sweep({"friction": "coulomb", "fs": 0.04, "t_end": 10.0,
+                       "grid": {"zeta": {"start": 0.0, "stop": 0.1, "num": 100_000},
+                                "vb": {"start": 0.001, "stop": 0.1, "num": 100_000}}})
+    store = SweepStore(tmp_path / "r.zarr", cfg, chunk_shape(cfg.shape, 4096))
+    first = next(iter(store.todo()))
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    assert cfg.size == 10**10 and first == (0, 0)
+    assert peak < 64 * 2**20, f"{peak / 2**20:.0f} MiB"
+
+
+def test_values_beyond_the_model_range_are_refused_in_grids():
+    with pytest.raises(ValueError, match=r"grid.vb\[0\]: vb must be finite and in \[-1000, 1000\], got 1e\+300"):
+        parse_sweep({"grid": {"vb": [1e300, 0.01]}})
