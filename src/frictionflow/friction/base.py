@@ -110,11 +110,14 @@ class FrictionLaw:
         return cols
 
     def kernel_params(self) -> np.ndarray:
-        """Flat float64 array in the layout of :mod:`~frictionflow.core.layout`."""
-        p = np.zeros(layout.N_PARAMS)
-        for slot, value in self.kernel_columns(self.values()).items():
-            p[slot] = value
-        return p
+        """Flat float64 array in the layout of :mod:`~frictionflow.core.layout` (a copy: the law is immutable)."""
+        p = self.__dict__.get("_kernel_params")
+        if p is None:
+            p = np.zeros(layout.N_PARAMS)
+            for slot, value in self.kernel_columns(self.values()).items():
+                p[slot] = value
+            self.__dict__["_kernel_params"] = p
+        return p.copy()
 
     # -- physics ---------------------------------------------------------------
     def kernel_force(self) -> Callable[[np.ndarray, float], float] | None:

@@ -126,7 +126,7 @@ class Adaptive(Solver):
 
         with progress_bar("adaptive", 1, enabled=progress and t_end > 1e5) as advance:
             (n, ne, status, t_stop, h), bufs = run_growing(
-                kernel, self.sample_estimate(t_end), self._full, max_memory, self.sized(t_end))
+                kernel, self.sample_estimate(t_end), self._full, max_memory, lambda: self.sized(t_end))
             advance(1)
         if status in (dopri.STEP_CAP, dopri.TINY_STEP):
             why = f"max_steps={self.max_steps} reached" if status == dopri.STEP_CAP else "the step size vanished"

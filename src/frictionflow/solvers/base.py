@@ -27,22 +27,23 @@ BYTES_PER_SAMPLE = 4 * 8 + 1 + 4 * 8 + 2 * 8
 DEFAULT_MAX_MEMORY = 4.0
 
 
-def check_memory(samples: float, max_memory: float, what: str) -> None:
+def check_memory(samples: float, max_memory: float, what: str | Callable[[], str]) -> None:
     """Refuse, with the numbers and the settings that would fix it, a run whose samples exceed ``max_memory`` GiB.
 
-    ``what`` names the run by the settings its size follows (:meth:`Solver.sized`).
+    ``what`` names the run by the settings its size follows (:meth:`Solver.sized`; a callable is
+    called only to say so).
     """
     need = samples * BYTES_PER_SAMPLE / 2**30
     if need > max_memory:
         raise ValueError(
-            f"{what} needs about {samples:.3g} samples ({need:.3g} GiB) but max_memory={max_memory:g} GiB: "
-            "shorten the run, sample it less densely, or raise max_memory"
+            f"{what() if callable(what) else what} needs about {samples:.3g} samples ({need:.3g} GiB) "
+            f"but max_memory={max_memory:g} GiB: shorten the run, sample it less densely, or raise max_memory"
         )
 
 
 def run_growing(kernel: Callable[[tuple[np.ndarray, ...]], tuple], cap: int,
                 full: Callable[[tuple, tuple[np.ndarray, ...]], bool],
-                max_memory: float, what: str) -> tuple[tuple, tuple[np.ndarray, ...]]:
+                max_memory: float, what: str | Callable[[], str]) -> tuple[tuple, tuple[np.ndarray, ...]]:
     """Run ``kernel(buffers)`` with room for ``cap`` samples, four times more each time it reports them ``full``.
 
     An event-driven run cannot know its number of samples in advance; a retry

@@ -82,7 +82,7 @@ class Exact(Solver):
                               *bufs, t_mode)
 
         with progress_bar("exact", 1, enabled=progress and t_end > 1e5) as advance:
-            (n, ne, status, t_term, _), bufs = run_growing(run, self.sample_estimate(t_end), self._full, max_memory, self.sized(t_end))
+            (n, ne, status, t_term, _), bufs = run_growing(run, self.sample_estimate(t_end), self._full, max_memory, lambda: self.sized(t_end))
             advance(1)
         if status == kernel.STUCK:
             t, x, v = bufs[:3]

@@ -142,7 +142,7 @@ class RK4(Solver):
         return n
 
     def _every_step(self, n: int, x0: float, v0: float, args: tuple, max_memory: float, t_end: float, advance) -> tuple:
-        check_memory(n + 1, max_memory, self.sized(t_end))
+        check_memory(n + 1, max_memory, lambda: self.sized(t_end))
         t, x, v, fc, mode, work = _arrays(n + 1)
         state = np.array([x0, v0, 0.0, 0.0, 0.0, 0.0])
         k = 0
@@ -160,7 +160,7 @@ class RK4(Solver):
         t_tail = sections.tail_start(0.0, n * self.dt)
         k = i = 0
         while i < n:
-            check_memory(len(bufs[0]), max_memory, self.sized(t_end))
+            check_memory(len(bufs[0]), max_memory, lambda: self.sized(t_end))
             i1 = min(n, i + CHUNK)
             k, i_done = kernel.run_thinned(state, i, i1, n, every, 0.0, args[0], t_tail, *args[1:], *bufs, k)
             advance(i_done - i)
