@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import lru_cache
 from typing import Any, Callable
 
@@ -83,10 +84,10 @@ class Adaptive(Solver):
     keywords = {"ode_rtol": "rtol"}
 
     def __init__(self, rtol: float = 1e-10, atol: float = 1e-13, max_steps: int = 10_000_000, dense_dt: float | None = None) -> None:
-        self.rtol = check.positive("rtol", rtol)
+        self.rtol = replace(ODE_RTOL, name="rtol").check(rtol)  # the API calls it rtol, configs ode_rtol
         self.atol = check.positive("atol", atol)
-        self.max_steps = check.positive_int("max_steps", max_steps)
-        self.dense_dt = None if dense_dt is None else check.positive("dense_dt", dense_dt)
+        self.max_steps = MAX_STEPS.check(max_steps)
+        self.dense_dt = None if dense_dt is None else DENSE_DT.check(dense_dt)
 
     def describe(self) -> dict[str, Any]:
         return {"name": self.name, "rtol": self.rtol, "atol": self.atol, "max_steps": self.max_steps, "dense_dt": self.dense_dt}

@@ -7,7 +7,6 @@ from typing import Any
 
 import numpy as np
 
-from .. import _validate as check
 from .._progress import progress_bar
 from ..core import exact as kernel
 from ..core import sections
@@ -43,7 +42,7 @@ class Exact(Solver):
     parameters = (DENSE_DT,)
 
     def __init__(self, dense_dt: float | None = None) -> None:
-        self.dense_dt = None if dense_dt is None else check.positive("dense_dt", dense_dt)
+        self.dense_dt = None if dense_dt is None else DENSE_DT.check(dense_dt)
 
     def describe(self) -> dict[str, Any]:
         return {"name": self.name, "dense_dt": self.dense_dt}

@@ -8,7 +8,6 @@ from typing import Any
 
 import numpy as np
 
-from .. import _validate as check
 from .._progress import progress_bar
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
@@ -64,8 +63,8 @@ class RK4(Solver):
     parameters = (DT, RECORD_EVERY)
 
     def __init__(self, dt: float = 1e-3, record_every: int | None = None) -> None:
-        self.dt = check.positive("dt", dt)
-        self.record_every = None if record_every is None else check.positive_int("record_every", record_every)
+        self.dt = DT.check(dt)
+        self.record_every = None if record_every is None else RECORD_EVERY.check(record_every)
 
     def describe(self) -> dict[str, Any]:
         return {"name": self.name, "dt": self.dt, "record_every": self.record_every}
