@@ -20,6 +20,13 @@ def finite(name: str, value: float, allowed: str = "a finite real number") -> fl
     return x
 
 
+def number(name: str, value: object, allowed: str = "a finite real number") -> float:
+    """:func:`finite`, refusing what only converts to a number: a boolean, text, None."""
+    if isinstance(value, (bool, str)) or value is None:
+        raise ValueError(f"{name} must be {allowed}, got {value!r}")
+    return finite(name, value, allowed)  # type: ignore[arg-type]
+
+
 def nonnegative(name: str, value: float) -> float:
     """A finite number >= 0."""
     x = finite(name, value, "finite and >= 0")

@@ -22,6 +22,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from .. import _validate as check
 from .._display import Summarized, num
 from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS
 from .labels import OUTCOMES, Attractor, Tolerances, label_attractors
@@ -235,15 +236,7 @@ def _range(name: str, value: Any, with_count: bool) -> tuple[float, float, int |
 
 
 def _real(name: str, v: Any) -> float:
-    if isinstance(v, (bool, str)) or v is None:
-        raise ValueError(f"{name} must hold numbers, got {v!r}")
-    try:
-        x = float(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must hold numbers, got {v!r}") from None
-    if not math.isfinite(x):
-        raise ValueError(f"{name} must hold finite numbers, got {v!r}")
-    return x
+    return check.number(name, v, "finite numbers")
 
 
 def _design(x0: Any, v0: Any, sample: int | None, seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
