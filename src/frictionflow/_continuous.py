@@ -41,6 +41,7 @@ import math
 
 import numpy as np
 
+from .core.layout import N_WORK
 from .modes import SwitchMode
 
 #: dense sampling of figures and datasets: at least this many points per natural period 2 pi
@@ -66,6 +67,7 @@ class Interpolant:
 
     def __init__(self, traj) -> None:
         self.traj = traj
+        self.model = traj.model
         self.zeta = traj.model.zeta
         self.vb = traj.model.vb
 
@@ -93,7 +95,7 @@ class Interpolant:
         """(F_c, mode) at times ``t`` where the state is (x, v): slip by the law, stick as sampled."""
         i = self.interval(t)
         mode = self.traj.mode[i].astype(np.int8)
-        return self._slip_or(mode, x, v, x + 2.0 * self.zeta * v), mode
+        return self._slip_or(mode, x, v, x + 2.0 * self.zeta * v - self.model.external_force(t)), mode
 
     def _slip_or(self, mode: np.ndarray, x: np.ndarray, v: np.ndarray, stick: np.ndarray) -> np.ndarray:
         """The law's slip force where ``mode`` slips, ``stick`` elsewhere."""
@@ -113,7 +115,7 @@ class Interpolant:
         if np.any(switched):
             speed = np.abs(self.vb - tr.v[1:][switched])
             fc_right[switched] = mode[switched] * np.asarray(tr.friction.slip_magnitude(speed), dtype=float)
-        return fc_right - tr.x[1:] - 2.0 * self.zeta * tr.v[1:]
+        return fc_right + self.model.external_force(tr.t[1:]) - tr.x[1:] - 2.0 * self.zeta * tr.v[1:]
 
 
 # -- the exact solver: closed forms ----------------------------------------------------------------
@@ -336,16 +338,16 @@ def dwork_on_grid(traj, interp: Interpolant, grid: np.ndarray, is_sample: np.nda
     that every sample interval sums to the solver's exact integrals and each
     increment stays accurate to rounding of its own size.
     """
-    inc = np.zeros((len(grid), 4))
+    inc = np.zeros((len(grid), N_WORK))
     added = np.flatnonzero(~is_sample)
     if len(added):
         a, b = grid[added - 1], grid[added]
         nodes = a[:, None] + (b - a)[:, None] * _GL_X[None, :]
-        f = _integrands(interp, nodes.ravel()).reshape(len(added), len(_GL_X), 4)
+        f = _integrands(interp, nodes.ravel()).reshape(len(added), len(_GL_X), N_WORK)
         inc[added] = (b - a)[:, None] * np.einsum("k,nkj->nj", _GL_W, f)
     sample_no = np.cumsum(is_sample) - 1  # the sample at or before each row
-    before = np.zeros((len(traj.t), 4))  # the added steps inside each sample interval, by the sample ending it
-    for col in range(4):
+    before = np.zeros((len(traj.t), N_WORK))  # the added steps inside each sample interval, by the sample ending it
+    for col in range(N_WORK):
         before[:, col] = np.bincount(sample_no[added] + 1, weights=inc[added, col], minlength=len(traj.t) + 1)[:len(traj.t)]
     inc[is_sample] = traj.dwork - before
     return inc
@@ -362,21 +364,22 @@ def dwork_at(traj, interp: Interpolant, times: np.ndarray) -> np.ndarray:
     rows = np.searchsorted(merged, times, side="right") - 1  # the last row at each time
     # each step's increments summed (short sums: no difference of large running totals)
     start, end = rows[:-1] + 1, rows[1:] + 1
-    total = np.zeros((len(times), 4))
+    total = np.zeros((len(times), N_WORK))
     if len(times) > 1:
-        padded = np.vstack([inc[: end[-1]], np.zeros((1, 4))])  # reduceat needs every start in range
+        padded = np.vstack([inc[: end[-1]], np.zeros((1, N_WORK))])  # reduceat needs every start in range
         sums = np.add.reduceat(padded, np.minimum(start, end[-1]), axis=0)
         total[1:] = np.where((end > start)[:, None], sums, 0.0)  # reduceat gives a row, not 0, for an empty step
     return total
 
 
 def _integrands(interp: Interpolant, t: np.ndarray) -> np.ndarray:
-    """2 zeta X'^2, max(P_f, 0), max(-P_f, 0) and the slip heat F_c V_r at times ``t``."""
+    """2 zeta X'^2, max(P_f, 0), max(-P_f, 0), the slip heat F_c V_r and X' f(tau) at times ``t``."""
     x, v = interp.state(t)
     fc, mode = interp.force(t, x, v)
     pf = v * fc
     heat = np.where(mode != 0, fc * (interp.vb - v), 0.0)
-    return np.column_stack([2.0 * interp.zeta * v * v, np.maximum(pf, 0.0), np.maximum(-pf, 0.0), heat])
+    return np.column_stack([2.0 * interp.zeta * v * v, np.maximum(pf, 0.0), np.maximum(-pf, 0.0), heat,
+                            v * interp.model.external_force(t)])
 
 
 def switch_flags(traj) -> np.ndarray:

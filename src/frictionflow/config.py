@@ -20,9 +20,9 @@ from .solvers import Solver
 from .solvers.base import DEFAULT_MAX_MEMORY
 from .solvers.registry import build_solver, solver_names
 
-DIMENSIONAL_KEYS = ("m", "c", "k", "v_b", "f_d", "f_ms", "v_d", "l_0")
+DIMENSIONAL_KEYS = ("m", "c", "k", "v_b", "f_d", "f_ms", "v_d", "l_0", "f_ex", "w_ex", "phi_ex")
 #: what a dimensional input sets (by Eq. 3)
-DIMENSIONAL_SETS = ("zeta", "vb", "fd", "fs", "vd")
+DIMENSIONAL_SETS = ("zeta", "vb", "fd", "fs", "vd", "fex", "omega", "phi")
 
 
 def parse_window(value: Any) -> tuple[float, float]:
@@ -160,12 +160,12 @@ class RunConfig:
         values = dict(self.given)
         if self.dimensional is not None:
             nd = DimensionalParams(**self.dimensional).nondimensional()
-            own = {p.name for p in law_class(self.friction).parameters} | {"zeta", "vb"}
+            own = {p.name for p in law_class(self.friction).parameters} | {p.name for p in BeltOscillator.parameters}
             values.update({k: nd[k] for k in DIMENSIONAL_SETS if k in own})
         return values
 
     def nondimensional(self) -> dict[str, float]:
-        """zeta, V_b, F_d, F_s, V_d after converting ``dimensional`` if given."""
+        """zeta, V_b, F_d, F_s, V_d and the forcing after converting ``dimensional`` if given."""
         values = self.values()
         return {k: values.get(k, getattr(self, k)) for k in DIMENSIONAL_SETS}
 

@@ -2,15 +2,16 @@
 
 The model (paper Eq. 1-5) in non-dimensional form is::
 
-    X'' + 2 zeta X' + X = F_c(V_r),     V_r = V_b - X'
+    X'' + 2 zeta X' + X = F_c(V_r) + F_ex cos(Omega tau + phi),     V_r = V_b - X'
 
-with time tau = omega0 t.  The paper's Eq. 1 prints ``m x'' + 2c x' + k x``; its
+with time tau = omega0 t (paper Eq. 1's f_ex, harmonic; F_ex = 0 is the
+paper's autonomous system).  The paper's Eq. 1 prints ``m x'' + 2c x' + k x``; its
 Eq. 3-4 (zeta = c / (2 m omega0), ``X'' + 2 zeta X' + X``) only follow from the
 standard form ``m x'' + c x' + k x = f_c``, which is the one used here.
 
 The friction parameters (F_d, F_s, V_d, ...) belong to the friction law
 (:mod:`frictionflow.friction`); :class:`BeltOscillator` holds the structure
-(zeta) and the belt (V_b).
+(zeta), the belt (V_b) and the external force (F_ex, Omega, phi).
 """
 
 from __future__ import annotations
@@ -19,11 +20,19 @@ import math
 from dataclasses import asdict, dataclass
 from typing import Any, ClassVar, Mapping
 
+import numpy as np
+
 from . import _validate as check
-from .parameters import MODEL_MAX, Param, nonnegative_real, resolve
+from .parameters import MODEL_MAX, Param, nonnegative_real, positive_real, resolve
 
 ZETA = nonnegative_real("zeta", "zeta", "damping ratio", "oscillator", 0.0, upper=MODEL_MAX, sweepable=True)
 VB = Param("vb", "V_b", "belt speed", "oscillator", 0.01, lower=-MODEL_MAX, upper=MODEL_MAX, sweepable=True)
+FEX = nonnegative_real("fex", "F_ex", "amplitude of the external force F_ex cos(Omega tau + phi)", "oscillator", 0.0,
+                       upper=MODEL_MAX, sweepable=True)
+OMEGA = positive_real("omega", "Omega", "angular frequency of the external force", "oscillator", 1.0, upper=MODEL_MAX,
+                      sweepable=True)
+PHI = Param("phi", "phi", "phase of the external force (rad)", "oscillator", 0.0, lower=-MODEL_MAX, upper=MODEL_MAX,
+            sweepable=True)
 
 
 @dataclass(frozen=True)
@@ -36,11 +45,18 @@ class BeltOscillator:
         Damping ratio c / (2 m omega0), >= 0 (0 is the paper's Case I).
     vb:
         Belt speed V_b = v_b / (omega0 l_0), any finite value.
+    fex, omega, phi:
+        The external force F_ex cos(Omega tau + phi): amplitude >= 0 (0, the
+        default, is the paper's unforced system), angular frequency > 0 in
+        units of the natural frequency, phase in radians.
     """
 
     zeta: float = 0.0
     vb: float = 0.01
-    parameters: ClassVar[tuple[Param, ...]] = (ZETA, VB)
+    fex: float = 0.0
+    omega: float = 1.0
+    phi: float = 0.0
+    parameters: ClassVar[tuple[Param, ...]] = (ZETA, VB, FEX, OMEGA, PHI)
 
     def __post_init__(self) -> None:
         for key, value in resolve(self.parameters, asdict(self)).items():
@@ -54,10 +70,28 @@ class BeltOscillator:
     def as_dict(self) -> dict[str, float]:
         return asdict(self)
 
+    @property
+    def forced(self) -> bool:
+        """Whether an external force acts (F_ex > 0)."""
+        return self.fex > 0.0
+
+    @property
+    def forcing_period(self) -> float:
+        """2 pi / Omega (the stroboscopic section's spacing)."""
+        return 2.0 * math.pi / self.omega
+
+    def external_force(self, t: Any) -> Any:
+        """f(tau) = F_ex cos(Omega tau + phi), on scalars or arrays."""
+        return self.fex * np.cos(self.omega * np.asarray(t) + self.phi)
+
 
 @dataclass(frozen=True)
 class DimensionalParams:
     """Dimensional parameters (SI or any consistent units).
+
+    ``f_ex`` / ``w_ex`` / ``phi_ex``: amplitude, angular frequency (rad per
+    unit time; default omega0) and phase of the external force
+    f_ex cos(w_ex t + phi_ex).
 
     ``f_ms`` (maximum static friction) defaults to ``f_d`` and ``v_d`` (the
     Karnopp dead-zone half width) to the paper's V_d = 1e-3 in
@@ -72,6 +106,9 @@ class DimensionalParams:
     f_ms: float | None = None
     v_d: float | None = None
     l_0: float = 1.0
+    f_ex: float = 0.0
+    w_ex: float | None = None
+    phi_ex: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "m", check.positive("m", self.m))
@@ -86,6 +123,11 @@ class DimensionalParams:
         if self.v_d is None:
             object.__setattr__(self, "v_d", 1e-3 * self.omega0 * self.l_0)
         object.__setattr__(self, "v_d", check.positive("v_d", self.v_d))
+        object.__setattr__(self, "f_ex", check.nonnegative("f_ex", self.f_ex))
+        if self.w_ex is None:
+            object.__setattr__(self, "w_ex", self.omega0)
+        object.__setattr__(self, "w_ex", check.positive("w_ex", self.w_ex))
+        object.__setattr__(self, "phi_ex", check.finite("phi_ex", self.phi_ex))
 
     @property
     def omega0(self) -> float:
@@ -93,7 +135,7 @@ class DimensionalParams:
         return math.sqrt(self.k / self.m)
 
     def nondimensional(self) -> dict[str, float]:
-        """Eq. 3: zeta, V_b, F_d, F_s, V_d (and omega0 for the time scale tau = omega0 t)."""
+        """Eq. 3: zeta, V_b, F_d, F_s, V_d, the forcing F_ex, Omega, phi (and omega0 for the time scale tau = omega0 t)."""
         w0 = self.omega0
         force = self.k * self.l_0
         return {
@@ -102,6 +144,9 @@ class DimensionalParams:
             "fd": self.f_d / force,
             "fs": float(self.f_ms) / force,
             "vd": float(self.v_d) / (w0 * self.l_0),
+            "fex": self.f_ex / force,
+            "omega": float(self.w_ex) / w0,
+            "phi": self.phi_ex,
             "omega0": w0,
         }
 

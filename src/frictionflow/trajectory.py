@@ -30,7 +30,7 @@ from .friction.base import FrictionLaw
 from .params import BeltOscillator
 
 #: column order of :attr:`Trajectory.dwork` and :attr:`Trajectory.work`
-WORK_NAMES = ("W_dv", "W_fin", "W_fout", "W_heat")
+WORK_NAMES = ("W_dv", "W_fin", "W_fout", "W_heat", "W_ex")
 #: the per-sample friction mode codes of :attr:`Trajectory.mode`
 MODE_NAMES = {-1: "slip-", 0: "stick", 1: "slip+"}
 
@@ -44,6 +44,7 @@ DATASET_VARIABLES = {
     "W_fin": ("1", "cumulative friction input int max(X' F_c, 0) dtau"),
     "W_fout": ("1", "cumulative friction output int max(-X' F_c, 0) dtau"),
     "W_heat": ("1", "cumulative interface heat int F_c V_r dtau over slip"),
+    "W_ex": ("1", "cumulative work of the external force int X' F_ex cos(Omega tau + phi) dtau"),
     "is_sample": ("1", "the solver's own sample (False: a point added on the true curve between samples)"),
     "switch": ("1", "a sample where the friction mode switches"),
 }
@@ -62,9 +63,10 @@ class Trajectory(Summarized):
     mode:
         Friction mode at each sample: +1 slip+ (V_r > 0), 0 stick, -1 slip-.
     dwork:
-        (n, 4) integrals over (t[i-1], t[i]] (row 0 is zero): ``W_dv`` =
-        int 2 zeta X'^2, ``W_fin`` = int max(P_f, 0), ``W_fout`` =
-        int max(-P_f, 0), ``W_heat`` = int F_c V_r over slip (P_f = X' F_c).
+        (n, 5) integrals over (t[i-1], t[i]] (row 0 is zero), columns
+        :data:`WORK_NAMES`: ``W_dv`` = int 2 zeta X'^2, ``W_fin`` =
+        int max(P_f, 0), ``W_fout`` = int max(-P_f, 0), ``W_heat`` =
+        int F_c V_r over slip (P_f = X' F_c), ``W_ex`` = int X' f(tau).
     model, friction:
         What was simulated.
     solver:
@@ -201,13 +203,13 @@ class Trajectory(Summarized):
         return np.cumsum(self.dwork, axis=0)
 
     def window_work(self, i0: int, i1: int) -> np.ndarray:
-        """The four work integrals over samples (i0, i1]."""
+        """The work integrals (:data:`WORK_NAMES`) over samples (i0, i1]."""
         return self.dwork[i0 + 1 : i1 + 1].sum(axis=0)
 
     @property
     def acceleration(self) -> np.ndarray:
-        """X'' = F_c - X - 2 zeta X' (Eq. 4)."""
-        return self.fc - self.x - 2.0 * self.zeta * self.v
+        """X'' = F_c + f(tau) - X - 2 zeta X' (Eq. 4, with the external force)."""
+        return self.fc + self.model.external_force(self.t) - self.x - 2.0 * self.zeta * self.v
 
     @property
     def energy(self) -> np.ndarray:

@@ -22,6 +22,7 @@ from .. import quantities as Q
 from . import certificate, dopri, exact, rk4_batch
 from . import sections as sec
 from .friction import FD, slip_magnitude_of
+from .layout import N_WORK
 
 # The result row is the first NR entries of the table's layout, the one
 # sections fills.  Positions by name; numba reads them as constants.
@@ -79,7 +80,7 @@ def _classify_samples(t, x, v, mode, work, zeta, vb, p, rtol, min_periods, h, fi
 def _buffers(cap):
     """One point's sample arrays (events are not kept: one slot, never read)."""
     return (np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap, dtype=np.int8),
-            np.empty((cap, 4)), np.empty(1), np.empty(1, dtype=np.int64))
+            np.empty((cap, N_WORK)), np.empty(1), np.empty(1, dtype=np.int64))
 
 
 @njit(cache=True, parallel=True)

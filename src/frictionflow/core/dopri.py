@@ -25,6 +25,7 @@ from numba import njit
 
 from .friction import FS, RESULTANT, rest_mode, slip_magnitude_of
 from . import sections as sec
+from .layout import N_WORK
 from .samples import emit
 
 A21 = 1 / 5
@@ -86,7 +87,7 @@ def dense(y0, K, h, theta, out):
 @njit(cache=True)
 def at_rest(x, zeta, vb, fs, res, p):
     """Mode at V_r = 0 by Coulomb's stick rule (:func:`~frictionflow.core.friction.rest_mode`)."""
-    return rest_mode(x, zeta, vb, fs, res, slip_force(p, 0.0))
+    return rest_mode(x, zeta, vb, fs, res, slip_force(p, 0.0), 0.0, 0.0)
 
 
 @njit(cache=True)
@@ -119,7 +120,7 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
     yn = np.empty(NY)
     ys = np.empty(NY)
     tmp = np.empty(NY)
-    w = np.zeros(4)  # W_dv, W_fin, W_fout, W_heat since the last sample
+    w = np.zeros(N_WORK)  # W_dv, W_fin, W_fout, W_heat, W_ex since the last sample
     wf_last = 0.0
     t = 0.0
     x, v = x0, v0

@@ -46,6 +46,7 @@ from numba import njit
 from . import closed_form as cf
 from . import sections as sec
 from .friction import COULOMB, FD, FS, KARNOPP, LAW, RESULTANT, VD
+from .layout import N_WORK
 from .samples import emit
 
 SLIP_POS, SLIP_NEG, HOLD, SAT_POS, SAT_NEG, EDGE_LO, EDGE_HI, STICK = range(1, 9)
@@ -469,7 +470,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     law = int(p[LAW])
     fd, fs, vd = p[FD], p[FS], p[VD]
     res = p[RESULTANT] != 0.0
-    w = np.zeros(4)  # the work integrals since the last sample (emit restarts them)
+    w = np.zeros(N_WORK)  # the work integrals since the last sample (emit restarts them)
     # stop_periodic: X and times of the last maxima, then minima, of X, how many, and the largest |X| sampled
     m = min_periods + 2
     ring = np.zeros(4 * m)  # (np.zeros as for w: one allocation routine to compile)

@@ -7,6 +7,11 @@
   adaptive kernel and the Python orbit flows).
 * :func:`band_force` / :func:`band_mode`: Karnopp's stick band |V_r| <= V_d
   (fixed-step RK4).
+* :func:`external_force`: the harmonic force f(tau) = F_ex cos(Omega tau + phi).
+
+Every rule that decides sticking takes ``fext``, the external force at that
+instant: the interface holds what the spring, the damper and the external
+force leave, F_e - f(tau).
 
 A law's parameters arrive as plain floats in the layout of :mod:`.layout`
 (re-exported here).  A new law with a compiled slip force adds its code to
@@ -15,12 +20,14 @@ A law's parameters arrive as plain floats in the layout of :mod:`.layout`
 
 from __future__ import annotations
 
+import math
+
 from numba import njit
 
 from ..friction import cubic, stribeck
 from .layout import (  # noqa: F401  (re-exported: the kernels import the layout from here)
-    COULOMB, CUBIC, FD, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, SLIP_NEG, SLIP_POS, SMOOTH_LAWS,
-    STICK, STRIBECK, VD,
+    COULOMB, CUBIC, FD, FEX, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, N_PARAMS, N_WORK, OMEGA, PHI, RESULTANT, SLIP_NEG,
+    SLIP_POS, SMOOTH_LAWS, STICK, STRIBECK, VD,
 )
 
 
@@ -56,31 +63,52 @@ def slip_slope_of(p, speed):
     return slip_slope(int(p[LAW]), p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C], speed)
 
 
+@njit(cache=True, inline="always")
+def external_force(p, t):
+    """f(tau) = F_ex cos(Omega tau + phi) of the force record ``p`` (0.0 unforced, without a cosine)."""
+    fex = p[FEX]
+    if fex == 0.0:
+        return 0.0
+    return fex * math.cos(p[OMEGA] * t + p[PHI])
+
+
+@njit(cache=True, inline="always")
+def external_force_rate(p, t):
+    """f'(tau) = -F_ex Omega sin(Omega tau + phi) (0.0 unforced)."""
+    fex = p[FEX]
+    if fex == 0.0:
+        return 0.0
+    return -fex * p[OMEGA] * math.sin(p[OMEGA] * t + p[PHI])
+
+
 @njit(cache=True)
-def rest_mode(x, zeta, vb, fs, resultant, f0):
+def rest_mode(x, zeta, vb, fs, resultant, f0, fext, dfext):
     """Coulomb's stick rule at V_r = 0: 0 to stick, or the slip direction +-1.
 
-    The mass sticks while the force the interface must hold, |F_e| with
-    F_e = X + 2 zeta V_b (``resultant``) or X, is below F_s -- or on F_s
-    while sticking would move F_e back inwards.  Otherwise it slips in the
-    direction d whose slip force d F(0+) = d ``f0`` drives V_r away from 0.
+    The mass sticks while the force the interface must hold, |F_e - f| with
+    F_e = X + 2 zeta V_b (``resultant``) or X and f = ``fext`` the external
+    force, is below F_s -- or on F_s while sticking would move it back
+    inwards (while sticking it changes at the rate V_b - f', ``dfext`` = f').
+    Otherwise it slips in the direction d whose slip force d F(0+) = d ``f0``
+    drives V_r away from 0.
     """
-    fe = x + 2.0 * zeta * vb if resultant else x
-    outward = fe * vb > 0.0 or vb == 0.0
+    fe = (x + 2.0 * zeta * vb if resultant else x) - fext
+    rate = vb - dfext
+    outward = fe * rate > 0.0 or rate == 0.0
     if abs(fe) < fs * (1.0 - 1e-14) or (abs(fe) <= fs and not outward):
         return 0
-    tol = 1e-12 * (abs(f0) + abs(x) + 2.0 * zeta * abs(vb))
+    tol = 1e-12 * (abs(f0) + abs(x) + 2.0 * zeta * abs(vb) + abs(fext))
     first = 1.0 if fe > 0.0 else -1.0
     for d in (first, -first):
-        a = d * f0 - x - 2.0 * zeta * vb
-        # slip+ means X' falls below V_b: needs X'' < 0 (or ~0, with X''' = -V_b < 0)
-        if d * a < -tol or (abs(a) <= tol and d * vb > 0.0):
+        a = d * f0 + fext - x - 2.0 * zeta * vb
+        # slip+ means X' falls below V_b: needs X'' < 0 (or ~0, with X''' = f' - V_b < 0)
+        if d * a < -tol or (abs(a) <= tol and d * rate > 0.0):
             return int(d)
     return 0
 
 
 @njit(cache=True, inline="always")
-def band_force(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb):
+def band_force(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext):
     """Friction force of a law with a stick band |V_r| <= V_d (Karnopp's scheme).
 
     Branches, for one trajectory at a time: they are predicted well and keep
@@ -91,7 +119,7 @@ def band_force(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb):
         return slip_magnitude(law, fd, fs, a, b, c, vr)
     if vr < -vd:
         return -slip_magnitude(law, fd, fs, a, b, c, -vr)
-    fe = x + 2.0 * zeta * v if resultant else x
+    fe = (x + 2.0 * zeta * v if resultant else x) - fext
     if fe >= fs:
         return fs
     if fe <= -fs:
@@ -100,13 +128,13 @@ def band_force(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb):
 
 
 @njit(cache=True, inline="always")
-def band_force_select(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb):
+def band_force_select(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext):
     """:func:`band_force` computing both sides and selecting one: for loops over many lanes, which it lets vectorise."""
     vr = vb - v
     speed = abs(vr)
     mag = slip_magnitude(law, fd, fs, a, b, c, speed)
     slip = mag if vr > 0.0 else -mag
-    fe = x + 2.0 * zeta * v if resultant else x
+    fe = (x + 2.0 * zeta * v if resultant else x) - fext
     hold = min(max(fe, -fs), fs)  # F_s sgn(F_e) once |F_e| >= F_s
     return slip if speed > vd else hold
 

@@ -8,7 +8,15 @@
                 laws the band fixed-step RK4 uses
 ``p[RESULTANT]`` 1.0: F_e = X + 2 zeta X'; 0.0: F_e = X
 ``p[LAW_A..C]`` the law's own parameters (its ``kernel_slots``)
+``p[FEX]``      amplitude F_ex of the external force (0: unforced)
+``p[OMEGA]``    its angular frequency Omega
+``p[PHI]``      its phase phi: f(tau) = F_ex cos(Omega tau + phi)
 ==============  ======================================================
+
+The record holds every force on the mass besides the spring and the damper:
+the interface's and the external one.  With forcing the equation of motion is
+X'' = F_c + f(tau) - X - 2 zeta X', and the force the interface must hold
+while sticking is F_e - f(tau) (F_e = X + 2 zeta V_b, or X).
 
 Every registered law with a compiled slip force has a code here and a line
 in each dispatcher of :mod:`.friction`.  This module imports nothing, so the
@@ -22,8 +30,13 @@ CUBIC = 3
 #: the codes with a compiled slip curve (batched RK4 compiles one loop for each)
 SMOOTH_LAWS = (STRIBECK, CUBIC)
 
-LAW, FD, FS, VD, RESULTANT, LAW_A, LAW_B, LAW_C = range(8)
-N_PARAMS = 8
+LAW, FD, FS, VD, RESULTANT, LAW_A, LAW_B, LAW_C, FEX, OMEGA, PHI = range(11)
+N_PARAMS = 11
+
+#: the work integrals every solver accumulates (columns of ``Trajectory.dwork``):
+#: damper, friction in, friction out, interface heat, external force
+W_DV, W_FIN, W_FOUT, W_HEAT, W_EX = range(5)
+N_WORK = 5
 
 #: friction mode codes recorded per sample by the solvers
 SLIP_NEG = -1

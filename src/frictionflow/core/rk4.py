@@ -8,8 +8,13 @@ what accumulated since the previous one, then the sums restart):
 * ``W_pos``  = int max(P_f, 0)            (friction power in, P_f = X' F_c)
 * ``W_neg``  = int max(-P_f, 0)           (friction power out, as a magnitude)
 * ``W_heat`` = int F_c V_r over slip      (heat at the interface)
+* ``W_ex``   = int X' f(tau)              (work of the external force)
 
-``s`` (length 6) holds ``X, X'`` and the four sums since the last sample; it is
+The external force enters each stage at the stage's time; a step evaluates
+it at its start, middle and end (``f1``, ``f2``, ``f4``), the last reused as
+the next step's start.  Unforced runs pass zeros and compute no cosine.
+
+``s`` (length 7) holds ``X, X'`` and the five sums since the last sample; it is
 updated in place, so a long run can be advanced chunk by chunk (progress bars).
 """
 
@@ -18,27 +23,28 @@ from __future__ import annotations
 from numba import literal_unroll, njit
 
 from .friction import (
-    COULOMB, FD, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, SMOOTH_LAWS, VD, band_force, band_force_select, band_mode,
+    COULOMB, FD, FEX, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, SMOOTH_LAWS, VD, band_force, band_force_select,
+    band_mode, external_force,
 )
 
-N_STATE = 6
+N_STATE = 7
 #: fused multiply-add allowed: shorter dependency chains, and the single and
 #: batched kernels share it so that they round alike
 FASTMATH = {"contract"}
 
 
 @njit(cache=True, inline="always")
-def stage(x, v, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes):
-    """Right-hand side at one stage: (X'', P_dv, P_f+, P_f-, P_heat).
+def stage(x, v, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes):
+    """Right-hand side at one stage with external force ``f``: (X'', P_dv, P_f+, P_f-, P_heat).
 
     ``lanes`` (a constant at each call site) picks the select form of the law
     for the batched kernels.
     """
     if lanes:
-        fc = band_force_select(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb)
+        fc = band_force_select(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb, f)
     else:
-        fc = band_force(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb)
-    a = fc - x - 2.0 * zeta * v
+        fc = band_force(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb, f)
+    a = fc + f - x - 2.0 * zeta * v
     pf = v * fc
     vr = vb - v
     heat = fc * vr if abs(vr) > vd else 0.0
@@ -46,19 +52,22 @@ def stage(x, v, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes):
 
 
 @njit(cache=True, inline="always")
-def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False):
-    """One RK4 step of the augmented system; returns new X, X' and work increments."""
+def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False, f1=0.0, f2=0.0, f4=0.0):
+    """One RK4 step of the augmented system; returns new X, X' and work increments (W_ex's last).
+
+    ``f1, f2, f4``: the external force at the step's start, middle and end.
+    """
     h2 = 0.5 * dt
-    a1, d1, p1, n1, q1 = stage(x, v, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
+    a1, d1, p1, n1, q1 = stage(x, v, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
     x2 = x + h2 * v
     v2 = v + h2 * a1
-    a2, d2, p2, n2, q2 = stage(x2, v2, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
+    a2, d2, p2, n2, q2 = stage(x2, v2, f2, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
     x3 = x + h2 * v2
     v3 = v + h2 * a2
-    a3, d3, p3, n3, q3 = stage(x3, v3, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
+    a3, d3, p3, n3, q3 = stage(x3, v3, f2, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
     x4 = x + dt * v3
     v4 = v + dt * a3
-    a4, d4, p4, n4, q4 = stage(x4, v4, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
+    a4, d4, p4, n4, q4 = stage(x4, v4, f4, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
     h6 = dt / 6.0
     return (
         x + h6 * (v + 2.0 * v2 + 2.0 * v3 + v4),
@@ -67,20 +76,23 @@ def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False):
         h6 * (p1 + 2.0 * p2 + 2.0 * p3 + p4),
         h6 * (n1 + 2.0 * n2 + 2.0 * n3 + n4),
         h6 * (q1 + 2.0 * q2 + 2.0 * q3 + q4),
+        h6 * (v * f1 + 2.0 * (v2 + v3) * f2 + v4 * f4),
     )
 
 
 @njit(cache=True, inline="always")
-def _record(k, t, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w):
+def _record(k, t, x, v, w0, w1, w2, w3, w4, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode,
+            out_w):
     out_t[k] = t
     out_x[k] = x
     out_v[k] = v
-    out_fc[k] = band_force(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb)
+    out_fc[k] = band_force(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb, f)
     out_mode[k] = band_mode(v, vb, vd)
-    out_w[k, 0] = wdv
-    out_w[k, 1] = wp
-    out_w[k, 2] = wn
-    out_w[k, 3] = wq
+    out_w[k, 0] = w0
+    out_w[k, 1] = w1
+    out_w[k, 2] = w2
+    out_w[k, 3] = w3
+    out_w[k, 4] = w4
 
 
 @njit(cache=True, fastmath=FASTMATH)
@@ -88,7 +100,7 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
     """Advance steps ``i0 .. i1-1`` (global indices), recording every ``every``-th.
 
     A sample is written before step ``i`` when ``i % every == 0`` and after the
-    last step (``i1 == n_total``); ``out_w`` has shape (n_samples, 4).
+    last step (``i1 == n_total``); ``out_w`` has shape (n_samples, N_WORK).
     Returns the next free sample index.  Each law's loop is compiled with its
     code as a constant, so that it holds only that law's slip force.
     """
@@ -110,25 +122,31 @@ def _run(law, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_
     la = p[LAW_A]
     lb = p[LAW_B]
     lc = p[LAW_C]
-    x, v, wdv, wp, wn, wq = s[0], s[1], s[2], s[3], s[4], s[5]
+    x, v, w0, w1, w2, w3, w4 = s[0], s[1], s[2], s[3], s[4], s[5], s[6]
+    f1 = external_force(p, t0 + i0 * dt)
     # a countdown instead of i % every: an integer division per step costs more than the step
     due = (every - i0 % every) % every
     for i in range(i0, i1):
         if due == 0:
             due = every
-            _record(k, t0 + i * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            _record(k, t0 + i * dt, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
             k += 1
-            wdv = wp = wn = wq = 0.0
+            w0 = w1 = w2 = w3 = w4 = 0.0
         due -= 1
-        x, v, ddv, dp, dn, dq = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc)
-        wdv += ddv
-        wp += dp
-        wn += dn
-        wq += dq
+        f2 = external_force(p, t0 + (i + 0.5) * dt)
+        f4 = external_force(p, t0 + (i + 1) * dt)
+        x, v, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, False, f1, f2, f4)
+        w0 += d0
+        w1 += d1
+        w2 += d2
+        w3 += d3
+        w4 += d4
+        f1 = f4
     if i1 == n_total:
-        _record(k, t0 + n_total * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+        _record(k, t0 + n_total * dt, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
         k += 1
-    s[0], s[1], s[2], s[3], s[4], s[5] = x, v, wdv, wp, wn, wq
+        w0 = w1 = w2 = w3 = w4 = 0.0
+    s[0], s[1], s[2], s[3], s[4], s[5], s[6] = x, v, w0, w1, w2, w3, w4
     return k
 
 
@@ -147,44 +165,51 @@ def run_thinned(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, o
     samples none of these happens, so the section records, window aggregates
     and stick times built from the kept samples are those of every step
     (:func:`frictionflow.core.sections.records_from_samples`), and the work
-    integrals are exact sums.  ``s`` (length 8) also carries X'' of the current
-    state and whether it is kept already.  Returns (next free sample, next
-    step): it stops early when fewer than 3 samples fit.
+    integrals are exact sums.  ``s`` (length N_STATE + 2) also carries X'' of
+    the current state and whether it is kept already.  Returns (next free
+    sample, next step): it stops early when fewer than 3 samples fit.
     """
     law = int(p[LAW])
     fd, fs, vd, res = p[FD], p[FS], p[VD], p[RESULTANT] != 0.0
     la, lb, lc = p[LAW_A], p[LAW_B], p[LAW_C]
-    x, v, wdv, wp, wn, wq, a, kept = s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7] != 0.0
+    x, v, w0, w1, w2, w3, w4 = s[0], s[1], s[2], s[3], s[4], s[5], s[6]
+    a, kept = s[N_STATE], s[N_STATE + 1] != 0.0
     cap = len(out_t)
     i = i0
+    f1 = external_force(p, t0 + i0 * dt)
     while i < i1:
         if k + 3 > cap:
             break
         t = t0 + i * dt
         if i % every == 0 and not kept:
-            _record(k, t, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            _record(k, t, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
             k += 1
-            wdv = wp = wn = wq = 0.0
+            w0 = w1 = w2 = w3 = w4 = 0.0
             kept = True
-        xn, vn, ddv, dp, dn, dq = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc)
-        an = band_force(law, fd, fs, vd, res, la, lb, lc, xn, vn, zeta, vb) - xn - 2.0 * zeta * vn
+        f2 = external_force(p, t0 + (i + 0.5) * dt)
+        f4 = external_force(p, t0 + (i + 1) * dt)
+        xn, vn, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, False, f1, f2, f4)
+        an = band_force(law, fd, fs, vd, res, la, lb, lc, xn, vn, zeta, vb, f4) + f4 - xn - 2.0 * zeta * vn
         event = (_sign(v) != _sign(vn) or _sign(a) != _sign(an) or _sign(v + 2.0 * zeta * a) != _sign(vn + 2.0 * zeta * an)
                  or band_mode(v, vb, vd) != band_mode(vn, vb, vd) or (t < t_tail <= t + dt))
         if event and not kept:
-            _record(k, t, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            _record(k, t, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
             k += 1
-            wdv = wp = wn = wq = 0.0
-        wdv += ddv
-        wp += dp
-        wn += dn
-        wq += dq
+            w0 = w1 = w2 = w3 = w4 = 0.0
+        w0 += d0
+        w1 += d1
+        w2 += d2
+        w3 += d3
+        w4 += d4
         x, v, a = xn, vn, an
+        f1 = f4
         kept = False
         i += 1
         if event or i == n_total:
-            _record(k, t0 + i * dt, x, v, wdv, wp, wn, wq, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            _record(k, t0 + i * dt, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
             k += 1
-            wdv = wp = wn = wq = 0.0
+            w0 = w1 = w2 = w3 = w4 = 0.0
             kept = True
-    s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7] = x, v, wdv, wp, wn, wq, a, 1.0 if kept else 0.0
+    s[0], s[1], s[2], s[3], s[4], s[5], s[6] = x, v, w0, w1, w2, w3, w4
+    s[N_STATE], s[N_STATE + 1] = a, 1.0 if kept else 0.0
     return k, i

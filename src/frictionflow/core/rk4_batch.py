@@ -28,7 +28,7 @@ def _lanes(law, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la,
     for j in range(len(x)):
         xj = x[j]
         vj = v[j]
-        xn, vn, d0, d1, d2, d3 = step(xj, vj, dt, zeta[j], vb[j], law, fd[j], fs[j], vd[j], res[j], la[j], lb[j], lc[j], True)
+        xn, vn, d0, d1, d2, d3, _ = step(xj, vj, dt, zeta[j], vb[j], law, fd[j], fs[j], vd[j], res[j], la[j], lb[j], lc[j], True)
         w0[j] += d0
         w1[j] += d1
         w2[j] += d2

@@ -2,6 +2,8 @@
 
 from numba import njit
 
+from .layout import N_WORK
+
 
 # Inlined: a call of a compiled function costs two atomic reference-count
 # updates per array argument -- here seven arrays, several times the writes.
@@ -9,7 +11,7 @@ from numba import njit
 def emit(outs, k, t, x, v, fc, mode, w):
     """Write sample ``k`` into ``outs`` = (t, x, v, fc, mode, work); False when the arrays are full.
 
-    ``w`` holds the four work integrals accumulated since the previous sample;
+    ``w`` holds the N_WORK work integrals accumulated since the previous sample;
     they are written and restart from zero.
     """
     out_t, out_x, out_v, out_fc, out_mode, out_w = outs
@@ -20,7 +22,7 @@ def emit(outs, k, t, x, v, fc, mode, w):
     out_v[k] = v
     out_fc[k] = fc
     out_mode[k] = mode
-    for j in range(4):
+    for j in range(N_WORK):
         out_w[k, j] = w[j]
         w[j] = 0.0
     return True

@@ -77,7 +77,7 @@ class SmoothFlow:
     # -- the stick rule -----------------------------------------------------
     def rest_mode(self, x: float) -> int:
         """At V_r = 0: 0 to stick, or the slip direction +-1 Coulomb's rule selects (the kernels' rule)."""
-        return rest_mode(x, self.zeta, self.vb, self.fs, self.res, self.f0)
+        return rest_mode(x, self.zeta, self.vb, self.fs, self.res, self.f0, 0.0, 0.0)
 
     def field(self, mode: int, x: float, v: float) -> np.ndarray:
         """The vector field (X', X'') of ``mode`` (+-1 slip, 0 stick) at (x, v)."""

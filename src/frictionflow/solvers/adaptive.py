@@ -16,7 +16,7 @@ from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from ..parameters import Param
-from .base import DEFAULT_MAX_MEMORY, Solver, run_growing, trajectory_from
+from .base import kernel_params, DEFAULT_MAX_MEMORY, Solver, run_growing, trajectory_from
 from .events import ADAPTIVE_EVENT_MODES
 from .exact import DENSE_DT
 
@@ -117,7 +117,7 @@ class Adaptive(Solver):
         if not self.supports(friction):
             raise ValueError(f"solver=adaptive does not support friction={friction.name}")
         run, _ = kernel_for(friction)
-        p = friction.kernel_params()
+        p = kernel_params(model, friction)
         dense_dt = self.dense_dt or 0.0
         t_tail = sections.tail_start(0.0, t_end)
 

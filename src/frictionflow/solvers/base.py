@@ -13,6 +13,7 @@ from typing import Any, Callable, ClassVar, Mapping
 
 import numpy as np
 
+from ..core.layout import FEX, N_WORK, OMEGA, PHI
 from ..friction.base import FrictionLaw
 from ..parameters import Param, resolve
 from ..modes import SwitchMode
@@ -21,10 +22,20 @@ from ..trajectory import Trajectory
 from .events import switch_modes
 
 
-#: what one kept sample costs: t, X, X', F_c, mode, four work integrals, one event slot
-BYTES_PER_SAMPLE = 4 * 8 + 1 + 4 * 8 + 2 * 8
+#: what one kept sample costs: t, X, X', F_c, mode, the work integrals, one event slot
+BYTES_PER_SAMPLE = 4 * 8 + 1 + N_WORK * 8 + 2 * 8
 #: memory a run's samples may take unless the caller says otherwise (GiB)
 DEFAULT_MAX_MEMORY = 4.0
+
+
+def kernel_params(model: BeltOscillator, friction: FrictionLaw) -> np.ndarray:
+    """The kernels' force record (:mod:`frictionflow.core.layout`): the law's slots and the external force's."""
+    p = friction.kernel_params()
+    if not model.forced:
+        return p
+    p = p.copy()
+    p[FEX], p[OMEGA], p[PHI] = model.fex, model.omega, model.phi
+    return p
 
 
 def check_memory(samples: float, max_memory: float, what: str | Callable[[], str]) -> None:
@@ -111,7 +122,7 @@ class Solver(ABC):
 def output_buffers(cap: int) -> tuple[np.ndarray, ...]:
     """Arrays an event-driven kernel writes into: t, x, v, fc, mode, work, event times, event modes."""
     t, x, v, fc = (np.empty(cap) for _ in range(4))
-    return t, x, v, fc, np.empty(cap, dtype=np.int8), np.empty((cap, 4)), np.empty(cap), np.empty(cap, dtype=np.int64)
+    return t, x, v, fc, np.empty(cap, dtype=np.int8), np.empty((cap, N_WORK)), np.empty(cap), np.empty(cap, dtype=np.int64)
 
 
 def trajectory_from(

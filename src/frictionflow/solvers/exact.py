@@ -14,7 +14,7 @@ from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, positive_real
-from .base import DEFAULT_MAX_MEMORY, Solver, run_growing, trajectory_from
+from .base import kernel_params, DEFAULT_MAX_MEMORY, Solver, run_growing, trajectory_from
 from .events import EXACT_EVENT_MODES
 
 DENSE_DT = positive_real("dense_dt", "", "exact/adaptive: also sample every DENSE_DT", "solver", None, upper=MODEL_MAX,
@@ -72,7 +72,7 @@ class Exact(Solver):
         if not self.supports(friction):
             raise ValueError(f"solver=exact does not support friction={friction.name} (its slip force is not constant)")
         dense = self.dense_dt or 0.0
-        p = friction.kernel_params()
+        p = kernel_params(model, friction)
         t_tail = sections.tail_start(0.0, t_end)
         t_mode = np.zeros(1, dtype=np.int64)
 

@@ -14,7 +14,8 @@ from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, Param
 from ..core import sections
-from .base import DEFAULT_MAX_MEMORY, CoarseStepWarning, Solver, check_memory
+from ..core.layout import N_WORK
+from .base import kernel_params, DEFAULT_MAX_MEMORY, CoarseStepWarning, Solver, check_memory
 
 # (a step below 1e-9 or more steps than MAX_STEPS would run for days: refused up front)
 DT = Param("dt", "", "RK4 step", "solver", 1e-3, lower=1e-9, upper=MODEL_MAX)
@@ -31,6 +32,13 @@ CHUNK = 2_000_000
 MAX_STEPS = 10**11
 
 
+def _divisor_at_least(n: int, k: int) -> int:
+    """The smallest divisor of ``n`` that is >= ``k`` (``k`` itself when ``n`` is 0): thinning that keeps every n-th step."""
+    if n == 0 or k <= 1:
+        return max(k, 1)
+    return next((d for d in range(k, n + 1) if n % d == 0), n * math.ceil(k / n))
+
+
 class ThinnedOutputWarning(UserWarning):
     """RK4 keeps only part of its steps (the analysis is unaffected: events are kept)."""
 
@@ -38,7 +46,7 @@ class ThinnedOutputWarning(UserWarning):
 def _arrays(n: int) -> tuple[np.ndarray, ...]:
     """t, X, X', F_c, mode and work arrays for ``n`` samples."""
     t, x, v, fc = (np.empty(n) for _ in range(4))
-    return t, x, v, fc, np.empty(n, dtype=np.int8), np.empty((n, 4))
+    return t, x, v, fc, np.empty(n, dtype=np.int8), np.empty((n, N_WORK))
 
 
 class RK4(Solver):
@@ -77,11 +85,12 @@ class RK4(Solver):
         z = model.zeta
         # Bound on |X''| over the run: the motion stays within the energy radius
         # about the slip centre, grown by at most the static-kinetic gap and V_b.
-        radius = math.hypot(x0 - friction.fd, v0) + (friction.fs - friction.fd) + abs(model.vb)
-        accel = radius * (1.0 + 2.0 * z) + friction.fs
+        # An external force adds at most its static response F_ex/(2 zeta) at resonance (capped: a warning's estimate).
+        radius = math.hypot(x0 - friction.fd, v0) + (friction.fs - friction.fd) + abs(model.vb) + model.fex / max(2.0 * z, 0.1)
+        accel = radius * (1.0 + 2.0 * z) + friction.fs + model.fex
         band_dt = friction.band / accel if accel > 0 else math.inf
-        # Slip about (F_d, 0) never gets faster than its start: the band is out of reach.
-        if abs(model.vb) - friction.band > math.hypot(x0 - friction.fd, v0):
+        # Unforced slip about (F_d, 0) never gets faster than its start: the band is out of reach.
+        if not model.forced and abs(model.vb) - friction.band > math.hypot(x0 - friction.fd, v0):
             band_dt = math.inf
         lam = z + math.sqrt(z * z - 1.0) if z > 1.0 else 1.0
         return {"band": band_dt, "stability": RK4_REAL_LIMIT / lam}
@@ -111,39 +120,55 @@ class RK4(Solver):
     ) -> Trajectory:
         if not self.supports(friction):
             raise ValueError(f"solver=rk4 does not support friction={friction.name}")
-        n = self.steps(t_end)
+        dt, per_period = self.aligned_step(model)
+        n = self.steps(t_end, dt)
         for msg in self.check_step(model, friction, x0, v0):
             warnings.warn(msg, CoarseStepWarning, stacklevel=3)
-        every = self.record_every or max(1, math.ceil(n / MAX_AUTO_SAMPLES))
+        every = self.record_every or _divisor_at_least(per_period, math.ceil(n / MAX_AUTO_SAMPLES))
         if every > 1 and self.record_every is None:
             warnings.warn(f"rk4: {n} steps; keeping one step in {every} and the steps around every section crossing, "
                           "extreme and mode change, so that classification and averages are those of every step "
                           "(record_every sets the thinning)", ThinnedOutputWarning, stacklevel=3)
-        p = friction.kernel_params()
-        args = (self.dt, model.zeta, model.vb, p)
+        p = kernel_params(model, friction)
+        args = (dt, model.zeta, model.vb, p)
         with progress_bar("rk4", n, enabled=progress and n > 5 * CHUNK) as advance:
             if every == 1:
                 out = self._every_step(n, x0, v0, args, max_memory, t_end, advance)
             else:
                 out = self._thinned(n, every, x0, v0, args, max_memory, t_end, advance)
         return Trajectory(
-            *out[:5], dwork=out[5], model=model, friction=friction, solver=self.describe() | {"record_every": every, "steps": n},
+            *out[:5], dwork=out[5], model=model, friction=friction,
+            solver=self.describe() | {"record_every": every, "steps": n} | ({"dt": dt} if dt != self.dt else {}),
         )
 
-    def steps(self, t_end: float) -> int:
+    def aligned_step(self, model: BeltOscillator) -> tuple[float, int]:
+        """The step used and the steps per forcing period (0 unforced).
+
+        With an external force the step shrinks to the nearest whole fraction
+        of the forcing period 2 pi / Omega, so that the stroboscopic section
+        falls on steps.
+        """
+        if not model.forced:
+            return self.dt, 0
+        per = max(1, math.ceil(model.forcing_period / self.dt - 1e-9))
+        return model.forcing_period / per, per
+
+    def steps(self, t_end: float, dt: float | None = None) -> int:
         """Steps to reach ``t_end``; ValueError when that is none or more than :data:`MAX_STEPS`."""
-        if self.dt > t_end:
-            raise ValueError(f"dt must be <= t_end = {t_end:g}, got {self.dt:g}")
-        n = max(1, math.ceil(t_end / self.dt - 1e-9))
+        dt = self.dt if dt is None else dt
+        if dt > t_end:
+            raise ValueError(f"dt must be <= t_end = {t_end:g}, got {dt:g}")
+        n = max(1, math.ceil(t_end / dt - 1e-9))
         if n > MAX_STEPS:
-            raise ValueError(f"t_end={t_end:g} with dt={self.dt:g} makes {n:.3g} RK4 steps, more than {MAX_STEPS:.0e} "
+            raise ValueError(f"t_end={t_end:g} with dt={dt:g} makes {n:.3g} RK4 steps, more than {MAX_STEPS:.0e} "
                              "(hours of computing): raise dt or shorten t_end")
         return n
 
     def _every_step(self, n: int, x0: float, v0: float, args: tuple, max_memory: float, t_end: float, advance) -> tuple:
         check_memory(n + 1, max_memory, lambda: self.sized(t_end))
         t, x, v, fc, mode, work = _arrays(n + 1)
-        state = np.array([x0, v0, 0.0, 0.0, 0.0, 0.0])
+        state = np.zeros(kernel.N_STATE)
+        state[:2] = x0, v0
         k = 0
         for i0 in range(0, n, CHUNK):
             i1 = min(n, i0 + CHUNK)
@@ -155,8 +180,10 @@ class RK4(Solver):
         # room for the regular samples and ~25 event samples per natural period; grown on demand
         cap = n // every + int(4 * t_end) + 64
         bufs = _arrays(cap)
-        state = np.array([x0, v0, 0.0, 0.0, 0.0, 0.0, np.nan, 0.0])
-        t_tail = sections.tail_start(0.0, n * self.dt)
+        state = np.zeros(kernel.N_STATE + 2)
+        state[:2] = x0, v0
+        state[kernel.N_STATE] = np.nan
+        t_tail = sections.tail_start(0.0, n * args[0])
         k = i = 0
         while i < n:
             check_memory(len(bufs[0]), max_memory, lambda: self.sized(t_end))
