@@ -70,6 +70,13 @@ class BeltOscillator:
     def as_dict(self) -> dict[str, float]:
         return asdict(self)
 
+    def report(self) -> dict[str, float]:
+        """The parameters a run's report names: zeta and V_b, and the external force's when forced."""
+        out = {"zeta": self.zeta, "vb": self.vb}
+        if self.forced:
+            out.update(fex=self.fex, omega=self.omega, phi=self.phi)
+        return out
+
     @property
     def forced(self) -> bool:
         """Whether an external force acts (F_ex > 0)."""

@@ -63,19 +63,23 @@ def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "p
     p = instantaneous_power(traj)
     lthin = _thin(i1 + 1 - j0)
     tw = traj.t[last][lthin]
-    for key, label in (("P_f", r"$P_f$"), ("P_dv", r"$P_{dv}$"), ("P_heat", r"$P_{heat}$")):
+    forced = traj.model.forced
+    lines = [("P_f", r"$P_f$"), ("P_dv", r"$P_{dv}$"), ("P_heat", r"$P_{heat}$")] + ([("P_ex", r"$P_{ex}$")] if forced else [])
+    for key, label in lines:
         ax[1, 0].plot(tw, p[key][last][lthin], lw=0.8, label=label)
     ax[1, 0].set(xlabel=r"$\tau$", title="instantaneous power (end of window)")
     ax[1, 0].legend(loc="upper right", fontsize=8)
 
     av = result.power.averages()
-    names = ["P_fin", "P_df", "P_dv", "P_belt", "P_heat"]
+    names = ["P_fin", "P_df", "P_dv", "P_belt", "P_heat"] + (["P_ex"] if forced else [])
     vals = [av[k] for k in names]
-    ax[1, 1].bar(names, vals, color=["C2", "C1", "C0", "C4", "C3"])
+    ax[1, 1].bar(names, vals, color=["C2", "C1", "C0", "C4", "C3", "C5"][: len(names)])
     ax[1, 1].set(title=f"averages (residual {result.energy_residual:.1e})")
     ax[1, 1].ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
 
     params = f"ζ={traj.zeta:g}, V_b={traj.vb:g}, F_d={traj.friction.fd:g}, F_s={traj.friction.fs:g}"
+    if forced:
+        params += f", F_ex={traj.model.fex:g}, Ω={traj.model.omega:g}"
     fig.suptitle(f"{params}   TR_B={result.TR_B:.4g}")
     if path is not None:
         write_figure(fig, path, name)  # atomic: no partial figure on failure
@@ -109,6 +113,46 @@ def plot_trajectory(traj, path: str | Path | None = None, *, name: str = "path")
     ax[1].set(xlabel="X", ylabel="X'", title="phase portrait")
     ax[1].legend(loc="lower left", fontsize=8)
     fig.suptitle(f"{traj.friction!r}, ζ={traj.zeta:g}, V_b={traj.vb:g}, solver {traj.solver.get('name', '?')}", fontsize=9)
+    if path is not None:
+        write_figure(fig, path, name)
+    return fig
+
+
+def plot_response(ds, path: str | Path | None = None, *, name: str = "path"):
+    """The frequency response (:func:`frictionflow.analysis.response.frequency_response`) against Omega.
+
+    Amplitude, TR_B, the power the external force puts in and what the damper
+    and the interface take out, and the stick fraction; the up and down
+    sweeps drawn apart, so that jumps and hysteresis show.  Steady states
+    that are not periodic are marked (x: quasi-periodic, chaotic or not
+    settled).
+    """
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(2, 2, figsize=(11, 7), sharex=True)
+    w = ds["omega"].values
+    style = {"up": dict(color="C0", marker=">", ms=3), "down": dict(color="C3", marker="<", ms=3, ls="--")}
+    for d in ds["direction"].values:
+        sel = ds.sel(direction=d)
+        kw = style.get(str(d), {})
+        ax[0, 0].plot(w, sel["amplitude"], label=f"sweep {d}", **kw)
+        ax[0, 1].plot(w, sel["TR_B"], **kw)
+        ax[1, 0].plot(w, sel["P_ex"], label=f"$P_{{ex}}$ {d}", **kw)
+        ax[1, 0].plot(w, sel["P_dv"], alpha=0.6, lw=0.8, color=kw.get("color"), ls=":", label=f"$P_{{dv}}$ {d}")
+        ax[1, 1].plot(w, sel["stick_fraction"], **kw)
+        other = sel["kind"].values != 0
+        if other.any():
+            ax[0, 0].plot(w[other], sel["amplitude"].values[other], "kx", ms=6)
+    ax[0, 0].set(ylabel="amplitude $(X_{max}-X_{min})/2$", title="amplitude")
+    ax[0, 0].legend(fontsize=8)
+    ax[0, 1].set(ylabel=r"$TR_B$", title=r"transmissibility max$|X+2\zeta X'|/F_{ex}$")
+    ax[1, 0].set(xlabel=r"$\Omega$", ylabel="power", title="power in (external force) and out (damper)")
+    ax[1, 0].legend(fontsize=7)
+    ax[1, 1].set(xlabel=r"$\Omega$", ylabel="stick fraction", title="stick fraction")
+    attrs = ds.attrs
+    fig.suptitle(f"ζ={attrs.get('zeta', 0):g}, V_b={attrs.get('vb', 0):g}, F_ex={attrs.get('fex', 0):g}, "
+                 f"{attrs.get('friction', '')} F_d={attrs.get('fd', 0):g}, F_s={attrs.get('fs', 0):g}")
+    fig.tight_layout()
     if path is not None:
         write_figure(fig, path, name)
     return fig

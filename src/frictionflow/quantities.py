@@ -41,8 +41,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 #: the steady-state kinds, by code (the ``kind`` variable's flag meanings)
-#: (``diverged``: the state left the floating-point range; nothing else is reported)
-KINDS = ("periodic", "equilibrium", "not_settled", "diverged")
+#: (``diverged``: the state left the floating-point range; nothing else is reported;
+#: ``quasi_periodic`` and ``chaotic`` only occur with an external force: :mod:`frictionflow.analysis.forced`)
+KINDS = ("periodic", "equilibrium", "not_settled", "diverged", "quasi_periodic", "chaotic")
 
 #: how a quantity's value at the sliding equilibrium X* follows from X*,
 #: V_b, F_d, the stick fraction and the energy residual
@@ -75,7 +76,7 @@ class Quantity:
 
 
 TABLE = (
-    Quantity("kind", "steady state: 0 periodic, 1 equilibrium, 2 not settled, 3 diverged", "steady_state", "kind", dtype="i1", flags=KINDS),
+    Quantity("kind", "steady state: 0 periodic, 1 equilibrium, 2 not settled, 3 diverged, 4 quasi-periodic, 5 chaotic", "steady_state", "kind", dtype="i1", flags=KINDS),
     Quantity("period", "period of the periodic steady state (tau units; NaN unless periodic)", "steady_state", "nan"),
     Quantity("P_dv", "time-averaged power dissipated by the damper", "averages", "zero"),
     Quantity("P_df", "time-averaged power taken out by friction (magnitude of the negative part of X' F_c)", "averages", "zero"),
@@ -84,7 +85,7 @@ TABLE = (
     Quantity("R_f", "power dissipation ratio of friction P_df / P_fin", "averages", "nan"),
     Quantity("P_belt", "time-averaged power delivered by the belt F_c V_b", "averages", "belt"),
     Quantity("P_heat", "time-averaged heat generated at the interface F_c V_r", "averages", "belt"),
-    Quantity("TR_B", "force transmissibility max|X + 2 zeta X'| / F_d", "TR_B", "trb"),
+    Quantity("TR_B", "force transmissibility max|X + 2 zeta X'| / F_ex (Eq. 6; F_ex = F_d unforced)", "TR_B", "trb"),
     Quantity("X_min", "minimum displacement over the steady-state window", "amplitude", "x"),
     Quantity("X_max", "maximum displacement over the steady-state window", "amplitude", "x"),
     Quantity("V_min", "minimum velocity over the steady-state window", "amplitude", "zero"),
@@ -93,6 +94,9 @@ TABLE = (
     Quantity("energy_residual", "relative residual of the power balance over the window", "energy_residual", "resid"),
     # not stored by sweeps: over whole periods it equals P_dv
     Quantity("P_f", "time-averaged net power of friction X' F_c = P_belt - P_heat", "averages", "zero", swept=False),
+    # not stored by batched sweeps (they run the unforced system); forced sweeps add it
+    Quantity("P_ex", "time-averaged power put in by the external force X' F_ex cos(Omega tau + phi)", "averages", "zero",
+             swept=False),
 )
 
 NAMES = tuple(q.name for q in TABLE)

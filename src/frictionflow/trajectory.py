@@ -257,7 +257,7 @@ class Trajectory(Summarized):
         for k, (units, long_name) in DATASET_VARIABLES.items():
             ds[k].attrs.update(units=units, long_name=long_name)
         ds["mode"].attrs.update(_mode_flags())
-        ds.attrs.update({"zeta": self.model.zeta, "vb": self.model.vb})
+        ds.attrs.update(self.model.report())
         ds.attrs.update({f"friction_{k}": v for k, v in self.friction.as_dict().items()})
         ds.attrs.update({f"solver_{k}": v for k, v in self.solver.items() if v is not None})
         return ds

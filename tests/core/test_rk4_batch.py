@@ -41,7 +41,7 @@ def test_batch_equals_single_runs(lanes):
         tr = simulate(BeltOscillator(zeta=zeta[j], vb=vb[j]), laws[j], RK4(dt=dt), t_end=t_end)
         # the same motion (fused multiply-adds may round differently in SIMD)
         assert fin[j, sec.A_E] == pytest.approx(tr.energy[-1], rel=1e-9)
-        assert np.allclose(fin[j, sec.A_W0 : sec.A_W0 + 4], tr.work[-1], rtol=1e-9, atol=1e-18)
+        assert np.allclose(fin[j, sec.A_W0 : sec.A_W0 + 4], tr.work[-1, :4], rtol=1e-9, atol=1e-18)
         cls, summ = classify_trajectory(tr)
         assert out[j, sec.C_KIND] == cls[sec.C_KIND]
         kinds.add(int(cls[sec.C_KIND]))

@@ -15,6 +15,9 @@ Averages over a window of length tau_p (Eq. 9):
 * ``R_c`` = P_dv / P_fin and ``R_f`` = P_df / P_fin (NaN when friction puts
   in nothing above rounding, as at an equilibrium).
 
+With an external force f(tau) (paper Eq. 1's f_ex), ``P_ex`` = mean of
+X' f(tau) enters the balance: K' + P_dv + U' = P_f + X' f.
+
 Beyond the paper, P_f = P_belt - P_heat with P_belt = F_c V_b the power the
 belt delivers and P_heat = F_c V_r >= 0 the heat generated at the interface
 while slipping (0 while sticking, where V_r is taken as 0 -- inside
@@ -83,11 +86,11 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
     t0, t1 = float(traj.t[i0]), float(traj.t[i1])
     dw = traj.window_work(i0, i1)
     e = traj.energy
-    return PowerFlow.from_row((t0, t1), sec.averages(dw[0], dw[1], dw[2], dw[3], e[i0], e[i1], t1 - t0))
+    return PowerFlow.from_row((t0, t1), sec.averages(*dw, e[i0], e[i1], t1 - t0))
 
 
 def instantaneous_power(traj: Trajectory) -> dict[str, np.ndarray]:
-    """Eq. 8 term by term at every sample: K', U', P_dv, P_f, P_belt, P_heat."""
+    """Eq. 8 term by term at every sample: K', U', P_dv, P_f, P_belt, P_heat, P_ex."""
     v, fc = traj.v, traj.fc
     p_f = v * fc
     slipping = traj.mode != 0
@@ -99,4 +102,5 @@ def instantaneous_power(traj: Trajectory) -> dict[str, np.ndarray]:
         "P_f": p_f,
         "P_belt": p_f + p_heat,
         "P_heat": p_heat,
+        "P_ex": v * traj.model.external_force(traj.t),
     }

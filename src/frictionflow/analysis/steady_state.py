@@ -22,6 +22,10 @@ Three outcomes:
 
 The decision itself is :func:`frictionflow.core.sections.classify`, shared
 with the batched kernels.
+
+A forced run (F_ex > 0) is judged on the stroboscopic section instead, with
+the kinds ``periodic`` (period m 2 pi / Omega), ``quasi_periodic``,
+``chaotic`` and ``not_settled``: :mod:`.forced`.
 """
 
 from __future__ import annotations
@@ -57,10 +61,17 @@ class SteadyState:
     stability: str | None = None
     stick_fraction: float | None = None
     jitter: float | None = None
+    #: forced runs: the period in forcing periods, and the largest Lyapunov exponent where it was needed
+    forcing_multiple: int | None = None
+    lyapunov: float | None = None
+    forced: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
         d["window"] = [float(self.window[0]), float(self.window[1])]
+        del d["forced"]
+        if not self.forced:  # the autonomous system's report keeps its keys
+            del d["forcing_multiple"], d["lyapunov"]
         return d
 
 
@@ -156,7 +167,10 @@ def steady_state(
     found = _diverged(traj)
     if found is not None:
         return found
-    found = _terminal(traj) or _certified(traj)
+    if traj.model.forced:
+        found = _forced(traj, rtol, min_periods)
+    else:
+        found = _terminal(traj) or _certified(traj)
     if found is None:
         found = from_classification(*classify_trajectory(traj, rtol, min_periods))
         found = replace(found, stability=_stability(traj, found))
@@ -166,6 +180,17 @@ def steady_state(
     if not (traj.t[0] <= t0 < t1 <= traj.t[-1]):
         raise ValueError(f"window must satisfy {traj.t[0]:g} <= T0 < T1 <= {traj.t[-1]:g}, got {t0:g}:{t1:g}")
     return replace(found, window=(t0, t1), manual_window=True, stick_fraction=stick_fraction(traj, (t0, t1)))
+
+
+def _forced(traj: Trajectory, rtol: float, min_periods: int) -> SteadyState:
+    """The forced run's steady state on the stroboscopic section (:func:`.forced.classify_forced`)."""
+    from .forced import classify_forced
+
+    c = classify_forced(traj, rtol, min_periods, section_noise(traj.solver), lyapunov=None)
+    found = SteadyState(kind=c["kind"], window=c["window"], period=c["period"], n_periods=c["n_periods"],
+                        stick_fraction=stick_fraction(traj, c["window"]), forcing_multiple=c["multiple"],
+                        lyapunov=c["lyapunov"], forced=True)
+    return replace(found, stability=_stability(traj, found))
 
 
 def _terminal(traj: Trajectory) -> SteadyState | None:
@@ -225,7 +250,7 @@ def _stability(traj: Trajectory, ss: SteadyState) -> str | None:
     if ss.kind == "periodic":
         if ss.stick_fraction and ss.stick_fraction > 0:
             return "stable"  # a stick phase collapses every perturbation (a zero multiplier)
-        if traj.zeta == 0.0 and traj.friction.piecewise_constant:
+        if traj.zeta == 0.0 and traj.friction.piecewise_constant and not traj.model.forced:
             return "neutral"  # one of the family of undamped slip circles
     return None
 

@@ -39,6 +39,10 @@ class Analysis(Summarized):
         kind = ", ".join(x for x in (ss.kind, ss.stability) if x)
         if ss.period:
             kind += f", period {num(ss.period, 8)}"
+        if ss.forcing_multiple:
+            kind += f" ({ss.forcing_multiple} forcing period{'s' if ss.forcing_multiple > 1 else ''})"
+        if ss.lyapunov is not None:
+            kind += f", Lyapunov exponent {num(ss.lyapunov, 3)}"
         if ss.decay_rate is not None:
             kind += f", decay rate {num(ss.decay_rate, 4)}" + (f", heading {ss.heading}" if ss.heading else "")
         rows = [
@@ -50,6 +54,7 @@ class Analysis(Summarized):
             ("power", pairs({k: av[k] for k in ("P_fin", "P_df", "P_dv")})),
             ("ratios", pairs({k: av[k] for k in ("R_c", "R_f")})),
             ("belt, heat", pairs({k: av[k] for k in ("P_belt", "P_heat")})),
+            *([("external force", pairs({"P_ex": av["P_ex"]}))] if traj.model.forced else []),
             ("TR_B", num(self.TR_B)),
             ("residual", num(self.energy_residual, 2)),
         ]
@@ -61,18 +66,29 @@ class Analysis(Summarized):
 
         return plot_run(self, path)
 
+    def quantities(self) -> dict[str, float]:
+        """Every quantity of the table (:mod:`frictionflow.quantities`) by name, ``kind`` as its code."""
+        ss = self.steady_state
+        values = {"kind": Q.KINDS.index(ss.kind), "period": ss.period, "TR_B": self.TR_B,
+                  "stick_fraction": ss.stick_fraction, "energy_residual": self.energy_residual,
+                  **self.power.averages(), **self.amplitude}
+        return {n: float("nan") if values[n] is None else values[n] for n in Q.NAMES}
+
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready dict (NaN becomes None); the reports in the order of the quantities table."""
         traj = self.trajectory
+        averages = self.power.averages()
+        if not traj.model.forced:  # the autonomous system's report keeps its keys
+            del averages["P_ex"]
         report = {
             "steady_state": self.steady_state.to_dict(),
-            "averages": self.power.averages(),
+            "averages": averages,
             "TR_B": self.TR_B,
             "amplitude": self.amplitude,
             "energy_residual": self.power.energy_residual,
         }
         d = {
-            "params": {"zeta": traj.model.zeta, "vb": traj.model.vb, **traj.friction.as_dict()},
+            "params": {**traj.model.report(), **traj.friction.as_dict()},
             "solver": traj.solver,
             **{key: report[key] for key in Q.REPORTS},
         }

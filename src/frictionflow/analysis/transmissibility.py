@@ -14,16 +14,25 @@ def _slice(traj: Trajectory, window: tuple[float, float] | None) -> slice:
     return slice(traj.index(window[0]), traj.index(window[1]) + 1)
 
 
-def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None) -> float:
-    """TR_B = max |F_tB| / F_ex over the window, F_tB = X + 2 zeta X', F_ex = F_d.
+def excitation_level(traj: Trajectory) -> float:
+    """The force TR_B refers to (Eq. 6): the external force's amplitude F_ex when forced, else F_d.
 
-    NaN when F_d = 0 (no excitation level to refer to).
+    The paper's Eq. 6 divides by the excitation amplitude; its system is
+    unforced, and it takes the friction level F_d as the excitation.
     """
-    fd = traj.friction.fd
-    if fd <= 0:
+    return traj.model.fex if traj.model.forced else traj.friction.fd
+
+
+def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None) -> float:
+    """TR_B = max |F_tB| / F_ex over the window, F_tB = X + 2 zeta X' (Eq. 6; F_ex = F_d unforced).
+
+    NaN when the reference force is 0 (no excitation level to refer to).
+    """
+    ref = excitation_level(traj)
+    if ref <= 0:
         return float("nan")
     s = _slice(traj, window)
-    return float(np.max(np.abs(traj.transmitted_force[s])) / fd)
+    return float(np.max(np.abs(traj.transmitted_force[s])) / ref)
 
 
 def amplitude(traj: Trajectory, window: tuple[float, float] | None = None) -> dict[str, float]:

@@ -46,6 +46,7 @@ from . import reproduce as _reproduce  # noqa: E402,F401
 from . import sweep as _sweep  # noqa: E402,F401
 from . import orbit as _orbit  # noqa: E402,F401
 from . import basins as _basins  # noqa: E402,F401
+from . import response as _response  # noqa: E402,F401
 
 #: one line per command for the command list (click would cut the docstring at its first period)
 SHORT_HELP = {
@@ -54,6 +55,7 @@ SHORT_HELP = {
     "sweep": "Sweep parameters over a grid (resumable, local or Dask).",
     "orbit": "Find a periodic orbit and its Floquet multipliers.",
     "continue": "Continue equilibria and periodic orbits in one parameter.",
+    "response": "Frequency response of the forced oscillator (swept up and down).",
 }
 
 

@@ -58,7 +58,7 @@ def _row(rec, tail, fin, p, zeta, vb, rtol, min_periods, h, fixed_step, noise, o
     if (vb - v) * vb > 0.0 and (x - x_eq) ** 2 + v * v < vb * vb:
         r = certificate.certified_radius(p, zeta, vb)
         if certificate.inside(x_eq, vb, r, fin[sec.A_XEND], fin[sec.A_VEND]):
-            whole = sec.averages(fin[sec.A_W0], fin[sec.A_W1], fin[sec.A_W2], fin[sec.A_W3], fin[sec.A_E0],
+            whole = sec.averages(fin[sec.A_W0], fin[sec.A_W1], fin[sec.A_W2], fin[sec.A_W3], 0.0, fin[sec.A_E0],
                                  fin[sec.A_E], max(fin[sec.A_T], 1e-300))
             out[:] = sec.equilibrium_row(x_eq, vb, fd, 0.0, whole[sec.RESID])[:NR]
             return
@@ -105,7 +105,7 @@ def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out):
         elif t_term >= 0.0 and t_mode[0] != 0 and zeta[j] > 0.0:
             # a final slip phase: it decays onto X* = F(V_b), sliding (the residual is the run's)
             tot = work[:k].sum(axis=0)
-            a = sec.averages(tot[0], tot[1], tot[2], tot[3], 0.5 * (x0[j] ** 2 + v0[j] ** 2),
+            a = sec.averages(tot[0], tot[1], tot[2], tot[3], 0.0, 0.5 * (x0[j] ** 2 + v0[j] ** 2),
                              0.5 * (x[k - 1] ** 2 + v[k - 1] ** 2), max(t[k - 1], 1e-300))
             x_eq = t_mode[0] * slip_magnitude_of(p[j], abs(vb[j]))
             out[j, :] = sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID])[:NR]

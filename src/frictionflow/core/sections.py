@@ -426,8 +426,9 @@ def scale_of(rec, tail, vb, fd):
 # Positions of the quantities in the table's layout (frictionflow.quantities):
 # averages, window_summary and equilibrium_row fill rows of it.  Numba reads
 # these module globals as compile-time constants.
-KIND, PERIOD, P_DV, P_DF, P_FIN, P_F, P_BELT, P_HEAT, R_C, R_F, RESID = (
-    Q.index(n) for n in ("kind", "period", "P_dv", "P_df", "P_fin", "P_f", "P_belt", "P_heat", "R_c", "R_f", "energy_residual")
+KIND, PERIOD, P_DV, P_DF, P_FIN, P_F, P_BELT, P_HEAT, P_EX, R_C, R_F, RESID = (
+    Q.index(n) for n in ("kind", "period", "P_dv", "P_df", "P_fin", "P_f", "P_belt", "P_heat", "P_ex", "R_c", "R_f",
+                         "energy_residual")
 )
 S_TRB, S_XMIN, S_XMAX, S_VMIN, S_VMAX, S_STICK = (
     Q.index(n) for n in ("TR_B", "X_min", "X_max", "V_min", "V_max", "stick_fraction")
@@ -441,11 +442,12 @@ EQ_RULE = tuple(Q.EQUILIBRIUM_RULES.index(q.at_equilibrium) for q in Q.TABLE)
 
 
 @njit(cache=True)
-def averages(dw_dv, dw_in, dw_out, dw_heat, e0, e1, span):
+def averages(dw_dv, dw_in, dw_out, dw_heat, dw_ex, e0, e1, span):
     """Window averages from the work integrals over the window and the change of K + U.
 
-    The residual of the power balance is relative to the friction input (to
-    the largest flow when friction puts in nothing; for a whole number of
+    The balance is Delta(K + U) = W_fin - W_fout + W_ex - W_dv (``dw_ex``: the
+    external force's work, 0 unforced).  Its residual is relative to the
+    largest flow (the friction input, unforced; for a whole number of
     periods they are the same), but never to less than 1e-12 of the stored
     energy K + U: below that the
     change of K + U itself is lost to rounding, so the balance cannot be
@@ -456,14 +458,15 @@ def averages(dw_dv, dw_in, dw_out, dw_heat, e0, e1, span):
     out = np.full(NQ, np.nan)
     w_f = dw_in - dw_out
     floor = 1e-12 * max(e0, e1)
-    resid = abs(e1 - e0 + dw_dv - w_f)
-    norm = max(dw_in, dw_out, dw_dv, floor)
+    resid = abs(e1 - e0 + dw_dv - w_f - dw_ex)
+    norm = max(dw_in, dw_out, dw_dv, abs(dw_ex), floor)
     out[P_DV] = dw_dv / span
     out[P_DF] = dw_out / span
     out[P_FIN] = dw_in / span
     out[P_F] = w_f / span
     out[P_BELT] = (w_f + dw_heat) / span
     out[P_HEAT] = dw_heat / span
+    out[P_EX] = dw_ex / span
     out[R_C] = dw_dv / dw_in if dw_in > 0.0 else np.nan
     out[R_F] = dw_out / dw_in if dw_in > 0.0 else np.nan
     out[RESID] = resid / norm if norm > 0 else 0.0
@@ -520,7 +523,7 @@ def window_summary(rec, tail, fin, cls, fd, vb):
             dw[j] = seg[:, W0 + j].sum()
         e0, e1 = rec[i0, ES], rec[i1, ES]
     if span > 0:
-        out[:NQ] = averages(dw[0], dw[1], dw[2], dw[3], e0, e1, span)
+        out[:NQ] = averages(dw[0], dw[1], dw[2], dw[3], 0.0, e0, e1, span)
         out[S_STICK] = stick / span
     out[KIND] = cls[C_KIND]
     if cls[C_KIND] == PERIODIC:
@@ -534,6 +537,6 @@ def window_summary(rec, tail, fin, cls, fd, vb):
     out[S_VMAX] = vmax
     if cls[C_KIND] == EQUILIBRIUM:
         # the balance of the whole run (at rest there is nothing left to check)
-        whole = averages(fin[A_W0], fin[A_W1], fin[A_W2], fin[A_W3], fin[A_E0], fin[A_E], max(fin[A_T], 1e-300))
+        whole = averages(fin[A_W0], fin[A_W1], fin[A_W2], fin[A_W3], 0.0, fin[A_E0], fin[A_E], max(fin[A_T], 1e-300))
         out[:NQ] = equilibrium_row(cls[C_LIMX], vb, fd, out[S_STICK], whole[RESID])
     return out

@@ -149,7 +149,7 @@ def continuation(
         param=param,
         start=float(start),
         stop=float(stop),
-        params={"zeta": model.zeta, "vb": model.vb, **friction.as_dict()},
+        params={**model.report(), **friction.as_dict()},
         branches=branches,
         bifurcations=sorted(bifs, key=lambda b: (b.value - start) / (stop - start)),
     )

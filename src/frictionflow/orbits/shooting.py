@@ -120,7 +120,7 @@ class PeriodicOrbit(Summarized):
         seg = self.segment
         return jsonable(
             {
-                "params": {"zeta": self.model.zeta, "vb": self.model.vb, **self.friction.as_dict()},
+                "params": {**self.model.report(), **self.friction.as_dict()},
                 "state": {"X": self.state[0], "V": self.state[1]},
                 "period": self.period,
                 "returns": self.returns,

@@ -21,6 +21,8 @@ from .config import SweepConfig, parse_sweep
 #: the result variables, in the kernels' row order: (name, units, long name), from the quantities table
 VARIABLES = tuple((q.name, q.units, q.long_name) for q in Q.SWEPT)
 KIND_NAMES = Q.KINDS
+#: the external force's parameters: a sweep that sets or varies them runs the forced path
+FORCING = ("fex", "omega", "phi")
 
 
 def chunk_slices(chunk: tuple[int, ...], chunks: tuple[int, ...], shape: tuple[int, ...]) -> tuple[slice, ...]:
@@ -46,7 +48,10 @@ def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[
     index = tuple(ix + s.start for ix, s in zip(index, sl))
     pts = cfg.point_params(index)
     run = cfg.run
-    _, law, solver = run.build()
+    model, law, solver = run.build()
+    shape = tuple(s.stop - s.start for s in sl)
+    if model.forced or any(name in cfg.axes for name in FORCING):
+        return _forced_points(cfg, law, solver, pts).T.reshape((batch.NR, *shape))
     p = _friction_rows(cfg, law, pts)
     zeta, vb = pts["zeta"], pts["vb"]
     x0 = np.where(np.isnan(pts["x0"]), p[:, kf.FD], pts["x0"])
@@ -60,5 +65,33 @@ def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[
                               section_noise(solver.describe()), out)
     else:
         batch.rk4_points(int(p[0, kf.LAW]), p, zeta, vb, x0, v0, run.t_end, run.dt, rtol, 3, section_noise(solver.describe()), out)
-    shape = tuple(s.stop - s.start for s in sl)
     return out.T.reshape((batch.NR, *shape))
+
+
+def _forced_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np.ndarray]) -> np.ndarray:
+    """Rows of the swept quantities for forced points, one run and analysis each.
+
+    The batched kernels integrate the autonomous system and classify on the
+    section X' = 0; a forced point is judged on the stroboscopic section
+    (:mod:`frictionflow.analysis.forced`), so it runs through the façade.
+    """
+    from ..analysis import analyze
+    from ..params import BeltOscillator
+    from ..simulate import simulate
+
+    run = cfg.run
+    n = len(pts["zeta"])
+    out = np.empty((n, batch.NR))
+    base = run.values()
+    model_names = [p.name for p in BeltOscillator.parameters]
+    law_names = [p.name for p in law.parameters]
+    for j in range(n):
+        point = {k: float(v[j]) for k, v in pts.items() if not np.isnan(v[j])}
+        model = BeltOscillator.from_values({**base, **{k: point[k] for k in model_names if k in point}})
+        point_law = type(law).from_values({**base, **{k: point[k] for k in law_names if k in point}})
+        x0 = point.get("x0", point_law.fd)
+        v0 = point.get("v0", model.vb)
+        traj = simulate(model, point_law, solver, t_end=run.t_end, x0=x0, v0=v0)
+        values = analyze(traj, rtol=run.rtol).quantities()
+        out[j] = [values[q.name] for q in Q.SWEPT]
+    return out

@@ -1,0 +1,149 @@
+"""Steady states of the forced oscillator, read on the stroboscopic section.
+
+With an external force F_ex cos(Omega tau + phi) the state space is (X, X',
+phase): a steady state is judged on the states P_k = (X, X')(tau_k) at the
+stroboscopic times tau_k = k 2 pi / Omega, which every solver samples when
+forced.  The kinds:
+
+``periodic``
+    The section repeats after m forcing periods, P_k = P_{k-m} to within
+    ``rtol`` of the motion's scale for the last ``min_periods`` whole
+    repetitions, with the smallest such m <= :data:`MAX_MULTIPLE` (m = 1: a
+    harmonic response, m > 1: subharmonic of order m).  The period is
+    m 2 pi / Omega.
+``chaotic``
+    No repetition, and the largest Lyapunov exponent of the non-smooth flow
+    (saltation matrices at every switch: :mod:`frictionflow.analysis.lyapunov`)
+    is positive beyond its finite-time uncertainty: nearby states separate
+    exponentially.
+``quasi_periodic``
+    No repetition, a largest exponent indistinguishable from 0, and a section
+    that has stopped drifting: the points fill a closed curve (an invariant
+    torus of the flow), which the second half of the tail revisits (each of
+    its points lies close to a point of the first half).
+``not_settled``
+    None of these: still converging (a negative exponent: the run is too
+    short for the repetition to show), or drifting.
+
+A fixed-step run through a stick band (RK4) leaves the band up to a step
+late, differently in each period: its section repeats only to a few steps'
+travel, which the tolerance then allows.
+
+The window is a whole number of forcing periods ending at the last section
+sample: m periods repeated ``n_periods`` times when periodic, else the tail
+(the last half of the section samples), so that averages are over whole
+periods of the forcing.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+
+from ..trajectory import Trajectory
+
+#: the longest subharmonic looked for (in forcing periods)
+MAX_MULTIPLE = 16
+#: how far from tau_k a sample may be and still be the section's (relative to the forcing period)
+SECTION_MATCH = 1e-9
+
+
+def section_indices(traj: Trajectory) -> np.ndarray:
+    """Indices of the samples at the stroboscopic times k 2 pi / Omega (k = 0, 1, ...)."""
+    period = traj.model.forcing_period
+    k = np.arange(0, int(math.floor(traj.t[-1] / period * (1 + 1e-12))) + 1)
+    times = k * period
+    i = np.clip(np.searchsorted(traj.t, times - SECTION_MATCH * period), 0, len(traj.t) - 1)
+    ok = np.abs(traj.t[i] - times) <= SECTION_MATCH * period * np.maximum(1.0, k)
+    if not ok.all():
+        missing = times[~ok][0]
+        raise RuntimeError(f"solver={traj.solver.get('name')} did not sample the stroboscopic section at tau={missing:.10g}"
+                           " (forced runs must sample every k 2 pi / Omega)")
+    return i
+
+
+def section_scale(x: np.ndarray, v: np.ndarray, traj: Trajectory) -> float:
+    """The motion's scale on the section: range of X and X', forcing amplitude, V_b, F_d."""
+    return float(max(np.ptp(x), np.ptp(v), traj.model.fex, abs(traj.vb), traj.friction.fd, 1e-300))
+
+
+def repeat_multiple(x: np.ndarray, v: np.ndarray, tol: float, min_periods: int, max_multiple: int = MAX_MULTIPLE) -> tuple[int, int]:
+    """(m, repetitions): the smallest m whose last ``min_periods`` repetitions match to ``tol``; (0, 0) if none.
+
+    Repetitions count back from the end while P_k = P_{k-m} holds, up to the
+    whole sequence (the window may then span all of them).
+    """
+    n = len(x)
+    for m in range(1, max_multiple + 1):
+        if n < (min_periods + 1) * m:
+            break
+        d = np.maximum(np.abs(x[m:] - x[:-m]), np.abs(v[m:] - v[:-m]))
+        bad = np.flatnonzero(d > tol)
+        run = len(d) - (bad[-1] + 1 if len(bad) else 0)  # trailing matches
+        if run >= min_periods * m:
+            return m, run // m
+    return 0, 0
+
+
+def revisits(x: np.ndarray, v: np.ndarray, tol: float) -> bool:
+    """Whether every point of the second half lies within ``tol`` of some point of the first half."""
+    h = len(x) // 2
+    if h < 8:
+        return False
+    a = np.column_stack([x[:h], v[:h]])
+    b = np.column_stack([x[h:], v[h:]])
+    near = np.min(np.max(np.abs(b[:, None, :] - a[None, :, :]), axis=2), axis=1)
+    return bool(np.all(near <= tol))
+
+
+def _step_jitter(traj: Trajectory, i0: int) -> float:
+    """How far a fixed-step run's section may wander: a few steps' travel at the tail's largest speed.
+
+    A fixed step leaves a stick band up to one step late, differently in each
+    period; the state on the section then differs by up to h max|X'| in X and
+    h max|X''| in X' from period to period.  Event-located solvers: 0.
+    """
+    h = traj.solver.get("dt")
+    if h is None or not np.any(traj.mode[i0:] == 0):
+        return 0.0
+    return 4.0 * float(h) * float(max(np.max(np.abs(traj.v[i0:])), np.max(np.abs(traj.acceleration[i0:]))))
+
+
+def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: float = 0.0,
+                    lyapunov: Callable[[Trajectory], tuple[float, float]] | None = None) -> dict:
+    """Kind, window and details of the forced run ``traj`` (see the module docstring).
+
+    ``lyapunov(traj)`` returns (largest exponent, its uncertainty) and is
+    called only when the section does not repeat; without it such runs are
+    ``not_settled``.  ``noise``: the solver's relative error on the section.
+    """
+    idx = section_indices(traj)
+    tail = idx[len(idx) // 2:]
+    xs, vs = traj.x[tail], traj.v[tail]
+    scale = section_scale(xs, vs, traj)
+    tol = max(max(rtol, noise) * scale, _step_jitter(traj, tail[0]))
+    m, reps = repeat_multiple(xs, vs, tol, min_periods)
+    period = traj.model.forcing_period
+    out = {"multiple": None, "lyapunov": None, "n_periods": 0}
+    if m:
+        last = idx[-1]
+        first = idx[len(idx) - 1 - m * reps]
+        out.update(kind="periodic", multiple=m, period=m * period, n_periods=reps,
+                   window=(float(traj.t[first]), float(traj.t[last])))
+        return out
+    out["window"] = (float(traj.t[tail[0]]), float(traj.t[tail[-1]]))
+    out["period"] = None
+    if lyapunov is None:
+        out["kind"] = "not_settled"
+        return out
+    lam, spread = lyapunov(traj)
+    out["lyapunov"] = lam
+    if lam > spread:
+        out["kind"] = "chaotic"
+    elif abs(lam) <= spread and revisits(xs, vs, 0.05 * scale):
+        out["kind"] = "quasi_periodic"
+    else:
+        out["kind"] = "not_settled"
+    return out

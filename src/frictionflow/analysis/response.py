@@ -1,0 +1,135 @@
+"""Frequency response of the forced oscillator: steady states against the forcing frequency.
+
+At each frequency Omega of the sweep the oscillator runs ``periods`` forcing
+periods and the end of the run is analysed as any forced run
+(:func:`frictionflow.analysis.analyze`: the stroboscopic steady state, the
+power averages over whole forcing periods, TR_B = max|X + 2 zeta X'| / F_ex).
+The next frequency starts from the state the previous one ended in -- at the
+same forcing phase, since every run spans whole periods -- so that sweeping
+up and down follows each branch of a multivalued response as far as it
+exists: the jumps between branches, and the hysteresis between them, appear
+where a branch ends.
+
+The result is an :class:`xarray.Dataset` over (``direction``, ``omega``) with
+every quantity of the table (:mod:`frictionflow.quantities`), the amplitude
+(X_max - X_min) / 2, and the period in forcing periods.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Sequence
+
+import numpy as np
+
+from .. import quantities as Q
+from .._progress import progress_bar
+from ..friction.base import FrictionLaw
+from ..params import OMEGA, BeltOscillator
+from ..solvers.base import Solver
+from ..solvers.registry import auto_solver
+from .summary import analyze
+
+DIRECTIONS = ("up", "down")
+#: extra variables beyond the quantities table: (units, long name)
+EXTRA = {
+    "amplitude": ("1", "steady-state amplitude (X_max - X_min) / 2"),
+    "multiple": ("1", "period of the steady state in forcing periods (0 unless periodic)"),
+}
+
+
+def frequency_response(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    omegas: Sequence[float],
+    *,
+    solver: Solver | None = None,
+    periods: int = 300,
+    directions: Sequence[str] = DIRECTIONS,
+    x0: float = 0.0,
+    v0: float = 0.0,
+    rtol: float | None = None,
+    progress: bool = False,
+):
+    """Steady states of ``model`` forced at each of ``omegas``, swept up and/or down.
+
+    Parameters
+    ----------
+    model:
+        The oscillator with its forcing amplitude ``fex`` > 0 (its ``omega`` is replaced by each of ``omegas``).
+    omegas:
+        Forcing frequencies (> 0), in increasing order.
+    periods:
+        Forcing periods simulated at each frequency (the analysis reads the second half).
+    directions:
+        ``"up"`` (increasing Omega), ``"down"``, or both (default): each sweep starts from (x0, v0).
+    rtol:
+        Steady-state tolerance (default: the solver's, as :func:`~frictionflow.analysis.analyze`).
+    """
+    from ..simulate import simulate
+
+    omegas = _checked_omegas(omegas)
+    if not model.forced:
+        raise ValueError("fex must be > 0 for a frequency response (the forcing amplitude), got 0")
+    if not (isinstance(periods, (int, np.integer)) and 8 <= periods <= 10**6):
+        raise ValueError(f"periods must be an integer in [8, 1e6], got {periods!r}")
+    bad = [d for d in directions if d not in DIRECTIONS]
+    if bad or not directions:
+        raise ValueError(f"directions must be some of {DIRECTIONS}, got {list(directions)!r}")
+    solver = solver or auto_solver(friction)
+    names = (*Q.NAMES, *EXTRA)
+    out = {n: np.full((len(directions), len(omegas)), np.nan) for n in names}
+    with progress_bar("response", len(directions) * len(omegas), enabled=progress) as advance:
+        for d, direction in enumerate(directions):
+            order = range(len(omegas)) if direction == "up" else range(len(omegas) - 1, -1, -1)
+            x, v = x0, v0
+            for j in order:
+                forced = replace(model, omega=float(omegas[j]))
+                traj = simulate(forced, friction, solver, t_end=periods * forced.forcing_period, x0=x, v0=v)
+                an = analyze(traj, rtol=rtol)
+                for n, value in an.quantities().items():
+                    out[n][d, j] = value
+                out["amplitude"][d, j] = 0.5 * (an.amplitude["X_max"] - an.amplitude["X_min"])
+                out["multiple"][d, j] = an.steady_state.forcing_multiple or 0
+                x, v = float(traj.x[-1]), float(traj.v[-1])
+                advance(1)
+    return _dataset(out, model, friction, solver, omegas, directions, periods)
+
+
+def _checked_omegas(omegas: Sequence[float]) -> np.ndarray:
+    w = np.asarray(omegas, dtype=float)
+    if w.ndim != 1 or len(w) < 1:
+        raise ValueError("omega must be a non-empty list of frequencies")
+    for value in w:
+        OMEGA.check(float(value))
+    if np.any(np.diff(w) <= 0):
+        raise ValueError("omega must be increasing (FROM < TO)")
+    return w
+
+
+def _dataset(out: dict, model: BeltOscillator, friction: FrictionLaw, solver: Solver, omegas: np.ndarray,
+             directions: Sequence[str], periods: int):
+    import xarray as xr
+
+    table = {q.name: q for q in Q.TABLE}
+    data = {}
+    for n, values in out.items():
+        if n in table:
+            q = table[n]
+            attrs = {"units": q.units, "long_name": q.long_name}
+            if q.flags:
+                values = values.astype(q.dtype)
+                attrs["flag_values"] = list(range(len(q.flags)))
+                attrs["flag_meanings"] = " ".join(q.flags)
+        else:
+            units, long_name = EXTRA[n]
+            attrs = {"units": units, "long_name": long_name}
+            if n == "multiple":
+                values = values.astype("i2")
+        data[n] = (("direction", "omega"), values, attrs)
+    ds = xr.Dataset(data, coords={"direction": list(directions),
+                                  "omega": ("omega", omegas, {"units": "1", "long_name": OMEGA.meaning + " Omega"})})
+    params = {k: v for k, v in {**model.report(), **friction.as_dict()}.items() if k != "omega"}
+    ds.attrs.update({**{k: v for k, v in params.items() if isinstance(v, (int, float, str))},
+                     "solver": solver.name, "periods": int(periods)})
+    return ds

@@ -1,0 +1,112 @@
+"""The forced steady state on the stroboscopic section, P_ex, TR_B by Eq. 6, and forced reports."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from frictionflow import BeltOscillator, analyze, simulate
+from frictionflow.analysis.forced import repeat_multiple, revisits, section_indices
+from frictionflow.friction import Karnopp
+from frictionflow.solvers import RK4
+
+# a linear oscillator (no friction): its steady response is known in closed form
+ZETA, OMEGA, FEX = 0.1, 0.8, 0.5
+LINEAR = BeltOscillator(zeta=ZETA, vb=0.0, fex=FEX, omega=OMEGA)
+NO_FRICTION = Karnopp(fd=0.0, fs=0.0, vd=1e-3)
+
+
+def _linear_amplitude(zeta: float, omega: float, fex: float) -> float:
+    return fex / math.hypot(1.0 - omega * omega, 2.0 * zeta * omega)
+
+
+@pytest.fixture(scope="module")
+def linear_run():
+    with pytest.warns(UserWarning):  # the step is coarse for a band no motion reaches
+        return simulate(LINEAR, NO_FRICTION, RK4(dt=1e-2), t_end=300.0, x0=0.0, v0=0.0)
+
+
+# -- the section's sequence --------------------------------------------------------------------
+
+def test_repeat_multiple_finds_the_smallest_period():
+    base = np.array([0.3, -0.1, 0.7])
+    for m in (1, 2, 3):
+        x = np.tile(base[:m], 20)
+        assert repeat_multiple(x, -x, 1e-12, 3)[0] == m
+
+
+def test_repeat_multiple_rejects_an_incommensurate_rotation():
+    k = np.arange(200)
+    theta = 2 * math.pi * k * (math.sqrt(5) - 1) / 2  # golden rotation: never repeats
+    assert repeat_multiple(np.cos(theta), np.sin(theta), 1e-6, 3) == (0, 0)
+    assert revisits(np.cos(theta), np.sin(theta), 0.05)
+
+
+def test_a_drift_does_not_revisit():
+    x = np.linspace(0.0, 1.0, 200)
+    assert not revisits(x, x, 0.05)
+
+
+def test_repetitions_count_back_from_the_end():
+    x = np.concatenate([np.linspace(5, 1, 10), np.tile([0.2, 0.4], 10)])
+    m, reps = repeat_multiple(x, x, 1e-12, 3)
+    assert m == 2 and reps == 9  # 20 repeating points: 18 differences, 9 whole repetitions
+
+
+def test_forced_runs_sample_the_section(linear_run):
+    idx = section_indices(linear_run)
+    period = 2 * math.pi / OMEGA
+    assert np.allclose(linear_run.t[idx], np.arange(len(idx)) * period, rtol=1e-12, atol=1e-9)
+    assert linear_run.t[idx[-1]] > 300.0 - period
+
+
+# -- the linear oscillator against its closed form ---------------------------------------------
+
+def test_linear_response_is_harmonic_with_closed_form_power_and_tr_b(linear_run):
+    an = analyze(linear_run)
+    ss = an.steady_state
+    assert ss.kind == "periodic" and ss.forcing_multiple == 1
+    assert ss.period == pytest.approx(2 * math.pi / OMEGA, rel=1e-12)
+    a = _linear_amplitude(ZETA, OMEGA, FEX)
+    # P_dv = mean of 2 zeta X'^2 = zeta Omega^2 A^2; P_ex equals it over whole periods
+    assert an.power.P_dv == pytest.approx(ZETA * OMEGA**2 * a * a, rel=1e-6)
+    assert an.power.P_ex == pytest.approx(an.power.P_dv, rel=1e-6)
+    # Eq. 6 with the forcing amplitude: max|X + 2 zeta X'| = A sqrt(1 + (2 zeta Omega)^2)
+    assert an.TR_B == pytest.approx(a * math.hypot(1.0, 2 * ZETA * OMEGA) / FEX, rel=1e-4)
+    assert an.energy_residual < 1e-8
+
+
+def test_forced_report_names_the_forcing(linear_run):
+    d = analyze(linear_run).to_dict()
+    assert d["params"]["fex"] == FEX and d["params"]["omega"] == OMEGA and d["params"]["phi"] == 0.0
+    assert "P_ex" in d["averages"]
+    assert d["steady_state"]["forcing_multiple"] == 1
+
+
+def test_unforced_report_keeps_its_keys():
+    tr = simulate(BeltOscillator(zeta=0.05, vb=0.01), Karnopp(fd=0.02, fs=0.04), t_end=200.0)
+    d = analyze(tr).to_dict()
+    assert not {"fex", "omega", "phi"} & set(d["params"])
+    assert "P_ex" not in d["averages"]
+    assert "forcing_multiple" not in d["steady_state"]
+
+
+def test_a_short_run_is_not_settled():
+    # after 6 forcing periods the transient e^(-zeta tau) is still ~1e-2 of the response
+    with pytest.warns(UserWarning):
+        tr = simulate(LINEAR, NO_FRICTION, RK4(dt=1e-2), t_end=6 * 2 * math.pi / OMEGA, x0=0.0, v0=0.0)
+    assert analyze(tr).steady_state.kind == "not_settled"
+
+
+def test_phase_shifts_the_forcing_not_the_steady_amplitude():
+    shifted = BeltOscillator(zeta=ZETA, vb=0.0, fex=FEX, omega=OMEGA, phi=1.0)
+    with pytest.warns(UserWarning):
+        tr = simulate(shifted, NO_FRICTION, RK4(dt=1e-2), t_end=300.0, x0=0.0, v0=0.0)
+    an = analyze(tr)
+    a = _linear_amplitude(ZETA, OMEGA, FEX)
+    assert 0.5 * (an.amplitude["X_max"] - an.amplitude["X_min"]) == pytest.approx(a, rel=1e-5)
+    # the state on the section follows the phase: X(tau_k) = A cos(phi - delta)
+    delta = math.atan2(2 * ZETA * OMEGA, 1 - OMEGA**2)
+    assert tr.x[section_indices(tr)[-1]] == pytest.approx(a * math.cos(1.0 - delta), abs=1e-6)
