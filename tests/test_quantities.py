@@ -70,8 +70,9 @@ def test_the_kernel_row_is_the_table_prefix():
 
 def test_sweep_variables_and_result_dataclass_follow_the_table():
     assert VARIABLES == tuple((q.name, q.units, q.long_name) for q in Q.SWEPT)
-    assert KIND_NAMES == Q.KINDS == ("periodic", "equilibrium", "not_settled", "diverged")
-    assert [f.name for f in dataclasses.fields(PowerFlow)] == ["window", *Q.AVERAGES, "energy_residual"]
+    assert KIND_NAMES == Q.KINDS == ("periodic", "equilibrium", "not_settled", "diverged", "quasi_periodic", "chaotic")
+    assert [f.name for f in dataclasses.fields(PowerFlow)] == ["window", *Q.FORCED_AVERAGES, "energy_residual"]
+    assert Q.FORCED_AVERAGES == (*Q.AVERAGES, "P_ex")
     assert POWER_KEYS == Q.PAPER_AVERAGES
     assert POINT_POWER == tuple(n for n in Q.PAPER_AVERAGES if n != "P_f")
 
@@ -130,8 +131,8 @@ def test_sweep_dataset_stores_the_rows_under_the_table_names(tmp_path, points, k
         assert ds[q.name].attrs["units"] == q.units and ds[q.name].attrs["long_name"] == q.long_name
         assert same(float(ds[q.name].values.ravel()[0]), kernel_rows[0, Q.index(q.name)]), q.name
     assert ds["kind"].dtype == np.int8
-    assert ds["kind"].attrs["flag_meanings"] == "periodic equilibrium not_settled diverged"
-    assert list(ds["kind"].attrs["flag_values"]) == [0, 1, 2, 3]
+    assert ds["kind"].attrs["flag_meanings"] == "periodic equilibrium not_settled diverged quasi_periodic chaotic"
+    assert list(ds["kind"].attrs["flag_values"]) == [0, 1, 2, 3, 4, 5]
 
 
 # -- the sliding equilibrium, written once ------------------------------------------------------
@@ -143,7 +144,7 @@ def closed_form(x: float, vb: float, fd: float, resid: float, stick: float = 0.0
     nan = math.nan
     return {"kind": 1.0, "period": nan, "P_dv": 0.0, "P_df": 0.0, "P_fin": 0.0, "R_c": nan, "R_f": nan,
             "P_belt": belt, "P_heat": belt, "TR_B": abs(x) / fd, "X_min": x, "X_max": x, "V_min": 0.0, "V_max": 0.0,
-            "stick_fraction": stick, "energy_residual": resid, "P_f": 0.0}
+            "stick_fraction": stick, "energy_residual": resid, "P_f": 0.0, "P_ex": 0.0}
 
 
 @pytest.mark.parametrize("vb", [0.01, -0.03])

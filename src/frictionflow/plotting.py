@@ -70,7 +70,7 @@ def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "p
     ax[1, 0].set(xlabel=r"$\tau$", title="instantaneous power (end of window)")
     ax[1, 0].legend(loc="upper right", fontsize=8)
 
-    av = result.power.averages()
+    av = result.power.averages(forced=True)
     names = ["P_fin", "P_df", "P_dv", "P_belt", "P_heat"] + (["P_ex"] if forced else [])
     vals = [av[k] for k in names]
     ax[1, 1].bar(names, vals, color=["C2", "C1", "C0", "C4", "C3", "C5"][: len(names)])

@@ -73,6 +73,8 @@ class Quantity:
     units: str = "1"
     dtype: str = "f8"
     flags: tuple[str, ...] = ()
+    #: reported only for runs with an external force (the autonomous system's reports keep their keys)
+    forced_only: bool = False
 
 
 TABLE = (
@@ -96,7 +98,7 @@ TABLE = (
     Quantity("P_f", "time-averaged net power of friction X' F_c = P_belt - P_heat", "averages", "zero", swept=False),
     # not stored by batched sweeps (they run the unforced system); forced sweeps add it
     Quantity("P_ex", "time-averaged power put in by the external force X' F_ex cos(Omega tau + phi)", "averages", "zero",
-             swept=False),
+             swept=False, forced_only=True),
 )
 
 NAMES = tuple(q.name for q in TABLE)
@@ -110,12 +112,14 @@ NR = len(SWEPT)
 REPORTS = tuple(dict.fromkeys(q.report for q in TABLE))
 
 
-def reported_in(report: str) -> tuple[str, ...]:
-    """Names of the quantities ``simulate --json`` reports in ``report``, in table order."""
-    return tuple(q.name for q in TABLE if q.report == report)
+def reported_in(report: str, forced: bool = False) -> tuple[str, ...]:
+    """Names of the quantities ``simulate --json`` reports in ``report`` (of a ``forced`` run), in table order."""
+    return tuple(q.name for q in TABLE if q.report == report and (forced or not q.forced_only))
 
 
 AVERAGES = reported_in("averages")
+#: with an external force: P_ex too (the fields of PowerFlow)
+FORCED_AVERAGES = reported_in("averages", forced=True)
 AMPLITUDE = reported_in("amplitude")
 #: the orbit and continuation reports list the averages in the paper's order
 #: (Eq. 9: P_fin, P_df, P_dv), as their recorded outputs do

@@ -54,7 +54,7 @@ def test_laws_declare_their_parameters_and_kernel_slots(name):
 def _axis_values(p, law):
     v = getattr(law, p.name, None)
     if v is None:  # an oscillator or initial-state parameter
-        v = {"zeta": 0.05, "vb": 0.02, "x0": 0.03, "v0": 0.0}[p.name]
+        v = {"zeta": 0.05, "vb": 0.02, "x0": 0.03, "v0": 0.0, "fex": 0.01, "omega": 1.0, "phi": 0.3}[p.name]
     return [float(v), float(v) * 1.1 + (1e-3 if v == 0 else 0.0)]
 
 

@@ -42,12 +42,15 @@ from typing import Callable
 
 import numpy as np
 
+from ..core.sections import _stationary
 from ..trajectory import Trajectory
 
 #: the longest subharmonic looked for (in forcing periods)
 MAX_MULTIPLE = 16
 #: how far from tau_k a sample may be and still be the section's (relative to the forcing period)
 SECTION_MATCH = 1e-9
+#: repetitions a fixed-step run's jittering section needs (as the autonomous classifier's 8 periods)
+JITTER_REPEATS = 8
 
 
 def section_indices(traj: Trajectory) -> np.ndarray:
@@ -103,12 +106,30 @@ def _step_jitter(traj: Trajectory, i0: int) -> float:
 
     A fixed step leaves a stick band up to one step late, differently in each
     period; the state on the section then differs by up to h max|X'| in X and
-    h max|X''| in X' from period to period.  Event-located solvers: 0.
+    h max|X''| in X' from period to period.  0 for event-located solvers, and
+    where nothing is held (no stick, or no friction to hold with).
     """
     h = traj.solver.get("dt")
-    if h is None or not np.any(traj.mode[i0:] == 0):
+    if h is None or traj.friction.fs <= 0.0 or not np.any(traj.mode[i0:] == 0):
         return 0.0
     return 4.0 * float(h) * float(max(np.max(np.abs(traj.v[i0:])), np.max(np.abs(traj.acceleration[i0:]))))
+
+
+def jittered_multiple(x: np.ndarray, v: np.ndarray, jitter: float, max_multiple: int = MAX_MULTIPLE) -> int:
+    """The smallest m whose last :data:`JITTER_REPEATS` repetitions agree to ``jitter`` without a trend; 0 if none.
+
+    A transient converges: at each of the m phases its section values drift
+    one way, a trend a t-test finds; a fixed step's jitter does not.
+    """
+    n = len(x)
+    for m in range(1, max_multiple + 1):
+        if n < JITTER_REPEATS * m:
+            break
+        last_x, last_v = x[n - JITTER_REPEATS * m:], v[n - JITTER_REPEATS * m:]
+        phases = [(last_x[j::m], last_v[j::m]) for j in range(m)]
+        if all(np.ptp(a) <= jitter and np.ptp(b) <= jitter and _stationary(a) and _stationary(b) for a, b in phases):
+            return m
+    return 0
 
 
 def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: float = 0.0,
@@ -123,11 +144,17 @@ def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: 
     tail = idx[len(idx) // 2:]
     xs, vs = traj.x[tail], traj.v[tail]
     scale = section_scale(xs, vs, traj)
-    tol = max(max(rtol, noise) * scale, _step_jitter(traj, tail[0]))
-    m, reps = repeat_multiple(xs, vs, tol, min_periods)
+    m, reps = repeat_multiple(xs, vs, max(rtol, noise) * scale, min_periods)
+    jitter = _step_jitter(traj, tail[0]) if not m else 0.0
+    if jitter:
+        m = jittered_multiple(xs, vs, jitter)
+        reps = JITTER_REPEATS - 1
     period = traj.model.forcing_period
-    out = {"multiple": None, "lyapunov": None, "n_periods": 0}
+    out = {"multiple": None, "lyapunov": None, "n_periods": 0, "jitter": None}
     if m:
+        if jitter:  # the relative spread over the repetitions, as the autonomous classifier reports it
+            k = JITTER_REPEATS * m
+            out["jitter"] = max(max(np.ptp(xs[-k:][j::m]), np.ptp(vs[-k:][j::m])) for j in range(m)) / scale
         last = idx[-1]
         first = idx[len(idx) - 1 - m * reps]
         out.update(kind="periodic", multiple=m, period=m * period, n_periods=reps,

@@ -42,7 +42,7 @@ from ..trajectory import Trajectory
 
 
 @dataclass(frozen=True)
-@Q.table_fields(Q.AVERAGES, after="window")
+@Q.table_fields(Q.FORCED_AVERAGES, after="window")
 class PowerFlow:
     """Average power flow over a window, and the residual of the power balance.
 
@@ -61,14 +61,15 @@ class PowerFlow:
     @classmethod
     def from_row(cls, window: tuple[float, float], row: np.ndarray) -> PowerFlow:
         """The power flow held by ``row``, a row of the table's layout (:mod:`frictionflow.quantities`)."""
-        values = {n: float(row[Q.INDEX[n]]) for n in (*Q.AVERAGES, "energy_residual")}
+        values = {n: float(row[Q.INDEX[n]]) for n in (*Q.FORCED_AVERAGES, "energy_residual")}
         return cls(window=window, **values)
 
-    def averages(self) -> dict[str, float]:
-        return {k: getattr(self, k) for k in Q.AVERAGES}
+    def averages(self, forced: bool = False) -> dict[str, float]:
+        """The averages by name (``forced=False``: without those only forced runs report)."""
+        return {k: getattr(self, k) for k in (Q.FORCED_AVERAGES if forced else Q.AVERAGES)}
 
     def to_dict(self) -> dict[str, Any]:
-        return {"window": list(self.window), **self.averages(), "energy_residual": self.energy_residual}
+        return {"window": list(self.window), **self.averages(forced=True), "energy_residual": self.energy_residual}
 
 
 def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> PowerFlow:

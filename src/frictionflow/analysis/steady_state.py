@@ -189,7 +189,7 @@ def _forced(traj: Trajectory, rtol: float, min_periods: int) -> SteadyState:
     c = classify_forced(traj, rtol, min_periods, section_noise(traj.solver), lyapunov=None)
     found = SteadyState(kind=c["kind"], window=c["window"], period=c["period"], n_periods=c["n_periods"],
                         stick_fraction=stick_fraction(traj, c["window"]), forcing_multiple=c["multiple"],
-                        lyapunov=c["lyapunov"], forced=True)
+                        lyapunov=c["lyapunov"], jitter=c["jitter"], forced=True)
     return replace(found, stability=_stability(traj, found))
 
 

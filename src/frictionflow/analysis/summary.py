@@ -35,7 +35,7 @@ class Analysis(Summarized):
 
     def _summary(self) -> tuple[str, list[Row]]:
         traj, ss = self.trajectory, self.steady_state
-        av = self.power.averages()
+        av = self.power.averages(forced=True)
         kind = ", ".join(x for x in (ss.kind, ss.stability) if x)
         if ss.period:
             kind += f", period {num(ss.period, 8)}"
@@ -71,18 +71,15 @@ class Analysis(Summarized):
         ss = self.steady_state
         values = {"kind": Q.KINDS.index(ss.kind), "period": ss.period, "TR_B": self.TR_B,
                   "stick_fraction": ss.stick_fraction, "energy_residual": self.energy_residual,
-                  **self.power.averages(), **self.amplitude}
+                  **self.power.averages(forced=True), **self.amplitude}
         return {n: float("nan") if values[n] is None else values[n] for n in Q.NAMES}
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready dict (NaN becomes None); the reports in the order of the quantities table."""
         traj = self.trajectory
-        averages = self.power.averages()
-        if not traj.model.forced:  # the autonomous system's report keeps its keys
-            del averages["P_ex"]
         report = {
             "steady_state": self.steady_state.to_dict(),
-            "averages": averages,
+            "averages": self.power.averages(forced=traj.model.forced),
             "TR_B": self.TR_B,
             "amplitude": self.amplitude,
             "energy_residual": self.power.energy_residual,

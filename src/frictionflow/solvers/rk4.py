@@ -32,6 +32,13 @@ CHUNK = 2_000_000
 MAX_STEPS = 10**11
 
 
+def _forced_amplitude(model: BeltOscillator) -> float:
+    """Amplitude of the linear oscillator's steady response to the external force (inf at undamped resonance)."""
+    w = model.omega
+    den = math.hypot(1.0 - w * w, 2.0 * model.zeta * w)
+    return model.fex / den if den > 0 else (math.inf if model.fex > 0 else 0.0)
+
+
 def _divisor_at_least(n: int, k: int) -> int:
     """The smallest divisor of ``n`` that is >= ``k`` (``k`` itself when ``n`` is 0): thinning that keeps every n-th step."""
     if n == 0 or k <= 1:
@@ -85,8 +92,8 @@ class RK4(Solver):
         z = model.zeta
         # Bound on |X''| over the run: the motion stays within the energy radius
         # about the slip centre, grown by at most the static-kinetic gap and V_b.
-        # An external force adds at most its static response F_ex/(2 zeta) at resonance (capped: a warning's estimate).
-        radius = math.hypot(x0 - friction.fd, v0) + (friction.fs - friction.fd) + abs(model.vb) + model.fex / max(2.0 * z, 0.1)
+        # An external force adds its linear steady response F_ex / sqrt((1 - W^2)^2 + (2 zeta W)^2).
+        radius = math.hypot(x0 - friction.fd, v0) + (friction.fs - friction.fd) + abs(model.vb) + _forced_amplitude(model)
         accel = radius * (1.0 + 2.0 * z) + friction.fs + model.fex
         band_dt = friction.band / accel if accel > 0 else math.inf
         # Unforced slip about (F_d, 0) never gets faster than its start: the band is out of reach.

@@ -1,0 +1,51 @@
+"""``frictionflow response``: outputs and bad input."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+import xarray as xr
+
+from frictionflow.cli import main
+
+BASE = ["response", "--fex", "0.3", "--zeta", "0.1", "--vb", "0", "--friction", "karnopp", "--fd", "0.05",
+        "--solver", "rk4", "--dt", "5e-3", "--periods", "20"]
+
+
+def run(capsys, *args):
+    code = main(list(args))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_json_dataset_and_figure(capsys, tmp_path):
+    code, out, _ = run(capsys, *BASE, "--omega", "0.8:1.2:3", "--json", "--out", str(tmp_path / "r.nc"),
+                       "--plot", str(tmp_path / "r.png"))
+    assert code == 0
+    d = json.loads(out)
+    assert d["omega"] == pytest.approx([0.8, 1.0, 1.2])
+    assert set(d) == {"params", "omega", "up", "down"}
+    assert len(d["up"]["amplitude"]) == 3 and "P_ex" in d["down"]
+    with xr.open_dataset(tmp_path / "r.nc") as ds:
+        assert ds.sizes == {"direction": 2, "omega": 3}
+        assert ds["amplitude"].values.tolist() == [d["up"]["amplitude"], d["down"]["amplitude"]]
+    assert (tmp_path / "r.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--omega", "1:2"], "--omega must be FROM:TO:N"),
+    (["--omega", "2:1:5"], "omega must be increasing"),
+    (["--omega", "0.5:1:3", "--direction", "left"], "--direction"),
+    (["--omega", "0.5:1:3", "--out", "r.txt"], "--out"),
+])
+def test_bad_input_exits_2_and_writes_nothing(capsys, tmp_path, monkeypatch, args, message):
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run(capsys, *BASE, *args)
+    assert code == 2 and message in err and out == ""
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_unforced_is_refused(capsys):
+    code, _, err = run(capsys, "response", "--omega", "0.5:1:3", "--solver", "rk4")
+    assert code == 2 and "fex must be > 0" in err
