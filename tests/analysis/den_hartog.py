@@ -77,7 +77,9 @@ A Omega^2 = F_d.  Everything is homogeneous of degree one in (F, F_d, F_s, X),
 so for a fixed F_s / F_d the boundary is a ratio r* = F_d / F, found by
 root finding on m(r) = 0.  The margin is necessary, not sufficient: X' > 0
 inside (0, h) is checked separately on the closed form
-(:attr:`NonStop.interior_ok`).  A cross-check of the derivation is the
+(:attr:`NonStop.interior_ok`).  At low frequencies (Omega ~ 0.3-0.45 for
+small zeta) X' first touches zero in mid-stroke, before the margin vanishes:
+there that tangency (X' = X'' = 0, so f - X = F_d) is the boundary.  A cross-check of the derivation is the
 friction work over one period: the mass travels 4A against F_d, so
 W_friction = 4 F_d A, and W_ex = W_dv + 4 F_d A.
 """
@@ -89,7 +91,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import quad
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize_scalar
 
 
 def wrap(angle: float) -> float:
@@ -169,12 +171,34 @@ class NonStop:
         v = -self.a * self.omega * np.sin(ph) + e * ((w * self.d2 - self.zeta * self.d1) * c - (w * self.d1 + self.zeta * self.d2) * s)
         return x, v
 
+    def least_interior_velocity(self) -> float:
+        """min X' over the inside of the half period, away from its ends (where X' -> 0 as it should).
+
+        The least of a grid, refined by a bounded minimisation between its neighbours.
+        """
+        h = math.pi / self.omega
+        grid = np.linspace(0.0, h, 2001)
+        v = self.state(grid)[1][1:-1]
+        i = int(np.argmin(v)) + 1
+        if i in (1, len(grid) - 2):  # no interior minimum: X' rises from 0 and falls back to 0
+            return math.inf
+        best = minimize_scalar(lambda t: float(self.state(t)[1]), bounds=(grid[i - 1], grid[i + 1]), method="bounded",
+                               options={"xatol": 1e-12 * h})
+        return float(min(best.fun, v[i - 1]))
+
     @property
     def interior_ok(self) -> bool:
         """X' > 0 strictly inside the half period (one turning point per half period)."""
-        h = math.pi / self.omega
-        _, v = self.state(np.linspace(0.0, h, 4001)[1:-1])
-        return bool(np.all(v > 0.0))
+        return self.least_interior_velocity() > 0.0
+
+    @property
+    def failure(self) -> str:
+        """Why the closed form is not the motion ('' when it is)."""
+        if not self.exists:
+            return "no solution"
+        if self.margin <= 0.0:
+            return "stops at the turning point"
+        return "" if self.interior_ok else "reverses mid-stroke"
 
     @property
     def valid(self) -> bool:
@@ -209,21 +233,29 @@ def den_hartog_undamped_amplitude(fex: float, omega: float, fd: float) -> float:
 
 
 def stop_boundary(omega: float, zeta: float, fs_over_fd: float = 1.0, points: int = 400) -> float:
-    """r* = F_d / F_ex at which the non-stop response first stops holding (its margin reaches 0).
+    """r* = F_d / F_ex at which the non-stop response first stops holding (:attr:`NonStop.valid` fails).
 
-    Scans r from 0 (where the margin is the positive linear value) up to where
-    the solution ceases to exist, and refines the first sign change of the margin.
+    Scans r upwards from 0 (where the response is the linear one, valid) and
+    refines the first failure: by root finding on the margin when the mass
+    would stop at the turning point (Den Hartog's boundary), by bisection when
+    X' first reaches zero inside the half period (at low Omega this comes
+    first: :attr:`NonStop.failure` tells which).
     """
 
-    def margin(r: float) -> float:
-        sol = non_stop(1.0, omega, zeta, r, r * fs_over_fd)
-        return sol.margin if sol.exists else -1.0
+    def at(r: float) -> NonStop:
+        return non_stop(1.0, omega, zeta, r, r * fs_over_fd)
 
-    grid = np.linspace(0.0, 1.0, points + 1)[1:]
     r_max = 1.0
-    while margin(r_max) > 0.0:  # the boundary lies beyond 1: widen
+    while at(r_max).valid:  # the boundary lies beyond: widen
         r_max *= 2.0
-    values = [margin(r) for r in grid * r_max]
-    i = next(i for i, m in enumerate(values) if m <= 0.0)
-    lo = grid[i - 1] * r_max if i else 1e-12
-    return brentq(margin, lo, grid[i] * r_max, xtol=1e-14, rtol=1e-13)
+    grid = np.linspace(0.0, r_max, points + 1)[1:]
+    i = next(i for i, r in enumerate(grid) if not at(r).valid)
+    lo, hi = (grid[i - 1] if i else 1e-12), grid[i]
+    if at(hi).exists and at(hi).interior_ok:  # the margin changed sign
+        return brentq(lambda r: at(r).margin, lo, hi, xtol=1e-14, rtol=1e-13)
+    if at(lo).margin > 0.0 and at(hi).exists and at(hi).margin > 0.0:  # mid-stroke: the least velocity changes sign
+        return brentq(lambda r: at(r).least_interior_velocity(), lo, hi, xtol=1e-14, rtol=1e-13)
+    while hi - lo > 1e-13 * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if at(mid).valid else (lo, mid)
+    return lo
