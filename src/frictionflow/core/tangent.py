@@ -238,6 +238,12 @@ def _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
 
 
 @njit(cache=True)
+def rounding_noise(v, vb):
+    """The size below which d (V_b - X') is rounding: a few units of X' and V_b."""
+    return 16.0 * EPS * (abs(v) + abs(vb))
+
+
+@njit(cache=True)
 def slip_until(y, t, h, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out):
     """One slip step of at most h; returns (theta, switched): the step taken and whether it ends on V_r = 0.
 
@@ -246,11 +252,16 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out):
     g0 = d * (vb - y[1])
     g1 = _g_step(y, t, h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
     a0 = accel(d, y[0], y[1], t, zeta, vb, p)
+    noise = rounding_noise(y[1], vb)
+    if fresh and abs(g1) <= noise:
+        # leaving tangentially (Stribeck's a+ = 0), or a step too short to show it: the
+        # stick rule chose a direction that leaves, so V_r = 0 is no switch yet
+        return h, False
     if g1 > 0.0:
         # two crossings inside the step?  The Hermite cubic of g (g' = -d X'') dips below 0
         a1 = accel(d, out[0], out[1], t + h, zeta, vb, p)
         s, val = _hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
-        if s < 0.0 or val >= 0.0:
+        if s < 0.0 or val >= -noise:
             return h, False
         gm = _g_step(y, t, s * h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
         if gm > 0.0:  # the scheme's own solution stays off the surface: a near miss
@@ -446,12 +457,14 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
                     continue
                 d = float(mode)
                 theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out)
-                fresh = False
                 if not switched:
                     y[:] = out
                     t = target
                     zero_run = 0
+                    # a phase that has not yet left V_r = 0 by more than rounding is still starting
+                    fresh = fresh and not d * (vb - y[1]) > rounding_noise(y[1], vb)
                     continue
+                fresh = False
                 if theta > 0.0:
                     y[:] = out
                     t += theta
