@@ -27,7 +27,11 @@ COMMAND_PARAMETERS = {p.name: p for p in (
 )}
 
 
-@app.command()
+#: the command list's line (click would cut the docstring); cli.SHORT_HELP may name it too
+SHORT_HELP = "Lyapunov exponents of the stick-slip flow, forced or not."
+
+
+@app.command(short_help=SHORT_HELP)
 @with_parameters(MODEL, HELP)
 def lyapunov(
     params: dict[str, Any],
