@@ -1,0 +1,215 @@
+"""Lyapunov exponents of the non-smooth (stick-slip) flow, forced or not.
+
+>>> from frictionflow import BeltOscillator, Coulomb
+>>> from frictionflow.analysis.lyapunov import lyapunov_exponents
+>>> r = lyapunov_exponents(BeltOscillator(zeta=0.01, vb=0.1, fex=0.5, omega=1.0), Coulomb(0.5, 1.0))
+>>> round(r.exponents[0], 2), r.exponents[1]      # chaotic stick-slip: the second is -inf
+(0.08, -inf)
+
+Two tangent vectors ride along the trajectory (:mod:`frictionflow.core.tangent`:
+RK4 inside the phases, switches located, saltation matrices across them) and
+are renormalised by QR at the end of every block -- every forcing period
+when forced, every ``block`` time units when not.  After ``t_transient``
+the mean logarithmic growth of the frame gives both exponents of the
+(X, X') part:
+
+* forced: the trivial zero exponent of the time (phase) direction of the
+  extended phase space is not among them;
+* unforced: one of the two belongs to the flow direction (about 0 on a limit
+  cycle, decaying like 1 / t to it).
+
+A stick onset maps every perturbation of X' to 0 (saltation diag(1, 0)), so
+the tangent map loses a dimension: while the motion keeps sticking the second
+exponent is exactly ``-inf`` (and the volume contraction is total).  It is
+reported as such (``None`` in JSON, with ``collapsed`` true), not as the
+rounding noise that a floating-point frame would show.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._display import Row, Summarized, num, system_row
+from ..core import tangent
+from ..friction.base import FrictionLaw
+from ..params import BeltOscillator
+from ..solvers.base import kernel_params
+
+#: RK4 steps per block unless told (the convergence test halves it)
+DEFAULT_STEPS = 512
+#: the block of an unforced run: one natural period
+DEFAULT_UNFORCED_BLOCK = 2.0 * math.pi
+SWITCH_NAMES = ("stick_onsets", "slip_onsets", "slip_reversals", "held_at_limit", "grazing_touches")
+
+
+@dataclass(frozen=True, repr=False)
+class LyapunovResult(Summarized):
+    """Both Lyapunov exponents of a run, their running estimates and what happened on the way.
+
+    ``exponents``: (lambda_1, lambda_2), largest first (lambda_2 may be -inf,
+    see the module docstring).  ``running``: the estimates after each
+    averaged block (rows; column i is lambda_i), at ``times`` (time since the
+    transient ended).  ``sections``: (X, X', mode) at every block end, the
+    transient's included (forced: the stroboscopic sequence).
+    """
+
+    model: BeltOscillator
+    friction: FrictionLaw
+    exponents: tuple[float, float]
+    running: np.ndarray
+    times: np.ndarray
+    switches: dict[str, int]
+    sections: np.ndarray
+    settings: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def collapsed(self) -> bool:
+        """The second exponent is -inf: the averaged motion sticks (the tangent map loses rank)."""
+        return self.exponents[1] == -math.inf
+
+    @property
+    def spread(self) -> tuple[float, float]:
+        """max - min of each running estimate over the second half of the averaging: a convergence check."""
+        half = self.running[len(self.running) // 2:]
+        out = []
+        for i in range(2):
+            col = half[:, i]
+            out.append(float(np.ptp(col)) if np.all(np.isfinite(col)) else math.nan)
+        return out[0], out[1]
+
+    @property
+    def chaotic(self) -> bool:
+        """lambda_1 > 0 by more than its spread (forced runs; an autonomous flow's 0 is not chaos)."""
+        return self.exponents[0] > max(self.spread[0], 1e-6)
+
+    def as_dict(self) -> dict[str, Any]:
+        """A JSON-ready report: -inf exponents become None (``minus_infinity`` says which)."""
+        from ..orbits._json import jsonable
+
+        return jsonable({
+            "params": {**self.model.as_dict(), **self.friction.as_dict()},
+            "exponents": list(self.exponents),
+            "minus_infinity": [e == -math.inf for e in self.exponents],
+            "collapsed": self.collapsed,
+            "spread": list(self.spread),
+            "switches": dict(self.switches),
+            "settings": dict(self.settings),
+            "final_state": {"X": float(self.sections[-1, 0]), "V": float(self.sections[-1, 1])},
+        })
+
+    def summary(self) -> str:
+        """The text report (the same as ``repr``)."""
+        return repr(self)
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        s = self.settings
+        l1, l2 = self.exponents
+        rows = [
+            system_row(self.model, self.friction),
+            ("forcing", f"F_ex={num(self.model.fex, 4)}, Omega={num(self.model.omega, 4)}" if self.model.forced else "none"),
+            ("lambda_1", f"{num(l1, 8)} (spread {num(self.spread[0], 2)})"),
+            ("lambda_2", "-inf (stick onsets collapse the tangent map)" if self.collapsed
+             else f"{num(l2, 8)} (spread {num(self.spread[1], 2)})"),
+            ("switches", ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in self.switches.items() if v)),
+            ("averaged", f"tau {num(s['t_transient'])}..{num(s['t_end'])}, {s['blocks']} blocks of {num(s['block'])}, "
+                         f"{s['steps_per_block']} RK4 steps each"),
+        ]
+        return "LyapunovResult", rows
+
+
+def _check_law(friction: FrictionLaw) -> None:
+    if friction.stick_rule != "switch":
+        raise ValueError(f"Lyapunov exponents need a law with Coulomb's stick rule (switch); {friction.name} has a "
+                         f"velocity band ({friction.stick_rule}): use coulomb, stribeck or cubic")
+    if getattr(friction, "func", None) is not None:
+        raise ValueError("Lyapunov exponents need a compiled slip law; a user-defined law's function cannot be "
+                         "differentiated by the tangent kernel")
+
+
+def _positive(name: str, value: float) -> float:
+    value = float(value)
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+    return value
+
+
+def lyapunov_exponents(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    x0: float = 0.0,
+    v0: float = 0.0,
+    t_transient: float = 1000.0,
+    t_end: float = 6000.0,
+    *,
+    steps_per_block: int = DEFAULT_STEPS,
+    block: float | None = None,
+) -> LyapunovResult:
+    """Both Lyapunov exponents of the motion from (x0, v0), averaged over tau in [t_transient, t_end].
+
+    Parameters
+    ----------
+    model, friction:
+        The oscillator (forced or not) and a law with Coulomb's stick rule
+        (Coulomb, Stribeck, cubic; Karnopp's band law is refused).
+    x0, v0:
+        Start state at tau = 0.
+    t_transient, t_end:
+        The frame is renormalised but not averaged before ``t_transient``;
+        both are rounded up to whole blocks.
+    steps_per_block:
+        RK4 steps per block (the slip phases' accuracy; switches are located
+        whatever it is).
+    block:
+        Renormalisation interval: the forcing period 2 pi / Omega when forced
+        (and then it must be), 2 pi unforced unless given.
+    """
+    _check_law(friction)
+    if model.forced:
+        if block is not None and not math.isclose(block, model.forcing_period, rel_tol=1e-12):
+            raise ValueError(f"a forced run renormalises once per forcing period {model.forcing_period:.12g}; got block={block!r}")
+        block = model.forcing_period
+    else:
+        block = DEFAULT_UNFORCED_BLOCK if block is None else _positive("block", block)
+    for name, value in (("x0", x0), ("v0", v0)):
+        if not math.isfinite(float(value)):
+            raise ValueError(f"{name} must be finite, got {value!r}")
+    if not (math.isfinite(t_transient) and t_transient >= 0.0):
+        raise ValueError(f"t_transient must be finite and >= 0, got {t_transient!r}")
+    _positive("t_end", t_end)
+    if not t_end > t_transient:
+        raise ValueError(f"t_end ({t_end!r}) must exceed t_transient ({t_transient!r})")
+    if int(steps_per_block) != steps_per_block or steps_per_block < 4:
+        raise ValueError(f"steps_per_block must be an integer >= 4, got {steps_per_block!r}")
+    n_transient = math.ceil(t_transient / block - 1e-9)
+    n_blocks = max(1, math.ceil((t_end - n_transient * block) / block - 1e-9))
+    p = kernel_params(model, friction)
+    strobe = np.zeros((n_transient + n_blocks, 3))
+    est = np.full((n_blocks, 2), np.nan)
+    counts = np.zeros(tangent.N_COUNTS, dtype=np.int64)
+    status, s1, s2 = tangent.run(float(x0), float(v0), float(model.zeta), float(model.vb), p, float(block),
+                                 int(steps_per_block), n_transient, n_blocks, strobe, est, counts)
+    if status == tangent.ZERO_PHASES:
+        raise RuntimeError("the motion is caught switching without moving (repeated zero-length phases): "
+                           "a grazing or sliding motion the switch model cannot continue")
+    if status == tangent.NOT_FINITE:
+        raise RuntimeError("the tangent vectors left the floating-point range (a grazing switch?)")
+    elapsed = n_blocks * block
+    exps = (s1 / elapsed, s2 / elapsed)
+    if exps[1] > exps[0]:  # only rounding can put them out of order (equal exponents)
+        exps = (exps[1], exps[0])
+    return LyapunovResult(
+        model=model,
+        friction=friction,
+        exponents=(float(exps[0]), float(exps[1])),
+        running=est,
+        times=block * np.arange(1, n_blocks + 1),
+        switches={name: int(c) for name, c in zip(SWITCH_NAMES, counts, strict=True)},
+        sections=strobe,
+        settings={"x0": float(x0), "v0": float(v0), "t_transient": n_transient * block,
+                  "t_end": (n_transient + n_blocks) * block, "block": block, "blocks": n_blocks,
+                  "steps_per_block": int(steps_per_block), "method": "RK4 + located switches + saltation, QR per block"},
+    )

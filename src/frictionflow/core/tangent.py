@@ -1,0 +1,539 @@
+"""The state of the belt oscillator together with its tangent (variational) dynamics, switch by switch.
+
+The flow is ``X'' + 2 zeta X' + X = F_c(V_r) + f(tau)``, ``V_r = V_b - X'``,
+``f(tau) = F_ex cos(Omega tau + phi)``, for laws with Coulomb's stick rule
+(``stick_rule == "switch"``: Coulomb, Stribeck, cubic).  It is smooth inside
+each friction mode and switches between modes on surfaces ``h(X, X', tau) = 0``;
+the kernel integrates every phase on its own and *locates* every switch
+(no smoothed sign function), then carries two tangent vectors across it with
+the saltation matrix.
+
+Inside the phases
+-----------------
+*Slip in direction d* (d = sgn V_r = +-1, so |V_r| = d (V_b - X')):
+``X'' = d F(d (V_b - X')) + f(tau) - X - 2 zeta X'`` with F = |F_c| the slip
+curve.  Its Jacobian: dX''/dX = -1 and
+
+    dX''/dX' = -2 zeta + d F'(|V_r|) d|V_r|/dX' = -2 zeta + d F'(|V_r|) (-d) = -2 zeta - F'(|V_r|),
+
+the same in both directions (d^2 = 1), so the tangent dynamics are
+
+    dx' = dv,        dv' = -dx - (2 zeta + F'(|V_r|)) dv.
+
+Integrated with the state by classical RK4 (the 6-vector of X, X' and the two
+tangent vectors), on a grid of steps that lands on every block end
+tau_k = k T (T the forcing period when forced).
+
+*Stick*: X' = V_b held, X = X_s + V_b (tau - tau_s) in closed form.  The
+field (V_b, 0) is constant, its Jacobian is 0: the tangent vectors do not
+change (and have dv = 0, see the stick onset).
+
+The switches and their saltation matrices
+-----------------------------------------
+A perturbation dy (at fixed time) of a trajectory that crosses
+``h(y, tau) = 0`` at tau* from field f- to field f+ crosses at
+tau* + dtau with n.(dy + f- dtau) + h_tau dtau = 0 (n = grad_y h), and by the
+common time it has followed f- for -dtau less, f+ for -dtau more:
+
+    dy+ = S dy,     S = I + (f+ - f-) n^T / (n.f- + h_tau).
+
+With a = X'' of a field at the switch state:
+
+1. *Stick onset* (slip d -> stick): h = V_b - X', n = (0, -1), h_tau = 0,
+   f- = (V_b, a-), f+ = (V_b, 0).  n.f- = -a-, (f+ - f-) n^T = [[0, 0], [0, a-]]:
+   S = diag(1, 0).  dv -> 0: the stick phase forgets every perturbation of
+   X', and the tangent map loses a dimension (det S = 0).  Two tangent
+   vectors become parallel: the second Lyapunov exponent is -inf whenever
+   the motion keeps sticking (the kernel records the collapse rather than
+   read rounding noise as a finite exponent).
+2. *Slip onset* (stick -> slip d): h = s (F_e - f(tau)) - F_s with s the side
+   reached (F_e = X + 2 zeta V_b or X), n = (s, 0) (a v component of n
+   would meet dv = 0), h_tau = -s f'(tau), f- = (V_b, 0), f+ = (V_b, a+),
+   a+ = d F(0+) + f - X - 2 zeta V_b.  n.f- + h_tau = s (V_b - f'):
+
+       S = [[1, 0], [a+ / (V_b - f'(tau)), 1]],
+
+   a perturbation dx > 0 on the side s = +1 leaves dx / (V_b - f') earlier
+   and has gained a+ dx / (V_b - f') of velocity by the common time.
+   Unforced: a+ / V_b.
+3. *Slip reversal* (slip d -> slip -d through V_r = 0 without sticking):
+   h = V_b - X', n = (0, -1), f-+ = (V_b, a-+), a-+ = -+d F(0+) + f - X - 2 zeta V_b:
+
+       S = diag(1, a+ / a-),
+
+   the velocity perturbation scales with the ratio of the accelerations.
+
+Switch location
+---------------
+Slip ends where g = d (V_b - X') reaches 0.  A step whose end has g <= 0
+(or whose cubic Hermite interpolant of g dips below 0: two crossings inside
+one step) is retaken from its start with lengths theta found by false
+position (Illinois) on g(theta) = g(the RK4 step of length theta), to
+|dtheta| ~ 1e-15 tau: the switch is a root of the scheme's own solution, and
+the state and tangent vectors at the switch are one RK4 step of length theta.
+A stick phase ends where |F_e - f(tau)| reaches F_s: an explicit function of
+tau, whose sign changes (and interior maxima, found on its derivative) are
+searched step by step and refined by the same false position.  The mode after
+every switch is :func:`~.friction.rest_mode` with the external force and its
+rate at that instant.
+
+Exponents
+---------
+Every block (from tau = 0, of length ``block``) ends with a QR (Gram-Schmidt)
+renormalisation of the two tangent vectors u1, u2: r11 = |u1|,
+q1 = u1 / r11, q2 = q1 turned by 90 degrees, r22 = q2.u2.  After the transient
+blocks, the sums of log r11 and log |r22| over the averaged blocks divided by
+their time are the exponents (log r22 = -inf in a block with a stick onset).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .friction import FS, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of, slip_slope_of
+
+#: the 6-vector integrated in slip: X, X', then the tangent vectors u1 = (y2, y3), u2 = (y4, y5)
+NY = 6
+#: counts the kernel returns: stick onsets, slip onsets, slip reversals, held at F_s, grazing touches
+N_COUNTS = 5
+C_STICK, C_SLIP, C_REVERSAL, C_HELD, C_GRAZE = range(N_COUNTS)
+#: status codes
+OK, ZERO_PHASES, NOT_FINITE = 0, 1, 2
+#: consecutive phases shorter than a rounding unit before the kernel gives up
+MAX_ZERO_PHASES = 16
+EPS = 2.220446049250313e-16
+
+
+@njit(cache=True)
+def slip_force(p, s):
+    """|F| at the slip speed s = d (V_b - X'); for s < 0 (an RK stage overshooting a switch) its linear extension."""
+    if s >= 0.0:
+        return slip_magnitude_of(p, s)
+    k = slip_slope_of(p, 0.0)
+    f0 = slip_magnitude_of(p, 0.0)
+    return f0 + s * k if math.isfinite(k) else f0
+
+
+@njit(cache=True)
+def slip_slope(p, s):
+    """F'(s), continued as F'(0+) below 0 (see :func:`slip_force`)."""
+    k = slip_slope_of(p, max(s, 0.0))
+    return k if math.isfinite(k) else 0.0
+
+
+@njit(cache=True)
+def accel(d, x, v, t, zeta, vb, p):
+    """X'' while slipping in direction d."""
+    return d * slip_force(p, d * (vb - v)) + external_force(p, t) - x - 2.0 * zeta * v
+
+
+@njit(cache=True)
+def rhs(y, t, d, zeta, vb, p, out):
+    """The slip field of the state and of both tangent vectors."""
+    x = y[0]
+    v = y[1]
+    out[0] = v
+    out[1] = accel(d, x, v, t, zeta, vb, p)
+    damp = 2.0 * zeta + slip_slope(p, d * (vb - v))
+    out[2] = y[3]
+    out[3] = -y[2] - damp * y[3]
+    out[4] = y[5]
+    out[5] = -y[4] - damp * y[5]
+
+
+@njit(cache=True)
+def rk4_step(y, t, h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
+    """One classical RK4 step of length h from (y, t) into ``out``."""
+    rhs(y, t, d, zeta, vb, p, k1)
+    for i in range(NY):
+        tmp[i] = y[i] + 0.5 * h * k1[i]
+    rhs(tmp, t + 0.5 * h, d, zeta, vb, p, k2)
+    for i in range(NY):
+        tmp[i] = y[i] + 0.5 * h * k2[i]
+    rhs(tmp, t + 0.5 * h, d, zeta, vb, p, k3)
+    for i in range(NY):
+        tmp[i] = y[i] + h * k3[i]
+    rhs(tmp, t + h, d, zeta, vb, p, k4)
+    for i in range(NY):
+        out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+@njit(cache=True)
+def _g_step(y, t, theta, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
+    """The switch function d (V_b - X') after an RK4 step of length theta (state in ``out``)."""
+    rk4_step(y, t, theta, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+    return d * (vb - out[1])
+
+
+@njit(cache=True)
+def _hermite(g0, g1, m0, m1, s):
+    """Cubic Hermite interpolant on [0, 1] with values g0, g1 and slopes m0, m1 (per unit s)."""
+    s2 = s * s
+    s3 = s2 * s
+    return (2 * s3 - 3 * s2 + 1) * g0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * g1 + (s3 - s2) * m1
+
+
+@njit(cache=True)
+def _hermite_min(g0, g1, m0, m1):
+    """(s, value) of the Hermite cubic's smallest value at an interior critical point (s = -1: none)."""
+    # derivative: a s^2 + b s + c
+    a = 6 * g0 + 3 * m0 - 6 * g1 + 3 * m1
+    b = -6 * g0 - 4 * m0 + 6 * g1 - 2 * m1
+    c = m0
+    best_s = -1.0
+    best = math.inf
+    roots = np.empty(2)
+    n = 0
+    if abs(a) < 1e-300:
+        if b != 0.0:
+            roots[0] = -c / b
+            n = 1
+    else:
+        disc = b * b - 4 * a * c
+        if disc >= 0.0:
+            q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
+            roots[0] = q / a
+            n = 1
+            if q != 0.0:
+                roots[1] = c / q
+                n = 2
+    for i in range(n):
+        s = roots[i]
+        if 0.0 < s < 1.0:
+            val = _hermite(g0, g1, m0, m1, s)
+            if val < best:
+                best = val
+                best_s = s
+    return best_s, best
+
+
+@njit(cache=True)
+def _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
+    """Illinois false position for g(theta) = 0 with g(lo) > 0 >= g(hi); returns theta (state at it in ``out``)."""
+    side = 0
+    for _ in range(200):
+        if hi - lo <= 4.0 * EPS * (abs(t) + hi):
+            break
+        m = hi - ghi * (hi - lo) / (ghi - glo)
+        if not (lo < m < hi):
+            m = 0.5 * (lo + hi)
+        gm = _g_step(y, t, m, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+        if gm > 0.0:
+            lo, glo = m, gm
+            if side == -1:
+                ghi *= 0.5
+            side = -1
+        else:
+            hi, ghi = m, gm
+            if side == 1:
+                glo *= 0.5
+            side = 1
+            if gm == 0.0:
+                break
+    _g_step(y, t, hi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+    return hi
+
+
+@njit(cache=True)
+def rounding_noise(v, vb):
+    """The size below which d (V_b - X') is rounding: a few units of X' and V_b."""
+    return 16.0 * EPS * (abs(v) + abs(vb))
+
+
+@njit(cache=True)
+def slip_until(y, t, h, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out):
+    """One slip step of at most h; returns (theta, switched): the step taken and whether it ends on V_r = 0.
+
+    ``fresh``: the phase began at t (g(0) = 0; the left end of a bracket is then looked for inside).
+    """
+    g0 = d * (vb - y[1])
+    g1 = _g_step(y, t, h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+    a0 = accel(d, y[0], y[1], t, zeta, vb, p)
+    noise = rounding_noise(y[1], vb)
+    if fresh and abs(g1) <= noise:
+        # leaving tangentially (Stribeck's a+ = 0), or a step too short to show it: the
+        # stick rule chose a direction that leaves, so V_r = 0 is no switch yet
+        return h, False
+    if g1 > 0.0:
+        # two crossings inside the step?  The Hermite cubic of g (g' = -d X'') dips below 0
+        a1 = accel(d, out[0], out[1], t + h, zeta, vb, p)
+        s, val = _hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
+        if s < 0.0 or val >= -noise:
+            return h, False
+        gm = _g_step(y, t, s * h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+        if gm > 0.0:  # the scheme's own solution stays off the surface: a near miss
+            _g_step(y, t, h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+            return h, False
+        hi, ghi = s * h, gm
+    else:
+        hi, ghi = h, g1
+    lo, glo = 0.0, g0
+    if glo <= 0.0 or fresh:
+        # the phase starts on the surface: a left end inside (0, hi) where g > 0
+        lo = hi
+        glo = 0.0
+        for _ in range(60):
+            lo *= 0.5
+            glo = _g_step(y, t, lo, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+            if glo > 0.0:
+                break
+        if not glo > 0.0:
+            return 0.0, True  # leaves the surface the wrong way at once: a zero-length phase
+    theta = _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+    return theta, True
+
+
+@njit(cache=True)
+def _stick_gap(x0, t0, t, side, zeta, vb, res, fs, p):
+    """side (F_e - f(t)) - F_s while sticking from (x0, t0): >= 0 on (or past) the side's limit."""
+    x = x0 + vb * (t - t0)
+    fe = x + 2.0 * zeta * vb if res else x
+    return side * (fe - external_force(p, t)) - fs
+
+
+@njit(cache=True)
+def _stick_gap_rate(t, side, vb, p):
+    return side * (vb - external_force_rate(p, t))
+
+
+@njit(cache=True)
+def _stick_root(x0, t0, lo, hi, side, zeta, vb, res, fs, p):
+    """First time in (lo, hi] where the gap of ``side`` reaches 0, given gap(lo) < 0 <= gap(hi)."""
+    glo = _stick_gap(x0, t0, lo, side, zeta, vb, res, fs, p)
+    ghi = _stick_gap(x0, t0, hi, side, zeta, vb, res, fs, p)
+    sd = 0
+    for _ in range(200):
+        if hi - lo <= 4.0 * EPS * max(abs(hi), 1.0):
+            break
+        m = hi - ghi * (hi - lo) / (ghi - glo)
+        if not (lo < m < hi):
+            m = 0.5 * (lo + hi)
+        gm = _stick_gap(x0, t0, m, side, zeta, vb, res, fs, p)
+        if gm < 0.0:
+            lo, glo = m, gm
+            if sd == -1:
+                ghi *= 0.5
+            sd = -1
+        else:
+            hi, ghi = m, gm
+            if sd == 1:
+                glo *= 0.5
+            sd = 1
+            if gm == 0.0:
+                break
+    return hi
+
+
+@njit(cache=True)
+def _stick_max(lo, hi, side, vb, p):
+    """The time in (lo, hi) where the gap's rate turns from + to - (its maximum there), by bisection."""
+    for _ in range(200):
+        m = 0.5 * (lo + hi)
+        if m <= lo or m >= hi:
+            break
+        if _stick_gap_rate(m, side, vb, p) > 0.0:
+            lo = m
+        else:
+            hi = m
+    return lo
+
+
+@njit(cache=True)
+def stick_exit(x0, t0, ta, tb, zeta, vb, res, fs, p):
+    """(time, side) of the first arrival of |F_e - f| at F_s in (ta, tb] while sticking (side 0: none).
+
+    A side whose gap is already >= 0 at ta (the interface held on past F_s)
+    counts only once it has come back inside.
+    """
+    best = math.inf
+    best_side = 0
+    for side in (1.0, -1.0):
+        ga = _stick_gap(x0, t0, ta, side, zeta, vb, res, fs, p)
+        if ga >= 0.0:
+            continue
+        gb = _stick_gap(x0, t0, tb, side, zeta, vb, res, fs, p)
+        hi = tb
+        if gb < 0.0:
+            # both ends inside: an interior maximum may still reach the limit
+            if not (_stick_gap_rate(ta, side, vb, p) > 0.0 and _stick_gap_rate(tb, side, vb, p) < 0.0):
+                continue
+            tm = _stick_max(ta, tb, side, vb, p)
+            if _stick_gap(x0, t0, tm, side, zeta, vb, res, fs, p) < 0.0:
+                continue
+            hi = tm
+        te = _stick_root(x0, t0, ta, hi, side, zeta, vb, res, fs, p)
+        if te < best:
+            best = te
+            best_side = int(side)
+    return best, best_side
+
+
+@njit(cache=True)
+def start_mode(x, v, t, zeta, vb, p):
+    """The mode at (x, v, t): the slip direction sgn(V_r), or the stick rule on V_r = 0."""
+    if v != vb:
+        return 1 if vb - v > 0.0 else -1
+    return rest_mode(x, zeta, vb, p[FS], p[RESULTANT] != 0.0, slip_force(p, 0.0),
+                     external_force(p, t), external_force_rate(p, t))
+
+
+@njit(cache=True)
+def _a_rest(d, x, t, zeta, vb, p):
+    """X'' at X' = V_b slipping in direction d (the field on either side of a switch)."""
+    return d * slip_force(p, 0.0) + external_force(p, t) - x - 2.0 * zeta * vb
+
+
+@njit(cache=True)
+def _grid_time(j, n_sub, block, h):
+    """The end of grid step j: whole blocks plus whole steps, without a running sum's drift."""
+    return (j // n_sub) * block + (j % n_sub) * h
+
+
+@njit(cache=True)
+def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, counts):
+    """Integrate n_transient + n_blocks blocks with the two tangent vectors; returns (status, sum log r11, sum log|r22|).
+
+    Fills ``strobe`` (n_transient + n_blocks, 3: X, X', mode at each block
+    end), ``est`` (n_blocks, 2: the running exponent estimates after each
+    averaged block) and ``counts`` (:data:`N_COUNTS`, over the whole run).
+    """
+    res = p[RESULTANT] != 0.0
+    fs = p[FS]
+    h = block / n_sub
+    y = np.zeros(NY)
+    out = np.empty(NY)
+    k1 = np.empty(NY)
+    k2 = np.empty(NY)
+    k3 = np.empty(NY)
+    k4 = np.empty(NY)
+    tmp = np.empty(NY)
+    for i in range(N_COUNTS):
+        counts[i] = 0
+    y[0], y[1] = x0, v0
+    y[2], y[3], y[4], y[5] = 1.0, 0.0, 0.0, 1.0
+    t = 0.0
+    mode = start_mode(x0, v0, t, zeta, vb, p)
+    if mode == 0:
+        y[1] = vb
+        y[3] = 0.0  # sticking from the start: the stick onset's dv -> 0
+        y[5] = 0.0
+    fresh = v0 == vb
+    x_s, t_s = y[0], t  # where the current stick phase began
+    zero_run = 0
+    s1 = 0.0
+    s2 = 0.0
+    collapsed = mode == 0
+    j = 0
+    for blk in range(n_transient + n_blocks):
+        for _ in range(n_sub):
+            j += 1
+            target = _grid_time(j, n_sub, block, h)
+            while t < target:
+                if mode == 0:
+                    te, side = stick_exit(x_s, t_s, t, target, zeta, vb, res, fs, p)
+                    if side == 0:
+                        t = target
+                        y[0] = x_s + vb * (t - t_s)
+                        continue
+                    t = te
+                    y[0] = x_s + vb * (t - t_s)
+                    new = rest_mode(y[0], zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t),
+                                    external_force_rate(p, t))
+                    if new == 0:
+                        counts[C_HELD] += 1  # no slip direction is consistent: the interface holds on
+                        continue
+                    # slip onset: S = [[1, 0], [a+ / (V_b - f'), 1]]
+                    a_new = _a_rest(float(new), y[0], t, zeta, vb, p)
+                    den = vb - external_force_rate(p, t)
+                    c = a_new / den
+                    y[3] += c * y[2]
+                    y[5] += c * y[4]
+                    mode = new
+                    fresh = True
+                    counts[C_SLIP] += 1
+                    continue
+                d = float(mode)
+                theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out)
+                if not switched:
+                    y[:] = out
+                    t = target
+                    zero_run = 0
+                    # a phase that has not yet left V_r = 0 by more than rounding is still starting
+                    fresh = fresh and not d * (vb - y[1]) > rounding_noise(y[1], vb)
+                    continue
+                fresh = False
+                if theta > 0.0:
+                    y[:] = out
+                    t += theta
+                zero_run = zero_run + 1 if theta <= 4.0 * EPS * (1.0 + abs(t)) else 0
+                if zero_run > MAX_ZERO_PHASES:
+                    return ZERO_PHASES, s1, s2
+                y[1] = vb  # exactly on the switch
+                new = rest_mode(y[0], zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t),
+                                external_force_rate(p, t))
+                if new == 0:
+                    # stick onset: S = diag(1, 0)
+                    y[3] = 0.0
+                    y[5] = 0.0
+                    x_s, t_s = y[0], t
+                    mode = 0
+                    collapsed = True
+                    counts[C_STICK] += 1
+                elif new != mode:
+                    # slip reversal: S = diag(1, a+ / a-)
+                    ratio = _a_rest(float(new), y[0], t, zeta, vb, p) / _a_rest(d, y[0], t, zeta, vb, p)
+                    y[3] *= ratio
+                    y[5] *= ratio
+                    mode = new
+                    fresh = True
+                    counts[C_REVERSAL] += 1
+                else:
+                    counts[C_GRAZE] += 1  # touched V_r = 0 and slips on the same way: no switch
+                    fresh = True
+        # block end: stroboscopic sample and QR of the tangent vectors
+        strobe[blk, 0] = y[0]
+        strobe[blk, 1] = y[1]
+        strobe[blk, 2] = mode
+        r11, r22 = _qr(y)
+        if not (math.isfinite(r11) and math.isfinite(r22)):
+            return NOT_FINITE, s1, s2
+        if blk >= n_transient:
+            k = blk - n_transient
+            s1 += math.log(r11)
+            s2 += -math.inf if (collapsed or r22 == 0.0) else math.log(abs(r22))
+            elapsed = (k + 1) * block
+            est[k, 0] = s1 / elapsed
+            est[k, 1] = s2 / elapsed
+        if mode == 0:
+            # a block that starts sticking: the frame's dv components belong to no sticking
+            # motion (a perturbed X' slips back onto the belt at once): the stick onset's projection
+            y[3] = 0.0
+            y[5] = 0.0
+        collapsed = mode == 0
+    return OK, s1, s2
+
+
+@njit(cache=True)
+def _qr(y):
+    """Gram-Schmidt of the tangent vectors in y[2:6] in place; returns (r11, r22).
+
+    q2 is q1 turned by 90 degrees, so a collapsed pair (u2 parallel to u1)
+    still leaves an orthonormal frame.  A first vector killed by a stick
+    onset (u1 along dv exactly) gives way to the second.
+    """
+    n1 = math.hypot(y[2], y[3])
+    if n1 == 0.0:
+        y[2], y[3], y[4], y[5] = y[4], y[5], y[2], y[3]
+        n1 = math.hypot(y[2], y[3])
+        if n1 == 0.0:
+            return 0.0, 0.0
+    q1x = y[2] / n1
+    q1v = y[3] / n1
+    q2x = -q1v
+    q2v = q1x
+    r22 = q2x * y[4] + q2v * y[5]
+    y[2], y[3], y[4], y[5] = q1x, q1v, q2x, q2v
+    return n1, r22
