@@ -49,6 +49,9 @@ from ..trajectory import Trajectory
 MAX_MULTIPLE = 16
 #: how far from tau_k a sample may be and still be the section's (relative to the forcing period)
 SECTION_MATCH = 1e-9
+#: forcing periods the Lyapunov exponent is averaged over, after a short transient, when the section does not repeat
+LYAPUNOV_PERIODS = 400
+LYAPUNOV_TRANSIENT = 20
 #: repetitions a fixed-step run's jittering section needs (as the autonomous classifier's 8 periods)
 JITTER_REPEATS = 8
 
@@ -133,12 +136,12 @@ def jittered_multiple(x: np.ndarray, v: np.ndarray, jitter: float, max_multiple:
 
 
 def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: float = 0.0,
-                    lyapunov: Callable[[Trajectory], tuple[float, float]] | None = None) -> dict:
+                    lyapunov: Callable[[Trajectory], tuple[float, float] | None] | None = None) -> dict:
     """Kind, window and details of the forced run ``traj`` (see the module docstring).
 
-    ``lyapunov(traj)`` returns (largest exponent, its uncertainty) and is
-    called only when the section does not repeat; without it such runs are
-    ``not_settled``.  ``noise``: the solver's relative error on the section.
+    ``lyapunov(traj)`` returns (largest exponent, its uncertainty), or None
+    where it cannot, and is called only when the section does not repeat;
+    without it such runs are ``not_settled``.  ``noise``: the solver's relative error on the section.
     """
     idx = section_indices(traj)
     tail = idx[len(idx) // 2:]
@@ -165,7 +168,11 @@ def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: 
     if lyapunov is None:
         out["kind"] = "not_settled"
         return out
-    lam, spread = lyapunov(traj)
+    found = lyapunov(traj)
+    if found is None:
+        out["kind"] = "not_settled"
+        return out
+    lam, spread = found
     out["lyapunov"] = lam
     if lam > spread:
         out["kind"] = "chaotic"
@@ -174,3 +181,29 @@ def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: 
     else:
         out["kind"] = "not_settled"
     return out
+
+
+def largest_exponent(traj: Trajectory) -> tuple[float, float] | None:
+    """(largest Lyapunov exponent, its uncertainty) of the motion from the run's last section state; None if unavailable.
+
+    Computed by :func:`frictionflow.analysis.lyapunov.lyapunov_exponents`
+    (saltation matrices at every switch) from the state at the last
+    stroboscopic time, which has the forcing phase of tau = 0.  Laws without
+    Coulomb's stick rule (Karnopp's band) and user-defined laws have no
+    tangent kernel: None, and the run stays ``not_settled``.  The uncertainty
+    is the spread of the running estimate over the second half of the
+    averaging (at least 1e-4: a finite run cannot tell smaller exponents from 0).
+    """
+    from .lyapunov import lyapunov_exponents
+
+    law = traj.friction
+    if law.stick_rule != "switch" or getattr(law, "func", None) is not None:
+        return None
+    i = section_indices(traj)[-1]
+    period = traj.model.forcing_period
+    try:
+        r = lyapunov_exponents(traj.model, law, float(traj.x[i]), float(traj.v[i]), t_transient=LYAPUNOV_TRANSIENT * period,
+                               t_end=(LYAPUNOV_TRANSIENT + LYAPUNOV_PERIODS) * period, steps_per_block=256)
+    except RuntimeError:  # a grazing switch the tangent map cannot cross
+        return None
+    return float(r.exponents[0]), max(float(r.spread[0]), 1e-4)

@@ -184,9 +184,9 @@ def steady_state(
 
 def _forced(traj: Trajectory, rtol: float, min_periods: int) -> SteadyState:
     """The forced run's steady state on the stroboscopic section (:func:`.forced.classify_forced`)."""
-    from .forced import classify_forced
+    from .forced import classify_forced, largest_exponent
 
-    c = classify_forced(traj, rtol, min_periods, section_noise(traj.solver), lyapunov=None)
+    c = classify_forced(traj, rtol, min_periods, section_noise(traj.solver), lyapunov=largest_exponent)
     found = SteadyState(kind=c["kind"], window=c["window"], period=c["period"], n_periods=c["n_periods"],
                         stick_fraction=stick_fraction(traj, c["window"]), forcing_multiple=c["multiple"],
                         lyapunov=c["lyapunov"], jitter=c["jitter"], forced=True)

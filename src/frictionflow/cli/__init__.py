@@ -47,6 +47,7 @@ from . import sweep as _sweep  # noqa: E402,F401
 from . import orbit as _orbit  # noqa: E402,F401
 from . import basins as _basins  # noqa: E402,F401
 from . import response as _response  # noqa: E402,F401
+from . import lyapunov as _lyapunov  # noqa: E402,F401
 
 #: one line per command for the command list (click would cut the docstring at its first period)
 SHORT_HELP = {
@@ -56,6 +57,7 @@ SHORT_HELP = {
     "orbit": "Find a periodic orbit and its Floquet multipliers.",
     "continue": "Continue equilibria and periodic orbits in one parameter.",
     "response": "Frequency response of the forced oscillator (swept up and down).",
+    "lyapunov": "Lyapunov exponents of the stick-slip flow, forced or not.",
 }
 
 
