@@ -34,17 +34,20 @@ FASTMATH = {"contract"}
 
 
 @njit(cache=True, inline="always")
-def stage(x, v, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes):
+def stage(x, v, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced):
     """Right-hand side at one stage with external force ``f``: (X'', P_dv, P_f+, P_f-, P_heat).
 
-    ``lanes`` (a constant at each call site) picks the select form of the law
-    for the batched kernels.
+    ``lanes`` and ``forced`` (constants at each call site) pick the select
+    form of the law for the batched kernels, and whether an external force
+    acts: unforced loops then hold no trace of it (``f`` is a constant 0.0).
     """
     if lanes:
         fc = band_force_select(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb, f)
     else:
         fc = band_force(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb, f)
-    a = fc + f - x - 2.0 * zeta * v
+    a = fc - x - 2.0 * zeta * v
+    if forced:
+        a += f
     pf = v * fc
     vr = vb - v
     heat = fc * vr if abs(vr) > vd else 0.0
@@ -52,22 +55,23 @@ def stage(x, v, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes):
 
 
 @njit(cache=True, inline="always")
-def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False, f1=0.0, f2=0.0, f4=0.0):
+def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False, f1=0.0, f2=0.0, f4=0.0, forced=False):
     """One RK4 step of the augmented system; returns new X, X' and work increments (W_ex's last).
 
-    ``f1, f2, f4``: the external force at the step's start, middle and end.
+    ``f1, f2, f4``: the external force at the step's start, middle and end
+    (read only when ``forced``, a constant at each call site).
     """
     h2 = 0.5 * dt
-    a1, d1, p1, n1, q1 = stage(x, v, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
+    a1, d1, p1, n1, q1 = stage(x, v, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced)
     x2 = x + h2 * v
     v2 = v + h2 * a1
-    a2, d2, p2, n2, q2 = stage(x2, v2, f2, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
+    a2, d2, p2, n2, q2 = stage(x2, v2, f2, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced)
     x3 = x + h2 * v2
     v3 = v + h2 * a2
-    a3, d3, p3, n3, q3 = stage(x3, v3, f2, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
+    a3, d3, p3, n3, q3 = stage(x3, v3, f2, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced)
     x4 = x + dt * v3
     v4 = v + dt * a3
-    a4, d4, p4, n4, q4 = stage(x4, v4, f4, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes)
+    a4, d4, p4, n4, q4 = stage(x4, v4, f4, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced)
     h6 = dt / 6.0
     return (
         x + h6 * (v + 2.0 * v2 + 2.0 * v3 + v4),
@@ -76,7 +80,7 @@ def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False, f1=0
         h6 * (p1 + 2.0 * p2 + 2.0 * p3 + p4),
         h6 * (n1 + 2.0 * n2 + 2.0 * n3 + n4),
         h6 * (q1 + 2.0 * q2 + 2.0 * q3 + q4),
-        h6 * (v * f1 + 2.0 * (v2 + v3) * f2 + v4 * f4),
+        h6 * (v * f1 + 2.0 * (v2 + v3) * f2 + v4 * f4) if forced else 0.0,
     )
 
 
@@ -105,16 +109,19 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
     code as a constant, so that it holds only that law's slip force.
     """
     law = int(p[LAW])
+    if p[FEX] != 0.0:  # one loop for every forced law: the cosines dominate it anyway
+        return _run(law, True, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
     if law == KARNOPP or law == COULOMB:
-        return _run(KARNOPP, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
+        return _run(KARNOPP, False, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
+                    out_w, k)
     for code in literal_unroll(SMOOTH_LAWS):
         if law == code:
-            k = _run(code, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
+            k = _run(code, False, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
     return k
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
-def _run(law, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
+def _run(law, forced, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
     fd = p[FD]
     fs = p[FS]
     vd = p[VD]
@@ -123,7 +130,9 @@ def _run(law, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_
     lb = p[LAW_B]
     lc = p[LAW_C]
     x, v, w0, w1, w2, w3, w4 = s[0], s[1], s[2], s[3], s[4], s[5], s[6]
-    f1 = external_force(p, t0 + i0 * dt)
+    f1 = f2 = f4 = 0.0
+    if forced:
+        f1 = external_force(p, t0 + i0 * dt)
     # a countdown instead of i % every: an integer division per step costs more than the step
     due = (every - i0 % every) % every
     for i in range(i0, i1):
@@ -133,15 +142,17 @@ def _run(law, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_
             k += 1
             w0 = w1 = w2 = w3 = w4 = 0.0
         due -= 1
-        f2 = external_force(p, t0 + (i + 0.5) * dt)
-        f4 = external_force(p, t0 + (i + 1) * dt)
-        x, v, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, False, f1, f2, f4)
+        if forced:
+            f2 = external_force(p, t0 + (i + 0.5) * dt)
+            f4 = external_force(p, t0 + (i + 1) * dt)
+        x, v, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, False, f1, f2, f4, forced)
         w0 += d0
         w1 += d1
         w2 += d2
         w3 += d3
-        w4 += d4
-        f1 = f4
+        if forced:
+            w4 += d4
+            f1 = f4
     if i1 == n_total:
         _record(k, t0 + n_total * dt, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
         k += 1
@@ -169,6 +180,15 @@ def run_thinned(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, o
     the current state and whether it is kept already.  Returns (next free
     sample, next step): it stops early when fewer than 3 samples fit.
     """
+    if p[FEX] != 0.0:
+        return _thinned(True, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
+                        out_w, k)
+    return _thinned(False, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
+                    out_w, k)
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _thinned(forced, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
     law = int(p[LAW])
     fd, fs, vd, res = p[FD], p[FS], p[VD], p[RESULTANT] != 0.0
     la, lb, lc = p[LAW_A], p[LAW_B], p[LAW_C]
@@ -176,7 +196,9 @@ def run_thinned(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, o
     a, kept = s[N_STATE], s[N_STATE + 1] != 0.0
     cap = len(out_t)
     i = i0
-    f1 = external_force(p, t0 + i0 * dt)
+    f1 = f2 = f4 = 0.0
+    if forced:
+        f1 = external_force(p, t0 + i0 * dt)
     while i < i1:
         if k + 3 > cap:
             break
@@ -186,10 +208,13 @@ def run_thinned(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, o
             k += 1
             w0 = w1 = w2 = w3 = w4 = 0.0
             kept = True
-        f2 = external_force(p, t0 + (i + 0.5) * dt)
-        f4 = external_force(p, t0 + (i + 1) * dt)
-        xn, vn, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, False, f1, f2, f4)
-        an = band_force(law, fd, fs, vd, res, la, lb, lc, xn, vn, zeta, vb, f4) + f4 - xn - 2.0 * zeta * vn
+        if forced:
+            f2 = external_force(p, t0 + (i + 0.5) * dt)
+            f4 = external_force(p, t0 + (i + 1) * dt)
+        xn, vn, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, False, f1, f2, f4, forced)
+        an = band_force(law, fd, fs, vd, res, la, lb, lc, xn, vn, zeta, vb, f4) - xn - 2.0 * zeta * vn
+        if forced:
+            an += f4
         event = (_sign(v) != _sign(vn) or _sign(a) != _sign(an) or _sign(v + 2.0 * zeta * a) != _sign(vn + 2.0 * zeta * an)
                  or band_mode(v, vb, vd) != band_mode(vn, vb, vd) or (t < t_tail <= t + dt))
         if event and not kept:
@@ -200,7 +225,8 @@ def run_thinned(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, o
         w1 += d1
         w2 += d2
         w3 += d3
-        w4 += d4
+        if forced:
+            w4 += d4
         x, v, a = xn, vn, an
         f1 = f4
         kept = False
