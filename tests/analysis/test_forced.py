@@ -9,7 +9,7 @@ import pytest
 
 from frictionflow import BeltOscillator, analyze, simulate
 from frictionflow.analysis.forced import repeat_multiple, revisits, section_indices
-from frictionflow.friction import Karnopp
+from frictionflow.friction import Coulomb, Karnopp
 from frictionflow.solvers import RK4
 
 # a linear oscillator (no friction): its steady response is known in closed form
@@ -110,3 +110,37 @@ def test_phase_shifts_the_forcing_not_the_steady_amplitude():
     # the state on the section follows the phase: X(tau_k) = A cos(phi - delta)
     delta = math.atan2(2 * ZETA * OMEGA, 1 - OMEGA**2)
     assert tr.x[section_indices(tr)[-1]] == pytest.approx(a * math.cos(1.0 - delta), abs=1e-6)
+
+
+# -- beyond periodic: told by the largest Lyapunov exponent --------------------------------------
+
+def _coulomb_run(model, law, x0, v0, periods):
+    return simulate(model, law, RK4(dt=1e-3), t_end=periods * model.forcing_period, x0=x0, v0=v0)
+
+
+def test_a_chaotic_run_is_chaotic_with_its_exponent():
+    # stick-slip once per forcing period with little damping: lambda_1 ~ 0.08 (tests/analysis/test_lyapunov.py
+    # checks it against the divergence of nearby sequences)
+    tr = _coulomb_run(BeltOscillator(zeta=0.01, vb=0.1, fex=0.5, omega=1.0), Coulomb(0.5, 1.0), 0.0, 0.0, 300)
+    ss = analyze(tr).steady_state
+    assert ss.kind == "chaotic" and ss.forcing_multiple is None and ss.period is None
+    assert 0.05 < ss.lyapunov < 0.11
+
+
+def test_a_weakly_forced_stick_slip_cycle_is_quasi_periodic():
+    # the autonomous stick-slip cycle (period 7.63) forced weakly at an unrelated frequency: a torus, lambda_1 ~ 0
+    tr = _coulomb_run(BeltOscillator(zeta=0.05, vb=0.01, fex=0.003, omega=2.1), Coulomb(0.02, 0.04), 0.02, 0.01, 400)
+    ss = analyze(tr).steady_state
+    assert ss.kind == "quasi_periodic"
+    assert abs(ss.lyapunov) < 1e-3
+    # the section never repeats, even at long multiples: its points fill a closed curve
+    idx = section_indices(tr)[200:]
+    assert repeat_multiple(tr.x[idx], tr.v[idx], 1e-6, 3, max_multiple=60) == (0, 0)
+
+
+def test_karnopp_runs_that_do_not_repeat_stay_not_settled():
+    # no tangent kernel for a band law: no exponent, so no claim beyond "not settled"
+    model = BeltOscillator(zeta=0.01, vb=0.1, fex=0.5, omega=1.0)
+    tr = simulate(model, Karnopp(fd=0.5, fs=1.0, vd=1e-4), RK4(dt=1e-3), t_end=60 * model.forcing_period, x0=0.0, v0=0.0)
+    ss = analyze(tr).steady_state
+    assert ss.kind == "not_settled" and ss.lyapunov is None
