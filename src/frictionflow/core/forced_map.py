@@ -25,7 +25,12 @@ Along the way it integrates what an orbit's report needs, over the span:
 * the time spent sticking, and each stick phase's (start, end);
 * the smallest *interior* minimum of |V_r| inside a slip phase (a local
   minimum of the step's Hermite cubic, below both ends): how near the orbit
-  is to a grazing that would start a new stick phase or a reversal.
+  is to a grazing that would start a new stick phase or a reversal;
+* the smallest margin F_s - |F_e - f(tau)| at an interior maximum of the
+  force a stick phase holds: how near the orbit is to a stick phase that
+  breaks in two (the held force touching F_s).  There the map is
+  discontinuous when F_s > F(0+): the mass that slips at the touch leaves
+  with the finite acceleration F_s - F(0+).
 """
 
 from __future__ import annotations
@@ -39,15 +44,17 @@ from .friction import FS, RESULTANT, external_force, external_force_rate, rest_m
 from .layout import FEX, N_WORK, OMEGA, W_DV, W_EX, W_FIN, W_FOUT
 from .tangent import (
     C_GRAZE, C_HELD, C_REVERSAL, C_SLIP, C_STICK, EPS, MAX_ZERO_PHASES, N_COUNTS, NOT_FINITE, NY, OK, ZERO_PHASES,
-    _a_rest, _hermite_min, accel, rounding_noise, slip_force, slip_until, start_mode, stick_exit,
+    _a_rest, _hermite_min, _stick_gap, _stick_gap_rate, _stick_max, accel, rounding_noise, slip_force, slip_until,
+    start_mode, stick_exit,
 )
 
 __all__ = ["flow_map", "N_COUNTS", "N_STATS", "MAX_STICKS", "OK", "ZERO_PHASES", "NOT_FINITE",
            "C_STICK", "C_SLIP", "C_REVERSAL", "C_HELD", "C_GRAZE"]
 
-#: stats slots: X_min, X_max, max |X + 2 zeta X'|, time sticking, smallest interior minimum of |V_r| in slip
-S_XMIN, S_XMAX, S_QMAX, S_STICK_TIME, S_GAP = range(5)
-N_STATS = 5
+#: stats slots: X_min, X_max, max |X + 2 zeta X'|, time sticking, smallest interior minimum of |V_r| in slip,
+#: smallest margin F_s - |F_e - f| at an interior maximum of the held force in a stick phase
+S_XMIN, S_XMAX, S_QMAX, S_STICK_TIME, S_GAP, S_HOLD = range(6)
+N_STATS = 6
 #: stick phases listed at most (more are counted but not listed)
 MAX_STICKS = 256
 #: pieces a stick interval is cut into when looking for sign changes of the held force
@@ -182,6 +189,17 @@ def _track_point(x, v, zeta, stats):
 
 
 @njit(cache=True)
+def _track_hold(x_s, t_s, a, b, zeta, vb, res, fs, p, stats):
+    """The margin F_s - |F_e - f| at interior maxima of either side's held force on the stick piece [a, b]."""
+    if b <= a:
+        return
+    for side in (1.0, -1.0):
+        if _stick_gap_rate(a, side, vb, p) > 0.0 and _stick_gap_rate(b, side, vb, p) < 0.0:
+            tm = _stick_max(a, b, side, vb, p)
+            stats[S_HOLD] = min(stats[S_HOLD], max(-_stick_gap(x_s, t_s, tm, side, zeta, vb, res, fs, p), 0.0))
+
+
+@njit(cache=True)
 def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks, counts):
     """Integrate from (x0, v0) at tau = 0 to tau = ``span`` in ``n_steps`` RK4 grid steps; returns (status, stick phases).
 
@@ -211,6 +229,7 @@ def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks,
     stats[S_QMAX] = 0.0
     stats[S_STICK_TIME] = 0.0
     stats[S_GAP] = math.inf
+    stats[S_HOLD] = math.inf
     n_sticks = 0
     y[0], y[1] = x0, v0
     y[2], y[3], y[4], y[5] = 1.0, 0.0, 0.0, 1.0
@@ -232,6 +251,7 @@ def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks,
                 te, side = stick_exit(x_s, t_s, t, target, zeta, vb, res, fs, p)
                 t_next = target if side == 0 else te
                 stick_work(x_s, t_s, t, t_next, zeta, vb, p, work)
+                _track_hold(x_s, t_s, t, t_next, zeta, vb, res, fs, p, stats)
                 stats[S_STICK_TIME] += t_next - t
                 t = t_next
                 y[0] = x_s + vb * (t - t_s)

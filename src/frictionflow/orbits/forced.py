@@ -131,7 +131,8 @@ def flow_run(model: BeltOscillator, friction: FrictionLaw, state: Sequence[float
     work, stats = np.empty(fm.N_WORK), np.empty(fm.N_STATS)
     sticks = np.zeros((fm.MAX_STICKS, 2))
     counts = np.zeros(fm.N_COUNTS, dtype=np.int64)
-    x0, v0 = float(state[0]), float(state[1])
+    x0 = float(state[0])
+    v0 = _snap(float(state[1]), float(model.vb), x0)
     status, n_sticks = fm.flow_map(x0, v0, float(model.zeta), float(model.vb), p, span, int(m * steps), end, mono,
                                    work, stats, sticks, counts)
     if status == fm.ZERO_PHASES:
@@ -139,6 +140,17 @@ def flow_run(model: BeltOscillator, friction: FrictionLaw, state: Sequence[float
     if status == fm.NOT_FINITE or not np.all(np.isfinite(end)):
         raise RuntimeError("the flow map left the floating-point range")
     return MapRun(np.array([x0, v0]), end, mono, work, stats, sticks[:min(n_sticks, fm.MAX_STICKS)].copy(), counts, span)
+
+
+def _snap(v: float, vb: float, x: float) -> float:
+    """X' within rounding (1e-12 of the motion's size) of V_b is V_b.
+
+    A section point inside a stick phase lies on X' = V_b, where the map is
+    discontinuous: from just above V_b the mass slips away (the kinetic force
+    cannot hold what the static one did), from V_b it keeps sticking.  Newton
+    updates and continuation predictors land near, not on, V_b by rounding.
+    """
+    return vb if abs(v - vb) <= 1e-12 * max(abs(vb), abs(x), abs(v), 1e-300) else v
 
 
 def multipliers(monodromy: np.ndarray) -> np.ndarray:
@@ -187,6 +199,7 @@ def measures(model: BeltOscillator, run: MapRun) -> dict[str, Any]:
         "stick_phases": len(durations),
         "shortest_stick": float(durations.min()) if len(durations) else math.nan,
         "min_gap": float(st[fm.S_GAP]),
+        "hold_margin": float(st[fm.S_HOLD]),
     }
 
 
@@ -223,6 +236,7 @@ class ForcedOrbit(Summarized):
     stick_phases: int
     shortest_stick: float
     min_gap: float
+    hold_margin: float
     switches: dict[str, int]
     settings: dict[str, Any] = field(default_factory=dict)
 
@@ -255,7 +269,8 @@ class ForcedOrbit(Summarized):
             "multipliers": [complex(z) for z in self.multipliers], "moduli": np.abs(self.multipliers),
             "stability": self.stability, "amplitude": self.amplitude, "X_min": self.X_min, "X_max": self.X_max,
             "TR_B": self.TR_B, "stick_fraction": self.stick_fraction, "stick_phases": self.stick_phases,
-            "shortest_stick": self.shortest_stick, "min_gap": self.min_gap, "averages": self.averages,
+            "shortest_stick": self.shortest_stick, "min_gap": self.min_gap, "hold_margin": self.hold_margin,
+            "averages": self.averages,
             "energy_residual": self.energy_residual, "switches": self.switches, "settings": self.settings,
         })
 
@@ -320,7 +335,7 @@ def newton(model: BeltOscillator, friction: FrictionLaw, guess: Sequence[float],
             alpha *= 0.5
         else:
             break
-        P, run = trial, new
+        P, run = new.start.copy(), new
         g = float(np.max(np.abs(run.residual)))
     if g <= tol * _scale(model, friction, P):
         return run, max_iter
@@ -403,6 +418,7 @@ class BranchPoint(Summarized):
     stick_phases: int
     shortest_stick: float
     min_gap: float
+    hold_margin: float
     residual: float
     signature: tuple[int, int, int]
     monodromy: np.ndarray
@@ -521,12 +537,21 @@ class _Problem:
     def run(self, P, lam) -> MapRun:
         return flow_run(self.model_at(lam), self.friction, P, self.m, self.steps)
 
-    def d_lambda(self, P, lam) -> np.ndarray:
-        """dPhi/dlambda by central differences (relative step 1e-6; Omega's change moves the period's end too)."""
+    def d_lambda(self, P, lam, end: np.ndarray | None = None) -> np.ndarray:
+        """dPhi/dlambda by differences (relative step 1e-6; Omega's change moves the period's end too).
+
+        Central where both one-sided quotients agree; where they do not, a
+        discontinuity of the map (a stick phase breaking) lies within the
+        step, and the smaller one-sided quotient -- the side without it -- is taken.
+        """
         d = 1e-6 * max(abs(lam), 1e-3)
-        plus = self.run(P, lam + d).end
-        minus = self.run(P, lam - d).end
-        return (plus - minus) / (2.0 * d)
+        if end is None:
+            end = self.run(P, lam).end
+        fwd = (self.run(P, lam + d).end - end) / d
+        bwd = (end - self.run(P, lam - d).end) / d
+        if np.max(np.abs(fwd - bwd)) <= 1e-2 * max(np.max(np.abs(fwd)), np.max(np.abs(bwd))) + 1e-12:
+            return 0.5 * (fwd + bwd)
+        return fwd if np.max(np.abs(fwd)) < np.max(np.abs(bwd)) else bwd
 
     def converged(self, run: MapRun, lam: float) -> bool:
         return float(np.max(np.abs(run.residual))) <= self.tol * _scale(self.model_at(lam), self.friction, run.start)
@@ -571,11 +596,12 @@ def _correct(pb: _Problem, u_pred: np.ndarray, t: np.ndarray, max_iter: int = 10
             run = pb.run(u[:2], u[2])
         except (RuntimeError, ValueError):
             return None
+        u[:2] = run.start
         r2 = float(t @ ((u - u_pred) / pb.s))
         g = float(np.max(np.abs(run.residual)))
         if pb.converged(run, u[2]) and abs(r2) < 1e-9:
             try:
-                dl_final = pb.d_lambda(u[:2], u[2])
+                dl_final = pb.d_lambda(u[:2], u[2], run.end)
             except (RuntimeError, ValueError):
                 return None
             return _Sol(u[:2].copy(), float(u[2]), run, dl_final, k)
@@ -584,7 +610,7 @@ def _correct(pb: _Problem, u_pred: np.ndarray, t: np.ndarray, max_iter: int = 10
         last = g
         try:
             if dl is None or k % 3 == 0:
-                dl = pb.d_lambda(u[:2], u[2])
+                dl = pb.d_lambda(u[:2], u[2], run.end)
         except (RuntimeError, ValueError):
             return None
         J = np.zeros((3, 3))
@@ -605,7 +631,7 @@ def _solve_at(pb: _Problem, lam: float, P_guess: np.ndarray) -> _Sol | None:
     """The fixed point at a given lambda (Newton in P alone)."""
     try:
         run, k = newton(pb.model_at(lam), pb.friction, P_guess, pb.m, pb.steps, pb.tol, 20)
-        return _Sol(run.start.copy(), float(lam), run, pb.d_lambda(run.start, lam), k)
+        return _Sol(run.start.copy(), float(lam), run, pb.d_lambda(run.start, lam, run.end), k)
     except (RuntimeError, ValueError):
         return None
 
@@ -616,7 +642,8 @@ def _point(pb: _Problem, s: _Sol) -> BranchPoint:
                        residual=float(np.max(np.abs(s.run.residual))), signature=signature(s.run),
                        monodromy=s.run.monodromy.copy(),
                        **{k: meas[k] for k in ("amplitude", "X_min", "X_max", "TR_B", "stick_fraction", "averages",
-                                               "energy_residual", "stick_phases", "shortest_stick", "min_gap")})
+                                               "energy_residual", "stick_phases", "shortest_stick", "min_gap",
+                                               "hold_margin")})
 
 
 def _tests(s: _Sol) -> dict[str, float]:
@@ -649,9 +676,9 @@ class _Tracer:
             if s is None or (float(t_new @ t) < 0.7 and h > 4 * self.h_min):
                 h *= 0.5
                 if h < self.h_min:
-                    end = "the corrector fails beyond this point"
-                    events.append(BranchEvent("branch_end", a.lam, a.P.copy(), multipliers(a.run.monodromy),
-                                              {"reason": end}))
+                    ev = self._diagnose(sols)
+                    events.append(ev)
+                    end = "grazing" if ev.type == "grazing" else "the corrector fails beyond this point"
                     break
                 continue
             outside = not (self.lo <= s.lam <= self.hi)
@@ -673,6 +700,43 @@ class _Tracer:
             h = min(1.5 * h, self.h_max) if s.iterations <= 3 else max(0.6 * h, self.h_min)
         return sols, events, end
 
+    def _margins(self, s: _Sol) -> dict[str, float]:
+        """Relative distances of the orbit to the grazings the map cannot be continued through."""
+        st = s.run.stats
+        durations = stick_phases(s.run)
+        return {
+            # the held force touches F_s inside a stick phase: it breaks in two (the map jumps if F_s > F(0+))
+            "stick_splits": float(st[fm.S_HOLD]) / max(self.pb.friction.fs, 1e-300),
+            # a slip phase touches V_r = 0: a stick phase or a reversal appears
+            "stick_appears": float(st[fm.S_GAP]) / self.pb.s[0],
+            # a stick phase shrinks to nothing
+            "stick_vanishes": float(durations.min()) / s.run.span if len(durations) else math.inf,
+        }
+
+    def _diagnose(self, sols: list[_Sol]) -> BranchEvent:
+        """Why the branch stops at its last point: a grazing (a margin near 0, extrapolated to 0) or unknown."""
+        a = sols[-1]
+        ma = self._margins(a)
+        kind = min(ma, key=ma.get)
+        mu = multipliers(a.run.monodromy)
+        if not ma[kind] < 1e-3:
+            return BranchEvent("branch_end", a.lam, a.P.copy(), mu, {"reason": "the corrector fails beyond this point",
+                                                                    "margins": ma}, a.run.monodromy.copy())
+        lam, P = a.lam, a.P.copy()
+        refined = False
+        if len(sols) > 1:
+            b = sols[-2]
+            mb = self._margins(b)[kind]
+            if math.isfinite(mb) and mb != ma[kind]:
+                frac = ma[kind] / (mb - ma[kind])  # linear in lambda: margin 0 this far beyond a
+                if abs(frac) <= 10.0:
+                    lam = a.lam + frac * (a.lam - b.lam)
+                    P = a.P + frac * (a.P - b.P)
+                    refined = True
+        return BranchEvent("grazing", float(lam), P, mu, {"at": kind, "margin_at_last_point": ma[kind],
+                                                          "extrapolated": refined, "ends_branch": True},
+                           a.run.monodromy.copy())
+
     # -- events ---------------------------------------------------------------------------------------------------
     def events_between(self, a: _Sol, b: _Sol, ta: np.ndarray, tb: np.ndarray, h: float) -> list[BranchEvent]:
         out = []
@@ -680,9 +744,10 @@ class _Tracer:
         if sa != sb:
             out.append(self._grazing(a, ta, h, sa, sb))
         fa, fb = _tests(a), _tests(b)
-        if ta[2] * tb[2] < 0.0:
+        smooth_fold = fa["fold"] * fb["fold"] < 0.0
+        if ta[2] * tb[2] < 0.0 and (smooth_fold or sa != sb):
             s = self._secant(a, ta, h, lambda s: self.pb.tangent(s, ta)[2], ta[2], tb[2])
-            out.append(self._event("fold", s or b, {"smooth": sa == sb, "refined": s is not None}))
+            out.append(self._event("fold", s or b, {"smooth": smooth_fold and sa == sb, "refined": s is not None}))
         if fa["pd"] * fb["pd"] < 0.0 and not (fa["complex"] or fb["complex"]):
             s = self._secant(a, ta, h, lambda s: _tests(s)["pd"], fa["pd"], fb["pd"])
             out.append(self._event("period_doubling", s or b, {"refined": s is not None}))
@@ -827,17 +892,24 @@ def continue_forced(
     return ForcedBranch(model=base, friction=friction, parameter=parameter, m=m, points=[_point(pb, s) for s in sols],
                         events=events, end=end,
                         settings={"steps_per_period": steps, "h0": h0, "h_max": h_max, "h_min": h_min, "tol": tol,
-                                  "start": start, "stop": stop, "scales": {"state": sx, "lambda": abs(stop - start)}})
+                                  "start": start, "stop": stop, "max_points": max_points,
+                                  "scales": {"state": sx, "lambda": abs(stop - start)}})
 
 
-def switch_period_doubling(branch: ForcedBranch, event: BranchEvent | None = None, stop: float | None = None,
-                           **kwargs: Any) -> ForcedBranch:
-    """The 2m branch born at a period doubling of ``branch``, continued away from it toward ``stop``.
+def switch_period_doubling(branch: ForcedBranch, event: BranchEvent | None = None, *, h: float = 0.01,
+                           max_points: int | None = None, detect: bool = True) -> ForcedBranch:
+    """The 2m branch born at a period doubling of ``branch`` (its first one unless ``event`` is given).
 
-    Near the PD point (lambda*, P*) with eigenvector e of the multiplier -1,
-    the 2m orbit is P* +- eps e at lambda* + delta on the side where it
-    exists: Newton on Phi_{2m} from those guesses, at growing offsets, keeps
-    the first solution that is not a fixed point of Phi_m.
+    At the PD point (lambda*, P*) the fixed points of Phi_{2m} have a
+    pitchfork: the m orbit's branch crosses the 2m branch, which leaves along
+    the eigenvector e of the multiplier -1 at fixed lambda (P* +- eps e,
+    eps ~ sqrt(lambda - lambda*)).  Newton on the 2m problem from P* + eps e
+    would fall back onto the m orbit (M_2m - I is nearly singular there);
+    instead one pseudo-arclength corrector step from (P*, lambda*) along
+    (e, 0) -- on the hyperplane e . (P - P*) = h s_x, lambda free -- lands on
+    the 2m branch, which is then traced in both directions from there
+    (``h``: the scaled distance of that first step).  The new branch keeps
+    the first one's lambda interval and steps.
     """
     if event is None:
         pds = branch.events_of("period_doubling")
@@ -846,48 +918,41 @@ def switch_period_doubling(branch: ForcedBranch, event: BranchEvent | None = Non
         event = pds[0]
     if event.type != "period_doubling" or event.monodromy is None:
         raise ValueError(f"event must be a period_doubling of the branch, got {event.type}")
-    lam0 = event.lam
+    st = branch.settings
+    m2 = 2 * branch.m
+    sx, sl = st["scales"]["state"], st["scales"]["lambda"]
+    pb = _Problem(branch.model, branch.friction, branch.parameter, m2, st["steps_per_period"], sx, sl, st["tol"])
     w, vecs = np.linalg.eig(event.monodromy)
     e = np.real(vecs[:, int(np.argmin(np.abs(w + 1.0)))])
-    e = e / np.linalg.norm(e)
-    scale = max(abs(branch.settings["stop"] - branch.settings["start"]), 1e-9)
-    sx = branch.settings["scales"]["state"]
-    m2 = 2 * branch.m
-    steps = branch.settings["steps_per_period"]
-    if stop is None:
-        stop = branch.settings["stop"]
-    found = None
-    for delta in (1e-4, 3e-4, 1e-3, 3e-3, 1e-2):
-        for side in (1.0, -1.0):
-            lam = lam0 + side * delta * scale
-            if lam <= 0:
+    t0 = np.array([e[0] / sx, e[1] / sx, 0.0])
+    t0 /= np.linalg.norm(t0)
+    star = np.array([event.state[0], event.state[1], event.lam])
+    first = None
+    for hh in (h, 0.3 * h, 3.0 * h, 0.1 * h):
+        for sign in (1.0, -1.0):
+            s = _correct(pb, star + sign * hh * t0 * pb.s, sign * t0)
+            if s is None:
                 continue
-            model = branch.model_at(lam)
-            for eps in (math.sqrt(delta), 3 * math.sqrt(delta)):
-                for sign in (1.0, -1.0):
-                    guess = event.state + sign * eps * sx * e
-                    try:
-                        run, _ = newton(model, branch.friction, guess, m2, steps, branch.settings["tol"], 30)
-                        half = flow_run(model, branch.friction, run.start, branch.m, steps)
-                    except (RuntimeError, ValueError):
-                        continue
-                    if float(np.max(np.abs(half.residual))) > 1e-6 * sx:
-                        found = (lam, run)
-                        break
-                if found:
-                    break
-            if found:
+            half = flow_run(pb.model_at(s.lam), branch.friction, s.P, branch.m, pb.steps)
+            if float(np.max(np.abs(half.residual))) > 1e-6 * sx:
+                first = s
                 break
-        if found:
+        if first is not None:
             break
-    if found is None:
-        raise ForcedShootingError(f"no period-{m2} orbit found next to the period doubling at {branch.parameter}={lam0:.10g}")
-    lam, run = found
-    orbit = _orbit_from(branch.model_at(lam), branch.friction, m2, run, 0, {"steps_per_period": steps})
-    away = stop if (stop - lam0) * (lam - lam0) > 0 else (branch.settings["start"] if (branch.settings["start"] - lam0) * (lam - lam0) > 0 else stop)
-    out = continue_forced(branch.model_at(lam), branch.friction, branch.parameter, lam, away, m=m2, orbit=orbit,
-                          steps=steps, tol=branch.settings["tol"], **kwargs)
-    return out
+    if first is None:
+        raise ForcedShootingError(f"no period-{m2} branch found at the period doubling at "
+                                  f"{branch.parameter}={event.lam:.10g}")
+    lo, hi = min(st["start"], st["stop"]), max(st["start"], st["stop"])
+    tracer = _Tracer(pb, lo, hi, st["h0"], st["h_max"], st["h_min"], max_points or st.get("max_points", 400))
+    t1 = pb.tangent(first, None)
+    if float(t1 @ ((first.u - star) / pb.s)) < 0.0:
+        t1 = -t1  # away from the PD point
+    sols, events, end = tracer.trace(first, t1, detect)
+    events.insert(0, BranchEvent("branch_point", event.lam, event.state.copy(), event.multipliers,
+                                 {"from": f"period doubling of the m={branch.m} branch"}))
+    return ForcedBranch(model=branch.model, friction=branch.friction, parameter=branch.parameter, m=m2,
+                        points=[_point(pb, s) for s in sols], events=events, end=end,
+                        settings={**st, "born_at": event.lam})
 
 
 # -- brute force ----------------------------------------------------------------------------------------------------
