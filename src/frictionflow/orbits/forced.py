@@ -677,9 +677,15 @@ class _Tracer:
                 h *= 0.5
                 if h < self.h_min:
                     ev = self._diagnose(sols)
-                    events.append(ev)
-                    end = "grazing" if ev.type == "grazing" else "the corrector fails beyond this point"
-                    break
+                    crossed = self._cross_corner(a, t, ev) if ev.type == "grazing" else None
+                    if crossed is None:
+                        events.append(ev)
+                        end = "grazing" if ev.type == "grazing" else "the corrector fails beyond this point"
+                        break
+                    s, t, found = crossed
+                    events += found
+                    sols.append(s)
+                    h = self.h0
                 continue
             outside = not (self.lo <= s.lam <= self.hi)
             if outside:
@@ -712,6 +718,38 @@ class _Tracer:
             # a stick phase shrinks to nothing
             "stick_vanishes": float(durations.min()) / s.run.span if len(durations) else math.inf,
         }
+
+    def _cross_corner(self, a: _Sol, t: np.ndarray, ev: BranchEvent):
+        """Step over a grazing corner of the branch, where it has no tangent (returns (solution, tangent, events) or None).
+
+        A slip-only orbit that touches V_r = 0 meets a stick-slip one at an
+        angle (a multiplier jumps to 0), and the branch may turn back there
+        (a non-smooth fold).  Next to the corner, at lambda a little beyond
+        (first) or before a's, Newton at fixed lambda from a's state looks for
+        an orbit with another switch sequence; the branch leaves along it, away from a.
+        """
+        pb = self.pb
+        sa = signature(a.run)
+        forward = math.copysign(1.0, t[2])
+        for size in (1e-6, 1e-5, 1e-4, 1e-3):
+            for direction in (forward, -forward):
+                lam = ev.lam + direction * size * pb.s[2]
+                if not (self.lo <= lam <= self.hi):
+                    continue
+                s = _solve_at(pb, lam, ev.state)
+                if s is None or signature(s.run) == sa:
+                    continue
+                away = (s.u - a.u) / pb.s
+                t_new = pb.tangent(s, away / np.linalg.norm(away))
+                detail = {"before": list(sa), "after": list(signature(s.run)), "corner": True}
+                found = [BranchEvent("grazing", ev.lam, ev.state.copy(), ev.multipliers, {**ev.detail, **detail},
+                                     ev.monodromy)]
+                found[0].detail.pop("ends_branch", None)
+                if direction != forward:
+                    found.append(BranchEvent("fold", ev.lam, ev.state.copy(), ev.multipliers,
+                                             {"smooth": False, "at": "grazing"}, ev.monodromy))
+                return s, t_new, found
+        return None
 
     def _diagnose(self, sols: list[_Sol]) -> BranchEvent:
         """Why the branch stops at its last point: a grazing (a margin near 0, extrapolated to 0) or unknown."""
@@ -972,7 +1010,7 @@ class StroboscopicSweep:
     def multiple(self, j: int, rtol: float = 1e-6) -> int:
         """The smallest m with P_k = P_{k-m} over the kept points at values[j] (0 if none up to keep / 2)."""
         x, v = self.x[j], self.v[j]
-        scale = max(float(np.ptp(x)), float(np.ptp(v)), 1e-12)
+        scale = max(float(np.max(np.abs(x))), float(np.max(np.abs(v))), 1e-12)
         for m in range(1, len(x) // 2 + 1):
             if np.all(np.abs(x[m:] - x[:-m]) <= rtol * scale) and np.all(np.abs(v[m:] - v[:-m]) <= rtol * scale):
                 return m
