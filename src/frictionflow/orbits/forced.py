@@ -673,7 +673,9 @@ class _Tracer:
             a = sols[-1]
             s = self.along(a, t, h)
             t_new = self.pb.tangent(s, t) if s is not None else t
-            if s is None or (float(t_new @ t) < 0.7 and h > 4 * self.h_min):
+            # a corrector that lands far from its predictor has jumped to another branch
+            jumped = s is not None and float(np.linalg.norm(self.w(s) - self.w(a))) > 2.0 * h
+            if s is None or jumped or (float(t_new @ t) < 0.7 and h > 4 * self.h_min):
                 h *= 0.5
                 if h < self.h_min:
                     ev = self._diagnose(sols)
@@ -739,8 +741,9 @@ class _Tracer:
                 s = _solve_at(pb, lam, ev.state)
                 if s is None or signature(s.run) == sa:
                     continue
-                away = (s.u - a.u) / pb.s
-                t_new = pb.tangent(s, away / np.linalg.norm(away))
+                t_new = pb.tangent(s, None)
+                if t_new[2] * direction < 0.0:
+                    t_new = -t_new  # on along the side where the new orbit was found
                 detail = {"before": list(sa), "after": list(signature(s.run)), "corner": True}
                 found = [BranchEvent("grazing", ev.lam, ev.state.copy(), ev.multipliers, {**ev.detail, **detail},
                                      ev.monodromy)]
