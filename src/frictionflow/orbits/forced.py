@@ -3,7 +3,7 @@
 >>> from frictionflow import BeltOscillator, Coulomb
 >>> from frictionflow.orbits.forced import find_forced_orbit
 >>> o = find_forced_orbit(BeltOscillator(zeta=0.05, vb=0.1, fex=0.5, omega=1.0), Coulomb(0.5, 1.0), m=3)
->>> o.stable, o.has_stick, round(abs(o.multipliers[1]), 12)   # a stick phase: one multiplier is 0
+>>> o.stable, o.has_stick, float(abs(o.multipliers[1]))   # a stick phase: one multiplier is 0
 (True, True, 0.0)
 
 With F_ex cos(Omega tau + phi) acting, a periodic orbit of period
