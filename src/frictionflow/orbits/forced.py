@@ -1,0 +1,1059 @@
+"""Periodic orbits of the forced oscillator: shooting, Floquet multipliers, continuation and bifurcations.
+
+>>> from frictionflow import BeltOscillator, Coulomb
+>>> from frictionflow.orbits.forced import find_forced_orbit
+>>> o = find_forced_orbit(BeltOscillator(zeta=0.05, vb=0.1, fex=0.5, omega=1.0), Coulomb(0.5, 1.0), m=3)
+>>> o.stable, o.has_stick, float(abs(o.multipliers[1]))   # a stick phase: one multiplier is 0
+(True, True, 0.0)
+
+With F_ex cos(Omega tau + phi) acting, a periodic orbit of period
+m 2 pi / Omega (m = 1 harmonic, m > 1 subharmonic) is a fixed point of the
+m-th power of the stroboscopic map P -> Phi_{2 pi / Omega}(P), P = (X, X') at
+the forcing phase tau = 0 (mod 2 pi / Omega).  Its period is fixed by the
+forcing, so the shooting problem is
+
+    G(P) = Phi_{m 2 pi / Omega}(P) - P = 0,    dG/dP = M - I,
+
+with M the monodromy matrix: the flow map's Jacobian, integrated with the
+state by :func:`frictionflow.core.forced_map.flow_map` (RK4 inside the
+phases, every switch located, a saltation matrix across each).  Both
+eigenvalues of M are Floquet multipliers of the (X, X') part -- unlike the
+autonomous system, the time direction is not among them (the extended phase
+space's trivial multiplier 1 belongs to the forcing phase).  A stick phase
+makes M of rank 1 (the stick onset forgets X' perturbations): one multiplier
+is then exactly 0.  Unlike the autonomous (planar) system, a real multiplier
+can pass through -1 (period doubling) and a complex pair through the unit
+circle (Neimark-Sacker).
+
+:func:`continue_forced` follows the fixed points in (P, lambda), lambda =
+Omega or F_ex, by pseudo-arclength continuation in scaled coordinates,
+with dPhi/dlambda by central differences (the period itself depends on
+Omega: Phi is rerun over m 2 pi / (Omega +- delta)), and finds between
+accepted points, each refined to ~1e-8 in lambda:
+
+``fold``
+    lambda turns back along the branch (the tangent's lambda component
+    changes sign; on a smooth piece a multiplier passes +1);
+``period_doubling``
+    a real multiplier passes -1 (det(M + I) changes sign);
+    :func:`switch_period_doubling` continues the 2m branch born there;
+``neimark_sacker``
+    a complex pair passes the unit circle (det M = |mu|^2 passes 1);
+``grazing``
+    the switch sequence over a period changes (a stick phase appears or
+    vanishes, a slip reversal appears or vanishes): the orbit's smallest
+    interior |V_r| or its shortest stick phase has reached 0.  Found by
+    bisection on the sequence.
+
+Every point carries the multipliers, stability, amplitude (X_max -
+X_min) / 2, the power averages over one orbit period (the work integrals of
+the same flow-map run: :func:`frictionflow.core.forced_map.flow_map`),
+TR_B = max|X + 2 zeta X'| / F_ex and the energy residual of the period's
+power balance, Delta(K + U) = W_fin - W_fout + W_ex - W_dv (0 over a period).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any, Sequence
+
+import numpy as np
+
+from .. import quantities as Q
+from .._display import Row, Summarized, num, pairs, system_row
+from ..core import forced_map as fm
+from ..core import sections as sec
+from ..friction.base import FrictionLaw
+from ..params import BeltOscillator
+from ..solvers.base import kernel_params
+
+#: RK4 grid steps per forcing period unless told
+DEFAULT_STEPS = 512
+#: forcing periods of the transient that gives the first guess
+DEFAULT_TRANSIENT = 200
+#: |mu| within this of 1 is neutral
+NEUTRAL_TOL = 1e-7
+PARAMETERS = ("omega", "fex")
+SWITCH_NAMES = ("stick_onsets", "slip_onsets", "slip_reversals", "held_at_limit", "grazing_touches")
+#: refine special points to this (absolute, in lambda)
+LAMBDA_TOL = 1e-8
+
+
+class ForcedShootingError(RuntimeError):
+    """Newton shooting did not converge to a forced periodic orbit."""
+
+
+# -- the map ------------------------------------------------------------------------------------------------------
+@dataclass
+class MapRun:
+    """One run of the flow map over m forcing periods from ``start`` (see :func:`frictionflow.core.forced_map.flow_map`)."""
+
+    start: np.ndarray
+    end: np.ndarray
+    monodromy: np.ndarray
+    work: np.ndarray
+    stats: np.ndarray
+    sticks: np.ndarray
+    counts: np.ndarray
+    span: float
+
+    @property
+    def residual(self) -> np.ndarray:
+        return self.end - self.start
+
+
+def _check_law(friction: FrictionLaw) -> None:
+    if friction.stick_rule != "switch":
+        raise ValueError(f"friction: forced periodic orbits need a law with Coulomb's stick rule (coulomb, stribeck, cubic); "
+                         f"{friction.name} has a velocity band ({friction.stick_rule})")
+    if getattr(friction, "func", None) is not None:
+        raise ValueError("friction: forced periodic orbits need a compiled slip law (a user-defined law has no tangent kernel)")
+
+
+def _check_model(model: BeltOscillator) -> None:
+    if not model.forced:
+        raise ValueError("fex must be > 0 for a forced periodic orbit (the forcing amplitude), got 0")
+
+
+def _check_int(name: str, value: Any, lo: int, hi: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
+        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
+    return int(value)
+
+
+def flow_run(model: BeltOscillator, friction: FrictionLaw, state: Sequence[float], m: int = 1,
+             steps: int = DEFAULT_STEPS) -> MapRun:
+    """Phi over m forcing periods from ``state`` = (X, X') at tau = 0, with M, the work integrals and the extremes."""
+    p = kernel_params(model, friction)
+    span = m * model.forcing_period
+    end, mono = np.empty(2), np.empty((2, 2))
+    work, stats = np.empty(fm.N_WORK), np.empty(fm.N_STATS)
+    sticks = np.zeros((fm.MAX_STICKS, 2))
+    counts = np.zeros(fm.N_COUNTS, dtype=np.int64)
+    x0 = float(state[0])
+    v0 = _snap(float(state[1]), float(model.vb), x0)
+    status, n_sticks = fm.flow_map(x0, v0, float(model.zeta), float(model.vb), p, span, int(m * steps), end, mono,
+                                   work, stats, sticks, counts)
+    if status == fm.ZERO_PHASES:
+        raise RuntimeError("the motion is caught switching without moving (repeated zero-length phases)")
+    if status == fm.NOT_FINITE or not np.all(np.isfinite(end)):
+        raise RuntimeError("the flow map left the floating-point range")
+    return MapRun(np.array([x0, v0]), end, mono, work, stats, sticks[:min(n_sticks, fm.MAX_STICKS)].copy(), counts, span)
+
+
+def _snap(v: float, vb: float, x: float) -> float:
+    """X' within rounding (1e-12 of the motion's size) of V_b is V_b.
+
+    A section point inside a stick phase lies on X' = V_b, where the map is
+    discontinuous: from just above V_b the mass slips away (the kinetic force
+    cannot hold what the static one did), from V_b it keeps sticking.  Newton
+    updates and continuation predictors land near, not on, V_b by rounding.
+    """
+    return vb if abs(v - vb) <= 1e-12 * max(abs(vb), abs(x), abs(v), 1e-300) else v
+
+
+def multipliers(monodromy: np.ndarray) -> np.ndarray:
+    """Both Floquet multipliers, largest modulus first (complex)."""
+    mu = np.linalg.eigvals(np.asarray(monodromy, dtype=float)).astype(complex)
+    return mu[np.argsort(-np.abs(mu), kind="stable")]
+
+
+def stability(mu: np.ndarray, tol: float = NEUTRAL_TOL) -> str:
+    """``stable`` (all |mu| < 1), ``unstable`` (some |mu| > 1) or ``neutral``."""
+    r = float(np.max(np.abs(mu)))
+    return "stable" if r < 1.0 - tol else ("unstable" if r > 1.0 + tol else "neutral")
+
+
+def stick_phases(run: MapRun) -> np.ndarray:
+    """Durations of the orbit's stick phases over its period (a phase across tau = 0 counted once)."""
+    s = run.sticks
+    if len(s) == 0:
+        return np.zeros(0)
+    d = s[:, 1] - s[:, 0]
+    if len(s) > 1 and s[0, 0] == 0.0 and s[-1, 1] == run.span:
+        d = np.concatenate([[d[0] + d[-1]], d[1:-1]])
+    return d
+
+
+def signature(run: MapRun) -> tuple[int, int, int]:
+    """The switch sequence's counts over the period: (stick phases, slip onsets, slip reversals)."""
+    return (len(stick_phases(run)), int(run.counts[fm.C_SLIP]), int(run.counts[fm.C_REVERSAL]))
+
+
+def measures(model: BeltOscillator, run: MapRun) -> dict[str, Any]:
+    """Amplitude, power averages, TR_B, stick fraction and energy residual of one orbit period."""
+    e0 = 0.5 * float(run.start @ run.start)
+    e1 = 0.5 * float(run.end @ run.end)
+    row = sec.averages(*run.work, e0, e1, run.span)
+    st = run.stats
+    durations = stick_phases(run)
+    return {
+        "amplitude": 0.5 * float(st[fm.S_XMAX] - st[fm.S_XMIN]),
+        "X_min": float(st[fm.S_XMIN]),
+        "X_max": float(st[fm.S_XMAX]),
+        "TR_B": float(st[fm.S_QMAX]) / model.fex,
+        "stick_fraction": float(st[fm.S_STICK_TIME]) / run.span,
+        "averages": {n: float(row[Q.INDEX[n]]) for n in Q.FORCED_AVERAGES},
+        "energy_residual": float(row[Q.INDEX["energy_residual"]]),
+        "stick_phases": len(durations),
+        "shortest_stick": float(durations.min()) if len(durations) else math.nan,
+        "min_gap": float(st[fm.S_GAP]),
+        "hold_margin": float(st[fm.S_HOLD]),
+    }
+
+
+# -- the orbit ------------------------------------------------------------------------------------------------------
+@dataclass(frozen=True, repr=False)
+class ForcedOrbit(Summarized):
+    """A periodic orbit of the forced oscillator: a fixed point of the m-period stroboscopic map.
+
+    ``state``: (X, X') at the forcing phase tau = 0 (mod 2 pi / Omega).
+    ``residual``: max|Phi(P) - P| at the returned P.  ``multipliers``: the
+    eigenvalues of ``monodromy``, largest modulus first.  ``averages``: the
+    power averages over one orbit period (P_dv, P_df, P_fin, R_c, R_f,
+    P_belt, P_heat, P_f, P_ex).  ``min_gap``: the smallest interior minimum
+    of |V_r| inside a slip phase (inf if none) and ``shortest_stick``: the
+    shortest stick phase -- the distances to grazing.
+    """
+
+    model: BeltOscillator
+    friction: FrictionLaw
+    m: int
+    state: np.ndarray
+    period: float
+    monodromy: np.ndarray
+    multipliers: np.ndarray
+    residual: float
+    iterations: int
+    amplitude: float
+    X_min: float
+    X_max: float
+    TR_B: float
+    stick_fraction: float
+    averages: dict[str, float]
+    energy_residual: float
+    stick_phases: int
+    shortest_stick: float
+    min_gap: float
+    hold_margin: float
+    switches: dict[str, int]
+    settings: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def stability(self) -> str:
+        return stability(self.multipliers)
+
+    @property
+    def stable(self) -> bool:
+        return self.stability == "stable"
+
+    @property
+    def has_stick(self) -> bool:
+        return self.stick_phases > 0
+
+    @property
+    def exponents(self) -> np.ndarray:
+        """log|mu| / period: the Lyapunov exponents of the orbit (-inf for a multiplier 0)."""
+        with np.errstate(divide="ignore"):
+            return np.log(np.abs(self.multipliers)) / self.period
+
+    def as_dict(self) -> dict[str, Any]:
+        """A JSON-ready report (complex multipliers as [re, im], non-finite values None)."""
+        from ._json import jsonable
+
+        return jsonable({
+            "params": {**self.model.as_dict(), **self.friction.as_dict()},
+            "m": self.m, "period": self.period, "state": {"X": self.state[0], "V": self.state[1]},
+            "residual": self.residual, "iterations": self.iterations,
+            "multipliers": [complex(z) for z in self.multipliers], "moduli": np.abs(self.multipliers),
+            "stability": self.stability, "amplitude": self.amplitude, "X_min": self.X_min, "X_max": self.X_max,
+            "TR_B": self.TR_B, "stick_fraction": self.stick_fraction, "stick_phases": self.stick_phases,
+            "shortest_stick": self.shortest_stick, "min_gap": self.min_gap, "hold_margin": self.hold_margin,
+            "averages": self.averages,
+            "energy_residual": self.energy_residual, "switches": self.switches, "settings": self.settings,
+        })
+
+    def summary(self) -> str:
+        return repr(self)
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        rows = [
+            system_row(self.model, self.friction),
+            ("forcing", f"F_ex={num(self.model.fex, 6)}, Omega={num(self.model.omega, 8)}"),
+            ("period", f"{self.m} x 2 pi / Omega = {num(self.period, 8)}"),
+            ("state at tau=0", f"X={num(self.state[0], 10)}, X'={num(self.state[1], 10)} (residual {num(self.residual, 2)})"),
+            ("multipliers", ", ".join(num(complex(z), 8) for z in self.multipliers) + f" ({self.stability})"),
+            ("amplitude", num(self.amplitude, 8)),
+            ("TR_B", num(self.TR_B, 8)),
+            ("stick", f"{self.stick_phases} phase(s), fraction {num(self.stick_fraction, 4)}"),
+            ("averages", pairs({k: self.averages[k] for k in ("P_ex", "P_dv", "P_fin", "P_df")}, 6)),
+            ("energy residual", num(self.energy_residual, 2)),
+        ]
+        return "ForcedOrbit", rows
+
+
+def _orbit_from(model: BeltOscillator, friction: FrictionLaw, m: int, run: MapRun, iterations: int,
+                settings: dict[str, Any]) -> ForcedOrbit:
+    meas = measures(model, run)
+    mu = multipliers(run.monodromy)
+    return ForcedOrbit(
+        model=model, friction=friction, m=m, state=run.start.copy(), period=run.span, monodromy=run.monodromy.copy(),
+        multipliers=mu, residual=float(np.max(np.abs(run.residual))), iterations=iterations,
+        switches={n: int(c) for n, c in zip(SWITCH_NAMES, run.counts, strict=True)}, settings=settings, **meas,
+    )
+
+
+def _scale(model: BeltOscillator, friction: FrictionLaw, state: np.ndarray) -> float:
+    """The size of the motion Newton's tolerance is relative to."""
+    return float(max(np.max(np.abs(state)), model.fex, abs(model.vb), friction.fd, 1e-12))
+
+
+def newton(model: BeltOscillator, friction: FrictionLaw, guess: Sequence[float], m: int, steps: int,
+           tol: float = 1e-11, max_iter: int = 40) -> tuple[MapRun, int]:
+    """Newton on Phi_m(P) - P = 0 with the Jacobian M - I, damped (halved) while |G| does not fall."""
+    P = np.asarray(guess, dtype=float).copy()
+    run = flow_run(model, friction, P, m, steps)
+    g = float(np.max(np.abs(run.residual)))
+    for k in range(max_iter):
+        if g <= tol * _scale(model, friction, P):
+            return run, k
+        J = run.monodromy - np.eye(2)
+        try:
+            dP = np.linalg.solve(J, -run.residual)
+        except np.linalg.LinAlgError:
+            dP = np.linalg.lstsq(J, -run.residual, rcond=None)[0]
+        alpha = 1.0
+        for _ in range(30):
+            trial = P + alpha * dP
+            try:
+                new = flow_run(model, friction, trial, m, steps)
+            except RuntimeError:
+                new = None
+            if new is not None and float(np.max(np.abs(new.residual))) < g:
+                break
+            alpha *= 0.5
+        else:
+            break
+        P, run = new.start.copy(), new
+        g = float(np.max(np.abs(run.residual)))
+    if g <= tol * _scale(model, friction, P):
+        return run, max_iter
+    raise ForcedShootingError(f"Newton shooting did not converge (|Phi(P) - P| = {g:.3g} at P = ({P[0]:.8g}, {P[1]:.8g}),"
+                              f" m = {m}): start closer to the orbit, or try another m")
+
+
+def transient(model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float, periods: int,
+              steps: int = DEFAULT_STEPS) -> np.ndarray:
+    """The state after ``periods`` forcing periods from (x0, v0) at tau = 0."""
+    if periods == 0:
+        return np.array([x0, v0], dtype=float)
+    return flow_run(model, friction, (x0, v0), periods, steps).end
+
+
+def find_forced_orbit(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    m: int = 1,
+    x0: float | None = None,
+    v0: float | None = None,
+    *,
+    transient_periods: int | None = None,
+    steps: int = DEFAULT_STEPS,
+    tol: float = 1e-11,
+    max_iter: int = 40,
+) -> ForcedOrbit:
+    """The periodic orbit of period m 2 pi / Omega near (x0, v0), by Newton shooting.
+
+    Parameters
+    ----------
+    model, friction:
+        A forced oscillator (``fex`` > 0) and a law with Coulomb's stick rule.
+    m:
+        The period in forcing periods (1 harmonic, > 1 subharmonic).
+    x0, v0:
+        The start (X, X') at tau = 0.  Unless ``transient_periods`` says
+        otherwise, given both they are Newton's first guess; else (missing
+        ones 0) the motion runs :data:`DEFAULT_TRANSIENT` forcing periods
+        from them first.
+    steps:
+        RK4 grid steps per forcing period (switches are located whatever it is).
+    tol:
+        |Phi(P) - P| relative to the motion's scale.
+    """
+    _check_model(model)
+    _check_law(friction)
+    m = _check_int("m", m, 1, 1000)
+    steps = _check_int("steps", steps, 4, 10**6)
+    for name, value in (("x0", x0), ("v0", v0)):
+        if value is not None and not math.isfinite(float(value)):
+            raise ValueError(f"{name} must be finite, got {value!r}")
+    if transient_periods is None:
+        transient_periods = 0 if (x0 is not None and v0 is not None) else DEFAULT_TRANSIENT
+    transient_periods = _check_int("transient_periods", transient_periods, 0, 10**7)
+    if not (math.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol must be > 0, got {tol!r}")
+    guess = transient(model, friction, float(x0 or 0.0), float(v0 or 0.0), transient_periods, steps)
+    run, iterations = newton(model, friction, guess, m, steps, tol, max_iter)
+    return _orbit_from(model, friction, m, run, iterations,
+                       {"steps_per_period": steps, "transient_periods": transient_periods, "tol": tol,
+                        "method": "Newton shooting on the m-period stroboscopic map (RK4, located switches, saltation)"})
+
+
+# -- continuation -------------------------------------------------------------------------------------------------
+@dataclass(frozen=True, repr=False)
+class BranchPoint(Summarized):
+    """One orbit on a branch: lambda, the state at tau = 0, the multipliers and the orbit's measures."""
+
+    lam: float
+    state: np.ndarray
+    multipliers: np.ndarray
+    amplitude: float
+    X_min: float
+    X_max: float
+    TR_B: float
+    stick_fraction: float
+    averages: dict[str, float]
+    energy_residual: float
+    stick_phases: int
+    shortest_stick: float
+    min_gap: float
+    hold_margin: float
+    residual: float
+    signature: tuple[int, int, int]
+    monodromy: np.ndarray
+
+    @property
+    def stability(self) -> str:
+        return stability(self.multipliers)
+
+    @property
+    def stable(self) -> bool:
+        return self.stability == "stable"
+
+    def as_dict(self) -> dict[str, Any]:
+        from ._json import jsonable
+
+        return jsonable({"lambda": self.lam, "X": self.state[0], "V": self.state[1],
+                         "multipliers": [complex(z) for z in self.multipliers], "stability": self.stability,
+                         "amplitude": self.amplitude, "X_min": self.X_min, "X_max": self.X_max, "TR_B": self.TR_B,
+                         "stick_fraction": self.stick_fraction, "stick_phases": self.stick_phases,
+                         "averages": self.averages, "energy_residual": self.energy_residual, "residual": self.residual})
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        return "BranchPoint", [("lambda", num(self.lam, 10)), ("X, X'", f"{num(self.state[0], 8)}, {num(self.state[1], 8)}"),
+                               ("multipliers", ", ".join(num(complex(z), 6) for z in self.multipliers)),
+                               ("stability", self.stability)]
+
+
+@dataclass
+class BranchEvent:
+    """A special point between two accepted points of a branch, refined to ~1e-8 in lambda."""
+
+    type: str
+    lam: float
+    state: np.ndarray
+    multipliers: np.ndarray
+    detail: dict[str, Any] = field(default_factory=dict)
+    monodromy: np.ndarray | None = None
+
+    def as_dict(self) -> dict[str, Any]:
+        from ._json import jsonable
+
+        return jsonable({"type": self.type, "lambda": self.lam, "X": self.state[0], "V": self.state[1],
+                         "multipliers": [complex(z) for z in self.multipliers], **self.detail})
+
+
+@dataclass(frozen=True, repr=False)
+class ForcedBranch(Summarized):
+    """A branch of forced periodic orbits of period m 2 pi / Omega in lambda = Omega or F_ex."""
+
+    model: BeltOscillator
+    friction: FrictionLaw
+    parameter: str
+    m: int
+    points: list[BranchPoint]
+    events: list[BranchEvent]
+    end: str
+    settings: dict[str, Any] = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+    @property
+    def lam(self) -> np.ndarray:
+        return np.array([p.lam for p in self.points])
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        return np.array([p.amplitude for p in self.points])
+
+    @property
+    def x(self) -> np.ndarray:
+        """The stroboscopic X (at tau = 0) along the branch."""
+        return np.array([p.state[0] for p in self.points])
+
+    @property
+    def stable(self) -> np.ndarray:
+        return np.array([p.stable for p in self.points])
+
+    def events_of(self, kind: str) -> list[BranchEvent]:
+        return [e for e in self.events if e.type == kind]
+
+    def model_at(self, lam: float) -> BeltOscillator:
+        return replace(self.model, **{self.parameter: float(lam)})
+
+    def as_dict(self) -> dict[str, Any]:
+        from ._json import jsonable
+
+        return jsonable({"params": {**self.model.as_dict(), **self.friction.as_dict()}, "parameter": self.parameter,
+                         "m": self.m, "end": self.end, "points": [p.as_dict() for p in self.points],
+                         "events": [e.as_dict() for e in self.events], "settings": self.settings})
+
+    def summary(self) -> str:
+        return repr(self)
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        lam = self.lam
+        rows = [system_row(self.model, self.friction),
+                ("branch", f"m={self.m} in {self.parameter} from {num(lam[0], 6)} to {num(lam[-1], 6)}, "
+                           f"{len(self.points)} points, ended: {self.end}")]
+        for e in self.events:
+            rows.append((e.type, f"{self.parameter}={num(e.lam, 10)}" + (f" ({pairs(e.detail)})" if e.detail else "")))
+        return "ForcedBranch", rows
+
+
+class _Problem:
+    """Fixed points of Phi_m(.; lambda) - P in the scaled coordinates w = (X / s_x, X' / s_x, lambda / s_l)."""
+
+    def __init__(self, model, friction, parameter, m, steps, sx, sl, tol):
+        self.model, self.friction, self.parameter, self.m, self.steps = model, friction, parameter, m, steps
+        self.s = np.array([sx, sx, sl])
+        self.tol = tol
+
+    def model_at(self, lam: float) -> BeltOscillator:
+        return replace(self.model, **{self.parameter: float(lam)})
+
+    def run(self, P, lam) -> MapRun:
+        return flow_run(self.model_at(lam), self.friction, P, self.m, self.steps)
+
+    def d_lambda(self, P, lam, end: np.ndarray | None = None) -> np.ndarray:
+        """dPhi/dlambda by differences (relative step 1e-6; Omega's change moves the period's end too).
+
+        Central where both one-sided quotients agree; where they do not, a
+        discontinuity of the map (a stick phase breaking) lies within the
+        step, and the smaller one-sided quotient -- the side without it -- is taken.
+        """
+        d = 1e-6 * max(abs(lam), 1e-3)
+        if end is None:
+            end = self.run(P, lam).end
+        fwd = (self.run(P, lam + d).end - end) / d
+        bwd = (end - self.run(P, lam - d).end) / d
+        if np.max(np.abs(fwd - bwd)) <= 1e-2 * max(np.max(np.abs(fwd)), np.max(np.abs(bwd))) + 1e-12:
+            return 0.5 * (fwd + bwd)
+        return fwd if np.max(np.abs(fwd)) < np.max(np.abs(bwd)) else bwd
+
+    def converged(self, run: MapRun, lam: float) -> bool:
+        return float(np.max(np.abs(run.residual))) <= self.tol * _scale(self.model_at(lam), self.friction, run.start)
+
+    def tangent(self, pt: "_Sol", prev: np.ndarray | None) -> np.ndarray:
+        """The unit null vector of [M - I, dPhi/dlambda] in scaled coordinates, oriented along ``prev``."""
+        A = np.column_stack([pt.run.monodromy - np.eye(2), pt.dl]) * self.s
+        t = np.cross(A[0], A[1])
+        n = float(np.linalg.norm(t))
+        if n == 0.0 or not math.isfinite(n):
+            _, _, vt = np.linalg.svd(A)
+            t = vt[-1]
+        else:
+            t = t / n
+        if prev is not None and float(t @ prev) < 0.0:
+            t = -t
+        return t
+
+
+@dataclass
+class _Sol:
+    P: np.ndarray
+    lam: float
+    run: MapRun
+    dl: np.ndarray
+    iterations: int = 0
+
+    @property
+    def u(self) -> np.ndarray:
+        return np.array([self.P[0], self.P[1], self.lam])
+
+
+def _correct(pb: _Problem, u_pred: np.ndarray, t: np.ndarray, max_iter: int = 10) -> _Sol | None:
+    """Newton on (Phi(P; lambda) - P = 0, t . (w - w_pred) = 0) from u_pred; None if it does not converge."""
+    u = u_pred.copy()
+    dl = None
+    last = math.inf
+    for k in range(max_iter):
+        if not np.all(np.isfinite(u)) or u[2] <= 0.0:
+            return None
+        try:
+            run = pb.run(u[:2], u[2])
+        except (RuntimeError, ValueError):
+            return None
+        u[:2] = run.start
+        r2 = float(t @ ((u - u_pred) / pb.s))
+        g = float(np.max(np.abs(run.residual)))
+        if pb.converged(run, u[2]) and abs(r2) < 1e-9:
+            try:
+                dl_final = pb.d_lambda(u[:2], u[2], run.end)
+            except (RuntimeError, ValueError):
+                return None
+            return _Sol(u[:2].copy(), float(u[2]), run, dl_final, k)
+        if k >= 3 and g > 0.5 * last:
+            return None
+        last = g
+        try:
+            if dl is None or k % 3 == 0:
+                dl = pb.d_lambda(u[:2], u[2], run.end)
+        except (RuntimeError, ValueError):
+            return None
+        J = np.zeros((3, 3))
+        J[:2, :2] = run.monodromy - np.eye(2)
+        J[:2, 2] = dl
+        J[2] = t / pb.s
+        try:
+            du = np.linalg.solve(J, -np.concatenate([run.residual, [r2]]))
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(du)) or float(np.linalg.norm(du / pb.s)) > 0.5:
+            return None
+        u = u + du
+    return None
+
+
+def _solve_at(pb: _Problem, lam: float, P_guess: np.ndarray) -> _Sol | None:
+    """The fixed point at a given lambda (Newton in P alone)."""
+    try:
+        run, k = newton(pb.model_at(lam), pb.friction, P_guess, pb.m, pb.steps, pb.tol, 20)
+        return _Sol(run.start.copy(), float(lam), run, pb.d_lambda(run.start, lam, run.end), k)
+    except (RuntimeError, ValueError):
+        return None
+
+
+def _point(pb: _Problem, s: _Sol) -> BranchPoint:
+    meas = measures(pb.model_at(s.lam), s.run)
+    return BranchPoint(lam=s.lam, state=s.P.copy(), multipliers=multipliers(s.run.monodromy),
+                       residual=float(np.max(np.abs(s.run.residual))), signature=signature(s.run),
+                       monodromy=s.run.monodromy.copy(),
+                       **{k: meas[k] for k in ("amplitude", "X_min", "X_max", "TR_B", "stick_fraction", "averages",
+                                               "energy_residual", "stick_phases", "shortest_stick", "min_gap",
+                                               "hold_margin")})
+
+
+def _tests(s: _Sol) -> dict[str, float]:
+    """The test functions whose sign changes mark the bifurcations: det(M + I) (PD), det M - 1 (NS, complex pairs)."""
+    M = s.run.monodromy
+    det = float(np.linalg.det(M))
+    tr = float(np.trace(M))
+    return {"pd": det + tr + 1.0, "ns": det - 1.0, "complex": tr * tr - 4.0 * det < 0.0, "fold": det - tr + 1.0}
+
+
+class _Tracer:
+    def __init__(self, pb: _Problem, lo: float, hi: float, h0: float, h_max: float, h_min: float, max_points: int):
+        self.pb, self.lo, self.hi = pb, lo, hi
+        self.h0, self.h_max, self.h_min, self.max_points = h0, h_max, h_min, max_points
+
+    def w(self, s: _Sol) -> np.ndarray:
+        return s.u / self.pb.s
+
+    def along(self, a: _Sol, t: np.ndarray, h: float) -> _Sol | None:
+        return _correct(self.pb, (self.w(a) + h * t) * self.pb.s, t)
+
+    def trace(self, first: _Sol, t: np.ndarray, detect: bool = True) -> tuple[list[_Sol], list[BranchEvent], str]:
+        sols, events = [first], []
+        h = self.h0
+        end = "max_points"
+        while len(sols) < self.max_points:
+            a = sols[-1]
+            s = self.along(a, t, h)
+            t_new = self.pb.tangent(s, t) if s is not None else t
+            # a corrector that lands far from its predictor has jumped to another branch
+            jumped = s is not None and float(np.linalg.norm(self.w(s) - self.w(a))) > 2.0 * h
+            if s is None or jumped or (float(t_new @ t) < 0.7 and h > 4 * self.h_min):
+                h *= 0.5
+                if h < self.h_min:
+                    ev = self._diagnose(sols)
+                    crossed = self._cross_corner(a, t, ev) if ev.type == "grazing" else None
+                    if crossed is None:
+                        events.append(ev)
+                        end = "grazing" if ev.type == "grazing" else "the corrector fails beyond this point"
+                        break
+                    s, t, found = crossed
+                    events += found
+                    sols.append(s)
+                    h = self.h0
+                continue
+            outside = not (self.lo <= s.lam <= self.hi)
+            if outside:
+                b = self.hi if s.lam > self.hi else self.lo
+                frac = (b - a.lam) / (s.lam - a.lam)
+                s2 = _solve_at(self.pb, b, a.P + frac * (s.P - a.P))
+                if s2 is None:
+                    end = "interval end"
+                    break
+                s, t_new = s2, self.pb.tangent(s2, t)
+            if detect:
+                events += self.events_between(a, s, t, t_new, h)
+            sols.append(s)
+            if outside:
+                end = "interval end"
+                break
+            t = t_new
+            h = min(1.5 * h, self.h_max) if s.iterations <= 3 else max(0.6 * h, self.h_min)
+        return sols, events, end
+
+    def _margins(self, s: _Sol) -> dict[str, float]:
+        """Relative distances of the orbit to the grazings the map cannot be continued through."""
+        st = s.run.stats
+        durations = stick_phases(s.run)
+        return {
+            # the held force touches F_s inside a stick phase: it breaks in two (the map jumps if F_s > F(0+))
+            "stick_splits": float(st[fm.S_HOLD]) / max(self.pb.friction.fs, 1e-300),
+            # a slip phase touches V_r = 0: a stick phase or a reversal appears
+            "stick_appears": float(st[fm.S_GAP]) / self.pb.s[0],
+            # a stick phase shrinks to nothing
+            "stick_vanishes": float(durations.min()) / s.run.span if len(durations) else math.inf,
+        }
+
+    def _cross_corner(self, a: _Sol, t: np.ndarray, ev: BranchEvent):
+        """Step over a grazing corner of the branch, where it has no tangent (returns (solution, tangent, events) or None).
+
+        A slip-only orbit that touches V_r = 0 meets a stick-slip one at an
+        angle (a multiplier jumps to 0), and the branch may turn back there
+        (a non-smooth fold).  Next to the corner, at lambda a little beyond
+        (first) or before a's, Newton at fixed lambda from a's state looks for
+        an orbit with another switch sequence; the branch leaves along it, away from a.
+        """
+        pb = self.pb
+        sa = signature(a.run)
+        forward = math.copysign(1.0, t[2])
+        for size in (1e-6, 1e-5, 1e-4, 1e-3):
+            for direction in (forward, -forward):
+                lam = ev.lam + direction * size * pb.s[2]
+                if not (self.lo <= lam <= self.hi):
+                    continue
+                s = _solve_at(pb, lam, ev.state)
+                if s is None or signature(s.run) == sa:
+                    continue
+                t_new = pb.tangent(s, None)
+                if t_new[2] * direction < 0.0:
+                    t_new = -t_new  # on along the side where the new orbit was found
+                detail = {"before": list(sa), "after": list(signature(s.run)), "corner": True}
+                found = [BranchEvent("grazing", ev.lam, ev.state.copy(), ev.multipliers, {**ev.detail, **detail},
+                                     ev.monodromy)]
+                found[0].detail.pop("ends_branch", None)
+                if direction != forward:
+                    found.append(BranchEvent("fold", ev.lam, ev.state.copy(), ev.multipliers,
+                                             {"smooth": False, "at": "grazing"}, ev.monodromy))
+                return s, t_new, found
+        return None
+
+    def _diagnose(self, sols: list[_Sol]) -> BranchEvent:
+        """Why the branch stops at its last point: a grazing (a margin near 0, extrapolated to 0) or unknown."""
+        a = sols[-1]
+        ma = self._margins(a)
+        kind = min(ma, key=ma.get)
+        mu = multipliers(a.run.monodromy)
+        if not ma[kind] < 1e-3:
+            return BranchEvent("branch_end", a.lam, a.P.copy(), mu, {"reason": "the corrector fails beyond this point",
+                                                                    "margins": ma}, a.run.monodromy.copy())
+        lam, P = a.lam, a.P.copy()
+        refined = False
+        if len(sols) > 1:
+            b = sols[-2]
+            mb = self._margins(b)[kind]
+            if math.isfinite(mb) and mb != ma[kind]:
+                frac = ma[kind] / (mb - ma[kind])  # linear in lambda: margin 0 this far beyond a
+                if abs(frac) <= 10.0:
+                    lam = a.lam + frac * (a.lam - b.lam)
+                    P = a.P + frac * (a.P - b.P)
+                    refined = True
+        return BranchEvent("grazing", float(lam), P, mu, {"at": kind, "margin_at_last_point": ma[kind],
+                                                          "extrapolated": refined, "ends_branch": True},
+                           a.run.monodromy.copy())
+
+    # -- events ---------------------------------------------------------------------------------------------------
+    def events_between(self, a: _Sol, b: _Sol, ta: np.ndarray, tb: np.ndarray, h: float) -> list[BranchEvent]:
+        out = []
+        sa, sb = signature(a.run), signature(b.run)
+        if sa != sb:
+            out.append(self._grazing(a, ta, h, sa, sb))
+        fa, fb = _tests(a), _tests(b)
+        smooth_fold = fa["fold"] * fb["fold"] < 0.0
+        if ta[2] * tb[2] < 0.0 and (smooth_fold or sa != sb):
+            s = self._secant(a, ta, h, lambda s: self.pb.tangent(s, ta)[2], ta[2], tb[2])
+            out.append(self._event("fold", s or b, {"smooth": smooth_fold and sa == sb, "refined": s is not None}))
+        if fa["pd"] * fb["pd"] < 0.0 and not (fa["complex"] or fb["complex"]):
+            s = self._secant(a, ta, h, lambda s: _tests(s)["pd"], fa["pd"], fb["pd"])
+            out.append(self._event("period_doubling", s or b, {"refined": s is not None}))
+        if fa["ns"] * fb["ns"] < 0.0 and fa["complex"] and fb["complex"]:
+            s = self._secant(a, ta, h, lambda s: _tests(s)["ns"], fa["ns"], fb["ns"])
+            out.append(self._event("neimark_sacker", s or b, {"refined": s is not None}))
+        return out
+
+    def _event(self, kind: str, s: _Sol, detail: dict[str, Any]) -> BranchEvent:
+        mu = multipliers(s.run.monodromy)
+        if kind == "neimark_sacker":
+            detail = {**detail, "angle": float(abs(np.angle(mu[0])))}
+        return BranchEvent(kind, s.lam, s.P.copy(), mu, detail, s.run.monodromy.copy())
+
+    def _secant(self, a: _Sol, t: np.ndarray, h: float, f, fa: float, fb: float, n: int = 40) -> _Sol | None:
+        """The point along the arc from a where f = 0 (Illinois false position on arclength), to ~1e-8 in lambda."""
+        lo, hi, flo, fhi = 0.0, h, fa, fb
+        lam_lo, lam_hi = a.lam, math.inf
+        best = None
+        side = 0
+        for _ in range(n):
+            mid = (lo * fhi - hi * flo) / (fhi - flo)
+            if not lo < mid < hi:
+                mid = 0.5 * (lo + hi)
+            s = self.along(a, t, mid)
+            if s is None:
+                return best
+            fm_ = f(s)
+            best = s
+            if fm_ == 0.0:
+                return s
+            if fm_ * flo > 0:
+                lo, flo, lam_lo = mid, fm_, s.lam
+                if side == -1:
+                    fhi *= 0.5
+                side = -1
+            else:
+                hi, fhi, lam_hi = mid, fm_, s.lam
+                if side == 1:
+                    flo *= 0.5
+                side = 1
+            if abs(lam_hi - lam_lo) < LAMBDA_TOL or hi - lo < 1e-13:
+                return s
+        return best
+
+    def _grazing(self, a: _Sol, t: np.ndarray, h: float, sa, sb) -> BranchEvent:
+        """Bisection on arclength for the switch-sequence change, to ~1e-8 in lambda."""
+        lo, hi = 0.0, h
+        lam_lo, lam_hi = a.lam, math.inf
+        best_a, best_b = a, None
+        for _ in range(60):
+            if abs(lam_hi - lam_lo) < LAMBDA_TOL:
+                break
+            mid = 0.5 * (lo + hi)
+            s = self.along(a, t, mid)
+            if s is None:
+                break
+            if signature(s.run) == sa:
+                lo, lam_lo, best_a = mid, s.lam, s
+            else:
+                hi, lam_hi, best_b = mid, s.lam, s
+        s = best_b or best_a
+        detail = {"before": list(sa), "after": list(sb)}
+        if sa[0] != sb[0]:
+            detail["stick_phase"] = "appears" if sb[0] > sa[0] else "vanishes"
+        if sa[2] != sb[2]:
+            detail["slip_reversal"] = "appears" if sb[2] > sa[2] else "vanishes"
+        detail["lambda_bracket"] = [best_a.lam, best_b.lam if best_b is not None else math.nan]
+        ev = self._event("grazing", s, detail)
+        ev.lam = 0.5 * (best_a.lam + best_b.lam) if best_b is not None else best_a.lam
+        return ev
+
+
+def _check_parameter(parameter: str, value: float, name: str) -> float:
+    if parameter not in PARAMETERS:
+        raise ValueError(f"parameter must be one of {PARAMETERS}, got {parameter!r}")
+    value = float(value)
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"{name}: {parameter} must be finite and > 0, got {value!r}")
+    return value
+
+
+def continue_forced(
+    model: BeltOscillator,
+    friction: FrictionLaw,
+    parameter: str = "omega",
+    start: float | None = None,
+    stop: float | None = None,
+    *,
+    m: int = 1,
+    x0: float | None = None,
+    v0: float | None = None,
+    orbit: ForcedOrbit | None = None,
+    steps: int = DEFAULT_STEPS,
+    h0: float = 0.01,
+    h_max: float = 0.04,
+    h_min: float = 1e-6,
+    max_points: int = 400,
+    detect: bool = True,
+    tol: float = 1e-11,
+) -> ForcedBranch:
+    """Follow the m-period forced orbit in ``parameter`` (``omega`` or ``fex``) from ``start`` toward ``stop``.
+
+    The first orbit is ``orbit`` if given, else :func:`find_forced_orbit` at
+    ``start`` (from x0, v0 as there).  The branch is traced by
+    pseudo-arclength (it passes folds) until it leaves [start, stop] (the
+    last point then lies on the end), fails to continue, or ``max_points``.
+    Steps ``h0`` .. ``h_max`` are in scaled arclength (lambda over
+    |stop - start|, the state over the first orbit's size).  Special points
+    are refined to ~1e-8 in lambda (see the module docstring).
+    """
+    _check_model(model)
+    _check_law(friction)
+    if parameter not in PARAMETERS:
+        raise ValueError(f"parameter must be one of {PARAMETERS}, got {parameter!r}")
+    start = _check_parameter(parameter, getattr(model, parameter) if start is None else start, "start")
+    if stop is None:
+        raise ValueError(f"stop: give the other end of the {parameter} interval")
+    stop = _check_parameter(parameter, stop, "stop")
+    if stop == start:
+        raise ValueError(f"stop must differ from start ({start!r})")
+    m = _check_int("m", m, 1, 1000)
+    steps = _check_int("steps", steps, 4, 10**6)
+    max_points = _check_int("max_points", max_points, 2, 10**6)
+    if not (0 < h_min <= h0 <= h_max):
+        raise ValueError(f"steps must satisfy 0 < h_min <= h0 <= h_max, got {h_min!r}, {h0!r}, {h_max!r}")
+    base = replace(model, **{parameter: start})
+    if orbit is None:
+        orbit = find_forced_orbit(base, friction, m, x0, v0, steps=steps, tol=tol)
+    elif orbit.m != m or not math.isclose(getattr(orbit.model, parameter), start, rel_tol=1e-12):
+        raise ValueError(f"orbit: its m ({orbit.m}) and {parameter} must be the branch's (m={m}, {parameter}={start})")
+    sx = max(orbit.amplitude, float(np.max(np.abs(orbit.state))), model.fex, abs(model.vb), friction.fd, 1e-9)
+    pb = _Problem(base, friction, parameter, m, steps, sx, abs(stop - start), tol)
+    first = _solve_at(pb, start, orbit.state)
+    if first is None:
+        raise ForcedShootingError(f"no orbit to start from at {parameter}={start}")
+    t = pb.tangent(first, None)
+    if (stop - start) * t[2] < 0:
+        t = -t
+    tracer = _Tracer(pb, min(start, stop), max(start, stop), h0, h_max, h_min, max_points)
+    sols, events, end = tracer.trace(first, t, detect)
+    return ForcedBranch(model=base, friction=friction, parameter=parameter, m=m, points=[_point(pb, s) for s in sols],
+                        events=events, end=end,
+                        settings={"steps_per_period": steps, "h0": h0, "h_max": h_max, "h_min": h_min, "tol": tol,
+                                  "start": start, "stop": stop, "max_points": max_points,
+                                  "scales": {"state": sx, "lambda": abs(stop - start)}})
+
+
+def switch_period_doubling(branch: ForcedBranch, event: BranchEvent | None = None, *, h: float = 0.01,
+                           max_points: int | None = None, detect: bool = True) -> ForcedBranch:
+    """The 2m branch born at a period doubling of ``branch`` (its first one unless ``event`` is given).
+
+    At the PD point (lambda*, P*) the fixed points of Phi_{2m} have a
+    pitchfork: the m orbit's branch crosses the 2m branch, which leaves along
+    the eigenvector e of the multiplier -1 at fixed lambda (P* +- eps e,
+    eps ~ sqrt(lambda - lambda*)).  Newton on the 2m problem from P* + eps e
+    would fall back onto the m orbit (M_2m - I is nearly singular there);
+    instead one pseudo-arclength corrector step from (P*, lambda*) along
+    (e, 0) -- on the hyperplane e . (P - P*) = h s_x, lambda free -- lands on
+    the 2m branch, which is then traced in both directions from there
+    (``h``: the scaled distance of that first step).  The new branch keeps
+    the first one's lambda interval and steps.
+    """
+    if event is None:
+        pds = branch.events_of("period_doubling")
+        if not pds:
+            raise ValueError("the branch has no period doubling to switch at")
+        event = pds[0]
+    if event.type != "period_doubling" or event.monodromy is None:
+        raise ValueError(f"event must be a period_doubling of the branch, got {event.type}")
+    st = branch.settings
+    m2 = 2 * branch.m
+    sx, sl = st["scales"]["state"], st["scales"]["lambda"]
+    pb = _Problem(branch.model, branch.friction, branch.parameter, m2, st["steps_per_period"], sx, sl, st["tol"])
+    w, vecs = np.linalg.eig(event.monodromy)
+    e = np.real(vecs[:, int(np.argmin(np.abs(w + 1.0)))])
+    t0 = np.array([e[0] / sx, e[1] / sx, 0.0])
+    t0 /= np.linalg.norm(t0)
+    star = np.array([event.state[0], event.state[1], event.lam])
+    first = None
+    for hh in (h, 0.3 * h, 3.0 * h, 0.1 * h):
+        for sign in (1.0, -1.0):
+            s = _correct(pb, star + sign * hh * t0 * pb.s, sign * t0)
+            if s is None:
+                continue
+            half = flow_run(pb.model_at(s.lam), branch.friction, s.P, branch.m, pb.steps)
+            if float(np.max(np.abs(half.residual))) > 1e-6 * sx:
+                first = s
+                break
+        if first is not None:
+            break
+    if first is None:
+        raise ForcedShootingError(f"no period-{m2} branch found at the period doubling at "
+                                  f"{branch.parameter}={event.lam:.10g}")
+    lo, hi = min(st["start"], st["stop"]), max(st["start"], st["stop"])
+    tracer = _Tracer(pb, lo, hi, st["h0"], st["h_max"], st["h_min"], max_points or st.get("max_points", 400))
+    t1 = pb.tangent(first, None)
+    if float(t1 @ ((first.u - star) / pb.s)) < 0.0:
+        t1 = -t1  # away from the PD point
+    sols, events, end = tracer.trace(first, t1, detect)
+    events.insert(0, BranchEvent("branch_point", event.lam, event.state.copy(), event.multipliers,
+                                 {"from": f"period doubling of the m={branch.m} branch"}))
+    return ForcedBranch(model=branch.model, friction=branch.friction, parameter=branch.parameter, m=m2,
+                        points=[_point(pb, s) for s in sols], events=events, end=end,
+                        settings={**st, "born_at": event.lam})
+
+
+# -- brute force ----------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class StroboscopicSweep:
+    """The stroboscopic X (and X') of the last ``keep`` forcing periods at each lambda of a sweep."""
+
+    parameter: str
+    values: np.ndarray
+    x: np.ndarray  # (len(values), keep)
+    v: np.ndarray
+
+    def points(self) -> tuple[np.ndarray, np.ndarray]:
+        """(lambda, X) pairs, flattened, for a scatter plot."""
+        return np.repeat(self.values, self.x.shape[1]), self.x.ravel()
+
+    def multiple(self, j: int, rtol: float = 1e-6) -> int:
+        """The smallest m with P_k = P_{k-m} over the kept points at values[j] (0 if none up to keep / 2)."""
+        x, v = self.x[j], self.v[j]
+        scale = max(float(np.max(np.abs(x))), float(np.max(np.abs(v))), 1e-12)
+        for m in range(1, len(x) // 2 + 1):
+            if np.all(np.abs(x[m:] - x[:-m]) <= rtol * scale) and np.all(np.abs(v[m:] - v[:-m]) <= rtol * scale):
+                return m
+        return 0
+
+
+def stroboscopic_sweep(model: BeltOscillator, friction: FrictionLaw, parameter: str, values: Sequence[float], *,
+                       transient_periods: int = 300, keep: int = 40, x0: float = 0.0, v0: float = 0.0,
+                       steps: int = 256) -> StroboscopicSweep:
+    """Brute force: at each lambda in ``values`` (in the given order), run the forced system and keep its section.
+
+    Each value starts from the state the previous one ended in (state
+    continuation, so a sweep up follows the branch it is on until it ends).
+    Integrated by :func:`frictionflow.core.tangent.run` (RK4, located
+    switches); a run that fails leaves NaN.
+    """
+    from ..core import tangent
+
+    _check_model(model)
+    _check_law(friction)
+    if parameter not in PARAMETERS:
+        raise ValueError(f"parameter must be one of {PARAMETERS}, got {parameter!r}")
+    values = np.asarray(values, dtype=float)
+    keep = _check_int("keep", keep, 1, 10**6)
+    transient_periods = _check_int("transient_periods", transient_periods, 0, 10**7)
+    xs = np.full((len(values), keep), np.nan)
+    vs = np.full((len(values), keep), np.nan)
+    x, v = float(x0), float(v0)
+    for j, lam in enumerate(values):
+        mdl = replace(model, **{parameter: float(lam)})
+        p = kernel_params(mdl, friction)
+        strobe = np.zeros((transient_periods + keep, 3))
+        est = np.zeros((keep, 2))
+        counts = np.zeros(tangent.N_COUNTS, dtype=np.int64)
+        status, _, _ = tangent.run(x, v, float(mdl.zeta), float(mdl.vb), p, float(mdl.forcing_period), int(steps),
+                                   transient_periods, keep, strobe, est, counts)
+        if status != tangent.OK:
+            x, v = float(x0), float(v0)
+            continue
+        xs[j] = strobe[transient_periods:, 0]
+        vs[j] = strobe[transient_periods:, 1]
+        x, v = float(strobe[-1, 0]), float(strobe[-1, 1])
+    return StroboscopicSweep(parameter, values, xs, vs)
