@@ -48,6 +48,7 @@ from . import orbit as _orbit  # noqa: E402,F401
 from . import basins as _basins  # noqa: E402,F401
 from . import response as _response  # noqa: E402,F401
 from . import lyapunov as _lyapunov  # noqa: E402,F401
+from . import forced_orbit as _forced_orbit  # noqa: E402,F401
 
 #: one line per command for the command list (click would cut the docstring at its first period)
 SHORT_HELP = {
@@ -58,6 +59,8 @@ SHORT_HELP = {
     "continue": "Continue equilibria and periodic orbits in one parameter.",
     "response": "Frequency response of the forced oscillator (swept up and down).",
     "lyapunov": "Lyapunov exponents of the stick-slip flow, forced or not.",
+    "forced-orbit": "Periodic orbit of the forced oscillator and its Floquet multipliers.",
+    "forced-continue": "Continue forced periodic orbits in Omega or F_ex, with bifurcations.",
 }
 
 

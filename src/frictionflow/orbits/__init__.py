@@ -10,12 +10,15 @@ Modules: :mod:`.hybrid` (phases, switches, saltation matrices),
 :mod:`.flow_exact` / :mod:`.flow_smooth` (flow maps with their Jacobians),
 :mod:`.shooting` (Newton on the Poincare map), :mod:`.floquet`,
 :mod:`.equilibria`, :mod:`.arclength` (pseudo-arclength), :mod:`.continuation`,
-:mod:`.brute_force` (simulations to overlay), :mod:`.plotting`.
+:mod:`.brute_force` (simulations to overlay), :mod:`.plotting`; the forced
+oscillator's orbits (period fixed by the forcing): :mod:`.forced`, :mod:`.forced_plot`.
 """
 
 from .branches import Bifurcation, Branch, BranchPoint, ContinuationResult
 from .continuation import continuation
 from .floquet import fd_monodromy, multipliers
+from .forced import ForcedBranch, ForcedOrbit, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
+from .forced_plot import plot_forced_branches
 from .flow import make_flow
 from .hybrid import Phase, Segment, Switch, saltation
 from .parameters import parameter_names, with_param
@@ -24,6 +27,8 @@ from .brute_force import sweep
 
 __all__ = [
     "Bifurcation",
+    "ForcedBranch",
+    "ForcedOrbit",
     "Branch",
     "BranchPoint",
     "ContinuationResult",
@@ -33,11 +38,16 @@ __all__ = [
     "ShootingError",
     "Switch",
     "continuation",
+    "continue_forced",
     "fd_monodromy",
+    "find_forced_orbit",
     "find_orbit",
     "make_flow",
     "multipliers",
     "parameter_names",
+    "plot_forced_branches",
+    "stroboscopic_sweep",
+    "switch_period_doubling",
     "saltation",
     "shoot",
     "sweep",
