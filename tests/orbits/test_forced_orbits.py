@@ -188,3 +188,30 @@ def test_stroboscopic_sweep_periods():
     assert [s.multiple(0), s.multiple(1)] == [3, 3]
     o = find_forced_orbit(SUB3, SUB3_LAW, m=3)
     assert np.min(np.abs(s.x[0] - o.state[0])) < 1e-8
+
+
+def test_fold_of_the_locked_orbit_against_brute_force():
+    """A self-excited cubic-law oscillator (pure slip) locked to a weak forcing: lowering F_ex, the locked
+    orbit meets its saddle partner in a fold at the edge of the 1:1 tongue.  Brute force settles on the
+    locked orbit above the fold and never repeats below it."""
+    from frictionflow import Cubic, analyze, simulate
+    from frictionflow.solvers import RK4
+
+    law = Cubic(fs=0.3, k1=0.3, k3=10.0)  # 2 zeta + F'(V_b) < 0 at V_b = 0.08: a limit cycle that never sticks
+    model = BeltOscillator(zeta=0.05, vb=0.08, fex=5e-4, omega=1.001)
+    start = find_forced_orbit(model, law, m=1, transient_periods=600)
+    branch = continue_forced(model, law, "fex", 5e-4, 1e-5, m=1, orbit=start)
+    folds = [e.lam for e in branch.events if e.type == "fold"]
+    assert folds, [e.type for e in branch.events]
+    fold = folds[0]
+    assert 1e-4 < fold < 1.3e-4
+    for fex, locked in ((1.2 * fold, True), (0.87 * fold, False)):
+        near = min(branch.points, key=lambda q: abs(q.lam - fex))  # start 1e-3 off the branch: the run must find it
+        forced = replace(model, fex=fex)
+        tr = simulate(forced, law, RK4(dt=2e-3), t_end=1500 * forced.forcing_period, x0=near.state[0] + 1e-3,
+                      v0=near.state[1])
+        ss = analyze(tr).steady_state
+        assert (ss.kind == "periodic" and ss.forcing_multiple == 1) is locked, (fex, ss.kind)
+        if locked:  # the run's section state is the continued orbit's
+            orbit = find_forced_orbit(forced, law, m=1, x0=near.state[0], v0=near.state[1], transient_periods=0)
+            assert tr.x[-1] == pytest.approx(orbit.state[0], abs=1e-6)
