@@ -142,9 +142,25 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
     a time-dependent flow) and also samples every tau_k = k 2 pi / Omega.
     """
     if p[FEX] != 0.0:
-        return _run(True, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
-                    out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+        return run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+                          out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+    return run_unforced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+                        out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+
+
+@njit(cache=True)
+def run_unforced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+                 out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
+    """:func:`run` without an external force (compiled without its code)."""
     return _run(False, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+                out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+
+
+@njit(cache=True)
+def run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+               out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
+    """:func:`run` with the external force of ``p``."""
+    return _run(True, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
                 out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
 
 

@@ -12,6 +12,7 @@ from .. import _validate as check
 from .._progress import progress_bar
 from ..core import dopri, sections
 from ..core._rebind import rebind
+from ..core.layout import FEX
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -30,7 +31,8 @@ class StepLimitError(RuntimeError):
     """The adaptive solver hit its step cap (or a vanishing step) before the end."""
 
 
-_KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "_known_end", "_run", "run")
+_KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "_known_end", "_run", "run_unforced",
+                 "run_forced")
 #: a single run goes to its end (sweeps stop where the end is known: core.batch)
 NO_STOP = (0.0, 3, 0.0, 0.0)
 
@@ -58,7 +60,14 @@ def _user_kernel(func: Callable[[float], float], force: Callable | None) -> tupl
 
 
 def _rebuild(force: Callable, compiled: bool) -> Callable:
-    return rebind(dopri, _KERNEL_FUNCS, compiled, slip_force=force)["run"]
+    kernels = rebind(dopri, _KERNEL_FUNCS, compiled, slip_force=force)
+    unforced, forced = kernels["run_unforced"], kernels["run_forced"]
+
+    def run(x0, v0, t_end, zeta, vb, p, *rest):
+        """:func:`frictionflow.core.dopri.run` for the user's law: each variant compiled when first used."""
+        return (forced if p[FEX] != 0.0 else unforced)(x0, v0, t_end, zeta, vb, p, *rest)
+
+    return run
 
 
 class Adaptive(Solver):
