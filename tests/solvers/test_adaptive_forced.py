@@ -233,6 +233,16 @@ def test_forcing_within_the_static_bound_never_unsticks():
     assert np.all(np.abs(tr.fc) <= law.fs)
 
 
+def test_forcing_that_touches_fs_holds():
+    # F_ex = F_s, V_b = 0, X = 0: the held force -f touches F_s at each peak of f without
+    # exceeding it, and the law slips from F(0+) = F_s: slipping cannot start (X'' <= 0 there).
+    # The solver must hold on, not slip and re-stick at the same instant for ever.
+    law = Cubic(stick_force="spring")
+    m = BeltOscillator(zeta=1.5, vb=0.0, fex=law.fs, omega=0.8, phi=-0.9960491607510069)
+    tr = simulate(m, law, Adaptive(max_steps=10_000), t_end=50.0, x0=0.0, v0=0.0)
+    assert np.abs(tr.x).max() < 1e-15 and np.abs(tr.v).max() < 1e-15
+
+
 # -- stroboscopic samples --------------------------------------------------------------------------
 
 @pytest.mark.parametrize("m, law, solver, periods", [

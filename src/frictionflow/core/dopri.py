@@ -63,6 +63,8 @@ NY_FORCED = 6  # ... and W_ex
 H_MAX = 0.25  # about 1/25 of the natural period
 #: a sample within this (relative) of a stroboscopic time is put on it: no second sample a rounding apart
 STROBE_TOL = 1e-12
+#: a forced slip phase shorter than this (relative) is no slip: F_s was touched, not crossed
+NO_SLIP = 1e-12
 OK, STEP_CAP, TINY_STEP, FULL = 0, 1, 2, 3
 EPS = 2.220446049250313e-16
 
@@ -292,6 +294,7 @@ def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_
         else:
             # slip: Dormand-Prince from (x, v) with the direction fixed
             d = float(mode)
+            t_phase = t
             y[0], y[1], y[2], y[3], y[4] = x, v, 0.0, 0.0, 0.0
             if forced:
                 y[5] = 0.0
@@ -422,12 +425,17 @@ def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_
                     h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
             if switched:
                 new = at_rest(x, zeta, vb, fs, res, p, t)
+                hold = False
+                if forced and t - t_phase <= NO_SLIP * (1.0 + abs(t)):
+                    # F_s met at a rounding-level tangency (the held force touching F_s): the slip the
+                    # rule chose ends as it starts, and would again -- held, past this monotone piece
+                    new = 0
+                    hold = True
                 if ne < len(ev_t):
                     ev_t[ne] = t
                     ev_mode[ne] = new
                 ne += 1
                 mode = new
-                hold = False
                 out_mode[k - 1] = mode
                 if mode != 0:
                     out_fc[k - 1] = mode * slip_force(p, 0.0)
@@ -647,7 +655,7 @@ def _stick_walk(outs, k, w, xs, ts, te, zeta, vb, p, t_tail, tail_done, next_den
         if ns < tb - STROBE_TOL * (1.0 + tb):
             tb = max(ns, ta)  # (a time held on the bound may have passed it by rounding)
             tag = 3
-        z = _friction_zero(xs, ts, ta, tb, zeta, vb, res, p)
+        z = _friction_zero(xs, ts, ta, tb, zeta, vb, res, p) if vb != 0.0 else np.inf  # (V_b = 0: no friction work)
         if z < tb:
             tb = z
             tag = 4
