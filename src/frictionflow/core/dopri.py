@@ -20,8 +20,8 @@ varies: it is walked through the monotone pieces of that force, whose ends
 (the zeros of its rate V_b - f') are known in closed form, so that no
 excursion beyond F_s is missed however short (:func:`_stick_exit`).  The
 forced and unforced runs are two specialisations of one body (:func:`_run`,
-inlined with ``forced`` a constant): the unforced one is the paper's kernel
-operation for operation.
+``forced`` a constant in each): the unforced one computes what this kernel
+computed before forcing existed, to the bit.
 
 ``slip_force(p, speed)`` is a module global: for a user-defined slip law the
 kernel is rebuilt around the user's function (see
