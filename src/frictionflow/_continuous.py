@@ -236,12 +236,18 @@ def _oscillation(zeta: float, y0, v0, s) -> tuple[np.ndarray, np.ndarray]:
 # -- the adaptive solver and RK4: Hermite interpolation -----------------------------------------------
 
 class QuinticHermite(Interpolant):
-    """The adaptive solver's steps: quintic Hermite in slip, the exact line in stick."""
+    """The adaptive solver's steps: quintic Hermite in slip, the exact line in stick.
+
+    X'' at a sample is F_c + f(tau) - X - 2 zeta X' (zero while sticking,
+    where F_c holds X + 2 zeta V_b - f).
+    """
 
     def __init__(self, traj) -> None:
         super().__init__(traj)
         tr = traj
         self.acc = tr.fc - tr.x - 2.0 * self.zeta * tr.v
+        if self.model.forced:
+            self.acc = self.acc + self.model.external_force(tr.t)
         self.acc_right = self.acceleration_left() if len(tr.t) > 1 else np.zeros(0)
 
     def state(self, t):

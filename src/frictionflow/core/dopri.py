@@ -12,6 +12,17 @@ The state is augmented with the running integrals of 2 zeta X'^2, of
 P_f = X' F_c (signed; split into in/out at the zeros of X', which are
 located as well) and of the interface heat F_c V_r.
 
+With an external force f(tau) = F_ex cos(Omega tau + phi) (``p[FEX]`` > 0)
+the right-hand side gets + f at each stage's own time, the state a sixth
+integral W_ex = int X' f, and the run a sample at every tau_k = k 2 pi / Omega
+(the stroboscopic section).  A stick phase then holds F_e - f(tau), which
+varies: it is walked through the monotone pieces of that force, whose ends
+(the zeros of its rate V_b - f') are known in closed form, so that no
+excursion beyond F_s is missed however short (:func:`_stick_exit`).  The
+forced and unforced runs are two specialisations of one body (:func:`_run`,
+``forced`` a constant in each): the unforced one computes what this kernel
+computed before forcing existed, to the bit.
+
 ``slip_force(p, speed)`` is a module global: for a user-defined slip law the
 kernel is rebuilt around the user's function (see
 :func:`frictionflow.solvers.adaptive.kernel_for`).
@@ -20,10 +31,12 @@ kernel is rebuilt around the user's function (see
 from __future__ import annotations
 
 
+import math
+
 import numpy as np
 from numba import njit
 
-from .friction import FS, RESULTANT, rest_mode, slip_magnitude_of
+from .friction import FEX, FS, OMEGA, PHI, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of
 from . import sections as sec
 from .layout import N_WORK
 from .samples import emit
@@ -44,8 +57,14 @@ P = np.array([
     [0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
     [0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
 ])
+C2, C3, C4, C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9  # the stages' times (the last two at 1)
 NY = 5  # X, X', W_dv, W_f (signed), W_heat
+NY_FORCED = 6  # ... and W_ex
 H_MAX = 0.25  # about 1/25 of the natural period
+#: a sample within this (relative) of a stroboscopic time is put on it: no second sample a rounding apart
+STROBE_TOL = 1e-12
+#: a forced slip phase shorter than this (relative) is no slip: F_s was touched, not crossed
+NO_SLIP = 1e-12
 OK, STEP_CAP, TINY_STEP, FULL = 0, 1, 2, 3
 EPS = 2.220446049250313e-16
 
@@ -57,27 +76,36 @@ def slip_force(p, speed):
 
 
 @njit(cache=True)
-def rhs(y, d, zeta, vb, p, out):
-    """Slip in direction d: X'' = d F(|V_r|) - X - 2 zeta X', with the work integrands."""
+def rhs(y, t, d, zeta, vb, p, out, forced):
+    """Slip in direction d: X'' = d F(|V_r|) + f(t) - X - 2 zeta X', with the work integrands.
+
+    ``forced`` (a constant where the kernel is specialised): whether f acts;
+    then ``out[5]`` is W_ex's integrand X' f.
+    """
     x = y[0]
     v = y[1]
     vr = vb - v
     f = d * slip_force(p, abs(vr))
     out[0] = v
-    out[1] = f - x - 2.0 * zeta * v
+    if forced:
+        fx = external_force(p, t)
+        out[1] = f + fx - x - 2.0 * zeta * v
+        out[5] = v * fx
+    else:
+        out[1] = f - x - 2.0 * zeta * v
     out[2] = 2.0 * zeta * v * v
     out[3] = v * f
     out[4] = f * vr
 
 
 @njit(cache=True)
-def dense(y0, K, h, theta, out):
-    """The continuous extension at y0 + theta h."""
+def dense(y0, K, h, theta, out, ny):
+    """The continuous extension at y0 + theta h (its first ``ny`` components)."""
     q1 = theta
     q2 = theta * theta
     q3 = q2 * theta
     q4 = q3 * theta
-    for i in range(NY):
+    for i in range(ny):
         acc = 0.0
         for s in range(7):
             acc += K[s, i] * (P[s, 0] * q1 + P[s, 1] * q2 + P[s, 2] * q3 + P[s, 3] * q4)
@@ -85,9 +113,9 @@ def dense(y0, K, h, theta, out):
 
 
 @njit(cache=True)
-def at_rest(x, zeta, vb, fs, res, p):
-    """Mode at V_r = 0 by Coulomb's stick rule (:func:`~frictionflow.core.friction.rest_mode`)."""
-    return rest_mode(x, zeta, vb, fs, res, slip_force(p, 0.0), 0.0, 0.0)
+def at_rest(x, zeta, vb, fs, res, p, t):
+    """Mode at V_r = 0 at time t by Coulomb's stick rule (:func:`~frictionflow.core.friction.rest_mode`)."""
+    return rest_mode(x, zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t), external_force_rate(p, t))
 
 
 @njit(cache=True)
@@ -112,20 +140,56 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
     is inside the certified disc of radius ``r_cert`` about ``x_eq``
     (:mod:`.certificate`), or when its last ``min_periods + 1`` maxima and
     minima of X and their periods repeat to ``stop_rtol`` of the amplitude.
+    A forced run (``p[FEX]`` > 0) ignores ``stop`` (X' = 0 is no section of
+    a time-dependent flow) and also samples every tau_k = k 2 pi / Omega.
     """
+    if p[FEX] != 0.0:
+        return run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+                          out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+    return run_unforced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+                        out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+
+
+@njit(cache=True)
+def run_unforced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+                 out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
+    """:func:`run` without an external force (compiled without its code)."""
+    return _run(False, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+                out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+
+
+@njit(cache=True)
+def run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+               out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
+    """:func:`run` with the external force of ``p``."""
+    return _run(True, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+                out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+
+
+@njit(cache=True, inline="always")
+def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
+         out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
+    """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations)."""
     fs = p[FS]
     res = p[RESULTANT] != 0.0
-    K = np.empty((7, NY))
-    y = np.zeros(NY)
-    yn = np.empty(NY)
-    ys = np.empty(NY)
-    tmp = np.empty(NY)
+    ny = NY_FORCED if forced else NY
+    # the forced step cap: the same fraction of the forcing period as H_MAX is of the natural one,
+    # as the event search sees signs only at step ends and f oscillates at Omega inside X''
+    h_max = H_MAX / max(1.0, p[OMEGA]) if forced else H_MAX
+    period = 2.0 * math.pi / p[OMEGA] if forced else np.inf
+    n_strobe = 1  # the next stroboscopic time is n_strobe * period (k = 0 is the first sample)
+    hold = False  # a forced stick that met F_s and held: its first monotone piece does not end it again
+    K = np.zeros((7, NY_FORCED))
+    y = np.zeros(NY_FORCED)
+    yn = np.zeros(NY_FORCED)
+    ys = np.zeros(NY_FORCED)
+    tmp = np.zeros(NY_FORCED)
     w = np.zeros(N_WORK)  # W_dv, W_fin, W_fout, W_heat, W_ex since the last sample
     wf_last = 0.0
     t = 0.0
     x, v = x0, v0
     if v0 == vb:
-        mode = at_rest(x0, zeta, vb, fs, res, p)
+        mode = at_rest(x0, zeta, vb, fs, res, p, 0.0)
     else:
         mode = 1 if vb - v0 > 0.0 else -1
     k = 0
@@ -139,12 +203,37 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
     outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
     if len(out_t) < 2:
         return 0, 0, FULL, t, h
-    emit(outs, 0, t, x, v, (x + 2.0 * zeta * vb) if mode == 0 else mode * slip_force(p, abs(vb - v)), mode, w)
+    fc0 = x + 2.0 * zeta * vb - external_force(p, 0.0) if forced else x + 2.0 * zeta * vb
+    emit(outs, 0, t, x, v, fc0 if mode == 0 else mode * slip_force(p, abs(vb - v)), mode, w)
     k = 1
     next_dense = dense_dt if dense_dt > 0.0 else np.inf
     tail_done = t_tail <= 0.0
     while t < t_end:
-        if mode == 0:
+        if mode == 0 and forced:
+            # stick with the held force F_e - f(tau) varying: to where it leaves the static bound
+            te = _stick_exit(x, t, t_end, hold, zeta, vb, fs, res, p)
+            k, tail_done, next_dense, n_strobe, room = _stick_walk(
+                outs, k, w, x, t, te, zeta, vb, p, t_tail, tail_done, next_dense, dense_dt, n_strobe, period)
+            if not room:
+                return k, ne, FULL, t, h
+            x += vb * (te - t)
+            t = te
+            v = vb
+            if t >= t_end:
+                break
+            mode = at_rest(x, zeta, vb, fs, res, p, t)
+            hold = mode == 0  # on F_s but held (moving back inwards, or no consistent slip): on from here
+            if hold:
+                continue
+            if ne < len(ev_t):
+                ev_t[ne] = t
+                ev_mode[ne] = mode
+            ne += 1
+            tt, n_strobe = _strobe(t, n_strobe, period)
+            if not emit(outs, k, tt, x, v, mode * slip_force(p, 0.0), mode, w):
+                return k, ne, FULL, t, h
+            k += 1
+        elif mode == 0:
             # stick: X' = V_b until |F_e| = F_s
             fe0 = x + 2.0 * zeta * vb if res else x
             T = t_end - t
@@ -189,7 +278,7 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
             v = vb
             if t >= t_end:
                 break
-            mode = at_rest(x, zeta, vb, fs, res, p)
+            mode = at_rest(x, zeta, vb, fs, res, p, t)
             if mode == 0:
                 # |F_e| = F_s but neither slip direction is consistent (possible with
                 # F_e = X when zeta V_b is large): the interface holds for good
@@ -205,11 +294,15 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
         else:
             # slip: Dormand-Prince from (x, v) with the direction fixed
             d = float(mode)
+            t_phase = t
             y[0], y[1], y[2], y[3], y[4] = x, v, 0.0, 0.0, 0.0
+            if forced:
+                y[5] = 0.0
             wf_last = 0.0  # the phase's integrals (from ys) at the last sample
             wdv_last = 0.0
             wq_last = 0.0
-            rhs(y, d, zeta, vb, p, K[0])
+            wx_last = 0.0
+            rhs(y, t, d, zeta, vb, p, K[0], forced)
             if h <= 0.0:
                 h = 0.01 * max(1e-3, min(1.0, (abs(x) + abs(v) + 1e-6) / (abs(K[0, 1]) + 1e-12)))
             switched = False
@@ -219,29 +312,29 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
                     return k, ne, STEP_CAP, t, h
                 if h < 1e-14 * (1.0 + abs(t)):
                     return k, ne, TINY_STEP, t, h
-                # at most H_MAX: the event search looks at signs at step ends only
-                h = min(h, H_MAX, t_end - t)
-                # the stages
-                for i in range(NY):
+                # at most h_max: the event search looks at signs at step ends only
+                h = min(h, h_max, t_end - t)
+                # the stages, each at its own time
+                for i in range(ny):
                     tmp[i] = y[i] + h * A21 * K[0, i]
-                rhs(tmp, d, zeta, vb, p, K[1])
-                for i in range(NY):
+                rhs(tmp, t + C2 * h, d, zeta, vb, p, K[1], forced)
+                for i in range(ny):
                     tmp[i] = y[i] + h * (A31 * K[0, i] + A32 * K[1, i])
-                rhs(tmp, d, zeta, vb, p, K[2])
-                for i in range(NY):
+                rhs(tmp, t + C3 * h, d, zeta, vb, p, K[2], forced)
+                for i in range(ny):
                     tmp[i] = y[i] + h * (A41 * K[0, i] + A42 * K[1, i] + A43 * K[2, i])
-                rhs(tmp, d, zeta, vb, p, K[3])
-                for i in range(NY):
+                rhs(tmp, t + C4 * h, d, zeta, vb, p, K[3], forced)
+                for i in range(ny):
                     tmp[i] = y[i] + h * (A51 * K[0, i] + A52 * K[1, i] + A53 * K[2, i] + A54 * K[3, i])
-                rhs(tmp, d, zeta, vb, p, K[4])
-                for i in range(NY):
+                rhs(tmp, t + C5 * h, d, zeta, vb, p, K[4], forced)
+                for i in range(ny):
                     tmp[i] = y[i] + h * (A61 * K[0, i] + A62 * K[1, i] + A63 * K[2, i] + A64 * K[3, i] + A65 * K[4, i])
-                rhs(tmp, d, zeta, vb, p, K[5])
-                for i in range(NY):
+                rhs(tmp, t + h, d, zeta, vb, p, K[5], forced)
+                for i in range(ny):
                     yn[i] = y[i] + h * (B1 * K[0, i] + B3 * K[2, i] + B4 * K[3, i] + B5 * K[4, i] + B6 * K[5, i])
-                rhs(yn, d, zeta, vb, p, K[6])
+                rhs(yn, t + h, d, zeta, vb, p, K[6], forced)
                 err = 0.0
-                for i in range(NY):  # the work integrals too: their dense output is what samples see
+                for i in range(ny):  # the work integrals too: their dense output is what samples see
                     e = h * (E1 * K[0, i] + E3 * K[2, i] + E4 * K[3, i] + E5 * K[4, i] + E6 * K[5, i] + E7 * K[6, i])
                     sc = atol + rtol * max(abs(y[i]), abs(yn[i]))
                     err = max(err, abs(e) / sc)
@@ -252,7 +345,7 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
                 theta_end = 1.0
                 g_sw = _g(0, yn, K[6, 1], zeta, vb, d)
                 if g_sw <= 0.0:
-                    theta_end = _root(0, y, K, h, zeta, vb, d, p)
+                    theta_end = _root(0, y, K, t, h, zeta, vb, d, p, forced)
                     switched = True
                 th = 0.0
                 while True:
@@ -261,10 +354,10 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
                     kind = -1
                     for kk in range(1, 4):
                         # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
-                        ga = _g(kk, y, K[0, 1], zeta, vb, d) if th == 0.0 else _gd(kk, y, K, h, th, zeta, vb, d, p, ys, tmp)
-                        gb = _gd(kk, y, K, h, theta_end, zeta, vb, d, p, ys, tmp)
+                        ga = _g(kk, y, K[0, 1], zeta, vb, d) if th == 0.0 else _gd(kk, y, K, t, h, th, zeta, vb, d, p, ys, tmp, forced)
+                        gb = _gd(kk, y, K, t, h, theta_end, zeta, vb, d, p, ys, tmp, forced)
                         if ga * gb < 0.0:
-                            r = _root_between(kk, y, K, h, th, theta_end, zeta, vb, d, p, ys, tmp)
+                            r = _root_between(kk, y, K, t, h, th, theta_end, zeta, vb, d, p, ys, tmp, forced)
                             if r < best:
                                 best = r
                                 kind = kk
@@ -277,7 +370,11 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
                         best = (next_dense - t) / h
                         kind = 5
                         tt = next_dense
-                    dense(y, K, h, best, ys)
+                    if forced and n_strobe * period < tt - STROBE_TOL * (1.0 + tt):
+                        tt = n_strobe * period
+                        best = (tt - t) / h
+                        kind = 6
+                    dense(y, K, h, best, ys, ny)
                     if kind == 1:
                         ys[1] = 0.0  # exactly: the section crossing is a sample
                     # works since the phase began, split at the zeros of X'
@@ -291,6 +388,10 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
                     w[3] += ys[4] - wq_last
                     wdv_last = ys[2]
                     wq_last = ys[4]
+                    if forced:
+                        w[4] += ys[5] - wx_last
+                        wx_last = ys[5]
+                        tt, n_strobe = _strobe(tt, n_strobe, period)
                     if kind == 4:
                         tail_done = True
                     if kind == 5:
@@ -300,7 +401,7 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
                     if not emit(outs, k, tt, ys[0], ys[1], d * slip_force(p, abs(vb - ys[1])), mode, w):
                         return k, ne, FULL, t, h
                     k += 1
-                    if kind == 1 and (stop_rtol > 0.0 or r_cert > 0.0):
+                    if kind == 1 and not forced and (stop_rtol > 0.0 or r_cert > 0.0):
                         falling = d * slip_force(p, abs(vb)) - ys[0] < 0.0  # X'' at X' = 0
                         if falling:
                             sec.push_section(ring[0], ring[1], ys[0], tt)
@@ -317,21 +418,38 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
                 if switched:
                     x, v = ys[0], vb
                 else:
-                    for i in range(NY):
+                    for i in range(ny):
                         y[i] = yn[i]
                     K[0, :] = K[6, :]
                     x, v = y[0], y[1]
                     h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
             if switched:
-                new = at_rest(x, zeta, vb, fs, res, p)
+                new = at_rest(x, zeta, vb, fs, res, p, t)
+                hold = False
+                if forced and t - t_phase <= NO_SLIP * (1.0 + abs(t)):
+                    # F_s met at a rounding-level tangency (the held force touching F_s): the slip the
+                    # rule chose ends as it starts, and would again -- held, past this monotone piece
+                    new = 0
+                    hold = True
                 if ne < len(ev_t):
                     ev_t[ne] = t
                     ev_mode[ne] = new
                 ne += 1
                 mode = new
                 out_mode[k - 1] = mode
-                out_fc[k - 1] = (x + 2.0 * zeta * vb) if mode == 0 else mode * slip_force(p, 0.0)
-    if out_t[k - 1] < t_end:  # a run that ends sticking
+                if mode != 0:
+                    out_fc[k - 1] = mode * slip_force(p, 0.0)
+                elif forced:
+                    out_fc[k - 1] = x + 2.0 * zeta * vb - external_force(p, t)
+                else:
+                    out_fc[k - 1] = x + 2.0 * zeta * vb
+    if forced:
+        if out_t[k - 1] < t_end - STROBE_TOL * (1.0 + t_end):  # a run that ends sticking
+            tt, n_strobe = _strobe(t_end, n_strobe, period)
+            if not emit(outs, k, tt, x, v, x + 2.0 * zeta * vb - external_force(p, t_end), 0, w):
+                return k, ne, FULL, t, h
+            k += 1
+    elif out_t[k - 1] < t_end:  # a run that ends sticking
         if not emit(outs, k, t_end, x, v, x + 2.0 * zeta * vb, 0, w):
             return k, ne, FULL, t, h
         k += 1
@@ -351,21 +469,22 @@ def _known_end(ring, n_max, n_min, x, mode, vb, stop_rtol, r_cert, x_eq):
 
 
 @njit(cache=True)
-def _gd(kind, y, K, h, theta, zeta, vb, d, p, ys, tmp):
-    dense(y, K, h, theta, ys)
-    rhs(ys, d, zeta, vb, p, tmp)
+def _gd(kind, y, K, t, h, theta, zeta, vb, d, p, ys, tmp, forced):
+    """Event function ``kind`` on the dense output of the step [t, t + h] at theta."""
+    dense(y, K, h, theta, ys, 2)  # X and X' are all the event functions read
+    rhs(ys, t + theta * h, d, zeta, vb, p, tmp, forced)
     return _g(kind, ys, tmp[1], zeta, vb, d)
 
 
 @njit(cache=True)
-def _root_between(kind, y, K, h, lo, hi, zeta, vb, d, p, ys, tmp):
+def _root_between(kind, y, K, t, h, lo, hi, zeta, vb, d, p, ys, tmp, forced):
     """Bisection for a sign change of event ``kind`` on the dense output, theta in (lo, hi]."""
-    glo = _gd(kind, y, K, h, lo, zeta, vb, d, p, ys, tmp)
+    glo = _gd(kind, y, K, t, h, lo, zeta, vb, d, p, ys, tmp, forced)
     for _ in range(80):
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
-        gm = _gd(kind, y, K, h, mid, zeta, vb, d, p, ys, tmp)
+        gm = _gd(kind, y, K, t, h, mid, zeta, vb, d, p, ys, tmp, forced)
         if gm * glo > 0.0:
             lo = mid
             glo = gm
@@ -375,17 +494,181 @@ def _root_between(kind, y, K, h, lo, hi, zeta, vb, d, p, ys, tmp):
 
 
 @njit(cache=True)
-def _root(kind, y, K, h, zeta, vb, d, p):
+def _root(kind, y, K, t, h, zeta, vb, d, p, forced):
     """The switch: first theta in (0, 1] where d (V_b - X') <= 0 on the dense output."""
-    ys = np.empty(NY)
-    tmp = np.empty(NY)
+    ys = np.zeros(NY_FORCED)
+    tmp = np.zeros(NY_FORCED)
     lo, hi = 0.0, 1.0
     for _ in range(80):
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
-        if _gd(kind, y, K, h, mid, zeta, vb, d, p, ys, tmp) > 0.0:
+        if _gd(kind, y, K, t, h, mid, zeta, vb, d, p, ys, tmp, forced) > 0.0:
             lo = mid
         else:
             hi = mid
     return hi
+
+
+# -- the stroboscopic samples and the forced stick phase -----------------------------------------------
+
+@njit(cache=True, inline="always")
+def _strobe(tt, n, period):
+    """A sample at ``tt``: (its time, the next stroboscopic index).
+
+    A sample within rounding of the next stroboscopic time n 2 pi / Omega is
+    put on it exactly and stands for it; the index moves past ``tt``.
+    """
+    tol = STROBE_TOL * (1.0 + abs(tt))
+    if abs(tt - n * period) <= tol:
+        tt = n * period
+    while n * period <= tt + tol:
+        n += 1
+    return tt, n
+
+
+@njit(cache=True)
+def _held(xs, ts, t, zeta, vb, res, p):
+    """F_e - f(t), the force the interface must hold at ``t`` in a stick phase that began at (ts, xs)."""
+    x = xs + vb * (t - ts)
+    fe = x + 2.0 * zeta * vb if res else x
+    return fe - external_force(p, t)
+
+
+@njit(cache=True)
+def _next_turn(t, vb, p):
+    """The first time after ``t`` where the held force turns: its rate V_b - f' = V_b + F_ex Omega sin(Omega t + phi) vanishes.
+
+    Between two turns it is monotone.  inf when it never turns (|V_b| >= F_ex Omega).
+    """
+    om, ph = p[OMEGA], p[PHI]
+    r = -vb / (p[FEX] * om)
+    if abs(r) >= 1.0:
+        return np.inf
+    two_pi = 2.0 * math.pi
+    first = math.asin(r)
+    best = np.inf
+    for th in (first, math.pi - first):
+        tc = (th + two_pi * (math.floor((om * t + ph - th) / two_pi) + 1.0) - ph) / om
+        while tc <= t:  # rounding
+            tc += two_pi / om
+        best = min(best, tc)
+    return best
+
+
+@njit(cache=True)
+def _level_time(xs, ts, lo, hi, level, s, offset, zeta, vb, res, p):
+    """Bisection on a monotone piece where s (held + offset) < level at lo and >= level at hi: the first time it is >= level."""
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if s * (_held(xs, ts, mid, zeta, vb, res, p) + offset) >= level:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+@njit(cache=True)
+def _stick_exit(xs, ts, t_end, hold, zeta, vb, fs, res, p):
+    """When a forced stick from (ts, xs) first reaches |F_e - f| >= F_s moving outwards (t_end if never).
+
+    The held force is walked through its monotone pieces (:func:`_next_turn`):
+    on each it leaves the bound iff it is beyond it at the piece's end, so an
+    excursion however short is found, to the last bit by bisection.  With
+    ``hold`` (it was on the bound and held there) the first piece does not
+    end the stick if it starts on the bound already.
+    """
+    a = ts
+    ga = _held(xs, ts, a, zeta, vb, res, p)
+    while a < t_end:
+        b = min(_next_turn(a, vb, p), t_end)
+        gb = _held(xs, ts, b, zeta, vb, res, p)
+        s = 1.0 if gb >= ga else -1.0  # the held force's direction on the piece
+        if s * gb >= fs:
+            if s * ga < fs:
+                return _level_time(xs, ts, a, b, fs, s, 0.0, zeta, vb, res, p)
+            if not (hold and a == ts):
+                return a
+        a, ga = b, gb
+    return t_end
+
+
+@njit(cache=True)
+def _friction_zero(xs, ts, t0, t1, zeta, vb, res, p):
+    """The first sign change of the held friction force F_c = X + 2 zeta V_b - f in (t0, t1) (inf if none)."""
+    off = 0.0 if res else 2.0 * zeta * vb  # F_c - (F_e - f)
+    a = t0
+    fa = _held(xs, ts, a, zeta, vb, res, p) + off
+    while a < t1:
+        b = min(_next_turn(a, vb, p), t1)
+        fb = _held(xs, ts, b, zeta, vb, res, p) + off
+        if fa * fb < 0.0:
+            s = 1.0 if fb > 0.0 else -1.0
+            z = _level_time(xs, ts, a, b, 0.0, s, off, zeta, vb, res, p)
+            return z if z < t1 else np.inf
+        a, fa = b, fb
+    return np.inf
+
+
+@njit(cache=True)
+def _stick_work(xs, ts, ta, tb, zeta, vb, p, w):
+    """Add the works of stick over [ta, tb] (F_c of one sign there) to ``w``: closed forms.
+
+    X' = V_b, F_c = X + 2 zeta V_b - f: P_f = V_b F_c, W_ex = V_b int f, no heat.
+    """
+    L = tb - ta
+    xa = xs + vb * (ta - ts)
+    om, ph = p[OMEGA], p[PHI]
+    # int f over [ta, tb] = F_ex / Omega (sin(Omega tb + phi) - sin(Omega ta + phi)), without the cancellation
+    fint = 2.0 * p[FEX] / om * math.cos(om * 0.5 * (ta + tb) + ph) * math.sin(0.5 * om * L)
+    w[0] += 2.0 * zeta * vb * vb * L
+    pf = vb * ((xa + 2.0 * zeta * vb) * L + 0.5 * vb * L * L - fint)
+    if pf > 0.0:
+        w[1] += pf
+    else:
+        w[2] -= pf
+    w[4] += vb * fint
+
+
+@njit(cache=True)
+def _stick_walk(outs, k, w, xs, ts, te, zeta, vb, p, t_tail, tail_done, next_dense, dense_dt, n_strobe, period):
+    """A forced stick phase's samples and works from (ts, xs) to its end ``te`` (excluded: the caller's sample).
+
+    Samples at the zeros of F_c (where the friction work is split into in
+    and out), the tail's start, the dense grid and the stroboscopic times.
+    Returns (k, tail_done, next_dense, n_strobe, room).
+    """
+    ta = ts
+    res = p[RESULTANT] != 0.0
+    while True:
+        tb = te
+        tag = 0
+        if not tail_done and ta < t_tail < tb:
+            tb = t_tail
+            tag = 1
+        if ta < next_dense < tb:
+            tb = next_dense
+            tag = 2
+        ns = n_strobe * period
+        if ns < tb - STROBE_TOL * (1.0 + tb):
+            tb = max(ns, ta)  # (a time held on the bound may have passed it by rounding)
+            tag = 3
+        z = _friction_zero(xs, ts, ta, tb, zeta, vb, res, p) if vb != 0.0 else np.inf  # (V_b = 0: no friction work)
+        if z < tb:
+            tb = z
+            tag = 4
+        _stick_work(xs, ts, ta, tb, zeta, vb, p, w)
+        ta = tb
+        if tag == 0:
+            return k, tail_done, next_dense, n_strobe, True
+        if tag == 1:
+            tail_done = True
+        if tag == 2:
+            next_dense += dense_dt
+        tt, n_strobe = _strobe(tb, n_strobe, period)
+        xb = xs + vb * (tb - ts)
+        if not emit(outs, k, tt, xb, vb, xb + 2.0 * zeta * vb - external_force(p, tb), 0, w):
+            return k, tail_done, next_dense, n_strobe, False
+        k += 1

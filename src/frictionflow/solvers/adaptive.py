@@ -12,6 +12,7 @@ from .. import _validate as check
 from .._progress import progress_bar
 from ..core import dopri, sections
 from ..core._rebind import rebind
+from ..core.layout import FEX
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -30,7 +31,8 @@ class StepLimitError(RuntimeError):
     """The adaptive solver hit its step cap (or a vanishing step) before the end."""
 
 
-_KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "_known_end", "run")
+_KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "_known_end", "_run", "run_unforced",
+                 "run_forced")
 #: a single run goes to its end (sweeps stop where the end is known: core.batch)
 NO_STOP = (0.0, 3, 0.0, 0.0)
 
@@ -58,7 +60,14 @@ def _user_kernel(func: Callable[[float], float], force: Callable | None) -> tupl
 
 
 def _rebuild(force: Callable, compiled: bool) -> Callable:
-    return rebind(dopri, _KERNEL_FUNCS, compiled, slip_force=force)["run"]
+    kernels = rebind(dopri, _KERNEL_FUNCS, compiled, slip_force=force)
+    unforced, forced = kernels["run_unforced"], kernels["run_forced"]
+
+    def run(x0, v0, t_end, zeta, vb, p, *rest):
+        """:func:`frictionflow.core.dopri.run` for the user's law: each variant compiled when first used."""
+        return (forced if p[FEX] != 0.0 else unforced)(x0, v0, t_end, zeta, vb, p, *rest)
+
+    return run
 
 
 class Adaptive(Solver):
@@ -68,6 +77,12 @@ class Adaptive(Solver):
     sign() inside the integrator, so nothing chatters at V_r = 0); each
     switch is located on the dense output and the run restarts there in the
     mode Coulomb's stick rule selects; stick phases are closed forms.
+
+    With an external force (``model.forced``) every stage sees f at its own
+    time, a stick phase ends where |F_e - f(tau)| first reaches F_s (every
+    excursion found), W_ex is integrated with the others, and the run also
+    samples every tau_k = k 2 pi / Omega.  Steps are at most 0.25 and at most
+    0.25 / Omega.
 
     Parameters
     ----------
@@ -95,10 +110,17 @@ class Adaptive(Solver):
     def supports(self, friction: FrictionLaw) -> bool:
         return friction.stick_rule == "switch"
 
-    def sample_estimate(self, t_end: float) -> int:
-        """Room for the samples of a run to ``t_end`` (measured: up to ~26 per time unit), the dense grid included."""
+    def sample_estimate(self, t_end: float, model: BeltOscillator | None = None) -> int:
+        """Room for the samples of a run to ``t_end`` (measured: up to ~26 per time unit), the dense grid included.
+
+        A forced ``model`` adds a sample per forcing period and, for Omega > 1,
+        the steps its cap 0.25 / Omega adds.
+        """
         dense = int(t_end / self.dense_dt) + 2 if self.dense_dt else 0
-        return int(40 * t_end) + 256 + dense
+        forced = 0
+        if model is not None and model.forced:
+            forced = int(t_end / model.forcing_period) + 2 + int(40 * t_end * max(model.omega - 1.0, 0.0))
+        return int(40 * t_end) + 256 + dense + forced
 
     @staticmethod
     def _full(result: tuple, bufs: tuple[np.ndarray, ...]) -> bool:
@@ -127,7 +149,7 @@ class Adaptive(Solver):
 
         with progress_bar("adaptive", 1, enabled=progress and t_end > 1e5) as advance:
             (n, ne, status, t_stop, h), bufs = run_growing(
-                kernel, self.sample_estimate(t_end), self._full, max_memory, lambda: self.sized(t_end))
+                kernel, self.sample_estimate(t_end, model), self._full, max_memory, lambda: self.sized(t_end))
             advance(1)
         if status in (dopri.STEP_CAP, dopri.TINY_STEP):
             why = f"max_steps={self.max_steps} reached" if status == dopri.STEP_CAP else "the step size vanished"
