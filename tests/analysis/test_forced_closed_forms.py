@@ -30,7 +30,7 @@ pytestmark = pytest.mark.filterwarnings("ignore::frictionflow.CoarseStepWarning"
 PENDING = pytest.mark.xfail(strict=False, reason="solver forcing lands from another branch")
 SOLVERS = [pytest.param("rk4", id="rk4"),
            pytest.param("exact", id="exact", marks=PENDING),
-           pytest.param("adaptive", id="adaptive", marks=PENDING)]
+           pytest.param("adaptive", id="adaptive")]
 OTHER_SOLVERS = SOLVERS[1:]
 
 
