@@ -45,7 +45,7 @@ from numba import njit
 
 from . import closed_form as cf
 from . import sections as sec
-from .friction import COULOMB, FD, FS, KARNOPP, LAW, RESULTANT, VD
+from .friction import COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD
 from .layout import N_WORK
 from .samples import emit
 
@@ -135,8 +135,13 @@ def boundaries(mode, law, zeta, vb, fd, fs, vd, res, ev):
 
 
 @njit(cache=True)
-def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None):
-    """Does the motion stay in ``mode``'s region for a positive time from (x, v)?  (``ev``: not used.)"""
+def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0):
+    """Does the motion stay in ``mode``'s region for a positive time from (x, v)?  (``ev``: not used.)
+
+    ``f, df, ddf``: the external force and its first two rates there.  Every
+    boundary is a function of X - f and X' (:func:`mode_boundaries`: its
+    coefficient of X multiplies X - f), and slip feels f in X''.
+    """
     # A switch is located to a few ulps of time; X' there is then off the boundary
     # by |X''| times that: far below this tolerance, far above rounding.
     vtol = 1e-10 * (abs(vb) + abs(v) + vd + abs(x) + fs)
@@ -153,46 +158,46 @@ def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None):
     if law == COULOMB and mode == STICK:
         v = vb
     elif dyn == cf.OSC:
-        a = force - x - 2.0 * zeta * v
-        j = -v - 2.0 * zeta * a
+        a = force - x - 2.0 * zeta * v + f
+        j = -v - 2.0 * zeta * a + df
     elif dyn == cf.EXP:
         a = -2.0 * zeta * v
         j = -2.0 * zeta * a
     n, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
     for k in range(n):
         ca, cb, cc, s = bs[k]
-        g0 = s * (ca * x + cb * v - cc)
-        tol0 = 256.0 * EPS * (abs(ca * x) + abs(cb * v) + abs(cc)) + 1e-300
+        g0 = s * (ca * x + cb * v - cc - ca * f)
+        tol0 = 256.0 * EPS * (abs(ca * x) + abs(cb * v) + abs(cc) + abs(ca * f)) + 1e-300
         if g0 > tol0:
             continue
         if g0 < -tol0:
             return False
-        g1 = s * (ca * v + cb * a)
+        g1 = s * (ca * v + cb * a - ca * df)
         # X'' is a difference of terms of size |F| + |X| + 2 zeta |X'|: its rounding scale
-        tol1 = 256.0 * EPS * (abs(ca * v) + abs(cb) * (abs(force) + abs(x) + 2.0 * zeta * abs(v))) + 1e-300
+        tol1 = 256.0 * EPS * (abs(ca * v) + abs(cb) * (abs(force) + abs(x) + 2.0 * zeta * abs(v) + abs(f)) + abs(ca * df)) + 1e-300
         if g1 > tol1:
             continue
         if g1 < -tol1:
             return False
-        g2 = s * (ca * a + cb * j)
+        g2 = s * (ca * a + cb * j - ca * ddf)
         if g2 < 0.0:
             return False
     return True
 
 
 @njit(cache=True)
-def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None):
-    """The mode the motion continues in from (x, v); -1 if none is consistent.  (``ev``: not used.)"""
+def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0):
+    """The mode the motion continues in from (x, v); -1 if none is consistent.  (``ev``: not used; f: see :func:`consistent`.)"""
     order = COULOMB_ORDER if law == COULOMB else KARNOPP_ORDER
     for m in order:
-        if consistent(m, law, zeta, vb, fd, fs, vd, res, x, v):
+        if consistent(m, law, zeta, vb, fd, fs, vd, res, x, v, ev, f, df, ddf):
             return m
     return -1
 
 
 @njit(cache=True)
-def region_mode(law, zeta, vb, fd, fs, vd, res, x, v):
-    """The mode by region alone (a fallback when no mode is consistent)."""
+def region_mode(law, zeta, vb, fd, fs, vd, res, x, v, f=0.0):
+    """The mode by region alone (a fallback when no mode is consistent; f: the external force)."""
     be = 2.0 * zeta if res else 0.0
     if law == COULOMB:
         if v < vb:
@@ -204,7 +209,7 @@ def region_mode(law, zeta, vb, fd, fs, vd, res, x, v):
         return SLIP_POS
     if vb - v < -vd:
         return SLIP_NEG
-    fe = x + be * v
+    fe = x + be * v - f
     if fe >= fs:
         return SAT_POS
     if fe <= -fs:
@@ -467,6 +472,9 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     ``stop_terminal``: the final phase was reached), else ``t_end``.
     Status FULL means an output array was too short.
     """
+    if p[FEX] != 0.0:
+        return run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, out_t, out_x, out_v, out_fc, out_mode, out_w,
+                          ev_t, ev_mode, t_mode)
     law = int(p[LAW])
     fd, fs, vd = p[FD], p[FS], p[VD]
     res = p[RESULTANT] != 0.0
@@ -574,3 +582,285 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             ev_mode[ne] = mode
         ne += 1
     return k, ne, DONE, t_terminal, t_end
+
+
+# -- harmonic forcing ---------------------------------------------------------------------------------
+# With f = F_ex cos(Omega tau + phi) the slip phases carry the harmonic particular solution and the
+# holding force of stick phases varies in time (cf.forced_phase).  Event functions are no longer
+# monotone between closed-form critical points; every one is G = a X + b X' + d X'' - e f - c, and its
+# roots are bracketed by walking with a certified bound on |G''| (cf.bound_at): from t, G cannot leave
+# the band s G > -graze before the first root of s G(t) + s G'(t) u - M u^2 / 2, and it must cross where
+# the upper parabola s G(t) + s G'(t) u + M u^2 / 2 does (G is monotone up to there).  A short
+# excursion of G beyond the boundary is never stepped over.
+
+@njit(cache=True)
+def _gf(ph, fn, t):
+    """G and G' at t (:func:`_crossing`) with (X, X', e1, e2) there."""
+    co, dyn, zeta, force, pz, fz, om = ph
+    a, b, d, e, c = fn
+    x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
+    return a * x + b * v + d * acc - e * f - c, a * v + b * acc + d * jerk - e * df, x, v, e1, e2
+
+
+@njit(cache=True)
+def _refine_forced(ph, fn, s, lo, hi, x_hi, v_hi):
+    """The first time in (lo, hi] where s G <= 0, given s G(hi) <= 0: (t, X, X') there.
+
+    Newton's iteration kept inside the bracket, bisecting whenever the
+    bracket did not halve over the last two steps; near the root it steps by
+    ulps to the outside side.
+    """
+    t = 0.5 * (lo + hi)
+    width = prev = hi - lo
+    for _ in range(400):
+        g, dg, x, v, _, _ = _gf(ph, fn, t)
+        if s * g > 0.0:
+            lo = t
+        else:
+            hi, x_hi, v_hi = t, x, v
+        if hi - lo <= 2.0 * EPS * hi:
+            break
+        tn = t - g / dg if dg != 0.0 else -1.0
+        if abs(tn - t) <= 2.0 * EPS * abs(t):  # Newton has converged: probe just outside
+            tn = t + (4.0 * EPS * abs(t) if s * g > 0.0 else -4.0 * EPS * abs(t))
+        if not (lo < tn < hi) or hi - lo > 0.5 * prev:
+            tn = 0.5 * (lo + hi)
+        prev, width = width, hi - lo
+        t = tn
+    return hi, x_hi, v_hi
+
+
+@njit(cache=True)
+def _crossing(ph, fn, s, t0, t1):
+    """First crossing of G = a X + b X' + d X'' - e f - c (``fn``) in (t0, t1]: (time or inf, X, X', s).
+
+    ``s``: the side G starts on (s G > 0 before the crossing; 0: take it
+    from G, or G' where G is on 0, at t0).  A crossing counts when s G goes
+    below -1e-12 of G's scale (a smaller excursion is a touch); its time is
+    where s G reaches 0.
+    """
+    co, dyn, zeta, force, pz, fz, om = ph
+    a, b, d, e, c = fn
+    K1, K2 = cf.free_bound(co, dyn, zeta, a, b, d)
+    hz = complex(a - om * om * d, om * b) * pz - e * fz  # G's harmonic part: Re(hz e^{i Omega t})
+    Kp = om * om * abs(hz)
+    t = t0
+    g, dg, x, v, e1, e2 = _gf(ph, fn, t)
+    scale = abs(a * x) + abs(b * v) + abs(d) * (abs(force) + abs(x) + 2.0 * zeta * abs(v)) + abs(c) + abs(hz) + abs(e) * abs(fz)
+    graze = 1e-12 * scale + 1e-300
+    if s == 0.0:
+        s = 1.0 if g > graze or (g >= -graze and dg >= 0.0) else -1.0
+    lo = t0
+    while True:
+        sg = s * g
+        sdg = s * dg
+        if sg > 0.0:
+            lo = t
+        ahead = sg + graze
+        if ahead <= 0.0:
+            return _refine_forced(ph, fn, s, lo, t, x, v) + (s,)
+        m2 = cf.bound_at(co, dyn, K1, K2, Kp, t, e1, e2)
+        if sdg < 0.0:
+            disc = sdg * sdg - 2.0 * m2 * ahead
+            if disc >= 0.0:  # the upper parabola reaches -graze at t + u: a certain crossing, G monotone
+                th = min(t + 2.0 * ahead / (-sdg + math.sqrt(disc)), t1)
+                gh, dgh, xh, vh, e1, e2 = _gf(ph, fn, th)
+                if s * gh <= 0.0:
+                    return _refine_forced(ph, fn, s, t if sg > 0.0 else lo, th, xh, vh) + (s,)
+                if th >= t1:
+                    return np.inf, np.nan, np.nan, s
+                t, g, dg, x, v = th, gh, dgh, xh, vh  # rounding kept it inside: go on from there
+                continue
+            u = 2.0 * ahead / (-sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead))
+        else:
+            u = (sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead)) / m2
+        if t + u >= t1:
+            return np.inf, np.nan, np.nan, s
+        t = t + u
+        g, dg, x, v, e1, e2 = _gf(ph, fn, t)
+
+
+@njit(cache=True)
+def _forced_switch(ph, law, mode, zeta, vb, fd, fs, vd, res, t_max):
+    """Earliest boundary crossing of a forced phase in (0, t_max]: (time, boundary index, X, X')."""
+    n_b, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
+    best = np.inf
+    which = -1
+    xb = vbb = np.nan
+    for k in range(n_b):
+        a, b, c, s = bs[k]
+        # a boundary is a (X - f) + b X' - c
+        tc, xc, vc, _ = _crossing(ph, (a, b, 0.0, a, c), s, 0.0, min(t_max, best))
+        if tc < best:
+            best, which, xb, vbb = tc, k, xc, vc
+    return best, which, xb, vbb
+
+
+@njit(cache=True)
+def _forced_piece(dyn, fck, zeta, vb, force, fex, om, theta, slipping, xa, va, xb, vb_, L):
+    """The work integrals over one piece of a forced phase: (W_dv, W_fin, W_fout, W_heat, W_ex).
+
+    theta: the forcing's phase at the piece's start.  F_c = F - held force
+    where the interface holds (F_e - f): P_f = X' F_e - X' f there.
+    """
+    co, pz, fz = cf.forced_phase(dyn, zeta, force, xa, va, fex, om, theta)
+    v2, w_ex = cf.forced_work(co, dyn, zeta, force, pz, fz, om, L)
+    if fck == FC_CONST:
+        pf = force * (xb - xa)
+    elif fck == FC_SPRING:
+        pf = 0.5 * (xb * xb - xa * xa) - w_ex
+    else:
+        pf = va * ((xa + 2.0 * zeta * va) * L + 0.5 * va * L * L) - w_ex
+    heat = force * (vb * L - (xb - xa)) if slipping else 0.0
+    return 2.0 * zeta * v2, max(pf, 0.0), max(-pf, 0.0), heat, w_ex
+
+
+@njit(cache=True)
+def _sample_functions(dyn, fck, zeta):
+    """The functions whose roots are samples in a phase: X', X'', X' + 2 zeta X'' (OSC), F_c (held force)."""
+    none = (0.0, 0.0, 0.0, 0.0, 0.0)
+    if dyn == cf.OSC:
+        wall = (0.0, 1.0, 2.0 * zeta, 0.0, 0.0) if zeta > 0.0 else none
+        return (0.0, 1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0, 0.0), wall, none, True, True, zeta > 0.0, False
+    if fck == FC_SPRING:
+        return none, none, none, (1.0, 0.0, 0.0, 1.0, 0.0), False, False, False, True
+    return none, none, none, (1.0, 2.0 * zeta, 0.0, 1.0, 0.0), False, False, False, True
+
+
+@njit(cache=True)
+def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
+               out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode, t_mode):
+    """:func:`run` under the external force of ``p`` (F_ex > 0).
+
+    Samples as unforced (phase starts, zeros of X' set to 0, extremes of X'
+    and of X + 2 zeta X', zeros of a held F_c, the tail's start, the dense
+    grid, the end) and the stroboscopic times k 2 pi / Omega.  No early
+    stop: the X' = 0 section repeats only for the autonomous system.
+    Returns as :func:`run` (t_terminal = -1: no final phase is certified).
+    """
+    law = int(p[LAW])
+    fd, fs, vd = p[FD], p[FS], p[VD]
+    res = p[RESULTANT] != 0.0
+    fex, om, phi = p[FEX], p[OMEGA], p[PHI]
+    period = 2.0 * math.pi / om
+    w = np.zeros(N_WORK)
+    outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
+    t = 0.0
+    x, v = x0, v0
+    mode = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, None, fex * math.cos(phi), -fex * om * math.sin(phi),
+                       -om * om * fex * math.cos(phi))
+    if mode < 0:
+        mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fex * math.cos(phi))
+    if mode == STICK:
+        v = vb
+    k = 0
+    ne = 0
+    zero_len = 0
+    strobe = 1  # the next stroboscopic index (k = 0 is the start)
+    while True:
+        dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
+        held = fck != FC_CONST
+        theta = om * t + phi
+        fnow = fex * math.cos(theta)
+        if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta) - (fnow if held else 0.0), FRICTION_MODE[mode], w):
+            return k, ne, FULL, -1.0, t
+        k += 1
+        if t >= t_end:
+            break
+        co, pz, fz = cf.forced_phase(dyn, zeta, force, x, v, fex, om, theta)
+        ph = (co, dyn, zeta, force, pz, fz, om)
+        T, which, xe, ve = _forced_switch(ph, law, mode, zeta, vb, fd, fs, vd, res, t_end - t)
+        if which < 0:
+            T = t_end - t
+        t_next = t + T if which >= 0 else t_end
+        if which < 0 or math.isnan(xe):
+            xe, ve, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, T)
+        fmode = FRICTION_MODE[mode]
+        slipping = fmode != 0
+        # the sources of samples, in phase time: roots of four functions (with the side each is on), the tail,
+        # the dense grid, the stroboscopic times, a sample at least every WINDOW
+        f0, f1, f2, f3, on0, on1, on2, on3 = _sample_functions(dyn, fck, zeta)
+        r0, xs0, vs0, s0 = _crossing(ph, f0, 0.0, 0.0, T) if on0 else (np.inf, 0.0, 0.0, 0.0)
+        r1, xs1, vs1, s1 = _crossing(ph, f1, 0.0, 0.0, T) if on1 else (np.inf, 0.0, 0.0, 0.0)
+        r2, xs2, vs2, s2 = _crossing(ph, f2, 0.0, 0.0, T) if on2 else (np.inf, 0.0, 0.0, 0.0)
+        r3, xs3, vs3, s3 = _crossing(ph, f3, 0.0, 0.0, T) if on3 else (np.inf, 0.0, 0.0, 0.0)
+        tt = t_tail - t if 0.0 < t_tail - t < T else np.inf
+        j = td = np.inf
+        if dense_dt > 0.0:
+            j = math.floor(t / dense_dt) + 1.0
+            td = j * dense_dt - t
+        while strobe * period <= t:
+            strobe += 1
+        ta, xa, va = 0.0, x, v
+        tw = WINDOW
+        while True:
+            ts = strobe * period - t if strobe * period < t_next else np.inf
+            tb = min(min(min(r0, r1), min(r2, r3)), min(min(tt, td), min(ts, tw)))
+            if tb >= T:
+                break
+            t_abs = t + tb
+            vzero = False
+            if tb == r0:
+                vzero = True
+                r0, xs0, vs0, s0 = _crossing(ph, f0, -s0, tb, T)
+            elif tb == r1:
+                r1, xs1, vs1, s1 = _crossing(ph, f1, -s1, tb, T)
+            elif tb == r2:
+                r2, xs2, vs2, s2 = _crossing(ph, f2, -s2, tb, T)
+            elif tb == r3:
+                r3, xs3, vs3, s3 = _crossing(ph, f3, -s3, tb, T)
+            elif tb == tt:
+                tt = np.inf
+            elif tb == td:
+                j += 1.0
+                td = j * dense_dt - t
+            elif tb == ts:
+                t_abs = strobe * period  # the stroboscopic time itself, not t + (its phase time)
+                strobe += 1
+            else:
+                tw = tb + WINDOW
+            if tb <= ta:
+                continue  # the same time from another source
+            xb, vb_, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, tb)
+            if vzero:
+                vb_ = 0.0  # exactly: the section crossing is then a sample
+            d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
+                                               xa, va, xb, vb_, tb - ta)
+            w[0] += d0
+            w[1] += d1
+            w[2] += d2
+            w[3] += d3
+            w[4] += d4
+            fb = fex * math.cos(om * t_abs + phi) if held else 0.0
+            if not emit(outs, k, t_abs, xb, vb_, friction_force(fck, force, xb, vb_, zeta) - fb, fmode, w):
+                return k, ne, FULL, -1.0, t + ta
+            k += 1
+            ta, xa, va = tb, xb, vb_
+        d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
+                                           xa, va, xe, ve, T - ta)
+        w[0] += d0
+        w[1] += d1
+        w[2] += d2
+        w[3] += d3
+        w[4] += d4
+        x, v = xe, ve
+        if which < 0:
+            t = t_end
+            continue
+        t = t_next
+        theta = om * t + phi
+        fe, dfe = fex * math.cos(theta), -fex * om * math.sin(theta)
+        new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, None, fe, dfe, -om * om * fe)
+        if new < 0:
+            new = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fe)
+        zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
+        if zero_len > 8:
+            return k, ne, STUCK, -1.0, t
+        mode = new
+        if mode == STICK:
+            v = vb
+        if ne < len(ev_t):
+            ev_t[ne] = t
+            ev_mode[ne] = mode
+        ne += 1
+    return k, ne, DONE, -1.0, t_end
