@@ -603,29 +603,33 @@ def _gf(ph, fn, t):
 
 
 @njit(cache=True)
-def _refine_forced(ph, fn, s, lo, hi, x_hi, v_hi):
-    """The first time in (lo, hi] where s G <= 0, given s G(hi) <= 0: (t, X, X') there.
+def _refine_forced(ph, fn, s, lo, hi, g_hi, dg_hi, x_hi, v_hi):
+    """The first time in (lo, hi] where s G <= 0, given s G(hi) <= 0 (G, G' there): (t, X, X') there.
 
-    Newton's iteration kept inside the bracket, bisecting whenever the
-    bracket did not halve over the last two steps; near the root it steps by
-    ulps to the outside side.
+    Newton's iteration from ``hi``, kept inside the bracket and used while
+    |G| at least halves (else bisection); once it has converged it probes an
+    ulp or two to the other side, so the bracket closes to a few ulps.
     """
-    t = 0.5 * (lo + hi)
-    width = prev = hi - lo
+    t = hi - g_hi / dg_hi if dg_hi != 0.0 else 0.5 * (lo + hi)
+    if not (lo < t < hi):
+        t = 0.5 * (lo + hi)
+    g_prev = abs(g_hi)
     for _ in range(400):
         g, dg, x, v, _, _ = _gf(ph, fn, t)
         if s * g > 0.0:
             lo = t
         else:
             hi, x_hi, v_hi = t, x, v
-        if hi - lo <= 2.0 * EPS * hi:
+        if hi - lo <= 4.0 * EPS * hi:
             break
         tn = t - g / dg if dg != 0.0 else -1.0
-        if abs(tn - t) <= 2.0 * EPS * abs(t):  # Newton has converged: probe just outside
-            tn = t + (4.0 * EPS * abs(t) if s * g > 0.0 else -4.0 * EPS * abs(t))
-        if not (lo < tn < hi) or hi - lo > 0.5 * prev:
+        if abs(tn - t) <= 2.0 * EPS * abs(t):  # converged: the root is within ulps, probe its other side
+            tn = t + (2.0 * EPS * abs(t) if s * g > 0.0 else -2.0 * EPS * abs(t))
+        elif abs(g) > 0.5 * g_prev:  # Newton is not converging: bisect
             tn = 0.5 * (lo + hi)
-        prev, width = width, hi - lo
+        if not (lo < tn < hi):
+            tn = 0.5 * (lo + hi)
+        g_prev = abs(g)
         t = tn
     return hi, x_hi, v_hi
 
@@ -658,7 +662,7 @@ def _crossing(ph, fn, s, t0, t1):
             lo = t
         ahead = sg + graze
         if ahead <= 0.0:
-            return _refine_forced(ph, fn, s, lo, t, x, v) + (s,)
+            return _refine_forced(ph, fn, s, lo, t, g, dg, x, v) + (s,)
         m2 = cf.bound_at(co, dyn, K1, K2, Kp, t, e1, e2)
         if sdg < 0.0:
             disc = sdg * sdg - 2.0 * m2 * ahead
@@ -666,7 +670,7 @@ def _crossing(ph, fn, s, t0, t1):
                 th = min(t + 2.0 * ahead / (-sdg + math.sqrt(disc)), t1)
                 gh, dgh, xh, vh, e1, e2 = _gf(ph, fn, th)
                 if s * gh <= 0.0:
-                    return _refine_forced(ph, fn, s, t if sg > 0.0 else lo, th, xh, vh) + (s,)
+                    return _refine_forced(ph, fn, s, t if sg > 0.0 else lo, th, gh, dgh, xh, vh) + (s,)
                 if th >= t1:
                     return np.inf, np.nan, np.nan, s
                 t, g, dg, x, v = th, gh, dgh, xh, vh  # rounding kept it inside: go on from there
@@ -796,8 +800,8 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
         while True:
             ts = strobe * period - t if strobe * period < t_next else np.inf
             tb = min(min(min(r0, r1), min(r2, r3)), min(min(tt, td), min(ts, tw)))
-            if tb >= T:
-                break
+            if tb >= T or (tb != ts and tb >= T - 8.0 * EPS * (t + T)):
+                break  # (a root within ulps of the switch is the switch: with V_b = 0 X' = 0 is a boundary too)
             t_abs = t + tb
             vzero = False
             if tb == r0:
