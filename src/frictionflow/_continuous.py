@@ -12,7 +12,8 @@ to the interpolant of the solver that made the run (:func:`interpolant`):
     (Karnopp's band holding F_e = X).  Which one follows a sample is read
     from the switch record ``events`` (the mode entered at each switch); the
     first phase, before any switch, from the first samples themselves.
-    Accurate to rounding (~1e-15 relative).
+    Under harmonic forcing OSC phases add the periodic particular solution
+    (held forces are less f(tau)).  Accurate to rounding (~1e-15 relative).
 ``adaptive``
     Quintic Hermite interpolation in each step of a slip phase, from X, X'
     and X'' = F_c - X - 2 zeta X' at both ends (the solver samples every

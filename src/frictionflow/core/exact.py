@@ -29,6 +29,14 @@ optional dense grid, and the end -- each with the exact cumulative work
 integrals, so that the section records and the steady-state classifier of
 :mod:`.sections` apply unchanged and see exact values.
 
+Harmonic forcing f = F_ex cos(Omega tau + phi) (``p[FEX]`` > 0) runs in
+:func:`run_forced`: slip phases carry the closed-form harmonic particular
+solution, stick phases hold F_e - f(tau), and every event function (switch
+boundaries, zeros of X', X'', X' + 2 zeta X'', of a held F_c) is searched by
+walking with a certified bound on its second derivative, so that no short
+excursion is stepped over; the stroboscopic times k 2 pi / Omega are samples
+too.  Unforced runs never enter it (bit-identical to before).
+
 Speed: the helpers on the hot path take and return scalars (a mode's
 boundaries are a tuple, not an array): every call of a compiled function
 with an array argument costs two atomic reference-count updates per array,
