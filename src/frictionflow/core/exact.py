@@ -603,7 +603,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
 
 @njit(cache=True)
 def _gf(ph, fn, t):
-    """G and G' at t (:func:`_crossing`) with (X, X', e1, e2) there."""
+    """G and G' at t of the event function ``fn`` (:func:`_next_root`) with (X, X', e1, e2) there."""
     co, dyn, zeta, force, pz, fz, om = ph
     a, b, d, e, c = fn
     x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
@@ -643,69 +643,101 @@ def _refine_forced(ph, fn, s, lo, hi, g_hi, dg_hi, x_hi, v_hi):
 
 
 @njit(cache=True)
-def _crossing(ph, fn, s, t0, t1):
-    """First crossing of G = a X + b X' + d X'' - e f - c (``fn``) in (t0, t1]: (time or inf, X, X', s).
-
-    ``s``: the side G starts on (s G > 0 before the crossing; 0: take it
-    from G, or G' where G is on 0, at t0).  A crossing counts when s G goes
-    below -1e-12 of G's scale (a smaller excursion is a touch); its time is
-    where s G reaches 0.
-    """
+def _prepare(ph, fns, sides, consts, n):
+    """Per phase: the bound constants (K1, K2, Kp) and the graze level of each event function (:func:`_next_root`)."""
     co, dyn, zeta, force, pz, fz, om = ph
-    a, b, d, e, c = fn
-    K1, K2 = cf.free_bound(co, dyn, zeta, a, b, d)
-    hz = complex(a - om * om * d, om * b) * pz - e * fz  # G's harmonic part: Re(hz e^{i Omega t})
-    Kp = om * om * abs(hz)
-    t = t0
-    g, dg, x, v, e1, e2 = _gf(ph, fn, t)
-    scale = abs(a * x) + abs(b * v) + abs(d) * (abs(force) + abs(x) + 2.0 * zeta * abs(v)) + abs(c) + abs(hz) + abs(e) * abs(fz)
-    graze = 1e-12 * scale + 1e-300
-    if s == 0.0:
-        s = 1.0 if g > graze or (g >= -graze and dg >= 0.0) else -1.0
-    lo = t0
-    while True:
-        sg = s * g
-        sdg = s * dg
-        if sg > 0.0:
-            lo = t
-        ahead = sg + graze
-        if ahead <= 0.0:
-            return _refine_forced(ph, fn, s, lo, t, g, dg, x, v) + (s,)
-        m2 = cf.bound_at(co, dyn, K1, K2, Kp, t, e1, e2)
-        if sdg < 0.0:
-            disc = sdg * sdg - 2.0 * m2 * ahead
-            if disc >= 0.0:  # the upper parabola reaches -graze at t + u: a certain crossing, G monotone
-                th = min(t + 2.0 * ahead / (-sdg + math.sqrt(disc)), t1)
-                gh, dgh, xh, vh, e1, e2 = _gf(ph, fn, th)
-                if s * gh <= 0.0:
-                    return _refine_forced(ph, fn, s, t if sg > 0.0 else lo, th, gh, dgh, xh, vh) + (s,)
-                if th >= t1:
-                    return np.inf, np.nan, np.nan, s
-                t, g, dg, x, v = th, gh, dgh, xh, vh  # rounding kept it inside: go on from there
-                continue
-            u = 2.0 * ahead / (-sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead))
-        else:
-            u = (sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead)) / m2
-        if t + u >= t1:
-            return np.inf, np.nan, np.nan, s
-        t = t + u
-        g, dg, x, v, e1, e2 = _gf(ph, fn, t)
+    x, v, acc, _, f, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, 0.0)
+    for i in range(n):
+        a, b, d, e, c = fns[i, 0], fns[i, 1], fns[i, 2], fns[i, 3], fns[i, 4]
+        K1, K2 = cf.free_bound(co, dyn, zeta, a, b, d)
+        hz = complex(a - om * om * d, om * b) * pz - e * fz  # the harmonic part: Re(hz e^{i Omega t})
+        scale = abs(a * x) + abs(b * v) + abs(d) * (abs(force) + abs(x) + 2.0 * zeta * abs(v)) + abs(c) + abs(hz) + abs(e) * abs(fz)
+        consts[i, 0], consts[i, 1], consts[i, 2] = K1, K2, om * om * abs(hz)
+        consts[i, 3] = 1e-12 * scale + 1e-300  # a smaller excursion beyond 0 is a touch, not a crossing
+        consts[i, 4] = 0.0  # the last time G was on its side (set by the walk)
 
 
 @njit(cache=True)
-def _forced_switch(ph, law, mode, zeta, vb, fd, fs, vd, res, t_max):
-    """Earliest boundary crossing of a forced phase in (0, t_max]: (time, boundary index, X, X')."""
-    n_b, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
-    best = np.inf
-    which = -1
-    xb = vbb = np.nan
-    for k in range(n_b):
-        a, b, c, s = bs[k]
-        # a boundary is a (X - f) + b X' - c
-        tc, xc, vc, _ = _crossing(ph, (a, b, 0.0, a, c), s, 0.0, min(t_max, best))
-        if tc < best:
-            best, which, xb, vbb = tc, k, xc, vc
-    return best, which, xb, vbb
+def _next_root(ph, fns, sides, consts, n, nb, t0, t1):
+    """The first crossing of any of the event functions in (t0, t1]: (index or -1, time, X, X').
+
+    Function i is G_i = a X + b X' + d X'' - e f - c (row i of ``fns``); it
+    starts on side ``sides[i]`` (s G > 0; 0: decided at t0 from G, or G'
+    where G is on 0).  The functions are walked together, one evaluation of
+    the motion per step: from t, G_i stays above -graze until the first root
+    of s G + s G' u - M u^2 / 2 (M: the bound on |G_i''|), and must go below it
+    where s G + s G' u + M u^2 / 2 does, monotonically.  The next point is
+    the nearest of these; a function that has crossed there is refined
+    (the earliest wins; boundaries, the first ``nb``, on a tie to ulps).
+    """
+    co, dyn, zeta, force, pz, fz, om = ph
+    t = t0
+    x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
+    first = True
+    while True:
+        step = t1 - t
+        for i in range(n):
+            g = fns[i, 0] * x + fns[i, 1] * v + fns[i, 2] * acc - fns[i, 3] * f - fns[i, 4]
+            dg = fns[i, 0] * v + fns[i, 1] * acc + fns[i, 2] * jerk - fns[i, 3] * df
+            graze = consts[i, 3]
+            if first:
+                consts[i, 4] = t
+                if sides[i] == 0.0:
+                    sides[i] = 1.0 if g > graze or (g >= -graze and dg >= 0.0) else -1.0
+            s = sides[i]
+            sg = s * g
+            sdg = s * dg
+            if sg > 0.0:
+                consts[i, 4] = t
+            ahead = sg + graze
+            if ahead <= 0.0:
+                step = 0.0
+                continue
+            m2 = cf.bound_at(co, dyn, consts[i, 0], consts[i, 1], consts[i, 2], t, e1, e2)
+            if sdg < 0.0:
+                disc = sdg * sdg - 2.0 * m2 * ahead
+                if disc >= 0.0:
+                    u = 2.0 * ahead / (-sdg + math.sqrt(disc))
+                else:
+                    u = 2.0 * ahead / (-sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead))
+            else:
+                u = (sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead)) / m2
+            step = min(step, u)
+        first = False
+        if step > 0.0:
+            tn = min(t + step, t1)
+            t = tn if tn > t else min(np.nextafter(t, np.inf), t1)  # at least an ulp: no standing still
+            x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
+        # which functions have crossed at t?
+        best = -1
+        tb = np.inf
+        xb = vb = np.nan
+        for i in range(n):
+            g = fns[i, 0] * x + fns[i, 1] * v + fns[i, 2] * acc - fns[i, 3] * f - fns[i, 4]
+            if sides[i] * g > 0.0:
+                continue
+            if sides[i] * g > -consts[i, 3]:
+                continue  # on 0 within the touch level: not (yet) a crossing
+            fn = (fns[i, 0], fns[i, 1], fns[i, 2], fns[i, 3], fns[i, 4])
+            dg = fns[i, 0] * v + fns[i, 1] * acc + fns[i, 2] * jerk - fns[i, 3] * df
+            tr, xr, vr = _refine_forced(ph, fn, sides[i], consts[i, 4], t, g, dg, x, v)
+            boundary_tie = i < nb and best >= nb and tr <= tb + 8.0 * EPS * (1.0 + tb)
+            if tr < tb or boundary_tie:
+                best, tb, xb, vb = i, tr, xr, vr
+        if best >= 0:
+            return best, tb, xb, vb
+        if t >= t1:
+            return -1, np.inf, np.nan, np.nan
+
+
+@njit(cache=True, inline="always")
+def _add_function(fns, sides, n, fn, on):
+    """Append a sample function (its side decided by the walk) when ``on``; returns the new count."""
+    if on:
+        fns[n, 0], fns[n, 1], fns[n, 2], fns[n, 3], fns[n, 4] = fn
+        sides[n] = 0.0
+        n += 1
+    return n
 
 
 @njit(cache=True)
@@ -769,6 +801,9 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
     ne = 0
     zero_len = 0
     strobe = 1  # the next stroboscopic index (k = 0 is the start)
+    fns = np.zeros((MAX_EVENTS_PER_MODE + 4, 5))  # a phase's event functions (a, b, d, e, c), their sides,
+    sides = np.zeros(MAX_EVENTS_PER_MODE + 4)  # and their bound constants, graze level and last time inside
+    consts = np.zeros((MAX_EVENTS_PER_MODE + 4, 5))
     while True:
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
         held = fck != FC_CONST
@@ -781,22 +816,21 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
             break
         co, pz, fz = cf.forced_phase(dyn, zeta, force, x, v, fex, om, theta)
         ph = (co, dyn, zeta, force, pz, fz, om)
-        T, which, xe, ve = _forced_switch(ph, law, mode, zeta, vb, fd, fs, vd, res, t_end - t)
-        if which < 0:
-            T = t_end - t
-        t_next = t + T if which >= 0 else t_end
-        if which < 0 or math.isnan(xe):
-            xe, ve, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, T)
+        # the event functions: the mode's boundaries a (X - f) + b X' - c, then the sample functions
+        nb, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
+        for i in range(nb):
+            fns[i, 0], fns[i, 1], fns[i, 2], fns[i, 3], fns[i, 4] = bs[i][0], bs[i][1], 0.0, bs[i][0], bs[i][2]
+            sides[i] = bs[i][3]
+        f0, f1, f2, f3, on0, on1, on2, on3 = _sample_functions(dyn, fck, zeta)
+        n = _add_function(fns, sides, nb, f0, on0)
+        n = _add_function(fns, sides, n, f1, on1)
+        n = _add_function(fns, sides, n, f2, on2)
+        n = _add_function(fns, sides, n, f3, on3)
+        _prepare(ph, fns, sides, consts, n)
         fmode = FRICTION_MODE[mode]
         slipping = fmode != 0
-        # the sources of samples, in phase time: roots of four functions (with the side each is on), the tail,
-        # the dense grid, the stroboscopic times, a sample at least every WINDOW
-        f0, f1, f2, f3, on0, on1, on2, on3 = _sample_functions(dyn, fck, zeta)
-        r0, xs0, vs0, s0 = _crossing(ph, f0, 0.0, 0.0, T) if on0 else (np.inf, 0.0, 0.0, 0.0)
-        r1, xs1, vs1, s1 = _crossing(ph, f1, 0.0, 0.0, T) if on1 else (np.inf, 0.0, 0.0, 0.0)
-        r2, xs2, vs2, s2 = _crossing(ph, f2, 0.0, 0.0, T) if on2 else (np.inf, 0.0, 0.0, 0.0)
-        r3, xs3, vs3, s3 = _crossing(ph, f3, 0.0, 0.0, T) if on3 else (np.inf, 0.0, 0.0, 0.0)
-        tt = t_tail - t if 0.0 < t_tail - t < T else np.inf
+        # the samples at known times: the tail, the dense grid, the stroboscopic times, one at least every WINDOW
+        tt = t_tail - t if 0.0 < t_tail - t else np.inf
         j = td = np.inf
         if dense_dt > 0.0:
             j = math.floor(t / dense_dt) + 1.0
@@ -805,37 +839,40 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
             strobe += 1
         ta, xa, va = 0.0, x, v
         tw = WINDOW
+        horizon = t_end - t
+        which = -1
         while True:
-            ts = strobe * period - t if strobe * period < t_next else np.inf
-            tb = min(min(min(r0, r1), min(r2, r3)), min(min(tt, td), min(ts, tw)))
-            if tb >= T or (tb != ts and tb >= T - 8.0 * EPS * (t + T)):
-                break  # (a root within ulps of the switch is the switch: with V_b = 0 X' = 0 is a boundary too)
+            ts = strobe * period - t
+            tk = min(min(tt, td), min(ts, tw))
+            i, tb, xb, vb_ = _next_root(ph, fns, sides, consts, n, nb, ta, min(tk, horizon))
+            if i >= 0 and i < nb:
+                which, T, xe, ve = i, tb, xb, vb_
+                break
             t_abs = t + tb
-            vzero = False
-            if tb == r0:
-                vzero = True
-                r0, xs0, vs0, s0 = _crossing(ph, f0, -s0, tb, T)
-            elif tb == r1:
-                r1, xs1, vs1, s1 = _crossing(ph, f1, -s1, tb, T)
-            elif tb == r2:
-                r2, xs2, vs2, s2 = _crossing(ph, f2, -s2, tb, T)
-            elif tb == r3:
-                r3, xs3, vs3, s3 = _crossing(ph, f3, -s3, tb, T)
-            elif tb == tt:
-                tt = np.inf
-            elif tb == td:
-                j += 1.0
-                td = j * dense_dt - t
-            elif tb == ts:
-                t_abs = strobe * period  # the stroboscopic time itself, not t + (its phase time)
-                strobe += 1
+            if i >= 0:
+                sides[i] = -sides[i]
+                if fns[i, 1] == 1.0 and fns[i, 0] == 0.0 and fns[i, 2] == 0.0:
+                    vb_ = 0.0  # a zero of X', exactly: the section crossing is then a sample
             else:
-                tw = tb + WINDOW
-            if tb <= ta:
-                continue  # the same time from another source
-            xb, vb_, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, tb)
-            if vzero:
-                vb_ = 0.0  # exactly: the section crossing is then a sample
+                if tk >= horizon:
+                    T = horizon  # the run ends inside the phase
+                    xe, ve, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, T)
+                    break
+                tb = tk
+                t_abs = t + tb
+                if tb == tt:
+                    tt = np.inf
+                elif tb == td:
+                    j += 1.0
+                    td = j * dense_dt - t
+                elif tb == ts:
+                    t_abs = strobe * period  # the stroboscopic time itself, not t + (its phase time)
+                    strobe += 1
+                else:
+                    tw = tb + WINDOW
+                if tb <= ta:
+                    continue  # the same time from another source
+                xb, vb_, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, tb)
             d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
                                                xa, va, xb, vb_, tb - ta)
             w[0] += d0
@@ -848,6 +885,7 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
                 return k, ne, FULL, -1.0, t + ta
             k += 1
             ta, xa, va = tb, xb, vb_
+        t_next = t + T if which >= 0 else t_end
         d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
                                            xa, va, xe, ve, T - ta)
         w[0] += d0
