@@ -320,9 +320,15 @@ def bound_at(co, dyn, K1, K2, Kp, t, e1, e2):
 @njit(cache=True)
 def exp_integral(z, L):
     """int_0^L e^{z t} dt for complex z (a series where z L is small: no cancellation)."""
+    return exp_integral_with(z, L, cmath.exp(z * L))
+
+
+@njit(cache=True)
+def exp_integral_with(z, L, ezl):
+    """:func:`exp_integral` given e^{z L} (``ezl``, used where z L is not small)."""
     zl = z * L
     if abs(zl) >= 0.5:
-        return (cmath.exp(zl) - 1.0) / z
+        return (ezl - 1.0) / z
     s = 0j
     for n in range(18, -1, -1):  # L sum (zL)^n / (n + 1)!
         s = 1.0 + s * zl / (n + 2.0)
@@ -371,10 +377,48 @@ def forced_work(co, dyn, zeta, force, pz, fz, omega, L):
     if dyn == EXP:
         v2 = q * q * (-math.expm1(-2.0 * r1 * L)) / (2.0 * r1)
         return v2, q * (fz * exp_integral(complex(-r1, omega), L)).real
-    J = free_velocity_transform(co, dyn, zeta, omega, L)
+    rot = complex(math.cos(omega * L), math.sin(omega * L))  # e^{i Omega L}
+    if reg == UNDER:
+        J, y2 = _under_transforms(co, omega, L, rot)
+    else:
+        J, y2 = free_velocity_transform(co, dyn, zeta, omega, L), integral_v2_with(co, L)
     vz = complex(0.0, omega) * pz  # X_p' = Re(vz e^{i Omega t})
-    i2 = exp_integral(complex(0.0, 2.0 * omega), L)
+    i2 = exp_integral_with(complex(0.0, 2.0 * omega), L, rot * rot)
     vp2 = 0.5 * ((vz * vz * i2).real + L * (vz * vz.conjugate()).real)
     vpf = 0.5 * ((vz * fz * i2).real + L * (vz * fz.conjugate()).real)
-    y2 = integral_v2_with(co, L)
     return y2 + 2.0 * (vz * J).real + vp2, (fz * J).real + vpf
+
+
+@njit(cache=True)
+def _under_transforms(co, omega, L, rot):
+    """Underdamped OSC: (J, int_0^L Y'^2) of :func:`forced_work` from one exp, cos and sin (and e^{i Omega L} = ``rot``).
+
+    The same sums as :func:`free_velocity_transform` and :func:`integral_v2_with`,
+    with e^{(lam +- ...)L} composed from e^{-zeta L}, e^{i w L} and e^{i Omega L}.
+    """
+    _, r1, r2, p, q = co
+    e = math.exp(-r1 * L)
+    cw = math.cos(r2 * L)
+    sw = math.sin(r2 * L)
+    lam = complex(-r1, r2)
+    iw = complex(0.0, omega)
+    cl = complex(p, -q) * lam
+    ew = e * complex(cw, sw)
+    J = 0.5 * (cl * exp_integral_with(lam + iw, L, ew * rot)
+               + cl.conjugate() * exp_integral_with(lam.conjugate() + iw, L, ew.conjugate() * rot))
+    # int Y'^2, as integral_v2_with (UNDER) with e^{-2 zeta L}, cos 2wL, sin 2wL from the above
+    C = r2 * q - r1 * p
+    D = -(r2 * p + r1 * q)
+    mean = 0.5 * (C * C + D * D)
+    dc = 0.5 * (C * C - D * D)
+    ds = C * D
+    al = -2.0 * r1
+    be = 2.0 * r2
+    i0 = -math.expm1(al * L) / (-al) if al != 0.0 else L
+    e2 = e * e
+    cb = cw * cw - sw * sw
+    sb = 2.0 * sw * cw
+    den = al * al + be * be
+    ic = (e2 * (al * cb + be * sb) - al) / den
+    is_ = (e2 * (al * sb - be * cb) + be) / den
+    return J, mean * i0 + dc * ic + ds * is_
