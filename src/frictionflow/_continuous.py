@@ -12,7 +12,8 @@ to the interpolant of the solver that made the run (:func:`interpolant`):
     (Karnopp's band holding F_e = X).  Which one follows a sample is read
     from the switch record ``events`` (the mode entered at each switch); the
     first phase, before any switch, from the first samples themselves.
-    Accurate to rounding (~1e-15 relative).
+    Under harmonic forcing OSC phases add the periodic particular solution
+    (held forces are less f(tau)).  Accurate to rounding (~1e-15 relative).
 ``adaptive``
     Quintic Hermite interpolation in each step of a slip phase, from X, X'
     and X'' = F_c - X - 2 zeta X' at both ends (the solver samples every
@@ -181,20 +182,28 @@ class ClosedForm(Interpolant):
         return found[int(np.argmin(miss))]
 
     def _fc_of(self, mode: SwitchMode, table: dict, x: float, v: float) -> float:
+        """F_c of ``mode`` at the run's first sample (a held force less the external force there)."""
         dyn, centre = table[mode]
-        return centre if dyn == OSC else (x if dyn == EXP else x + 2.0 * self.zeta * v)
+        if dyn == OSC:
+            return centre
+        return (x if dyn == EXP else x + 2.0 * self.zeta * v) - float(self.model.external_force(self.traj.t[0]))
 
     def _one(self, dyn: int, centre: float, x: float, v: float, s: float) -> tuple[float, float]:
-        xs, vs = self._evaluate(np.array([dyn]), np.array([centre]), np.array([x]), np.array([v]), np.array([s]))
+        xs, vs = self._evaluate(np.array([dyn]), np.array([centre]), np.array([x]), np.array([v]), np.array([s]),
+                                np.array([self.traj.t[0]]))
         return float(xs[0]), float(vs[0])
 
     def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         i = self.interval(t)
         tr = self.traj
-        return self._evaluate(self.dyn[i], self.centre[i], tr.x[i], tr.v[i], t - tr.t[i])
+        return self._evaluate(self.dyn[i], self.centre[i], tr.x[i], tr.v[i], t - tr.t[i], tr.t[i])
 
-    def _evaluate(self, dyn, centre, x0, v0, s) -> tuple[np.ndarray, np.ndarray]:
-        """X and X' a time ``s`` into phases of type ``dyn`` started at (x0, v0)."""
+    def _evaluate(self, dyn, centre, x0, v0, s, t0) -> tuple[np.ndarray, np.ndarray]:
+        """X and X' a time ``s`` into phases of type ``dyn`` started at (x0, v0) at times ``t0``.
+
+        Forced OSC phases add the harmonic particular solution (:func:`_harmonic`);
+        LIN and EXP motions do not feel the external force (the interface holds it).
+        """
         x = x0 + v0 * s  # LIN
         v = np.array(v0, dtype=float)
         osc, exp = dyn == OSC, dyn == EXP
@@ -203,15 +212,35 @@ class ClosedForm(Interpolant):
             x[exp] = x0[exp] + v0[exp] * (-np.expm1(-c * s[exp])) / c
             v[exp] = v0[exp] * np.exp(-c * s[exp])
         if np.any(osc):
-            y, vy = _oscillation(self.zeta, x0[osc] - centre[osc], v0[osc], s[osc])
-            x[osc], v[osc] = centre[osc] + y, vy
+            m = self.model
+            if m.forced:
+                xp0, vp0, xp, vp = _harmonic(self.zeta, m.fex, m.omega, m.omega * t0[osc] + m.phi, s[osc])
+                y, vy = _oscillation(self.zeta, x0[osc] - centre[osc] - xp0, v0[osc] - vp0, s[osc])
+                x[osc], v[osc] = centre[osc] + y + xp, vy + vp
+            else:
+                y, vy = _oscillation(self.zeta, x0[osc] - centre[osc], v0[osc], s[osc])
+                x[osc], v[osc] = centre[osc] + y, vy
         return x, v
 
     def force(self, t, x, v):
         i = self.interval(t)
         dyn = self.dyn[i]
-        fc = np.where(dyn == OSC, self.centre[i], np.where(dyn == EXP, x, x + 2.0 * self.zeta * v))
+        held = np.where(dyn == EXP, x, x + 2.0 * self.zeta * v)
+        if self.model.forced:
+            held = held - self.model.external_force(t)
+        fc = np.where(dyn == OSC, self.centre[i], held)
         return fc, self.traj.mode[i].astype(np.int8)
+
+
+def _harmonic(zeta: float, fex: float, omega: float, theta, s):
+    """The periodic response to F_ex cos(Omega s + theta): (X_p(0), X_p'(0), X_p(s), X_p'(s)).
+
+    X_p = Re(pz e^{i Omega s}), pz = F_ex e^{i theta} / (1 - Omega^2 + 2 i zeta Omega): amplitude
+    F_ex / sqrt((1 - Omega^2)^2 + (2 zeta Omega)^2), lagging by atan2(2 zeta Omega, 1 - Omega^2).
+    """
+    pz = fex * np.exp(1j * np.asarray(theta)) / complex(1.0 - omega * omega, 2.0 * zeta * omega)
+    rot = pz * np.exp(1j * omega * s)
+    return pz.real, -omega * pz.imag, rot.real, -omega * rot.imag
 
 
 def _oscillation(zeta: float, y0, v0, s) -> tuple[np.ndarray, np.ndarray]:

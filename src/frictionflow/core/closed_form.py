@@ -14,6 +14,7 @@ integral of X'^2.  Everything here is a scalar function for the kernels.
 
 from __future__ import annotations
 
+import cmath
 import math
 
 import numpy as np
@@ -199,3 +200,252 @@ def integral_v2(dyn, zeta, force, x0, v0, T):
     P = r1 * p
     Q = r2 * q
     return P * P * math.expm1(2 * r1 * T) / (2 * r1) + 2 * P * Q * math.expm1((r1 + r2) * T) / (r1 + r2) + Q * Q * math.expm1(2 * r2 * T) / (2 * r2)
+
+
+@njit(cache=True)
+def integral_v2_with(co, T):
+    """int_0^T Y'^2 dt of an OSC motion with :func:`coefficients` ``co`` (:func:`integral_v2`)."""
+    reg, r1, r2, p, q = co
+    if reg == UNDER:
+        C = r2 * q - r1 * p
+        D = -(r2 * p + r1 * q)
+        s = 0.5 * (C * C + D * D)
+        dc = 0.5 * (C * C - D * D)
+        ds = C * D
+        al = -2.0 * r1
+        be = 2.0 * r2
+        i0 = -math.expm1(al * T) / (-al) if al != 0.0 else T
+        e = math.exp(al * T)
+        cb = math.cos(be * T)
+        sb = math.sin(be * T)
+        den = al * al + be * be
+        ic = (e * (al * cb + be * sb) - al) / den
+        is_ = (e * (al * sb - be * cb) + be) / den
+        return s * i0 + dc * ic + ds * is_
+    if reg == CRIT:
+        C = q - p
+        D = -q
+        e = math.exp(-2.0 * T)
+        i0 = -math.expm1(-2.0 * T) / 2.0
+        i1 = (1.0 - e * (1.0 + 2.0 * T)) / 4.0
+        i2 = (1.0 - e * (1.0 + 2.0 * T + 2.0 * T * T)) / 4.0
+        return C * C * i0 + 2.0 * C * D * i1 + D * D * i2
+    P = r1 * p
+    Q = r2 * q
+    return P * P * math.expm1(2 * r1 * T) / (2 * r1) + 2 * P * Q * math.expm1((r1 + r2) * T) / (r1 + r2) + Q * Q * math.expm1(2 * r2 * T) / (2 * r2)
+
+
+# -- harmonic forcing -----------------------------------------------------------------------------
+# Under f = Re(fz e^{i Omega t}) (t from the phase start, fz = F_ex e^{i theta}) the OSC motion is
+# X = F + Y + Re(pz e^{i Omega t}): Y free (as above, from Y(0), Y'(0)) and the harmonic particular
+# solution pz = H fz, H = 1 / (1 - Omega^2 + 2 i zeta Omega): amplitude F_ex / sqrt((1 - Omega^2)^2 +
+# (2 zeta Omega)^2), phase lag atan2(2 zeta Omega, 1 - Omega^2).  LIN and EXP motions do not feel f
+# (the interface holds it).  A phase is (co, pz, fz) with co as from :func:`coefficients`.
+
+@njit(cache=True)
+def forced_phase(dyn, zeta, force, x0, v0, fex, omega, theta):
+    """(co, pz, fz) of a phase from (x0, v0) under F_ex cos(Omega t + theta).
+
+    co: the free part's :func:`coefficients` (OSC: of Y = X - F - X_p; LIN,
+    EXP: of X itself, as unforced).  pz: the particular solution's phasor
+    (0 for LIN, EXP).  Undamped resonance (zeta = 0, Omega = 1) has no
+    periodic particular solution: callers refuse it.
+    """
+    fz = fex * complex(math.cos(theta), math.sin(theta))
+    if dyn != OSC:
+        return coefficients(dyn, zeta, force, x0, v0), 0j, fz
+    pz = fz / complex(1.0 - omega * omega, 2.0 * zeta * omega)
+    # X_p(0) = Re pz, X_p'(0) = Re(i Omega pz) = -Omega Im pz
+    return coefficients(OSC, zeta, force + pz.real, x0, v0 + omega * pz.imag), pz, fz
+
+
+@njit(cache=True)
+def free_motion(co, dyn, zeta, t):
+    """The free part at t: (Y, Y', Y'', Y''', e1, e2); e1, e2: the exponentials it decays with.
+
+    OSC: Y = X - F - X_p; LIN: X = x0 + v0 t; EXP: X' = v0 e^{-2 zeta t}.  e1
+    (and e2 for overdamped OSC) feed :func:`free_bound`.
+    """
+    reg, r1, r2, p, q = co
+    if dyn == LIN or (dyn == EXP and r1 == 0.0):
+        return p + q * t, q, 0.0, 0.0, 1.0, 0.0
+    if dyn == EXP:
+        e = math.exp(-r1 * t)
+        v = q * e
+        return p + q * (-math.expm1(-r1 * t)) / r1, v, -r1 * v, r1 * r1 * v, e, 0.0
+    e2 = 0.0
+    if reg == UNDER:
+        e1 = math.exp(-r1 * t)
+        cs = math.cos(r2 * t)
+        sn = math.sin(r2 * t)
+        y = e1 * (p * cs + q * sn)
+        v = e1 * ((r2 * q - r1 * p) * cs - (r2 * p + r1 * q) * sn)
+    elif reg == CRIT:
+        e1 = math.exp(-t)
+        y = e1 * (p + q * t)
+        v = e1 * (q - p - q * t)
+    else:
+        e1 = math.exp(r1 * t)
+        e2 = math.exp(r2 * t)
+        y = p * e1 + q * e2
+        v = r1 * p * e1 + r2 * q * e2
+    a = -y - 2.0 * zeta * v
+    return y, v, a, -v - 2.0 * zeta * a, e1, e2
+
+
+@njit(cache=True)
+def forced_state(co, dyn, zeta, force, pz, fz, omega, t):
+    """(X, X', X'', X''', f, f', e1, e2) at t of a forced phase (:func:`forced_phase`)."""
+    y, v, a, j, e1, e2 = free_motion(co, dyn, zeta, t)
+    c = math.cos(omega * t)
+    s = math.sin(omega * t)
+    f = fz.real * c - fz.imag * s
+    df = -omega * (fz.imag * c + fz.real * s)
+    if dyn != OSC:
+        return y, v, a, j, f, df, e1, e2
+    xp = pz.real * c - pz.imag * s
+    vp = -omega * (pz.imag * c + pz.real * s)
+    w2 = omega * omega
+    return force + y + xp, v + vp, a - w2 * xp, j - w2 * vp, f, df, e1, e2
+
+
+@njit(cache=True)
+def free_bound(co, dyn, zeta, a, b, d):
+    """Constants (K1, K2) of the bound on the free part of (a X + b X' + d X'')'' (see :func:`bound_at`)."""
+    reg, r1, r2, p, q = co
+    if dyn == LIN or (dyn == EXP and r1 == 0.0):
+        return 0.0, 0.0
+    if dyn == EXP:  # X^(k) = v0 (-c)^(k-1) e^{-ct}
+        return abs(q) * abs(-a * r1 + b * r1 * r1 - d * r1 * r1 * r1), 0.0
+    if reg == UNDER:  # Y = Re(C e^{lam t}), C = p - i q, lam = -r1 + i r2, |lam| = 1
+        lam = complex(-r1, r2)
+        return abs(complex(p, -q)) * abs(lam * lam * (a + lam * (b + d * lam))), 0.0
+    if reg == CRIT:  # (..)'' = e^{-t}(A + B t): the constants A, B themselves
+        k = a - b + d
+        return k * p - q * (2.0 * a - 3.0 * b + 4.0 * d), k * q
+    return (abs(p) * r1 * r1 * abs(a + r1 * (b + d * r1)), abs(q) * r2 * r2 * abs(a + r2 * (b + d * r2)))
+
+
+@njit(cache=True)
+def bound_at(co, dyn, K1, K2, Kp, t, e1, e2):
+    """An upper bound of |G''| on [t, inf) for G = a X + b X' + d X'' - e f - c.
+
+    (K1, K2) from :func:`free_bound`, e1, e2 from :func:`free_motion` at t;
+    ``Kp`` bounds the harmonic part (Omega^2 times its amplitude).  The free
+    part decays (zeta > 0) or keeps its amplitude (zeta = 0): its bound at t
+    holds for all later times.
+    """
+    if dyn == OSC and co[0] == CRIT:
+        al = abs(K1 + K2 * t)
+        kb = abs(K2)
+        free = e1 * al if kb <= al else e1 * kb * math.exp(al / kb - 1.0)
+    else:
+        free = K1 * e1 + K2 * e2
+    return (free + Kp) * (1.0 + 1e-9) + 1e-300
+
+
+@njit(cache=True)
+def exp_integral(z, L):
+    """int_0^L e^{z t} dt for complex z (a series where z L is small: no cancellation)."""
+    return exp_integral_with(z, L, cmath.exp(z * L))
+
+
+@njit(cache=True)
+def exp_integral_with(z, L, ezl):
+    """:func:`exp_integral` given e^{z L} (``ezl``, used where z L is not small)."""
+    zl = z * L
+    if abs(zl) >= 0.5:
+        return (ezl - 1.0) / z
+    s = 0j
+    for n in range(18, -1, -1):  # L sum (zL)^n / (n + 1)!
+        s = 1.0 + s * zl / (n + 2.0)
+    return L * s
+
+
+@njit(cache=True)
+def texp_integral(z, L):
+    """int_0^L t e^{z t} dt for complex z."""
+    zl = z * L
+    if abs(zl) >= 0.5:
+        return (cmath.exp(zl) * (zl - 1.0) + 1.0) / (z * z)
+    s = 0j
+    term = 1.0 + 0j
+    for n in range(24):  # L^2 sum (zL)^n / (n! (n + 2))
+        s += term / (n + 2.0)
+        term = term * zl / (n + 1.0)
+    return L * L * s
+
+
+@njit(cache=True)
+def free_velocity_transform(co, dyn, zeta, omega, L):
+    """J = int_0^L Y'(t) e^{i Omega t} dt of the free part of an OSC phase."""
+    reg, r1, r2, p, q = co
+    iw = complex(0.0, omega)
+    if reg == UNDER:  # Y' = Re(C lam e^{lam t}) = (C lam e^{lam t} + conj(C lam) e^{conj(lam) t}) / 2
+        lam = complex(-r1, r2)
+        cl = complex(p, -q) * lam
+        return 0.5 * (cl * exp_integral(lam + iw, L) + cl.conjugate() * exp_integral(lam.conjugate() + iw, L))
+    if reg == CRIT:  # Y' = e^{-t}(q - p - q t)
+        z = complex(-1.0, omega)
+        return (q - p) * exp_integral(z, L) - q * texp_integral(z, L)
+    return r1 * p * exp_integral(complex(r1, omega), L) + r2 * q * exp_integral(complex(r2, omega), L)
+
+
+@njit(cache=True)
+def forced_work(co, dyn, zeta, force, pz, fz, omega, L):
+    """(int_0^L X'^2 dt, int_0^L X' f dt) of a forced phase, in closed form.
+
+    OSC: X' = Y' + Re(i Omega pz e^{i Omega t}); the products of two harmonics
+    Re(A e^{i W t}) Re(B e^{i W t}) = (Re(A B e^{2 i W t}) + Re(A conj B)) / 2.
+    """
+    reg, r1, r2, p, q = co
+    if dyn == LIN or (dyn == EXP and r1 == 0.0):
+        return q * q * L, q * (fz * exp_integral(complex(0.0, omega), L)).real
+    if dyn == EXP:
+        v2 = q * q * (-math.expm1(-2.0 * r1 * L)) / (2.0 * r1)
+        return v2, q * (fz * exp_integral(complex(-r1, omega), L)).real
+    rot = complex(math.cos(omega * L), math.sin(omega * L))  # e^{i Omega L}
+    if reg == UNDER:
+        J, y2 = _under_transforms(co, omega, L, rot)
+    else:
+        J, y2 = free_velocity_transform(co, dyn, zeta, omega, L), integral_v2_with(co, L)
+    vz = complex(0.0, omega) * pz  # X_p' = Re(vz e^{i Omega t})
+    i2 = exp_integral_with(complex(0.0, 2.0 * omega), L, rot * rot)
+    vp2 = 0.5 * ((vz * vz * i2).real + L * (vz * vz.conjugate()).real)
+    vpf = 0.5 * ((vz * fz * i2).real + L * (vz * fz.conjugate()).real)
+    return y2 + 2.0 * (vz * J).real + vp2, (fz * J).real + vpf
+
+
+@njit(cache=True)
+def _under_transforms(co, omega, L, rot):
+    """Underdamped OSC: (J, int_0^L Y'^2) of :func:`forced_work` from one exp, cos and sin (and e^{i Omega L} = ``rot``).
+
+    The same sums as :func:`free_velocity_transform` and :func:`integral_v2_with`,
+    with e^{(lam +- ...)L} composed from e^{-zeta L}, e^{i w L} and e^{i Omega L}.
+    """
+    _, r1, r2, p, q = co
+    e = math.exp(-r1 * L)
+    cw = math.cos(r2 * L)
+    sw = math.sin(r2 * L)
+    lam = complex(-r1, r2)
+    iw = complex(0.0, omega)
+    cl = complex(p, -q) * lam
+    ew = e * complex(cw, sw)
+    J = 0.5 * (cl * exp_integral_with(lam + iw, L, ew * rot)
+               + cl.conjugate() * exp_integral_with(lam.conjugate() + iw, L, ew.conjugate() * rot))
+    # int Y'^2, as integral_v2_with (UNDER) with e^{-2 zeta L}, cos 2wL, sin 2wL from the above
+    C = r2 * q - r1 * p
+    D = -(r2 * p + r1 * q)
+    mean = 0.5 * (C * C + D * D)
+    dc = 0.5 * (C * C - D * D)
+    ds = C * D
+    al = -2.0 * r1
+    be = 2.0 * r2
+    i0 = -math.expm1(al * L) / (-al) if al != 0.0 else L
+    e2 = e * e
+    cb = cw * cw - sw * sw
+    sb = 2.0 * sw * cw
+    den = al * al + be * be
+    ic = (e2 * (al * cb + be * sb) - al) / den
+    is_ = (e2 * (al * sb - be * cb) + be) / den
+    return J, mean * i0 + dc * ic + ds * is_

@@ -29,6 +29,14 @@ optional dense grid, and the end -- each with the exact cumulative work
 integrals, so that the section records and the steady-state classifier of
 :mod:`.sections` apply unchanged and see exact values.
 
+Harmonic forcing f = F_ex cos(Omega tau + phi) (``p[FEX]`` > 0) runs in
+:func:`run_forced`: slip phases carry the closed-form harmonic particular
+solution, stick phases hold F_e - f(tau), and every event function (switch
+boundaries, zeros of X', X'', X' + 2 zeta X'', of a held F_c) is searched by
+walking with a certified bound on its second derivative, so that no short
+excursion is stepped over; the stroboscopic times k 2 pi / Omega are samples
+too.  Unforced runs never enter it (bit-identical to before).
+
 Speed: the helpers on the hot path take and return scalars (a mode's
 boundaries are a tuple, not an array): every call of a compiled function
 with an array argument costs two atomic reference-count updates per array,
@@ -45,7 +53,7 @@ from numba import njit
 
 from . import closed_form as cf
 from . import sections as sec
-from .friction import COULOMB, FD, FS, KARNOPP, LAW, RESULTANT, VD
+from .friction import COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD
 from .layout import N_WORK
 from .samples import emit
 
@@ -135,8 +143,13 @@ def boundaries(mode, law, zeta, vb, fd, fs, vd, res, ev):
 
 
 @njit(cache=True)
-def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None):
-    """Does the motion stay in ``mode``'s region for a positive time from (x, v)?  (``ev``: not used.)"""
+def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0):
+    """Does the motion stay in ``mode``'s region for a positive time from (x, v)?  (``ev``: not used.)
+
+    ``f, df, ddf``: the external force and its first two rates there.  Every
+    boundary is a function of X - f and X' (:func:`mode_boundaries`: its
+    coefficient of X multiplies X - f), and slip feels f in X''.
+    """
     # A switch is located to a few ulps of time; X' there is then off the boundary
     # by |X''| times that: far below this tolerance, far above rounding.
     vtol = 1e-10 * (abs(vb) + abs(v) + vd + abs(x) + fs)
@@ -153,46 +166,46 @@ def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None):
     if law == COULOMB and mode == STICK:
         v = vb
     elif dyn == cf.OSC:
-        a = force - x - 2.0 * zeta * v
-        j = -v - 2.0 * zeta * a
+        a = force - x - 2.0 * zeta * v + f
+        j = -v - 2.0 * zeta * a + df
     elif dyn == cf.EXP:
         a = -2.0 * zeta * v
         j = -2.0 * zeta * a
     n, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
     for k in range(n):
         ca, cb, cc, s = bs[k]
-        g0 = s * (ca * x + cb * v - cc)
-        tol0 = 256.0 * EPS * (abs(ca * x) + abs(cb * v) + abs(cc)) + 1e-300
+        g0 = s * (ca * x + cb * v - cc - ca * f)
+        tol0 = 256.0 * EPS * (abs(ca * x) + abs(cb * v) + abs(cc) + abs(ca * f)) + 1e-300
         if g0 > tol0:
             continue
         if g0 < -tol0:
             return False
-        g1 = s * (ca * v + cb * a)
+        g1 = s * (ca * v + cb * a - ca * df)
         # X'' is a difference of terms of size |F| + |X| + 2 zeta |X'|: its rounding scale
-        tol1 = 256.0 * EPS * (abs(ca * v) + abs(cb) * (abs(force) + abs(x) + 2.0 * zeta * abs(v))) + 1e-300
+        tol1 = 256.0 * EPS * (abs(ca * v) + abs(cb) * (abs(force) + abs(x) + 2.0 * zeta * abs(v) + abs(f)) + abs(ca * df)) + 1e-300
         if g1 > tol1:
             continue
         if g1 < -tol1:
             return False
-        g2 = s * (ca * a + cb * j)
+        g2 = s * (ca * a + cb * j - ca * ddf)
         if g2 < 0.0:
             return False
     return True
 
 
 @njit(cache=True)
-def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None):
-    """The mode the motion continues in from (x, v); -1 if none is consistent.  (``ev``: not used.)"""
+def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0):
+    """The mode the motion continues in from (x, v); -1 if none is consistent.  (``ev``: not used; f: see :func:`consistent`.)"""
     order = COULOMB_ORDER if law == COULOMB else KARNOPP_ORDER
     for m in order:
-        if consistent(m, law, zeta, vb, fd, fs, vd, res, x, v):
+        if consistent(m, law, zeta, vb, fd, fs, vd, res, x, v, ev, f, df, ddf):
             return m
     return -1
 
 
 @njit(cache=True)
-def region_mode(law, zeta, vb, fd, fs, vd, res, x, v):
-    """The mode by region alone (a fallback when no mode is consistent)."""
+def region_mode(law, zeta, vb, fd, fs, vd, res, x, v, f=0.0):
+    """The mode by region alone (a fallback when no mode is consistent; f: the external force)."""
     be = 2.0 * zeta if res else 0.0
     if law == COULOMB:
         if v < vb:
@@ -204,7 +217,7 @@ def region_mode(law, zeta, vb, fd, fs, vd, res, x, v):
         return SLIP_POS
     if vb - v < -vd:
         return SLIP_NEG
-    fe = x + be * v
+    fe = x + be * v - f
     if fe >= fs:
         return SAT_POS
     if fe <= -fs:
@@ -467,6 +480,9 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     ``stop_terminal``: the final phase was reached), else ``t_end``.
     Status FULL means an output array was too short.
     """
+    if p[FEX] != 0.0:
+        return run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, out_t, out_x, out_v, out_fc, out_mode, out_w,
+                          ev_t, ev_mode, t_mode)
     law = int(p[LAW])
     fd, fs, vd = p[FD], p[FS], p[VD]
     res = p[RESULTANT] != 0.0
@@ -574,3 +590,327 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             ev_mode[ne] = mode
         ne += 1
     return k, ne, DONE, t_terminal, t_end
+
+
+# -- harmonic forcing ---------------------------------------------------------------------------------
+# With f = F_ex cos(Omega tau + phi) the slip phases carry the harmonic particular solution and the
+# holding force of stick phases varies in time (cf.forced_phase).  Event functions are no longer
+# monotone between closed-form critical points; every one is G = a X + b X' + d X'' - e f - c, and its
+# roots are bracketed by walking with a certified bound on |G''| (cf.bound_at): from t, G cannot leave
+# the band s G > -graze before the first root of s G(t) + s G'(t) u - M u^2 / 2, and it must cross where
+# the upper parabola s G(t) + s G'(t) u + M u^2 / 2 does (G is monotone up to there).  A short
+# excursion of G beyond the boundary is never stepped over.
+
+@njit(cache=True)
+def _gf(ph, fn, t):
+    """G and G' at t of the event function ``fn`` (:func:`_next_root`) with (X, X', e1, e2) there."""
+    co, dyn, zeta, force, pz, fz, om = ph
+    a, b, d, e, c = fn
+    x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
+    return a * x + b * v + d * acc - e * f - c, a * v + b * acc + d * jerk - e * df, x, v, e1, e2
+
+
+@njit(cache=True)
+def _refine_forced(ph, fn, s, lo, hi, g_hi, dg_hi, x_hi, v_hi):
+    """The first time in (lo, hi] where s G <= 0, given s G(hi) <= 0 (G, G' there): (t, X, X') there.
+
+    Newton's iteration from ``hi``, kept inside the bracket and used while
+    |G| at least halves (else bisection); once it has converged it probes an
+    ulp or two to the other side, so the bracket closes to a few ulps.
+    """
+    t = hi - g_hi / dg_hi if dg_hi != 0.0 else 0.5 * (lo + hi)
+    if not (lo < t < hi):
+        t = 0.5 * (lo + hi)
+    g_prev = abs(g_hi)
+    for _ in range(400):
+        g, dg, x, v, _, _ = _gf(ph, fn, t)
+        if s * g > 0.0:
+            lo = t
+        else:
+            hi, x_hi, v_hi = t, x, v
+        if hi - lo <= 4.0 * EPS * hi:
+            break
+        tn = t - g / dg if dg != 0.0 else -1.0
+        if abs(tn - t) <= 2.0 * EPS * abs(t):  # converged: the root is within ulps, probe its other side
+            tn = t + (2.0 * EPS * abs(t) if s * g > 0.0 else -2.0 * EPS * abs(t))
+        elif abs(g) > 0.5 * g_prev:  # Newton is not converging: bisect
+            tn = 0.5 * (lo + hi)
+        if not (lo < tn < hi):
+            tn = 0.5 * (lo + hi)
+        g_prev = abs(g)
+        t = tn
+    return hi, x_hi, v_hi
+
+
+@njit(cache=True)
+def _prepare(ph, fns, sides, consts, n):
+    """Per phase: the bound constants (K1, K2, Kp) and the graze level of each event function (:func:`_next_root`)."""
+    co, dyn, zeta, force, pz, fz, om = ph
+    x, v, acc, _, f, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, 0.0)
+    for i in range(n):
+        a, b, d, e, c = fns[i, 0], fns[i, 1], fns[i, 2], fns[i, 3], fns[i, 4]
+        K1, K2 = cf.free_bound(co, dyn, zeta, a, b, d)
+        hz = complex(a - om * om * d, om * b) * pz - e * fz  # the harmonic part: Re(hz e^{i Omega t})
+        scale = abs(a * x) + abs(b * v) + abs(d) * (abs(force) + abs(x) + 2.0 * zeta * abs(v)) + abs(c) + abs(hz) + abs(e) * abs(fz)
+        consts[i, 0], consts[i, 1], consts[i, 2] = K1, K2, om * om * abs(hz)
+        consts[i, 3] = 1e-12 * scale + 1e-300  # a smaller excursion beyond 0 is a touch, not a crossing
+        consts[i, 4] = 0.0  # the last time G was on its side (set by the walk)
+
+
+@njit(cache=True)
+def _next_root(ph, fns, sides, consts, n, nb, t0, t1):
+    """The first crossing of any of the event functions in (t0, t1]: (index or -1, time, X, X').
+
+    Function i is G_i = a X + b X' + d X'' - e f - c (row i of ``fns``); it
+    starts on side ``sides[i]`` (s G > 0; 0: decided at t0 from G, or G'
+    where G is on 0).  The functions are walked together, one evaluation of
+    the motion per step: from t, G_i stays above -graze until the first root
+    of s G + s G' u - M u^2 / 2 (M: the bound on |G_i''|), and must go below it
+    where s G + s G' u + M u^2 / 2 does, monotonically.  The next point is
+    the nearest of these; a function that has crossed there is refined
+    (the earliest wins; boundaries, the first ``nb``, on a tie to ulps).
+    """
+    co, dyn, zeta, force, pz, fz, om = ph
+    t = t0
+    x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
+    first = True
+    while True:
+        step = t1 - t
+        for i in range(n):
+            g = fns[i, 0] * x + fns[i, 1] * v + fns[i, 2] * acc - fns[i, 3] * f - fns[i, 4]
+            dg = fns[i, 0] * v + fns[i, 1] * acc + fns[i, 2] * jerk - fns[i, 3] * df
+            graze = consts[i, 3]
+            if first:
+                consts[i, 4] = t
+                if sides[i] == 0.0:
+                    sides[i] = 1.0 if g > graze or (g >= -graze and dg >= 0.0) else -1.0
+            s = sides[i]
+            sg = s * g
+            sdg = s * dg
+            if sg > 0.0:
+                consts[i, 4] = t
+            ahead = sg + graze
+            if ahead <= 0.0:
+                step = 0.0
+                continue
+            m2 = cf.bound_at(co, dyn, consts[i, 0], consts[i, 1], consts[i, 2], t, e1, e2)
+            if sdg < 0.0:
+                disc = sdg * sdg - 2.0 * m2 * ahead
+                if disc >= 0.0:
+                    u = 2.0 * ahead / (-sdg + math.sqrt(disc))
+                else:
+                    u = 2.0 * ahead / (-sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead))
+            else:
+                u = (sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead)) / m2
+            step = min(step, u)
+        first = False
+        if step > 0.0:
+            tn = min(t + step, t1)
+            t = tn if tn > t else min(np.nextafter(t, np.inf), t1)  # at least an ulp: no standing still
+            x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
+        # which functions have crossed at t?
+        best = -1
+        tb = np.inf
+        xb = vb = np.nan
+        for i in range(n):
+            g = fns[i, 0] * x + fns[i, 1] * v + fns[i, 2] * acc - fns[i, 3] * f - fns[i, 4]
+            if sides[i] * g > 0.0:
+                continue
+            if sides[i] * g > -consts[i, 3]:
+                continue  # on 0 within the touch level: not (yet) a crossing
+            fn = (fns[i, 0], fns[i, 1], fns[i, 2], fns[i, 3], fns[i, 4])
+            dg = fns[i, 0] * v + fns[i, 1] * acc + fns[i, 2] * jerk - fns[i, 3] * df
+            tr, xr, vr = _refine_forced(ph, fn, sides[i], consts[i, 4], t, g, dg, x, v)
+            boundary_tie = i < nb and best >= nb and tr <= tb + 8.0 * EPS * (1.0 + tb)
+            if tr < tb or boundary_tie:
+                best, tb, xb, vb = i, tr, xr, vr
+        if best >= 0:
+            return best, tb, xb, vb
+        if t >= t1:
+            return -1, np.inf, np.nan, np.nan
+
+
+@njit(cache=True, inline="always")
+def _add_function(fns, sides, n, fn, on):
+    """Append a sample function (its side decided by the walk) when ``on``; returns the new count."""
+    if on:
+        fns[n, 0], fns[n, 1], fns[n, 2], fns[n, 3], fns[n, 4] = fn
+        sides[n] = 0.0
+        n += 1
+    return n
+
+
+@njit(cache=True)
+def _forced_piece(dyn, fck, zeta, vb, force, fex, om, theta, slipping, xa, va, xb, vb_, L):
+    """The work integrals over one piece of a forced phase: (W_dv, W_fin, W_fout, W_heat, W_ex).
+
+    theta: the forcing's phase at the piece's start.  F_c = F - held force
+    where the interface holds (F_e - f): P_f = X' F_e - X' f there.
+    """
+    co, pz, fz = cf.forced_phase(dyn, zeta, force, xa, va, fex, om, theta)
+    v2, w_ex = cf.forced_work(co, dyn, zeta, force, pz, fz, om, L)
+    if fck == FC_CONST:
+        pf = force * (xb - xa)
+    elif fck == FC_SPRING:
+        pf = 0.5 * (xb * xb - xa * xa) - w_ex
+    else:
+        pf = va * ((xa + 2.0 * zeta * va) * L + 0.5 * va * L * L) - w_ex
+    heat = force * (vb * L - (xb - xa)) if slipping else 0.0
+    return 2.0 * zeta * v2, max(pf, 0.0), max(-pf, 0.0), heat, w_ex
+
+
+@njit(cache=True)
+def _sample_functions(dyn, fck, zeta):
+    """The functions whose roots are samples in a phase: X', X'', X' + 2 zeta X'' (OSC), F_c (held force)."""
+    none = (0.0, 0.0, 0.0, 0.0, 0.0)
+    if dyn == cf.OSC:
+        wall = (0.0, 1.0, 2.0 * zeta, 0.0, 0.0) if zeta > 0.0 else none
+        return (0.0, 1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0, 0.0), wall, none, True, True, zeta > 0.0, False
+    if fck == FC_SPRING:
+        return none, none, none, (1.0, 0.0, 0.0, 1.0, 0.0), False, False, False, True
+    return none, none, none, (1.0, 2.0 * zeta, 0.0, 1.0, 0.0), False, False, False, True
+
+
+@njit(cache=True)
+def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
+               out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode, t_mode):
+    """:func:`run` under the external force of ``p`` (F_ex > 0).
+
+    Samples as unforced (phase starts, zeros of X' set to 0, extremes of X'
+    and of X + 2 zeta X', zeros of a held F_c, the tail's start, the dense
+    grid, the end) and the stroboscopic times k 2 pi / Omega.  No early
+    stop: the X' = 0 section repeats only for the autonomous system.
+    Returns as :func:`run` (t_terminal = -1: no final phase is certified).
+    """
+    law = int(p[LAW])
+    fd, fs, vd = p[FD], p[FS], p[VD]
+    res = p[RESULTANT] != 0.0
+    fex, om, phi = p[FEX], p[OMEGA], p[PHI]
+    period = 2.0 * math.pi / om
+    w = np.zeros(N_WORK)
+    outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
+    t = 0.0
+    x, v = x0, v0
+    mode = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, None, fex * math.cos(phi), -fex * om * math.sin(phi),
+                       -om * om * fex * math.cos(phi))
+    if mode < 0:
+        mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fex * math.cos(phi))
+    if mode == STICK:
+        v = vb
+    k = 0
+    ne = 0
+    zero_len = 0
+    strobe = 1  # the next stroboscopic index (k = 0 is the start)
+    fns = np.zeros((MAX_EVENTS_PER_MODE + 4, 5))  # a phase's event functions (a, b, d, e, c), their sides,
+    sides = np.zeros(MAX_EVENTS_PER_MODE + 4)  # and their bound constants, graze level and last time inside
+    consts = np.zeros((MAX_EVENTS_PER_MODE + 4, 5))
+    while True:
+        dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
+        held = fck != FC_CONST
+        theta = om * t + phi
+        fnow = fex * math.cos(theta)
+        if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta) - (fnow if held else 0.0), FRICTION_MODE[mode], w):
+            return k, ne, FULL, -1.0, t
+        k += 1
+        if t >= t_end:
+            break
+        co, pz, fz = cf.forced_phase(dyn, zeta, force, x, v, fex, om, theta)
+        ph = (co, dyn, zeta, force, pz, fz, om)
+        # the event functions: the mode's boundaries a (X - f) + b X' - c, then the sample functions
+        nb, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
+        for i in range(nb):
+            fns[i, 0], fns[i, 1], fns[i, 2], fns[i, 3], fns[i, 4] = bs[i][0], bs[i][1], 0.0, bs[i][0], bs[i][2]
+            sides[i] = bs[i][3]
+        f0, f1, f2, f3, on0, on1, on2, on3 = _sample_functions(dyn, fck, zeta)
+        n = _add_function(fns, sides, nb, f0, on0)
+        n = _add_function(fns, sides, n, f1, on1)
+        n = _add_function(fns, sides, n, f2, on2)
+        n = _add_function(fns, sides, n, f3, on3)
+        _prepare(ph, fns, sides, consts, n)
+        fmode = FRICTION_MODE[mode]
+        slipping = fmode != 0
+        # the samples at known times: the tail, the dense grid, the stroboscopic times, one at least every WINDOW
+        tt = t_tail - t if 0.0 < t_tail - t else np.inf
+        j = td = np.inf
+        if dense_dt > 0.0:
+            j = math.floor(t / dense_dt) + 1.0
+            td = j * dense_dt - t
+        while strobe * period <= t:
+            strobe += 1
+        ta, xa, va = 0.0, x, v
+        tw = WINDOW
+        horizon = t_end - t
+        which = -1
+        while True:
+            ts = strobe * period - t
+            tk = min(min(tt, td), min(ts, tw))
+            i, tb, xb, vb_ = _next_root(ph, fns, sides, consts, n, nb, ta, min(tk, horizon))
+            if i >= 0 and i < nb:
+                which, T, xe, ve = i, tb, xb, vb_
+                break
+            t_abs = t + tb
+            if i >= 0:
+                sides[i] = -sides[i]
+                if fns[i, 1] == 1.0 and fns[i, 0] == 0.0 and fns[i, 2] == 0.0:
+                    vb_ = 0.0  # a zero of X', exactly: the section crossing is then a sample
+            else:
+                if tk >= horizon:
+                    T = horizon  # the run ends inside the phase
+                    xe, ve, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, T)
+                    break
+                tb = tk
+                t_abs = t + tb
+                if tb == tt:
+                    tt = np.inf
+                elif tb == td:
+                    j += 1.0
+                    td = j * dense_dt - t
+                elif tb == ts:
+                    t_abs = strobe * period  # the stroboscopic time itself, not t + (its phase time)
+                    strobe += 1
+                else:
+                    tw = tb + WINDOW
+                if tb <= ta:
+                    continue  # the same time from another source
+                xb, vb_, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, tb)
+            d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
+                                               xa, va, xb, vb_, tb - ta)
+            w[0] += d0
+            w[1] += d1
+            w[2] += d2
+            w[3] += d3
+            w[4] += d4
+            fb = fex * math.cos(om * t_abs + phi) if held else 0.0
+            if not emit(outs, k, t_abs, xb, vb_, friction_force(fck, force, xb, vb_, zeta) - fb, fmode, w):
+                return k, ne, FULL, -1.0, t + ta
+            k += 1
+            ta, xa, va = tb, xb, vb_
+        t_next = t + T if which >= 0 else t_end
+        d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
+                                           xa, va, xe, ve, T - ta)
+        w[0] += d0
+        w[1] += d1
+        w[2] += d2
+        w[3] += d3
+        w[4] += d4
+        x, v = xe, ve
+        if which < 0:
+            t = t_end
+            continue
+        t = t_next
+        theta = om * t + phi
+        fe, dfe = fex * math.cos(theta), -fex * om * math.sin(theta)
+        new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, None, fe, dfe, -om * om * fe)
+        if new < 0:
+            new = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fe)
+        zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
+        if zero_len > 8:
+            return k, ne, STUCK, -1.0, t
+        mode = new
+        if mode == STICK:
+            v = vb
+        if ne < len(ev_t):
+            ev_t[ne] = t
+            ev_mode[ne] = mode
+        ne += 1
+    return k, ne, DONE, -1.0, t_end

@@ -71,6 +71,9 @@ class Exact(Solver):
     ) -> Trajectory:
         if not self.supports(friction):
             raise ValueError(f"solver=exact does not support friction={friction.name} (its slip force is not constant)")
+        if model.forced and model.zeta == 0.0 and model.omega == 1.0:
+            raise ValueError(f"solver=exact: undamped resonance (zeta=0, omega=1, fex={model.fex:g}) has no periodic "
+                             "particular solution (the response grows like tau sin tau); use zeta > 0 or omega != 1")
         dense = self.dense_dt or 0.0
         p = kernel_params(model, friction)
         t_tail = sections.tail_start(0.0, t_end)
@@ -80,8 +83,11 @@ class Exact(Solver):
             return kernel.run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, False, False, 0.0, 3,
                               *bufs, t_mode)
 
+        estimate = self.sample_estimate(t_end)
+        if model.forced:  # the stroboscopic samples, and extremes at the forcing's frequency too
+            estimate += int(t_end / model.forcing_period) + int(8 * model.omega * t_end / math.pi)
         with progress_bar("exact", 1, enabled=progress and t_end > 1e5) as advance:
-            (n, ne, status, t_term, _), bufs = run_growing(run, self.sample_estimate(t_end), self._full, max_memory, lambda: self.sized(t_end))
+            (n, ne, status, t_term, _), bufs = run_growing(run, estimate, self._full, max_memory, lambda: self.sized(t_end))
             advance(1)
         if status == kernel.STUCK:
             t, x, v = bufs[:3]
