@@ -144,3 +144,23 @@ def test_karnopp_runs_that_do_not_repeat_stay_not_settled():
     tr = simulate(model, Karnopp(fd=0.5, fs=1.0, vd=1e-4), RK4(dt=1e-3), t_end=60 * model.forcing_period, x0=0.0, v0=0.0)
     ss = analyze(tr).steady_state
     assert ss.kind == "not_settled" and ss.lyapunov is None
+
+
+def test_a_subharmonic_is_periodic_with_its_multiple_and_matches_the_shot_orbit():
+    """Coulomb stick-slip locked at three forcing periods (exact solver), against Newton shooting on the
+    tangent integrator's map (an independent integration) and its Floquet multiplier."""
+    from frictionflow.orbits import find_forced_orbit
+    from frictionflow.solvers import Exact
+
+    model, law = BeltOscillator(zeta=0.05, vb=0.1, fex=0.5, omega=1.0), Coulomb(0.5, 1.0)
+    tr = simulate(model, law, Exact(), t_end=400 * model.forcing_period, x0=0.0, v0=0.0)
+    an = analyze(tr)
+    ss = an.steady_state
+    assert ss.kind == "periodic" and ss.forcing_multiple == 3
+    assert ss.period == pytest.approx(3 * model.forcing_period, rel=1e-12)
+    assert an.energy_residual < 1e-10
+    orbit = find_forced_orbit(model, law, m=3)
+    # the run's last three section states are the orbit's three points, one of them its shooting state
+    idx = section_indices(tr)[-3:]
+    assert min(abs(tr.x[i] - orbit.state[0]) + abs(tr.v[i] - orbit.state[1]) for i in idx) < 1e-7
+    assert an.power.P_ex == pytest.approx(orbit.averages["P_ex"], rel=1e-6)

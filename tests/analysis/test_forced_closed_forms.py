@@ -1,9 +1,7 @@
 """Harmonic forcing against closed forms: the linear forced oscillator and Den Hartog's Coulomb oscillator.
 
 The references are derived in :mod:`tests.analysis.den_hartog` (numpy/scipy
-only).  Every comparison runs for each solver; those whose forcing lands from
-another branch are marked ``PENDING`` (non-strict xfail: remove the marks once
-the exact and adaptive solvers integrate the external force).
+only).  Every comparison runs for each solver (RK4, exact, adaptive).
 
 All runs start from rest and are read after the transient: it decays at least
 like e^{-zeta tau} (Coulomb friction only adds contraction: each slip reversal
@@ -27,9 +25,8 @@ from . import den_hartog as dh
 # above these runs; whether a step can jump the band is checked in the tests.
 pytestmark = pytest.mark.filterwarnings("ignore::frictionflow.CoarseStepWarning")
 
-PENDING = pytest.mark.xfail(strict=False, reason="solver forcing lands from another branch")
 SOLVERS = [pytest.param("rk4", id="rk4"),
-           pytest.param("exact", id="exact", marks=PENDING),
+           pytest.param("exact", id="exact"),
            pytest.param("adaptive", id="adaptive")]
 OTHER_SOLVERS = SOLVERS[1:]
 

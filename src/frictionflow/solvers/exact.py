@@ -50,10 +50,16 @@ class Exact(Solver):
     def supports(self, friction: FrictionLaw) -> bool:
         return friction.piecewise_constant
 
-    def sample_estimate(self, t_end: float) -> int:
-        """Room for the samples of a run to ``t_end``: ~8 per natural period, the dense grid included."""
+    def sample_estimate(self, t_end: float, model: BeltOscillator | None = None) -> int:
+        """Room for the samples of a run to ``t_end``: ~8 per natural period, the dense grid included.
+
+        A forced ``model`` adds the stroboscopic samples, and extremes at the forcing's frequency.
+        """
         dense = int(t_end / self.dense_dt) + 2 if self.dense_dt else 0
-        return int(16 * t_end / (2 * math.pi)) + 64 + dense
+        forced = 0
+        if model is not None and model.forced:
+            forced = int(t_end / model.forcing_period) + int(8 * model.omega * t_end / math.pi)
+        return int(16 * t_end / (2 * math.pi)) + 64 + dense + forced
 
     @staticmethod
     def _full(result: tuple, bufs: tuple[np.ndarray, ...]) -> bool:
@@ -83,9 +89,7 @@ class Exact(Solver):
             return kernel.run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, False, False, 0.0, 3,
                               *bufs, t_mode)
 
-        estimate = self.sample_estimate(t_end)
-        if model.forced:  # the stroboscopic samples, and extremes at the forcing's frequency too
-            estimate += int(t_end / model.forcing_period) + int(8 * model.omega * t_end / math.pi)
+        estimate = self.sample_estimate(t_end, model)
         with progress_bar("exact", 1, enabled=progress and t_end > 1e5) as advance:
             (n, ne, status, t_term, _), bufs = run_growing(run, estimate, self._full, max_memory, lambda: self.sized(t_end))
             advance(1)

@@ -249,13 +249,13 @@ def _check_size(cfg: SweepConfig) -> None:
     """Each parallel point's samples must fit max_memory; RK4's steps must be countable."""
     import numba
 
-    _, _, solver = cfg.run.build()
+    model, _, solver = cfg.run.build()
     if solver.name == "rk4":
         solver.steps(cfg.run.t_end)  # the batched RK4 keeps section records, not samples
         _warn_coarse_steps(cfg)
         return
     threads = numba.get_num_threads()
-    check_memory(solver.sample_estimate(cfg.run.t_end) * threads, cfg.run.max_memory,
+    check_memory(solver.sample_estimate(cfg.run.t_end, model) * threads, cfg.run.max_memory,
                  f"{solver.sized(cfg.run.t_end)} on {threads} threads")
 
 
