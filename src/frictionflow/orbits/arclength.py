@@ -84,12 +84,15 @@ class Tracer:
                 r2 = float(t @ (p.w(s) - w_pred))
                 if p.converged(s) and abs(r2) < 1e-9:
                     s.iterations = k
-                    s.dHl = dHl if math.isfinite(dHl) else p.d_lambda(s)
+                    if not math.isfinite(s.dHl):  # exact from the compiled engine, else the chord's
+                        s.dHl = dHl if math.isfinite(dHl) else p.d_lambda(s)
                     return s
                 if k >= 2 and abs(s.H) > 0.5 * last:
                     return None
                 last = abs(s.H)
-                if not math.isfinite(dHl):
+                if math.isfinite(s.dHl):
+                    dHl = s.dHl  # exact: Newton rather than a chord
+                elif not math.isfinite(dHl):
                     dHl = p.d_lambda(s)
             except (RuntimeError, ValueError):
                 return None
