@@ -81,8 +81,8 @@ N_ERR = 8  # components under error control
 #: ``tot`` layout (the run's summary)
 (T_NPH, T_NSW, T_RET, T_TIME, T_X, T_V, T_FX, T_FV, T_M00, T_M01, T_M02, T_M10, T_M11, T_M12,
  T_WDV, T_DWDV0, T_DWDV1, T_DWDV2, T_WFIN, T_DWFIN0, T_DWFIN1, T_DWFIN2, T_XMIN, T_DXMIN0, T_DXMIN1,
- T_DXMIN2, T_STICK, T_GRAZE, T_VRMIN) = range(29)
-N_TOT = 29
+ T_DXMIN2, T_STICK, T_GRAZE, T_VRMIN, T_VRX, T_DVR0, T_DVR1, T_DVR2) = range(33)
+N_TOT = 33
 #: phase record: mode, t0, duration, x0, v0, x1, v1, J00, J01, J10, J11
 N_PH = 11
 #: switch record: t, x, v, from, to, n0, n1, fb0, fb1, fa0, fa1
@@ -408,6 +408,46 @@ def _first_root(y, h, kind, d, sig, fresh, ind, zeta, vb, p, code, K, tmp, out, 
     return _event_root(y, lo, hi, glo, ghi, guess, kind, d, sig, ind, zeta, vb, p, code, K, tmp, out, t)
 
 
+@njit(cache=True)
+def _track_min(y, y1, h, d, ind, zeta, vb, p, code, K, tmp, out, M, tot, t):
+    """The smallest V_r = d (V_b - X') inside the step y -> y1 (a maximum of d X'), kept if below the record.
+
+    Located by Newton on theta for X''(theta) = 0 on the scheme's own steps
+    (d X''/dtau = -X' - (2 zeta + F') X''); its derivatives are the tangent
+    columns' V components there (at an extremum a time shift moves nothing).
+    """
+    g0 = d * (vb - y[IV])
+    g1 = d * (vb - y1[IV])
+    a0 = accel(d, y[IX], y[IV], zeta, vb, p)
+    a1 = accel(d, y1[IX], y1[IV], zeta, vb, p)
+    s, val = _hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
+    if s < 0.0 or val > tot[T_VRMIN] + 1e-3 * (abs(vb) + abs(y[IV])):
+        return
+    th = s * h
+    for _ in range(20):
+        dop_step(y, th, d, ind, zeta, vb, p, code, K, tmp, out)
+        a = accel(d, out[IX], out[IV], zeta, vb, p)
+        ad = -out[IV] - (2.0 * zeta + slip_slope(p, d * (vb - out[IV]))) * a
+        if ad == 0.0:
+            break
+        step = -a / ad
+        th = min(max(th + step, 0.0), h)
+        if abs(step) <= 4.0 * EPS * (abs(t) + h):
+            break
+    if th <= 0.0 or th >= h:
+        return  # the smallest value is at an end of the step: no interior extremum (a tangential start)
+    dop_step(y, th, d, ind, zeta, vb, p, code, K, tmp, out)
+    vr = d * (vb - out[IV])
+    if not vr < min(g0, g1) - _noise(out[IV], vb):
+        return  # no lower than the ends: a touch at a phase start, not an excursion's extremum
+    if vr < tot[T_VRMIN]:
+        tot[T_VRMIN] = vr
+        tot[T_VRX] = out[IX]
+        for c in range(3):
+            dv = out[J10] * M[0, c] + out[J11] * M[1, c] + (out[XIV] if c == 2 else 0.0)
+            tot[T_DVR0 + c] = -d * dv + (d * dvb(code) if c == 2 else 0.0)  # g = d (V_b - X')
+
+
 # -- bookkeeping ----------------------------------------------------------------------------
 @njit(cache=True)
 def _close_piece(y, M, tot, Jph):
@@ -495,11 +535,14 @@ def _stick_quads(M, tot, xs, T, zeta, vb, code):
 
 # -- the run ---------------------------------------------------------------------------------
 @njit(cache=True)
-def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, ph, sw, tot):
+def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, virtual, ph, sw, tot):
     """Flow from (x0, v0) to the ``returns``-th section crossing (returns = 0: for ``horizon``).
 
     Fills ``ph`` (phases), ``sw`` (switches) and ``tot`` (layout ``T_*``);
-    ``quads`` False leaves the work integrals out (zeros).  Returns a status (``OK``, ``NO_RETURN``: the horizon came first, ``FULL``:
+    ``quads`` False leaves the work integrals out (zeros) and the smallest
+    V_r inside slip unrecorded.  ``virtual``: slip on through V_r = 0 in the
+    same direction (the slip field continued: no switches), for grazing
+    functions that stay smooth on both sides of a touch.  Returns a status (``OK``, ``NO_RETURN``: the horizon came first, ``FULL``:
     more phases than rows, ``ZERO_PHASES``, ``STEP_FAIL``, ``NOT_FINITE``).
     """
     res = p[RESULTANT] != 0.0
@@ -622,7 +665,7 @@ def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, ph, sw, t
                     return STEP_FAIL
                 continue
             # accepted: the first event inside it
-            th_sw = _first_root(y, hh, 0, d, sig, fresh, ind, zeta, vb, p, code, K, tmp, out, y1, t)
+            th_sw = -1.0 if virtual else _first_root(y, hh, 0, d, sig, fresh, ind, zeta, vb, p, code, K, tmp, out, y1, t)
             th_z = _first_root(y, hh, 1, d, sig, zfresh, ind, zeta, vb, p, code, K, tmp, out, y1, t)
             kind = -1
             th = hh
@@ -633,12 +676,12 @@ def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, ph, sw, t
             if kind >= 0:
                 dop_step(y, th, d, ind, zeta, vb, p, code, K, tmp, y1)
                 hh = th
+            if quads:
+                _track_min(y, y1, hh, d, ind, zeta, vb, p, code, K, tmp, out, M, tot, t)
             for i in range(n_act):
                 y[i] = y1[i]
             t += hh
             vr = d * (vb - y[IV])
-            if vr < tot[T_VRMIN]:
-                tot[T_VRMIN] = vr
             fac = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err ** (-1.0 / 8.0))
             if kind < 0:
                 for i in range(n_act):

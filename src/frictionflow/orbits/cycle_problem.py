@@ -159,3 +159,59 @@ class CycleProblem:
             return previous
         t /= n
         return t if t @ previous >= 0 else -t
+
+    # -- exact locations of events (compiled engine; None where it does not apply) ------------
+    @property
+    def locatable(self) -> bool:
+        """Can grazing and fold points be located by Newton on the compiled engine?"""
+        return supports(self.law) and param_code(self.law, self.param) is not None
+
+    def refine_grazing(self, a: Solution, b: Solution, guess: float) -> float | None:
+        """lambda of the grazing between a and b (one has a stick phase): Newton from the slip-only side."""
+        if not self.locatable:
+            return None
+        from .sensitivity import locate_grazing
+
+        s = b if a.has_stick else a
+        try:
+            _, lam = locate_grazing(self.model, self.law, self.param, s.x, guess, returns=self.returns)
+        except (RuntimeError, ValueError, np.linalg.LinAlgError):
+            return None
+        span = abs(b.lam - a.lam) + 1e-9 * self.sl
+        return lam if min(a.lam, b.lam) - span <= lam <= max(a.lam, b.lam) + span else None
+
+    def refine_stick_slip_end(self, a: Solution, direction: float, step: float) -> float | None:
+        """lambda beyond the stick-slip cycle a (going ``direction``) where it grazes and ceases to exist."""
+        if not self.locatable or not a.has_stick:
+            return None
+        from .sensitivity import stick_slip_grazing, stick_slip_margin
+
+        def g(lam: float) -> float:
+            return stick_slip_margin(*with_param(self.model, self.law, self.param, lam), self.param)[0]
+
+        try:
+            if not g(a.lam) < 0.0:
+                return None
+            lo = a.lam
+            for k in range(1, 40):
+                hi = a.lam + direction * step * k
+                if not (self.lo <= hi <= self.hi):
+                    return None
+                if g(hi) > 0.0:
+                    return stick_slip_grazing(self.model, self.law, self.param, min(lo, hi), max(lo, hi))
+                lo = hi
+        except (RuntimeError, ValueError):
+            return None
+        return None
+
+    def refine_fold(self, s: Solution) -> float | None:
+        """lambda of the smooth fold of cycles near s (P = X, P' = 1 by Newton)."""
+        if not self.locatable:
+            return None
+        from .sensitivity import locate_fold
+
+        try:
+            _, lam = locate_fold(self.model, self.law, self.param, s.x, s.lam, returns=self.returns)
+        except (RuntimeError, ValueError, np.linalg.LinAlgError):
+            return None
+        return lam if abs(lam - s.lam) <= 1e-3 * self.sl else None

@@ -68,6 +68,9 @@ class SensitiveSegment(Segment):
     x_min: float = math.nan
     dx_min: np.ndarray | None = None
     grazes: int = 0
+    vr_min: float = math.inf  # the smallest V_r = d (V_b - X') at a maximum of d X' inside slip
+    vr_x: float = math.nan  # X there
+    dvr_min: np.ndarray | None = None  # its derivatives with respect to (X0, V0, lambda)
 
     def section_columns(self) -> np.ndarray:
         """d (X1, T) / d (X0, V0, lambda) when the end is the return to X' = 0 (2 x 3).
@@ -84,7 +87,8 @@ class SensitiveSegment(Segment):
 class CompiledFlow:
     """Flow maps of one (model, law), derivatives with respect to ``param`` included."""
 
-    def __init__(self, model: BeltOscillator, law: FrictionLaw, param: str | None = None, rtol: float = 1e-11) -> None:
+    def __init__(self, model: BeltOscillator, law: FrictionLaw, param: str | None = None, rtol: float = 1e-11,
+                 virtual: bool = False) -> None:
         if model.forced:
             raise ValueError("the compiled orbit engine is for the autonomous system (fex = 0)")
         if not supports(law):
@@ -101,6 +105,7 @@ class CompiledFlow:
         self.zeta, self.vb = float(model.zeta), float(model.vb)
         self.p = np.ascontiguousarray(law.kernel_params(), dtype=float)
         self.rtol = rtol
+        self.virtual = virtual  # slip on through V_r = 0 (no switches): the smooth continuation past a touch
         self._ph = np.empty((64, fm.N_PH))
         self._sw = np.empty((64, fm.N_SW))
         self.tot = np.empty(fm.N_TOT)
@@ -114,7 +119,7 @@ class CompiledFlow:
         horizon = min(duration, max_time)
         while True:
             status = fm.flow_map(float(y0[0]), float(y0[1]), self.zeta, self.vb, self.p, self.code, int(returns), horizon,
-                                 self.rtol, quads, self._ph, self._sw, self.tot)
+                                 self.rtol, quads, self.virtual, self._ph, self._sw, self.tot)
             if status != fm.FULL:
                 break
             n = 4 * self._ph.shape[0]
@@ -165,6 +170,9 @@ class CompiledFlow:
             x_min=float(tot[fm.T_XMIN]),
             dx_min=tot[fm.T_DXMIN0:fm.T_DXMIN2 + 1].copy(),
             grazes=int(tot[fm.T_GRAZE]),
+            vr_min=float(tot[fm.T_VRMIN]),
+            vr_x=float(tot[fm.T_VRX]),
+            dvr_min=tot[fm.T_DVR0:fm.T_DVR2 + 1].copy(),
         )
 
     def poincare(self, x: float, returns: int = 1) -> tuple[float, float, float, float]:
