@@ -370,6 +370,28 @@ def _noise(v, vb):
 
 
 @njit(cache=True)
+def _extremum_theta(y, h, th, d, ind, zeta, vb, p, code, K, tmp, out, t):
+    """theta in (0, h) where X'' = 0 on the step from y (an extreme of X'), by Newton from ``th``; state in ``out``.
+
+    d X''/dtau = -X' - (2 zeta + F') X''.
+    """
+    for _ in range(20):
+        dop_step(y, th, d, ind, zeta, vb, p, code, K, tmp, out)
+        a = accel(d, out[IX], out[IV], zeta, vb, p)
+        ad = -out[IV] - (2.0 * zeta + slip_slope(p, d * (vb - out[IV]))) * a
+        if ad == 0.0:
+            break
+        step = -a / ad
+        nxt = min(max(th + step, 0.0), h)
+        if abs(nxt - th) <= 4.0 * EPS * (abs(t) + h):
+            th = nxt
+            break
+        th = nxt
+    dop_step(y, th, d, ind, zeta, vb, p, code, K, tmp, out)
+    return th
+
+
+@njit(cache=True)
 def _first_root(y, h, kind, d, sig, fresh, ind, zeta, vb, p, code, K, tmp, out, y1, t):
     """theta in (0, h] where event ``kind`` first happens in the step to y1 (-1: none)."""
     g0 = _g(y, kind, d, sig, vb)
@@ -381,13 +403,17 @@ def _first_root(y, h, kind, d, sig, fresh, ind, zeta, vb, p, code, K, tmp, out, 
     m1 = _g_rate(accel(d, y1[IX], y1[IV], zeta, vb, p), kind, d, sig) * h
     if g1 > 0.0:
         s, val = _hermite_min(g0, g1, m0, m1)
-        if s < 0.0 or val >= -noise:
+        # no interior dip that could reach 0 (a phase just leaving the surface: only a clear one)
+        if s < 0.0 or val >= (-noise if fresh else 0.05 * min(g0, g1) + noise):
             return -1.0
-        dop_step(y, s * h, d, ind, zeta, vb, p, code, K, tmp, out)
+        # the dip's bottom on the scheme's own steps (the cubic is only a sketch of it)
+        th = _extremum_theta(y, h, s * h, d, ind, zeta, vb, p, code, K, tmp, out, t)
+        if th <= 0.0 or th >= h:
+            return -1.0  # the lowest point is an end of the step: no dip inside
         gm = _g(out, kind, d, sig, vb)
         if gm > 0.0:
             return -1.0  # a near miss of the scheme's own solution
-        hi, ghi = s * h, gm
+        hi, ghi = th, gm
     else:
         hi, ghi = h, g1
     lo, glo = 0.0, g0
@@ -423,20 +449,9 @@ def _track_min(y, y1, h, d, ind, zeta, vb, p, code, K, tmp, out, M, tot, t):
     s, val = _hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
     if s < 0.0 or val > tot[T_VRMIN] + 1e-3 * (abs(vb) + abs(y[IV])):
         return
-    th = s * h
-    for _ in range(20):
-        dop_step(y, th, d, ind, zeta, vb, p, code, K, tmp, out)
-        a = accel(d, out[IX], out[IV], zeta, vb, p)
-        ad = -out[IV] - (2.0 * zeta + slip_slope(p, d * (vb - out[IV]))) * a
-        if ad == 0.0:
-            break
-        step = -a / ad
-        th = min(max(th + step, 0.0), h)
-        if abs(step) <= 4.0 * EPS * (abs(t) + h):
-            break
+    th = _extremum_theta(y, h, s * h, d, ind, zeta, vb, p, code, K, tmp, out, t)
     if th <= 0.0 or th >= h:
         return  # the smallest value is at an end of the step: no interior extremum (a tangential start)
-    dop_step(y, th, d, ind, zeta, vb, p, code, K, tmp, out)
     vr = d * (vb - out[IV])
     if not vr < min(g0, g1) - _noise(out[IV], vb):
         return  # no lower than the ends: a touch at a phase start, not an excursion's extremum

@@ -199,9 +199,12 @@ class Tracer:
                         continue  # back onto the piece of branch just traced
 
                     t_new = p.tangent(s, away / np.linalg.norm(away))
-                    found = [Event("grazing", a.lam, {"stick_phase": "appears" if s.has_stick else "vanishes", "corner": True})]
+                    exact = p.refine_grazing(a, s, a.lam)
+                    lam_g = a.lam if exact is None else exact
+                    found = [Event("grazing", lam_g, {"stick_phase": "appears" if s.has_stick else "vanishes", "corner": True,
+                                                      "refined": exact is not None})]
                     if t_new[1] * t[1] < 0:
-                        found.append(Event("fold", a.lam, {"smooth": False, "at": "grazing"}))
+                        found.append(Event("fold", lam_g, {"smooth": False, "at": "grazing"}))
                     return s, t_new, found
         return None
 
