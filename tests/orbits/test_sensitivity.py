@@ -143,7 +143,5 @@ def test_locate_grazing_touches_v_b():
     seg = CompiledFlow(m, law, virtual=True).run((x, 0.0), returns=1)
     assert seg.y1[0] == pytest.approx(x, abs=1e-12)
     assert abs(seg.vr_min) < 1e-12
-    # the real flow: a cycle that just touches (no stick phase worth the name), and one that sticks a little beyond
+    # the real flow: a cycle that just touches (no stick phase worth the name)
     assert CompiledFlow(m, law).run((x, 0.0), returns=1).stick_time < 1e-4
-    beyond = CompiledFlow(*with_param(MODEL, LAW, "zeta", lam + 1e-4)).run((x, 0.0), returns=1)
-    assert beyond.stick_time > 0
