@@ -85,28 +85,36 @@ def orbit_derivatives(model: BeltOscillator, law: FrictionLaw, param: str, x0: f
 
 
 # -- folds -------------------------------------------------------------------------------------
-def _map(model, law, param, lam, x, returns):
+def _map(model, law, param, lam, x, returns, virtual=False):
     m, lw = with_param(model, law, param, lam)
-    return CompiledFlow(m, lw, param=param).poincare(x, returns)
+    return CompiledFlow(m, lw, param=param, virtual=virtual).poincare(x, returns)
 
 
 def locate_fold(model: BeltOscillator, law: FrictionLaw, param: str, x: float, lam: float, *, returns: int = 1,
-                tol: float = 1e-13, max_iter: int = 30) -> tuple[float, float]:
-    """(X, lambda) of the fold of cycles near (x, lam): P = X and P' = 1, by Newton."""
+                tol: float = 1e-13, max_iter: int = 30, virtual: bool = False) -> tuple[float, float]:
+    """(X, lambda) of the fold of cycles near (x, lam): P = X and P' = 1, by Newton.
+
+    ``virtual``: of the slip-only family continued through V_r = 0 (no sticking), past where it touches.
+    """
     sx = max(law.fs, abs(model.vb), 1e-12)
+    _map_ = lambda lam_, x_: _map(model, law, param, lam_, x_, returns, virtual)  # noqa: E731
+    best = math.inf
     for _ in range(max_iter):
-        px, dp, dpl, _ = _map(model, law, param, lam, x, returns)
+        px, dp, dpl, _ = _map_(lam, x)
         F = np.array([px - x, dp - 1.0])
         hx = 1e-6 * sx
         hl = 1e-6 * max(abs(lam), 1e-6)
-        dpxx = (_map(model, law, param, lam, x + hx, returns)[1] - _map(model, law, param, lam, x - hx, returns)[1]) / (2 * hx)
-        dpxl = (_map(model, law, param, lam + hl, x, returns)[1] - _map(model, law, param, lam - hl, x, returns)[1]) / (2 * hl)
+        dpxx = (_map_(lam, x + hx)[1] - _map_(lam, x - hx)[1]) / (2 * hx)
+        dpxl = (_map_(lam + hl, x)[1] - _map_(lam - hl, x)[1]) / (2 * hl)
         J = np.array([[dp - 1.0, dpl], [dpxx, dpxl]])
         step = np.linalg.solve(J, -F)
         x += float(step[0])
         lam += float(step[1])
         if abs(step[1]) <= tol * max(abs(lam), 1e-12) and abs(step[0]) <= 1e-12 * sx:
             return x, lam
+        best = min(best, abs(step[1]) / max(abs(lam), 1e-12))
+    if best <= 1e-10:  # steps stalled at the noise of the differenced second derivatives
+        return x, lam
     raise RuntimeError(f"the fold did not converge near {param}={lam:.10g}")
 
 
