@@ -144,7 +144,7 @@ class StabilityChart(Summarized):
         ds.attrs.update({"x_param": self.x_param, "y_param": self.y_param,
                          "codim2": str([p.to_dict() for p in self.codim2]), "params": str(self.params)})
         if self.sweep is not None:
-            sw = self.sweep.rename({self.x_param: f"sweep_{self.x_param}"}) if self.x_param in self.sweep.dims else self.sweep
+            sw = self.sweep.rename({d: f"sweep_{d}" for d in self.sweep.dims})
             for k, v in sw.data_vars.items():
                 ds[f"sweep_{k}"] = v
         return ds
@@ -461,3 +461,49 @@ def stability_chart(
         codim += fg
     return StabilityChart(x_param, y_param, xs, (lo, hi), {**model.report(), **law.as_dict()}, out_curves, codim,
                           sweep=sweep, heat=heat if sweep is not None else "")
+
+
+def sweep_config(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_range,
+                 shape: tuple[int, int], t_end: float = 500.0) -> dict[str, Any]:
+    """The config of a :func:`frictionflow.sweep.run_sweep` over the chart's plane (the other parameters fixed)."""
+    fixed = {k: v for k, v in {**model.report(), **law.as_dict()}.items() if k not in (x_param, y_param)}
+    return {**fixed, "t_end": float(t_end), "grid": {
+        x_param: {"start": float(min(x_range)), "stop": float(max(x_range)), "num": int(shape[0])},
+        y_param: {"start": float(min(y_range)), "stop": float(max(y_range)), "num": int(shape[1])}}}
+
+
+def stability_map(
+    model: BeltOscillator,
+    law: FrictionLaw,
+    x_param: str,
+    x_values,
+    y_param: str,
+    y_range: tuple[float, float],
+    *,
+    sweep_shape: tuple[int, int] | None = None,
+    sweep_out: Any = None,
+    t_end: float = 500.0,
+    heat: str = "R_c",
+    **kw: Any,
+) -> StabilityChart:
+    """:func:`stability_chart` with a heat map from a sweep of simulations over the same plane.
+
+    ``sweep_shape`` (n_x, n_y): the sweep's grid (None: no sweep); it is
+    written to ``sweep_out`` (.zarr or .nc; default a temporary .nc) by
+    :func:`frictionflow.sweep.run_sweep` and ``heat`` (a sweep variable such as R_c or
+    TR_B) is drawn under the curves.  Other keywords go to :func:`stability_chart`.
+    """
+    sweep = None
+    if sweep_shape is not None:
+        import tempfile
+        from pathlib import Path
+
+        from ..sweep import VARIABLES, run_sweep
+
+        names = [v[0] for v in VARIABLES]
+        if heat not in names:
+            raise ValueError(f"heat must be a sweep variable ({', '.join(names)}), got {heat!r}")
+        cfg = sweep_config(model, law, x_param, (x_values[0], x_values[-1]), y_param, y_range, sweep_shape, t_end)
+        out = sweep_out if sweep_out is not None else Path(tempfile.mkdtemp(prefix="ff_map_")) / "sweep.nc"
+        sweep = run_sweep(cfg, out).load()
+    return stability_chart(model, law, x_param, x_values, y_param, y_range, sweep=sweep, heat=heat, **kw)
