@@ -18,12 +18,14 @@ or for a fixed time, and returns, besides the end state,
 
 Slip phases are integrated by the 8th-order Dormand-Prince pair DOP853 (the
 coefficients of SciPy's ``solve_ivp``) with the tangent vectors and the
-quadratures; the error is controlled on the state and its tangents.  Every
-switch V_r = 0 and every zero of X' is a root of the scheme's own solution:
-the step is retaken from its start with lengths theta found by false
-position on the event function of the step of length theta (as in
-:mod:`.tangent`), and a cubic Hermite check finds two crossings inside one
-step.  Stick phases (X' = V_b while |F_e| < F_s) are closed forms.
+quadratures; the error is controlled on the state and the monodromy only,
+so the steps (and the map) do not depend on which parameter is
+differentiated.  Every switch V_r = 0 and every zero of X' is a root of the
+scheme's own solution: the step is retaken from its start with lengths theta
+found by Newton (false position as a fallback) on the event function of the
+step of length theta (as in :mod:`.tangent`); a cubic Hermite sketch of the
+step flags a dip that may touch zero inside it, whose bottom is then located
+on the scheme's own steps (Newton on X'' = 0).  Stick phases (X' = V_b while |F_e| < F_s) are closed forms.
 
 Derivatives across switches
 ---------------------------
@@ -76,7 +78,8 @@ IX, IV, J00, J10, J01, J11, XIX, XIV = range(8)
 QDV = 8  # W_dv, then d/dX0, d/dV0, d/dlambda of the piece
 QFIN = 12  # W_fin, the same
 NY = 16
-N_ERR = 8  # components under error control
+N_MAP = 8  # the state, the monodromy and xi: what the map and its derivatives need
+N_ERR = 6  # components under error control: the state and the monodromy (the steps do not depend on lambda's choice)
 
 #: ``tot`` layout (the run's summary)
 (T_NPH, T_NSW, T_RET, T_TIME, T_X, T_V, T_FX, T_FV, T_M00, T_M01, T_M02, T_M10, T_M11, T_M12,
@@ -569,7 +572,7 @@ def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, virtual, 
     y1 = np.zeros(NY + 1)
     out = np.zeros(NY + 1)
     tmp = np.zeros(NY + 1)
-    n_act = NY if quads else N_ERR
+    n_act = NY if quads else N_MAP
     y[NY] = y1[NY] = out[NY] = tmp[NY] = n_act
     K = np.empty((N_STAGES + 1, NY))
     M = np.zeros((2, 3))

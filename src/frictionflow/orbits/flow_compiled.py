@@ -79,8 +79,9 @@ class SensitiveSegment(Segment):
         moves by X' dT = 0 on the section.
         """
         a = float(self.f_end[1])
-        dX = self.M[0] - self.f_end[0] * self.M[1] / a
-        dT = -self.M[1] / a
+        fx = float(self.f_end[0])  # X' at the end: 0 on the section
+        dX = self.M[0] - fx * self.M[1] / a if fx != 0.0 else self.M[0].copy()
+        dT = -self.M[1] / a if a != 0.0 else np.full(3, np.nan)  # a tangential return: no return-time derivative
         return np.vstack([dX, dT])
 
 
@@ -179,10 +180,11 @@ class CompiledFlow:
         """(P(x), P'(x), dP/dlambda, period) of the section map from (x, 0), without building a segment."""
         self.raw((x, 0.0), returns=returns, quads=False)
         tot = self.tot
-        a = tot[fm.T_FV]
+        a, fx = tot[fm.T_FV], tot[fm.T_FX]
         px = tot[fm.T_X]
-        dp = tot[fm.T_M00] - tot[fm.T_FX] * tot[fm.T_M10] / a
-        dl = tot[fm.T_M02] - tot[fm.T_FX] * tot[fm.T_M12] / a
+        # on the section X' = 0 the end-time shift moves X by X' dT = 0
+        dp = tot[fm.T_M00] - (fx * tot[fm.T_M10] / a if fx != 0.0 else 0.0)
+        dl = tot[fm.T_M02] - (fx * tot[fm.T_M12] / a if fx != 0.0 else 0.0)
         return float(px), float(dp), float(dl), float(tot[fm.T_TIME])
 
 
