@@ -85,3 +85,22 @@ def test_continue_refuses_bad_input(capsys):
     ):
         code, out, err = run(capsys, "continue", *COULOMB, *bad)
         assert code == 2 and err.startswith("error:") and out == "", bad
+
+
+def test_continue_reports_monitor_extrema(capsys):
+    code, out, err = run(capsys, "continue", "--friction", "cubic", "--fs", "0.04", "--k1", "0.3", "--k3", "10", "--zeta", "0.05",
+                         "--param", "vb", "--from", "0.01", "--to", "0.3", "--seeds", "hopf", "--monitor", "R_c,TR_B", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    (rc,) = [e for e in d["extrema"] if e["monitor"] == "R_c"]
+    # the largest R_c of the branch's points, and the refined one at least as large
+    pts = [p for b in d["branches"] for p in b if p["kind"] == "periodic" and p["R_c"] is not None]
+    assert rc["kind"] == "max" and rc["monitor_value"] >= max(p["R_c"] for p in pts) - 1e-9
+    (tr,) = [e for e in d["extrema"] if e["monitor"] == "TR_B"]
+    graze = next(b for b in d["bifurcations"] if b["type"] == "grazing")
+    assert tr["value"] == pytest.approx(graze["value"], abs=1e-12)
+
+
+def test_continue_refuses_an_unknown_monitor(capsys):
+    code, out, err = run(capsys, "continue", *COULOMB, "--param", "zeta", "--from", "0", "--to", "0.1", "--monitor", "nonsense")
+    assert code == 2 and "--monitor" in err

@@ -49,6 +49,7 @@ from . import basins as _basins  # noqa: E402,F401
 from . import response as _response  # noqa: E402,F401
 from . import lyapunov as _lyapunov  # noqa: E402,F401
 from . import forced_orbit as _forced_orbit  # noqa: E402,F401
+from . import map as _map  # noqa: E402,F401
 
 #: one line per command for the command list (click would cut the docstring at its first period)
 SHORT_HELP = {
@@ -61,6 +62,7 @@ SHORT_HELP = {
     "lyapunov": "Lyapunov exponents of the stick-slip flow, forced or not.",
     "forced-orbit": "Periodic orbit of the forced oscillator and its Floquet multipliers.",
     "forced-continue": "Continue forced periodic orbits in Omega or F_ex, with bifurcations.",
+    "map": "Stability chart in two parameters: Hopf, grazing and fold curves.",
 }
 
 

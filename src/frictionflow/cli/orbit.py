@@ -104,12 +104,20 @@ def continue_(
     max_period: float = typer.Option(500.0, "--max-period", help="A branch ends (period_blowup) once its period exceeds this."),
     step: float = typer.Option(0.02, "--step", help="First arclength step, relative to the interval."),
     sweep: int = typer.Option(0, "--sweep", help="Overlay this many brute-force simulations across the interval."),
+    monitor: str = typer.Option("", "--monitor", help="Locate the extrema of these per-orbit quantities along the branches "
+                                "(comma-separated: P_fin, P_dv, P_df, R_c, R_f, P_belt, P_heat, TR_B, amplitude, stick_fraction, period)."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (branches, bifurcations) to stdout."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Bifurcation diagram and power along the branches (.png, .pdf, .svg)."),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Continue equilibria and periodic orbits in one parameter; report Hopf points, folds, grazing and power along branches."""
     from ..orbits import continuation
+    from ..orbits.monitors import MONITORS, branch_extrema
+
+    monitors = tuple(m.strip() for m in monitor.split(",") if m.strip())
+    for m in monitors:
+        if m not in MONITORS:
+            raise ValueError(f"--monitor must be among {', '.join(MONITORS)}, got {m!r}")
 
     cfg = _config(config, params)
     seed_list = tuple(s.strip() for s in seeds.split(",") if s.strip())
@@ -126,6 +134,8 @@ def continue_(
 
         plot_bifurcation(result, plot, name="--plot")
     report = result.to_dict()
+    if monitors:
+        report["extrema"] = [e.to_dict() for m in monitors for e in branch_extrema(result, m, model, law)]
     if as_json:
         _dump(report)
     else:
@@ -177,3 +187,10 @@ def _print_continuation(report: dict[str, Any]) -> None:
         detail = ", ".join(f"{k}={v}" for k, v in b.items() if k not in ("type", "value", "branch"))
         bt.add_row(b["type"], f"{b['value']:.8g}", str(b["branch"]), detail)
     console.print(bt)
+    if report.get("extrema"):
+        et = Table(title="extrema of monitors along the branches")
+        for col in ("monitor", "kind", "value", "monitor value", "branch", "method"):
+            et.add_column(col)
+        for e in report["extrema"]:
+            et.add_row(e["monitor"], e["kind"], f"{e['value']:.10g}", f"{e['monitor_value']:.8g}", str(e["branch"]), e["method"])
+        console.print(et)

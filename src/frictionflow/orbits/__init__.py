@@ -7,7 +7,12 @@
 (True, True)
 
 Modules: :mod:`.hybrid` (phases, switches, saltation matrices),
-:mod:`.flow_exact` / :mod:`.flow_smooth` (flow maps with their Jacobians),
+:mod:`.flow_exact` / :mod:`.flow_compiled` / :mod:`.flow_smooth` (flow maps
+with their Jacobians: closed forms, compiled DOP853 with parameter
+derivatives and work integrals, solve_ivp), :mod:`.sensitivity` (exact slopes
+along branches; folds and grazings located by Newton), :mod:`.monitors`
+(extrema of per-orbit quantities along branches, continued in a second
+parameter), :mod:`.chart` (two-parameter stability charts),
 :mod:`.shooting` (Newton on the Poincare map), :mod:`.floquet`,
 :mod:`.equilibria`, :mod:`.arclength` (pseudo-arclength), :mod:`.continuation`,
 :mod:`.brute_force` (simulations to overlay), :mod:`.plotting`; the forced
@@ -24,11 +29,26 @@ from .hybrid import Phase, Segment, Switch, saltation
 from .parameters import parameter_names, with_param
 from .shooting import PeriodicOrbit, ShootingError, find_orbit, shoot
 from .brute_force import sweep
+from .chart import StabilityChart, stability_chart, stability_map
+from .monitors import MONITORS, Extremum, branch_extrema, continue_extremum
+from .sensitivity import OrbitDerivatives, locate_fold, locate_grazing, orbit_derivatives, stick_slip_grazing
 
 __all__ = [
     "Bifurcation",
     "ForcedBranch",
     "ForcedOrbit",
+    "Extremum",
+    "MONITORS",
+    "OrbitDerivatives",
+    "StabilityChart",
+    "branch_extrema",
+    "continue_extremum",
+    "locate_fold",
+    "locate_grazing",
+    "orbit_derivatives",
+    "stability_chart",
+    "stability_map",
+    "stick_slip_grazing",
     "Branch",
     "BranchPoint",
     "ContinuationResult",

@@ -84,12 +84,15 @@ class Tracer:
                 r2 = float(t @ (p.w(s) - w_pred))
                 if p.converged(s) and abs(r2) < 1e-9:
                     s.iterations = k
-                    s.dHl = dHl if math.isfinite(dHl) else p.d_lambda(s)
+                    if not math.isfinite(s.dHl):  # exact from the compiled engine, else the chord's
+                        s.dHl = dHl if math.isfinite(dHl) else p.d_lambda(s)
                     return s
                 if k >= 2 and abs(s.H) > 0.5 * last:
                     return None
                 last = abs(s.H)
-                if not math.isfinite(dHl):
+                if math.isfinite(s.dHl):
+                    dHl = s.dHl  # exact: Newton rather than a chord
+                elif not math.isfinite(dHl):
                     dHl = p.d_lambda(s)
             except (RuntimeError, ValueError):
                 return None
@@ -122,6 +125,7 @@ class Tracer:
             sharp = s is not None and float(t_new @ t) < 0.5 and h > 8 * self.h_min and s.seg.modes == a.seg.modes
             if s is None or sharp:
                 h *= 0.5
+                self._last_t = t
                 if h < self.h_min:
                     crossed = self._cross_corner(a, t, sols[:-1])
                     if crossed is None:
@@ -195,9 +199,12 @@ class Tracer:
                         continue  # back onto the piece of branch just traced
 
                     t_new = p.tangent(s, away / np.linalg.norm(away))
-                    found = [Event("grazing", a.lam, {"stick_phase": "appears" if s.has_stick else "vanishes", "corner": True})]
+                    exact = p.refine_grazing(a, s, a.lam)
+                    lam_g = a.lam if exact is None else exact
+                    found = [Event("grazing", lam_g, {"stick_phase": "appears" if s.has_stick else "vanishes", "corner": True,
+                                                      "refined": exact is not None})]
                     if t_new[1] * t[1] < 0:
-                        found.append(Event("fold", a.lam, {"smooth": False, "at": "grazing"}))
+                        found.append(Event("fold", lam_g, {"smooth": False, "at": "grazing"}))
                     return s, t_new, found
         return None
 
@@ -205,7 +212,11 @@ class Tracer:
         """Why the branch could not be continued past a: a switch turning tangential, or unknown."""
         tr = min((sw.transversality for sw in a.seg.switches), default=1.0)
         if tr < 1e-2:
-            events.append(Event("grazing", a.lam, {"ends_branch": True, "transversality": tr}))
+            # a stick-slip cycle ends where its slip excursion touches V_r = 0: the root of that margin past a
+            t = getattr(self, "_last_t", None)
+            direction = math.copysign(1.0, t[1]) if t is not None and t[1] != 0 else 1.0
+            exact = self.p.refine_stick_slip_end(a, direction, 1e-3 * self.p.sl)
+            events.append(Event("grazing", a.lam if exact is None else exact, {"ends_branch": True, "transversality": tr, "refined": exact is not None}))
             return "grazing"
         events.append(Event("branch_end", a.lam, {"reason": "the corrector fails beyond this point"}))
         return "branch end"
@@ -220,7 +231,9 @@ class Tracer:
         out = []
         if a.has_stick != b.has_stick:
             lam = self._bisect(a, ta, h, lambda s: s.has_stick == a.has_stick)
-            out.append(Event("grazing", lam, {"stick_phase": "appears" if b.has_stick else "vanishes"}))
+            exact = self.p.refine_grazing(a, b, lam)
+            detail = {"stick_phase": "appears" if b.has_stick else "vanishes", "refined": exact is not None}
+            out.append(Event("grazing", lam if exact is None else exact, detail))
         elif a.slip_modes != b.slip_modes:
             lam = self._bisect(a, ta, h, lambda s: s.slip_modes == a.slip_modes)
             out.append(Event("switching", lam, {"before": list(a.seg.modes), "after": list(b.seg.modes)}))
@@ -228,7 +241,9 @@ class Tracer:
             smooth = a.has_stick == b.has_stick and (a.mu - 1.0) * (b.mu - 1.0) < 0
             if smooth:
                 s = self._secant(a, ta, h, lambda s: s.mu - 1.0, a.mu - 1.0, b.mu - 1.0)
-                out.append(Event("fold", s.lam if s else 0.5 * (a.lam + b.lam), {"smooth": True, "multiplier": s.mu if s else None, "refined": s is not None}))
+                exact = self.p.refine_fold(s if s is not None else a)
+                lam = exact if exact is not None else (s.lam if s else 0.5 * (a.lam + b.lam))
+                out.append(Event("fold", lam, {"smooth": True, "multiplier": s.mu if s else None, "refined": s is not None or exact is not None}))
             else:
                 out.append(Event("fold", out[-1].value if out else 0.5 * (a.lam + b.lam), {"smooth": False}))
         return out

@@ -9,9 +9,13 @@ equilibrium along the section, and solves
 Dividing by xi removes the trivial solution xi = 0 (the equilibrium), so a
 branch born at a Hopf point starts regularly at (0, lambda_H) and Newton
 cannot slide onto the equilibrium.  dH/dxi = (P' - 1 - H) / xi comes from
-the monodromy (P' is the nontrivial multiplier); dH/dlambda by a forward
-difference (the switching surfaces move with lambda, so parameter
-sensitivities would need their own saltation terms for little gain).
+the monodromy (P' is the nontrivial multiplier).  dH/dlambda: on the
+compiled engine (smooth laws) exactly, from the parameter column of the
+variational equations with its saltation terms (:mod:`frictionflow.core.flowmap`),
+
+    dH/dlambda = [(P' - 1) dX*/dlambda + dP/dlambda] / xi ;
+
+on the closed-form engine by a forward difference.
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ import numpy as np
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .flow import make_flow
+from .flow_compiled import CompiledFlow, equilibrium_slope, param_code, supports
 from .hybrid import Segment
 from .parameters import with_param
 from .shooting import H_TOL, default_tol, newton
@@ -86,12 +91,23 @@ class CycleProblem:
         x_ref = float(law.sliding_equilibrium(model.vb))
         return model, law, x_ref
 
+    @property
+    def exact_lambda(self) -> bool:
+        """Is dH/dlambda taken from the variational equations (compiled engine), not a difference?"""
+        return supports(self.law) and not self.law.piecewise_constant and param_code(self.law, self.param) is not None
+
+    def flow(self, model: BeltOscillator, law: FrictionLaw):
+        """The flow engine at one parameter value (the compiled one differentiates by ``param``)."""
+        if self.exact_lambda:
+            return CompiledFlow(model, law, param=self.param)
+        return make_flow(model, law)
+
     def evaluate(self, xi: float, lam: float) -> Solution:
-        """H and dH/dxi at (xi, lambda); raises RuntimeError/ValueError where undefined."""
+        """H and dH/dxi at (xi, lambda) (and dH/dlambda where exact); raises RuntimeError/ValueError where undefined."""
         model, law, x_ref = self.system(lam)
         deflate = math.isfinite(x_ref)
         x = (x_ref if deflate else 0.0) + xi
-        seg = make_flow(model, law).run((x, 0.0), returns=self.returns)
+        seg = self.flow(model, law).run((x, 0.0), returns=self.returns)
         G = float(seg.y1[0] - x)
         dp = float(seg.section_jacobian()[0, 0])
         if deflate:
@@ -99,10 +115,20 @@ class CycleProblem:
             dH = (dp - 1.0 - H) / xi
         else:
             H, dH = G, dp - 1.0
-        return Solution(xi, lam, H, dH, seg, model, law, x, x_ref)
+        s = Solution(xi, lam, H, dH, seg, model, law, x, x_ref)
+        if self.exact_lambda:
+            dpl = float(seg.section_columns()[0, 2])
+            if deflate:
+                dxs = equilibrium_slope(model, law, self.param)
+                s.dHl = ((dp - 1.0) * dxs + dpl) / xi
+            else:
+                s.dHl = dpl
+        return s
 
     def d_lambda(self, s: Solution) -> float:
-        """dH/dlambda by a forward difference (towards the inside of the interval)."""
+        """dH/dlambda: exact on the compiled engine, else a forward difference (towards the inside of the interval)."""
+        if math.isfinite(s.dHl):
+            return s.dHl
         h = self.dlam if s.lam + self.dlam <= self.hi else -self.dlam
         return (self.evaluate(s.xi, s.lam + h).H - s.H) / h
 
@@ -114,7 +140,7 @@ class CycleProblem:
         model, law, x_ref = self.system(lam)
         deflate = math.isfinite(x_ref)
         ref = x_ref if deflate else 0.0
-        flow = make_flow(model, law)
+        flow = self.flow(model, law)
         x, _, _, it = newton(flow, ref + xi_guess, x_star=x_ref, returns=self.returns, tol_abs=self.tol_abs, max_iter=12)
         s = self.evaluate(x - ref, lam)
         s.iterations = it
@@ -133,3 +159,59 @@ class CycleProblem:
             return previous
         t /= n
         return t if t @ previous >= 0 else -t
+
+    # -- exact locations of events (compiled engine; None where it does not apply) ------------
+    @property
+    def locatable(self) -> bool:
+        """Can grazing and fold points be located by Newton on the compiled engine?"""
+        return supports(self.law) and param_code(self.law, self.param) is not None
+
+    def refine_grazing(self, a: Solution, b: Solution, guess: float) -> float | None:
+        """lambda of the grazing between a and b (one has a stick phase): Newton from the slip-only side."""
+        if not self.locatable:
+            return None
+        from .sensitivity import locate_grazing
+
+        s = b if a.has_stick else a
+        try:
+            _, lam = locate_grazing(self.model, self.law, self.param, s.x, guess, returns=self.returns)
+        except (RuntimeError, ValueError, np.linalg.LinAlgError):
+            return None
+        span = abs(b.lam - a.lam) + 1e-9 * self.sl
+        return lam if min(a.lam, b.lam) - span <= lam <= max(a.lam, b.lam) + span else None
+
+    def refine_stick_slip_end(self, a: Solution, direction: float, step: float) -> float | None:
+        """lambda beyond the stick-slip cycle a (going ``direction``) where it grazes and ceases to exist."""
+        if not self.locatable or not a.has_stick:
+            return None
+        from .sensitivity import stick_slip_grazing, stick_slip_margin
+
+        def g(lam: float) -> float:
+            return stick_slip_margin(*with_param(self.model, self.law, self.param, lam), self.param)[0]
+
+        try:
+            if not g(a.lam) < 0.0:
+                return None
+            lo = a.lam
+            for k in range(1, 40):
+                hi = a.lam + direction * step * k
+                if not (self.lo <= hi <= self.hi):
+                    return None
+                if g(hi) > 0.0:
+                    return stick_slip_grazing(self.model, self.law, self.param, min(lo, hi), max(lo, hi))
+                lo = hi
+        except (RuntimeError, ValueError):
+            return None
+        return None
+
+    def refine_fold(self, s: Solution) -> float | None:
+        """lambda of the smooth fold of cycles near s (P = X, P' = 1 by Newton)."""
+        if not self.locatable:
+            return None
+        from .sensitivity import locate_fold
+
+        try:
+            _, lam = locate_fold(self.model, self.law, self.param, s.x, s.lam, returns=self.returns)
+        except (RuntimeError, ValueError, np.linalg.LinAlgError):
+            return None
+        return lam if abs(lam - s.lam) <= 1e-3 * self.sl else None

@@ -7,6 +7,7 @@ from typing import Protocol
 
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
+from .flow_compiled import CompiledFlow, supports
 from .flow_exact import ExactFlow
 from .flow_smooth import SmoothFlow
 from .hybrid import Segment
@@ -20,14 +21,19 @@ class Flow(Protocol):
         ...
 
 
-def make_flow(model: BeltOscillator, law: FrictionLaw, *, rtol: float = 1e-11, engine: str = "auto") -> Flow:
-    """The closed-form engine for piecewise-constant laws, solve_ivp for smooth slip curves.
+def make_flow(model: BeltOscillator, law: FrictionLaw, *, rtol: float = 1e-11, engine: str = "auto", param: str | None = None) -> Flow:
+    """The closed-form engine for piecewise-constant laws, the compiled DOP853 engine for smooth ones.
 
-    ``engine="smooth"`` forces the solve_ivp engine (Coulomb only among the
-    piecewise-constant laws: Karnopp's band has no slip curve).
+    ``engine``: ``auto``; ``exact`` (closed forms); ``compiled``
+    (:mod:`.flow_compiled`: Coulomb, Stribeck, cubic, with the derivative
+    with respect to ``param``); ``smooth`` (scipy's solve_ivp, for user laws
+    and as an independent check).  ``auto`` picks exact for piecewise-constant
+    laws, compiled where the law has a compiled slip curve, else smooth.
     """
-    if engine not in ("auto", "exact", "smooth"):
-        raise ValueError(f"engine must be auto, exact or smooth, got {engine!r}")
+    if engine not in ("auto", "exact", "smooth", "compiled"):
+        raise ValueError(f"engine must be auto, exact, compiled or smooth, got {engine!r}")
     if engine == "exact" or (engine == "auto" and law.piecewise_constant):
         return ExactFlow(model, law)
+    if engine == "compiled" or (engine == "auto" and supports(law) and not model.forced):
+        return CompiledFlow(model, law, param=param, rtol=rtol)
     return SmoothFlow(model, law, rtol=rtol)

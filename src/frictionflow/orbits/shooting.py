@@ -158,6 +158,15 @@ def poincare(flow: Flow, x: float, returns: int = 1) -> tuple[Segment, float, fl
     return seg, float(seg.y1[0]), float(seg.section_jacobian()[0, 0])
 
 
+def _map(flow: Flow, x: float, returns: int) -> tuple[Segment | None, float, float]:
+    """(segment or None, P(x), P'(x)): the compiled engine's map alone, without phases or work integrals."""
+    fast = getattr(flow, "poincare", None)
+    if fast is not None:
+        px, dp, _, _ = fast(x, returns)
+        return None, px, dp
+    return poincare(flow, x, returns)
+
+
 def newton(
     flow: Flow, x: float, *, x_star: float = math.nan, returns: int = 1, tol_abs: float, max_iter: int = 40
 ) -> tuple[float, Segment, float, int]:
@@ -175,12 +184,15 @@ def newton(
             return abs(g)
         return abs(g / (xx - x_star)) if xx != x_star else math.inf
 
-    seg, px, dp = poincare(flow, x, returns)
+    seg, px, dp = _map(flow, x, returns)
     r = px - x
     damped = 0
     for it in range(max_iter + 1):
         # |G| small only because x crept onto X* is no orbit: H must be small too
         if abs(r) <= tol_abs and (not math.isfinite(x_star) or merit(r, x) <= H_TOL):
+            if seg is None:
+                seg = flow.run((x, 0.0), returns=returns)
+                r = float(seg.y1[0]) - x
             return x, seg, r, it
         if it == max_iter:
             break
@@ -193,7 +205,7 @@ def newton(
         for _ in range(_MAX_HALVINGS):  # backtrack until the merit falls
             xn = x + lam * step
             try:
-                segn, pn, dpn = poincare(flow, xn, returns)
+                segn, pn, dpn = _map(flow, xn, returns)
                 rn = pn - xn
                 mn = merit(rn, xn)
             except RuntimeError:

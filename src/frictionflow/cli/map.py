@@ -1,0 +1,112 @@
+"""``frictionflow map``: a stability chart in two parameters -- Hopf, grazing and fold curves over a sweep heat map."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, Optional
+
+import numpy as np
+import typer
+
+from ..io import check_output_path
+from ..parameters import Param
+from ..plotting import FIGURE_FORMATS
+from . import app
+from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
+
+MODEL = parameter_names(("oscillator", "law"), run=("t_end", "friction", "dimensional"))
+HELP = {"t_end": "Length of each sweep simulation (the heat map) [500].",
+        "friction": "Friction law with Coulomb's stick rule: coulomb, stribeck or cubic [stribeck]."}
+#: the command's own settings, with their ranges (bounded: the cost grows with them)
+COMMAND_PARAMETERS = {p.name: p for p in (
+    Param("x_points", "", "values of the first parameter", "run", 41, kind="int", lower=2, upper=10_000),
+    Param("scan", "", "scan points of the second parameter", "run", 201, kind="int", lower=3, upper=1_000_000),
+    Param("fold_every", "", "x values between fold seeds", "run", 2, kind="int", lower=1, upper=10_000),
+)}
+DATASET_FORMATS = (".nc", ".zarr")
+#: the command list's line (click would cut the docstring); cli.SHORT_HELP may name it too
+SHORT_HELP = "Stability chart in two parameters: Hopf, grazing and fold curves."
+
+
+def _shape(text: str) -> tuple[int, int] | None:
+    """``NXxNY`` (e.g. 40x30) or 0 for no sweep."""
+    if text.strip() in ("", "0"):
+        return None
+    try:
+        nx, ny = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise ValueError(f"--sweep must be NXxNY (e.g. 40x30) or 0, got {text!r}") from None
+    if not (2 <= nx <= 2000 and 2 <= ny <= 2000):
+        raise ValueError(f"--sweep must have 2..2000 points per axis, got {text!r}")
+    return nx, ny
+
+
+@app.command("map", short_help=SHORT_HELP)
+@with_parameters(MODEL, HELP)
+def map_(
+    params: dict[str, Any],
+    x: str = typer.Option("vb", "--x", help="First parameter (horizontal axis)."),
+    x_from: float = typer.Option(..., "--x-from", help="First value of the first parameter."),
+    x_to: float = typer.Option(..., "--x-to", help="Last value of the first parameter."),
+    x_points: int = typer.Option(41, "--x-points", help="Values of the first parameter (the curves' resolution in x)."),
+    y: str = typer.Option("zeta", "--y", help="Second parameter (vertical axis)."),
+    y_from: float = typer.Option(..., "--y-from", help="Lower end of the second parameter."),
+    y_to: float = typer.Option(..., "--y-to", help="Upper end of the second parameter."),
+    scan: int = typer.Option(201, "--scan", help="Scan points in y where sign changes are looked for (each root is then refined)."),
+    curves: str = typer.Option("hopf,grazing,fold", "--curves", help="Curves to compute: hopf, grazing, fold (comma-separated)."),
+    fold_every: int = typer.Option(2, "--fold-every", help="A continuation in y seeds fold curves at every n-th x value."),
+    sweep: str = typer.Option("0", "--sweep", help="Heat map: NXxNY simulations over the plane (e.g. 40x30); 0 for none."),
+    heat: str = typer.Option("R_c", "--heat", help="Sweep variable of the heat map (R_c, TR_B, P_fin, ...)."),
+    sweep_out: Optional[Path] = typer.Option(None, "--sweep-out", help="Keep the sweep here (.zarr or .nc) [a temporary file]."),
+    dataset: Optional[Path] = typer.Option(None, "--dataset", help="Write the curves (and the sweep) as an xarray dataset (.nc, .zarr)."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object (curves, codimension-two points) to stdout."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Stability chart: the curves over the heat map (.png, .pdf, .svg)."),
+    config: Optional[Path] = CONFIG_OPTION,
+) -> None:
+    """Stability chart in two parameters: the Hopf curve of steady sliding (with its criticality and Bautin points),
+    the grazing curve of the stick-slip cycle, fold curves of cycles and where a fold meets the grazing."""
+    from ..orbits.chart import CURVES, stability_map
+
+    for name, value in (("x_points", x_points), ("scan", scan), ("fold_every", fold_every)):
+        COMMAND_PARAMETERS[name].check(value)
+    curve_list = tuple(c.strip() for c in curves.split(",") if c.strip())
+    for c in curve_list:
+        if c not in CURVES:
+            raise ValueError(f"--curves must be among {', '.join(CURVES)}, got {c!r}")
+    shape = _shape(sweep)
+    if plot is not None:
+        check_output_path(plot, FIGURE_FORMATS, "--plot")  # before any work: a bad path writes nothing
+    if dataset is not None:
+        check_output_path(dataset, DATASET_FORMATS, "--dataset")
+    given = dict(params)
+    if given.get("friction") is None:
+        given["friction"] = "stribeck"  # the run default (karnopp) has a velocity band: no Coulomb stick rule
+    cfg = merged_config(config, given)
+    model, law, _ = cfg.build()
+    t_end = cfg.given.get("t_end", 500.0)
+    xs = np.linspace(x_from, x_to, x_points)
+    chart = stability_map(model, law, x, xs, y, (y_from, y_to), sweep_shape=shape, sweep_out=sweep_out, t_end=t_end,
+                          heat=heat, curves=curve_list, n_scan=scan, fold_every=fold_every)
+    if plot is not None:
+        from ..orbits.chart_plot import plot_chart
+
+        plot_chart(chart, plot, name="--plot")
+    if dataset is not None:
+        _write_dataset(chart.to_xarray(), dataset)
+    report = chart.to_dict()
+    if as_json:
+        print(json.dumps(report, allow_nan=False))
+    else:
+        print(repr(chart))
+
+
+def _write_dataset(ds, path: Path) -> None:
+    """NetCDF atomically (no partial file on failure); Zarr (a directory) directly."""
+    if path.suffix == ".zarr":
+        ds.to_zarr(path, mode="w")
+        return
+    from ..io import atomic_write
+
+    with atomic_write(path, "--dataset") as tmp:
+        ds.to_netcdf(tmp)

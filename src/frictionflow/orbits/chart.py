@@ -1,0 +1,509 @@
+"""Stability charts in two parameters: Hopf, grazing and fold curves, and their codimension-two points.
+
+For a grid of the first parameter (``x``), the curves are the values of the
+second (``y``) where a codimension-one condition holds, each found by a
+sign change on a scan of ``y`` and refined to rounding:
+
+* **hopf**: the sliding equilibrium loses stability, trace A = -(2 zeta + F'(V_b)) = 0
+  (brentq).  Its criticality comes from the first Lyapunov coefficient of
+  u'' + u = F(V_b - u') - F(V_b) - 2 zeta u', which is l1 = -F'''(V_b) / 16
+  (the normal form of x' = -y + f(x), y' = x has 16 l1 = f'''; here
+  f(w) = F(V_b - w) - ..., so f''' = -F'''): supercritical where F'''(V_b) > 0.
+  A sign change of l1 along the curve is a **Bautin** (generalised Hopf)
+  point, refined by brentq along the curve.
+* **grazing**: the stick-slip cycle's first slip excursion touches V_r = 0
+  (:func:`~.sensitivity.stick_slip_margin` changes sign; refined by
+  Newton with the exact slope).  On one side a stick-slip cycle exists, on
+  the other the slip excursion never returns to the belt speed.  For laws with
+  F(0+) = F_s (Stribeck, cubic) this is also where a slip-only cycle touches
+  the belt speed.
+* **fold**: folds of cycles found by one-parameter continuation in ``y`` at
+  each ``x`` and located by Newton (:func:`~.sensitivity.locate_fold`);
+  non-smooth folds at a grazing corner are kept apart (``fold_at_grazing``).
+  Where a smooth fold curve ends on the grazing curve (between two ``x``
+  where the fold is smooth on one side and gone or at the grazing on the
+  other) the **fold-grazing** point is reported at the grid resolution
+  (``located: false``).
+
+The curves are point-wise one-parameter locations on the ``x`` grid (a
+curve that turns back in ``x`` shows as two values of ``y`` at one ``x``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .._display import Row, Summarized, num
+from ..friction.base import FrictionLaw
+from ..params import BeltOscillator
+from ._json import jsonable
+from .equilibria import equilibrium
+from .parameters import get_param, with_param
+from .sensitivity import stick_slip_margin
+
+CURVES = ("hopf", "grazing", "fold")
+
+
+@dataclass
+class CurvePoint:
+    """One point of a curve: (x, y) and what else is known there."""
+
+    x: float
+    y: float
+    detail: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class Curve:
+    """A codimension-one curve in the (x, y) parameter plane."""
+
+    kind: str
+    points: list[CurvePoint]
+
+    def xy(self) -> np.ndarray:
+        return np.array([[p.x, p.y] for p in self.points]).reshape(-1, 2)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "points": [{"x": p.x, "y": p.y, **p.detail} for p in self.points]}
+
+
+@dataclass
+class Codim2:
+    """A codimension-two point: ``bautin`` (a Hopf point changing criticality) or ``fold_grazing``."""
+
+    kind: str
+    x: float
+    y: float
+    detail: dict[str, Any] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "x": self.x, "y": self.y, **self.detail}
+
+
+@dataclass(repr=False)
+class StabilityChart(Summarized):
+    """Curves in the (x, y) plane of two parameters, codimension-two points, and optionally a sweep heat map."""
+
+    x_param: str
+    y_param: str
+    x_values: np.ndarray
+    y_range: tuple[float, float]
+    params: dict[str, Any]
+    curves: list[Curve]
+    codim2: list[Codim2]
+    sweep: Any = None  # an xarray.Dataset of simulations on the (x, y) grid
+    heat: str = ""  # the sweep variable drawn under the curves
+
+    def curve(self, kind: str) -> Curve | None:
+        return next((c for c in self.curves if c.kind == kind), None)
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        rows = [
+            ("plane", f"{self.x_param} from {num(float(self.x_values[0]))} to {num(float(self.x_values[-1]))} "
+                      f"({len(self.x_values)} values) x {self.y_param} in [{num(self.y_range[0])}, {num(self.y_range[1])}]"),
+            ("curves", "; ".join(f"{c.kind} ({len(c.points)} points)" for c in self.curves) or "none"),
+            ("codim 2", "; ".join(f"{p.kind} at {self.x_param}={num(p.x)}, {self.y_param}={num(p.y)}" for p in self.codim2) or "none"),
+        ]
+        if self.sweep is not None:
+            rows.append(("heat map", f"{self.heat} from {int(np.prod([len(self.sweep[d]) for d in self.sweep[self.heat].dims]))} simulations"))
+        return "StabilityChart", rows
+
+    def to_dict(self) -> dict[str, Any]:
+        return jsonable({
+            "x_param": self.x_param, "y_param": self.y_param,
+            "x_values": self.x_values, "y_range": list(self.y_range),
+            "params": self.params,
+            "curves": [c.to_dict() for c in self.curves],
+            "codim2": [p.to_dict() for p in self.codim2],
+            "heat": self.heat or None,
+        })
+
+    def to_xarray(self):
+        """The curves as variables over (x, branch) -- y of the k-th root at each x, NaN where fewer --
+        with the sweep's variables (on its own (x, y) grid) alongside."""
+        import xarray as xr
+
+        data = {}
+        for c in self.curves:
+            per_x: dict[float, list[float]] = {}
+            for p in c.points:
+                per_x.setdefault(p.x, []).append(p.y)
+            n = max((len(v) for v in per_x.values()), default=0)
+            arr = np.full((len(self.x_values), max(n, 1)), np.nan)
+            for i, xv in enumerate(self.x_values):
+                ys = sorted(per_x.get(float(xv), []))
+                arr[i, :len(ys)] = ys
+            data[f"{c.kind}_{self.y_param}"] = ((self.x_param, f"{c.kind}_root"), arr,
+                                                 {"long_name": f"{self.y_param} on the {c.kind} curve"})
+        ds = xr.Dataset(data, coords={self.x_param: np.asarray(self.x_values, dtype=float)})
+        ds.attrs.update({"x_param": self.x_param, "y_param": self.y_param,
+                         "codim2": str([p.to_dict() for p in self.codim2]), "params": str(self.params)})
+        if self.sweep is not None:
+            sw = self.sweep.rename({d: f"sweep_{d}" for d in self.sweep.dims})
+            for k, v in sw.data_vars.items():
+                ds[f"sweep_{k}"] = v
+        return ds
+
+    def plot(self, path: Any = None):
+        """The curves over the sweep heat map (:func:`~.chart_plot.plot_chart`)."""
+        from .chart_plot import plot_chart
+
+        return plot_chart(self, path)
+
+
+# -- the Hopf curve -------------------------------------------------------------------------
+def third_derivative(law: FrictionLaw, s: float) -> float:
+    """The slip curve's third derivative at s: central second differences of its slope, Richardson-extrapolated (error ~h^4)."""
+
+    def d2(h: float) -> float:
+        return (law.slip_slope(s + h) - 2.0 * law.slip_slope(s) + law.slip_slope(s - h)) / (h * h)
+
+    h = 2e-3 * max(abs(s), 1e-9)
+    return (4.0 * d2(0.5 * h) - d2(h)) / 3.0
+
+
+def lyapunov_coefficient(model: BeltOscillator, law: FrictionLaw) -> float:
+    """l1 = -F'''(V_b) / 16 of the Hopf point (negative: supercritical)."""
+    return -third_derivative(law, abs(model.vb)) / 16.0
+
+
+def _trace(model, law, xp, yp, x, y) -> float:
+    m, lw = with_param(*with_param(model, law, xp, x), yp, y)
+    eq = equilibrium(m, lw)
+    return math.nan if eq is None else -eq.damping
+
+
+def _roots(f, ys: np.ndarray, tol: float) -> list[float]:
+    """Sign changes of f on the scan ``ys``, refined by brentq."""
+    vals = [f(float(y)) for y in ys]
+    out = []
+    for a, b, fa, fb in zip(ys[:-1], ys[1:], vals[:-1], vals[1:]):
+        if math.isfinite(fa) and math.isfinite(fb) and fa * fb < 0:
+            out.append(float(brentq(f, float(a), float(b), xtol=tol, rtol=4 * np.finfo(float).eps)))
+        elif fb == 0.0:
+            out.append(float(b))
+    return out
+
+
+def hopf_curve(model: BeltOscillator, law: FrictionLaw, xp: str, yp: str, xs, ys) -> tuple[Curve, list[Codim2]]:
+    """The Hopf curve on the x grid (roots in y of the trace on the scan ``ys``), its criticality and Bautin points."""
+    pts = []
+    tol = 1e-14 * max(abs(ys[0]), abs(ys[-1]), 1e-300)
+    for x in xs:
+        for y in _roots(lambda y, x=x: _trace(model, law, xp, yp, x, y), ys, tol):
+            m, lw = with_param(*with_param(model, law, xp, float(x)), yp, y)
+            l1 = lyapunov_coefficient(m, lw)
+            pts.append(CurvePoint(float(x), y, {"l1": l1, "criticality": "supercritical" if l1 < 0 else "subcritical"}))
+    return Curve("hopf", pts), _bautin(model, law, xp, yp, pts, ys)
+
+
+def _bautin(model, law, xp, yp, pts: list[CurvePoint], ys) -> list[Codim2]:
+    """Sign changes of l1 between Hopf points at neighbouring x (and close y), refined along the curve."""
+    out = []
+    for a, b in zip(pts[:-1], pts[1:]):
+        if a.x == b.x or a.detail["l1"] * b.detail["l1"] >= 0:
+            continue
+        lo_y, hi_y = sorted((a.y, b.y))
+        pad = 0.5 * (hi_y - lo_y) + 1e-6 * (ys[-1] - ys[0])
+
+        def y_hopf(x: float) -> float:
+            f = lambda y: _trace(model, law, xp, yp, x, y)
+            return brentq(f, max(ys[0], lo_y - pad), min(ys[-1], hi_y + pad), xtol=1e-15, rtol=4 * np.finfo(float).eps)
+
+        def l1(x: float) -> float:
+            m, lw = with_param(*with_param(model, law, xp, x), yp, y_hopf(x))
+            return lyapunov_coefficient(m, lw)
+
+        try:
+            xb = float(brentq(l1, a.x, b.x, xtol=1e-14 * max(abs(a.x), abs(b.x)), rtol=4 * np.finfo(float).eps))
+            out.append(Codim2("bautin", xb, float(y_hopf(xb)), {"criticality_below": a.detail["criticality"] if a.x < b.x else b.detail["criticality"]}))
+        except ValueError:
+            continue
+    return out
+
+
+# -- the grazing curve ------------------------------------------------------------------------
+def grazing_curve(model: BeltOscillator, law: FrictionLaw, xp: str, yp: str, xs, ys) -> Curve:
+    """Where the stick-slip cycle's slip excursion touches the belt speed (roots in y of the stick-slip margin)."""
+
+    def g(x: float, y: float) -> float:
+        try:
+            return stick_slip_margin(*with_param(*with_param(model, law, xp, x), yp, y), yp)[0]
+        except (RuntimeError, ValueError):
+            return math.nan
+
+    pts = []
+    tol = 1e-14 * max(abs(ys[0]), abs(ys[-1]), 1e-300)
+    for x in xs:
+        for y in _roots(lambda y, x=x: g(float(x), y), ys, tol):
+            below = g(float(x), y - 1e-6 * (ys[-1] - ys[0]))
+            pts.append(CurvePoint(float(x), y, {"stick_slip_below": bool(below < 0)}))
+    return Curve("grazing", pts)
+
+
+# -- fold curves ---------------------------------------------------------------------------------
+def _dedupe(points: list[CurvePoint], tol: float) -> list[CurvePoint]:
+    """One point per (x, y) found more than once (from several seeds of a continuation)."""
+    out: list[CurvePoint] = []
+    for p in points:
+        if not any(q.x == p.x and abs(q.y - p.y) <= tol for q in out):
+            out.append(p)
+    return out
+
+
+def _fold_seeds(model, law, xp, yp, xs, y_range, **kw) -> tuple[list[CurvePoint], list[CurvePoint]]:
+    """Smooth folds (with their X) and folds at grazing corners found by continuation in y at each x of ``xs``."""
+    from .continuation import continuation
+    from .sensitivity import locate_fold
+
+    smooth, corner = [], []
+    for x in xs:
+        m, lw = with_param(model, law, xp, float(x))
+        try:
+            res = continuation(m, lw, yp, y_range[0], y_range[1], **kw)
+        except (RuntimeError, ValueError):
+            continue
+        for b in res.bifurcations:
+            if b.type != "fold":
+                continue
+            detail = dict(b.detail)
+            if detail.get("smooth") and b.branch is not None:
+                near = min(res.branches[b.branch].points, key=lambda p: abs(p.value - b.value))
+                try:
+                    detail["X"], _ = locate_fold(m, lw, yp, near.x, b.value)
+                except (RuntimeError, ValueError, np.linalg.LinAlgError):
+                    continue
+                smooth.append(CurvePoint(float(x), float(b.value), detail))
+            elif not detail.get("smooth"):
+                corner.append(CurvePoint(float(x), float(b.value), detail))
+    return smooth, corner
+
+
+def _fold_point(model, law, xp, yp, x, X, y):
+    """The fold of the slip-only family (continued through V_r = 0) at x near (X, y): (X, y, smallest V_r)."""
+    from .flow_compiled import CompiledFlow
+    from .sensitivity import locate_fold
+
+    m, lw = with_param(model, law, xp, x)
+    X, y = locate_fold(m, lw, yp, X, y, virtual=True)
+    mm, ll = with_param(m, lw, yp, y)
+    return X, y, CompiledFlow(mm, ll, virtual=True).run((X, 0.0), returns=1).vr_min
+
+
+def _follow_fold(model, law, xp, yp, xs, seed: CurvePoint, y_range) -> list[tuple[float, float, float, float]]:
+    """The fold curve through ``seed`` on the x grid, both ways: (x, X, y, smallest V_r) per x.
+
+    Between grid values it steps with a secant predictor, halving the step
+    where Newton fails (down to 1/64 of the grid step).
+    """
+    i0 = int(np.argmin(np.abs(xs - seed.x)))
+    out = {}
+    for direction in (1, -1):
+        cur = (float(xs[i0]), seed.detail["X"], seed.y)
+        slope = None  # d(X, y)/dx of the last step
+        i = i0
+        while 0 <= i < len(xs):
+            target = float(xs[i])
+            ok = True
+            while cur[0] != target:
+                dx = target - cur[0]
+                for _ in range(7):
+                    x = cur[0] + dx
+                    X, y = (cur[1] + slope[0] * dx, cur[2] + slope[1] * dx) if slope else (cur[1], cur[2])
+                    try:
+                        Xn, yn, vr = _fold_point(model, law, xp, yp, x, X, y)
+                        break
+                    except (RuntimeError, ValueError, np.linalg.LinAlgError):
+                        dx *= 0.5
+                else:
+                    ok = False
+                    break
+                slope = ((Xn - cur[1]) / dx, (yn - cur[2]) / dx)
+                cur = (x, Xn, yn)
+                if not (y_range[0] <= yn <= y_range[1]) or not math.isfinite(Xn):
+                    ok = False
+                    break
+            if not ok:
+                break
+            if i not in out:
+                try:
+                    Xn, yn, vr = _fold_point(model, law, xp, yp, cur[0], cur[1], cur[2])
+                except (RuntimeError, ValueError, np.linalg.LinAlgError):
+                    break
+                out[i] = (cur[0], Xn, yn, vr)
+            i += direction
+    return [out[k] for k in sorted(out)]
+
+
+def fold_curves(model: BeltOscillator, law: FrictionLaw, xp: str, yp: str, xs, y_range: tuple[float, float], *,
+                seed_every: int = 4, **kw) -> tuple[Curve, Curve, list[Codim2]]:
+    """Fold curves of cycles, the folds at grazing corners, and the fold-grazing points.
+
+    Seeds come from one-parameter continuations in y (every ``seed_every``-th
+    x); each seed's fold is followed along the whole x grid by Newton
+    (:func:`~.sensitivity.locate_fold` on the slip-only family continued
+    through V_r = 0, with a secant predictor).  A fold cycle whose smallest
+    V_r is > 0 is a real one; where that margin changes sign the fold curve
+    ends on the grazing curve -- a fold-grazing point, refined by brentq in x.
+    """
+    xs = np.asarray(xs, dtype=float)
+    seeds, corner = _fold_seeds(model, law, xp, yp, xs[::seed_every], y_range, **kw)
+    tol = 1e-6 * (y_range[1] - y_range[0])
+    pts: list[CurvePoint] = []
+    followed: list[tuple[float, float]] = []
+    codim: list[Codim2] = []
+    for seed in seeds:
+        if any(x == seed.x and abs(y - seed.y) <= 1e3 * tol for x, y in followed):
+            continue  # on a curve already followed
+        curve = _follow_fold(model, law, xp, yp, xs, seed, y_range)
+        followed += [(x, y) for x, _, y, _ in curve]
+        pts += [CurvePoint(x, y, {"X": X, "vr_min": vr}) for x, X, y, vr in curve if vr > 0]
+        for a, b in zip(curve[:-1], curve[1:]):
+            if a[3] * b[3] < 0:
+                codim.append(_fold_grazing_point(model, law, xp, yp, a, b))
+    return Curve("fold", _dedupe(pts, tol)), Curve("fold_at_grazing", _dedupe(corner, 1e-4 * (y_range[1] - y_range[0]))), codim
+
+
+def _fold_grazing_point(model, law, xp, yp, a, b) -> Codim2:
+    """Where the fold cycle's smallest V_r crosses 0 between fold points a and b: the fold meets the grazing.
+
+    Marches from a in sixteenths of the interval (Newton from the last fold)
+    to a short bracket, then brentq in x.
+    """
+    last = (a[0], a[1], a[2], a[3])
+    bracket = None
+    for x in np.linspace(a[0], b[0], 17)[1:]:
+        try:
+            X, y, vr = _fold_point(model, law, xp, yp, float(x), last[1], last[2])
+        except (RuntimeError, ValueError, np.linalg.LinAlgError):
+            break
+        if vr * last[3] < 0:
+            bracket = (last, (float(x), X, y, vr))
+            break
+        last = (float(x), X, y, vr)
+    if bracket is None:
+        return Codim2("fold_grazing", 0.5 * (a[0] + b[0]), 0.5 * (a[2] + b[2]), {"located": False, "between": [a[0], b[0]]})
+    lo, hi = bracket
+    found = [lo[1], lo[2]]
+
+    def margin(x: float) -> float:
+        X, y, vr = _fold_point(model, law, xp, yp, x, lo[1], lo[2])
+        found[:] = [X, y]
+        return vr
+
+    xg = float(brentq(margin, lo[0], hi[0], xtol=1e-13 * max(abs(lo[0]), abs(hi[0])), rtol=4 * np.finfo(float).eps))
+    margin(xg)
+    return Codim2("fold_grazing", xg, found[1], {"located": True, "X": found[0]})
+
+
+# -- the chart -----------------------------------------------------------------------------------
+def stability_chart(
+    model: BeltOscillator,
+    law: FrictionLaw,
+    x_param: str,
+    x_values,
+    y_param: str,
+    y_range: tuple[float, float],
+    *,
+    curves: tuple[str, ...] = CURVES,
+    n_scan: int = 201,
+    fold_seeds: tuple[str, ...] = ("hopf", "start", "stop"),
+    fold_every: int = 2,
+    sweep: Any = None,
+    heat: str = "R_c",
+) -> StabilityChart:
+    """The Hopf, grazing and fold curves in the (x_param, y_param) plane.
+
+    Parameters
+    ----------
+    x_values:
+        The grid of the first parameter.
+    y_range, n_scan:
+        The interval of the second and the number of scan points in it (roots
+        closer than a scan step may be missed; each found root is refined to rounding).
+    curves:
+        Which curves (``hopf``, ``grazing``, ``fold``).
+    fold_seeds, fold_every:
+        Seeds of the continuations in y that find folds, and every how many x values one runs (each fold
+        found is then followed along the whole x grid).
+    sweep, heat:
+        An xarray dataset of simulations on the same plane (from
+        :func:`frictionflow.sweep.run_sweep`) and the variable to draw under the curves.
+    """
+    for c in curves:
+        if c not in CURVES:
+            raise ValueError(f"curves must be among {', '.join(CURVES)}, got {c!r}")
+    get_param(model, law, x_param)
+    get_param(model, law, y_param)
+    if x_param == y_param:
+        raise ValueError("the two parameters must differ")
+    xs = np.asarray(x_values, dtype=float)
+    lo, hi = float(min(y_range)), float(max(y_range))
+    ys = np.linspace(lo, hi, n_scan)
+    out_curves, codim = [], []
+    if "hopf" in curves:
+        hc, bautin = hopf_curve(model, law, x_param, y_param, xs, ys)
+        out_curves.append(hc)
+        codim += bautin
+    graze = None
+    if "grazing" in curves and law.stick_rule == "switch":
+        graze = grazing_curve(model, law, x_param, y_param, xs, ys)
+        out_curves.append(graze)
+    if "fold" in curves and not law.piecewise_constant:
+        fc, corner, fg = fold_curves(model, law, x_param, y_param, xs, (lo, hi), seed_every=fold_every, seeds=fold_seeds,
+                                     n_equilibria=21)
+        out_curves += [fc, corner]
+        codim += fg
+    return StabilityChart(x_param, y_param, xs, (lo, hi), {**model.report(), **law.as_dict()}, out_curves, codim,
+                          sweep=sweep, heat=heat if sweep is not None else "")
+
+
+def sweep_config(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_range,
+                 shape: tuple[int, int], t_end: float = 500.0) -> dict[str, Any]:
+    """The config of a :func:`frictionflow.sweep.run_sweep` over the chart's plane (the other parameters fixed)."""
+    fixed = {k: v for k, v in {**model.report(), **law.as_dict()}.items() if k not in (x_param, y_param)}
+    return {**fixed, "t_end": float(t_end), "grid": {
+        x_param: {"start": float(min(x_range)), "stop": float(max(x_range)), "num": int(shape[0])},
+        y_param: {"start": float(min(y_range)), "stop": float(max(y_range)), "num": int(shape[1])}}}
+
+
+def stability_map(
+    model: BeltOscillator,
+    law: FrictionLaw,
+    x_param: str,
+    x_values,
+    y_param: str,
+    y_range: tuple[float, float],
+    *,
+    sweep_shape: tuple[int, int] | None = None,
+    sweep_out: Any = None,
+    t_end: float = 500.0,
+    heat: str = "R_c",
+    **kw: Any,
+) -> StabilityChart:
+    """:func:`stability_chart` with a heat map from a sweep of simulations over the same plane.
+
+    ``sweep_shape`` (n_x, n_y): the sweep's grid (None: no sweep); it is
+    written to ``sweep_out`` (.zarr or .nc; default a temporary .nc) by
+    :func:`frictionflow.sweep.run_sweep` and ``heat`` (a sweep variable such as R_c or
+    TR_B) is drawn under the curves.  Other keywords go to :func:`stability_chart`.
+    """
+    sweep = None
+    if sweep_shape is not None:
+        import tempfile
+        from pathlib import Path
+
+        from ..sweep import VARIABLES, run_sweep
+
+        names = [v[0] for v in VARIABLES]
+        if heat not in names:
+            raise ValueError(f"heat must be a sweep variable ({', '.join(names)}), got {heat!r}")
+        cfg = sweep_config(model, law, x_param, (x_values[0], x_values[-1]), y_param, y_range, sweep_shape, t_end)
+        out = sweep_out if sweep_out is not None else Path(tempfile.mkdtemp(prefix="ff_map_")) / "sweep.nc"
+        sweep = run_sweep(cfg, out).load()
+    return stability_chart(model, law, x_param, x_values, y_param, y_range, sweep=sweep, heat=heat, **kw)

@@ -1,0 +1,81 @@
+"""The stability chart figure: codimension-one curves drawn over a sweep heat map."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..io import write_figure
+
+#: how each curve is drawn, and what it means in the legend
+STYLE = {
+    "hopf": dict(color="black", ls="-", lw=1.8, label="Hopf: steady sliding loses stability"),
+    "grazing": dict(color="tab:red", ls="--", lw=1.6, label="grazing: stick-slip cycle appears/vanishes"),
+    "fold": dict(color="tab:blue", ls="-.", lw=1.6, label="fold of cycles"),
+    "fold_at_grazing": dict(color="tab:blue", ls="none", marker="x", ms=5, label="fold at a grazing corner"),
+}
+CODIM2 = {"bautin": dict(marker="o", color="black", label="Bautin (Hopf changes criticality)"),
+          "fold_grazing": dict(marker="s", color="tab:purple", label="fold meets grazing")}
+
+
+def plot_chart(chart, path: str | Path | None = None, *, name: str = "path"):
+    """Curves of ``chart`` (:class:`~.chart.StabilityChart`) over its sweep's heat map, if it has one."""
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 5), constrained_layout=True)
+    xp, yp = chart.x_param, chart.y_param
+    if chart.sweep is not None and chart.heat:
+        da = chart.sweep[chart.heat]
+        extra = [d for d in da.dims if d not in (xp, yp)]
+        if extra:
+            da = da.isel({d: 0 for d in extra})
+        da = da.transpose(yp, xp)
+        m = ax.pcolormesh(da[xp].values, da[yp].values, da.values, shading="auto", cmap="viridis", alpha=0.9)
+        fig.colorbar(m, ax=ax, label=chart.heat)
+    for c in chart.curves:
+        xy = c.xy()
+        if not len(xy):
+            continue
+        style = dict(STYLE.get(c.kind, {"label": c.kind}))
+        if style.get("ls") == "none":
+            ax.plot(xy[:, 0], xy[:, 1], **style)
+            continue
+        first = True
+        for seg in _segments(xy, chart.x_values):
+            ax.plot(seg[:, 0], seg[:, 1], **({**style} if first else {k: v for k, v in style.items() if k != "label"}))
+            first = False
+    for kind in CODIM2:
+        pts = [(p.x, p.y) for p in chart.codim2 if p.kind == kind]
+        if pts:
+            arr = np.array(pts)
+            ax.plot(arr[:, 0], arr[:, 1], ls="none", ms=8, mfc="white", mew=2, **CODIM2[kind])
+    ax.set(xlabel=xp, ylabel=yp, xlim=(chart.x_values[0], chart.x_values[-1]), ylim=chart.y_range,
+           title=f"stability chart ({chart.params.get('friction', '?')})")
+    ax.legend(fontsize=7, loc="best", framealpha=0.85)
+    if path is not None:
+        write_figure(fig, path, name)
+    return fig
+
+
+def _segments(xy: np.ndarray, xs: np.ndarray) -> list[np.ndarray]:
+    """Points joined into lines: consecutive grid x values, nearest y (a curve with two roots at one x gives two lines)."""
+    grid = {float(x): i for i, x in enumerate(xs)}
+    lines: list[list[tuple[float, float]]] = []
+    for x, y in sorted(map(tuple, xy)):
+        i = grid.get(x)
+        best = None
+        for line in lines:
+            lx, ly = line[-1]
+            if i is not None and grid.get(lx) == i - 1 and (best is None or abs(ly - y) < abs(best[-1][1] - y)):
+                best = line
+        if best is not None and all(grid.get(l[-1][0]) != i for l in [best]):
+            best.append((x, y))
+        else:
+            lines.append([(x, y)])
+    return [np.array(line) for line in lines]
