@@ -38,3 +38,11 @@ def test_an_omega_axis_without_forcing_is_the_autonomous_system(tmp_path):
         values = forced_path[name].values
         assert np.all(values == values[0])  # Omega means nothing without F_ex
         assert values[0] == pytest.approx(float(batched[name].values[0]), rel=1e-9, nan_ok=True), name
+
+
+def test_a_grid_touching_undamped_resonance_is_refused_before_any_work(tmp_path):
+    spec = {"friction": "coulomb", "fd": 0.02, "fs": 0.04, "fex": 0.1, "t_end": 50.0,
+            "grid": {"zeta": [0.0, 0.05], "omega": [0.5, 1.0]}}
+    with pytest.raises(ValueError, match="undamped resonance"):
+        run_sweep(spec, tmp_path / "r.zarr")
+    assert not (tmp_path / "r.zarr").exists()

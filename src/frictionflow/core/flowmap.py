@@ -57,6 +57,8 @@ import math
 
 import numpy as np
 from numba import njit
+
+from .hermite import hermite, hermite_min
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from .friction import FD, FS, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, STRIBECK, CUBIC, rest_mode
@@ -277,42 +279,6 @@ def _g_rate(a, kind, d, sig):
 
 
 @njit(cache=True)
-def _hermite(g0, g1, m0, m1, s):
-    s2 = s * s
-    s3 = s2 * s
-    return (2 * s3 - 3 * s2 + 1) * g0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * g1 + (s3 - s2) * m1
-
-
-@njit(cache=True)
-def _hermite_min(g0, g1, m0, m1):
-    """(s, value) of the Hermite cubic's smallest interior critical value (s = -1: none)."""
-    a = 6 * g0 + 3 * m0 - 6 * g1 + 3 * m1
-    b = -6 * g0 - 4 * m0 + 6 * g1 - 2 * m1
-    c = m0
-    best_s = -1.0
-    best = math.inf
-    r0 = -1.0
-    r1 = -1.0
-    if abs(a) < 1e-300:
-        if b != 0.0:
-            r0 = -c / b
-    else:
-        disc = b * b - 4 * a * c
-        if disc >= 0.0:
-            q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
-            r0 = q / a
-            if q != 0.0:
-                r1 = c / q
-    for s in (r0, r1):
-        if 0.0 < s < 1.0:
-            val = _hermite(g0, g1, m0, m1, s)
-            if val < best:
-                best = val
-                best_s = s
-    return best_s, best
-
-
-@njit(cache=True)
 def _event_root(y, lo, hi, glo, ghi, theta, kind, d, sig, ind, zeta, vb, p, code, K, tmp, out, t):
     """theta with g(theta) = 0 (g(lo) > 0 >= g(hi)), from the guess ``theta``; the state there in ``out``.
 
@@ -356,10 +322,10 @@ def _event_root(y, lo, hi, glo, ghi, theta, kind, d, sig, ind, zeta, vb, p, code
 def _hermite_root(g0, g1, m0, m1, lo, hi):
     """A root of the Hermite cubic in [lo, hi] (fractions of the step) by bisection: the first guess."""
     a, b = lo, hi
-    ga = _hermite(g0, g1, m0, m1, a)
+    ga = hermite(g0, g1, m0, m1, a)
     for _ in range(40):
         m = 0.5 * (a + b)
-        gm = _hermite(g0, g1, m0, m1, m)
+        gm = hermite(g0, g1, m0, m1, m)
         if (gm > 0.0) == (ga > 0.0):
             a, ga = m, gm
         else:
@@ -405,7 +371,7 @@ def _first_root(y, h, kind, d, sig, fresh, ind, zeta, vb, p, code, K, tmp, out, 
     m0 = _g_rate(accel(d, y[IX], y[IV], zeta, vb, p), kind, d, sig) * h
     m1 = _g_rate(accel(d, y1[IX], y1[IV], zeta, vb, p), kind, d, sig) * h
     if g1 > 0.0:
-        s, val = _hermite_min(g0, g1, m0, m1)
+        s, val = hermite_min(g0, g1, m0, m1)
         # no interior dip that could reach 0 (a phase just leaving the surface: only a clear one)
         if s < 0.0 or val >= (-noise if fresh else 0.05 * min(g0, g1) + noise):
             return -1.0
@@ -449,7 +415,7 @@ def _track_min(y, y1, h, d, ind, zeta, vb, p, code, K, tmp, out, M, tot, t):
     g1 = d * (vb - y1[IV])
     a0 = accel(d, y[IX], y[IV], zeta, vb, p)
     a1 = accel(d, y1[IX], y1[IV], zeta, vb, p)
-    s, val = _hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
+    s, val = hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
     if s < 0.0 or val > tot[T_VRMIN] + 1e-3 * (abs(vb) + abs(y[IV])):
         return
     th = _extremum_theta(y, h, s * h, d, ind, zeta, vb, p, code, K, tmp, out, t)

@@ -41,10 +41,11 @@ import numpy as np
 from numba import njit
 
 from .friction import FS, RESULTANT, external_force, external_force_rate, rest_mode
+from .hermite import hermite_min
 from .layout import FEX, N_WORK, OMEGA, W_DV, W_EX, W_FIN, W_FOUT
 from .tangent import (
     C_GRAZE, C_HELD, C_REVERSAL, C_SLIP, C_STICK, EPS, MAX_ZERO_PHASES, N_COUNTS, NOT_FINITE, NY, OK, ZERO_PHASES,
-    _a_rest, _hermite_min, _stick_gap, _stick_gap_rate, _stick_max, accel, rounding_noise, slip_force, slip_until,
+    _a_rest, _stick_gap, _stick_gap_rate, _stick_max, accel, rounding_noise, slip_force, slip_until,
     start_mode, stick_exit,
 )
 
@@ -154,7 +155,7 @@ def stick_work(x_s, t_s, a, b, zeta, vb, p, w):
 @njit(cache=True)
 def _hermite_max(f0, f1, m0, m1):
     """The largest value of the cubic Hermite interpolant on [0, 1] (ends included)."""
-    s, val = _hermite_min(-f0, -f1, -m0, -m1)
+    s, val = hermite_min(-f0, -f1, -m0, -m1)
     top = max(f0, f1)
     return max(top, -val) if s >= 0.0 else top
 
@@ -176,7 +177,7 @@ def _track_step(x0, v0, a0, x1, v1, a1, h, d, zeta, vb, stats, interior):
     if interior:
         g0 = d * (vb - v0)
         g1 = d * (vb - v1)
-        s, val = _hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
+        s, val = hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
         if s >= 0.0 and val <= min(g0, g1):
             stats[S_GAP] = min(stats[S_GAP], max(val, 0.0))
 

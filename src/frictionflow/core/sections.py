@@ -36,6 +36,7 @@ import numpy as np
 from numba import njit
 
 from .. import quantities as Q
+from .hermite import hermite
 
 T, X, TS, ES, W0, W1, W2, W3, VMIN, VMAX, FMAX, STICK, LO = range(13)
 NF = 13
@@ -62,13 +63,6 @@ def tail_start(t0: float, t_end: float) -> float:
     """Start of the tail used for the equilibrium test."""
     span = t_end - t0
     return t_end - min(span, max(0.1 * span, 4.0 * math.pi))
-
-
-@njit(cache=True)
-def hermite(p0, p1, m0, m1, s):
-    s2 = s * s
-    s3 = s2 * s
-    return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * p1 + (s3 - s2) * m1
 
 
 @njit(cache=True)

@@ -93,6 +93,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .hermite import hermite, hermite_min
+
 from .friction import FS, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of, slip_slope_of
 
 #: the 6-vector integrated in slip: X, X', then the tangent vectors u1 = (y2, y3), u2 = (y4, y5)
@@ -169,48 +171,6 @@ def _g_step(y, t, theta, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
 
 
 @njit(cache=True)
-def _hermite(g0, g1, m0, m1, s):
-    """Cubic Hermite interpolant on [0, 1] with values g0, g1 and slopes m0, m1 (per unit s)."""
-    s2 = s * s
-    s3 = s2 * s
-    return (2 * s3 - 3 * s2 + 1) * g0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * g1 + (s3 - s2) * m1
-
-
-@njit(cache=True)
-def _hermite_min(g0, g1, m0, m1):
-    """(s, value) of the Hermite cubic's smallest value at an interior critical point (s = -1: none)."""
-    # derivative: a s^2 + b s + c
-    a = 6 * g0 + 3 * m0 - 6 * g1 + 3 * m1
-    b = -6 * g0 - 4 * m0 + 6 * g1 - 2 * m1
-    c = m0
-    best_s = -1.0
-    best = math.inf
-    roots = np.empty(2)
-    n = 0
-    if abs(a) < 1e-300:
-        if b != 0.0:
-            roots[0] = -c / b
-            n = 1
-    else:
-        disc = b * b - 4 * a * c
-        if disc >= 0.0:
-            q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
-            roots[0] = q / a
-            n = 1
-            if q != 0.0:
-                roots[1] = c / q
-                n = 2
-    for i in range(n):
-        s = roots[i]
-        if 0.0 < s < 1.0:
-            val = _hermite(g0, g1, m0, m1, s)
-            if val < best:
-                best = val
-                best_s = s
-    return best_s, best
-
-
-@njit(cache=True)
 def _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
     """Illinois false position for g(theta) = 0 with g(lo) > 0 >= g(hi); returns theta (state at it in ``out``)."""
     side = 0
@@ -260,7 +220,7 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out):
     if g1 > 0.0:
         # two crossings inside the step?  The Hermite cubic of g (g' = -d X'') dips below 0
         a1 = accel(d, out[0], out[1], t + h, zeta, vb, p)
-        s, val = _hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
+        s, val = hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
         if s < 0.0 or val >= -noise:
             return h, False
         gm = _g_step(y, t, s * h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)

@@ -21,6 +21,14 @@ DENSE_DT = positive_real("dense_dt", "", "exact/adaptive: also sample every DENS
                          default_text="only switches and sections; 2pi/200 with --out/--plot")
 
 
+def resonance_problem(zeta: float, omega: float, fex: float) -> str | None:
+    """Why the exact solver cannot run (zeta, omega, fex), or None: undamped resonance has no closed form it uses."""
+    if fex > 0.0 and zeta == 0.0 and omega == 1.0:
+        return (f"solver=exact: undamped resonance (zeta=0, omega=1, fex={fex:g}) has no periodic particular solution "
+                "(the response grows like tau sin tau); use zeta > 0 or omega != 1")
+    return None
+
+
 class Exact(Solver):
     """Advance from switch to switch in closed form (Karnopp and ideal Coulomb).
 
@@ -77,9 +85,9 @@ class Exact(Solver):
     ) -> Trajectory:
         if not self.supports(friction):
             raise ValueError(f"solver=exact does not support friction={friction.name} (its slip force is not constant)")
-        if model.forced and model.zeta == 0.0 and model.omega == 1.0:
-            raise ValueError(f"solver=exact: undamped resonance (zeta=0, omega=1, fex={model.fex:g}) has no periodic "
-                             "particular solution (the response grows like tau sin tau); use zeta > 0 or omega != 1")
+        problem = resonance_problem(model.zeta, model.omega, model.fex)
+        if problem:
+            raise ValueError(problem)
         dense = self.dense_dt or 0.0
         p = kernel_params(model, friction)
         t_tail = sections.tail_start(0.0, t_end)

@@ -271,11 +271,31 @@ def _check_points(cfg: SweepConfig) -> None:
                 RunConfig.from_mapping({**cfg.source["settings"], **cfg.fixed, key: float(val)}, source="grid")
             except ValueError as e:
                 raise ValueError(f"grid.{key}: {val:g} is not valid ({e})") from None
+    _check_resonance(cfg)
     # F_s >= F_d must hold across both axes together
     fd = cfg.axes.get("fd", np.array([cfg.run.fd]))
     fs = cfg.axes.get("fs")
     if fs is not None and "fd" in {p.name for p in law_class(cfg.run.friction).parameters} and fs.min() < fd.max():
         raise ValueError(f"grid.fs: every F_s must be >= every F_d (min fs {fs.min():g} < max fd {fd.max():g})")
+
+
+def _check_resonance(cfg: SweepConfig) -> None:
+    """The exact solver refuses undamped resonance: refuse a grid with such a point before any work."""
+    from ..solvers.exact import resonance_problem
+
+    if cfg.run.build()[2].name != "exact":
+        return
+
+    def values(key: str) -> np.ndarray:
+        found = cfg.axes.get(key, cfg.sample.get(key))
+        return np.asarray(found if found is not None else [getattr(cfg.run, key)], dtype=float)
+
+    # the worst point of the grid: undamped if any point is, at omega = 1 if any point is, the largest forcing
+    zeta = 0.0 if np.any(values("zeta") == 0.0) else 1.0
+    omega = 1.0 if np.any(values("omega") == 1.0) else 0.5
+    problem = resonance_problem(zeta, omega, float(values("fex").max()))
+    if problem:
+        raise ValueError(f"grid: a point has {problem.split(': ', 1)[1]}")
 
 
 def load_sweep(path: str) -> SweepConfig:
