@@ -121,3 +121,77 @@ def test_continued_extremum_matches_point_wise_runs():
         assert f.value == pytest.approx(pw.value, abs=1e-7)
         assert f.monitor_value == pytest.approx(pw.monitor_value, rel=1e-10)
     assert abs(followed[-1].value - start.value) > 1e-3  # the extremum moves with F_ex
+
+
+# -- curves in (Omega, F_ex) ------------------------------------------------------------------------------------------
+SUB_LAW = Coulomb(0.5, 1.0)
+SUB = BeltOscillator(zeta=0.05, vb=0.1, fex=0.5, omega=1.8)  # a period-2 stick-slip orbit, doubling at Omega ~ 1.6995
+
+
+@pytest.fixture(scope="module")
+def pd_chart():
+    return forced_chart(SUB, SUB_LAW, "omega", (1.5, 2.2), "fex", [0.45, 0.5], m=2, x_start=1.8)
+
+
+def _map_end(model, law, P, periods):
+    """Brute force: the state after ``periods`` forcing periods from P (RK4 with located switches)."""
+    p = kernel_params(model, law)
+    strobe, est = np.zeros((periods, 3)), np.zeros((periods, 2))
+    counts = np.zeros(tangent.N_COUNTS, dtype=np.int64)
+    status, _, _ = tangent.run(float(P[0]), float(P[1]), model.zeta, model.vb, p, model.forcing_period, 512, 0, periods,
+                               strobe, est, counts)
+    assert status == tangent.OK
+    return strobe[-1, :2]
+
+
+def test_period_doubling_curve_against_brute_force(pd_chart):
+    pd = pd_chart.curve("period_doubling", m=2)
+    assert [p.y for p in pd.points] == [0.45, 0.5]
+    assert pd.points[1].x == pytest.approx(1.6995, abs=1e-4)  # the known point at F_ex = 0.5
+    point = pd.points[0]
+    # across the curve at fixed Omega, the brute-force deviation ratio of the 2-period map along the doubling
+    # eigenvector passes -1: > -1 on one side, < -1 on the other
+    ratios = []
+    for d in (-3e-3, 3e-3):
+        model = replace(SUB, omega=point.x, fex=point.y + d)
+        o = find_forced_orbit(model, SUB_LAW, 2, point.detail["X"], point.detail["V"])
+        w, vecs = np.linalg.eig(o.monodromy)
+        e = np.real(vecs[:, int(np.argmin(np.abs(w + 1.0)))])
+        eps = 1e-6
+        ratio = float((_map_end(model, SUB_LAW, o.state + eps * e, 2) - _map_end(model, SUB_LAW, o.state - eps * e, 2)) @ e
+                      / (2 * eps))
+        assert ratio == pytest.approx(float(np.real(w[np.argmin(np.abs(w + 1.0))])), abs=1e-6)
+        ratios.append(ratio)
+    assert min(ratios) < -1.0 < max(ratios) and max(abs(r + 1.0) for r in ratios) < 0.05
+
+
+def test_period_doubling_curve_crossed_by_a_continuation_in_f_ex(pd_chart):
+    """At fixed Omega on the curve, a continuation in F_ex meets the doubling at the curve's F_ex."""
+    point = pd_chart.curve("period_doubling", m=2).points[0]
+    model = replace(SUB, omega=point.x, fex=0.5)
+    o = find_forced_orbit(model, SUB_LAW, 2, transient_periods=400)
+    branch = continue_forced(model, SUB_LAW, "fex", 0.5, 0.4, m=2, orbit=o)
+    (pd,) = branch.events_of("period_doubling")
+    assert pd.lam == pytest.approx(point.y, abs=1e-7)
+
+
+def test_fold_curve_of_the_locking_tongue_crossed_by_a_continuation_in_f_ex():
+    """A self-excited cubic-law oscillator locked 1:1 by weak forcing: folds at the edge of its tongue.  The fold
+    point found continuing in Omega at F_ex = 1.3e-4 is met again continuing in F_ex at that Omega."""
+    law = Cubic(fs=0.3, k1=0.3, k3=10.0)
+    model = BeltOscillator(zeta=0.05, vb=0.08, fex=5e-4, omega=1.001)
+    start = find_forced_orbit(model, law, m=1, transient_periods=600)
+    along = continue_forced(model, law, "fex", 5e-4, 1e-4, m=1, orbit=start)
+    near = min(along.points, key=lambda q: abs(q.lam - 1.3e-4))
+    chart = forced_chart(model, law, "omega", (0.99, 1.012), "fex", [1.3e-4], x_start=1.001, guess=near.state)
+    folds = chart.curve("fold", m=1).points
+    assert len(folds) == 2 and all(0.99 < p.x < 1.0 for p in folds)
+    assert chart.curve("neimark_sacker", m=1) is not None  # the tongue's other edge at this F_ex
+    fp = folds[0]
+    o = find_forced_orbit(replace(model, omega=fp.x), law, x0=fp.detail["X"], v0=fp.detail["V"], transient_periods=300)
+    cross = continue_forced(replace(model, omega=fp.x), law, "fex", 5e-4, 1e-5, orbit=o)
+    assert min(abs(e.lam - fp.y) for e in cross.events_of("fold")) < 1e-10
+    # the chart's data round-trips
+    assert chart.to_dict()["curves"][0]["m"] == 1
+    ds = chart.to_xarray()
+    assert np.allclose(sorted(ds["fold_m1_omega"].values[0]), sorted(p.x for p in folds))

@@ -383,6 +383,7 @@ def forced_chart(
     *,
     m: int | Sequence[int] = 1,
     x_start: float | None = None,
+    guess: Sequence[float] | None = None,
     curves: Sequence[str] = FORCED_CURVES,
     sweep: Any = None,
     heat: str = "TR_B",
@@ -394,6 +395,8 @@ def forced_chart(
     at x = ``x_start`` (default: the end of ``x_range`` nearer ``model``'s x)
     and continued by :func:`~.forced.continue_forced` in x to both ends of
     ``x_range``; the special points it refines are the curves' points.
+    ``guess``: (X, X') at tau = 0 near the first grid value's orbit (else a
+    transient is run first); later grid values start from the previous one's orbit.
     ``continuation``: keywords for :func:`~.forced.continue_forced` (h_max,
     steps, max_points, ...).
     """
@@ -420,7 +423,7 @@ def forced_chart(
     found: dict[tuple[str, int], list[CurvePoint]] = {}
     runs = []
     for mm in ms:
-        previous = None
+        previous = None if guess is None else np.asarray(guess, dtype=float)
         for y in ys:
             mdl = replace(model, **{y_param: float(y), x_param: x_start})
             try:
