@@ -465,13 +465,14 @@ def _dedupe(points: list[CurvePoint], tol: float) -> list[CurvePoint]:
 
 def forced_map(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_values, *,
                sweep_shape: tuple[int, int] | None = None, sweep_out: Any = None, t_end: float = 500.0,
-               heat: str = "TR_B", **kw: Any) -> ForcedChart:
+               heat: str = "TR_B", sweep_y_range: tuple[float, float] | None = None, **kw: Any) -> ForcedChart:
     """:func:`forced_chart` with a heat map from a sweep of simulations over the same plane.
 
     ``sweep_shape`` (n_x, n_y): the sweep's grid (None: no sweep), run by
     :func:`frictionflow.sweep.run_sweep` (forced points run one by one: keep it
     coarse) into ``sweep_out`` (default a temporary .nc); ``heat``: the sweep
-    variable drawn under the curves (TR_B, R_c, ...).
+    variable drawn under the curves (TR_B, R_c, ...); ``sweep_y_range``: its
+    y interval (default: the grid's).
     """
     from .chart import sweep_config
 
@@ -486,7 +487,8 @@ def forced_map(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y
         if heat not in names:
             raise ValueError(f"heat must be a sweep variable ({', '.join(names)}), got {heat!r}")
         ys = np.asarray(y_values, dtype=float)
-        cfg = sweep_config(model, law, x_param, x_range, y_param, (float(ys.min()), float(ys.max())), sweep_shape, t_end)
+        y_sweep = sweep_y_range if sweep_y_range is not None else (float(ys.min()), float(ys.max()))
+        cfg = sweep_config(model, law, x_param, x_range, y_param, y_sweep, sweep_shape, t_end)
         out = sweep_out if sweep_out is not None else Path(tempfile.mkdtemp(prefix="ff_fmap_")) / "sweep.nc"
         sweep = run_sweep(cfg, out).load()
     return forced_chart(model, law, x_param, x_range, y_param, y_values, sweep=sweep, heat=heat, **kw)
