@@ -23,10 +23,13 @@ COMMAND_PARAMETERS = {p.name: p for p in (
     Param("x_points", "", "values of the first parameter", "run", 41, kind="int", lower=2, upper=10_000),
     Param("scan", "", "scan points of the second parameter", "run", 201, kind="int", lower=3, upper=1_000_000),
     Param("fold_every", "", "x values between fold seeds", "run", 2, kind="int", lower=1, upper=10_000),
+    Param("y_points", "", "grid values of the second parameter (forced maps)", "run", 5, kind="int", lower=1, upper=10_000),
 )}
+#: a map in these runs the forced system's curves (continued in x at each y of a grid)
+FORCING = ("omega", "fex")
 DATASET_FORMATS = (".nc", ".zarr")
 #: the command list's line (click would cut the docstring); cli.SHORT_HELP may name it too
-SHORT_HELP = "Stability chart in two parameters: Hopf, grazing and fold curves."
+SHORT_HELP = "Stability chart in two parameters: Hopf, grazing, fold (and forced: period-doubling) curves."
 
 
 def _shape(text: str) -> tuple[int, int] | None:
@@ -54,7 +57,11 @@ def map_(
     y_from: float = typer.Option(..., "--y-from", help="Lower end of the second parameter."),
     y_to: float = typer.Option(..., "--y-to", help="Upper end of the second parameter."),
     scan: int = typer.Option(201, "--scan", help="Scan points in y where sign changes are looked for (each root is then refined)."),
-    curves: str = typer.Option("hopf,grazing,fold", "--curves", help="Curves to compute: hopf, grazing, fold (comma-separated)."),
+    curves: Optional[str] = typer.Option(None, "--curves", help="Curves to compute (comma-separated): hopf, grazing, fold "
+                                         "[all]; forced (--x/--y omega, fex): fold, period_doubling, neimark_sacker, grazing [all]."),
+    y_points: int = typer.Option(5, "--y-points", help="Forced maps: grid values of the second parameter; at each the "
+                                 "orbits are continued in the first over [--x-from, --x-to] from --x-from."),
+    m: str = typer.Option("1", "--m", help="Forced maps: periods of the orbits followed, in forcing periods (e.g. 1,2)."),
     fold_every: int = typer.Option(2, "--fold-every", help="A continuation in y seeds fold curves at every n-th x value."),
     sweep: str = typer.Option("0", "--sweep", help="Heat map: NXxNY simulations over the plane (e.g. 40x30); 0 for none."),
     heat: str = typer.Option("R_c", "--heat", help="Sweep variable of the heat map (R_c, TR_B, P_fin, ...)."),
@@ -65,12 +72,17 @@ def map_(
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Stability chart in two parameters: the Hopf curve of steady sliding (with its criticality and Bautin points),
-    the grazing curve of the stick-slip cycle, fold curves of cycles and where a fold meets the grazing."""
+    the grazing curve of the stick-slip cycle, fold curves of cycles and where a fold meets the grazing.  With
+    --x/--y among omega and fex: the forced system's fold, period-doubling, Neimark-Sacker and grazing curves."""
     from ..orbits.chart import CURVES, stability_map
 
-    for name, value in (("x_points", x_points), ("scan", scan), ("fold_every", fold_every)):
+    for name, value in (("x_points", x_points), ("scan", scan), ("fold_every", fold_every), ("y_points", y_points)):
         COMMAND_PARAMETERS[name].check(value)
-    curve_list = tuple(c.strip() for c in curves.split(",") if c.strip())
+    if x in FORCING or y in FORCING or "phi" in (x, y):
+        _forced_map(params, x, x_from, x_to, y, y_from, y_to, y_points, m, curves, sweep, heat, sweep_out, dataset,
+                    as_json, plot, config)
+        return
+    curve_list = tuple(c.strip() for c in (curves or ",".join(CURVES)).split(",") if c.strip())
     for c in curve_list:
         if c not in CURVES:
             raise ValueError(f"--curves must be among {', '.join(CURVES)}, got {c!r}")
@@ -97,6 +109,68 @@ def map_(
     report = chart.to_dict()
     if as_json:
         print(json.dumps(report, allow_nan=False))
+    else:
+        print(repr(chart))
+
+
+def _orders(text: str) -> tuple[int, ...]:
+    """``--m``: comma-separated periods in forcing periods, 1..1000."""
+    try:
+        out = tuple(int(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        out = ()
+    if not out or not all(1 <= v <= 1000 for v in out):
+        raise ValueError(f"--m must be comma-separated integers in [1, 1000], got {text!r}")
+    return out
+
+
+def _forced_map(params, x, x_from, x_to, y, y_from, y_to, y_points, m, curves, sweep, heat, sweep_out, dataset,
+                as_json, plot, config) -> None:
+    """The forced system's chart: continuation in x at each of ``y_points`` values of y."""
+    from dataclasses import replace
+
+    from ..orbits.forced_chart import FORCED_CURVES, forced_map
+
+    for flag, name in (("--x", x), ("--y", y)):
+        if name not in FORCING:
+            raise ValueError(f"{flag}: a forced map needs both parameters among {', '.join(FORCING)}, got {name!r}")
+    if x == y:
+        raise ValueError(f"--y must differ from --x ({x!r})")
+    for flag, value in (("--x-from", x_from), ("--x-to", x_to), ("--y-from", y_from), ("--y-to", y_to)):
+        if not (np.isfinite(value) and value > 0):
+            raise ValueError(f"{flag}: {x if flag.startswith('--x') else y} must be finite and > 0 here, got {value!r}")
+    if x_from == x_to:
+        raise ValueError(f"--x-to must differ from --x-from ({x_from!r})")
+    curve_list = tuple(c.strip() for c in (curves or ",".join(FORCED_CURVES)).split(",") if c.strip())
+    for c in curve_list:
+        if c not in FORCED_CURVES:
+            raise ValueError(f"--curves must be among {', '.join(FORCED_CURVES)} for a forced map, got {c!r}")
+    orders = _orders(m)
+    shape = _shape(sweep)
+    if plot is not None:
+        check_output_path(plot, FIGURE_FORMATS, "--plot")
+    if dataset is not None:
+        check_output_path(dataset, DATASET_FORMATS, "--dataset")
+    given = dict(params)
+    if given.get("friction") is None:
+        given["friction"] = "stribeck"
+    cfg = merged_config(config, given)
+    model, law, _ = cfg.build()
+    if law.stick_rule != "switch":
+        raise ValueError(f"--friction: forced maps need Coulomb's stick rule (coulomb, stribeck, cubic), got {law.name}")
+    model = replace(model, **{x: float(x_from), y: float(y_from)})
+    ys = np.linspace(y_from, y_to, y_points) if y_points > 1 else np.array([float(y_from)])
+    chart = forced_map(model, law, x, (x_from, x_to), y, ys, sweep_shape=shape, sweep_out=sweep_out,
+                       t_end=cfg.given.get("t_end", 500.0), heat=heat, sweep_y_range=(y_from, y_to), m=orders, x_start=float(x_from),
+                       curves=curve_list)
+    if plot is not None:
+        from ..orbits.chart_plot import plot_chart
+
+        plot_chart(chart, plot, name="--plot")
+    if dataset is not None:
+        _write_dataset(chart.to_xarray(), dataset)
+    if as_json:
+        print(json.dumps(chart.to_dict(), allow_nan=False))
     else:
         print(repr(chart))
 

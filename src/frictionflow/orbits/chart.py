@@ -64,12 +64,16 @@ class Curve:
 
     kind: str
     points: list[CurvePoint]
+    m: int | None = None  # forced curves: the period of their orbits in forcing periods
 
     def xy(self) -> np.ndarray:
         return np.array([[p.x, p.y] for p in self.points]).reshape(-1, 2)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"kind": self.kind, "points": [{"x": p.x, "y": p.y, **p.detail} for p in self.points]}
+        out = {"kind": self.kind, "points": [{"x": p.x, "y": p.y, **p.detail} for p in self.points]}
+        if self.m is not None:
+            out["m"] = self.m
+        return out
 
 
 @dataclass

@@ -15,7 +15,12 @@ STYLE = {
     "grazing": dict(color="tab:red", ls="--", lw=1.6, label="grazing: stick-slip cycle appears/vanishes"),
     "fold": dict(color="tab:blue", ls="-.", lw=1.6, label="fold of cycles"),
     "fold_at_grazing": dict(color="tab:blue", ls="none", marker="x", ms=5, label="fold at a grazing corner"),
+    # the forced system's curves (one per kind and orbit period m)
+    "period_doubling": dict(color="tab:orange", ls="-", lw=1.8, label="period doubling"),
+    "neimark_sacker": dict(color="tab:green", ls=":", lw=1.8, label="Neimark-Sacker: a torus is born"),
 }
+#: forced curves: what each means, for the legend (with the orbits' period)
+FORCED_LABELS = {"fold": "fold: the m-orbit appears/vanishes (jump)", "grazing": "grazing: a stick phase appears/vanishes"}
 CODIM2 = {"bautin": dict(marker="o", color="black", label="Bautin (Hopf changes criticality)"),
           "fold_grazing": dict(marker="s", color="tab:purple", label="fold meets grazing")}
 
@@ -38,16 +43,25 @@ def plot_chart(chart, path: str | Path | None = None, *, name: str = "path"):
         da = da.transpose(yp, xp)
         m = ax.pcolormesh(da[xp].values, da[yp].values, da.values, shading="auto", cmap="viridis", alpha=0.9)
         fig.colorbar(m, ax=ax, label=chart.heat)
-    for c in chart.curves:
+    grid_y = getattr(chart, "grid_axis", "x") == "y"  # forced charts: continued in x at each y of a grid
+    for k, c in enumerate(chart.curves):
         xy = c.xy()
         if not len(xy):
             continue
         style = dict(STYLE.get(c.kind, {"label": c.kind}))
+        if c.m is not None:
+            style["label"] = FORCED_LABELS.get(c.kind, style["label"]) + f", m={c.m}"
+            style.setdefault("marker", ".")
+            if c.m > 1:  # subharmonic orbits' curves dashed, thinner
+                style["lw"] = style.get("lw", 1.6) * 0.8
+                style["ls"] = (0, (1 + c.m, 2))
         if style.get("ls") == "none":
             ax.plot(xy[:, 0], xy[:, 1], **style)
             continue
         first = True
-        for seg in _segments(xy, chart.x_values):
+        segs = ([s[:, ::-1] for s in _segments(xy[:, ::-1], chart.y_values)] if grid_y
+                else _segments(xy, chart.x_values))
+        for seg in segs:
             ax.plot(seg[:, 0], seg[:, 1], **({**style} if first else {k: v for k, v in style.items() if k != "label"}))
             first = False
     for kind in CODIM2:
@@ -55,7 +69,7 @@ def plot_chart(chart, path: str | Path | None = None, *, name: str = "path"):
         if pts:
             arr = np.array(pts)
             ax.plot(arr[:, 0], arr[:, 1], ls="none", ms=8, mfc="white", mew=2, **CODIM2[kind])
-    ax.set(xlabel=xp, ylabel=yp, xlim=(chart.x_values[0], chart.x_values[-1]), ylim=chart.y_range,
+    ax.set(xlabel=xp, ylabel=yp, xlim=(chart.x_values[0], chart.x_values[-1]), ylim=tuple(chart.y_range),
            title=f"stability chart ({chart.params.get('friction', '?')})")
     ax.legend(fontsize=7, loc="best", framealpha=0.85)
     if path is not None:

@@ -18,6 +18,13 @@ the parameter runs one way) and refines the point:
 at each new value the orbit is solved near the last extremum and the
 extremum refined again locally (a natural-parameter continuation of the
 codimension-one condition dM/dlambda = 0).
+
+Forced branches (:class:`~.forced.ForcedBranch`) are monitored the same way
+-- :func:`monitor_value` and :func:`branch_extrema` take their points and
+branches too, with P_ex among the monitors (:data:`FORCED_MONITORS`); the
+work is done by :mod:`.forced_chart` (Brent on re-shot orbits), where
+:func:`~.forced_chart.continue_forced_extremum` follows a forced extremum in
+the second forcing parameter.
 """
 
 from __future__ import annotations
@@ -39,10 +46,19 @@ from .shooting import orbit_from_segment
 
 #: the per-orbit quantities a branch can be monitored by
 MONITORS = ("P_fin", "P_dv", "P_df", "R_c", "R_f", "P_belt", "P_heat", "TR_B", "amplitude", "stick_fraction", "period")
+#: those of a forced branch (its period is fixed by the forcing; the input power P_ex joins)
+FORCED_MONITORS = ("P_dv", "P_df", "P_fin", "R_c", "R_f", "P_belt", "P_heat", "P_f", "P_ex", "TR_B", "amplitude",
+                   "stick_fraction")
 
 
 def monitor_value(point: BranchPoint, monitor: str) -> float:
-    """The monitor's value at a branch point (NaN where undefined, as R_c at an equilibrium)."""
+    """The monitor's value at a branch point (NaN where undefined, as R_c at an equilibrium); forced points too."""
+    from .forced import BranchPoint as ForcedPoint
+
+    if isinstance(point, ForcedPoint):
+        from .forced_chart import forced_monitor_value
+
+        return forced_monitor_value(point, monitor)
     if monitor not in MONITORS:
         raise ValueError(f"monitor must be one of {', '.join(MONITORS)}, got {monitor!r}")
     if monitor == "amplitude":
@@ -155,12 +171,23 @@ def _at_grazing(model, law, param, monitor, lam, pts, i, kind, returns) -> Extre
     return Extremum(monitor, kind, param, float(lam), float(m), float(x), method="grazing")
 
 
-def branch_extrema(result: ContinuationResult, monitor: str, model: BeltOscillator, law: FrictionLaw, *,
+def branch_extrema(result, monitor: str, model: BeltOscillator | None = None, law: FrictionLaw | None = None, *,
                    refine: bool = True, returns: int = 1) -> list[Extremum]:
     """Extrema of ``monitor`` along every periodic branch of ``result`` (refined unless ``refine`` is False).
 
-    ``model``, ``law``: the system the continuation ran on (its other parameters).
+    ``model``, ``law``: the system the continuation ran on (its other
+    parameters).  ``result`` may also be a forced branch
+    (:class:`~.forced.ForcedBranch`, which carries its system):
+    :func:`~.forced_chart.forced_branch_extrema`.
     """
+    from .forced import ForcedBranch
+
+    if isinstance(result, ForcedBranch):
+        from .forced_chart import forced_branch_extrema
+
+        return forced_branch_extrema(result, monitor, refine=refine)
+    if model is None or law is None:
+        raise ValueError("model and law: give the system the continuation ran on")
     out = []
     for index, branch in enumerate(result.branches):
         if branch.kind != "periodic":

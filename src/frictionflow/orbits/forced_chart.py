@@ -1,0 +1,494 @@
+"""The forced oscillator in two parameters: monitors along forced branches, their extrema, and (Omega, F_ex) curves.
+
+>>> from frictionflow import BeltOscillator, Coulomb
+>>> from frictionflow.orbits.forced import continue_forced
+>>> from frictionflow.orbits.forced_chart import forced_branch_extrema
+>>> model = BeltOscillator(zeta=0.05, vb=10.0, fex=0.1, omega=0.8)   # always slipping: the linear oscillator
+>>> branch = continue_forced(model, Coulomb(0.5, 1.0), "omega", 0.8, 1.2)
+>>> (e,) = forced_branch_extrema(branch, "P_ex")                     # the input power peaks at Omega = 1
+>>> e.kind, round(e.value, 6)
+('max', 1.0)
+
+**Monitors.**  Every per-orbit quantity of a forced branch point is a
+monitor (:data:`FORCED_MONITORS`): the power averages over one orbit period
+(P_ex, P_dv, P_fin, P_df, R_c, R_f, P_belt, P_heat), TR_B, the amplitude and
+the stick fraction.  :func:`forced_branch_extrema` finds where one turns along
+a traced :class:`~.forced.ForcedBranch` (its discrete slope in lambda changes
+sign where lambda runs one way) and refines the point by Brent's bounded
+minimisation of the monitor itself: at each trial lambda the orbit is solved
+anew by Newton shooting (from the branch's states interpolated there) and
+measured by the same flow-map run that gives its monodromy.  A monitor with a
+corner (at a grazing, where a stick phase appears) is refined as well: Brent
+needs no slope.
+
+:func:`continue_forced_extremum` follows one extremum as a second parameter
+varies (the issue's example: the forcing frequency of least or greatest
+TR_B as F_ex varies): at each new value the orbit is re-solved at the last
+extremum and the extremum refined in a window around it.
+
+**Curves in two parameters.**  :func:`forced_chart` continues the m-period
+orbits in ``x_param`` (Omega or F_ex) at each value of a grid of
+``y_param`` and collects the special points each continuation refines to
+~1e-8 in x: folds, period doublings, Neimark-Sacker points and grazings.
+Each is a point (x, y) of a codimension-one curve, exact in y (the grid
+value) and located to ~1e-8 in x; points of one kind and m at neighbouring
+grid values are joined into curves.  Each grid value starts from the orbit
+of the previous one (Newton from its state), so the chart follows one
+family of orbits through the plane.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any, Sequence
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from .._display import Row, Summarized, num
+from ..friction.base import FrictionLaw
+from ..params import BeltOscillator
+from ._json import jsonable
+from .chart import Curve, CurvePoint
+from .forced import (
+    PARAMETERS,
+    ForcedBranch,
+    ForcedShootingError,
+    continue_forced,
+    find_forced_orbit,
+    measures,
+    newton,
+)
+from .monitors import FORCED_MONITORS, Extremum
+#: the special points of forced branches that make curves in two parameters
+FORCED_CURVES = ("fold", "period_doubling", "neimark_sacker", "grazing")
+
+
+def _check_monitor(monitor: str) -> str:
+    if monitor not in FORCED_MONITORS:
+        raise ValueError(f"monitor must be one of {', '.join(FORCED_MONITORS)}, got {monitor!r}")
+    return monitor
+
+
+def forced_monitor_value(point: Any, monitor: str) -> float:
+    """The monitor's value at a forced branch point, a :class:`~.forced.ForcedOrbit` or a :func:`~.forced.measures` dict."""
+    _check_monitor(monitor)
+    get = point.get if isinstance(point, dict) else (lambda k: getattr(point, k))
+    if monitor in ("TR_B", "amplitude", "stick_fraction"):
+        return float(get(monitor))
+    return float(get("averages")[monitor])
+
+
+def forced_monitor(branch: ForcedBranch, monitor: str) -> np.ndarray:
+    """The monitor at every point of the branch."""
+    return np.array([forced_monitor_value(p, monitor) for p in branch.points])
+
+
+# -- the monitor as a function of lambda -----------------------------------------------------------------------------
+class _OrbitFunction:
+    """The monitor of the m-period orbit as a function of lambda, each orbit solved by Newton shooting.
+
+    ``guess(lam)`` gives Newton's start (the branch's states interpolated, or
+    the last solved orbit); the last solved state is kept for the next call.
+    """
+
+    def __init__(self, model: BeltOscillator, law: FrictionLaw, parameter: str, m: int, steps: int, monitor: str,
+                 guess, tol: float = 1e-12) -> None:
+        self.model, self.law, self.parameter, self.m, self.steps = model, law, parameter, m, steps
+        self.monitor, self.guess, self.tol = monitor, guess, tol
+        self.last: np.ndarray | None = None
+
+    def solve(self, lam: float):
+        mdl = replace(self.model, **{self.parameter: float(lam)})
+        tries = [self.guess(lam)] + ([self.last] if self.last is not None else [])
+        err: Exception | None = None
+        for P in tries:
+            for tol in (self.tol, 1e-10):  # rounding may floor the residual above the tight tolerance
+                try:
+                    run, _ = newton(mdl, self.law, P, self.m, self.steps, tol, 30)
+                    self.last = run.start.copy()
+                    return mdl, run
+                except (RuntimeError, ValueError) as e:
+                    err = e
+        raise ForcedShootingError(f"no {self.m}-period orbit at {self.parameter}={lam:.12g}: {err}")
+
+    def value(self, lam: float) -> tuple[float, np.ndarray]:
+        """(monitor, state at tau = 0) of the orbit at lambda."""
+        mdl, run = self.solve(lam)
+        return forced_monitor_value(measures(mdl, run), self.monitor), run.start.copy()
+
+
+def _brent(f: _OrbitFunction, lo: float, hi: float, kind: str) -> tuple[float, float, np.ndarray]:
+    """Brent's bounded minimisation of -+monitor on [lo, hi]: (lambda, monitor, state)."""
+    sign = -1.0 if kind == "max" else 1.0
+    res = minimize_scalar(lambda v: sign * f.value(v)[0], bounds=(lo, hi), method="bounded",
+                          options={"xatol": 1e-10 * max(abs(lo), abs(hi), 1e-12)})
+    lam = float(res.x)
+    value, state = f.value(lam)
+    return lam, value, state
+
+
+def refine_forced_extremum(model: BeltOscillator, law: FrictionLaw, parameter: str, monitor: str, lo: float, hi: float,
+                           guess: Sequence[float] | Any, kind: str, *, m: int = 1, steps: int = 512) -> Extremum:
+    """The extremum (``kind`` max or min) of ``monitor`` for lambda in [lo, hi] on the m-period orbit near ``guess``.
+
+    ``guess``: a state (X, X') at tau = 0 near the orbits of the interval, or a
+    callable lambda -> state.
+    """
+    _check_monitor(monitor)
+    if kind not in ("max", "min"):
+        raise ValueError(f"kind must be max or min, got {kind!r}")
+    g = guess if callable(guess) else (lambda lam, P=np.asarray(guess, dtype=float): P)
+    f = _OrbitFunction(model, law, parameter, m, steps, monitor, g)
+    lam, value, state = _brent(f, lo, hi, kind)
+    return Extremum(monitor, kind, parameter, lam, value, float(state[0]), method="brent",
+                    extra={"V": float(state[1]), "m": m})
+
+
+def _stretches(lam: np.ndarray, mon: np.ndarray, noise: float = 1e-9):
+    """(i, kind) of interior discrete extrema of the monitor where lambda runs one way across them.
+
+    Turns by less than ``noise`` of the monitor's size on the branch are
+    rounding (a monitor constant along the branch, as P_belt = F_d V_b in
+    pure slip), not extrema.
+    """
+    finite = mon[np.isfinite(mon)]
+    floor = noise * (float(np.max(np.abs(finite))) if len(finite) else 0.0)
+    for i in range(1, len(lam) - 1):
+        if not np.all(np.isfinite(mon[i - 1:i + 2])):
+            continue
+        if min(abs(mon[i] - mon[i - 1]), abs(mon[i + 1] - mon[i])) <= floor:
+            continue
+        if (lam[i] - lam[i - 1]) * (lam[i + 1] - lam[i]) <= 0:
+            continue  # a fold between: an extremum in arclength, not in lambda
+        s1 = (mon[i] - mon[i - 1]) / (lam[i] - lam[i - 1])
+        s2 = (mon[i + 1] - mon[i]) / (lam[i + 1] - lam[i])
+        if s1 * s2 < 0:
+            below = s1 if lam[i] > lam[i - 1] else s2
+            yield i, ("max" if below > 0 else "min")
+
+
+def _interpolator(branch: ForcedBranch, i: int):
+    """lambda -> the state interpolated linearly between the branch points i - 1, i, i + 1 (lambda monotone there)."""
+    pts = branch.points[i - 1:i + 2]
+    lam = np.array([p.lam for p in pts])
+    order = np.argsort(lam)
+    lam = lam[order]
+    xs = np.array([pts[k].state[0] for k in order])
+    vs = np.array([pts[k].state[1] for k in order])
+    return lambda v: np.array([np.interp(v, lam, xs), np.interp(v, lam, vs)])
+
+
+def forced_branch_extrema(branch: ForcedBranch, monitor: str, *, refine: bool = True) -> list[Extremum]:
+    """Extrema of ``monitor`` along a forced branch, refined by Brent on the re-shot orbits unless ``refine`` is False.
+
+    Each :class:`~.monitors.Extremum` carries lambda (``value``), the monitor
+    there, X (``x``) and, in ``extra``, X' (``V``), m and ``at``: ``grazing
+    corner`` where the stick-phase count changes across the extremum.
+    """
+    _check_monitor(monitor)
+    lam = branch.lam
+    mon = forced_monitor(branch, monitor)
+    steps = int(branch.settings.get("steps_per_period", 512))
+    out = []
+    for i, kind in _stretches(lam, mon):
+        pts = branch.points
+        corner = {"at": "grazing corner"} if len({p.stick_phases for p in pts[i - 1:i + 2]}) > 1 else {}
+        if not refine:
+            out.append(Extremum(monitor, kind, branch.parameter, float(lam[i]), float(mon[i]), float(pts[i].state[0]),
+                                None, "sample", {"V": float(pts[i].state[1]), "m": branch.m, **corner}))
+            continue
+        lo, hi = sorted((float(lam[i - 1]), float(lam[i + 1])))
+        try:
+            e = refine_forced_extremum(branch.model, branch.friction, branch.parameter, monitor, lo, hi,
+                                       _interpolator(branch, i), kind, m=branch.m, steps=steps)
+            out.append(Extremum(e.monitor, e.kind, e.param, e.value, e.monitor_value, e.x, None, e.method,
+                                {**e.extra, **corner}))
+        except (RuntimeError, ValueError):
+            out.append(Extremum(monitor, kind, branch.parameter, float(lam[i]), float(mon[i]), float(pts[i].state[0]),
+                                None, "sample", {"V": float(pts[i].state[1]), "m": branch.m, **corner}))
+    return out
+
+
+def continue_forced_extremum(model: BeltOscillator, law: FrictionLaw, monitor: str, parameter: str, lo: float,
+                             hi: float, param2: str, values2, start: Extremum, *, m: int = 1, steps: int = 512,
+                             width: float = 0.05) -> list[Extremum]:
+    """Follow the extremum ``start`` of ``monitor`` along ``parameter`` through ``values2`` of ``param2``.
+
+    ``start`` was found at ``model``'s value of ``param2`` (e.g. by
+    :func:`forced_branch_extrema`).  At each value the orbit is re-solved
+    from the last extremum's state and the extremum refined in a window of
+    ``width`` of [lo, hi] around the last one (widened twice while it lands
+    on the window's edge).  Stops at the first value where it is lost.  Each
+    result names ``param2``'s value in ``extra``.
+    """
+    _check_monitor(monitor)
+    for name in (parameter, param2):
+        if name not in PARAMETERS:
+            raise ValueError(f"parameters must be among {PARAMETERS}, got {name!r}")
+    if parameter == param2:
+        raise ValueError("the two parameters must differ")
+    lam, state = start.value, np.array([start.x, start.extra.get("V", model.vb)])
+    span = hi - lo
+    out = []
+    for v2 in values2:
+        m2 = replace(model, **{param2: float(v2)})
+        found = None
+        for w in (width, 2 * width, 4 * width):
+            a, b = max(lo, lam - w * span), min(hi, lam + w * span)
+            try:
+                e = refine_forced_extremum(m2, law, parameter, monitor, a, b, state, start.kind, m=m, steps=steps)
+            except (RuntimeError, ValueError):
+                continue
+            edge = min(e.value - a, b - e.value)
+            if edge > 1e-6 * (b - a):
+                found = e
+                break
+        if found is None:
+            break
+        lam, state = found.value, np.array([found.x, found.extra["V"]])
+        out.append(Extremum(found.monitor, found.kind, parameter, found.value, found.monitor_value, found.x, None,
+                            found.method, {**found.extra, param2: float(v2)}))
+    return out
+
+
+# -- curves in two parameters ------------------------------------------------------------------------------------
+@dataclass
+class GridRun:
+    """What the continuation at one grid value of y did: its points, how it ended, the events it found."""
+
+    y: float
+    m: int
+    points: int
+    ends: list[str]
+    events: list[str]
+    error: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"y": self.y, "m": self.m, "points": self.points, "ends": self.ends, "events": self.events,
+                "error": self.error or None}
+
+
+@dataclass(repr=False)
+class ForcedChart(Summarized):
+    """Curves of forced special points in the (x, y) plane (continued in x at each y of a grid), and a heat map.
+
+    The curves' points are (x, y) with y a grid value; ``grid_axis`` is "y".
+    """
+
+    x_param: str
+    y_param: str
+    x_range: tuple[float, float]
+    y_values: np.ndarray
+    params: dict[str, Any]
+    curves: list[Curve]
+    runs: list[GridRun] = field(default_factory=list)
+    codim2: list = field(default_factory=list)
+    sweep: Any = None
+    heat: str = ""
+    grid_axis: str = "y"
+
+    @property
+    def x_values(self) -> np.ndarray:
+        return np.asarray(self.x_range, dtype=float)
+
+    @property
+    def y_range(self) -> tuple[float, float]:
+        return float(np.min(self.y_values)), float(np.max(self.y_values))
+
+    def curve(self, kind: str, m: int | None = None) -> Curve | None:
+        return next((c for c in self.curves if c.kind == kind and (m is None or c.m == m)), None)
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        rows = [
+            ("plane", f"{self.x_param} in [{num(self.x_range[0])}, {num(self.x_range[1])}] (continued) x "
+                      f"{self.y_param} from {num(float(self.y_values[0]))} to {num(float(self.y_values[-1]))} "
+                      f"({len(self.y_values)} values)"),
+            ("curves", "; ".join(f"{c.kind} m={c.m} ({len(c.points)} points)" for c in self.curves) or "none"),
+        ]
+        failed = [r for r in self.runs if r.error]
+        if failed:
+            rows.append(("no orbit at", ", ".join(f"{self.y_param}={num(r.y)} (m={r.m})" for r in failed)))
+        if self.sweep is not None:
+            rows.append(("heat map", f"{self.heat} from {int(np.prod([len(self.sweep[d]) for d in self.sweep[self.heat].dims]))} simulations"))
+        return "ForcedChart", rows
+
+    def to_dict(self) -> dict[str, Any]:
+        return jsonable({
+            "x_param": self.x_param, "y_param": self.y_param, "x_range": list(self.x_range),
+            "y_values": self.y_values, "params": self.params, "continued_in": self.x_param,
+            "curves": [c.to_dict() for c in self.curves], "codim2": [],
+            "runs": [r.to_dict() for r in self.runs], "heat": self.heat or None,
+        })
+
+    def to_xarray(self):
+        """Each curve as x over (y, root) -- the k-th x of that kind at each grid y, NaN where fewer -- with the sweep."""
+        import xarray as xr
+
+        data = {}
+        for c in self.curves:
+            per_y: dict[float, list[float]] = {}
+            for p in c.points:
+                per_y.setdefault(p.y, []).append(p.x)
+            n = max((len(v) for v in per_y.values()), default=0)
+            arr = np.full((len(self.y_values), max(n, 1)), np.nan)
+            for i, yv in enumerate(self.y_values):
+                xs = sorted(per_y.get(float(yv), []))
+                arr[i, :len(xs)] = xs
+            name = f"{c.kind}_m{c.m}"
+            data[f"{name}_{self.x_param}"] = ((self.y_param, f"{name}_root"), arr,
+                                               {"long_name": f"{self.x_param} on the {c.kind} curve of the m={c.m} orbits"})
+        ds = xr.Dataset(data, coords={self.y_param: np.asarray(self.y_values, dtype=float)})
+        ds.attrs.update({"x_param": self.x_param, "y_param": self.y_param, "continued_in": self.x_param,
+                         "x_range": list(self.x_range), "params": str(self.params)})
+        if self.sweep is not None:
+            sw = self.sweep.rename({d: f"sweep_{d}" for d in self.sweep.dims})
+            for k, v in sw.data_vars.items():
+                ds[f"sweep_{k}"] = v
+        return ds
+
+    def plot(self, path: Any = None):
+        from .chart_plot import plot_chart
+
+        return plot_chart(self, path)
+
+
+def _start_orbit(model: BeltOscillator, law: FrictionLaw, m: int, previous: np.ndarray | None, steps: int):
+    """The m-period orbit at ``model``: Newton from the previous grid value's orbit, else after a transient."""
+    if previous is not None:
+        try:
+            return find_forced_orbit(model, law, m, float(previous[0]), float(previous[1]), steps=steps)
+        except (RuntimeError, ValueError):
+            pass
+    return find_forced_orbit(model, law, m, steps=steps)
+
+
+def _event_point(e, y: float, m: int, direction: str) -> CurvePoint:
+    detail = {"m": m, "X": float(e.state[0]), "V": float(e.state[1]),
+              "multipliers": [[float(z.real), float(z.imag)] for z in e.multipliers]}
+    for k in ("smooth", "angle", "stick_phase", "slip_reversal", "at"):
+        if k in e.detail:
+            detail[k] = e.detail[k]
+    return CurvePoint(float(e.lam), float(y), detail)
+
+
+def forced_chart(
+    model: BeltOscillator,
+    law: FrictionLaw,
+    x_param: str,
+    x_range: tuple[float, float],
+    y_param: str,
+    y_values,
+    *,
+    m: int | Sequence[int] = 1,
+    x_start: float | None = None,
+    guess: Sequence[float] | None = None,
+    curves: Sequence[str] = FORCED_CURVES,
+    sweep: Any = None,
+    heat: str = "TR_B",
+    **continuation: Any,
+) -> ForcedChart:
+    """Fold, period-doubling, Neimark-Sacker and grazing curves of the forced system in the (x_param, y_param) plane.
+
+    At each y of ``y_values`` the m-period orbit (for each m given) is found
+    at x = ``x_start`` (default: the end of ``x_range`` nearer ``model``'s x)
+    and continued by :func:`~.forced.continue_forced` in x to both ends of
+    ``x_range``; the special points it refines are the curves' points.
+    ``guess``: (X, X') at tau = 0 near the first grid value's orbit (else a
+    transient is run first); later grid values start from the previous one's orbit.
+    ``continuation``: keywords for :func:`~.forced.continue_forced` (h_max,
+    steps, max_points, ...).
+    """
+    for name in (x_param, y_param):
+        if name not in PARAMETERS:
+            raise ValueError(f"parameters must be among {PARAMETERS}, got {name!r}")
+    if x_param == y_param:
+        raise ValueError("the two parameters must differ")
+    for c in curves:
+        if c not in FORCED_CURVES:
+            raise ValueError(f"curves must be among {', '.join(FORCED_CURVES)}, got {c!r}")
+    lo, hi = sorted(float(v) for v in x_range)
+    if not (lo > 0 and hi > lo):
+        raise ValueError(f"{x_param}: the range must be positive with two distinct ends, got {x_range!r}")
+    ys = np.asarray(y_values, dtype=float)
+    if not (ys.ndim == 1 and len(ys) >= 1 and np.all(ys > 0) and np.all(np.isfinite(ys))):
+        raise ValueError(f"{y_param}: the grid values must be finite and > 0")
+    ms = (m,) if isinstance(m, (int, np.integer)) else tuple(m)
+    if x_start is None:
+        here = float(getattr(model, x_param))
+        x_start = lo if abs(here - lo) <= abs(here - hi) else hi
+    x_start = float(min(max(x_start, lo), hi))
+    steps = int(continuation.get("steps", 512))
+    found: dict[tuple[str, int], list[CurvePoint]] = {}
+    runs = []
+    for mm in ms:
+        previous = None if guess is None else np.asarray(guess, dtype=float)
+        for y in ys:
+            mdl = replace(model, **{y_param: float(y), x_param: x_start})
+            try:
+                orbit = _start_orbit(mdl, law, mm, previous, steps)
+            except (RuntimeError, ValueError) as e:
+                runs.append(GridRun(float(y), mm, 0, [], [], str(e)))
+                previous = None
+                continue
+            previous = orbit.state
+            ends, names, n = [], [], 0
+            for stop in (lo, hi):
+                if stop == x_start:
+                    continue
+                try:
+                    br = continue_forced(mdl, law, x_param, x_start, stop, m=mm, orbit=orbit, **continuation)
+                except (RuntimeError, ValueError) as e:
+                    ends.append(f"failed: {e}")
+                    continue
+                n += len(br)
+                ends.append(br.end)
+                for e in br.events:
+                    names.append(e.type)
+                    if e.type in curves:
+                        found.setdefault((e.type, mm), []).append(_event_point(e, y, mm, "down" if stop < x_start else "up"))
+            runs.append(GridRun(float(y), mm, n, ends, names))
+    out = [Curve(kind, _dedupe(pts, 1e-7 * (hi - lo)), m=mm) for (kind, mm), pts in sorted(found.items())]
+    return ForcedChart(x_param, y_param, (lo, hi), ys, {**model.report(), **law.as_dict(), "m": list(ms)}, out, runs,
+                       sweep=sweep, heat=heat if sweep is not None else "")
+
+
+def _dedupe(points: list[CurvePoint], tol: float) -> list[CurvePoint]:
+    """One point per event found twice (at the start, by the continuations both ways)."""
+    out: list[CurvePoint] = []
+    for p in points:
+        if not any(q.y == p.y and abs(q.x - p.x) <= tol for q in out):
+            out.append(p)
+    return out
+
+
+def forced_map(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_values, *,
+               sweep_shape: tuple[int, int] | None = None, sweep_out: Any = None, t_end: float = 500.0,
+               heat: str = "TR_B", sweep_y_range: tuple[float, float] | None = None, **kw: Any) -> ForcedChart:
+    """:func:`forced_chart` with a heat map from a sweep of simulations over the same plane.
+
+    ``sweep_shape`` (n_x, n_y): the sweep's grid (None: no sweep), run by
+    :func:`frictionflow.sweep.run_sweep` (forced points run one by one: keep it
+    coarse) into ``sweep_out`` (default a temporary .nc); ``heat``: the sweep
+    variable drawn under the curves (TR_B, R_c, ...); ``sweep_y_range``: its
+    y interval (default: the grid's).
+    """
+    from .chart import sweep_config
+
+    sweep = None
+    if sweep_shape is not None:
+        import tempfile
+        from pathlib import Path
+
+        from ..sweep import VARIABLES, run_sweep
+
+        names = [v[0] for v in VARIABLES]
+        if heat not in names:
+            raise ValueError(f"heat must be a sweep variable ({', '.join(names)}), got {heat!r}")
+        ys = np.asarray(y_values, dtype=float)
+        y_sweep = sweep_y_range if sweep_y_range is not None else (float(ys.min()), float(ys.max()))
+        cfg = sweep_config(model, law, x_param, x_range, y_param, y_sweep, sweep_shape, t_end)
+        out = sweep_out if sweep_out is not None else Path(tempfile.mkdtemp(prefix="ff_fmap_")) / "sweep.nc"
+        sweep = run_sweep(cfg, out).load()
+    return forced_chart(model, law, x_param, x_range, y_param, y_values, sweep=sweep, heat=heat, **kw)
