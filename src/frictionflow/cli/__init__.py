@@ -62,7 +62,7 @@ SHORT_HELP = {
     "lyapunov": "Lyapunov exponents of the stick-slip flow, forced or not.",
     "forced-orbit": "Periodic orbit of the forced oscillator and its Floquet multipliers.",
     "forced-continue": "Continue forced periodic orbits in Omega or F_ex, with bifurcations.",
-    "map": "Stability chart in two parameters: Hopf, grazing and fold curves.",
+    "map": "Stability chart in two parameters: Hopf, grazing, fold (and forced: period-doubling) curves.",
 }
 
 

@@ -16,7 +16,8 @@ parameter), :mod:`.chart` (two-parameter stability charts),
 :mod:`.shooting` (Newton on the Poincare map), :mod:`.floquet`,
 :mod:`.equilibria`, :mod:`.arclength` (pseudo-arclength), :mod:`.continuation`,
 :mod:`.brute_force` (simulations to overlay), :mod:`.plotting`; the forced
-oscillator's orbits (period fixed by the forcing): :mod:`.forced`, :mod:`.forced_plot`.
+oscillator's orbits (period fixed by the forcing): :mod:`.forced`, :mod:`.forced_plot`,
+and its monitors and (Omega, F_ex) charts: :mod:`.forced_chart`.
 """
 
 from .branches import Bifurcation, Branch, BranchPoint, ContinuationResult
@@ -30,7 +31,8 @@ from .parameters import parameter_names, with_param
 from .shooting import PeriodicOrbit, ShootingError, find_orbit, shoot
 from .brute_force import sweep
 from .chart import StabilityChart, stability_chart, stability_map
-from .monitors import MONITORS, Extremum, branch_extrema, continue_extremum
+from .monitors import FORCED_MONITORS, MONITORS, Extremum, branch_extrema, continue_extremum
+from .forced_chart import ForcedChart, continue_forced_extremum, forced_branch_extrema, forced_chart, forced_map
 from .sensitivity import OrbitDerivatives, locate_fold, locate_grazing, orbit_derivatives, stick_slip_grazing
 
 __all__ = [
@@ -42,11 +44,17 @@ __all__ = [
     "ContinuationResult",
     "continue_extremum",
     "continue_forced",
+    "continue_forced_extremum",
     "Extremum",
     "fd_monodromy",
     "find_forced_orbit",
     "find_orbit",
+    "forced_branch_extrema",
+    "forced_chart",
+    "forced_map",
+    "FORCED_MONITORS",
     "ForcedBranch",
+    "ForcedChart",
     "ForcedOrbit",
     "locate_fold",
     "locate_grazing",
