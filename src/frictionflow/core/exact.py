@@ -749,6 +749,12 @@ def _forced_piece(dyn, fck, zeta, vb, force, fex, om, theta, slipping, xa, va, x
     """
     co, pz, fz = cf.forced_phase(dyn, zeta, force, xa, va, fex, om, theta)
     v2, w_ex = cf.forced_work(co, dyn, zeta, force, pz, fz, om, L)
+    return _piece_work(fck, zeta, vb, force, slipping, xa, va, xb, vb_, L, v2, w_ex)
+
+
+@njit(cache=True)
+def _piece_work(fck, zeta, vb, force, slipping, xa, va, xb, vb_, L, v2, w_ex):
+    """The work integrals over one piece given int X'^2 (``v2``) and int X' f (``w_ex``) over it (:func:`_forced_piece`)."""
     if fck == FC_CONST:
         pf = force * (xb - xa)
     elif fck == FC_SPRING:
@@ -816,6 +822,10 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
             break
         co, pz, fz = cf.forced_phase(dyn, zeta, force, x, v, fex, om, theta)
         ph = (co, dyn, zeta, force, pz, fz, om)
+        # the work integrals from this representation (OSC critically or over-damped: rebuilt per piece)
+        from_start = dyn != cf.OSC or co[0] == cf.UNDER
+        rep = cf.work_rep(co, dyn, zeta, pz, fz, om)
+        ela = eoa = 1.0 + 0j  # e^{lam t}, e^{i Omega t} at the piece's start
         # the event functions: the mode's boundaries a (X - f) + b X' - c, then the sample functions
         nb, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
         for i in range(nb):
@@ -873,8 +883,14 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
                 if tb <= ta:
                     continue  # the same time from another source
                 xb, vb_, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, tb)
-            d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
-                                               xa, va, xb, vb_, tb - ta)
+            if from_start:
+                elb, eob = cf.phase_exps(co, dyn, om, tb)
+                v2, wx = cf.work_between(rep, dyn, ela, eoa, elb, eob, tb - ta)
+                ela, eoa = elb, eob
+                d0, d1, d2, d3, d4 = _piece_work(fck, zeta, vb, force, slipping, xa, va, xb, vb_, tb - ta, v2, wx)
+            else:
+                d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
+                                                   xa, va, xb, vb_, tb - ta)
             w[0] += d0
             w[1] += d1
             w[2] += d2
@@ -886,8 +902,13 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
             k += 1
             ta, xa, va = tb, xb, vb_
         t_next = t + T if which >= 0 else t_end
-        d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
-                                           xa, va, xe, ve, T - ta)
+        if from_start:
+            elb, eob = cf.phase_exps(co, dyn, om, T)
+            v2, wx = cf.work_between(rep, dyn, ela, eoa, elb, eob, T - ta)
+            d0, d1, d2, d3, d4 = _piece_work(fck, zeta, vb, force, slipping, xa, va, xe, ve, T - ta, v2, wx)
+        else:
+            d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
+                                               xa, va, xe, ve, T - ta)
         w[0] += d0
         w[1] += d1
         w[2] += d2
