@@ -601,39 +601,62 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
 # the upper parabola s G(t) + s G'(t) u + M u^2 / 2 does (G is monotone up to there).  A short
 # excursion of G beyond the boundary is never stepped over.
 
+@njit(cache=True, inline="always")
+def _d2g(dyn, zeta, om, fn, acc, jerk, f):
+    """G'' of the event function ``fn`` (:func:`_next_root`) from X'', X''' and f.
+
+    X'''' from the equation of motion: OSC X'' = F + f - X - 2 zeta X', so
+    X'''' = f'' - X'' - 2 zeta X'''; EXP X'''' = -2 zeta X'''; LIN 0 (X''' = 0).
+    """
+    a, b, d, e, _ = fn
+    snap = -om * om * f - acc - 2.0 * zeta * jerk if dyn == cf.OSC else -2.0 * zeta * jerk
+    return a * acc + b * jerk + d * snap + e * om * om * f
+
+
 @njit(cache=True)
 def _gf(ph, fn, t):
-    """G and G' at t of the event function ``fn`` (:func:`_next_root`) with (X, X', e1, e2) there."""
+    """G, G' and G'' at t of the event function ``fn`` (:func:`_next_root`) with (X, X') there."""
     co, dyn, zeta, force, pz, fz, om = ph
     a, b, d, e, c = fn
-    x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
-    return a * x + b * v + d * acc - e * f - c, a * v + b * acc + d * jerk - e * df, x, v, e1, e2
+    x, v, acc, jerk, f, df, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
+    g = a * x + b * v + d * acc - e * f - c
+    return g, a * v + b * acc + d * jerk - e * df, _d2g(dyn, zeta, om, fn, acc, jerk, f), x, v
+
+
+@njit(cache=True, inline="always")
+def _halley(t, g, dg, d2g):
+    """Halley's step from t (cubic convergence: two steps from the walk's bracket end, mostly); NaN if undefined."""
+    den = 2.0 * dg * dg - g * d2g
+    return t - 2.0 * g * dg / den if den != 0.0 else np.nan
 
 
 @njit(cache=True)
-def _refine_forced(ph, fn, s, lo, hi, g_hi, dg_hi, x_hi, v_hi):
-    """The first time in (lo, hi] where s G <= 0, given s G(hi) <= 0 (G, G' there): (t, X, X') there.
+def _refine_forced(ph, fn, s, lo, hi, g_hi, dg_hi, d2g_hi, x_hi, v_hi):
+    """The first time in (lo, hi] where s G <= 0, given s G(hi) <= 0 (G, G', G'' there): (t, X, X') there.
 
-    Newton's iteration from ``hi``, kept inside the bracket and used while
-    |G| at least halves (else bisection); once it has converged it probes an
-    ulp or two to the other side, so the bracket closes to a few ulps.
+    Halley's iteration from ``hi``, kept inside the bracket and used while
+    |G| at least halves (else bisection).  Once a step is below rounding the
+    root is within ulps: an iterate on the outside is the answer; one on the
+    inside probes an ulp or two further, so the bracket closes to a few ulps.
     """
-    t = hi - g_hi / dg_hi if dg_hi != 0.0 else 0.5 * (lo + hi)
+    t = _halley(hi, g_hi, dg_hi, d2g_hi)
     if not (lo < t < hi):
         t = 0.5 * (lo + hi)
     g_prev = abs(g_hi)
     for _ in range(400):
-        g, dg, x, v, _, _ = _gf(ph, fn, t)
+        g, dg, d2g, x, v = _gf(ph, fn, t)
         if s * g > 0.0:
             lo = t
         else:
             hi, x_hi, v_hi = t, x, v
         if hi - lo <= 4.0 * EPS * hi:
             break
-        tn = t - g / dg if dg != 0.0 else -1.0
-        if abs(tn - t) <= 2.0 * EPS * abs(t):  # converged: the root is within ulps, probe its other side
-            tn = t + (2.0 * EPS * abs(t) if s * g > 0.0 else -2.0 * EPS * abs(t))
-        elif abs(g) > 0.5 * g_prev:  # Newton is not converging: bisect
+        tn = _halley(t, g, dg, d2g)
+        if abs(tn - t) <= 2.0 * EPS * abs(t):  # converged: the root is within ulps
+            if s * g <= 0.0:
+                return t, x, v  # on the outside already
+            tn = t + 2.0 * EPS * abs(t)  # probe the other side
+        elif abs(g) > 0.5 * g_prev:  # Halley is not converging: bisect
             tn = 0.5 * (lo + hi)
         if not (lo < tn < hi):
             tn = 0.5 * (lo + hi)
@@ -720,7 +743,8 @@ def _next_root(ph, fns, sides, consts, n, nb, t0, t1):
                 continue  # on 0 within the touch level: not (yet) a crossing
             fn = (fns[i, 0], fns[i, 1], fns[i, 2], fns[i, 3], fns[i, 4])
             dg = fns[i, 0] * v + fns[i, 1] * acc + fns[i, 2] * jerk - fns[i, 3] * df
-            tr, xr, vr = _refine_forced(ph, fn, sides[i], consts[i, 4], t, g, dg, x, v)
+            tr, xr, vr = _refine_forced(ph, fn, sides[i], consts[i, 4], t, g, dg, _d2g(dyn, zeta, om, fn, acc, jerk, f),
+                                        x, v)
             boundary_tie = i < nb and best >= nb and tr <= tb + 8.0 * EPS * (1.0 + tb)
             if tr < tb or boundary_tie:
                 best, tb, xb, vb = i, tr, xr, vr
