@@ -266,18 +266,27 @@ def free_motion(co, dyn, zeta, t):
     OSC: Y = X - F - X_p; LIN: X = x0 + v0 t; EXP: X' = v0 e^{-2 zeta t}.  e1
     (and e2 for overdamped OSC) feed :func:`free_bound`.
     """
+    y, v, a, j, e1, e2, _ = _free_motion_exp(co, dyn, zeta, t)
+    return y, v, a, j, e1, e2
+
+
+@njit(cache=True)
+def _free_motion_exp(co, dyn, zeta, t):
+    """:func:`free_motion` and e^{lam t} (:func:`phase_exps`; 0 for OSC critically or over-damped)."""
     reg, r1, r2, p, q = co
     if dyn == LIN or (dyn == EXP and r1 == 0.0):
-        return p + q * t, q, 0.0, 0.0, 1.0, 0.0
+        return p + q * t, q, 0.0, 0.0, 1.0, 0.0, 1.0 + 0j
     if dyn == EXP:
         e = math.exp(-r1 * t)
         v = q * e
-        return p + q * (-math.expm1(-r1 * t)) / r1, v, -r1 * v, r1 * r1 * v, e, 0.0
+        return p + q * (-math.expm1(-r1 * t)) / r1, v, -r1 * v, r1 * r1 * v, e, 0.0, complex(e, 0.0)
     e2 = 0.0
+    el = 0j
     if reg == UNDER:
         e1 = math.exp(-r1 * t)
         cs = math.cos(r2 * t)
         sn = math.sin(r2 * t)
+        el = complex(e1 * cs, e1 * sn)
         y = e1 * (p * cs + q * sn)
         v = e1 * ((r2 * q - r1 * p) * cs - (r2 * p + r1 * q) * sn)
     elif reg == CRIT:
@@ -290,23 +299,35 @@ def free_motion(co, dyn, zeta, t):
         y = p * e1 + q * e2
         v = r1 * p * e1 + r2 * q * e2
     a = -y - 2.0 * zeta * v
-    return y, v, a, -v - 2.0 * zeta * a, e1, e2
+    return y, v, a, -v - 2.0 * zeta * a, e1, e2, el
 
 
 @njit(cache=True)
 def forced_state(co, dyn, zeta, force, pz, fz, omega, t):
     """(X, X', X'', X''', f, f', e1, e2) at t of a forced phase (:func:`forced_phase`)."""
-    y, v, a, j, e1, e2 = free_motion(co, dyn, zeta, t)
+    x, v, a, j, f, df, e1, e2, _, _ = forced_eval(co, dyn, zeta, force, pz, fz, omega, t)
+    return x, v, a, j, f, df, e1, e2
+
+
+@njit(cache=True)
+def forced_eval(co, dyn, zeta, force, pz, fz, omega, t):
+    """:func:`forced_state` and the exponentials of :func:`phase_exps` at t: (X, X', X'', X''', f, f', e1, e2, el, eo).
+
+    One exp and two cos-sin pairs give the motion and, through el = e^{lam t}
+    and eo = e^{i Omega t}, its work integrals (:func:`work_between`).
+    """
+    y, v, a, j, e1, e2, el = _free_motion_exp(co, dyn, zeta, t)
     c = math.cos(omega * t)
     s = math.sin(omega * t)
+    eo = complex(c, s)
     f = fz.real * c - fz.imag * s
     df = -omega * (fz.imag * c + fz.real * s)
     if dyn != OSC:
-        return y, v, a, j, f, df, e1, e2
+        return y, v, a, j, f, df, e1, e2, el, eo
     xp = pz.real * c - pz.imag * s
     vp = -omega * (pz.imag * c + pz.real * s)
     w2 = omega * omega
-    return force + y + xp, v + vp, a - w2 * xp, j - w2 * vp, f, df, e1, e2
+    return force + y + xp, v + vp, a - w2 * xp, j - w2 * vp, f, df, e1, e2, el, eo
 
 
 @njit(cache=True)
