@@ -235,6 +235,18 @@ def integral_v2_with(co, T):
     return P * P * math.expm1(2 * r1 * T) / (2 * r1) + 2 * P * Q * math.expm1((r1 + r2) * T) / (r1 + r2) + Q * Q * math.expm1(2 * r2 * T) / (2 * r2)
 
 
+@njit(cache=True, inline="always")
+def modulus(z):
+    """|z| without hypot's overflow guard (a library call, slower than the arithmetic here): moderate values only."""
+    return math.sqrt(z.real * z.real + z.imag * z.imag)
+
+
+@njit(cache=True, inline="always")
+def reciprocal(z):
+    """1 / z as conj(z) / |z|^2 (no library division; z of moderate size, not 0)."""
+    return z.conjugate() * (1.0 / (z.real * z.real + z.imag * z.imag))
+
+
 # -- harmonic forcing -----------------------------------------------------------------------------
 # Under f = Re(fz e^{i Omega t}) (t from the phase start, fz = F_ex e^{i theta}) the OSC motion is
 # X = F + Y + Re(pz e^{i Omega t}): Y free (as above, from Y(0), Y'(0)) and the harmonic particular
@@ -254,7 +266,7 @@ def forced_phase(dyn, zeta, force, x0, v0, fex, omega, theta):
     fz = fex * complex(math.cos(theta), math.sin(theta))
     if dyn != OSC:
         return coefficients(dyn, zeta, force, x0, v0), 0j, fz
-    pz = fz / complex(1.0 - omega * omega, 2.0 * zeta * omega)
+    pz = fz * reciprocal(complex(1.0 - omega * omega, 2.0 * zeta * omega))
     # X_p(0) = Re pz, X_p'(0) = Re(i Omega pz) = -Omega Im pz
     return coefficients(OSC, zeta, force + pz.real, x0, v0 + omega * pz.imag), pz, fz
 
@@ -340,7 +352,7 @@ def free_bound(co, dyn, zeta, a, b, d):
         return abs(q) * abs(-a * r1 + b * r1 * r1 - d * r1 * r1 * r1), 0.0
     if reg == UNDER:  # Y = Re(C e^{lam t}), C = p - i q, lam = -r1 + i r2, |lam| = 1
         lam = complex(-r1, r2)
-        return abs(complex(p, -q)) * abs(lam * lam * (a + lam * (b + d * lam))), 0.0
+        return math.sqrt(p * p + q * q) * modulus(lam * lam * (a + lam * (b + d * lam))), 0.0
     if reg == CRIT:  # (..)'' = e^{-t}(A + B t): the constants A, B themselves
         k = a - b + d
         return k * p - q * (2.0 * a - 3.0 * b + 4.0 * d), k * q
@@ -502,9 +514,9 @@ def phase_exps(co, dyn, omega, t):
 @njit(cache=True)
 def _slot(z, a, b):
     """One exponential e^{z t} of :func:`work_rep`: (z, A, B, per_piece) with A, B already divided by z unless per_piece."""
-    if abs(z) < SMALL_RATE:
+    if z.real * z.real + z.imag * z.imag < SMALL_RATE * SMALL_RATE:
         return z, a, b, True
-    iz = 1.0 / z
+    iz = reciprocal(z)
     return z, a * iz, b * iz, False
 
 
@@ -532,9 +544,9 @@ def work_rep(co, dyn, zeta, pz, fz, omega):
     s1 = _slot(lam + iw, cl * vz, 0.5 * cl * fz)
     s2 = _slot(lc + iw, cl.conjugate() * vz, 0.5 * cl.conjugate() * fz)
     s3 = _slot(2.0 * lam, 0.5 * cl * cl, 0j)
-    s4 = _slot(lam + lc, complex(0.5 * abs(cl) ** 2, 0.0), 0j)
+    s4 = _slot(lam + lc, complex(0.5 * (cl.real * cl.real + cl.imag * cl.imag), 0.0), 0j)
     s5 = _slot(2.0 * iw, 0.5 * vz * vz, 0.5 * vz * fz)
-    return (s1, s2, s3, s4, s5), 0.5 * abs(vz) ** 2, 0.5 * (vz * fz.conjugate()).real
+    return (s1, s2, s3, s4, s5), 0.5 * (vz.real * vz.real + vz.imag * vz.imag), 0.5 * (vz * fz.conjugate()).real
 
 
 @njit(cache=True)

@@ -680,9 +680,10 @@ def _bound_consts(ph, x, v, fn):
     a, b, d, e, c = fn
     K1, K2 = cf.free_bound(co, dyn, zeta, a, b, d)
     hz = complex(a - om * om * d, om * b) * pz - e * fz  # the harmonic part: Re(hz e^{i Omega t})
-    scale = abs(a * x) + abs(b * v) + abs(d) * (abs(force) + abs(x) + 2.0 * zeta * abs(v)) + abs(c) + abs(hz) + abs(e) * abs(fz)
+    mz = cf.modulus(hz)
+    scale = abs(a * x) + abs(b * v) + abs(d) * (abs(force) + abs(x) + 2.0 * zeta * abs(v)) + abs(c) + mz + abs(e) * cf.modulus(fz)
     # an excursion beyond 0 smaller than 1e-12 of the scale is a touch, not a crossing
-    return K1, K2, om * om * abs(hz), 1e-12 * scale + 1e-300
+    return K1, K2, om * om * mz, 1e-12 * scale + 1e-300
 
 
 @njit(cache=True, inline="always")
