@@ -1,4 +1,4 @@
-"""Exact event-driven solver with harmonic forcing vs scipy, at the same (or scipy's best) accuracy.
+"""Exact event-driven solver with harmonic forcing vs scipy, at the same accuracy.
 
     python benchmarks/bench_exact_forced.py
 
@@ -11,12 +11,15 @@ scipy is what a careful user writes: DOP853 phase by phase, slip stopped by an
 event at X' = V_b, stick (X' = V_b) integrated with events where the held
 force |X + 2 zeta V_b - f| reaches F_s (max_step an eighth of the forcing
 period, so that no excursion is stepped over), augmented with the work
-integrals W_dv and W_ex as the exact solver computes them.  Accuracy: the
-state at t_end against scipy at rtol 1e-13 (the tight reference); scipy is
-timed at rtol 1e-10 and 1e-12 (it cannot reach the exact solver's ~1e-14),
-so the ratios are lower bounds of the ratio at equal accuracy.  Times are
-per switch (scipy timed over a shorter run: its cost is linear in the
-switches).
+integrals W_dv and W_ex as the exact solver computes them.
+
+Accuracy: the state at tau = 200 against scipy at its tightest tolerance
+(rtol 3e-14, the reference; its own error is estimated against rtol 1e-13
+and printed).  scipy is timed at rtol 1e-10 ... 1e-13 with its error; the
+ratio at the same accuracy is taken at the loosest rtol whose error is at most
+the exact solver's (or, if none reaches it, at the tightest: then a lower
+bound).  Times are per switch (scipy timed over tau = 200, the exact solver
+over 2000: both costs are linear in the switches).
 """
 
 from __future__ import annotations
@@ -85,6 +88,10 @@ def scipy_run(c: dict, t_end: float, rtol: float) -> tuple[np.ndarray, int]:
         switches += 1
 
 
+RTOLS = (1e-10, 1e-11, 1e-12, 1e-13)
+REF_RTOL = 3e-14
+
+
 def main() -> None:
     header("exact solver with harmonic forcing vs scipy solve_ivp (DOP853 + events), forced Coulomb friction")
     for name, c in CASES.items():
@@ -92,23 +99,35 @@ def main() -> None:
         tr = exact_run(c, T_END)
         n_exact = len(tr.events["t"])
         t_exact = best_of(lambda: exact_run(c, T_END), 20)
+        per_exact = t_exact / n_exact
         # accuracy at T_SCIPY against scipy at its tightest
-        ref, _ = scipy_run(c, T_SCIPY, 1e-13)
+        ref, _ = scipy_run(c, T_SCIPY, REF_RTOL)
+        ref_loose, _ = scipy_run(c, T_SCIPY, 1e-13)
         short = exact_run(c, T_SCIPY)
         w = short.dwork.sum(axis=0)
         got = np.array([short.x[-1], short.v[-1], w[0], w[4]])
         err_exact = float(np.max(np.abs(got[:2] - ref[:2])))
         print(f"\n## {name}: {c}")
+        print(f"reference: scipy rtol {REF_RTOL:g}; its state differs from rtol 1e-13 by "
+              f"{float(np.max(np.abs(ref_loose[:2] - ref[:2]))):.1e}")
         print(f"exact   {t_exact * 1e3:8.3f} ms for t_end {T_END:g}: {n_exact} switches, {len(tr.t)} samples, "
-              f"{t_exact / n_exact * 1e9:7.0f} ns per switch; state error at {T_SCIPY:g} vs the reference {err_exact:.1e}, "
-              f"W_dv, W_ex {abs(got[2] - ref[2]):.1e}, {abs(got[3] - ref[3]):.1e}")
-        for rtol in (1e-10, 1e-12):
+              f"{per_exact * 1e6:6.3f} us per switch; state error at {T_SCIPY:g} {err_exact:.1e} "
+              f"(W_dv, W_ex {abs(got[2] - ref[2]):.1e}, {abs(got[3] - ref[3]):.1e})")
+        matched = None
+        for rtol in RTOLS:
             t_sp = best_of(lambda: scipy_run(c, T_SCIPY, rtol), 2)
             y, n_sp = scipy_run(c, T_SCIPY, rtol)
             err = float(np.max(np.abs(y[:2] - ref[:2])))
             per = t_sp / max(n_sp, 1)
-            print(f"scipy rtol {rtol:g}: {per * 1e6:8.1f} us per switch ({n_sp} switches over {T_SCIPY:g}), state error {err:.1e}; "
-                  f"exact is {per / (t_exact / n_exact):6.0f}x faster per switch (goal >= 1000x)")
+            print(f"scipy rtol {rtol:g}: {per * 1e6:8.1f} us per switch ({n_sp} switches over {T_SCIPY:g}), "
+                  f"state error {err:.1e} (exact {err_exact:.1e}); exact is {per / per_exact:6.0f}x faster per switch")
+            if matched is None and err <= err_exact:
+                matched = (rtol, err, per)
+        rtol, err, per = matched or (rtol, err, per)
+        bound = "" if matched else ", a lower bound: scipy does not reach the exact solver's error"
+        print(f"at the same accuracy (scipy rtol {rtol:g}: error {err:.1e} vs exact {err_exact:.1e}): "
+              f"exact {per_exact * 1e6:.3f} us vs scipy {per * 1e6:.1f} us per switch, "
+              f"{per / per_exact:.0f}x (goal >= 1000x){bound}")
 
 
 if __name__ == "__main__":

@@ -175,3 +175,38 @@ def test_the_bound_on_g_second_derivative_holds(dyn, zeta, force, x0, v0, fex, o
         *_, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t0)
         m2 = cf.bound_at(co, dyn, K1, K2, Kp, t0, e1, e2)
         assert np.all(np.abs(g2[ts >= t0]) <= m2 * (1 + 1e-6) + 1e-12)
+
+
+FROM_START = [c for c in FORCED if c[0] != cf.OSC or c[1] < 1.0] + [  # the representations work_rep covers
+    (cf.OSC, 0.005, 0.02, 0.03, 0.01, 0.05, 0.7, 0.3),  # -2 zeta: a small rate, integrated piece by piece
+    (cf.OSC, 0.002, 0.0, 0.01, 0.0, 0.05, 0.9999, 1.0),  # near resonance: lam + i Omega small too
+    (cf.EXP, 0.003, 0.0, 0.01, 0.02, 0.1, 1.2, 0.5),
+    (cf.EXP, 0.0, 0.0, 0.01, 0.02, 0.1, 1.2, 0.5),
+]
+
+
+@pytest.mark.parametrize("dyn, zeta, force, x0, v0, fex, om, theta", FROM_START)
+def test_work_between_matches_quadrature_piece_by_piece(dyn, zeta, force, x0, v0, fex, om, theta):
+    # pieces of a phase, long and very short, each from the phase-start representation, against quadrature
+    co, pz, fz = cf.forced_phase(dyn, zeta, force, x0, v0, fex, om, theta)
+    rep = cf.work_rep(co, dyn, zeta, pz, fz, om)
+    state = lambda s: cf.forced_state(co, dyn, zeta, force, pz, fz, om, s)
+    edges = [0.0, 1e-9, 1e-3, 0.7, 3.1, 3.1 + 1e-7, 9.0, 21.0]
+    parts = (abs(v0) + 2 * om * abs(pz) + fex) ** 2
+    q = dict(epsabs=1e-17, epsrel=1e-13, limit=400)
+    ea = cf.phase_exps(co, dyn, om, 0.0)
+    total = np.zeros(2)
+    for ta, tb in zip(edges[:-1], edges[1:]):
+        eb = cf.phase_exps(co, dyn, om, tb)
+        v2, wex = cf.work_between(rep, dyn, *ea, *eb, tb - ta)
+        want_v2, _ = quad(lambda s: state(s)[1] ** 2, ta, tb, **q)
+        want_ex, _ = quad(lambda s: state(s)[1] * fex * math.cos(om * s + theta), ta, tb, **q)
+        # a piece's value is a difference on the phase's scale: accurate to rounding of that scale
+        assert v2 == pytest.approx(want_v2, rel=1e-11, abs=1e-14 * parts)
+        assert wex == pytest.approx(want_ex, rel=1e-11, abs=1e-14 * parts)
+        total += (v2, wex)
+        ea = eb
+    # and the whole phase, the pieces summed, as forced_work integrates it in one
+    v2, wex = cf.forced_work(co, dyn, zeta, force, pz, fz, om, edges[-1])
+    assert total[0] == pytest.approx(v2, rel=1e-12, abs=1e-14 * parts * edges[-1])
+    assert total[1] == pytest.approx(wex, rel=1e-12, abs=1e-14 * parts * edges[-1])

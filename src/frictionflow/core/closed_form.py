@@ -235,6 +235,18 @@ def integral_v2_with(co, T):
     return P * P * math.expm1(2 * r1 * T) / (2 * r1) + 2 * P * Q * math.expm1((r1 + r2) * T) / (r1 + r2) + Q * Q * math.expm1(2 * r2 * T) / (2 * r2)
 
 
+@njit(cache=True, inline="always")
+def modulus(z):
+    """|z| without hypot's overflow guard (a library call, slower than the arithmetic here): moderate values only."""
+    return math.sqrt(z.real * z.real + z.imag * z.imag)
+
+
+@njit(cache=True, inline="always")
+def reciprocal(z):
+    """1 / z as conj(z) / |z|^2 (no library division; z of moderate size, not 0)."""
+    return z.conjugate() * (1.0 / (z.real * z.real + z.imag * z.imag))
+
+
 # -- harmonic forcing -----------------------------------------------------------------------------
 # Under f = Re(fz e^{i Omega t}) (t from the phase start, fz = F_ex e^{i theta}) the OSC motion is
 # X = F + Y + Re(pz e^{i Omega t}): Y free (as above, from Y(0), Y'(0)) and the harmonic particular
@@ -254,7 +266,7 @@ def forced_phase(dyn, zeta, force, x0, v0, fex, omega, theta):
     fz = fex * complex(math.cos(theta), math.sin(theta))
     if dyn != OSC:
         return coefficients(dyn, zeta, force, x0, v0), 0j, fz
-    pz = fz / complex(1.0 - omega * omega, 2.0 * zeta * omega)
+    pz = fz * reciprocal(complex(1.0 - omega * omega, 2.0 * zeta * omega))
     # X_p(0) = Re pz, X_p'(0) = Re(i Omega pz) = -Omega Im pz
     return coefficients(OSC, zeta, force + pz.real, x0, v0 + omega * pz.imag), pz, fz
 
@@ -266,18 +278,27 @@ def free_motion(co, dyn, zeta, t):
     OSC: Y = X - F - X_p; LIN: X = x0 + v0 t; EXP: X' = v0 e^{-2 zeta t}.  e1
     (and e2 for overdamped OSC) feed :func:`free_bound`.
     """
+    y, v, a, j, e1, e2, _ = _free_motion_exp(co, dyn, zeta, t)
+    return y, v, a, j, e1, e2
+
+
+@njit(cache=True)
+def _free_motion_exp(co, dyn, zeta, t):
+    """:func:`free_motion` and e^{lam t} (:func:`phase_exps`; 0 for OSC critically or over-damped)."""
     reg, r1, r2, p, q = co
     if dyn == LIN or (dyn == EXP and r1 == 0.0):
-        return p + q * t, q, 0.0, 0.0, 1.0, 0.0
+        return p + q * t, q, 0.0, 0.0, 1.0, 0.0, 1.0 + 0j
     if dyn == EXP:
         e = math.exp(-r1 * t)
         v = q * e
-        return p + q * (-math.expm1(-r1 * t)) / r1, v, -r1 * v, r1 * r1 * v, e, 0.0
+        return p + q * (-math.expm1(-r1 * t)) / r1, v, -r1 * v, r1 * r1 * v, e, 0.0, complex(e, 0.0)
     e2 = 0.0
+    el = 0j
     if reg == UNDER:
         e1 = math.exp(-r1 * t)
         cs = math.cos(r2 * t)
         sn = math.sin(r2 * t)
+        el = complex(e1 * cs, e1 * sn)
         y = e1 * (p * cs + q * sn)
         v = e1 * ((r2 * q - r1 * p) * cs - (r2 * p + r1 * q) * sn)
     elif reg == CRIT:
@@ -290,23 +311,35 @@ def free_motion(co, dyn, zeta, t):
         y = p * e1 + q * e2
         v = r1 * p * e1 + r2 * q * e2
     a = -y - 2.0 * zeta * v
-    return y, v, a, -v - 2.0 * zeta * a, e1, e2
+    return y, v, a, -v - 2.0 * zeta * a, e1, e2, el
 
 
 @njit(cache=True)
 def forced_state(co, dyn, zeta, force, pz, fz, omega, t):
     """(X, X', X'', X''', f, f', e1, e2) at t of a forced phase (:func:`forced_phase`)."""
-    y, v, a, j, e1, e2 = free_motion(co, dyn, zeta, t)
+    x, v, a, j, f, df, e1, e2, _, _ = forced_eval(co, dyn, zeta, force, pz, fz, omega, t)
+    return x, v, a, j, f, df, e1, e2
+
+
+@njit(cache=True)
+def forced_eval(co, dyn, zeta, force, pz, fz, omega, t):
+    """:func:`forced_state` and the exponentials of :func:`phase_exps` at t: (X, X', X'', X''', f, f', e1, e2, el, eo).
+
+    One exp and two cos-sin pairs give the motion and, through el = e^{lam t}
+    and eo = e^{i Omega t}, its work integrals (:func:`work_between`).
+    """
+    y, v, a, j, e1, e2, el = _free_motion_exp(co, dyn, zeta, t)
     c = math.cos(omega * t)
     s = math.sin(omega * t)
+    eo = complex(c, s)
     f = fz.real * c - fz.imag * s
     df = -omega * (fz.imag * c + fz.real * s)
     if dyn != OSC:
-        return y, v, a, j, f, df, e1, e2
+        return y, v, a, j, f, df, e1, e2, el, eo
     xp = pz.real * c - pz.imag * s
     vp = -omega * (pz.imag * c + pz.real * s)
     w2 = omega * omega
-    return force + y + xp, v + vp, a - w2 * xp, j - w2 * vp, f, df, e1, e2
+    return force + y + xp, v + vp, a - w2 * xp, j - w2 * vp, f, df, e1, e2, el, eo
 
 
 @njit(cache=True)
@@ -319,7 +352,7 @@ def free_bound(co, dyn, zeta, a, b, d):
         return abs(q) * abs(-a * r1 + b * r1 * r1 - d * r1 * r1 * r1), 0.0
     if reg == UNDER:  # Y = Re(C e^{lam t}), C = p - i q, lam = -r1 + i r2, |lam| = 1
         lam = complex(-r1, r2)
-        return abs(complex(p, -q)) * abs(lam * lam * (a + lam * (b + d * lam))), 0.0
+        return math.sqrt(p * p + q * q) * modulus(lam * lam * (a + lam * (b + d * lam))), 0.0
     if reg == CRIT:  # (..)'' = e^{-t}(A + B t): the constants A, B themselves
         k = a - b + d
         return k * p - q * (2.0 * a - 3.0 * b + 4.0 * d), k * q
@@ -449,3 +482,99 @@ def _under_transforms(co, omega, L, rot):
     ic = (e2 * (al * cb + be * sb) - al) / den
     is_ = (e2 * (al * sb - be * cb) + be) / den
     return J, mean * i0 + dc * ic + ds * is_
+
+
+# -- the work integrals of a forced phase from its start representation ---------------------------
+# Over a piece [ta, tb] of a phase, X'^2 and X' f are sums of exponentials c e^{z t} (and constants), so
+# int_ta^tb = Re(c (e^{z tb} - e^{z ta}) / z): the e^{z t} are products of e^{lam t} and e^{i Omega t},
+# which the motion's own evaluation at tb gives (:func:`phase_exps`).  No phase is rebuilt per piece.
+# The difference of two values of e^{z t} is exact up to their own rounding, which telescopes along a
+# phase (the end of one piece is the start of the next): the sum over a phase is accurate to a few ulps
+# of max |c / z| whatever the pieces.  Where |z| is small that scale is large; there (|z| < SMALL_RATE)
+# each piece is integrated on its own, e^{z ta} times the series of exp_integral.
+SMALL_RATE = 1.0 / 64.0
+
+
+@njit(cache=True)
+def phase_exps(co, dyn, omega, t):
+    """(e^{lam t}, e^{i Omega t}) of a forced phase (:func:`forced_phase`) at t (see :func:`work_rep`).
+
+    lam: OSC underdamped -zeta + i w; EXP -2 zeta (real); LIN 0.
+    """
+    reg, r1, r2, _, _ = co
+    eo = complex(math.cos(omega * t), math.sin(omega * t))
+    if dyn == OSC:
+        e = math.exp(-r1 * t)
+        return complex(e * math.cos(r2 * t), e * math.sin(r2 * t)), eo
+    if dyn == EXP and r1 != 0.0:
+        return complex(math.exp(-r1 * t), 0.0), eo
+    return 1.0 + 0j, eo
+
+
+@njit(cache=True)
+def _slot(z, a, b):
+    """One exponential e^{z t} of :func:`work_rep`: (z, A, B, per_piece) with A, B already divided by z unless per_piece."""
+    if z.real * z.real + z.imag * z.imag < SMALL_RATE * SMALL_RATE:
+        return z, a, b, True
+    iz = reciprocal(z)
+    return z, a * iz, b * iz, False
+
+
+@njit(cache=True)
+def work_rep(co, dyn, zeta, pz, fz, omega):
+    """The work integrals of a phase as sums of exponentials: (slots, a0, b0) for :func:`work_between`.
+
+    X'^2 = Re(sum A_k e^{z_k t}) + a0, X' f = Re(sum B_k e^{z_k t}) + b0, the five
+    z_k of :func:`_exps`.  For OSC underdamped only (``co`` from
+    :func:`forced_phase`), and the held motions LIN and EXP.
+    """
+    _, r1, r2, p, q = co
+    zero = _slot(1.0 + 0j, 0j, 0j)
+    iw = complex(0.0, omega)
+    if dyn != OSC:  # X' = q e^{lam t}, lam = -r1 (EXP) or 0 (LIN): E = (e^{2 lam t}, e^{(lam + i Omega) t})
+        lam = -r1 if dyn == EXP else 0.0
+        if lam == 0.0:
+            return (zero, _slot(iw, 0j, q * fz), zero, zero, zero), q * q, 0.0
+        return (_slot(complex(2.0 * lam, 0.0), complex(q * q, 0.0), 0j), _slot(lam + iw, 0j, q * fz), zero, zero, zero), 0.0, 0.0
+    lam = complex(-r1, r2)
+    cl = complex(p, -q) * lam  # Y' = Re(cl e^{lam t})
+    vz = iw * pz  # X_p' = Re(vz e^{i Omega t})
+    lc = lam.conjugate()
+    # Re(u e^{at}) Re(w e^{bt}) = Re(u w e^{(a+b)t} + u conj(w) e^{(a + conj b)t}) / 2
+    s1 = _slot(lam + iw, cl * vz, 0.5 * cl * fz)
+    s2 = _slot(lc + iw, cl.conjugate() * vz, 0.5 * cl.conjugate() * fz)
+    s3 = _slot(2.0 * lam, 0.5 * cl * cl, 0j)
+    s4 = _slot(lam + lc, complex(0.5 * (cl.real * cl.real + cl.imag * cl.imag), 0.0), 0j)
+    s5 = _slot(2.0 * iw, 0.5 * vz * vz, 0.5 * vz * fz)
+    return (s1, s2, s3, s4, s5), 0.5 * (vz.real * vz.real + vz.imag * vz.imag), 0.5 * (vz * fz.conjugate()).real
+
+
+@njit(cache=True)
+def _exps(dyn, el, eo):
+    """The five e^{z_k t} of :func:`work_rep` from e^{lam t} and e^{i Omega t}."""
+    if dyn != OSC:
+        return el * el, el * eo, 0j, 0j, 0j
+    lc = el.conjugate()
+    return el * eo, lc * eo, el * el, el * lc, eo * eo
+
+
+@njit(cache=True)
+def _piece_slot(slot, ea, eb, L):
+    """(Re A I, Re B I) of one slot, I the integral of e^{z t} over the piece (e^{z ta} = ea, e^{z tb} = eb)."""
+    z, a, b, per_piece = slot
+    d = ea * exp_integral(z, L) if per_piece else eb - ea
+    return (a * d).real, (b * d).real
+
+
+@njit(cache=True)
+def work_between(rep, dyn, ela, eoa, elb, eob, L):
+    """(int X'^2, int X' f) over [ta, tb], L = tb - ta, from e^{lam t}, e^{i Omega t} at both ends (:func:`phase_exps`)."""
+    slots, a0, b0 = rep
+    a1, a2, a3, a4, a5 = _exps(dyn, ela, eoa)
+    b1, b2, b3, b4, b5 = _exps(dyn, elb, eob)
+    v1, f1 = _piece_slot(slots[0], a1, b1, L)
+    v2, f2 = _piece_slot(slots[1], a2, b2, L)
+    v3, f3 = _piece_slot(slots[2], a3, b3, L)
+    v4, f4 = _piece_slot(slots[3], a4, b4, L)
+    v5, f5 = _piece_slot(slots[4], a5, b5, L)
+    return (v1 + v2) + (v3 + v4) + v5 + a0 * L, (f1 + f2) + (f3 + f4) + f5 + b0 * L

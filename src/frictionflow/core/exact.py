@@ -601,99 +601,131 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
 # the upper parabola s G(t) + s G'(t) u + M u^2 / 2 does (G is monotone up to there).  A short
 # excursion of G beyond the boundary is never stepped over.
 
+@njit(cache=True, inline="always")
+def _d2g(dyn, zeta, om, fn, acc, jerk, f):
+    """G'' of the event function ``fn`` (:func:`_next_root`) from X'', X''' and f.
+
+    X'''' from the equation of motion: OSC X'' = F + f - X - 2 zeta X', so
+    X'''' = f'' - X'' - 2 zeta X'''; EXP X'''' = -2 zeta X'''; LIN 0 (X''' = 0).
+    """
+    a, b, d, e, _ = fn
+    snap = -om * om * f - acc - 2.0 * zeta * jerk if dyn == cf.OSC else -2.0 * zeta * jerk
+    return a * acc + b * jerk + d * snap + e * om * om * f
+
+
 @njit(cache=True)
 def _gf(ph, fn, t):
-    """G and G' at t of the event function ``fn`` (:func:`_next_root`) with (X, X', e1, e2) there."""
+    """G, G' and G'' at t of the event function ``fn`` (:func:`_next_root`) with (X, X') there."""
     co, dyn, zeta, force, pz, fz, om = ph
     a, b, d, e, c = fn
-    x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
-    return a * x + b * v + d * acc - e * f - c, a * v + b * acc + d * jerk - e * df, x, v, e1, e2
+    st = cf.forced_eval(co, dyn, zeta, force, pz, fz, om, t)
+    x, v, acc, jerk, f, df = st[0], st[1], st[2], st[3], st[4], st[5]
+    g = a * x + b * v + d * acc - e * f - c
+    return g, a * v + b * acc + d * jerk - e * df, _d2g(dyn, zeta, om, fn, acc, jerk, f), st
+
+
+@njit(cache=True, inline="always")
+def _halley(t, g, dg, d2g):
+    """Halley's step from t (cubic convergence: two steps from the walk's bracket end, mostly); NaN if undefined."""
+    den = 2.0 * dg * dg - g * d2g
+    return t - 2.0 * g * dg / den if den != 0.0 else np.nan
 
 
 @njit(cache=True)
-def _refine_forced(ph, fn, s, lo, hi, g_hi, dg_hi, x_hi, v_hi):
-    """The first time in (lo, hi] where s G <= 0, given s G(hi) <= 0 (G, G' there): (t, X, X') there.
+def _refine_forced(ph, fn, s, lo, hi, g_hi, dg_hi, d2g_hi, st_hi):
+    """The first time in (lo, hi] where s G <= 0, given s G(hi) <= 0 (G, G', G'' there; ``st_hi``: the motion there, :func:`cf.forced_eval`): (t, the motion there).
 
-    Newton's iteration from ``hi``, kept inside the bracket and used while
-    |G| at least halves (else bisection); once it has converged it probes an
-    ulp or two to the other side, so the bracket closes to a few ulps.
+    Halley's iteration from ``hi``, kept inside the bracket and used while
+    |G| at least halves (else bisection).  Once a step is below rounding the
+    root is within ulps: an iterate on the outside is the answer; one on the
+    inside probes an ulp or two further, so the bracket closes to a few ulps.
     """
-    t = hi - g_hi / dg_hi if dg_hi != 0.0 else 0.5 * (lo + hi)
+    t = _halley(hi, g_hi, dg_hi, d2g_hi)
     if not (lo < t < hi):
         t = 0.5 * (lo + hi)
     g_prev = abs(g_hi)
     for _ in range(400):
-        g, dg, x, v, _, _ = _gf(ph, fn, t)
+        g, dg, d2g, st = _gf(ph, fn, t)
         if s * g > 0.0:
             lo = t
         else:
-            hi, x_hi, v_hi = t, x, v
+            hi, st_hi = t, st
         if hi - lo <= 4.0 * EPS * hi:
             break
-        tn = t - g / dg if dg != 0.0 else -1.0
-        if abs(tn - t) <= 2.0 * EPS * abs(t):  # converged: the root is within ulps, probe its other side
-            tn = t + (2.0 * EPS * abs(t) if s * g > 0.0 else -2.0 * EPS * abs(t))
-        elif abs(g) > 0.5 * g_prev:  # Newton is not converging: bisect
+        tn = _halley(t, g, dg, d2g)
+        if abs(tn - t) <= 2.0 * EPS * abs(t):  # converged: the root is within ulps
+            if s * g <= 0.0:
+                return t, st  # on the outside already
+            tn = t + 2.0 * EPS * abs(t)  # probe the other side
+        elif abs(g) > 0.5 * g_prev:  # Halley is not converging: bisect
             tn = 0.5 * (lo + hi)
         if not (lo < tn < hi):
             tn = 0.5 * (lo + hi)
         g_prev = abs(g)
         t = tn
-    return hi, x_hi, v_hi
+    return hi, st_hi
+
+
+# The event table of a forced phase (run_forced): one row per event function G = a X + b X' + d X'' - e f - c
+# with its side, the constants of its bound on |G''| (cf.bound_at), its graze level and the last time it was
+# on its side.  One array: every call that takes an array costs two atomic reference-count updates.
+EA, EB, ED, EE, EC, ESIDE, EK1, EK2, EKP, EGRAZE, ELAST = range(11)
+N_EV_COLUMNS = 11
 
 
 @njit(cache=True)
-def _prepare(ph, fns, sides, consts, n):
-    """Per phase: the bound constants (K1, K2, Kp) and the graze level of each event function (:func:`_next_root`)."""
+def _bound_consts(ph, x, v, fn):
+    """(K1, K2, Kp, graze) of the event function ``fn`` = (a, b, d, e, c) in a phase starting at (x, v) (:func:`_next_root`)."""
     co, dyn, zeta, force, pz, fz, om = ph
-    x, v, acc, _, f, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, 0.0)
-    for i in range(n):
-        a, b, d, e, c = fns[i, 0], fns[i, 1], fns[i, 2], fns[i, 3], fns[i, 4]
-        K1, K2 = cf.free_bound(co, dyn, zeta, a, b, d)
-        hz = complex(a - om * om * d, om * b) * pz - e * fz  # the harmonic part: Re(hz e^{i Omega t})
-        scale = abs(a * x) + abs(b * v) + abs(d) * (abs(force) + abs(x) + 2.0 * zeta * abs(v)) + abs(c) + abs(hz) + abs(e) * abs(fz)
-        consts[i, 0], consts[i, 1], consts[i, 2] = K1, K2, om * om * abs(hz)
-        consts[i, 3] = 1e-12 * scale + 1e-300  # a smaller excursion beyond 0 is a touch, not a crossing
-        consts[i, 4] = 0.0  # the last time G was on its side (set by the walk)
+    a, b, d, e, c = fn
+    K1, K2 = cf.free_bound(co, dyn, zeta, a, b, d)
+    hz = complex(a - om * om * d, om * b) * pz - e * fz  # the harmonic part: Re(hz e^{i Omega t})
+    mz = cf.modulus(hz)
+    scale = abs(a * x) + abs(b * v) + abs(d) * (abs(force) + abs(x) + 2.0 * zeta * abs(v)) + abs(c) + mz + abs(e) * cf.modulus(fz)
+    # an excursion beyond 0 smaller than 1e-12 of the scale is a touch, not a crossing
+    return K1, K2, om * om * mz, 1e-12 * scale + 1e-300
 
 
-@njit(cache=True)
-def _next_root(ph, fns, sides, consts, n, nb, t0, t1):
-    """The first crossing of any of the event functions in (t0, t1]: (index or -1, time, X, X').
+@njit(cache=True, inline="always")
+def _next_root(ph, ev, n, nb, t0, st0, t1):
+    """The first crossing of any of the event functions in (t0, t1]: (index or -1, time, the motion there).
 
-    Function i is G_i = a X + b X' + d X'' - e f - c (row i of ``fns``); it
-    starts on side ``sides[i]`` (s G > 0; 0: decided at t0 from G, or G'
+    Function i is G_i = a X + b X' + d X'' - e f - c (row i of the event
+    table ``ev``); it starts on side ``ev[i, ESIDE]`` (s G > 0; 0: decided at t0 from G, or G'
     where G is on 0).  The functions are walked together, one evaluation of
     the motion per step: from t, G_i stays above -graze until the first root
     of s G + s G' u - M u^2 / 2 (M: the bound on |G_i''|), and must go below it
     where s G + s G' u + M u^2 / 2 does, monotonically.  The next point is
     the nearest of these; a function that has crossed there is refined
     (the earliest wins; boundaries, the first ``nb``, on a tie to ulps).
+    ``st0``: the motion at t0 (:func:`cf.forced_eval`); with no crossing the
+    time is t1 and the motion is that at t1.
     """
     co, dyn, zeta, force, pz, fz, om = ph
     t = t0
-    x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
+    st = st0
     first = True
     while True:
+        x, v, acc, jerk, f, df, e1, e2 = st[0], st[1], st[2], st[3], st[4], st[5], st[6], st[7]
         step = t1 - t
         for i in range(n):
-            g = fns[i, 0] * x + fns[i, 1] * v + fns[i, 2] * acc - fns[i, 3] * f - fns[i, 4]
-            dg = fns[i, 0] * v + fns[i, 1] * acc + fns[i, 2] * jerk - fns[i, 3] * df
-            graze = consts[i, 3]
+            g = ev[i, EA] * x + ev[i, EB] * v + ev[i, ED] * acc - ev[i, EE] * f - ev[i, EC]
+            dg = ev[i, EA] * v + ev[i, EB] * acc + ev[i, ED] * jerk - ev[i, EE] * df
+            graze = ev[i, EGRAZE]
             if first:
-                consts[i, 4] = t
-                if sides[i] == 0.0:
-                    sides[i] = 1.0 if g > graze or (g >= -graze and dg >= 0.0) else -1.0
-            s = sides[i]
+                ev[i, ELAST] = t
+                if ev[i, ESIDE] == 0.0:
+                    ev[i, ESIDE] = 1.0 if g > graze or (g >= -graze and dg >= 0.0) else -1.0
+            s = ev[i, ESIDE]
             sg = s * g
             sdg = s * dg
             if sg > 0.0:
-                consts[i, 4] = t
+                ev[i, ELAST] = t
             ahead = sg + graze
             if ahead <= 0.0:
                 step = 0.0
                 continue
-            m2 = cf.bound_at(co, dyn, consts[i, 0], consts[i, 1], consts[i, 2], t, e1, e2)
+            m2 = cf.bound_at(co, dyn, ev[i, EK1], ev[i, EK2], ev[i, EKP], t, e1, e2)
             if sdg < 0.0:
                 disc = sdg * sdg - 2.0 * m2 * ahead
                 if disc >= 0.0:
@@ -707,37 +739,28 @@ def _next_root(ph, fns, sides, consts, n, nb, t0, t1):
         if step > 0.0:
             tn = min(t + step, t1)
             t = tn if tn > t else min(np.nextafter(t, np.inf), t1)  # at least an ulp: no standing still
-            x, v, acc, jerk, f, df, e1, e2 = cf.forced_state(co, dyn, zeta, force, pz, fz, om, t)
+            st = cf.forced_eval(co, dyn, zeta, force, pz, fz, om, t)
+            x, v, acc, jerk, f, df = st[0], st[1], st[2], st[3], st[4], st[5]
         # which functions have crossed at t?
         best = -1
         tb = np.inf
-        xb = vb = np.nan
+        stb = st
         for i in range(n):
-            g = fns[i, 0] * x + fns[i, 1] * v + fns[i, 2] * acc - fns[i, 3] * f - fns[i, 4]
-            if sides[i] * g > 0.0:
+            g = ev[i, EA] * x + ev[i, EB] * v + ev[i, ED] * acc - ev[i, EE] * f - ev[i, EC]
+            if ev[i, ESIDE] * g > 0.0:
                 continue
-            if sides[i] * g > -consts[i, 3]:
+            if ev[i, ESIDE] * g > -ev[i, EGRAZE]:
                 continue  # on 0 within the touch level: not (yet) a crossing
-            fn = (fns[i, 0], fns[i, 1], fns[i, 2], fns[i, 3], fns[i, 4])
-            dg = fns[i, 0] * v + fns[i, 1] * acc + fns[i, 2] * jerk - fns[i, 3] * df
-            tr, xr, vr = _refine_forced(ph, fn, sides[i], consts[i, 4], t, g, dg, x, v)
+            fn = (ev[i, EA], ev[i, EB], ev[i, ED], ev[i, EE], ev[i, EC])
+            dg = ev[i, EA] * v + ev[i, EB] * acc + ev[i, ED] * jerk - ev[i, EE] * df
+            tr, sr = _refine_forced(ph, fn, ev[i, ESIDE], ev[i, ELAST], t, g, dg, _d2g(dyn, zeta, om, fn, acc, jerk, f), st)
             boundary_tie = i < nb and best >= nb and tr <= tb + 8.0 * EPS * (1.0 + tb)
             if tr < tb or boundary_tie:
-                best, tb, xb, vb = i, tr, xr, vr
+                best, tb, stb = i, tr, sr
         if best >= 0:
-            return best, tb, xb, vb
+            return best, tb, stb
         if t >= t1:
-            return -1, np.inf, np.nan, np.nan
-
-
-@njit(cache=True, inline="always")
-def _add_function(fns, sides, n, fn, on):
-    """Append a sample function (its side decided by the walk) when ``on``; returns the new count."""
-    if on:
-        fns[n, 0], fns[n, 1], fns[n, 2], fns[n, 3], fns[n, 4] = fn
-        sides[n] = 0.0
-        n += 1
-    return n
+            return -1, t1, st
 
 
 @njit(cache=True)
@@ -749,6 +772,12 @@ def _forced_piece(dyn, fck, zeta, vb, force, fex, om, theta, slipping, xa, va, x
     """
     co, pz, fz = cf.forced_phase(dyn, zeta, force, xa, va, fex, om, theta)
     v2, w_ex = cf.forced_work(co, dyn, zeta, force, pz, fz, om, L)
+    return _piece_work(fck, zeta, vb, force, slipping, xa, va, xb, vb_, L, v2, w_ex)
+
+
+@njit(cache=True)
+def _piece_work(fck, zeta, vb, force, slipping, xa, va, xb, vb_, L, v2, w_ex):
+    """The work integrals over one piece given int X'^2 (``v2``) and int X' f (``w_ex``) over it (:func:`_forced_piece`)."""
     if fck == FC_CONST:
         pf = force * (xb - xa)
     elif fck == FC_SPRING:
@@ -761,14 +790,16 @@ def _forced_piece(dyn, fck, zeta, vb, force, fex, om, theta, slipping, xa, va, x
 
 @njit(cache=True)
 def _sample_functions(dyn, fck, zeta):
-    """The functions whose roots are samples in a phase: X', X'', X' + 2 zeta X'' (OSC), F_c (held force)."""
+    """(m, fns): the first m of ``fns`` are the functions whose roots are samples in a phase.
+
+    X', X'', X' + 2 zeta X'' (OSC; the last if zeta > 0), or the held F_c.
+    """
     none = (0.0, 0.0, 0.0, 0.0, 0.0)
     if dyn == cf.OSC:
-        wall = (0.0, 1.0, 2.0 * zeta, 0.0, 0.0) if zeta > 0.0 else none
-        return (0.0, 1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0, 0.0), wall, none, True, True, zeta > 0.0, False
+        return (3 if zeta > 0.0 else 2), ((0.0, 1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0, 0.0), (0.0, 1.0, 2.0 * zeta, 0.0, 0.0))
     if fck == FC_SPRING:
-        return none, none, none, (1.0, 0.0, 0.0, 1.0, 0.0), False, False, False, True
-    return none, none, none, (1.0, 2.0 * zeta, 0.0, 1.0, 0.0), False, False, False, True
+        return 1, ((1.0, 0.0, 0.0, 1.0, 0.0), none, none)
+    return 1, ((1.0, 2.0 * zeta, 0.0, 1.0, 0.0), none, none)
 
 
 @njit(cache=True)
@@ -801,9 +832,7 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
     ne = 0
     zero_len = 0
     strobe = 1  # the next stroboscopic index (k = 0 is the start)
-    fns = np.zeros((MAX_EVENTS_PER_MODE + 4, 5))  # a phase's event functions (a, b, d, e, c), their sides,
-    sides = np.zeros(MAX_EVENTS_PER_MODE + 4)  # and their bound constants, graze level and last time inside
-    consts = np.zeros((MAX_EVENTS_PER_MODE + 4, 5))
+    ev = np.zeros((MAX_EVENTS_PER_MODE + 4, N_EV_COLUMNS))  # a phase's event table (EA ... ELAST)
     while True:
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
         held = fck != FC_CONST
@@ -816,17 +845,25 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
             break
         co, pz, fz = cf.forced_phase(dyn, zeta, force, x, v, fex, om, theta)
         ph = (co, dyn, zeta, force, pz, fz, om)
+        # the work integrals from this representation (OSC critically or over-damped: rebuilt per piece)
+        from_start = dyn != cf.OSC or co[0] == cf.UNDER
+        rep = cf.work_rep(co, dyn, zeta, pz, fz, om)
+        sta = cf.forced_eval(co, dyn, zeta, force, pz, fz, om, 0.0)  # the motion at the piece's start
         # the event functions: the mode's boundaries a (X - f) + b X' - c, then the sample functions
+        # (sample functions: their side is decided by the walk)
         nb, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
-        for i in range(nb):
-            fns[i, 0], fns[i, 1], fns[i, 2], fns[i, 3], fns[i, 4] = bs[i][0], bs[i][1], 0.0, bs[i][0], bs[i][2]
-            sides[i] = bs[i][3]
-        f0, f1, f2, f3, on0, on1, on2, on3 = _sample_functions(dyn, fck, zeta)
-        n = _add_function(fns, sides, nb, f0, on0)
-        n = _add_function(fns, sides, n, f1, on1)
-        n = _add_function(fns, sides, n, f2, on2)
-        n = _add_function(fns, sides, n, f3, on3)
-        _prepare(ph, fns, sides, consts, n)
+        m, sf = _sample_functions(dyn, fck, zeta)
+        n = nb + m
+        for i in range(n):
+            if i < nb:
+                ba, bb, bc, side = bs[i]
+                fn = (ba, bb, 0.0, ba, bc)
+            else:
+                fn, side = sf[i - nb], 0.0
+            ev[i, EA], ev[i, EB], ev[i, ED], ev[i, EE], ev[i, EC] = fn
+            ev[i, EK1], ev[i, EK2], ev[i, EKP], ev[i, EGRAZE] = _bound_consts(ph, x, v, fn)
+            ev[i, ESIDE] = side
+            ev[i, ELAST] = 0.0
         fmode = FRICTION_MODE[mode]
         slipping = fmode != 0
         # the samples at known times: the tail, the dense grid, the stroboscopic times, one at least every WINDOW
@@ -844,19 +881,19 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
         while True:
             ts = strobe * period - t
             tk = min(min(tt, td), min(ts, tw))
-            i, tb, xb, vb_ = _next_root(ph, fns, sides, consts, n, nb, ta, min(tk, horizon))
+            i, tb, stb = _next_root(ph, ev, n, nb, ta, sta, min(tk, horizon))
+            xb, vb_ = stb[0], stb[1]
             if i >= 0 and i < nb:
-                which, T, xe, ve = i, tb, xb, vb_
+                which, T, xe, ve, ste = i, tb, xb, vb_, stb
                 break
             t_abs = t + tb
             if i >= 0:
-                sides[i] = -sides[i]
-                if fns[i, 1] == 1.0 and fns[i, 0] == 0.0 and fns[i, 2] == 0.0:
+                ev[i, ESIDE] = -ev[i, ESIDE]
+                if ev[i, EB] == 1.0 and ev[i, EA] == 0.0 and ev[i, ED] == 0.0:
                     vb_ = 0.0  # a zero of X', exactly: the section crossing is then a sample
             else:
                 if tk >= horizon:
-                    T = horizon  # the run ends inside the phase
-                    xe, ve, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, T)
+                    T, xe, ve, ste = horizon, xb, vb_, stb  # the run ends inside the phase
                     break
                 tb = tk
                 t_abs = t + tb
@@ -872,9 +909,12 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
                     tw = tb + WINDOW
                 if tb <= ta:
                     continue  # the same time from another source
-                xb, vb_, _, _, _, _, _, _ = cf.forced_state(co, dyn, zeta, force, pz, fz, om, tb)
-            d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
-                                               xa, va, xb, vb_, tb - ta)
+            if from_start:
+                v2, wx = cf.work_between(rep, dyn, sta[8], sta[9], stb[8], stb[9], tb - ta)
+                d0, d1, d2, d3, d4 = _piece_work(fck, zeta, vb, force, slipping, xa, va, xb, vb_, tb - ta, v2, wx)
+            else:
+                d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
+                                                   xa, va, xb, vb_, tb - ta)
             w[0] += d0
             w[1] += d1
             w[2] += d2
@@ -884,10 +924,14 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
             if not emit(outs, k, t_abs, xb, vb_, friction_force(fck, force, xb, vb_, zeta) - fb, fmode, w):
                 return k, ne, FULL, -1.0, t + ta
             k += 1
-            ta, xa, va = tb, xb, vb_
+            ta, xa, va, sta = tb, xb, vb_, stb
         t_next = t + T if which >= 0 else t_end
-        d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
-                                           xa, va, xe, ve, T - ta)
+        if from_start:
+            v2, wx = cf.work_between(rep, dyn, sta[8], sta[9], ste[8], ste[9], T - ta)
+            d0, d1, d2, d3, d4 = _piece_work(fck, zeta, vb, force, slipping, xa, va, xe, ve, T - ta, v2, wx)
+        else:
+            d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
+                                               xa, va, xe, ve, T - ta)
         w[0] += d0
         w[1] += d1
         w[2] += d2
