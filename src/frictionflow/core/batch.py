@@ -124,7 +124,8 @@ def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, r
         cap = min(int(64.0 * t_end) + 256, 4096)  # most points stop early: grown for those that do not
         while True:
             t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
-            k, ne, status, t_stop, h = dopri.run(
+            # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
+            k, ne, status, t_stop, h = dopri.run_unforced(
                 x0[j], v0[j], t_end, zeta[j], vb[j], p[j], ode_rtol, ode_atol, max_steps, 0.0, sec.tail_start(0.0, t_end),
                 stop, t, x, v, fc, mode, work, ev_t, ev_mode,
             )

@@ -44,8 +44,13 @@ def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
     the Python version of the same kernel.
     """
     if friction.func is None:
-        return dopri.run, True
+        return _builtin_run, True
     return _user_kernel(friction.func, friction.kernel_force())
+
+
+def _builtin_run(x0, v0, t_end, zeta, vb, p, *rest):
+    """:func:`frictionflow.core.dopri.run`, choosing its variant here: a first unforced run compiles only the unforced one."""
+    return (dopri.run_forced if p[FEX] != 0.0 else dopri.run_unforced)(x0, v0, t_end, zeta, vb, p, *rest)
 
 
 @lru_cache(maxsize=32)
