@@ -61,7 +61,7 @@ from numba import njit
 from .hermite import hermite, hermite_min
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
-from .friction import FD, FS, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, STRIBECK, CUBIC, rest_mode
+from .friction import FD, FS, LAW_A, LAW_B, LAW_C, RESULTANT, rest_mode, slip_partial_of, slip_terms_of
 from .tangent import slip_force, slip_slope
 
 # -- DOP853 coefficients (Hairer's, as SciPy stores them) --------------------------
@@ -100,35 +100,15 @@ SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 
 
 # -- parameter partials ------------------------------------------------------------
+#: the kernel slot of each law-parameter code (the law's own module gives the derivative)
+_SLOT = (-1, -1, -1, FD, FS, LAW_A, LAW_B, LAW_C)
+
+
 @njit(cache=True)
 def slip_partial(p, s, code):
-    """dF/dtheta at slip speed s >= 0 for the law parameter ``code`` (0 for V_b, zeta)."""
-    s = max(s, 0.0)
-    law = int(p[LAW])
-    fd, fs, a, b, c = p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C]
-    if law == STRIBECK:
-        u = (s / a) ** b if s > 0.0 else 0.0
-        e = math.exp(-u)
-        if code == P_FD:
-            return 1.0 - e
-        if code == P_FS:
-            return e
-        if code == P_A:  # V_s
-            return (fs - fd) * e * u * b / a
-        if code == P_B:  # delta
-            return -(fs - fd) * e * u * math.log(s / a) if s > 0.0 else 0.0
-        if code == P_C:  # viscous
-            return s
-        return 0.0
-    if law == CUBIC:  # mu_s - k1 s + k3 s^3 (F_d is derived, not a parameter)
-        if code == P_FS:
-            return 1.0
-        if code == P_A:
-            return -s
-        if code == P_B:
-            return s * s * s
-        return 0.0
-    return 1.0 if code == P_FD else 0.0  # constant slip force F_d
+    """dF/dtheta at slip speed s >= 0 for the parameter ``code`` (0 for V_b, zeta: no law parameter)."""
+    slot = _SLOT[code]
+    return slip_partial_of(p, max(s, 0.0), slot) if slot >= 0 else 0.0
 
 
 @njit(cache=True)
@@ -147,33 +127,14 @@ def dfs(code):
 
 
 # -- the slip field ------------------------------------------------------------------
-@njit(cache=True, inline="always")
-def _stribeck_terms(fd, fs, vs, delta, visc, s, code):
-    """(F, F', dF/dtheta) of Stribeck's curve at s > 0, with one exp and one power."""
-    r = s / vs
-    u = r * r if delta == 2.0 else r ** delta
-    e = math.exp(-u)
-    F = fd + (fs - fd) * e + visc * s
-    Fp = visc - (fs - fd) * delta * u / s * e
-    Ft = 0.0
-    if code == P_FD:
-        Ft = 1.0 - e
-    elif code == P_FS:
-        Ft = e
-    elif code == P_A:
-        Ft = (fs - fd) * e * u * delta / vs
-    elif code == P_B:
-        Ft = -(fs - fd) * e * u * math.log(r)
-    elif code == P_C:
-        Ft = s
-    return F, Fp, Ft
-
-
 @njit(cache=True)
 def law_terms(p, s, code):
     """(F, F', dF/dtheta) at slip speed s; below 0 (a stage overshooting a switch) the linear extension."""
-    if s > 0.0 and int(p[LAW]) == STRIBECK:
-        return _stribeck_terms(p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C], s, code)
+    if s > 0.0 and _SLOT[code] >= 0:
+        return slip_terms_of(p, s, _SLOT[code])
+    if s > 0.0:
+        f, fp, _ = slip_terms_of(p, s, FD)  # a model parameter: no derivative of the law itself
+        return f, fp, 0.0
     return slip_force(p, s), slip_slope(p, s), slip_partial(p, s, code)
 
 

@@ -44,8 +44,9 @@ from .friction import FS, RESULTANT, external_force, external_force_rate, rest_m
 from .hermite import hermite_min
 from .layout import FEX, N_WORK, OMEGA, W_DV, W_EX, W_FIN, W_FOUT
 from .tangent import (
+    saltation_reversal, saltation_slip, saltation_stick,
     C_GRAZE, C_HELD, C_REVERSAL, C_SLIP, C_STICK, EPS, MAX_ZERO_PHASES, N_COUNTS, NOT_FINITE, NY, OK, ZERO_PHASES,
-    _a_rest, _stick_gap, _stick_gap_rate, _stick_max, accel, rounding_noise, slip_force, slip_until,
+    _stick_gap, _stick_gap_rate, _stick_max, accel, rounding_noise, slip_force, slip_until,
     start_mode, stick_exit,
 )
 
@@ -264,10 +265,7 @@ def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks,
                 if new == 0:
                     counts[C_HELD] += 1  # no slip direction is consistent: the interface holds on
                     continue
-                # slip onset: S = [[1, 0], [a+ / (V_b - f'), 1]]
-                c = _a_rest(float(new), y[0], t, zeta, vb, p) / (vb - external_force_rate(p, t))
-                y[3] += c * y[2]
-                y[5] += c * y[4]
+                saltation_slip(y, new, t, zeta, vb, p)
                 if n_sticks < MAX_STICKS:
                     sticks[n_sticks, 1] = t
                 n_sticks += 1
@@ -304,19 +302,14 @@ def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks,
             new = rest_mode(y[0], zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t),
                             external_force_rate(p, t))
             if new == 0:
-                # stick onset: S = diag(1, 0)
-                y[3] = 0.0
-                y[5] = 0.0
+                saltation_stick(y)
                 x_s, t_s = y[0], t
                 if n_sticks < MAX_STICKS:
                     sticks[n_sticks, 0] = t
                 mode = 0
                 counts[C_STICK] += 1
             elif new != mode:
-                # slip reversal: S = diag(1, a+ / a-)
-                ratio = _a_rest(float(new), y[0], t, zeta, vb, p) / _a_rest(d, y[0], t, zeta, vb, p)
-                y[3] *= ratio
-                y[5] *= ratio
+                saltation_reversal(y, d, new, t, zeta, vb, p)
                 mode = new
                 fresh = True
                 counts[C_REVERSAL] += 1

@@ -1,6 +1,7 @@
 """The physical rules of friction as compiled scalar functions, written once for every kernel.
 
-* :func:`slip_magnitude` / :func:`slip_slope`: |F| and dF/d|V_r| of the law
+* :func:`slip_magnitude` / :func:`slip_slope` / :func:`slip_partial`: |F|,
+  dF/d|V_r| and dF/d(a parameter) of the law
   with code ``law`` while slipping, dispatched to each law's own compiled
   functions (in its module in :mod:`frictionflow.friction`).
 * :func:`rest_mode`: Coulomb's set-valued stick rule at V_r = 0 (used by the
@@ -51,10 +52,35 @@ def slip_slope(law, fd, fs, a, b, c, speed):
     return 0.0
 
 
+@njit(cache=True, inline="always")
+def slip_partial(law, fd, fs, a, b, c, speed, slot):
+    """d|F|/d(the parameter in kernel slot ``slot``) while slipping at ``speed`` >= 0 (constant laws: 1 for F_d)."""
+    if law == STRIBECK:
+        return stribeck.partial(fd, fs, a, b, c, speed, slot)
+    if law == CUBIC:
+        return cubic.partial(fd, fs, a, b, c, speed, slot)
+    return 1.0 if slot == FD else 0.0
+
+
 @njit(cache=True)
 def slip_magnitude_of(p, speed):
     """:func:`slip_magnitude` of the law whose kernel parameters are ``p``."""
     return slip_magnitude(int(p[LAW]), p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C], speed)
+
+
+@njit(cache=True, inline="always")
+def slip_terms_of(p, speed, slot):
+    """(|F|, dF/d|V_r|, dF/d(slot parameter)) at ``speed`` > 0, for the orbit engine (Stribeck: one exp for all three)."""
+    law = int(p[LAW])
+    if law == STRIBECK:
+        return stribeck.terms(p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C], speed, slot)
+    return slip_magnitude_of(p, speed), slip_slope_of(p, speed), slip_partial_of(p, speed, slot)
+
+
+@njit(cache=True)
+def slip_partial_of(p, speed, slot):
+    """:func:`slip_partial` of the law whose kernel parameters are ``p``."""
+    return slip_partial(int(p[LAW]), p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C], speed, slot)
 
 
 @njit(cache=True)

@@ -93,7 +93,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .hermite import hermite, hermite_min
+from .hermite import hermite_min
 
 from .friction import FS, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of, slip_slope_of
 
@@ -346,6 +346,29 @@ def _a_rest(d, x, t, zeta, vb, p):
     return d * slip_force(p, 0.0) + external_force(p, t) - x - 2.0 * zeta * vb
 
 
+@njit(cache=True, inline="always")
+def saltation_stick(y):
+    """Stick onset, S = diag(1, 0), on both tangent vectors of ``y``: every dv is forgotten."""
+    y[3] = 0.0
+    y[5] = 0.0
+
+
+@njit(cache=True, inline="always")
+def saltation_slip(y, new, t, zeta, vb, p):
+    """Slip onset into direction ``new``, S = [[1, 0], [a+ / (V_b - f'), 1]], on both tangent vectors."""
+    c = _a_rest(float(new), y[0], t, zeta, vb, p) / (vb - external_force_rate(p, t))
+    y[3] += c * y[2]
+    y[5] += c * y[4]
+
+
+@njit(cache=True, inline="always")
+def saltation_reversal(y, d, new, t, zeta, vb, p):
+    """Slip reversal d -> ``new`` through V_r = 0, S = diag(1, a+ / a-), on both tangent vectors."""
+    ratio = _a_rest(float(new), y[0], t, zeta, vb, p) / _a_rest(d, y[0], t, zeta, vb, p)
+    y[3] *= ratio
+    y[5] *= ratio
+
+
 @njit(cache=True)
 def _grid_time(j, n_sub, block, h):
     """The end of grid step j: whole blocks plus whole steps, without a running sum's drift."""
@@ -405,12 +428,7 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
                     if new == 0:
                         counts[C_HELD] += 1  # no slip direction is consistent: the interface holds on
                         continue
-                    # slip onset: S = [[1, 0], [a+ / (V_b - f'), 1]]
-                    a_new = _a_rest(float(new), y[0], t, zeta, vb, p)
-                    den = vb - external_force_rate(p, t)
-                    c = a_new / den
-                    y[3] += c * y[2]
-                    y[5] += c * y[4]
+                    saltation_slip(y, new, t, zeta, vb, p)
                     mode = new
                     fresh = True
                     counts[C_SLIP] += 1
@@ -435,18 +453,13 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
                 new = rest_mode(y[0], zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t),
                                 external_force_rate(p, t))
                 if new == 0:
-                    # stick onset: S = diag(1, 0)
-                    y[3] = 0.0
-                    y[5] = 0.0
+                    saltation_stick(y)
                     x_s, t_s = y[0], t
                     mode = 0
                     collapsed = True
                     counts[C_STICK] += 1
                 elif new != mode:
-                    # slip reversal: S = diag(1, a+ / a-)
-                    ratio = _a_rest(float(new), y[0], t, zeta, vb, p) / _a_rest(d, y[0], t, zeta, vb, p)
-                    y[3] *= ratio
-                    y[5] *= ratio
+                    saltation_reversal(y, d, new, t, zeta, vb, p)
                     mode = new
                     fresh = True
                     counts[C_REVERSAL] += 1

@@ -41,6 +41,18 @@ def slope(fd, mu_s, k1, k3, unused, speed):
     return -k1 + 3.0 * k3 * speed * speed
 
 
+@njit(cache=True, inline="always")
+def partial(fd, mu_s, k1, k3, unused, speed, slot):
+    """dF(s)/d(the parameter in kernel slot ``slot``): mu_s, k1, k3 (F_d is derived from them, not a parameter)."""
+    if slot == layout.FS:
+        return 1.0
+    if slot == layout.LAW_A:
+        return -speed
+    if slot == layout.LAW_B:
+        return speed * speed * speed
+    return 0.0
+
+
 def minimum(mu_s: Any, k1: Any, k3: Any) -> Any:
     """F_min = mu_s - (2/3) k_1 sqrt(k_1 / (3 k_3)), the slip force's minimum (scalars or arrays)."""
     return mu_s - (2.0 / 3.0) * k1 * (k1 / (3.0 * k3)) ** 0.5

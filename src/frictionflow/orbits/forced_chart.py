@@ -39,7 +39,6 @@ family of orbits through the plane.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
