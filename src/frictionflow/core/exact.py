@@ -143,12 +143,15 @@ def boundaries(mode, law, zeta, vb, fd, fs, vd, res, ev):
 
 
 @njit(cache=True)
-def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0):
+def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
     """Does the motion stay in ``mode``'s region for a positive time from (x, v)?  (``ev``: not used.)
 
     ``f, df, ddf``: the external force and its first two rates there.  Every
     boundary is a function of X - f and X' (:func:`mode_boundaries`: its
-    coefficient of X multiplies X - f), and slip feels f in X''.
+    coefficient of X multiplies X - f), and slip feels f in X''.  ``ftol``:
+    the rounding of f itself, which is set by F_ex and the size of its
+    argument Omega tau + phi, not by |f| (near a zero of f, or where X - f is
+    a difference of nearly equal terms, |f| and |X| understate it).
     """
     # A switch is located to a few ulps of time; X' there is then off the boundary
     # by |X''| times that: far below this tolerance, far above rounding.
@@ -175,7 +178,7 @@ def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.
     for k in range(n):
         ca, cb, cc, s = bs[k]
         g0 = s * (ca * x + cb * v - cc - ca * f)
-        tol0 = 256.0 * EPS * (abs(ca * x) + abs(cb * v) + abs(cc) + abs(ca * f)) + 1e-300
+        tol0 = 256.0 * EPS * (abs(ca * x) + abs(cb * v) + abs(cc) + abs(ca * f)) + abs(ca) * ftol + 1e-300
         if g0 > tol0:
             continue
         if g0 < -tol0:
@@ -194,11 +197,11 @@ def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.
 
 
 @njit(cache=True)
-def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0):
-    """The mode the motion continues in from (x, v); -1 if none is consistent.  (``ev``: not used; f: see :func:`consistent`.)"""
+def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
+    """The mode the motion continues in from (x, v); -1 if none is consistent.  (``ev``: not used; f, ftol: see :func:`consistent`.)"""
     order = COULOMB_ORDER if law == COULOMB else KARNOPP_ORDER
     for m in order:
-        if consistent(m, law, zeta, vb, fd, fs, vd, res, x, v, ev, f, df, ddf):
+        if consistent(m, law, zeta, vb, fd, fs, vd, res, x, v, ev, f, df, ddf, ftol):
             return m
     return -1
 
@@ -943,8 +946,13 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
             continue
         t = t_next
         theta = om * t + phi
-        fe, dfe = fex * math.cos(theta), -fex * om * math.sin(theta)
-        new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, None, fe, dfe, -om * om * fe)
+        # f and f' from the same evaluation as (X, X'): the switch was located on them (G <= 0 there), and
+        # f recomputed from the absolute time differs by F_ex times the rounding of the argument, which at
+        # tau ~ 1e2 exceeds a boundary's rounding tolerance where X - f is a difference of near-equal terms
+        # (stick under the resultant rule with 2 zeta V_b ~ F_s): stick was then taken again with zero length.
+        fe, dfe = ste[4], ste[5]
+        ftol = 8.0 * EPS * fex * (1.0 + abs(theta))
+        new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, None, fe, dfe, -om * om * fe, ftol)
         if new < 0:
             new = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fe)
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
