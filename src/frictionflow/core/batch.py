@@ -92,6 +92,7 @@ def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out):
         while True:
             t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
             t_mode = np.zeros(1, dtype=np.int64)
+            # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
             k, ne, status, t_term, t_stop = exact.run(
                 x0[j], v0[j], t_end, zeta[j], vb[j], p[j], 0.0, sec.tail_start(0.0, t_end), True, True, rtol, min_periods,
                 t, x, v, fc, mode, work, ev_t, ev_mode, t_mode,

@@ -481,11 +481,10 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     began, or -1 (its friction mode goes to ``t_mode[0]``); ``t_stop`` where the run stopped early (``stop_periodic``:
     the section values repeated to ``rtol`` for ``min_periods`` periods;
     ``stop_terminal``: the final phase was reached), else ``t_end``.
-    Status FULL means an output array was too short.
+    Status FULL means an output array was too short.  Unforced only: a force
+    record with F_ex > 0 goes to :func:`run_forced` (the façade chooses, so
+    that a first unforced run compiles only this kernel).
     """
-    if p[FEX] != 0.0:
-        return run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, out_t, out_x, out_v, out_fc, out_mode, out_w,
-                          ev_t, ev_mode, t_mode)
     law = int(p[LAW])
     fd, fs, vd = p[FD], p[FS], p[VD]
     res = p[RESULTANT] != 0.0

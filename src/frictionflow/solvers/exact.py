@@ -29,6 +29,18 @@ def resonance_problem(zeta: float, omega: float, fex: float) -> str | None:
     return None
 
 
+def _sliding_hint(model: BeltOscillator, friction: FrictionLaw, t: float, x: float, v: float) -> str:
+    """Why a run stalls where the spring stick rule says slip but both slip directions return to the belt."""
+    f = float(model.external_force(t))
+    if friction.stick_force != "spring" or v != model.vb:
+        return ""
+    if abs(x - f) > friction.fs and abs(x + 2.0 * model.zeta * model.vb - f) < friction.fd:
+        return (": the spring stick rule says slip (|X - f| > F_s) but both slip directions return to the belt "
+                "(|X + 2 zeta V_b - f| < F_d), a sliding motion the switch model cannot represent; "
+                "use stick_force='resultant'")
+    return ""
+
+
 class Exact(Solver):
     """Advance from switch to switch in closed form (Karnopp and ideal Coulomb).
 
@@ -94,6 +106,9 @@ class Exact(Solver):
         t_mode = np.zeros(1, dtype=np.int64)
 
         def run(bufs: tuple[np.ndarray, ...]) -> tuple:
+            if model.forced:
+                return kernel.run_forced(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, *bufs,
+                                         t_mode)
             return kernel.run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, False, False, 0.0, 3,
                               *bufs, t_mode)
 
@@ -103,6 +118,7 @@ class Exact(Solver):
             advance(1)
         if status == kernel.STUCK:
             t, x, v = bufs[:3]
-            raise RuntimeError(f"exact: repeated zero-length phases at tau={t[n - 1]:.17g}, X={x[n - 1]:.17g}, X'={v[n - 1]:.17g}")
+            raise RuntimeError(f"exact: repeated zero-length phases at tau={t[n - 1]:.17g}, X={x[n - 1]:.17g}, "
+                               f"X'={v[n - 1]:.17g}" + _sliding_hint(model, friction, t[n - 1], x[n - 1], v[n - 1]))
         extra = {"t_terminal": None if t_term < 0 else float(t_term), "terminal_mode": int(t_mode[0])}
         return trajectory_from(bufs, n, ne, model, friction, self.describe(), extra, event_modes=EXACT_EVENT_MODES)
