@@ -12,6 +12,7 @@ from typing import Any, Optional
 import numpy as np
 import typer
 
+from ..friction.registry import SWITCH_LAW
 from ..io import check_input_path, check_output_path
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
@@ -50,7 +51,7 @@ def _build(config: Optional[Path], params: dict[str, Any]):
         file_values = read_config(config)
     given = dict(params)
     if given.get("friction") is None and "friction" not in file_values:
-        given["friction"] = "coulomb"  # the run default (karnopp) has a velocity band, which orbits refuse
+        given["friction"] = SWITCH_LAW
     cfg = merged_config(config, given)
     model, law, _ = cfg.build()
     return cfg, model, law

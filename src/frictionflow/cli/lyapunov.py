@@ -8,6 +8,7 @@ from typing import Any, Optional
 
 import typer
 
+from ..friction.registry import SWITCH_LAW
 from ..parameters import Param
 from . import app
 from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
@@ -54,7 +55,7 @@ def lyapunov(
             COMMAND_PARAMETERS[name].check(value)
     given = dict(params)
     if given.get("friction") is None and "friction" not in file_values:
-        given["friction"] = "coulomb"  # the run default (karnopp) has a velocity band, which this refuses
+        given["friction"] = SWITCH_LAW
     cfg = merged_config(config, given)
     model, law, _ = cfg.build()
     t_end = cfg.given.get("t_end", 6000.0)

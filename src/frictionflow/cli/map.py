@@ -9,6 +9,7 @@ from typing import Any, Optional
 import numpy as np
 import typer
 
+from ..friction.registry import SMOOTH_SWITCH_LAW
 from ..io import check_output_path
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
@@ -93,7 +94,7 @@ def map_(
         check_output_path(dataset, DATASET_FORMATS, "--dataset")
     given = dict(params)
     if given.get("friction") is None:
-        given["friction"] = "stribeck"  # the run default (karnopp) has a velocity band: no Coulomb stick rule
+        given["friction"] = SMOOTH_SWITCH_LAW
     cfg = merged_config(config, given)
     model, law, _ = cfg.build()
     t_end = cfg.given.get("t_end", 500.0)
@@ -153,7 +154,7 @@ def _forced_map(params, x, x_from, x_to, y, y_from, y_to, y_points, m, curves, s
         check_output_path(dataset, DATASET_FORMATS, "--dataset")
     given = dict(params)
     if given.get("friction") is None:
-        given["friction"] = "stribeck"
+        given["friction"] = SMOOTH_SWITCH_LAW
     cfg = merged_config(config, given)
     model, law, _ = cfg.build()
     if law.stick_rule != "switch":

@@ -15,6 +15,12 @@ if TYPE_CHECKING:
 _LAWS: dict[str, type["FrictionLaw"]] = {}
 
 
+#: the default law of commands that need Coulomb's stick rule (the run's default, Karnopp, has a velocity band)
+SWITCH_LAW = "coulomb"
+#: ... and of those that need a smooth falling slip curve too (Hopf points, stability charts)
+SMOOTH_SWITCH_LAW = "stribeck"
+
+
 def register(cls: type["FrictionLaw"]) -> type["FrictionLaw"]:
     """Class decorator: make ``cls`` available by its ``name`` (``--friction NAME``)."""
     if cls.name in _LAWS and _LAWS[cls.name] is not cls:
