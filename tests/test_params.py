@@ -69,3 +69,26 @@ def test_bad_dimensional_parameters(kwargs, name):
     base = dict(m=1.0, c=0.1, k=1.0, v_b=0.01, f_d=0.02)
     with pytest.raises(ValueError, match=rf"^{name} must be"):
         DimensionalParams(**(base | kwargs))
+
+
+def test_dimensional_forcing_by_hand():
+    # m = 2, k = 8: omega0 = 2; a force 0.3 cos(3 t + 0.4) on a spring with l_0 = 0.5
+    nd = DimensionalParams(m=2.0, c=0.4, k=8.0, v_b=0.1, f_d=0.2, l_0=0.5, f_ex=0.3, w_ex=3.0, phi_ex=0.4).nondimensional()
+    assert nd["fex"] == pytest.approx(0.3 / (8.0 * 0.5))
+    assert nd["omega"] == pytest.approx(3.0 / 2.0)
+    assert nd["phi"] == 0.4
+    # unforced by default, and the forcing frequency defaults to the natural one
+    plain = DimensionalParams(m=2.0, c=0.4, k=8.0, v_b=0.1, f_d=0.2).nondimensional()
+    assert plain["fex"] == 0.0 and plain["omega"] == 1.0
+
+
+def test_dimensional_forcing_reaches_the_model_from_the_command_line(capsys):
+    import json
+
+    from frictionflow.cli import main
+
+    code = main(["simulate", "--friction", "coulomb", "--t-end", "60", "--json",
+                 "--dimensional", "m=1,c=0.1,k=4,v_b=0.02,f_d=0.08,f_ex=0.4,w_ex=3"])
+    assert code == 0
+    params = json.loads(capsys.readouterr().out)["params"]
+    assert params["fex"] == pytest.approx(0.1) and params["omega"] == pytest.approx(1.5)
