@@ -23,7 +23,7 @@ from __future__ import annotations
 from numba import literal_unroll, njit
 
 from .friction import (
-    COULOMB, FD, FEX, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, SMOOTH_LAWS, VD, band_force, band_force_select,
+    COULOMB, FD, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, SMOOTH_LAWS, VD, band_force, band_force_select,
     band_mode, external_force,
 )
 
@@ -107,10 +107,10 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
     last step (``i1 == n_total``); ``out_w`` has shape (n_samples, N_WORK).
     Returns the next free sample index.  Each law's loop is compiled with its
     code as a constant, so that it holds only that law's slip force.
+    Unforced: a force record with F_ex > 0 goes to :func:`run_forced` (the
+    façade chooses, so that unforced runs compile no forced loop).
     """
     law = int(p[LAW])
-    if p[FEX] != 0.0:  # one loop for every forced law: the cosines dominate it anyway
-        return _run(law, True, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
     if law == KARNOPP or law == COULOMB:
         return _run(KARNOPP, False, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
                     out_w, k)
@@ -118,6 +118,13 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
         if law == code:
             k = _run(code, False, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
     return k
+
+
+@njit(cache=True, fastmath=FASTMATH)
+def run_forced(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
+    """:func:`run` under the external force of ``p``: one loop for every law (the cosines dominate it anyway)."""
+    return _run(int(p[LAW]), True, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
+                out_w, k)
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
@@ -179,11 +186,17 @@ def run_thinned(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, o
     integrals are exact sums.  ``s`` (length N_STATE + 2) also carries X'' of
     the current state and whether it is kept already.  Returns (next free
     sample, next step): it stops early when fewer than 3 samples fit.
+    Unforced: the external force's variant is :func:`run_thinned_forced`.
     """
-    if p[FEX] != 0.0:
-        return _thinned(True, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
-                        out_w, k)
     return _thinned(False, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
+                    out_w, k)
+
+
+@njit(cache=True, fastmath=FASTMATH)
+def run_thinned_forced(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w,
+                       k):
+    """:func:`run_thinned` under the external force of ``p``."""
+    return _thinned(True, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
                     out_w, k)
 
 

@@ -14,7 +14,7 @@ from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, Param
 from ..core import sections
-from ..core.layout import N_WORK
+from ..core.layout import FEX, N_WORK
 from .base import kernel_params, DEFAULT_MAX_MEMORY, CoarseStepWarning, Solver, check_memory
 
 # (a step below 1e-9 or more steps than MAX_STEPS would run for days: refused up front)
@@ -176,10 +176,11 @@ class RK4(Solver):
         t, x, v, fc, mode, work = _arrays(n + 1)
         state = np.zeros(kernel.N_STATE)
         state[:2] = x0, v0
+        run = kernel.run_forced if args[-1][FEX] != 0.0 else kernel.run  # an unforced run compiles no forced loop
         k = 0
         for i0 in range(0, n, CHUNK):
             i1 = min(n, i0 + CHUNK)
-            k = kernel.run(state, i0, i1, n, 1, 0.0, *args, t, x, v, fc, mode, work, k)
+            k = run(state, i0, i1, n, 1, 0.0, *args, t, x, v, fc, mode, work, k)
             advance(i1 - i0)
         return t, x, v, fc, mode, work
 
@@ -191,11 +192,12 @@ class RK4(Solver):
         state[:2] = x0, v0
         state[kernel.N_STATE] = np.nan
         t_tail = sections.tail_start(0.0, n * args[0])
+        thinned = kernel.run_thinned_forced if args[-1][FEX] != 0.0 else kernel.run_thinned
         k = i = 0
         while i < n:
             check_memory(len(bufs[0]), max_memory, lambda: self.sized(t_end))
             i1 = min(n, i + CHUNK)
-            k, i_done = kernel.run_thinned(state, i, i1, n, every, 0.0, args[0], t_tail, *args[1:], *bufs, k)
+            k, i_done = thinned(state, i, i1, n, every, 0.0, args[0], t_tail, *args[1:], *bufs, k)
             advance(i_done - i)
             i = i_done
             if i < i1:  # full: more room, and on from where it stopped
