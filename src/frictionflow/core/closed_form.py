@@ -235,13 +235,13 @@ def integral_v2_with(co, T):
     return P * P * math.expm1(2 * r1 * T) / (2 * r1) + 2 * P * Q * math.expm1((r1 + r2) * T) / (r1 + r2) + Q * Q * math.expm1(2 * r2 * T) / (2 * r2)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, forceinline=True)
 def modulus(z):
     """|z| without hypot's overflow guard (a library call, slower than the arithmetic here): moderate values only."""
     return math.sqrt(z.real * z.real + z.imag * z.imag)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, forceinline=True)
 def reciprocal(z):
     """1 / z as conj(z) / |z|^2 (no library division; z of moderate size, not 0)."""
     return z.conjugate() * (1.0 / (z.real * z.real + z.imag * z.imag))

@@ -166,7 +166,7 @@ def run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_ta
                 out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, forceinline=True)
 def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
          out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
     """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations)."""
@@ -512,7 +512,7 @@ def _root(kind, y, K, t, h, zeta, vb, d, p, forced):
 
 # -- the stroboscopic samples and the forced stick phase -----------------------------------------------
 
-@njit(cache=True, inline="always")
+@njit(cache=True, forceinline=True)
 def _strobe(tt, n, period):
     """A sample at ``tt``: (its time, the next stroboscopic index).
 

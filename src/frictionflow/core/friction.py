@@ -31,6 +31,11 @@ from .layout import (  # noqa: F401  (re-exported: the kernels import the layout
     SLIP_POS, SMOOTH_LAWS, STICK, STRIBECK, VD,
 )
 
+#: fused multiply-add allowed in the fixed-step kernels (the stick band and RK4): shorter
+#: dependency chains, and the single and batched kernels share it so that they round alike.
+#: Every function they call apart (``forceinline``) carries it too: flags are per compiled function.
+FASTMATH = {"contract"}
+
 
 @njit(cache=True, inline="always")
 def slip_magnitude(law, fd, fs, a, b, c, speed):
@@ -133,7 +138,7 @@ def rest_mode(x, zeta, vb, fs, resultant, f0, fext, dfext):
     return 0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def band_force(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext):
     """Friction force of a law with a stick band |V_r| <= V_d (Karnopp's scheme).
 
@@ -153,7 +158,7 @@ def band_force(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext):
     return fe
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def band_force_select(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext):
     """:func:`band_force` computing both sides and selecting one: for loops over many lanes, which it lets vectorise."""
     vr = vb - v
@@ -165,7 +170,7 @@ def band_force_select(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext)
     return slip if speed > vd else hold
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def band_mode(v, vb, vd):
     """Friction mode -1/0/+1 (slip-/stick/slip+) of a law with a stick band."""
     vr = vb - v

@@ -24,16 +24,13 @@ from numba import literal_unroll, njit
 
 from .friction import (
     COULOMB, FD, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, SMOOTH_LAWS, VD, band_force, band_force_select,
-    band_mode, external_force,
+    FASTMATH, band_mode, external_force,
 )
 
 N_STATE = 7
-#: fused multiply-add allowed: shorter dependency chains, and the single and
-#: batched kernels share it so that they round alike
-FASTMATH = {"contract"}
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def stage(x, v, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced):
     """Right-hand side at one stage with external force ``f``: (X'', P_dv, P_f+, P_f-, P_heat).
 
@@ -54,7 +51,7 @@ def stage(x, v, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced):
     return a, 2.0 * zeta * v * v, max(pf, 0.0), max(-pf, 0.0), heat
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False, f1=0.0, f2=0.0, f4=0.0, forced=False):
     """One RK4 step of the augmented system; returns new X, X' and work increments (W_ex's last).
 
@@ -84,7 +81,7 @@ def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False, f1=0
     )
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def _record(k, t, x, v, w0, w1, w2, w3, w4, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode,
             out_w):
     out_t[k] = t
@@ -168,7 +165,7 @@ def _run(law, forced, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out
     return k
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def _sign(u):
     return (u > 0.0) - (u < 0.0)
 

@@ -7,7 +7,7 @@ from .layout import N_WORK
 
 # Inlined: a call of a compiled function costs two atomic reference-count
 # updates per array argument -- here seven arrays, several times the writes.
-@njit(inline="always")
+@njit(cache=True, forceinline=True)
 def emit(outs, k, t, x, v, fc, mode, w):
     """Write sample ``k`` into ``outs`` = (t, x, v, fc, mode, work); False when the arrays are full.
 
