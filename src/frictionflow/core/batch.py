@@ -16,13 +16,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from .. import quantities as Q
 from . import certificate, dopri, exact, rk4_batch
 from . import sections as sec
 from .friction import FD, slip_magnitude_of
 from .layout import N_WORK
+from .threads import over_points
 
 # The result row is the first NR entries of the table's layout, the one
 # sections fills.  Positions by name; numba reads them as constants.
@@ -60,11 +61,11 @@ def _row(rec, tail, fin, p, zeta, vb, rtol, min_periods, h, fixed_step, noise, o
         if certificate.inside(x_eq, vb, r, fin[sec.A_XEND], fin[sec.A_VEND]):
             whole = sec.averages(fin[sec.A_W0], fin[sec.A_W1], fin[sec.A_W2], fin[sec.A_W3], 0.0, fin[sec.A_E0],
                                  fin[sec.A_E], max(fin[sec.A_T], 1e-300))
-            out[:] = sec.equilibrium_row(x_eq, vb, fd, 0.0, whole[sec.RESID])[:NR]
+            sec.put(out, sec.equilibrium_row(x_eq, vb, fd, 0.0, whole[sec.RESID]), NR)
             return
     scale = sec.scale_of(rec, tail, vb, fd)
     cls = sec.classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise * scale)
-    out[:] = sec.window_summary(rec, tail, fin, cls, fd, vb)[:NR]
+    sec.put(out, sec.window_summary(rec, tail, fin, cls, fd, vb), NR)
 
 
 @njit(cache=True)
@@ -83,11 +84,14 @@ def _buffers(cap):
             np.empty((cap, N_WORK)), np.empty(1), np.empty(1, dtype=np.int64))
 
 
-@njit(cache=True, parallel=True)
-def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out):
-    """Exact solver for every point (rows of ``p``: friction kernel parameters)."""
-    n = len(zeta)
-    for j in prange(n):
+def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out) -> None:
+    """Exact solver for every point (rows of ``p``: friction kernel parameters), parallel over the cores."""
+    over_points(_exact_points, len(zeta), p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out)
+
+
+@njit(cache=True, nogil=True)
+def _exact_points(j0, j1, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out):
+    for j in range(j0, j1):
         cap = int(16.0 * t_end / (2.0 * math.pi)) + 64
         while True:
             t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
@@ -105,20 +109,27 @@ def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out):
             _not_settled(out[j])
         elif t_term >= 0.0 and t_mode[0] != 0 and zeta[j] > 0.0:
             # a final slip phase: it decays onto X* = F(V_b), sliding (the residual is the run's)
-            tot = work[:k].sum(axis=0)
+            tot = np.zeros(N_WORK)
+            for i in range(k):  # (a loop: sum(axis=0) compiles its own implementation)
+                for q in range(N_WORK):
+                    tot[q] += work[i, q]
             a = sec.averages(tot[0], tot[1], tot[2], tot[3], 0.0, 0.5 * (x0[j] ** 2 + v0[j] ** 2),
                              0.5 * (x[k - 1] ** 2 + v[k - 1] ** 2), max(t[k - 1], 1e-300))
             x_eq = t_mode[0] * slip_magnitude_of(p[j], abs(vb[j]))
-            out[j, :] = sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID])[:NR]
+            sec.put(out[j], sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID]), NR)
         else:
             _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, False, noise, out[j])
 
 
-@njit(cache=True, parallel=True)
-def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out):
-    """Adaptive Dormand-Prince for every point (built-in slip laws)."""
-    n = len(zeta)
-    for j in prange(n):
+def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out) -> None:
+    """Adaptive Dormand-Prince for every point (built-in slip laws), parallel over the cores."""
+    over_points(_adaptive_points, len(zeta), p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods,
+                noise, out)
+
+
+@njit(cache=True, nogil=True)
+def _adaptive_points(j0, j1, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out):
+    for j in range(j0, j1):
         # stop once the end is known: the certified disc, or repeating sections (as the classifier judges them)
         r = certificate.certified_radius(p[j], zeta[j], vb[j])
         stop = (rtol, float(min_periods), r, math.copysign(slip_magnitude_of(p[j], abs(vb[j])), vb[j]))
@@ -139,10 +150,9 @@ def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, r
             _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, False, noise, out[j])
 
 
-@njit(cache=True, parallel=True)
-def _rk4_rows(rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out):
-    n = len(nrec)
-    for j in prange(n):
+@njit(cache=True, nogil=True)
+def _rk4_rows(j0, j1, rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out):
+    for j in range(j0, j1):
         _row(rk4_batch.unroll(rec[j], nrec[j]), tail[j], fin[j], p[j], zeta[j], vb[j], rtol, min_periods, dt, True, noise, out[j])
 
 
@@ -156,4 +166,4 @@ def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, noise, ou
     fin = np.full((n, sec.NA), np.nan)
     rk4_batch.warm_up()
     rk4_batch.run_batch(law, zeta, vb, p, x0, v0, dt, steps, sec.tail_start(0.0, steps * dt), rec, nrec, tail, fin)
-    _rk4_rows(rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out)
+    over_points(_rk4_rows, n, rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out)

@@ -420,7 +420,8 @@ def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_
                 else:
                     for i in range(ny):
                         y[i] = yn[i]
-                    K[0, :] = K[6, :]
+                    for i in range(K.shape[1]):  # FSAL (a loop: array slice assignment costs compile time)
+                        K[0, i] = K[6, i]
                     x, v = y[0], y[1]
                     h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
             if switched:

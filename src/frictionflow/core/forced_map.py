@@ -280,7 +280,8 @@ def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks,
             theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out)
             if not switched:
                 work_step(x_a, v_a, t_a, target - t_a, d, zeta, vb, p, work, g)
-                y[:] = out
+                for i in range(len(y)):
+                    y[i] = out[i]
                 t = target
                 zero_run = 0
                 # a phase that has not yet left V_r = 0 by more than rounding is still starting
@@ -291,7 +292,8 @@ def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks,
             fresh = False
             if theta > 0.0:
                 work_step(x_a, v_a, t_a, theta, d, zeta, vb, p, work, g)
-                y[:] = out
+                for i in range(len(y)):
+                    y[i] = out[i]
                 t += theta
                 _track_step(x_a, v_a, a_a, y[0], y[1], accel(d, y[0], y[1], t, zeta, vb, p), theta, d, zeta, vb,
                             stats, False)

@@ -13,11 +13,12 @@ average over it without storing a trajectory.
 from __future__ import annotations
 
 import numpy as np
-from numba import literal_unroll, njit, prange
+from numba import literal_unroll, njit
 
 from . import sections as sec
 from .friction import COULOMB, FD, FS, KARNOPP, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, SMOOTH_LAWS, VD
 from .rk4 import FASTMATH, step
+from .threads import over_points
 
 LANES = 64
 
@@ -148,12 +149,16 @@ def _block(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
         fin[j, sec.A_XEND], fin[j, sec.A_VEND] = x[j], v[j]
 
 
-@njit(cache=True, parallel=True)
-def run_batch(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
-    """Integrate every lane for ``n_steps``; fills ``rec`` (B, K, NF), ``nrec``, ``tail``, ``fin``."""
+def run_batch(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin) -> None:
+    """Integrate every lane for ``n_steps``; fills ``rec`` (B, K, NF), ``nrec``, ``tail``, ``fin``. Blocks run in parallel."""
+    over_points(_blocks, (len(zeta) + LANES - 1) // LANES, law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin)
+
+
+@njit(cache=True, nogil=True)
+def _blocks(b0, b1, law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
+    """Blocks ``b0 .. b1-1`` of ``LANES`` lanes each."""
     n = len(zeta)
-    nb = (n + LANES - 1) // LANES
-    for b in prange(nb):
+    for b in range(b0, b1):
         s = b * LANES
         e = min(n, s + LANES)
         _block(law, zeta[s:e], vb[s:e], p[s:e], x0[s:e], v0[s:e], dt, n_steps, t_tail, rec[s:e], nrec[s:e], tail[s:e], fin[s:e])
@@ -176,7 +181,7 @@ def warm_up() -> None:
     tail = np.full((1, sec.NA), np.nan)
     fin = np.full((1, sec.NA), np.nan)
     with wide_vectors():
-        run_batch(0, z, z, p, z, z, 1e-3, 1, 0.0, rec, nrec, tail, fin)
+        _blocks(0, 1, 0, z, z, p, z, z, 1e-3, 1, 0.0, rec, nrec, tail, fin)
     _warm = True
 
 
@@ -188,19 +193,26 @@ def unroll(ring, count):
     out = np.empty((m, ring.shape[1]))
     first = count - m
     for i in range(m):
-        out[i] = ring[(first + i) % K]
+        for q in range(ring.shape[1]):
+            out[i, q] = ring[(first + i) % K, q]
     return out
 
 
-@njit(cache=True, parallel=True)
-def summarize(rec, nrec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step, noise):
-    """Classify every lane and average over its window: (B, NC + NS)."""
-    n = len(nrec)
-    out = np.empty((n, sec.NC + sec.NS))
-    for j in prange(n):
+def summarize(rec, nrec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step, noise) -> np.ndarray:
+    """Classify every lane and average over its window: (B, NC + NS), parallel over the cores."""
+    out = np.empty((len(nrec), sec.NC + sec.NS))
+    over_points(_summarize, len(nrec), rec, nrec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step, noise, out)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _summarize(j0, j1, rec, nrec, tail, fin, vb, fd, rtol, min_periods, h, fixed_step, noise, out):
+    for j in range(j0, j1):
         r = unroll(rec[j], nrec[j])
         scale = sec.scale_of(r, tail[j], vb[j], fd[j])
         c = sec.classify(r, tail[j], scale, rtol, min_periods, h, fixed_step, noise * scale)
-        out[j, : sec.NC] = c
-        out[j, sec.NC :] = sec.window_summary(r, tail[j], fin[j], c, fd[j], vb[j])
-    return out
+        s = sec.window_summary(r, tail[j], fin[j], c, fd[j], vb[j])
+        for q in range(sec.NC):
+            out[j, q] = c[q]
+        for q in range(sec.NS):
+            out[j, sec.NC + q] = s[q]

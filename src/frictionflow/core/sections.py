@@ -66,6 +66,55 @@ def tail_start(t0: float, t_end: float) -> float:
 
 
 @njit(cache=True)
+def nans(n):
+    """An array of ``n`` NaNs (a plain loop: np.full costs compile time in every kernel that uses it)."""
+    out = np.empty(n)
+    for i in range(n):
+        out[i] = np.nan
+    return out
+
+
+@njit(cache=True)
+def put(dst, src, n):
+    """``dst[:n] = src[:n]`` as a loop: numpy's slice assignment compiles its shape-error messages (string
+    code, about 1.5 s) in every process that compiles a kernel using it."""
+    for i in range(n):
+        dst[i] = src[i]
+
+
+@njit(cache=True)
+def column_stats(rec, i0, i1, col):
+    """(min, max, sum, any NaN) of ``rec[i0:i1, col]``; min and max are NaN if any value is (as numpy's).
+
+    Written as one loop for the reductions the classifier needs: numpy's array
+    reductions would each compile their own implementation on a fresh cache.
+    """
+    lo = np.inf
+    hi = -np.inf
+    total = 0.0
+    nan = False
+    for i in range(i0, i1):
+        a = rec[i, col]
+        if math.isnan(a):
+            nan = True
+        lo = a if a < lo else lo
+        hi = a if a > hi else hi
+        total += a
+    if nan:
+        return np.nan, np.nan, total, True
+    return lo, hi, total, False
+
+
+@njit(cache=True)
+def column(rec, i0, i1, col):
+    """``rec[i0:i1, col]`` as a new contiguous array."""
+    out = np.empty(i1 - i0)
+    for i in range(i0, i1):
+        out[i - i0] = rec[i, col]
+    return out
+
+
+@njit(cache=True)
 def records_from_samples(t, x, v, mode, dwork, zeta, t_tail):
     """Section records, tail and final aggregates of a sampled run.
 
@@ -81,9 +130,9 @@ def records_from_samples(t, x, v, mode, dwork, zeta, t_tail):
     for i in range(n - 1):
         if v[i] > 0.0 and v[i + 1] <= 0.0:
             count += 1
-    rec = np.full((count, NF), np.nan)
-    tail = np.full(NA, np.nan)
-    fin = np.full(NA, np.nan)
+    rec = nans(count * NF).reshape((count, NF))
+    tail = nans(NA)
+    fin = nans(NA)
     agg = np.zeros(6)  # xmin, xmax, vmin, vmax, fmax, stick of the running period
     tag = np.zeros(6)  # the same over the tail (X extremes used only there)
     pw = np.zeros(4)  # work integrals of the running period
@@ -216,18 +265,18 @@ def repeat_counts(xs, ts, tol_x, rtol, h2):
 
 
 @njit(cache=True)
-def _monotone_amplitude(rec, noise):
-    """The amplitudes X - LO of these records shrink (or grow) at every step by more than ``noise``.
+def _monotone_amplitude(rec, i0, noise):
+    """The amplitudes X - LO of the records from ``i0`` on shrink (or grow) at every step by more than ``noise``.
 
     A converged cycle whose window still holds the last step of its transient
     changes by rounding after it: not monotone.
     """
     n = rec.shape[0]
-    if n < 3:
+    if n - i0 < 3:
         return False
-    first = rec[1, X] - rec[1, LO] - (rec[0, X] - rec[0, LO])
+    first = rec[i0 + 1, X] - rec[i0 + 1, LO] - (rec[i0, X] - rec[i0, LO])
     sign = 1.0 if first > 0.0 else -1.0
-    for i in range(1, n):
+    for i in range(i0 + 1, n):
         if not sign * ((rec[i, X] - rec[i, LO]) - (rec[i - 1, X] - rec[i - 1, LO])) > noise:
             return False
     return True
@@ -302,7 +351,7 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
     (``HEAD_*``), the limit centre or amplitude (Aitken) -- and the jitter
     of noisy fixed-step orbits.
     """
-    out = np.full(NC, np.nan)
+    out = nans(NC)
     out[C_NPER] = 0.0
     out[C_HEAD] = HEAD_NONE
     tol = rtol * scale
@@ -318,13 +367,13 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
 
     # Periodic, strictly: maxima, minima and periods repeat to tol.
     if n >= min_periods + 1:
-        lo = rec[n - min_periods :, LO].copy()
+        lo_min, lo_max, _, lo_nan = column_stats(rec, n - min_periods, n, LO)
         amp = rec[n - 1, X] - rec[n - 1, LO]
         tol_c = max(rtol * amp, noise) if amp > 0.0 else tol
-        m_x, m_p = repeat_counts(rec[:, X].copy(), rec[:, T].copy(), tol_c, rtol, h * h)
+        m_x, m_p = repeat_counts(column(rec, 0, n, X), column(rec, 0, n, T), tol_c, rtol, h * h)
         m = min(m_x, m_p + 1)
-        if (m >= min_periods and not np.any(np.isnan(lo)) and lo.max() - lo.min() <= tol_c
-                and not _monotone_amplitude(rec[n - 1 - min_periods :], 2.0 * noise)):
+        if (m >= min_periods and not lo_nan and lo_max - lo_min <= tol_c
+                and not _monotone_amplitude(rec, n - 1 - min_periods, 2.0 * noise)):
             out[C_KIND] = PERIODIC
             out[C_START] = n - 1 - m
             out[C_END] = n - 1
@@ -335,16 +384,21 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
     # Periodic to within the jitter of a fixed step through a stick band.
     k = min(n - 1, 12)
     if fixed_step and k >= max(min_periods, 8):
-        win = rec[n - k :]
-        lo = win[:, LO].copy()
-        if win[:, STICK].max() > 0.0 and not np.any(np.isnan(lo)):
-            xs = rec[n - 1 - k :, X].copy()
-            periods = rec[n - k :, T] - rec[n - 1 - k : n - 1, T]  # (np.diff costs 2 s of compile)
-            amp = xs.max() - lo.min()
-            jitter = max(xs.max() - xs.min(), lo.max() - lo.min()) / amp if amp > 0 else 0.0
+        lo_min, lo_max, _, lo_nan = column_stats(rec, n - k, n, LO)
+        if column_stats(rec, n - k, n, STICK)[1] > 0.0 and not lo_nan:
+            xs = column(rec, n - 1 - k, n, X)
+            lo = column(rec, n - k, n, LO)
+            periods = np.empty(k)
+            p_min, p_max = np.inf, -np.inf
+            for i in range(k):
+                periods[i] = rec[n - k + i, T] - rec[n - 1 - k + i, T]
+                p_min, p_max = min(p_min, periods[i]), max(p_max, periods[i])
+            x_min, x_max, _, _ = column_stats(rec, n - 1 - k, n, X)
+            amp = x_max - lo_min
+            jitter = max(x_max - x_min, lo_max - lo_min) / amp if amp > 0 else 0.0
             if (
                 jitter < 0.05
-                and periods.max() - periods.min() < 0.05 * periods[-1]
+                and p_max - p_min < 0.05 * periods[-1]
                 and _stationary(xs)
                 and _stationary(lo)
                 and _stationary(periods)
@@ -371,27 +425,33 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
         j0 -= 1
     kk = n - j0
     if kk >= 2:
-        amp = 0.5 * (rec[j0:, X] - rec[j0:, LO])
-        cen = 0.5 * (rec[j0:, X] + rec[j0:, LO])
-        tk = rec[j0:, T]
         use = min(kk, 3)  # the latest behaviour, not the early transient
-        a = amp[kk - use :]
         ok = True
-        for i in range(use):
-            if a[i] <= 0.0:
+        tm = 0.0
+        lm = 0.0
+        for i in range(n - use, n):
+            a = 0.5 * (rec[i, X] - rec[i, LO])
+            if a <= 0.0:
                 ok = False
+            else:
+                tm += rec[i, T]
+                lm += math.log(a)
         if ok:
-            tt = tk[kk - use :]
-            la = np.log(a)
-            tm = tt.mean()
-            lm = la.mean()
-            slope = ((tt - tm) * (la - lm)).sum() / ((tt - tm) ** 2).sum()
+            tm /= use
+            lm /= use
+            sxy = 0.0
+            sxx = 0.0
+            for i in range(n - use, n):
+                dt = rec[i, T] - tm
+                sxy += dt * (math.log(0.5 * (rec[i, X] - rec[i, LO])) - lm)
+                sxx += dt * dt
+            slope = sxy / sxx
             out[C_DECAY] = -slope
             if kk >= 3:
-                a_inf = _aitken(amp[kk - 3], amp[kk - 2], amp[kk - 1])
-                c_inf = _aitken(cen[kk - 3], cen[kk - 2], cen[kk - 1])
+                a_inf = _aitken(_half_range(rec, n - 3), _half_range(rec, n - 2), _half_range(rec, n - 1))
+                c_inf = _aitken(_centre(rec, n - 3), _centre(rec, n - 2), _centre(rec, n - 1))
                 if -slope > 0.0:
-                    if a_inf <= max(tol, 1e-3 * amp[kk - 1]):
+                    if a_inf <= max(tol, 1e-3 * _half_range(rec, n - 1)):
                         out[C_HEAD] = HEAD_EQUILIBRIUM
                         out[C_LIMX] = c_inf
                     else:
@@ -401,6 +461,17 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
                 else:
                     out[C_HEAD] = HEAD_GROWING
     return out
+
+
+@njit(cache=True)
+def _half_range(rec, i):
+    """Half the swing of record ``i``: its amplitude."""
+    return 0.5 * (rec[i, X] - rec[i, LO])
+
+
+@njit(cache=True)
+def _centre(rec, i):
+    return 0.5 * (rec[i, X] + rec[i, LO])
 
 
 @njit(cache=True)
@@ -449,7 +520,7 @@ def averages(dw_dv, dw_in, dw_out, dw_heat, dw_ex, e0, e1, span):
     are NaN when friction puts in nothing.  Returns a row of the table's
     layout with the averages and the residual filled in (the rest NaN).
     """
-    out = np.full(NQ, np.nan)
+    out = nans(NQ)
     w_f = dw_in - dw_out
     floor = 1e-12 * max(e0, e1)
     resid = abs(e1 - e0 + dw_dv - w_f - dw_ex)
@@ -480,7 +551,9 @@ def equilibrium_row(x, vb, fd, stick, resid):
     belt = 0.0 if stick >= 0.5 else x * vb
     trb = abs(x) / fd if fd > 0.0 else np.nan
     # one value per rule, in the order of Q.EQUILIBRIUM_RULES
-    value = np.array([float(EQUILIBRIUM), np.nan, 0.0, x, belt, trb, stick, resid])
+    value = np.empty(8)
+    value[0], value[1], value[2], value[3] = float(EQUILIBRIUM), np.nan, 0.0, x
+    value[4], value[5], value[6], value[7] = belt, trb, stick, resid
     out = np.empty(NQ)
     for i in range(NQ):
         out[i] = value[EQ_RULE[i]]
@@ -494,7 +567,7 @@ def window_summary(rec, tail, fin, cls, fd, vb):
     For an equilibrium they are the equilibrium's own (:func:`equilibrium_row`);
     the residual is the whole run's.
     """
-    out = np.full(NS, np.nan)
+    out = nans(NS)
     i0 = int(cls[C_START])
     i1 = int(cls[C_END])
     if i0 < 0:  # the tail
@@ -502,22 +575,26 @@ def window_summary(rec, tail, fin, cls, fd, vb):
         span = b[A_T] - a[A_T]
         xmin, xmax, vmin, vmax = tail[A_XMIN], tail[A_XMAX], tail[A_VMIN], tail[A_VMAX]
         fmax, stick = tail[A_FMAX], tail[A_STICK]
-        dw = tail[A_W0 : A_W0 + 4].copy()
+        dw = np.empty(4)
+        for j in range(4):
+            dw[j] = tail[A_W0 + j]
         e0, e1 = a[A_E], b[A_E]
         t0, t1 = a[A_T], b[A_T]
-    else:
-        seg = rec[i0 + 1 : i1 + 1]
+    else:  # the periods that end at records i0 + 1 .. i1
         t0, t1 = rec[i0, TS], rec[i1, TS]
         span = t1 - t0
-        xmin, xmax = seg[:, LO].min(), rec[i0 : i1 + 1, X].max()
-        vmin, vmax = seg[:, VMIN].min(), seg[:, VMAX].max()
-        fmax, stick = seg[:, FMAX].max(), seg[:, STICK].sum()
-        dw = np.zeros(4)
+        xmin = column_stats(rec, i0 + 1, i1 + 1, LO)[0]
+        xmax = column_stats(rec, i0, i1 + 1, X)[1]
+        vmin = column_stats(rec, i0 + 1, i1 + 1, VMIN)[0]
+        vmax = column_stats(rec, i0 + 1, i1 + 1, VMAX)[1]
+        fmax = column_stats(rec, i0 + 1, i1 + 1, FMAX)[1]
+        stick = column_stats(rec, i0 + 1, i1 + 1, STICK)[2]
+        dw = np.empty(4)
         for j in range(4):
-            dw[j] = seg[:, W0 + j].sum()
+            dw[j] = column_stats(rec, i0 + 1, i1 + 1, W0 + j)[2]
         e0, e1 = rec[i0, ES], rec[i1, ES]
     if span > 0:
-        out[:NQ] = averages(dw[0], dw[1], dw[2], dw[3], 0.0, e0, e1, span)
+        put(out, averages(dw[0], dw[1], dw[2], dw[3], 0.0, e0, e1, span), NQ)
         out[S_STICK] = stick / span
     out[KIND] = cls[C_KIND]
     if cls[C_KIND] == PERIODIC:
@@ -532,5 +609,5 @@ def window_summary(rec, tail, fin, cls, fd, vb):
     if cls[C_KIND] == EQUILIBRIUM:
         # the balance of the whole run (at rest there is nothing left to check)
         whole = averages(fin[A_W0], fin[A_W1], fin[A_W2], fin[A_W3], 0.0, fin[A_E0], fin[A_E], max(fin[A_T], 1e-300))
-        out[:NQ] = equilibrium_row(cls[C_LIMX], vb, fd, out[S_STICK], whole[RESID])
+        put(out, equilibrium_row(cls[C_LIMX], vb, fd, out[S_STICK], whole[RESID]), NQ)
     return out

@@ -436,7 +436,8 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
                 d = float(mode)
                 theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out)
                 if not switched:
-                    y[:] = out
+                    for i in range(len(y)):
+                        y[i] = out[i]
                     t = target
                     zero_run = 0
                     # a phase that has not yet left V_r = 0 by more than rounding is still starting
@@ -444,7 +445,8 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
                     continue
                 fresh = False
                 if theta > 0.0:
-                    y[:] = out
+                    for i in range(len(y)):
+                        y[i] = out[i]
                     t += theta
                 zero_run = zero_run + 1 if theta <= 4.0 * EPS * (1.0 + abs(t)) else 0
                 if zero_run > MAX_ZERO_PHASES:
