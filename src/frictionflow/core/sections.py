@@ -65,7 +65,9 @@ def tail_start(t0: float, t_end: float) -> float:
     return t_end - min(span, max(0.1 * span, 4.0 * math.pi))
 
 
-@njit(cache=True)
+# The small helpers below are called with constant arguments (layout positions): numba would
+# compile one version per constant, so each has its one signature, compiled at import.
+@njit("float64[::1](int64)", cache=True)
 def nans(n):
     """An array of ``n`` NaNs (a plain loop: np.full costs compile time in every kernel that uses it)."""
     out = np.empty(n)
@@ -74,7 +76,7 @@ def nans(n):
     return out
 
 
-@njit(cache=True)
+@njit("void(float64[:], float64[:], int64)", cache=True)
 def put(dst, src, n):
     """``dst[:n] = src[:n]`` as a loop: numpy's slice assignment compiles its shape-error messages (string
     code, about 1.5 s) in every process that compiles a kernel using it."""
@@ -82,7 +84,7 @@ def put(dst, src, n):
         dst[i] = src[i]
 
 
-@njit(cache=True)
+@njit("Tuple((float64, float64, float64, boolean))(float64[:, :], int64, int64, int64)", cache=True)
 def column_stats(rec, i0, i1, col):
     """(min, max, sum, any NaN) of ``rec[i0:i1, col]``; min and max are NaN if any value is (as numpy's).
 
@@ -105,7 +107,7 @@ def column_stats(rec, i0, i1, col):
     return lo, hi, total, False
 
 
-@njit(cache=True)
+@njit("float64[::1](float64[:, :], int64, int64, int64)", cache=True)
 def column(rec, i0, i1, col):
     """``rec[i0:i1, col]`` as a new contiguous array."""
     out = np.empty(i1 - i0)
@@ -177,7 +179,7 @@ def records_from_samples(t, x, v, mode, dwork, zeta, t_tail):
     return rec, tail, fin
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, forceinline=True)
 def update(agg, x, v, f, stuck):
     agg[0] = min(agg[0], x)
     agg[1] = max(agg[1], x)
@@ -187,7 +189,7 @@ def update(agg, x, v, f, stuck):
     agg[5] += stuck
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, forceinline=True)
 def reset(agg, x, v, f):
     agg[0] = x
     agg[1] = x
@@ -197,7 +199,7 @@ def reset(agg, x, v, f):
     agg[5] = 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, forceinline=True)
 def close(r, tc, xc, ts, x, v, w, agg, lo, with_period):
     """Fill record ``r`` for a crossing at ``tc``; ``ts, x, v, w``: the sample after it."""
     r[T] = tc
@@ -214,7 +216,7 @@ def close(r, tc, xc, ts, x, v, w, agg, lo, with_period):
         r[LO] = lo
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, forceinline=True)
 def mark(a, t, x, v, w):
     a[A_T] = t
     a[A_E] = 0.5 * (x * x + v * v)
@@ -222,7 +224,7 @@ def mark(a, t, x, v, w):
         a[A_W0 + j] = w[j]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, forceinline=True)
 def store_tail(tail, tag, tw):
     for j in range(4):
         tail[A_W0 + j] = tw[j]
@@ -448,10 +450,15 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
             slope = sxy / sxx
             out[C_DECAY] = -slope
             if kk >= 3:
-                a_inf = _aitken(_half_range(rec, n - 3), _half_range(rec, n - 2), _half_range(rec, n - 1))
-                c_inf = _aitken(_centre(rec, n - 3), _centre(rec, n - 2), _centre(rec, n - 1))
+                amp = np.empty(3)
+                cen = np.empty(3)
+                for i in range(3):
+                    amp[i] = 0.5 * (rec[n - 3 + i, X] - rec[n - 3 + i, LO])
+                    cen[i] = 0.5 * (rec[n - 3 + i, X] + rec[n - 3 + i, LO])
+                a_inf = _aitken(amp[0], amp[1], amp[2])
+                c_inf = _aitken(cen[0], cen[1], cen[2])
                 if -slope > 0.0:
-                    if a_inf <= max(tol, 1e-3 * _half_range(rec, n - 1)):
+                    if a_inf <= max(tol, 1e-3 * amp[2]):
                         out[C_HEAD] = HEAD_EQUILIBRIUM
                         out[C_LIMX] = c_inf
                     else:
@@ -461,17 +468,6 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
                 else:
                     out[C_HEAD] = HEAD_GROWING
     return out
-
-
-@njit(cache=True)
-def _half_range(rec, i):
-    """Half the swing of record ``i``: its amplitude."""
-    return 0.5 * (rec[i, X] - rec[i, LO])
-
-
-@njit(cache=True)
-def _centre(rec, i):
-    return 0.5 * (rec[i, X] + rec[i, LO])
 
 
 @njit(cache=True)
