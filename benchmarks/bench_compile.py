@@ -70,7 +70,8 @@ def child(argv: list[str]) -> int:
             if ev.kind == "numba:compile":
                 disp = ev.data["dispatcher"]
                 name = f"{disp.py_func.__module__.removeprefix('frictionflow.')}.{disp.py_func.__name__}"
-                stack.append({"name": name, "t0": time.perf_counter(), "child": 0.0, "lower": 0.0})
+                stack.append({"name": name, "t0": time.perf_counter(), "child": 0.0, "lower": 0.0,
+                              "sig": str(ev.data.get("args"))})
             elif stack and ev.data["name"].startswith("native_lowering"):
                 stack[-1]["pass_t0"] = (time.perf_counter(), stack[-1]["child"])
 
@@ -81,7 +82,7 @@ def child(argv: list[str]) -> int:
                 if stack:
                     stack[-1]["child"] += total
                 line = {"pid": os.getpid(), "name": rec["name"], "own": total - rec["child"], "lower": rec["lower"],
-                        "total": total, "parent": stack[-1]["name"] if stack else None}
+                        "total": total, "parent": stack[-1]["name"] if stack else None, "sig": rec["sig"]}
                 with open(log_dir / f"{os.getpid()}.jsonl", "a", encoding="utf-8") as f:  # forked workers too
                     f.write(json.dumps(line) + "\n")
             elif stack and "pass_t0" in stack[-1] and ev.data["name"].startswith("native_lowering"):

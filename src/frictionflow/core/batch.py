@@ -86,11 +86,13 @@ def _buffers(cap):
 
 def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out) -> None:
     """Exact solver for every point (rows of ``p``: friction kernel parameters), parallel over the cores."""
-    over_points(_exact_points, len(zeta), p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out)
+    over_points(_exact_points, len(zeta), p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, True, False)
 
 
+# Flags arrive as arguments from Python, never as constants written in a kernel: numba would compile the
+# callees once more for each constant (a literal type), seconds on a fresh cache.
 @njit(cache=True, nogil=True)
-def _exact_points(j0, j1, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out):
+def _exact_points(j0, j1, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, stop_early, fixed_step):
     for j in range(j0, j1):
         cap = int(16.0 * t_end / (2.0 * math.pi)) + 64
         while True:
@@ -98,7 +100,8 @@ def _exact_points(j0, j1, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, 
             t_mode = np.zeros(1, dtype=np.int64)
             # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
             k, ne, status, t_term, t_stop = exact.run(
-                x0[j], v0[j], t_end, zeta[j], vb[j], p[j], 0.0, sec.tail_start(0.0, t_end), True, True, rtol, min_periods,
+                x0[j], v0[j], t_end, zeta[j], vb[j], p[j], 0.0, sec.tail_start(0.0, t_end), stop_early, stop_early, rtol,
+                min_periods,
                 t, x, v, fc, mode, work, ev_t, ev_mode, t_mode,
             )
             if status != exact.FULL:
@@ -118,17 +121,19 @@ def _exact_points(j0, j1, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, 
             x_eq = t_mode[0] * slip_magnitude_of(p[j], abs(vb[j]))
             sec.put(out[j], sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID]), NR)
         else:
-            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, False, noise, out[j])
+            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, fixed_step,
+                              noise, out[j])
 
 
 def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out) -> None:
     """Adaptive Dormand-Prince for every point (built-in slip laws), parallel over the cores."""
     over_points(_adaptive_points, len(zeta), p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods,
-                noise, out)
+                noise, out, False)
 
 
 @njit(cache=True, nogil=True)
-def _adaptive_points(j0, j1, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out):
+def _adaptive_points(j0, j1, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out,
+                     fixed_step):
     for j in range(j0, j1):
         # stop once the end is known: the certified disc, or repeating sections (as the classifier judges them)
         r = certificate.certified_radius(p[j], zeta[j], vb[j])
@@ -147,13 +152,15 @@ def _adaptive_points(j0, j1, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max
         if status != dopri.OK:
             _not_settled(out[j])
         else:
-            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, False, noise, out[j])
+            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, fixed_step,
+                              noise, out[j])
 
 
 @njit(cache=True, nogil=True)
-def _rk4_rows(j0, j1, rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out):
+def _rk4_rows(j0, j1, rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out, fixed_step):
     for j in range(j0, j1):
-        _row(rk4_batch.unroll(rec[j], nrec[j]), tail[j], fin[j], p[j], zeta[j], vb[j], rtol, min_periods, dt, True, noise, out[j])
+        _row(rk4_batch.unroll(rec[j], nrec[j]), tail[j], fin[j], p[j], zeta[j], vb[j], rtol, min_periods, dt, fixed_step, noise,
+             out[j])
 
 
 def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, noise, out) -> None:
@@ -166,4 +173,4 @@ def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, noise, ou
     fin = np.full((n, sec.NA), np.nan)
     rk4_batch.warm_up()
     rk4_batch.run_batch(law, zeta, vb, p, x0, v0, dt, steps, sec.tail_start(0.0, steps * dt), rec, nrec, tail, fin)
-    over_points(_rk4_rows, n, rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out)
+    over_points(_rk4_rows, n, rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out, True)

@@ -170,7 +170,7 @@ def band_force_select(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext)
     return slip if speed > vd else hold
 
 
-@njit(cache=True, fastmath=FASTMATH, forceinline=True)
+@njit(cache=True, inline="always")
 def band_mode(v, vb, vd):
     """Friction mode -1/0/+1 (slip-/stick/slip+) of a law with a stick band."""
     vr = vb - v

@@ -81,7 +81,7 @@ def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False, f1=0
     )
 
 
-@njit(cache=True, fastmath=FASTMATH, forceinline=True)
+@njit(cache=True, fastmath=FASTMATH, inline="always")
 def _record(k, t, x, v, w0, w1, w2, w3, w4, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode,
             out_w):
     out_t[k] = t
@@ -106,14 +106,18 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
     code as a constant, so that it holds only that law's slip force.
     Unforced: a force record with F_ex > 0 goes to :func:`run_forced` (the
     façade chooses, so that unforced runs compile no forced loop).
+
+    The codes are passed as ``code + 0``: a plain integer to numba, so that the
+    callees compile once for all laws (not once per constant), and still a
+    constant to LLVM, which folds the other laws' branches after inlining.
     """
     law = int(p[LAW])
     if law == KARNOPP or law == COULOMB:
-        return _run(KARNOPP, False, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
+        return _run(KARNOPP + 0, False, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
                     out_w, k)
     for code in literal_unroll(SMOOTH_LAWS):
         if law == code:
-            k = _run(code, False, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
+            k = _run(code + 0, False, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
     return k
 
 

@@ -78,13 +78,13 @@ def _block(law, zeta, vb, p, x0, v0, dt, n_steps, t_tail, rec, nrec, tail, fin):
     for i in range(n_steps):
         # Each law's loop is compiled with its code as a constant, so that it holds
         # only that law's slip force: another law's branch (a call to exp, say)
-        # would keep every loop from vectorising.
+        # would keep every loop from vectorising.  (``+ 0``: see rk4.run.)
         if law == KARNOPP or law == COULOMB:
-            _lanes(KARNOPP, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la, lb, lc)
+            _lanes(KARNOPP + 0, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la, lb, lc)
         else:
             for code in literal_unroll(SMOOTH_LAWS):
                 if law == code:
-                    _lanes(code, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la, lb, lc)
+                    _lanes(code + 0, x, v, xo, vo, w0, w1, w2, w3, dt, zeta, vb, fd, fs, vd, res, la, lb, lc)
         for j in range(L):  # vectorised: the period's aggregates
             vn = v[j]
             f = abs(x[j] + 2.0 * zeta[j] * vn)

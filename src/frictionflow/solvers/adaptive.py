@@ -34,7 +34,7 @@ class StepLimitError(RuntimeError):
 _KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "_known_end", "_run", "run_unforced",
                  "run_forced")
 #: a single run goes to its end (sweeps stop where the end is known: core.batch)
-NO_STOP = (0.0, 3, 0.0, 0.0)
+NO_STOP = (0.0, 3.0, 0.0, 0.0)  # floats, as core.batch passes it: one compiled kernel for both
 
 
 def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
