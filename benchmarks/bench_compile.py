@@ -11,7 +11,13 @@ time, imports included), as a user meets it after installing or upgrading:
     solver, analysis included).  Goal (issue 9): <= 8 s.
 (b) one small run of every other command in sequence on one fresh cache --
     ``reproduce --quick``, a tiny ``sweep`` per solver (exact, adaptive,
-    rk4), ``orbit`` and ``continue`` -- in all.  Goal: <= 40 s.
+    rk4), ``orbit`` and ``continue``.  Goal (issue 9: "everything that sweep,
+    orbit, continue and reproduce compile: <= 40 s in all"): what the
+    compilations cost, the cold sequence minus the same sequence warm (the
+    commands' own work -- about 17 s, most of it ``reproduce``'s figures --
+    is not compiling).  The sum of the compile times logged in the processes
+    is printed too; it counts the forked workers' compilations, in parallel,
+    in full.
 
 Each is repeated (minimum and spread printed) and then run again on the warm
 cache, which leaves import + loading from the cache + the run itself.  The
@@ -190,7 +196,7 @@ def part_b(tmp: Path, repeat: int, top: int) -> None:
             total += wall
         totals.append(total)
         logs.append(base / "log")
-    print(f"  cold, in all: {spread(totals)}  -> goal {'met' if min(totals) <= GOAL_B else 'NOT met'}")
+    print(f"  cold, in all: {spread(totals)}")
     best = totals.index(min(totals))
     for j, (name, walls) in enumerate(per_cmd.items()):
         recs = compilations(logs[best] / f"{j}")
@@ -201,6 +207,10 @@ def part_b(tmp: Path, repeat: int, top: int) -> None:
     recs = compilations(base / "warm")
     print(f"  warm, in all: {sum(warm.values()):6.1f} s ({len(recs)} compilations, {sum(r['own'] for r in recs):.1f} s compiling): "
           + ", ".join(f"{name} {wall:.1f}" for name, wall in warm.items()))
+    cost = totals[best] - sum(warm.values())
+    logged = sum(r["own"] for r in compilations(logs[best]))
+    print(f"  compiling costs {cost:.1f} s (cold - warm; {logged:.1f} s logged in all processes)  "
+          f"-> goal (<= {GOAL_B:g} s) {'met' if cost <= GOAL_B else 'NOT met'}")
 
 
 def main() -> None:

@@ -274,10 +274,11 @@ class _Lap:
 def _warm_up(settings: Settings) -> None:
     """Load what every job needs once, before the workers are forked from this process.
 
-    The compiled kernels (from numba's disk cache), the plotting library and
-    its fonts, and the NetCDF library would otherwise be loaded again by each
-    worker.
+    The compiled kernels (from numba's disk cache, or compiled once here on a
+    fresh cache), the plotting library and its fonts, and the NetCDF library
+    would otherwise be loaded -- or compiled -- again by each worker.
     """
+    from ..analysis import analyze
     from ..params import BeltOscillator
     from ..simulate import simulate
     from ..solvers import RK4, Exact
@@ -285,8 +286,9 @@ def _warm_up(settings: Settings) -> None:
     from .style import pyplot
 
     law = paper_law(0.02, settings)
-    for solver in (RK4(dt=settings.dt), Exact(dense_dt=settings.exact_dense_dt)):
-        simulate(BeltOscillator(zeta=0.01, vb=0.01), law, solver, t_end=1.0)
+    # the solvers, both RK4 output paths (every step, thinned) and the analysis the jobs use
+    for solver in (RK4(dt=settings.dt), RK4(dt=settings.dt, record_every=2), Exact(dense_dt=settings.exact_dense_dt)):
+        analyze(simulate(BeltOscillator(zeta=0.01, vb=0.01), law, solver, t_end=1.0))
     plt = pyplot()
     fig, ax = plt.subplots()
     ax.set(xlabel=r"$\tau$", ylabel=r"$X'$")
