@@ -84,29 +84,46 @@ def _buffers(cap):
             np.empty((cap, N_WORK)), np.empty(1), np.empty(1, dtype=np.int64))
 
 
-def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out) -> None:
-    """Exact solver for every point (rows of ``p``: friction kernel parameters), parallel over the cores."""
-    over_points(_exact_points, len(zeta), p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, True, False)
+def with_room(kernel, n: int, cap: int, *args) -> None:
+    """Run a point kernel over ``n`` points with room for ``cap`` samples each, then again, with four
+    times the room, over the points that filled it -- the one retry loop of the batched kernels.
+
+    ``kernel(j0, j1, todo, cap, full, *args)`` handles the points ``todo[j0:j1]``
+    and sets ``full[j]`` for each point ``j`` whose samples did not fit.
+    """
+    todo = np.arange(n)
+    full = np.zeros(n, dtype=np.bool_)
+    while todo.size:
+        over_points(kernel, todo.size, todo, cap, full, *args)
+        todo = todo[full[todo]]
+        cap *= 4
+
+
+def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, cap: int | None = None) -> None:
+    """Exact solver for every point (rows of ``p``: friction kernel parameters), parallel over the cores.
+
+    ``cap``: the samples each point has room for at first (default: 16 per 2 pi).
+    """
+    cap = int(16.0 * t_end / (2.0 * math.pi)) + 64 if cap is None else cap
+    with_room(_exact_points, len(zeta), cap, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, True, False)
 
 
 # Flags arrive as arguments from Python, never as constants written in a kernel: numba would compile the
 # callees once more for each constant (a literal type), seconds on a fresh cache.
 @njit(cache=True, nogil=True)
-def _exact_points(j0, j1, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, stop_early, fixed_step):
-    for j in range(j0, j1):
-        cap = int(16.0 * t_end / (2.0 * math.pi)) + 64
-        while True:
-            t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
-            t_mode = np.zeros(1, dtype=np.int64)
-            # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
-            k, ne, status, t_term, t_stop = exact.run(
-                x0[j], v0[j], t_end, zeta[j], vb[j], p[j], 0.0, sec.tail_start(0.0, t_end), stop_early, stop_early, rtol,
-                min_periods,
-                t, x, v, fc, mode, work, ev_t, ev_mode, t_mode,
-            )
-            if status != exact.FULL:
-                break
-            cap *= 4
+def _exact_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, stop_early, fixed_step):
+    for j in todo[j0:j1]:
+        t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
+        t_mode = np.zeros(1, dtype=np.int64)
+        # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
+        k, ne, status, t_term, t_stop = exact.run(
+            x0[j], v0[j], t_end, zeta[j], vb[j], p[j], 0.0, sec.tail_start(0.0, t_end), stop_early, stop_early, rtol,
+            min_periods,
+            t, x, v, fc, mode, work, ev_t, ev_mode, t_mode,
+        )
+        full[j] = status == exact.FULL
+        if full[j]:
+            continue
         fd = p[j, FD]
         if status == exact.STUCK:
             _not_settled(out[j])
@@ -125,30 +142,34 @@ def _exact_points(j0, j1, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, 
                               noise, out[j])
 
 
-def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out) -> None:
-    """Adaptive Dormand-Prince for every point (built-in slip laws), parallel over the cores."""
-    over_points(_adaptive_points, len(zeta), p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods,
-                noise, out, False)
+def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out,
+                    cap: int | None = None) -> None:
+    """Adaptive Dormand-Prince for every point (built-in slip laws), parallel over the cores.
+
+    ``cap``: the samples each point has room for at first (default: most points stop early, and
+    those that do not are given more).
+    """
+    cap = min(int(64.0 * t_end) + 256, 4096) if cap is None else cap
+    with_room(_adaptive_points, len(zeta), cap, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol,
+              min_periods, noise, out, False)
 
 
 @njit(cache=True, nogil=True)
-def _adaptive_points(j0, j1, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out,
-                     fixed_step):
-    for j in range(j0, j1):
+def _adaptive_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods,
+                     noise, out, fixed_step):
+    for j in todo[j0:j1]:
         # stop once the end is known: the certified disc, or repeating sections (as the classifier judges them)
         r = certificate.certified_radius(p[j], zeta[j], vb[j])
         stop = (rtol, float(min_periods), r, math.copysign(slip_magnitude_of(p[j], abs(vb[j])), vb[j]))
-        cap = min(int(64.0 * t_end) + 256, 4096)  # most points stop early: grown for those that do not
-        while True:
-            t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
-            # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
-            k, ne, status, t_stop, h = dopri.run_unforced(
-                x0[j], v0[j], t_end, zeta[j], vb[j], p[j], ode_rtol, ode_atol, max_steps, 0.0, sec.tail_start(0.0, t_end),
-                stop, t, x, v, fc, mode, work, ev_t, ev_mode,
-            )
-            if status != dopri.FULL:
-                break
-            cap *= 4
+        t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
+        # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
+        k, ne, status, t_stop, h = dopri.run_unforced(
+            x0[j], v0[j], t_end, zeta[j], vb[j], p[j], ode_rtol, ode_atol, max_steps, 0.0, sec.tail_start(0.0, t_end),
+            stop, t, x, v, fc, mode, work, ev_t, ev_mode,
+        )
+        full[j] = status == dopri.FULL
+        if full[j]:
+            continue
         if status != dopri.OK:
             _not_settled(out[j])
         else:
