@@ -61,11 +61,11 @@ def _row(rec, tail, fin, p, zeta, vb, rtol, min_periods, h, fixed_step, noise, o
         if certificate.inside(x_eq, vb, r, fin[sec.A_XEND], fin[sec.A_VEND]):
             whole = sec.averages(fin[sec.A_W0], fin[sec.A_W1], fin[sec.A_W2], fin[sec.A_W3], 0.0, fin[sec.A_E0],
                                  fin[sec.A_E], max(fin[sec.A_T], 1e-300))
-            sec.put(out, sec.equilibrium_row(x_eq, vb, fd, 0.0, whole[sec.RESID]), NR)
+            sec.put(out, sec.equilibrium_row(x_eq, vb, fd, 0.0, whole[sec.RESID]))
             return
     scale = sec.scale_of(rec, tail, vb, fd)
     cls = sec.classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise * scale)
-    sec.put(out, sec.window_summary(rec, tail, fin, cls, fd, vb), NR)
+    sec.put(out, sec.window_summary(rec, tail, fin, cls, fd, vb))
 
 
 @njit(cache=True)
@@ -136,7 +136,7 @@ def _exact_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, rtol, min
             a = sec.averages(tot[0], tot[1], tot[2], tot[3], 0.0, 0.5 * (x0[j] ** 2 + v0[j] ** 2),
                              0.5 * (x[k - 1] ** 2 + v[k - 1] ** 2), max(t[k - 1], 1e-300))
             x_eq = t_mode[0] * slip_magnitude_of(p[j], abs(vb[j]))
-            sec.put(out[j], sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID]), NR)
+            sec.put(out[j], sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID]))
         else:
             _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, fixed_step,
                               noise, out[j])

@@ -65,55 +65,36 @@ def tail_start(t0: float, t_end: float) -> float:
     return t_end - min(span, max(0.1 * span, 4.0 * math.pi))
 
 
-# The small helpers below are called with constant arguments (layout positions): numba would
-# compile one version per constant, so each has its one signature, compiled at import.
-@njit("float64[::1](int64)", cache=True)
-def nans(n):
-    """An array of ``n`` NaNs (a plain loop: np.full costs compile time in every kernel that uses it)."""
-    out = np.empty(n)
-    for i in range(n):
-        out[i] = np.nan
-    return out
-
-
-@njit("void(float64[:], float64[:], int64)", cache=True)
-def put(dst, src, n):
-    """``dst[:n] = src[:n]`` as a loop: numpy's slice assignment compiles its shape-error messages (string
-    code, about 1.5 s) in every process that compiles a kernel using it."""
-    for i in range(n):
+@njit(cache=True)
+def put(dst, src):
+    """``dst[:] = src[:len(dst)]`` as a loop: numpy's slice assignment compiles its shape-error messages
+    (string code, about 1.5 s) in every process that compiles a kernel using it."""
+    for i in range(min(len(dst), len(src))):
         dst[i] = src[i]
 
 
-@njit("Tuple((float64, float64, float64, boolean))(float64[:, :], int64, int64, int64)", cache=True)
-def column_stats(rec, i0, i1, col):
-    """(min, max, sum, any NaN) of ``rec[i0:i1, col]``; min and max are NaN if any value is (as numpy's).
+@njit(cache=True)
+def stats(a):
+    """(min, max, sum, any NaN) of the 1-D array (or column view) ``a``; min and max are NaN if any value is.
 
-    Written as one loop for the reductions the classifier needs: numpy's array
-    reductions would each compile their own implementation on a fresh cache.
+    One loop for the reductions the classifier needs: numpy's reductions would
+    each compile their own implementation on a fresh cache.  Callers pass views
+    (``rec[i0:i1, COL]``), never a constant column number: numba would compile
+    this once per constant.
     """
     lo = np.inf
     hi = -np.inf
     total = 0.0
     nan = False
-    for i in range(i0, i1):
-        a = rec[i, col]
-        if math.isnan(a):
+    for v in a:
+        if math.isnan(v):
             nan = True
-        lo = a if a < lo else lo
-        hi = a if a > hi else hi
-        total += a
+        lo = v if v < lo else lo
+        hi = v if v > hi else hi
+        total += v
     if nan:
         return np.nan, np.nan, total, True
     return lo, hi, total, False
-
-
-@njit("float64[::1](float64[:, :], int64, int64, int64)", cache=True)
-def column(rec, i0, i1, col):
-    """``rec[i0:i1, col]`` as a new contiguous array."""
-    out = np.empty(i1 - i0)
-    for i in range(i0, i1):
-        out[i - i0] = rec[i, col]
-    return out
 
 
 @njit(cache=True)
@@ -132,9 +113,12 @@ def records_from_samples(t, x, v, mode, dwork, zeta, t_tail):
     for i in range(n - 1):
         if v[i] > 0.0 and v[i + 1] <= 0.0:
             count += 1
-    rec = nans(count * NF).reshape((count, NF))
-    tail = nans(NA)
-    fin = nans(NA)
+    rec = np.empty((count, NF))
+    tail = np.empty(NA)
+    fin = np.empty(NA)
+    rec[:] = np.nan  # (filling with a scalar compiles nothing; np.full would)
+    tail[:] = np.nan
+    fin[:] = np.nan
     agg = np.zeros(6)  # xmin, xmax, vmin, vmax, fmax, stick of the running period
     tag = np.zeros(6)  # the same over the tail (X extremes used only there)
     pw = np.zeros(4)  # work integrals of the running period
@@ -353,7 +337,8 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
     (``HEAD_*``), the limit centre or amplitude (Aitken) -- and the jitter
     of noisy fixed-step orbits.
     """
-    out = nans(NC)
+    out = np.empty(NC)
+    out[:] = np.nan
     out[C_NPER] = 0.0
     out[C_HEAD] = HEAD_NONE
     tol = rtol * scale
@@ -369,10 +354,10 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
 
     # Periodic, strictly: maxima, minima and periods repeat to tol.
     if n >= min_periods + 1:
-        lo_min, lo_max, _, lo_nan = column_stats(rec, n - min_periods, n, LO)
+        lo_min, lo_max, _, lo_nan = stats(rec[n - min_periods : n, LO])
         amp = rec[n - 1, X] - rec[n - 1, LO]
         tol_c = max(rtol * amp, noise) if amp > 0.0 else tol
-        m_x, m_p = repeat_counts(column(rec, 0, n, X), column(rec, 0, n, T), tol_c, rtol, h * h)
+        m_x, m_p = repeat_counts(rec[:, X].copy(), rec[:, T].copy(), tol_c, rtol, h * h)
         m = min(m_x, m_p + 1)
         if (m >= min_periods and not lo_nan and lo_max - lo_min <= tol_c
                 and not _monotone_amplitude(rec, n - 1 - min_periods, 2.0 * noise)):
@@ -386,16 +371,16 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
     # Periodic to within the jitter of a fixed step through a stick band.
     k = min(n - 1, 12)
     if fixed_step and k >= max(min_periods, 8):
-        lo_min, lo_max, _, lo_nan = column_stats(rec, n - k, n, LO)
-        if column_stats(rec, n - k, n, STICK)[1] > 0.0 and not lo_nan:
-            xs = column(rec, n - 1 - k, n, X)
-            lo = column(rec, n - k, n, LO)
+        lo_min, lo_max, _, lo_nan = stats(rec[n - k : n, LO])
+        if stats(rec[n - k : n, STICK])[1] > 0.0 and not lo_nan:
+            xs = rec[n - 1 - k : n, X].copy()
+            lo = rec[n - k : n, LO].copy()
             periods = np.empty(k)
             p_min, p_max = np.inf, -np.inf
             for i in range(k):
                 periods[i] = rec[n - k + i, T] - rec[n - 1 - k + i, T]
                 p_min, p_max = min(p_min, periods[i]), max(p_max, periods[i])
-            x_min, x_max, _, _ = column_stats(rec, n - 1 - k, n, X)
+            x_min, x_max, _, _ = stats(rec[n - 1 - k : n, X])
             amp = x_max - lo_min
             jitter = max(x_max - x_min, lo_max - lo_min) / amp if amp > 0 else 0.0
             if (
@@ -516,7 +501,8 @@ def averages(dw_dv, dw_in, dw_out, dw_heat, dw_ex, e0, e1, span):
     are NaN when friction puts in nothing.  Returns a row of the table's
     layout with the averages and the residual filled in (the rest NaN).
     """
-    out = nans(NQ)
+    out = np.empty(NQ)
+    out[:] = np.nan
     w_f = dw_in - dw_out
     floor = 1e-12 * max(e0, e1)
     resid = abs(e1 - e0 + dw_dv - w_f - dw_ex)
@@ -563,7 +549,8 @@ def window_summary(rec, tail, fin, cls, fd, vb):
     For an equilibrium they are the equilibrium's own (:func:`equilibrium_row`);
     the residual is the whole run's.
     """
-    out = nans(NS)
+    out = np.empty(NS)
+    out[:] = np.nan
     i0 = int(cls[C_START])
     i1 = int(cls[C_END])
     if i0 < 0:  # the tail
@@ -579,18 +566,18 @@ def window_summary(rec, tail, fin, cls, fd, vb):
     else:  # the periods that end at records i0 + 1 .. i1
         t0, t1 = rec[i0, TS], rec[i1, TS]
         span = t1 - t0
-        xmin = column_stats(rec, i0 + 1, i1 + 1, LO)[0]
-        xmax = column_stats(rec, i0, i1 + 1, X)[1]
-        vmin = column_stats(rec, i0 + 1, i1 + 1, VMIN)[0]
-        vmax = column_stats(rec, i0 + 1, i1 + 1, VMAX)[1]
-        fmax = column_stats(rec, i0 + 1, i1 + 1, FMAX)[1]
-        stick = column_stats(rec, i0 + 1, i1 + 1, STICK)[2]
+        xmin = stats(rec[i0 + 1 : i1 + 1, LO])[0]
+        xmax = stats(rec[i0 : i1 + 1, X])[1]
+        vmin = stats(rec[i0 + 1 : i1 + 1, VMIN])[0]
+        vmax = stats(rec[i0 + 1 : i1 + 1, VMAX])[1]
+        fmax = stats(rec[i0 + 1 : i1 + 1, FMAX])[1]
+        stick = stats(rec[i0 + 1 : i1 + 1, STICK])[2]
         dw = np.empty(4)
         for j in range(4):
-            dw[j] = column_stats(rec, i0 + 1, i1 + 1, W0 + j)[2]
+            dw[j] = stats(rec[i0 + 1 : i1 + 1, W0 + j])[2]
         e0, e1 = rec[i0, ES], rec[i1, ES]
     if span > 0:
-        put(out, averages(dw[0], dw[1], dw[2], dw[3], 0.0, e0, e1, span), NQ)
+        put(out, averages(dw[0], dw[1], dw[2], dw[3], 0.0, e0, e1, span))
         out[S_STICK] = stick / span
     out[KIND] = cls[C_KIND]
     if cls[C_KIND] == PERIODIC:
@@ -605,5 +592,5 @@ def window_summary(rec, tail, fin, cls, fd, vb):
     if cls[C_KIND] == EQUILIBRIUM:
         # the balance of the whole run (at rest there is nothing left to check)
         whole = averages(fin[A_W0], fin[A_W1], fin[A_W2], fin[A_W3], 0.0, fin[A_E0], fin[A_E], max(fin[A_T], 1e-300))
-        put(out, equilibrium_row(cls[C_LIMX], vb, fd, out[S_STICK], whole[RESID]), NQ)
+        put(out, equilibrium_row(cls[C_LIMX], vb, fd, out[S_STICK], whole[RESID]))
     return out
