@@ -177,8 +177,11 @@ def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_
     # as the event search sees signs only at step ends and f oscillates at Omega inside X''
     h_max = H_MAX / max(1.0, p[OMEGA]) if forced else H_MAX
     period = 2.0 * math.pi / p[OMEGA] if forced else np.inf
-    n_strobe = 1  # the next stroboscopic time is n_strobe * period (k = 0 is the first sample)
-    hold = False  # a forced stick that met F_s and held: its first monotone piece does not end it again
+    # Counters and flags start as np.int64 / np.bool_, not bare constants: a constant reaching a compiled
+    # callee has a literal type, for which numba would compile that callee once more.
+    n_strobe = np.int64(1)  # the next stroboscopic time is n_strobe * period (k = 0 is the first sample)
+    hold = np.bool_(False)  # a forced stick that met F_s and held: its first monotone piece does not end it again
+    stick_mode = np.int64(0)  # the stick mode, written with the samples
     K = np.zeros((7, NY_FORCED))
     y = np.zeros(NY_FORCED)
     yn = np.zeros(NY_FORCED)
@@ -192,7 +195,7 @@ def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_
         mode = at_rest(x0, zeta, vb, fs, res, p, 0.0)
     else:
         mode = 1 if vb - v0 > 0.0 else -1
-    k = 0
+    k = np.int64(0)
     ne = 0
     steps = 0
     h = 0.0
@@ -204,8 +207,8 @@ def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_
     if len(out_t) < 2:
         return 0, 0, FULL, t, h
     fc0 = x + 2.0 * zeta * vb - external_force(p, 0.0) if forced else x + 2.0 * zeta * vb
-    emit(outs, 0, t, x, v, fc0 if mode == 0 else mode * slip_force(p, abs(vb - v)), mode, w)
-    k = 1
+    emit(outs, k, t, x, v, fc0 if mode == 0 else mode * slip_force(p, abs(vb - v)), mode, w)
+    k += 1
     next_dense = dense_dt if dense_dt > 0.0 else np.inf
     tail_done = t_tail <= 0.0
     while t < t_end:
@@ -270,7 +273,7 @@ def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_
                     next_dense += dense_dt
                 if ta >= T:
                     break
-                if not emit(outs, k, t + ta, x + vb * ta, vb, x + vb * ta + 2.0 * zeta * vb, 0, w):
+                if not emit(outs, k, t + ta, x + vb * ta, vb, x + vb * ta + 2.0 * zeta * vb, stick_mode, w):
                     return k, ne, FULL, t, h
                 k += 1
             t += T
@@ -343,9 +346,9 @@ def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_
                     continue
                 # accepted: events on the dense output, in time order
                 theta_end = 1.0
-                g_sw = _g(0, yn, K[6, 1], zeta, vb, d)
+                g_sw = _g(np.int64(0), yn, K[6, 1], zeta, vb, d)
                 if g_sw <= 0.0:
-                    theta_end = _root(0, y, K, t, h, zeta, vb, d, p, forced)
+                    theta_end = _root(np.int64(0), y, K, t, h, zeta, vb, d, p, forced)
                     switched = True
                 th = 0.0
                 while True:
@@ -447,11 +450,11 @@ def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_
     if forced:
         if out_t[k - 1] < t_end - STROBE_TOL * (1.0 + t_end):  # a run that ends sticking
             tt, n_strobe = _strobe(t_end, n_strobe, period)
-            if not emit(outs, k, tt, x, v, x + 2.0 * zeta * vb - external_force(p, t_end), 0, w):
+            if not emit(outs, k, tt, x, v, x + 2.0 * zeta * vb - external_force(p, t_end), stick_mode, w):
                 return k, ne, FULL, t, h
             k += 1
     elif out_t[k - 1] < t_end:  # a run that ends sticking
-        if not emit(outs, k, t_end, x, v, x + 2.0 * zeta * vb, 0, w):
+        if not emit(outs, k, t_end, x, v, x + 2.0 * zeta * vb, stick_mode, w):
             return k, ne, FULL, t, h
         k += 1
     return k, ne, OK, t, h
@@ -472,7 +475,7 @@ def _known_end(ring, n_max, n_min, x, mode, vb, stop_rtol, r_cert, x_eq):
 @njit(cache=True)
 def _gd(kind, y, K, t, h, theta, zeta, vb, d, p, ys, tmp, forced):
     """Event function ``kind`` on the dense output of the step [t, t + h] at theta."""
-    dense(y, K, h, theta, ys, 2)  # X and X' are all the event functions read
+    dense(y, K, h, theta, ys, np.int64(2))  # X and X' are all the event functions read
     rhs(ys, t + theta * h, d, zeta, vb, p, tmp, forced)
     return _g(kind, ys, tmp[1], zeta, vb, d)
 
@@ -643,6 +646,7 @@ def _stick_walk(outs, k, w, xs, ts, te, zeta, vb, p, t_tail, tail_done, next_den
     """
     ta = ts
     res = p[RESULTANT] != 0.0
+    stick_mode = np.int64(0)  # (not a literal 0: emit compiles once)
     while True:
         tb = te
         tag = 0
@@ -670,6 +674,6 @@ def _stick_walk(outs, k, w, xs, ts, te, zeta, vb, p, t_tail, tail_done, next_den
             next_dense += dense_dt
         tt, n_strobe = _strobe(tb, n_strobe, period)
         xb = xs + vb * (tb - ts)
-        if not emit(outs, k, tt, xb, vb, xb + 2.0 * zeta * vb - external_force(p, tb), 0, w):
+        if not emit(outs, k, tt, xb, vb, xb + 2.0 * zeta * vb - external_force(p, tb), stick_mode, w):
             return k, tail_done, next_dense, n_strobe, False
         k += 1
