@@ -107,7 +107,7 @@ _SLOT = (-1, -1, -1, FD, FS, LAW_A, LAW_B, LAW_C)
 @njit(cache=True)
 def slip_partial(p, s, code):
     """dF/dtheta at slip speed s >= 0 for the parameter ``code`` (0 for V_b, zeta: no law parameter)."""
-    slot = _SLOT[code]
+    slot = np.int64(_SLOT[code])  # (a plain int: a constant slot would compile slip_partial_of again)
     return slip_partial_of(p, max(s, 0.0), slot) if slot >= 0 else 0.0
 
 
@@ -130,10 +130,11 @@ def dfs(code):
 @njit(cache=True)
 def law_terms(p, s, code):
     """(F, F', dF/dtheta) at slip speed s; below 0 (a stage overshooting a switch) the linear extension."""
-    if s > 0.0 and _SLOT[code] >= 0:
-        return slip_terms_of(p, s, _SLOT[code])
+    slot = np.int64(_SLOT[code])
+    if s > 0.0 and slot >= 0:
+        return slip_terms_of(p, s, slot)
     if s > 0.0:
-        f, fp, _ = slip_terms_of(p, s, FD)  # a model parameter: no derivative of the law itself
+        f, fp, _ = slip_terms_of(p, s, np.int64(FD))  # a model parameter: no derivative of the law itself
         return f, fp, 0.0
     return slip_force(p, s), slip_slope(p, s), slip_partial(p, s, code)
 
@@ -518,7 +519,7 @@ def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, virtual, 
         mode = 1 if vb - v > 0.0 else -1
     armed = v > 0.0
     fresh = v == vb
-    nph = 0
+    nph = np.int64(0)  # (not a literal: _record_phase compiles once)
     nsw = 0
     count = 0
     zero_run = 0
@@ -543,7 +544,7 @@ def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, virtual, 
                 M[0, c] += T * M[1, c]
             tot[T_STICK] += T
             x1 = x + vb * T
-            _record_phase(ph, nph, 0, tph, T, xph, vph, x1, vb, Jph)
+            _record_phase(ph, nph, np.int64(0), tph, T, xph, vph, x1, vb, Jph)
             nph += 1
             t += T
             x = x1
@@ -610,8 +611,10 @@ def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, virtual, 
                     return STEP_FAIL
                 continue
             # accepted: the first event inside it
-            th_sw = -1.0 if virtual else _first_root(y, hh, 0, d, sig, fresh, ind, zeta, vb, p, code, K, tmp, out, y1, t)
-            th_z = _first_root(y, hh, 1, d, sig, zfresh, ind, zeta, vb, p, code, K, tmp, out, y1, t)
+            # (np.int64: a literal event kind would compile the root finders once per kind)
+            th_sw = -1.0 if virtual else _first_root(y, hh, np.int64(0), d, sig, fresh, ind, zeta, vb, p, code, K, tmp, out, y1,
+                                                     t)
+            th_z = _first_root(y, hh, np.int64(1), d, sig, zfresh, ind, zeta, vb, p, code, K, tmp, out, y1, t)
             kind = -1
             th = hh
             if th_sw >= 0.0:
