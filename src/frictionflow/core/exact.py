@@ -285,9 +285,9 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
     less than 1e-12 of g's scale is a touch (grazing), not a crossing.
     ``never`` certifies that no crossing can come after the horizon either.
     X and X' at the crossing are NaN where they were not evaluated.  ``reach``
-    (last): the result is the same for every horizon above it (inf: it
-    depends on this one), so that a repeated phase is known to repeat bit
-    for bit (:func:`run`'s replication).
+    (last): the latest time compared with the horizon; the result is the
+    same for every horizon above it (so that a repeated phase is known to
+    repeat bit for bit: :func:`run`'s replication).
     """
     if dyn == cf.LIN:
         # g = g0 + g1 t exactly: no bracketing needed (and none of its rounding)
@@ -296,7 +296,7 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
             return np.inf, True, np.nan, np.nan, 0.0
         tc = -g0 / g1
         if tc > horizon:
-            return np.inf, False, np.nan, np.nan, np.inf
+            return np.inf, False, np.nan, np.nan, horizon
         while True:  # the first representable time on the outside
             g, _, x, v = _g(co, dyn, zeta, force, x0, v0, a, b, c, tc)
             if s * g <= 0.0:
@@ -321,12 +321,11 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
         gb, _, _, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, t_b)
         if s * gb < -(tiny if last else graze):
             tc, xc, vc = _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, t_a, t_b)
-            return tc, False, xc, vc, (np.inf if last else t_b)
-        reach = np.inf if last else t_b
+            return tc, False, xc, vc, t_b
         if g_inf > 0.0 and env * math.exp(-rate * t_b) < g_inf:
-            return np.inf, True, np.nan, np.nan, reach  # the decaying oscillation stays inside for ever
+            return np.inf, True, np.nan, np.nan, t_b  # the decaying oscillation stays inside for ever
         if t_b >= period:
-            return np.inf, True, np.nan, np.nan, reach  # undamped: g repeats with period 2 pi
+            return np.inf, True, np.nan, np.nan, t_b  # undamped: g repeats with period 2 pi
         if last:
             break
         t_a = t_b
@@ -340,7 +339,7 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
         never = s * (a * (x0 + v0 / (2.0 * zeta)) - c) > 0.0  # s g(inf): X -> x0 + v0 / (2 zeta), X' -> 0
     elif dyn == cf.OSC and zeta >= 1.0:
         never = g_inf > 0.0 and cf.first_critical(co, dyn, a, b, horizon)[0] == np.inf
-    return np.inf, never, np.nan, np.nan, np.inf
+    return np.inf, never, np.nan, np.nan, horizon
 
 
 @njit(cache=True)
@@ -361,8 +360,8 @@ def first_switch(co, dyn, zeta, force, x0, v0, n_b, bs, t_max):
     for k in range(n_b):
         a, b, c, s = bs[k]
         tc, nv, xc, vc, rk = _search(co, dyn, zeta, force, x0, v0, a, b, c, s, min(t_max, best))
-        # a search cut at an earlier boundary's crossing (not at t_max) depends on t_max only through min(t_max, best)
-        reach = max(reach, best if rk == np.inf and best < t_max else rk)
+        # (a search cut at an earlier boundary's crossing reaches that, and depends on t_max only through min(t_max, best))
+        reach = max(reach, rk)
         if tc < best:
             best, which, xb, vb = tc, k, xc, vc
         never = never and nv
@@ -525,7 +524,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v)
     if mode == STICK:
         v = vb
-    k = 0
+    k = np.int64(0)  # not a literal: emit compiles once
     ne = 0
     t_terminal = -1.0
     zero_len = 0
@@ -563,7 +562,6 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
                     e = ne
                     for i in range(n_rows):
                         r = rel[i]
-                        src = k_ref + 1 + i
                         if r < 0.0:  # a phase start: t += T, as integrated
                             tc = tc + (-r)
                             out_t[k + i] = tc
@@ -572,12 +570,14 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
                             e += 1
                         else:
                             out_t[k + i] = tc + r
-                        out_x[k + i] = out_x[src]
-                        out_v[k + i] = out_v[src]
-                        out_fc[k + i] = out_fc[src]
-                        out_mode[k + i] = out_mode[src]
+                    # column by column (each access is lowered once: compile time)
+                    for col in (out_x, out_v, out_fc):
+                        for i in range(n_rows):
+                            col[k + i] = col[k_ref + 1 + i]
+                    for i in range(n_rows):
+                        out_mode[k + i] = out_mode[k_ref + 1 + i]
                         for j in range(N_WORK):
-                            out_w[k + i, j] = out_w[src, j]
+                            out_w[k + i, j] = out_w[k_ref + 1 + i, j]
                     t = tc
                     k += n_rows
                     ne += n_ev
