@@ -562,6 +562,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
                     e = ne
                     for i in range(n_rows):
                         r = rel[i]
+                        src = k_ref + 1 + i
                         if r < 0.0:  # a phase start: t += T, as integrated
                             tc = tc + (-r)
                             out_t[k + i] = tc
@@ -570,14 +571,12 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
                             e += 1
                         else:
                             out_t[k + i] = tc + r
-                    # column by column (each access is lowered once: compile time)
-                    for col in (out_x, out_v, out_fc):
-                        for i in range(n_rows):
-                            col[k + i] = col[k_ref + 1 + i]
-                    for i in range(n_rows):
-                        out_mode[k + i] = out_mode[k_ref + 1 + i]
+                        out_x[k + i] = out_x[src]
+                        out_v[k + i] = out_v[src]
+                        out_fc[k + i] = out_fc[src]
+                        out_mode[k + i] = out_mode[src]
                         for j in range(N_WORK):
-                            out_w[k + i, j] = out_w[k_ref + 1 + i, j]
+                            out_w[k + i, j] = out_w[src, j]
                     t = tc
                     k += n_rows
                     ne += n_ev
