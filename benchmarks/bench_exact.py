@@ -95,7 +95,7 @@ def kernel_run(t_end: float = T_END, replicate: bool = True):
     t_tail = sections.tail_start(0.0, t_end)
 
     def go():
-        return kernel.run(FD, VB, t_end, ZETA, VB, p, 0.0, t_tail, False, False, 0.0, 3, *bufs, t_mode, replicate)
+        return kernel.run(FD, VB, t_end, ZETA, VB, p, 0.0, t_tail, False, False, 0.0, 3, *bufs, t_mode, replicate, None)
 
     return go, t_mode
 

@@ -29,14 +29,15 @@ def assert_identical(a, b):
 
 
 def kernel_counts(model, friction, t_end, x0=None, v0=None, dense_dt=0.0, stop_periodic=False, replicate=True):
-    """(switches, switches copied) of the kernel run that ``Exact`` makes."""
+    """(switches, switches copied) of the kernel run that ``Exact`` makes (``replicate`` None: left out, as sweeps do)."""
     p = kernel_params(model, friction)
     bufs = output_buffers(Exact(dense_dt=dense_dt or None).sample_estimate(t_end))
     t_mode = np.zeros(2, dtype=np.int64)
     x0 = friction.fd if x0 is None else x0
     v0 = model.vb if v0 is None else v0
-    _, ne, status, _, _ = kernel.run(x0, v0, t_end, model.zeta, model.vb, p, dense_dt, sections.tail_start(0.0, t_end),
-                                     stop_periodic, False, 1e-9, 3, *bufs, t_mode, replicate)
+    args = (x0, v0, t_end, model.zeta, model.vb, p, dense_dt, sections.tail_start(0.0, t_end), stop_periodic, False, 1e-9, 3,
+            *bufs, t_mode) + (() if replicate is None else (replicate,))
+    _, ne, status, _, _ = kernel.run(*args)
     assert status == kernel.DONE
     return ne, int(t_mode[1])
 
@@ -96,6 +97,7 @@ def test_no_copy_where_the_stretch_cannot_repeat():
     assert kernel_counts(model, friction, 1000.0, dense_dt=0.37)[1] == 0
     assert kernel_counts(model, friction, 1000.0, stop_periodic=True)[1] == 0
     assert kernel_counts(model, friction, 1000.0, replicate=False)[1] == 0
+    assert kernel_counts(model, friction, 1000.0, replicate=None)[1] == 0  # compiled without it (the sweeps' call)
     # no sticking: the slip decays onto its equilibrium, no state repeats
     ne, copied = kernel_counts(BeltOscillator(0.05, 0.5), Coulomb(0.02, 0.04), 1000.0)
     assert copied == 0

@@ -482,7 +482,7 @@ def _repeated(ring, m, n_max, n_min, rtol, noise):
 
 @njit(cache=True)
 def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_terminal, rtol, min_periods,
-        out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode, t_mode, replicate=False):
+        out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode, t_mode, replicate=None, periodic_stop=0):
     """Integrate from (x0, v0) at t = 0 to ``t_end`` switch by switch.
 
     Returns (samples, events, status, t_terminal, t_stop): ``t_terminal`` is
@@ -505,6 +505,15 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     (``reach`` of :func:`first_switch`) of t_end; the rest is integrated.
     Not with a dense grid or the periodic stop.  ``t_mode[1]``, if present,
     receives the number of switches copied.
+
+    The last two arguments also choose what is compiled: ``replicate``
+    None (the default) compiles a run without replication, True or False
+    with it (on or off); ``periodic_stop`` None compiles a run without the
+    periodic stop (``stop_periodic`` is then ignored).  The façade, whose
+    runs never stop early, passes (replicate, None); the batched sweeps,
+    which do not replicate, leave both out.  (numba drops a branch on
+    ``arg is None`` when the argument is None or left out: its callees are
+    not even compiled.)
     """
     law = int(p[LAW])
     fd, fs, vd = p[FD], p[FS], p[VD]
@@ -531,7 +540,9 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     # replication: the reference switch (state, mode, first sample and event, time), the stretch since it
     # (rel: -T at a phase start, tb inside a phase; n_rel = -1: not recorded or not repeatable), and once a
     # repeat is found its length in samples and events and how far its searches looked (reach)
-    rep = replicate and dense_dt == 0.0 and not stop_periodic
+    rep = False
+    if replicate is not None:
+        rep = replicate and dense_dt == 0.0 and not (stop_periodic and periodic_stop is not None)
     rel = np.zeros(REP_CAP if rep else 1)
     n_rel = -1
     x_ref = v_ref = t_ref = reach = period = 0.0
@@ -548,7 +559,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         k += 1
         if t >= t_end:
             break
-        if rep and zero_len == 0:
+        if replicate is not None and rep and zero_len == 0:
             same = (mode == mode_ref and x == x_ref and v == v_ref and math.copysign(1.0, x) == math.copysign(1.0, x_ref)
                     and math.copysign(1.0, v) == math.copysign(1.0, v_ref))
             if same and n_rows < 0 and n_rel == k - 1 - k_ref:
@@ -590,7 +601,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         co = cf.coefficients(dyn, zeta, force, x, v)
         n_b, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
         tau, which, never, xe, ve, reach_p = first_switch(co, dyn, zeta, force, x, v, n_b, bs, t_end - t)
-        if n_rel >= 0:
+        if replicate is not None and n_rel >= 0:
             reach = max(reach, (t - t_ref) + reach_p)
         T = tau if which >= 0 else t_end - t
         if never and t_terminal < 0.0:
@@ -607,7 +618,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         slipping = fmode != 0
         tz = _fc_zero(dyn, fck, zeta, x, v, T)
         tt = t_tail - t if 0.0 < t_tail - t < T else np.inf
-        if tt < np.inf:
+        if replicate is not None and tt < np.inf:
             n_rel = -1  # the tail's sample: this stretch does not repeat
         src = _window(co, dyn, zeta, t, 0.0, tz, tt, dense_dt)
         ta, xa, va = 0.0, x, v
@@ -631,13 +642,15 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             if not emit(outs, k, t + tb, xb, vb_, friction_force(fck, force, xb, vb_, zeta), fmode, w):
                 return k, ne, FULL, t_terminal, t + ta
             k += 1
-            if n_rel >= 0:
+            if replicate is not None and n_rel >= 0:
                 if n_rel < REP_CAP:
                     rel[n_rel] = tb
                     n_rel += 1
                 else:
                     n_rel = -1
             ta, xa, va = tb, xb, vb_
+            if periodic_stop is None:
+                continue
             x_seen = max(x_seen, abs(xb))
             if vzero and stop_periodic:
                 if acc < 0.0:  # a maximum of X
@@ -659,7 +672,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             t = t_end  # the run ends inside the phase: its last sample, at the top of the loop
             continue
         t += T
-        if n_rel >= 0:
+        if replicate is not None and n_rel >= 0:
             if n_rel < REP_CAP and T > t_min:
                 rel[n_rel] = -T
                 n_rel += 1

@@ -121,7 +121,7 @@ class Exact(Solver):
                 return kernel.run_forced(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, *bufs,
                                          t_mode)
             return kernel.run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, False, False, 0.0, 3,
-                              *bufs, t_mode, self.replicate)
+                              *bufs, t_mode, self.replicate, None)  # None: compiled without the periodic stop
 
         estimate = self.sample_estimate(t_end, model)
         with progress_bar("exact", 1, enabled=progress and t_end > 1e5) as advance:
