@@ -119,3 +119,18 @@ def test_repr_shows_only_a_disabled_replication():
     assert repr(Exact()) == "Exact(dense_dt=None)"
     assert repr(Exact(replicate=False)) == "Exact(dense_dt=None, replicate=False)"
     assert Exact(replicate=False).describe() == Exact().describe()
+
+
+def test_periodic_stop_none_compiles_a_run_that_never_stops_early():
+    # the façade's specialization (periodic_stop=None) has no periodic-stop code; the sweeps' (left out) stops
+    model, friction, t_end = BeltOscillator(0.05, 0.01), Coulomb(0.02, 0.04), 1000.0
+    p = kernel_params(model, friction)
+
+    def stop(*last):
+        bufs = output_buffers(Exact().sample_estimate(t_end))
+        t_mode = np.zeros(1, dtype=np.int64)
+        return kernel.run(friction.fd, model.vb, t_end, model.zeta, model.vb, p, 0.0, sections.tail_start(0.0, t_end),
+                          True, False, 1e-9, 3, *bufs, t_mode, *last)[4]
+
+    assert stop() < 0.2 * t_end  # stopped once the sections repeated
+    assert stop(False, None) == t_end

@@ -42,6 +42,12 @@ boundaries are a tuple, not an array): every call of a compiled function
 with an array argument costs two atomic reference-count updates per array,
 more than the closed form itself.  The arrays are touched in :func:`run`
 and in the functions it inlines only.
+
+Replication (:func:`run`, ``replicate``): an unforced phase's computation
+reads the state at its start, not the absolute time, so a stick-slip cycle
+that returns to a bitwise-equal switch state repeats bit for bit from there;
+it is copied (times accumulated by the same additions) instead of integrated
+again, within the limits that keep the copy identical to the integration.
 """
 
 from __future__ import annotations
