@@ -13,6 +13,12 @@ Prints the cost per switch of ``simulate`` and of the kernel alone (the
 difference is the solver facade: buffers, copies, the Trajectory), both
 against RK4 timed in the same rounds (best of several, interleaved, so that
 load from other processes hits both alike).
+
+The exact solver copies a stretch of switches that repeats bit for bit (here
+the stick-slip cycle, from its second release on) instead of integrating it
+again (``Exact(replicate=...)``, :func:`frictionflow.core.exact.run`): both
+are timed, with how many switches were integrated and how many copied, and
+the two trajectories are checked to be identical.
 """
 
 from __future__ import annotations
@@ -32,8 +38,8 @@ ZETA, VB, FD, FS = 0.05, 0.01, 0.02, 0.04
 T_END = 2000.0
 
 
-def exact_run(t_end: float = T_END):
-    return simulate(BeltOscillator(ZETA, VB), Coulomb(FD, FS), Exact(), t_end=t_end)
+def exact_run(t_end: float = T_END, replicate: bool = True):
+    return simulate(BeltOscillator(ZETA, VB), Coulomb(FD, FS), Exact(replicate=replicate), t_end=t_end)
 
 
 def rk4_run(t_end: float = T_END):
@@ -78,31 +84,45 @@ def scipy_run(t_end: float) -> dict[str, float]:
     return {"period": T, "P_dv": dw[0] / T, "P_fin": dw[1] / T, "P_df": dw[2] / T}
 
 
-def kernel_run(t_end: float = T_END):
-    """The exact kernel alone, on buffers allocated once (what ``simulate`` adds: the facade)."""
+def kernel_run(t_end: float = T_END, replicate: bool = True):
+    """The exact kernel alone, on buffers allocated once (what ``simulate`` adds: the facade).
+
+    Returns the call and its ``t_mode`` array, whose slot 1 receives the number of switches copied.
+    """
     p = Coulomb(FD, FS).kernel_params()
     bufs = output_buffers(int(16 * t_end / (2 * math.pi)) + 64)
-    t_mode = np.zeros(1, dtype=np.int64)
+    t_mode = np.zeros(2, dtype=np.int64)
     t_tail = sections.tail_start(0.0, t_end)
 
     def go():
-        return kernel.run(FD, VB, t_end, ZETA, VB, p, 0.0, t_tail, False, False, 0.0, 3, *bufs, t_mode)
+        return kernel.run(FD, VB, t_end, ZETA, VB, p, 0.0, t_tail, False, False, 0.0, 3, *bufs, t_mode, replicate, None)
 
-    return go
+    return go, t_mode
+
+
+def identical(a, b) -> bool:
+    """The same samples, work integrals and events, bit for bit."""
+    return (all(np.array_equal(getattr(a, k), getattr(b, k)) for k in ("t", "x", "v", "fc", "mode", "dwork"))
+            and all(np.array_equal(a.events[k], b.events[k]) for k in ("t", "mode")))
 
 
 def main() -> None:
     header("exact event-driven solver vs compiled RK4 and scipy (Coulomb stick-slip)")
     exact_run(100.0)
+    exact_run(100.0, replicate=False)
     rk4_run(100.0)
-    go = kernel_run()
+    go, counts = kernel_run()
+    go_full, _ = kernel_run(replicate=False)
     go()
+    go_full()
     ref = analyze(exact_run())
-    # rounds of (exact best of 30, kernel best of 30, RK4 once): best of each over the rounds
-    t_exact = t_kernel = t_rk4 = float("inf")
+    # rounds of (exact, kernel, each with and without replication, best of 30; RK4 once): best of each over the rounds
+    t_exact = t_kernel = t_full = t_kernel_full = t_rk4 = float("inf")
     for _ in range(4):
         t_exact = min(t_exact, best_of(exact_run, 30))
         t_kernel = min(t_kernel, best_of(go, 30))
+        t_full = min(t_full, best_of(lambda: exact_run(replicate=False), 30))
+        t_kernel_full = min(t_kernel_full, best_of(go_full, 30))
         t_rk4 = min(t_rk4, best_of(rk4_run, 1))
     rk = analyze(rk4_run())
     t_sp_end = 200.0
@@ -110,14 +130,23 @@ def main() -> None:
     sp = scipy_run(t_sp_end)
     events = len(exact_run().events["t"])
     samples = len(exact_run().t)
+    go()
+    copied = int(counts[1])
+    same = identical(exact_run(), exact_run(replicate=False))
     print(f"simulated time {T_END:g} ({T_END / ref.steady_state.period:.0f} periods, {events} switches, {samples} samples)")
     print(f"exact        {t_exact * 1e3:9.3f} ms  period {ref.steady_state.period:.15f}  P_fin {ref.power.P_fin:.15e}")
     print(f"RK4 dt=1e-3  {t_rk4 * 1e3:9.3f} ms  period {rk.steady_state.period:.15f}  P_fin {rk.power.P_fin:.15e}")
     print(f"scipy DOP853 {t_scipy * 1e3:9.3f} ms  period {sp['period']:.15f}  P_fin {sp['P_fin']:.15e}  (timed over {t_sp_end:g}, scaled)")
+    print(f"exact, no replication {t_full * 1e3:9.3f} ms  (every switch integrated)")
+    print(f"exact replication: {events - copied} switches integrated, {copied} copied; trajectory identical to the "
+          f"integrated one bit for bit: {same}")
     print(f"exact per switch: {t_exact / events * 1e9:6.0f} ns with simulate(), {t_kernel / events * 1e9:6.0f} ns kernel alone "
           f"({(t_exact - t_kernel) * 1e6:.0f} us per call in the facade)")
+    print(f"  no replication: {t_full / events * 1e9:6.0f} ns with simulate(), {t_kernel_full / events * 1e9:6.0f} ns kernel alone "
+          f"({(t_full - t_kernel_full) * 1e6:.0f} us per call in the facade)")
     print(f"exact vs RK4:   {t_rk4 / t_exact:8.0f}x faster (kernel alone {t_rk4 / t_kernel:.0f}x; goal >= 500x, moonshot 1000x); "
           f"RK4's period error {abs(rk.steady_state.period - ref.steady_state.period):.1e}")
+    print(f"  no replication: {t_rk4 / t_full:6.0f}x faster (kernel alone {t_rk4 / t_kernel_full:.0f}x)")
     print(f"exact vs scipy: {t_scipy / t_exact:8.0f}x faster (goal >= 1000x); scipy's period error "
           f"{abs(sp['period'] - ref.steady_state.period):.1e}, P_fin error {abs(sp['P_fin'] / ref.power.P_fin - 1):.1e}, "
           f"R_c {sp['P_dv'] / sp['P_fin']:.12f} vs {ref.power.R_c:.12f}")

@@ -42,6 +42,12 @@ boundaries are a tuple, not an array): every call of a compiled function
 with an array argument costs two atomic reference-count updates per array,
 more than the closed form itself.  The arrays are touched in :func:`run`
 and in the functions it inlines only.
+
+Replication (:func:`run`, ``replicate``): an unforced phase's computation
+reads the state at its start, not the absolute time, so a stick-slip cycle
+that returns to a bitwise-equal switch state repeats bit for bit from there;
+it is copied (times accumulated by the same additions) instead of integrated
+again, within the limits that keep the copy identical to the integration.
 """
 
 from __future__ import annotations
@@ -71,6 +77,8 @@ MAX_EVENTS_PER_MODE = 5
 WINDOW = 16.0 * math.pi
 #: the friction mode recorded for each mode: +1 slip+, -1 slip-, 0 stick (band, edge)
 FRICTION_MODE = (0, 1, -1, 0, 0, 0, 0, 0, 0)
+#: replication (:func:`run`): at most this many samples in the repeating stretch
+REP_CAP = 512
 
 
 @njit(cache=True)
@@ -282,24 +290,27 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
     first such interval whose end lies outside.  A critical point outside by
     less than 1e-12 of g's scale is a touch (grazing), not a crossing.
     ``never`` certifies that no crossing can come after the horizon either.
-    X and X' at the crossing are NaN where they were not evaluated.
+    X and X' at the crossing are NaN where they were not evaluated.  ``reach``
+    (last): the latest time compared with the horizon; the result is the
+    same for every horizon above it (so that a repeated phase is known to
+    repeat bit for bit: :func:`run`'s replication).
     """
     if dyn == cf.LIN:
         # g = g0 + g1 t exactly: no bracketing needed (and none of its rounding)
         g0, g1, _, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, 0.0)
         if s * g1 >= 0.0:
-            return np.inf, True, np.nan, np.nan
+            return np.inf, True, np.nan, np.nan, 0.0
         tc = -g0 / g1
         if tc > horizon:
-            return np.inf, False, np.nan, np.nan
+            return np.inf, False, np.nan, np.nan, horizon
         while True:  # the first representable time on the outside
             g, _, x, v = _g(co, dyn, zeta, force, x0, v0, a, b, c, tc)
             if s * g <= 0.0:
                 break
             tc = np.nextafter(tc, np.inf)
         if tc < 0.0:
-            return 0.0, False, np.nan, np.nan
-        return tc, False, x, v
+            return 0.0, False, np.nan, np.nan, 0.0
+        return tc, False, x, v, tc
     scale = abs(a * x0) + abs(b * v0) + abs(c) + 1e-300
     graze = 1e-12 * scale  # a critical point this close to the boundary only touches it
     tiny = 256.0 * EPS * scale  # a g that stays on the boundary (within rounding) does not cross it
@@ -316,11 +327,11 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
         gb, _, _, _ = _g(co, dyn, zeta, force, x0, v0, a, b, c, t_b)
         if s * gb < -(tiny if last else graze):
             tc, xc, vc = _refine(co, dyn, zeta, force, x0, v0, a, b, c, s, t_a, t_b)
-            return tc, False, xc, vc
+            return tc, False, xc, vc, t_b
         if g_inf > 0.0 and env * math.exp(-rate * t_b) < g_inf:
-            return np.inf, True, np.nan, np.nan  # the decaying oscillation stays inside for ever
+            return np.inf, True, np.nan, np.nan, t_b  # the decaying oscillation stays inside for ever
         if t_b >= period:
-            return np.inf, True, np.nan, np.nan  # undamped: g repeats with period 2 pi
+            return np.inf, True, np.nan, np.nan, t_b  # undamped: g repeats with period 2 pi
         if last:
             break
         t_a = t_b
@@ -334,29 +345,33 @@ def _search(co, dyn, zeta, force, x0, v0, a, b, c, s, horizon):
         never = s * (a * (x0 + v0 / (2.0 * zeta)) - c) > 0.0  # s g(inf): X -> x0 + v0 / (2 zeta), X' -> 0
     elif dyn == cf.OSC and zeta >= 1.0:
         never = g_inf > 0.0 and cf.first_critical(co, dyn, a, b, horizon)[0] == np.inf
-    return np.inf, never, np.nan, np.nan
+    return np.inf, never, np.nan, np.nan, horizon
 
 
 @njit(cache=True)
 def first_switch(co, dyn, zeta, force, x0, v0, n_b, bs, t_max):
-    """Earliest boundary crossing in (0, t_max]: (time, boundary index, never, X, X' there).
+    """Earliest boundary crossing in (0, t_max]: (time, boundary index, never, X, X' there, reach).
 
     ``co``: the phase's coefficients; ``n_b, bs``: its boundaries
     (:func:`mode_boundaries`).  ``never`` is True when no boundary can ever
     be crossed from here: the phase lasts for ever (the run has reached its
     final phase).  X and X' are NaN where the search did not evaluate them.
+    ``reach``: the result is the same for every t_max above it (:func:`_search`).
     """
     best = np.inf
     which = -1
     never = True
     xb = vb = np.nan
+    reach = 0.0
     for k in range(n_b):
         a, b, c, s = bs[k]
-        tc, nv, xc, vc = _search(co, dyn, zeta, force, x0, v0, a, b, c, s, min(t_max, best))
+        tc, nv, xc, vc, rk = _search(co, dyn, zeta, force, x0, v0, a, b, c, s, min(t_max, best))
+        # (a search cut at an earlier boundary's crossing reaches that, and depends on t_max only through min(t_max, best))
+        reach = max(reach, rk)
         if tc < best:
             best, which, xb, vb = tc, k, xc, vc
         never = never and nv
-    return best, which, never and which < 0, xb, vb
+    return best, which, never and which < 0, xb, vb, reach
 
 
 @njit(cache=True)
@@ -368,7 +383,7 @@ def next_event(dyn, zeta, force, x0, v0, ev, n_ev, t_max, crit=None):
     bs = ((ev[0, 0], ev[0, 1], ev[0, 2], ev[0, 3]), (ev[1, 0], ev[1, 1], ev[1, 2], ev[1, 3]),
           (ev[2, 0], ev[2, 1], ev[2, 2], ev[2, 3]), (ev[3, 0], ev[3, 1], ev[3, 2], ev[3, 3]))  # rows past n_ev unused
     co = cf.coefficients(dyn, zeta, force, x0, v0)
-    tau, which, never, _, _ = first_switch(co, dyn, zeta, force, x0, v0, min(n_ev, 4), bs, t_max)
+    tau, which, never, _, _, _ = first_switch(co, dyn, zeta, force, x0, v0, min(n_ev, 4), bs, t_max)
     return tau, which, never
 
 
@@ -473,7 +488,7 @@ def _repeated(ring, m, n_max, n_min, rtol, noise):
 
 @njit(cache=True)
 def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_terminal, rtol, min_periods,
-        out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode, t_mode):
+        out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode, t_mode, replicate=None, periodic_stop=0):
     """Integrate from (x0, v0) at t = 0 to ``t_end`` switch by switch.
 
     Returns (samples, events, status, t_terminal, t_stop): ``t_terminal`` is
@@ -484,6 +499,27 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     Status FULL means an output array was too short.  Unforced only: a force
     record with F_ex > 0 goes to :func:`run_forced` (the façade chooses, so
     that a first unforced run compiles only this kernel).
+
+    ``replicate``: the computation of a phase reads the state at its start
+    and its length only, not the absolute time (except the horizon t_end - t,
+    the tail's start, the dense grid and the early-stop rules).  So once a
+    switch leaves the motion in a state bitwise equal to that of an earlier
+    switch, the stretch between the two repeats bit for bit; it is then
+    copied -- samples, work integrals, events, with the times accumulated
+    by the same additions as the integration (t + T, t + tb) -- as long as
+    no copy reaches the tail's start or comes within the search horizon
+    (``reach`` of :func:`first_switch`) of t_end; the rest is integrated.
+    Not with a dense grid or the periodic stop.  ``t_mode[1]``, if present,
+    receives the number of switches copied.
+
+    The last two arguments also choose what is compiled: ``replicate``
+    None (the default) compiles a run without replication, True or False
+    with it (on or off); ``periodic_stop`` None compiles a run without the
+    periodic stop (``stop_periodic`` is then ignored).  The façade, whose
+    runs never stop early, passes (replicate, None); the batched sweeps,
+    which do not replicate, leave both out.  (numba drops a branch on
+    ``arg is None`` when the argument is None or left out: its callees are
+    not even compiled.)
     """
     law = int(p[LAW])
     fd, fs, vd = p[FD], p[FS], p[VD]
@@ -503,10 +539,24 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v)
     if mode == STICK:
         v = vb
-    k = 0
+    k = np.int64(0)  # not a literal: emit compiles once
     ne = 0
     t_terminal = -1.0
     zero_len = 0
+    # replication: the reference switch (state, mode, first sample and event, time), the stretch since it
+    # (rel: -T at a phase start, tb inside a phase; n_rel = -1: not recorded or not repeatable), and once a
+    # repeat is found its length in samples and events and how far its searches looked (reach)
+    rep = False
+    if replicate is not None:
+        rep = replicate and dense_dt == 0.0 and not (stop_periodic and periodic_stop is not None)
+    rel = np.zeros(REP_CAP if rep else 1)
+    n_rel = -1
+    x_ref = v_ref = t_ref = reach = period = 0.0
+    mode_ref = k_ref = ne_ref = n_phase = 0
+    n_rows = n_ev = -1
+    copied = 0
+    t_min = 8.0 * EPS * (1.0 + t_end)  # shorter phases enter the zero-length count, which reads the absolute time
+    margin = 1e-9 * (1.0 + t_end)  # the rounding of times within a stretch, generously
     while True:
         # a phase starts (the run's start, or a switch) or the run ends: a sample
         dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
@@ -515,9 +565,50 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         k += 1
         if t >= t_end:
             break
+        if replicate is not None and rep and zero_len == 0:
+            same = (mode == mode_ref and x == x_ref and v == v_ref and math.copysign(1.0, x) == math.copysign(1.0, x_ref)
+                    and math.copysign(1.0, v) == math.copysign(1.0, v_ref))
+            if same and n_rows < 0 and n_rel == k - 1 - k_ref:
+                n_rows, n_ev, period = n_rel, ne - ne_ref, t - t_ref  # the stretch repeats: fixed from now on
+                n_rel = -1
+            if same and n_rows > 0:
+                # copy it while no copy meets the tail's start or the horizon, and it fits
+                while (t + reach + margin < t_end and not (t < t_tail < t + period + margin)
+                       and k + n_rows <= len(out_t) and ne + n_ev <= len(ev_t)):
+                    tc = t
+                    e = ne
+                    for i in range(n_rows):
+                        r = rel[i]
+                        src = k_ref + 1 + i
+                        if r < 0.0:  # a phase start: t += T, as integrated
+                            tc = tc + (-r)
+                            out_t[k + i] = tc
+                            ev_t[e] = tc
+                            ev_mode[e] = ev_mode[ne_ref + e - ne]
+                            e += 1
+                        else:
+                            out_t[k + i] = tc + r
+                        out_x[k + i] = out_x[src]
+                        out_v[k + i] = out_v[src]
+                        out_fc[k + i] = out_fc[src]
+                        out_mode[k + i] = out_mode[src]
+                        for j in range(N_WORK):
+                            out_w[k + i, j] = out_w[src, j]
+                    t = tc
+                    k += n_rows
+                    ne += n_ev
+                    copied += n_ev
+            elif n_rows < 0 and n_phase & (n_phase - 1) == 0:
+                # no repeat yet: a new reference at phases 0, 1, 2, 4, 8, ... (Brent: any cycle is met)
+                x_ref, v_ref, mode_ref, k_ref, ne_ref, t_ref = x, v, mode, k - 1, ne, t
+                n_rel = 0
+                reach = 0.0
+            n_phase += 1
         co = cf.coefficients(dyn, zeta, force, x, v)
         n_b, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
-        tau, which, never, xe, ve = first_switch(co, dyn, zeta, force, x, v, n_b, bs, t_end - t)
+        tau, which, never, xe, ve, reach_p = first_switch(co, dyn, zeta, force, x, v, n_b, bs, t_end - t)
+        if replicate is not None and n_rel >= 0:
+            reach = max(reach, (t - t_ref) + reach_p)
         T = tau if which >= 0 else t_end - t
         if never and t_terminal < 0.0:
             t_terminal = t
@@ -533,6 +624,8 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
         slipping = fmode != 0
         tz = _fc_zero(dyn, fck, zeta, x, v, T)
         tt = t_tail - t if 0.0 < t_tail - t < T else np.inf
+        if replicate is not None and tt < np.inf:
+            n_rel = -1  # the tail's sample: this stretch does not repeat
         src = _window(co, dyn, zeta, t, 0.0, tz, tt, dense_dt)
         ta, xa, va = 0.0, x, v
         while True:
@@ -555,7 +648,15 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             if not emit(outs, k, t + tb, xb, vb_, friction_force(fck, force, xb, vb_, zeta), fmode, w):
                 return k, ne, FULL, t_terminal, t + ta
             k += 1
+            if replicate is not None and n_rel >= 0:
+                if n_rel < REP_CAP:
+                    rel[n_rel] = tb
+                    n_rel += 1
+                else:
+                    n_rel = -1
             ta, xa, va = tb, xb, vb_
+            if periodic_stop is None:
+                continue
             x_seen = max(x_seen, abs(xb))
             if vzero and stop_periodic:
                 if acc < 0.0:  # a maximum of X
@@ -577,6 +678,12 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             t = t_end  # the run ends inside the phase: its last sample, at the top of the loop
             continue
         t += T
+        if replicate is not None and n_rel >= 0:
+            if n_rel < REP_CAP and T > t_min:
+                rel[n_rel] = -T
+                n_rel += 1
+            else:
+                n_rel = -1
         # The switch: which mode continues?
         new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v)
         if new < 0:
@@ -591,6 +698,8 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
             ev_t[ne] = t
             ev_mode[ne] = mode
         ne += 1
+    if len(t_mode) > 1:
+        t_mode[1] = copied
     return k, ne, DONE, t_terminal, t_end
 
 

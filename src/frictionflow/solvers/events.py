@@ -47,24 +47,34 @@ def switch_modes(codes: np.ndarray, table: Mapping[int, SwitchMode]) -> np.ndarr
     rather than let a kernel code through.
     """
     codes = np.asarray(codes, dtype=np.int64)
-    lookup, low = _LOOKUPS.get(id(table)) or _LOOKUPS.setdefault(id(table), _lookup(tuple(sorted(table.items()))))
-    index = codes - low
-    if index.size and (index.min() < 0 or index.max() >= len(lookup) or (lookup[index] == _MISSING).any()):
-        unknown = sorted(set(codes.tolist()) - set(table))
-        raise ValueError(f"kernel mode code(s) {unknown} have no SwitchMode in the table")
-    return lookup[index]
+    translation = _TRANSLATIONS.get(id(table)) or _TRANSLATIONS.setdefault(id(table), _translation(tuple(sorted(table.items()))))
+    # one C loop over bytes (numpy's indexing and reductions cost ~1 us each per call at this size);
+    # codes outside int8 would wrap in the cast: checked first
+    if codes.size and (codes.min() < -128 or codes.max() > 127):
+        _refuse(codes, table)
+    modes = bytearray(codes.astype(np.int8).tobytes()).translate(translation)
+    if _MISSING_BYTE in modes:
+        _refuse(codes, table)
+    return np.frombuffer(modes, dtype=np.int8)
+
+
+def _refuse(codes: np.ndarray, table: Mapping[int, SwitchMode]) -> None:
+    unknown = sorted(set(codes.tolist()) - set(table))
+    raise ValueError(f"kernel mode code(s) {unknown} have no SwitchMode in the table")
 
 
 _MISSING = np.int8(-128)
-#: the dense lookup of each (module-constant) table, by identity: built once
-_LOOKUPS: dict[int, tuple[np.ndarray, int]] = {}
+_MISSING_BYTE = bytes([int(_MISSING) & 0xFF])
+#: the byte translation of each (module-constant) table, by identity: built once
+_TRANSLATIONS: dict[int, bytes] = {}
 
 
 @lru_cache(maxsize=8)
-def _lookup(items: tuple[tuple[int, SwitchMode], ...]) -> tuple[np.ndarray, int]:
-    """A dense array from kernel code (offset by the smallest) to SwitchMode value: one indexing per call."""
-    low, high = items[0][0], items[-1][0]
-    lookup = np.full(high - low + 1, _MISSING, dtype=np.int8)
+def _translation(items: tuple[tuple[int, SwitchMode], ...]) -> bytes:
+    """A 256-byte table from kernel code (as an int8's byte) to its SwitchMode value's byte, -128 where missing."""
+    out = bytearray(_MISSING_BYTE * 256)
     for code, mode in items:
-        lookup[code - low] = mode
-    return lookup, low
+        if not (-128 <= code <= 127 and -128 < int(mode) <= 127):
+            raise ValueError(f"kernel mode code {code} or SwitchMode {mode!r} outside int8")
+        out[code & 0xFF] = int(mode) & 0xFF
+    return bytes(out)

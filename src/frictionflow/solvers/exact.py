@@ -56,16 +56,27 @@ class Exact(Solver):
         Also sample the closed form every ``dense_dt`` (for plots and files).
         ``None``: only the samples the analysis needs (switches, zeros and
         extremes of X', the end).
+    replicate:
+        Copy a stretch of switches that repeats bit for bit (an unforced
+        stick-slip cycle, from a release state equal to an earlier one)
+        instead of integrating it again: the same samples, bit for bit
+        (:func:`frictionflow.core.exact.run`).  False: integrate every
+        switch (for timing; the result is the same).
     """
 
     name = "exact"
     parameters = (DENSE_DT,)
 
-    def __init__(self, dense_dt: float | None = None) -> None:
+    def __init__(self, dense_dt: float | None = None, *, replicate: bool = True) -> None:
         self.dense_dt = None if dense_dt is None else DENSE_DT.check(dense_dt)
+        self.replicate = bool(replicate)
 
     def describe(self) -> dict[str, Any]:
+        # not ``replicate``: it changes the cost, never the result
         return {"name": self.name, "dense_dt": self.dense_dt}
+
+    def __repr__(self) -> str:
+        return super().__repr__()[:-1] + ("" if self.replicate else ", replicate=False") + ")"
 
     def supports(self, friction: FrictionLaw) -> bool:
         return friction.piecewise_constant
@@ -110,12 +121,15 @@ class Exact(Solver):
                 return kernel.run_forced(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, *bufs,
                                          t_mode)
             return kernel.run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, False, False, 0.0, 3,
-                              *bufs, t_mode)
+                              *bufs, t_mode, self.replicate, None)  # None: compiled without the periodic stop
 
         estimate = self.sample_estimate(t_end, model)
-        with progress_bar("exact", 1, enabled=progress and t_end > 1e5) as advance:
+        if progress and t_end > 1e5:
+            with progress_bar("exact", 1) as advance:
+                (n, ne, status, t_term, _), bufs = run_growing(run, estimate, self._full, max_memory, lambda: self.sized(t_end))
+                advance(1)
+        else:  # (no context manager: ~1 us, a few per cent of a short run)
             (n, ne, status, t_term, _), bufs = run_growing(run, estimate, self._full, max_memory, lambda: self.sized(t_end))
-            advance(1)
         if status == kernel.STUCK:
             t, x, v = bufs[:3]
             raise RuntimeError(f"exact: repeated zero-length phases at tau={t[n - 1]:.17g}, X={x[n - 1]:.17g}, "
