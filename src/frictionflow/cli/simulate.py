@@ -11,7 +11,7 @@ from typing import Any, Optional
 
 import typer
 
-from ..analysis import analyze
+from ..analysis import analyze, precompile
 from ..config import RunConfig
 from ..io import TRAJECTORY_FORMATS, check_input_path, check_output_path, write_trajectory
 from ..plotting import FIGURE_FORMATS
@@ -45,8 +45,10 @@ def simulate(
         # windows snap to samples: sample finely enough that a hand-set window lands within 1e-3
         cfg = cfg.replace(dense_dt=min(cfg.dense_dt or 1e-3, 1e-3))
     model, law, solv = cfg.build()
+    analysis_ready = precompile.in_background()  # a first run: the analysis compiles on another core meanwhile
     traj = run_simulation(model, law, solv, t_end=cfg.t_end, x0=cfg.x0, v0=cfg.v0, progress=sys.stderr.isatty(),
                           max_memory=cfg.max_memory)
+    analysis_ready()
     result = analyze(traj, window=cfg.window, rtol=cfg.rtol)
     if result.steady_state.kind == "diverged":
         warnings.warn(f"the motion left the floating-point range at tau={result.steady_state.window[0]:.6g}: "

@@ -1,0 +1,73 @@
+"""Compile the analysis kernels in a second process while a first run compiles its solver.
+
+On an empty numba cache, a first ``frictionflow simulate`` compiles the
+solver's kernels, runs, then compiles the analysis kernels: each about half
+of its time.  numba keeps compiled kernels in files, so a second process can
+compile the analysis kernels on another core meanwhile, and the run then
+loads them from the cache.  Nothing happens when they are cached already or
+on a single core; if the second process fails, the run compiles them itself.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from typing import Callable
+
+import numpy as np
+
+#: how long a run waits for the second process before compiling itself
+TIMEOUT = 300.0
+
+
+def _cached() -> bool:
+    """The classifier's cache index exists (what the others are compiled with)."""
+    from ..core import sections
+
+    try:
+        return os.path.exists(sections.classify._cache._cache_file._index_path)
+    except AttributeError:  # a numba without these internals: do nothing
+        return True
+
+
+def in_background() -> Callable[[], None]:
+    """Start compiling the analysis kernels in a child process unless they are cached; returns ``wait()``.
+
+    Call ``wait()`` before analysing: the kernels are then loaded from the cache.
+    """
+    if (os.cpu_count() or 1) < 2 or _cached():
+        return lambda: None
+    child = subprocess.Popen([sys.executable, "-m", __name__], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL)
+
+    def wait() -> None:
+        try:
+            child.wait(timeout=TIMEOUT)
+        except subprocess.TimeoutExpired:
+            child.kill()
+
+    return wait
+
+
+def compile_analysis() -> None:
+    """Analyse a made-up periodic trajectory: compiles what analysing a real one needs, with the same types."""
+    from ..core import certificate
+    from ..core.layout import N_WORK
+    from ..friction import Coulomb
+    from ..params import BeltOscillator
+    from ..trajectory import Trajectory
+    from . import analyze
+
+    t = np.linspace(0.0, 60.0, 601)
+    x, v = 0.02 * np.cos(t), -0.02 * np.sin(t)
+    mode = np.where(v < 0.01, 1, 0).astype(np.int8)
+    dwork = np.zeros((len(t), N_WORK))
+    law = Coulomb(0.02, 0.04)
+    traj = Trajectory(t, x, v, x.copy(), mode, dwork, BeltOscillator(0.05, 0.01), law, {"name": "exact"})
+    analyze(traj)
+    certificate.radius(law, 0.05, 0.01)  # (a run that ends sliding with the belt asks for it)
+
+
+if __name__ == "__main__":
+    compile_analysis()
