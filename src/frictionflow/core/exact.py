@@ -712,7 +712,7 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
 # the upper parabola s G(t) + s G'(t) u + M u^2 / 2 does (G is monotone up to there).  A short
 # excursion of G beyond the boundary is never stepped over.
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def _d2g(dyn, zeta, om, fn, acc, jerk, f):
     """G'' of the event function ``fn`` (:func:`_next_root`) from X'', X''' and f.
 
@@ -735,7 +735,7 @@ def _gf(ph, fn, t):
     return g, a * v + b * acc + d * jerk - e * df, _d2g(dyn, zeta, om, fn, acc, jerk, f), st
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def _halley(t, g, dg, d2g):
     """Halley's step from t (cubic convergence: two steps from the walk's bracket end, mostly); NaN if undefined."""
     den = 2.0 * dg * dg - g * d2g
@@ -797,7 +797,7 @@ def _bound_consts(ph, x, v, fn):
     return K1, K2, om * om * mz, 1e-12 * scale + 1e-300
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def _next_root(ph, ev, n, nb, t0, st0, t1):
     """The first crossing of any of the event functions in (t0, t1]: (index or -1, time, the motion there).
 

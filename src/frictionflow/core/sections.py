@@ -163,7 +163,7 @@ def records_from_samples(t, x, v, mode, dwork, zeta, t_tail):
     return rec, tail, fin
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def update(agg, x, v, f, stuck):
     agg[0] = min(agg[0], x)
     agg[1] = max(agg[1], x)
@@ -173,7 +173,7 @@ def update(agg, x, v, f, stuck):
     agg[5] += stuck
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def reset(agg, x, v, f):
     agg[0] = x
     agg[1] = x
@@ -183,7 +183,7 @@ def reset(agg, x, v, f):
     agg[5] = 0.0
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def close(r, tc, xc, ts, x, v, w, agg, lo, with_period):
     """Fill record ``r`` for a crossing at ``tc``; ``ts, x, v, w``: the sample after it."""
     r[T] = tc
@@ -200,7 +200,7 @@ def close(r, tc, xc, ts, x, v, w, agg, lo, with_period):
         r[LO] = lo
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def mark(a, t, x, v, w):
     a[A_T] = t
     a[A_E] = 0.5 * (x * x + v * v)
@@ -208,7 +208,7 @@ def mark(a, t, x, v, w):
         a[A_W0 + j] = w[j]
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def store_tail(tail, tag, tw):
     for j in range(4):
         tail[A_W0 + j] = tw[j]

@@ -346,14 +346,14 @@ def _a_rest(d, x, t, zeta, vb, p):
     return d * slip_force(p, 0.0) + external_force(p, t) - x - 2.0 * zeta * vb
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def saltation_stick(y):
     """Stick onset, S = diag(1, 0), on both tangent vectors of ``y``: every dv is forgotten."""
     y[3] = 0.0
     y[5] = 0.0
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def saltation_slip(y, new, t, zeta, vb, p):
     """Slip onset into direction ``new``, S = [[1, 0], [a+ / (V_b - f'), 1]], on both tangent vectors."""
     c = _a_rest(float(new), y[0], t, zeta, vb, p) / (vb - external_force_rate(p, t))
@@ -361,7 +361,7 @@ def saltation_slip(y, new, t, zeta, vb, p):
     y[5] += c * y[4]
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def saltation_reversal(y, d, new, t, zeta, vb, p):
     """Slip reversal d -> ``new`` through V_r = 0, S = diag(1, a+ / a-), on both tangent vectors."""
     ratio = _a_rest(float(new), y[0], t, zeta, vb, p) / _a_rest(d, y[0], t, zeta, vb, p)
