@@ -72,7 +72,7 @@ def scipy_one(x0: float, v0: float) -> int:
                 tail = np.linspace(max(t, T_END - 20), t + dt, 50)
                 xs.append(x + VB * (tail - t)), vs.append(np.full(50, VB))
             t, x = t + dt, x + VB * dt
-            mode = rest_mode(x, ZETA, VB, FS, True, FS) or 1
+            mode = rest_mode(x, ZETA, VB, FS, True, FS, 0.0, 0.0) or 1
             continue
 
         def rhs(_t, y, d=mode):
@@ -89,7 +89,7 @@ def scipy_one(x0: float, v0: float) -> int:
         t, x, v = sol.t[-1], sol.y[0, -1], sol.y[1, -1]
         if sol.status == 1:
             v = VB
-            mode = rest_mode(x, ZETA, VB, FS, True, FS)
+            mode = rest_mode(x, ZETA, VB, FS, True, FS, 0.0, 0.0)  # unforced: no external force or rate
     return _verdict(np.concatenate(xs), np.concatenate(vs))
 
 
