@@ -35,7 +35,9 @@ def test_eq5_reference(x, v, zeta, vb, fd, gap, spring):
     else:
         want = fe
     f, mode = force(law, x, v, zeta, vb)
-    assert f == want
+    # The compiled rule may fuse X + 2 zeta X' into one multiply-add (FASTMATH, as in the RK4
+    # kernels); Python cannot: they may differ by the rounding of that product, no more.
+    assert f == pytest.approx(want, rel=0.0, abs=2.0**-52 * (abs(x) + abs(2 * zeta * v)))
     assert mode == (0 if abs(vr) <= vd else (1 if vr > 0 else -1))
 
 
