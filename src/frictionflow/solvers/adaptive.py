@@ -129,7 +129,7 @@ class Adaptive(Solver):
 
     @staticmethod
     def _full(result: tuple, bufs: tuple[np.ndarray, ...]) -> bool:
-        return result[2] == dopri.FULL or result[1] > len(bufs[0])
+        return result[2] == dopri.FULL or result[1] > len(bufs[1].t)
 
     def solve(
         self,
@@ -150,7 +150,7 @@ class Adaptive(Solver):
 
         def kernel(bufs: tuple[np.ndarray, ...]) -> tuple:
             return run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, self.rtol, self.atol, self.max_steps,
-                       dense_dt, t_tail, NO_STOP, *bufs)
+                       dense_dt, t_tail, NO_STOP, *bufs[0], *bufs[1])
 
         with progress_bar("adaptive", 1, enabled=progress and t_end > 1e5) as advance:
             (n, ne, status, t_stop, h), bufs = run_growing(
@@ -158,7 +158,7 @@ class Adaptive(Solver):
             advance(1)
         if status in (dopri.STEP_CAP, dopri.TINY_STEP):
             why = f"max_steps={self.max_steps} reached" if status == dopri.STEP_CAP else "the step size vanished"
-            x, v, mode = bufs[1], bufs[2], bufs[4]
+            x, v, mode = bufs[0].x, bufs[0].v, bufs[0].mode
             raise StepLimitError(
                 f"adaptive: {why} at tau={t_stop:.10g} (X={x[n - 1]:.6g}, X'={v[n - 1]:.6g}, "
                 f"mode {int(mode[n - 1]):+d}, step {h:.3g}) after {ne} switches; "
