@@ -165,11 +165,10 @@ def _adaptive_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, ode_rt
         stop = (rtol, float(min_periods), r, math.copysign(slip_magnitude_of(p[j], abs(vb[j])), vb[j]))
         samples, events = _buffers(cap)
         t, x, v, fc, mode, work = samples
-        ev_t, ev_mode = events
         # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
         k, ne, status, t_stop, h = dopri.run_unforced(
             x0[j], v0[j], t_end, zeta[j], vb[j], p[j], ode_rtol, ode_atol, max_steps, 0.0, sec.tail_start(0.0, t_end),
-            stop, t, x, v, fc, mode, work, ev_t, ev_mode,
+            stop, samples, events,
         )
         full[j] = status == dopri.FULL
         if full[j]:

@@ -13,6 +13,7 @@ from .._progress import progress_bar
 from ..core import dopri, sections
 from ..core._rebind import rebind
 from ..core.layout import FEX
+from ..core.records import Events, Samples
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -128,7 +129,7 @@ class Adaptive(Solver):
         return int(40 * t_end) + 256 + dense + forced
 
     @staticmethod
-    def _full(result: tuple, bufs: tuple[np.ndarray, ...]) -> bool:
+    def _full(result: tuple, bufs: tuple[Samples, Events]) -> bool:
         return result[2] == dopri.FULL or result[1] > len(bufs[1].t)
 
     def solve(
@@ -148,9 +149,9 @@ class Adaptive(Solver):
         dense_dt = self.dense_dt or 0.0
         t_tail = sections.tail_start(0.0, t_end)
 
-        def kernel(bufs: tuple[np.ndarray, ...]) -> tuple:
+        def kernel(bufs: tuple[Samples, Events]) -> tuple:
             return run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, self.rtol, self.atol, self.max_steps,
-                       dense_dt, t_tail, NO_STOP, *bufs[0], *bufs[1])
+                       dense_dt, t_tail, NO_STOP, *bufs)
 
         with progress_bar("adaptive", 1, enabled=progress and t_end > 1e5) as advance:
             (n, ne, status, t_stop, h), bufs = run_growing(
