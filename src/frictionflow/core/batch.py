@@ -23,6 +23,7 @@ from . import certificate, dopri, exact, rk4_batch
 from . import sections as sec
 from .friction import FD, slip_magnitude_of
 from .layout import N_WORK
+from .records import Events, Samples
 from .threads import over_points
 
 # The result row is the first NR entries of the table's layout, the one
@@ -79,9 +80,10 @@ def _classify_samples(t, x, v, mode, work, zeta, vb, p, rtol, min_periods, h, fi
 
 @njit(cache=True)
 def _buffers(cap):
-    """One point's sample arrays (events are not kept: one slot, never read)."""
-    return (np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap, dtype=np.int8),
-            np.empty((cap, N_WORK)), np.empty(1), np.empty(1, dtype=np.int64))
+    """One point's (samples, events) records (:mod:`.records`; events are not kept: one slot, never read)."""
+    return (Samples(np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap, dtype=np.int8),
+                    np.empty((cap, N_WORK))),
+            Events(np.empty(1), np.empty(1, dtype=np.int64)))
 
 
 def with_room(kernel, n: int, cap: int, *args) -> None:
@@ -113,13 +115,13 @@ def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, cap:
 @njit(cache=True, nogil=True)
 def _exact_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, stop_early, fixed_step):
     for j in todo[j0:j1]:
-        t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
+        samples, events = _buffers(cap)
+        t, x, v, fc, mode, work = samples
         t_mode = np.zeros(1, dtype=np.int64)
         # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
         k, ne, status, t_term, t_stop = exact.run(
             x0[j], v0[j], t_end, zeta[j], vb[j], p[j], 0.0, sec.tail_start(0.0, t_end), stop_early, stop_early, rtol,
-            min_periods,
-            t, x, v, fc, mode, work, ev_t, ev_mode, t_mode,
+            min_periods, samples, events, t_mode,
         )
         full[j] = status == exact.FULL
         if full[j]:
@@ -161,11 +163,12 @@ def _adaptive_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, ode_rt
         # stop once the end is known: the certified disc, or repeating sections (as the classifier judges them)
         r = certificate.certified_radius(p[j], zeta[j], vb[j])
         stop = (rtol, float(min_periods), r, math.copysign(slip_magnitude_of(p[j], abs(vb[j])), vb[j]))
-        t, x, v, fc, mode, work, ev_t, ev_mode = _buffers(cap)
+        samples, events = _buffers(cap)
+        t, x, v, fc, mode, work = samples
         # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
         k, ne, status, t_stop, h = dopri.run_unforced(
             x0[j], v0[j], t_end, zeta[j], vb[j], p[j], ode_rtol, ode_atol, max_steps, 0.0, sec.tail_start(0.0, t_end),
-            stop, t, x, v, fc, mode, work, ev_t, ev_mode,
+            stop, samples, events,
         )
         full[j] = status == dopri.FULL
         if full[j]:

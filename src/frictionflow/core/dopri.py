@@ -131,9 +131,15 @@ def _g(kind, y, a, zeta, vb, d):
 
 
 @njit(cache=True)
-def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
-        out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
-    """Integrate to ``t_end``; returns (samples, events, status, t, h) -- t, h where it stopped.
+def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events):
+    """Integrate to ``t_end``; returns (k, ne, status, t, h): the numbers of samples and of switches, t, h where it stopped.
+
+    ``p`` is the force record (:mod:`.layout`); the samples go to the arrays
+    of the record ``samples`` = (t, x, v, fc, mode, work) and the switches to
+    those of ``events`` = (t, mode) (:mod:`.records`,
+    :func:`frictionflow.solvers.base.output_buffers`), as many as fit (all
+    are counted).  ``dense_dt``: also sample every ``dense_dt`` (0: not);
+    ``t_tail``: the start of the tail sampled for the analysis.
 
     ``stop`` = (stop_rtol, min_periods, r_cert, x_eq) lets a run whose end is
     already known stop early, at a section X' = 0 (sweeps; zeros: off): when it
@@ -144,32 +150,27 @@ def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, sto
     a time-dependent flow) and also samples every tau_k = k 2 pi / Omega.
     """
     if p[FEX] != 0.0:
-        return run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
-                          out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
-    return run_unforced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
-                        out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+        return run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events)
+    return run_unforced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events)
 
 
 @njit(cache=True)
-def run_unforced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
-                 out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
+def run_unforced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events):
     """:func:`run` without an external force (compiled without its code)."""
-    return _run(False, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
-                out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+    return _run(False, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events)
 
 
 @njit(cache=True)
-def run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
-               out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
+def run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events):
     """:func:`run` with the external force of ``p``."""
-    return _run(True, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
-                out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode)
+    return _run(True, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events)
 
 
 @njit(cache=True, forceinline=True)
-def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop,
-         out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode):
+def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events):
     """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations)."""
+    out_t, out_x, out_v, out_fc, out_mode, out_w = samples
+    ev_t, ev_mode = events
     fs = p[FS]
     res = p[RESULTANT] != 0.0
     ny = NY_FORCED if forced else NY

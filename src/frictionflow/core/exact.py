@@ -487,11 +487,18 @@ def _repeated(ring, m, n_max, n_min, rtol, noise):
 
 
 @njit(cache=True)
-def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_terminal, rtol, min_periods,
-        out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode, t_mode, replicate=None, periodic_stop=0):
+def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_terminal, rtol, min_periods, samples, events,
+        t_mode, replicate=None, periodic_stop=0):
     """Integrate from (x0, v0) at t = 0 to ``t_end`` switch by switch.
 
-    Returns (samples, events, status, t_terminal, t_stop): ``t_terminal`` is
+    ``p`` is the force record (:mod:`.layout`); ``dense_dt`` the dense grid
+    (0: none) and ``t_tail`` the start of the tail sampled for the analysis.
+    The samples go to the arrays of the record ``samples`` = (t, x, v, fc,
+    mode, work) and the switches to those of ``events`` = (t, mode)
+    (:mod:`.records`, :func:`frictionflow.solvers.base.output_buffers`).
+
+    Returns (k, ne, status, t_terminal, t_stop): the numbers of samples and
+    of switches (all counted, ``events`` keeps those that fit); ``t_terminal`` is
     when the final phase (from which no boundary is ever crossed again)
     began, or -1 (its friction mode goes to ``t_mode[0]``); ``t_stop`` where the run stopped early (``stop_periodic``:
     the section values repeated to ``rtol`` for ``min_periods`` periods;
@@ -521,6 +528,8 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     ``arg is None`` when the argument is None or left out: its callees are
     not even compiled.)
     """
+    out_t, out_x, out_v, out_fc, out_mode, out_w = samples
+    ev_t, ev_mode = events
     law = int(p[LAW])
     fd, fs, vd = p[FD], p[FS], p[VD]
     res = p[RESULTANT] != 0.0
@@ -914,9 +923,8 @@ def _sample_functions(dyn, fck, zeta):
 
 
 @njit(cache=True)
-def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
-               out_t, out_x, out_v, out_fc, out_mode, out_w, ev_t, ev_mode, t_mode):
-    """:func:`run` under the external force of ``p`` (F_ex > 0).
+def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, samples, events, t_mode):
+    """:func:`run` under the external force of ``p`` (F_ex > 0), with the same records.
 
     Samples as unforced (phase starts, zeros of X' set to 0, extremes of X'
     and of X + 2 zeta X', zeros of a held F_c, the tail's start, the dense
@@ -924,6 +932,8 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail,
     stop: the X' = 0 section repeats only for the autonomous system.
     Returns as :func:`run` (t_terminal = -1: no final phase is certified).
     """
+    out_t, out_x, out_v, out_fc, out_mode, out_w = samples
+    ev_t, ev_mode = events
     law = int(p[LAW])
     fd, fs, vd = p[FD], p[FS], p[VD]
     res = p[RESULTANT] != 0.0

@@ -13,6 +13,7 @@ from .._progress import progress_bar
 from ..core import dopri, sections
 from ..core._rebind import rebind
 from ..core.layout import FEX
+from ..core.records import Events, Samples
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -128,8 +129,8 @@ class Adaptive(Solver):
         return int(40 * t_end) + 256 + dense + forced
 
     @staticmethod
-    def _full(result: tuple, bufs: tuple[np.ndarray, ...]) -> bool:
-        return result[2] == dopri.FULL or result[1] > len(bufs[0])
+    def _full(result: tuple, bufs: tuple[Samples, Events]) -> bool:
+        return result[2] == dopri.FULL or result[1] > len(bufs[1].t)
 
     def solve(
         self,
@@ -148,7 +149,7 @@ class Adaptive(Solver):
         dense_dt = self.dense_dt or 0.0
         t_tail = sections.tail_start(0.0, t_end)
 
-        def kernel(bufs: tuple[np.ndarray, ...]) -> tuple:
+        def kernel(bufs: tuple[Samples, Events]) -> tuple:
             return run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, self.rtol, self.atol, self.max_steps,
                        dense_dt, t_tail, NO_STOP, *bufs)
 
@@ -158,7 +159,7 @@ class Adaptive(Solver):
             advance(1)
         if status in (dopri.STEP_CAP, dopri.TINY_STEP):
             why = f"max_steps={self.max_steps} reached" if status == dopri.STEP_CAP else "the step size vanished"
-            x, v, mode = bufs[1], bufs[2], bufs[4]
+            x, v, mode = bufs[0].x, bufs[0].v, bufs[0].mode
             raise StepLimitError(
                 f"adaptive: {why} at tau={t_stop:.10g} (X={x[n - 1]:.6g}, X'={v[n - 1]:.6g}, "
                 f"mode {int(mode[n - 1]):+d}, step {h:.3g}) after {ne} switches; "

@@ -14,6 +14,7 @@ from typing import Any, Callable, ClassVar, Mapping
 import numpy as np
 
 from ..core.layout import FEX, N_WORK, OMEGA, PHI
+from ..core.records import Events, Samples
 from ..friction.base import FrictionLaw
 from ..parameters import Param, resolve
 from ..modes import SwitchMode
@@ -52,13 +53,14 @@ def check_memory(samples: float, max_memory: float, what: str | Callable[[], str
         )
 
 
-def run_growing(kernel: Callable[[tuple[np.ndarray, ...]], tuple], cap: int,
-                full: Callable[[tuple, tuple[np.ndarray, ...]], bool],
-                max_memory: float, what: str | Callable[[], str]) -> tuple[tuple, tuple[np.ndarray, ...]]:
+def run_growing(kernel: Callable[[tuple[Samples, Events]], tuple], cap: int,
+                full: Callable[[tuple, tuple[Samples, Events]], bool],
+                max_memory: float, what: str | Callable[[], str]) -> tuple[tuple, tuple[Samples, Events]]:
     """Run ``kernel(buffers)`` with room for ``cap`` samples, four times more each time it reports them ``full``.
 
     An event-driven run cannot know its number of samples in advance; a retry
-    costs at most a third of the run again.  Returns the kernel's result and the buffers.
+    costs at most a third of the run again.  ``buffers`` are the records of
+    :func:`output_buffers`.  Returns the kernel's result and the buffers.
     """
     while True:
         check_memory(cap, max_memory, what)
@@ -119,14 +121,15 @@ class Solver(ABC):
         return f"{type(self).__name__}({args})"
 
 
-def output_buffers(cap: int) -> tuple[np.ndarray, ...]:
-    """Arrays an event-driven kernel writes into: t, x, v, fc, mode, work, event times, event modes."""
+def output_buffers(cap: int) -> tuple[Samples, Events]:
+    """The records an event-driven kernel writes into (:mod:`frictionflow.core.records`), room for ``cap`` of each."""
     t, x, v, fc = (np.empty(cap) for _ in range(4))
-    return t, x, v, fc, np.empty(cap, dtype=np.int8), np.empty((cap, N_WORK)), np.empty(cap), np.empty(cap, dtype=np.int64)
+    return (Samples(t, x, v, fc, np.empty(cap, dtype=np.int8), np.empty((cap, N_WORK))),
+            Events(np.empty(cap), np.empty(cap, dtype=np.int64)))
 
 
 def trajectory_from(
-    buffers: tuple[np.ndarray, ...],
+    buffers: tuple[Samples, Events],
     n: int,
     n_events: int,
     model: BeltOscillator,
@@ -136,13 +139,13 @@ def trajectory_from(
     *,
     event_modes: Mapping[int, SwitchMode],
 ) -> Trajectory:
-    """A :class:`Trajectory` of the first ``n`` samples and ``n_events`` events in ``buffers``.
+    """A :class:`Trajectory` of the first ``n`` samples and ``n_events`` events in ``buffers`` (:func:`output_buffers`).
 
     ``event_modes`` is the solver's table from its kernel's mode codes to
     :class:`SwitchMode` (see :mod:`.events`): the events leave the solver in
     public values only.
     """
-    t, x, v, fc, mode, work, ev_t, ev_mode = buffers
+    (t, x, v, fc, mode, work), (ev_t, ev_mode) = buffers
     return Trajectory(
         t=t[:n].copy(), x=x[:n].copy(), v=v[:n].copy(), fc=fc[:n].copy(), mode=mode[:n].copy(), dwork=work[:n].copy(),
         model=model, friction=friction, solver=solver,

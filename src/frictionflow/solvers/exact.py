@@ -10,6 +10,7 @@ import numpy as np
 from .._progress import progress_bar
 from ..core import exact as kernel
 from ..core import sections
+from ..core.records import Events, Samples
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -93,8 +94,8 @@ class Exact(Solver):
         return int(16 * t_end / (2 * math.pi)) + 64 + dense + forced
 
     @staticmethod
-    def _full(result: tuple, bufs: tuple[np.ndarray, ...]) -> bool:
-        return result[2] == kernel.FULL or result[1] > len(bufs[0])
+    def _full(result: tuple, bufs: tuple[Samples, Events]) -> bool:
+        return result[2] == kernel.FULL or result[1] > len(bufs[1].t)
 
     def solve(
         self,
@@ -111,12 +112,12 @@ class Exact(Solver):
         problem = resonance_problem(model.zeta, model.omega, model.fex)
         if problem:
             raise ValueError(problem)
-        dense = self.dense_dt or 0.0
         p = kernel_params(model, friction)
+        dense = self.dense_dt or 0.0
         t_tail = sections.tail_start(0.0, t_end)
         t_mode = np.zeros(1, dtype=np.int64)
 
-        def run(bufs: tuple[np.ndarray, ...]) -> tuple:
+        def run(bufs: tuple[Samples, Events]) -> tuple:
             if model.forced:
                 return kernel.run_forced(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, *bufs,
                                          t_mode)
@@ -131,7 +132,7 @@ class Exact(Solver):
         else:  # (no context manager: ~1 us, a few per cent of a short run)
             (n, ne, status, t_term, _), bufs = run_growing(run, estimate, self._full, max_memory, lambda: self.sized(t_end))
         if status == kernel.STUCK:
-            t, x, v = bufs[:3]
+            t, x, v = bufs[0][:3]
             raise RuntimeError(f"exact: repeated zero-length phases at tau={t[n - 1]:.17g}, X={x[n - 1]:.17g}, "
                                f"X'={v[n - 1]:.17g}" + _sliding_hint(model, friction, t[n - 1], x[n - 1], v[n - 1]))
         extra = {"t_terminal": None if t_term < 0 else float(t_term), "terminal_mode": int(t_mode[0])}
