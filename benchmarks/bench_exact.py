@@ -32,6 +32,7 @@ from scipy.integrate import solve_ivp
 from frictionflow import RK4, BeltOscillator, Coulomb, Exact, analyze, simulate
 from frictionflow.core import exact as kernel
 from frictionflow.core import sections
+from frictionflow.core.records import run_record
 from frictionflow.solvers.base import output_buffers
 
 ZETA, VB, FD, FS = 0.05, 0.01, 0.02, 0.04
@@ -94,8 +95,10 @@ def kernel_run(t_end: float = T_END, replicate: bool = True):
     t_mode = np.zeros(2, dtype=np.int64)
     t_tail = sections.tail_start(0.0, t_end)
 
+    run = run_record(FD, VB, t_end, ZETA, VB, t_tail, 0.0, 0.0, 0.0, 0, False, False, 0.0, 3, 0.0, 0.0)
+
     def go():
-        return kernel.run(FD, VB, t_end, ZETA, VB, p, 0.0, t_tail, False, False, 0.0, 3, *bufs, t_mode, replicate, None)
+        return kernel.run(run, p, *bufs, t_mode, replicate, None)
 
     return go, t_mode
 

@@ -15,6 +15,7 @@ import pytest
 from frictionflow import BeltOscillator, Coulomb, Exact, Karnopp, analyze, simulate
 from frictionflow.core import exact as kernel
 from frictionflow.core import sections
+from frictionflow.core.records import run_record
 from frictionflow.solvers.base import kernel_params, output_buffers
 
 
@@ -35,8 +36,9 @@ def kernel_counts(model, friction, t_end, x0=None, v0=None, dense_dt=0.0, stop_p
     t_mode = np.zeros(2, dtype=np.int64)
     x0 = friction.fd if x0 is None else x0
     v0 = model.vb if v0 is None else v0
-    args = (x0, v0, t_end, model.zeta, model.vb, p, dense_dt, sections.tail_start(0.0, t_end), stop_periodic, False, 1e-9, 3,
-            *bufs, t_mode) + (() if replicate is None else (replicate,))
+    run = run_record(x0, v0, t_end, model.zeta, model.vb, sections.tail_start(0.0, t_end), dense_dt,
+                     stop_periodic=stop_periodic, stop_rtol=1e-9)
+    args = (run, p, *bufs, t_mode) + (() if replicate is None else (replicate,))
     _, ne, status, _, _ = kernel.run(*args)
     assert status == kernel.DONE
     return ne, int(t_mode[1])
@@ -129,8 +131,9 @@ def test_periodic_stop_none_compiles_a_run_that_never_stops_early():
     def stop(*last):
         bufs = output_buffers(Exact().sample_estimate(t_end))
         t_mode = np.zeros(1, dtype=np.int64)
-        return kernel.run(friction.fd, model.vb, t_end, model.zeta, model.vb, p, 0.0, sections.tail_start(0.0, t_end),
-                          True, False, 1e-9, 3, *bufs, t_mode, *last)[4]
+        run = run_record(friction.fd, model.vb, t_end, model.zeta, model.vb, sections.tail_start(0.0, t_end),
+                         stop_periodic=True, stop_rtol=1e-9)
+        return kernel.run(run, p, *bufs, t_mode, *last)[4]
 
     assert stop() < 0.2 * t_end  # stopped once the sections repeated
     assert stop(False, None) == t_end

@@ -23,7 +23,7 @@ from . import certificate, dopri, exact, rk4_batch
 from . import sections as sec
 from .friction import FD, slip_magnitude_of
 from .layout import N_WORK
-from .records import Events, Samples
+from .records import Events, Samples, run_record
 from .threads import over_points
 
 # The result row is the first NR entries of the table's layout, the one
@@ -119,10 +119,10 @@ def _exact_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, rtol, min
         t, x, v, fc, mode, work = samples
         t_mode = np.zeros(1, dtype=np.int64)
         # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
-        k, ne, status, t_term, t_stop = exact.run(
-            x0[j], v0[j], t_end, zeta[j], vb[j], p[j], 0.0, sec.tail_start(0.0, t_end), stop_early, stop_early, rtol,
-            min_periods, samples, events, t_mode,
-        )
+        # (every argument positional and typed as from the façades: one compiled builder; no bare int constant)
+        run = run_record(x0[j], v0[j], t_end, zeta[j], vb[j], sec.tail_start(0.0, t_end), 0.0, 0.0, 0.0, np.int64(0),
+                         stop_early, stop_early, rtol, min_periods, 0.0, 0.0)
+        k, ne, status, t_term, t_stop = exact.run(run, p[j], samples, events, t_mode)
         full[j] = status == exact.FULL
         if full[j]:
             continue
@@ -162,14 +162,12 @@ def _adaptive_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, ode_rt
     for j in todo[j0:j1]:
         # stop once the end is known: the certified disc, or repeating sections (as the classifier judges them)
         r = certificate.certified_radius(p[j], zeta[j], vb[j])
-        stop = (rtol, float(min_periods), r, math.copysign(slip_magnitude_of(p[j], abs(vb[j])), vb[j]))
+        run = run_record(x0[j], v0[j], t_end, zeta[j], vb[j], sec.tail_start(0.0, t_end), 0.0, ode_rtol, ode_atol, max_steps,
+                         np.bool_(False), np.bool_(False), rtol, min_periods, r, math.copysign(slip_magnitude_of(p[j], abs(vb[j])), vb[j]))
         samples, events = _buffers(cap)
         t, x, v, fc, mode, work = samples
         # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
-        k, ne, status, t_stop, h = dopri.run_unforced(
-            x0[j], v0[j], t_end, zeta[j], vb[j], p[j], ode_rtol, ode_atol, max_steps, 0.0, sec.tail_start(0.0, t_end),
-            stop, samples, events,
-        )
+        k, ne, status, t_stop, h = dopri.run_unforced(run, p[j], samples, events)
         full[j] = status == dopri.FULL
         if full[j]:
             continue

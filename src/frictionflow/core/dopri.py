@@ -39,6 +39,8 @@ from numba import njit
 from .friction import FEX, FS, OMEGA, PHI, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of
 from . import sections as sec
 from .layout import N_WORK
+from .records import (DENSE_DT, MAX_STEPS, MIN_PERIODS, ODE_ATOL, ODE_RTOL, R_CERT, STOP_RTOL, T_END, T_TAIL, V0, VB, X0, X_EQ,
+                      ZETA)
 from .samples import emit
 
 A21 = 1 / 5
@@ -131,44 +133,52 @@ def _g(kind, y, a, zeta, vb, d):
 
 
 @njit(cache=True)
-def run(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events):
+def run(run, p, samples, events):
     """Integrate to ``t_end``; returns (k, ne, status, t, h): the numbers of samples and of switches, t, h where it stopped.
 
-    ``p`` is the force record (:mod:`.layout`); the samples go to the arrays
-    of the record ``samples`` = (t, x, v, fc, mode, work) and the switches to
-    those of ``events`` = (t, mode) (:mod:`.records`,
+    ``run`` is the run record (:mod:`.records`, :func:`.records.run_record`):
+    x0, v0, t_end, zeta, vb, the tolerances ``ode_rtol``, ``ode_atol`` and
+    the step cap ``max_steps``, ``dense_dt`` (also sample every ``dense_dt``;
+    0: not), ``t_tail`` (the start of the tail sampled for the analysis) and
+    the early stop.  ``p`` is the force record (:mod:`.layout`); the samples
+    go to the arrays of the record ``samples`` = (t, x, v, fc, mode, work)
+    and the switches to those of ``events`` = (t, mode) (:mod:`.records`,
     :func:`frictionflow.solvers.base.output_buffers`), as many as fit (all
-    are counted).  ``dense_dt``: also sample every ``dense_dt`` (0: not);
-    ``t_tail``: the start of the tail sampled for the analysis.
+    are counted).
 
-    ``stop`` = (stop_rtol, min_periods, r_cert, x_eq) lets a run whose end is
-    already known stop early, at a section X' = 0 (sweeps; zeros: off): when it
-    is inside the certified disc of radius ``r_cert`` about ``x_eq``
-    (:mod:`.certificate`), or when its last ``min_periods + 1`` maxima and
-    minima of X and their periods repeat to ``stop_rtol`` of the amplitude.
-    A forced run (``p[FEX]`` > 0) ignores ``stop`` (X' = 0 is no section of
-    a time-dependent flow) and also samples every tau_k = k 2 pi / Omega.
+    The slots ``stop_rtol``, ``min_periods``, ``r_cert``, ``x_eq`` let a run
+    whose end is already known stop early, at a section X' = 0 (sweeps;
+    ``stop_rtol`` and ``r_cert`` zero: off): when it is inside the certified
+    disc of radius ``r_cert`` about ``x_eq`` (:mod:`.certificate`), or when
+    its last ``min_periods + 1`` maxima and minima of X and their periods
+    repeat to ``stop_rtol`` of the amplitude.  A forced run (``p[FEX]`` > 0)
+    ignores them (X' = 0 is no section of a time-dependent flow) and also
+    samples every tau_k = k 2 pi / Omega.
     """
     if p[FEX] != 0.0:
-        return run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events)
-    return run_unforced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events)
+        return run_forced(run, p, samples, events)
+    return run_unforced(run, p, samples, events)
 
 
 @njit(cache=True)
-def run_unforced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events):
+def run_unforced(run, p, samples, events):
     """:func:`run` without an external force (compiled without its code)."""
-    return _run(False, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events)
+    return _run(False, run, p, samples, events)
 
 
 @njit(cache=True)
-def run_forced(x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events):
+def run_forced(run, p, samples, events):
     """:func:`run` with the external force of ``p``."""
-    return _run(True, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events)
+    return _run(True, run, p, samples, events)
 
 
 @njit(cache=True, forceinline=True)
-def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_tail, stop, samples, events):
+def _run(forced, run, p, samples, events):
     """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations)."""
+    x0, v0, t_end, zeta, vb = run[X0], run[V0], run[T_END], run[ZETA], run[VB]
+    rtol, atol, max_steps = run[ODE_RTOL], run[ODE_ATOL], int(run[MAX_STEPS])
+    dense_dt, t_tail = run[DENSE_DT], run[T_TAIL]
+    stop_rtol, min_periods, r_cert, x_eq = run[STOP_RTOL], int(run[MIN_PERIODS]), run[R_CERT], run[X_EQ]
     out_t, out_x, out_v, out_fc, out_mode, out_w = samples
     ev_t, ev_mode = events
     fs = p[FS]
@@ -200,7 +210,6 @@ def _run(forced, x0, v0, t_end, zeta, vb, p, rtol, atol, max_steps, dense_dt, t_
     ne = 0
     steps = 0
     h = 0.0
-    stop_rtol, min_periods, r_cert, x_eq = stop
     ring = np.full((4, int(min_periods) + 2), np.nan)  # X and times of the last maxima, then minima
     n_max = 0
     n_min = 0

@@ -61,6 +61,7 @@ from . import closed_form as cf
 from . import sections as sec
 from .friction import COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD
 from .layout import N_WORK
+from .records import DENSE_DT, MIN_PERIODS, STOP_PERIODIC, STOP_RTOL, STOP_TERMINAL, T_END, T_TAIL, V0, VB, X0, ZETA
 from .samples import emit
 
 SLIP_POS, SLIP_NEG, HOLD, SAT_POS, SAT_NEG, EDGE_LO, EDGE_HI, STICK = range(1, 9)
@@ -487,15 +488,18 @@ def _repeated(ring, m, n_max, n_min, rtol, noise):
 
 
 @njit(cache=True)
-def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_terminal, rtol, min_periods, samples, events,
-        t_mode, replicate=None, periodic_stop=0):
+def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
     """Integrate from (x0, v0) at t = 0 to ``t_end`` switch by switch.
 
-    ``p`` is the force record (:mod:`.layout`); ``dense_dt`` the dense grid
-    (0: none) and ``t_tail`` the start of the tail sampled for the analysis.
-    The samples go to the arrays of the record ``samples`` = (t, x, v, fc,
-    mode, work) and the switches to those of ``events`` = (t, mode)
-    (:mod:`.records`, :func:`frictionflow.solvers.base.output_buffers`).
+    ``run`` is the run record (:mod:`.records`, :func:`.records.run_record`):
+    x0, v0, t_end, zeta, vb, the dense grid ``dense_dt`` (0: none), ``t_tail``
+    the start of the tail sampled for the analysis, and the early-stop
+    rules ``stop_periodic``, ``stop_terminal``, ``rtol`` (its ``STOP_RTOL``)
+    and ``min_periods``; the ODE slots are not read.  ``p`` is the force
+    record (:mod:`.layout`).  The samples go to the arrays of the record
+    ``samples`` = (t, x, v, fc, mode, work) and the switches to those of
+    ``events`` = (t, mode) (:mod:`.records`,
+    :func:`frictionflow.solvers.base.output_buffers`).
 
     Returns (k, ne, status, t_terminal, t_stop): the numbers of samples and
     of switches (all counted, ``events`` keeps those that fit); ``t_terminal`` is
@@ -528,6 +532,10 @@ def run(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, stop_periodic, stop_termin
     ``arg is None`` when the argument is None or left out: its callees are
     not even compiled.)
     """
+    x0, v0, t_end, zeta, vb = run[X0], run[V0], run[T_END], run[ZETA], run[VB]
+    dense_dt, t_tail = run[DENSE_DT], run[T_TAIL]
+    stop_periodic, stop_terminal = run[STOP_PERIODIC] != 0.0, run[STOP_TERMINAL] != 0.0
+    rtol, min_periods = run[STOP_RTOL], int(run[MIN_PERIODS])
     out_t, out_x, out_v, out_fc, out_mode, out_w = samples
     ev_t, ev_mode = events
     law = int(p[LAW])
@@ -923,8 +931,8 @@ def _sample_functions(dyn, fck, zeta):
 
 
 @njit(cache=True)
-def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, samples, events, t_mode):
-    """:func:`run` under the external force of ``p`` (F_ex > 0), with the same records.
+def run_forced(run, p, samples, events, t_mode):
+    """:func:`run` under the external force of ``p`` (F_ex > 0), with the same records (the stop slots not read).
 
     Samples as unforced (phase starts, zeros of X' set to 0, extremes of X'
     and of X + 2 zeta X', zeros of a held F_c, the tail's start, the dense
@@ -932,6 +940,8 @@ def run_forced(x0, v0, t_end, zeta, vb, p, dense_dt, t_tail, samples, events, t_
     stop: the X' = 0 section repeats only for the autonomous system.
     Returns as :func:`run` (t_terminal = -1: no final phase is certified).
     """
+    x0, v0, t_end, zeta, vb = run[X0], run[V0], run[T_END], run[ZETA], run[VB]
+    dense_dt, t_tail = run[DENSE_DT], run[T_TAIL]
     out_t, out_x, out_v, out_fc, out_mode, out_w = samples
     ev_t, ev_mode = events
     law = int(p[LAW])

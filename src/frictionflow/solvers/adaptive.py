@@ -13,7 +13,7 @@ from .._progress import progress_bar
 from ..core import dopri, sections
 from ..core._rebind import rebind
 from ..core.layout import FEX
-from ..core.records import Events, Samples
+from ..core.records import Events, Samples, run_record
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -34,8 +34,6 @@ class StepLimitError(RuntimeError):
 
 _KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "_known_end", "_run", "run_unforced",
                  "run_forced")
-#: a single run goes to its end (sweeps stop where the end is known: core.batch)
-NO_STOP = (0.0, 3.0, 0.0, 0.0)  # floats, as core.batch passes it: one compiled kernel for both
 
 
 def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
@@ -49,9 +47,9 @@ def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
     return _user_kernel(friction.func, friction.kernel_force())
 
 
-def _builtin_run(x0, v0, t_end, zeta, vb, p, *rest):
+def _builtin_run(run, p, samples, events):
     """:func:`frictionflow.core.dopri.run`, choosing its variant here: a first unforced run compiles only the unforced one."""
-    return (dopri.run_forced if p[FEX] != 0.0 else dopri.run_unforced)(x0, v0, t_end, zeta, vb, p, *rest)
+    return (dopri.run_forced if p[FEX] != 0.0 else dopri.run_unforced)(run, p, samples, events)
 
 
 @lru_cache(maxsize=32)
@@ -69,9 +67,9 @@ def _rebuild(force: Callable, compiled: bool) -> Callable:
     kernels = rebind(dopri, _KERNEL_FUNCS, compiled, slip_force=force)
     unforced, forced = kernels["run_unforced"], kernels["run_forced"]
 
-    def run(x0, v0, t_end, zeta, vb, p, *rest):
+    def run(run, p, samples, events):
         """:func:`frictionflow.core.dopri.run` for the user's law: each variant compiled when first used."""
-        return (forced if p[FEX] != 0.0 else unforced)(x0, v0, t_end, zeta, vb, p, *rest)
+        return (forced if p[FEX] != 0.0 else unforced)(run, p, samples, events)
 
     return run
 
@@ -149,9 +147,13 @@ class Adaptive(Solver):
         dense_dt = self.dense_dt or 0.0
         t_tail = sections.tail_start(0.0, t_end)
 
+        # a single run goes to its end (no early stop: sweeps stop where the end is known, core.batch); every
+        # argument positional, typed as the exact façade's: one compiled builder for both
+        rec = run_record(float(x0), float(v0), float(t_end), model.zeta, model.vb, t_tail, dense_dt, self.rtol, self.atol,
+                         self.max_steps, False, False, 0.0, 3, 0.0, 0.0)
+
         def kernel(bufs: tuple[Samples, Events]) -> tuple:
-            return run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, self.rtol, self.atol, self.max_steps,
-                       dense_dt, t_tail, NO_STOP, *bufs)
+            return run(rec, p, *bufs)
 
         with progress_bar("adaptive", 1, enabled=progress and t_end > 1e5) as advance:
             (n, ne, status, t_stop, h), bufs = run_growing(

@@ -10,7 +10,7 @@ import numpy as np
 from .._progress import progress_bar
 from ..core import exact as kernel
 from ..core import sections
-from ..core.records import Events, Samples
+from ..core.records import Events, Samples, run_record
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -117,12 +117,14 @@ class Exact(Solver):
         t_tail = sections.tail_start(0.0, t_end)
         t_mode = np.zeros(1, dtype=np.int64)
 
+        # every argument positional, typed as the adaptive façade's: one compiled builder for both
+        rec = run_record(float(x0), float(v0), float(t_end), model.zeta, model.vb, t_tail, dense, 0.0, 0.0, 0, False, False,
+                         0.0, 3, 0.0, 0.0)
+
         def run(bufs: tuple[Samples, Events]) -> tuple:
             if model.forced:
-                return kernel.run_forced(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, *bufs,
-                                         t_mode)
-            return kernel.run(float(x0), float(v0), float(t_end), model.zeta, model.vb, p, dense, t_tail, False, False, 0.0, 3,
-                              *bufs, t_mode, self.replicate, None)  # None: compiled without the periodic stop
+                return kernel.run_forced(rec, p, *bufs, t_mode)
+            return kernel.run(rec, p, *bufs, t_mode, self.replicate, None)  # None: compiled without the periodic stop
 
         estimate = self.sample_estimate(t_end, model)
         if progress and t_end > 1e5:
