@@ -487,6 +487,10 @@ NS = NQ + 2
 EQ_RULE = tuple(Q.EQUILIBRIUM_RULES.index(q.at_equilibrium) for q in Q.TABLE)
 
 
+#: the friction input below which R_c and R_f are undefined, relative to the window's largest flow
+RATIO_FLOOR = 1e-12
+
+
 @njit(cache=True)
 def averages(dw_dv, dw_in, dw_out, dw_heat, dw_ex, e0, e1, span):
     """Window averages from the work integrals over the window and the change of K + U.
@@ -498,7 +502,8 @@ def averages(dw_dv, dw_in, dw_out, dw_heat, dw_ex, e0, e1, span):
     energy K + U: below that the
     change of K + U itself is lost to rounding, so the balance cannot be
     checked more finely (deep in a decay, or at an equilibrium).  The ratios
-    are NaN when friction puts in nothing.  Returns a row of the table's
+    R_c, R_f are NaN when friction puts in nothing above rounding: W_fin at
+    most :data:`RATIO_FLOOR` times the largest flow of the window.  Returns a row of the table's
     layout with the averages and the residual filled in (the rest NaN).
     """
     out = np.empty(NQ)
@@ -514,8 +519,11 @@ def averages(dw_dv, dw_in, dw_out, dw_heat, dw_ex, e0, e1, span):
     out[P_BELT] = (w_f + dw_heat) / span
     out[P_HEAT] = dw_heat / span
     out[P_EX] = dw_ex / span
-    out[R_C] = dw_dv / dw_in if dw_in > 0.0 else np.nan
-    out[R_F] = dw_out / dw_in if dw_in > 0.0 else np.nan
+    # The ratios divide by the friction input; below 1e-12 of the largest flow it is rounding of the
+    # pieces summed into it (each cancels terms of that flow's size: a belt at rest puts in nothing).
+    ratios = dw_in > RATIO_FLOOR * norm
+    out[R_C] = dw_dv / dw_in if ratios else np.nan
+    out[R_F] = dw_out / dw_in if ratios else np.nan
     out[RESID] = resid / norm if norm > 0 else 0.0
     return out
 

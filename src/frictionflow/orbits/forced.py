@@ -67,6 +67,10 @@ from ..core import sections as sec
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..solvers.base import kernel_params
+from ..analysis.power_flow import power_flow
+from ..analysis.steady_state import stick_fraction
+from ..analysis.transmissibility import amplitude, transmissibility
+from .measures import one_period
 
 #: RK4 grid steps per forcing period unless told
 DEFAULT_STEPS = 512
@@ -181,21 +185,29 @@ def signature(run: MapRun) -> tuple[int, int, int]:
     return (len(stick_phases(run)), int(run.counts[fm.C_SLIP]), int(run.counts[fm.C_REVERSAL]))
 
 
-def measures(model: BeltOscillator, run: MapRun) -> dict[str, Any]:
-    """Amplitude, power averages, TR_B, stick fraction and energy residual of one orbit period."""
-    e0 = 0.5 * float(run.start @ run.start)
-    e1 = 0.5 * float(run.end @ run.end)
-    row = sec.averages(*run.work, e0, e1, run.span)
+def measures(model: BeltOscillator, friction: FrictionLaw, run: MapRun) -> dict[str, Any]:
+    """Amplitude, power averages, TR_B, stick fraction and energy residual of one orbit period.
+
+    The averages, extremes, TR_B and stick fraction are those of the package's
+    solver over one period from the orbit's state (closed form for
+    piecewise-constant laws), as ``simulate`` finds them on the settled
+    cycle: the map's fixed step does not locate the zeros of X', where
+    max(P_f, 0) has its kinks, so its work integrals are only first-order
+    accurate there.  The distances to grazing come from the map's run.
+    """
+    traj = one_period(model, friction, tuple(run.start), run.span)
+    power = power_flow(traj)
+    ext = amplitude(traj)
     st = run.stats
     durations = stick_phases(run)
     return {
-        "amplitude": 0.5 * float(st[fm.S_XMAX] - st[fm.S_XMIN]),
-        "X_min": float(st[fm.S_XMIN]),
-        "X_max": float(st[fm.S_XMAX]),
-        "TR_B": float(st[fm.S_QMAX]) / model.fex,
-        "stick_fraction": float(st[fm.S_STICK_TIME]) / run.span,
-        "averages": {n: float(row[Q.INDEX[n]]) for n in Q.FORCED_AVERAGES},
-        "energy_residual": float(row[Q.INDEX["energy_residual"]]),
+        "amplitude": 0.5 * (ext["X_max"] - ext["X_min"]),
+        "X_min": ext["X_min"],
+        "X_max": ext["X_max"],
+        "TR_B": transmissibility(traj),
+        "stick_fraction": stick_fraction(traj, (traj.t[0], traj.t[-1])),
+        "averages": {n: getattr(power, n) for n in Q.FORCED_AVERAGES},
+        "energy_residual": power.energy_residual,
         "stick_phases": len(durations),
         "shortest_stick": float(durations.min()) if len(durations) else math.nan,
         "min_gap": float(st[fm.S_GAP]),
@@ -295,7 +307,7 @@ class ForcedOrbit(Summarized):
 
 def _orbit_from(model: BeltOscillator, friction: FrictionLaw, m: int, run: MapRun, iterations: int,
                 settings: dict[str, Any]) -> ForcedOrbit:
-    meas = measures(model, run)
+    meas = measures(model, friction, run)
     mu = multipliers(run.monodromy)
     return ForcedOrbit(
         model=model, friction=friction, m=m, state=run.start.copy(), period=run.span, monodromy=run.monodromy.copy(),
@@ -637,7 +649,7 @@ def _solve_at(pb: _Problem, lam: float, P_guess: np.ndarray) -> _Sol | None:
 
 
 def _point(pb: _Problem, s: _Sol) -> BranchPoint:
-    meas = measures(pb.model_at(s.lam), s.run)
+    meas = measures(pb.model_at(s.lam), pb.friction, s.run)
     return BranchPoint(lam=s.lam, state=s.P.copy(), multipliers=multipliers(s.run.monodromy),
                        residual=float(np.max(np.abs(s.run.residual))), signature=signature(s.run),
                        monodromy=s.run.monodromy.copy(),

@@ -115,7 +115,7 @@ class _OrbitFunction:
     def value(self, lam: float) -> tuple[float, np.ndarray]:
         """(monitor, state at tau = 0) of the orbit at lambda."""
         mdl, run = self.solve(lam)
-        return forced_monitor_value(measures(mdl, run), self.monitor), run.start.copy()
+        return forced_monitor_value(measures(mdl, self.law, run), self.monitor), run.start.copy()
 
 
 def _brent(f: _OrbitFunction, lo: float, hi: float, kind: str) -> tuple[float, float, np.ndarray]:
