@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from frictionflow import BeltOscillator, Karnopp, RK4, analyze, instantaneous_power, power_flow, simulate
+from frictionflow import BeltOscillator, Coulomb, Karnopp, RK4, analyze, instantaneous_power, power_flow, simulate
 
 
 @pytest.fixture(scope="module")
@@ -115,3 +115,46 @@ def test_averages_stay_accurate_deep_in_a_decay():
     assert pf.P_dv == pytest.approx(quad_dv, rel=1e-5)
     assert pf.P_fin == pytest.approx(quad_in, rel=1e-4)
     assert pf.R_c == pytest.approx(quad_dv / quad_in, rel=1e-4)
+
+
+# -- windows between samples are exact ------------------------------------------------------------------
+
+def _exact_run():
+    return simulate(BeltOscillator(zeta=0.05, vb=0.01), Coulomb(fd=0.02, fs=0.04), t_end=100.0)
+
+
+def test_a_window_inside_the_first_stick_phase_has_its_closed_form():
+    """From X = F_d at X' = V_b the mass sticks (|X + 2 zeta V_b| < F_s) with X = F_d + V_b tau, F_c = X + 2 zeta V_b:
+    over (0.1, 0.2) P_fin = V_b (F_d + 1.5e-3 + 2 zeta V_b), P_dv = 2 zeta V_b^2 -- no sample lies inside."""
+    traj = _exact_run()
+    assert not ((traj.t > 0.1) & (traj.t < 0.2)).any()
+    pf = power_flow(traj, (0.1, 0.2))
+    assert pf.window == (0.1, 0.2)
+    assert pf.P_fin == pytest.approx(0.01 * (0.02 + 0.01 * 0.15 + 2 * 0.05 * 0.01), rel=1e-13)
+    assert pf.P_dv == pytest.approx(2 * 0.05 * 0.01**2, rel=1e-13)
+    assert pf.R_f == 0.0
+
+
+def test_windows_are_additive_whatever_their_ends():
+    """W over (a, c) = W over (a, b) + W over (b, c) for ends between samples: the window is the one asked for."""
+    traj = _exact_run()
+    a, b, c = 5.0, 7.3, 9.53
+    whole, left, right = (power_flow(traj, w) for w in ((a, c), (a, b), (b, c)))
+    assert whole.window == (a, c)
+    for name in ("P_dv", "P_fin", "P_df", "P_heat"):
+        joined = (getattr(left, name) * (b - a) + getattr(right, name) * (c - b)) / (c - a)
+        assert getattr(whole, name) == pytest.approx(joined, rel=1e-12, abs=1e-18), name
+    assert whole.energy_residual < 1e-9
+
+
+def test_a_window_on_samples_is_the_solvers_sum():
+    traj = _exact_run()
+    i0, i1 = 3, len(traj) - 5
+    pf = power_flow(traj, (traj.t[i0], traj.t[i1]))
+    assert pf.P_fin * (traj.t[i1] - traj.t[i0]) == traj.window_work(i0, i1)[1]
+
+
+@pytest.mark.parametrize("window", [(-1.0, 5.0), (5.0, 101.0), (8.0, 5.0), (5.0, 5.0), ("a", 3)])
+def test_a_window_outside_the_run_is_refused(window):
+    with pytest.raises(ValueError, match="window"):
+        power_flow(_exact_run(), window)

@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from .. import quantities as Q
+from .. import _continuous as cont
 from ..core import sections as sec
 from ..trajectory import Trajectory
 
@@ -75,19 +76,39 @@ class PowerFlow:
 def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> PowerFlow:
     """Time-averaged power flow of ``traj`` over ``window`` (whole run if None).
 
-    The window is snapped to the nearest samples, where the work integrals
-    are exact.
+    ``window`` = (t0, t1), any times of the run's span with t0 < t1: the
+    averages are over exactly that window.  Where an end falls between
+    samples, the motion is evaluated there (:meth:`Trajectory.at`) and the
+    work of the partial sample interval integrated on the interpolant
+    (:func:`frictionflow._continuous.dwork_at`); windows that start and end
+    on samples sum the solver's own work integrals.
     """
     if window is None:
         i0, i1 = 0, len(traj) - 1
-    else:
-        i0, i1 = traj.index(window[0]), traj.index(window[1])
-    if i1 <= i0:
-        raise ValueError(f"window must span at least one sample, got {window}")
-    t0, t1 = float(traj.t[i0]), float(traj.t[i1])
-    dw = traj.window_work(i0, i1)
-    e = traj.energy
-    return PowerFlow.from_row((t0, t1), sec.averages(*dw, e[i0], e[i1], t1 - t0))
+        t0, t1 = float(traj.t[i0]), float(traj.t[i1])
+        return PowerFlow.from_row((t0, t1), sec.averages(*traj.window_work(i0, i1), *traj.energy[[i0, i1]], t1 - t0))
+    t0, t1 = _checked_window(traj, window)
+    i0, i1 = np.searchsorted(traj.t, (t0, t1))
+    if traj.t[i0] == t0 and traj.t[i1] == t1:  # on samples: the solver's own integrals
+        return PowerFlow.from_row((t0, t1), sec.averages(*traj.window_work(i0, i1), *traj.energy[[i0, i1]], t1 - t0))
+    ends = np.array([t0, t1])
+    interp = cont.interpolant(traj)
+    x, v = interp.state(ends)
+    dw = cont.dwork_at(traj, interp, ends)[1]
+    e = 0.5 * (x * x + v * v)
+    return PowerFlow.from_row((t0, t1), sec.averages(*dw, e[0], e[1], t1 - t0))
+
+
+def _checked_window(traj: Trajectory, window: tuple[float, float]) -> tuple[float, float]:
+    """``window`` as two floats inside the run's span, start before end; ValueError otherwise."""
+    try:
+        t0, t1 = (float(w) for w in window)
+    except (TypeError, ValueError):
+        raise ValueError(f"window must be (start, end), two times, got {window!r}") from None
+    lo, hi = float(traj.t[0]), float(traj.t[-1])
+    if not (lo <= t0 < t1 <= hi):
+        raise ValueError(f"window must satisfy {lo:g} <= start < end <= {hi:g} (the run's span), got {window!r}")
+    return t0, t1
 
 
 def instantaneous_power(traj: Trajectory) -> dict[str, np.ndarray]:
