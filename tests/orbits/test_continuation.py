@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
-from frictionflow import BeltOscillator, Coulomb, Stribeck, simulate
+from frictionflow import BeltOscillator, Coulomb, Cubic, Stribeck, simulate
+from frictionflow.cli import main
 from frictionflow.orbits import ShootingError, continuation, find_orbit, shoot
 
 from ..conftest import slip_solution
@@ -164,3 +166,39 @@ def test_stick_slip_branch_folds_back_at_a_grazing_corner():
     beyond = BeltOscillator(zeta=0.1, vb=fold.value + 2e-4)
     tr = simulate(beyond, law, t_end=400.0, x0=stick_cycle.state[0], v0=0.0)
     assert abs(tr.x[-1] - law.sliding_equilibrium(beyond.vb)) < 1e-6 and abs(tr.v[-1]) < 1e-6
+
+
+# -- accuracy near a Hopf point: the tolerance bounds the error in X, not the residual ---------------------------
+
+HOPF_LAW = Cubic(fs=0.4, k1=0.45, k3=0.6)
+
+
+@pytest.fixture(scope="module")
+def hopf_branch():
+    res = continuation(BeltOscillator(zeta=0.05, vb=0.3), HOPF_LAW, "vb", 0.2, 0.8, seeds=("hopf",))
+    return [b for b in res.branches if b.points[0].kind == "periodic"][0]
+
+
+def test_branch_points_next_to_a_hopf_point_are_as_accurate_as_a_single_orbit(hopf_branch):
+    """The first points barely contract (mu = 0.99978): a residual of 1e-9 would leave X off by 5e-6.
+    Each must agree with an orbit shot to 1e-13 at the same V_b from the same section point."""
+    first = hopf_branch.points[:4]
+    assert abs(first[0].multiplier) > 0.999
+    for p in first:
+        o = find_orbit(BeltOscillator(zeta=0.05, vb=p.value), HOPF_LAW, x0=p.x, v0=0.0, transient=0, tol=1e-13)
+        assert p.measures.amplitude == pytest.approx(o.amplitude, rel=1e-9), p.value
+        assert p.period == pytest.approx(o.period, rel=1e-11), p.value
+
+
+def test_continue_takes_a_tolerance(capsys):
+    code = main(["continue", "--friction", "cubic", "--fs", "0.4", "--k1", "0.45", "--k3", "0.6", "--zeta", "0.05",
+                 "--param", "vb", "--from", "0.42", "--to", "0.45", "--seeds", "hopf", "--tol", "1e-11", "--json"])
+    out, _ = capsys.readouterr()
+    assert code == 0 and json.loads(out)["branches"]
+    assert main(["continue", "--param", "vb", "--from", "0.42", "--to", "0.45", "--tol", "0.5"]) == 2
+    assert "tol" in capsys.readouterr().err
+
+
+def test_continuation_refuses_a_bad_tolerance():
+    with pytest.raises(ValueError, match="tol"):
+        continuation(BeltOscillator(zeta=0.05, vb=0.3), HOPF_LAW, "vb", 0.2, 0.8, tol=0.0)

@@ -106,6 +106,7 @@ def continue_(
     sweep: int = typer.Option(0, "--sweep", help="Overlay this many brute-force simulations across the interval."),
     monitor: str = typer.Option("", "--monitor", help="Locate the extrema of these per-orbit quantities along the branches "
                                 "(comma-separated: P_fin, P_dv, P_df, R_c, R_f, P_belt, P_heat, TR_B, amplitude, stick_fraction, period)."),
+    tol: Optional[float] = typer.Option(None, "--tol", help="Newton tolerance on each orbit's X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws]."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (branches, bifurcations) to stdout."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Bifurcation diagram and power along the branches (.png, .pdf, .svg)."),
     config: Optional[Path] = CONFIG_OPTION,
@@ -121,13 +122,13 @@ def continue_(
 
     cfg = _config(config, params)
     seed_list = tuple(s.strip() for s in seeds.split(",") if s.strip())
-    _check(points=points, max_points=max_points, sweep=sweep, max_period=max_period, step=step)
+    _check(points=points, max_points=max_points, sweep=sweep, max_period=max_period, step=step, tol=tol)
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "--plot")  # before any work: a bad path writes nothing
     model, law, solv = cfg.build()
     result = continuation(
         model, law, param, start, stop, seeds=seed_list, transient=cfg.t_end, n_equilibria=points, max_points=max_points,
-        max_period=max_period, step=step, sweep=sweep, solver=solv, x0=cfg.x0, v0=cfg.v0,
+        max_period=max_period, step=step, sweep=sweep, solver=solv, x0=cfg.x0, v0=cfg.v0, tol=tol,
     )
     if plot is not None:
         from ..orbits.plotting import plot_bifurcation

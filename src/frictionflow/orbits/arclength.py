@@ -82,12 +82,14 @@ class Tracer:
             try:
                 s = p.evaluate(xi, lam)
                 r2 = float(t @ (p.w(s) - w_pred))
-                if p.converged(s) and abs(r2) < 1e-9:
+                stalled = k >= 2 and abs(s.H) > 0.5 * last
+                # converged; or stalled within |G| <= tol_abs, at the rounding floor of a barely contracting map
+                if abs(r2) < 1e-9 and (p.converged(s) or (stalled and p.near(s))):
                     s.iterations = k
                     if not math.isfinite(s.dHl):  # exact from the compiled engine, else the chord's
                         s.dHl = dHl if math.isfinite(dHl) else p.d_lambda(s)
                     return s
-                if k >= 2 and abs(s.H) > 0.5 * last:
+                if stalled:
                     return None
                 last = abs(s.H)
                 if math.isfinite(s.dHl):

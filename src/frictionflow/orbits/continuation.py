@@ -54,6 +54,7 @@ def continuation(
     solver: Solver | None = None,
     x0: float | None = None,
     v0: float | None = None,
+    tol: float | None = None,
 ) -> ContinuationResult:
     """Continue equilibria and periodic orbits in ``param`` from ``start`` to ``stop``.
 
@@ -79,10 +80,18 @@ def continuation(
         Solver and start state of the seed and sweep simulations (defaults as
         :func:`frictionflow.simulate`); the solver also integrates each
         orbit's period for its power flow.
+    tol:
+        Newton tolerance on each orbit's X relative to max(F_s, |V_b|), as
+        :func:`~frictionflow.orbits.find_orbit`'s (default: 1e-12 for
+        piecewise-constant laws, 1e-9 otherwise).  It bounds the error in X,
+        |G / (1 - mu)|, not the residual G: near a Hopf point (mu -> 1) every
+        branch point is as accurate as a single orbit.
     """
     for name, v in (("from", start), ("to", stop)):
         if not math.isfinite(v):
             raise ValueError(f"{name} must be a finite number, got {v!r}")
+    if tol is not None and not (isinstance(tol, (int, float)) and 0.0 < tol <= 1e-3):
+        raise ValueError(f"tol must be a number in (0, 1e-3], got {tol!r}")
     if start == stop:
         raise ValueError(f"from and to must differ, got {start!r} twice")
     for v in (start, stop):
@@ -106,7 +115,7 @@ def continuation(
             pts.append(BranchPoint.from_equilibrium(eq, m.vb, law.fd))
         branches.append(Branch("equilibrium", pts, seed="sliding equilibrium", end="interval end"))
 
-    problem = CycleProblem(model, friction, param, start, stop, returns=returns)
+    problem = CycleProblem(model, friction, param, start, stop, returns=returns, tol=tol)
     tracer = Tracer(problem, h0=step, h_max=max_step, max_points=max_points, max_period=max_period)
 
     # 2. orbits born at Hopf points

@@ -31,7 +31,7 @@ from .flow import make_flow
 from .flow_compiled import CompiledFlow, equilibrium_slope, param_code, supports
 from .hybrid import Segment
 from .parameters import with_param
-from .shooting import H_TOL, default_tol, newton
+from .shooting import H_TOL, contraction, default_tol, newton
 
 
 @dataclass
@@ -133,6 +133,11 @@ class CycleProblem:
         return (self.evaluate(s.xi, s.lam + h).H - s.H) / h
 
     def converged(self, s: Solution) -> bool:
+        """The orbit's X is within tol_abs: |G| / |1 - mu| (its error, Newton's next step) and H are small."""
+        return abs(s.G) <= self.tol_abs * contraction(s.mu) and abs(s.H) <= H_TOL
+
+    def near(self, s: Solution) -> bool:
+        """|G| within tol_abs: where rounding stops Newton short of :meth:`converged` (mu near 1), the best there is."""
         return abs(s.G) <= self.tol_abs and abs(s.H) <= H_TOL
 
     def solve_at(self, lam: float, xi_guess: float) -> Solution:

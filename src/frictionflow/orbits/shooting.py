@@ -143,6 +143,15 @@ class PeriodicOrbit(Summarized):
         )
 
 
+def contraction(mu: float) -> float:
+    """min(1, |1 - mu|): how much smaller than the error in X the residual G = P(X) - X is.
+
+    Near a Hopf point or a fold (mu -> 1) a small residual is not yet a small
+    error: Newton's tolerance on G is scaled by this so that X is within it.
+    """
+    return min(1.0, abs(1.0 - mu)) if math.isfinite(mu) else 1.0
+
+
 def default_tol(friction: FrictionLaw) -> float:
     """Newton tolerance relative to the orbit's scale: rounding for closed forms, ~100 rtol for solve_ivp."""
     return 1e-12 if friction.piecewise_constant else 1e-9
@@ -184,17 +193,23 @@ def newton(
             return abs(g)
         return abs(g / (xx - x_star)) if xx != x_star else math.inf
 
+    def done(seg, x, r, it):
+        if seg is None:
+            seg = flow.run((x, 0.0), returns=returns)
+            r = float(seg.y1[0]) - x
+        return x, seg, r, it
+
     seg, px, dp = _map(flow, x, returns)
     r = px - x
     damped = 0
     for it in range(max_iter + 1):
         # |G| small only because x crept onto X* is no orbit: H must be small too
-        if abs(r) <= tol_abs and (not math.isfinite(x_star) or merit(r, x) <= H_TOL):
-            if seg is None:
-                seg = flow.run((x, 0.0), returns=returns)
-                r = float(seg.y1[0]) - x
-            return x, seg, r, it
+        near = abs(r) <= tol_abs and (not math.isfinite(x_star) or merit(r, x) <= H_TOL)
+        if near and abs(r) <= tol_abs * contraction(dp):  # the error in X, |G / (1 - P')|, is within tol_abs
+            return done(seg, x, r, it)
         if it == max_iter:
+            if near:  # as close as rounding lets a barely contracting map come
+                return done(seg, x, r, it)
             break
         g = dp - 1.0 - (r / (x - x_star) if math.isfinite(x_star) else 0.0)
         if not math.isfinite(g) or g == 0.0:
@@ -214,8 +229,12 @@ def newton(
                 break
             lam *= 0.5
         else:
+            if near:  # the residual is at its rounding floor: X is as good as the map can tell
+                return done(seg, x, r, it)
             raise ShootingError(f"Newton stalled at X={x:.10g} (residual {r:.3g}): no nearby periodic orbit")
         damped = damped + 1 if lam < 1.0 else 0
+        if damped > _MAX_DAMPED and near:
+            return done(seg, x, r, it)
         if damped > _MAX_DAMPED:  # creeping along without a root in sight
             raise ShootingError(f"Newton stalled at X={x:.10g} (residual {r:.3g}): no nearby periodic orbit")
         x, seg, r, dp = xn, segn, rn, dpn
