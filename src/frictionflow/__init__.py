@@ -7,8 +7,8 @@
 'periodic'
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
+from . import plotting  # noqa: F401  (imported to register the figures of Trajectory.plot and Analysis.plot)
+from ._version import __version__
 from .analysis import (
     Analysis,
     LyapunovResult,
@@ -31,11 +31,6 @@ from .params import BeltOscillator, DimensionalParams
 from .simulate import simulate
 from .solvers import RK4, Adaptive, CoarseStepWarning, Exact, Solver, StepLimitError
 from .trajectory import Trajectory
-
-try:
-    __version__ = version("frictionflow")
-except PackageNotFoundError:  # running from a source tree
-    __version__ = "0+unknown"
 
 __all__ = [
     "Adaptive",

@@ -8,6 +8,7 @@ from typing import Any
 
 from .. import quantities as Q
 from .._display import Row, Summarized, num, pairs, system_row
+from .._figures import draw
 from ..trajectory import Trajectory
 from .equilibrium import equilibrium_values
 from .power_flow import PowerFlow, power_flow
@@ -62,9 +63,7 @@ class Analysis(Summarized):
 
     def plot(self, path: Any = None):
         """Time history, phase portrait, power and averages (:func:`frictionflow.plotting.plot_run`); returns the figure."""
-        from ..plotting import plot_run
-
-        return plot_run(self, path)
+        return draw(self, path)
 
     def quantities(self) -> dict[str, float]:
         """Every quantity of the table (:mod:`frictionflow.quantities`) by name, ``kind`` as its code."""
