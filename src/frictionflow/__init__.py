@@ -7,6 +7,7 @@
 'periodic'
 """
 
+from . import basins  # the subpackage (its function: basins.basins, or compute_basins)
 from . import plotting  # noqa: F401  (imported to register the figures of Trajectory.plot and Analysis.plot)
 from ._version import __version__
 from .analysis import (
@@ -24,7 +25,8 @@ from .analysis import (
     transmissibility,
 )
 from .analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
-from .basins import Basins, basins
+from .basins import Basins
+from .basins import basins as compute_basins
 from .friction import Coulomb, Cubic, FrictionLaw, Karnopp, SlipLaw, Stribeck
 from .modes import SwitchMode
 from .params import BeltOscillator, DimensionalParams
@@ -59,6 +61,7 @@ __all__ = [
     "amplitude",
     "analyze",
     "basins",
+    "compute_basins",
     "frequency_response",
     "instantaneous_power",
     "lyapunov_exponents",

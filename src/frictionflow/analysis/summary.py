@@ -121,6 +121,9 @@ def analyze(
     equilibrium itself (the motion left over the tail is below the
     convergence tolerance) and the energy residual is that of the whole run.
     """
+    if not isinstance(traj, Trajectory):  # a model or law passed by mistake would fail deep inside
+        raise TypeError(f"analyze: traj must be a Trajectory (from simulate(model, friction, ...)), "
+                        f"got {type(traj).__name__}")
     if rtol is None:
         rtol = DEFAULT_RTOL.get(traj.solver.get("name", ""), 1e-6)
     ss = steady_state(traj, rtol=rtol, min_periods=min_periods, window=window)
