@@ -22,8 +22,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from frictionflow import BeltOscillator, Stribeck, analyze, basins, simulate
-from frictionflow.basins import Tolerances
+from frictionflow import BeltOscillator, Stribeck, analyze, simulate
+from frictionflow.basins import Tolerances, basins
 from frictionflow.basins.labels import find_attractors
 from frictionflow.cli import main
 from frictionflow.sweep import parse_sweep, run_sweep, verify_sweep

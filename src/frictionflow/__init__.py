@@ -7,8 +7,9 @@
 'periodic'
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
+from . import basins  # the subpackage (its function: basins.basins, or compute_basins)
+from . import plotting  # noqa: F401  (imported to register the figures of Trajectory.plot and Analysis.plot)
+from ._version import __version__
 from .analysis import (
     Analysis,
     LyapunovResult,
@@ -24,18 +25,14 @@ from .analysis import (
     transmissibility,
 )
 from .analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
-from .basins import Basins, basins
+from .basins import Basins
+from .basins import basins as compute_basins
 from .friction import Coulomb, Cubic, FrictionLaw, Karnopp, SlipLaw, Stribeck
 from .modes import SwitchMode
 from .params import BeltOscillator, DimensionalParams
 from .simulate import simulate
 from .solvers import RK4, Adaptive, CoarseStepWarning, Exact, Solver, StepLimitError
 from .trajectory import Trajectory
-
-try:
-    __version__ = version("frictionflow")
-except PackageNotFoundError:  # running from a source tree
-    __version__ = "0+unknown"
 
 __all__ = [
     "Adaptive",
@@ -64,6 +61,7 @@ __all__ = [
     "amplitude",
     "analyze",
     "basins",
+    "compute_basins",
     "frequency_response",
     "instantaneous_power",
     "lyapunov_exponents",

@@ -14,7 +14,7 @@ from typing import Any, Mapping
 
 from . import _validate as check
 from .friction import FrictionLaw, law_class, law_names
-from .parameters import STATE_MAX, Param, declared
+from .parameters import STATE_MAX, Param, declare, declared
 from .params import BeltOscillator, DimensionalParams
 from .solvers import Solver
 from .solvers.base import DEFAULT_MAX_MEMORY
@@ -89,6 +89,7 @@ RUN_PARAMETERS: tuple[Param, ...] = (
     Param("dimensional", "", "dimensional input instead: 'm=..,c=..,k=..,v_b=..,f_d=..[,f_ms=..,v_d=..,l_0=..]'",
           "run", None, kind="text", parse=parse_dimensional),
 )
+declare(RUN_PARAMETERS)
 
 
 class RunConfig:

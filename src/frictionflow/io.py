@@ -257,6 +257,10 @@ def _full(directory: Path) -> bool:
         return False
 
 
+#: the figure formats the package writes (matplotlib picks the format by the extension)
+FIGURE_FORMATS = (".png", ".pdf", ".svg")
+
+
 def write_figure(fig, path: str | Path, name: str = "path", *, close: bool = True, **savefig: Any) -> Path:
     """Save a matplotlib figure atomically (format by the extension) and, unless ``close=False``, close it."""
     import matplotlib.pyplot as plt

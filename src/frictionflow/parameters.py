@@ -187,36 +187,43 @@ def params_by_name(params: tuple[Param, ...]) -> dict[str, Param]:
 def declared() -> dict[str, Param]:
     """Every parameter of the package by name (oscillator, every registered law and solver, the run).
 
-    Built once; registering a law (:func:`frictionflow.friction.register`) rebuilds it.
+    Collected from the groups the owners :func:`declare` (on import of their
+    modules, which ``import frictionflow`` runs) in the order of ``OWNERS``;
+    built once, and again after a law registers.
     """
     if not _DECLARED:
-        _DECLARED.update(_collect())
+        missing = [owner for owner in OWNERS if not _GROUPS[owner]]
+        if missing:  # an owner's module not imported yet: a partial table would be cached
+            raise RuntimeError(f"parameters of {', '.join(missing)} not declared yet: import frictionflow first")
+        for owner in OWNERS:
+            for group in _GROUPS[owner]:
+                for p in group:
+                    _DECLARED.setdefault(p.name, p)  # shared law parameters (fd, fs, ...) are one declaration
     return _DECLARED
 
 
+#: the declared groups by owner, in the order they were declared
+_GROUPS: dict[str, list[tuple[Param, ...]]] = {owner: [] for owner in OWNERS}
 _DECLARED: dict[str, Param] = {}
 
 
+def declare(group: tuple[Param, ...]) -> None:
+    """Add an owner's parameters to :func:`declared`.
+
+    The owners call it -- the oscillator and the run in their modules, the law
+    and solver registries for each class -- so that this module, the lowest
+    layer, names none of them.
+    """
+    owners = {p.owner for p in group}
+    if len(owners) != 1:
+        raise ValueError(f"a declared group has one owner, got {sorted(owners)}")
+    _GROUPS[owners.pop()].append(group)
+    forget_declarations()
+
+
 def forget_declarations() -> None:
-    """Drop the collected declarations (a law was registered)."""
+    """Drop the collected declarations (a group was declared: a law was registered)."""
     _DECLARED.clear()
-
-
-def _collect() -> dict[str, Param]:
-    from .config import RUN_PARAMETERS
-    from .friction.registry import law_classes
-    from .params import BeltOscillator
-    from .solvers.registry import solver_classes
-
-    out: dict[str, Param] = {}
-    owners: list[tuple[Param, ...]] = [BeltOscillator.parameters]
-    owners += [cls.parameters for cls in law_classes()]
-    owners += [cls.parameters for cls in solver_classes()]
-    owners.append(RUN_PARAMETERS)
-    for group in owners:
-        for p in group:
-            out.setdefault(p.name, p)  # shared law parameters (fd, fs, ...) are one declaration
-    return out
 
 
 def sweep_axes() -> tuple[str, ...]:

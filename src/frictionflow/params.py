@@ -23,7 +23,7 @@ from typing import Any, ClassVar, Mapping
 import numpy as np
 
 from . import _validate as check
-from .parameters import MODEL_MAX, Param, nonnegative_real, positive_real, resolve
+from .parameters import MODEL_MAX, Param, declare, nonnegative_real, positive_real, resolve
 
 ZETA = nonnegative_real("zeta", "zeta", "damping ratio", "oscillator", 0.0, upper=MODEL_MAX, sweepable=True)
 VB = Param("vb", "V_b", "belt speed", "oscillator", 0.01, lower=-MODEL_MAX, upper=MODEL_MAX, sweepable=True)
@@ -90,6 +90,9 @@ class BeltOscillator:
     def external_force(self, t: Any) -> Any:
         """f(tau) = F_ex cos(Omega tau + phi), on scalars or arrays."""
         return self.fex * np.cos(self.omega * np.asarray(t) + self.phi)
+
+
+declare(BeltOscillator.parameters)
 
 
 @dataclass(frozen=True)

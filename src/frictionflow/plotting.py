@@ -12,11 +12,12 @@ from pathlib import Path
 
 
 
+from ._figures import draws
 from .analysis.power_flow import instantaneous_power
 from .analysis.summary import Analysis
-from .io import write_figure
+from .io import FIGURE_FORMATS, write_figure  # noqa: F401  (FIGURE_FORMATS: re-exported)
+from .trajectory import Trajectory
 
-FIGURE_FORMATS = (".png", ".pdf", ".svg")
 MAX_POINTS = 20_000
 
 
@@ -24,6 +25,7 @@ def _thin(n: int, max_points: int = MAX_POINTS) -> slice:
     return slice(None, None, max(1, n // max_points))
 
 
+@draws(Analysis)
 def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "path"):
     """Draw X(tau), X'(tau), the phase portrait and the power flow of the steady window.
 
@@ -86,6 +88,7 @@ def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "p
     return fig
 
 
+@draws(Trajectory)
 def plot_trajectory(traj, path: str | Path | None = None, *, name: str = "path"):
     """X and X' against tau, and the phase portrait, on the true curve; the switches marked.
 

@@ -26,6 +26,7 @@ import numpy as np
 
 from . import _continuous as cont
 from ._display import Row, Summarized, num, system_row
+from ._figures import draw
 from .friction.base import FrictionLaw
 from .params import BeltOscillator
 
@@ -120,9 +121,7 @@ class Trajectory(Summarized):
 
     def plot(self, path: Any = None):
         """X(tau), X'(tau) and the phase portrait on the true curve, switches marked; returns the figure."""
-        from .plotting import plot_trajectory
-
-        return plot_trajectory(self, path)
+        return draw(self, path)
 
     # -- the motion at any time -------------------------------------------------------
     def at(self, t: Any) -> tuple[Any, Any]:

@@ -44,6 +44,7 @@ import numpy as np
 
 from ..core.sections import _stationary
 from ..trajectory import Trajectory
+from .lyapunov import lyapunov_exponents
 
 #: the longest subharmonic looked for (in forcing periods)
 MAX_MULTIPLE = 16
@@ -194,8 +195,6 @@ def largest_exponent(traj: Trajectory) -> tuple[float, float] | None:
     is the spread of the running estimate over the second half of the
     averaging (at least 1e-4: a finite run cannot tell smaller exponents from 0).
     """
-    from .lyapunov import lyapunov_exponents
-
     law = traj.friction
     if law.stick_rule != "switch" or getattr(law, "func", None) is not None:
         return None

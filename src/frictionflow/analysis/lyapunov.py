@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from .._display import Row, Summarized, num, system_row
+from .._json import jsonable
 from ..core import tangent
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
@@ -88,8 +89,6 @@ class LyapunovResult(Summarized):
 
     def as_dict(self) -> dict[str, Any]:
         """A JSON-ready report: -inf exponents become None (``minus_infinity`` says which)."""
-        from ..orbits._json import jsonable
-
         return jsonable({
             "params": {**self.model.as_dict(), **self.friction.as_dict()},
             "exponents": list(self.exponents),

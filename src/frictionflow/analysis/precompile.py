@@ -17,14 +17,19 @@ from typing import Callable
 
 import numpy as np
 
+from ..core import certificate, sections
+from ..core.layout import N_WORK
+from ..friction import Coulomb
+from ..params import BeltOscillator
+from ..trajectory import Trajectory
+from . import analyze
+
 #: how long a run waits for the second process before compiling itself
 TIMEOUT = 300.0
 
 
 def _cached() -> bool:
     """The classifier's cache index exists (what the others are compiled with)."""
-    from ..core import sections
-
     try:
         return os.path.exists(sections.classify._cache._cache_file._index_path)
     except AttributeError:  # a numba without these internals: do nothing
@@ -52,13 +57,6 @@ def in_background() -> Callable[[], None]:
 
 def compile_analysis() -> None:
     """Analyse a made-up periodic trajectory: compiles what analysing a real one needs, with the same types."""
-    from ..core import certificate
-    from ..core.layout import N_WORK
-    from ..friction import Coulomb
-    from ..params import BeltOscillator
-    from ..trajectory import Trajectory
-    from . import analyze
-
     t = np.linspace(0.0, 60.0, 601)
     x, v = 0.02 * np.cos(t), -0.02 * np.sin(t)
     mode = np.where(v < 0.01, 1, 0).astype(np.int8)

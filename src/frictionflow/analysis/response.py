@@ -26,6 +26,7 @@ from .. import quantities as Q
 from .._progress import progress_bar
 from ..friction.base import FrictionLaw
 from ..params import OMEGA, BeltOscillator
+from ..simulate import simulate
 from ..solvers.base import Solver
 from ..solvers.registry import auto_solver
 from .summary import analyze
@@ -66,8 +67,6 @@ def frequency_response(
     rtol:
         Steady-state tolerance (default: the solver's, as :func:`~frictionflow.analysis.analyze`).
     """
-    from ..simulate import simulate
-
     omegas = _checked_omegas(omegas)
     if not model.forced:
         raise ValueError("fex must be > 0 for a frequency response (the forcing amplitude), got 0")

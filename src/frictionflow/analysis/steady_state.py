@@ -41,6 +41,7 @@ from ..core import certificate
 from ..core import sections as sec
 from ..trajectory import Trajectory
 from .equilibrium import sliding_equilibrium
+from .forced import classify_forced, largest_exponent
 
 KINDS = Q.KINDS
 HEADINGS = {sec.HEAD_NONE: None, sec.HEAD_EQUILIBRIUM: "equilibrium", sec.HEAD_PERIODIC: "periodic", sec.HEAD_GROWING: "growing"}
@@ -184,8 +185,6 @@ def steady_state(
 
 def _forced(traj: Trajectory, rtol: float, min_periods: int) -> SteadyState:
     """The forced run's steady state on the stroboscopic section (:func:`.forced.classify_forced`)."""
-    from .forced import classify_forced, largest_exponent
-
     c = classify_forced(traj, rtol, min_periods, section_noise(traj.solver), lyapunov=largest_exponent)
     found = SteadyState(kind=c["kind"], window=c["window"], period=c["period"], n_periods=c["n_periods"],
                         stick_fraction=stick_fraction(traj, c["window"]), forcing_multiple=c["multiple"],

@@ -8,6 +8,7 @@ from typing import Any
 
 from .. import quantities as Q
 from .._display import Row, Summarized, num, pairs, system_row
+from .._figures import draw
 from ..trajectory import Trajectory
 from .equilibrium import equilibrium_values
 from .power_flow import PowerFlow, power_flow
@@ -62,9 +63,7 @@ class Analysis(Summarized):
 
     def plot(self, path: Any = None):
         """Time history, phase portrait, power and averages (:func:`frictionflow.plotting.plot_run`); returns the figure."""
-        from ..plotting import plot_run
-
-        return plot_run(self, path)
+        return draw(self, path)
 
     def quantities(self) -> dict[str, float]:
         """Every quantity of the table (:mod:`frictionflow.quantities`) by name, ``kind`` as its code."""
@@ -122,6 +121,9 @@ def analyze(
     equilibrium itself (the motion left over the tail is below the
     convergence tolerance) and the energy residual is that of the whole run.
     """
+    if not isinstance(traj, Trajectory):  # a model or law passed by mistake would fail deep inside
+        raise TypeError(f"analyze: traj must be a Trajectory (from simulate(model, friction, ...)), "
+                        f"got {type(traj).__name__}")
     if rtol is None:
         rtol = DEFAULT_RTOL.get(traj.solver.get("name", ""), 1e-6)
     ss = steady_state(traj, rtol=rtol, min_periods=min_periods, window=window)

@@ -1,6 +1,6 @@
 """Basins of attraction and basin stability of the friction oscillator.
 
->>> from frictionflow import basins
+>>> from frictionflow.basins import basins
 >>> b = basins(friction="stribeck", fd=0.02, fs=0.04, vs=0.05, delta=1.0, zeta=0.03, vb=0.12,
 ...            t_end=300.0, x0=(-0.3, 0.35), v0=(-0.3, 0.3), sample=500, seed=1)   # doctest: +SKIP
 >>> b.fractions                                                                       # doctest: +SKIP

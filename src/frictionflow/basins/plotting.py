@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
-
 import numpy as np
 
+from .._figures import draws
 from ..io import write_figure
-
-if TYPE_CHECKING:
-    from .study import Basins
+from ..parameters import declared
+from .study import Basins
 
 #: one colour per outcome name, the same in every figure
 _COLOURS = {"equilibrium": "tab:blue", "slip_cycle": "tab:orange", "stick_slip_cycle": "tab:red",
@@ -23,7 +21,8 @@ def colour(name: str, i: int) -> str:
     return _COLOURS.get(name, _MORE[i % len(_MORE)])
 
 
-def plot_basins(result: "Basins", path: str | Path | None = None, *, name: str = "path"):
+@draws(Basins)
+def plot_basins(result: Basins, path: str | Path | None = None, *, name: str = "path"):
     """The basin map, or with ``vary`` the basin-stability curves; saved atomically to ``path`` if given."""
     import matplotlib
 
@@ -45,13 +44,13 @@ def plot_basins(result: "Basins", path: str | Path | None = None, *, name: str =
     return fig
 
 
-def _present(result: "Basins") -> list[tuple[int, str]]:
+def _present(result: Basins) -> list[tuple[int, str]]:
     """(index, name) of the outcomes that some point reaches."""
     counts = np.asarray(result.dataset["basin_count"]).reshape(-1, len(result.names))
     return [(j, n) for j, n in enumerate(result.names) if counts[:, j].sum() > 0]
 
 
-def _map(ax, result: "Basins") -> None:
+def _map(ax, result: Basins) -> None:
     """Every initial state coloured by its outcome; the legend gives each basin's stability."""
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
@@ -81,12 +80,11 @@ def _map(ax, result: "Basins") -> None:
         ax.set_aspect("equal")  # X and X' in the same units: the energy's level sets look round
 
 
-def _curves(ax, result: "Basins") -> None:
+def _curves(ax, result: Basins) -> None:
     """Basin stability of each outcome against the varied parameter, with binomial error bars."""
     x = result.dataset[result.vary].values
     for j, n in _present(result):
         ax.errorbar(x, result.fractions[n], yerr=result.stderr[n], marker="o", ms=4, capsize=2, color=colour(n, j), label=n)
-    from ..parameters import declared
 
     ax.set(xlabel=declared()[result.vary].long_name, ylabel="basin stability", ylim=(-0.02, 1.02))
     ax.legend(fontsize=8)

@@ -24,7 +24,11 @@ import numpy as np
 
 from .. import _validate as check
 from .._display import Summarized, num
-from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS
+from .._figures import draw
+from ..io import FIGURE_FORMATS, atomic_write, check_output_path, temporary_path
+from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS, parse_sweep
+from ..sweep.runner import run_sweep
+from ..sweep.store import check_out
 from .labels import OUTCOMES, Attractor, Tolerances, label_attractors
 
 #: what an output dataset can be
@@ -104,9 +108,7 @@ class Basins(Summarized):
 
     def plot(self, path: str | Path | None = None, *, name: str = "path"):
         """The basin map (or, with ``vary``, basin stability against the parameter); saved to ``path`` if given."""
-        from .plotting import plot_basins
-
-        return plot_basins(self, path, name=name)
+        return draw(self, path, name=name)
 
     def _summary(self) -> tuple[str, list[tuple[str, str]]]:
         title = f"basins: {self.design['points']} initial states ({self.design['kind']})"
@@ -177,11 +179,6 @@ def basins(
     Basins
         The labelled dataset, the attractors, fractions and standard errors.
     """
-    from ..io import check_output_path
-    from ..plotting import FIGURE_FORMATS
-    from ..sweep import parse_sweep, run_sweep
-    from ..sweep.store import check_out
-
     tol = tolerances or Tolerances()
     if not isinstance(tol, Tolerances):
         raise ValueError(f"tolerances must be a Tolerances, got {tol!r}")
@@ -323,8 +320,6 @@ class _sweep_store:
 
 def write_dataset(ds, path: str | Path, name: str = "out") -> Path:
     """Write ``ds`` as NetCDF or (consolidated) Zarr by the extension, atomically: complete or not at all."""
-    from ..io import atomic_write, temporary_path
-
     p = Path(path)
     if p.suffix.lower() == ".nc":
         with atomic_write(p, name) as tmp:

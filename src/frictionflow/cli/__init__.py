@@ -12,44 +12,18 @@ import warnings
 
 import typer
 
-app = typer.Typer(
-    name="frictionflow",
-    help="Dynamics and vibration power flow of dry-friction (mass-on-belt) oscillators.",
-    no_args_is_help=True,
-    add_completion=True,  # --install-completion / --show-completion (see the README)
-    pretty_exceptions_enable=False,
-    rich_markup_mode=None,
-)
-
-
-
-def _print_version(value: bool) -> None:
-    """Eager ``--version``: print and stop before any command is needed."""
-    if value:
-        from .. import __version__
-
-        print(f"frictionflow {__version__}")
-        raise typer.Exit(0)
-
-
-@app.callback()
-def _root(
-    version: bool = typer.Option(False, "--version", help="Print the version and exit.",
-                                 callback=_print_version, is_eager=True),
-) -> None:
-    """Dynamics and vibration power flow of dry-friction (mass-on-belt) oscillators."""
-
+from ._app import app
 
 # each module registers its command(s)
-from . import simulate as _simulate  # noqa: E402,F401
-from . import reproduce as _reproduce  # noqa: E402,F401
-from . import sweep as _sweep  # noqa: E402,F401
-from . import orbit as _orbit  # noqa: E402,F401
-from . import basins as _basins  # noqa: E402,F401
-from . import response as _response  # noqa: E402,F401
-from . import lyapunov as _lyapunov  # noqa: E402,F401
-from . import forced_orbit as _forced_orbit  # noqa: E402,F401
-from . import map as _map  # noqa: E402,F401
+from . import simulate as _simulate  # noqa: F401
+from . import reproduce as _reproduce  # noqa: F401
+from . import sweep as _sweep  # noqa: F401
+from . import orbit as _orbit  # noqa: F401
+from . import basins as _basins  # noqa: F401
+from . import response as _response  # noqa: F401
+from . import lyapunov as _lyapunov  # noqa: F401
+from . import forced_orbit as _forced_orbit  # noqa: F401
+from . import map as _map  # noqa: F401
 
 #: one line per command for the command list (click would cut the docstring at its first period)
 SHORT_HELP = {

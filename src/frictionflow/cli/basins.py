@@ -13,9 +13,16 @@ from typing import Any, Optional
 
 import typer
 
+from .._display import num
+from ..basins import Tolerances, basins as run_basins
+from ..basins.study import DATASET_FORMATS
+from ..io import check_output_path
+from ..plotting import FIGURE_FORMATS
 from ..sweep.config import NOT_IN_SWEEPS
-from . import app
+from ..sweep.store import check_out
+from ._app import app
 from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
+from .sweep import _sigterm_as_interrupt
 
 #: the model's options, as a sweep takes them; the initial state is a range here (--x0, --v0), not a value
 MODEL = tuple(n for n in parameter_names(("oscillator", "law", "solver"), run=("t_end", "friction", "solver", "rtol", "max_memory"))
@@ -47,10 +54,6 @@ def basins(
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Basins of attraction of the initial states at fixed parameters: attractors, basin stability (with binomial standard errors), map and dataset."""
-    from ..basins import Tolerances
-    from ..basins import basins as run_basins
-    from .sweep import _sigterm_as_interrupt
-
     settings = merged_config(config, params).given
     tolerances = Tolerances() if tol is None else Tolerances(period=tol, amplitude=tol, stick=tol)
     if chunk_size is not None and chunk_size < 1:
@@ -73,11 +76,6 @@ def basins(
 
 def _check_outputs(out: Optional[Path], plot: Optional[Path]) -> None:
     """Refuse, before any work and naming the option, outputs that could not be written."""
-    from ..basins.study import DATASET_FORMATS
-    from ..io import check_output_path
-    from ..plotting import FIGURE_FORMATS
-    from ..sweep.store import check_out
-
     if out is not None:
         if out.suffix.lower() not in DATASET_FORMATS:
             raise ValueError(f"--out must end in one of {', '.join(DATASET_FORMATS)}, got {str(out)!r}")
@@ -122,8 +120,6 @@ def _print(result) -> None:
     """The outcomes as a table (with --vary: basin stability per value)."""
     from rich.console import Console
     from rich.table import Table
-
-    from .._display import num
 
     console = Console()
     title, _ = result._summary()

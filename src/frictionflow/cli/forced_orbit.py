@@ -12,11 +12,16 @@ from typing import Any, Optional
 import numpy as np
 import typer
 
+from .._json import jsonable
+from ..core import forced_map as fm
 from ..friction.registry import SWITCH_LAW
-from ..io import check_input_path, check_output_path
+from ..io import check_input_path, check_output_path, read_config, write_figure
+from ..orbits.forced import DEFAULT_STEPS, PARAMETERS, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
+from ..orbits.forced_plot import plot_forced_branches
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
-from . import app
+from ..solvers.base import kernel_params
+from ._app import app
 from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "friction", "dimensional"))
@@ -43,8 +48,6 @@ def _check(**values: Any) -> None:
 
 
 def _build(config: Optional[Path], params: dict[str, Any]):
-    from ..io import read_config
-
     file_values: dict[str, Any] = {}
     if config is not None:
         check_input_path(config, "--config")
@@ -69,8 +72,6 @@ def forced_orbit(
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Newton shooting for the orbit of period m 2 pi / Omega: state at tau = 0, multipliers, power and TR_B."""
-    from ..orbits.forced import find_forced_orbit
-
     _check(m=m, transient=transient, steps=steps)
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "--plot")
@@ -90,9 +91,6 @@ def _plot_orbit(orbit, path: Path) -> None:
 
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
-
-    from ..io import write_figure
-    from ..orbits.forced import DEFAULT_STEPS
 
     n = 200 * orbit.m
     ts = np.linspace(0.0, orbit.period, n + 1)[1:]
@@ -114,9 +112,6 @@ def _plot_orbit(orbit, path: Path) -> None:
 
 def _state_at(orbit, t: float, steps: int) -> np.ndarray:
     """The orbit's state at time t (< its period), by the flow map over [0, t] (t need not be whole periods)."""
-    from ..core import forced_map as fm
-    from ..solvers.base import kernel_params
-
     model = orbit.model
     p = kernel_params(model, orbit.friction)
     end, mono = np.empty(2), np.empty((2, 2))
@@ -146,8 +141,6 @@ def forced_continue(
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Pseudo-arclength continuation in Omega or F_ex: folds, period doublings, Neimark-Sacker, grazings."""
-    from ..orbits.forced import PARAMETERS, continue_forced, stroboscopic_sweep, switch_period_doubling
-
     if parameter not in PARAMETERS:
         raise ValueError(f"--parameter must be omega or fex, got {parameter!r}")
     for flag, value in (("--from", start), ("--to", stop)):
@@ -170,14 +163,10 @@ def forced_continue(
         brute = stroboscopic_sweep(branch.model, law, parameter, values, x0=float(branch.points[0].state[0]) if start < stop else 0.0,
                                    v0=float(branch.points[0].state[1]) if start < stop else 0.0)
     if plot is not None:
-        from ..orbits.forced_plot import plot_forced_branches
-
         plot_forced_branches(branches, plot, sweep=brute, name="--plot")
     if as_json:
         out: dict[str, Any] = {"branches": [b.as_dict() for b in branches]}
         if brute is not None:
-            from ..orbits._json import jsonable
-
             out["brute_force"] = jsonable({"values": brute.values, "X": brute.x, "V": brute.v})
         print(json.dumps(out, allow_nan=False))
     else:

@@ -8,9 +8,11 @@ from typing import Any, Optional
 
 import typer
 
+from ..analysis.lyapunov import lyapunov_exponents
 from ..friction.registry import SWITCH_LAW
+from ..io import check_input_path, read_config
 from ..parameters import Param
-from . import app
+from ._app import app
 from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "dimensional"))
@@ -43,9 +45,6 @@ def lyapunov(
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Lyapunov exponents of the stick-slip flow (switches located, saltation matrices, QR once per forcing period)."""
-    from ..analysis.lyapunov import lyapunov_exponents
-    from ..io import check_input_path, read_config
-
     file_values: dict[str, Any] = {}
     if config is not None:
         check_input_path(config, "--config")

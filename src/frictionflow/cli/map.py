@@ -10,10 +10,13 @@ import numpy as np
 import typer
 
 from ..friction.registry import SMOOTH_SWITCH_LAW
-from ..io import check_output_path
+from ..io import atomic_write, check_output_path
+from ..orbits.chart import CURVES, stability_map
+from ..orbits.chart_plot import plot_chart
+from ..orbits.forced_chart import FORCED_CURVES, forced_map
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
-from . import app
+from ._app import app
 from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("t_end", "friction", "dimensional"))
@@ -75,8 +78,6 @@ def map_(
     """Stability chart in two parameters: the Hopf curve of steady sliding (with its criticality and Bautin points),
     the grazing curve of the stick-slip cycle, fold curves of cycles and where a fold meets the grazing.  With
     --x/--y among omega and fex: the forced system's fold, period-doubling, Neimark-Sacker and grazing curves."""
-    from ..orbits.chart import CURVES, stability_map
-
     for name, value in (("x_points", x_points), ("scan", scan), ("fold_every", fold_every), ("y_points", y_points)):
         COMMAND_PARAMETERS[name].check(value)
     if x in FORCING or y in FORCING or "phi" in (x, y):
@@ -102,8 +103,6 @@ def map_(
     chart = stability_map(model, law, x, xs, y, (y_from, y_to), sweep_shape=shape, sweep_out=sweep_out, t_end=t_end,
                           heat=heat, curves=curve_list, n_scan=scan, fold_every=fold_every)
     if plot is not None:
-        from ..orbits.chart_plot import plot_chart
-
         plot_chart(chart, plot, name="--plot")
     if dataset is not None:
         _write_dataset(chart.to_xarray(), dataset)
@@ -129,8 +128,6 @@ def _forced_map(params, x, x_from, x_to, y, y_from, y_to, y_points, m, curves, s
                 as_json, plot, config) -> None:
     """The forced system's chart: continuation in x at each of ``y_points`` values of y."""
     from dataclasses import replace
-
-    from ..orbits.forced_chart import FORCED_CURVES, forced_map
 
     for flag, name in (("--x", x), ("--y", y)):
         if name not in FORCING:
@@ -165,8 +162,6 @@ def _forced_map(params, x, x_from, x_to, y, y_from, y_to, y_points, m, curves, s
                        t_end=cfg.given.get("t_end", 500.0), heat=heat, sweep_y_range=(y_from, y_to), m=orders, x_start=float(x_from),
                        curves=curve_list)
     if plot is not None:
-        from ..orbits.chart_plot import plot_chart
-
         plot_chart(chart, plot, name="--plot")
     if dataset is not None:
         _write_dataset(chart.to_xarray(), dataset)
@@ -181,7 +176,6 @@ def _write_dataset(ds, path: Path) -> None:
     if path.suffix == ".zarr":
         ds.to_zarr(path, mode="w")
         return
-    from ..io import atomic_write
 
     with atomic_write(path, "--dataset") as tmp:
         ds.to_netcdf(tmp)

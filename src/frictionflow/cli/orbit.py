@@ -10,10 +10,14 @@ import numpy as np
 import typer
 
 from ..config import RunConfig
-from ..parameters import Param
 from ..io import check_input_path, check_output_path
+from ..orbits import continuation, find_orbit
+from ..orbits.floquet import fd_monodromy
+from ..orbits.monitors import MONITORS, branch_extrema
+from ..orbits.plotting import plot_bifurcation, plot_orbit
+from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
-from . import app
+from ._app import app
 from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "solver", "dimensional"))
@@ -65,9 +69,6 @@ def orbit(
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Find a periodic orbit by Newton shooting; report its Floquet multipliers, power flow and TR_B."""
-    from ..orbits import find_orbit
-    from ..orbits.floquet import fd_monodromy
-
     cfg = _config(config, params)
     _check(returns=returns, tol=tol)
     if plot is not None:
@@ -80,8 +81,6 @@ def orbit(
         report["fd_monodromy"] = M.tolist()
         report["fd_deviation"] = float(np.max(np.abs(M - found.monodromy)))
     if plot is not None:
-        from ..orbits.plotting import plot_orbit
-
         plot_orbit(found, plot, name="--plot")
     if as_json:
         _dump(report)
@@ -112,9 +111,6 @@ def continue_(
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Continue equilibria and periodic orbits in one parameter; report Hopf points, folds, grazing and power along branches."""
-    from ..orbits import continuation
-    from ..orbits.monitors import MONITORS, branch_extrema
-
     monitors = tuple(m.strip() for m in monitor.split(",") if m.strip())
     for m in monitors:
         if m not in MONITORS:
@@ -131,8 +127,6 @@ def continue_(
         max_period=max_period, step=step, sweep=sweep, solver=solv, x0=cfg.x0, v0=cfg.v0, tol=tol,
     )
     if plot is not None:
-        from ..orbits.plotting import plot_bifurcation
-
         plot_bifurcation(result, plot, name="--plot")
     report = result.to_dict()
     if monitors:

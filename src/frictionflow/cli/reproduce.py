@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING, Optional
 
 import typer
 
-from . import app
+from ..paper import Settings, reproduce as run_reproduction
+from ._app import app
 
 if TYPE_CHECKING:
     from ..paper import Summary
@@ -26,9 +27,6 @@ def reproduce(
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (verdicts, files, timings) instead of the table."),
 ) -> None:
     """Reproduce Figs. 2-6 of the paper with its method and the exact solver; write figures, data and report.html."""
-    from ..paper import Settings
-    from ..paper import reproduce as run_reproduction
-
     base = Settings.quick() if quick else Settings()
     changes = {k: v for k, v in (("t_end", t_end), ("dt", dt)) if v is not None}
     if t_end is not None and t_end > base.window_t_end:

@@ -10,9 +10,11 @@ from typing import Any, Optional
 import numpy as np
 import typer
 
+from .. import quantities as Q
+from ..analysis.response import DIRECTIONS, frequency_response
 from ..io import atomic_write, check_input_path, check_output_path
-from ..plotting import FIGURE_FORMATS
-from . import app
+from ..plotting import FIGURE_FORMATS, plot_response
+from ._app import app
 from .basins import parse_range
 from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
 
@@ -33,8 +35,6 @@ def response(
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Frequency response: steady amplitude, power, TR_B and stick fraction against the forcing frequency."""
-    from ..analysis.response import DIRECTIONS, frequency_response
-
     if config is not None:
         check_input_path(config, "--config")
     w0, w1, n = parse_range("--omega", omega, with_count=True)
@@ -55,8 +55,6 @@ def response(
         with atomic_write(out, "--out") as tmp:
             ds.to_netcdf(tmp)
     if plot is not None:
-        from ..plotting import plot_response
-
         plot_response(ds, plot, name="--plot")
     if as_json:
         print(json.dumps(_as_json(ds)))
@@ -76,8 +74,6 @@ def _as_json(ds) -> dict[str, Any]:
 def _print_table(ds) -> None:
     from rich.console import Console
     from rich.table import Table
-
-    from .. import quantities as Q
 
     table = Table(title="frequency response")
     for col in ("Omega", "sweep", "kind", "m", "amplitude", "TR_B", "P_ex", "stick"):

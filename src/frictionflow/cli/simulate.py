@@ -14,9 +14,10 @@ import typer
 from ..analysis import analyze, precompile
 from ..config import RunConfig
 from ..io import TRAJECTORY_FORMATS, check_input_path, check_output_path, write_trajectory
-from ..plotting import FIGURE_FORMATS
+from ..params import DimensionalParams
+from ..plotting import FIGURE_FORMATS, plot_run
 from ..simulate import simulate as run_simulation
-from . import app
+from ._app import app
 from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
 
 
@@ -59,8 +60,6 @@ def simulate(
     if out is not None:
         write_trajectory(traj, out, name="--out")
     if plot is not None:
-        from ..plotting import plot_run
-
         plot_run(result, plot, name="--plot")
     if as_json:
         print(json.dumps(report))
@@ -69,8 +68,6 @@ def simulate(
 
 
 def model_omega0(cfg: RunConfig) -> float:
-    from ..params import DimensionalParams
-
     return DimensionalParams(**cfg.dimensional).omega0  # type: ignore[arg-type]
 
 

@@ -19,7 +19,9 @@ from typing import Iterator, Optional
 import numpy as np
 import typer
 
-from . import app
+from ..sweep import KIND_NAMES, load_sweep, run_sweep
+from ..sweep.store import verify_sweep
+from ._app import app
 
 
 @app.command()
@@ -50,8 +52,6 @@ def sweep(
 
 def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeout: float, chunk_size: Optional[int], as_json: bool) -> None:
     """Compute (or resume) the sweep and print its summary."""
-    from ..sweep import KIND_NAMES, load_sweep, run_sweep
-
     cfg = load_sweep(str(config))
     if chunk_size is not None and chunk_size < 1:
         raise ValueError(f"chunk-size must be an integer >= 1, got {chunk_size}")
@@ -85,8 +85,6 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
 
 def _verify(path: str, as_json: bool) -> None:
     """Check an output: one line per bad chunk and a summary line; exit code 1 when damaged."""
-    from ..sweep.store import verify_sweep
-
     found = verify_sweep(path)
     if as_json:
         print(json.dumps(found.as_dict()))

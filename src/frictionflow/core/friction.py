@@ -16,7 +16,8 @@ force leave, F_e - f(tau).
 
 A law's parameters arrive as plain floats in the layout of :mod:`.layout`
 (re-exported here).  A new law with a compiled slip force adds its code to
-:mod:`.layout` and one line to each of the two dispatchers below.
+:mod:`.layout`, its curve as a ``curve_*`` module here and one line to each
+of the dispatchers below.
 """
 
 from __future__ import annotations
@@ -25,7 +26,8 @@ import math
 
 from numba import njit
 
-from ..friction import cubic, stribeck
+from . import curve_cubic as cubic
+from . import curve_stribeck as stribeck
 from .layout import (  # noqa: F401  (re-exported: the kernels import the layout from here)
     COULOMB, CUBIC, FD, FEX, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, N_PARAMS, N_WORK, OMEGA, PHI, RESULTANT, SLIP_NEG,
     SLIP_POS, SMOOTH_LAWS, STICK, STRIBECK, VD,

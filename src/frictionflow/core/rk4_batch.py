@@ -16,6 +16,7 @@ import numpy as np
 from numba import literal_unroll, njit
 
 from . import sections as sec
+from ._vectorize import wide_vectors
 from .friction import COULOMB, FD, FS, KARNOPP, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, SMOOTH_LAWS, VD
 from .rk4 import FASTMATH, step
 from .threads import over_points
@@ -172,7 +173,6 @@ def warm_up() -> None:
     global _warm
     if _warm:
         return
-    from ._vectorize import wide_vectors
 
     z = np.zeros(1)
     p = np.zeros((1, N_PARAMS))

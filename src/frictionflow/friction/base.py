@@ -23,6 +23,7 @@ from typing import Any, Callable, ClassVar, Mapping
 import numpy as np
 
 from ..core import layout
+from ..core.friction import slip_magnitude_of
 from ..parameters import MODEL_MAX, Param, nonnegative_real, positive_real, resolve
 
 STICK_FORCES = ("resultant", "spring")
@@ -122,8 +123,6 @@ class FrictionLaw:
     # -- physics ---------------------------------------------------------------
     def kernel_force(self) -> Callable[[np.ndarray, float], float] | None:
         """The compiled ``(p, speed) -> |F|`` the kernels use for this law (None: it cannot be compiled)."""
-        from ..core.friction import slip_magnitude_of  # the kernels import the laws: import them late
-
         return slip_magnitude_of
 
     def slip_force(self, vr: Any) -> np.ndarray:

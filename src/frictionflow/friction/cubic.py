@@ -17,9 +17,8 @@ from __future__ import annotations
 import math
 from typing import Any, Mapping
 
-from numba import njit
-
 from ..core import layout
+from ..core.curve_cubic import magnitude, partial, slope  # noqa: F401  (the law's curve, re-exported)
 from ..parameters import MODEL_MAX, nonnegative_real, positive_real
 from .base import FS, RK4_BAND, STICK_FORCE, FrictionLaw
 from .registry import register
@@ -27,30 +26,6 @@ from .registry import register
 MU_S = FS.with_default(0.04, None)
 K1 = nonnegative_real("k1", "k_1", "cubic law's linear falling coefficient", "law", 0.3, upper=MODEL_MAX, sweepable=True)
 K3 = positive_real("k3", "k_3", "cubic law's cubic rising coefficient", "law", 10.0, upper=MODEL_MAX ** 2, sweepable=True)
-
-
-@njit(cache=True, inline="always")
-def magnitude(fd, mu_s, k1, k3, unused, speed):
-    """F(s) = mu_s - k_1 s + k_3 s^3."""
-    return mu_s - k1 * speed + k3 * speed * speed * speed
-
-
-@njit(cache=True, inline="always")
-def slope(fd, mu_s, k1, k3, unused, speed):
-    """F'(s) = -k_1 + 3 k_3 s^2."""
-    return -k1 + 3.0 * k3 * speed * speed
-
-
-@njit(cache=True, inline="always")
-def partial(fd, mu_s, k1, k3, unused, speed, slot):
-    """dF(s)/d(the parameter in kernel slot ``slot``): mu_s, k1, k3 (F_d is derived from them, not a parameter)."""
-    if slot == layout.FS:
-        return 1.0
-    if slot == layout.LAW_A:
-        return -speed
-    if slot == layout.LAW_B:
-        return speed * speed * speed
-    return 0.0
 
 
 def minimum(mu_s: Any, k1: Any, k3: Any) -> Any:

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from ..parameters import declare
+
 if TYPE_CHECKING:
     from .base import FrictionLaw
 
@@ -25,10 +27,9 @@ def register(cls: type["FrictionLaw"]) -> type["FrictionLaw"]:
     """Class decorator: make ``cls`` available by its ``name`` (``--friction NAME``)."""
     if cls.name in _LAWS and _LAWS[cls.name] is not cls:
         raise ValueError(f"a friction law named {cls.name!r} is registered already")
+    if cls.name not in _LAWS:
+        declare(cls.parameters)  # its parameters join the declared ones
     _LAWS[cls.name] = cls
-    from ..parameters import forget_declarations  # its parameters join the declared ones
-
-    forget_declarations()
     return cls
 
 

@@ -25,6 +25,7 @@ from .continuation import continuation
 from .floquet import fd_monodromy, multipliers
 from .forced import ForcedBranch, ForcedOrbit, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
 from .forced_plot import plot_forced_branches
+from . import chart_plot, plotting  # noqa: F401  (register the figures of the results' .plot())
 from .flow import make_flow
 from .hybrid import Phase, Segment, Switch, saltation
 from .parameters import parameter_names, with_param

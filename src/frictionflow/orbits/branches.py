@@ -7,7 +7,8 @@ from typing import Any
 
 from .. import quantities as Q
 from .._display import Row, Summarized, num
-from ._json import jsonable
+from .._figures import draw
+from .._json import jsonable
 from .equilibria import Equilibrium
 from .measures import OrbitMeasures, equilibrium_measures
 from .shooting import PeriodicOrbit
@@ -155,9 +156,7 @@ class ContinuationResult(Summarized):
 
     def plot(self, path: Any = None):
         """Bifurcation diagram, power and TR_B along the branches (:func:`~frictionflow.orbits.plotting.plot_bifurcation`)."""
-        from .plotting import plot_bifurcation
-
-        return plot_bifurcation(self, path)
+        return draw(self, path)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ``branches`` is a list of lists of points; ``branch_info`` says how each began and ended."""

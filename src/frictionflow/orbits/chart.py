@@ -39,12 +39,17 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .._display import Row, Summarized, num
+from .._figures import draw
+from .._json import jsonable
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
-from ._json import jsonable
+from ..sweep.compute import VARIABLES
+from ..sweep.runner import run_sweep
+from .continuation import continuation
 from .equilibria import equilibrium
+from .flow_compiled import CompiledFlow
 from .parameters import get_param, with_param
-from .sensitivity import stick_slip_margin
+from .sensitivity import locate_fold, stick_slip_margin
 
 CURVES = ("hopf", "grazing", "fold")
 
@@ -155,9 +160,7 @@ class StabilityChart(Summarized):
 
     def plot(self, path: Any = None):
         """The curves over the sweep heat map (:func:`~.chart_plot.plot_chart`)."""
-        from .chart_plot import plot_chart
-
-        return plot_chart(self, path)
+        return draw(self, path)
 
 
 # -- the Hopf curve -------------------------------------------------------------------------
@@ -262,9 +265,6 @@ def _dedupe(points: list[CurvePoint], tol: float) -> list[CurvePoint]:
 
 def _fold_seeds(model, law, xp, yp, xs, y_range, **kw) -> tuple[list[CurvePoint], list[CurvePoint]]:
     """Smooth folds (with their X) and folds at grazing corners found by continuation in y at each x of ``xs``."""
-    from .continuation import continuation
-    from .sensitivity import locate_fold
-
     smooth, corner = [], []
     for x in xs:
         m, lw = with_param(model, law, xp, float(x))
@@ -290,9 +290,6 @@ def _fold_seeds(model, law, xp, yp, xs, y_range, **kw) -> tuple[list[CurvePoint]
 
 def _fold_point(model, law, xp, yp, x, X, y):
     """The fold of the slip-only family (continued through V_r = 0) at x near (X, y): (X, y, smallest V_r)."""
-    from .flow_compiled import CompiledFlow
-    from .sensitivity import locate_fold
-
     m, lw = with_param(model, law, xp, x)
     X, y = locate_fold(m, lw, yp, X, y, virtual=True)
     mm, ll = with_param(m, lw, yp, y)
@@ -501,8 +498,6 @@ def stability_map(
     if sweep_shape is not None:
         import tempfile
         from pathlib import Path
-
-        from ..sweep import VARIABLES, run_sweep
 
         names = [v[0] for v in VARIABLES]
         if heat not in names:

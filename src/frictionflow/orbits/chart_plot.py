@@ -6,7 +6,10 @@ from pathlib import Path
 
 import numpy as np
 
+from .._figures import draws
 from ..io import write_figure
+from .chart import StabilityChart
+from .forced_chart import ForcedChart
 
 #: how each curve is drawn, and what it means in the legend
 STYLE = {
@@ -24,6 +27,7 @@ CODIM2 = {"bautin": dict(marker="o", color="black", label="Bautin (Hopf changes 
           "fold_grazing": dict(marker="s", color="tab:purple", label="fold meets grazing")}
 
 
+@draws(StabilityChart, ForcedChart)
 def plot_chart(chart, path: str | Path | None = None, *, name: str = "path"):
     """Curves of ``chart`` (:class:`~.chart.StabilityChart`) over its sweep's heat map, if it has one."""
     import matplotlib

@@ -31,6 +31,7 @@ from .flow import make_flow
 from .flow_compiled import CompiledFlow, equilibrium_slope, param_code, supports
 from .hybrid import Segment
 from .parameters import with_param
+from .sensitivity import locate_fold, locate_grazing, stick_slip_grazing, stick_slip_margin
 from .shooting import H_TOL, contraction, default_tol, newton
 
 
@@ -175,7 +176,6 @@ class CycleProblem:
         """lambda of the grazing between a and b (one has a stick phase): Newton from the slip-only side."""
         if not self.locatable:
             return None
-        from .sensitivity import locate_grazing
 
         s = b if a.has_stick else a
         try:
@@ -189,7 +189,6 @@ class CycleProblem:
         """lambda beyond the stick-slip cycle a (going ``direction``) where it grazes and ceases to exist."""
         if not self.locatable or not a.has_stick:
             return None
-        from .sensitivity import stick_slip_grazing, stick_slip_margin
 
         def g(lam: float) -> float:
             return stick_slip_margin(*with_param(self.model, self.law, self.param, lam), self.param)[0]
@@ -213,7 +212,6 @@ class CycleProblem:
         """lambda of the smooth fold of cycles near s (P = X, P' = 1 by Newton)."""
         if not self.locatable:
             return None
-        from .sensitivity import locate_fold
 
         try:
             _, lam = locate_fold(self.model, self.law, self.param, s.x, s.lam, returns=self.returns)

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import flowmap as fm
+from ..core.layout import COULOMB, LAW_A, LAW_B, LAW_C, SMOOTH_LAWS
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .flow_smooth import SLIP_NAMES
@@ -43,7 +44,6 @@ def param_code(law: FrictionLaw, param: str | None) -> int | None:
         return None
     if param in _SLOT_CODES:
         return _SLOT_CODES[param]
-    from ..core.layout import LAW_A, LAW_B, LAW_C
 
     slot = getattr(law, "kernel_slots", {}).get(param)
     return {LAW_A: fm.P_A, LAW_B: fm.P_B, LAW_C: fm.P_C}.get(slot)
@@ -51,8 +51,6 @@ def param_code(law: FrictionLaw, param: str | None) -> int | None:
 
 def supports(law: FrictionLaw) -> bool:
     """Can the compiled kernel run this law (a built-in compiled slip curve with Coulomb's stick rule)?"""
-    from ..core.layout import COULOMB, SMOOTH_LAWS
-
     return law.stick_rule == "switch" and law.func is None and getattr(law, "code", None) in (COULOMB, *SMOOTH_LAWS)
 
 

@@ -62,8 +62,9 @@ import numpy as np
 
 from .. import quantities as Q
 from .._display import Row, Summarized, num, pairs, system_row
+from .._json import jsonable
 from ..core import forced_map as fm
-from ..core import sections as sec
+from ..core import sections as sec, tangent
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..solvers.base import kernel_params
@@ -272,8 +273,6 @@ class ForcedOrbit(Summarized):
 
     def as_dict(self) -> dict[str, Any]:
         """A JSON-ready report (complex multipliers as [re, im], non-finite values None)."""
-        from ._json import jsonable
-
         return jsonable({
             "params": {**self.model.as_dict(), **self.friction.as_dict()},
             "m": self.m, "period": self.period, "state": {"X": self.state[0], "V": self.state[1]},
@@ -444,8 +443,6 @@ class BranchPoint(Summarized):
         return self.stability == "stable"
 
     def as_dict(self) -> dict[str, Any]:
-        from ._json import jsonable
-
         return jsonable({"lambda": self.lam, "X": self.state[0], "V": self.state[1],
                          "multipliers": [complex(z) for z in self.multipliers], "stability": self.stability,
                          "amplitude": self.amplitude, "X_min": self.X_min, "X_max": self.X_max, "TR_B": self.TR_B,
@@ -470,8 +467,6 @@ class BranchEvent:
     monodromy: np.ndarray | None = None
 
     def as_dict(self) -> dict[str, Any]:
-        from ._json import jsonable
-
         return jsonable({"type": self.type, "lambda": self.lam, "X": self.state[0], "V": self.state[1],
                          "multipliers": [complex(z) for z in self.multipliers], **self.detail})
 
@@ -516,8 +511,6 @@ class ForcedBranch(Summarized):
         return replace(self.model, **{self.parameter: float(lam)})
 
     def as_dict(self) -> dict[str, Any]:
-        from ._json import jsonable
-
         return jsonable({"params": {**self.model.as_dict(), **self.friction.as_dict()}, "parameter": self.parameter,
                          "m": self.m, "end": self.end, "points": [p.as_dict() for p in self.points],
                          "events": [e.as_dict() for e in self.events], "settings": self.settings})
@@ -1042,8 +1035,6 @@ def stroboscopic_sweep(model: BeltOscillator, friction: FrictionLaw, parameter: 
     Integrated by :func:`frictionflow.core.tangent.run` (RK4, located
     switches); a run that fails leaves NaN.
     """
-    from ..core import tangent
-
     _check_model(model)
     _check_law(friction)
     if parameter not in PARAMETERS:

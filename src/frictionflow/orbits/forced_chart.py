@@ -46,10 +46,14 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from .._display import Row, Summarized, num
+from .._figures import draw
+from .._json import jsonable
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
-from ._json import jsonable
-from .chart import Curve, CurvePoint
+from ..sweep.compute import VARIABLES
+from ..sweep.runner import run_sweep
+from .chart import Curve, CurvePoint, sweep_config
+from .extrema import FORCED_MONITORS, Extremum
 from .forced import (
     PARAMETERS,
     ForcedBranch,
@@ -59,7 +63,6 @@ from .forced import (
     measures,
     newton,
 )
-from .monitors import FORCED_MONITORS, Extremum
 #: the special points of forced branches that make curves in two parameters
 FORCED_CURVES = ("fold", "period_doubling", "neimark_sacker", "grazing")
 
@@ -348,9 +351,7 @@ class ForcedChart(Summarized):
         return ds
 
     def plot(self, path: Any = None):
-        from .chart_plot import plot_chart
-
-        return plot_chart(self, path)
+        return draw(self, path)
 
 
 def _start_orbit(model: BeltOscillator, law: FrictionLaw, m: int, previous: np.ndarray | None, steps: int):
@@ -473,14 +474,10 @@ def forced_map(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y
     variable drawn under the curves (TR_B, R_c, ...); ``sweep_y_range``: its
     y interval (default: the grid's).
     """
-    from .chart import sweep_config
-
     sweep = None
     if sweep_shape is not None:
         import tempfile
         from pathlib import Path
-
-        from ..sweep import VARIABLES, run_sweep
 
         names = [v[0] for v in VARIABLES]
         if heat not in names:

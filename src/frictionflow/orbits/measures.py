@@ -18,6 +18,7 @@ from ..analysis.transmissibility import amplitude, transmissibility
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..simulate import simulate
+from ..solvers.auto import auto_solver
 from ..solvers.base import Solver
 from ..trajectory import Trajectory
 
@@ -53,8 +54,6 @@ def one_period(
 ) -> Trajectory:
     """One period from ``state`` by :func:`frictionflow.simulate` (optionally densely sampled)."""
     if solver is None and dense_dt is not None:
-        from ..solvers.auto import auto_solver
-
         solver = type(auto_solver(friction))(dense_dt=dense_dt)
     return simulate(model, friction, solver, t_end=period, x0=float(state[0]), v0=float(state[1]))
 

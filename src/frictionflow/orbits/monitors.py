@@ -30,8 +30,6 @@ the second forcing parameter.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
@@ -40,24 +38,16 @@ from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .branches import Branch, BranchPoint, ContinuationResult
 from .cycle_problem import CycleProblem
+from .extrema import FORCED_MONITORS, MONITORS, Extremum  # noqa: F401  (FORCED_MONITORS: re-exported)
+from .forced import BranchPoint as ForcedPoint, ForcedBranch
+from .forced_chart import forced_branch_extrema, forced_monitor_value
 from .parameters import get_param, with_param
 from .sensitivity import EXACT_MONITORS, orbit_derivatives
 from .shooting import orbit_from_segment
 
-#: the per-orbit quantities a branch can be monitored by
-MONITORS = ("P_fin", "P_dv", "P_df", "R_c", "R_f", "P_belt", "P_heat", "TR_B", "amplitude", "stick_fraction", "period")
-#: those of a forced branch (its period is fixed by the forcing; the input power P_ex joins)
-FORCED_MONITORS = ("P_dv", "P_df", "P_fin", "R_c", "R_f", "P_belt", "P_heat", "P_f", "P_ex", "TR_B", "amplitude",
-                   "stick_fraction")
-
-
 def monitor_value(point: BranchPoint, monitor: str) -> float:
     """The monitor's value at a branch point (NaN where undefined, as R_c at an equilibrium); forced points too."""
-    from .forced import BranchPoint as ForcedPoint
-
     if isinstance(point, ForcedPoint):
-        from .forced_chart import forced_monitor_value
-
         return forced_monitor_value(point, monitor)
     if monitor not in MONITORS:
         raise ValueError(f"monitor must be one of {', '.join(MONITORS)}, got {monitor!r}")
@@ -70,25 +60,6 @@ def monitor_value(point: BranchPoint, monitor: str) -> float:
     if monitor == "TR_B":
         return float(point.measures.TR_B)
     return float(getattr(point.measures.power, monitor))
-
-
-@dataclass(frozen=True)
-class Extremum:
-    """A located extremum of ``monitor`` along a branch: at ``value`` of the parameter, orbit through (x, 0)."""
-
-    monitor: str
-    kind: str  # "max" or "min"
-    param: str
-    value: float
-    monitor_value: float
-    x: float
-    branch: int | None = None
-    method: str = ""  # "slope root" (exact slope) or "brent" (the monitor itself)
-    extra: dict[str, Any] = field(default_factory=dict)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"monitor": self.monitor, "kind": self.kind, "param": self.param, "value": self.value,
-                "monitor_value": self.monitor_value, "X": self.x, "branch": self.branch, "method": self.method, **self.extra}
 
 
 class _BranchFunction:
@@ -180,11 +151,7 @@ def branch_extrema(result, monitor: str, model: BeltOscillator | None = None, la
     (:class:`~.forced.ForcedBranch`, which carries its system):
     :func:`~.forced_chart.forced_branch_extrema`.
     """
-    from .forced import ForcedBranch
-
     if isinstance(result, ForcedBranch):
-        from .forced_chart import forced_branch_extrema
-
         return forced_branch_extrema(result, monitor, refine=refine)
     if model is None or law is None:
         raise ValueError("model and law: give the system the continuation ran on")

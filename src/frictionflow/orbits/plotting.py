@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from .._figures import draws
+from ..analysis.power_flow import instantaneous_power
 from ..io import write_figure
 from .branches import Branch, ContinuationResult
 from .shooting import PeriodicOrbit
@@ -64,6 +66,7 @@ def _value(point, quantity: str) -> float:
     return point.measures.averages()[quantity]
 
 
+@draws(ContinuationResult)
 def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None, *, sweep: bool = True, name: str = "path"):
     """Amplitude, power flow, power ratios and TR_B against the parameter, one panel each.
 
@@ -128,10 +131,9 @@ def _title(result: ContinuationResult) -> str:
     return f"continuation in {result.param} ({result.params.get('friction')}: {fixed})"
 
 
+@draws(PeriodicOrbit)
 def plot_orbit(orbit: PeriodicOrbit, path: str | Path | None = None, *, name: str = "path"):
     """Phase portrait, X(tau) and the instantaneous friction and damper power over one period."""
-    from ..analysis.power_flow import instantaneous_power
-
     plt = _pyplot(path)
     traj = orbit.trajectory(dense_dt=orbit.period / 400)
     fig, ax = plt.subplots(1, 3, figsize=(13, 4), constrained_layout=True)

@@ -19,13 +19,14 @@ from typing import Any
 import numpy as np
 
 from .._display import Row, Summarized, num, pairs, system_row
+from .._figures import draw
+from .._json import jsonable
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..simulate import simulate
 from ..solvers.base import Solver
 from ..trajectory import Trajectory
 from . import floquet
-from ._json import jsonable
 from .flow import Flow, make_flow
 from .hybrid import Segment
 from .measures import OrbitMeasures, measure, one_period
@@ -107,9 +108,7 @@ class PeriodicOrbit(Summarized):
 
     def plot(self, path: Any = None):
         """Phase portrait, X(tau) and power over one period (:func:`~frictionflow.orbits.plotting.plot_orbit`)."""
-        from .plotting import plot_orbit
-
-        return plot_orbit(self, path)
+        return draw(self, path)
 
     def trajectory(self, dense_dt: float | None = None, solver: Solver | None = None) -> Trajectory:
         """One period integrated by the package's solver (``dense_dt`` for smooth plots)."""

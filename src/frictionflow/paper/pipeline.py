@@ -22,13 +22,19 @@ import xarray as xr
 
 from .. import _validate as check
 from .._progress import progress_bar
+from ..analysis import analyze
 from ..io import atomic_write, check_output_dir, check_output_path
+from ..params import BeltOscillator
+from ..simulate import simulate
+from ..solvers import Exact, RK4
 from . import band, fig2, fig3, fig4, fig5, fig6, sweep, transient
 from .claims import Claim, evaluate
 from .export import OPTION, annotate, save_figure, write_dataset
 from .report import write_report
 from .results import Runner
+from .runs import paper_law
 from .settings import Settings
+from .style import pyplot
 
 CAPTIONS = {"fig2": fig2.CAPTION, "fig3": fig3.CAPTION, "fig4": fig4.CAPTION, "fig5": fig5.CAPTION,
             "fig6": fig6.CAPTION}
@@ -278,13 +284,6 @@ def _warm_up(settings: Settings) -> None:
     fresh cache), the plotting library and its fonts, and the NetCDF library
     would otherwise be loaded -- or compiled -- again by each worker.
     """
-    from ..analysis import analyze
-    from ..params import BeltOscillator
-    from ..simulate import simulate
-    from ..solvers import RK4, Exact
-    from .runs import paper_law
-    from .style import pyplot
-
     law = paper_law(0.02, settings)
     # the solvers, both RK4 output paths (every step, thinned) and the analysis the jobs use
     for solver in (RK4(dt=settings.dt), RK4(dt=settings.dt, record_every=2), Exact(dense_dt=settings.exact_dense_dt)):

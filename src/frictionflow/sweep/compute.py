@@ -11,11 +11,14 @@ from typing import Any
 import numpy as np
 
 from .. import quantities as Q
+from ..analysis import analyze
 from ..analysis.steady_state import DEFAULT_RTOL, section_noise
 from ..core import batch
 from ..core import layout as kf
 from ..friction.base import FrictionLaw
 from ..parameters import with_defaults
+from ..params import BeltOscillator
+from ..simulate import simulate
 from .config import SweepConfig, parse_sweep
 
 #: the result variables, in the kernels' row order: (name, units, long name), from the quantities table
@@ -75,10 +78,6 @@ def _forced_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np
     section X' = 0; a forced point is judged on the stroboscopic section
     (:mod:`frictionflow.analysis.forced`), so it runs through the façade.
     """
-    from ..analysis import analyze
-    from ..params import BeltOscillator
-    from ..simulate import simulate
-
     run = cfg.run
     n = len(pts["zeta"])
     out = np.empty((n, batch.NR))

@@ -38,9 +38,10 @@ import numpy as np
 from .. import _validate as check
 from ..config import RunConfig
 from ..friction import law_class
+from ..io import read_config
 from ..parameters import declared, sweep_axes
 from ..solvers.base import CoarseStepWarning, check_memory
-from ..io import read_config
+from ..solvers.exact import resonance_problem
 
 #: what can be an axis: every sweepable declared parameter (the oscillator's, the laws', the initial state)
 GRID_KEYS = sweep_axes()
@@ -281,8 +282,6 @@ def _check_points(cfg: SweepConfig) -> None:
 
 def _check_resonance(cfg: SweepConfig) -> None:
     """The exact solver refuses undamped resonance: refuse a grid with such a point before any work."""
-    from ..solvers.exact import resonance_problem
-
     if cfg.run.build()[2].name != "exact":
         return
 

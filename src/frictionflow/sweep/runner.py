@@ -12,6 +12,7 @@ import warnings
 from pathlib import Path
 from typing import Any
 
+from .._progress import progress_bar
 from .compute import compute_chunk
 from .config import SweepConfig, chunk_shape, load_sweep, parse_sweep
 from .lock import STALE_AFTER, SweepLock
@@ -137,8 +138,6 @@ def _report(found: Verification, store: SweepStore) -> None:
 
 def _compute(store: SweepStore, cfg: SweepConfig, client: Any, progress: bool) -> None:
     """Compute the chunks still to do, committing each as it comes."""
-    from .._progress import progress_bar
-
     todo, chunks = store.todo(), store.chunks  # a resumed sweep keeps the chunks it was started with
     with progress_bar("sweep", cfg.size, enabled=progress, done=store.points_done(), unit="points") as advance:
         if client is None:

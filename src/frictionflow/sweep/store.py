@@ -40,7 +40,10 @@ from typing import Iterator, NamedTuple, Sequence
 import numpy as np
 
 from .. import quantities as Q
+from .._version import __version__
+from ..io import _directory_problem, atomic_write, stale_temporaries
 from ..parameters import declared
+from .compute import chunk_slices
 from .config import GRID_KEYS, SAMPLE, SweepConfig, n_chunks
 
 #: the sweep's bookkeeping group (not part of the dataset: xarray reads only the root's arrays)
@@ -61,8 +64,6 @@ _NC_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
 
 def provenance(cfg: SweepConfig) -> dict[str, str]:
     import numba
-
-    from .. import __version__
 
     return {
         "title": "frictionflow parameter sweep",
@@ -95,8 +96,6 @@ def chunk_checksum(values: Sequence[np.ndarray]) -> int:
 
 def check_out(path: str | Path) -> Path:
     """Refuse, before any work, an output that cannot be a sweep's: its extension, its directory."""
-    from ..io import _directory_problem
-
     p = Path(path)
     if p.suffix.lower() not in (".zarr", ".nc"):
         raise ValueError(f"out must end in .zarr or .nc, got {str(path)!r}")
@@ -340,8 +339,6 @@ class SweepStore:
         return tuple(int(i) for i in np.unravel_index(flat, self.grid))
 
     def _slices(self, chunk: tuple[int, ...]) -> tuple[slice, ...]:
-        from .compute import chunk_slices
-
         return chunk_slices(chunk, self.chunks, self.shape)
 
     def _where(self, chunk: tuple[int, ...]) -> str:
@@ -583,7 +580,6 @@ class SweepStore:
         if not self.netcdf:
             _consolidate(self.path)  # xarray.open_zarr then reads one metadata document, without a warning
             return xr.open_zarr(str(self.path), consolidated=True)
-        from ..io import atomic_write, stale_temporaries
 
         # a conversion killed earlier left its temporary (and the journal, so it is simply redone)
         for old in [*stale_temporaries(self.target), self.target.with_name(self.target.name + ".tmp")]:
