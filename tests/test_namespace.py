@@ -20,6 +20,15 @@ def test_basins_is_the_subpackage_and_its_function_is_reachable():
     assert {"basins", "compute_basins"} <= set(frictionflow.__all__)
 
 
+def test_the_old_call_through_the_top_level_name_still_works_with_a_deprecation(monkeypatch):
+    """``from frictionflow import basins; basins(...)`` called the function before: for one release it still does."""
+    seen = {}
+    monkeypatch.setattr(frictionflow.basins, "basins", lambda *a, **k: seen.setdefault("args", (a, k)))
+    with pytest.warns(DeprecationWarning, match="frictionflow.basins.basins"):
+        frictionflow.basins({"friction": "coulomb"}, x0=(0, 1, 2), v0=(0, 1, 2))
+    assert seen["args"] == (({"friction": "coulomb"},), {"x0": (0, 1, 2), "v0": (0, 1, 2)})
+
+
 def test_import_helpers_do_not_leak():
     names = dir(frictionflow)
     assert "version" not in names and "PackageNotFoundError" not in names

@@ -11,8 +11,29 @@ resumable, local or Dask); the attractors are labelled afterwards over the
 whole dataset (:mod:`.labels`).
 """
 
+import sys
+import types
+import warnings
+
 from .labels import DIVERGED, NOT_SETTLED, Attractor, Tolerances, label_attractors
 from .plotting import plot_basins
 from .study import Basins, basins, write_dataset
 
 __all__ = ["DIVERGED", "NOT_SETTLED", "Attractor", "Basins", "Tolerances", "basins", "label_attractors", "plot_basins", "write_dataset"]
+
+
+class _CallableModule(types.ModuleType):
+    """The subpackage, still callable as the function it used to be at top level (for one release).
+
+    ``from frictionflow import basins; basins(...)`` gave the function until
+    ``frictionflow.basins`` became this subpackage; the call goes on working,
+    with a DeprecationWarning naming the new spelling.
+    """
+
+    def __call__(self, *args, **kwargs):
+        warnings.warn("calling the module frictionflow.basins is deprecated: use frictionflow.basins.basins(...) "
+                      "or frictionflow.compute_basins(...)", DeprecationWarning, stacklevel=2)
+        return basins(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule
