@@ -97,7 +97,28 @@ def imports() -> list[Import]:
     return found
 
 
-IMPORTS = imports()
+def command_table() -> list[Import]:
+    """The CLI's plugin table (``COMMAND_MODULES``): each command's module, imported when it runs, as edges."""
+    path, _ = MODULES[f"{PACKAGE}.cli"]
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", "") == "COMMAND_MODULES" for t in node.targets):
+            table = ast.literal_eval(node.value)
+            return [Import(f"{PACKAGE}.cli", f"{PACKAGE}.cli.{m}", path, node.lineno, False, False)
+                    for m in sorted(set(table.values()))]
+    return []
+
+
+def dynamic_imports() -> list[str]:
+    """Places that import by name at run time (importlib.import_module, __import__)."""
+    found = []
+    for module, (path, _) in MODULES.items():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and ast.unparse(node.func) in ("importlib.import_module", "__import__"):
+                found.append(f"{path.relative_to(SRC.parent)}:{node.lineno}")
+    return found
+
+
+IMPORTS = imports() + command_table()
 
 
 def cycles(edges: list[Import]) -> list[tuple[int, list[str]]]:
@@ -218,3 +239,11 @@ def test_relative_imports_resolve(source, expected, monkeypatch):
     monkeypatch.setitem(MODULES, "frictionflow.core.x", (Path("x.py"), False))
     node = ast.parse(source).body[0]
     assert _targets("frictionflow.core.flowmap", False, node) == expected
+
+
+def test_the_only_import_by_name_is_the_cli_command_table():
+    """A run-time import hides an edge from this graph; the CLI's table of command modules is the one
+    allowed, and its edges are read from the table (``command_table``)."""
+    assert len(command_table()) == len(set(MODULES) & {i.target for i in command_table()}) > 5
+    places = dynamic_imports()
+    assert all(p.startswith("src/frictionflow/cli/__init__.py") for p in places), places

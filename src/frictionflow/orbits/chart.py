@@ -36,8 +36,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.optimize import brentq
 
+from .._lazy import lazy_module
 from .._display import Row, Summarized, num
 from .._figures import draw
 from .._json import jsonable
@@ -50,6 +50,8 @@ from .equilibria import equilibrium
 from .flow_compiled import CompiledFlow
 from .parameters import get_param, with_param
 from .sensitivity import locate_fold, stick_slip_margin
+
+optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
 CURVES = ("hopf", "grazing", "fold")
 
@@ -191,7 +193,7 @@ def _roots(f, ys: np.ndarray, tol: float) -> list[float]:
     out = []
     for a, b, fa, fb in zip(ys[:-1], ys[1:], vals[:-1], vals[1:]):
         if math.isfinite(fa) and math.isfinite(fb) and fa * fb < 0:
-            out.append(float(brentq(f, float(a), float(b), xtol=tol, rtol=4 * np.finfo(float).eps)))
+            out.append(float(optimize.brentq(f, float(a), float(b), xtol=tol, rtol=4 * np.finfo(float).eps)))
         elif fb == 0.0:
             out.append(float(b))
     return out
@@ -220,14 +222,14 @@ def _bautin(model, law, xp, yp, pts: list[CurvePoint], ys) -> list[Codim2]:
 
         def y_hopf(x: float) -> float:
             f = lambda y: _trace(model, law, xp, yp, x, y)
-            return brentq(f, max(ys[0], lo_y - pad), min(ys[-1], hi_y + pad), xtol=1e-15, rtol=4 * np.finfo(float).eps)
+            return optimize.brentq(f, max(ys[0], lo_y - pad), min(ys[-1], hi_y + pad), xtol=1e-15, rtol=4 * np.finfo(float).eps)
 
         def l1(x: float) -> float:
             m, lw = with_param(*with_param(model, law, xp, x), yp, y_hopf(x))
             return lyapunov_coefficient(m, lw)
 
         try:
-            xb = float(brentq(l1, a.x, b.x, xtol=1e-14 * max(abs(a.x), abs(b.x)), rtol=4 * np.finfo(float).eps))
+            xb = float(optimize.brentq(l1, a.x, b.x, xtol=1e-14 * max(abs(a.x), abs(b.x)), rtol=4 * np.finfo(float).eps))
             out.append(Codim2("bautin", xb, float(y_hopf(xb)), {"criticality_below": a.detail["criticality"] if a.x < b.x else b.detail["criticality"]}))
         except ValueError:
             continue
@@ -397,7 +399,7 @@ def _fold_grazing_point(model, law, xp, yp, a, b) -> Codim2:
         found[:] = [X, y]
         return vr
 
-    xg = float(brentq(margin, lo[0], hi[0], xtol=1e-13 * max(abs(lo[0]), abs(hi[0])), rtol=4 * np.finfo(float).eps))
+    xg = float(optimize.brentq(margin, lo[0], hi[0], xtol=1e-13 * max(abs(lo[0]), abs(hi[0])), rtol=4 * np.finfo(float).eps))
     margin(xg)
     return Codim2("fold_grazing", xg, found[1], {"located": True, "X": found[0]})
 

@@ -15,12 +15,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
+from .._lazy import lazy_module
 from ..analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .parameters import with_param
+
+optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
 #: the orbits' name for the sliding equilibrium (kept for compatibility)
 Equilibrium = SlidingEquilibrium
@@ -60,5 +62,5 @@ def hopf_points(model: BeltOscillator, law: FrictionLaw, param: str, values: np.
     found = []
     for a, b, ta, tb in zip(values[:-1], values[1:], tr[:-1], tr[1:], strict=True):
         if math.isfinite(ta) and math.isfinite(tb) and ta * tb < 0:
-            found.append(float(brentq(trace, float(a), float(b), xtol=1e-14 * max(abs(a), abs(b), 1.0), rtol=4 * np.finfo(float).eps)))
+            found.append(float(optimize.brentq(trace, float(a), float(b), xtol=1e-14 * max(abs(a), abs(b), 1.0), rtol=4 * np.finfo(float).eps)))
     return found

@@ -22,12 +22,14 @@ from collections.abc import Callable
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
+from .._lazy import lazy_module
 from ..core.friction import rest_mode, slip_magnitude_of, slip_slope_of
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .hybrid import Phase, Segment, Switch, saltation
+
+optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
 SLIP_NAMES = {1: "slip+", -1: "slip-", 0: "stick"}
 _MAX_ZERO_PHASES = 8
@@ -158,7 +160,7 @@ class SmoothFlow:
 
         if not g(left) > 0.0:
             return None
-        return float(brentq(g, left, t_o, xtol=1e-15 * (1.0 + t_o), rtol=4 * np.finfo(float).eps))
+        return float(optimize.brentq(g, left, t_o, xtol=1e-15 * (1.0 + t_o), rtol=4 * np.finfo(float).eps))
 
     def _stick_time(self, x: float) -> float:
         """How long the mass sticks from X = x before |F_e| reaches F_s (inf: for good)."""

@@ -43,8 +43,8 @@ from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
+from .._lazy import lazy_module
 from .._display import Row, Summarized, num
 from .._figures import draw
 from .._json import jsonable
@@ -63,6 +63,8 @@ from .forced import (
     measures,
     newton,
 )
+
+optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 #: the special points of forced branches that make curves in two parameters
 FORCED_CURVES = ("fold", "period_doubling", "neimark_sacker", "grazing")
 
@@ -124,7 +126,7 @@ class _OrbitFunction:
 def _brent(f: _OrbitFunction, lo: float, hi: float, kind: str) -> tuple[float, float, np.ndarray]:
     """Brent's bounded minimisation of -+monitor on [lo, hi]: (lambda, monitor, state)."""
     sign = -1.0 if kind == "max" else 1.0
-    res = minimize_scalar(lambda v: sign * f.value(v)[0], bounds=(lo, hi), method="bounded",
+    res = optimize.minimize_scalar(lambda v: sign * f.value(v)[0], bounds=(lo, hi), method="bounded",
                           options={"xatol": 1e-10 * max(abs(lo), abs(hi), 1e-12)})
     lam = float(res.x)
     value, state = f.value(lam)

@@ -32,8 +32,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 
+from .._lazy import lazy_module
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .branches import Branch, BranchPoint, ContinuationResult
@@ -44,6 +44,8 @@ from .forced_chart import forced_branch_extrema, forced_monitor_value
 from .parameters import get_param, with_param
 from .sensitivity import EXACT_MONITORS, orbit_derivatives
 from .shooting import orbit_from_segment
+
+optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
 def monitor_value(point: BranchPoint, monitor: str) -> float:
     """The monitor's value at a branch point (NaN where undefined, as R_c at an equilibrium); forced points too."""
@@ -101,13 +103,13 @@ def refine_extremum(model: BeltOscillator, law: FrictionLaw, param: str, monitor
         try:
             sa, sb = f.slope(lo), f.slope(hi)
             if sa * sb < 0:
-                lam = brentq(f.slope, lo, hi, xtol=1e-14 * max(abs(lo), abs(hi), 1e-12), rtol=4 * np.finfo(float).eps)
+                lam = optimize.brentq(f.slope, lo, hi, xtol=1e-14 * max(abs(lo), abs(hi), 1e-12), rtol=4 * np.finfo(float).eps)
                 method = "slope root"
         except (RuntimeError, ValueError):
             lam = math.nan
     if not math.isfinite(lam):
         f.xi = x_guess - (x_ref if math.isfinite(x_ref) else 0.0)
-        res = minimize_scalar(lambda v: sign * f.value(v)[0], bounds=(lo, hi), method="bounded",
+        res = optimize.minimize_scalar(lambda v: sign * f.value(v)[0], bounds=(lo, hi), method="bounded",
                               options={"xatol": 1e-10 * max(hi - lo, 1e-12)})
         lam = float(res.x)
         method = "brent"

@@ -21,8 +21,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import xarray as xr
 
+from .._lazy import lazy_module
 from ..analysis import analyze
 from ..friction import Coulomb
 from ..params import BeltOscillator
@@ -31,6 +31,8 @@ from ..solvers import RK4, Exact
 from .runs import Point, paper_law
 from .settings import Settings
 from .style import LABELS, figure, panel_title
+
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
 #: the three models compared: (name, description)
 MODELS = (

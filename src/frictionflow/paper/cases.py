@@ -5,10 +5,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-import xarray as xr
 
+from .._lazy import lazy_module
 from .results import PointResult, Runner
 from .runs import SOLVERS, Point
+
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
 #: per-(solver, case) scalars: name -> how to read it off a PointResult
 SCALARS = {

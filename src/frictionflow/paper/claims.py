@@ -17,14 +17,17 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-import xarray as xr
 
+from .._lazy import lazy_module
 from .cases import select
 from .settings import PAPER_VD
 
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
+
 VERDICTS = ("supported", "refuted", "partly")
 
-Data = dict[str, xr.Dataset]
+
+Data = dict[str, "xr.Dataset"]
 
 
 @dataclass(frozen=True)

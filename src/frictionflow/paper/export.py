@@ -9,12 +9,15 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import xarray as xr
 
+from .._lazy import lazy_module
 from ..io import atomic_write, write_figure
+
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
 #: the option named when a file of the reproduction cannot be written
 OPTION = "out"
+
 
 #: name -> long_name of every variable and coordinate the studies write
 LONG_NAMES: dict[str, str] = {

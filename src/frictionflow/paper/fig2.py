@@ -12,12 +12,14 @@ TR_B = (F_d + V_b - V_d) / F_d.
 
 from __future__ import annotations
 
-import xarray as xr
 
+from .._lazy import lazy_module
 from .cases import cases_dataset, select
 from .results import Runner
 from .runs import Point
 from .style import EXACT_STYLE, LABELS, figure, panel_title, solver_note
+
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
 CAPTION = (
     "Fig. 2. Time histories of instantaneous power dissipation by the friction for case I in the steady state. "
@@ -25,6 +27,7 @@ CAPTION = (
     "F_d = 0.02, respectively. In (b), the blue and red lines are the characteristic for F_d = 0.02 and 0.04 "
     "with a consistent V_b = 0.01, respectively. Initial conditions: X(0) = F_d, X'(0) = V_b."
 )
+
 
 CASES = (Point(0.0, 0.001, 0.02), Point(0.0, 0.01, 0.02), Point(0.0, 0.1, 0.02), Point(0.0, 0.01, 0.04))
 

@@ -8,12 +8,14 @@ motion is a spiral shrinking by exp(-2 pi zeta) per turn (see
 
 from __future__ import annotations
 
-import xarray as xr
 
+from .._lazy import lazy_module
 from .cases import cases_dataset, select
 from .results import Runner
 from .runs import Point
 from .style import EXACT_STYLE, LABELS, figure, panel_title, solver_note
+
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
 CAPTION = (
     "Fig. 3. Limit cycles on steady-state response for case II (the effect of the damper is considered). "
@@ -21,6 +23,7 @@ CAPTION = (
     "F_d = 0.02, V_b = 0.01. In (b), the blue and red lines are the characteristic for V_b = 0.01 and 0.1 with "
     "consistent parameters of F_d = 0.02, zeta = 0.01. Initial conditions: X(0) = F_d, X'(0) = V_b."
 )
+
 
 CASES = (Point(0.01, 0.01, 0.02), Point(0.03, 0.01, 0.02), Point(0.01, 0.1, 0.02))
 

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
-import xarray as xr
 
+from .._lazy import lazy_module
 from .cases import cases_dataset, select
 from .results import Runner
 from .runs import Point
 from .style import EXACT_STYLE, LABELS, figure, panel_title, solver_note
+
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
 CAPTION = (
     "Fig. 4. Instantaneous power flow quantities of system on steady-state motion for case II (the effect of the "
@@ -19,6 +21,7 @@ CAPTION = (
     "viscous damping. (d), (e) and (f) are power flow quantities of the friction force. "
     "Initial conditions: X(0) = F_d, X'(0) = V_b."
 )
+
 
 CASES = (Point(0.01, 0.01, 0.02), Point(0.01, 0.01, 0.04), Point(0.01, 0.1, 0.02), Point(0.03, 0.01, 0.02))
 

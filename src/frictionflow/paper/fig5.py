@@ -12,9 +12,11 @@ the same legend scheme against the averaging window's position is
 from __future__ import annotations
 
 import numpy as np
-import xarray as xr
 
+from .._lazy import lazy_module
 from .style import LABELS, figure, panel_title
+
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
 CAPTION = (
     "Fig. 5. Effects of the magnitude of friction F_d, damping coefficient zeta and conveyor belt speed V_b on the "
@@ -23,6 +25,7 @@ CAPTION = (
     "power dissipation ratio of zeta = 0.01 and the dash lines are for zeta = 0.03. The red symbol indicates the "
     "case for V_b = 0.1 of zeta = 0.01 and F_d = 0.02. Initial conditions: X(0) = F_d, X'(0) = V_b."
 )
+
 
 VARIABLES = ("last_P_dv", "last_P_fin", "last_P_df", "last_R_c", "last_R_f", "last_net_friction", "last_dE",
              "steady_P_fin", "steady_R_c", "steady_R_f", "kind")

@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
-import xarray as xr
 
+from .._lazy import lazy_module
 from .style import LABELS, figure
+
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
 CAPTION = (
     "Fig. 6. Force transmissibility of system versus damping ratio zeta in steady-state motion. The black and blue "
     "lines are the characteristics of V_b = 0.01 for F_d = 0.02 and 0.04. The red and green lines are the "
     "characteristics of V_b = 0.1 for F_d = 0.02 and 0.04. Initial conditions: X(0) = F_d, X'(0) = V_b."
 )
+
 
 #: (V_b, F_d) -> colour, as in the paper
 LINES = {(0.01, 0.02): "black", (0.01, 0.04): "tab:blue", (0.1, 0.02): "tab:red", (0.1, 0.04): "tab:green"}

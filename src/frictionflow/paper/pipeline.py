@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import xarray as xr
 
+from .._lazy import lazy_module
 from .. import _validate as check
 from .._progress import progress_bar
 from ..analysis import analyze
@@ -36,8 +36,11 @@ from .runs import paper_law
 from .settings import Settings
 from .style import pyplot
 
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
+
 CAPTIONS = {"fig2": fig2.CAPTION, "fig3": fig3.CAPTION, "fig4": fig4.CAPTION, "fig5": fig5.CAPTION,
             "fig6": fig6.CAPTION}
+
 
 #: data set name -> (file stem, title)
 DATASETS = {

@@ -11,13 +11,15 @@ import html
 from collections.abc import Iterable
 from pathlib import Path
 
-import xarray as xr
 
+from .._lazy import lazy_module
 from ..io import atomic_write
 from .cases import select
 from .claims import Claim, g
 from .export import OPTION
 from .settings import Settings
+
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
 CSS = """
 body { font-family: system-ui, sans-serif; max-width: 1200px; margin: 2em auto; padding: 0 1em; line-height: 1.45;

@@ -13,13 +13,16 @@ For each point two kinds of numbers are kept:
 from __future__ import annotations
 
 import numpy as np
-import xarray as xr
 
+from .._lazy import lazy_module
 from .results import Runner
 from .runs import SOLVERS, Point
 
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
+
 VB = (0.01, 0.1)
 FD = (0.02, 0.04)
+
 
 #: quantities kept over the last cycle and in the steady state
 LAST = ("P_dv", "P_fin", "P_df", "R_c", "R_f", "TR_B", "amplitude", "net_friction", "dE")

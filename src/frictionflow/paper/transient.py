@@ -25,13 +25,15 @@ window position.
 from __future__ import annotations
 
 import numpy as np
-import xarray as xr
 
+from .._lazy import lazy_module
 from .results import AMPLITUDE_FLOOR, decay_rate
 from .runs import SOLVERS, Point, run
 from .settings import Settings
 from .style import EXACT_STYLE, LABELS, figure, panel_title
 from .windows import CYCLE_STARTS, Cycles
+
+xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
 #: the paper's Fig. 5 legend: (point, colour, line style, label)
 CASES = (
@@ -41,6 +43,7 @@ CASES = (
     (Point(0.03, 0.01, 0.04), "tab:green", "--", r"$F_d=0.04,\ \zeta=0.03$"),
     (Point(0.01, 0.1, 0.02), "tab:red", "-", r"$V_b=0.1,\ F_d=0.02,\ \zeta=0.01$"),
 )
+
 
 #: the paper's numbers that fix its window, for (zeta, V_b, F_d) = (0.01, 0.01, 0.02):
 #: name -> (variable, value, where the paper says it)
