@@ -31,8 +31,10 @@ makes (the state at the point) out of this module::
 The record :class:`Bracket` is a named tuple (nothing is allocated in the
 kernels).  ``hi`` is the end whose value has f(hi)'s sign or is 0: kernels
 that must stand past an event (on its far side) take it.  Converged means the
-bracket is no wider than ``xtol + rtol |hi|``, or a point had |f| <= ``ftol``
-(the bracket then closes on it), or no float is left strictly inside.
+bracket is no wider than ``xtol + rtol max(|hi|, xscale)`` (xscale: the size
+below which |x| no longer scales the tolerance, 0 for the plain relative
+rule), or a point had |f| <= ``ftol`` (the bracket then closes on it), or no
+float is left strictly inside.
 :func:`find_root` is the same loop for a Python callable.
 """
 
@@ -54,7 +56,7 @@ _TINY = 2.2250738585072014e-308  # the smallest normal float
 #: replaced hi, -1 it replaced lo, 0 none yet; n: points evaluated; width: the bracket's width when it
 #: last halved; stall: points since then
 Bracket = namedtuple("Bracket", ["lo", "hi", "flo", "fhi", "x", "side", "n", "status",
-                                 "width", "stall", "xtol", "rtol", "ftol", "maxiter"])
+                                 "width", "stall", "xtol", "rtol", "ftol", "maxiter", "xscale"])
 
 
 @njit(cache=True)
@@ -82,7 +84,7 @@ def _secant(lo, hi, flo, fhi):
 
 
 @njit(cache=True)
-def _next(lo, hi, flo, fhi, side, n, width, stall, xtol, rtol, ftol, maxiter):
+def _next(lo, hi, flo, fhi, side, n, width, stall, xtol, rtol, ftol, maxiter, xscale):
     """The record after the bracket moved to (lo, hi): converged, out of points, or its next point."""
     w = abs(hi - lo)
     if w <= 0.5 * width:
@@ -90,7 +92,7 @@ def _next(lo, hi, flo, fhi, side, n, width, stall, xtol, rtol, ftol, maxiter):
     else:
         stall += 1
     x = hi
-    if w <= xtol + rtol * abs(hi):
+    if w <= xtol + rtol * max(abs(hi), xscale):
         status = CONVERGED
     elif n >= maxiter:
         status = MAX_ITER
@@ -100,24 +102,24 @@ def _next(lo, hi, flo, fhi, side, n, width, stall, xtol, rtol, ftol, maxiter):
         if not a < x < b:
             x = _bisect(lo, hi)
         status = RUNNING if a < x < b else CONVERGED  # no float strictly inside: as close as it gets
-    return Bracket(lo, hi, flo, fhi, x, side, n, status, width, stall, xtol, rtol, ftol, maxiter)
+    return Bracket(lo, hi, flo, fhi, x, side, n, status, width, stall, xtol, rtol, ftol, maxiter, xscale)
 
 
 @njit(cache=True)
-def bracket(lo, hi, flo, fhi, xtol, rtol, ftol, maxiter):
+def bracket(lo, hi, flo, fhi, xtol, rtol, ftol, maxiter, xscale=0.0):
     """The record of a search on [lo, hi] with f(lo) = flo, f(hi) = fhi (either order of the ends).
 
     An end with f = 0 is the root at once (the bracket closes on it, hi
     first); ends of one strict sign (or a NaN) give NO_SIGN_CHANGE.
     """
     lo, hi, flo, fhi = float(lo), float(hi), float(flo), float(fhi)
-    xtol, rtol, ftol, maxiter = float(xtol), float(rtol), float(ftol), int(maxiter)
+    xtol, rtol, ftol, maxiter, xscale = float(xtol), float(rtol), float(ftol), int(maxiter), float(xscale)
     if fhi == 0.0 or flo == 0.0:
         r, fr = (hi, fhi) if fhi == 0.0 else (lo, flo)
-        return Bracket(r, r, fr, fr, r, 0, 0, CONVERGED, 0.0, 0, xtol, rtol, ftol, maxiter)
+        return Bracket(r, r, fr, fr, r, 0, 0, CONVERGED, 0.0, 0, xtol, rtol, ftol, maxiter, xscale)
     if not ((flo < 0.0 < fhi) or (fhi < 0.0 < flo)):
-        return Bracket(lo, hi, flo, fhi, hi, 0, 0, NO_SIGN_CHANGE, 0.0, 0, xtol, rtol, ftol, maxiter)
-    return _next(lo, hi, flo, fhi, 0, 0, math.inf, 0, xtol, rtol, ftol, maxiter)
+        return Bracket(lo, hi, flo, fhi, hi, 0, 0, NO_SIGN_CHANGE, 0.0, 0, xtol, rtol, ftol, maxiter, xscale)
+    return _next(lo, hi, flo, fhi, 0, 0, math.inf, 0, xtol, rtol, ftol, maxiter, xscale)
 
 
 @njit(cache=True)
@@ -137,8 +139,8 @@ def update(b, x, fx):
         side = 1
     n = b.n + 1
     if abs(fx) <= b.ftol:
-        return Bracket(x, x, fx, fx, x, side, n, CONVERGED, 0.0, 0, b.xtol, b.rtol, b.ftol, b.maxiter)
-    return _next(lo, hi, flo, fhi, side, n, b.width, b.stall, b.xtol, b.rtol, b.ftol, b.maxiter)
+        return Bracket(x, x, fx, fx, x, side, n, CONVERGED, 0.0, 0, b.xtol, b.rtol, b.ftol, b.maxiter, b.xscale)
+    return _next(lo, hi, flo, fhi, side, n, b.width, b.stall, b.xtol, b.rtol, b.ftol, b.maxiter, b.xscale)
 
 
 @njit(cache=True)
@@ -146,19 +148,19 @@ def steer(b, guess):
     """The record with its next point replaced by ``guess`` where that is strictly inside (a Newton step, say)."""
     if min(b.lo, b.hi) < guess < max(b.lo, b.hi):
         return Bracket(b.lo, b.hi, b.flo, b.fhi, float(guess), b.side, b.n, b.status, b.width, b.stall,
-                       b.xtol, b.rtol, b.ftol, b.maxiter)
+                       b.xtol, b.rtol, b.ftol, b.maxiter, b.xscale)
     return b
 
 
 @njit(cache=True)
 def tolerance(b, x):
-    """The record's x tolerance at x: ``xtol + rtol |x|``."""
-    return b.xtol + b.rtol * abs(x)
+    """The record's x tolerance at x: ``xtol + rtol max(|x|, xscale)``."""
+    return b.xtol + b.rtol * max(abs(x), b.xscale)
 
 
-def find_root(f, lo, hi, xtol=0.0, rtol=4 * EPS, ftol=0.0, maxiter=200):
+def find_root(f, lo, hi, xtol=0.0, rtol=4 * EPS, ftol=0.0, maxiter=200, xscale=0.0):
     """(root, status, points evaluated) for a Python callable f on [lo, hi], by the same rule (see the module's docstring)."""
-    b = bracket(lo, hi, f(lo), f(hi), xtol, rtol, ftol, maxiter)
+    b = bracket(lo, hi, f(lo), f(hi), xtol, rtol, ftol, maxiter, xscale)
     while b.status == RUNNING:
         b = update(b, b.x, f(b.x))
     return b.hi, b.status, b.n
