@@ -13,11 +13,12 @@ one end for ever otherwise), so the bracket at least halves every
 ``STALL + 1`` points.
 
 Illinois rather than Brent: it is what the kernels' switch and event
-location did before this module (their results, the roots of the schemes'
-own solutions to a few rounding units, stay the same bit for bit: the
-safeguards act only where that search made no progress), its state is a
-handful of numbers, and a caller's own better guess (a Newton step, see
-:func:`steer`) slots in as the next point.
+location did before this module, so their roots (of the schemes' own
+solutions, to a few rounding units) stay what they were -- bit for bit
+except where the stall safeguard now cuts a slow run short (a few 1e-14 of
+a forced continuation's event parameter) -- its state is a handful of
+numbers, and a caller's own better guess (a Newton step, see :func:`steer`)
+slots in as the next point.
 
 Reverse communication: f is evaluated by the caller, which keeps whatever f
 needs (the kernels' step buffers, a continuation's solutions) and whatever it
