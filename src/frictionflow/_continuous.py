@@ -42,6 +42,7 @@ import math
 
 import numpy as np
 
+from .core.hermite import hermite, quintic
 from .core.layout import N_WORK
 from .modes import SwitchMode
 
@@ -284,7 +285,9 @@ class QuinticHermite(Interpolant):
         if len(tr.t) < 2:
             return np.full(t.shape, tr.x[0]), np.full(t.shape, tr.v[0])
         i, h, s = self._local(t)
-        x, v = _quintic(s, h, tr.x[i], tr.v[i], self.acc[i], tr.x[i + 1], tr.v[i + 1], self.acc_right[i])
+        h2 = h * h
+        x, dx = quintic(tr.x[i], tr.x[i + 1], h * tr.v[i], h * tr.v[i + 1], h2 * self.acc[i], h2 * self.acc_right[i], s)
+        v = np.divide(dx, h, out=np.array(tr.v[i], dtype=float), where=h > 0)  # a zero-length interval: its start
         stick = tr.mode[i] == 0  # X' = V_b held: a straight line, exactly
         x[stick] = tr.x[i][stick] + tr.v[i][stick] * (t[stick] - tr.t[i][stick])
         v[stick] = tr.v[i][stick]
@@ -304,8 +307,8 @@ class CubicHermite(Interpolant):
         if len(tr.t) < 2:
             return np.full(t.shape, tr.x[0]), np.full(t.shape, tr.v[0])
         i, h, s = self._local(t)
-        x = _cubic(s, h, tr.x[i], tr.v[i], tr.x[i + 1], tr.v[i + 1])
-        v = _cubic(s, h, tr.v[i], self.acc[i], tr.v[i + 1], self.acc[i + 1])
+        x = hermite(tr.x[i], tr.x[i + 1], h * tr.v[i], h * tr.v[i + 1], s)
+        v = hermite(tr.v[i], tr.v[i + 1], h * self.acc[i], h * self.acc[i + 1], s)
         return x, v
 
     def force(self, t, x, v):
@@ -318,27 +321,6 @@ class CubicHermite(Interpolant):
         mode = np.where(vr > band, 1, np.where(vr < -band, -1, 0)).astype(np.int8)
         held = np.clip(law.stick_force_value(x, v, self.zeta), -law.fs, law.fs)
         return self._slip_or(mode, x, v, held), mode
-
-
-def _cubic(s, h, y0, d0, y1, d1):
-    """Cubic Hermite at s in [0, 1] of an interval of length h with values y and slopes d at its ends."""
-    s2, s3 = s * s, s * s * s
-    return (2 * s3 - 3 * s2 + 1) * y0 + (s3 - 2 * s2 + s) * h * d0 + (3 * s2 - 2 * s3) * y1 + (s3 - s2) * h * d1
-
-
-def _quintic(s, h, x0, v0, a0, x1, v1, a1):
-    """Quintic Hermite X and its derivative X' at s in [0, 1] from X, X', X'' at both ends."""
-    s2 = s * s
-    s3, s4, s5 = s2 * s, s2 * s2, s2 * s2 * s
-    h2 = h * h
-    x = ((1 - 10 * s3 + 15 * s4 - 6 * s5) * x0 + (s - 6 * s3 + 8 * s4 - 3 * s5) * h * v0
-         + 0.5 * (s2 - 3 * s3 + 3 * s4 - s5) * h2 * a0 + (10 * s3 - 15 * s4 + 6 * s5) * x1
-         + (-4 * s3 + 7 * s4 - 3 * s5) * h * v1 + 0.5 * (s3 - 2 * s4 + s5) * h2 * a1)
-    dx = ((-30 * s2 + 60 * s3 - 30 * s4) * x0 + (1 - 18 * s2 + 32 * s3 - 15 * s4) * h * v0
-          + 0.5 * (2 * s - 9 * s2 + 12 * s3 - 5 * s4) * h2 * a0 + (30 * s2 - 60 * s3 + 30 * s4) * x1
-          + (-12 * s2 + 28 * s3 - 15 * s4) * h * v1 + 0.5 * (3 * s2 - 8 * s3 + 5 * s4) * h2 * a1)
-    v = np.divide(dx, h, out=np.array(v0, dtype=float), where=h > 0)  # a zero-length interval: its start
-    return x, v
 
 
 # -- dense grids and the work integrals at added points ---------------------------------------------

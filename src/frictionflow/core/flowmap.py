@@ -22,7 +22,7 @@ quadratures; the error is controlled on the state and the monodromy only,
 so the steps (and the map) do not depend on which parameter is
 differentiated.  Every switch V_r = 0 and every zero of X' is a root of the
 scheme's own solution: the step is retaken from its start with lengths theta
-found by Newton (false position as a fallback) on the event function of the
+found by Newton (:mod:`.roots`' false position as a fallback) on the event function of the
 step of length theta (as in :mod:`.tangent`); a cubic Hermite sketch of the
 step flags a dip that may touch zero inside it, whose bottom is then located
 on the scheme's own steps (Newton on X'' = 0).  Stick phases (X' = V_b while |F_e| < F_s) are closed forms.
@@ -58,10 +58,11 @@ import math
 import numpy as np
 from numba import njit
 
-from .hermite import hermite, hermite_min
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from .friction import FD, FS, LAW_A, LAW_B, LAW_C, RESULTANT, rest_mode, slip_partial_of, slip_terms_of
+from .hermite import hermite, hermite_min
+from .roots import RUNNING, bracket, steer, tolerance, update
 from .tangent import slip_force, slip_slope
 
 # -- DOP853 coefficients (Hairer's, as SciPy stores them) --------------------------
@@ -245,39 +246,23 @@ def _event_root(y, lo, hi, glo, ghi, theta, kind, d, sig, ind, zeta, vb, p, code
     """theta with g(theta) = 0 (g(lo) > 0 >= g(hi)), from the guess ``theta``; the state there in ``out``.
 
     Newton with the slope of g at the step's end (the scheme's d/dtheta up to
-    its own error), kept inside the bracket; Illinois false position where
-    Newton would leave it.
+    its own error), kept inside the bracket; the bracket's own next point
+    (:mod:`.roots`) where Newton would leave it.
     """
-    side = 0
-    for _ in range(100):
+    b = bracket(lo, hi, glo, ghi, 4.0 * EPS * abs(t), 4.0 * EPS, 0.0, 100)
+    while b.status == RUNNING:
         dop_step(y, theta, d, ind, zeta, vb, p, code, K, tmp, out)
         gm = _g(out, kind, d, sig, vb)
         if gm == 0.0:
             return theta
-        if gm > 0.0:
-            lo, glo = theta, gm
-            if side == -1:
-                ghi *= 0.5
-            side = -1
-        else:
-            hi, ghi = theta, gm
-            if side == 1:
-                glo *= 0.5
-            side = 1
+        b = update(b, theta, gm)
         rate = _g_rate(accel(d, out[IX], out[IV], zeta, vb, p), kind, d, sig)
         step = -gm / rate if rate != 0.0 else math.inf
-        nxt = theta + step
-        if abs(step) <= 4.0 * EPS * (abs(t) + abs(theta)):
+        if abs(step) <= tolerance(b, theta):
             return theta
-        if not (lo < nxt < hi):
-            nxt = hi - ghi * (hi - lo) / (ghi - glo)
-            if not (lo < nxt < hi):
-                nxt = 0.5 * (lo + hi)
-        if hi - lo <= 4.0 * EPS * (abs(t) + hi):
-            break
-        theta = nxt
-    dop_step(y, hi, d, ind, zeta, vb, p, code, K, tmp, out)
-    return hi
+        theta = steer(b, theta + step).x
+    dop_step(y, b.hi, d, ind, zeta, vb, p, code, K, tmp, out)
+    return b.hi
 
 
 @njit(cache=True)

@@ -1,8 +1,12 @@
-"""The cubic Hermite interpolant on one step, and its smallest interior value.
+"""Hermite interpolation on one step: the cubic (with its smallest interior value) and the quintic.
 
 Kernels that locate events between the ends of a step (section crossings,
 the closest approach to a switching surface) interpolate the event function
-from its values and slopes at both ends.
+from its values and slopes at both ends; :mod:`frictionflow._continuous`
+interpolates recorded runs between their samples with the same forms.  The
+forms are compiled for scalars and, called with NumPy arrays (from Python),
+evaluate element by element.  Slopes are per unit s (a derivative times the
+step h), second derivatives per unit s^2 (times h^2).
 """
 
 from __future__ import annotations
@@ -48,3 +52,20 @@ def hermite_min(g0, g1, m0, m1):
                 best = val
                 best_s = s
     return best_s, best
+
+
+@njit(cache=True)
+def quintic(p0, p1, m0, m1, c0, c1, s):
+    """(value, slope per unit s) of the quintic Hermite interpolant on [0, 1].
+
+    Values p, slopes m (per unit s) and second derivatives c (per unit s^2) at both ends.
+    """
+    s2 = s * s
+    s3, s4, s5 = s2 * s, s2 * s2, s2 * s2 * s
+    p = ((1 - 10 * s3 + 15 * s4 - 6 * s5) * p0 + (s - 6 * s3 + 8 * s4 - 3 * s5) * m0
+         + 0.5 * (s2 - 3 * s3 + 3 * s4 - s5) * c0 + (10 * s3 - 15 * s4 + 6 * s5) * p1
+         + (-4 * s3 + 7 * s4 - 3 * s5) * m1 + 0.5 * (s3 - 2 * s4 + s5) * c1)
+    dp = ((-30 * s2 + 60 * s3 - 30 * s4) * p0 + (1 - 18 * s2 + 32 * s3 - 15 * s4) * m0
+          + 0.5 * (2 * s - 9 * s2 + 12 * s3 - 5 * s4) * c0 + (30 * s2 - 60 * s3 + 30 * s4) * p1
+          + (-12 * s2 + 28 * s3 - 15 * s4) * m1 + 0.5 * (3 * s2 - 8 * s3 + 5 * s4) * c1)
+    return p, dp

@@ -68,7 +68,7 @@ Switch location
 Slip ends where g = d (V_b - X') reaches 0.  A step whose end has g <= 0
 (or whose cubic Hermite interpolant of g dips below 0: two crossings inside
 one step) is retaken from its start with lengths theta found by false
-position (Illinois) on g(theta) = g(the RK4 step of length theta), to
+position (Illinois, :mod:`.roots`) on g(theta) = g(the RK4 step of length theta), to
 |dtheta| ~ 1e-15 tau: the switch is a root of the scheme's own solution, and
 the state and tangent vectors at the switch are one RK4 step of length theta.
 A stick phase ends where |F_e - f(tau)| reaches F_s: an explicit function of
@@ -93,9 +93,9 @@ import math
 import numpy as np
 from numba import njit
 
-from .hermite import hermite_min
-
 from .friction import FS, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of, slip_slope_of
+from .hermite import hermite_min
+from .roots import RUNNING, bracket, update
 
 #: the 6-vector integrated in slip: X, X', then the tangent vectors u1 = (y2, y3), u2 = (y4, y5)
 NY = 6
@@ -172,29 +172,12 @@ def _g_step(y, t, theta, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
 
 @njit(cache=True)
 def _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
-    """Illinois false position for g(theta) = 0 with g(lo) > 0 >= g(hi); returns theta (state at it in ``out``)."""
-    side = 0
-    for _ in range(200):
-        if hi - lo <= 4.0 * EPS * (abs(t) + hi):
-            break
-        m = hi - ghi * (hi - lo) / (ghi - glo)
-        if not (lo < m < hi):
-            m = 0.5 * (lo + hi)
-        gm = _g_step(y, t, m, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
-        if gm > 0.0:
-            lo, glo = m, gm
-            if side == -1:
-                ghi *= 0.5
-            side = -1
-        else:
-            hi, ghi = m, gm
-            if side == 1:
-                glo *= 0.5
-            side = 1
-            if gm == 0.0:
-                break
-    _g_step(y, t, hi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
-    return hi
+    """theta where g(theta) = 0, g(lo) > 0 >= g(hi), to a few units of tau (:mod:`.roots`); the state at it in ``out``."""
+    b = bracket(lo, hi, glo, ghi, 4.0 * EPS * abs(t), 4.0 * EPS, 0.0, 200)
+    while b.status == RUNNING:
+        b = update(b, b.x, _g_step(y, t, b.x, d, zeta, vb, p, k1, k2, k3, k4, tmp, out))
+    _g_step(y, t, b.hi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+    return b.hi
 
 
 @njit(cache=True)
@@ -261,30 +244,16 @@ def _stick_gap_rate(t, side, vb, p):
 
 @njit(cache=True)
 def _stick_root(x0, t0, lo, hi, side, zeta, vb, res, fs, p):
-    """First time in (lo, hi] where the gap of ``side`` reaches 0, given gap(lo) < 0 <= gap(hi)."""
+    """First time in (lo, hi] where the gap of ``side`` reaches 0, given gap(lo) < 0 <= gap(hi).
+
+    To a few units of tau, and of 1 below |tau| = 1 (no chase of the rounding of times near 0).
+    """
     glo = _stick_gap(x0, t0, lo, side, zeta, vb, res, fs, p)
     ghi = _stick_gap(x0, t0, hi, side, zeta, vb, res, fs, p)
-    sd = 0
-    for _ in range(200):
-        if hi - lo <= 4.0 * EPS * max(abs(hi), 1.0):
-            break
-        m = hi - ghi * (hi - lo) / (ghi - glo)
-        if not (lo < m < hi):
-            m = 0.5 * (lo + hi)
-        gm = _stick_gap(x0, t0, m, side, zeta, vb, res, fs, p)
-        if gm < 0.0:
-            lo, glo = m, gm
-            if sd == -1:
-                ghi *= 0.5
-            sd = -1
-        else:
-            hi, ghi = m, gm
-            if sd == 1:
-                glo *= 0.5
-            sd = 1
-            if gm == 0.0:
-                break
-    return hi
+    b = bracket(lo, hi, glo, ghi, 0.0, 4.0 * EPS, 0.0, 200, 1.0)
+    while b.status == RUNNING:
+        b = update(b, b.x, _stick_gap(x0, t0, b.x, side, zeta, vb, res, fs, p))
+    return b.hi
 
 
 @njit(cache=True)

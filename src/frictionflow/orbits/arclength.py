@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core import roots
 from .cycle_problem import CycleProblem, Solution
 
 
@@ -266,29 +267,15 @@ class Tracer:
         return 0.5 * (lam_lo + lam_hi) if math.isfinite(lam_hi) else lam_lo
 
     def _secant(self, a: Solution, t: np.ndarray, h: float, f, fa: float, fb: float, n: int = 10) -> Solution | None:
-        """The solution along the arc where f = 0, by regula falsi (Illinois) on arclength."""
-        lo, hi, flo, fhi = 0.0, h, fa, fb
+        """The solution along the arc where f = 0 (:mod:`..core.roots` on arclength), to 1e-9 in f or in h."""
+        b = roots.bracket(0.0, h, fa, fb, 1e-9 * h, 0.0, 1e-9, n)
         best = None
-        side = 0
-        for _ in range(n):
-            mid = (lo * fhi - hi * flo) / (fhi - flo)
-            s = self.along(a, t, mid)
+        while b.status == roots.RUNNING:
+            s = self.along(a, t, b.x)
             if s is None:
-                return best
-            fm = f(s)
+                break
             best = s
-            if abs(fm) < 1e-9 or hi - lo < 1e-9 * h:
-                return s
-            if fm * flo > 0:
-                lo, flo = mid, fm
-                if side == -1:
-                    fhi *= 0.5
-                side = -1
-            else:
-                hi, fhi = mid, fm
-                if side == 1:
-                    flo *= 0.5
-                side = 1
+            b = roots.update(b, b.x, f(s))
         return best
 
 

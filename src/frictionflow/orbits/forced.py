@@ -64,6 +64,7 @@ from .. import quantities as Q
 from .._display import Row, Summarized, num, pairs, system_row
 from .._json import jsonable
 from ..core import forced_map as fm
+from ..core import roots
 from ..core import sections as sec, tangent
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
@@ -809,34 +810,22 @@ class _Tracer:
         return BranchEvent(kind, s.lam, s.P.copy(), mu, detail, s.run.monodromy.copy())
 
     def _secant(self, a: _Sol, t: np.ndarray, h: float, f, fa: float, fb: float, n: int = 40) -> _Sol | None:
-        """The point along the arc from a where f = 0 (Illinois false position on arclength), to ~1e-8 in lambda."""
-        lo, hi, flo, fhi = 0.0, h, fa, fb
+        """The point along the arc from a where f = 0 (:mod:`..core.roots` on arclength), to ~1e-8 in lambda."""
+        b = roots.bracket(0.0, h, fa, fb, 1e-13, 0.0, 0.0, n)
         lam_lo, lam_hi = a.lam, math.inf
         best = None
-        side = 0
-        for _ in range(n):
-            mid = (lo * fhi - hi * flo) / (fhi - flo)
-            if not lo < mid < hi:
-                mid = 0.5 * (lo + hi)
-            s = self.along(a, t, mid)
+        while b.status == roots.RUNNING:
+            s = self.along(a, t, b.x)
             if s is None:
-                return best
-            fm_ = f(s)
+                break
             best = s
-            if fm_ == 0.0:
-                return s
-            if fm_ * flo > 0:
-                lo, flo, lam_lo = mid, fm_, s.lam
-                if side == -1:
-                    fhi *= 0.5
-                side = -1
+            b = roots.update(b, b.x, f(s))
+            if b.side > 0:
+                lam_hi = s.lam
             else:
-                hi, fhi, lam_hi = mid, fm_, s.lam
-                if side == 1:
-                    flo *= 0.5
-                side = 1
-            if abs(lam_hi - lam_lo) < LAMBDA_TOL or hi - lo < 1e-13:
-                return s
+                lam_lo = s.lam
+            if abs(lam_hi - lam_lo) < LAMBDA_TOL:
+                break
         return best
 
     def _grazing(self, a: _Sol, t: np.ndarray, h: float, sa, sb) -> BranchEvent:
