@@ -215,7 +215,7 @@ def test_simulate_cli_sweep_and_response_agree(case, references):
         assert not disagreements(want, got, case.rtol), (name, KINDS[int(want["kind"])], disagreements(want, got, case.rtol))
 
 
-BASIN_CASES = [c for c in CASES if c.stick_force == "resultant" and (c.solver == "exact" or c.law in ("stribeck",))]
+BASIN_CASES = CASES
 
 
 @pytest.mark.parametrize("case", BASIN_CASES, ids=[c.id for c in BASIN_CASES])
