@@ -42,13 +42,14 @@ import math
 
 import numpy as np
 
+from .core import closed_form as cf
 from .core.hermite import hermite, quintic
 from .core.layout import N_WORK
 from .modes import SwitchMode
 
 #: dense sampling of figures and datasets: at least this many points per natural period 2 pi
 POINTS_PER_PERIOD = 64
-OSC, LIN, EXP = 0, 1, 2
+OSC, LIN, EXP = cf.OSC, cf.LIN, cf.EXP
 #: 8-point Gauss-Legendre nodes and weights on [0, 1] (the work integrals at added points)
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(8)
 _GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
@@ -202,25 +203,16 @@ class ClosedForm(Interpolant):
     def _evaluate(self, dyn, centre, x0, v0, s, t0) -> tuple[np.ndarray, np.ndarray]:
         """X and X' a time ``s`` into phases of type ``dyn`` started at (x0, v0) at times ``t0``.
 
-        Forced OSC phases add the harmonic particular solution (:func:`_harmonic`);
-        LIN and EXP motions do not feel the external force (the interface holds it).
+        The kernels' closed forms (:func:`frictionflow.core.closed_form.states`): forced OSC phases add
+        the harmonic particular solution; LIN and EXP motions do not feel the external force.
         """
-        x = x0 + v0 * s  # LIN
-        v = np.array(v0, dtype=float)
-        osc, exp = dyn == OSC, dyn == EXP
-        if np.any(exp) and self.zeta > 0.0:
-            c = 2.0 * self.zeta
-            x[exp] = x0[exp] + v0[exp] * (-np.expm1(-c * s[exp])) / c
-            v[exp] = v0[exp] * np.exp(-c * s[exp])
-        if np.any(osc):
-            m = self.model
-            if m.forced:
-                xp0, vp0, xp, vp = _harmonic(self.zeta, m.fex, m.omega, m.omega * t0[osc] + m.phi, s[osc])
-                y, vy = _oscillation(self.zeta, x0[osc] - centre[osc] - xp0, v0[osc] - vp0, s[osc])
-                x[osc], v[osc] = centre[osc] + y + xp, vy + vp
-            else:
-                y, vy = _oscillation(self.zeta, x0[osc] - centre[osc], v0[osc], s[osc])
-                x[osc], v[osc] = centre[osc] + y, vy
+        m = self.model
+        n = len(s)
+        x, v = np.empty(n), np.empty(n)
+        theta = m.omega * np.asarray(t0, dtype=float) + m.phi if m.forced else np.zeros(n)
+        cf.states(np.asarray(dyn, dtype=np.int64), np.asarray(centre, dtype=float), np.asarray(x0, dtype=float),
+                  np.asarray(v0, dtype=float), np.asarray(s, dtype=float), theta, self.zeta, float(m.fex) if m.forced else 0.0,
+                  float(m.omega), x, v)
         return x, v
 
     def force(self, t, x, v):
@@ -231,36 +223,6 @@ class ClosedForm(Interpolant):
             held = held - self.model.external_force(t)
         fc = np.where(dyn == OSC, self.centre[i], held)
         return fc, self.traj.mode[i].astype(np.int8)
-
-
-def _harmonic(zeta: float, fex: float, omega: float, theta, s):
-    """The periodic response to F_ex cos(Omega s + theta): (X_p(0), X_p'(0), X_p(s), X_p'(s)).
-
-    X_p = Re(pz e^{i Omega s}), pz = F_ex e^{i theta} / (1 - Omega^2 + 2 i zeta Omega): amplitude
-    F_ex / sqrt((1 - Omega^2)^2 + (2 zeta Omega)^2), lagging by atan2(2 zeta Omega, 1 - Omega^2).
-    """
-    pz = fex * np.exp(1j * np.asarray(theta)) / complex(1.0 - omega * omega, 2.0 * zeta * omega)
-    rot = pz * np.exp(1j * omega * s)
-    return pz.real, -omega * pz.imag, rot.real, -omega * rot.imag
-
-
-def _oscillation(zeta: float, y0, v0, s) -> tuple[np.ndarray, np.ndarray]:
-    """Y'' + 2 zeta Y' + Y = 0 from (y0, v0): (Y, Y') after time ``s``, for every damping regime."""
-    if zeta < 1.0:
-        w = math.sqrt(1.0 - zeta * zeta)
-        q = (v0 + zeta * y0) / w
-        e, c, sn = np.exp(-zeta * s), np.cos(w * s), np.sin(w * s)
-        return e * (y0 * c + q * sn), e * ((w * q - zeta * y0) * c - (w * y0 + zeta * q) * sn)
-    if zeta == 1.0:
-        q = v0 + y0
-        e = np.exp(-s)
-        return e * (y0 + q * s), e * (q - y0 - q * s)
-    r = math.sqrt(zeta * zeta - 1.0)
-    l1, l2 = -zeta + r, -zeta - r
-    a = (v0 - l2 * y0) / (l1 - l2)
-    b = y0 - a
-    e1, e2 = np.exp(l1 * s), np.exp(l2 * s)
-    return a * e1 + b * e2, l1 * a * e1 + l2 * b * e2
 
 
 # -- the adaptive solver and RK4: Hermite interpolation -----------------------------------------------

@@ -578,3 +578,22 @@ def work_between(rep, dyn, ela, eoa, elb, eob, L):
     v4, f4 = _piece_slot(slots[3], a4, b4, L)
     v5, f5 = _piece_slot(slots[4], a5, b5, L)
     return (v1 + v2) + (v3 + v4) + v5 + a0 * L, (f1 + f2) + (f3 + f4) + f5 + b0 * L
+
+
+@njit(cache=True)
+def states(dyn, centre, x0, v0, s, theta, zeta, fex, omega, out_x, out_v):
+    """X and X' a time ``s[i]`` into the phase of type ``dyn[i]`` started at (``x0[i]``, ``v0[i]``).
+
+    The array form of :func:`state` and :func:`forced_eval` that trajectories
+    are evaluated with between their samples: OSC phases about ``centre[i]``,
+    with ``fex`` > 0 the particular solution of F_ex cos(Omega s + ``theta[i]``)
+    added (LIN and EXP phases do not feel the force: the interface holds it).
+    """
+    for i in range(len(s)):
+        if fex != 0.0:
+            co, pz, fz = forced_phase(dyn[i], zeta, centre[i], x0[i], v0[i], fex, omega, theta[i])
+            x, v, _, _, _, _, _, _ = forced_state(co, dyn[i], zeta, centre[i], pz, fz, omega, s[i])
+        else:
+            x, v, _ = state(dyn[i], zeta, centre[i], x0[i], v0[i], s[i])
+        out_x[i] = x
+        out_v[i] = v
