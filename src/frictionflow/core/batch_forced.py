@@ -36,6 +36,12 @@ from .threads import over_points
 # what the kernel leaves per point besides its row: ``aux[j, *]``
 A_STATUS, A_X, A_V, A_REVISITS = range(4)
 N_AUX = 4
+# a point's own values: ``point[j, *]`` (its force record is ``p[j]``)
+P_X0, P_V0, P_ZETA, P_VB = range(4)
+N_POINT = 4
+# the settings every point shares: a float64 record (min_periods stored as a float, read with int())
+S_T_END, S_DENSE_DT, S_RTOL, S_MIN_PERIODS, S_NOISE = range(5)
+N_SETTINGS = 5
 #: A_STATUS: the row is complete; the kind needs the Lyapunov exponent; the façade must run the point
 DONE, LYAPUNOV, FACADE = 0, 1, 2
 PERIODIC, NOT_SETTLED, QUASI_PERIODIC, CHAOTIC = (Q.KINDS.index(k) for k in (
@@ -53,7 +59,7 @@ def _section_values(x, v, idx, first):
 
 
 @njit(cache=True)
-def _judge(samples, k, p, zeta, vb, rtol, min_periods, noise, out, aux):
+def _judge(samples, k, p, zeta, vb, settings, out, aux):
     """The forced run in ``samples[:k]`` classified on its stroboscopic section, its row in ``out``.
 
     As ``forced.classify_forced`` then ``analyze``: the section's tail is its
@@ -62,6 +68,7 @@ def _judge(samples, k, p, zeta, vb, rtol, min_periods, noise, out, aux):
     the window and the kind is left to the Lyapunov pass (``aux``).
     """
     t, x, v = samples[0], samples[1], samples[2]
+    rtol, min_periods, noise = settings[S_RTOL], int(settings[S_MIN_PERIODS]), settings[S_NOISE]
     if not (math.isfinite(x[k - 1]) and math.isfinite(v[k - 1])):
         aux[A_STATUS] = FACADE  # diverged: every number is NaN there, the window from the first bad sample
         return
@@ -90,15 +97,18 @@ def _judge(samples, k, p, zeta, vb, rtol, min_periods, noise, out, aux):
 # Flags arrive as arguments from Python, never as constants written in a kernel: numba would compile the
 # callees once more for each constant (a literal type), seconds on a fresh cache.
 @njit(cache=True, nogil=True)
-def _forced_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, dense_dt, rtol, min_periods, noise, out, aux, off):
+def _forced_points(j0, j1, todo, cap, full, p, point, settings, out, aux, off):
     # one set of buffers for the piece: a run writes every sample before anything reads it
     samples, events = _buffers(cap)
     t_mode = np.zeros(1, dtype=np.int64)
+    t_end = settings[S_T_END]
     t_tail = sec.tail_start(0.0, t_end)
     for j in todo[j0:j1]:
-        # the run record simulate's exact façade builds (run_forced reads the state, span, tail and dense grid)
-        run = run_record(x0[j], v0[j], t_end, zeta[j], vb[j], t_tail, dense_dt, 0.0, 0.0, np.int64(0), off, off, 0.0,
-                         min_periods, 0.0, 0.0)
+        x0, v0, zeta, vb = point[j, P_X0], point[j, P_V0], point[j, P_ZETA], point[j, P_VB]
+        # the run record simulate's exact façade builds (run_forced reads the state, span, tail and dense grid;
+        # every argument typed as the façade's: one compiled builder)
+        run = run_record(x0, v0, t_end, zeta, vb, t_tail, settings[S_DENSE_DT], 0.0, 0.0, np.int64(0), off, off, 0.0,
+                         int(settings[S_MIN_PERIODS]), 0.0, 0.0)
         k, ne, status, t_term, t_stop = exact.run_forced(run, p[j], samples, events, t_mode)
         full[j] = status == exact.FULL
         if full[j]:
@@ -106,7 +116,7 @@ def _forced_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, dense_dt
         if status != exact.DONE:
             aux[j, A_STATUS] = FACADE  # stalled in zero-length phases: the façade raises, with its hint
             continue
-        _judge(samples, k, p[j], zeta[j], vb[j], rtol, min_periods, noise, out[j], aux[j])
+        _judge(samples, k, p[j], zeta, vb, settings, out[j], aux[j])
 
 
 @njit(cache=True, nogil=True)
@@ -149,8 +159,12 @@ def forced_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, *, 
     if cap is None:
         om = float(np.max(p[:, OMEGA])) if n else 1.0
         cap = int(16 * t_end / (2 * math.pi)) + 64 + int(t_end * om / (2 * math.pi)) + int(8 * om * t_end / math.pi)
-    with_room(_forced_points, n, cap, p, zeta, vb, x0, v0, float(t_end), float(dense_dt), float(rtol), int(min_periods),
-              float(noise), out, aux, False)
+    point = np.empty((n, N_POINT))
+    point[:, P_X0], point[:, P_V0], point[:, P_ZETA], point[:, P_VB] = x0, v0, zeta, vb
+    settings = np.empty(N_SETTINGS)
+    settings[S_T_END], settings[S_DENSE_DT], settings[S_RTOL], settings[S_MIN_PERIODS], settings[S_NOISE] = (
+        t_end, dense_dt, rtol, min_periods, noise)
+    with_room(_forced_points, n, cap, p, point, settings, out, aux, False)
     todo = np.flatnonzero(aux[:, A_STATUS] == LYAPUNOV)
     if todo.size:
         out[todo, strobe.R_KIND] = _kinds(p[todo], zeta[todo], vb[todo], aux[todo]) if lyapunov else NOT_SETTLED
