@@ -43,16 +43,11 @@ from typing import Callable
 import numpy as np
 
 from ..core.sections import _stationary
+# the test's constants, shared with its compiled port (the batched forced sweep)
+from ..core.strobe import LYAPUNOV_PERIODS, LYAPUNOV_STEPS, LYAPUNOV_TRANSIENT, MAX_MULTIPLE, REVISIT_SHARE, SECTION_MATCH
 from ..trajectory import Trajectory
 from .lyapunov import lyapunov_exponents
 
-#: the longest subharmonic looked for (in forcing periods)
-MAX_MULTIPLE = 16
-#: how far from tau_k a sample may be and still be the section's (relative to the forcing period)
-SECTION_MATCH = 1e-9
-#: forcing periods the Lyapunov exponent is averaged over, after a short transient, when the section does not repeat
-LYAPUNOV_PERIODS = 400
-LYAPUNOV_TRANSIENT = 20
 #: repetitions a fixed-step run's jittering section needs (as the autonomous classifier's 8 periods)
 JITTER_REPEATS = 8
 
@@ -177,7 +172,7 @@ def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: 
     out["lyapunov"] = lam
     if lam > spread:
         out["kind"] = "chaotic"
-    elif abs(lam) <= spread and revisits(xs, vs, 0.05 * scale):
+    elif abs(lam) <= spread and revisits(xs, vs, REVISIT_SHARE * scale):
         out["kind"] = "quasi_periodic"
     else:
         out["kind"] = "not_settled"
@@ -202,7 +197,7 @@ def largest_exponent(traj: Trajectory) -> tuple[float, float] | None:
     period = traj.model.forcing_period
     try:
         r = lyapunov_exponents(traj.model, law, float(traj.x[i]), float(traj.v[i]), t_transient=LYAPUNOV_TRANSIENT * period,
-                               t_end=(LYAPUNOV_TRANSIENT + LYAPUNOV_PERIODS) * period, steps_per_block=256)
+                               t_end=(LYAPUNOV_TRANSIENT + LYAPUNOV_PERIODS) * period, steps_per_block=LYAPUNOV_STEPS)
     except RuntimeError:  # a grazing switch the tangent map cannot cross
         return None
     return float(r.exponents[0]), max(float(r.spread[0]), 1e-4)

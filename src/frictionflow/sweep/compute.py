@@ -13,7 +13,7 @@ import numpy as np
 from .. import quantities as Q
 from ..analysis import analyze
 from ..analysis.steady_state import DEFAULT_RTOL, section_noise
-from ..core import batch
+from ..core import batch, batch_forced
 from ..core import layout as kf
 from ..friction.base import FrictionLaw
 from ..parameters import with_defaults
@@ -72,19 +72,45 @@ def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[
 
 
 def _forced_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np.ndarray]) -> np.ndarray:
-    """Rows of the swept quantities for forced points, one run and analysis each.
+    """Rows of the swept quantities for the points of a forced sweep, each as ``analyze(simulate(...))`` gives it.
 
-    The batched kernels integrate the autonomous system and classify on the
-    section X' = 0; a forced point is judged on the stroboscopic section
-    (:mod:`frictionflow.analysis.forced`), so it runs through the façade.
+    A forced point is judged on the stroboscopic section
+    (:mod:`frictionflow.analysis.forced`).  On the exact solver the points with
+    F_ex > 0 run batched (:mod:`frictionflow.core.batch_forced`: the same run
+    and the same classifier, compiled); the rest -- other solvers, points
+    without forcing, and what the batched kernel leaves to it -- run one by one
+    through the façade.
     """
-    run = cfg.run
     n = len(pts["zeta"])
     out = np.empty((n, batch.NR))
+    facade = np.ones(n, dtype=bool)
+    forced = pts["fex"] > 0.0
+    if solver.name == "exact" and forced.any():
+        j = np.flatnonzero(forced)
+        sub = {k: v[j] for k, v in pts.items()}
+        p = _friction_rows(cfg, law, sub)
+        p[:, kf.FEX], p[:, kf.OMEGA], p[:, kf.PHI] = sub["fex"], sub["omega"], sub["phi"]
+        x0 = np.where(np.isnan(sub["x0"]), p[:, kf.FD], sub["x0"])
+        v0 = np.where(np.isnan(sub["v0"]), sub["vb"], sub["v0"])
+        rtol = cfg.run.rtol if cfg.run.rtol is not None else DEFAULT_RTOL[solver.name]
+        rows = np.empty((len(j), batch.NR))
+        left = batch_forced.forced_points(p, sub["zeta"], sub["vb"], x0, v0, cfg.run.t_end, rtol, 3,
+                                          section_noise(solver.describe()), rows, dense_dt=solver.dense_dt or 0.0,
+                                          lyapunov=law.stick_rule == "switch" and getattr(law, "func", None) is None)
+        out[j] = rows
+        facade[j] = left
+    _facade_points(cfg, law, solver, pts, np.flatnonzero(facade), out)
+    return out
+
+
+def _facade_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np.ndarray], which: np.ndarray,
+                   out: np.ndarray) -> None:
+    """Rows ``out[which]``: one ``simulate`` and ``analyze`` per point."""
+    run = cfg.run
     base = run.values()
     model_names = [p.name for p in BeltOscillator.parameters]
     law_names = [p.name for p in law.parameters]
-    for j in range(n):
+    for j in which:
         point = {k: float(v[j]) for k, v in pts.items() if not np.isnan(v[j])}
         model = BeltOscillator.from_values({**base, **{k: point[k] for k in model_names if k in point}})
         point_law = type(law).from_values({**base, **{k: point[k] for k in law_names if k in point}})
@@ -93,4 +119,3 @@ def _forced_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np
         traj = simulate(model, point_law, solver, t_end=run.t_end, x0=x0, v0=v0)
         values = analyze(traj, rtol=run.rtol).quantities()
         out[j] = [values[q.name] for q in Q.SWEPT]
-    return out

@@ -1,0 +1,94 @@
+"""Forced sweep speed: a grid of forced Coulomb points (Omega, zeta) on the exact solver, to t_end = 300.
+
+    python benchmarks/bench_sweep_forced.py [--points 1000] [--omega 0.5 1.5] [--zeta 0.02 0.1]
+    python benchmarks/bench_sweep_forced.py --ab /work/main/src src [--repeat 2]
+
+Prints points/s and the steady-state kinds (points whose stroboscopic
+section does not repeat need the largest Lyapunov exponent, a tangent run of
+420 forcing periods: they dominate the time).  ``--ab OLD NEW`` runs the same
+benchmark with ``PYTHONPATH=OLD`` and ``PYTHONPATH=NEW`` alternately (each
+``--repeat`` times, in fresh processes) and prints the ratio of the best
+rates.  Goal (issue 19, item 7): >= 10,000 points/s on 2 cores.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+
+def config(n_side: int, omega: tuple[float, float], zeta: tuple[float, float]) -> dict:
+    return {
+        "friction": "coulomb", "fd": 0.02, "fs": 0.04, "vb": 0.01, "fex": 0.05, "t_end": 300.0,
+        "grid": {"omega": {"start": omega[0], "stop": omega[1], "num": n_side},
+                 "zeta": {"start": zeta[0], "stop": zeta[1], "num": n_side}},
+    }
+
+
+def measure(args: argparse.Namespace) -> dict:
+    from frictionflow.quantities import KINDS
+    from frictionflow.sweep import run_sweep
+
+    n_side = round(args.points ** 0.5)
+    tmp = Path(tempfile.mkdtemp())
+    try:
+        run_sweep(config(2, args.omega, args.zeta), tmp / "warm.zarr")  # load (or compile) the kernels
+        t = time.perf_counter()
+        ds = run_sweep(config(n_side, args.omega, args.zeta), tmp / "sweep.zarr")
+        elapsed = time.perf_counter() - t
+        kinds = ds["kind"].values.ravel()
+    finally:
+        shutil.rmtree(tmp)
+    counts = {k: int(np.count_nonzero(kinds == i)) for i, k in enumerate(KINDS) if np.any(kinds == i)}
+    return {"points": int(kinds.size), "seconds": elapsed, "rate": kinds.size / elapsed, "kinds": counts}
+
+
+def ab(args: argparse.Namespace) -> None:
+    """The benchmark under two source trees, alternating, in fresh processes: best rate of each, and their ratio."""
+    best: dict[str, float] = {}
+    for _ in range(args.repeat):
+        for src in args.ab:
+            env = {**os.environ, "PYTHONPATH": os.path.abspath(src)}
+            cmd = [sys.executable, __file__, "--json", "--points", str(args.points), "--omega", *map(str, args.omega),
+                   "--zeta", *map(str, args.zeta)]
+            r = json.loads(subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout)
+            print(f"PYTHONPATH={src}: {r['points']:,} points in {r['seconds']:.2f} s = {r['rate']:,.0f} points/s {r['kinds']}",
+                  flush=True)
+            best[src] = max(best.get(src, 0.0), r["rate"])
+    old, new = args.ab
+    print(f"best: {best[old]:,.0f} -> {best[new]:,.0f} points/s, ratio {best[new] / best[old]:.1f}x")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--points", type=int, default=1000)
+    ap.add_argument("--omega", type=float, nargs=2, default=(0.5, 1.5))
+    ap.add_argument("--zeta", type=float, nargs=2, default=(0.02, 0.1))
+    ap.add_argument("--ab", nargs=2, metavar=("OLD_SRC", "NEW_SRC"))
+    ap.add_argument("--repeat", type=int, default=2)
+    ap.add_argument("--json", action="store_true", help="print the measurement as JSON (for --ab)")
+    args = ap.parse_args()
+    if args.ab:
+        ab(args)
+        return
+    r = measure(args)
+    if args.json:
+        print(json.dumps(r))
+        return
+    from _common import header
+
+    header(f"forced sweep of {r['points']:,} points (Coulomb, exact solver, t_end 300)")
+    print(f"{r['points']:,} points in {r['seconds']:.2f} s: {r['rate']:,.0f} points/s (goal >= 10,000; {r['kinds']})")
+
+
+if __name__ == "__main__":
+    main()

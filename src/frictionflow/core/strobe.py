@@ -1,0 +1,226 @@
+"""The stroboscopic steady-state test of a forced run, compiled: what the batched forced sweep judges with.
+
+:mod:`frictionflow.analysis.forced` judges a forced run on the states at the
+stroboscopic times k 2 pi / Omega; :mod:`.batch_forced` judges many runs in
+compiled threads and must give the same answer.  These are its pieces, each
+a line-by-line port of the numpy it mirrors, with the same floating-point
+operations in the same order (so the results are the same bits, not only
+close):
+
+* :func:`section_indices` -- ``forced.section_indices``;
+* :func:`repeat_multiple` -- ``forced.repeat_multiple``;
+* :func:`revisits` -- ``forced.revisits``;
+* :func:`window_row` -- what :func:`frictionflow.analysis.analyze` reports over
+  a window that starts and ends on samples: ``power_flow`` (its sums of the
+  work integrals: numpy's axis-0 sum, sequential), ``transmissibility``,
+  ``amplitude`` and ``stick_fraction`` (numpy's 1-D sum: pairwise,
+  :func:`pairwise_sum`).
+
+The constants of the test live here, so that both paths read one value.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .. import quantities as Q
+from . import sections as sec
+from .layout import N_WORK
+
+#: the longest subharmonic looked for (in forcing periods)
+MAX_MULTIPLE = 16
+#: how far from tau_k a sample may be and still be the section's (relative to the forcing period)
+SECTION_MATCH = 1e-9
+#: forcing periods the Lyapunov exponent is averaged over, after a short transient, when the section does not repeat
+LYAPUNOV_PERIODS = 400
+LYAPUNOV_TRANSIENT = 20
+#: RK4 steps per forcing period of the Lyapunov exponent's tangent run
+LYAPUNOV_STEPS = 256
+#: a non-repeating section is quasi-periodic only if its second half revisits the first to this share of its scale
+REVISIT_SHARE = 0.05
+
+# Positions in the result row (the quantities table's first NR entries).
+R_KIND, R_PERIOD, R_TR_B, R_X_MIN, R_X_MAX, R_V_MIN, R_V_MAX, R_STICK = (Q.index(n) for n in (
+    "kind", "period", "TR_B", "X_min", "X_max", "V_min", "V_max", "stick_fraction"))
+#: numpy's pairwise summation: below this many terms a block is summed with 8 accumulators
+PW_BLOCKSIZE = 128
+
+
+@njit(cache=True)
+def first_at_or_after(t, k, value):
+    """The first index i < k with t[i] >= value, or k (numpy's ``searchsorted``, side left)."""
+    lo, hi = 0, k
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if t[mid] < value:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True)
+def section_indices(t, k, period):
+    """Indices of the samples ``t[:k]`` at tau_j = j ``period`` (j = 0, 1, ...); an empty array if one is missing.
+
+    The façade raises where a section time has no sample; the caller leaves such a run to it.
+    """
+    n = int(math.floor(t[k - 1] / period * (1 + 1e-12))) + 1
+    match = SECTION_MATCH * period
+    idx = np.empty(n, dtype=np.int64)
+    for j in range(n):
+        time = j * period
+        i = min(max(first_at_or_after(t, k, time - match), 0), k - 1)
+        if not abs(t[i] - time) <= match * max(1.0, float(j)):
+            return idx[:0]
+        idx[j] = i
+    return idx
+
+
+@njit(cache=True)
+def _mismatch(x, v, i, m, tol):
+    """P_{i+m} differs from P_i by more than ``tol`` (np.maximum of the two differences: NaN is no mismatch)."""
+    dx = abs(x[i + m] - x[i])
+    dv = abs(v[i + m] - v[i])
+    if math.isnan(dx) or math.isnan(dv):
+        return False
+    return dx > tol or dv > tol
+
+
+@njit(cache=True)
+def repeat_multiple(x, v, tol, min_periods):
+    """(m, repetitions): the smallest m whose last ``min_periods`` repetitions match to ``tol``; (0, 0) if none."""
+    n = len(x)
+    for m in range(1, MAX_MULTIPLE + 1):
+        if n < (min_periods + 1) * m:
+            break
+        run = 0  # trailing matches P_{i+m} = P_i, counted back from the end
+        for i in range(n - m - 1, -1, -1):
+            if _mismatch(x, v, i, m, tol):
+                break
+            run += 1
+        if run >= min_periods * m:
+            return m, run // m
+    return 0, 0
+
+
+@njit(cache=True)
+def revisits(x, v, tol):
+    """Whether every point of the second half lies within ``tol`` of some point of the first half (finite values)."""
+    h = len(x) // 2
+    if h < 8:
+        return False
+    for b in range(h, len(x)):
+        near = np.inf
+        for a in range(h):
+            near = min(near, max(abs(x[b] - x[a]), abs(v[b] - v[a])))
+        if not near <= tol:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _block_sum(a, lo, n):
+    """numpy's sum of a block of at most :data:`PW_BLOCKSIZE` terms: 8 accumulators, then the rest in order."""
+    if n < 8:
+        res = 0.0
+        for i in range(lo, lo + n):
+            res += a[i]
+        return res
+    r0, r1, r2, r3 = a[lo], a[lo + 1], a[lo + 2], a[lo + 3]
+    r4, r5, r6, r7 = a[lo + 4], a[lo + 5], a[lo + 6], a[lo + 7]
+    i = 8
+    while i < n - n % 8:
+        j = lo + i
+        r0 += a[j]
+        r1 += a[j + 1]
+        r2 += a[j + 2]
+        r3 += a[j + 3]
+        r4 += a[j + 4]
+        r5 += a[j + 5]
+        r6 += a[j + 6]
+        r7 += a[j + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < n:
+        res += a[lo + i]
+        i += 1
+    return res
+
+
+@njit(cache=True)
+def pairwise_sum(a, lo, n):
+    """numpy's sum of ``a[lo:lo + n]``, the same bits as ``np.sum``: halves (the first a multiple of 8) summed
+    apart, down to blocks (:func:`_block_sum`).
+
+    numpy recurses; this walks the same tree with a stack (a recursive kernel
+    loaded from numba's cache crashes its caller).  Tasks: (start, length) to
+    sum, or length -1: add the last two sums.
+    """
+    task_lo = np.empty(192, dtype=np.int64)
+    task_n = np.empty(192, dtype=np.int64)
+    sums = np.empty(64)
+    nt, ns = 1, 0
+    task_lo[0], task_n[0] = lo, n
+    while nt:
+        nt -= 1
+        l, m = task_lo[nt], task_n[nt]
+        if m < 0:  # both halves done: left + right
+            ns -= 1
+            sums[ns - 1] = sums[ns - 1] + sums[ns]
+        elif m <= PW_BLOCKSIZE:
+            sums[ns] = _block_sum(a, l, m)
+            ns += 1
+        else:  # the combination, then the right half, then the left (a stack: the left is summed first)
+            m2 = m // 2
+            m2 -= m2 % 8
+            task_lo[nt], task_n[nt] = 0, -1
+            task_lo[nt + 1], task_n[nt + 1] = l + m2, m - m2
+            task_lo[nt + 2], task_n[nt + 2] = l, m2
+            nt += 3
+    return sums[0]
+
+
+@njit(cache=True)
+def stick_fraction(t, mode, i0, i1):
+    """Share of samples i0..i1 spent sticking, time-weighted (``analysis.steady_state.stick_fraction``)."""
+    if i1 <= i0:
+        return 1.0 if mode[i0] == 0 else 0.0
+    dt = np.empty(i1 - i0)
+    held = np.empty(i1 - i0)
+    for i in range(i0, i1):
+        dt[i - i0] = t[i + 1] - t[i]
+        held[i - i0] = dt[i - i0] * (1.0 if mode[i] == 0 else 0.0)
+    return pairwise_sum(held, 0, i1 - i0) / pairwise_sum(dt, 0, i1 - i0)
+
+
+@njit(cache=True)
+def window_row(samples, k, t0, t1, zeta, fex, out):
+    """Fill ``out`` (a result row) with what ``analyze`` reports over the window (t0, t1) of sample times.
+
+    The averages from the work integrals of the samples after t0 up to t1 and
+    K + U at both ends; TR_B, the extremes and the stick fraction over the
+    samples t0..t1.  ``kind`` and ``period`` are the caller's.
+    """
+    t, x, v, fc, mode, work = samples
+    i0 = first_at_or_after(t, k, t0)
+    i1 = first_at_or_after(t, k, t1)
+    dw = np.zeros(N_WORK)
+    for i in range(i0 + 1, i1 + 1):  # row by row, as numpy sums axis 0
+        for q in range(N_WORK):
+            dw[q] += work[i, q]
+    e0 = 0.5 * (v[i0] * v[i0]) + 0.5 * (x[i0] * x[i0])
+    e1 = 0.5 * (v[i1] * v[i1]) + 0.5 * (x[i1] * x[i1])
+    sec.put(out, sec.averages(dw[0], dw[1], dw[2], dw[3], dw[4], e0, e1, t1 - t0))
+    two_zeta = 2.0 * zeta
+    fmax, xmin, xmax, vmin, vmax = -np.inf, np.inf, -np.inf, np.inf, -np.inf
+    for i in range(i0, i1 + 1):
+        fmax = max(fmax, abs(x[i] + two_zeta * v[i]))
+        xmin, xmax = min(xmin, x[i]), max(xmax, x[i])
+        vmin, vmax = min(vmin, v[i]), max(vmax, v[i])
+    out[R_TR_B] = fmax / fex
+    out[R_X_MIN], out[R_X_MAX], out[R_V_MIN], out[R_V_MAX] = xmin, xmax, vmin, vmax
+    out[R_STICK] = stick_fraction(t, mode, i0, i1)

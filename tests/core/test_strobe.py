@@ -1,0 +1,44 @@
+"""The compiled port of the stroboscopic test (core.strobe) gives numpy's bits, piece by piece."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from frictionflow import BeltOscillator, Coulomb, simulate
+from frictionflow.analysis import forced
+from frictionflow.analysis.steady_state import stick_fraction
+from frictionflow.core import strobe
+from frictionflow.solvers.exact import Exact
+
+
+@pytest.mark.parametrize("n", [*range(1, 40), 127, 128, 129, 255, 256, 257, 1000, 4099])
+def test_pairwise_sum_is_numpys_sum_bit_for_bit(n):
+    rng = np.random.default_rng(n)
+    a = rng.random(n + 3) * 10.0 ** rng.uniform(-9, 0, n + 3)
+    assert strobe.pairwise_sum(a, 3, n) == np.sum(a[3:])
+
+
+def test_repeat_multiple_and_revisits_are_the_analysis_functions():
+    rng = np.random.default_rng(0)
+    for trial in range(300):
+        m_true = int(rng.integers(1, 6))
+        n = int(rng.integers(2, 40))
+        base = rng.random((m_true, 2))
+        seq = base[np.arange(n) % m_true] + rng.normal(0, 10.0 ** rng.uniform(-14, -6), (n, 2)) * (np.arange(n) < rng.integers(0, n))[:, None]
+        x, v = np.ascontiguousarray(seq[:, 0]), np.ascontiguousarray(seq[:, 1])
+        tol = 10.0 ** rng.uniform(-12, -7)
+        assert strobe.repeat_multiple(x, v, tol, 3) == forced.repeat_multiple(x, v, tol, 3)
+        assert strobe.revisits(x, v, 0.3) == forced.revisits(x, v, 0.3)
+
+
+def test_sections_and_window_values_of_a_forced_run_are_the_analysis_values():
+    traj = simulate(BeltOscillator(zeta=0.01, vb=0.01, fex=0.02, omega=1.4), Coulomb(0.02, 0.04), Exact(), t_end=150.0,
+                    x0=0.02, v0=0.01)
+    period = traj.model.forcing_period
+    k = len(traj.t)
+    idx = strobe.section_indices(traj.t, k, period)
+    assert np.array_equal(idx, forced.section_indices(traj))
+    i0, i1 = int(idx[len(idx) // 3]), int(idx[-1])
+    assert strobe.stick_fraction(traj.t, traj.mode, i0, i1) == stick_fraction(traj, (traj.t[i0], traj.t[i1]))
+    assert 0.0 < strobe.stick_fraction(traj.t, traj.mode, i0, i1) < 1.0
