@@ -1,0 +1,120 @@
+"""Readable functions: none over 80 lines, none with more than 12 parameters (issue 19, item 6).
+
+``OVER_LIMIT`` lists the functions that still exceed a limit, with their size
+when the rule was introduced: the list may only shrink.  A function not in it
+that crosses a limit fails; so does a listed one that grows, and a listed one
+that is now within the limits (take it off the list).
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+MAX_LINES = 80
+MAX_PARAMS = 12
+
+#: name -> (lines, parameters) of the functions still over a limit
+OVER_LIMIT = {
+    "frictionflow.basins.study:basins": (84, 16),
+    "frictionflow.cli.basins:basins": (41, 15),
+    "frictionflow.cli.map:map_": (60, 20),
+    "frictionflow.cli.map:_forced_map": (45, 17),
+    "frictionflow.cli.orbit:continue_": (43, 15),
+    "frictionflow.core.batch:_classify_samples": (6, 14),
+    "frictionflow.core.batch:_exact_points": (32, 17),
+    "frictionflow.core.batch:adaptive_points": (10, 14),
+    "frictionflow.core.batch:_adaptive_points": (19, 19),
+    "frictionflow.core.batch:_rk4_rows": (4, 15),
+    "frictionflow.core.batch_forced:forced_points": (26, 13),
+    "frictionflow.core.dopri:_run": (295, 5),
+    "frictionflow.core.dopri:_gd": (5, 13),
+    "frictionflow.core.dopri:_root_between": (14, 14),
+    "frictionflow.core.dopri:_stick_walk": (40, 15),
+    "frictionflow.core.exact:consistent": (51, 15),
+    "frictionflow.core.exact:select_mode": (7, 14),
+    "frictionflow.core.exact:run": (230, 7),
+    "frictionflow.core.exact:_forced_piece": (9, 14),
+    "frictionflow.core.exact:run_forced": (163, 5),
+    "frictionflow.core.flowmap:_event_root": (21, 18),
+    "frictionflow.core.flowmap:_extremum_theta": (19, 13),
+    "frictionflow.core.flowmap:_first_root": (40, 16),
+    "frictionflow.core.flowmap:_track_min": (26, 15),
+    "frictionflow.core.flowmap:flow_map": (241, 14),
+    "frictionflow.core.forced_map:flow_map": (126, 13),
+    "frictionflow.core.friction:band_force": (17, 13),
+    "frictionflow.core.friction:band_force_select": (9, 13),
+    "frictionflow.core.records:run_record": (28, 16),
+    "frictionflow.core.rk4:stage": (18, 15),
+    "frictionflow.core.rk4:step": (27, 18),
+    "frictionflow.core.rk4:_record": (12, 26),
+    "frictionflow.core.rk4:run": (22, 17),
+    "frictionflow.core.rk4:run_forced": (4, 17),
+    "frictionflow.core.rk4:_run": (38, 19),
+    "frictionflow.core.rk4:run_thinned": (16, 18),
+    "frictionflow.core.rk4:run_thinned_forced": (5, 18),
+    "frictionflow.core.rk4:_thinned": (51, 19),
+    "frictionflow.core.rk4_batch:_lanes": (14, 19),
+    "frictionflow.core.rk4_batch:_block": (106, 13),
+    "frictionflow.core.rk4_batch:run_batch": (3, 13),
+    "frictionflow.core.rk4_batch:_blocks": (7, 15),
+    "frictionflow.core.rk4_batch:_summarize": (10, 14),
+    "frictionflow.core.roots:_next": (19, 13),
+    "frictionflow.core.sections:classify": (130, 8),
+    "frictionflow.core.tangent:rk4_step": (14, 13),
+    "frictionflow.core.tangent:_g_step": (4, 13),
+    "frictionflow.core.tangent:_refine": (7, 16),
+    "frictionflow.core.tangent:slip_until": (40, 14),
+    "frictionflow.core.tangent:run": (113, 12),
+    "frictionflow.orbits.continuation:continuation": (130, 18),
+    "frictionflow.orbits.forced:continue_forced": (64, 16),
+    "frictionflow.orbits.forced_chart:forced_chart": (79, 13),
+}
+
+
+def _count_params(args: ast.arguments) -> int:
+    names = [a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)]
+    n = len(names) + (args.vararg is not None) + (args.kwarg is not None)
+    return n - (1 if names and names[0] in ("self", "cls") else 0)
+
+
+def function_sizes() -> dict[str, tuple[int, int]]:
+    """``module:Class.function`` -> (lines, parameters) of every function of the package."""
+    sizes = {}
+    for path in sorted((SRC / "frictionflow").rglob("*.py")):
+        module = path.relative_to(SRC).with_suffix("").as_posix().replace("/", ".")
+
+        def visit(node: ast.AST, prefix: str) -> None:
+            for n in ast.iter_child_nodes(node):
+                if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                    sizes[f"{module}:{prefix}{n.name}"] = (n.end_lineno - n.lineno + 1, _count_params(n.args))
+                    visit(n, f"{prefix}{n.name}.")
+                elif isinstance(n, ast.ClassDef):
+                    visit(n, f"{prefix}{n.name}.")
+
+        visit(ast.parse(path.read_text(encoding="utf-8")), "")
+    return sizes
+
+
+SIZES = function_sizes()
+
+
+def _over(size: tuple[int, int]) -> bool:
+    return size[0] > MAX_LINES or size[1] > MAX_PARAMS
+
+
+def test_no_new_function_over_the_limits():
+    new = {k: v for k, v in SIZES.items() if _over(v) and k not in OVER_LIMIT}
+    assert not new, f"over {MAX_LINES} lines or {MAX_PARAMS} parameters (split it; pass records): {new}"
+
+
+def test_listed_functions_do_not_grow():
+    grown = {k: (OVER_LIMIT[k], v) for k, v in SIZES.items() if k in OVER_LIMIT
+             and (v[0] > max(OVER_LIMIT[k][0], MAX_LINES) or v[1] > max(OVER_LIMIT[k][1], MAX_PARAMS))}
+    assert not grown, f"(listed, now): {grown}"
+
+
+def test_the_list_only_names_functions_still_over_a_limit():
+    stale = [k for k in OVER_LIMIT if k not in SIZES or not _over(SIZES[k])]
+    assert not stale, f"within the limits now (or gone): take them off OVER_LIMIT: {stale}"
