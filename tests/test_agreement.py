@@ -267,3 +267,16 @@ def test_default_basins_at_zero_damping_are_settled():
                        x0=(-0.05, 0.05, 4), v0=(-0.05, 0.05, 4))
     kinds = np.asarray(res.dataset["kind"].values).ravel()
     assert not (kinds == KINDS.index("not_settled")).any()
+
+
+def test_a_belt_at_rest_has_no_power_ratios_on_any_path():
+    """V_b = 0: friction only ever opposes the motion, so it puts in nothing; P_fin is rounding (~1e-21) and
+    R_c, R_f are null -- they were 1e16-1e17 on the response path."""
+    case = Case("coulomb", "belt at rest", (("fd", 0.02), ("fs", 0.02)), 0.0, "resultant", 0.05, True, "exact")
+    model = replace(case.model(), fex=0.05, omega=0.5)
+    ref = analyze(simulate(model, case.law_object(), t_end=T_END)).quantities()
+    assert abs(ref["P_fin"]) < 1e-12 * ref["P_df"] and ref["P_df"] > 0
+    ds = frequency_response(model, case.law_object(), [0.5, 1.0], periods=40, directions=("up",))
+    for got in (ref, {k: ds[k].values.ravel()[0] for k in ("R_c", "R_f")}):
+        assert math.isnan(float(got["R_c"])) and math.isnan(float(got["R_f"]))
+    assert np.isnan(ds["R_c"].values).all()
