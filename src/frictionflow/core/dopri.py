@@ -36,6 +36,7 @@ import math
 import numpy as np
 from numba import njit
 
+from . import codes
 from .friction import FEX, FS, OMEGA, PHI, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of
 from . import sections as sec
 from .layout import N_WORK
@@ -67,7 +68,7 @@ H_MAX = 0.25  # about 1/25 of the natural period
 STROBE_TOL = 1e-12
 #: a forced slip phase shorter than this (relative) is no slip: F_s was touched, not crossed
 NO_SLIP = 1e-12
-OK, STEP_CAP, TINY_STEP, FULL = 0, 1, 2, 3
+OK, STEP_CAP, TINY_STEP, FULL = codes.OK, codes.STEP_CAP, codes.TINY_STEP, codes.FULL
 EPS = 2.220446049250313e-16
 
 

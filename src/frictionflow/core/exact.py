@@ -57,6 +57,7 @@ import math
 import numpy as np
 from numba import njit
 
+from . import codes
 from . import closed_form as cf
 from . import sections as sec
 from .friction import COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD
@@ -70,7 +71,7 @@ KARNOPP_ORDER = np.array([SLIP_POS, SLIP_NEG, SAT_POS, SAT_NEG, HOLD, EDGE_LO, E
 COULOMB_ORDER = np.array([STICK, SLIP_POS, SLIP_NEG])
 
 # status codes
-DONE, FULL, STUCK = 0, 1, 2
+DONE, FULL, STUCK = codes.OK, codes.FULL, codes.STUCK
 EPS = 2.220446049250313e-16
 #: rows of the ``ev`` arrays of :func:`boundaries` (a mode has at most 4 boundaries)
 MAX_EVENTS_PER_MODE = 5

@@ -60,6 +60,7 @@ from numba import njit
 
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
+from . import codes
 from .friction import FD, FS, LAW_A, LAW_B, LAW_C, RESULTANT, rest_mode, slip_partial_of, slip_terms_of
 from .hermite import hermite, hermite_min
 from .roots import RUNNING, bracket, steer, tolerance, update
@@ -94,7 +95,8 @@ N_PH = 11
 #: switch record: t, x, v, from, to, n0, n1, fb0, fb1, fa0, fa1
 N_SW = 11
 
-OK, NO_RETURN, FULL, ZERO_PHASES, STEP_FAIL, NOT_FINITE = range(6)
+OK, NO_RETURN, FULL, ZERO_PHASES, STEP_FAIL, NOT_FINITE = (codes.OK, codes.NO_RETURN, codes.FULL, codes.STUCK,
+                                                         codes.STEP_FAIL, codes.NOT_FINITE)
 MAX_ZERO_PHASES = 8
 EPS = 2.220446049250313e-16
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0

@@ -93,6 +93,7 @@ import math
 import numpy as np
 from numba import njit
 
+from . import codes
 from .friction import FS, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of, slip_slope_of
 from .hermite import hermite_min
 from .roots import RUNNING, bracket, update
@@ -103,7 +104,7 @@ NY = 6
 N_COUNTS = 5
 C_STICK, C_SLIP, C_REVERSAL, C_HELD, C_GRAZE = range(N_COUNTS)
 #: status codes
-OK, ZERO_PHASES, NOT_FINITE = 0, 1, 2
+OK, ZERO_PHASES, NOT_FINITE = codes.OK, codes.STUCK, codes.NOT_FINITE
 #: consecutive phases shorter than a rounding unit before the kernel gives up
 MAX_ZERO_PHASES = 16
 EPS = 2.220446049250313e-16
