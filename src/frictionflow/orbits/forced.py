@@ -26,7 +26,7 @@ can pass through -1 (period doubling) and a complex pair through the unit
 circle (Neimark-Sacker).
 
 :func:`continue_forced` follows the fixed points in (P, lambda), lambda =
-Omega or F_ex, by pseudo-arclength continuation in scaled coordinates,
+Omega or F_ex, by pseudo-arclength continuation in scaled coordinates (:class:`~.tracing.Tracer`),
 with dPhi/dlambda by central differences (the period itself depends on
 Omega: Phi is rerun over m 2 pi / (Omega +- delta)), and finds between
 accepted points, each refined to ~1e-8 in lambda:
