@@ -14,7 +14,7 @@ along branches; folds and grazings located by Newton), :mod:`.monitors`
 (extrema of per-orbit quantities along branches, continued in a second
 parameter), :mod:`.chart` (two-parameter stability charts),
 :mod:`.shooting` (Newton on the Poincare map), :mod:`.floquet`,
-:mod:`.equilibria`, :mod:`.arclength` (pseudo-arclength), :mod:`.continuation`,
+:mod:`.equilibria`, :mod:`.tracing` (pseudo-arclength, any problem), :mod:`.continuation`,
 :mod:`.brute_force` (simulations to overlay), :mod:`.plotting`; the forced
 oscillator's orbits (period fixed by the forcing): :mod:`.forced`, :mod:`.forced_plot`,
 and its monitors and (Omega, F_ex) charts: :mod:`.forced_chart`.

@@ -23,7 +23,6 @@ import numpy as np
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..solvers.base import Solver
-from .arclength import Trace, Tracer, start_from_hopf, start_from_orbit
 from .branches import Bifurcation, Branch, BranchPoint, ContinuationResult
 from .cycle_problem import CycleProblem, Solution
 from .equilibria import equilibrium, equilibrium_branch, hopf_points
@@ -31,6 +30,7 @@ from .flow import make_flow
 from .parameters import with_param
 from .shooting import ShootingError, find_orbit, orbit_from_segment
 from .brute_force import sweep as brute_force_sweep
+from .tracing import StepControl, Trace, Tracer
 
 SEEDS = ("hopf", "start", "stop")
 
@@ -115,8 +115,8 @@ def continuation(
             pts.append(BranchPoint.from_equilibrium(eq, m.vb, law.fd))
         branches.append(Branch("equilibrium", pts, seed="sliding equilibrium", end="interval end"))
 
-    problem = CycleProblem(model, friction, param, start, stop, returns=returns, tol=tol)
-    tracer = Tracer(problem, h0=step, h_max=max_step, max_points=max_points, max_period=max_period)
+    problem = CycleProblem(model, friction, param, start, stop, returns=returns, tol=tol, max_period=max_period)
+    tracer = Tracer(problem, StepControl(h0=step, h_max=max_step, max_points=max_points))
 
     # 2. orbits born at Hopf points
     for lam_h in hopfs:
@@ -126,7 +126,7 @@ def continuation(
             continue
         m, law = with_param(model, friction, param, lam_h)
         xi0 = 0.02 * max(abs(m.vb), 1e-6)
-        begun = start_from_hopf(problem, tracer, lam_h, xi0)
+        begun = _start_from_hopf(tracer, lam_h, xi0)
         if begun is None:
             continue
         first, t = begun
@@ -149,7 +149,7 @@ def continuation(
         if _on_branch(branches, lam, xi, problem):
             continue
         try:
-            first, t = start_from_orbit(problem, lam, orbit.state[0], toward)
+            first, t = _start_from_orbit(tracer, lam, orbit.state[0], toward)
         except (RuntimeError, ValueError):
             continue
         _add(branches, bifs, tracer.trace(first, t), f"simulation at {param}={lam:.10g}", returns, solver)
@@ -165,6 +165,28 @@ def continuation(
     if sweep:
         result.sweep = brute_force_sweep(model, friction, param, np.linspace(start, stop, sweep), t_end=transient, x0=x0, v0=v0, solver=solver)
     return result
+
+
+def _start_from_hopf(tracer: Tracer, lam_h: float, xi0: float) -> tuple[Solution, np.ndarray] | None:
+    """The first orbit of the branch born at lambda_H, at amplitude xi0, and the branch's tangent.
+
+    From the virtual point (0, lambda_H) the branch leaves along xi: correct
+    (xi0, lambda_H) on the line xi = xi0.
+    """
+    problem = tracer.p
+    t0 = np.array([1.0, 0.0])
+    w_h = np.array([0.0, lam_h / problem.sl])
+    s = tracer.correct(w_h + (xi0 / problem.sx) * t0, t0)
+    if s is None:
+        return None
+    return s, tracer.tangent(s, t0)
+
+
+def _start_from_orbit(tracer: Tracer, lam: float, x: float, toward: float) -> tuple[Solution, np.ndarray]:
+    """A solution at (lambda, X) and the tangent pointing toward lambda = ``toward``."""
+    _, _, x_ref = tracer.p.system(lam)
+    s = tracer.p.solve_at(lam, x - (x_ref if math.isfinite(x_ref) else 0.0))
+    return s, tracer.start(s, toward)
 
 
 def _point(s: Solution, returns: int, solver: Solver | None) -> BranchPoint:

@@ -26,7 +26,7 @@ can pass through -1 (period doubling) and a complex pair through the unit
 circle (Neimark-Sacker).
 
 :func:`continue_forced` follows the fixed points in (P, lambda), lambda =
-Omega or F_ex, by pseudo-arclength continuation in scaled coordinates,
+Omega or F_ex, by pseudo-arclength continuation in scaled coordinates (:class:`~.tracing.Tracer`),
 with dPhi/dlambda by central differences (the period itself depends on
 Omega: Phi is rerun over m 2 pi / (Omega +- delta)), and finds between
 accepted points, each refined to ~1e-8 in lambda:
@@ -64,7 +64,6 @@ from .. import quantities as Q
 from .._display import Row, Summarized, num, pairs, system_row
 from .._json import jsonable
 from ..core import forced_map as fm
-from ..core import roots
 from ..core import sections as sec, tangent
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
@@ -73,6 +72,7 @@ from ..analysis.power_flow import power_flow
 from ..analysis.steady_state import stick_fraction
 from ..analysis.transmissibility import amplitude, transmissibility
 from .measures import one_period
+from .tracing import ContinuationProblem, Corrector, Crossing, StepControl, Step, Stop, Tracer
 
 #: RK4 grid steps per forcing period unless told
 DEFAULT_STEPS = 512
@@ -529,12 +529,37 @@ class ForcedBranch(Summarized):
         return "ForcedBranch", rows
 
 
-class _Problem:
-    """Fixed points of Phi_m(.; lambda) - P in the scaled coordinates w = (X / s_x, X' / s_x, lambda / s_l)."""
+@dataclass
+class _Sol:
+    """A fixed point P of Phi_m at lambda, its map run, and dPhi/dlambda (NaN until differenced)."""
 
-    def __init__(self, model, friction, parameter, m, steps, sx, sl, tol):
+    P: np.ndarray
+    lam: float
+    run: MapRun
+    dl: np.ndarray
+    iterations: int = 0
+
+    @property
+    def u(self) -> np.ndarray:
+        return np.array([self.P[0], self.P[1], self.lam])
+
+
+class _Problem(ContinuationProblem):
+    """Fixed points of Phi_m(.; lambda) - P in the scaled coordinates w = (X / s_x, X' / s_x, lambda / s_l).
+
+    A :class:`~.tracing.ContinuationProblem` in the two unknowns P = (X, X')
+    with lambda in ``interval``; ``scales`` = (s_x, s_l).
+    """
+
+    #: dPhi/dlambda costs two more map runs: a chord, renewed every 3 iterations and at the accepted point
+    #: (the tangent, which also locates folds); Newton gives up after 3 slow iterations
+    corrector = Corrector(max_iter=10, stall_after=3, chord_every=3, fresh_lambda=True)
+
+    def __init__(self, model: BeltOscillator, friction: FrictionLaw, parameter: str, m: int, *, steps: int,
+                 scales: tuple[float, float], interval: tuple[float, float], tol: float) -> None:
         self.model, self.friction, self.parameter, self.m, self.steps = model, friction, parameter, m, steps
-        self.s = np.array([sx, sx, sl])
+        self.scale = np.array([scales[0], scales[0], scales[1]])
+        self.lo, self.hi = min(interval), max(interval)
         self.tol = tol
 
     def model_at(self, lam: float) -> BeltOscillator:
@@ -543,7 +568,7 @@ class _Problem:
     def run(self, P, lam) -> MapRun:
         return flow_run(self.model_at(lam), self.friction, P, self.m, self.steps)
 
-    def d_lambda(self, P, lam, end: np.ndarray | None = None) -> np.ndarray:
+    def difference(self, P, lam, end: np.ndarray | None = None) -> np.ndarray:
         """dPhi/dlambda by differences (relative step 1e-6; Omega's change moves the period's end too).
 
         Central where both one-sided quotients agree; where they do not, a
@@ -559,176 +584,105 @@ class _Problem:
             return 0.5 * (fwd + bwd)
         return fwd if np.max(np.abs(fwd)) < np.max(np.abs(bwd)) else bwd
 
-    def converged(self, run: MapRun, lam: float) -> bool:
-        return float(np.max(np.abs(run.residual))) <= self.tol * _scale(self.model_at(lam), self.friction, run.start)
+    # -- the continuation protocol, unknowns u = (X, X', lambda) ----------------------------------------------------
+    def evaluate(self, u: np.ndarray) -> _Sol:
+        run = self.run(u[:2], u[2])
+        return _Sol(run.start.copy(), float(u[2]), run, np.full(2, math.nan))  # run.start: X' snapped onto V_b
 
-    def tangent(self, pt: "_Sol", prev: np.ndarray | None) -> np.ndarray:
-        """The unit null vector of [M - I, dPhi/dlambda] in scaled coordinates, oriented along ``prev``."""
-        A = np.column_stack([pt.run.monodromy - np.eye(2), pt.dl]) * self.s
-        t = np.cross(A[0], A[1])
-        n = float(np.linalg.norm(t))
-        if n == 0.0 or not math.isfinite(n):
-            _, _, vt = np.linalg.svd(A)
-            t = vt[-1]
-        else:
-            t = t / n
-        if prev is not None and float(t @ prev) < 0.0:
-            t = -t
-        return t
+    def unknowns(self, s: _Sol) -> np.ndarray:
+        return s.u
 
+    def residual(self, s: _Sol) -> np.ndarray:
+        return s.run.residual
 
-@dataclass
-class _Sol:
-    P: np.ndarray
-    lam: float
-    run: MapRun
-    dl: np.ndarray
-    iterations: int = 0
+    def jacobian(self, s: _Sol) -> np.ndarray:
+        return np.column_stack([s.run.monodromy - np.eye(2), s.dl])
 
-    @property
-    def u(self) -> np.ndarray:
-        return np.array([self.P[0], self.P[1], self.lam])
+    def d_lambda(self, s: _Sol) -> np.ndarray:
+        return self.difference(s.P, s.lam, s.run.end)
 
+    def set_d_lambda(self, s: _Sol, column: np.ndarray) -> None:
+        s.dl = column
 
-def _correct(pb: _Problem, u_pred: np.ndarray, t: np.ndarray, max_iter: int = 10) -> _Sol | None:
-    """Newton on (Phi(P; lambda) - P = 0, t . (w - w_pred) = 0) from u_pred; None if it does not converge."""
-    u = u_pred.copy()
-    dl = None
-    last = math.inf
-    for k in range(max_iter):
-        if not np.all(np.isfinite(u)) or u[2] <= 0.0:
-            return None
-        try:
-            run = pb.run(u[:2], u[2])
-        except (RuntimeError, ValueError):
-            return None
-        u[:2] = run.start
-        r2 = float(t @ ((u - u_pred) / pb.s))
-        g = float(np.max(np.abs(run.residual)))
-        if pb.converged(run, u[2]) and abs(r2) < 1e-9:
-            try:
-                dl_final = pb.d_lambda(u[:2], u[2], run.end)
-            except (RuntimeError, ValueError):
-                return None
-            return _Sol(u[:2].copy(), float(u[2]), run, dl_final, k)
-        if k >= 3 and g > 0.5 * last:
-            return None
-        last = g
-        try:
-            if dl is None or k % 3 == 0:
-                dl = pb.d_lambda(u[:2], u[2], run.end)
-        except (RuntimeError, ValueError):
-            return None
-        J = np.zeros((3, 3))
-        J[:2, :2] = run.monodromy - np.eye(2)
-        J[:2, 2] = dl
-        J[2] = t / pb.s
-        try:
-            du = np.linalg.solve(J, -np.concatenate([run.residual, [r2]]))
-        except np.linalg.LinAlgError:
-            return None
-        if not np.all(np.isfinite(du)) or float(np.linalg.norm(du / pb.s)) > 0.5:
-            return None
-        u = u + du
-    return None
+    def converged(self, s: _Sol) -> bool:
+        return float(np.max(np.abs(s.run.residual))) <= self.tol * _scale(self.model_at(s.lam), self.friction, s.run.start)
 
+    def solve_at(self, lam: float, x: np.ndarray) -> _Sol:
+        """The fixed point at a given lambda (Newton in P alone); raises ForcedShootingError (or ValueError)."""
+        run, k = newton(self.model_at(lam), self.friction, x, self.m, self.steps, self.tol, 20)
+        return _Sol(run.start.copy(), float(lam), run, self.difference(run.start, lam, run.end), k)
 
-def _solve_at(pb: _Problem, lam: float, P_guess: np.ndarray) -> _Sol | None:
-    """The fixed point at a given lambda (Newton in P alone)."""
-    try:
-        run, k = newton(pb.model_at(lam), pb.friction, P_guess, pb.m, pb.steps, pb.tol, 20)
-        return _Sol(run.start.copy(), float(lam), run, pb.d_lambda(run.start, lam, run.end), k)
-    except (RuntimeError, ValueError):
-        return None
+    def tests(self, s: _Sol) -> dict[str, float]:
+        """det(M - I) (a multiplier +1), det(M + I) (-1: period doubling), det M - 1 (|mu| = 1 for a complex pair),
+        and the discriminant of M's characteristic polynomial (< 0: a complex pair)."""
+        M = s.run.monodromy
+        det = float(np.linalg.det(M))
+        tr = float(np.trace(M))
+        return {"fold": det - tr + 1.0, "pd": det + tr + 1.0, "ns": det - 1.0, "discriminant": tr * tr - 4.0 * det}
 
+    def admissible(self, u: np.ndarray) -> bool:
+        return u[2] > 0.0  # Omega and F_ex are positive
 
-def _point(pb: _Problem, s: _Sol) -> BranchPoint:
-    meas = measures(pb.model_at(s.lam), pb.friction, s.run)
-    return BranchPoint(lam=s.lam, state=s.P.copy(), multipliers=multipliers(s.run.monodromy),
-                       residual=float(np.max(np.abs(s.run.residual))), signature=signature(s.run),
-                       monodromy=s.run.monodromy.copy(),
-                       **{k: meas[k] for k in ("amplitude", "X_min", "X_max", "TR_B", "stick_fraction", "averages",
-                                               "energy_residual", "stick_phases", "shortest_stick", "min_gap",
-                                               "hold_margin")})
+    # -- events ---------------------------------------------------------------------------------------------------
+    def events(self, tracer: Tracer, step: Step) -> list[BranchEvent]:
+        """Grazing (the switch sequence changes), folds, period doublings and Neimark-Sacker points between a and b."""
+        a, b, ta, tb = step.a, step.b, step.ta, step.tb
+        out = []
+        sa, sb = signature(a.run), signature(b.run)
+        if sa != sb:
+            out.append(self._grazing(tracer, step, sa, sb))
+        fa, fb = self.tests(a), self.tests(b)
+        complex_a, complex_b = fa["discriminant"] < 0.0, fb["discriminant"] < 0.0
+        smooth_fold = fa["fold"] * fb["fold"] < 0.0
+        locate = {"max_iter": 40, "xtol": 1e-13, "lam_tol": LAMBDA_TOL}
+        if ta[2] * tb[2] < 0.0 and (smooth_fold or sa != sb):
+            s = tracer.secant(step, lambda s: tracer.tangent(s, ta)[2], ta[2], tb[2], **locate)
+            out.append(_event("fold", s or b, {"smooth": smooth_fold and sa == sb, "refined": s is not None}))
+        if fa["pd"] * fb["pd"] < 0.0 and not (complex_a or complex_b):
+            s = tracer.secant(step, lambda s: self.tests(s)["pd"], fa["pd"], fb["pd"], **locate)
+            out.append(_event("period_doubling", s or b, {"refined": s is not None}))
+        if fa["ns"] * fb["ns"] < 0.0 and complex_a and complex_b:
+            s = tracer.secant(step, lambda s: self.tests(s)["ns"], fa["ns"], fb["ns"], **locate)
+            out.append(_event("neimark_sacker", s or b, {"refined": s is not None}))
+        return out
 
+    def _grazing(self, tracer: Tracer, step: Step, sa, sb) -> BranchEvent:
+        """Bisection on arclength for the switch-sequence change, to ~1e-8 in lambda."""
+        best_a, best_b = tracer.bisect(step, lambda s: signature(s.run) == sa, max_iter=60, lam_tol=LAMBDA_TOL)
+        detail = {"before": list(sa), "after": list(sb)}
+        if sa[0] != sb[0]:
+            detail["stick_phase"] = "appears" if sb[0] > sa[0] else "vanishes"
+        if sa[2] != sb[2]:
+            detail["slip_reversal"] = "appears" if sb[2] > sa[2] else "vanishes"
+        detail["lambda_bracket"] = [best_a.lam, best_b.lam if best_b is not None else math.nan]
+        ev = _event("grazing", best_b or best_a, detail)
+        ev.lam = 0.5 * (best_a.lam + best_b.lam) if best_b is not None else best_a.lam
+        return ev
 
-def _tests(s: _Sol) -> dict[str, float]:
-    """The test functions whose sign changes mark the bifurcations: det(M + I) (PD), det M - 1 (NS, complex pairs)."""
-    M = s.run.monodromy
-    det = float(np.linalg.det(M))
-    tr = float(np.trace(M))
-    return {"pd": det + tr + 1.0, "ns": det - 1.0, "complex": tr * tr - 4.0 * det < 0.0, "fold": det - tr + 1.0}
+    # -- where the corrector fails ----------------------------------------------------------------------------------
+    def dead_end(self, tracer: Tracer, solutions: list[_Sol], t: np.ndarray) -> Crossing | Stop:
+        """Past a grazing corner if the last orbit is near one (:meth:`cross_corner`), else the branch's end."""
+        ev = self.diagnose(solutions)
+        crossed = self.cross_corner(tracer, solutions[-1], t, ev) if ev.type == "grazing" else None
+        if crossed is not None:
+            return crossed
+        return Stop("grazing" if ev.type == "grazing" else "the corrector fails beyond this point", True, [ev])
 
-
-class _Tracer:
-    def __init__(self, pb: _Problem, lo: float, hi: float, h0: float, h_max: float, h_min: float, max_points: int):
-        self.pb, self.lo, self.hi = pb, lo, hi
-        self.h0, self.h_max, self.h_min, self.max_points = h0, h_max, h_min, max_points
-
-    def w(self, s: _Sol) -> np.ndarray:
-        return s.u / self.pb.s
-
-    def along(self, a: _Sol, t: np.ndarray, h: float) -> _Sol | None:
-        return _correct(self.pb, (self.w(a) + h * t) * self.pb.s, t)
-
-    def trace(self, first: _Sol, t: np.ndarray, detect: bool = True) -> tuple[list[_Sol], list[BranchEvent], str]:
-        sols, events = [first], []
-        h = self.h0
-        end = "max_points"
-        while len(sols) < self.max_points:
-            a = sols[-1]
-            s = self.along(a, t, h)
-            t_new = self.pb.tangent(s, t) if s is not None else t
-            # a corrector that lands far from its predictor has jumped to another branch
-            jumped = s is not None and float(np.linalg.norm(self.w(s) - self.w(a))) > 2.0 * h
-            if s is None or jumped or (float(t_new @ t) < 0.7 and h > 4 * self.h_min):
-                h *= 0.5
-                if h < self.h_min:
-                    ev = self._diagnose(sols)
-                    crossed = self._cross_corner(a, t, ev) if ev.type == "grazing" else None
-                    if crossed is None:
-                        events.append(ev)
-                        end = "grazing" if ev.type == "grazing" else "the corrector fails beyond this point"
-                        break
-                    s, t, found = crossed
-                    events += found
-                    sols.append(s)
-                    h = self.h0
-                continue
-            outside = not (self.lo <= s.lam <= self.hi)
-            if outside:
-                b = self.hi if s.lam > self.hi else self.lo
-                frac = (b - a.lam) / (s.lam - a.lam)
-                s2 = _solve_at(self.pb, b, a.P + frac * (s.P - a.P))
-                if s2 is None:
-                    end = "interval end"
-                    break
-                s, t_new = s2, self.pb.tangent(s2, t)
-            if detect:
-                events += self.events_between(a, s, t, t_new, h)
-            sols.append(s)
-            if outside:
-                end = "interval end"
-                break
-            t = t_new
-            h = min(1.5 * h, self.h_max) if s.iterations <= 3 else max(0.6 * h, self.h_min)
-        return sols, events, end
-
-    def _margins(self, s: _Sol) -> dict[str, float]:
+    def margins(self, s: _Sol) -> dict[str, float]:
         """Relative distances of the orbit to the grazings the map cannot be continued through."""
         st = s.run.stats
         durations = stick_phases(s.run)
         return {
             # the held force touches F_s inside a stick phase: it breaks in two (the map jumps if F_s > F(0+))
-            "stick_splits": float(st[fm.S_HOLD]) / max(self.pb.friction.fs, 1e-300),
+            "stick_splits": float(st[fm.S_HOLD]) / max(self.friction.fs, 1e-300),
             # a slip phase touches V_r = 0: a stick phase or a reversal appears
-            "stick_appears": float(st[fm.S_GAP]) / self.pb.s[0],
+            "stick_appears": float(st[fm.S_GAP]) / self.scale[0],
             # a stick phase shrinks to nothing
             "stick_vanishes": float(durations.min()) / s.run.span if len(durations) else math.inf,
         }
 
-    def _cross_corner(self, a: _Sol, t: np.ndarray, ev: BranchEvent):
-        """Step over a grazing corner of the branch, where it has no tangent (returns (solution, tangent, events) or None).
+    def cross_corner(self, tracer: Tracer, a: _Sol, t: np.ndarray, ev: BranchEvent) -> Crossing | None:
+        """Step over a grazing corner of the branch, where it has no tangent.
 
         A slip-only orbit that touches V_r = 0 meets a stick-slip one at an
         angle (a multiplier jumps to 0), and the branch may turn back there
@@ -736,18 +690,20 @@ class _Tracer:
         (first) or before a's, Newton at fixed lambda from a's state looks for
         an orbit with another switch sequence; the branch leaves along it, away from a.
         """
-        pb = self.pb
         sa = signature(a.run)
         forward = math.copysign(1.0, t[2])
         for size in (1e-6, 1e-5, 1e-4, 1e-3):
             for direction in (forward, -forward):
-                lam = ev.lam + direction * size * pb.s[2]
+                lam = ev.lam + direction * size * self.scale[2]
                 if not (self.lo <= lam <= self.hi):
                     continue
-                s = _solve_at(pb, lam, ev.state)
-                if s is None or signature(s.run) == sa:
+                try:
+                    s = self.solve_at(lam, ev.state)
+                except (RuntimeError, ValueError):
                     continue
-                t_new = pb.tangent(s, None)
+                if signature(s.run) == sa:
+                    continue
+                t_new = tracer.tangent(s, None)
                 if t_new[2] * direction < 0.0:
                     t_new = -t_new  # on along the side where the new orbit was found
                 detail = {"before": list(sa), "after": list(signature(s.run)), "corner": True}
@@ -757,13 +713,13 @@ class _Tracer:
                 if direction != forward:
                     found.append(BranchEvent("fold", ev.lam, ev.state.copy(), ev.multipliers,
                                              {"smooth": False, "at": "grazing"}, ev.monodromy))
-                return s, t_new, found
+                return Crossing(s, t_new, found)
         return None
 
-    def _diagnose(self, sols: list[_Sol]) -> BranchEvent:
+    def diagnose(self, sols: list[_Sol]) -> BranchEvent:
         """Why the branch stops at its last point: a grazing (a margin near 0, extrapolated to 0) or unknown."""
         a = sols[-1]
-        ma = self._margins(a)
+        ma = self.margins(a)
         kind = min(ma, key=ma.get)
         mu = multipliers(a.run.monodromy)
         if not ma[kind] < 1e-3:
@@ -773,7 +729,7 @@ class _Tracer:
         refined = False
         if len(sols) > 1:
             b = sols[-2]
-            mb = self._margins(b)[kind]
+            mb = self.margins(b)[kind]
             if math.isfinite(mb) and mb != ma[kind]:
                 frac = ma[kind] / (mb - ma[kind])  # linear in lambda: margin 0 this far beyond a
                 if abs(frac) <= 10.0:
@@ -784,76 +740,29 @@ class _Tracer:
                                                           "extrapolated": refined, "ends_branch": True},
                            a.run.monodromy.copy())
 
-    # -- events ---------------------------------------------------------------------------------------------------
-    def events_between(self, a: _Sol, b: _Sol, ta: np.ndarray, tb: np.ndarray, h: float) -> list[BranchEvent]:
-        out = []
-        sa, sb = signature(a.run), signature(b.run)
-        if sa != sb:
-            out.append(self._grazing(a, ta, h, sa, sb))
-        fa, fb = _tests(a), _tests(b)
-        smooth_fold = fa["fold"] * fb["fold"] < 0.0
-        if ta[2] * tb[2] < 0.0 and (smooth_fold or sa != sb):
-            s = self._secant(a, ta, h, lambda s: self.pb.tangent(s, ta)[2], ta[2], tb[2])
-            out.append(self._event("fold", s or b, {"smooth": smooth_fold and sa == sb, "refined": s is not None}))
-        if fa["pd"] * fb["pd"] < 0.0 and not (fa["complex"] or fb["complex"]):
-            s = self._secant(a, ta, h, lambda s: _tests(s)["pd"], fa["pd"], fb["pd"])
-            out.append(self._event("period_doubling", s or b, {"refined": s is not None}))
-        if fa["ns"] * fb["ns"] < 0.0 and fa["complex"] and fb["complex"]:
-            s = self._secant(a, ta, h, lambda s: _tests(s)["ns"], fa["ns"], fb["ns"])
-            out.append(self._event("neimark_sacker", s or b, {"refined": s is not None}))
-        return out
 
-    def _event(self, kind: str, s: _Sol, detail: dict[str, Any]) -> BranchEvent:
-        mu = multipliers(s.run.monodromy)
-        if kind == "neimark_sacker":
-            detail = {**detail, "angle": float(abs(np.angle(mu[0])))}
-        return BranchEvent(kind, s.lam, s.P.copy(), mu, detail, s.run.monodromy.copy())
+def _event(kind: str, s: _Sol, detail: dict[str, Any]) -> BranchEvent:
+    mu = multipliers(s.run.monodromy)
+    if kind == "neimark_sacker":
+        detail = {**detail, "angle": float(abs(np.angle(mu[0])))}
+    return BranchEvent(kind, s.lam, s.P.copy(), mu, detail, s.run.monodromy.copy())
 
-    def _secant(self, a: _Sol, t: np.ndarray, h: float, f, fa: float, fb: float, n: int = 40) -> _Sol | None:
-        """The point along the arc from a where f = 0 (:mod:`..core.roots` on arclength), to ~1e-8 in lambda."""
-        b = roots.bracket(0.0, h, fa, fb, 1e-13, 0.0, 0.0, n)
-        lam_lo, lam_hi = a.lam, math.inf
-        best = None
-        while b.status == roots.RUNNING:
-            s = self.along(a, t, b.x)
-            if s is None:
-                break
-            best = s
-            b = roots.update(b, b.x, f(s))
-            if b.side > 0:
-                lam_hi = s.lam
-            else:
-                lam_lo = s.lam
-            if abs(lam_hi - lam_lo) < LAMBDA_TOL:
-                break
-        return best
 
-    def _grazing(self, a: _Sol, t: np.ndarray, h: float, sa, sb) -> BranchEvent:
-        """Bisection on arclength for the switch-sequence change, to ~1e-8 in lambda."""
-        lo, hi = 0.0, h
-        lam_lo, lam_hi = a.lam, math.inf
-        best_a, best_b = a, None
-        for _ in range(60):
-            if abs(lam_hi - lam_lo) < LAMBDA_TOL:
-                break
-            mid = 0.5 * (lo + hi)
-            s = self.along(a, t, mid)
-            if s is None:
-                break
-            if signature(s.run) == sa:
-                lo, lam_lo, best_a = mid, s.lam, s
-            else:
-                hi, lam_hi, best_b = mid, s.lam, s
-        s = best_b or best_a
-        detail = {"before": list(sa), "after": list(sb)}
-        if sa[0] != sb[0]:
-            detail["stick_phase"] = "appears" if sb[0] > sa[0] else "vanishes"
-        if sa[2] != sb[2]:
-            detail["slip_reversal"] = "appears" if sb[2] > sa[2] else "vanishes"
-        detail["lambda_bracket"] = [best_a.lam, best_b.lam if best_b is not None else math.nan]
-        ev = self._event("grazing", s, detail)
-        ev.lam = 0.5 * (best_a.lam + best_b.lam) if best_b is not None else best_a.lam
-        return ev
+def _steps(h0: float, h_max: float, h_min: float, max_points: int, detect: bool) -> StepControl:
+    """The forced tracer's step rule: halve on a 0.7 turn (not 0.5: the map's corners are sharp in two unknowns)
+    or a corrector landing beyond 2 h (another branch), shrink by 0.6 after a slow corrector."""
+    return StepControl(h0=h0, h_max=h_max, h_min=h_min, max_points=max_points, shrink=0.6, min_cos=0.7, turn_guard=4.0,
+                       jump=2.0, detect=detect)
+
+
+def _point(pb: _Problem, s: _Sol) -> BranchPoint:
+    meas = measures(pb.model_at(s.lam), pb.friction, s.run)
+    return BranchPoint(lam=s.lam, state=s.P.copy(), multipliers=multipliers(s.run.monodromy),
+                       residual=float(np.max(np.abs(s.run.residual))), signature=signature(s.run),
+                       monodromy=s.run.monodromy.copy(),
+                       **{k: meas[k] for k in ("amplitude", "X_min", "X_max", "TR_B", "stick_fraction", "averages",
+                                               "energy_residual", "stick_phases", "shortest_stick", "min_gap",
+                                               "hold_margin")})
 
 
 def _check_parameter(parameter: str, value: float, name: str) -> float:
@@ -915,17 +824,15 @@ def continue_forced(
     elif orbit.m != m or not math.isclose(getattr(orbit.model, parameter), start, rel_tol=1e-12):
         raise ValueError(f"orbit: its m ({orbit.m}) and {parameter} must be the branch's (m={m}, {parameter}={start})")
     sx = max(orbit.amplitude, float(np.max(np.abs(orbit.state))), model.fex, abs(model.vb), friction.fd, 1e-9)
-    pb = _Problem(base, friction, parameter, m, steps, sx, abs(stop - start), tol)
-    first = _solve_at(pb, start, orbit.state)
-    if first is None:
-        raise ForcedShootingError(f"no orbit to start from at {parameter}={start}")
-    t = pb.tangent(first, None)
-    if (stop - start) * t[2] < 0:
-        t = -t
-    tracer = _Tracer(pb, min(start, stop), max(start, stop), h0, h_max, h_min, max_points)
-    sols, events, end = tracer.trace(first, t, detect)
-    return ForcedBranch(model=base, friction=friction, parameter=parameter, m=m, points=[_point(pb, s) for s in sols],
-                        events=events, end=end,
+    pb = _Problem(base, friction, parameter, m, steps=steps, scales=(sx, abs(stop - start)), interval=(start, stop), tol=tol)
+    try:
+        first = pb.solve_at(start, orbit.state)
+    except (RuntimeError, ValueError):
+        raise ForcedShootingError(f"no orbit to start from at {parameter}={start}") from None
+    tracer = Tracer(pb, _steps(h0, h_max, h_min, max_points, detect))
+    trace = tracer.trace(first, tracer.start(first, stop))
+    return ForcedBranch(model=base, friction=friction, parameter=parameter, m=m,
+                        points=[_point(pb, s) for s in trace.solutions], events=trace.events, end=trace.end,
                         settings={"steps_per_period": steps, "h0": h0, "h_max": h_max, "h_min": h_min, "tol": tol,
                                   "start": start, "stop": stop, "max_points": max_points,
                                   "scales": {"state": sx, "lambda": abs(stop - start)}})
@@ -956,7 +863,10 @@ def switch_period_doubling(branch: ForcedBranch, event: BranchEvent | None = Non
     st = branch.settings
     m2 = 2 * branch.m
     sx, sl = st["scales"]["state"], st["scales"]["lambda"]
-    pb = _Problem(branch.model, branch.friction, branch.parameter, m2, st["steps_per_period"], sx, sl, st["tol"])
+    lo, hi = min(st["start"], st["stop"]), max(st["start"], st["stop"])
+    pb = _Problem(branch.model, branch.friction, branch.parameter, m2, steps=st["steps_per_period"], scales=(sx, sl),
+                  interval=(lo, hi), tol=st["tol"])
+    tracer = Tracer(pb, _steps(st["h0"], st["h_max"], st["h_min"], max_points or st.get("max_points", 400), detect))
     w, vecs = np.linalg.eig(event.monodromy)
     e = np.real(vecs[:, int(np.argmin(np.abs(w + 1.0)))])
     t0 = np.array([e[0] / sx, e[1] / sx, 0.0])
@@ -965,7 +875,7 @@ def switch_period_doubling(branch: ForcedBranch, event: BranchEvent | None = Non
     first = None
     for hh in (h, 0.3 * h, 3.0 * h, 0.1 * h):
         for sign in (1.0, -1.0):
-            s = _correct(pb, star + sign * hh * t0 * pb.s, sign * t0)
+            s = tracer.correct(star / pb.scale + sign * hh * t0, sign * t0)
             if s is None:
                 continue
             half = flow_run(pb.model_at(s.lam), branch.friction, s.P, branch.m, pb.steps)
@@ -977,16 +887,15 @@ def switch_period_doubling(branch: ForcedBranch, event: BranchEvent | None = Non
     if first is None:
         raise ForcedShootingError(f"no period-{m2} branch found at the period doubling at "
                                   f"{branch.parameter}={event.lam:.10g}")
-    lo, hi = min(st["start"], st["stop"]), max(st["start"], st["stop"])
-    tracer = _Tracer(pb, lo, hi, st["h0"], st["h_max"], st["h_min"], max_points or st.get("max_points", 400))
-    t1 = pb.tangent(first, None)
-    if float(t1 @ ((first.u - star) / pb.s)) < 0.0:
+    t1 = tracer.tangent(first, None)
+    if float(t1 @ ((first.u - star) / pb.scale)) < 0.0:
         t1 = -t1  # away from the PD point
-    sols, events, end = tracer.trace(first, t1, detect)
+    trace = tracer.trace(first, t1)
+    events = trace.events
     events.insert(0, BranchEvent("branch_point", event.lam, event.state.copy(), event.multipliers,
                                  {"from": f"period doubling of the m={branch.m} branch"}))
     return ForcedBranch(model=branch.model, friction=branch.friction, parameter=branch.parameter, m=m2,
-                        points=[_point(pb, s) for s in sols], events=events, end=end,
+                        points=[_point(pb, s) for s in trace.solutions], events=events, end=trace.end,
                         settings={**st, "born_at": event.lam})
 
 
