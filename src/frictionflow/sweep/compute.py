@@ -12,7 +12,6 @@ import numpy as np
 
 from .. import quantities as Q
 from ..analysis import analyze
-from ..analysis.steady_state import DEFAULT_RTOL, section_noise
 from ..core import batch
 from ..core import layout as kf
 from ..friction.base import FrictionLaw
@@ -59,15 +58,9 @@ def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[
     zeta, vb = pts["zeta"], pts["vb"]
     x0 = np.where(np.isnan(pts["x0"]), p[:, kf.FD], pts["x0"])
     v0 = np.where(np.isnan(pts["v0"]), vb, pts["v0"])
-    rtol = run.rtol if run.rtol is not None else DEFAULT_RTOL[solver.name]
+    rtol = run.rtol if run.rtol is not None else solver.steady_rtol
     out = np.empty((len(zeta), batch.NR))
-    if solver.name == "exact":
-        batch.exact_points(p, zeta, vb, x0, v0, run.t_end, rtol, 3, section_noise(solver.describe()), out)
-    elif solver.name == "adaptive":
-        batch.adaptive_points(p, zeta, vb, x0, v0, run.t_end, run.ode_rtol, 1e-13, run.max_steps, rtol, 3,
-                              section_noise(solver.describe()), out)
-    else:
-        batch.rk4_points(int(p[0, kf.LAW]), p, zeta, vb, x0, v0, run.t_end, run.dt, rtol, 3, section_noise(solver.describe()), out)
+    solver.run_points(p, zeta, vb, x0, v0, run.t_end, rtol, 3, out)  # its batched kernel, with its settings
     return out.T.reshape((batch.NR, *shape))
 
 
