@@ -8,12 +8,14 @@ array (:meth:`FrictionLaw.kernel_params`, layout in
 kernel slots (:meth:`FrictionLaw.kernel_columns`) fills the per-point rows of a
 sweep.  Kernels know nothing of these classes.
 
-To add a law: one module with a subclass (its ``parameters``, ``kernel_slots``
+To add a law: one module with a subclass (its ``parameters``, ``kernel_slots``,
+its capabilities -- ``stick_rule``, ``piecewise_constant``, ``compiled_slip`` --
 and, for a smooth slip curve, compiled ``magnitude``/``slope`` functions),
 decorated with :func:`~frictionflow.friction.registry.register`, imported in
 ``friction/__init__.py``; a compiled law also gets a code in
 :mod:`frictionflow.core.layout` and a line in each dispatcher of
-:mod:`frictionflow.core.friction`.
+:mod:`frictionflow.core.friction`.  Solvers, engines and messages read the
+capabilities, never the law's name.
 """
 
 from __future__ import annotations

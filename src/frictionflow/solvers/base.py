@@ -3,7 +3,9 @@
 A solver is a small immutable strategy object: it validates its settings in
 ``__init__`` and its :meth:`Solver.solve` turns (model, friction law, initial
 state, end time) into a :class:`~frictionflow.trajectory.Trajectory` whose
-``work`` columns it integrated itself.
+``work`` columns it integrated itself.  What it is and supports it declares
+(:class:`Solver`'s class attributes); sweeps, the classification and
+``Trajectory.at`` read the declarations, never its name.
 """
 
 from __future__ import annotations
