@@ -80,9 +80,11 @@ class CoarseStepWarning(UserWarning):
 class Solver(ABC):
     """Base class of solvers.
 
-    Class attributes a solver sets (what it is and supports; nothing outside
-    :mod:`frictionflow.solvers` compares solver names)
-    -------------------------------------------------------------------------
+    What a solver is and supports it declares here: nothing outside
+    :mod:`frictionflow.solvers` compares solver names.
+
+    Class attributes a solver sets
+    ------------------------------
     name:
         Registry name (``--solver NAME``).
     interpolant:
