@@ -1,9 +1,10 @@
 """A trajectory between its samples: the motion at any time of the span.
 
 :meth:`Trajectory.at <frictionflow.trajectory.Trajectory.at>` delegates here,
-to the interpolant of the solver that made the run (:func:`interpolant`):
+to the interpolant the solver that made the run declares (its ``interpolant``, one of
+:data:`FORMS`; :func:`interpolant`):
 
-``exact``
+``closed_form`` (the exact solver)
     The closed form itself.  Between two samples the motion is one phase of
     constant-coefficient dynamics (:mod:`frictionflow.core.closed_form`): OSC
     X'' + 2 zeta X' + X = F about a constant F (slip at +-F_d, Karnopp's
@@ -14,13 +15,13 @@ to the interpolant of the solver that made the run (:func:`interpolant`):
     first phase, before any switch, from the first samples themselves.
     Under harmonic forcing OSC phases add the periodic particular solution
     (held forces are less f(tau)).  Accurate to rounding (~1e-15 relative).
-``adaptive``
+``quintic_hermite`` (the adaptive solver)
     Quintic Hermite interpolation in each step of a slip phase, from X, X'
     and X'' = F_c - X - 2 zeta X' at both ends (the solver samples every
     step).  Error O(h^6) in X and O(h^5) in X' for a step h: below the
     solver's own tolerance at the steps its error control picks.  Stick
     phases (X' = V_b) are exact.
-``rk4`` (and anything else)
+``cubic_hermite`` (fixed-step RK4, and a run of an unknown solver)
     Cubic Hermite interpolation between samples: X from X and X', X' from
     X' and X'' at both ends.  Error O(h^4) for a sample spacing h (1e-12 of
     the amplitude at the default dt = 1e-3); the numerical solution itself
@@ -55,14 +56,29 @@ _GL_X, _GL_W = np.polynomial.legendre.leggauss(8)
 _GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
 
 
+#: solver name -> its declared form (``Solver.interpolant``), filled by :mod:`frictionflow.solvers.registry`
+#: as it registers the solvers: this module sits below them and cannot import their registry
+_BY_SOLVER: dict[str, str] = {}
+
+
+def declare_interpolant(solver: str, form: str) -> None:
+    """Evaluate the runs of solver ``solver`` with the form ``form`` (a key of :data:`FORMS`)."""
+    if form not in FORMS:
+        raise ValueError(f"interpolant must be one of {', '.join(FORMS)}, got {form!r} (solver {solver})")
+    _BY_SOLVER[solver] = form
+
+
+def form_of(solver: dict) -> str:
+    """The form declared by the solver a run's ``solver`` record names (cubic Hermite when unknown)."""
+    return _BY_SOLVER.get(solver.get("name"), "cubic_hermite")
+
+
 def interpolant(traj) -> "Interpolant":
     """The interpolant of ``traj`` by the solver that made it (see the module's docstring)."""
-    name = traj.solver.get("name")
-    if name == "exact" and traj.events is not None:
-        return ClosedForm(traj)
-    if name == "adaptive":
-        return QuinticHermite(traj)
-    return CubicHermite(traj)
+    form = form_of(traj.solver)
+    if form == "closed_form" and traj.events is None:
+        form = "cubic_hermite"  # the closed forms read the phases from the switch record
+    return FORMS[form](traj)
 
 
 class Interpolant:
@@ -285,7 +301,14 @@ class CubicHermite(Interpolant):
         return self._slip_or(mode, x, v, held), mode
 
 
+#: the interpolants by the name a solver declares (``Solver.interpolant``)
+FORMS: dict[str, type[Interpolant]] = {
+    "closed_form": ClosedForm, "quintic_hermite": QuinticHermite, "cubic_hermite": CubicHermite,
+}
+
+
 # -- dense grids and the work integrals at added points ---------------------------------------------
+
 
 def dense_times(t: np.ndarray, points_per_period: int = POINTS_PER_PERIOD) -> tuple[np.ndarray, np.ndarray]:
     """(times, is_sample): the samples ``t`` and evenly spaced points filling every gap above 2 pi / ``points_per_period``."""

@@ -73,3 +73,10 @@ class Summarized:
 def system_row(model: Any, friction: Any) -> Row:
     """The oscillator and law of a result, on one row."""
     return "system", f"zeta={num(model.zeta, 4)}, V_b={num(model.vb, 4)}; {friction!r}"
+
+
+def spoken(names: tuple[str, ...], conjunction: str = "or") -> str:
+    """Names as a phrase for messages and help: "a", "a or b", "a, b or c"."""
+    if len(names) <= 1:
+        return "".join(names)
+    return f"{', '.join(names[:-1])} {conjunction} {names[-1]}"

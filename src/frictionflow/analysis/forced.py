@@ -191,7 +191,7 @@ def largest_exponent(traj: Trajectory) -> tuple[float, float] | None:
     averaging (at least 1e-4: a finite run cannot tell smaller exponents from 0).
     """
     law = traj.friction
-    if law.stick_rule != "switch" or getattr(law, "func", None) is not None:
+    if not law.has_tangent_kernel:
         return None
     i = section_indices(traj)[-1]
     period = traj.model.forcing_period

@@ -33,10 +33,11 @@ from typing import Any
 
 import numpy as np
 
-from .._display import Row, Summarized, num, system_row
+from .._display import Row, Summarized, num, spoken, system_row
 from .._json import jsonable
 from ..core import tangent
 from ..friction.base import FrictionLaw
+from ..friction.registry import tangent_law_names
 from ..params import BeltOscillator
 from ..solvers.base import kernel_params
 
@@ -123,8 +124,8 @@ class LyapunovResult(Summarized):
 def _check_law(friction: FrictionLaw) -> None:
     if friction.stick_rule != "switch":
         raise ValueError(f"Lyapunov exponents need a law with Coulomb's stick rule (switch); {friction.name} has a "
-                         f"velocity band ({friction.stick_rule}): use coulomb, stribeck or cubic")
-    if getattr(friction, "func", None) is not None:
+                         f"velocity band ({friction.stick_rule}): use {spoken(tangent_law_names())}")
+    if not friction.has_tangent_kernel:
         raise ValueError("Lyapunov exponents need a compiled slip law; a user-defined law's function cannot be "
                          "differentiated by the tangent kernel")
 

@@ -39,6 +39,7 @@ import numpy as np
 from .. import quantities as Q
 from ..core import certificate
 from ..core import sections as sec
+from ..solvers.registry import solver_classes, solver_named
 from ..trajectory import Trajectory
 from .equilibrium import sliding_equilibrium
 from .forced import classify_forced, largest_exponent
@@ -102,23 +103,31 @@ def from_classification(cls: np.ndarray, summary: np.ndarray) -> SteadyState:
     )
 
 
-#: convergence tolerance of the steady-state test, by solver: fixed-step RK4
-#: resolves orbits to about 1e-6, the adaptive solver to its rtol, the exact
-#: solver to rounding
-DEFAULT_RTOL = {"rk4": 1e-6, "adaptive": 1e-8, "exact": 1e-10}
+#: convergence tolerance of the steady-state test, by solver: each solver's declared
+#: ``steady_rtol`` (fixed-step RK4 resolves orbits to about 1e-6, the adaptive solver
+#: to its rtol, the exact solver to rounding); kept as a table for existing callers
+DEFAULT_RTOL = {cls.name: cls.steady_rtol for cls in solver_classes()}
+
+
+def default_rtol(solver: Mapping[str, Any]) -> float:
+    """The classification's rtol for a run whose ``solver`` record this is (1e-6 for an unknown solver)."""
+    cls = solver_named(solver.get("name"))
+    return 1e-6 if cls is None else cls.steady_rtol
 
 
 def section_noise(solver: Mapping[str, Any]) -> float:
     """The solver's relative error in a section value: below it repetition cannot be judged.
 
-    Rounding for the closed forms; for the adaptive solver ten times its rtol
-    (local errors of the steps of a period partly cancel); for fixed-step RK4 about the
-    tolerance its classification uses (1e-6 of the motion at dt = 1e-3).
+    What the solver the record names declares (``Solver.section_noise``); 0 for an unknown solver.
     """
-    name = solver.get("name")
-    if name == "adaptive":
-        return 10.0 * float(solver.get("rtol", 1e-10))
-    return {"exact": 1e-13, "rk4": DEFAULT_RTOL["rk4"]}.get(name, 0.0)
+    cls = solver_named(solver.get("name"))
+    return 0.0 if cls is None else cls.section_noise(solver)
+
+
+def _fixed_step(solver: Mapping[str, Any]) -> bool:
+    """Does the solver of this record step at a fixed dt (its sections jitter)?  An unknown one: if it has a dt."""
+    cls = solver_named(solver.get("name"))
+    return "dt" in solver if cls is None else cls.fixed_step
 
 
 def classify_trajectory(traj: Trajectory, rtol: float = 1e-6, min_periods: int = 3) -> tuple[np.ndarray, np.ndarray]:
@@ -132,7 +141,7 @@ def classify_trajectory(traj: Trajectory, rtol: float = 1e-6, min_periods: int =
     rec = np.ascontiguousarray(rec[-sec.MAX_RECORDS :])
     scale = sec.scale_of(rec, tail, traj.vb, traj.friction.fd)
     h = float(np.max(np.diff(traj.t))) if len(traj) > 1 else 0.0
-    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, "dt" in traj.solver, section_noise(traj.solver) * scale)
+    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, _fixed_step(traj.solver), section_noise(traj.solver) * scale)
     return cls, sec.window_summary(rec, tail, fin, cls, traj.friction.fd, traj.vb)
 
 

@@ -12,7 +12,7 @@ from .._figures import draw
 from ..trajectory import Trajectory
 from .equilibrium import equilibrium_values
 from .power_flow import PowerFlow, power_flow
-from .steady_state import DEFAULT_RTOL, SteadyState, steady_state
+from .steady_state import DEFAULT_RTOL, SteadyState, default_rtol, steady_state
 from .transmissibility import amplitude, transmissibility
 
 
@@ -125,7 +125,7 @@ def analyze(
         raise TypeError(f"analyze: traj must be a Trajectory (from simulate(model, friction, ...)), "
                         f"got {type(traj).__name__}")
     if rtol is None:
-        rtol = DEFAULT_RTOL.get(traj.solver.get("name", ""), 1e-6)
+        rtol = default_rtol(traj.solver)
     ss = steady_state(traj, rtol=rtol, min_periods=min_periods, window=window)
     if ss.kind == "equilibrium" and not ss.manual_window:
         return _at_equilibrium(traj, ss)

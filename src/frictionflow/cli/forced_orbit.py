@@ -14,7 +14,8 @@ import typer
 
 from .._json import jsonable
 from ..core import forced_map as fm
-from ..friction.registry import SWITCH_LAW
+from .._display import spoken
+from ..friction.registry import SWITCH_LAW, tangent_law_names
 from ..io import check_input_path, check_output_path, read_config, write_figure
 from ..orbits.forced import DEFAULT_STEPS, PARAMETERS, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
 from ..orbits.forced_plot import plot_forced_branches
@@ -28,7 +29,7 @@ MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "friction", "dim
 HELP = {
     "x0": "Start X at tau = 0 [0].",
     "v0": "Start X' at tau = 0 [0].",
-    "friction": "Friction law with Coulomb's stick rule: coulomb, stribeck or cubic [coulomb].",
+    "friction": f"Friction law with Coulomb's stick rule: {spoken(tangent_law_names())} [{SWITCH_LAW}].",
 }
 COMMAND_PARAMETERS = {p.name: p for p in (
     Param("m", "", "period in forcing periods", "run", 1, kind="int", lower=1, upper=1000),

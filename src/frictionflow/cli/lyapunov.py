@@ -9,7 +9,8 @@ from typing import Any, Optional
 import typer
 
 from ..analysis.lyapunov import lyapunov_exponents
-from ..friction.registry import SWITCH_LAW
+from .._display import spoken
+from ..friction.registry import SWITCH_LAW, tangent_law_names
 from ..io import check_input_path, read_config
 from ..parameters import Param
 from ._app import app
@@ -20,7 +21,7 @@ HELP = {
     "x0": "Start X [0].",
     "v0": "Start X' [0].",
     "t_end": "End of the averaging, transient included (rounded up to whole blocks) [6000].",
-    "friction": "Friction law with Coulomb's stick rule: coulomb, stribeck or cubic [coulomb].",
+    "friction": f"Friction law with Coulomb's stick rule: {spoken(tangent_law_names())} [{SWITCH_LAW}].",
 }
 #: the command's own settings, with their ranges (bounded: the cost grows with them)
 COMMAND_PARAMETERS = {p.name: p for p in (

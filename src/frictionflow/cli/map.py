@@ -9,7 +9,8 @@ from typing import Any, Optional
 import numpy as np
 import typer
 
-from ..friction.registry import SMOOTH_SWITCH_LAW
+from .._display import spoken
+from ..friction.registry import SMOOTH_SWITCH_LAW, switch_law_names
 from ..io import atomic_write, check_output_path
 from ..orbits.chart import CURVES, stability_map
 from ..orbits.chart_plot import plot_chart
@@ -21,7 +22,7 @@ from .options import CONFIG_OPTION, merged_config, parameter_names, with_paramet
 
 MODEL = parameter_names(("oscillator", "law"), run=("t_end", "friction", "dimensional"))
 HELP = {"t_end": "Length of each sweep simulation (the heat map) [500].",
-        "friction": "Friction law with Coulomb's stick rule: coulomb, stribeck or cubic [stribeck]."}
+        "friction": f"Friction law with Coulomb's stick rule: {spoken(switch_law_names())} [{SMOOTH_SWITCH_LAW}]."}
 #: the command's own settings, with their ranges (bounded: the cost grows with them)
 COMMAND_PARAMETERS = {p.name: p for p in (
     Param("x_points", "", "values of the first parameter", "run", 41, kind="int", lower=2, upper=10_000),
@@ -155,7 +156,7 @@ def _forced_map(params, x, x_from, x_to, y, y_from, y_to, y_points, m, curves, s
     cfg = merged_config(config, given)
     model, law, _ = cfg.build()
     if law.stick_rule != "switch":
-        raise ValueError(f"--friction: forced maps need Coulomb's stick rule (coulomb, stribeck, cubic), got {law.name}")
+        raise ValueError(f"--friction: forced maps need Coulomb's stick rule ({', '.join(switch_law_names())}), got {law.name}")
     model = replace(model, **{x: float(x_from), y: float(y_from)})
     ys = np.linspace(y_from, y_to, y_points) if y_points > 1 else np.array([float(y_from)])
     chart = forced_map(model, law, x, (x_from, x_to), y, ys, sweep_shape=shape, sweep_out=sweep_out,

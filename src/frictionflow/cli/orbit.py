@@ -9,6 +9,7 @@ from typing import Any, Optional
 import numpy as np
 import typer
 
+from .._display import spoken
 from ..config import RunConfig
 from ..io import check_input_path, check_output_path
 from ..orbits import continuation, find_orbit
@@ -17,11 +18,14 @@ from ..orbits.monitors import MONITORS, branch_extrema
 from ..orbits.plotting import plot_bifurcation, plot_orbit
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
+from ..solvers.registry import solver_names_where
 from ._app import app
 from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "solver", "dimensional"))
-SOLVER_HELP = "Solver of the transient and the power-flow period: auto, exact or adaptive [auto]."
+#: orbits need located switches: every solver but the fixed-step ones
+LOCATING = ("auto", *solver_names_where(lambda cls: not cls.fixed_step))
+SOLVER_HELP = f"Solver of the transient and the power-flow period: {spoken(LOCATING)} [auto]."
 
 
 #: the orbit commands' own settings, with their ranges (bounded: each point costs a shooting or a simulation)
@@ -46,8 +50,8 @@ def _config(config: Optional[Path], params: dict[str, Any]) -> RunConfig:
     if config is not None:
         check_input_path(config, "--config")  # before reading it, naming the option
     cfg = merged_config(config, params)
-    if cfg.solver == "rk4":
-        raise ValueError("solver=rk4 cannot locate switches exactly; use auto, exact or adaptive for orbits")
+    if cfg.solver not in LOCATING:
+        raise ValueError(f"solver={cfg.solver} cannot locate switches exactly; use {spoken(LOCATING)} for orbits")
     return cfg
 
 

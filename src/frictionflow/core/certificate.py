@@ -95,7 +95,7 @@ def decay_rate(zeta: float, slope: float) -> float:
 
 def radius(law: "FrictionLaw", zeta: float, vb: float) -> float:
     """:func:`certified_radius` of a law object (0 for a user function numba cannot compile: no certificate)."""
-    if law.func is None:
+    if law.compiled_slip:
         return float(certified_radius(law.kernel_params(), float(zeta), float(vb)))
     force = law.kernel_force()
     if force is None:

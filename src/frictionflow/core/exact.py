@@ -67,6 +67,9 @@ from .samples import emit
 
 SLIP_POS, SLIP_NEG, HOLD, SAT_POS, SAT_NEG, EDGE_LO, EDGE_HI, STICK = range(1, 9)
 FC_CONST, FC_RES, FC_SPRING = 0, 1, 2
+# The closed forms know two laws, one per stick rule: COULOMB (switch) and KARNOPP (band).  The functions
+# below branch on ``law == COULOMB`` and take the other branch as Karnopp's band; :func:`closed_form_law`,
+# at every entry, refuses any other code.
 KARNOPP_ORDER = np.array([SLIP_POS, SLIP_NEG, SAT_POS, SAT_NEG, HOLD, EDGE_LO, EDGE_HI])
 COULOMB_ORDER = np.array([STICK, SLIP_POS, SLIP_NEG])
 
@@ -97,6 +100,16 @@ def dynamics(mode, zeta, fd, fs, res):
     if mode == HOLD and not res:
         return (cf.EXP if zeta > 0.0 else cf.LIN), 0.0, FC_SPRING
     return cf.LIN, 0.0, FC_RES
+
+
+@njit(cache=True)
+def closed_form_law(p):
+    """The law code of the force record ``p``: COULOMB (the switch rule) or KARNOPP (the band); any other
+    law's slip force is not constant (ValueError)."""
+    law = int(p[LAW])
+    if law != COULOMB and law != KARNOPP:
+        raise ValueError("core.exact: the closed forms need a piecewise-constant law (Coulomb's or Karnopp's code)")
+    return law
 
 
 @njit(cache=True)
@@ -539,7 +552,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
     rtol, min_periods = run[STOP_RTOL], int(run[MIN_PERIODS])
     out_t, out_x, out_v, out_fc, out_mode, out_w = samples
     ev_t, ev_mode = events
-    law = int(p[LAW])
+    law = closed_form_law(p)
     fd, fs, vd = p[FD], p[FS], p[VD]
     res = p[RESULTANT] != 0.0
     w = np.zeros(N_WORK)  # the work integrals since the last sample (emit restarts them)
@@ -945,7 +958,7 @@ def run_forced(run, p, samples, events, t_mode):
     dense_dt, t_tail = run[DENSE_DT], run[T_TAIL]
     out_t, out_x, out_v, out_fc, out_mode, out_w = samples
     ev_t, ev_mode = events
-    law = int(p[LAW])
+    law = closed_form_law(p)
     fd, fs, vd = p[FD], p[FS], p[VD]
     res = p[RESULTANT] != 0.0
     fex, om, phi = p[FEX], p[OMEGA], p[PHI]

@@ -29,6 +29,10 @@ STRIBECK = 2
 CUBIC = 3
 #: the codes with a compiled slip curve (batched RK4 compiles one loop for each)
 SMOOTH_LAWS = (STRIBECK, CUBIC)
+#: the codes by stick rule (each law's ``stick_rule``; tests/test_registries.py holds the two together):
+#: Karnopp's velocity band, Coulomb's set-valued switch at V_r = 0
+BAND_LAWS = (KARNOPP,)
+SWITCH_LAWS = (COULOMB, *SMOOTH_LAWS)
 
 LAW, FD, FS, VD, RESULTANT, LAW_A, LAW_B, LAW_C, FEX, OMEGA, PHI = range(11)
 N_PARAMS = 11

@@ -1,6 +1,6 @@
 """Friction laws, one module each, registered by name (:mod:`.registry`)."""
 
-from .base import STICK_FORCES, FrictionLaw
+from .base import STICK_FORCES, STICK_RULES, FrictionLaw
 from .karnopp import Karnopp  # noqa: I001  (registration order: the CLI lists laws in it)
 from .coulomb import Coulomb
 from .stribeck import Stribeck
@@ -9,6 +9,6 @@ from .user import SlipLaw
 from .registry import law_class, law_classes, law_names, register
 
 __all__ = [
-    "STICK_FORCES", "Coulomb", "Cubic", "FrictionLaw", "Karnopp", "SlipLaw", "Stribeck",
+    "STICK_FORCES", "STICK_RULES", "Coulomb", "Cubic", "FrictionLaw", "Karnopp", "SlipLaw", "Stribeck",
     "law_class", "law_classes", "law_names", "register",
 ]

@@ -8,12 +8,14 @@ array (:meth:`FrictionLaw.kernel_params`, layout in
 kernel slots (:meth:`FrictionLaw.kernel_columns`) fills the per-point rows of a
 sweep.  Kernels know nothing of these classes.
 
-To add a law: one module with a subclass (its ``parameters``, ``kernel_slots``
+To add a law: one module with a subclass (its ``parameters``, ``kernel_slots``,
+its capabilities -- ``stick_rule``, ``piecewise_constant``, ``compiled_slip`` --
 and, for a smooth slip curve, compiled ``magnitude``/``slope`` functions),
 decorated with :func:`~frictionflow.friction.registry.register`, imported in
 ``friction/__init__.py``; a compiled law also gets a code in
 :mod:`frictionflow.core.layout` and a line in each dispatcher of
-:mod:`frictionflow.core.friction`.
+:mod:`frictionflow.core.friction`.  Solvers, engines and messages read the
+capabilities, never the law's name.
 """
 
 from __future__ import annotations
@@ -27,6 +29,8 @@ from ..core.friction import slip_magnitude_of
 from ..parameters import MODEL_MAX, Param, nonnegative_real, positive_real, resolve
 
 STICK_FORCES = ("resultant", "spring")
+#: what a law does at V_r = 0: Coulomb's set-valued switch, or Karnopp's velocity band |V_r| <= V_d
+STICK_RULES = ("switch", "band")
 
 # Parameters several laws share: declared once here, listed by each law.
 FD = nonnegative_real("fd", "F_d", "kinetic friction", "law", 0.02, upper=MODEL_MAX, sweepable=True)
@@ -54,7 +58,14 @@ class FrictionLaw:
     piecewise_constant:
         The slip force is constant (the exact event-driven solver applies).
     stick_rule:
-        ``"band"`` (Karnopp's velocity band) or ``"switch"`` (Coulomb's set-valued rule at V_r = 0).
+        One of :data:`STICK_RULES`: ``"band"`` (Karnopp's velocity band) or ``"switch"``
+        (Coulomb's set-valued rule at V_r = 0).
+    compiled_slip:
+        The kernels' own force dispatch (:mod:`frictionflow.core.friction`, by ``code``) evaluates its
+        slip force.  False for a user's function: only the adaptive kernel, rebuilt around it, runs it.
+    has_tangent_kernel (derived unless a law sets it)
+        Coulomb's stick rule and a compiled slip force: the tangent and flow-map kernels
+        (Lyapunov exponents, forced orbits, the compiled orbit engine) run it.
     """
 
     name: ClassVar[str] = "abstract"
@@ -63,6 +74,8 @@ class FrictionLaw:
     kernel_slots: ClassVar[dict[str, int]] = {}
     piecewise_constant: ClassVar[bool] = True
     stick_rule: ClassVar[str] = "switch"
+    compiled_slip: ClassVar[bool] = True
+    has_tangent_kernel: ClassVar[bool] = True
     #: buildable by name from a config (user laws need a function)
     configurable: ClassVar[bool] = True
     #: compiled (fd, fs, a, b, c, speed) -> |F| and its slope, for smooth laws
@@ -74,6 +87,13 @@ class FrictionLaw:
     stick_force: str
     #: a user's slip function (the adaptive kernel is rebuilt around it); None for built-in laws
     func: Callable[[float], float] | None = None
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if cls.stick_rule not in STICK_RULES:
+            raise ValueError(f"{cls.__name__}.stick_rule must be one of {', '.join(STICK_RULES)}, got {cls.stick_rule!r}")
+        if "has_tangent_kernel" not in cls.__dict__:  # derived from what the law declares
+            cls.has_tangent_kernel = cls.stick_rule == "switch" and cls.compiled_slip
 
     def _assign(self, **given: Any) -> None:
         """Validate and set every declared parameter (defaults from the declarations)."""

@@ -7,7 +7,7 @@ Nothing outside this package names a law.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Callable
 
 from ..parameters import declare
 
@@ -33,9 +33,20 @@ def register(cls: type["FrictionLaw"]) -> type["FrictionLaw"]:
     return cls
 
 
-def law_names(configurable: bool = True) -> tuple[str, ...]:
-    """Names of the registered laws (``configurable``: only those a config or the CLI can build)."""
-    return tuple(n for n, c in _LAWS.items() if c.configurable or not configurable)
+def law_names(configurable: bool = True, where: Callable[[type["FrictionLaw"]], bool] | None = None) -> tuple[str, ...]:
+    """Names of the registered laws (``configurable``: only those a config or the CLI can build; ``where``:
+    only those whose class passes it, e.g. ``lambda law: law.has_tangent_kernel``, for messages)."""
+    return tuple(n for n, c in _LAWS.items() if (c.configurable or not configurable) and (where is None or where(c)))
+
+
+def tangent_law_names() -> tuple[str, ...]:
+    """The configurable laws the tangent and flow-map kernels run (``has_tangent_kernel``), for messages and help."""
+    return law_names(where=lambda law: law.has_tangent_kernel)
+
+
+def switch_law_names() -> tuple[str, ...]:
+    """The configurable laws with Coulomb's stick rule (``stick_rule == "switch"``), for messages and help."""
+    return law_names(where=lambda law: law.stick_rule == "switch")
 
 
 def law_classes() -> tuple[type["FrictionLaw"], ...]:

@@ -57,6 +57,7 @@ class SlipLaw(FrictionLaw):
     parameters = (FD, FS, STICK_FORCE)
     piecewise_constant = False
     configurable = False
+    compiled_slip = False  # the kernels' dispatch by code cannot evaluate the user's function
 
     def __init__(
         self,

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import math
-from typing import Protocol
+from typing import Callable, Protocol
 
+from .._display import spoken
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .flow_compiled import CompiledFlow, supports
@@ -30,10 +31,23 @@ def make_flow(model: BeltOscillator, law: FrictionLaw, *, rtol: float = 1e-11, e
     and as an independent check).  ``auto`` picks exact for piecewise-constant
     laws, compiled where the law has a compiled slip curve, else smooth.
     """
-    if engine not in ("auto", "exact", "smooth", "compiled"):
-        raise ValueError(f"engine must be auto, exact, compiled or smooth, got {engine!r}")
-    if engine == "exact" or (engine == "auto" and law.piecewise_constant):
-        return ExactFlow(model, law)
-    if engine == "compiled" or (engine == "auto" and supports(law) and not model.forced):
-        return CompiledFlow(model, law, param=param, rtol=rtol)
-    return SmoothFlow(model, law, rtol=rtol)
+    if engine != "auto" and engine not in ENGINES:
+        raise ValueError(f"engine must be {spoken(('auto', *ENGINES))}, got {engine!r}")
+    return ENGINES[auto_engine(model, law) if engine == "auto" else engine](model, law, rtol, param)
+
+
+def auto_engine(model: BeltOscillator, law: FrictionLaw) -> str:
+    """The engine ``auto`` picks, from what the law declares."""
+    if law.piecewise_constant:
+        return "exact"
+    if supports(law) and not model.forced:  # law.has_tangent_kernel: the compiled slip curve
+        return "compiled"
+    return "smooth"
+
+
+#: the engines by name: each builds its flow from (model, law, rtol, param)
+ENGINES: dict[str, Callable[[BeltOscillator, FrictionLaw, float, "str | None"], Flow]] = {
+    "exact": lambda model, law, rtol, param: ExactFlow(model, law),
+    "compiled": lambda model, law, rtol, param: CompiledFlow(model, law, param=param, rtol=rtol),
+    "smooth": lambda model, law, rtol, param: SmoothFlow(model, law, rtol=rtol),
+}

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import flowmap as fm
-from ..core.layout import COULOMB, LAW_A, LAW_B, LAW_C, SMOOTH_LAWS
+from ..core.layout import LAW_A, LAW_B, LAW_C
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .flow_smooth import SLIP_NAMES
@@ -51,7 +51,7 @@ def param_code(law: FrictionLaw, param: str | None) -> int | None:
 
 def supports(law: FrictionLaw) -> bool:
     """Can the compiled kernel run this law (a built-in compiled slip curve with Coulomb's stick rule)?"""
-    return law.stick_rule == "switch" and law.func is None and getattr(law, "code", None) in (COULOMB, *SMOOTH_LAWS)
+    return law.has_tangent_kernel
 
 
 @dataclass

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..core import closed_form as cf
 from ..core import exact as ke
-from ..core.friction import FD, FS, LAW, RESULTANT, VD
+from ..core.friction import FD, FS, RESULTANT, VD
 from ..friction.base import FrictionLaw
 from ..modes import SwitchMode
 from ..params import BeltOscillator
@@ -55,7 +55,7 @@ class ExactFlow:
         if not law.piecewise_constant:
             raise ValueError(f"the closed-form flow needs a piecewise-constant law, got {law.name}")
         p = law.kernel_params()
-        self.law = int(p[LAW])
+        self.law = int(ke.closed_form_law(p))
         self.fd, self.fs, self.vd = float(p[FD]), float(p[FS]), float(p[VD])
         self.res = bool(p[RESULTANT] != 0.0)
         self.zeta, self.vb = float(model.zeta), float(model.vb)

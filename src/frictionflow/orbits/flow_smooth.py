@@ -39,7 +39,7 @@ def slip_curve(law: FrictionLaw) -> tuple[Callable[[float], float], Callable[[fl
     """Scalar F(s) and F'(s) of the slip magnitude at relative speed s >= 0: the law's own functions."""
     if law.stick_rule != "switch":
         raise ValueError(f"friction={law.name} has no Coulomb stick rule with a slip curve (use the closed-form flow)")
-    if law.func is not None:  # a user's function
+    if not law.compiled_slip:  # a user's function
         return (lambda s: float(law.func(s))), (lambda s: float(law.slip_slope(max(s, 1e-12))))
     if law.magnitude is None:  # constant slip force
         fd = law.fd

@@ -66,6 +66,7 @@ from .._json import jsonable
 from ..core import forced_map as fm
 from ..core import sections as sec, tangent
 from ..friction.base import FrictionLaw
+from ..friction.registry import tangent_law_names
 from ..params import BeltOscillator
 from ..solvers.base import kernel_params
 from ..analysis.power_flow import power_flow
@@ -111,10 +112,11 @@ class MapRun:
 
 def _check_law(friction: FrictionLaw) -> None:
     if friction.stick_rule != "switch":
-        raise ValueError(f"friction: forced periodic orbits need a law with Coulomb's stick rule (coulomb, stribeck, cubic); "
-                         f"{friction.name} has a velocity band ({friction.stick_rule})")
-    if getattr(friction, "func", None) is not None:
-        raise ValueError("friction: forced periodic orbits need a compiled slip law (a user-defined law has no tangent kernel)")
+        raise ValueError(f"friction: forced periodic orbits need a law with Coulomb's stick rule "
+                         f"({', '.join(tangent_law_names())}); {friction.name} has a velocity band ({friction.stick_rule})")
+    if not friction.has_tangent_kernel:
+        raise ValueError(f"friction: forced periodic orbits need a compiled slip law ({', '.join(tangent_law_names())}); "
+                         f"{friction.name} has no tangent kernel")
 
 
 def _check_model(model: BeltOscillator) -> None:

@@ -9,6 +9,7 @@ by RK4's error and by where RK4's steps land in the band.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 from ..friction import Coulomb, Karnopp
 from ..params import BeltOscillator
@@ -17,8 +18,12 @@ from ..solvers import RK4, Exact
 from ..trajectory import Trajectory
 from .settings import Settings
 
-#: the two ways every study is run
-SOLVERS = ("rk4", "exact")
+#: the two ways every study is run, by solver name: the paper's RK4, and the exact solver on a dense grid
+_MAKERS: dict[str, Callable[["Settings", "int | None"], "RK4 | Exact"]] = {
+    RK4.name: lambda settings, record_every: RK4(dt=settings.dt, record_every=record_every),
+    Exact.name: lambda settings, record_every: Exact(dense_dt=settings.exact_dense_dt),
+}
+SOLVERS = tuple(_MAKERS)
 
 
 @dataclass(frozen=True)
@@ -41,11 +46,10 @@ def paper_law(fd: float, settings: Settings) -> Karnopp:
 
 def solver(name: str, settings: Settings, record_every: int | None = None) -> RK4 | Exact:
     """The paper's RK4 (``"rk4"``) or the exact solver sampled on a dense grid (``"exact"``)."""
-    if name == "rk4":
-        return RK4(dt=settings.dt, record_every=record_every)
-    if name == "exact":
-        return Exact(dense_dt=settings.exact_dense_dt)
-    raise ValueError(f"solver must be one of {', '.join(SOLVERS)}, got {name!r}")
+    make = _MAKERS.get(name)
+    if make is None:
+        raise ValueError(f"solver must be one of {', '.join(SOLVERS)}, got {name!r}")
+    return make(settings, record_every)
 
 
 def run(point: Point, name: str, settings: Settings, t_end: float | None = None,

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from dataclasses import replace
 from functools import lru_cache
-from typing import Any, Callable
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
 from .. import _validate as check
 from .._progress import progress_bar
-from ..core import dopri, sections
+from ..core import batch, dopri, sections
 from ..core._rebind import rebind
 from ..core.layout import FEX
 from ..core.records import Events, Samples, run_record
@@ -42,7 +42,7 @@ def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
     Returns (kernel, compiled).  A user function numba cannot compile runs in
     the Python version of the same kernel.
     """
-    if friction.func is None:
+    if friction.compiled_slip:
         return _builtin_run, True
     return _user_kernel(friction.func, friction.kernel_force())
 
@@ -101,6 +101,10 @@ class Adaptive(Solver):
     name = "adaptive"
     parameters = (ODE_RTOL, MAX_STEPS, DENSE_DT)
     keywords = {"ode_rtol": "rtol"}
+    interpolant = "quintic_hermite"  # it samples every step: X'' at both ends is known
+    steady_rtol = 1e-8  # resolves orbits to about its rtol
+    default_chunk = 256
+    batched = staticmethod(batch.adaptive_points)
 
     def __init__(self, rtol: float = 1e-10, atol: float = 1e-13, max_steps: int = 10_000_000, dense_dt: float | None = None) -> None:
         self.rtol = replace(ODE_RTOL, name="rtol").check(rtol)  # the API calls it rtol, configs ode_rtol
@@ -112,7 +116,17 @@ class Adaptive(Solver):
         return {"name": self.name, "rtol": self.rtol, "atol": self.atol, "max_steps": self.max_steps, "dense_dt": self.dense_dt}
 
     def supports(self, friction: FrictionLaw) -> bool:
-        return friction.stick_rule == "switch"
+        return friction.stick_rule == "switch"  # smooth, piecewise-constant and user slip curves alike
+
+    @classmethod
+    def section_noise(cls, settings: Mapping[str, Any]) -> float:
+        # ten times its rtol: local errors of the steps of a period partly cancel
+        return 10.0 * float(settings.get("rtol", 1e-10))
+
+    def run_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
+                   t_end: float, rtol: float, min_periods: int, out: np.ndarray) -> None:
+        self.batched(p, zeta, vb, x0, v0, t_end, self.rtol, self.atol, self.max_steps, rtol, min_periods,
+                     self.section_noise(self.describe()), out)
 
     def sample_estimate(self, t_end: float, model: BeltOscillator | None = None) -> int:
         """Room for the samples of a run to ``t_end`` (measured: up to ~26 per time unit), the dense grid included.

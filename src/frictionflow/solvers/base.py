@@ -3,7 +3,9 @@
 A solver is a small immutable strategy object: it validates its settings in
 ``__init__`` and its :meth:`Solver.solve` turns (model, friction law, initial
 state, end time) into a :class:`~frictionflow.trajectory.Trajectory` whose
-``work`` columns it integrated itself.
+``work`` columns it integrated itself.  What it is and supports it declares
+(:class:`Solver`'s class attributes); sweeps, the classification and
+``Trajectory.at`` read the declarations, never its name.
 """
 
 from __future__ import annotations
@@ -76,12 +78,46 @@ class CoarseStepWarning(UserWarning):
 
 
 class Solver(ABC):
-    """Base class of solvers."""
+    """Base class of solvers.
+
+    What a solver is and supports it declares here: nothing outside
+    :mod:`frictionflow.solvers` compares solver names.
+
+    Class attributes a solver sets
+    ------------------------------
+    name:
+        Registry name (``--solver NAME``).
+    interpolant:
+        How :meth:`Trajectory.at <frictionflow.trajectory.Trajectory.at>` evaluates its runs between
+        samples: a key of :data:`frictionflow._continuous.FORMS` (the closed form, quintic or cubic Hermite).
+    steady_rtol:
+        The steady-state classification's default ``rtol`` for its runs (what it resolves orbits to).
+    fixed_step:
+        It steps at a fixed dt through a stick band: it does not locate switches, its sample
+        count follows t_end / dt, and its section values jitter from cycle to cycle.
+    default_chunk:
+        Points per sweep chunk (about 0.2 s of work on a core); see :meth:`chunk_points`.
+    batched:
+        The batched kernel of :mod:`frictionflow.core.batch` sweeps run unforced points through
+        (:meth:`run_points`), or None.
+    batched_forced:
+        The batched kernel forced sweep points run through (:meth:`run_forced_points`), or None:
+        they then run one ``simulate`` and ``analyze`` each.
+    supports_forcing:
+        It integrates an external force f(tau) (:meth:`forcing_problem` names the exceptions).
+    """
 
     name: str = "abstract"
     #: its settings, declared once (CLI options, config keys); ``keywords`` maps them to ``__init__``
     parameters: ClassVar[tuple[Param, ...]] = ()
     keywords: ClassVar[dict[str, str]] = {}
+    interpolant: ClassVar[str] = "cubic_hermite"
+    steady_rtol: ClassVar[float] = 1e-6
+    fixed_step: ClassVar[bool] = False
+    default_chunk: ClassVar[int] = 256
+    batched: ClassVar[Callable[..., None] | None] = None
+    batched_forced: ClassVar[Callable[..., np.ndarray] | None] = None
+    supports_forcing: ClassVar[bool] = True
 
     @classmethod
     def from_values(cls, values: Mapping[str, Any]) -> "Solver":
@@ -103,8 +139,33 @@ class Solver(ABC):
         """Integrate from (x0, v0) at tau = 0 to ``t_end``, keeping at most ``max_memory`` GiB of samples."""
 
     def supports(self, friction: FrictionLaw) -> bool:
-        """Whether this solver can integrate ``friction``."""
+        """Whether this solver can integrate ``friction`` (from the law's declared capabilities)."""
         return True
+
+    def forcing_problem(self, zeta: float, omega: float, fex: float) -> str | None:
+        """Why this solver cannot run the forced model (zeta, omega, fex), or None."""
+        return None if self.supports_forcing or fex == 0.0 else f"solver={self.name} does not run an external force"
+
+    @classmethod
+    def section_noise(cls, settings: Mapping[str, Any]) -> float:
+        """Relative error of a section value of a run with ``settings`` (its ``describe()``): below it
+        repetition cannot be judged (0: not known)."""
+        return 0.0
+
+    def chunk_points(self, t_end: float) -> int:
+        """Points per sweep chunk for runs to ``t_end``."""
+        return self.default_chunk
+
+    def run_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
+                   t_end: float, rtol: float, min_periods: int, out: np.ndarray) -> None:
+        """Fill ``out`` (a row per point) through :attr:`batched` with this solver's settings."""
+        raise NotImplementedError(f"solver={self.name} has no batched kernel for sweeps")
+
+    def run_forced_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
+                          t_end: float, rtol: float, friction: FrictionLaw, out: np.ndarray) -> np.ndarray:
+        """Fill ``out`` for forced points through :attr:`batched_forced`; returns which points it left to
+        the façade (all of them without a batched kernel)."""
+        return np.ones(len(zeta), dtype=bool)
 
     def describe(self) -> dict[str, Any]:
         """Name and settings, for reports and JSON."""

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 
 from .._progress import progress_bar
+from ..core import batch, batch_forced
 from ..core import exact as kernel
 from ..core import sections
 from ..core.records import Events, Samples, run_record
@@ -67,6 +68,11 @@ class Exact(Solver):
 
     name = "exact"
     parameters = (DENSE_DT,)
+    interpolant = "closed_form"
+    steady_rtol = 1e-10  # the closed forms resolve orbits to rounding
+    default_chunk = 8192
+    batched = staticmethod(batch.exact_points)
+    batched_forced = staticmethod(batch_forced.forced_points)
 
     def __init__(self, dense_dt: float | None = None, *, replicate: bool = True) -> None:
         self.dense_dt = None if dense_dt is None else DENSE_DT.check(dense_dt)
@@ -81,6 +87,23 @@ class Exact(Solver):
 
     def supports(self, friction: FrictionLaw) -> bool:
         return friction.piecewise_constant
+
+    def forcing_problem(self, zeta: float, omega: float, fex: float) -> str | None:
+        return resonance_problem(zeta, omega, fex)
+
+    @classmethod
+    def section_noise(cls, settings: Mapping[str, Any]) -> float:
+        return 1e-13  # rounding of the closed forms
+
+    def run_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
+                   t_end: float, rtol: float, min_periods: int, out: np.ndarray) -> None:
+        self.batched(p, zeta, vb, x0, v0, t_end, rtol, min_periods, self.section_noise(self.describe()), out)
+
+    def run_forced_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
+                          t_end: float, rtol: float, friction: FrictionLaw, out: np.ndarray) -> np.ndarray:
+        # a law without a tangent kernel cannot have its Lyapunov exponent: such points are not_settled, as in analyze
+        return self.batched_forced(p, zeta, vb, x0, v0, t_end, rtol, 3, self.section_noise(self.describe()), out,
+                                   dense_dt=self.dense_dt or 0.0, lyapunov=friction.has_tangent_kernel)
 
     def sample_estimate(self, t_end: float, model: BeltOscillator | None = None) -> int:
         """Room for the samples of a run to ``t_end``: ~8 per natural period, the dense grid included.
@@ -109,7 +132,7 @@ class Exact(Solver):
     ) -> Trajectory:
         if not self.supports(friction):
             raise ValueError(f"solver=exact does not support friction={friction.name} (its slip force is not constant)")
-        problem = resonance_problem(model.zeta, model.omega, model.fex)
+        problem = self.forcing_problem(model.zeta, model.omega, model.fex)
         if problem:
             raise ValueError(problem)
         p = kernel_params(model, friction)

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
+from .._continuous import declare_interpolant
 from ..friction.base import FrictionLaw
 from ..parameters import declare
 from .adaptive import Adaptive
@@ -15,6 +16,7 @@ from .rk4 import RK4
 SOLVERS: tuple[type[Solver], ...] = (Exact, Adaptive, RK4)
 for _cls in SOLVERS:
     declare(_cls.parameters)
+    declare_interpolant(_cls.name, _cls.interpolant)  # Trajectory.at evaluates its runs with it
 
 
 def solver_classes() -> tuple[type[Solver], ...]:
@@ -26,13 +28,23 @@ def solver_names() -> tuple[str, ...]:
     return ("auto", *(cls.name for cls in solver_classes()))
 
 
+def solver_names_where(test: Callable[[type[Solver]], bool]) -> tuple[str, ...]:
+    """Names of the solvers whose class passes ``test`` (for messages listing what would do)."""
+    return tuple(cls.name for cls in solver_classes() if test(cls))
+
+
+def solver_named(name: Any) -> type[Solver] | None:
+    """The solver class registered as ``name`` (the name a run's ``solver`` record keeps); None if none is."""
+    return next((cls for cls in solver_classes() if cls.name == name), None)
+
+
 def solver_class(name: str, friction: FrictionLaw) -> type[Solver]:
     """The class of solver ``name`` (``auto``: the default for ``friction``)."""
     if name == "auto":
         return type(auto_solver(friction))
-    for cls in solver_classes():
-        if cls.name == name:
-            return cls
+    cls = solver_named(name)
+    if cls is not None:
+        return cls
     raise ValueError(f"solver must be one of {', '.join(solver_names())}, got {name!r}")
 
 

@@ -12,8 +12,7 @@ import numpy as np
 
 from .. import quantities as Q
 from ..analysis import analyze
-from ..analysis.steady_state import DEFAULT_RTOL, section_noise
-from ..core import batch, batch_forced
+from ..core import batch
 from ..core import layout as kf
 from ..friction.base import FrictionLaw
 from ..parameters import with_defaults
@@ -59,15 +58,9 @@ def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[
     zeta, vb = pts["zeta"], pts["vb"]
     x0 = np.where(np.isnan(pts["x0"]), p[:, kf.FD], pts["x0"])
     v0 = np.where(np.isnan(pts["v0"]), vb, pts["v0"])
-    rtol = run.rtol if run.rtol is not None else DEFAULT_RTOL[solver.name]
+    rtol = run.rtol if run.rtol is not None else solver.steady_rtol
     out = np.empty((len(zeta), batch.NR))
-    if solver.name == "exact":
-        batch.exact_points(p, zeta, vb, x0, v0, run.t_end, rtol, 3, section_noise(solver.describe()), out)
-    elif solver.name == "adaptive":
-        batch.adaptive_points(p, zeta, vb, x0, v0, run.t_end, run.ode_rtol, 1e-13, run.max_steps, rtol, 3,
-                              section_noise(solver.describe()), out)
-    else:
-        batch.rk4_points(int(p[0, kf.LAW]), p, zeta, vb, x0, v0, run.t_end, run.dt, rtol, 3, section_noise(solver.describe()), out)
+    solver.run_points(p, zeta, vb, x0, v0, run.t_end, rtol, 3, out)  # its batched kernel, with its settings
     return out.T.reshape((batch.NR, *shape))
 
 
@@ -75,28 +68,26 @@ def _forced_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np
     """Rows of the swept quantities for the points of a forced sweep, each as ``analyze(simulate(...))`` gives it.
 
     A forced point is judged on the stroboscopic section
-    (:mod:`frictionflow.analysis.forced`).  On the exact solver the points with
-    F_ex > 0 run batched (:mod:`frictionflow.core.batch_forced`: the same run
-    and the same classifier, compiled); the rest -- other solvers, points
-    without forcing, and what the batched kernel leaves to it -- run one by one
-    through the façade.
+    (:mod:`frictionflow.analysis.forced`).  Points with F_ex > 0 run batched
+    where the solver declares a forced batched kernel (``batched_forced``; the
+    exact solver's :mod:`frictionflow.core.batch_forced`: the same run and the
+    same classifier, compiled); the rest -- other solvers, points without
+    forcing, and what the batched kernel leaves to it -- run one by one through
+    the façade.
     """
     n = len(pts["zeta"])
     out = np.empty((n, batch.NR))
     facade = np.ones(n, dtype=bool)
-    forced = pts["fex"] > 0.0
-    if solver.name == "exact" and forced.any():
-        j = np.flatnonzero(forced)
+    j = np.flatnonzero(pts["fex"] > 0.0)
+    if len(j):
         sub = {k: v[j] for k, v in pts.items()}
         p = _friction_rows(cfg, law, sub)
         p[:, kf.FEX], p[:, kf.OMEGA], p[:, kf.PHI] = sub["fex"], sub["omega"], sub["phi"]
         x0 = np.where(np.isnan(sub["x0"]), p[:, kf.FD], sub["x0"])
         v0 = np.where(np.isnan(sub["v0"]), sub["vb"], sub["v0"])
-        rtol = cfg.run.rtol if cfg.run.rtol is not None else DEFAULT_RTOL[solver.name]
+        rtol = cfg.run.rtol if cfg.run.rtol is not None else solver.steady_rtol
         rows = np.empty((len(j), batch.NR))
-        left = batch_forced.forced_points(p, sub["zeta"], sub["vb"], x0, v0, cfg.run.t_end, rtol, 3,
-                                          section_noise(solver.describe()), rows, dense_dt=solver.dense_dt or 0.0,
-                                          lyapunov=law.stick_rule == "switch" and getattr(law, "func", None) is None)
+        left = solver.run_forced_points(p, sub["zeta"], sub["vb"], x0, v0, cfg.run.t_end, rtol, law, rows)
         out[j] = rows
         facade[j] = left
     _facade_points(cfg, law, solver, pts, np.flatnonzero(facade), out)

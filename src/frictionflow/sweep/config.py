@@ -41,7 +41,6 @@ from ..friction import law_class
 from ..io import read_config
 from ..parameters import declared, sweep_axes
 from ..solvers.base import CoarseStepWarning, check_memory
-from ..solvers.exact import resonance_problem
 
 #: what can be an axis: every sweepable declared parameter (the oscillator's, the laws', the initial state)
 GRID_KEYS = sweep_axes()
@@ -251,8 +250,8 @@ def _check_size(cfg: SweepConfig) -> None:
     import numba
 
     model, _, solver = cfg.run.build()
-    if solver.name == "rk4":
-        solver.steps(cfg.run.t_end)  # the batched RK4 keeps section records, not samples
+    if solver.fixed_step:
+        solver.steps(cfg.run.t_end)  # the batched fixed-step kernel keeps section records, not samples
         _warn_coarse_steps(cfg)
         return
     threads = numba.get_num_threads()
@@ -281,9 +280,8 @@ def _check_points(cfg: SweepConfig) -> None:
 
 
 def _check_resonance(cfg: SweepConfig) -> None:
-    """The exact solver refuses undamped resonance: refuse a grid with such a point before any work."""
-    if cfg.run.build()[2].name != "exact":
-        return
+    """A forced point the solver refuses (the exact solver: undamped resonance): refuse the grid before any work."""
+    solver = cfg.run.build()[2]
 
     def values(key: str) -> np.ndarray:
         found = cfg.axes.get(key, cfg.sample.get(key))
@@ -292,9 +290,9 @@ def _check_resonance(cfg: SweepConfig) -> None:
     # the worst point of the grid: undamped if any point is, at omega = 1 if any point is, the largest forcing
     zeta = 0.0 if np.any(values("zeta") == 0.0) else 1.0
     omega = 1.0 if np.any(values("omega") == 1.0) else 0.5
-    problem = resonance_problem(zeta, omega, float(values("fex").max()))
+    problem = solver.forcing_problem(zeta, omega, float(values("fex").max()))
     if problem:
-        raise ValueError(f"grid: a point has {problem.split(': ', 1)[1]}")
+        raise ValueError(f"grid: a point has {problem.split(': ', 1)[-1]}")
 
 
 def load_sweep(path: str) -> SweepConfig:

@@ -23,17 +23,10 @@ __all__ = ["SCHEDULER_TIMEOUT", "default_chunk_size", "run_sweep", "verify_sweep
 #: seconds to wait for a Dask scheduler before giving up
 SCHEDULER_TIMEOUT = 5.0
 
-#: points per task when none is given: each task should be ~0.1-1 s of work
-DEFAULT_CHUNK = {"exact": 8192, "adaptive": 256}
-
-
 def default_chunk_size(cfg: SweepConfig) -> int:
-    """About 0.2 s of work per chunk on one core (>= 100 ms per Dask task)."""
+    """About 0.2 s of work per chunk on one core (>= 100 ms per Dask task): what the solver declares."""
     _, _, solver = cfg.run.build()
-    if solver.name == "rk4":
-        steps = math.ceil(cfg.run.t_end / cfg.run.dt)
-        return max(64, int(0.2 / (steps * 10e-9)))  # ~10 ns per step per point, one core
-    return DEFAULT_CHUNK[solver.name]
+    return solver.chunk_points(cfg.run.t_end)
 
 
 def run_sweep(
