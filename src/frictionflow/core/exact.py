@@ -60,7 +60,7 @@ from numba import njit
 from . import codes
 from . import closed_form as cf
 from . import sections as sec
-from .friction import COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD
+from .friction import COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD, held_force, stick_friction
 from .layout import N_WORK
 from .records import DENSE_DT, MIN_PERIODS, STOP_PERIODIC, STOP_RTOL, STOP_TERMINAL, T_END, T_TAIL, V0, VB, X0, ZETA
 from .samples import emit
@@ -105,7 +105,7 @@ def friction_force(fck, force, x, v, zeta):
         return force
     if fck == FC_SPRING:
         return x
-    return x + 2.0 * zeta * v
+    return stick_friction(x, zeta, v, 0.0)
 
 
 @njit(cache=True)
@@ -219,7 +219,6 @@ def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, dd
 @njit(cache=True)
 def region_mode(law, zeta, vb, fd, fs, vd, res, x, v, f=0.0):
     """The mode by region alone (a fallback when no mode is consistent; f: the external force)."""
-    be = 2.0 * zeta if res else 0.0
     if law == COULOMB:
         if v < vb:
             return SLIP_POS
@@ -230,7 +229,7 @@ def region_mode(law, zeta, vb, fd, fs, vd, res, x, v, f=0.0):
         return SLIP_POS
     if vb - v < -vd:
         return SLIP_NEG
-    fe = x + be * v - f
+    fe = held_force(x, zeta, v, res, f)
     if fe >= fs:
         return SAT_POS
     if fe <= -fs:
