@@ -38,7 +38,7 @@ from numba import njit
 
 from . import codes
 from .friction import (FEX, FS, OMEGA, PHI, RESULTANT, external_force, external_force_rate, held_force, rest_mode,
-                       slip_magnitude_of, stick_friction)
+                       slip_magnitude_of, stick_duration, stick_friction)
 from . import sections as sec
 from .layout import N_WORK
 from .records import (DENSE_DT, MAX_STEPS, MIN_PERIODS, ODE_ATOL, ODE_RTOL, R_CERT, STOP_RTOL, T_END, T_TAIL, V0, VB, X0, X_EQ,
@@ -250,13 +250,7 @@ def _run(forced, run, p, samples, events):
             k += 1
         elif mode == 0:
             # stick: X' = V_b until |F_e| = F_s
-            fe0 = held_force(x, zeta, vb, res, 0.0)
-            T = t_end - t
-            if vb > 0.0:
-                T = min(T, (fs - fe0) / vb)
-            elif vb < 0.0:
-                T = min(T, (-fs - fe0) / vb)
-            T = max(T, 0.0)
+            T = min(t_end - t, stick_duration(x, zeta, vb, fs, res))
             fcz = -stick_friction(x, zeta, vb, 0.0) / vb if vb != 0.0 else -1.0
             ta = 0.0
             while True:

@@ -61,8 +61,8 @@ from numba import njit
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from . import codes
-from .friction import (FD, FS, LAW_A, LAW_B, LAW_C, RESULTANT, held_force, rest_mode, slip_partial_of, slip_terms_of,
-                       stick_friction)
+from .friction import (FD, FS, LAW_A, LAW_B, LAW_C, RESULTANT, rest_mode, slip_partial_of, slip_terms_of,
+                       stick_duration, stick_friction)
 from .hermite import hermite, hermite_min
 from .roots import RUNNING, bracket, steer, tolerance, update
 from .tangent import slip_force, slip_slope
@@ -519,8 +519,7 @@ def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, virtual, 
             return FULL
         if mode == 0:
             # stick: X' = V_b until |F_e| reaches F_s on the side V_b drives it to
-            fe = held_force(x, zeta, vb, res, 0.0)
-            T = max(0.0, (math.copysign(fs, vb) - fe) / vb) if vb != 0.0 else math.inf
+            T = stick_duration(x, zeta, vb, fs, res)
             if T < math.inf and rest_mode(x + vb * T, zeta, vb, fs, res, f0, 0.0, 0.0) == 0:
                 T = math.inf
             ends = t + T < horizon

@@ -5,7 +5,8 @@
   with code ``law`` while slipping, dispatched to each law's own compiled
   functions (in its module in :mod:`frictionflow.friction`).
 * :func:`held_force` / :func:`stick_friction`: the force the interface must
-  hold, F_e - f, and the friction force while sticking, X + 2 zeta V_b - f.
+  hold, F_e - f, and the friction force while sticking, X + 2 zeta V_b - f;
+  :func:`stick_duration`: how long an unforced stick lasts (closed form).
 * :func:`rest_mode`: Coulomb's set-valued stick rule at V_r = 0 (used by the
   adaptive kernel and the Python orbit flows).
 * :func:`band_force` / :func:`band_mode`: Karnopp's stick band |V_r| <= V_d
@@ -130,6 +131,19 @@ def held_force(x, zeta, v, resultant, f):
     choice); X' = V_b while sticking.  Compared with F_s by every stick rule.
     """
     return (x + 2.0 * zeta * v if resultant else x) - f
+
+
+@njit(cache=True, forceinline=True)
+def stick_duration(x, zeta, vb, fs, resultant):
+    """How long an unforced stick from X = ``x`` lasts: until |F_e| reaches F_s (inf when V_b = 0).
+
+    F_e moves at the rate V_b, towards the limit on V_b's side; 0 when it is
+    there or beyond already.  (A forced stick has no closed form: its end is
+    searched on the held force, :func:`held_force`.)
+    """
+    if vb == 0.0:
+        return math.inf
+    return max(0.0, (math.copysign(fs, vb) - held_force(x, zeta, vb, resultant, 0.0)) / vb)
 
 
 #: :func:`held_force` with ``FASTMATH``, for the stick band of the fixed-step kernels (flags are per
