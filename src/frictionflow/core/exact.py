@@ -152,10 +152,17 @@ def boundaries(mode, law, zeta, vb, fd, fs, vd, res, ev):
     return n
 
 
-@njit(cache=True)
-def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
-    """Does the motion stay in ``mode``'s region for a positive time from (x, v)?  (``ev``: not used.)
+@njit(cache=True, forceinline=True)
+def law_record(law, fd, fs, vd, res):
+    """The law record of :func:`consistent` and :func:`select_mode`: (law code, F_d, F_s, V_d, resultant), typed alike everywhere."""
+    return (np.int64(law), float(fd), float(fs), float(vd), bool(res))
 
+
+@njit(cache=True)
+def consistent(mode, lw, zeta, vb, x, v, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
+    """Does the motion stay in ``mode``'s region for a positive time from (x, v)?
+
+    ``lw``: the law record (law code, F_d, F_s, V_d, resultant), :func:`law_record`.
     ``f, df, ddf``: the external force and its first two rates there.  Every
     boundary is a function of X - f and X' (:func:`mode_boundaries`: its
     coefficient of X multiplies X - f), and slip feels f in X''.  ``ftol``:
@@ -163,6 +170,7 @@ def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.
     argument Omega tau + phi, not by |f| (near a zero of f, or where X - f is
     a difference of nearly equal terms, |f| and |X| understate it).
     """
+    law, fd, fs, vd, res = lw
     # A switch is located to a few ulps of time; X' there is then off the boundary
     # by |X''| times that: far below this tolerance, far above rounding.
     vtol = 1e-10 * (abs(vb) + abs(v) + vd + abs(x) + fs)
@@ -207,11 +215,11 @@ def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.
 
 
 @njit(cache=True)
-def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
-    """The mode the motion continues in from (x, v); -1 if none is consistent.  (``ev``: not used; f, ftol: see :func:`consistent`.)"""
-    order = COULOMB_ORDER if law == COULOMB else KARNOPP_ORDER
+def select_mode(lw, zeta, vb, x, v, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
+    """The mode the motion continues in from (x, v); -1 if none is consistent.  (lw, f, ftol: see :func:`consistent`.)"""
+    order = COULOMB_ORDER if lw[0] == COULOMB else KARNOPP_ORDER
     for m in order:
-        if consistent(m, law, zeta, vb, fd, fs, vd, res, x, v, ev, f, df, ddf, ftol):
+        if consistent(m, lw, zeta, vb, x, v, f, df, ddf, ftol):
             return m
     return -1
 
@@ -551,7 +559,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
     outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
     t = 0.0
     x, v = x0, v0
-    mode = select_mode(law, zeta, vb, fd, fs, vd, res, x, v)
+    mode = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v)
     if mode < 0:
         mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v)
     if mode == STICK:
@@ -702,7 +710,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
             else:
                 n_rel = -1
         # The switch: which mode continues?
-        new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v)
+        new = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v)
         if new < 0:
             new = region_mode(law, zeta, vb, fd, fs, vd, res, x, v)
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
@@ -953,7 +961,7 @@ def run_forced(run, p, samples, events, t_mode):
     outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
     t = 0.0
     x, v = x0, v0
-    mode = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, None, fex * math.cos(phi), -fex * om * math.sin(phi),
+    mode = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v, fex * math.cos(phi), -fex * om * math.sin(phi),
                        -om * om * fex * math.cos(phi))
     if mode < 0:
         mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fex * math.cos(phi))
@@ -1080,7 +1088,7 @@ def run_forced(run, p, samples, events, t_mode):
         # (stick under the resultant rule with 2 zeta V_b ~ F_s): stick was then taken again with zero length.
         fe, dfe = ste[4], ste[5]
         ftol = 8.0 * EPS * fex * (1.0 + abs(theta))
-        new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, None, fe, dfe, -om * om * fe, ftol)
+        new = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v, fe, dfe, -om * om * fe, ftol)
         if new < 0:
             new = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fe)
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
