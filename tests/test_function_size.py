@@ -32,8 +32,6 @@ OVER_LIMIT = {
     "frictionflow.core.dopri:_gd": (5, 13),
     "frictionflow.core.dopri:_root_between": (14, 14),
     "frictionflow.core.dopri:_stick_walk": (40, 15),
-    "frictionflow.core.exact:consistent": (51, 15),
-    "frictionflow.core.exact:select_mode": (7, 14),
     "frictionflow.core.exact:run": (230, 7),
     "frictionflow.core.exact:_forced_piece": (9, 14),
     "frictionflow.core.exact:run_forced": (163, 5),

@@ -327,7 +327,7 @@ def test_stick_on_its_boundary_is_decided_by_the_rates_despite_the_rounding_of_f
     f, df = fex * math.cos(theta), -fex * om * math.sin(theta)
     assert vb - df > 0 and f - x > 256 * np.finfo(float).eps * (abs(x) + abs(f))  # "inside" at f's face value
     ftol = 8 * np.finfo(float).eps * fex * (1 + theta)
-    args = (ke.COULOMB, zeta, vb, fd, fs, 0.0, True, x, vb, None, f, df, -om * om * f)
+    args = (ke.law_record(ke.COULOMB, fd, fs, 0.0, True), zeta, vb, x, vb, f, df, -om * om * f)
     assert ke.select_mode(*args, ftol) == ke.SLIP_POS
     assert ke.select_mode(*args, 0.0) == ke.STICK  # the old decision: zero-length sticks from here
 

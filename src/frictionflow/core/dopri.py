@@ -37,7 +37,8 @@ import numpy as np
 from numba import njit
 
 from . import codes
-from .friction import FEX, FS, OMEGA, PHI, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of
+from .friction import (FEX, FS, OMEGA, PHI, RESULTANT, external_force, external_force_rate, held_force, rest_mode,
+                       slip_magnitude_of, stick_duration, stick_friction)
 from . import sections as sec
 from .layout import N_WORK
 from .records import (DENSE_DT, MAX_STEPS, MIN_PERIODS, ODE_ATOL, ODE_RTOL, R_CERT, STOP_RTOL, T_END, T_TAIL, V0, VB, X0, X_EQ,
@@ -217,7 +218,7 @@ def _run(forced, run, p, samples, events):
     outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
     if len(out_t) < 2:
         return 0, 0, FULL, t, h
-    fc0 = x + 2.0 * zeta * vb - external_force(p, 0.0) if forced else x + 2.0 * zeta * vb
+    fc0 = stick_friction(x, zeta, vb, external_force(p, 0.0) if forced else 0.0)
     emit(outs, k, t, x, v, fc0 if mode == 0 else mode * slip_force(p, abs(vb - v)), mode, w)
     k += 1
     next_dense = dense_dt if dense_dt > 0.0 else np.inf
@@ -249,14 +250,8 @@ def _run(forced, run, p, samples, events):
             k += 1
         elif mode == 0:
             # stick: X' = V_b until |F_e| = F_s
-            fe0 = x + 2.0 * zeta * vb if res else x
-            T = t_end - t
-            if vb > 0.0:
-                T = min(T, (fs - fe0) / vb)
-            elif vb < 0.0:
-                T = min(T, (-fs - fe0) / vb)
-            T = max(T, 0.0)
-            fcz = -(x + 2.0 * zeta * vb) / vb if vb != 0.0 else -1.0
+            T = min(t_end - t, stick_duration(x, zeta, vb, fs, res))
+            fcz = -stick_friction(x, zeta, vb, 0.0) / vb if vb != 0.0 else -1.0
             ta = 0.0
             while True:
                 tb = T
@@ -272,7 +267,7 @@ def _run(forced, run, p, samples, events):
                 L = tb - ta
                 xa = x + vb * ta
                 w[0] += 2.0 * zeta * vb * vb * L
-                pf = vb * ((xa + 2.0 * zeta * vb) * L + 0.5 * vb * L * L)
+                pf = vb * (stick_friction(xa, zeta, vb, 0.0) * L + 0.5 * vb * L * L)
                 if pf > 0.0:
                     w[1] += pf
                 else:
@@ -284,7 +279,7 @@ def _run(forced, run, p, samples, events):
                     next_dense += dense_dt
                 if ta >= T:
                     break
-                if not emit(outs, k, t + ta, x + vb * ta, vb, x + vb * ta + 2.0 * zeta * vb, stick_mode, w):
+                if not emit(outs, k, t + ta, x + vb * ta, vb, stick_friction(x + vb * ta, zeta, vb, 0.0), stick_mode, w):
                     return k, ne, FULL, t, h
                 k += 1
             t += T
@@ -454,18 +449,16 @@ def _run(forced, run, p, samples, events):
                 out_mode[k - 1] = mode
                 if mode != 0:
                     out_fc[k - 1] = mode * slip_force(p, 0.0)
-                elif forced:
-                    out_fc[k - 1] = x + 2.0 * zeta * vb - external_force(p, t)
                 else:
-                    out_fc[k - 1] = x + 2.0 * zeta * vb
+                    out_fc[k - 1] = stick_friction(x, zeta, vb, external_force(p, t) if forced else 0.0)
     if forced:
         if out_t[k - 1] < t_end - STROBE_TOL * (1.0 + t_end):  # a run that ends sticking
             tt, n_strobe = _strobe(t_end, n_strobe, period)
-            if not emit(outs, k, tt, x, v, x + 2.0 * zeta * vb - external_force(p, t_end), stick_mode, w):
+            if not emit(outs, k, tt, x, v, stick_friction(x, zeta, vb, external_force(p, t_end)), stick_mode, w):
                 return k, ne, FULL, t, h
             k += 1
     elif out_t[k - 1] < t_end:  # a run that ends sticking
-        if not emit(outs, k, t_end, x, v, x + 2.0 * zeta * vb, stick_mode, w):
+        if not emit(outs, k, t_end, x, v, stick_friction(x, zeta, vb, 0.0), stick_mode, w):
             return k, ne, FULL, t, h
         k += 1
     return k, ne, OK, t, h
@@ -545,9 +538,7 @@ def _strobe(tt, n, period):
 @njit(cache=True)
 def _held(xs, ts, t, zeta, vb, res, p):
     """F_e - f(t), the force the interface must hold at ``t`` in a stick phase that began at (ts, xs)."""
-    x = xs + vb * (t - ts)
-    fe = x + 2.0 * zeta * vb if res else x
-    return fe - external_force(p, t)
+    return held_force(xs + vb * (t - ts), zeta, vb, res, external_force(p, t))
 
 
 @njit(cache=True)
@@ -639,7 +630,7 @@ def _stick_work(xs, ts, ta, tb, zeta, vb, p, w):
     # int f over [ta, tb] = F_ex / Omega (sin(Omega tb + phi) - sin(Omega ta + phi)), without the cancellation
     fint = 2.0 * p[FEX] / om * math.cos(om * 0.5 * (ta + tb) + ph) * math.sin(0.5 * om * L)
     w[0] += 2.0 * zeta * vb * vb * L
-    pf = vb * ((xa + 2.0 * zeta * vb) * L + 0.5 * vb * L * L - fint)
+    pf = vb * (stick_friction(xa, zeta, vb, 0.0) * L + 0.5 * vb * L * L - fint)
     if pf > 0.0:
         w[1] += pf
     else:
@@ -685,6 +676,6 @@ def _stick_walk(outs, k, w, xs, ts, te, zeta, vb, p, t_tail, tail_done, next_den
             next_dense += dense_dt
         tt, n_strobe = _strobe(tb, n_strobe, period)
         xb = xs + vb * (tb - ts)
-        if not emit(outs, k, tt, xb, vb, xb + 2.0 * zeta * vb - external_force(p, tb), stick_mode, w):
+        if not emit(outs, k, tt, xb, vb, stick_friction(xb, zeta, vb, external_force(p, tb)), stick_mode, w):
             return k, tail_done, next_dense, n_strobe, False
         k += 1

@@ -60,7 +60,7 @@ from numba import njit
 from . import codes
 from . import closed_form as cf
 from . import sections as sec
-from .friction import COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD
+from .friction import COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD, held_force, stick_friction
 from .layout import N_WORK
 from .records import DENSE_DT, MIN_PERIODS, STOP_PERIODIC, STOP_RTOL, STOP_TERMINAL, T_END, T_TAIL, V0, VB, X0, ZETA
 from .samples import emit
@@ -118,7 +118,7 @@ def friction_force(fck, force, x, v, zeta):
         return force
     if fck == FC_SPRING:
         return x
-    return x + 2.0 * zeta * v
+    return stick_friction(x, zeta, v, 0.0)
 
 
 @njit(cache=True)
@@ -165,10 +165,17 @@ def boundaries(mode, law, zeta, vb, fd, fs, vd, res, ev):
     return n
 
 
-@njit(cache=True)
-def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
-    """Does the motion stay in ``mode``'s region for a positive time from (x, v)?  (``ev``: not used.)
+@njit(cache=True, forceinline=True)
+def law_record(law, fd, fs, vd, res):
+    """The law record of :func:`consistent` and :func:`select_mode`: (law code, F_d, F_s, V_d, resultant), typed alike everywhere."""
+    return (np.int64(law), float(fd), float(fs), float(vd), bool(res))
 
+
+@njit(cache=True)
+def consistent(mode, lw, zeta, vb, x, v, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
+    """Does the motion stay in ``mode``'s region for a positive time from (x, v)?
+
+    ``lw``: the law record (law code, F_d, F_s, V_d, resultant), :func:`law_record`.
     ``f, df, ddf``: the external force and its first two rates there.  Every
     boundary is a function of X - f and X' (:func:`mode_boundaries`: its
     coefficient of X multiplies X - f), and slip feels f in X''.  ``ftol``:
@@ -176,6 +183,7 @@ def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.
     argument Omega tau + phi, not by |f| (near a zero of f, or where X - f is
     a difference of nearly equal terms, |f| and |X| understate it).
     """
+    law, fd, fs, vd, res = lw
     # A switch is located to a few ulps of time; X' there is then off the boundary
     # by |X''| times that: far below this tolerance, far above rounding.
     vtol = 1e-10 * (abs(vb) + abs(v) + vd + abs(x) + fs)
@@ -220,11 +228,11 @@ def consistent(mode, law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.
 
 
 @njit(cache=True)
-def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
-    """The mode the motion continues in from (x, v); -1 if none is consistent.  (``ev``: not used; f, ftol: see :func:`consistent`.)"""
-    order = COULOMB_ORDER if law == COULOMB else KARNOPP_ORDER
+def select_mode(lw, zeta, vb, x, v, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
+    """The mode the motion continues in from (x, v); -1 if none is consistent.  (lw, f, ftol: see :func:`consistent`.)"""
+    order = COULOMB_ORDER if lw[0] == COULOMB else KARNOPP_ORDER
     for m in order:
-        if consistent(m, law, zeta, vb, fd, fs, vd, res, x, v, ev, f, df, ddf, ftol):
+        if consistent(m, lw, zeta, vb, x, v, f, df, ddf, ftol):
             return m
     return -1
 
@@ -232,7 +240,6 @@ def select_mode(law, zeta, vb, fd, fs, vd, res, x, v, ev=None, f=0.0, df=0.0, dd
 @njit(cache=True)
 def region_mode(law, zeta, vb, fd, fs, vd, res, x, v, f=0.0):
     """The mode by region alone (a fallback when no mode is consistent; f: the external force)."""
-    be = 2.0 * zeta if res else 0.0
     if law == COULOMB:
         if v < vb:
             return SLIP_POS
@@ -243,7 +250,7 @@ def region_mode(law, zeta, vb, fd, fs, vd, res, x, v, f=0.0):
         return SLIP_POS
     if vb - v < -vd:
         return SLIP_NEG
-    fe = x + be * v - f
+    fe = held_force(x, zeta, v, res, f)
     if fe >= fs:
         return SAT_POS
     if fe <= -fs:
@@ -565,7 +572,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
     outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
     t = 0.0
     x, v = x0, v0
-    mode = select_mode(law, zeta, vb, fd, fs, vd, res, x, v)
+    mode = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v)
     if mode < 0:
         mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v)
     if mode == STICK:
@@ -716,7 +723,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
             else:
                 n_rel = -1
         # The switch: which mode continues?
-        new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v)
+        new = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v)
         if new < 0:
             new = region_mode(law, zeta, vb, fd, fs, vd, res, x, v)
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
@@ -967,7 +974,7 @@ def run_forced(run, p, samples, events, t_mode):
     outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
     t = 0.0
     x, v = x0, v0
-    mode = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, None, fex * math.cos(phi), -fex * om * math.sin(phi),
+    mode = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v, fex * math.cos(phi), -fex * om * math.sin(phi),
                        -om * om * fex * math.cos(phi))
     if mode < 0:
         mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fex * math.cos(phi))
@@ -1094,7 +1101,7 @@ def run_forced(run, p, samples, events, t_mode):
         # (stick under the resultant rule with 2 zeta V_b ~ F_s): stick was then taken again with zero length.
         fe, dfe = ste[4], ste[5]
         ftol = 8.0 * EPS * fex * (1.0 + abs(theta))
-        new = select_mode(law, zeta, vb, fd, fs, vd, res, x, v, None, fe, dfe, -om * om * fe, ftol)
+        new = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v, fe, dfe, -om * om * fe, ftol)
         if new < 0:
             new = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fe)
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0

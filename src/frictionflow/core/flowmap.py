@@ -61,7 +61,8 @@ from numba import njit
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from . import codes
-from .friction import FD, FS, LAW_A, LAW_B, LAW_C, RESULTANT, rest_mode, slip_partial_of, slip_terms_of
+from .friction import (FD, FS, LAW_A, LAW_B, LAW_C, RESULTANT, rest_mode, slip_partial_of, slip_terms_of,
+                       stick_duration, stick_friction)
 from .hermite import hermite, hermite_min
 from .roots import RUNNING, bracket, steer, tolerance, update
 from .tangent import slip_force, slip_slope
@@ -448,7 +449,7 @@ def _stick_quads(M, tot, xs, T, zeta, vb, code):
     tot[T_WDV] += 2.0 * zeta * vb * vb * T
     for c in range(3):
         tot[T_DWDV0 + c] += (4.0 * zeta * vb * M[1, c] + (2.0 * dz * vb * vb if c == 2 else 0.0)) * T
-    f0 = xs + 2.0 * zeta * vb
+    f0 = stick_friction(xs, zeta, vb, 0.0)
     if vb == 0.0:
         return
     # q_f = vb f0 + vb^2 tau grows with tau whatever the sign of V_b: positive past tau = -f0 / vb
@@ -518,8 +519,7 @@ def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, virtual, 
             return FULL
         if mode == 0:
             # stick: X' = V_b until |F_e| reaches F_s on the side V_b drives it to
-            fe = x + 2.0 * zeta * vb if res else x
-            T = max(0.0, (math.copysign(fs, vb) - fe) / vb) if vb != 0.0 else math.inf
+            T = stick_duration(x, zeta, vb, fs, res)
             if T < math.inf and rest_mode(x + vb * T, zeta, vb, fs, res, f0, 0.0, 0.0) == 0:
                 T = math.inf
             ends = t + T < horizon
@@ -543,7 +543,7 @@ def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, virtual, 
             side = 1.0 if vb > 0.0 else -1.0
             fa1 = new * f0 - x - 2.0 * zeta * vb
             hl = side * 2.0 * (dzeta(code) * vb + zeta * dvb(code)) * (1.0 if res else 0.0) - dfs(code)
-            qb = vb * (x + 2.0 * zeta * vb)
+            qb = vb * stick_friction(x, zeta, vb, 0.0)
             qb = qb if qb > 0.0 else 0.0
             qa = vb * new * f0
             qa = qa if qa > 0.0 else 0.0
@@ -674,7 +674,7 @@ def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, virtual, 
         qb = vb * d * f0
         qb = qb if qb > 0.0 else 0.0
         if new == 0:
-            qa = vb * (x + 2.0 * zeta * vb)
+            qa = vb * stick_friction(x, zeta, vb, 0.0)
             qa = qa if qa > 0.0 else 0.0
         else:
             qa = vb * new * f0

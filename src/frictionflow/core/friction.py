@@ -4,6 +4,9 @@
   dF/d|V_r| and dF/d(a parameter) of the law
   with code ``law`` while slipping, dispatched to each law's own compiled
   functions (in its module in :mod:`frictionflow.friction`).
+* :func:`held_force` / :func:`stick_friction`: the force the interface must
+  hold, F_e - f, and the friction force while sticking, X + 2 zeta V_b - f;
+  :func:`stick_duration`: how long an unforced stick lasts (closed form).
 * :func:`rest_mode`: Coulomb's set-valued stick rule at V_r = 0 (used by the
   adaptive kernel and the Python orbit flows).
 * :func:`band_force` / :func:`band_mode`: Karnopp's stick band |V_r| <= V_d
@@ -23,6 +26,7 @@ of the dispatchers below.
 from __future__ import annotations
 
 import math
+import types
 
 from numba import njit
 
@@ -96,6 +100,57 @@ def slip_slope_of(p, speed):
     return slip_slope(int(p[LAW]), p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C], speed)
 
 
+def _twin(fn, name):
+    """A copy of the compiled ``fn``'s Python function named ``name``, to be compiled with other flags.
+
+    Its own qualified name gives it its own cache file and symbol: numba's
+    cache index does not tell flags apart, so two dispatchers of one
+    function would load each other's machine code.
+    """
+    code = fn.py_func
+    twin = types.FunctionType(code.__code__, code.__globals__, name, code.__defaults__)
+    twin.__qualname__ = name
+    return twin
+
+
+@njit(cache=True, forceinline=True)
+def stick_friction(x, zeta, vb, f):
+    """F_c while sticking (X' = V_b, X'' = 0): X + 2 zeta V_b - f, what the spring, the damper and f leave.
+
+    The friction force whatever ``stick_force`` says (that choice only
+    decides when sticking ends: :func:`held_force`).
+    """
+    return x + 2.0 * zeta * vb - f
+
+
+@njit(cache=True, forceinline=True)
+def held_force(x, zeta, v, resultant, f):
+    """F_e - f: the force the interface must hold at (x, v) with the external force f there.
+
+    F_e = X + 2 zeta X' (``resultant``) or X (the spring alone, the paper's
+    choice); X' = V_b while sticking.  Compared with F_s by every stick rule.
+    """
+    return (x + 2.0 * zeta * v if resultant else x) - f
+
+
+@njit(cache=True, forceinline=True)
+def stick_duration(x, zeta, vb, fs, resultant):
+    """How long an unforced stick from X = ``x`` lasts: until |F_e| reaches F_s (inf when V_b = 0).
+
+    F_e moves at the rate V_b, towards the limit on V_b's side; 0 when it is
+    there or beyond already.  (A forced stick has no closed form: its end is
+    searched on the held force, :func:`held_force`.)
+    """
+    if vb == 0.0:
+        return math.inf
+    return max(0.0, (math.copysign(fs, vb) - held_force(x, zeta, vb, resultant, 0.0)) / vb)
+
+
+#: :func:`held_force` with ``FASTMATH``, for the stick band of the fixed-step kernels (flags are per
+#: compiled function: the band's callers contract it, the event-driven kernels must not)
+held_force_fm = njit(cache=True, fastmath=FASTMATH, forceinline=True)(_twin(held_force, "held_force_fm"))
+
+
 @njit(cache=True, inline="always")
 def external_force(p, t):
     """f(tau) = F_ex cos(Omega tau + phi) of the force record ``p`` (0.0 unforced, without a cosine)."""
@@ -125,7 +180,7 @@ def rest_mode(x, zeta, vb, fs, resultant, f0, fext, dfext):
     Otherwise it slips in the direction d whose slip force d F(0+) = d ``f0``
     drives V_r away from 0.
     """
-    fe = (x + 2.0 * zeta * vb if resultant else x) - fext
+    fe = held_force(x, zeta, vb, resultant, fext)
     rate = vb - dfext
     outward = fe * rate > 0.0 or rate == 0.0
     if abs(fe) < fs * (1.0 - 1e-14) or (abs(fe) <= fs and not outward):
@@ -152,7 +207,7 @@ def band_force(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext):
         return slip_magnitude(law, fd, fs, a, b, c, vr)
     if vr < -vd:
         return -slip_magnitude(law, fd, fs, a, b, c, -vr)
-    fe = (x + 2.0 * zeta * v if resultant else x) - fext
+    fe = held_force_fm(x, zeta, v, resultant, fext)
     if fe >= fs:
         return fs
     if fe <= -fs:
@@ -167,7 +222,7 @@ def band_force_select(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext)
     speed = abs(vr)
     mag = slip_magnitude(law, fd, fs, a, b, c, speed)
     slip = mag if vr > 0.0 else -mag
-    fe = (x + 2.0 * zeta * v if resultant else x) - fext
+    fe = held_force_fm(x, zeta, v, resultant, fext)
     hold = min(max(fe, -fs), fs)  # F_s sgn(F_e) once |F_e| >= F_s
     return slip if speed > vd else hold
 

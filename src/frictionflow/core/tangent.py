@@ -94,7 +94,8 @@ import numpy as np
 from numba import njit
 
 from . import codes
-from .friction import FS, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of, slip_slope_of
+from .friction import (FS, RESULTANT, external_force, external_force_rate, held_force, rest_mode, slip_magnitude_of,
+                       slip_slope_of)
 from .hermite import hermite_min
 from .roots import RUNNING, bracket, update
 
@@ -233,9 +234,7 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out):
 @njit(cache=True)
 def _stick_gap(x0, t0, t, side, zeta, vb, res, fs, p):
     """side (F_e - f(t)) - F_s while sticking from (x0, t0): >= 0 on (or past) the side's limit."""
-    x = x0 + vb * (t - t0)
-    fe = x + 2.0 * zeta * vb if res else x
-    return side * (fe - external_force(p, t)) - fs
+    return side * held_force(x0 + vb * (t - t0), zeta, vb, res, external_force(p, t)) - fs
 
 
 @njit(cache=True)

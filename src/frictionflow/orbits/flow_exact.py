@@ -60,11 +60,12 @@ class ExactFlow:
         self.res = bool(p[RESULTANT] != 0.0)
         self.zeta, self.vb = float(model.zeta), float(model.vb)
         self._ev = np.empty((ke.MAX_EVENTS_PER_MODE, 4))
+        self._lw = ke.law_record(self.law, self.fd, self.fs, self.vd, self.res)
         self._crit = np.empty(64)
 
     # -- the pieces ---------------------------------------------------------
     def _mode_at(self, x: float, v: float) -> int:
-        m = ke.select_mode(self.law, self.zeta, self.vb, self.fd, self.fs, self.vd, self.res, x, v, self._ev)
+        m = ke.select_mode(self._lw, self.zeta, self.vb, x, v)
         if m < 0:  # no mode is consistent for a positive time: fall back on the region, as the solver does
             m = ke.region_mode(self.law, self.zeta, self.vb, self.fd, self.fs, self.vd, self.res, x, v)
         return int(m)

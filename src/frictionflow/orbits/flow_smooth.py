@@ -24,7 +24,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .._lazy import lazy_module
-from ..core.friction import rest_mode, slip_magnitude_of, slip_slope_of
+from ..core.friction import rest_mode, slip_magnitude_of, slip_slope_of, stick_duration
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .hybrid import Phase, Segment, Switch, saltation
@@ -164,11 +164,7 @@ class SmoothFlow:
 
     def _stick_time(self, x: float) -> float:
         """How long the mass sticks from X = x before |F_e| reaches F_s (inf: for good)."""
-        vb = self.vb
-        if vb == 0.0:
-            return math.inf
-        fe = x + 2.0 * self.zeta * vb if self.res else x
-        return max(0.0, (math.copysign(self.fs, vb) - fe) / vb)
+        return stick_duration(x, self.zeta, self.vb, self.fs, self.res)
 
     # -- the walk -------------------------------------------------------------
     def run(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = 1e4) -> Segment:
