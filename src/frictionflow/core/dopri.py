@@ -361,15 +361,16 @@ def _run(forced, run, p, samples, events):
                     theta_end = _root(np.int64(0), y, K, t, h, zeta, vb, d, p, forced)
                     switched = True
                 th = 0.0
+                # the sample events at the step's end: one dense output and X'' for all three
+                gb = _events_at(y, K, t, h, theta_end, zeta, vb, d, p, ys, tmp, forced)
                 while True:
                     # the earliest sample point in (th, theta_end]
                     best = theta_end
                     kind = -1
+                    # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
+                    ga = _events_of(y, K[0, 1], zeta) if th == 0.0 else _events_at(y, K, t, h, th, zeta, vb, d, p, ys, tmp, forced)
                     for kk in range(1, 4):
-                        # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
-                        ga = _g(kk, y, K[0, 1], zeta, vb, d) if th == 0.0 else _gd(kk, y, K, t, h, th, zeta, vb, d, p, ys, tmp, forced)
-                        gb = _gd(kk, y, K, t, h, theta_end, zeta, vb, d, p, ys, tmp, forced)
-                        if ga * gb < 0.0:
+                        if ga[kk - 1] * gb[kk - 1] < 0.0:
                             r = _root_between(kk, y, K, t, h, th, theta_end, zeta, vb, d, p, ys, tmp, forced)
                             if r < best:
                                 best = r
@@ -480,6 +481,21 @@ def _known_end(ring, n_max, n_min, x, mode, vb, stop_rtol, r_cert, x_eq):
     m = ring.shape[1]
     tol = stop_rtol * (ring[0, m - 1] - ring[2, m - 1])
     return sec.ring_repeats(ring[0], ring[1], n_max, tol, stop_rtol) and sec.ring_repeats(ring[2], ring[3], n_min, tol, stop_rtol)
+
+
+@njit(cache=True, forceinline=True)
+def _events_of(y, a, zeta):
+    """The sample events 1, 2, 3 of :func:`_g` at state ``y`` with X'' = ``a``."""
+    return y[1], a, y[1] + 2.0 * zeta * a
+
+
+@njit(cache=True)
+def _events_at(y, K, t, h, theta, zeta, vb, d, p, ys, tmp, forced):
+    """The sample events 1, 2, 3 on the dense output at theta: the values :func:`_gd` gives each, from one
+    evaluation of the dense output and X'' (the three read the same two)."""
+    dense(y, K, h, theta, ys, np.int64(2))
+    rhs(ys, t + theta * h, d, zeta, vb, p, tmp, forced)
+    return _events_of(ys, tmp[1], zeta)
 
 
 @njit(cache=True)
