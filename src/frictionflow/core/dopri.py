@@ -36,7 +36,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .friction import FEX, FS, OMEGA, PHI, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of
+from .friction import (FD, FEX, FS, LAW, LAW_A, LAW_B, LAW_C, OMEGA, PHI, RESULTANT, external_force, external_force_rate, rest_mode,
+                       slip_magnitude)
 from . import sections as sec
 from .layout import N_WORK
 from .records import (DENSE_DT, MAX_STEPS, MIN_PERIODS, ODE_ATOL, ODE_RTOL, R_CERT, STOP_RTOL, T_END, T_TAIL, V0, VB, X0, X_EQ,
@@ -71,10 +72,19 @@ OK, STEP_CAP, TINY_STEP, FULL = 0, 1, 2, 3
 EPS = 2.220446049250313e-16
 
 
-@njit(cache=True)
+# Inlined by numba (inline="always") where every step calls it (rhs and the step's sample): a call
+# costs two atomic reference-count updates of p, which LLVM's inlining keeps -- a fifth of the
+# basins benchmark.  Elsewhere it is called (:func:`slip_force_at`): inlining there costs compile time.
+@njit(cache=True, inline="always")
 def slip_force(p, speed):
     """Friction magnitude while slipping at ``speed`` (a built-in law)."""
-    return slip_magnitude_of(p, speed)
+    return slip_magnitude(int(p[LAW]), p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C], speed)
+
+
+@njit(cache=True)
+def slip_force_at(p, speed):
+    """:func:`slip_force`, called: for the sites outside the step."""
+    return slip_force(p, speed)
 
 
 @njit(cache=True)
@@ -117,7 +127,7 @@ def dense(y0, K, h, theta, out, ny):
 @njit(cache=True)
 def at_rest(x, zeta, vb, fs, res, p, t):
     """Mode at V_r = 0 at time t by Coulomb's stick rule (:func:`~frictionflow.core.friction.rest_mode`)."""
-    return rest_mode(x, zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t), external_force_rate(p, t))
+    return rest_mode(x, zeta, vb, fs, res, slip_force_at(p, 0.0), external_force(p, t), external_force_rate(p, t))
 
 
 @njit(cache=True)
@@ -217,7 +227,7 @@ def _run(forced, run, p, samples, events):
     if len(out_t) < 2:
         return 0, 0, FULL, t, h
     fc0 = x + 2.0 * zeta * vb - external_force(p, 0.0) if forced else x + 2.0 * zeta * vb
-    emit(outs, k, t, x, v, fc0 if mode == 0 else mode * slip_force(p, abs(vb - v)), mode, w)
+    emit(outs, k, t, x, v, fc0 if mode == 0 else mode * slip_force_at(p, abs(vb - v)), mode, w)
     k += 1
     next_dense = dense_dt if dense_dt > 0.0 else np.inf
     tail_done = t_tail <= 0.0
@@ -243,7 +253,7 @@ def _run(forced, run, p, samples, events):
                 ev_mode[ne] = mode
             ne += 1
             tt, n_strobe = _strobe(t, n_strobe, period)
-            if not emit(outs, k, tt, x, v, mode * slip_force(p, 0.0), mode, w):
+            if not emit(outs, k, tt, x, v, mode * slip_force_at(p, 0.0), mode, w):
                 return k, ne, FULL, t, h
             k += 1
         elif mode == 0:
@@ -301,7 +311,7 @@ def _run(forced, run, p, samples, events):
                 ev_t[ne] = t
                 ev_mode[ne] = mode
             ne += 1
-            if not emit(outs, k, t, x, v, mode * slip_force(p, 0.0), mode, w):
+            if not emit(outs, k, t, x, v, mode * slip_force_at(p, 0.0), mode, w):
                 return k, ne, FULL, t, h
             k += 1
         else:
@@ -416,7 +426,7 @@ def _run(forced, run, p, samples, events):
                         return k, ne, FULL, t, h
                     k += 1
                     if kind == 1 and not forced and (stop_rtol > 0.0 or r_cert > 0.0):
-                        falling = d * slip_force(p, abs(vb)) - ys[0] < 0.0  # X'' at X' = 0
+                        falling = d * slip_force_at(p, abs(vb)) - ys[0] < 0.0  # X'' at X' = 0
                         if falling:
                             sec.push_section(ring[0], ring[1], ys[0], tt)
                             n_max += 1
@@ -453,7 +463,7 @@ def _run(forced, run, p, samples, events):
                 mode = new
                 out_mode[k - 1] = mode
                 if mode != 0:
-                    out_fc[k - 1] = mode * slip_force(p, 0.0)
+                    out_fc[k - 1] = mode * slip_force_at(p, 0.0)
                 elif forced:
                     out_fc[k - 1] = x + 2.0 * zeta * vb - external_force(p, t)
                 else:
