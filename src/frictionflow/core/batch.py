@@ -151,24 +151,40 @@ def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, r
                     cap: int | None = None) -> None:
     """Adaptive Dormand-Prince for every point (built-in slip laws), parallel over the cores.
 
-    ``cap``: the samples each point has room for at first (default: most points stop early, and
-    those that do not are given more).
+    ``cap``: the samples each point has room for at first (default: about 64 per time unit up to
+    t_end, at most 2^15, 2.4 MB a thread: a point that fills it runs again from the start, so the
+    room is given once -- each thread reuses its buffers from point to point).
     """
-    cap = min(int(64.0 * t_end) + 256, 4096) if cap is None else cap
+    cap = min(int(64.0 * t_end) + 256, 1 << 15) if cap is None else cap
     with_room(_adaptive_points, len(zeta), cap, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol,
               min_periods, noise, out, False)
+
+
+@njit(cache=True)
+def _same_radius(p, zeta, vb, i, j):
+    """Do points ``i`` and ``j`` have the same law, zeta and V_b (so the same certified radius)?"""
+    if zeta[i] != zeta[j] or vb[i] != vb[j]:
+        return False
+    for q in range(p.shape[1]):
+        if p[i, q] != p[j, q]:
+            return False
+    return True
 
 
 @njit(cache=True, nogil=True)
 def _adaptive_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods,
                      noise, out, fixed_step):
+    samples, events = _buffers(cap)  # each run writes from the start and is read up to its own count
+    t, x, v, fc, mode, work = samples
+    last = -1  # the point whose certified radius r is: a basin grid shares one (the disc is the same search)
+    r = 0.0
     for j in todo[j0:j1]:
+        if last < 0 or not _same_radius(p, zeta, vb, last, j):
+            r = certificate.certified_radius(p[j], zeta[j], vb[j])
+            last = j
         # stop once the end is known: the certified disc, or repeating sections (as the classifier judges them)
-        r = certificate.certified_radius(p[j], zeta[j], vb[j])
         run = run_record(x0[j], v0[j], t_end, zeta[j], vb[j], sec.tail_start(0.0, t_end), 0.0, ode_rtol, ode_atol, max_steps,
                          np.bool_(False), np.bool_(False), rtol, min_periods, r, math.copysign(slip_magnitude_of(p[j], abs(vb[j])), vb[j]))
-        samples, events = _buffers(cap)
-        t, x, v, fc, mode, work = samples
         # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
         k, ne, status, t_stop, h = dopri.run_unforced(run, p[j], samples, events)
         full[j] = status == dopri.FULL

@@ -37,8 +37,8 @@ import numpy as np
 from numba import njit
 
 from . import codes
-from .friction import (FEX, FS, OMEGA, PHI, RESULTANT, external_force, external_force_rate, held_force, rest_mode,
-                       slip_magnitude_of, stick_duration, stick_friction)
+from .friction import (FD, FEX, FS, LAW, LAW_A, LAW_B, LAW_C, OMEGA, PHI, RESULTANT, external_force, external_force_rate,
+                       held_force, rest_mode, slip_magnitude, stick_duration, stick_friction)
 from . import sections as sec
 from .layout import N_WORK
 from .records import (DENSE_DT, MAX_STEPS, MIN_PERIODS, ODE_ATOL, ODE_RTOL, R_CERT, STOP_RTOL, T_END, T_TAIL, V0, VB, X0, X_EQ,
@@ -73,10 +73,19 @@ OK, STEP_CAP, TINY_STEP, FULL = codes.OK, codes.STEP_CAP, codes.TINY_STEP, codes
 EPS = 2.220446049250313e-16
 
 
-@njit(cache=True)
+# Inlined by numba (inline="always") where every step calls it (rhs and the step's sample): a call
+# costs two atomic reference-count updates of p, which LLVM's inlining keeps -- a fifth of the
+# basins benchmark.  Elsewhere it is called (:func:`slip_force_at`): inlining there costs compile time.
+@njit(cache=True, inline="always")
 def slip_force(p, speed):
     """Friction magnitude while slipping at ``speed`` (a built-in law)."""
-    return slip_magnitude_of(p, speed)
+    return slip_magnitude(int(p[LAW]), p[FD], p[FS], p[LAW_A], p[LAW_B], p[LAW_C], speed)
+
+
+@njit(cache=True)
+def slip_force_at(p, speed):
+    """:func:`slip_force`, called: for the sites outside the step."""
+    return slip_force(p, speed)
 
 
 @njit(cache=True)
@@ -119,7 +128,7 @@ def dense(y0, K, h, theta, out, ny):
 @njit(cache=True)
 def at_rest(x, zeta, vb, fs, res, p, t):
     """Mode at V_r = 0 at time t by Coulomb's stick rule (:func:`~frictionflow.core.friction.rest_mode`)."""
-    return rest_mode(x, zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t), external_force_rate(p, t))
+    return rest_mode(x, zeta, vb, fs, res, slip_force_at(p, 0.0), external_force(p, t), external_force_rate(p, t))
 
 
 @njit(cache=True)
@@ -219,7 +228,7 @@ def _run(forced, run, p, samples, events):
     if len(out_t) < 2:
         return 0, 0, FULL, t, h
     fc0 = stick_friction(x, zeta, vb, external_force(p, 0.0) if forced else 0.0)
-    emit(outs, k, t, x, v, fc0 if mode == 0 else mode * slip_force(p, abs(vb - v)), mode, w)
+    emit(outs, k, t, x, v, fc0 if mode == 0 else mode * slip_force_at(p, abs(vb - v)), mode, w)
     k += 1
     next_dense = dense_dt if dense_dt > 0.0 else np.inf
     tail_done = t_tail <= 0.0
@@ -245,7 +254,7 @@ def _run(forced, run, p, samples, events):
                 ev_mode[ne] = mode
             ne += 1
             tt, n_strobe = _strobe(t, n_strobe, period)
-            if not emit(outs, k, tt, x, v, mode * slip_force(p, 0.0), mode, w):
+            if not emit(outs, k, tt, x, v, mode * slip_force_at(p, 0.0), mode, w):
                 return k, ne, FULL, t, h
             k += 1
         elif mode == 0:
@@ -297,7 +306,7 @@ def _run(forced, run, p, samples, events):
                 ev_t[ne] = t
                 ev_mode[ne] = mode
             ne += 1
-            if not emit(outs, k, t, x, v, mode * slip_force(p, 0.0), mode, w):
+            if not emit(outs, k, t, x, v, mode * slip_force_at(p, 0.0), mode, w):
                 return k, ne, FULL, t, h
             k += 1
         else:
@@ -357,15 +366,16 @@ def _run(forced, run, p, samples, events):
                     theta_end = _root(np.int64(0), y, K, t, h, zeta, vb, d, p, forced)
                     switched = True
                 th = 0.0
+                # the sample events at the step's end: one dense output and X'' for all three
+                gb = _events_at(y, K, t, h, theta_end, zeta, vb, d, p, ys, tmp, forced)
                 while True:
                     # the earliest sample point in (th, theta_end]
                     best = theta_end
                     kind = -1
+                    # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
+                    ga = _events_of(y, K[0, 1], zeta) if th == 0.0 else _events_at(y, K, t, h, th, zeta, vb, d, p, ys, tmp, forced)
                     for kk in range(1, 4):
-                        # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
-                        ga = _g(kk, y, K[0, 1], zeta, vb, d) if th == 0.0 else _gd(kk, y, K, t, h, th, zeta, vb, d, p, ys, tmp, forced)
-                        gb = _gd(kk, y, K, t, h, theta_end, zeta, vb, d, p, ys, tmp, forced)
-                        if ga * gb < 0.0:
+                        if ga[kk - 1] * gb[kk - 1] < 0.0:
                             r = _root_between(kk, y, K, t, h, th, theta_end, zeta, vb, d, p, ys, tmp, forced)
                             if r < best:
                                 best = r
@@ -411,7 +421,7 @@ def _run(forced, run, p, samples, events):
                         return k, ne, FULL, t, h
                     k += 1
                     if kind == 1 and not forced and (stop_rtol > 0.0 or r_cert > 0.0):
-                        falling = d * slip_force(p, abs(vb)) - ys[0] < 0.0  # X'' at X' = 0
+                        falling = d * slip_force_at(p, abs(vb)) - ys[0] < 0.0  # X'' at X' = 0
                         if falling:
                             sec.push_section(ring[0], ring[1], ys[0], tt)
                             n_max += 1
@@ -448,7 +458,7 @@ def _run(forced, run, p, samples, events):
                 mode = new
                 out_mode[k - 1] = mode
                 if mode != 0:
-                    out_fc[k - 1] = mode * slip_force(p, 0.0)
+                    out_fc[k - 1] = mode * slip_force_at(p, 0.0)
                 else:
                     out_fc[k - 1] = stick_friction(x, zeta, vb, external_force(p, t) if forced else 0.0)
     if forced:
@@ -474,6 +484,21 @@ def _known_end(ring, n_max, n_min, x, mode, vb, stop_rtol, r_cert, x_eq):
     m = ring.shape[1]
     tol = stop_rtol * (ring[0, m - 1] - ring[2, m - 1])
     return sec.ring_repeats(ring[0], ring[1], n_max, tol, stop_rtol) and sec.ring_repeats(ring[2], ring[3], n_min, tol, stop_rtol)
+
+
+@njit(cache=True, forceinline=True)
+def _events_of(y, a, zeta):
+    """The sample events 1, 2, 3 of :func:`_g` at state ``y`` with X'' = ``a``."""
+    return y[1], a, y[1] + 2.0 * zeta * a
+
+
+@njit(cache=True)
+def _events_at(y, K, t, h, theta, zeta, vb, d, p, ys, tmp, forced):
+    """The sample events 1, 2, 3 on the dense output at theta: the values :func:`_gd` gives each, from one
+    evaluation of the dense output and X'' (the three read the same two)."""
+    dense(y, K, h, theta, ys, np.int64(2))
+    rhs(ys, t + theta * h, d, zeta, vb, p, tmp, forced)
+    return _events_of(ys, tmp[1], zeta)
 
 
 @njit(cache=True)

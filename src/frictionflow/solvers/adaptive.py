@@ -32,8 +32,8 @@ class StepLimitError(RuntimeError):
     """The adaptive solver hit its step cap (or a vanishing step) before the end."""
 
 
-_KERNEL_FUNCS = ("rhs", "at_rest", "_g", "dense", "_gd", "_root_between", "_root", "_known_end", "_run", "run_unforced",
-                 "run_forced")
+_KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_of", "_events_at", "_gd", "_root_between", "_root",
+                 "_known_end", "_run", "run_unforced", "run_forced")
 
 
 def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
