@@ -5,12 +5,16 @@ chosen owners (:mod:`frictionflow.parameters`) to a command function, so that
 a parameter added to a law, a solver or the oscillator appears on every
 command that takes it, with its help text from the declaration.  The command
 receives them as one mapping ``params`` (only those given: the rest is None).
+:func:`with_options` does the same for a command's own options: one record
+``opts`` instead of a parameter each.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import inspect
+import typing
 from pathlib import Path
 from typing import Any, Callable, Optional
 
@@ -41,22 +45,38 @@ def with_parameters(names: tuple[str, ...], help_override: dict[str, str] | None
     """Decorator: give a command one option per parameter in ``names``, passed to it as ``params``."""
     params = declared()
     extra = [_option(params[n], help_override or {}) for n in names]
+    return lambda fn: _gathered(fn, extra, "params", lambda given: given)
 
-    def decorate(fn: Callable) -> Callable:
-        own = [q for q in inspect.signature(fn, eval_str=True).parameters.values() if q.name != "params"]
 
-        @functools.wraps(fn)
-        def command(**kwargs: Any) -> Any:
-            given = {n: kwargs.pop(n) for n in names}
-            return fn(params=given, **kwargs)
+def with_options(record: type) -> Callable:
+    """Decorator: give a command the options declared by ``record`` (a dataclass whose fields default to their
+    ``typer.Option``), passed to it as one ``record`` named ``opts``.
 
-        # typer must read this signature (annotations evaluated), not the function's
-        command.__signature__ = inspect.Signature([*extra, *(q.replace(kind=inspect.Parameter.KEYWORD_ONLY) for q in own)])  # type: ignore[attr-defined]
-        command.__annotations__ = {}
-        del command.__wrapped__
-        return command
+    A command with many options of its own keeps a short signature (a few
+    parameters) while typer still sees one parameter per option, in the
+    order of the fields.
+    """
+    hints = typing.get_type_hints(record)
+    extra = [inspect.Parameter(f.name, inspect.Parameter.KEYWORD_ONLY, default=f.default, annotation=hints[f.name])
+             for f in dataclasses.fields(record)]
+    return lambda fn: _gathered(fn, extra, "opts", lambda given: record(**given))
 
-    return decorate
+
+def _gathered(fn: Callable, extra: list[inspect.Parameter], name: str, pack: Callable) -> Callable:
+    """``fn`` as a command that takes the options ``extra`` (before its own) and passes them packed as ``name``."""
+    own = [q for q in inspect.signature(fn, eval_str=True).parameters.values() if q.name != name]
+    names = [q.name for q in extra]
+
+    @functools.wraps(fn)
+    def command(**kwargs: Any) -> Any:
+        given = {n: kwargs.pop(n) for n in names}
+        return fn(**{name: pack(given)}, **kwargs)
+
+    # typer (and a decorator above this one) must read this signature (annotations evaluated), not the function's
+    command.__signature__ = inspect.Signature([*extra, *(q.replace(kind=inspect.Parameter.KEYWORD_ONLY) for q in own)])  # type: ignore[attr-defined]
+    command.__annotations__ = {}
+    del command.__wrapped__
+    return command
 
 
 def merged_config(config: Optional[Path], options: dict[str, Any]) -> RunConfig:

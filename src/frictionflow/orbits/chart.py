@@ -27,24 +27,23 @@ sign change on a scan of ``y`` and refined to rounding:
 
 The curves are point-wise one-parameter locations on the ``x`` grid (a
 curve that turns back in ``x`` shows as two values of ``y`` at one ``x``).
+Each kind is a curve source of the chart engine (:mod:`.charting`), traced
+over that grid.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from .._display import Row, num
 from .._lazy import lazy_module
-from .._display import Row, Summarized, num
-from .._figures import draw
-from .._json import jsonable
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
-from ..sweep.compute import VARIABLES
-from ..sweep.runner import run_sweep
+from .charting import Chart, Codim2, Curve, CurvePoint, HeatMap, dedupe, sweep_config, trace  # noqa: F401  (re-exported)
 from .continuation import continuation
 from .equilibria import equilibrium
 from .flow_compiled import CompiledFlow
@@ -56,113 +55,27 @@ optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the C
 CURVES = ("hopf", "grazing", "fold")
 
 
-@dataclass
-class CurvePoint:
-    """One point of a curve: (x, y) and what else is known there."""
-
-    x: float
-    y: float
-    detail: dict[str, Any] = field(default_factory=dict)
-
-
-@dataclass
-class Curve:
-    """A codimension-one curve in the (x, y) parameter plane."""
-
-    kind: str
-    points: list[CurvePoint]
-    m: int | None = None  # forced curves: the period of their orbits in forcing periods
-
-    def xy(self) -> np.ndarray:
-        return np.array([[p.x, p.y] for p in self.points]).reshape(-1, 2)
-
-    def to_dict(self) -> dict[str, Any]:
-        out = {"kind": self.kind, "points": [{"x": p.x, "y": p.y, **p.detail} for p in self.points]}
-        if self.m is not None:
-            out["m"] = self.m
-        return out
-
-
-@dataclass
-class Codim2:
-    """A codimension-two point: ``bautin`` (a Hopf point changing criticality) or ``fold_grazing``."""
-
-    kind: str
-    x: float
-    y: float
-    detail: dict[str, Any] = field(default_factory=dict)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"kind": self.kind, "x": self.x, "y": self.y, **self.detail}
-
-
 @dataclass(repr=False)
-class StabilityChart(Summarized):
-    """Curves in the (x, y) plane of two parameters, codimension-two points, and optionally a sweep heat map."""
+class StabilityChart(Chart):
+    """Curves in the (x, y) plane of two parameters (found in y at each x of a grid), codimension-two points,
+    and optionally a sweep heat map."""
 
-    x_param: str
-    y_param: str
-    x_values: np.ndarray
-    y_range: tuple[float, float]
-    params: dict[str, Any]
-    curves: list[Curve]
-    codim2: list[Codim2]
-    sweep: Any = None  # an xarray.Dataset of simulations on the (x, y) grid
-    heat: str = ""  # the sweep variable drawn under the curves
+    def _notes(self) -> list[Row]:
+        return [("codim 2", "; ".join(f"{p.kind} at {self.x_param}={num(p.x)}, {self.y_param}={num(p.y)}"
+                                      for p in self.codim2) or "none")]
 
-    def curve(self, kind: str) -> Curve | None:
-        return next((c for c in self.curves if c.kind == kind), None)
 
-    def _summary(self) -> tuple[str, list[Row]]:
-        rows = [
-            ("plane", f"{self.x_param} from {num(float(self.x_values[0]))} to {num(float(self.x_values[-1]))} "
-                      f"({len(self.x_values)} values) x {self.y_param} in [{num(self.y_range[0])}, {num(self.y_range[1])}]"),
-            ("curves", "; ".join(f"{c.kind} ({len(c.points)} points)" for c in self.curves) or "none"),
-            ("codim 2", "; ".join(f"{p.kind} at {self.x_param}={num(p.x)}, {self.y_param}={num(p.y)}" for p in self.codim2) or "none"),
-        ]
-        if self.sweep is not None:
-            rows.append(("heat map", f"{self.heat} from {int(np.prod([len(self.sweep[d]) for d in self.sweep[self.heat].dims]))} simulations"))
-        return "StabilityChart", rows
+@dataclass
+class _Source:
+    """What every autonomous curve source knows: the system and the two parameters of the plane."""
 
-    def to_dict(self) -> dict[str, Any]:
-        return jsonable({
-            "x_param": self.x_param, "y_param": self.y_param,
-            "x_values": self.x_values, "y_range": list(self.y_range),
-            "params": self.params,
-            "curves": [c.to_dict() for c in self.curves],
-            "codim2": [p.to_dict() for p in self.codim2],
-            "heat": self.heat or None,
-        })
+    model: BeltOscillator
+    law: FrictionLaw
+    xp: str
+    yp: str
 
-    def to_xarray(self):
-        """The curves as variables over (x, branch) -- y of the k-th root at each x, NaN where fewer --
-        with the sweep's variables (on its own (x, y) grid) alongside."""
-        import xarray as xr
-
-        data = {}
-        for c in self.curves:
-            per_x: dict[float, list[float]] = {}
-            for p in c.points:
-                per_x.setdefault(p.x, []).append(p.y)
-            n = max((len(v) for v in per_x.values()), default=0)
-            arr = np.full((len(self.x_values), max(n, 1)), np.nan)
-            for i, xv in enumerate(self.x_values):
-                ys = sorted(per_x.get(float(xv), []))
-                arr[i, :len(ys)] = ys
-            data[f"{c.kind}_{self.y_param}"] = ((self.x_param, f"{c.kind}_root"), arr,
-                                                 {"long_name": f"{self.y_param} on the {c.kind} curve"})
-        ds = xr.Dataset(data, coords={self.x_param: np.asarray(self.x_values, dtype=float)})
-        ds.attrs.update({"x_param": self.x_param, "y_param": self.y_param,
-                         "codim2": str([p.to_dict() for p in self.codim2]), "params": str(self.params)})
-        if self.sweep is not None:
-            sw = self.sweep.rename({d: f"sweep_{d}" for d in self.sweep.dims})
-            for k, v in sw.data_vars.items():
-                ds[f"sweep_{k}"] = v
-        return ds
-
-    def plot(self, path: Any = None):
-        """The curves over the sweep heat map (:func:`~.chart_plot.plot_chart`)."""
-        return draw(self, path)
+    def at_point(self, x: float, y: float) -> tuple[BeltOscillator, FrictionLaw]:
+        return with_param(*with_param(self.model, self.law, self.xp, x), self.yp, y)
 
 
 # -- the Hopf curve -------------------------------------------------------------------------
@@ -199,16 +112,29 @@ def _roots(f, ys: np.ndarray, tol: float) -> list[float]:
     return out
 
 
+@dataclass
+class _Hopf(_Source):
+    """Hopf points at each x: the roots in y of the trace on the scan ``ys``, with their criticality."""
+
+    ys: np.ndarray  # the scan of y whose sign changes are refined
+
+    def at(self, index: int, x: float) -> list[tuple[str, CurvePoint]]:
+        tol = 1e-14 * max(abs(self.ys[0]), abs(self.ys[-1]), 1e-300)
+        out = []
+        for y in _roots(lambda y: _trace(self.model, self.law, self.xp, self.yp, x, y), self.ys, tol):
+            l1 = lyapunov_coefficient(*self.at_point(x, y))
+            out.append(("hopf", CurvePoint(x, y, {"l1": l1, "criticality": "supercritical" if l1 < 0 else "subcritical"})))
+        return out
+
+    def curves(self, found: dict[str, list[CurvePoint]]) -> tuple[list[Curve], list[Codim2]]:
+        pts = found.get("hopf", [])
+        return [Curve("hopf", pts)], _bautin(self.model, self.law, self.xp, self.yp, pts, self.ys)
+
+
 def hopf_curve(model: BeltOscillator, law: FrictionLaw, xp: str, yp: str, xs, ys) -> tuple[Curve, list[Codim2]]:
     """The Hopf curve on the x grid (roots in y of the trace on the scan ``ys``), its criticality and Bautin points."""
-    pts = []
-    tol = 1e-14 * max(abs(ys[0]), abs(ys[-1]), 1e-300)
-    for x in xs:
-        for y in _roots(lambda y, x=x: _trace(model, law, xp, yp, x, y), ys, tol):
-            m, lw = with_param(*with_param(model, law, xp, float(x)), yp, y)
-            l1 = lyapunov_coefficient(m, lw)
-            pts.append(CurvePoint(float(x), y, {"l1": l1, "criticality": "supercritical" if l1 < 0 else "subcritical"}))
-    return Curve("hopf", pts), _bautin(model, law, xp, yp, pts, ys)
+    (curve,), bautin = trace([_Hopf(model, law, xp, yp, np.asarray(ys, dtype=float))], np.asarray(xs, dtype=float))
+    return curve, bautin
 
 
 def _bautin(model, law, xp, yp, pts: list[CurvePoint], ys) -> list[Codim2]:
@@ -237,43 +163,57 @@ def _bautin(model, law, xp, yp, pts: list[CurvePoint], ys) -> list[Codim2]:
 
 
 # -- the grazing curve ------------------------------------------------------------------------
-def grazing_curve(model: BeltOscillator, law: FrictionLaw, xp: str, yp: str, xs, ys) -> Curve:
-    """Where the stick-slip cycle's slip excursion touches the belt speed (roots in y of the stick-slip margin)."""
+@dataclass
+class _Grazing(_Source):
+    """Grazing points at each x: the roots in y of the stick-slip margin on the scan ``ys``."""
 
-    def g(x: float, y: float) -> float:
+    ys: np.ndarray  # the scan of y whose sign changes are refined
+
+    def margin(self, x: float, y: float) -> float:
         try:
-            return stick_slip_margin(*with_param(*with_param(model, law, xp, x), yp, y), yp)[0]
+            return stick_slip_margin(*self.at_point(x, y), self.yp)[0]
         except (RuntimeError, ValueError):
             return math.nan
 
-    pts = []
-    tol = 1e-14 * max(abs(ys[0]), abs(ys[-1]), 1e-300)
-    for x in xs:
-        for y in _roots(lambda y, x=x: g(float(x), y), ys, tol):
-            below = g(float(x), y - 1e-6 * (ys[-1] - ys[0]))
-            pts.append(CurvePoint(float(x), y, {"stick_slip_below": bool(below < 0)}))
-    return Curve("grazing", pts)
+    def at(self, index: int, x: float) -> list[tuple[str, CurvePoint]]:
+        ys = self.ys
+        tol = 1e-14 * max(abs(ys[0]), abs(ys[-1]), 1e-300)
+        out = []
+        for y in _roots(lambda y: self.margin(x, y), ys, tol):
+            below = self.margin(x, y - 1e-6 * (ys[-1] - ys[0]))
+            out.append(("grazing", CurvePoint(x, y, {"stick_slip_below": bool(below < 0)})))
+        return out
+
+    def curves(self, found: dict[str, list[CurvePoint]]) -> tuple[list[Curve], list[Codim2]]:
+        return [Curve("grazing", found.get("grazing", []))], []
+
+
+def grazing_curve(model: BeltOscillator, law: FrictionLaw, xp: str, yp: str, xs, ys) -> Curve:
+    """Where the stick-slip cycle's slip excursion touches the belt speed (roots in y of the stick-slip margin)."""
+    (curve,), _ = trace([_Grazing(model, law, xp, yp, np.asarray(ys, dtype=float))], np.asarray(xs, dtype=float))
+    return curve
 
 
 # -- fold curves ---------------------------------------------------------------------------------
-def _dedupe(points: list[CurvePoint], tol: float) -> list[CurvePoint]:
-    """One point per (x, y) found more than once (from several seeds of a continuation)."""
-    out: list[CurvePoint] = []
-    for p in points:
-        if not any(q.x == p.x and abs(q.y - p.y) <= tol for q in out):
-            out.append(p)
-    return out
+@dataclass
+class _Folds(_Source):
+    """Fold curves of cycles: seeds from continuations in y at every ``every``-th x, each followed along the grid."""
 
+    xs: np.ndarray  # the whole grid: a fold found at one x is followed along all of it
+    y_range: tuple[float, float]
+    every: int
+    continuation: dict[str, Any]  # keywords of the seeding continuations
 
-def _fold_seeds(model, law, xp, yp, xs, y_range, **kw) -> tuple[list[CurvePoint], list[CurvePoint]]:
-    """Smooth folds (with their X) and folds at grazing corners found by continuation in y at each x of ``xs``."""
-    smooth, corner = [], []
-    for x in xs:
-        m, lw = with_param(model, law, xp, float(x))
+    def at(self, index: int, x: float) -> list[tuple[str, CurvePoint]]:
+        """Smooth folds (with their X) as ``seed`` and folds at grazing corners found by the continuation at x."""
+        if index % self.every:
+            return []
+        m, lw = with_param(self.model, self.law, self.xp, x)
         try:
-            res = continuation(m, lw, yp, y_range[0], y_range[1], **kw)
+            res = continuation(m, lw, self.yp, self.y_range[0], self.y_range[1], **self.continuation)
         except (RuntimeError, ValueError):
-            continue
+            return []
+        out = []
         for b in res.bifurcations:
             if b.type != "fold":
                 continue
@@ -281,13 +221,33 @@ def _fold_seeds(model, law, xp, yp, xs, y_range, **kw) -> tuple[list[CurvePoint]
             if detail.get("smooth") and b.branch is not None:
                 near = min(res.branches[b.branch].points, key=lambda p: abs(p.value - b.value))
                 try:
-                    detail["X"], _ = locate_fold(m, lw, yp, near.x, b.value)
+                    detail["X"], _ = locate_fold(m, lw, self.yp, near.x, b.value)
                 except (RuntimeError, ValueError, np.linalg.LinAlgError):
                     continue
-                smooth.append(CurvePoint(float(x), float(b.value), detail))
+                out.append(("seed", CurvePoint(x, float(b.value), detail)))
             elif not detail.get("smooth"):
-                corner.append(CurvePoint(float(x), float(b.value), detail))
-    return smooth, corner
+                out.append(("fold_at_grazing", CurvePoint(x, float(b.value), detail)))
+        return out
+
+    def curves(self, found: dict[str, list[CurvePoint]]) -> tuple[list[Curve], list[Codim2]]:
+        """Each seed's fold followed along the x grid (once per curve); where its smallest V_r changes sign, a
+        fold-grazing point."""
+        model, law, xp, yp, y_range = self.model, self.law, self.xp, self.yp, self.y_range
+        tol = 1e-6 * (y_range[1] - y_range[0])
+        pts: list[CurvePoint] = []
+        followed: list[tuple[float, float]] = []
+        codim: list[Codim2] = []
+        for seed in found.get("seed", []):
+            if any(x == seed.x and abs(y - seed.y) <= 1e3 * tol for x, y in followed):
+                continue  # on a curve already followed
+            curve = _follow_fold(model, law, xp, yp, self.xs, seed, y_range)
+            followed += [(x, y) for x, _, y, _ in curve]
+            pts += [CurvePoint(x, y, {"X": X, "vr_min": vr}) for x, X, y, vr in curve if vr > 0]
+            for a, b in zip(curve[:-1], curve[1:]):
+                if a[3] * b[3] < 0:
+                    codim.append(_fold_grazing_point(model, law, xp, yp, a, b))
+        corner = dedupe(found.get("fold_at_grazing", []), 1e-4 * (y_range[1] - y_range[0]))
+        return [Curve("fold", dedupe(pts, tol)), Curve("fold_at_grazing", corner)], codim
 
 
 def _fold_point(model, law, xp, yp, x, X, y):
@@ -355,21 +315,8 @@ def fold_curves(model: BeltOscillator, law: FrictionLaw, xp: str, yp: str, xs, y
     ends on the grazing curve -- a fold-grazing point, refined by brentq in x.
     """
     xs = np.asarray(xs, dtype=float)
-    seeds, corner = _fold_seeds(model, law, xp, yp, xs[::seed_every], y_range, **kw)
-    tol = 1e-6 * (y_range[1] - y_range[0])
-    pts: list[CurvePoint] = []
-    followed: list[tuple[float, float]] = []
-    codim: list[Codim2] = []
-    for seed in seeds:
-        if any(x == seed.x and abs(y - seed.y) <= 1e3 * tol for x, y in followed):
-            continue  # on a curve already followed
-        curve = _follow_fold(model, law, xp, yp, xs, seed, y_range)
-        followed += [(x, y) for x, _, y, _ in curve]
-        pts += [CurvePoint(x, y, {"X": X, "vr_min": vr}) for x, X, y, vr in curve if vr > 0]
-        for a, b in zip(curve[:-1], curve[1:]):
-            if a[3] * b[3] < 0:
-                codim.append(_fold_grazing_point(model, law, xp, yp, a, b))
-    return Curve("fold", _dedupe(pts, tol)), Curve("fold_at_grazing", _dedupe(corner, 1e-4 * (y_range[1] - y_range[0]))), codim
+    (fold, corner), codim = trace([_Folds(model, law, xp, yp, xs, tuple(y_range), seed_every, kw)], xs)
+    return fold, corner, codim
 
 
 def _fold_grazing_point(model, law, xp, yp, a, b) -> Codim2:
@@ -448,31 +395,17 @@ def stability_chart(
     xs = np.asarray(x_values, dtype=float)
     lo, hi = float(min(y_range)), float(max(y_range))
     ys = np.linspace(lo, hi, n_scan)
-    out_curves, codim = [], []
+    plane = (model, law, x_param, y_param)
+    sources: list[Any] = []
     if "hopf" in curves:
-        hc, bautin = hopf_curve(model, law, x_param, y_param, xs, ys)
-        out_curves.append(hc)
-        codim += bautin
-    graze = None
-    if "grazing" in curves and law.stick_rule == "switch":
-        graze = grazing_curve(model, law, x_param, y_param, xs, ys)
-        out_curves.append(graze)
-    if "fold" in curves and not law.piecewise_constant:
-        fc, corner, fg = fold_curves(model, law, x_param, y_param, xs, (lo, hi), seed_every=fold_every, seeds=fold_seeds,
-                                     n_equilibria=21)
-        out_curves += [fc, corner]
-        codim += fg
+        sources.append(_Hopf(*plane, ys))
+    if "grazing" in curves and law.stick_rule == "switch":  # without a stick phase there is nothing to graze
+        sources.append(_Grazing(*plane, ys))
+    if "fold" in curves and not law.piecewise_constant:  # a constant slip force has no smooth cycle family to fold
+        sources.append(_Folds(*plane, xs, (lo, hi), fold_every, {"seeds": fold_seeds, "n_equilibria": 21}))
+    out_curves, codim = trace(sources, xs)
     return StabilityChart(x_param, y_param, xs, (lo, hi), {**model.report(), **law.as_dict()}, out_curves, codim,
                           sweep=sweep, heat=heat if sweep is not None else "")
-
-
-def sweep_config(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_range,
-                 shape: tuple[int, int], t_end: float = 500.0) -> dict[str, Any]:
-    """The config of a :func:`frictionflow.sweep.run_sweep` over the chart's plane (the other parameters fixed)."""
-    fixed = {k: v for k, v in {**model.report(), **law.as_dict()}.items() if k not in (x_param, y_param)}
-    return {**fixed, "t_end": float(t_end), "grid": {
-        x_param: {"start": float(min(x_range)), "stop": float(max(x_range)), "num": int(shape[0])},
-        y_param: {"start": float(min(y_range)), "stop": float(max(y_range)), "num": int(shape[1])}}}
 
 
 def stability_map(
@@ -496,15 +429,6 @@ def stability_map(
     :func:`frictionflow.sweep.run_sweep` and ``heat`` (a sweep variable such as R_c or
     TR_B) is drawn under the curves.  Other keywords go to :func:`stability_chart`.
     """
-    sweep = None
-    if sweep_shape is not None:
-        import tempfile
-        from pathlib import Path
-
-        names = [v[0] for v in VARIABLES]
-        if heat not in names:
-            raise ValueError(f"heat must be a sweep variable ({', '.join(names)}), got {heat!r}")
-        cfg = sweep_config(model, law, x_param, (x_values[0], x_values[-1]), y_param, y_range, sweep_shape, t_end)
-        out = sweep_out if sweep_out is not None else Path(tempfile.mkdtemp(prefix="ff_map_")) / "sweep.nc"
-        sweep = run_sweep(cfg, out).load()
+    sweep = HeatMap(sweep_shape, sweep_out, t_end, heat).run(model, law, x_param, (x_values[0], x_values[-1]),
+                                                             y_param, y_range)
     return stability_chart(model, law, x_param, x_values, y_param, y_range, sweep=sweep, heat=heat, **kw)

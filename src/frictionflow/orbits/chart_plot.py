@@ -8,8 +8,7 @@ import numpy as np
 
 from .._figures import draws
 from ..io import write_figure
-from .chart import StabilityChart
-from .forced_chart import ForcedChart
+from .charting import Chart
 
 #: how each curve is drawn, and what it means in the legend
 STYLE = {
@@ -27,9 +26,9 @@ CODIM2 = {"bautin": dict(marker="o", color="black", label="Bautin (Hopf changes 
           "fold_grazing": dict(marker="s", color="tab:purple", label="fold meets grazing")}
 
 
-@draws(StabilityChart, ForcedChart)
+@draws(Chart)
 def plot_chart(chart, path: str | Path | None = None, *, name: str = "path"):
-    """Curves of ``chart`` (:class:`~.chart.StabilityChart`) over its sweep's heat map, if it has one."""
+    """Curves of ``chart`` (a :class:`~.charting.Chart`: stability or forced) over its sweep's heat map, if it has one."""
     import matplotlib
 
     if path is not None:
@@ -46,7 +45,7 @@ def plot_chart(chart, path: str | Path | None = None, *, name: str = "path"):
         da = da.transpose(yp, xp)
         m = ax.pcolormesh(da[xp].values, da[yp].values, da.values, shading="auto", cmap="viridis", alpha=0.9)
         fig.colorbar(m, ax=ax, label=chart.heat)
-    grid_y = getattr(chart, "grid_axis", "x") == "y"  # forced charts: continued in x at each y of a grid
+    grid_y = chart.grid_axis == "y"  # joined along the grid: a forced chart's curves run through its y values
     for k, c in enumerate(chart.curves):
         xy = c.xy()
         if not len(xy):
@@ -62,8 +61,7 @@ def plot_chart(chart, path: str | Path | None = None, *, name: str = "path"):
             ax.plot(xy[:, 0], xy[:, 1], **style)
             continue
         first = True
-        segs = ([s[:, ::-1] for s in _segments(xy[:, ::-1], chart.y_values)] if grid_y
-                else _segments(xy, chart.x_values))
+        segs = ([s[:, ::-1] for s in _segments(xy[:, ::-1], chart.grid)] if grid_y else _segments(xy, chart.grid))
         for seg in segs:
             ax.plot(seg[:, 0], seg[:, 1], **({**style} if first else {k: v for k, v in style.items() if k != "label"}))
             first = False

@@ -34,7 +34,8 @@ Each is a point (x, y) of a codimension-one curve, exact in y (the grid
 value) and located to ~1e-8 in x; points of one kind and m at neighbouring
 grid values are joined into curves.  Each grid value starts from the orbit
 of the previous one (Newton from its state), so the chart follows one
-family of orbits through the plane.
+family of orbits through the plane: each m is a curve source of the chart
+engine (:mod:`.charting`), traced over the y grid.
 """
 
 from __future__ import annotations
@@ -44,15 +45,11 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from .._display import Row, num
 from .._lazy import lazy_module
-from .._display import Row, Summarized, num
-from .._figures import draw
-from .._json import jsonable
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
-from ..sweep.compute import VARIABLES
-from ..sweep.runner import run_sweep
-from .chart import Curve, CurvePoint, sweep_config
+from .charting import Chart, Codim2, Curve, CurvePoint, HeatMap, dedupe, trace
 from .extrema import FORCED_MONITORS, Extremum
 from .forced import (
     PARAMETERS,
@@ -275,85 +272,25 @@ class GridRun:
 
 
 @dataclass(repr=False)
-class ForcedChart(Summarized):
+class ForcedChart(Chart):
     """Curves of forced special points in the (x, y) plane (continued in x at each y of a grid), and a heat map.
 
     The curves' points are (x, y) with y a grid value; ``grid_axis`` is "y".
     """
 
-    x_param: str
-    y_param: str
-    x_range: tuple[float, float]
-    y_values: np.ndarray
-    params: dict[str, Any]
-    curves: list[Curve]
-    runs: list[GridRun] = field(default_factory=list)
-    codim2: list = field(default_factory=list)
-    sweep: Any = None
-    heat: str = ""
     grid_axis: str = "y"
 
     @property
-    def x_values(self) -> np.ndarray:
-        return np.asarray(self.x_range, dtype=float)
+    def x_range(self) -> tuple[float, float]:
+        return self.span
 
     @property
-    def y_range(self) -> tuple[float, float]:
-        return float(np.min(self.y_values)), float(np.max(self.y_values))
+    def y_values(self) -> np.ndarray:
+        return self.grid
 
-    def curve(self, kind: str, m: int | None = None) -> Curve | None:
-        return next((c for c in self.curves if c.kind == kind and (m is None or c.m == m)), None)
-
-    def _summary(self) -> tuple[str, list[Row]]:
-        rows = [
-            ("plane", f"{self.x_param} in [{num(self.x_range[0])}, {num(self.x_range[1])}] (continued) x "
-                      f"{self.y_param} from {num(float(self.y_values[0]))} to {num(float(self.y_values[-1]))} "
-                      f"({len(self.y_values)} values)"),
-            ("curves", "; ".join(f"{c.kind} m={c.m} ({len(c.points)} points)" for c in self.curves) or "none"),
-        ]
+    def _notes(self) -> list[Row]:
         failed = [r for r in self.runs if r.error]
-        if failed:
-            rows.append(("no orbit at", ", ".join(f"{self.y_param}={num(r.y)} (m={r.m})" for r in failed)))
-        if self.sweep is not None:
-            rows.append(("heat map", f"{self.heat} from {int(np.prod([len(self.sweep[d]) for d in self.sweep[self.heat].dims]))} simulations"))
-        return "ForcedChart", rows
-
-    def to_dict(self) -> dict[str, Any]:
-        return jsonable({
-            "x_param": self.x_param, "y_param": self.y_param, "x_range": list(self.x_range),
-            "y_values": self.y_values, "params": self.params, "continued_in": self.x_param,
-            "curves": [c.to_dict() for c in self.curves], "codim2": [],
-            "runs": [r.to_dict() for r in self.runs], "heat": self.heat or None,
-        })
-
-    def to_xarray(self):
-        """Each curve as x over (y, root) -- the k-th x of that kind at each grid y, NaN where fewer -- with the sweep."""
-        import xarray as xr
-
-        data = {}
-        for c in self.curves:
-            per_y: dict[float, list[float]] = {}
-            for p in c.points:
-                per_y.setdefault(p.y, []).append(p.x)
-            n = max((len(v) for v in per_y.values()), default=0)
-            arr = np.full((len(self.y_values), max(n, 1)), np.nan)
-            for i, yv in enumerate(self.y_values):
-                xs = sorted(per_y.get(float(yv), []))
-                arr[i, :len(xs)] = xs
-            name = f"{c.kind}_m{c.m}"
-            data[f"{name}_{self.x_param}"] = ((self.y_param, f"{name}_root"), arr,
-                                               {"long_name": f"{self.x_param} on the {c.kind} curve of the m={c.m} orbits"})
-        ds = xr.Dataset(data, coords={self.y_param: np.asarray(self.y_values, dtype=float)})
-        ds.attrs.update({"x_param": self.x_param, "y_param": self.y_param, "continued_in": self.x_param,
-                         "x_range": list(self.x_range), "params": str(self.params)})
-        if self.sweep is not None:
-            sw = self.sweep.rename({d: f"sweep_{d}" for d in self.sweep.dims})
-            for k, v in sw.data_vars.items():
-                ds[f"sweep_{k}"] = v
-        return ds
-
-    def plot(self, path: Any = None):
-        return draw(self, path)
+        return [("no orbit at", ", ".join(f"{self.y_param}={num(r.y)} (m={r.m})" for r in failed))] if failed else []
 
 
 def _start_orbit(model: BeltOscillator, law: FrictionLaw, m: int, previous: np.ndarray | None, steps: int):
@@ -366,13 +303,83 @@ def _start_orbit(model: BeltOscillator, law: FrictionLaw, m: int, previous: np.n
     return find_forced_orbit(model, law, m, steps=steps)
 
 
-def _event_point(e, y: float, m: int, direction: str) -> CurvePoint:
+def _event_point(e, y: float, m: int) -> CurvePoint:
     detail = {"m": m, "X": float(e.state[0]), "V": float(e.state[1]),
               "multipliers": [[float(z.real), float(z.imag)] for z in e.multipliers]}
     for k in ("smooth", "angle", "stick_phase", "slip_reversal", "at"):
         if k in e.detail:
             detail[k] = e.detail[k]
     return CurvePoint(float(e.lam), float(y), detail)
+
+
+@dataclass
+class _ForcedOrbits:
+    """The m-period orbits continued in x from ``x_start`` to both ends of ``x_range`` at each grid value of y.
+
+    Each grid value starts from the previous one's orbit (``previous``), so
+    one family is followed through the plane; each continuation is recorded in ``runs``.
+    """
+
+    model: BeltOscillator
+    law: FrictionLaw
+    x_param: str
+    y_param: str
+    x_range: tuple[float, float]
+    x_start: float
+    m: int
+    kinds: Sequence[str]
+    continuation: dict[str, Any]
+    previous: np.ndarray | None = None
+    runs: list[GridRun] = field(default_factory=list)
+
+    def at(self, index: int, y: float) -> list[tuple[str, CurvePoint]]:
+        mdl = replace(self.model, **{self.y_param: y, self.x_param: self.x_start})
+        try:
+            orbit = _start_orbit(mdl, self.law, self.m, self.previous, int(self.continuation.get("steps", 512)))
+        except (RuntimeError, ValueError) as e:
+            self.runs.append(GridRun(y, self.m, 0, [], [], str(e)))
+            self.previous = None  # lost: the next value starts afresh
+            return []
+        self.previous = orbit.state
+        ends, names, n, out = [], [], 0, []
+        for stop in self.x_range:
+            if stop == self.x_start:
+                continue
+            try:
+                br = continue_forced(mdl, self.law, self.x_param, self.x_start, stop, m=self.m, orbit=orbit,
+                                     **self.continuation)
+            except (RuntimeError, ValueError) as e:
+                ends.append(f"failed: {e}")
+                continue
+            n += len(br)
+            ends.append(br.end)
+            names += [e.type for e in br.events]
+            out += [(e.type, _event_point(e, y, self.m)) for e in br.events if e.type in self.kinds]
+        self.runs.append(GridRun(y, self.m, n, ends, names))
+        return out
+
+    def curves(self, found: dict[str, list[CurvePoint]]) -> tuple[list[Curve], list[Codim2]]:
+        tol = 1e-7 * (self.x_range[1] - self.x_range[0])  # the continuations both ways meet the start's event
+        return [Curve(kind, dedupe(pts, tol, "y"), m=self.m) for kind, pts in sorted(found.items())], []
+
+
+def _check_plane(x_param: str, x_range, y_param: str, y_values, curves: Sequence[str]) -> tuple[tuple[float, float], np.ndarray]:
+    """((lo, hi) of x, the y grid) of a valid forced plane; ValueError naming what is wrong."""
+    for name in (x_param, y_param):
+        if name not in PARAMETERS:
+            raise ValueError(f"parameters must be among {PARAMETERS}, got {name!r}")
+    if x_param == y_param:
+        raise ValueError("the two parameters must differ")
+    for c in curves:
+        if c not in FORCED_CURVES:
+            raise ValueError(f"curves must be among {', '.join(FORCED_CURVES)}, got {c!r}")
+    lo, hi = sorted(float(v) for v in x_range)
+    if not (lo > 0 and hi > lo):
+        raise ValueError(f"{x_param}: the range must be positive with two distinct ends, got {x_range!r}")
+    ys = np.asarray(y_values, dtype=float)
+    if not (ys.ndim == 1 and len(ys) >= 1 and np.all(ys > 0) and np.all(np.isfinite(ys))):
+        raise ValueError(f"{y_param}: the grid values must be finite and > 0")
+    return (lo, hi), ys
 
 
 def forced_chart(
@@ -402,67 +409,19 @@ def forced_chart(
     ``continuation``: keywords for :func:`~.forced.continue_forced` (h_max,
     steps, max_points, ...).
     """
-    for name in (x_param, y_param):
-        if name not in PARAMETERS:
-            raise ValueError(f"parameters must be among {PARAMETERS}, got {name!r}")
-    if x_param == y_param:
-        raise ValueError("the two parameters must differ")
-    for c in curves:
-        if c not in FORCED_CURVES:
-            raise ValueError(f"curves must be among {', '.join(FORCED_CURVES)}, got {c!r}")
-    lo, hi = sorted(float(v) for v in x_range)
-    if not (lo > 0 and hi > lo):
-        raise ValueError(f"{x_param}: the range must be positive with two distinct ends, got {x_range!r}")
-    ys = np.asarray(y_values, dtype=float)
-    if not (ys.ndim == 1 and len(ys) >= 1 and np.all(ys > 0) and np.all(np.isfinite(ys))):
-        raise ValueError(f"{y_param}: the grid values must be finite and > 0")
+    (lo, hi), ys = _check_plane(x_param, x_range, y_param, y_values, curves)
     ms = (m,) if isinstance(m, (int, np.integer)) else tuple(m)
     if x_start is None:
         here = float(getattr(model, x_param))
         x_start = lo if abs(here - lo) <= abs(here - hi) else hi
     x_start = float(min(max(x_start, lo), hi))
-    steps = int(continuation.get("steps", 512))
-    found: dict[tuple[str, int], list[CurvePoint]] = {}
-    runs = []
-    for mm in ms:
-        previous = None if guess is None else np.asarray(guess, dtype=float)
-        for y in ys:
-            mdl = replace(model, **{y_param: float(y), x_param: x_start})
-            try:
-                orbit = _start_orbit(mdl, law, mm, previous, steps)
-            except (RuntimeError, ValueError) as e:
-                runs.append(GridRun(float(y), mm, 0, [], [], str(e)))
-                previous = None
-                continue
-            previous = orbit.state
-            ends, names, n = [], [], 0
-            for stop in (lo, hi):
-                if stop == x_start:
-                    continue
-                try:
-                    br = continue_forced(mdl, law, x_param, x_start, stop, m=mm, orbit=orbit, **continuation)
-                except (RuntimeError, ValueError) as e:
-                    ends.append(f"failed: {e}")
-                    continue
-                n += len(br)
-                ends.append(br.end)
-                for e in br.events:
-                    names.append(e.type)
-                    if e.type in curves:
-                        found.setdefault((e.type, mm), []).append(_event_point(e, y, mm, "down" if stop < x_start else "up"))
-            runs.append(GridRun(float(y), mm, n, ends, names))
-    out = [Curve(kind, _dedupe(pts, 1e-7 * (hi - lo)), m=mm) for (kind, mm), pts in sorted(found.items())]
-    return ForcedChart(x_param, y_param, (lo, hi), ys, {**model.report(), **law.as_dict(), "m": list(ms)}, out, runs,
-                       sweep=sweep, heat=heat if sweep is not None else "")
-
-
-def _dedupe(points: list[CurvePoint], tol: float) -> list[CurvePoint]:
-    """One point per event found twice (at the start, by the continuations both ways)."""
-    out: list[CurvePoint] = []
-    for p in points:
-        if not any(q.y == p.y and abs(q.x - p.x) <= tol for q in out):
-            out.append(p)
-    return out
+    start = None if guess is None else np.asarray(guess, dtype=float)
+    sources = [_ForcedOrbits(model, law, x_param, y_param, (lo, hi), x_start, mm, curves, continuation, start)
+               for mm in ms]
+    out_curves, _ = trace(sources, ys)
+    return ForcedChart(x_param, y_param, ys, (lo, hi), {**model.report(), **law.as_dict(), "m": list(ms)},
+                       sorted(out_curves, key=lambda c: (c.kind, c.m)), runs=[r for s in sources for r in s.runs],
+                       sweep=sweep, heat=heat if sweep is not None else "", continued_in=x_param)
 
 
 def forced_map(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_values, *,
@@ -476,17 +435,7 @@ def forced_map(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y
     variable drawn under the curves (TR_B, R_c, ...); ``sweep_y_range``: its
     y interval (default: the grid's).
     """
-    sweep = None
-    if sweep_shape is not None:
-        import tempfile
-        from pathlib import Path
-
-        names = [v[0] for v in VARIABLES]
-        if heat not in names:
-            raise ValueError(f"heat must be a sweep variable ({', '.join(names)}), got {heat!r}")
-        ys = np.asarray(y_values, dtype=float)
-        y_sweep = sweep_y_range if sweep_y_range is not None else (float(ys.min()), float(ys.max()))
-        cfg = sweep_config(model, law, x_param, x_range, y_param, y_sweep, sweep_shape, t_end)
-        out = sweep_out if sweep_out is not None else Path(tempfile.mkdtemp(prefix="ff_fmap_")) / "sweep.nc"
-        sweep = run_sweep(cfg, out).load()
+    ys = np.asarray(y_values, dtype=float)
+    y_sweep = sweep_y_range if sweep_y_range is not None else (float(ys.min()), float(ys.max()))
+    sweep = HeatMap(sweep_shape, sweep_out, t_end, heat).run(model, law, x_param, x_range, y_param, y_sweep)
     return forced_chart(model, law, x_param, x_range, y_param, y_values, sweep=sweep, heat=heat, **kw)

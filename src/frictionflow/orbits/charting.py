@@ -1,0 +1,261 @@
+"""The two-parameter chart engine: curves traced over a grid of one parameter, the chart result, the heat map.
+
+A chart lives in the plane of two parameters (``x``, ``y``).  One of them is
+a *grid* (``grid_axis``): at each of its values a **curve source** finds the
+points of its codimension-one curves along the other parameter (the *span*),
+and :func:`trace` collects them, one source at a time over the whole grid
+(a source may carry what it found at one value to the next), into curves
+(:class:`Curve`, joined by kind) and codimension-two points (:class:`Codim2`).
+
+* The autonomous chart (:mod:`.chart`) grids ``x`` and finds Hopf, grazing
+  and fold points in ``y``.
+* The forced chart (:mod:`.forced_chart`) grids ``y`` and continues the
+  forced orbits in ``x`` at each value; its continuation's events are the points.
+
+:class:`Chart` is the result of both (with its summary, JSON, dataset and
+figure, :func:`~.chart_plot.plot_chart`), :func:`dedupe` drops a point
+found twice at one grid value, and :class:`HeatMap` runs the sweep of
+simulations drawn under the curves.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Protocol, Sequence
+
+import numpy as np
+
+from .._display import Row, Summarized, num
+from .._figures import draw
+from .._json import jsonable
+from ..friction.base import FrictionLaw
+from ..params import BeltOscillator
+from ..sweep.compute import VARIABLES
+from ..sweep.runner import run_sweep
+
+
+@dataclass
+class CurvePoint:
+    """One point of a curve: (x, y) and what else is known there."""
+
+    x: float
+    y: float
+    detail: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class Curve:
+    """A codimension-one curve in the (x, y) parameter plane."""
+
+    kind: str
+    points: list[CurvePoint]
+    m: int | None = None  # forced curves: the period of their orbits in forcing periods
+
+    def xy(self) -> np.ndarray:
+        return np.array([[p.x, p.y] for p in self.points]).reshape(-1, 2)
+
+    def to_dict(self) -> dict[str, Any]:
+        out = {"kind": self.kind, "points": [{"x": p.x, "y": p.y, **p.detail} for p in self.points]}
+        if self.m is not None:
+            out["m"] = self.m
+        return out
+
+
+@dataclass
+class Codim2:
+    """A codimension-two point: ``bautin`` (a Hopf point changing criticality) or ``fold_grazing``."""
+
+    kind: str
+    x: float
+    y: float
+    detail: dict[str, Any] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "x": self.x, "y": self.y, **self.detail}
+
+
+# -- tracing curves over the grid --------------------------------------------------------------------
+class CurveSource(Protocol):
+    """One family of curves over the grid: the autonomous Hopf, grazing or fold curves, the forced m-period orbits."""
+
+    def at(self, index: int, value: float) -> list[tuple[str, CurvePoint]]:
+        """The points found along the span at the ``index``-th grid value, each with its curve's kind."""
+
+    def curves(self, found: dict[str, list[CurvePoint]]) -> tuple[list[Curve], list[Codim2]]:
+        """The curves that the points found over the whole grid (by kind, in grid order) make, and codim-2 points."""
+
+
+def trace(sources: Sequence[CurveSource], grid: np.ndarray) -> tuple[list[Curve], list[Codim2]]:
+    """The curves and codimension-two points of ``sources``, each run over every value of ``grid`` in turn.
+
+    One source runs over the whole grid before the next starts: a source
+    that continues a family of orbits starts each value from the last one's.
+    """
+    curves: list[Curve] = []
+    codim2: list[Codim2] = []
+    for source in sources:
+        found: dict[str, list[CurvePoint]] = {}
+        for i, value in enumerate(grid):
+            for kind, point in source.at(i, float(value)):
+                found.setdefault(kind, []).append(point)
+        more, codim = source.curves(found)
+        curves += more
+        codim2 += codim
+    return curves, codim2
+
+
+def dedupe(points: list[CurvePoint], tol: float, grid_axis: str = "x") -> list[CurvePoint]:
+    """One point per (grid value, span value within ``tol``) found more than once.
+
+    Several seeds of one continuation, or the continuations both ways from
+    one start, meet the same point at one grid value.
+    """
+    on_grid, along = ("x", "y") if grid_axis == "x" else ("y", "x")
+    out: list[CurvePoint] = []
+    for p in points:
+        g, s = getattr(p, on_grid), getattr(p, along)
+        if not any(getattr(q, on_grid) == g and abs(getattr(q, along) - s) <= tol for q in out):
+            out.append(p)
+    return out
+
+
+# -- the chart ---------------------------------------------------------------------------------------
+@dataclass(repr=False)
+class Chart(Summarized):
+    """Curves in the (x, y) plane of two parameters, traced over a grid of one of them, and optionally a heat map.
+
+    ``grid`` holds the values of the ``grid_axis`` parameter, ``span`` the
+    interval of the other one.  ``continued_in`` names the parameter each
+    grid value's continuation ran in when the points are its events (their
+    ``runs`` recorded), "" otherwise.
+    """
+
+    x_param: str
+    y_param: str
+    grid: np.ndarray
+    span: tuple[float, float]
+    params: dict[str, Any]
+    curves: list[Curve]
+    codim2: list[Codim2] = field(default_factory=list)
+    runs: list[Any] = field(default_factory=list)
+    sweep: Any = None  # an xarray.Dataset of simulations on the (x, y) grid
+    heat: str = ""  # the sweep variable drawn under the curves
+    grid_axis: str = "x"
+    continued_in: str = ""
+
+    @property
+    def x_values(self) -> np.ndarray:
+        """The grid of x, or the ends of its span."""
+        return np.asarray(self.grid if self.grid_axis == "x" else self.span, dtype=float)
+
+    @property
+    def y_range(self) -> tuple[float, float]:
+        """The span of y, or the ends of its grid."""
+        return self.span if self.grid_axis == "x" else (float(np.min(self.grid)), float(np.max(self.grid)))
+
+    def curve(self, kind: str, m: int | None = None) -> Curve | None:
+        return next((c for c in self.curves if c.kind == kind and (m is None or c.m == m)), None)
+
+    def _names(self) -> tuple[str, str]:
+        """(grid parameter, span parameter)."""
+        return (self.x_param, self.y_param) if self.grid_axis == "x" else (self.y_param, self.x_param)
+
+    def _plane(self) -> str:
+        gp, sp = self._names()
+        grid = f"{gp} from {num(float(self.grid[0]))} to {num(float(self.grid[-1]))} ({len(self.grid)} values)"
+        span = f"{sp} in [{num(self.span[0])}, {num(self.span[1])}]" + (" (continued)" if self.continued_in else "")
+        return f"{grid} x {span}" if self.grid_axis == "x" else f"{span} x {grid}"
+
+    def _notes(self) -> list[Row]:
+        """Rows between the curves and the heat map (each kind of chart says what else it found)."""
+        return []
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        curves = "; ".join(f"{c.kind}{'' if c.m is None else f' m={c.m}'} ({len(c.points)} points)" for c in self.curves)
+        rows = [("plane", self._plane()), ("curves", curves or "none"), *self._notes()]
+        if self.sweep is not None:
+            rows.append(("heat map", f"{self.heat} from {int(np.prod([len(self.sweep[d]) for d in self.sweep[self.heat].dims]))} simulations"))
+        return type(self).__name__, rows
+
+    def to_dict(self) -> dict[str, Any]:
+        axes = ({"x_values": self.grid, "y_range": list(self.span)} if self.grid_axis == "x"
+                else {"x_range": list(self.span), "y_values": self.grid})
+        continued = {"continued_in": self.continued_in} if self.continued_in else {}
+        runs = {"runs": [r.to_dict() for r in self.runs]} if self.continued_in else {}
+        return jsonable({
+            "x_param": self.x_param, "y_param": self.y_param, **axes, "params": self.params, **continued,
+            "curves": [c.to_dict() for c in self.curves], "codim2": [p.to_dict() for p in self.codim2], **runs,
+            "heat": self.heat or None,
+        })
+
+    def to_xarray(self):
+        """Each curve as its span parameter over (grid, root) -- the k-th root at each grid value, NaN where
+        fewer -- with the sweep's variables (on its own (x, y) grid) alongside."""
+        import xarray as xr
+
+        gp, sp = self._names()
+        on_grid, along = ("x", "y") if self.grid_axis == "x" else ("y", "x")
+        data = {}
+        for c in self.curves:
+            per_value: dict[float, list[float]] = {}
+            for p in c.points:
+                per_value.setdefault(getattr(p, on_grid), []).append(getattr(p, along))
+            n = max((len(v) for v in per_value.values()), default=0)
+            arr = np.full((len(self.grid), max(n, 1)), np.nan)
+            for i, g in enumerate(self.grid):
+                roots = sorted(per_value.get(float(g), []))
+                arr[i, :len(roots)] = roots
+            name = c.kind if c.m is None else f"{c.kind}_m{c.m}"
+            orbits = "" if c.m is None else f" of the m={c.m} orbits"
+            data[f"{name}_{sp}"] = ((gp, f"{name}_root"), arr, {"long_name": f"{sp} on the {c.kind} curve{orbits}"})
+        ds = xr.Dataset(data, coords={gp: np.asarray(self.grid, dtype=float)})
+        found = ({"continued_in": self.continued_in, f"{along}_range": list(self.span)} if self.continued_in
+                 else {"codim2": str([p.to_dict() for p in self.codim2])})
+        ds.attrs.update({"x_param": self.x_param, "y_param": self.y_param, **found, "params": str(self.params)})
+        if self.sweep is not None:
+            sw = self.sweep.rename({d: f"sweep_{d}" for d in self.sweep.dims})
+            for k, v in sw.data_vars.items():
+                ds[f"sweep_{k}"] = v
+        return ds
+
+    def plot(self, path: Any = None):
+        """The curves over the sweep heat map (:func:`~.chart_plot.plot_chart`)."""
+        return draw(self, path)
+
+
+# -- the heat map under the curves ---------------------------------------------------------------------
+def sweep_config(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_range,
+                 shape: tuple[int, int], t_end: float = 500.0) -> dict[str, Any]:
+    """The config of a :func:`frictionflow.sweep.run_sweep` over the chart's plane (the other parameters fixed)."""
+    fixed = {k: v for k, v in {**model.report(), **law.as_dict()}.items() if k not in (x_param, y_param)}
+    return {**fixed, "t_end": float(t_end), "grid": {
+        x_param: {"start": float(min(x_range)), "stop": float(max(x_range)), "num": int(shape[0])},
+        y_param: {"start": float(min(y_range)), "stop": float(max(y_range)), "num": int(shape[1])}}}
+
+
+@dataclass(frozen=True)
+class HeatMap:
+    """The sweep of simulations drawn under a chart's curves.
+
+    ``shape`` (n_x, n_y): its grid (None: no sweep); ``out``: where
+    :func:`frictionflow.sweep.run_sweep` writes it (.zarr or .nc; None: a
+    temporary .nc); ``heat``: the sweep variable drawn (R_c, TR_B, ...).
+    """
+
+    shape: tuple[int, int] | None = None
+    out: Any = None
+    t_end: float = 500.0
+    heat: str = "R_c"
+
+    def run(self, model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_range):
+        """The sweep over x_range by y_range (an xarray.Dataset, loaded), or None without a shape."""
+        if self.shape is None:
+            return None
+        names = [v[0] for v in VARIABLES]
+        if self.heat not in names:  # before the sweep and the chart: a bad name costs nothing
+            raise ValueError(f"heat must be a sweep variable ({', '.join(names)}), got {self.heat!r}")
+        cfg = sweep_config(model, law, x_param, x_range, y_param, y_range, self.shape, self.t_end)
+        out = self.out if self.out is not None else Path(tempfile.mkdtemp(prefix="ff_map_")) / "sweep.nc"
+        return run_sweep(cfg, out).load()
