@@ -19,7 +19,31 @@ def test_pairwise_sum_is_numpys_sum_bit_for_bit(n):
     assert strobe.pairwise_sum(a, 3, n) == np.sum(a[3:])
 
 
-def test_repeat_multiple_and_revisits_are_the_analysis_functions():
+def _repeat_multiple_numpy(x, v, tol, min_periods, max_multiple=strobe.MAX_MULTIPLE):
+    """An independent statement of the repetition test, in numpy (what the analysis ran before it used the kernel)."""
+    n = len(x)
+    for m in range(1, max_multiple + 1):
+        if n < (min_periods + 1) * m:
+            break
+        d = np.maximum(np.abs(x[m:] - x[:-m]), np.abs(v[m:] - v[:-m]))
+        bad = np.flatnonzero(d > tol)
+        run = len(d) - (bad[-1] + 1 if len(bad) else 0)
+        if run >= min_periods * m:
+            return m, run // m
+    return 0, 0
+
+
+def _revisits_numpy(x, v, tol):
+    h = len(x) // 2
+    if h < 8:
+        return False
+    a = np.column_stack([x[:h], v[:h]])
+    b = np.column_stack([x[h:], v[h:]])
+    near = np.min(np.max(np.abs(b[:, None, :] - a[None, :, :]), axis=2), axis=1)
+    return bool(np.all(near <= tol))
+
+
+def test_repeat_multiple_and_revisits_agree_with_numpy_statements():
     rng = np.random.default_rng(0)
     for trial in range(300):
         m_true = int(rng.integers(1, 6))
@@ -28,8 +52,9 @@ def test_repeat_multiple_and_revisits_are_the_analysis_functions():
         seq = base[np.arange(n) % m_true] + rng.normal(0, 10.0 ** rng.uniform(-14, -6), (n, 2)) * (np.arange(n) < rng.integers(0, n))[:, None]
         x, v = np.ascontiguousarray(seq[:, 0]), np.ascontiguousarray(seq[:, 1])
         tol = 10.0 ** rng.uniform(-12, -7)
-        assert strobe.repeat_multiple(x, v, tol, 3) == forced.repeat_multiple(x, v, tol, 3)
-        assert strobe.revisits(x, v, 0.3) == forced.revisits(x, v, 0.3)
+        assert strobe.repeat_multiple(x, v, tol, 3) == _repeat_multiple_numpy(x, v, tol, 3)
+        assert strobe.revisits(x, v, 0.3) == _revisits_numpy(x, v, 0.3)
+        assert forced.repeat_multiple(x, v, tol, 3) == _repeat_multiple_numpy(x, v, tol, 3)  # the analysis uses it
 
 
 def test_sections_and_window_values_of_a_forced_run_are_the_analysis_values():

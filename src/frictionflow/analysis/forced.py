@@ -44,6 +44,7 @@ import numpy as np
 
 from ..core.sections import _stationary
 # the test's constants, shared with its compiled port (the batched forced sweep)
+from ..core import strobe
 from ..core.strobe import LYAPUNOV_PERIODS, LYAPUNOV_STEPS, LYAPUNOV_TRANSIENT, MAX_MULTIPLE, REVISIT_SHARE, SECTION_MATCH
 from ..trajectory import Trajectory
 from .lyapunov import lyapunov_exponents
@@ -71,33 +72,19 @@ def section_scale(x: np.ndarray, v: np.ndarray, traj: Trajectory) -> float:
     return float(max(np.ptp(x), np.ptp(v), traj.model.fex, abs(traj.vb), traj.friction.fd, 1e-300))
 
 
-def repeat_multiple(x: np.ndarray, v: np.ndarray, tol: float, min_periods: int, max_multiple: int = MAX_MULTIPLE) -> tuple[int, int]:
-    """(m, repetitions): the smallest m whose last ``min_periods`` repetitions match to ``tol``; (0, 0) if none.
-
-    Repetitions count back from the end while P_k = P_{k-m} holds, up to the
-    whole sequence (the window may then span all of them).
-    """
-    n = len(x)
-    for m in range(1, max_multiple + 1):
-        if n < (min_periods + 1) * m:
-            break
-        d = np.maximum(np.abs(x[m:] - x[:-m]), np.abs(v[m:] - v[:-m]))
-        bad = np.flatnonzero(d > tol)
-        run = len(d) - (bad[-1] + 1 if len(bad) else 0)  # trailing matches
-        if run >= min_periods * m:
-            return m, run // m
-    return 0, 0
+def repeat_multiple(x: np.ndarray, v: np.ndarray, tol: float, min_periods: int,
+                    max_multiple: int = MAX_MULTIPLE) -> tuple[int, int]:
+    """(m, repetitions): the smallest m <= ``max_multiple`` whose last ``min_periods`` repetitions match to
+    ``tol``; (0, 0) if none.  Repetitions count back from the end while P_k = P_{k-m} holds, up to the whole
+    sequence.  The compiled test the batched sweeps run (:func:`frictionflow.core.strobe.repeat_multiple`)."""
+    return strobe.repeat_multiple(np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(v, dtype=float),
+                                  float(tol), int(min_periods), int(max_multiple))
 
 
 def revisits(x: np.ndarray, v: np.ndarray, tol: float) -> bool:
-    """Whether every point of the second half lies within ``tol`` of some point of the first half."""
-    h = len(x) // 2
-    if h < 8:
-        return False
-    a = np.column_stack([x[:h], v[:h]])
-    b = np.column_stack([x[h:], v[h:]])
-    near = np.min(np.max(np.abs(b[:, None, :] - a[None, :, :]), axis=2), axis=1)
-    return bool(np.all(near <= tol))
+    """Whether every point of the second half lies within ``tol`` of some point of the first half
+    (:func:`frictionflow.core.strobe.revisits`)."""
+    return bool(strobe.revisits(np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(v, dtype=float), float(tol)))
 
 
 def _step_jitter(traj: Trajectory, i0: int) -> float:

@@ -91,10 +91,11 @@ def _mismatch(x, v, i, m, tol):
 
 
 @njit(cache=True)
-def repeat_multiple(x, v, tol, min_periods):
-    """(m, repetitions): the smallest m whose last ``min_periods`` repetitions match to ``tol``; (0, 0) if none."""
+def repeat_multiple(x, v, tol, min_periods, max_multiple=MAX_MULTIPLE):
+    """(m, repetitions): the smallest m <= ``max_multiple`` whose last ``min_periods`` repetitions match to
+    ``tol``; (0, 0) if none."""
     n = len(x)
-    for m in range(1, MAX_MULTIPLE + 1):
+    for m in range(1, max_multiple + 1):
         if n < (min_periods + 1) * m:
             break
         run = 0  # trailing matches P_{i+m} = P_i, counted back from the end
