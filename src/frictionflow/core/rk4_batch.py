@@ -56,12 +56,20 @@ def _lanes(law, st, w, dt, lane):
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
 def _aggregates(dt, in_tail, st, lane, per, tl):
-    """The running period's aggregates after a step, and the tail's once in it (vectorised)."""
+    """The running period's aggregates after a step, and the tail's once in it (vectorised).
+
+    Returns whether X' crossed 0 in any lane: the crossing pass runs only
+    then, as it unpacks many records around a loop that makes views, and
+    numba cannot drop the reference counts of those (atomic operations):
+    every step they would cost more than the step.
+    """
     x, v, _, vo = st
     zeta, vb, vd = lane[0], lane[1], lane[4]
     pvmin, pvmax, pfmax, pstk, _ = per
+    crossed = False
     for j in range(len(x)):
         vn = v[j]
+        crossed |= ((vo[j] > 0.0) & (vn <= 0.0)) | ((vo[j] < 0.0) & (vn >= 0.0))
         f = abs(x[j] + 2.0 * zeta[j] * vn)
         pvmin[j] = vn if vn < pvmin[j] else pvmin[j]
         pvmax[j] = vn if vn > pvmax[j] else pvmax[j]
@@ -79,21 +87,7 @@ def _aggregates(dt, in_tail, st, lane, per, tl):
             tvmax[j] = vn if vn > tvmax[j] else tvmax[j]
             tfmax[j] = f if f > tfmax[j] else tfmax[j]
             tstk[j] += dt if abs(vb[j] - vo[j]) <= vd[j] else 0.0
-
-
-@njit(cache=True, fastmath=FASTMATH, inline="always")
-def _crossed(st):
-    """Whether X' crossed 0 in any lane during the step (vectorised).
-
-    The crossing pass runs only then: it unpacks many records around a loop
-    that makes views, and numba cannot drop the reference counts of those
-    (atomic operations) -- every step they would cost more than the step.
-    """
-    v, vo = st[1], st[3]
-    c = False
-    for j in range(len(v)):
-        c |= ((vo[j] > 0.0) & (v[j] <= 0.0)) | ((vo[j] < 0.0) & (v[j] >= 0.0))
-    return c
+    return crossed
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
@@ -132,7 +126,7 @@ def _crossings(i, dt, in_tail, st, w, lane, per, sums, scratch, out):
         elif a < 0.0 and b >= 0.0:
             s = a / (a - b)
             lo[j] = sec.hermite(xo[j], x[j], a * dt, b * dt, s)
-@njit(cache=True, fastmath=FASTMATH, forceinline=True)
+@njit(cache=True, fastmath=FASTMATH, inline="always")
 def _start_tail(t, st, w, lane, tl, tws, wj, tail):
     """The tail begins at ``t``: its work starts from minus the running period's, its aggregates from the state."""
     x, v = st[0], st[1]
@@ -147,7 +141,7 @@ def _start_tail(t, st, w, lane, tl, tws, wj, tail):
         tstk[j] = 0.0
 
 
-@njit(cache=True, fastmath=FASTMATH, forceinline=True)
+@njit(cache=True, fastmath=FASTMATH, inline="always")
 def _finish(t, x0, v0, st, w, tl, sums, wj, out):
     """The tail's work and aggregates into ``tail``, the final sample and the whole run's work into ``fin``."""
     x, v = st[0], st[1]
@@ -205,8 +199,7 @@ def _block(law, pts, run, out):
             for code in literal_unroll(SMOOTH_LAWS):
                 if law == code:
                     _lanes(code + 0, st, w, dt, lane)
-        _aggregates(dt, in_tail, st, lane, per, tl)
-        if _crossed(st):
+        if _aggregates(dt, in_tail, st, lane, per, tl):
             _crossings(i, dt, in_tail, st, w, lane, per, sums, scratch, out)
         ti = (i + 1) * dt
         if not in_tail and ti >= t_tail:
