@@ -19,6 +19,7 @@ from _common import best_of, header
 from frictionflow import BeltOscillator, Karnopp, RK4, simulate
 from frictionflow.core import rk4, rk4_batch, sections
 from frictionflow.core.layout import N_PARAMS, N_WORK
+from frictionflow.core.records import Samples
 
 ZETA, VB, FD, VD, DT = 0.0, 0.01, 0.02, 1e-3, 1e-3
 
@@ -65,13 +66,12 @@ def compiled(n: int):
 def kernel_only(n: int):
     """The compiled kernel alone, recording every step into arrays allocated (and touched) beforehand."""
     p = Karnopp(FD, vd=VD, stick_force="spring").kernel_params()
-    out = [np.zeros(n + 1) for _ in range(4)]
-    mode, work = np.zeros(n + 1, np.int8), np.zeros((n + 1, N_WORK))
+    out = Samples(*(np.zeros(n + 1) for _ in range(4)), np.zeros(n + 1, np.int8), np.zeros((n + 1, N_WORK)))
 
     def run():
         s = np.zeros(rk4.N_STATE)
         s[:2] = FD, VB
-        rk4.run(s, 0, n, n, 1, 0.0, DT, ZETA, VB, p, *out, mode, work, 0)
+        rk4.run(s, (0, n, n, 1), 0.0, DT, ZETA, VB, p, out, 0)
 
     return run
 
@@ -83,13 +83,8 @@ def batched(n_lanes: int, n: int) -> None:
     fd = rng.uniform(0.01, 0.05, n_lanes)
     p = np.zeros((n_lanes, N_PARAMS))
     p[:, 1], p[:, 2], p[:, 3], p[:, 4] = fd, fd * rng.uniform(1.0, 2.0, n_lanes), VD, 1.0
-    k = sections.MAX_RECORDS
-    rec = np.full((n_lanes, k, sections.NF), np.nan)
-    nrec = np.zeros(n_lanes, np.int64)
-    tail = np.full((n_lanes, sections.NA), np.nan)
-    fin = np.full((n_lanes, sections.NA), np.nan)
     t_tail = sections.tail_start(0.0, n * DT)
-    rk4_batch.run_batch(0, zeta, vb, p, fd.copy(), vb.copy(), DT, n, t_tail, rec, nrec, tail, fin)
+    rec, nrec, tail, fin = rk4_batch.run_batch(0, zeta, vb, p, fd.copy(), vb.copy(), DT, n, t_tail)
     rk4_batch.summarize(rec, nrec, tail, fin, vb, fd, 1e-6, 3, DT, True, 1e-6)
 
 

@@ -28,13 +28,8 @@ def test_batch_equals_single_runs(lanes):
     p = np.array([law.kernel_params() for law in laws])
     dt, t_end = 2e-3, 60.0
     steps = int(round(t_end / dt))
-    k = sec.MAX_RECORDS
-    rec = np.full((n, k, sec.NF), np.nan)
-    nrec = np.zeros(n, np.int64)
-    tail = np.full((n, sec.NA), np.nan)
-    fin = np.full((n, sec.NA), np.nan)
     rk4_batch.warm_up()
-    rk4_batch.run_batch(0, zeta, vb, p, fd.copy(), vb.copy(), dt, steps, sec.tail_start(0.0, t_end), rec, nrec, tail, fin)
+    rec, nrec, tail, fin = rk4_batch.run_batch(0, zeta, vb, p, fd.copy(), vb.copy(), dt, steps, sec.tail_start(0.0, t_end))
     out = rk4_batch.summarize(rec, nrec, tail, fin, vb, fd, 1e-6, 3, dt, True, 1e-6)
     kinds = set()
     for j in range(0, n, 3):

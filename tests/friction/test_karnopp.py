@@ -5,13 +5,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from frictionflow import Karnopp
-from frictionflow.core.friction import band_force, band_force_select, band_mode
+from frictionflow.core.friction import band_force, band_force_select, band_law, band_mode
 
 
 def force(law: Karnopp, x, v, zeta=0.0, vb=0.01):
     """(F_c, mode) from the compiled law; the branchy and the select forms must agree."""
     p = law.kernel_params()
-    args = (int(p[0]), p[1], p[2], p[3], p[4] != 0, p[5], p[6], p[7], x, v, zeta, vb, 0.0)
+    args = (band_law(int(p[0]), p), x, v, zeta, vb, 0.0)
     f = band_force(*args)
     assert band_force_select(*args) == f
     return f, band_mode(v, vb, p[3])

@@ -206,12 +206,7 @@ def _rk4_rows(j0, j1, rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, 
 
 def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, noise, out) -> None:
     """Batched fixed-step RK4 (lanes in lock step, SIMD) for every point."""
-    n = len(zeta)
     steps = max(1, int(math.ceil(t_end / dt - 1e-9)))
-    rec = np.full((n, sec.MAX_RECORDS, sec.NF), np.nan)
-    nrec = np.zeros(n, np.int64)
-    tail = np.full((n, sec.NA), np.nan)
-    fin = np.full((n, sec.NA), np.nan)
     rk4_batch.warm_up()
-    rk4_batch.run_batch(law, zeta, vb, p, x0, v0, dt, steps, sec.tail_start(0.0, steps * dt), rec, nrec, tail, fin)
-    over_points(_rk4_rows, n, rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out, True)
+    rec, nrec, tail, fin = rk4_batch.run_batch(law, zeta, vb, p, x0, v0, dt, steps, sec.tail_start(0.0, steps * dt))
+    over_points(_rk4_rows, len(zeta), rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out, True)

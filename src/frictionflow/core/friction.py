@@ -10,7 +10,7 @@
 * :func:`rest_mode`: Coulomb's set-valued stick rule at V_r = 0 (used by the
   adaptive kernel and the Python orbit flows).
 * :func:`band_force` / :func:`band_mode`: Karnopp's stick band |V_r| <= V_d
-  (fixed-step RK4).
+  (fixed-step RK4), the law's parameters as one record (:func:`band_law`).
 * :func:`external_force`: the harmonic force f(tau) = F_ex cos(Omega tau + phi).
 
 Every rule that decides sticking takes ``fext``, the external force at that
@@ -196,12 +196,24 @@ def rest_mode(x, zeta, vb, fs, resultant, f0, fext, dfext):
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
-def band_force(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext):
-    """Friction force of a law with a stick band |V_r| <= V_d (Karnopp's scheme).
+def band_law(law, p):
+    """The band record of the force record ``p``: (law, F_d, F_s, V_d, resultant, a, b, c), built once per run.
+
+    ``law`` is passed apart (the kernels give ``code + 0``, a constant to LLVM,
+    so that the other laws' branches fold away); a tuple of scalars costs
+    nothing once inlined.
+    """
+    return law, p[FD], p[FS], p[VD], p[RESULTANT] != 0.0, p[LAW_A], p[LAW_B], p[LAW_C]
+
+
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
+def band_force(lw, x, v, zeta, vb, fext):
+    """Friction force of a law with a stick band |V_r| <= V_d (Karnopp's scheme); ``lw``: its :func:`band_law`.
 
     Branches, for one trajectory at a time: they are predicted well and keep
     the untaken side off the chain of dependent operations.
     """
+    law, fd, fs, vd, resultant, a, b, c = lw
     vr = vb - v
     if vr > vd:
         return slip_magnitude(law, fd, fs, a, b, c, vr)
@@ -216,8 +228,9 @@ def band_force(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext):
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
-def band_force_select(law, fd, fs, vd, resultant, a, b, c, x, v, zeta, vb, fext):
+def band_force_select(lw, x, v, zeta, vb, fext):
     """:func:`band_force` computing both sides and selecting one: for loops over many lanes, which it lets vectorise."""
+    law, fd, fs, vd, resultant, a, b, c = lw
     vr = vb - v
     speed = abs(vr)
     mag = slip_magnitude(law, fd, fs, a, b, c, speed)

@@ -16,59 +16,68 @@ the next step's start.  Unforced runs pass zeros and compute no cosine.
 
 ``s`` (length 7) holds ``X, X'`` and the five sums since the last sample; it is
 updated in place, so a long run can be advanced chunk by chunk (progress bars).
+
+The kernels take records rather than long lists: ``span`` = (i0, i1,
+n_total, every), the steps to advance and the sampling; ``out``, the output
+buffers :class:`~frictionflow.core.records.Samples`; inside, the law's band
+record (:func:`~frictionflow.core.friction.band_law`) and a step's external
+force ``fx`` = (f1, f2, f4).  Tuples of scalars cost nothing once inlined.
 """
 
 from __future__ import annotations
 
 from numba import literal_unroll, njit
 
-from .friction import (
-    COULOMB, FD, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, RESULTANT, SMOOTH_LAWS, VD, band_force, band_force_select,
-    FASTMATH, band_mode, external_force,
-)
+from .friction import COULOMB, KARNOPP, LAW, SMOOTH_LAWS, FASTMATH, band_force, band_force_select, band_law, band_mode, external_force
 
 N_STATE = 7
+#: the slot of V_d in a band record (:func:`band_law`)
+_VD = 3
+#: a step without external force
+NO_FORCE = (0.0, 0.0, 0.0)
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
-def stage(x, v, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced):
+def stage(x, v, f, zeta, vb, lw, lanes, forced):
     """Right-hand side at one stage with external force ``f``: (X'', P_dv, P_f+, P_f-, P_heat).
 
-    ``lanes`` and ``forced`` (constants at each call site) pick the select
-    form of the law for the batched kernels, and whether an external force
-    acts: unforced loops then hold no trace of it (``f`` is a constant 0.0).
+    ``lw``: the law's band record.  ``lanes`` and ``forced`` (constants at
+    each call site) pick the select form of the law for the batched kernels,
+    and whether an external force acts: unforced loops then hold no trace of
+    it (``f`` is a constant 0.0).
     """
     if lanes:
-        fc = band_force_select(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb, f)
+        fc = band_force_select(lw, x, v, zeta, vb, f)
     else:
-        fc = band_force(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb, f)
+        fc = band_force(lw, x, v, zeta, vb, f)
     a = fc - x - 2.0 * zeta * v
     if forced:
         a += f
     pf = v * fc
     vr = vb - v
-    heat = fc * vr if abs(vr) > vd else 0.0
+    heat = fc * vr if abs(vr) > lw[_VD] else 0.0
     return a, 2.0 * zeta * v * v, max(pf, 0.0), max(-pf, 0.0), heat
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
-def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False, f1=0.0, f2=0.0, f4=0.0, forced=False):
+def step(x, v, dt, zeta, vb, lw, lanes, fx, forced):
     """One RK4 step of the augmented system; returns new X, X' and work increments (W_ex's last).
 
-    ``f1, f2, f4``: the external force at the step's start, middle and end
-    (read only when ``forced``, a constant at each call site).
+    ``fx`` = (f1, f2, f4): the external force at the step's start, middle
+    and end (read only when ``forced``, a constant at each call site).
     """
+    f1, f2, f4 = fx
     h2 = 0.5 * dt
-    a1, d1, p1, n1, q1 = stage(x, v, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced)
+    a1, d1, p1, n1, q1 = stage(x, v, f1, zeta, vb, lw, lanes, forced)
     x2 = x + h2 * v
     v2 = v + h2 * a1
-    a2, d2, p2, n2, q2 = stage(x2, v2, f2, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced)
+    a2, d2, p2, n2, q2 = stage(x2, v2, f2, zeta, vb, lw, lanes, forced)
     x3 = x + h2 * v2
     v3 = v + h2 * a2
-    a3, d3, p3, n3, q3 = stage(x3, v3, f2, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced)
+    a3, d3, p3, n3, q3 = stage(x3, v3, f2, zeta, vb, lw, lanes, forced)
     x4 = x + dt * v3
     v4 = v + dt * a3
-    a4, d4, p4, n4, q4 = stage(x4, v4, f4, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes, forced)
+    a4, d4, p4, n4, q4 = stage(x4, v4, f4, zeta, vb, lw, lanes, forced)
     h6 = dt / 6.0
     return (
         x + h6 * (v + 2.0 * v2 + 2.0 * v3 + v4),
@@ -81,31 +90,42 @@ def step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, lanes=False, f1=0
     )
 
 
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
+def _sample(x, v, f, zeta, vb, lw):
+    """(F_c, friction mode) of the state (X, X') under external force ``f``: what a sample records besides it."""
+    return band_force(lw, x, v, zeta, vb, f), band_mode(v, vb, lw[_VD])
+
+
 @njit(cache=True, fastmath=FASTMATH, inline="always")
-def _record(k, t, x, v, w0, w1, w2, w3, w4, f, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode,
-            out_w):
-    out_t[k] = t
-    out_x[k] = x
-    out_v[k] = v
-    out_fc[k] = band_force(law, fd, fs, vd, res, la, lb, lc, x, v, zeta, vb, f)
-    out_mode[k] = band_mode(v, vb, vd)
-    out_w[k, 0] = w0
-    out_w[k, 1] = w1
-    out_w[k, 2] = w2
-    out_w[k, 3] = w3
-    out_w[k, 4] = w4
+def _record(out, k, t, x, v, fm, w):
+    """Sample ``k`` into the buffers ``out``: the state, ``fm`` (:func:`_sample`), the work ``w`` since the last one.
+
+    Plain stores only: a call or a branch here (``_sample``'s) would keep
+    numba's reference counts on ``out``'s arrays, atomic operations per sample.
+    """
+    out.t[k] = t
+    out.x[k] = x
+    out.v[k] = v
+    out.fc[k] = fm[0]
+    out.mode[k] = fm[1]
+    out.work[k, 0] = w[0]
+    out.work[k, 1] = w[1]
+    out.work[k, 2] = w[2]
+    out.work[k, 3] = w[3]
+    out.work[k, 4] = w[4]
 
 
 @njit(cache=True, fastmath=FASTMATH)
-def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
-    """Advance steps ``i0 .. i1-1`` (global indices), recording every ``every``-th.
+def run(s, span, t0, dt, zeta, vb, p, out, k):
+    """Advance steps ``i0 .. i1-1`` (global indices) of ``span`` = (i0, i1, n_total, every), recording every ``every``-th.
 
-    A sample is written before step ``i`` when ``i % every == 0`` and after the
-    last step (``i1 == n_total``); ``out_w`` has shape (n_samples, N_WORK).
-    Returns the next free sample index.  Each law's loop is compiled with its
-    code as a constant, so that it holds only that law's slip force.
-    Unforced: a force record with F_ex > 0 goes to :func:`run_forced` (the
-    façade chooses, so that unforced runs compile no forced loop).
+    A sample is written into ``out`` (:class:`~frictionflow.core.records.Samples`)
+    before step ``i`` when ``i % every == 0`` and after the last step
+    (``i1 == n_total``).  Returns the next free sample index.  Each law's loop
+    is compiled with its code as a constant, so that it holds only that
+    law's slip force.  Unforced: a force record with F_ex > 0 goes to
+    :func:`run_forced` (the façade chooses, so that unforced runs compile no
+    forced loop).
 
     The codes are passed as ``code + 0``: a plain integer to numba, so that the
     callees compile once for all laws (not once per constant), and still a
@@ -113,30 +133,23 @@ def run(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out
     """
     law = int(p[LAW])
     if law == KARNOPP or law == COULOMB:
-        return _run(KARNOPP + 0, False, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
-                    out_w, k)
+        return _run(KARNOPP + 0, False, s, span, t0, dt, zeta, vb, p, out, k)
     for code in literal_unroll(SMOOTH_LAWS):
         if law == code:
-            k = _run(code + 0, False, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k)
+            k = _run(code + 0, False, s, span, t0, dt, zeta, vb, p, out, k)
     return k
 
 
 @njit(cache=True, fastmath=FASTMATH)
-def run_forced(s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
+def run_forced(s, span, t0, dt, zeta, vb, p, out, k):
     """:func:`run` under the external force of ``p``: one loop for every law (the cosines dominate it anyway)."""
-    return _run(int(p[LAW]), True, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
-                out_w, k)
+    return _run(int(p[LAW]), True, s, span, t0, dt, zeta, vb, p, out, k)
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
-def _run(law, forced, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
-    fd = p[FD]
-    fs = p[FS]
-    vd = p[VD]
-    res = p[RESULTANT] != 0.0
-    la = p[LAW_A]
-    lb = p[LAW_B]
-    lc = p[LAW_C]
+def _run(law, forced, s, span, t0, dt, zeta, vb, p, out, k):
+    i0, i1, n_total, every = span
+    lw = band_law(law, p)
     x, v, w0, w1, w2, w3, w4 = s[0], s[1], s[2], s[3], s[4], s[5], s[6]
     f1 = f2 = f4 = 0.0
     if forced:
@@ -146,14 +159,14 @@ def _run(law, forced, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out
     for i in range(i0, i1):
         if due == 0:
             due = every
-            _record(k, t0 + i * dt, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            _record(out, k, t0 + i * dt, x, v, _sample(x, v, f1, zeta, vb, lw), (w0, w1, w2, w3, w4))
             k += 1
             w0 = w1 = w2 = w3 = w4 = 0.0
         due -= 1
         if forced:
             f2 = external_force(p, t0 + (i + 0.5) * dt)
             f4 = external_force(p, t0 + (i + 1) * dt)
-        x, v, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, False, f1, f2, f4, forced)
+        x, v, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, lw, False, (f1, f2, f4), forced)
         w0 += d0
         w1 += d1
         w2 += d2
@@ -162,7 +175,7 @@ def _run(law, forced, s, i0, i1, n_total, every, t0, dt, zeta, vb, p, out_t, out
             w4 += d4
             f1 = f4
     if i1 == n_total:
-        _record(k, t0 + n_total * dt, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+        _record(out, k, t0 + n_total * dt, x, v, _sample(x, v, f1, zeta, vb, lw), (w0, w1, w2, w3, w4))
         k += 1
         w0 = w1 = w2 = w3 = w4 = 0.0
     s[0], s[1], s[2], s[3], s[4], s[5], s[6] = x, v, w0, w1, w2, w3, w4
@@ -175,7 +188,7 @@ def _sign(u):
 
 
 @njit(cache=True, fastmath=FASTMATH)
-def run_thinned(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
+def run_thinned(s, span, t0, dt, t_tail, zeta, vb, p, out, k):
     """As :func:`run` keeping every ``every``-th step, and both steps around every event the analysis reads.
 
     The events: a sign change of X' (section crossings, extremes of X), of X''
@@ -189,26 +202,23 @@ def run_thinned(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, o
     sample, next step): it stops early when fewer than 3 samples fit.
     Unforced: the external force's variant is :func:`run_thinned_forced`.
     """
-    return _thinned(False, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
-                    out_w, k)
+    return _thinned(False, s, span, t0, dt, t_tail, zeta, vb, p, out, k)
 
 
 @njit(cache=True, fastmath=FASTMATH)
-def run_thinned_forced(s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w,
-                       k):
+def run_thinned_forced(s, span, t0, dt, t_tail, zeta, vb, p, out, k):
     """:func:`run_thinned` under the external force of ``p``."""
-    return _thinned(True, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode,
-                    out_w, k)
+    return _thinned(True, s, span, t0, dt, t_tail, zeta, vb, p, out, k)
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
-def _thinned(forced, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out_t, out_x, out_v, out_fc, out_mode, out_w, k):
-    law = int(p[LAW])
-    fd, fs, vd, res = p[FD], p[FS], p[VD], p[RESULTANT] != 0.0
-    la, lb, lc = p[LAW_A], p[LAW_B], p[LAW_C]
+def _thinned(forced, s, span, t0, dt, t_tail, zeta, vb, p, out, k):
+    i0, i1, n_total, every = span
+    lw = band_law(int(p[LAW]), p)
+    vd = lw[_VD]
     x, v, w0, w1, w2, w3, w4 = s[0], s[1], s[2], s[3], s[4], s[5], s[6]
     a, kept = s[N_STATE], s[N_STATE + 1] != 0.0
-    cap = len(out_t)
+    cap = len(out.t)
     i = i0
     f1 = f2 = f4 = 0.0
     if forced:
@@ -218,21 +228,21 @@ def _thinned(forced, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out
             break
         t = t0 + i * dt
         if i % every == 0 and not kept:
-            _record(k, t, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            _record(out, k, t, x, v, _sample(x, v, f1, zeta, vb, lw), (w0, w1, w2, w3, w4))
             k += 1
             w0 = w1 = w2 = w3 = w4 = 0.0
             kept = True
         if forced:
             f2 = external_force(p, t0 + (i + 0.5) * dt)
             f4 = external_force(p, t0 + (i + 1) * dt)
-        xn, vn, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, law, fd, fs, vd, res, la, lb, lc, False, f1, f2, f4, forced)
-        an = band_force(law, fd, fs, vd, res, la, lb, lc, xn, vn, zeta, vb, f4) - xn - 2.0 * zeta * vn
+        xn, vn, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, lw, False, (f1, f2, f4), forced)
+        an = band_force(lw, xn, vn, zeta, vb, f4) - xn - 2.0 * zeta * vn
         if forced:
             an += f4
         event = (_sign(v) != _sign(vn) or _sign(a) != _sign(an) or _sign(v + 2.0 * zeta * a) != _sign(vn + 2.0 * zeta * an)
                  or band_mode(v, vb, vd) != band_mode(vn, vb, vd) or (t < t_tail <= t + dt))
         if event and not kept:
-            _record(k, t, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            _record(out, k, t, x, v, _sample(x, v, f1, zeta, vb, lw), (w0, w1, w2, w3, w4))
             k += 1
             w0 = w1 = w2 = w3 = w4 = 0.0
         w0 += d0
@@ -246,7 +256,7 @@ def _thinned(forced, s, i0, i1, n_total, every, t0, dt, t_tail, zeta, vb, p, out
         kept = False
         i += 1
         if event or i == n_total:
-            _record(k, t0 + i * dt, x, v, w0, w1, w2, w3, w4, f1, zeta, vb, law, fd, fs, vd, res, la, lb, lc, out_t, out_x, out_v, out_fc, out_mode, out_w)
+            _record(out, k, t0 + i * dt, x, v, _sample(x, v, f1, zeta, vb, lw), (w0, w1, w2, w3, w4))
             k += 1
             w0 = w1 = w2 = w3 = w4 = 0.0
             kept = True

@@ -15,6 +15,7 @@ from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, Param
 from ..core import batch, sections
 from ..core.layout import FEX, LAW, N_WORK
+from ..core.records import Samples
 from .base import kernel_params, DEFAULT_MAX_MEMORY, CoarseStepWarning, Solver, check_memory
 
 # (a step below 1e-9 or more steps than MAX_STEPS would run for days: refused up front)
@@ -50,10 +51,10 @@ class ThinnedOutputWarning(UserWarning):
     """RK4 keeps only part of its steps (the analysis is unaffected: events are kept)."""
 
 
-def _arrays(n: int) -> tuple[np.ndarray, ...]:
-    """t, X, X', F_c, mode and work arrays for ``n`` samples."""
+def _arrays(n: int) -> Samples:
+    """t, X, X', F_c, mode and work arrays for ``n`` samples (the kernels' output record)."""
     t, x, v, fc = (np.empty(n) for _ in range(4))
-    return t, x, v, fc, np.empty(n, dtype=np.int8), np.empty((n, N_WORK))
+    return Samples(t, x, v, fc, np.empty(n, dtype=np.int8), np.empty((n, N_WORK)))
 
 
 class RK4(Solver):
@@ -190,16 +191,16 @@ class RK4(Solver):
 
     def _every_step(self, n: int, x0: float, v0: float, args: tuple, max_memory: float, t_end: float, advance) -> tuple:
         check_memory(n + 1, max_memory, lambda: self.sized(t_end))
-        t, x, v, fc, mode, work = _arrays(n + 1)
+        out = _arrays(n + 1)
         state = np.zeros(kernel.N_STATE)
         state[:2] = x0, v0
         run = kernel.run_forced if args[-1][FEX] != 0.0 else kernel.run  # an unforced run compiles no forced loop
         k = 0
         for i0 in range(0, n, CHUNK):
             i1 = min(n, i0 + CHUNK)
-            k = run(state, i0, i1, n, 1, 0.0, *args, t, x, v, fc, mode, work, k)
+            k = run(state, (i0, i1, n, 1), 0.0, *args, out, k)
             advance(i1 - i0)
-        return t, x, v, fc, mode, work
+        return out
 
     def _thinned(self, n: int, every: int, x0: float, v0: float, args: tuple, max_memory: float, t_end: float, advance) -> tuple:
         # room for the regular samples and ~25 event samples per natural period; grown on demand
@@ -214,9 +215,9 @@ class RK4(Solver):
         while i < n:
             check_memory(len(bufs[0]), max_memory, lambda: self.sized(t_end))
             i1 = min(n, i + CHUNK)
-            k, i_done = thinned(state, i, i1, n, every, 0.0, args[0], t_tail, *args[1:], *bufs, k)
+            k, i_done = thinned(state, (i, i1, n, every), 0.0, args[0], t_tail, *args[1:], bufs, k)
             advance(i_done - i)
             i = i_done
             if i < i1:  # full: more room, and on from where it stopped
-                bufs = tuple(np.concatenate([b, np.empty((len(b),) + b.shape[1:], b.dtype)]) for b in bufs)
+                bufs = Samples(*(np.concatenate([b, np.empty((len(b),) + b.shape[1:], b.dtype)]) for b in bufs))
         return tuple(b[:k] for b in bufs)
