@@ -40,7 +40,6 @@ OVER_LIMIT = {
     "frictionflow.core.flowmap:flow_map": (241, 14),
     "frictionflow.core.forced_map:flow_map": (126, 13),
     "frictionflow.core.records:run_record": (28, 16),
-    "frictionflow.core.roots:_next": (19, 13),
     "frictionflow.core.sections:classify": (130, 8),
     "frictionflow.core.tangent:rk4_step": (14, 13),
     "frictionflow.core.tangent:_g_step": (4, 13),

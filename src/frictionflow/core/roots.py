@@ -85,25 +85,29 @@ def _secant(lo, hi, flo, fhi):
 
 
 @njit(cache=True)
-def _next(lo, hi, flo, fhi, side, n, width, stall, xtol, rtol, ftol, maxiter, xscale):
-    """The record after the bracket moved to (lo, hi): converged, out of points, or its next point."""
+def _next(b, lo, hi, flo, fhi, side, n):
+    """The record after the bracket moved to (lo, hi): converged, out of points, or its next point.
+
+    ``b`` is the record before the move: its settings, and the width and stall count it carries.
+    """
     w = abs(hi - lo)
+    width, stall = b.width, b.stall
     if w <= 0.5 * width:
         width, stall = w, 0
     else:
         stall += 1
     x = hi
-    if w <= xtol + rtol * max(abs(hi), xscale):
+    if w <= b.xtol + b.rtol * max(abs(hi), b.xscale):
         status = CONVERGED
-    elif n >= maxiter:
+    elif n >= b.maxiter:
         status = MAX_ITER
     else:
-        a, b = min(lo, hi), max(lo, hi)
+        a, c = min(lo, hi), max(lo, hi)
         x = _secant(lo, hi, flo, fhi) if stall < STALL else math.nan
-        if not a < x < b:
+        if not a < x < c:
             x = _bisect(lo, hi)
-        status = RUNNING if a < x < b else CONVERGED  # no float strictly inside: as close as it gets
-    return Bracket(lo, hi, flo, fhi, x, side, n, status, width, stall, xtol, rtol, ftol, maxiter, xscale)
+        status = RUNNING if a < x < c else CONVERGED  # no float strictly inside: as close as it gets
+    return Bracket(lo, hi, flo, fhi, x, side, n, status, width, stall, b.xtol, b.rtol, b.ftol, b.maxiter, b.xscale)
 
 
 @njit(cache=True)
@@ -120,7 +124,8 @@ def bracket(lo, hi, flo, fhi, xtol, rtol, ftol, maxiter, xscale=0.0):
         return Bracket(r, r, fr, fr, r, 0, 0, CONVERGED, 0.0, 0, xtol, rtol, ftol, maxiter, xscale)
     if not ((flo < 0.0 < fhi) or (fhi < 0.0 < flo)):
         return Bracket(lo, hi, flo, fhi, hi, 0, 0, NO_SIGN_CHANGE, 0.0, 0, xtol, rtol, ftol, maxiter, xscale)
-    return _next(lo, hi, flo, fhi, 0, 0, math.inf, 0, xtol, rtol, ftol, maxiter, xscale)
+    start = Bracket(lo, hi, flo, fhi, hi, 0, 0, RUNNING, math.inf, 0, xtol, rtol, ftol, maxiter, xscale)
+    return _next(start, lo, hi, flo, fhi, 0, 0)
 
 
 @njit(cache=True)
@@ -141,7 +146,7 @@ def update(b, x, fx):
     n = b.n + 1
     if abs(fx) <= b.ftol:
         return Bracket(x, x, fx, fx, x, side, n, CONVERGED, 0.0, 0, b.xtol, b.rtol, b.ftol, b.maxiter, b.xscale)
-    return _next(lo, hi, flo, fhi, side, n, b.width, b.stall, b.xtol, b.rtol, b.ftol, b.maxiter, b.xscale)
+    return _next(b, lo, hi, flo, fhi, side, n)
 
 
 @njit(cache=True)
