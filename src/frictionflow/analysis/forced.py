@@ -37,7 +37,6 @@ periods of the forcing.
 
 from __future__ import annotations
 
-import math
 from typing import Callable
 
 import numpy as np
@@ -45,7 +44,7 @@ import numpy as np
 from ..core.sections import _stationary
 # the test's constants, shared with its compiled port (the batched forced sweep)
 from ..core import strobe
-from ..core.strobe import LYAPUNOV_PERIODS, LYAPUNOV_STEPS, LYAPUNOV_TRANSIENT, MAX_MULTIPLE, REVISIT_SHARE, SECTION_MATCH
+from ..core.strobe import LYAPUNOV_PERIODS, LYAPUNOV_STEPS, LYAPUNOV_TRANSIENT, MAX_MULTIPLE, REVISIT_SHARE
 from ..trajectory import Trajectory
 from .lyapunov import lyapunov_exponents
 
@@ -54,17 +53,14 @@ JITTER_REPEATS = 8
 
 
 def section_indices(traj: Trajectory) -> np.ndarray:
-    """Indices of the samples at the stroboscopic times k 2 pi / Omega (k = 0, 1, ...)."""
-    period = traj.model.forcing_period
-    k = np.arange(0, int(math.floor(traj.t[-1] / period * (1 + 1e-12))) + 1)
-    times = k * period
-    i = np.clip(np.searchsorted(traj.t, times - SECTION_MATCH * period), 0, len(traj.t) - 1)
-    ok = np.abs(traj.t[i] - times) <= SECTION_MATCH * period * np.maximum(1.0, k)
-    if not ok.all():
-        missing = times[~ok][0]
-        raise RuntimeError(f"solver={traj.solver.get('name')} did not sample the stroboscopic section at tau={missing:.10g}"
-                           " (forced runs must sample every k 2 pi / Omega)")
-    return i
+    """Indices of the samples at the stroboscopic times k 2 pi / Omega (k = 0, 1, ...)
+    (:func:`frictionflow.core.strobe.section_indices`); RuntimeError where one has no sample."""
+    period = float(traj.model.forcing_period)
+    idx = strobe.section_indices(np.ascontiguousarray(traj.t, dtype=float), len(traj.t), period)
+    if len(idx) < strobe.section_count(float(traj.t[-1]), period):
+        raise RuntimeError(f"solver={traj.solver.get('name')} did not sample the stroboscopic section at "
+                           f"tau={len(idx) * period:.10g} (forced runs must sample every k 2 pi / Omega)")
+    return idx
 
 
 def section_scale(x: np.ndarray, v: np.ndarray, traj: Trajectory) -> float:

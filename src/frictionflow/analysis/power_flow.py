@@ -83,12 +83,9 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
     (:func:`frictionflow._continuous.dwork_at`); windows that start and end
     on samples sum the solver's own work integrals.
     """
-    if window is None:
-        i0, i1 = 0, len(traj) - 1
-        t0, t1 = float(traj.t[i0]), float(traj.t[i1])
-        return PowerFlow.from_row((t0, t1), sec.averages(*traj.window_work(i0, i1), *traj.energy[[i0, i1]], t1 - t0))
-    t0, t1 = _checked_window(traj, window)
-    i0, i1 = np.searchsorted(traj.t, (t0, t1))
+    t0, t1 = (float(traj.t[0]), float(traj.t[-1])) if window is None else _checked_window(traj, window)
+    # the first sample at t0 and the last at t1 (a switch can leave two samples at one time)
+    i0, i1 = int(np.searchsorted(traj.t, t0)), int(np.searchsorted(traj.t, t1, side="right")) - 1
     if traj.t[i0] == t0 and traj.t[i1] == t1:  # on samples: the solver's own integrals
         return PowerFlow.from_row((t0, t1), sec.averages(*traj.window_work(i0, i1), *traj.energy[[i0, i1]], t1 - t0))
     ends = np.array([t0, t1])

@@ -120,11 +120,8 @@ def _exact_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, rtol, min
         t_mode = np.zeros(1, dtype=np.int64)
         # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
         # (every argument positional and typed as from the façades: one compiled builder; no bare int constant)
-        # The final slip phase ends the run only where it decays onto X* (zeta > 0); undamped it is a
-        # circle about X* for ever, a periodic motion the section records must see.
-        decays = np.bool_(stop_early and zeta[j] > 0.0)
         run = run_record(x0[j], v0[j], t_end, zeta[j], vb[j], sec.tail_start(0.0, t_end), 0.0, 0.0, 0.0, np.int64(0),
-                         stop_early, decays, rtol, min_periods, 0.0, 0.0)
+                         stop_early, stop_early, rtol, min_periods, 0.0, 0.0)
         k, ne, status, t_term, t_stop = exact.run(run, p[j], samples, events, t_mode)
         full[j] = status == exact.FULL
         if full[j]:

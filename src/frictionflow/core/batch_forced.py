@@ -74,7 +74,7 @@ def _judge(samples, k, p, zeta, vb, settings, out, aux):
         return
     period = 2.0 * math.pi / p[OMEGA]
     idx = strobe.section_indices(t, k, period)
-    if len(idx) == 0:
+    if len(idx) < strobe.section_count(t[k - 1], period):
         aux[A_STATUS] = FACADE  # a section time without a sample: the façade raises
         return
     n = len(idx)

@@ -527,7 +527,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
     when the final phase (from which no boundary is ever crossed again)
     began, or -1 (its friction mode goes to ``t_mode[0]``); ``t_stop`` where the run stopped early (``stop_periodic``:
     the section values repeated to ``rtol`` for ``min_periods`` periods;
-    ``stop_terminal``: the final phase was reached), else ``t_end``.
+    ``stop_terminal``: a damped final phase was reached), else ``t_end``.
     Status FULL means an output array was too short.  Unforced only: a force
     record with F_ex > 0 goes to :func:`run_forced` (the façade chooses, so
     that a first unforced run compiles only this kernel).
@@ -651,7 +651,9 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
         if never and t_terminal < 0.0:
             t_terminal = t
             t_mode[0] = FRICTION_MODE[mode]
-            if stop_terminal:
+            # a final slip phase decays onto X* only with damping; undamped it circles X* for ever,
+            # a periodic motion the section records must see
+            if stop_terminal and zeta > 0.0:
                 return k, ne, DONE, t_terminal, t
         if which < 0 or math.isnan(xe):
             xe, ve, _ = cf.state_with(co, dyn, zeta, force, x, v, T)

@@ -2,14 +2,14 @@
 
 :mod:`frictionflow.analysis.forced` judges a forced run on the states at the
 stroboscopic times k 2 pi / Omega; :mod:`.batch_forced` judges many runs in
-compiled threads and must give the same answer.  These are its pieces, each
-a line-by-line port of the numpy it mirrors, with the same floating-point
-operations in the same order (so the results are the same bits, not only
-close):
+compiled threads and must give the same answer.  These are its pieces; the
+window values are line-by-line ports of the numpy they mirror, with the same
+floating-point operations in the same order (so the results are the same
+bits, not only close):
 
-* :func:`section_indices` -- ``forced.section_indices``;
-* :func:`repeat_multiple` -- ``forced.repeat_multiple``;
-* :func:`revisits` -- ``forced.revisits``;
+* :func:`section_indices`, :func:`repeat_multiple`, :func:`revisits` -- the
+  section and its repetition test, which :mod:`frictionflow.analysis.forced`
+  calls too (stated once, here);
 * :func:`window_row` -- what :func:`frictionflow.analysis.analyze` reports over
   a window that starts and ends on samples: ``power_flow`` (its sums of the
   work integrals: numpy's axis-0 sum, sequential), ``transmissibility``,
@@ -63,19 +63,23 @@ def first_at_or_after(t, k, value):
 
 
 @njit(cache=True)
-def section_indices(t, k, period):
-    """Indices of the samples ``t[:k]`` at tau_j = j ``period`` (j = 0, 1, ...); an empty array if one is missing.
+def section_count(t_last, period):
+    """How many section times tau_j = j ``period`` a run to ``t_last`` has (j = 0 included)."""
+    return int(math.floor(t_last / period * (1 + 1e-12))) + 1
 
-    The façade raises where a section time has no sample; the caller leaves such a run to it.
-    """
-    n = int(math.floor(t[k - 1] / period * (1 + 1e-12))) + 1
+
+@njit(cache=True)
+def section_indices(t, k, period):
+    """Indices of the samples ``t[:k]`` at tau_j = j ``period`` (j = 0, 1, ...), up to the first section
+    time without a sample (fewer than :func:`section_count` then: the façade raises, naming it)."""
+    n = section_count(t[k - 1], period)
     match = SECTION_MATCH * period
     idx = np.empty(n, dtype=np.int64)
     for j in range(n):
         time = j * period
         i = min(max(first_at_or_after(t, k, time - match), 0), k - 1)
         if not abs(t[i] - time) <= match * max(1.0, float(j)):
-            return idx[:0]
+            return idx[:j]
         idx[j] = i
     return idx
 

@@ -64,15 +64,13 @@ from .. import quantities as Q
 from .._display import Row, Summarized, num, pairs, system_row
 from .._json import jsonable
 from ..core import forced_map as fm
-from ..core import sections as sec, tangent
+from ..core import tangent
 from ..friction.base import FrictionLaw
 from ..friction.registry import tangent_law_names
 from ..params import BeltOscillator
 from ..solvers.base import kernel_params
-from ..analysis.power_flow import power_flow
 from ..analysis.steady_state import stick_fraction
-from ..analysis.transmissibility import amplitude, transmissibility
-from .measures import one_period
+from .measures import measures_of, one_period
 from .tracing import ContinuationProblem, Corrector, Crossing, StepControl, Step, Stop, Tracer
 
 #: RK4 grid steps per forcing period unless told
@@ -200,18 +198,17 @@ def measures(model: BeltOscillator, friction: FrictionLaw, run: MapRun) -> dict[
     accurate there.  The distances to grazing come from the map's run.
     """
     traj = one_period(model, friction, tuple(run.start), run.span)
-    power = power_flow(traj)
-    ext = amplitude(traj)
+    m = measures_of(traj)
     st = run.stats
     durations = stick_phases(run)
     return {
-        "amplitude": 0.5 * (ext["X_max"] - ext["X_min"]),
-        "X_min": ext["X_min"],
-        "X_max": ext["X_max"],
-        "TR_B": transmissibility(traj),
+        "amplitude": m.amplitude,
+        "X_min": m.extremes["X_min"],
+        "X_max": m.extremes["X_max"],
+        "TR_B": m.TR_B,
         "stick_fraction": stick_fraction(traj, (traj.t[0], traj.t[-1])),
-        "averages": {n: getattr(power, n) for n in Q.FORCED_AVERAGES},
-        "energy_residual": power.energy_residual,
+        "averages": {n: getattr(m.power, n) for n in Q.FORCED_AVERAGES},
+        "energy_residual": m.power.energy_residual,
         "stick_phases": len(durations),
         "shortest_stick": float(durations.min()) if len(durations) else math.nan,
         "min_gap": float(st[fm.S_GAP]),

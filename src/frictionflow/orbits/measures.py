@@ -62,7 +62,11 @@ def measure(model: BeltOscillator, friction: FrictionLaw, state: tuple[float, fl
     """Power flow, TR_B and extremes of the orbit through ``state`` with ``period``."""
     if not (period > 0 and math.isfinite(period)):
         raise ValueError(f"period must be finite and > 0, got {period!r}")
-    traj = one_period(model, friction, state, period, solver=solver)
+    return measures_of(one_period(model, friction, state, period, solver=solver))
+
+
+def measures_of(traj: Trajectory) -> OrbitMeasures:
+    """Power flow, TR_B and extremes over the whole of ``traj`` (one period of an orbit)."""
     return OrbitMeasures(power=power_flow(traj), TR_B=transmissibility(traj), extremes=amplitude(traj))
 
 
