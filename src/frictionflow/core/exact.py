@@ -651,9 +651,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
         if never and t_terminal < 0.0:
             t_terminal = t
             t_mode[0] = FRICTION_MODE[mode]
-            # a final slip phase decays onto X* only with damping; undamped it circles X* for ever,
-            # a periodic motion the section records must see
-            if stop_terminal and zeta > 0.0:
+            if stop_terminal and zeta > 0.0:  # undamped, a final slip phase circles X* for ever: periodic
                 return k, ne, DONE, t_terminal, t
         if which < 0 or math.isnan(xe):
             xe, ve, _ = cf.state_with(co, dyn, zeta, force, x, v, T)
