@@ -22,7 +22,6 @@ OVER_LIMIT = {
     "frictionflow.core.batch:adaptive_points": (10, 14),
     "frictionflow.core.batch:_adaptive_points": (19, 19),
     "frictionflow.core.batch:_rk4_rows": (4, 15),
-    "frictionflow.core.batch_forced:forced_points": (26, 13),
     "frictionflow.core.dopri:_run": (295, 5),
     "frictionflow.core.dopri:_gd": (5, 13),
     "frictionflow.core.dopri:_root_between": (14, 14),
