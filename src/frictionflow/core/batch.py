@@ -138,8 +138,8 @@ def exact_points(p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray
     with_room(_exact_points, len(zeta), cap, Points(p, zeta, vb, x0, v0), t_end, judge, out, True)
 
 
-# Flags arrive as arguments from Python, never as constants written in a kernel: numba would compile the
-# callees once more for each constant (a literal type), seconds on a fresh cache.
+# Flags arrive from Python (arguments, Judge's fixed_step), never as constants written in a kernel: numba would
+# compile the callees once more for each constant (a literal type), seconds on a fresh cache.
 @njit(cache=True, nogil=True)
 def _exact_points(j0, j1, todo, cap, full, points, t_end, judge, out, stop_early):
     p, zeta, vb, x0, v0 = points
