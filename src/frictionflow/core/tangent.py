@@ -139,7 +139,7 @@ def accel(d, x, v, t, zeta, vb, p):
     return d * slip_force(p, d * (vb - v)) + external_force(p, t) - x - 2.0 * zeta * v
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rhs(y, t, d, zeta, vb, p, out):
     """The slip field of the state and of both tangent vectors."""
     x = y[0]
@@ -159,7 +159,7 @@ def scratch():
     return Scratch(np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rk4_step(y, t, h, d, zeta, vb, p, sc):
     """One classical RK4 step of length h from (y, t) into ``sc.out`` (``sc``: a :class:`Scratch`)."""
     k1, k2, k3, k4, tmp, out = sc.k1, sc.k2, sc.k3, sc.k4, sc.tmp, sc.out
