@@ -209,7 +209,8 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, sc):
     ``fresh``: the phase began at t (g(0) = 0; the left end of a bracket is then looked for inside).
     """
     g0 = d * (vb - y[1])
-    g1 = _g_step(y, t, h, d, zeta, vb, p, sc)
+    rk4_step(y, t, h, d, zeta, vb, p, sc)  # the step almost every call takes: inlined here, not through _g_step
+    g1 = d * (vb - sc.out[1])
     a0 = accel(d, y[0], y[1], t, zeta, vb, p)
     noise = rounding_noise(y[1], vb)
     if fresh and abs(g1) <= noise:
