@@ -139,6 +139,9 @@ def accel(d, x, v, t, zeta, vb, p):
     return d * slip_force(p, d * (vb - v)) + external_force(p, t) - x - 2.0 * zeta * v
 
 
+# rhs and rk4_step are inlined by numba (inline="always"): a call of a compiled function costs
+# two atomic reference-count updates per array argument, as much as rhs's arithmetic, and
+# LLVM's inlining keeps them.  rk4_step has two copies: _g_step's and slip_until's first step.
 @njit(cache=True, inline="always")
 def rhs(y, t, d, zeta, vb, p, out):
     """The slip field of the state and of both tangent vectors."""
@@ -209,7 +212,7 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, sc):
     ``fresh``: the phase began at t (g(0) = 0; the left end of a bracket is then looked for inside).
     """
     g0 = d * (vb - y[1])
-    rk4_step(y, t, h, d, zeta, vb, p, sc)  # the step almost every call takes: inlined here, not through _g_step
+    rk4_step(y, t, h, d, zeta, vb, p, sc)  # the step nearly every call takes: inlined, not a call of _g_step
     g1 = d * (vb - sc.out[1])
     a0 = accel(d, y[0], y[1], t, zeta, vb, p)
     noise = rounding_noise(y[1], vb)
