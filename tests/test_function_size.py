@@ -32,11 +32,6 @@ OVER_LIMIT = {
     "frictionflow.core.forced_map:flow_map": (126, 13),
     "frictionflow.core.records:run_record": (28, 16),
     "frictionflow.core.sections:classify": (130, 8),
-    "frictionflow.core.tangent:rk4_step": (14, 13),
-    "frictionflow.core.tangent:_g_step": (4, 13),
-    "frictionflow.core.tangent:_refine": (7, 16),
-    "frictionflow.core.tangent:slip_until": (40, 14),
-    "frictionflow.core.tangent:run": (113, 12),
 }
 
 
