@@ -47,7 +47,17 @@ Replication (:func:`run`, ``replicate``): an unforced phase's computation
 reads the state at its start, not the absolute time, so a stick-slip cycle
 that returns to a bitwise-equal switch state repeats bit for bit from there;
 it is copied (times accumulated by the same additions) instead of integrated
-again, within the limits that keep the copy identical to the integration.
+again, within the limits that keep the copy identical to the integration
+(:func:`_replicate`); not with a dense grid or the periodic stop.
+
+:func:`run`'s last two arguments also choose what is compiled:
+``replicate`` None (the default) compiles a run without replication, True
+or False with it (on or off); ``periodic_stop`` None a run without the
+periodic stop (``stop_periodic``: the section values repeat to ``rtol`` for
+``min_periods`` periods; ignored then).  The façade, whose runs never stop
+early, passes (replicate, None); the batched sweeps leave both out.  (numba
+drops a branch on ``arg is None`` when the argument is None or left out, in
+inlined callees too: its callees are not even compiled.)
 """
 
 from __future__ import annotations
@@ -540,29 +550,30 @@ def _enter(s, x, v):
 
 @njit(cache=True, inline="always")
 def _replication(s, replicate, periodic_stop):
-    """(on, rel, rp): whether :func:`run` replicates (:func:`_replicate`), the array of its stretch, no reference yet."""
+    """(on, rel, rp, n_rel, reach): whether :func:`run` replicates (:func:`_replicate`), the array of its stretch, no reference yet."""
     on = False
     if replicate is not None:
         on = replicate and s.dense_dt == 0.0 and not (s.stop_periodic and periodic_stop is not None)
     rel = np.zeros(REP_CAP if on else 1)
-    return on, rel, Stretch(0.0, 0.0, np.int64(0), np.int64(0), 0, 0.0, 0, -1, -1, 0.0, 0)
+    return on, rel, Stretch(0.0, 0.0, np.int64(0), np.int64(0), 0, 0.0, 0, -1, -1, 0.0, 0), -1, 0.0
 
 
 @njit(cache=True, forceinline=True)
-def _phase_end(s, mode, dyn, force, x, v, t):
-    """How the unforced phase from (x, v) at t ends: (co, T, which, never, xe, ve, reach).
+def _phase_end(s, mode, dfk, x, v, t):
+    """How the unforced phase from (x, v) at t ends: (ph, T, which, never, xe, ve, reach).
 
-    ``co``: its closed form; T its length (up to t_end if no boundary is
+    ``dfk``: its :func:`dynamics`; ``ph``: the :data:`Phase`; T its length (up to t_end if no boundary is
     crossed before, ``which`` = -1); (xe, ve) the state at its end; never,
     reach: :func:`first_switch`'s.
     """
+    dyn, force, fck = dfk
     co = cf.coefficients(dyn, s.zeta, force, x, v)
     n_b, bs = mode_boundaries(mode, s.law, s.zeta, s.vb, s.fd, s.fs, s.vd, s.res)
     tau, which, never, xe, ve, reach = first_switch(co, dyn, s.zeta, force, x, v, n_b, bs, s.t_end - t)
     T = tau if which >= 0 else s.t_end - t
     if which < 0 or math.isnan(xe):
         xe, ve, _ = cf.state_with(co, dyn, s.zeta, force, x, v, T)
-    return co, T, which, never, xe, ve, reach
+    return Phase(co, dyn, s.zeta, force, fck, s.vb, FRICTION_MODE[mode], t, x, v), T, which, never, xe, ve, reach
 
 
 @njit(cache=True, inline="always")
@@ -618,48 +629,33 @@ def _sections_at(ring, sc, s, vzero, xb, t_abs, acc):
     return (n_max, n_min, x_seen), stop
 
 
-@njit(cache=True, inline="always")
-def _inside(ph, T, s, w, outs, k, rel, n_rel, ring, sc, replicate, periodic_stop):
-    """The samples inside the phase ``ph`` (:data:`Phase`) of length T, in time order, each with the work since the previous one.
+@njit(cache=True, forceinline=True)
+def _phase_sources(ph, T, s, n_rel):
+    """(tz, tt, src, n_rel): the zero of a state-dependent F_c and the tail's start inside the phase ``ph`` of
+    length T (inf: none), its first window (:func:`_window`), and the replication's ``n_rel`` (-1 if the tail
+    starts inside: this stretch does not repeat)."""
+    tz = _fc_zero(ph.dyn, ph.fck, ph.zeta, ph.x, ph.v, T)
+    tt = s.t_tail - ph.t if 0.0 < s.t_tail - ph.t < T else np.inf
+    return tz, tt, _window(ph.co, ph.dyn, ph.zeta, ph.t, 0.0, tz, tt, s.dense_dt), (-1 if tt < np.inf else n_rel)
 
-    ``rel``, ``n_rel``: the replication's stretch (:func:`_push_rel`);
-    ``ring``, ``sc``: the periodic stop's (:func:`_sections_at`);
-    ``replicate``, ``periodic_stop``: :func:`run`'s (None: not compiled).
-    Returns (status, k, t_stop, ta, xa, va, n_rel, sc): status :data:`GO_ON`,
-    or FULL, or DONE at a periodic stop, where the run stopped at t_stop;
-    (ta, xa, va) the last sample, where the phase's last piece starts.
+
+@njit(cache=True, forceinline=True)
+def _next_in_phase(ph, T, src, ta, tz, tt, dense_dt):
+    """The next sample inside the phase ``ph`` after ``ta``: (tb, kind, src, X, X', X'') (:func:`_next_sample`); tb >= T: none.
+
+    A zero of X' (kind 0) has X' set to exactly 0: the section crossing is then a sample.
+    (No arrays here: the loop that writes the samples stays in :func:`run`, see :mod:`.samples`.)
     """
-    t, x, v = ph.t, ph.x, ph.v
-    tz = _fc_zero(ph.dyn, ph.fck, ph.zeta, x, v, T)
-    tt = s.t_tail - t if 0.0 < s.t_tail - t < T else np.inf
-    if replicate is not None and tt < np.inf:
-        n_rel = -1  # the tail's sample: this stretch does not repeat
-    src = _window(ph.co, ph.dyn, ph.zeta, t, 0.0, tz, tt, s.dense_dt)
-    ta, xa, va = 0.0, x, v
     while True:
-        tb, kind, src = _next_sample(src, t, s.dense_dt)
+        tb, kind, src = _next_sample(src, ph.t, dense_dt)
         if tb >= T:
-            break
+            return tb, kind, src, 0.0, 0.0, 0.0
         if kind == 2:
-            src = _window(ph.co, ph.dyn, ph.zeta, t, tb, tz, tt, s.dense_dt)
+            src = _window(ph.co, ph.dyn, ph.zeta, ph.t, tb, tz, tt, dense_dt)
         if tb <= ta:
             continue  # the same time from another source
-        xb, vb_, acc = cf.state_with(ph.co, ph.dyn, ph.zeta, ph.force, x, v, tb)
-        if kind == 0:
-            vb_ = 0.0  # a zero of X', exactly: the section crossing is then a sample
-        _add_piece(w, ph, xa, va, xb, vb_, tb - ta)
-        if not emit(outs, k, t + tb, xb, vb_, friction_force(ph.fck, ph.force, xb, vb_, ph.zeta), ph.fmode, w):
-            return FULL, k, t + ta, ta, xa, va, n_rel, sc
-        k += 1
-        if replicate is not None and n_rel >= 0:
-            n_rel = _push_rel(rel, n_rel, tb, True)
-        ta, xa, va = tb, xb, vb_
-        if periodic_stop is None:
-            continue
-        sc, stop = _sections_at(ring, sc, s, kind == 0, xb, t + tb, acc)
-        if stop:
-            return DONE, k, t + tb, ta, xa, va, n_rel, sc
-    return GO_ON, k, 0.0, ta, xa, va, n_rel, sc
+        xb, vb_, acc = cf.state_with(ph.co, ph.dyn, ph.zeta, ph.force, ph.x, ph.v, tb)
+        return tb, kind, src, xb, (0.0 if kind == 0 else vb_), acc
 
 
 @njit(cache=True, inline="always")
@@ -691,7 +687,22 @@ def _copy_stretch(rel, outs, events, rp, t, k, ne):
 
 
 @njit(cache=True, inline="always")
-def _replicate(rp, n_rel, reach, rel, outs, events, sw, s):
+def _copy_while(rp, reach, rel, outs, events, s, t, k, ne):
+    """Copy the repeating stretch of ``rp`` (:func:`_replicate`) while no copy meets the tail's start or comes within
+    the search horizon ``reach`` of t_end, and it fits: (t, k, ne, rp) after the copies."""
+    margin = 1e-9 * (1.0 + s.t_end)  # the rounding of times within a stretch, generously
+    copied = rp.copied
+    while (t + reach + margin < s.t_end and not (t < s.t_tail < t + rp.period + margin)
+           and k + rp.n_rows <= len(outs[0]) and ne + rp.n_ev <= len(events[0])):
+        t = _copy_stretch(rel, outs, events, rp, t, k, ne)
+        k += rp.n_rows
+        ne += rp.n_ev
+        copied += rp.n_ev
+    return t, k, ne, Stretch(rp.x, rp.v, rp.mode, rp.k, rp.ne, rp.t, rp.n_phase, rp.n_rows, rp.n_ev, rp.period, copied)
+
+
+@njit(cache=True, forceinline=True)
+def _replicate(rp, n_rel, reach, sw):
     """Replication at the start of a phase (:func:`run`, ``replicate``), ``sw`` = (mode, x, v, t, k, ne) there.
 
     A phase's computation reads the state at its start and its length only,
@@ -700,11 +711,9 @@ def _replicate(rp, n_rel, reach, rel, outs, events, sw, s):
     motion in a state bitwise equal to that of the reference switch ``rp``
     (:data:`Stretch`) and the stretch since it was recorded whole in ``rel``
     (``n_rel`` samples; -1: not recorded or not repeatable), it repeats bit
-    for bit: it is copied (:func:`_copy_stretch`) as long as no copy reaches
-    the tail's start or comes within the search horizon ``reach`` (of
-    :func:`first_switch`, over the stretch) of t_end.  Without a repeat the
+    for bit: it is copied (:func:`_copy_while`).  Without a repeat the
     reference moves to phases 0, 1, 2, 4, 8, ... (Brent: any cycle is met).
-    Returns (rp, n_rel, reach, t, k, ne).
+    Returns (rp, n_rel, reach, copy): copy the stretch now.
     """
     mode, x, v, t, k, ne = sw
     same = (mode == rp.mode and x == rp.x and v == rp.v and math.copysign(1.0, x) == math.copysign(1.0, rp.x)
@@ -712,64 +721,39 @@ def _replicate(rp, n_rel, reach, rel, outs, events, sw, s):
     if same and rp.n_rows < 0 and n_rel == k - 1 - rp.k:  # the stretch repeats: fixed from now on
         rp = Stretch(rp.x, rp.v, rp.mode, rp.k, rp.ne, rp.t, rp.n_phase, n_rel, ne - rp.ne, t - rp.t, rp.copied)
         n_rel = -1
-    copied = rp.copied
-    if same and rp.n_rows > 0:
-        margin = 1e-9 * (1.0 + s.t_end)  # the rounding of times within a stretch, generously
-        # copy it while no copy meets the tail's start or the horizon, and it fits
-        while (t + reach + margin < s.t_end and not (t < s.t_tail < t + rp.period + margin)
-               and k + rp.n_rows <= len(outs[0]) and ne + rp.n_ev <= len(events[0])):
-            t = _copy_stretch(rel, outs, events, rp, t, k, ne)
-            k += rp.n_rows
-            ne += rp.n_ev
-            copied += rp.n_ev
-    elif rp.n_rows < 0 and rp.n_phase & (rp.n_phase - 1) == 0:
-        rp = Stretch(x, v, mode, k - 1, ne, t, rp.n_phase, rp.n_rows, rp.n_ev, rp.period, copied)
+    copy = same and rp.n_rows > 0
+    if not copy and rp.n_rows < 0 and rp.n_phase & (rp.n_phase - 1) == 0:
+        rp = Stretch(x, v, mode, k - 1, ne, t, rp.n_phase, rp.n_rows, rp.n_ev, rp.period, rp.copied)
         n_rel, reach = 0, 0.0
-    return Stretch(rp.x, rp.v, rp.mode, rp.k, rp.ne, rp.t, rp.n_phase + 1, rp.n_rows, rp.n_ev, rp.period, copied), n_rel, reach, t, k, ne
+    return Stretch(rp.x, rp.v, rp.mode, rp.k, rp.ne, rp.t, rp.n_phase + 1, rp.n_rows, rp.n_ev, rp.period, rp.copied), n_rel, reach, copy
 
 
 @njit(cache=True)
 def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
-    """Integrate from (x0, v0) at t = 0 to ``t_end`` switch by switch.
+    """Integrate from (x0, v0) at t = 0 to ``t_end`` switch by switch (unforced: F_ex > 0 goes to :func:`run_forced`).
 
     ``run``: the run record (:func:`.records.run_record`; its ODE slots are
-    not read); ``p``: the force record (:mod:`.layout`), unforced (F_ex > 0
-    goes to :func:`run_forced`: the façade chooses, so that an unforced run
-    compiles only this kernel).  Samples go to ``samples`` = (t, x, v, fc,
-    mode, work), switches to ``events`` = (t, mode) (:mod:`.records`).
-
-    Returns (k, ne, status, t_terminal, t_stop): the numbers of samples and
-    of switches (all counted, ``events`` keeps those that fit; status FULL:
-    an output array was too short); when the final phase (from which no
-    boundary is ever crossed again) began, or -1 (its friction mode goes to
-    ``t_mode[0]``); where the run stopped early (``stop_periodic``: the
-    section values repeated to ``rtol`` for ``min_periods`` periods;
-    ``stop_terminal``: a damped final phase was reached), else ``t_end``.
-
-    ``replicate`` (:func:`_replicate`): copy a stretch of switches that
-    repeats bit for bit; not with a dense grid or the periodic stop;
-    ``t_mode[1]``, if present, receives the number of switches copied.  The
-    last two arguments also choose what is compiled: ``replicate`` None
-    compiles no replication, True or False compiles it (on or off);
-    ``periodic_stop`` None no periodic stop (``stop_periodic`` ignored).
-    The façade passes (replicate, None), the batched sweeps neither.  (numba
-    drops a branch on ``arg is None``, in inlined callees too.)
+    not read); ``p``: the force record (:mod:`.layout`).  Samples go to
+    ``samples`` = (t, x, v, fc, mode, work), switches to ``events`` = (t,
+    mode) (:mod:`.records`).  Returns (k, ne, status, t_terminal, t_stop):
+    the numbers of samples and of switches (all counted, ``events`` keeps
+    those that fit; FULL: an output array was too short); when the final
+    phase (no boundary is ever crossed again) began, or -1 (its friction
+    mode goes to ``t_mode[0]``); where the run stopped early
+    (``stop_periodic``, ``stop_terminal``), else ``t_end``.  ``replicate``
+    and ``periodic_stop``: see the module's docstring (``t_mode[1]``, if
+    present, receives the number of switches copied).
     """
     s = _settings(run, p)
-    t_end, zeta, vb = s.t_end, s.zeta, s.vb
-    out_t, out_x, out_v, out_fc, out_mode, out_w = samples
-    outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
+    t_end, zeta = s.t_end, s.zeta
+    outs = (samples[0], samples[1], samples[2], samples[3], samples[4], samples[5])
     w = np.zeros(N_WORK)  # the work integrals since the last sample (emit restarts them)
     ring = np.zeros(4 * (int(run[MIN_PERIODS]) + 2))  # (np.zeros as for w: one allocation routine to compile)
     sc = (0, 0, abs(run[X0]))
     t, x = 0.0, run[X0]
     mode, v = _enter(s, x, run[V0])
-    k = np.int64(0)  # not a literal: emit compiles once
-    ne = zero_len = 0
-    t_terminal = -1.0
-    rep, rel, rp = _replication(s, replicate, periodic_stop)
-    n_rel, reach = -1, 0.0
-    t_min = 8.0 * EPS * (1.0 + t_end)  # shorter phases enter the zero-length count, which reads the absolute time
+    k, ne, zero_len, t_terminal = np.int64(0), 0, 0, -1.0  # k not a literal: emit compiles once
+    rep, rel, rp, n_rel, reach = _replication(s, replicate, periodic_stop)
     while True:
         # a phase starts (the run's start, or a switch) or the run ends: a sample
         dyn, force, fck = dynamics(mode, zeta, s.fd, s.fs, s.res)
@@ -779,8 +763,10 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
         if t >= t_end:
             break
         if replicate is not None and rep and zero_len == 0:
-            rp, n_rel, reach, t, k, ne = _replicate(rp, n_rel, reach, rel, outs, events, (mode, x, v, t, k, ne), s)
-        co, T, which, never, xe, ve, reach_p = _phase_end(s, mode, dyn, force, x, v, t)
+            rp, n_rel, reach, copy = _replicate(rp, n_rel, reach, (mode, x, v, t, k, ne))
+            if copy:
+                t, k, ne, rp = _copy_while(rp, reach, rel, outs, events, s, t, k, ne)
+        ph, T, which, never, xe, ve, reach_p = _phase_end(s, mode, (dyn, force, fck), x, v, t)
         if replicate is not None and n_rel >= 0:
             reach = max(reach, (t - rp.t) + reach_p)
         if never and t_terminal < 0.0:
@@ -788,10 +774,24 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
             t_mode[0] = FRICTION_MODE[mode]
             if s.stop_terminal and zeta > 0.0:  # undamped, a final slip phase circles X* for ever: periodic
                 return k, ne, DONE, t_terminal, t
-        ph = Phase(co, dyn, zeta, force, fck, vb, FRICTION_MODE[mode], t, x, v)
-        status, k, t_stop, ta, xa, va, n_rel, sc = _inside(ph, T, s, w, outs, k, rel, n_rel, ring, sc, replicate, periodic_stop)
-        if status != GO_ON:
-            return k, ne, status, t_terminal, t_stop
+        tz, tt, src, n_rel = _phase_sources(ph, T, s, n_rel)  # the samples inside, each with the work since the last
+        ta, xa, va = 0.0, x, v
+        while True:
+            tb, kind, src, xb, vb_, acc = _next_in_phase(ph, T, src, ta, tz, tt, s.dense_dt)
+            if tb >= T:
+                break
+            _add_piece(w, ph, xa, va, xb, vb_, tb - ta)
+            if not emit(outs, k, t + tb, xb, vb_, friction_force(fck, force, xb, vb_, zeta), ph.fmode, w):
+                return k, ne, FULL, t_terminal, t + ta
+            k += 1
+            if replicate is not None and n_rel >= 0:
+                n_rel = _push_rel(rel, n_rel, tb, True)
+            ta, xa, va = tb, xb, vb_
+            if periodic_stop is None:
+                continue
+            sc, stop = _sections_at(ring, sc, s, kind == 0, xb, t + tb, acc)
+            if stop:
+                return k, ne, DONE, t_terminal, t + tb
         _add_piece(w, ph, xa, va, xe, ve, T - ta)  # the last piece: its work goes with the switch's sample
         x, v = xe, ve
         if which < 0:
@@ -799,7 +799,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
             continue
         t += T
         if replicate is not None and n_rel >= 0:
-            n_rel = _push_rel(rel, n_rel, -T, T > t_min)
+            n_rel = _push_rel(rel, n_rel, -T, T > 8.0 * EPS * (1.0 + t_end))  # shorter: the zero-length count reads t
         mode, v = _enter(s, x, v)  # the switch: which mode continues?
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
         if zero_len > 8:
