@@ -528,8 +528,6 @@ Phase = namedtuple("Phase", "co dyn zeta force fck vb fmode t x v")
 #: phases seen, and once the stretch since it repeats its length in samples and events and in time; copied:
 #: the switches copied so far
 Stretch = namedtuple("Stretch", "x v mode k ne t n_phase n_rows n_ev period copied")
-#: a status that lets the run go on (the codes of :mod:`.codes` end it)
-GO_ON = -1
 
 
 @njit(cache=True, inline="always")
@@ -1110,54 +1108,21 @@ def _tick(ck, tb, ts, t, s, period):
     return Clock(tt, j, td, strobe, tw), t_abs
 
 
-@njit(cache=True, inline="always")
-def _forced_phase(ph, pc, ev, nn, s, fo, outs, w, k, start, strobe):
-    """Walk a phase of :func:`run_forced` from ``start`` = (t, X, X'): its samples, and its work up to its end into ``w``.
-
-    ``ph``: its motion (:func:`_next_root`), ``pc``: :data:`ForcedPiece`,
-    ``ev``: its event table, ``nn`` = (n, nb) (:func:`_event_table`);
-    ``strobe``: the next stroboscopic index.  Returns (status, k, t_stop,
-    which, T, ste, strobe): status :data:`GO_ON` or FULL (at t_stop); the
-    boundary crossed at T (-1: the run ends at the horizon) and the motion
-    there (:func:`cf.forced_eval`).
-    """
-    n, nb = nn
-    t, x, v = start
+@njit(cache=True, forceinline=True)
+def _forced_start(ph, s, t, strobe, period):
+    """(wr, sta, clock) of a forced phase ``ph`` (:func:`_next_root`) starting at t: how its work integrals are
+    computed (:func:`_add_forced_piece`), the motion at its start, its known sample times (:func:`_clock`)."""
     co, dyn, zeta, force, pz, fz, om = ph
     # the work integrals from this representation (OSC critically or over-damped: rebuilt per piece)
     wr = (dyn != cf.OSC or co[0] == cf.UNDER, cf.work_rep(co, dyn, zeta, pz, fz, om))
-    sta = cf.forced_eval(co, dyn, zeta, force, pz, fz, om, 0.0)  # the motion at the piece's start
-    ck = _clock(s, t, strobe, fo.period)
-    ta, xa, va = 0.0, x, v
-    horizon = s.t_end - t
-    while True:
-        ts = ck.strobe * fo.period - t
-        tk = min(min(ck.tt, ck.td), min(ts, ck.tw))
-        i, tb, stb = _next_root(ph, ev, n, nb, ta, sta, min(tk, horizon))
-        xb, vb_ = stb[0], stb[1]
-        if i >= 0 and i < nb:
-            break
-        t_abs = t + tb
-        if i >= 0:
-            ev[i, ESIDE] = -ev[i, ESIDE]
-            if ev[i, EB] == 1.0 and ev[i, EA] == 0.0 and ev[i, ED] == 0.0:
-                vb_ = 0.0  # a zero of X', exactly: the section crossing is then a sample
-        else:
-            if tk >= horizon:
-                tb = horizon  # the run ends inside the phase
-                break
-            tb = tk
-            ck, t_abs = _tick(ck, tb, ts, t, s, fo.period)
-            if tb <= ta:
-                continue  # the same time from another source
-        _add_forced_piece(w, pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + fo.phi)
-        fb = fo.fex * math.cos(om * t_abs + fo.phi) if pc.fck != FC_CONST else 0.0
-        if not emit(outs, k, t_abs, xb, vb_, friction_force(pc.fck, force, xb, vb_, zeta) - fb, pc.fmode, w):
-            return FULL, k, t + ta, i, tb, stb, ck.strobe
-        k += 1
-        ta, xa, va, sta = tb, xb, vb_, stb
-    _add_forced_piece(w, pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + fo.phi)
-    return GO_ON, k, 0.0, i, tb, stb, ck.strobe
+    return wr, cf.forced_eval(co, dyn, zeta, force, pz, fz, om, 0.0), _clock(s, t, strobe, period)
+
+
+@njit(cache=True, inline="always")
+def _crossed(ev, i, v):
+    """Sample function ``i`` of ``ev`` crossed: it is on its other side now; X' (``v``) is exactly 0 at a zero of X'."""
+    ev[i, ESIDE] = -ev[i, ESIDE]
+    return 0.0 if ev[i, EB] == 1.0 and ev[i, EA] == 0.0 and ev[i, ED] == 0.0 else v
 
 
 @njit(cache=True, forceinline=True)
@@ -1204,9 +1169,35 @@ def run_forced(run, p, samples, events, t_mode):
         ph = (co, dyn, zeta, force, pz, fz, om)
         nn = _event_table(ev, ph, s, mode, fck, x, v)
         pc = ForcedPiece(dyn, fck, zeta, s.vb, force, fex, om, FRICTION_MODE[mode])
-        status, k, t_stop, which, T, ste, strobe = _forced_phase(ph, pc, ev, nn, s, fo, outs, w, k, (t, x, v), strobe)
-        if status != GO_ON:
-            return k, ne, status, -1.0, t_stop
+        # the phase's samples (the loop that writes them stays here: see :mod:`.samples`)
+        wr, sta, ck = _forced_start(ph, s, t, strobe, fo.period)
+        ta, xa, va, horizon = 0.0, x, v, t_end - t
+        while True:
+            ts = ck.strobe * fo.period - t
+            tk = min(min(ck.tt, ck.td), min(ts, ck.tw))
+            i, tb, stb = _next_root(ph, ev, nn[0], nn[1], ta, sta, min(tk, horizon))
+            xb, vb_ = stb[0], stb[1]
+            if i >= 0 and i < nn[1]:
+                break  # a boundary: the phase ends
+            t_abs = t + tb
+            if i >= 0:
+                vb_ = _crossed(ev, i, vb_)
+            else:
+                if tk >= horizon:
+                    tb = horizon  # the run ends inside the phase
+                    break
+                tb = tk
+                ck, t_abs = _tick(ck, tb, ts, t, s, fo.period)
+                if tb <= ta:
+                    continue  # the same time from another source
+            _add_forced_piece(w, pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
+            fb = fex * math.cos(om * t_abs + phi) if fck != FC_CONST else 0.0
+            if not emit(outs, k, t_abs, xb, vb_, friction_force(fck, force, xb, vb_, zeta) - fb, pc.fmode, w):
+                return k, ne, FULL, -1.0, t + ta
+            k += 1
+            ta, xa, va, sta = tb, xb, vb_, stb
+        _add_forced_piece(w, pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
+        which, T, ste, strobe = i, tb, stb, ck.strobe
         x, v = ste[0], ste[1]
         if which < 0:
             t = t_end
