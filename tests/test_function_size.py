@@ -21,9 +21,6 @@ OVER_LIMIT = {
     "frictionflow.core.dopri:_gd": (5, 13),
     "frictionflow.core.dopri:_root_between": (14, 14),
     "frictionflow.core.dopri:_stick_walk": (40, 15),
-    "frictionflow.core.exact:run": (230, 7),
-    "frictionflow.core.exact:_forced_piece": (9, 14),
-    "frictionflow.core.exact:run_forced": (163, 5),
     "frictionflow.core.flowmap:_event_root": (21, 18),
     "frictionflow.core.flowmap:_extremum_theta": (19, 13),
     "frictionflow.core.flowmap:_first_root": (40, 16),
@@ -31,7 +28,6 @@ OVER_LIMIT = {
     "frictionflow.core.flowmap:flow_map": (241, 14),
     "frictionflow.core.forced_map:flow_map": (126, 13),
     "frictionflow.core.records:run_record": (28, 16),
-    "frictionflow.core.sections:classify": (130, 8),
 }
 
 
