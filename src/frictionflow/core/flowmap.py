@@ -115,12 +115,14 @@ Flow = namedtuple("Flow", "zeta vb p code rtol virtual")
 #: tolerance, whether the quadratures are integrated, the end rule (returns, horizon) and how many
 #: components a step advances
 Run = namedtuple("Run", "zeta vb p code rtol virtual fs res f0 atol_x quads returns horizon n_act")
-#: the slip field of a piece (what :func:`rhs` evaluates): direction d, W_fin's indicator (1.0 where
-#: X' F_c > 0 on the piece), zeta, V_b, the law's record p and the parameter code
-Field = namedtuple("Field", "d ind zeta vb p code")
+#: the slip field of a piece (what :func:`rhs` evaluates, with the law's record p): direction d, W_fin's
+#: indicator (1.0 where X' F_c > 0 on the piece), zeta, V_b and the parameter code.  Scalars only: the
+#: functions a step calls take their arrays one by one (p, the buffers), since taking an array out of a
+#: record, or passing a record of arrays, counts the arrays' references at every call
+Field = namedtuple("Field", "d ind zeta vb code")
 #: a run's step buffers: the piece's vector y, the end y1 of the step being taken, the end ``out`` of a
 #: trial step inside it, a stage's argument tmp (the last slot of each holds how many components a step
-#: advances), the stages K
+#: advances), the stages K; taken apart once per slip piece
 Steps = namedtuple("Steps", "y y1 out tmp K")
 
 
@@ -165,9 +167,9 @@ def law_terms(p, s, code):
 
 
 @njit(cache=True)
-def rhs(y, fl, out):
-    """The slip field ``fl`` (:class:`Field`) of the state, the tangents, xi and the two quadratures with derivatives."""
-    d, ind, zeta, vb, p, code = fl
+def rhs(y, fl, p, out):
+    """The slip field ``fl`` (:class:`Field`, law p) of the state, the tangents, xi and the quadratures with derivatives."""
+    d, ind, zeta, vb, code = fl
     x = y[IX]
     v = y[IV]
     s = d * (vb - v)
@@ -211,8 +213,8 @@ def accel(d, x, v, zeta, vb, p):
 
 
 @njit(cache=True)
-def dop_step(y, h, fl, K, tmp, out):
-    """One DOP853 step of length h of the field ``fl`` from y into ``out`` (stages in K; K[0]: the slope at y).
+def dop_step(y, h, fl, p, K, tmp, out):
+    """One DOP853 step of length h of the field ``fl`` (law p) from y into ``out`` (stages in K; K[0]: the slope at y).
 
     Only the first ``int(y[NY])`` components are advanced (the quadratures are
     left out while only the map and its Jacobian are wanted).
@@ -224,7 +226,7 @@ def dop_step(y, h, fl, K, tmp, out):
             for j in range(s):
                 acc += A[s, j] * K[j, i]
             tmp[i] = y[i] + h * acc
-        rhs(tmp, fl, K[s])
+        rhs(tmp, fl, p, K[s])
     for i in range(n):
         acc = 0.0
         for j in range(N_STAGES):
@@ -233,9 +235,9 @@ def dop_step(y, h, fl, K, tmp, out):
 
 
 @njit(cache=True)
-def error_norm(y, ynew, h, K, rtol, atol_x, fl):
+def error_norm(y, ynew, h, K, rtol, atol_x, fl, p):
     """SciPy's DOP853 error norm on the first :data:`N_ERR` components (``fl``: the slip field)."""
-    rhs(ynew, fl, K[N_STAGES])
+    rhs(ynew, fl, p, K[N_STAGES])
     e5 = 0.0
     e3 = 0.0
     for i in range(N_ERR):
@@ -255,6 +257,8 @@ def error_norm(y, ynew, h, K, rtol, atol_x, fl):
 
 
 # -- events in a slip piece ------------------------------------------------------------
+# Every step calls these: they take their arrays one by one (see Field).  ``ev`` = (kind, sig)
+# names the event: kind 0 the switch V_r = 0, kind 1 the zero of X' (sig: the sign of X' on the piece).
 @njit(cache=True)
 def _g(y, kind, d, sig, vb):
     """Event function: kind 0 the switch d (V_b - X'), kind 1 the zero of X' (sig X')."""
@@ -267,27 +271,27 @@ def _g_rate(a, kind, d, sig):
 
 
 @njit(cache=True)
-def _event_root(st, fl, b, theta, kind, sig):
+def _event_root(y, K, tmp, out, p, fl, b, theta, ev):
     """theta with g(theta) = 0 in the bracket ``b`` (:func:`.roots.bracket`, g(lo) > 0 >= g(hi)), from ``theta``.
 
-    The step of the field ``fl`` from ``st.y``; the state at the root in
-    ``st.out``.  Newton with the slope of g at the step's end (the scheme's
-    d/dtheta up to its own error), kept inside the bracket; the bracket's
-    own next point (:mod:`.roots`) where Newton would leave it.
+    The step of the field ``fl`` from y; the state at the root in ``out``.
+    Newton with the slope of g at the step's end (the scheme's d/dtheta up
+    to its own error), kept inside the bracket; the bracket's own next point
+    (:mod:`.roots`) where Newton would leave it.
     """
-    y, out, tmp, K = st.y, st.out, st.tmp, st.K
+    kind, sig = ev
     while b.status == RUNNING:
-        dop_step(y, theta, fl, K, tmp, out)
+        dop_step(y, theta, fl, p, K, tmp, out)
         gm = _g(out, kind, fl.d, sig, fl.vb)
         if gm == 0.0:
             return theta
         b = update(b, theta, gm)
-        rate = _g_rate(accel(fl.d, out[IX], out[IV], fl.zeta, fl.vb, fl.p), kind, fl.d, sig)
+        rate = _g_rate(accel(fl.d, out[IX], out[IV], fl.zeta, fl.vb, p), kind, fl.d, sig)
         step = -gm / rate if rate != 0.0 else math.inf
         if abs(step) <= tolerance(b, theta):
             return theta
         theta = steer(b, theta + step).x
-    dop_step(y, b.hi, fl, K, tmp, out)
+    dop_step(y, b.hi, fl, p, K, tmp, out)
     return b.hi
 
 
@@ -312,15 +316,14 @@ def _noise(v, vb):
 
 
 @njit(cache=True)
-def _extremum_theta(st, fl, h, th, t):
-    """theta in (0, h) where X'' = 0 on the step from ``st.y`` (an extreme of X'), by Newton from ``th``.
+def _extremum_theta(y, K, tmp, out, p, fl, h, th, t):
+    """theta in (0, h) where X'' = 0 on the step from y (an extreme of X'), by Newton from ``th``.
 
-    The state there is left in ``st.out``.  d X''/dtau = -X' - (2 zeta + F') X''.
+    The state there is left in ``out``.  d X''/dtau = -X' - (2 zeta + F') X''.
     """
-    y, out, tmp, K = st.y, st.out, st.tmp, st.K
-    d, zeta, vb, p = fl.d, fl.zeta, fl.vb, fl.p
+    d, zeta, vb = fl.d, fl.zeta, fl.vb
     for _ in range(20):
-        dop_step(y, th, fl, K, tmp, out)
+        dop_step(y, th, fl, p, K, tmp, out)
         a = accel(d, out[IX], out[IV], zeta, vb, p)
         ad = -out[IV] - (2.0 * zeta + slip_slope(p, d * (vb - out[IV]))) * a
         if ad == 0.0:
@@ -331,28 +334,28 @@ def _extremum_theta(st, fl, h, th, t):
             th = nxt
             break
         th = nxt
-    dop_step(y, th, fl, K, tmp, out)
+    dop_step(y, th, fl, p, K, tmp, out)
     return th
 
 
 @njit(cache=True)
-def _dip_bottom(st, fl, h, s, kind, sig, t):
+def _dip_bottom(y, K, tmp, out, p, fl, h, s, ev, t):
     """The bottom of g's dip inside the step, from the Hermite sketch's minimum at the fraction ``s``.
 
     Returns (theta, g there), located on the scheme's own steps; theta -1:
     no dip below 0 inside.
     """
-    th = _extremum_theta(st, fl, h, s * h, t)
+    th = _extremum_theta(y, K, tmp, out, p, fl, h, s * h, t)
     if th <= 0.0 or th >= h:
         return -1.0, 0.0  # the lowest point is an end of the step: no dip inside
-    gm = _g(st.out, kind, fl.d, sig, fl.vb)
+    gm = _g(out, ev[0], fl.d, ev[1], fl.vb)
     if gm > 0.0:
         return -1.0, 0.0  # a near miss of the scheme's own solution
     return th, gm
 
 
 @njit(cache=True)
-def _positive_start(st, fl, hi, kind, sig):
+def _positive_start(y, K, tmp, out, p, fl, hi, ev):
     """The largest of hi / 2, hi / 4, ... where g > 0, and g there (none found: g <= 0).
 
     The left end of a bracket when the step starts on the surface.
@@ -361,58 +364,57 @@ def _positive_start(st, fl, hi, kind, sig):
     glo = 0.0
     for _ in range(60):
         lo *= 0.5
-        dop_step(st.y, lo, fl, st.K, st.tmp, st.out)
-        glo = _g(st.out, kind, fl.d, sig, fl.vb)
+        dop_step(y, lo, fl, p, K, tmp, out)
+        glo = _g(out, ev[0], fl.d, ev[1], fl.vb)
         if glo > 0.0:
             break
     return lo, glo
 
 
 @njit(cache=True)
-def _first_root(st, fl, h, kind, sig, fresh, t):
-    """theta in (0, h] where event ``kind`` first happens in the step from ``st.y`` to ``st.y1`` (-1: none)."""
-    y, y1 = st.y, st.y1
+def _first_root(y, y1, K, tmp, out, p, fl, h, ev, fresh, t):
+    """theta in (0, h] where the event ``ev`` first happens in the step from y to y1 (-1: none)."""
+    kind, sig = ev
     d, vb = fl.d, fl.vb
     g0 = _g(y, kind, d, sig, vb)
     g1 = _g(y1, kind, d, sig, vb)
     noise = _noise(y1[IV], vb)
     if fresh and abs(g1) <= noise:
         return -1.0
-    m0 = _g_rate(accel(d, y[IX], y[IV], fl.zeta, vb, fl.p), kind, d, sig) * h
-    m1 = _g_rate(accel(d, y1[IX], y1[IV], fl.zeta, vb, fl.p), kind, d, sig) * h
+    m0 = _g_rate(accel(d, y[IX], y[IV], fl.zeta, vb, p), kind, d, sig) * h
+    m1 = _g_rate(accel(d, y1[IX], y1[IV], fl.zeta, vb, p), kind, d, sig) * h
     if g1 > 0.0:
         s, val = hermite_min(g0, g1, m0, m1)
         # no interior dip that could reach 0 (a phase just leaving the surface: only a clear one)
         if s < 0.0 or val >= (-noise if fresh else 0.05 * min(g0, g1) + noise):
             return -1.0
         # the dip's bottom on the scheme's own steps (the cubic is only a sketch of it)
-        hi, ghi = _dip_bottom(st, fl, h, s, kind, sig, t)
+        hi, ghi = _dip_bottom(y, K, tmp, out, p, fl, h, s, ev, t)
         if hi < 0.0:
             return -1.0
     else:
         hi, ghi = h, g1
     lo, glo = 0.0, g0
     if glo <= 0.0 or fresh:
-        lo, glo = _positive_start(st, fl, hi, kind, sig)
+        lo, glo = _positive_start(y, K, tmp, out, p, fl, hi, ev)
         if not glo > 0.0:
             return 0.0
     guess = h * _hermite_root(g0, g1, m0, m1, lo / h, hi / h)
     if not (lo < guess < hi):
         guess = 0.5 * (lo + hi)
     b = bracket(lo, hi, glo, ghi, 4.0 * EPS * abs(t), 4.0 * EPS, 0.0, 100)
-    return _event_root(st, fl, b, guess, kind, sig)
+    return _event_root(y, K, tmp, out, p, fl, b, guess, ev)
 
 
 @njit(cache=True)
-def _track_min(st, fl, h, M, tot, t):
-    """The smallest V_r = d (V_b - X') inside the step ``st.y`` -> ``st.y1`` (a maximum of d X'), if a record.
+def _track_min(y, y1, K, tmp, out, p, fl, h, M, tot, t):
+    """The smallest V_r = d (V_b - X') inside the step y -> y1 (a maximum of d X'), if a record.
 
     Located by Newton on theta for X''(theta) = 0 on the scheme's own steps
     (d X''/dtau = -X' - (2 zeta + F') X''); its derivatives are the tangent
     columns' V components there (at an extremum a time shift moves nothing).
     """
-    y, y1, out = st.y, st.y1, st.out
-    d, zeta, vb, p, code = fl.d, fl.zeta, fl.vb, fl.p, fl.code
+    d, zeta, vb = fl.d, fl.zeta, fl.vb
     g0 = d * (vb - y[IV])
     g1 = d * (vb - y1[IV])
     a0 = accel(d, y[IX], y[IV], zeta, vb, p)
@@ -420,7 +422,7 @@ def _track_min(st, fl, h, M, tot, t):
     s, val = hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
     if s < 0.0 or val > tot[T_VRMIN] + 1e-3 * (abs(vb) + abs(y[IV])):
         return
-    th = _extremum_theta(st, fl, h, s * h, t)
+    th = _extremum_theta(y, K, tmp, out, p, fl, h, s * h, t)
     if th <= 0.0 or th >= h:
         return  # the smallest value is at an end of the step: no interior extremum (a tangential start)
     vr = d * (vb - out[IV])
@@ -431,7 +433,7 @@ def _track_min(st, fl, h, M, tot, t):
         tot[T_VRX] = out[IX]
         for c in range(3):
             dv = out[J10] * M[0, c] + out[J11] * M[1, c] + (out[XIV] if c == 2 else 0.0)
-            tot[T_DVR0 + c] = -d * dv + (d * dvb(code) if c == 2 else 0.0)  # g = d (V_b - X')
+            tot[T_DVR0 + c] = -d * dv + (d * dvb(fl.code) if c == 2 else 0.0)  # g = d (V_b - X')
 
 
 # -- bookkeeping ----------------------------------------------------------------------------
@@ -594,51 +596,32 @@ def _slip_exit(run, mode, new, x, t, M, tot, row):
 
 
 @njit(cache=True, inline="always")
-def _first_event(st, fl, h, sig, fresh, zfresh, virtual, t):
-    """The first event in the accepted step of length h: (kind, theta), the step retaken to it into ``st.y1``.
-
-    kind -1: none (theta = h), 0: the switch V_r = 0, 1: a zero of X'.
-    Inlined by numba: its caller runs it once per step, and a call would
-    count the references of the buffers' arrays.
-    """
-    # (np.int64: a literal event kind would compile the root finders once per kind)
-    th_sw = -1.0 if virtual else _first_root(st, fl, h, np.int64(0), sig, fresh, t)
-    th_z = _first_root(st, fl, h, np.int64(1), sig, zfresh, t)
-    kind = -1
-    th = h
-    if th_sw >= 0.0:
-        kind, th = 0, th_sw
-    if th_z >= 0.0 and (kind < 0 or th_z < th):
-        kind, th = 1, th_z
-    if kind >= 0:
-        dop_step(st.y, th, fl, st.K, st.tmp, st.y1)
-    return kind, th
-
-
-@njit(cache=True)
 def _slip_piece(run, st, mode, t, h, fresh, M, tot):
     """A slip piece from (X, X') in ``st.y[:2]`` at t, in direction ``mode``, to its first event; h: the next step.
 
     Returns (status, ended, t, h, fresh, sig): ``ended`` 1 the switch
     V_r = 0, 2 a zero of X', 3 the horizon; sig the sign of X' on the piece.
     The piece's vector (integrated from the identity) is left in ``st.y``.
+    Inlined by numba into :func:`flow_map` (a call, once per piece, was
+    measurably slower: the loop's array references are counted otherwise).
     """
-    y, y1, K, horizon = st.y, st.y1, st.K, run.horizon
+    y, y1, out, tmp, K = st
+    p, horizon = run.p, run.horizon
     d = float(mode)
     x, v = y[IX], y[IV]
     _reset_piece(y)
-    a0 = accel(d, x, v, run.zeta, run.vb, run.p)
+    a0 = accel(d, x, v, run.zeta, run.vb, p)
     sig = (1.0 if v > 0.0 else -1.0) if v != 0.0 else (1.0 if a0 > 0.0 else -1.0)
-    fl = Field(d, 1.0 if sig * d > 0.0 else 0.0, run.zeta, run.vb, run.p, run.code)
+    fl = Field(d, 1.0 if sig * d > 0.0 else 0.0, run.zeta, run.vb, run.code)
     zfresh = v == 0.0
-    rhs(y, fl, K[0])
+    rhs(y, fl, p, K[0])
     if h <= 0.0:
         h = min(0.1, 0.01 * max(horizon - t, 1e-3))
     for _ in range(1000000):
         hh = min(h, horizon - t)
         last = hh >= horizon - t
-        dop_step(y, hh, fl, K, st.tmp, y1)
-        err = error_norm(y, y1, hh, K, run.rtol, run.atol_x, fl)
+        dop_step(y, hh, fl, p, K, tmp, y1)
+        err = error_norm(y, y1, hh, K, run.rtol, run.atol_x, fl, p)
         if not math.isfinite(err):
             h = 0.5 * hh
             if h < 1e-14 * (1.0 + abs(t)):
@@ -649,10 +632,19 @@ def _slip_piece(run, st, mode, t, h, fresh, M, tot):
             if h < 1e-14 * (1.0 + abs(t)):
                 return STEP_FAIL, 0, t, h, fresh, sig
             continue
-        # accepted: the first event inside it
-        kind, hh = _first_event(st, fl, hh, sig, fresh, zfresh, run.virtual, t)
+        # accepted: the first event inside it, the step retaken to it
+        # (np.int64: a literal event kind would compile the root finders once per kind)
+        th_sw = -1.0 if run.virtual else _first_root(y, y1, K, tmp, out, p, fl, hh, (np.int64(0), sig), fresh, t)
+        th_z = _first_root(y, y1, K, tmp, out, p, fl, hh, (np.int64(1), sig), zfresh, t)
+        kind = 0 if th_sw >= 0.0 else -1
+        th = th_sw if th_sw >= 0.0 else hh
+        if th_z >= 0.0 and (kind < 0 or th_z < th):
+            kind, th = 1, th_z
+        if kind >= 0:
+            dop_step(y, th, fl, p, K, tmp, y1)
+            hh = th
         if run.quads:
-            _track_min(st, fl, hh, M, tot, t)
+            _track_min(y, y1, K, tmp, out, p, fl, hh, M, tot, t)
         for i in range(run.n_act):
             y[i] = y1[i]
         t += hh

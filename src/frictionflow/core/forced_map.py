@@ -66,10 +66,9 @@ HOLD_PIECES = 4
 # Module-level named tuples (numba types them as records; a kernel that takes them can still be cached).
 #: what :func:`flow_map` fills (see there; :func:`map_out` allocates them)
 MapOut = namedtuple("MapOut", "end mono work stats sticks counts")
-#: the belt and its law: zeta, V_b, the force record p, the resultant rule and F_s
-Belt = namedtuple("Belt", "zeta vb p res fs")
-#: a run's RK4 buffers (:func:`~.tangent.slip_until`'s stages k1..k4, tmp and out; ``g``: :func:`work_step`'s)
-Stages = namedtuple("Stages", "k1 k2 k3 k4 tmp out g")
+#: the belt's scalars: zeta, V_b, the law's resultant rule and F_s (the arrays go apart: taking one out of a
+#: record in the step loop would count its references there)
+Belt = namedtuple("Belt", "zeta vb res fs")
 
 
 @njit(cache=True)
@@ -218,7 +217,7 @@ def map_out() -> MapOut:
 
 
 @njit(cache=True)
-def _start(bl, x0, v0, y, out):
+def _start(bl, p, x0, v0, y, out):
     """Clear ``out``'s sums and extremes; the state (x0, v0) and the identity into ``y``; returns the mode there."""
     for i in range(N_COUNTS):
         out.counts[i] = 0
@@ -233,7 +232,7 @@ def _start(bl, x0, v0, y, out):
     stats[S_HOLD] = math.inf
     y[0], y[1] = x0, v0
     y[2], y[3], y[4], y[5] = 1.0, 0.0, 0.0, 1.0
-    mode = start_mode(x0, v0, 0.0, bl.zeta, bl.vb, bl.p)
+    mode = start_mode(x0, v0, 0.0, bl.zeta, bl.vb, p)
     if mode == 0:
         y[1] = bl.vb
         y[3] = 0.0  # sticking from the start: the stick onset's dv -> 0
@@ -243,67 +242,30 @@ def _start(bl, x0, v0, y, out):
     return mode
 
 
-@njit(cache=True, inline="always")
-def _stick_step(bl, y, stick, t, target, out, n_sticks):
-    """Stick from t towards ``target`` (the phase began at ``stick`` = (x_s, t_s)): (t, mode, n_sticks) after it.
+@njit(cache=True)
+def _slip_onset(bl, p, y, t, out, n_sticks):
+    """|F_e - f| reached F_s at t while sticking: (mode, n_sticks) after it.
 
-    It stops at ``target``, or where |F_e - f| reaches F_s: there the mass
-    slips away (the slip onset's saltation on ``y``'s tangents, the phase
-    listed as ended) or the interface holds on (mode 0).  Inlined by numba
-    (its caller runs it once per grid step while sticking): a call would
-    count the references of the buffers' arrays.
+    The mass slips away (the slip onset's saltation on ``y``'s tangents, the
+    stick phase listed as ended) or, no slip direction being consistent, the
+    interface holds on (mode 0).
     """
-    zeta, vb, p, res, fs = bl
-    x_s, t_s = stick
-    te, side = stick_exit(x_s, t_s, t, target, zeta, vb, res, fs, p)
-    t_next = target if side == 0 else te
-    stick_work(x_s, t_s, t, t_next, zeta, vb, p, out.work)
-    _track_hold(x_s, t_s, t, t_next, zeta, vb, res, fs, p, out.stats)
-    out.stats[S_STICK_TIME] += t_next - t
-    t = t_next
-    y[0] = x_s + vb * (t - t_s)
-    _track_point(y[0], y[1], zeta, out.stats)
-    if side == 0:
-        return t, 0, n_sticks
-    new = rest_mode(y[0], zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t), external_force_rate(p, t))
+    zeta, vb = bl.zeta, bl.vb
+    new = rest_mode(y[0], zeta, vb, bl.fs, bl.res, slip_force(p, 0.0), external_force(p, t), external_force_rate(p, t))
     if new == 0:
-        out.counts[C_HELD] += 1  # no slip direction is consistent: the interface holds on
-        return t, 0, n_sticks
+        out.counts[C_HELD] += 1
+        return 0, n_sticks
     saltation_slip(y, new, t, zeta, vb, p)
     if n_sticks < MAX_STICKS:
         out.sticks[n_sticks, 1] = t
     out.counts[C_SLIP] += 1
-    return t, new, n_sticks + 1
-
-
-@njit(cache=True, inline="always")
-def _slip_step(bl, y, d, t, target, fresh, rk, out):
-    """One slip step in direction d from t towards ``target``, its work integrals and extremes: (t, theta, switched).
-
-    ``switched``: it ended on V_r = 0 after ``theta`` (X' there is left as
-    the scheme's value), else at ``target``.  ``fresh``: the phase began at
-    t.  Inlined by numba, as :func:`_stick_step`.
-    """
-    zeta, vb, p = bl.zeta, bl.vb, bl.p
-    x_a, v_a, t_a = y[0], y[1], t
-    a_a = accel(d, x_a, v_a, t_a, zeta, vb, p)
-    theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, rk.k1, rk.k2, rk.k3, rk.k4, rk.tmp, rk.out)
-    if switched and not theta > 0.0:
-        return t, theta, True
-    h = theta if switched else target - t_a
-    work_step(x_a, v_a, t_a, h, d, zeta, vb, p, out.work, rk.g)
-    for i in range(len(y)):
-        y[i] = rk.out[i]
-    t = t + theta if switched else target
-    _track_step(x_a, v_a, a_a, y[0], y[1], accel(d, y[0], y[1], t, zeta, vb, p), h, d, zeta, vb, out.stats,
-                not (fresh or switched))
-    return t, theta, switched
+    return new, n_sticks + 1
 
 
 @njit(cache=True)
-def _on_switch(bl, y, mode, t, out, n_sticks):
+def _on_switch(bl, p, y, mode, t, out, n_sticks):
     """Slip in direction ``mode`` reached V_r = 0 at t: a stick onset, a reversal or a graze; returns (mode, fresh)."""
-    zeta, vb, p = bl.zeta, bl.vb, bl.p
+    zeta, vb = bl.zeta, bl.vb
     y[1] = vb  # exactly on the switch
     new = rest_mode(y[0], zeta, vb, bl.fs, bl.res, slip_force(p, 0.0), external_force(p, t), external_force_rate(p, t))
     if new == 0:
@@ -337,6 +299,65 @@ def _finish(y, mode, span, out, n_sticks):
 
 
 @njit(cache=True)
+def _walk(bl, p, y, mode, fresh, span, n_steps, out):
+    """Advance ``y`` from tau = 0 in ``mode`` over the RK4 grid to ``span``; returns (status, mode, stick phases).
+
+    The step loop itself, its buffers its own: the arrays it touches at
+    every step are taken out of their records once, here (taking one out in
+    the loop, or passing it to a helper there, would count its references
+    at each step).  Switches, rarer, are helpers of their own.
+    """
+    zeta, vb, res, fs = bl
+    work, stats = out.work, out.stats
+    k1, k2, k3, k4, tmp, end = np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY)
+    g = np.empty((4, N_WORK))
+    h = span / n_steps
+    t = 0.0
+    x_s, t_s = y[0], 0.0  # where the current stick phase began
+    n_sticks = zero_run = 0
+    for j in range(1, n_steps + 1):
+        target = span if j == n_steps else j * h
+        while t < target:
+            if mode == 0:
+                te, side = stick_exit(x_s, t_s, t, target, zeta, vb, res, fs, p)
+                t_next = target if side == 0 else te
+                stick_work(x_s, t_s, t, t_next, zeta, vb, p, work)
+                _track_hold(x_s, t_s, t, t_next, zeta, vb, res, fs, p, stats)
+                stats[S_STICK_TIME] += t_next - t
+                t = t_next
+                y[0] = x_s + vb * (t - t_s)
+                _track_point(y[0], y[1], zeta, stats)
+                if side != 0:
+                    mode, n_sticks = _slip_onset(bl, p, y, t, out, n_sticks)
+                    fresh = fresh or mode != 0
+                continue
+            d = float(mode)
+            x_a, v_a, t_a = y[0], y[1], t
+            a_a = accel(d, x_a, v_a, t_a, zeta, vb, p)
+            theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, end)
+            if theta > 0.0 or not switched:
+                dt = theta if switched else target - t_a
+                work_step(x_a, v_a, t_a, dt, d, zeta, vb, p, work, g)
+                for i in range(len(y)):
+                    y[i] = end[i]
+                t = t + theta if switched else target
+                _track_step(x_a, v_a, a_a, y[0], y[1], accel(d, y[0], y[1], t, zeta, vb, p), dt, d, zeta, vb, stats,
+                            not (fresh or switched))  # a step inside the phase: its interior minimum of |V_r| counts
+            if not switched:
+                zero_run = 0
+                # a phase that has not yet left V_r = 0 by more than rounding is still starting
+                fresh = fresh and not d * (vb - y[1]) > rounding_noise(y[1], vb)
+                continue
+            zero_run = zero_run + 1 if theta <= 4.0 * EPS * (1.0 + abs(t)) else 0
+            if zero_run > MAX_ZERO_PHASES:
+                return ZERO_PHASES, mode, n_sticks
+            mode, fresh = _on_switch(bl, p, y, mode, t, out, n_sticks)
+            if mode == 0:
+                x_s, t_s = y[0], t
+    return OK, mode, n_sticks
+
+
+@njit(cache=True)
 def flow_map(x0, v0, zeta, vb, p, span, n_steps, out):
     """Integrate from (x0, v0) at tau = 0 to tau = ``span`` in ``n_steps`` RK4 grid steps; returns (status, stick phases).
 
@@ -347,34 +368,10 @@ def flow_map(x0, v0, zeta, vb, p, span, n_steps, out):
     start and end time of each stick phase; a phase still sticking at
     ``span`` ends there) and ``counts`` (:data:`~.tangent.N_COUNTS` switches).
     """
-    bl = Belt(zeta, vb, p, p[RESULTANT] != 0.0, p[FS])
-    h = span / n_steps
-    rk = Stages(np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY),
-                np.empty((4, N_WORK)))
+    bl = Belt(zeta, vb, p[RESULTANT] != 0.0, p[FS])
     y = np.zeros(NY)
-    mode = _start(bl, x0, v0, y, out)
-    t = 0.0
-    x_s, t_s = x0, 0.0  # where the current stick phase began
-    fresh = v0 == vb
-    n_sticks = zero_run = 0
-    for j in range(1, n_steps + 1):
-        target = span if j == n_steps else j * h
-        while t < target:
-            if mode == 0:
-                t, mode, n_sticks = _stick_step(bl, y, (x_s, t_s), t, target, out, n_sticks)
-                fresh = fresh or mode != 0
-                continue
-            d = float(mode)
-            t, theta, switched = _slip_step(bl, y, d, t, target, fresh, rk, out)
-            if not switched:
-                zero_run = 0
-                # a phase that has not yet left V_r = 0 by more than rounding is still starting
-                fresh = fresh and not d * (vb - y[1]) > rounding_noise(y[1], vb)
-                continue
-            zero_run = zero_run + 1 if theta <= 4.0 * EPS * (1.0 + abs(t)) else 0
-            if zero_run > MAX_ZERO_PHASES:
-                return ZERO_PHASES, n_sticks
-            mode, fresh = _on_switch(bl, y, mode, t, out, n_sticks)
-            if mode == 0:
-                x_s, t_s = y[0], t
+    mode = _start(bl, p, x0, v0, y, out)
+    status, mode, n_sticks = _walk(bl, p, y, mode, v0 == vb, span, n_steps, out)
+    if status != OK:
+        return status, n_sticks
     return _finish(y, mode, span, out, n_sticks)
