@@ -115,14 +115,10 @@ def _state_at(orbit, t: float, steps: int) -> np.ndarray:
     """The orbit's state at time t (< its period), by the flow map over [0, t] (t need not be whole periods)."""
     model = orbit.model
     p = kernel_params(model, orbit.friction)
-    end, mono = np.empty(2), np.empty((2, 2))
-    work, stats = np.empty(fm.N_WORK), np.empty(fm.N_STATS)
-    sticks = np.zeros((fm.MAX_STICKS, 2))
-    counts = np.zeros(fm.N_COUNTS, dtype=np.int64)
+    out = fm.map_out()
     n = max(4, int(np.ceil(steps * t / model.forcing_period)))
-    fm.flow_map(float(orbit.state[0]), float(orbit.state[1]), model.zeta, model.vb, p, float(t), n, end, mono, work,
-                stats, sticks, counts)
-    return end.copy()
+    fm.flow_map(float(orbit.state[0]), float(orbit.state[1]), model.zeta, model.vb, p, float(t), n, out)
+    return out.end.copy()
 
 
 @app.command("forced-continue", short_help=SHORT_HELP_CONTINUE)

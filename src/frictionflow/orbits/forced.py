@@ -132,19 +132,16 @@ def flow_run(model: BeltOscillator, friction: FrictionLaw, state: Sequence[float
     """Phi over m forcing periods from ``state`` = (X, X') at tau = 0, with M, the work integrals and the extremes."""
     p = kernel_params(model, friction)
     span = m * model.forcing_period
-    end, mono = np.empty(2), np.empty((2, 2))
-    work, stats = np.empty(fm.N_WORK), np.empty(fm.N_STATS)
-    sticks = np.zeros((fm.MAX_STICKS, 2))
-    counts = np.zeros(fm.N_COUNTS, dtype=np.int64)
+    out = fm.map_out()
     x0 = float(state[0])
     v0 = _snap(float(state[1]), float(model.vb), x0)
-    status, n_sticks = fm.flow_map(x0, v0, float(model.zeta), float(model.vb), p, span, int(m * steps), end, mono,
-                                   work, stats, sticks, counts)
+    status, n_sticks = fm.flow_map(x0, v0, float(model.zeta), float(model.vb), p, span, int(m * steps), out)
     if status == fm.ZERO_PHASES:
         raise RuntimeError("the motion is caught switching without moving (repeated zero-length phases)")
-    if status == fm.NOT_FINITE or not np.all(np.isfinite(end)):
+    if status == fm.NOT_FINITE or not np.all(np.isfinite(out.end)):
         raise RuntimeError("the flow map left the floating-point range")
-    return MapRun(np.array([x0, v0]), end, mono, work, stats, sticks[:min(n_sticks, fm.MAX_STICKS)].copy(), counts, span)
+    return MapRun(np.array([x0, v0]), out.end, out.mono, out.work, out.stats,
+                  out.sticks[:min(n_sticks, fm.MAX_STICKS)].copy(), out.counts, span)
 
 
 def _snap(v: float, vb: float, x: float) -> float:
