@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 import warnings
 from typing import Any, Mapping
 
@@ -29,6 +30,9 @@ RK4_REAL_LIMIT = 2.785
 #: without ``record_every`` the run keeps at most this many samples
 MAX_AUTO_SAMPLES = 5_000_000
 CHUNK = 2_000_000
+#: relative rounding of t_end / dt allowed for when counting steps (a few ulps: t_end and dt are each rounded,
+#: a forced run's dt a quotient of the forcing period)
+STEP_ROUNDING = 8 * sys.float_info.epsilon
 #: more steps than this would run for hours (at ~30 ns each): refused up front
 MAX_STEPS = 10**11
 
@@ -38,6 +42,14 @@ def _forced_amplitude(model: BeltOscillator) -> float:
     w = model.omega
     den = math.hypot(1.0 - w * w, 2.0 * model.zeta * w)
     return model.fex / den if den > 0 else (math.inf if model.fex > 0 else 0.0)
+
+
+def step_count(t_end: float, dt: float) -> int:
+    """Steps of ``dt`` that reach ``t_end`` (at least 1): a quotient t_end / dt that is a whole number but for its
+    rounding is that number, not one more (a run ended a step past t_end when t_end is a whole number of forcing
+    periods, t_end / dt ~ 1e7 to 1e8: its rounding, a few ulps, is more than 1e-9 there)."""
+    x = t_end / dt
+    return max(1, math.ceil(x - max(1e-9, STEP_ROUNDING * x)))
 
 
 def _divisor_at_least(n: int, k: int) -> int:
@@ -101,8 +113,10 @@ class RK4(Solver):
 
     def run_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
                    t_end: float, rtol: float, min_periods: int, out: np.ndarray) -> None:
-        # one law per sweep: the batched loop is compiled for its code
-        self.batched(int(p[0, LAW]), p, zeta, vb, x0, v0, t_end, self.dt, rtol, min_periods,
+        # one law per sweep: the batched loop is compiled for its code.  It counts ceil(t_end / dt - 1e-9) steps
+        # itself: given half a step less than the steps simulate takes, it counts those, whatever the rounding
+        t_steps = (step_count(t_end, self.dt) - 0.5) * self.dt
+        self.batched(int(p[0, LAW]), p, zeta, vb, x0, v0, t_steps, self.dt, rtol, min_periods,
                      self.section_noise(self.describe()), out)
 
     def step_limits(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float) -> dict[str, float]:
@@ -183,7 +197,7 @@ class RK4(Solver):
         dt = self.dt if dt is None else dt
         if dt > t_end:
             raise ValueError(f"dt must be <= t_end = {t_end:g}, got {dt:g}")
-        n = max(1, math.ceil(t_end / dt - 1e-9))
+        n = step_count(t_end, dt)
         if n > MAX_STEPS:
             raise ValueError(f"t_end={t_end:g} with dt={dt:g} makes {n:.3g} RK4 steps, more than {MAX_STEPS:.0e} "
                              "(hours of computing): raise dt or shorten t_end")
