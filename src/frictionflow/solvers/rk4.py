@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import sys
 import warnings
 from typing import Any, Mapping
 
@@ -24,15 +23,13 @@ DT = Param("dt", "", "RK4 step", "solver", 1e-3, lower=1e-9, upper=MODEL_MAX)
 RECORD_EVERY = Param("record_every", "", "keep every k-th RK4 step", "solver", None, default_text="every step, up to 5e6 samples",
                      kind="int", lower=1, upper=1e12)
 from ..core import rk4 as kernel
+from ..core.rk4 import step_count
 
 #: RK4's stability limit h*|lambda| on the negative real axis
 RK4_REAL_LIMIT = 2.785
 #: without ``record_every`` the run keeps at most this many samples
 MAX_AUTO_SAMPLES = 5_000_000
 CHUNK = 2_000_000
-#: relative rounding of t_end / dt allowed for when counting steps (a few ulps: t_end and dt are each rounded,
-#: a forced run's dt a quotient of the forcing period)
-STEP_ROUNDING = 8 * sys.float_info.epsilon
 #: more steps than this would run for hours (at ~30 ns each): refused up front
 MAX_STEPS = 10**11
 
@@ -42,14 +39,6 @@ def _forced_amplitude(model: BeltOscillator) -> float:
     w = model.omega
     den = math.hypot(1.0 - w * w, 2.0 * model.zeta * w)
     return model.fex / den if den > 0 else (math.inf if model.fex > 0 else 0.0)
-
-
-def step_count(t_end: float, dt: float) -> int:
-    """Steps of ``dt`` that reach ``t_end`` (at least 1): a quotient t_end / dt that is a whole number but for its
-    rounding is that number, not one more (a run ended a step past t_end when t_end is a whole number of forcing
-    periods, t_end / dt ~ 1e7 to 1e8: its rounding, a few ulps, is more than 1e-9 there)."""
-    x = t_end / dt
-    return max(1, math.ceil(x - max(1e-9, STEP_ROUNDING * x)))
 
 
 def _divisor_at_least(n: int, k: int) -> int:
@@ -113,10 +102,8 @@ class RK4(Solver):
 
     def run_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
                    t_end: float, rtol: float, min_periods: int, out: np.ndarray) -> None:
-        # one law per sweep: the batched loop is compiled for its code.  It counts ceil(t_end / dt - 1e-9) steps
-        # itself: given half a step less than the steps simulate takes, it counts those, whatever the rounding
-        t_steps = (step_count(t_end, self.dt) - 0.5) * self.dt
-        self.batched(int(p[0, LAW]), p, zeta, vb, x0, v0, t_steps, self.dt, rtol, min_periods,
+        # one law per sweep: the batched loop is compiled for its code; it counts the steps as simulate does
+        self.batched(int(p[0, LAW]), p, zeta, vb, x0, v0, t_end, self.dt, rtol, min_periods,
                      self.section_noise(self.describe()), out)
 
     def step_limits(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float) -> dict[str, float]:
