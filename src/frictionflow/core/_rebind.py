@@ -39,5 +39,15 @@ def rebind(module: types.ModuleType, names: tuple[str, ...], compiled: bool = Tr
         code = getattr(module, name).py_func
         fn = types.FunctionType(code.__code__, g, name, code.__defaults__)
         fn.__qualname__ = f"{REBOUND}.{code.__qualname__}"  # never a cached kernel's symbol (module docstring)
-        g[name] = njit(fn, cache=False) if compiled else fn
+        g[name] = njit(fn, cache=False, **_inlining(module, name)) if compiled else fn
     return g
+
+
+def _inlining(module: types.ModuleType, name: str) -> dict[str, Any]:
+    """The inlining options (numba's ``inline``, LLVM's ``forceinline``) ``module.name`` was compiled with.
+
+    A copy keeps them: the user's kernel has the structure of the built-in one (a part inlined
+    there is inlined here, so its calls cost no reference counting of their arrays either).
+    """
+    options = getattr(module, name).targetoptions
+    return {key: options[key] for key in ("inline", "forceinline") if key in options}
