@@ -207,8 +207,8 @@ def trajectory_from(
     public values only.
     """
     (t, x, v, fc, mode, work), (ev_t, ev_mode) = buffers
-    return Trajectory(
-        t=t[:n].copy(), x=x[:n].copy(), v=v[:n].copy(), fc=fc[:n].copy(), mode=mode[:n].copy(), dwork=work[:n].copy(),
+    return Trajectory.single_mass(
+        t[:n].copy(), x[:n], v[:n], fc[:n].copy(), mode[:n].copy(), work[:n].copy(),
         model=model, friction=friction, solver=solver,
         events={"t": ev_t[:n_events].copy(), "mode": switch_modes(ev_mode[:n_events], event_modes)},
         extra=extra or {},

@@ -161,8 +161,8 @@ class RK4(Solver):
                 out = self._every_step(n, x0, v0, args, max_memory, t_end, advance)
             else:
                 out = self._thinned(n, every, x0, v0, args, max_memory, t_end, advance)
-        return Trajectory(
-            *out[:5], dwork=out[5], model=model, friction=friction,
+        return Trajectory.single_mass(
+            *out, model=model, friction=friction,
             solver=self.describe() | {"record_every": every, "steps": n} | ({"dt": dt} if dt != self.dt else {}),
         )
 
