@@ -24,6 +24,7 @@ import xarray as xr
 
 from frictionflow import BeltOscillator, Stribeck, analyze, simulate
 from frictionflow.basins import Tolerances, basins
+from frictionflow.basins.study import SweepOptions
 from frictionflow.basins.labels import find_attractors
 from frictionflow.cli import main
 from frictionflow.sweep import parse_sweep, run_sweep, verify_sweep
@@ -151,6 +152,21 @@ def test_labels_are_the_same_whatever_the_chunks():
     for var in ("kind", "period", "X_max", "stick_fraction", "basin_stability"):
         np.testing.assert_array_equal(one.dataset[var].values, many.dataset[var].values)
     assert set(one.codes) == {"equilibrium", "stick_slip_cycle"}
+
+
+def test_sweep_options_as_a_record_or_as_keywords(tmp_path):
+    """A SweepOptions, or its fields as keywords (they win): the same sweep, kept in the store named."""
+    grid = dict(x0=(X_STAR - 0.2, X_STAR + 0.2, 3), v0=(-0.2, 0.2, 3))
+    store = tmp_path / "kept.zarr"
+    by_record = basins(SETTINGS, **grid, sweep_options=SweepOptions(store=store, chunk_size=4))
+    assert store.is_dir()  # given: kept
+    by_keywords = basins(SETTINGS, **grid, sweep_options=SweepOptions(chunk_size=2), chunk_size=4, store=store, restart=True)
+    np.testing.assert_array_equal(by_record.dataset["label"].values, by_keywords.dataset["label"].values)
+    assert by_record.fractions == by_keywords.fractions
+    with pytest.raises(TypeError, match="sweep_options must be a SweepOptions"):
+        basins(SETTINGS, **grid, sweep_options={"chunk_size": 4})
+    with pytest.raises(ValueError, match="unknown key 'chunksize'"):
+        basins(SETTINGS, **grid, chunksize=4)  # a keyword neither a setting nor a sweep option: refused by name
 
 
 def test_a_study_against_vb_labels_each_value_and_shares_codes(small, tmp_path):

@@ -14,10 +14,6 @@ from frictionflow.solvers.base import kernel_params
 from tests.conftest import slip_solution
 
 
-def _work():
-    return tuple(np.empty(tg.NY) for _ in range(6))
-
-
 def _state(x, v):
     y = np.zeros(tg.NY)
     y[0], y[1], y[2], y[5] = x, v, 1.0, 1.0
@@ -30,11 +26,12 @@ def test_slip_switch_is_located_on_the_closed_form_motion():
     p = kernel_params(BeltOscillator(zeta=zeta, vb=vb), Coulomb(fd, 0.04))
     x0, v0 = 0.01, -0.02
     t_hit = brentq(lambda t: slip_solution(t, x0, v0, fd, zeta)[1] - vb, 0.5, 3.0, xtol=1e-15)
-    k1, k2, k3, k4, tmp, out = _work()
+    sc = tg.scratch()
+    out = sc.out
     y = _state(x0, v0)
     t, h = 0.0, 0.001  # RK4's own error then ~1e-15: what remains is the location
     while True:
-        theta, switched = tg.slip_until(y, t, h, 1.0, zeta, vb, p, False, k1, k2, k3, k4, tmp, out)
+        theta, switched = tg.slip_until(y, t, h, 1.0, zeta, vb, p, False, sc)
         if switched:
             break
         y[:] = out
@@ -52,9 +49,10 @@ def test_a_touch_of_v_b_inside_one_step_is_found():
     t_peak = 0.2  # X' = R sin(t + pi/2 - t_peak): the maximum at t_peak
     x0, v0 = fd - R * math.cos(math.pi / 2 - t_peak), R * math.sin(math.pi / 2 - t_peak)
     t_hit = t_peak - math.acos(vb / R)
-    k1, k2, k3, k4, tmp, out = _work()
+    sc = tg.scratch()
+    out = sc.out
     y = _state(x0, v0)
-    theta, switched = tg.slip_until(y, 0.0, 0.4, 1.0, 0.0, vb, p, False, k1, k2, k3, k4, tmp, out)
+    theta, switched = tg.slip_until(y, 0.0, 0.4, 1.0, 0.0, vb, p, False, sc)
     assert switched
     # one RK4 step of 0.1 errs by ~R 0.1^5 / 120 ~ 1e-9 in X', over the crossing's slope R sin(0.1) ~ 1e-3
     assert theta == pytest.approx(t_hit, abs=1e-5)

@@ -81,7 +81,7 @@ def test_batched_results_do_not_depend_on_the_first_room(kernel):
         if kernel == "exact":
             batch.exact_points(p, zeta, vb, x0, v0, 100.0, 1e-6, 3, 1e-13, out, cap=cap)
         else:
-            batch.adaptive_points(p, zeta, vb, x0, v0, 100.0, 1e-10, 1e-13, 10_000_000, 1e-6, 3, 1e-9, out, cap=cap)
+            batch.adaptive_points(p, zeta, vb, x0, v0, 100.0, batch.Ode(1e-10, 1e-13, 10_000_000), 1e-6, 3, 1e-9, out, cap=cap)
         return out
 
     np.testing.assert_array_equal(rows(8), rows(None))

@@ -12,6 +12,7 @@ from scipy.optimize import brentq, minimize_scalar
 from frictionflow import BeltOscillator, Coulomb, Cubic, Stribeck, simulate
 from frictionflow.cli import main
 from frictionflow.orbits import ShootingError, continuation, find_orbit, shoot
+from frictionflow.orbits.settings import ContinuationSettings
 
 from ..conftest import slip_solution
 
@@ -202,3 +203,18 @@ def test_continue_takes_a_tolerance(capsys):
 def test_continuation_refuses_a_bad_tolerance():
     with pytest.raises(ValueError, match="tol"):
         continuation(BeltOscillator(zeta=0.05, vb=0.3), HOPF_LAW, "vb", 0.2, 0.8, tol=0.0)
+
+
+def test_continuation_takes_its_settings_as_a_record_or_as_keywords():
+    """A ContinuationSettings, its fields as keywords, or both (keywords win): the same branches; other keywords refused."""
+    model, law = BeltOscillator(zeta=0.05, vb=0.3), HOPF_LAW
+    by_keywords = continuation(model, law, "vb", 0.2, 0.8, seeds=(), n_equilibria=11)
+    by_record = continuation(model, law, "vb", 0.2, 0.8, settings=ContinuationSettings(seeds=(), n_equilibria=11))
+    overridden = continuation(model, law, "vb", 0.2, 0.8, settings=ContinuationSettings(seeds=(), n_equilibria=5),
+                              n_equilibria=11)
+    assert by_record.to_dict() == by_keywords.to_dict() == overridden.to_dict()
+    assert len(by_keywords.branches[0].points) >= 11
+    with pytest.raises(TypeError, match="continuation.*'n_equilibrium'"):
+        continuation(model, law, "vb", 0.2, 0.8, n_equilibrium=11)
+    with pytest.raises(TypeError, match="settings must be a ContinuationSettings"):
+        continuation(model, law, "vb", 0.2, 0.8, settings={"seeds": ()})

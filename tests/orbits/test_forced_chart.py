@@ -22,6 +22,7 @@ from frictionflow.orbits.forced_chart import (
     forced_monitor_value,
 )
 from frictionflow.orbits.monitors import branch_extrema, monitor_value
+from frictionflow.orbits.settings import ForcedContinuationSettings
 from frictionflow.solvers.base import kernel_params
 
 ZETA, FD, FEX = 0.05, 0.5, 0.1
@@ -195,3 +196,25 @@ def test_fold_curve_of_the_locking_tongue_crossed_by_a_continuation_in_f_ex():
     assert chart.to_dict()["curves"][0]["m"] == 1
     ds = chart.to_xarray()
     assert np.allclose(sorted(ds["fold_m1_omega"].values[0]), sorted(p.x for p in folds))
+
+
+def test_forced_continuations_take_their_settings_as_a_record_or_as_keywords():
+    """continue_forced and forced_chart: a ForcedContinuationSettings or its fields as keywords, the same branch and
+    chart; any other keyword refused by name."""
+    record = ForcedContinuationSettings(steps=128, max_points=6)
+    by_keywords = continue_forced(LINEAR, LINEAR_LAW, "omega", 0.8, 1.2, steps=128, max_points=6)
+    by_record = continue_forced(LINEAR, LINEAR_LAW, "omega", 0.8, 1.2, settings=record)
+    assert by_record.settings == by_keywords.settings and by_record.settings["steps_per_period"] == 128
+    assert len(by_record) == len(by_keywords) == 6
+    np.testing.assert_array_equal([p.state for p in by_record.points], [p.state for p in by_keywords.points])
+    np.testing.assert_array_equal(by_record.lam, by_keywords.lam)
+    plane = (LINEAR, LINEAR_LAW, "omega", (0.8, 1.2), "fex", [FEX])
+    chart = forced_chart(*plane, x_start=0.8, continuation=record)
+    assert chart.to_dict() == forced_chart(*plane, x_start=0.8, steps=128, max_points=6).to_dict()
+    assert [r.points for r in chart.runs] == [6]
+    with pytest.raises(TypeError, match=r"continue_forced\(\) got an unexpected keyword argument 'hmax'"):
+        continue_forced(LINEAR, LINEAR_LAW, "omega", 0.8, 1.2, hmax=0.1)
+    with pytest.raises(TypeError, match=r"forced_chart\(\) got an unexpected keyword argument 'hmax'"):
+        forced_chart(*plane, hmax=0.1)
+    with pytest.raises(TypeError, match="continuation must be a ForcedContinuationSettings"):
+        forced_chart(*plane, continuation={"steps": 128})

@@ -16,7 +16,7 @@ import shutil
 import tempfile
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
@@ -26,7 +26,7 @@ from .. import _validate as check
 from .._display import Summarized, num
 from .._figures import draw
 from ..io import FIGURE_FORMATS, atomic_write, check_output_path, temporary_path
-from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS, parse_sweep
+from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS, SweepConfig, parse_sweep
 from ..sweep.runner import run_sweep
 from ..sweep.store import check_out
 from .labels import OUTCOMES, Attractor, Tolerances, label_attractors
@@ -124,6 +124,28 @@ class Basins(Summarized):
         return title, rows
 
 
+@dataclass(frozen=True)
+class SweepOptions:
+    """How :func:`basins` runs its sweep, and where the sweep's resumable store lives.
+
+    Attributes
+    ----------
+    store:
+        The sweep's own store (``.zarr``, resumable, kept).  Default: beside
+        ``out`` (``OUT.sweep.zarr``), removed once ``out`` is written, so that
+        an interrupted run resumes; a temporary directory without ``out``.
+    restart, chunk_size, client, scheduler, progress:
+        As for :func:`~frictionflow.sweep.run_sweep`.
+    """
+
+    store: str | Path | None = None
+    restart: bool = False
+    chunk_size: int | None = None
+    client: Any = None
+    scheduler: str | None = None
+    progress: bool = False
+
+
 def basins(
     settings: Mapping[str, Any] | None = None,
     *,
@@ -134,13 +156,8 @@ def basins(
     vary: Mapping[str, Any] | None = None,
     out: str | Path | None = None,
     plot: str | Path | None = None,
-    store: str | Path | None = None,
-    restart: bool = False,
-    chunk_size: int | None = None,
-    client: Any = None,
-    scheduler: str | None = None,
-    progress: bool = False,
     tolerances: Tolerances | None = None,
+    sweep_options: SweepOptions | None = None,
     **params: Any,
 ) -> Basins:
     """Basins of attraction of the initial states, and their basin stability.
@@ -165,14 +182,15 @@ def basins(
         The labelled dataset, ``.nc`` or ``.zarr`` (written atomically).
     plot:
         The basin map, or with ``vary`` the basin-stability curves (.png, .pdf, .svg).
-    store:
-        The sweep's own store (``.zarr``, resumable, kept).  Default: beside
-        ``out`` (``OUT.sweep.zarr``), removed once ``out`` is written, so that
-        an interrupted run resumes; a temporary directory without ``out``.
-    restart, chunk_size, client, scheduler, progress:
-        As for :func:`~frictionflow.sweep.run_sweep`.
     tolerances:
         How close steady states must be to be one attractor (:class:`Tolerances`).
+    sweep_options:
+        How the sweep runs and where its store lives (:class:`SweepOptions`).
+        Its fields are also taken as keywords among ``params``, replacing the
+        record's: ``store`` (the sweep's resumable ``.zarr`` store; default
+        beside ``out``, removed once ``out`` is written), ``restart``,
+        ``chunk_size``, ``client``, ``scheduler`` and ``progress`` (as for
+        :func:`~frictionflow.sweep.run_sweep`).
 
     Returns
     -------
@@ -182,6 +200,7 @@ def basins(
     tol = tolerances or Tolerances()
     if not isinstance(tol, Tolerances):
         raise ValueError(f"tolerances must be a Tolerances, got {tol!r}")
+    run = _sweep_options(sweep_options, params)
     values = {**(settings or {}), **params}
     grid, design = _design(x0, v0, sample, seed)
     along, grid = _vary(vary, values, grid)
@@ -192,13 +211,8 @@ def basins(
         check_output_path(plot, FIGURE_FORMATS, "plot")
     design["points"] = int(cfg.size // (len(cfg.axes[along]) if along else 1))
     t0 = time.perf_counter()
-    with _sweep_store(store, out) as path:
-        lazy = run_sweep(cfg, path, restart=restart, client=client, scheduler=scheduler, chunk_size=chunk_size, progress=progress)
-        try:
-            ds = _plain(lazy.load())
-        finally:
-            lazy.close()
-        labelled, found = label_attractors(ds, along, tol)
+    with _sweep_store(run.store, out) as path:
+        labelled, found = label_attractors(_swept(cfg, path, run), along, tol)
         labelled.attrs.update(_design_attrs(design, along))
         result = Basins(labelled, found, _codes(labelled), tol, design, along, time.perf_counter() - t0)
         if out is not None:
@@ -208,6 +222,24 @@ def basins(
         result.plot(plot, name="plot")
         result.files["plot"] = str(plot)
     return result
+
+
+def _sweep_options(given: SweepOptions | None, params: dict[str, Any]) -> SweepOptions:
+    """``given`` (default :class:`SweepOptions`) with its fields among the keywords ``params`` (taken out of them)."""
+    if given is not None and not isinstance(given, SweepOptions):
+        raise TypeError(f"basins(): sweep_options must be a SweepOptions, got {type(given).__name__}")
+    own = {f.name: params.pop(f.name) for f in fields(SweepOptions) if f.name in params}
+    return replace(given if given is not None else SweepOptions(), **own)
+
+
+def _swept(cfg: SweepConfig, path: Path, run: SweepOptions):
+    """The sweep computed (or resumed) into the store ``path``, loaded into memory."""
+    lazy = run_sweep(cfg, path, restart=run.restart, client=run.client, scheduler=run.scheduler, chunk_size=run.chunk_size,
+                     progress=run.progress)
+    try:
+        return _plain(lazy.load())
+    finally:
+        lazy.close()
 
 
 def _range(name: str, value: Any, with_count: bool) -> tuple[float, float, int | None]:

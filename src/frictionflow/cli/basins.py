@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Optional
 
@@ -15,13 +16,13 @@ import typer
 
 from .._display import num
 from ..basins import Tolerances, basins as run_basins
-from ..basins.study import DATASET_FORMATS
+from ..basins.study import DATASET_FORMATS, SweepOptions
 from ..io import check_output_path
 from ..plotting import FIGURE_FORMATS
 from ..sweep.config import NOT_IN_SWEEPS
 from ..sweep.store import check_out
 from ._app import app
-from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
+from .options import CONFIG_OPTION, merged_config, parameter_names, with_options, with_parameters
 from .sweep import _sigterm_as_interrupt
 
 #: the model's options, as a sweep takes them; the initial state is a range here (--x0, --v0), not a value
@@ -29,46 +30,54 @@ MODEL = tuple(n for n in parameter_names(("oscillator", "law", "solver"), run=("
               if n not in NOT_IN_SWEEPS)
 
 
-@app.command(short_help="Basins of attraction and basin stability over initial states.")
-@with_parameters(MODEL, {"t_end": "Length of every simulation [500]; points not settled by then are labelled not_settled."})
-def basins(
-    params: dict[str, Any],
-    x0: str = typer.Option(..., "--x0", metavar="FROM:TO[:N]", help="Range of X(0): FROM:TO:N grid points, or FROM:TO with --sample."),
-    v0: str = typer.Option(..., "--v0", metavar="FROM:TO[:N]", help="Range of X'(0), as --x0."),
-    sample: Optional[int] = typer.Option(None, "--sample", metavar="N", help="N random initial states in the ranges instead of a grid."),
-    seed: int = typer.Option(0, "--seed", help="Seed of --sample (the same points for a seed on every machine)."),
+@dataclass(frozen=True)
+class BasinsOptions:
+    """The basins command's own options (the model's come as ``params``), each with its typer option."""
+
+    x0: str = typer.Option(..., "--x0", metavar="FROM:TO[:N]", help="Range of X(0): FROM:TO:N grid points, or FROM:TO with --sample.")
+    v0: str = typer.Option(..., "--v0", metavar="FROM:TO[:N]", help="Range of X'(0), as --x0.")
+    sample: Optional[int] = typer.Option(None, "--sample", metavar="N", help="N random initial states in the ranges instead of a grid.")
+    seed: int = typer.Option(0, "--seed", help="Seed of --sample (the same points for a seed on every machine).")
     vary: Optional[str] = typer.Option(
         None, "--vary", metavar="NAME=FROM:TO:N|NAME=V1,V2,..",
-        help="Basin stability against one parameter (vb, zeta, fd, ...): the same initial states at each value."),
-    out: Optional[Path] = typer.Option(None, "--out", metavar="PATH", help="Labelled dataset: PATH.nc or PATH.zarr."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Basin map, or with --vary basin stability against the parameter (.png, .pdf, .svg)."),
+        help="Basin stability against one parameter (vb, zeta, fd, ...): the same initial states at each value.")
+    out: Optional[Path] = typer.Option(None, "--out", metavar="PATH", help="Labelled dataset: PATH.nc or PATH.zarr.")
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Basin map, or with --vary basin stability against the parameter (.png, .pdf, .svg).")
     store: Optional[Path] = typer.Option(
         None, "--store", metavar="PATH.zarr",
-        help="Keep the sweep's resumable store here [beside --out, removed once --out is written]."),
+        help="Keep the sweep's resumable store here [beside --out, removed once --out is written].")
     tol: Optional[float] = typer.Option(
-        None, "--tol", help="Tolerance telling attractors apart: relative on period and amplitude, absolute on stick fraction [1e-3]."),
-    restart: bool = typer.Option(False, "--restart", help="Discard an existing sweep store (needed when the settings changed)."),
-    chunk_size: Optional[int] = typer.Option(None, "--chunk-size", help="Initial states per chunk (a task and a unit of commit)."),
-    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT; default: this machine's cores."),
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object: the attractors, basin stability and standard errors."),
-    config: Optional[Path] = CONFIG_OPTION,
-) -> None:
+        None, "--tol", help="Tolerance telling attractors apart: relative on period and amplitude, absolute on stick fraction [1e-3].")
+    restart: bool = typer.Option(False, "--restart", help="Discard an existing sweep store (needed when the settings changed).")
+    chunk_size: Optional[int] = typer.Option(None, "--chunk-size", help="Initial states per chunk (a task and a unit of commit).")
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT; default: this machine's cores.")
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object: the attractors, basin stability and standard errors.")
+    config: Optional[Path] = CONFIG_OPTION
+
+
+@app.command(short_help="Basins of attraction and basin stability over initial states.")
+@with_parameters(MODEL, {"t_end": "Length of every simulation [500]; points not settled by then are labelled not_settled."})
+@with_options(BasinsOptions)
+def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
     """Basins of attraction of the initial states at fixed parameters: attractors, basin stability (with binomial standard errors), map and dataset."""
-    settings = merged_config(config, params).given
+    settings = merged_config(opts.config, params).given
+    tol = opts.tol
     tolerances = Tolerances() if tol is None else Tolerances(period=tol, amplitude=tol, stick=tol)
-    if chunk_size is not None and chunk_size < 1:
-        raise ValueError(f"--chunk-size must be an integer >= 1, got {chunk_size}")
-    x, v = parse_range("--x0", x0, sample is None), parse_range("--v0", v0, sample is None)
-    _check_outputs(out, plot)
+    if opts.chunk_size is not None and opts.chunk_size < 1:
+        raise ValueError(f"--chunk-size must be an integer >= 1, got {opts.chunk_size}")
+    grid = opts.sample is None
+    x, v = parse_range("--x0", opts.x0, grid), parse_range("--v0", opts.v0, grid)
+    _check_outputs(opts.out, opts.plot)
+    run = SweepOptions(store=opts.store, restart=opts.restart, chunk_size=opts.chunk_size, scheduler=opts.scheduler,
+                       progress=sys.stderr.isatty())
     with _sigterm_as_interrupt():
         try:
-            result = run_basins(settings, x0=x, v0=v, sample=sample, seed=seed, vary=parse_vary(vary), out=out, plot=plot,
-                                store=store, restart=restart, chunk_size=chunk_size, scheduler=scheduler,
-                                progress=sys.stderr.isatty(), tolerances=tolerances)
+            result = run_basins(settings, x0=x, v0=v, sample=opts.sample, seed=opts.seed, vary=parse_vary(opts.vary), out=opts.out,
+                                plot=opts.plot, tolerances=tolerances, sweep_options=run)
         except KeyboardInterrupt:
             print("interrupted: the sweep's store keeps the chunks finished so far; run the same command to resume", file=sys.stderr)
             raise
-    if as_json:
+    if opts.as_json:
         print(json.dumps(result.to_dict(), allow_nan=False))
     else:
         _print(result)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Optional
 
@@ -16,11 +17,12 @@ from ..orbits import continuation, find_orbit
 from ..orbits.floquet import fd_monodromy
 from ..orbits.monitors import MONITORS, branch_extrema
 from ..orbits.plotting import plot_bifurcation, plot_orbit
+from ..orbits.settings import ContinuationSettings
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ..solvers.registry import solver_names_where
 from ._app import app
-from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
+from .options import CONFIG_OPTION, merged_config, parameter_names, with_options, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "solver", "dimensional"))
 #: orbits need located switches: every solver but the fixed-step ones
@@ -92,50 +94,55 @@ def orbit(
         _print_orbit(report)
 
 
+@dataclass(frozen=True)
+class ContinueOptions:
+    """The continue command's own options (the model's come as ``params``), each with its typer option."""
+
+    param: str = typer.Option(..., "--param", help="Parameter to continue: the oscillator's or the law's (zeta, vb, fd, ...).")
+    start: float = typer.Option(..., "--from", help="Start value of the parameter.")
+    stop: float = typer.Option(..., "--to", help="End value of the parameter.")
+    seeds: str = typer.Option("hopf,start,stop", "--seeds", help="Where orbit branches start: hopf, start, stop (comma-separated).")
+    points: int = typer.Option(101, "--points", help="Grid points of the equilibrium branch.")
+    max_points: int = typer.Option(300, "--max-points", help="Points per orbit branch at most.")
+    max_period: float = typer.Option(500.0, "--max-period", help="A branch ends (period_blowup) once its period exceeds this.")
+    step: float = typer.Option(0.02, "--step", help="First arclength step, relative to the interval.")
+    sweep: int = typer.Option(0, "--sweep", help="Overlay this many brute-force simulations across the interval.")
+    monitor: str = typer.Option("", "--monitor", help="Locate the extrema of these per-orbit quantities along the branches "
+                                "(comma-separated: P_fin, P_dv, P_df, R_c, R_f, P_belt, P_heat, TR_B, amplitude, stick_fraction, period).")
+    tol: Optional[float] = typer.Option(None, "--tol", help="Newton tolerance on each orbit's X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws].")
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object (branches, bifurcations) to stdout.")
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Bifurcation diagram and power along the branches (.png, .pdf, .svg).")
+    config: Optional[Path] = CONFIG_OPTION
+
+
 @app.command("continue")
 @with_parameters(MODEL, {"x0": "Start X of the seed and sweep simulations [F_d].", "solver": SOLVER_HELP,
                          "v0": "Start X' of the seed and sweep simulations [V_b].",
                          "t_end": "Length of the seed and sweep simulations [500]."})
-def continue_(
-    params: dict[str, Any],
-    param: str = typer.Option(..., "--param", help="Parameter to continue: the oscillator's or the law's (zeta, vb, fd, ...)."),
-    start: float = typer.Option(..., "--from", help="Start value of the parameter."),
-    stop: float = typer.Option(..., "--to", help="End value of the parameter."),
-    seeds: str = typer.Option("hopf,start,stop", "--seeds", help="Where orbit branches start: hopf, start, stop (comma-separated)."),
-    points: int = typer.Option(101, "--points", help="Grid points of the equilibrium branch."),
-    max_points: int = typer.Option(300, "--max-points", help="Points per orbit branch at most."),
-    max_period: float = typer.Option(500.0, "--max-period", help="A branch ends (period_blowup) once its period exceeds this."),
-    step: float = typer.Option(0.02, "--step", help="First arclength step, relative to the interval."),
-    sweep: int = typer.Option(0, "--sweep", help="Overlay this many brute-force simulations across the interval."),
-    monitor: str = typer.Option("", "--monitor", help="Locate the extrema of these per-orbit quantities along the branches "
-                                "(comma-separated: P_fin, P_dv, P_df, R_c, R_f, P_belt, P_heat, TR_B, amplitude, stick_fraction, period)."),
-    tol: Optional[float] = typer.Option(None, "--tol", help="Newton tolerance on each orbit's X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws]."),
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object (branches, bifurcations) to stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Bifurcation diagram and power along the branches (.png, .pdf, .svg)."),
-    config: Optional[Path] = CONFIG_OPTION,
-) -> None:
+@with_options(ContinueOptions)
+def continue_(params: dict[str, Any], opts: ContinueOptions) -> None:
     """Continue equilibria and periodic orbits in one parameter; report Hopf points, folds, grazing and power along branches."""
-    monitors = tuple(m.strip() for m in monitor.split(",") if m.strip())
+    monitors = tuple(m.strip() for m in opts.monitor.split(",") if m.strip())
     for m in monitors:
         if m not in MONITORS:
             raise ValueError(f"--monitor must be among {', '.join(MONITORS)}, got {m!r}")
 
-    cfg = _config(config, params)
-    seed_list = tuple(s.strip() for s in seeds.split(",") if s.strip())
-    _check(points=points, max_points=max_points, sweep=sweep, max_period=max_period, step=step, tol=tol)
-    if plot is not None:
-        check_output_path(plot, FIGURE_FORMATS, "--plot")  # before any work: a bad path writes nothing
+    cfg = _config(opts.config, params)
+    seed_list = tuple(s.strip() for s in opts.seeds.split(",") if s.strip())
+    _check(points=opts.points, max_points=opts.max_points, sweep=opts.sweep, max_period=opts.max_period, step=opts.step, tol=opts.tol)
+    if opts.plot is not None:
+        check_output_path(opts.plot, FIGURE_FORMATS, "--plot")  # before any work: a bad path writes nothing
     model, law, solv = cfg.build()
-    result = continuation(
-        model, law, param, start, stop, seeds=seed_list, transient=cfg.t_end, n_equilibria=points, max_points=max_points,
-        max_period=max_period, step=step, sweep=sweep, solver=solv, x0=cfg.x0, v0=cfg.v0, tol=tol,
-    )
-    if plot is not None:
-        plot_bifurcation(result, plot, name="--plot")
+    settings = ContinuationSettings(seeds=seed_list, transient=cfg.t_end, n_equilibria=opts.points, max_points=opts.max_points,
+                                    max_period=opts.max_period, step=opts.step, sweep=opts.sweep, solver=solv, x0=cfg.x0,
+                                    v0=cfg.v0, tol=opts.tol)
+    result = continuation(model, law, opts.param, opts.start, opts.stop, settings=settings)
+    if opts.plot is not None:
+        plot_bifurcation(result, opts.plot, name="--plot")
     report = result.to_dict()
     if monitors:
         report["extrema"] = [e.to_dict() for m in monitors for e in branch_extrema(result, m, model, law)]
-    if as_json:
+    if opts.as_json:
         _dump(report)
     else:
         _print_continuation(report)

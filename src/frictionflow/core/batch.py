@@ -9,11 +9,29 @@ kernels stop a point early once its section values repeat (``rtol``,
 ``min_periods``) or, for the exact solver, once it is in a slip phase it can
 never leave (the sliding equilibrium): the rest of the run would change
 nothing.
+
+The point kernels take records (module-level named tuples, typed by numba),
+each unpacked once at the kernel's top:
+
+==========  ================================================================
+``Points``  the per-point inputs, row ``j`` of each array is point ``j``:
+            its force record ``p`` (``(n, N_PARAMS)``), zeta, V_b, X0, X'0
+``Judge``   how every point's section records are judged (the classifier's
+            settings): rtol, min_periods, the fixed step h (0: adaptive
+            steps), fixed_step (flag) and the section noise
+``Ode``     the adaptive kernel's step control: rtol, atol, max_steps
+==========  ================================================================
+
+The per-point outputs are the rows of ``out`` (``(n, NR)``) and, for the
+kernels ``with_room`` runs, the flags ``full``.  A record from Python costs
+a kernel call about 0.5 us more than its fields would (:mod:`.records`):
+once per piece of points, not per point.
 """
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -36,6 +54,10 @@ from .threads import over_points
     "X_min", "X_max", "V_min", "V_max", "stick_fraction", "energy_residual",
 ))
 NR = Q.NR
+
+Points = namedtuple("Points", "p zeta vb x0 v0")
+Judge = namedtuple("Judge", "rtol min_periods h fixed_step noise")
+Ode = namedtuple("Ode", "rtol atol max_steps")
 
 
 @njit(cache=True)
@@ -70,7 +92,11 @@ def _row(rec, tail, fin, p, zeta, vb, rtol, min_periods, h, fixed_step, noise, o
 
 
 @njit(cache=True)
-def _classify_samples(t, x, v, mode, work, zeta, vb, p, rtol, min_periods, h, fixed_step, noise, out):
+def _classify_samples(samples, k, p, zeta, vb, judge, out):
+    """A point's result row from the first ``k`` of its ``samples`` (:class:`.records.Samples`)."""
+    rtol, min_periods, h, fixed_step, noise = judge
+    t, x, v, fc, mode, work = samples
+    t, x, v, mode, work = t[:k], x[:k], v[:k], mode[:k], work[:k]
     t_tail = sec.tail_start(t[0], t[-1])
     rec, tail, fin = sec.records_from_samples(t, x, v, mode, work, zeta, t_tail)
     if rec.shape[0] > sec.MAX_RECORDS:
@@ -101,19 +127,23 @@ def with_room(kernel, n: int, cap: int, *args) -> None:
         cap *= 4
 
 
-def exact_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, cap: int | None = None) -> None:
+def exact_points(p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray, t_end: float,
+                 rtol: float, min_periods: int, noise: float, out: np.ndarray, cap: int | None = None) -> None:
     """Exact solver for every point (rows of ``p``: friction kernel parameters), parallel over the cores.
 
     ``cap``: the samples each point has room for at first (default: 16 per 2 pi).
     """
     cap = int(16.0 * t_end / (2.0 * math.pi)) + 64 if cap is None else cap
-    with_room(_exact_points, len(zeta), cap, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, True, False)
+    judge = Judge(rtol, min_periods, 0.0, False, noise)
+    with_room(_exact_points, len(zeta), cap, Points(p, zeta, vb, x0, v0), t_end, judge, out, True)
 
 
-# Flags arrive as arguments from Python, never as constants written in a kernel: numba would compile the
-# callees once more for each constant (a literal type), seconds on a fresh cache.
+# Flags arrive from Python (arguments, Judge's fixed_step), never as constants written in a kernel: numba would
+# compile the callees once more for each constant (a literal type), seconds on a fresh cache.
 @njit(cache=True, nogil=True)
-def _exact_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, stop_early, fixed_step):
+def _exact_points(j0, j1, todo, cap, full, points, t_end, judge, out, stop_early):
+    p, zeta, vb, x0, v0 = points
+    rtol, min_periods = judge.rtol, judge.min_periods
     for j in todo[j0:j1]:
         samples, events = _buffers(cap)
         t, x, v, fc, mode, work = samples
@@ -140,21 +170,22 @@ def _exact_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, rtol, min
             x_eq = t_mode[0] * slip_magnitude_of(p[j], abs(vb[j]))
             sec.put(out[j], sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID]))
         else:
-            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, fixed_step,
-                              noise, out[j])
+            _classify_samples(samples, k, p[j], zeta[j], vb[j], judge, out[j])
 
 
-def adaptive_points(p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods, noise, out,
+def adaptive_points(p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray, t_end: float,
+                    ode: Ode, rtol: float, min_periods: int, noise: float, out: np.ndarray,
                     cap: int | None = None) -> None:
     """Adaptive Dormand-Prince for every point (built-in slip laws), parallel over the cores.
 
+    ``ode``: the step control, an :class:`Ode` (rtol, atol, max_steps).
     ``cap``: the samples each point has room for at first (default: about 64 per time unit up to
     t_end, at most 2^15, 2.4 MB a thread: a point that fills it runs again from the start, so the
     room is given once -- each thread reuses its buffers from point to point).
     """
     cap = min(int(64.0 * t_end) + 256, 1 << 15) if cap is None else cap
-    with_room(_adaptive_points, len(zeta), cap, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol,
-              min_periods, noise, out, False)
+    with_room(_adaptive_points, len(zeta), cap, Points(p, zeta, vb, x0, v0), t_end, Ode(*ode),
+              Judge(rtol, min_periods, 0.0, False, noise), out)
 
 
 @njit(cache=True)
@@ -169,10 +200,11 @@ def _same_radius(p, zeta, vb, i, j):
 
 
 @njit(cache=True, nogil=True)
-def _adaptive_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, ode_rtol, ode_atol, max_steps, rtol, min_periods,
-                     noise, out, fixed_step):
+def _adaptive_points(j0, j1, todo, cap, full, points, t_end, ode, judge, out):
+    p, zeta, vb, x0, v0 = points
+    ode_rtol, ode_atol, max_steps = ode
+    rtol, min_periods = judge.rtol, judge.min_periods
     samples, events = _buffers(cap)  # each run writes from the start and is read up to its own count
-    t, x, v, fc, mode, work = samples
     last = -1  # the point whose certified radius r is: a basin grid shares one (the disc is the same search)
     r = 0.0
     for j in todo[j0:j1]:
@@ -190,20 +222,24 @@ def _adaptive_points(j0, j1, todo, cap, full, p, zeta, vb, x0, v0, t_end, ode_rt
         if status != dopri.OK:
             _not_settled(out[j])
         else:
-            _classify_samples(t[:k], x[:k], v[:k], mode[:k], work[:k], zeta[j], vb[j], p[j], rtol, min_periods, 0.0, fixed_step,
-                              noise, out[j])
+            _classify_samples(samples, k, p[j], zeta[j], vb[j], judge, out[j])
 
 
 @njit(cache=True, nogil=True)
-def _rk4_rows(j0, j1, rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out, fixed_step):
+def _rk4_rows(j0, j1, runs, points, judge, out):
+    """Rows ``j0 .. j1-1``: ``runs`` = (rec, nrec, tail, fin) of :func:`.rk4_batch.run_batch`."""
+    rec, nrec, tail, fin = runs
+    p, zeta, vb, x0, v0 = points
+    rtol, min_periods, dt, fixed_step, noise = judge
     for j in range(j0, j1):
         _row(rk4_batch.unroll(rec[j], nrec[j]), tail[j], fin[j], p[j], zeta[j], vb[j], rtol, min_periods, dt, fixed_step, noise,
              out[j])
 
 
-def rk4_points(law, p, zeta, vb, x0, v0, t_end, dt, rtol, min_periods, noise, out) -> None:
+def rk4_points(law: int, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray, t_end: float,
+               dt: float, rtol: float, min_periods: int, noise: float, out: np.ndarray) -> None:
     """Batched fixed-step RK4 (lanes in lock step, SIMD) for every point."""
     steps = max(1, int(math.ceil(t_end / dt - 1e-9)))
     rk4_batch.warm_up()
-    rec, nrec, tail, fin = rk4_batch.run_batch(law, zeta, vb, p, x0, v0, dt, steps, sec.tail_start(0.0, steps * dt))
-    over_points(_rk4_rows, len(zeta), rec, nrec, tail, fin, p, zeta, vb, rtol, min_periods, dt, noise, out, True)
+    runs = rk4_batch.run_batch(law, zeta, vb, p, x0, v0, dt, steps, sec.tail_start(0.0, steps * dt))
+    over_points(_rk4_rows, len(zeta), runs, Points(p, zeta, vb, x0, v0), Judge(rtol, min_periods, dt, True, noise), out)

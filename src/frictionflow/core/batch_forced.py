@@ -143,32 +143,40 @@ def _tangent_points(j0, j1, start, zeta, vb, p, block, counts, steps, found):
         found[j, 3] = hi - lo if finite else np.nan
 
 
-def forced_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, *, dense_dt=0.0, lyapunov=True,
-                  cap: int | None = None) -> np.ndarray:
+def forced_points(p, zeta, vb, x0, v0, t_end, rtol, min_periods, noise, out, *, dense_dt=0.0,
+                  lyapunov=True) -> np.ndarray:
     """Rows (``out``) of forced points (rows of ``p``: force records with F_ex > 0) on the exact solver.
 
     ``lyapunov``: whether the law has the tangent kernel (Coulomb's stick
     rule; ``forced.largest_exponent`` returns None otherwise, and a
-    non-repeating section is then ``not_settled``).  ``cap``: the samples
-    each point has room for at first (default: simulate's estimate at the
-    highest Omega).  Returns a mask of the points left to the façade, whose
-    rows are not filled.
+    non-repeating section is then ``not_settled``).  Returns a mask of the
+    points left to the façade, whose rows are not filled.
     """
     n = len(zeta)
     aux = np.zeros((n, N_AUX))
-    if cap is None:
-        om = float(np.max(p[:, OMEGA])) if n else 1.0
-        cap = int(16 * t_end / (2 * math.pi)) + 64 + int(t_end * om / (2 * math.pi)) + int(8 * om * t_end / math.pi)
     point = np.empty((n, N_POINT))
     point[:, P_X0], point[:, P_V0], point[:, P_ZETA], point[:, P_VB] = x0, v0, zeta, vb
     settings = np.empty(N_SETTINGS)
     settings[S_T_END], settings[S_DENSE_DT], settings[S_RTOL], settings[S_MIN_PERIODS], settings[S_NOISE] = (
         t_end, dense_dt, rtol, min_periods, noise)
-    with_room(_forced_points, n, cap, p, point, settings, out, aux, False)
+    with_room(_forced_points, n, room(p, t_end, dense_dt), p, point, settings, out, aux, False)
     todo = np.flatnonzero(aux[:, A_STATUS] == LYAPUNOV)
     if todo.size:
         out[todo, strobe.R_KIND] = _kinds(p[todo], zeta[todo], vb[todo], aux[todo]) if lyapunov else NOT_SETTLED
     return aux[:, A_STATUS] == FACADE
+
+
+def room(p: np.ndarray, t_end: float, dense_dt: float) -> int:
+    """The samples each point has room for at first: simulate's estimate at the highest Omega of ``p``.
+
+    A point that fills it runs again with more (``with_room``): the same
+    result at the cost of a second run, so the dense grid's samples are
+    counted in too.
+    """
+    om = float(np.max(p[:, OMEGA])) if len(p) else 1.0
+    dense = int(t_end / dense_dt) + 2 if dense_dt else 0
+    forced = int(t_end * om / (2 * math.pi)) + int(8 * om * t_end / math.pi)
+    return int(16 * t_end / (2 * math.pi)) + 64 + dense + forced
 
 
 def _kinds(p, zeta, vb, aux) -> np.ndarray:
@@ -182,7 +190,10 @@ def _kinds(p, zeta, vb, aux) -> np.ndarray:
         counts[j] = n_tr, max(1, math.ceil((t_end - n_tr * b) / b - 1e-9))
     found = np.empty((n, 4))
     start = np.ascontiguousarray(aux[:, [A_X, A_V]])
-    over_points(_tangent_points, n, start, zeta, vb, np.ascontiguousarray(p), block, counts, strobe.LYAPUNOV_STEPS, found)
+    # a piece per point: a tangent run costs tens of milliseconds, so a thread left with a piece of several at
+    # the end would keep the other idle that long (a piece's dispatch costs tens of microseconds)
+    over_points(_tangent_points, n, start, zeta, vb, np.ascontiguousarray(p), block, counts, strobe.LYAPUNOV_STEPS,
+                found, per_thread=max(1, n))
     kinds = np.full(n, NOT_SETTLED, dtype=float)
     for j in range(n):
         status, s1, s2, spread = found[j].tolist()

@@ -47,12 +47,23 @@ Replication (:func:`run`, ``replicate``): an unforced phase's computation
 reads the state at its start, not the absolute time, so a stick-slip cycle
 that returns to a bitwise-equal switch state repeats bit for bit from there;
 it is copied (times accumulated by the same additions) instead of integrated
-again, within the limits that keep the copy identical to the integration.
+again, within the limits that keep the copy identical to the integration
+(:func:`_replicate`); not with a dense grid or the periodic stop.
+
+:func:`run`'s last two arguments also choose what is compiled:
+``replicate`` None (the default) compiles a run without replication, True
+or False with it (on or off); ``periodic_stop`` None a run without the
+periodic stop (``stop_periodic``: the section values repeat to ``rtol`` for
+``min_periods`` periods; ignored then).  The façade, whose runs never stop
+early, passes (replicate, None); the batched sweeps leave both out.  (numba
+drops a branch on ``arg is None`` when the argument is None or left out, in
+inlined callees too: its callees are not even compiled.)
 """
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -508,236 +519,292 @@ def _repeated(ring, m, n_max, n_min, rtol, noise):
             and sec.ring_repeats(ring[2 * m : 3 * m], ring[3 * m :], n_min, tol, rtol))
 
 
+#: the settings of a run, unpacked once (:func:`_settings`; numba keeps a named tuple of scalars in registers)
+Settings = namedtuple("Settings", "t_end zeta vb dense_dt t_tail law fd fs vd res stop_periodic stop_terminal rtol")
+#: a phase of :func:`run`: its closed form (``co``, ``dyn``, ``force``, the kind ``fck`` of F_c), the belt
+#: speed, its friction mode, and its start (t, x, v)
+Phase = namedtuple("Phase", "co dyn zeta force fck vb fmode t x v")
+#: replication (:func:`_replicate`): the reference switch (x, v, mode, its sample k and event ne, time t),
+#: phases seen, and once the stretch since it repeats its length in samples and events and in time; copied:
+#: the switches copied so far
+Stretch = namedtuple("Stretch", "x v mode k ne t n_phase n_rows n_ev period copied")
+
+
+@njit(cache=True, inline="always")
+def _settings(run, p):
+    """The :data:`Settings` of the run record ``run`` and the force record ``p`` (:func:`closed_form_law` checks the law)."""
+    return Settings(run[T_END], run[ZETA], run[VB], run[DENSE_DT], run[T_TAIL], closed_form_law(p), p[FD], p[FS], p[VD],
+                    p[RESULTANT] != 0.0, run[STOP_PERIODIC] != 0.0, run[STOP_TERMINAL] != 0.0, run[STOP_RTOL])
+
+
+@njit(cache=True, forceinline=True)
+def _enter(s, x, v):
+    """(mode, X') of the unforced motion that continues from (x, v): the consistent mode, else the region's."""
+    mode = select_mode(law_record(s.law, s.fd, s.fs, s.vd, s.res), s.zeta, s.vb, x, v)
+    if mode < 0:
+        mode = region_mode(s.law, s.zeta, s.vb, s.fd, s.fs, s.vd, s.res, x, v)
+    return mode, (s.vb if mode == STICK else v)
+
+
+@njit(cache=True, inline="always")
+def _replication(s, replicate, periodic_stop):
+    """(on, rel, rp, n_rel, reach): whether :func:`run` replicates (:func:`_replicate`), the array of its stretch, no reference yet."""
+    on = False
+    if replicate is not None:
+        on = replicate and s.dense_dt == 0.0 and not (s.stop_periodic and periodic_stop is not None)
+    rel = np.zeros(REP_CAP if on else 1)
+    return on, rel, Stretch(0.0, 0.0, np.int64(0), np.int64(0), 0, 0.0, 0, -1, -1, 0.0, 0), -1, 0.0
+
+
+@njit(cache=True, forceinline=True)
+def _phase_end(s, mode, dfk, x, v, t):
+    """How the unforced phase from (x, v) at t ends: (ph, T, which, never, xe, ve, reach).
+
+    ``dfk``: its :func:`dynamics`; ``ph``: the :data:`Phase`; T its length (up to t_end if no boundary is
+    crossed before, ``which`` = -1); (xe, ve) the state at its end; never,
+    reach: :func:`first_switch`'s.
+    """
+    dyn, force, fck = dfk
+    co = cf.coefficients(dyn, s.zeta, force, x, v)
+    n_b, bs = mode_boundaries(mode, s.law, s.zeta, s.vb, s.fd, s.fs, s.vd, s.res)
+    tau, which, never, xe, ve, reach = first_switch(co, dyn, s.zeta, force, x, v, n_b, bs, s.t_end - t)
+    T = tau if which >= 0 else s.t_end - t
+    if which < 0 or math.isnan(xe):
+        xe, ve, _ = cf.state_with(co, dyn, s.zeta, force, x, v, T)
+    return Phase(co, dyn, s.zeta, force, fck, s.vb, FRICTION_MODE[mode], t, x, v), T, which, never, xe, ve, reach
+
+
+@njit(cache=True, inline="always")
+def _record_event(events, ne, t, mode):
+    """Count the switch at ``t`` into ``mode``, writing it if it fits; returns the new count."""
+    ev_t, ev_mode = events
+    if ne < len(ev_t):
+        ev_t[ne] = t
+        ev_mode[ne] = mode
+    return ne + 1
+
+
+@njit(cache=True, inline="always")
+def _add_piece(w, ph, xa, va, xb, vb_, L):
+    """Add the work integrals of one piece of the phase ``ph`` (:func:`_piece`) to ``w``."""
+    d0, d1, d2, d3 = _piece(ph.dyn, ph.fck, ph.zeta, ph.vb, ph.force, ph.fmode != 0, xa, va, xb, vb_, L)
+    w[0] += d0
+    w[1] += d1
+    w[2] += d2
+    w[3] += d3
+
+
+@njit(cache=True, inline="always")
+def _push_rel(rel, n_rel, r, ok):
+    """Append ``r`` to the replication's stretch ``rel`` (a sample's time in its phase, or -T at a phase end);
+    -1 (the stretch is not repeatable) when it is full or not ``ok``."""
+    if n_rel < REP_CAP and ok:
+        rel[n_rel] = r
+        return n_rel + 1
+    return -1
+
+
+@njit(cache=True, inline="always")
+def _sections_at(ring, sc, s, vzero, xb, t_abs, acc):
+    """The periodic stop's record of a sample (X = ``xb`` at ``t_abs``; ``vzero``: a zero of X', X'' = ``acc``).
+
+    ``ring``: X and times of the last maxima, then minima, of X, a quarter
+    each; ``sc``: (how many maxima, minima, the largest |X| sampled).
+    Returns (sc, stop): stop once the maxima and minima repeat (:func:`_repeated`).
+    """
+    n_max, n_min, x_seen = sc
+    x_seen = max(x_seen, abs(xb))
+    stop = False
+    if vzero and s.stop_periodic:
+        m = len(ring) // 4
+        if acc < 0.0:  # a maximum of X
+            sec.push_section(ring[:m], ring[m : 2 * m], xb, t_abs)
+            n_max += 1
+        else:
+            sec.push_section(ring[2 * m : 3 * m], ring[3 * m :], xb, t_abs)
+            n_min += 1
+        stop = acc < 0.0 and _repeated(ring, m, n_max, n_min, s.rtol, 1e-13 * max(x_seen, abs(s.vb), s.fd))
+    return (n_max, n_min, x_seen), stop
+
+
+@njit(cache=True, forceinline=True)
+def _phase_sources(ph, T, s, n_rel):
+    """(tz, tt, src, n_rel): the zero of a state-dependent F_c and the tail's start inside the phase ``ph`` of
+    length T (inf: none), its first window (:func:`_window`), and the replication's ``n_rel`` (-1 if the tail
+    starts inside: this stretch does not repeat)."""
+    tz = _fc_zero(ph.dyn, ph.fck, ph.zeta, ph.x, ph.v, T)
+    tt = s.t_tail - ph.t if 0.0 < s.t_tail - ph.t < T else np.inf
+    return tz, tt, _window(ph.co, ph.dyn, ph.zeta, ph.t, 0.0, tz, tt, s.dense_dt), (-1 if tt < np.inf else n_rel)
+
+
+@njit(cache=True, forceinline=True)
+def _next_in_phase(ph, T, src, ta, tz, tt, dense_dt):
+    """The next sample inside the phase ``ph`` after ``ta``: (tb, kind, src, X, X', X'') (:func:`_next_sample`); tb >= T: none.
+
+    A zero of X' (kind 0) has X' set to exactly 0: the section crossing is then a sample.
+    (No arrays here: the loop that writes the samples stays in :func:`run`, see :mod:`.samples`.)
+    """
+    while True:
+        tb, kind, src = _next_sample(src, ph.t, dense_dt)
+        if tb >= T:
+            return tb, kind, src, 0.0, 0.0, 0.0
+        if kind == 2:
+            src = _window(ph.co, ph.dyn, ph.zeta, ph.t, tb, tz, tt, dense_dt)
+        if tb <= ta:
+            continue  # the same time from another source
+        xb, vb_, acc = cf.state_with(ph.co, ph.dyn, ph.zeta, ph.force, ph.x, ph.v, tb)
+        return tb, kind, src, xb, (0.0 if kind == 0 else vb_), acc
+
+
+@njit(cache=True, inline="always")
+def _copy_stretch(rel, outs, events, rp, t, k, ne):
+    """Copy the repeating stretch of ``rp`` (:data:`Stretch`) once after sample ``k`` - 1 and event ``ne`` - 1,
+    its times accumulated from ``t`` by the same additions as the integration (t + T, t + tb); returns the time reached."""
+    out_t, out_x, out_v, out_fc, out_mode, out_w = outs
+    ev_t, ev_mode = events
+    tc = t
+    e = ne
+    for i in range(rp.n_rows):
+        r = rel[i]
+        src = rp.k + 1 + i
+        if r < 0.0:  # a phase start: t += T, as integrated
+            tc = tc + (-r)
+            out_t[k + i] = tc
+            ev_t[e] = tc
+            ev_mode[e] = ev_mode[rp.ne + e - ne]
+            e += 1
+        else:
+            out_t[k + i] = tc + r
+        out_x[k + i] = out_x[src]
+        out_v[k + i] = out_v[src]
+        out_fc[k + i] = out_fc[src]
+        out_mode[k + i] = out_mode[src]
+        for j in range(N_WORK):
+            out_w[k + i, j] = out_w[src, j]
+    return tc
+
+
+@njit(cache=True, inline="always")
+def _copy_while(rp, reach, rel, outs, events, s, t, k, ne):
+    """Copy the repeating stretch of ``rp`` (:func:`_replicate`) while no copy meets the tail's start or comes within
+    the search horizon ``reach`` of t_end, and it fits: (t, k, ne, rp) after the copies."""
+    margin = 1e-9 * (1.0 + s.t_end)  # the rounding of times within a stretch, generously
+    copied = rp.copied
+    while (t + reach + margin < s.t_end and not (t < s.t_tail < t + rp.period + margin)
+           and k + rp.n_rows <= len(outs[0]) and ne + rp.n_ev <= len(events[0])):
+        t = _copy_stretch(rel, outs, events, rp, t, k, ne)
+        k += rp.n_rows
+        ne += rp.n_ev
+        copied += rp.n_ev
+    return t, k, ne, Stretch(rp.x, rp.v, rp.mode, rp.k, rp.ne, rp.t, rp.n_phase, rp.n_rows, rp.n_ev, rp.period, copied)
+
+
+@njit(cache=True, forceinline=True)
+def _replicate(rp, n_rel, reach, sw):
+    """Replication at the start of a phase (:func:`run`, ``replicate``), ``sw`` = (mode, x, v, t, k, ne) there.
+
+    A phase's computation reads the state at its start and its length only,
+    not the absolute time (except the horizon t_end - t, the tail's start,
+    the dense grid and the early-stop rules).  So once a switch leaves the
+    motion in a state bitwise equal to that of the reference switch ``rp``
+    (:data:`Stretch`) and the stretch since it was recorded whole in ``rel``
+    (``n_rel`` samples; -1: not recorded or not repeatable), it repeats bit
+    for bit: it is copied (:func:`_copy_while`).  Without a repeat the
+    reference moves to phases 0, 1, 2, 4, 8, ... (Brent: any cycle is met).
+    Returns (rp, n_rel, reach, copy): copy the stretch now.
+    """
+    mode, x, v, t, k, ne = sw
+    same = (mode == rp.mode and x == rp.x and v == rp.v and math.copysign(1.0, x) == math.copysign(1.0, rp.x)
+            and math.copysign(1.0, v) == math.copysign(1.0, rp.v))
+    if same and rp.n_rows < 0 and n_rel == k - 1 - rp.k:  # the stretch repeats: fixed from now on
+        rp = Stretch(rp.x, rp.v, rp.mode, rp.k, rp.ne, rp.t, rp.n_phase, n_rel, ne - rp.ne, t - rp.t, rp.copied)
+        n_rel = -1
+    copy = same and rp.n_rows > 0
+    if not copy and rp.n_rows < 0 and rp.n_phase & (rp.n_phase - 1) == 0:
+        rp = Stretch(x, v, mode, k - 1, ne, t, rp.n_phase, rp.n_rows, rp.n_ev, rp.period, rp.copied)
+        n_rel, reach = 0, 0.0
+    return Stretch(rp.x, rp.v, rp.mode, rp.k, rp.ne, rp.t, rp.n_phase + 1, rp.n_rows, rp.n_ev, rp.period, rp.copied), n_rel, reach, copy
+
+
 @njit(cache=True)
 def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
-    """Integrate from (x0, v0) at t = 0 to ``t_end`` switch by switch.
+    """Integrate from (x0, v0) at t = 0 to ``t_end`` switch by switch (unforced: F_ex > 0 goes to :func:`run_forced`).
 
-    ``run`` is the run record (:mod:`.records`, :func:`.records.run_record`):
-    x0, v0, t_end, zeta, vb, the dense grid ``dense_dt`` (0: none), ``t_tail``
-    the start of the tail sampled for the analysis, and the early-stop
-    rules ``stop_periodic``, ``stop_terminal``, ``rtol`` (its ``STOP_RTOL``)
-    and ``min_periods``; the ODE slots are not read.  ``p`` is the force
-    record (:mod:`.layout`).  The samples go to the arrays of the record
-    ``samples`` = (t, x, v, fc, mode, work) and the switches to those of
-    ``events`` = (t, mode) (:mod:`.records`,
-    :func:`frictionflow.solvers.base.output_buffers`).
-
-    Returns (k, ne, status, t_terminal, t_stop): the numbers of samples and
-    of switches (all counted, ``events`` keeps those that fit); ``t_terminal`` is
-    when the final phase (from which no boundary is ever crossed again)
-    began, or -1 (its friction mode goes to ``t_mode[0]``); ``t_stop`` where the run stopped early (``stop_periodic``:
-    the section values repeated to ``rtol`` for ``min_periods`` periods;
-    ``stop_terminal``: a damped final phase was reached), else ``t_end``.
-    Status FULL means an output array was too short.  Unforced only: a force
-    record with F_ex > 0 goes to :func:`run_forced` (the façade chooses, so
-    that a first unforced run compiles only this kernel).
-
-    ``replicate``: the computation of a phase reads the state at its start
-    and its length only, not the absolute time (except the horizon t_end - t,
-    the tail's start, the dense grid and the early-stop rules).  So once a
-    switch leaves the motion in a state bitwise equal to that of an earlier
-    switch, the stretch between the two repeats bit for bit; it is then
-    copied -- samples, work integrals, events, with the times accumulated
-    by the same additions as the integration (t + T, t + tb) -- as long as
-    no copy reaches the tail's start or comes within the search horizon
-    (``reach`` of :func:`first_switch`) of t_end; the rest is integrated.
-    Not with a dense grid or the periodic stop.  ``t_mode[1]``, if present,
-    receives the number of switches copied.
-
-    The last two arguments also choose what is compiled: ``replicate``
-    None (the default) compiles a run without replication, True or False
-    with it (on or off); ``periodic_stop`` None compiles a run without the
-    periodic stop (``stop_periodic`` is then ignored).  The façade, whose
-    runs never stop early, passes (replicate, None); the batched sweeps,
-    which do not replicate, leave both out.  (numba drops a branch on
-    ``arg is None`` when the argument is None or left out: its callees are
-    not even compiled.)
+    ``run``: the run record (:func:`.records.run_record`; its ODE slots are
+    not read); ``p``: the force record (:mod:`.layout`).  Samples go to
+    ``samples`` = (t, x, v, fc, mode, work), switches to ``events`` = (t,
+    mode) (:mod:`.records`).  Returns (k, ne, status, t_terminal, t_stop):
+    the numbers of samples and of switches (all counted, ``events`` keeps
+    those that fit; FULL: an output array was too short); when the final
+    phase (no boundary is ever crossed again) began, or -1 (its friction
+    mode goes to ``t_mode[0]``); where the run stopped early
+    (``stop_periodic``, ``stop_terminal``), else ``t_end``.  ``replicate``
+    and ``periodic_stop``: see the module's docstring (``t_mode[1]``, if
+    present, receives the number of switches copied).
     """
-    x0, v0, t_end, zeta, vb = run[X0], run[V0], run[T_END], run[ZETA], run[VB]
-    dense_dt, t_tail = run[DENSE_DT], run[T_TAIL]
-    stop_periodic, stop_terminal = run[STOP_PERIODIC] != 0.0, run[STOP_TERMINAL] != 0.0
-    rtol, min_periods = run[STOP_RTOL], int(run[MIN_PERIODS])
-    out_t, out_x, out_v, out_fc, out_mode, out_w = samples
-    ev_t, ev_mode = events
-    law = closed_form_law(p)
-    fd, fs, vd = p[FD], p[FS], p[VD]
-    res = p[RESULTANT] != 0.0
+    s = _settings(run, p)
+    t_end, zeta = s.t_end, s.zeta
+    outs = (samples[0], samples[1], samples[2], samples[3], samples[4], samples[5])
     w = np.zeros(N_WORK)  # the work integrals since the last sample (emit restarts them)
-    # stop_periodic: X and times of the last maxima, then minima, of X, how many, and the largest |X| sampled
-    m = min_periods + 2
-    ring = np.zeros(4 * m)  # (np.zeros as for w: one allocation routine to compile)
-    n_max = 0
-    n_min = 0
-    x_seen = abs(x0)
-    outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
-    t = 0.0
-    x, v = x0, v0
-    mode = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v)
-    if mode < 0:
-        mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v)
-    if mode == STICK:
-        v = vb
-    k = np.int64(0)  # not a literal: emit compiles once
-    ne = 0
-    t_terminal = -1.0
-    zero_len = 0
-    # replication: the reference switch (state, mode, first sample and event, time), the stretch since it
-    # (rel: -T at a phase start, tb inside a phase; n_rel = -1: not recorded or not repeatable), and once a
-    # repeat is found its length in samples and events and how far its searches looked (reach)
-    rep = False
-    if replicate is not None:
-        rep = replicate and dense_dt == 0.0 and not (stop_periodic and periodic_stop is not None)
-    rel = np.zeros(REP_CAP if rep else 1)
-    n_rel = -1
-    x_ref = v_ref = t_ref = reach = period = 0.0
-    mode_ref = k_ref = ne_ref = n_phase = 0
-    n_rows = n_ev = -1
-    copied = 0
-    t_min = 8.0 * EPS * (1.0 + t_end)  # shorter phases enter the zero-length count, which reads the absolute time
-    margin = 1e-9 * (1.0 + t_end)  # the rounding of times within a stretch, generously
+    ring = np.zeros(4 * (int(run[MIN_PERIODS]) + 2))  # (np.zeros as for w: one allocation routine to compile)
+    sc = (0, 0, abs(run[X0]))
+    t, x = 0.0, run[X0]
+    mode, v = _enter(s, x, run[V0])
+    k, ne, zero_len, t_terminal = np.int64(0), 0, 0, -1.0  # k not a literal: emit compiles once
+    rep, rel, rp, n_rel, reach = _replication(s, replicate, periodic_stop)
     while True:
         # a phase starts (the run's start, or a switch) or the run ends: a sample
-        dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
+        dyn, force, fck = dynamics(mode, zeta, s.fd, s.fs, s.res)
         if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta), FRICTION_MODE[mode], w):
             return k, ne, FULL, t_terminal, t
         k += 1
         if t >= t_end:
             break
         if replicate is not None and rep and zero_len == 0:
-            same = (mode == mode_ref and x == x_ref and v == v_ref and math.copysign(1.0, x) == math.copysign(1.0, x_ref)
-                    and math.copysign(1.0, v) == math.copysign(1.0, v_ref))
-            if same and n_rows < 0 and n_rel == k - 1 - k_ref:
-                n_rows, n_ev, period = n_rel, ne - ne_ref, t - t_ref  # the stretch repeats: fixed from now on
-                n_rel = -1
-            if same and n_rows > 0:
-                # copy it while no copy meets the tail's start or the horizon, and it fits
-                while (t + reach + margin < t_end and not (t < t_tail < t + period + margin)
-                       and k + n_rows <= len(out_t) and ne + n_ev <= len(ev_t)):
-                    tc = t
-                    e = ne
-                    for i in range(n_rows):
-                        r = rel[i]
-                        src = k_ref + 1 + i
-                        if r < 0.0:  # a phase start: t += T, as integrated
-                            tc = tc + (-r)
-                            out_t[k + i] = tc
-                            ev_t[e] = tc
-                            ev_mode[e] = ev_mode[ne_ref + e - ne]
-                            e += 1
-                        else:
-                            out_t[k + i] = tc + r
-                        out_x[k + i] = out_x[src]
-                        out_v[k + i] = out_v[src]
-                        out_fc[k + i] = out_fc[src]
-                        out_mode[k + i] = out_mode[src]
-                        for j in range(N_WORK):
-                            out_w[k + i, j] = out_w[src, j]
-                    t = tc
-                    k += n_rows
-                    ne += n_ev
-                    copied += n_ev
-            elif n_rows < 0 and n_phase & (n_phase - 1) == 0:
-                # no repeat yet: a new reference at phases 0, 1, 2, 4, 8, ... (Brent: any cycle is met)
-                x_ref, v_ref, mode_ref, k_ref, ne_ref, t_ref = x, v, mode, k - 1, ne, t
-                n_rel = 0
-                reach = 0.0
-            n_phase += 1
-        co = cf.coefficients(dyn, zeta, force, x, v)
-        n_b, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
-        tau, which, never, xe, ve, reach_p = first_switch(co, dyn, zeta, force, x, v, n_b, bs, t_end - t)
+            rp, n_rel, reach, copy = _replicate(rp, n_rel, reach, (mode, x, v, t, k, ne))
+            if copy:
+                t, k, ne, rp = _copy_while(rp, reach, rel, outs, events, s, t, k, ne)
+        ph, T, which, never, xe, ve, reach_p = _phase_end(s, mode, (dyn, force, fck), x, v, t)
         if replicate is not None and n_rel >= 0:
-            reach = max(reach, (t - t_ref) + reach_p)
-        T = tau if which >= 0 else t_end - t
+            reach = max(reach, (t - rp.t) + reach_p)
         if never and t_terminal < 0.0:
             t_terminal = t
             t_mode[0] = FRICTION_MODE[mode]
-            if stop_terminal and zeta > 0.0:  # undamped, a final slip phase circles X* for ever: periodic
+            if s.stop_terminal and zeta > 0.0:  # undamped, a final slip phase circles X* for ever: periodic
                 return k, ne, DONE, t_terminal, t
-        if which < 0 or math.isnan(xe):
-            xe, ve, _ = cf.state_with(co, dyn, zeta, force, x, v, T)
-        # The samples inside the phase, in time order, each with the work integrals since the previous one.
-        # (Written out here rather than in a function: a call with the output arrays costs two atomic
-        # reference-count updates per array, per phase.)
-        fmode = FRICTION_MODE[mode]
-        slipping = fmode != 0
-        tz = _fc_zero(dyn, fck, zeta, x, v, T)
-        tt = t_tail - t if 0.0 < t_tail - t < T else np.inf
-        if replicate is not None and tt < np.inf:
-            n_rel = -1  # the tail's sample: this stretch does not repeat
-        src = _window(co, dyn, zeta, t, 0.0, tz, tt, dense_dt)
+        tz, tt, src, n_rel = _phase_sources(ph, T, s, n_rel)  # the samples inside, each with the work since the last
         ta, xa, va = 0.0, x, v
         while True:
-            tb, kind, src = _next_sample(src, t, dense_dt)
+            tb, kind, src, xb, vb_, acc = _next_in_phase(ph, T, src, ta, tz, tt, s.dense_dt)
             if tb >= T:
                 break
-            if kind == 2:
-                src = _window(co, dyn, zeta, t, tb, tz, tt, dense_dt)
-            if tb <= ta:
-                continue  # the same time from another source
-            vzero = kind == 0
-            xb, vb_, acc = cf.state_with(co, dyn, zeta, force, x, v, tb)
-            if vzero:
-                vb_ = 0.0  # exactly: the section crossing is then a sample
-            d0, d1, d2, d3 = _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xb, vb_, tb - ta)
-            w[0] += d0
-            w[1] += d1
-            w[2] += d2
-            w[3] += d3
-            if not emit(outs, k, t + tb, xb, vb_, friction_force(fck, force, xb, vb_, zeta), fmode, w):
+            _add_piece(w, ph, xa, va, xb, vb_, tb - ta)
+            if not emit(outs, k, t + tb, xb, vb_, friction_force(fck, force, xb, vb_, zeta), ph.fmode, w):
                 return k, ne, FULL, t_terminal, t + ta
             k += 1
             if replicate is not None and n_rel >= 0:
-                if n_rel < REP_CAP:
-                    rel[n_rel] = tb
-                    n_rel += 1
-                else:
-                    n_rel = -1
+                n_rel = _push_rel(rel, n_rel, tb, True)
             ta, xa, va = tb, xb, vb_
             if periodic_stop is None:
                 continue
-            x_seen = max(x_seen, abs(xb))
-            if vzero and stop_periodic:
-                if acc < 0.0:  # a maximum of X
-                    sec.push_section(ring[:m], ring[m : 2 * m], xb, t + tb)
-                    n_max += 1
-                else:
-                    sec.push_section(ring[2 * m : 3 * m], ring[3 * m :], xb, t + tb)
-                    n_min += 1
-                if acc < 0.0 and _repeated(ring, m, n_max, n_min, rtol, 1e-13 * max(x_seen, abs(vb), fd)):
-                    return k, ne, DONE, t_terminal, t + tb
-        # the last piece, up to the phase end: its work goes with the switch's sample
-        d0, d1, d2, d3 = _piece(dyn, fck, zeta, vb, force, slipping, xa, va, xe, ve, T - ta)
-        w[0] += d0
-        w[1] += d1
-        w[2] += d2
-        w[3] += d3
+            sc, stop = _sections_at(ring, sc, s, kind == 0, xb, t + tb, acc)
+            if stop:
+                return k, ne, DONE, t_terminal, t + tb
+        _add_piece(w, ph, xa, va, xe, ve, T - ta)  # the last piece: its work goes with the switch's sample
         x, v = xe, ve
         if which < 0:
             t = t_end  # the run ends inside the phase: its last sample, at the top of the loop
             continue
         t += T
         if replicate is not None and n_rel >= 0:
-            if n_rel < REP_CAP and T > t_min:
-                rel[n_rel] = -T
-                n_rel += 1
-            else:
-                n_rel = -1
-        # The switch: which mode continues?
-        new = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v)
-        if new < 0:
-            new = region_mode(law, zeta, vb, fd, fs, vd, res, x, v)
+            n_rel = _push_rel(rel, n_rel, -T, T > 8.0 * EPS * (1.0 + t_end))  # shorter: the zero-length count reads t
+        mode, v = _enter(s, x, v)  # the switch: which mode continues?
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
         if zero_len > 8:
             return k, ne, STUCK, t_terminal, t
-        mode = new
-        if mode == STICK:
-            v = vb
-        if ne < len(ev_t):
-            ev_t[ne] = t
-            ev_mode[ne] = mode
-        ne += 1
+        ne = _record_event(events, ne, t, mode)
     if len(t_mode) > 1:
-        t_mode[1] = copied
+        t_mode[1] = rp.copied
     return k, ne, DONE, t_terminal, t_end
 
 
@@ -912,29 +979,64 @@ def _next_root(ph, ev, n, nb, t0, st0, t1):
             return -1, t1, st
 
 
+#: what the work integrals of a forced phase's pieces read (:func:`_piece_work`): its motion (``dyn``,
+#: ``force``), the kind ``fck`` of F_c, the belt speed, the forcing (``fex``, ``om``) and the friction mode
+ForcedPiece = namedtuple("ForcedPiece", "dyn fck zeta vb force fex om fmode")
+#: the forcing of :func:`run_forced`: f = fex cos(om tau + phi), of period 2 pi / om
+Forcing = namedtuple("Forcing", "fex om phi period")
+#: the known sample times of a forced phase, from its start (:func:`_clock`): the tail's start, the
+#: dense grid's (index j, time td), the next stroboscopic index, the window's end
+Clock = namedtuple("Clock", "tt j td strobe tw")
+
+
 @njit(cache=True)
-def _forced_piece(dyn, fck, zeta, vb, force, fex, om, theta, slipping, xa, va, xb, vb_, L):
+def _forced_piece(pc, theta, xa, va, xb, vb_, L):
     """The work integrals over one piece of a forced phase: (W_dv, W_fin, W_fout, W_heat, W_ex).
 
-    theta: the forcing's phase at the piece's start.  F_c = F - held force
-    where the interface holds (F_e - f): P_f = X' F_e - X' f there.
+    ``pc``: :data:`ForcedPiece`; theta: the forcing's phase at the piece's
+    start.  F_c = F - held force where the interface holds (F_e - f):
+    P_f = X' F_e - X' f there.
     """
-    co, pz, fz = cf.forced_phase(dyn, zeta, force, xa, va, fex, om, theta)
-    v2, w_ex = cf.forced_work(co, dyn, zeta, force, pz, fz, om, L)
-    return _piece_work(fck, zeta, vb, force, slipping, xa, va, xb, vb_, L, v2, w_ex)
+    co, pz, fz = cf.forced_phase(pc.dyn, pc.zeta, pc.force, xa, va, pc.fex, pc.om, theta)
+    v2, w_ex = cf.forced_work(co, pc.dyn, pc.zeta, pc.force, pz, fz, pc.om, L)
+    return _piece_work(pc, xa, va, xb, vb_, L, v2, w_ex)
 
 
 @njit(cache=True)
-def _piece_work(fck, zeta, vb, force, slipping, xa, va, xb, vb_, L, v2, w_ex):
+def _piece_work(pc, xa, va, xb, vb_, L, v2, w_ex):
     """The work integrals over one piece given int X'^2 (``v2``) and int X' f (``w_ex``) over it (:func:`_forced_piece`)."""
+    fck, zeta, force = pc.fck, pc.zeta, pc.force
     if fck == FC_CONST:
         pf = force * (xb - xa)
     elif fck == FC_SPRING:
         pf = 0.5 * (xb * xb - xa * xa) - w_ex
     else:
         pf = va * ((xa + 2.0 * zeta * va) * L + 0.5 * va * L * L) - w_ex
-    heat = force * (vb * L - (xb - xa)) if slipping else 0.0
+    heat = force * (pc.vb * L - (xb - xa)) if pc.fmode != 0 else 0.0
     return 2.0 * zeta * v2, max(pf, 0.0), max(-pf, 0.0), heat, w_ex
+
+
+@njit(cache=True, inline="always")
+def _add_forced_piece(w, pc, wr, a, b, L, theta):
+    """Add the work integrals of the piece of length L from ``a`` to ``b`` = (motion, X, X') to ``w``.
+
+    ``wr`` = (from_start, rep): rebuilt per piece (:func:`_forced_piece`, at
+    the forcing's phase theta) unless ``from_start``, else from the phase's
+    representation ``rep`` (:func:`cf.work_rep`) between the two motions.
+    """
+    from_start, rep = wr
+    sta, xa, va = a
+    stb, xb, vb_ = b
+    if from_start:
+        v2, wx = cf.work_between(rep, pc.dyn, sta[8], sta[9], stb[8], stb[9], L)
+        d0, d1, d2, d3, d4 = _piece_work(pc, xa, va, xb, vb_, L, v2, wx)
+    else:
+        d0, d1, d2, d3, d4 = _forced_piece(pc, theta, xa, va, xb, vb_, L)
+    w[0] += d0
+    w[1] += d1
+    w[2] += d2
+    w[3] += d3
+    w[4] += d4
 
 
 @njit(cache=True)
@@ -951,9 +1053,90 @@ def _sample_functions(dyn, fck, zeta):
     return 1, ((1.0, 2.0 * zeta, 0.0, 1.0, 0.0), none, none)
 
 
+@njit(cache=True, inline="always")
+def _event_table(ev, ph, s, mode, fck, x, v):
+    """Fill ``ev`` with a forced phase's event functions; returns (n, nb): how many, how many boundaries first.
+
+    The mode's boundaries a (X - f) + b X' - c, then the sample functions
+    (:func:`_sample_functions`: their side is decided by the walk).
+    """
+    dyn, zeta = ph[1], ph[2]
+    nb, bs = mode_boundaries(mode, s.law, zeta, s.vb, s.fd, s.fs, s.vd, s.res)
+    m, sf = _sample_functions(dyn, fck, zeta)
+    n = nb + m
+    for i in range(n):
+        if i < nb:
+            ba, bb, bc, side = bs[i]
+            fn = (ba, bb, 0.0, ba, bc)
+        else:
+            fn, side = sf[i - nb], 0.0
+        ev[i, EA], ev[i, EB], ev[i, ED], ev[i, EE], ev[i, EC] = fn
+        ev[i, EK1], ev[i, EK2], ev[i, EKP], ev[i, EGRAZE] = _bound_consts(ph, x, v, fn)
+        ev[i, ESIDE] = side
+        ev[i, ELAST] = 0.0
+    return n, nb
+
+
+@njit(cache=True, forceinline=True)
+def _clock(s, t, strobe, period):
+    """The :data:`Clock` of a phase starting at t: the tail, the dense grid, the stroboscopic times after t, a window."""
+    tt = s.t_tail - t if 0.0 < s.t_tail - t else np.inf
+    j = td = np.inf
+    if s.dense_dt > 0.0:
+        j = math.floor(t / s.dense_dt) + 1.0
+        td = j * s.dense_dt - t
+    while strobe * period <= t:
+        strobe += 1
+    return Clock(tt, j, td, strobe, WINDOW)
+
+
+@njit(cache=True, forceinline=True)
+def _tick(ck, tb, ts, t, s, period):
+    """(the clock past its source at tb, the sample's absolute time): tb is the earliest of ``ck``'s times (ts: the stroboscopic one)."""
+    tt, j, td, strobe, tw = ck
+    t_abs = t + tb
+    if tb == tt:
+        tt = np.inf
+    elif tb == td:
+        j += 1.0
+        td = j * s.dense_dt - t
+    elif tb == ts:
+        t_abs = strobe * period  # the stroboscopic time itself, not t + (its phase time)
+        strobe += 1
+    else:
+        tw = tb + WINDOW
+    return Clock(tt, j, td, strobe, tw), t_abs
+
+
+@njit(cache=True, forceinline=True)
+def _forced_start(ph, s, t, strobe, period):
+    """(wr, sta, clock) of a forced phase ``ph`` (:func:`_next_root`) starting at t: how its work integrals are
+    computed (:func:`_add_forced_piece`), the motion at its start, its known sample times (:func:`_clock`)."""
+    co, dyn, zeta, force, pz, fz, om = ph
+    # the work integrals from this representation (OSC critically or over-damped: rebuilt per piece)
+    wr = (dyn != cf.OSC or co[0] == cf.UNDER, cf.work_rep(co, dyn, zeta, pz, fz, om))
+    return wr, cf.forced_eval(co, dyn, zeta, force, pz, fz, om, 0.0), _clock(s, t, strobe, period)
+
+
+@njit(cache=True, inline="always")
+def _crossed(ev, i, v):
+    """Sample function ``i`` of ``ev`` crossed: it is on its other side now; X' (``v``) is exactly 0 at a zero of X'."""
+    ev[i, ESIDE] = -ev[i, ESIDE]
+    return 0.0 if ev[i, EB] == 1.0 and ev[i, EA] == 0.0 and ev[i, ED] == 0.0 else v
+
+
+@njit(cache=True, forceinline=True)
+def _enter_forced(s, x, v, f, df, ddf, ftol):
+    """(mode, X') of the forced motion that continues from (x, v) under f and its rates (:func:`_enter`, :func:`consistent`)."""
+    mode = select_mode(law_record(s.law, s.fd, s.fs, s.vd, s.res), s.zeta, s.vb, x, v, f, df, ddf, ftol)
+    if mode < 0:
+        mode = region_mode(s.law, s.zeta, s.vb, s.fd, s.fs, s.vd, s.res, x, v, f)
+    return mode, (s.vb if mode == STICK else v)
+
+
 @njit(cache=True)
 def run_forced(run, p, samples, events, t_mode):
-    """:func:`run` under the external force of ``p`` (F_ex > 0), with the same records (the stop slots not read).
+    """:func:`run` under the external force of ``p`` (F_ex > 0), with the same records (the stop slots not used).
 
     Samples as unforced (phase starts, zeros of X' set to 0, extremes of X'
     and of X + 2 zeta X', zeros of a held F_c, the tail's start, the dense
@@ -961,157 +1144,72 @@ def run_forced(run, p, samples, events, t_mode):
     stop: the X' = 0 section repeats only for the autonomous system.
     Returns as :func:`run` (t_terminal = -1: no final phase is certified).
     """
-    x0, v0, t_end, zeta, vb = run[X0], run[V0], run[T_END], run[ZETA], run[VB]
-    dense_dt, t_tail = run[DENSE_DT], run[T_TAIL]
+    s = _settings(run, p)
+    zeta, t_end = s.zeta, s.t_end
+    fo = Forcing(p[FEX], p[OMEGA], p[PHI], 2.0 * math.pi / p[OMEGA])
+    fex, om, phi, _ = fo
     out_t, out_x, out_v, out_fc, out_mode, out_w = samples
-    ev_t, ev_mode = events
-    law = closed_form_law(p)
-    fd, fs, vd = p[FD], p[FS], p[VD]
-    res = p[RESULTANT] != 0.0
-    fex, om, phi = p[FEX], p[OMEGA], p[PHI]
-    period = 2.0 * math.pi / om
-    w = np.zeros(N_WORK)
     outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
-    t = 0.0
-    x, v = x0, v0
-    mode = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v, fex * math.cos(phi), -fex * om * math.sin(phi),
-                       -om * om * fex * math.cos(phi))
-    if mode < 0:
-        mode = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fex * math.cos(phi))
-    if mode == STICK:
-        v = vb
-    k = 0
-    ne = 0
-    zero_len = 0
+    w = np.zeros(N_WORK)
+    t, x = 0.0, run[X0]
+    mode, v = _enter_forced(s, x, run[V0], fex * math.cos(phi), -fex * om * math.sin(phi), -om * om * fex * math.cos(phi), 0.0)
+    k = ne = zero_len = 0
     strobe = 1  # the next stroboscopic index (k = 0 is the start)
     ev = np.zeros((MAX_EVENTS_PER_MODE + 4, N_EV_COLUMNS))  # a phase's event table (EA ... ELAST)
     while True:
-        dyn, force, fck = dynamics(mode, zeta, fd, fs, res)
-        held = fck != FC_CONST
+        dyn, force, fck = dynamics(mode, zeta, s.fd, s.fs, s.res)
         theta = om * t + phi
         fnow = fex * math.cos(theta)
-        if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta) - (fnow if held else 0.0), FRICTION_MODE[mode], w):
+        if not emit(outs, k, t, x, v, friction_force(fck, force, x, v, zeta) - (fnow if fck != FC_CONST else 0.0), FRICTION_MODE[mode], w):
             return k, ne, FULL, -1.0, t
         k += 1
         if t >= t_end:
             break
         co, pz, fz = cf.forced_phase(dyn, zeta, force, x, v, fex, om, theta)
         ph = (co, dyn, zeta, force, pz, fz, om)
-        # the work integrals from this representation (OSC critically or over-damped: rebuilt per piece)
-        from_start = dyn != cf.OSC or co[0] == cf.UNDER
-        rep = cf.work_rep(co, dyn, zeta, pz, fz, om)
-        sta = cf.forced_eval(co, dyn, zeta, force, pz, fz, om, 0.0)  # the motion at the piece's start
-        # the event functions: the mode's boundaries a (X - f) + b X' - c, then the sample functions
-        # (sample functions: their side is decided by the walk)
-        nb, bs = mode_boundaries(mode, law, zeta, vb, fd, fs, vd, res)
-        m, sf = _sample_functions(dyn, fck, zeta)
-        n = nb + m
-        for i in range(n):
-            if i < nb:
-                ba, bb, bc, side = bs[i]
-                fn = (ba, bb, 0.0, ba, bc)
-            else:
-                fn, side = sf[i - nb], 0.0
-            ev[i, EA], ev[i, EB], ev[i, ED], ev[i, EE], ev[i, EC] = fn
-            ev[i, EK1], ev[i, EK2], ev[i, EKP], ev[i, EGRAZE] = _bound_consts(ph, x, v, fn)
-            ev[i, ESIDE] = side
-            ev[i, ELAST] = 0.0
-        fmode = FRICTION_MODE[mode]
-        slipping = fmode != 0
-        # the samples at known times: the tail, the dense grid, the stroboscopic times, one at least every WINDOW
-        tt = t_tail - t if 0.0 < t_tail - t else np.inf
-        j = td = np.inf
-        if dense_dt > 0.0:
-            j = math.floor(t / dense_dt) + 1.0
-            td = j * dense_dt - t
-        while strobe * period <= t:
-            strobe += 1
-        ta, xa, va = 0.0, x, v
-        tw = WINDOW
-        horizon = t_end - t
-        which = -1
+        nn = _event_table(ev, ph, s, mode, fck, x, v)
+        pc = ForcedPiece(dyn, fck, zeta, s.vb, force, fex, om, FRICTION_MODE[mode])
+        # the phase's samples (the loop that writes them stays here: see :mod:`.samples`)
+        wr, sta, ck = _forced_start(ph, s, t, strobe, fo.period)
+        ta, xa, va, horizon = 0.0, x, v, t_end - t
         while True:
-            ts = strobe * period - t
-            tk = min(min(tt, td), min(ts, tw))
-            i, tb, stb = _next_root(ph, ev, n, nb, ta, sta, min(tk, horizon))
+            ts = ck.strobe * fo.period - t
+            tk = min(min(ck.tt, ck.td), min(ts, ck.tw))
+            i, tb, stb = _next_root(ph, ev, nn[0], nn[1], ta, sta, min(tk, horizon))
             xb, vb_ = stb[0], stb[1]
-            if i >= 0 and i < nb:
-                which, T, xe, ve, ste = i, tb, xb, vb_, stb
-                break
+            if i >= 0 and i < nn[1]:
+                break  # a boundary: the phase ends
             t_abs = t + tb
             if i >= 0:
-                ev[i, ESIDE] = -ev[i, ESIDE]
-                if ev[i, EB] == 1.0 and ev[i, EA] == 0.0 and ev[i, ED] == 0.0:
-                    vb_ = 0.0  # a zero of X', exactly: the section crossing is then a sample
+                vb_ = _crossed(ev, i, vb_)
             else:
                 if tk >= horizon:
-                    T, xe, ve, ste = horizon, xb, vb_, stb  # the run ends inside the phase
+                    tb = horizon  # the run ends inside the phase
                     break
                 tb = tk
-                t_abs = t + tb
-                if tb == tt:
-                    tt = np.inf
-                elif tb == td:
-                    j += 1.0
-                    td = j * dense_dt - t
-                elif tb == ts:
-                    t_abs = strobe * period  # the stroboscopic time itself, not t + (its phase time)
-                    strobe += 1
-                else:
-                    tw = tb + WINDOW
+                ck, t_abs = _tick(ck, tb, ts, t, s, fo.period)
                 if tb <= ta:
                     continue  # the same time from another source
-            if from_start:
-                v2, wx = cf.work_between(rep, dyn, sta[8], sta[9], stb[8], stb[9], tb - ta)
-                d0, d1, d2, d3, d4 = _piece_work(fck, zeta, vb, force, slipping, xa, va, xb, vb_, tb - ta, v2, wx)
-            else:
-                d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
-                                                   xa, va, xb, vb_, tb - ta)
-            w[0] += d0
-            w[1] += d1
-            w[2] += d2
-            w[3] += d3
-            w[4] += d4
-            fb = fex * math.cos(om * t_abs + phi) if held else 0.0
-            if not emit(outs, k, t_abs, xb, vb_, friction_force(fck, force, xb, vb_, zeta) - fb, fmode, w):
+            _add_forced_piece(w, pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
+            fb = fex * math.cos(om * t_abs + phi) if fck != FC_CONST else 0.0
+            if not emit(outs, k, t_abs, xb, vb_, friction_force(fck, force, xb, vb_, zeta) - fb, pc.fmode, w):
                 return k, ne, FULL, -1.0, t + ta
             k += 1
             ta, xa, va, sta = tb, xb, vb_, stb
-        t_next = t + T if which >= 0 else t_end
-        if from_start:
-            v2, wx = cf.work_between(rep, dyn, sta[8], sta[9], ste[8], ste[9], T - ta)
-            d0, d1, d2, d3, d4 = _piece_work(fck, zeta, vb, force, slipping, xa, va, xe, ve, T - ta, v2, wx)
-        else:
-            d0, d1, d2, d3, d4 = _forced_piece(dyn, fck, zeta, vb, force, fex, om, om * (t + ta) + phi, slipping,
-                                               xa, va, xe, ve, T - ta)
-        w[0] += d0
-        w[1] += d1
-        w[2] += d2
-        w[3] += d3
-        w[4] += d4
-        x, v = xe, ve
+        _add_forced_piece(w, pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
+        which, T, ste, strobe = i, tb, stb, ck.strobe
+        x, v = ste[0], ste[1]
         if which < 0:
             t = t_end
             continue
-        t = t_next
-        theta = om * t + phi
+        t = t + T
         # f and f' from the same evaluation as (X, X'): the switch was located on them (G <= 0 there), and
         # f recomputed from the absolute time differs by F_ex times the rounding of the argument, which at
         # tau ~ 1e2 exceeds a boundary's rounding tolerance where X - f is a difference of near-equal terms
         # (stick under the resultant rule with 2 zeta V_b ~ F_s): stick was then taken again with zero length.
-        fe, dfe = ste[4], ste[5]
-        ftol = 8.0 * EPS * fex * (1.0 + abs(theta))
-        new = select_mode(law_record(law, fd, fs, vd, res), zeta, vb, x, v, fe, dfe, -om * om * fe, ftol)
-        if new < 0:
-            new = region_mode(law, zeta, vb, fd, fs, vd, res, x, v, fe)
+        mode, v = _enter_forced(s, x, v, ste[4], ste[5], -om * om * ste[4], 8.0 * EPS * fex * (1.0 + abs(om * t + phi)))
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
         if zero_len > 8:
             return k, ne, STUCK, -1.0, t
-        mode = new
-        if mode == STICK:
-            v = vb
-        if ne < len(ev_t):
-            ev_t[ne] = t
-            ev_mode[ne] = mode
-        ne += 1
+        ne = _record_event(events, ne, t, mode)
     return k, ne, DONE, -1.0, t_end

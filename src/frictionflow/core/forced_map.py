@@ -46,7 +46,7 @@ from .layout import FEX, N_WORK, OMEGA, W_DV, W_EX, W_FIN, W_FOUT
 from .tangent import (
     saltation_reversal, saltation_slip, saltation_stick,
     C_GRAZE, C_HELD, C_REVERSAL, C_SLIP, C_STICK, EPS, MAX_ZERO_PHASES, N_COUNTS, NOT_FINITE, NY, OK, ZERO_PHASES,
-    _stick_gap, _stick_gap_rate, _stick_max, accel, rounding_noise, slip_force, slip_until,
+    _stick_gap, _stick_gap_rate, _stick_max, accel, rounding_noise, scratch, slip_force, slip_until,
     start_mode, stick_exit,
 )
 
@@ -215,12 +215,8 @@ def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks,
     fs = p[FS]
     h = span / n_steps
     y = np.zeros(NY)
-    out = np.empty(NY)
-    k1 = np.empty(NY)
-    k2 = np.empty(NY)
-    k3 = np.empty(NY)
-    k4 = np.empty(NY)
-    tmp = np.empty(NY)
+    sc = scratch()
+    out = sc.out
     g = np.empty((4, N_WORK))
     for i in range(N_COUNTS):
         counts[i] = 0
@@ -277,7 +273,7 @@ def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks,
             was_fresh = fresh
             x_a, v_a, t_a = y[0], y[1], t
             a_a = accel(d, x_a, v_a, t_a, zeta, vb, p)
-            theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out)
+            theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, sc)
             if not switched:
                 work_step(x_a, v_a, t_a, target - t_a, d, zeta, vb, p, work, g)
                 for i in range(len(y)):

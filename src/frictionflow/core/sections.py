@@ -323,6 +323,135 @@ def _aitken(a0, a1, a2):
 
 
 @njit(cache=True)
+def _periodic_strictly(out, rec, tol, rtol, min_periods, h, noise):
+    """Maxima, minima and periods repeat to tol (:func:`classify`): fill ``out`` and return True, else False."""
+    n = rec.shape[0]
+    if n < min_periods + 1:
+        return False
+    lo_min, lo_max, _, lo_nan = stats(rec[n - min_periods : n, LO])
+    amp = rec[n - 1, X] - rec[n - 1, LO]
+    tol_c = max(rtol * amp, noise) if amp > 0.0 else tol
+    m_x, m_p = repeat_counts(rec[:, X].copy(), rec[:, T].copy(), tol_c, rtol, h * h)
+    m = min(m_x, m_p + 1)
+    if (m >= min_periods and not lo_nan and lo_max - lo_min <= tol_c
+            and not _monotone_amplitude(rec, n - 1 - min_periods, 2.0 * noise)):
+        out[C_KIND] = PERIODIC
+        out[C_START] = n - 1 - m
+        out[C_END] = n - 1
+        out[C_PERIOD] = (rec[n - 1, T] - rec[n - 1 - m, T]) / m
+        out[C_NPER] = m
+        return True
+    return False
+
+
+@njit(cache=True)
+def _periodic_jitter(out, rec, min_periods):
+    """Periodic to within the jitter of a fixed step through a stick band (:func:`classify`): fill ``out`` and return True, else False."""
+    n = rec.shape[0]
+    k = min(n - 1, 12)
+    if k < max(min_periods, 8):
+        return False
+    lo_min, lo_max, _, lo_nan = stats(rec[n - k : n, LO])
+    if not (stats(rec[n - k : n, STICK])[1] > 0.0 and not lo_nan):
+        return False
+    xs = rec[n - 1 - k : n, X].copy()
+    lo = rec[n - k : n, LO].copy()
+    periods = np.empty(k)
+    p_min, p_max = np.inf, -np.inf
+    for i in range(k):
+        periods[i] = rec[n - k + i, T] - rec[n - 1 - k + i, T]
+        p_min, p_max = min(p_min, periods[i]), max(p_max, periods[i])
+    x_min, x_max, _, _ = stats(rec[n - 1 - k : n, X])
+    amp = x_max - lo_min
+    jitter = max(x_max - x_min, lo_max - lo_min) / amp if amp > 0 else 0.0
+    if (
+        jitter < 0.05
+        and p_max - p_min < 0.05 * periods[-1]
+        and _stationary(xs)
+        and _stationary(lo)
+        and _stationary(periods)
+    ):
+        out[C_KIND] = PERIODIC
+        out[C_START] = n - 1 - k
+        out[C_END] = n - 1
+        out[C_PERIOD] = (rec[n - 1, T] - rec[n - 1 - k, T]) / k
+        out[C_NPER] = k
+        out[C_JITTER] = jitter
+        return True
+    return False
+
+
+@njit(cache=True)
+def _amplitude_slope(rec, use):
+    """(ok, slope): the least-squares slope of log((X - LO) / 2) against T over the last ``use`` records; not ok if an amplitude is not positive."""
+    n = rec.shape[0]
+    tm = 0.0
+    lm = 0.0
+    for i in range(n - use, n):
+        a = 0.5 * (rec[i, X] - rec[i, LO])
+        if a <= 0.0:
+            return False, 0.0
+        tm += rec[i, T]
+        lm += math.log(a)
+    tm /= use
+    lm /= use
+    sxy = 0.0
+    sxx = 0.0
+    for i in range(n - use, n):
+        dt = rec[i, T] - tm
+        sxy += dt * (math.log(0.5 * (rec[i, X] - rec[i, LO])) - lm)
+        sxx += dt * dt
+    return True, sxy / sxx
+
+
+@njit(cache=True)
+def _heading(out, rec, tol, slope):
+    """Where a run that is not settled is heading (``C_HEAD``), with the limit centre and amplitude (Aitken) of the last three records."""
+    n = rec.shape[0]
+    amp = np.empty(3)
+    cen = np.empty(3)
+    for i in range(3):
+        amp[i] = 0.5 * (rec[n - 3 + i, X] - rec[n - 3 + i, LO])
+        cen[i] = 0.5 * (rec[n - 3 + i, X] + rec[n - 3 + i, LO])
+    a_inf = _aitken(amp[0], amp[1], amp[2])
+    c_inf = _aitken(cen[0], cen[1], cen[2])
+    if -slope > 0.0:
+        if a_inf <= max(tol, 1e-3 * amp[2]):
+            out[C_HEAD] = HEAD_EQUILIBRIUM
+            out[C_LIMX] = c_inf
+        else:
+            out[C_HEAD] = HEAD_PERIODIC
+            out[C_LIMX] = c_inf
+            out[C_LIMA] = a_inf
+    else:
+        out[C_HEAD] = HEAD_GROWING
+
+
+@njit(cache=True)
+def _not_settled(out, rec, tol):
+    """Fill ``out`` for a run that is not settled: the last period as its window, and where it is going."""
+    n = rec.shape[0]
+    out[C_KIND] = NOT_SETTLED
+    if n >= 2:
+        out[C_START] = n - 2
+        out[C_END] = n - 1
+    else:
+        out[C_START] = -1
+        out[C_END] = -1
+    # amplitudes of the periods that have a minimum
+    j0 = n
+    while j0 > 0 and not math.isnan(rec[j0 - 1, LO]):
+        j0 -= 1
+    kk = n - j0
+    if kk >= 2:
+        ok, slope = _amplitude_slope(rec, min(kk, 3))  # the latest behaviour, not the early transient
+        if ok:
+            out[C_DECAY] = -slope
+            if kk >= 3:
+                _heading(out, rec, tol, slope)
+
+
+@njit(cache=True)
 def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
     """Periodic / equilibrium / not settled from section records.
 
@@ -342,8 +471,6 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
     out[C_NPER] = 0.0
     out[C_HEAD] = HEAD_NONE
     tol = rtol * scale
-    n = rec.shape[0]
-
     # Equilibrium: nothing moves over the tail.
     if tail[A_XMAX] - tail[A_XMIN] <= tol and tail[A_VMAX] - tail[A_VMIN] <= tol:
         out[C_KIND] = EQUILIBRIUM
@@ -351,107 +478,11 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
         out[C_END] = -1
         out[C_LIMX] = 0.5 * (tail[A_XMAX] + tail[A_XMIN])
         return out
-
-    # Periodic, strictly: maxima, minima and periods repeat to tol.
-    if n >= min_periods + 1:
-        lo_min, lo_max, _, lo_nan = stats(rec[n - min_periods : n, LO])
-        amp = rec[n - 1, X] - rec[n - 1, LO]
-        tol_c = max(rtol * amp, noise) if amp > 0.0 else tol
-        m_x, m_p = repeat_counts(rec[:, X].copy(), rec[:, T].copy(), tol_c, rtol, h * h)
-        m = min(m_x, m_p + 1)
-        if (m >= min_periods and not lo_nan and lo_max - lo_min <= tol_c
-                and not _monotone_amplitude(rec, n - 1 - min_periods, 2.0 * noise)):
-            out[C_KIND] = PERIODIC
-            out[C_START] = n - 1 - m
-            out[C_END] = n - 1
-            out[C_PERIOD] = (rec[n - 1, T] - rec[n - 1 - m, T]) / m
-            out[C_NPER] = m
-            return out
-
-    # Periodic to within the jitter of a fixed step through a stick band.
-    k = min(n - 1, 12)
-    if fixed_step and k >= max(min_periods, 8):
-        lo_min, lo_max, _, lo_nan = stats(rec[n - k : n, LO])
-        if stats(rec[n - k : n, STICK])[1] > 0.0 and not lo_nan:
-            xs = rec[n - 1 - k : n, X].copy()
-            lo = rec[n - k : n, LO].copy()
-            periods = np.empty(k)
-            p_min, p_max = np.inf, -np.inf
-            for i in range(k):
-                periods[i] = rec[n - k + i, T] - rec[n - 1 - k + i, T]
-                p_min, p_max = min(p_min, periods[i]), max(p_max, periods[i])
-            x_min, x_max, _, _ = stats(rec[n - 1 - k : n, X])
-            amp = x_max - lo_min
-            jitter = max(x_max - x_min, lo_max - lo_min) / amp if amp > 0 else 0.0
-            if (
-                jitter < 0.05
-                and p_max - p_min < 0.05 * periods[-1]
-                and _stationary(xs)
-                and _stationary(lo)
-                and _stationary(periods)
-            ):
-                out[C_KIND] = PERIODIC
-                out[C_START] = n - 1 - k
-                out[C_END] = n - 1
-                out[C_PERIOD] = (rec[n - 1, T] - rec[n - 1 - k, T]) / k
-                out[C_NPER] = k
-                out[C_JITTER] = jitter
-                return out
-
-    # Not settled: measure where it is going.
-    out[C_KIND] = NOT_SETTLED
-    if n >= 2:
-        out[C_START] = n - 2
-        out[C_END] = n - 1
-    else:
-        out[C_START] = -1
-        out[C_END] = -1
-    # amplitudes of the periods that have a minimum
-    j0 = n
-    while j0 > 0 and not math.isnan(rec[j0 - 1, LO]):
-        j0 -= 1
-    kk = n - j0
-    if kk >= 2:
-        use = min(kk, 3)  # the latest behaviour, not the early transient
-        ok = True
-        tm = 0.0
-        lm = 0.0
-        for i in range(n - use, n):
-            a = 0.5 * (rec[i, X] - rec[i, LO])
-            if a <= 0.0:
-                ok = False
-            else:
-                tm += rec[i, T]
-                lm += math.log(a)
-        if ok:
-            tm /= use
-            lm /= use
-            sxy = 0.0
-            sxx = 0.0
-            for i in range(n - use, n):
-                dt = rec[i, T] - tm
-                sxy += dt * (math.log(0.5 * (rec[i, X] - rec[i, LO])) - lm)
-                sxx += dt * dt
-            slope = sxy / sxx
-            out[C_DECAY] = -slope
-            if kk >= 3:
-                amp = np.empty(3)
-                cen = np.empty(3)
-                for i in range(3):
-                    amp[i] = 0.5 * (rec[n - 3 + i, X] - rec[n - 3 + i, LO])
-                    cen[i] = 0.5 * (rec[n - 3 + i, X] + rec[n - 3 + i, LO])
-                a_inf = _aitken(amp[0], amp[1], amp[2])
-                c_inf = _aitken(cen[0], cen[1], cen[2])
-                if -slope > 0.0:
-                    if a_inf <= max(tol, 1e-3 * amp[2]):
-                        out[C_HEAD] = HEAD_EQUILIBRIUM
-                        out[C_LIMX] = c_inf
-                    else:
-                        out[C_HEAD] = HEAD_PERIODIC
-                        out[C_LIMX] = c_inf
-                        out[C_LIMA] = a_inf
-                else:
-                    out[C_HEAD] = HEAD_GROWING
+    if _periodic_strictly(out, rec, tol, rtol, min_periods, h, noise):
+        return out
+    if fixed_step and _periodic_jitter(out, rec, min_periods):
+        return out
+    _not_settled(out, rec, tol)  # measure where it is going
     return out
 
 

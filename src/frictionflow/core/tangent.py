@@ -89,6 +89,7 @@ their time are the exponents (log r22 = -inf in a block with a stick onset).
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -109,6 +110,10 @@ OK, ZERO_PHASES, NOT_FINITE = codes.OK, codes.STUCK, codes.NOT_FINITE
 #: consecutive phases shorter than a rounding unit before the kernel gives up
 MAX_ZERO_PHASES = 16
 EPS = 2.220446049250313e-16
+
+#: the arrays one RK4 step of the 6-vector works in: its four stages, the stage argument and the step's end
+#: (``out``: where :func:`rk4_step` and :func:`slip_until` leave the state); one record, not six arguments
+Scratch = namedtuple("Scratch", "k1 k2 k3 k4 tmp out")
 
 
 @njit(cache=True)
@@ -134,7 +139,10 @@ def accel(d, x, v, t, zeta, vb, p):
     return d * slip_force(p, d * (vb - v)) + external_force(p, t) - x - 2.0 * zeta * v
 
 
-@njit(cache=True)
+# rhs and rk4_step are inlined by numba (inline="always"): a call of a compiled function costs
+# two atomic reference-count updates per array argument, as much as rhs's arithmetic, and
+# LLVM's inlining keeps them.  rk4_step has two copies: _g_step's and slip_until's first step.
+@njit(cache=True, inline="always")
 def rhs(y, t, d, zeta, vb, p, out):
     """The slip field of the state and of both tangent vectors."""
     x = y[0]
@@ -149,8 +157,15 @@ def rhs(y, t, d, zeta, vb, p, out):
 
 
 @njit(cache=True)
-def rk4_step(y, t, h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
-    """One classical RK4 step of length h from (y, t) into ``out``."""
+def scratch():
+    """Fresh :class:`Scratch` for :func:`rk4_step` (every array of length :data:`NY`)."""
+    return Scratch(np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY))
+
+
+@njit(cache=True, inline="always")
+def rk4_step(y, t, h, d, zeta, vb, p, sc):
+    """One classical RK4 step of length h from (y, t) into ``sc.out`` (``sc``: a :class:`Scratch`)."""
+    k1, k2, k3, k4, tmp, out = sc.k1, sc.k2, sc.k3, sc.k4, sc.tmp, sc.out
     rhs(y, t, d, zeta, vb, p, k1)
     for i in range(NY):
         tmp[i] = y[i] + 0.5 * h * k1[i]
@@ -166,19 +181,19 @@ def rk4_step(y, t, h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
 
 
 @njit(cache=True)
-def _g_step(y, t, theta, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
-    """The switch function d (V_b - X') after an RK4 step of length theta (state in ``out``)."""
-    rk4_step(y, t, theta, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
-    return d * (vb - out[1])
+def _g_step(y, t, theta, d, zeta, vb, p, sc):
+    """The switch function d (V_b - X') after an RK4 step of length theta (state in ``sc.out``)."""
+    rk4_step(y, t, theta, d, zeta, vb, p, sc)
+    return d * (vb - sc.out[1])
 
 
 @njit(cache=True)
-def _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out):
-    """theta where g(theta) = 0, g(lo) > 0 >= g(hi), to a few units of tau (:mod:`.roots`); the state at it in ``out``."""
+def _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, sc):
+    """theta where g(theta) = 0, g(lo) > 0 >= g(hi), to a few units of tau (:mod:`.roots`); the state at it in ``sc.out``."""
     b = bracket(lo, hi, glo, ghi, 4.0 * EPS * abs(t), 4.0 * EPS, 0.0, 200)
     while b.status == RUNNING:
-        b = update(b, b.x, _g_step(y, t, b.x, d, zeta, vb, p, k1, k2, k3, k4, tmp, out))
-    _g_step(y, t, b.hi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+        b = update(b, b.x, _g_step(y, t, b.x, d, zeta, vb, p, sc))
+    _g_step(y, t, b.hi, d, zeta, vb, p, sc)
     return b.hi
 
 
@@ -189,13 +204,16 @@ def rounding_noise(v, vb):
 
 
 @njit(cache=True)
-def slip_until(y, t, h, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out):
+def slip_until(y, t, h, d, zeta, vb, p, fresh, sc):
     """One slip step of at most h; returns (theta, switched): the step taken and whether it ends on V_r = 0.
+
+    The state at its end in ``sc.out`` (``sc``: a :class:`Scratch`).
 
     ``fresh``: the phase began at t (g(0) = 0; the left end of a bracket is then looked for inside).
     """
     g0 = d * (vb - y[1])
-    g1 = _g_step(y, t, h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+    rk4_step(y, t, h, d, zeta, vb, p, sc)  # the step nearly every call takes: inlined, not a call of _g_step
+    g1 = d * (vb - sc.out[1])
     a0 = accel(d, y[0], y[1], t, zeta, vb, p)
     noise = rounding_noise(y[1], vb)
     if fresh and abs(g1) <= noise:
@@ -204,13 +222,13 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out):
         return h, False
     if g1 > 0.0:
         # two crossings inside the step?  The Hermite cubic of g (g' = -d X'') dips below 0
-        a1 = accel(d, out[0], out[1], t + h, zeta, vb, p)
+        a1 = accel(d, sc.out[0], sc.out[1], t + h, zeta, vb, p)
         s, val = hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
         if s < 0.0 or val >= -noise:
             return h, False
-        gm = _g_step(y, t, s * h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+        gm = _g_step(y, t, s * h, d, zeta, vb, p, sc)
         if gm > 0.0:  # the scheme's own solution stays off the surface: a near miss
-            _g_step(y, t, h, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+            _g_step(y, t, h, d, zeta, vb, p, sc)
             return h, False
         hi, ghi = s * h, gm
     else:
@@ -222,12 +240,12 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out):
         glo = 0.0
         for _ in range(60):
             lo *= 0.5
-            glo = _g_step(y, t, lo, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+            glo = _g_step(y, t, lo, d, zeta, vb, p, sc)
             if glo > 0.0:
                 break
         if not glo > 0.0:
             return 0.0, True  # leaves the surface the wrong way at once: a zero-length phase
-    theta = _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, k1, k2, k3, k4, tmp, out)
+    theta = _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, sc)
     return theta, True
 
 
@@ -301,12 +319,18 @@ def stick_exit(x0, t0, ta, tb, zeta, vb, res, fs, p):
 
 
 @njit(cache=True)
+def surface_mode(x, t, zeta, vb, p):
+    """The mode the stick rule gives on V_r = 0 (X' = V_b) at (x, t): 0 sticking, else the slip direction."""
+    return rest_mode(x, zeta, vb, p[FS], p[RESULTANT] != 0.0, slip_force(p, 0.0), external_force(p, t),
+                     external_force_rate(p, t))
+
+
+@njit(cache=True)
 def start_mode(x, v, t, zeta, vb, p):
     """The mode at (x, v, t): the slip direction sgn(V_r), or the stick rule on V_r = 0."""
     if v != vb:
         return 1 if vb - v > 0.0 else -1
-    return rest_mode(x, zeta, vb, p[FS], p[RESULTANT] != 0.0, slip_force(p, 0.0),
-                     external_force(p, t), external_force_rate(p, t))
+    return surface_mode(x, t, zeta, vb, p)
 
 
 @njit(cache=True)
@@ -345,6 +369,94 @@ def _grid_time(j, n_sub, block, h):
 
 
 @njit(cache=True)
+def _start(x0, v0, zeta, vb, p):
+    """The 6-vector at tau = 0 (the state, u1 = (1, 0), u2 = (0, 1)) and the mode there.
+
+    Sticking from the start: X' = V_b and the stick onset's dv -> 0.
+    """
+    y = np.zeros(NY)
+    y[0], y[1] = x0, v0
+    y[2], y[3], y[4], y[5] = 1.0, 0.0, 0.0, 1.0
+    mode = start_mode(x0, v0, 0.0, zeta, vb, p)
+    if mode == 0:
+        y[1] = vb
+        saltation_stick(y)
+    return y, mode
+
+
+@njit(cache=True)
+def _stick_on(y, t, target, x_s, t_s, zeta, vb, p, counts):
+    """Stick from t toward ``target`` (the phase began at (x_s, t_s)); returns (t, mode) where it stops.
+
+    Mode 0: sticking on to ``target``, or held at F_s where no slip
+    direction is consistent; else the slip direction entered, its
+    saltation applied to ``y``.
+    """
+    te, side = stick_exit(x_s, t_s, t, target, zeta, vb, p[RESULTANT] != 0.0, p[FS], p)
+    if side == 0:
+        y[0] = x_s + vb * (target - t_s)
+        return target, 0
+    y[0] = x_s + vb * (te - t_s)
+    new = surface_mode(y[0], te, zeta, vb, p)
+    if new == 0:
+        counts[C_HELD] += 1  # no slip direction is consistent: the interface holds on
+        return te, 0
+    saltation_slip(y, new, te, zeta, vb, p)
+    counts[C_SLIP] += 1
+    return te, new
+
+
+@njit(cache=True)
+def _slip_end(y, t, d, zeta, vb, p, counts):
+    """The end of a slip phase in direction d on V_r = 0 at t: X' = V_b exactly, the switch's saltation; returns the mode.
+
+    The same direction again is a grazing touch, no switch.
+    """
+    y[1] = vb  # exactly on the switch
+    new = surface_mode(y[0], t, zeta, vb, p)
+    if new == 0:
+        saltation_stick(y)
+        counts[C_STICK] += 1
+    elif new != d:
+        saltation_reversal(y, d, new, t, zeta, vb, p)
+        counts[C_REVERSAL] += 1
+    else:
+        counts[C_GRAZE] += 1  # touched V_r = 0 and slips on the same way: no switch
+    return new
+
+
+@njit(cache=True)
+def _block_end(y, mode, row):
+    """The block end: the stroboscopic sample (X, X', mode) into ``row``, the QR of the tangent vectors; returns (r11, r22).
+
+    A block that starts sticking then gets the stick onset's projection: the
+    frame's dv components belong to no sticking motion (a perturbed X' slips
+    back onto the belt at once).
+    """
+    row[0] = y[0]
+    row[1] = y[1]
+    row[2] = mode
+    r11, r22 = _qr(y)
+    if mode == 0:
+        saltation_stick(y)
+    return r11, r22
+
+
+@njit(cache=True)
+def _average(s1, s2, r11, r22, collapsed, k, block, est):
+    """The sums of log r11 and log|r22| with averaged block k's (log r22 = -inf in a block with a stick onset).
+
+    Writes the running estimates after block k into ``est[k]``.
+    """
+    s1 += math.log(r11)
+    s2 += -math.inf if (collapsed or r22 == 0.0) else math.log(abs(r22))
+    elapsed = (k + 1) * block
+    est[k, 0] = s1 / elapsed
+    est[k, 1] = s2 / elapsed
+    return s1, s2
+
+
+@njit(cache=True)
 def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, counts):
     """Integrate n_transient + n_blocks blocks with the two tangent vectors; returns (status, sum log r11, sum log|r22|).
 
@@ -352,26 +464,13 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
     end), ``est`` (n_blocks, 2: the running exponent estimates after each
     averaged block) and ``counts`` (:data:`N_COUNTS`, over the whole run).
     """
-    res = p[RESULTANT] != 0.0
-    fs = p[FS]
     h = block / n_sub
-    y = np.zeros(NY)
-    out = np.empty(NY)
-    k1 = np.empty(NY)
-    k2 = np.empty(NY)
-    k3 = np.empty(NY)
-    k4 = np.empty(NY)
-    tmp = np.empty(NY)
+    sc = scratch()
+    out = sc.out
     for i in range(N_COUNTS):
         counts[i] = 0
-    y[0], y[1] = x0, v0
-    y[2], y[3], y[4], y[5] = 1.0, 0.0, 0.0, 1.0
+    y, mode = _start(x0, v0, zeta, vb, p)
     t = 0.0
-    mode = start_mode(x0, v0, t, zeta, vb, p)
-    if mode == 0:
-        y[1] = vb
-        y[3] = 0.0  # sticking from the start: the stick onset's dv -> 0
-        y[5] = 0.0
     fresh = v0 == vb
     x_s, t_s = y[0], t  # where the current stick phase began
     zero_run = 0
@@ -385,77 +484,36 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
             target = _grid_time(j, n_sub, block, h)
             while t < target:
                 if mode == 0:
-                    te, side = stick_exit(x_s, t_s, t, target, zeta, vb, res, fs, p)
-                    if side == 0:
-                        t = target
-                        y[0] = x_s + vb * (t - t_s)
-                        continue
-                    t = te
-                    y[0] = x_s + vb * (t - t_s)
-                    new = rest_mode(y[0], zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t),
-                                    external_force_rate(p, t))
-                    if new == 0:
-                        counts[C_HELD] += 1  # no slip direction is consistent: the interface holds on
-                        continue
-                    saltation_slip(y, new, t, zeta, vb, p)
-                    mode = new
-                    fresh = True
-                    counts[C_SLIP] += 1
+                    t, mode = _stick_on(y, t, target, x_s, t_s, zeta, vb, p, counts)
+                    fresh = True  # read once slipping: a slip phase entered here starts on V_r = 0
                     continue
                 d = float(mode)
-                theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, k1, k2, k3, k4, tmp, out)
+                theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, sc)
                 if not switched:
-                    for i in range(len(y)):
+                    for i in range(NY):
                         y[i] = out[i]
                     t = target
                     zero_run = 0
                     # a phase that has not yet left V_r = 0 by more than rounding is still starting
                     fresh = fresh and not d * (vb - y[1]) > rounding_noise(y[1], vb)
                     continue
-                fresh = False
                 if theta > 0.0:
-                    for i in range(len(y)):
+                    for i in range(NY):
                         y[i] = out[i]
                     t += theta
                 zero_run = zero_run + 1 if theta <= 4.0 * EPS * (1.0 + abs(t)) else 0
                 if zero_run > MAX_ZERO_PHASES:
                     return ZERO_PHASES, s1, s2
-                y[1] = vb  # exactly on the switch
-                new = rest_mode(y[0], zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t),
-                                external_force_rate(p, t))
-                if new == 0:
-                    saltation_stick(y)
+                mode = _slip_end(y, t, d, zeta, vb, p, counts)
+                fresh = mode != 0  # a slip phase entered here starts on V_r = 0
+                if mode == 0:
                     x_s, t_s = y[0], t
-                    mode = 0
                     collapsed = True
-                    counts[C_STICK] += 1
-                elif new != mode:
-                    saltation_reversal(y, d, new, t, zeta, vb, p)
-                    mode = new
-                    fresh = True
-                    counts[C_REVERSAL] += 1
-                else:
-                    counts[C_GRAZE] += 1  # touched V_r = 0 and slips on the same way: no switch
-                    fresh = True
-        # block end: stroboscopic sample and QR of the tangent vectors
-        strobe[blk, 0] = y[0]
-        strobe[blk, 1] = y[1]
-        strobe[blk, 2] = mode
-        r11, r22 = _qr(y)
+        r11, r22 = _block_end(y, mode, strobe[blk])
         if not (math.isfinite(r11) and math.isfinite(r22)):
             return NOT_FINITE, s1, s2
         if blk >= n_transient:
-            k = blk - n_transient
-            s1 += math.log(r11)
-            s2 += -math.inf if (collapsed or r22 == 0.0) else math.log(abs(r22))
-            elapsed = (k + 1) * block
-            est[k, 0] = s1 / elapsed
-            est[k, 1] = s2 / elapsed
-        if mode == 0:
-            # a block that starts sticking: the frame's dv components belong to no sticking
-            # motion (a perturbed X' slips back onto the belt at once): the stick onset's projection
-            y[3] = 0.0
-            y[5] = 0.0
+            s1, s2 = _average(s1, s2, r11, r22, collapsed, blk - n_transient, block, est)
         collapsed = mode == 0
     return OK, s1, s2
 

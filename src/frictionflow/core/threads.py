@@ -30,16 +30,18 @@ def pieces(n: int, threads: int, per_thread: int = PIECES_PER_THREAD) -> list[tu
     return [(s, min(n, s + size)) for s in range(0, n, size)]
 
 
-def over_points(kernel: Callable[..., Any], n: int, *args: Any) -> None:
+def over_points(kernel: Callable[..., Any], n: int, *args: Any, per_thread: int = PIECES_PER_THREAD) -> None:
     """Call ``kernel(start, stop, *args)`` on pieces of ``range(n)``, in parallel over numba's threads.
 
     ``kernel`` must be compiled with ``nogil=True`` (else the threads take turns)
     and write only the points ``start .. stop-1`` of its outputs.
+    ``per_thread``: pieces per thread (more for points that each cost many
+    milliseconds, where a thread left without work at the end is what counts).
     """
     threads = numba.get_num_threads()
     if threads <= 1 or n <= 1:
         kernel(0, n, *args)
         return
     with ThreadPoolExecutor(max_workers=threads) as pool:
-        for done in [pool.submit(kernel, start, stop, *args) for start, stop in pieces(n, threads)]:
+        for done in [pool.submit(kernel, start, stop, *args) for start, stop in pieces(n, threads, per_thread)]:
             done.result()  # re-raises a kernel's error here

@@ -17,6 +17,8 @@ its power flow (P_fin, P_df, P_dv, R_c, R_f, P_belt, P_heat) and TR_B.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -30,9 +32,8 @@ from .flow import make_flow
 from .parameters import with_param
 from .shooting import ShootingError, find_orbit, orbit_from_segment
 from .brute_force import sweep as brute_force_sweep
+from .settings import SEEDS, ContinuationSettings, merged
 from .tracing import StepControl, Trace, Tracer
-
-SEEDS = ("hopf", "start", "stop")
 
 
 def continuation(
@@ -42,19 +43,8 @@ def continuation(
     start: float,
     stop: float,
     *,
-    seeds: tuple[str, ...] = SEEDS,
-    transient: float = 500.0,
-    n_equilibria: int = 101,
-    max_points: int = 300,
-    max_period: float = 500.0,
-    step: float = 0.02,
-    max_step: float = 0.1,
-    returns: int = 1,
-    sweep: int = 0,
-    solver: Solver | None = None,
-    x0: float | None = None,
-    v0: float | None = None,
-    tol: float | None = None,
+    settings: ContinuationSettings | None = None,
+    **options: Any,
 ) -> ContinuationResult:
     """Continue equilibria and periodic orbits in ``param`` from ``start`` to ``stop``.
 
@@ -62,51 +52,80 @@ def continuation(
     ----------
     param:
         zeta, vb, or a parameter of the friction law (fd, fs, vd, vs, delta, viscous).
-    seeds:
-        Where orbit branches start: ``hopf`` (every Hopf point in the
-        interval), ``start``/``stop`` (the attractor a simulation of
-        ``transient`` time units reaches at that end).
-    n_equilibria:
-        Grid points of the equilibrium branch (Hopf points are added to it).
-    max_points, max_period:
-        A branch stops after this many points, or once its period exceeds
-        ``max_period`` (reported as a ``period_blowup``).
-    step, max_step:
-        First and largest arclength step, in units of the interval length
-        (and of max(F_s, |V_b|) along X).
-    sweep:
-        Number of brute-force simulations across the interval (0: none).
-    solver, x0, v0:
-        Solver and start state of the seed and sweep simulations (defaults as
-        :func:`frictionflow.simulate`); the solver also integrates each
-        orbit's period for its power flow.
-    tol:
-        Newton tolerance on each orbit's X relative to max(F_s, |V_b|), as
-        :func:`~frictionflow.orbits.find_orbit`'s (default: 1e-12 for
-        piecewise-constant laws, 1e-9 otherwise).  It bounds the error in X,
-        |G / (1 - mu)|, not the residual G: near a Hopf point (mu -> 1) every
-        branch point is as accurate as a single orbit.
+    start, stop:
+        The interval's ends (finite, distinct; either order).
+    settings:
+        How branches are seeded and traced (:class:`~.settings.ContinuationSettings`;
+        default: its defaults).
+    **options:
+        Fields of :class:`~.settings.ContinuationSettings` (described there),
+        replacing those of ``settings``; a TypeError names any other keyword.
+        ``seeds``: where orbit branches start, ``hopf`` (every Hopf point in
+        the interval), ``start``/``stop`` (the attractor a simulation reaches
+        at that end) [all three]; ``transient``: length of the seed and sweep
+        simulations [500]; ``n_equilibria``: grid points of the equilibrium
+        branch [101]; ``max_points``, ``max_period``: a branch ends after this
+        many points [300] or once its period exceeds this [500]; ``step``,
+        ``max_step``: first and largest arclength step, relative to the
+        interval [0.02, 0.1]; ``returns``: section crossings per period [1];
+        ``sweep``: brute-force simulations across the interval [0: none];
+        ``solver``, ``x0``, ``v0``: of the seed and sweep simulations (and of
+        each orbit's power flow) [as :func:`frictionflow.simulate`]; ``tol``:
+        Newton tolerance on each orbit's X relative to max(F_s, |V_b|)
+        [1e-12 for piecewise-constant laws, 1e-9 otherwise].
+
+    Returns
+    -------
+    ContinuationResult
+        The equilibrium branch, the orbit branches and the bifurcations found.
     """
+    s = merged(ContinuationSettings, settings, options, "continuation")
+    _check(model, friction, param, (start, stop), s)
+    branches: list[Branch] = []
+    hopfs = _equilibria(branches, model, friction, param, np.linspace(start, stop, max(2, s.n_equilibria)), stop < start)
+    problem = CycleProblem(model, friction, param, start, stop, returns=s.returns, tol=s.tol, max_period=s.max_period)
+    tracer = Tracer(problem, StepControl(h0=s.step, h_max=s.max_step, max_points=s.max_points))
+    found = _Found(model, friction, param, s, tracer, branches)
+    found.from_hopfs(hopfs)
+    found.from_ends(start, stop)
+    result = ContinuationResult(
+        param=param,
+        start=float(start),
+        stop=float(stop),
+        params={**model.report(), **friction.as_dict()},
+        branches=branches,
+        bifurcations=sorted(found.bifs, key=lambda b: (b.value - start) / (stop - start)),
+    )
+    if s.sweep:
+        result.sweep = brute_force_sweep(model, friction, param, np.linspace(start, stop, s.sweep), t_end=s.transient,
+                                         x0=s.x0, v0=s.v0, solver=s.solver)
+    return result
+
+
+def _check(model: BeltOscillator, friction: FrictionLaw, param: str, ends: tuple[float, float], s: ContinuationSettings) -> None:
+    """Refuse, before any work, an interval or settings that cannot be continued; ValueError naming what."""
+    start, stop = ends
     for name, v in (("from", start), ("to", stop)):
         if not math.isfinite(v):
             raise ValueError(f"{name} must be a finite number, got {v!r}")
+    tol = s.tol
     if tol is not None and not (isinstance(tol, (int, float)) and 0.0 < tol <= 1e-3):
         raise ValueError(f"tol must be a number in (0, 1e-3], got {tol!r}")
     if start == stop:
         raise ValueError(f"from and to must differ, got {start!r} twice")
     for v in (start, stop):
         make_flow(*with_param(model, friction, param, v))  # validates both ends before any work
-    for s in seeds:
-        if s not in SEEDS:
-            raise ValueError(f"seeds must be among {', '.join(SEEDS)}, got {s!r}")
+    for seed in s.seeds:
+        if seed not in SEEDS:
+            raise ValueError(f"seeds must be among {', '.join(SEEDS)}, got {seed!r}")
 
-    branches: list[Branch] = []
-    bifs: list[Bifurcation] = []
 
-    # 1. equilibria and Hopf points
-    grid = np.linspace(start, stop, max(2, n_equilibria))
+def _equilibria(branches: list[Branch], model: BeltOscillator, friction: FrictionLaw, param: str, grid: np.ndarray,
+                descending: bool) -> list[float]:
+    """The Hopf points on the grid's interval; the equilibrium branch (grid and Hopf points, in the grid's order:
+    ``descending`` or not) appended to ``branches``."""
     hopfs = hopf_points(model, friction, param, grid)
-    values = np.array(sorted(set(grid.tolist()) | set(hopfs), reverse=stop < start))
+    values = np.array(sorted(set(grid.tolist()) | set(hopfs), reverse=descending))
     eqs = equilibrium_branch(model, friction, param, values)
     if eqs:
         pts = []
@@ -114,57 +133,64 @@ def continuation(
             m, law = with_param(model, friction, param, eq.value)
             pts.append(BranchPoint.from_equilibrium(eq, m.vb, law.fd))
         branches.append(Branch("equilibrium", pts, seed="sliding equilibrium", end="interval end"))
+    return hopfs
 
-    problem = CycleProblem(model, friction, param, start, stop, returns=returns, tol=tol, max_period=max_period)
-    tracer = Tracer(problem, StepControl(h0=step, h_max=max_step, max_points=max_points))
 
-    # 2. orbits born at Hopf points
-    for lam_h in hopfs:
-        detail: dict = {"criticality": None}
-        bifs.append(Bifurcation("hopf", lam_h, 0, detail))
-        if "hopf" not in seeds or _on_branch(branches, lam_h, 0.0, problem, at_hopf=True):
-            continue
-        m, law = with_param(model, friction, param, lam_h)
-        xi0 = 0.02 * max(abs(m.vb), 1e-6)
-        begun = _start_from_hopf(tracer, lam_h, xi0)
-        if begun is None:
-            continue
-        first, t = begun
-        eq = equilibrium(first.model, first.law)
-        # cycles beside a stable equilibrium are the unstable ones of a subcritical Hopf
-        detail["criticality"] = "subcritical" if eq is not None and eq.stability == "stable" else "supercritical"
-        _add(branches, bifs, tracer.trace(first, t), f"hopf at {param}={lam_h:.10g}", returns, solver)
+@dataclass
+class _Found:
+    """The branches and bifurcations of one continuation, and the tracer that adds orbit branches to them."""
 
-    # 3. orbits through the attractors of simulations at the ends
-    for which, lam, toward in (("start", start, stop), ("stop", stop, start)):
-        if which not in seeds:
-            continue
-        m, law = with_param(model, friction, param, lam)
-        try:
-            orbit = find_orbit(m, law, x0=x0, v0=v0, transient=transient, returns=returns, solver=solver)
-        except ShootingError:
-            continue  # the simulation settled on the equilibrium (or no orbit nearby)
-        _, _, x_ref = problem.system(lam)
-        xi = orbit.state[0] - (x_ref if math.isfinite(x_ref) else 0.0)
-        if _on_branch(branches, lam, xi, problem):
-            continue
-        try:
-            first, t = _start_from_orbit(tracer, lam, orbit.state[0], toward)
-        except (RuntimeError, ValueError):
-            continue
-        _add(branches, bifs, tracer.trace(first, t), f"simulation at {param}={lam:.10g}", returns, solver)
+    model: BeltOscillator
+    friction: FrictionLaw
+    param: str
+    settings: ContinuationSettings
+    tracer: Tracer
+    branches: list[Branch]
+    bifs: list[Bifurcation] = field(default_factory=list)
 
-    result = ContinuationResult(
-        param=param,
-        start=float(start),
-        stop=float(stop),
-        params={**model.report(), **friction.as_dict()},
-        branches=branches,
-        bifurcations=sorted(bifs, key=lambda b: (b.value - start) / (stop - start)),
-    )
-    if sweep:
-        result.sweep = brute_force_sweep(model, friction, param, np.linspace(start, stop, sweep), t_end=transient, x0=x0, v0=v0, solver=solver)
-    return result
+    def from_hopfs(self, hopfs: list[float]) -> None:
+        """A Hopf bifurcation at each point, and the branch of orbits born there unless one was traced already."""
+        problem = self.tracer.p
+        for lam_h in hopfs:
+            detail: dict = {"criticality": None}
+            self.bifs.append(Bifurcation("hopf", lam_h, 0, detail))
+            if "hopf" not in self.settings.seeds or _on_branch(self.branches, lam_h, 0.0, problem, at_hopf=True):
+                continue
+            m, law = with_param(self.model, self.friction, self.param, lam_h)
+            xi0 = 0.02 * max(abs(m.vb), 1e-6)
+            begun = _start_from_hopf(self.tracer, lam_h, xi0)
+            if begun is None:
+                continue
+            first, t = begun
+            eq = equilibrium(first.model, first.law)
+            # cycles beside a stable equilibrium are the unstable ones of a subcritical Hopf
+            detail["criticality"] = "subcritical" if eq is not None and eq.stability == "stable" else "supercritical"
+            self.add(self.tracer.trace(first, t), f"hopf at {self.param}={lam_h:.10g}")
+
+    def from_ends(self, start: float, stop: float) -> None:
+        """The branches through the attractors of simulations at the interval's ends (those not traced already)."""
+        s, problem = self.settings, self.tracer.p
+        for which, lam, toward in (("start", start, stop), ("stop", stop, start)):
+            if which not in s.seeds:
+                continue
+            m, law = with_param(self.model, self.friction, self.param, lam)
+            try:
+                orbit = find_orbit(m, law, x0=s.x0, v0=s.v0, transient=s.transient, returns=s.returns, solver=s.solver)
+            except ShootingError:
+                continue  # the simulation settled on the equilibrium (or no orbit nearby)
+            _, _, x_ref = problem.system(lam)
+            xi = orbit.state[0] - (x_ref if math.isfinite(x_ref) else 0.0)
+            if _on_branch(self.branches, lam, xi, problem):
+                continue
+            try:
+                first, t = _start_from_orbit(self.tracer, lam, orbit.state[0], toward)
+            except (RuntimeError, ValueError):
+                continue
+            self.add(self.tracer.trace(first, t), f"simulation at {self.param}={lam:.10g}")
+
+    def add(self, trace: Trace, seed: str) -> None:
+        """Record a traced branch (with its power flow at every point) and its events."""
+        _add(self.branches, self.bifs, trace, seed, self.settings.returns, self.settings.solver)
 
 
 def _start_from_hopf(tracer: Tracer, lam_h: float, xi0: float) -> tuple[Solution, np.ndarray] | None:

@@ -71,10 +71,9 @@ from ..params import BeltOscillator
 from ..solvers.base import kernel_params
 from ..analysis.steady_state import stick_fraction
 from .measures import measures_of, one_period
+from .settings import DEFAULT_STEPS, ForcedContinuationSettings, merged
 from .tracing import ContinuationProblem, Corrector, Crossing, StepControl, Step, Stop, Tracer
 
-#: RK4 grid steps per forcing period unless told
-DEFAULT_STEPS = 512
 #: forcing periods of the transient that gives the first guess
 DEFAULT_TRANSIENT = 200
 #: |mu| within this of 1 is neutral
@@ -784,24 +783,28 @@ def continue_forced(
     x0: float | None = None,
     v0: float | None = None,
     orbit: ForcedOrbit | None = None,
-    steps: int = DEFAULT_STEPS,
-    h0: float = 0.01,
-    h_max: float = 0.04,
-    h_min: float = 1e-6,
-    max_points: int = 400,
-    detect: bool = True,
-    tol: float = 1e-11,
+    settings: ForcedContinuationSettings | None = None,
+    **options: Any,
 ) -> ForcedBranch:
     """Follow the m-period forced orbit in ``parameter`` (``omega`` or ``fex``) from ``start`` toward ``stop``.
 
     The first orbit is ``orbit`` if given, else :func:`find_forced_orbit` at
-    ``start`` (from x0, v0 as there).  The branch is traced by
-    pseudo-arclength (it passes folds) until it leaves [start, stop] (the
-    last point then lies on the end), fails to continue, or ``max_points``.
-    Steps ``h0`` .. ``h_max`` are in scaled arclength (lambda over
-    |stop - start|, the state over the first orbit's size).  Special points
-    are refined to ~1e-8 in lambda (see the module docstring).
+    ``start`` (default: ``model``'s value; from x0, v0 as there).  The branch
+    is traced by pseudo-arclength (it passes folds) until it leaves
+    [start, stop] (the last point then lies on the end), fails to continue,
+    or ``max_points``.  Special points are refined to ~1e-8 in lambda (see
+    the module docstring).
+
+    ``settings`` (:class:`~.settings.ForcedContinuationSettings`) says how
+    the branch is traced; its fields may also be given as keywords, which
+    replace the record's (a TypeError names any other keyword):
+    ``steps`` (RK4 grid steps per forcing period [512]), ``h0``, ``h_max``,
+    ``h_min`` (first, largest and smallest step [0.01, 0.04, 1e-6], in scaled
+    arclength: lambda over |stop - start|, the state over the first orbit's
+    size), ``max_points`` [400], ``detect`` (locate the special points [True])
+    and ``tol`` (Newton tolerance [1e-11]).
     """
+    s = merged(ForcedContinuationSettings, settings, options, "continue_forced")
     _check_model(model)
     _check_law(friction)
     if parameter not in PARAMETERS:
@@ -813,27 +816,33 @@ def continue_forced(
     if stop == start:
         raise ValueError(f"stop must differ from start ({start!r})")
     m = _check_int("m", m, 1, 1000)
-    steps = _check_int("steps", steps, 4, 10**6)
-    max_points = _check_int("max_points", max_points, 2, 10**6)
-    if not (0 < h_min <= h0 <= h_max):
-        raise ValueError(f"steps must satisfy 0 < h_min <= h0 <= h_max, got {h_min!r}, {h0!r}, {h_max!r}")
+    s = replace(s, steps=_check_int("steps", s.steps, 4, 10**6), max_points=_check_int("max_points", s.max_points, 2, 10**6))
+    if not (0 < s.h_min <= s.h0 <= s.h_max):
+        raise ValueError(f"steps must satisfy 0 < h_min <= h0 <= h_max, got {s.h_min!r}, {s.h0!r}, {s.h_max!r}")
     base = replace(model, **{parameter: start})
     if orbit is None:
-        orbit = find_forced_orbit(base, friction, m, x0, v0, steps=steps, tol=tol)
+        orbit = find_forced_orbit(base, friction, m, x0, v0, steps=s.steps, tol=s.tol)
     elif orbit.m != m or not math.isclose(getattr(orbit.model, parameter), start, rel_tol=1e-12):
         raise ValueError(f"orbit: its m ({orbit.m}) and {parameter} must be the branch's (m={m}, {parameter}={start})")
     sx = max(orbit.amplitude, float(np.max(np.abs(orbit.state))), model.fex, abs(model.vb), friction.fd, 1e-9)
-    pb = _Problem(base, friction, parameter, m, steps=steps, scales=(sx, abs(stop - start)), interval=(start, stop), tol=tol)
+    pb = _Problem(base, friction, parameter, m, steps=s.steps, scales=(sx, abs(stop - start)), interval=(start, stop), tol=s.tol)
+    return _trace_forced(pb, orbit.state, (start, stop), sx, s)
+
+
+def _trace_forced(pb: _Problem, state: np.ndarray, interval: tuple[float, float], sx: float,
+                  s: ForcedContinuationSettings) -> ForcedBranch:
+    """The branch of ``pb`` traced over ``interval`` from the orbit through ``state`` at its start (state scale ``sx``)."""
+    (start, stop), parameter = interval, pb.parameter
     try:
-        first = pb.solve_at(start, orbit.state)
+        first = pb.solve_at(start, state)
     except (RuntimeError, ValueError):
         raise ForcedShootingError(f"no orbit to start from at {parameter}={start}") from None
-    tracer = Tracer(pb, _steps(h0, h_max, h_min, max_points, detect))
+    tracer = Tracer(pb, _steps(s.h0, s.h_max, s.h_min, s.max_points, s.detect))
     trace = tracer.trace(first, tracer.start(first, stop))
-    return ForcedBranch(model=base, friction=friction, parameter=parameter, m=m,
-                        points=[_point(pb, s) for s in trace.solutions], events=trace.events, end=trace.end,
-                        settings={"steps_per_period": steps, "h0": h0, "h_max": h_max, "h_min": h_min, "tol": tol,
-                                  "start": start, "stop": stop, "max_points": max_points,
+    return ForcedBranch(model=pb.model, friction=pb.friction, parameter=parameter, m=pb.m,
+                        points=[_point(pb, sol) for sol in trace.solutions], events=trace.events, end=trace.end,
+                        settings={"steps_per_period": s.steps, "h0": s.h0, "h_max": s.h_max, "h_min": s.h_min, "tol": s.tol,
+                                  "start": start, "stop": stop, "max_points": s.max_points,
                                   "scales": {"state": sx, "lambda": abs(stop - start)}})
 
 

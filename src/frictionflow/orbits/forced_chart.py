@@ -60,6 +60,7 @@ from .forced import (
     measures,
     newton,
 )
+from .settings import ForcedContinuationSettings, merged
 
 optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 #: the special points of forced branches that make curves in two parameters
@@ -328,14 +329,14 @@ class _ForcedOrbits:
     x_start: float
     m: int
     kinds: Sequence[str]
-    continuation: dict[str, Any]
+    continuation: ForcedContinuationSettings
     previous: np.ndarray | None = None
     runs: list[GridRun] = field(default_factory=list)
 
     def at(self, index: int, y: float) -> list[tuple[str, CurvePoint]]:
         mdl = replace(self.model, **{self.y_param: y, self.x_param: self.x_start})
         try:
-            orbit = _start_orbit(mdl, self.law, self.m, self.previous, int(self.continuation.get("steps", 512)))
+            orbit = _start_orbit(mdl, self.law, self.m, self.previous, int(self.continuation.steps))
         except (RuntimeError, ValueError) as e:
             self.runs.append(GridRun(y, self.m, 0, [], [], str(e)))
             self.previous = None  # lost: the next value starts afresh
@@ -347,7 +348,7 @@ class _ForcedOrbits:
                 continue
             try:
                 br = continue_forced(mdl, self.law, self.x_param, self.x_start, stop, m=self.m, orbit=orbit,
-                                     **self.continuation)
+                                     settings=self.continuation)
             except (RuntimeError, ValueError) as e:
                 ends.append(f"failed: {e}")
                 continue
@@ -394,9 +395,8 @@ def forced_chart(
     x_start: float | None = None,
     guess: Sequence[float] | None = None,
     curves: Sequence[str] = FORCED_CURVES,
-    sweep: Any = None,
-    heat: str = "TR_B",
-    **continuation: Any,
+    continuation: ForcedContinuationSettings | None = None,
+    **options: Any,
 ) -> ForcedChart:
     """Fold, period-doubling, Neimark-Sacker and grazing curves of the forced system in the (x_param, y_param) plane.
 
@@ -404,11 +404,35 @@ def forced_chart(
     at x = ``x_start`` (default: the end of ``x_range`` nearer ``model``'s x)
     and continued by :func:`~.forced.continue_forced` in x to both ends of
     ``x_range``; the special points it refines are the curves' points.
-    ``guess``: (X, X') at tau = 0 near the first grid value's orbit (else a
-    transient is run first); later grid values start from the previous one's orbit.
-    ``continuation``: keywords for :func:`~.forced.continue_forced` (h_max,
-    steps, max_points, ...).
+
+    Parameters
+    ----------
+    x_param, x_range:
+        The parameter continued (``omega`` or ``fex``) and its interval.
+    y_param, y_values:
+        The other one and its grid values.
+    m:
+        The orbits' period(s) in forcing periods: one curve source per m.
+    x_start:
+        Where each continuation starts (clipped to ``x_range``).
+    guess:
+        (X, X') at tau = 0 near the first grid value's orbit (else a
+        transient is run first); later grid values start from the previous one's orbit.
+    curves:
+        The kinds of curve wanted (among ``fold``, ``period_doubling``,
+        ``neimark_sacker``, ``grazing``).
+    continuation:
+        How each branch is traced (:class:`~.settings.ForcedContinuationSettings`).
+    **options:
+        ``sweep``, ``heat``: an xarray dataset of simulations on the same
+        plane and its variable drawn under the curves (as :func:`forced_map`
+        makes them); and any field of :class:`~.settings.ForcedContinuationSettings`
+        (``steps``, ``h0``, ``h_max``, ``h_min``, ``max_points``, ``detect``,
+        ``tol``), replacing the one of ``continuation``.  A TypeError names
+        any other keyword.
     """
+    sweep, heat = options.pop("sweep", None), options.pop("heat", "TR_B")
+    settings = merged(ForcedContinuationSettings, continuation, options, "forced_chart", "continuation")
     (lo, hi), ys = _check_plane(x_param, x_range, y_param, y_values, curves)
     ms = (m,) if isinstance(m, (int, np.integer)) else tuple(m)
     if x_start is None:
@@ -416,7 +440,7 @@ def forced_chart(
         x_start = lo if abs(here - lo) <= abs(here - hi) else hi
     x_start = float(min(max(x_start, lo), hi))
     start = None if guess is None else np.asarray(guess, dtype=float)
-    sources = [_ForcedOrbits(model, law, x_param, y_param, (lo, hi), x_start, mm, curves, continuation, start)
+    sources = [_ForcedOrbits(model, law, x_param, y_param, (lo, hi), x_start, mm, curves, settings, start)
                for mm in ms]
     out_curves, _ = trace(sources, ys)
     return ForcedChart(x_param, y_param, ys, (lo, hi), {**model.report(), **law.as_dict(), "m": list(ms)},

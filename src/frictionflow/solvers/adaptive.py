@@ -125,7 +125,7 @@ class Adaptive(Solver):
 
     def run_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
                    t_end: float, rtol: float, min_periods: int, out: np.ndarray) -> None:
-        self.batched(p, zeta, vb, x0, v0, t_end, self.rtol, self.atol, self.max_steps, rtol, min_periods,
+        self.batched(p, zeta, vb, x0, v0, t_end, batch.Ode(self.rtol, self.atol, self.max_steps), rtol, min_periods,
                      self.section_noise(self.describe()), out)
 
     def sample_estimate(self, t_end: float, model: BeltOscillator | None = None) -> int:

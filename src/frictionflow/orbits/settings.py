@@ -1,0 +1,126 @@
+"""The settings records of the continuations: how a branch is traced, as one value.
+
+:func:`~frictionflow.orbits.continuation` takes a :class:`ContinuationSettings`,
+:func:`~frictionflow.orbits.continue_forced` and
+:func:`~frictionflow.orbits.forced_chart` a :class:`ForcedContinuationSettings`;
+each also takes the record's fields as keywords (they replace the record's
+values), so that ``continuation(model, law, "vb", 0.01, 0.3, n_equilibria=21)``
+reads as it always did and a study can keep its settings in one value:
+
+>>> from frictionflow.orbits.settings import ContinuationSettings
+>>> coarse = ContinuationSettings(n_equilibria=21, max_points=100)
+>>> coarse.step, coarse.max_points
+(0.02, 100)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+from typing import Any, Mapping, TypeVar
+
+from ..solvers.base import Solver
+
+#: where orbit branches of :func:`~frictionflow.orbits.continuation` can start
+SEEDS = ("hopf", "start", "stop")
+#: RK4 grid steps per forcing period unless told
+DEFAULT_STEPS = 512
+
+R = TypeVar("R")
+
+
+@dataclass(frozen=True)
+class ContinuationSettings:
+    """How :func:`~frictionflow.orbits.continuation` seeds and traces its branches.
+
+    Attributes
+    ----------
+    seeds:
+        Where orbit branches start: ``hopf`` (every Hopf point in the
+        interval), ``start``/``stop`` (the attractor a simulation of
+        ``transient`` time units reaches at that end).
+    transient:
+        Length of the seed and sweep simulations.
+    n_equilibria:
+        Grid points of the equilibrium branch (Hopf points are added to it).
+    max_points, max_period:
+        A branch stops after this many points, or once its period exceeds
+        ``max_period`` (reported as a ``period_blowup``).
+    step, max_step:
+        First and largest arclength step, in units of the interval length
+        (and of max(F_s, |V_b|) along X).
+    returns:
+        Crossings of the section X' = 0 per period (2: period-2 orbits).
+    sweep:
+        Number of brute-force simulations across the interval (0: none).
+    solver, x0, v0:
+        Solver and start state of the seed and sweep simulations (defaults as
+        :func:`frictionflow.simulate`); the solver also integrates each
+        orbit's period for its power flow.
+    tol:
+        Newton tolerance on each orbit's X relative to max(F_s, |V_b|), as
+        :func:`~frictionflow.orbits.find_orbit`'s (default: 1e-12 for
+        piecewise-constant laws, 1e-9 otherwise).  It bounds the error in X,
+        |G / (1 - mu)|, not the residual G: near a Hopf point (mu -> 1) every
+        branch point is as accurate as a single orbit.
+    """
+
+    seeds: tuple[str, ...] = SEEDS
+    transient: float = 500.0
+    n_equilibria: int = 101
+    max_points: int = 300
+    max_period: float = 500.0
+    step: float = 0.02
+    max_step: float = 0.1
+    returns: int = 1
+    sweep: int = 0
+    solver: Solver | None = None
+    x0: float | None = None
+    v0: float | None = None
+    tol: float | None = None
+
+
+@dataclass(frozen=True)
+class ForcedContinuationSettings:
+    """How :func:`~frictionflow.orbits.continue_forced` traces a branch of forced orbits.
+
+    Attributes
+    ----------
+    steps:
+        RK4 grid steps per forcing period.
+    h0, h_max, h_min:
+        First, largest and smallest step in scaled arclength (lambda over
+        the interval's length, the state over the first orbit's size);
+        0 < h_min <= h0 <= h_max.
+    max_points:
+        The branch stops after this many points.
+    detect:
+        Locate the special points (folds, period doublings, Neimark-Sacker,
+        grazings) between accepted points.
+    tol:
+        Newton tolerance of each orbit.
+    """
+
+    steps: int = DEFAULT_STEPS
+    h0: float = 0.01
+    h_max: float = 0.04
+    h_min: float = 1e-6
+    max_points: int = 400
+    detect: bool = True
+    tol: float = 1e-11
+
+
+def merged(kind: type[R], given: R | None, options: Mapping[str, Any], where: str, name: str = "settings") -> R:
+    """``given`` (default ``kind()``) with the keywords ``options`` replacing its fields.
+
+    A keyword that is no field of ``kind`` is refused as Python refuses one
+    (TypeError naming it, and the keywords ``where`` takes); ``given`` must
+    be a ``kind`` (``name``: the argument it came as).
+    """
+    if given is not None and not isinstance(given, kind):
+        raise TypeError(f"{where}(): {name} must be a {kind.__name__}, got {type(given).__name__}")
+    allowed = [f.name for f in fields(kind)]  # type: ignore[arg-type]
+    for key in options:
+        if key not in allowed:
+            raise TypeError(f"{where}() got an unexpected keyword argument {key!r}; "
+                            f"the {kind.__name__} keywords are {', '.join(allowed)}")
+    return replace(given if given is not None else kind(), **options)  # type: ignore[type-var]
