@@ -27,7 +27,6 @@ OVER_LIMIT = {
     "frictionflow.core.flowmap:_track_min": (26, 15),
     "frictionflow.core.flowmap:flow_map": (241, 14),
     "frictionflow.core.forced_map:flow_map": (126, 13),
-    "frictionflow.core.records:run_record": (28, 16),
 }
 
 
