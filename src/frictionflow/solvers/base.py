@@ -16,7 +16,7 @@ from typing import Any, Callable, ClassVar, Mapping
 import numpy as np
 
 from ..core.layout import FEX, N_WORK, OMEGA, PHI
-from ..core.records import N_CONTACTS, N_STATE, Events, Samples, new_samples
+from ..core.records import N_CONTACTS, N_STATE, Events, Samples, empty_samples
 from ..friction.base import FrictionLaw
 from ..parameters import Param, resolve
 from ..modes import SwitchMode
@@ -184,7 +184,7 @@ class Solver(ABC):
 
 def output_buffers(cap: int) -> tuple[Samples, Events]:
     """The records an event-driven kernel writes into (:mod:`frictionflow.core.records`), room for ``cap`` of each."""
-    return (new_samples(cap, N_STATE, N_CONTACTS),
+    return (empty_samples(cap, N_STATE, N_CONTACTS),
             Events(np.empty(cap), np.empty(cap, dtype=np.int64)))
 
 

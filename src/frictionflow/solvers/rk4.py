@@ -15,7 +15,7 @@ from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, Param
 from ..core import batch, sections
 from ..core.layout import FEX, LAW, N_WORK
-from ..core.records import N_CONTACTS, N_STATE, Samples, new_samples
+from ..core.records import N_CONTACTS, N_STATE, Samples, empty_samples
 from .base import kernel_params, DEFAULT_MAX_MEMORY, CoarseStepWarning, Solver, check_memory
 
 # (a step below 1e-9 or more steps than MAX_STEPS would run for days: refused up front)
@@ -53,7 +53,7 @@ class ThinnedOutputWarning(UserWarning):
 
 def _arrays(n: int) -> Samples:
     """The kernels' output record (:data:`~frictionflow.core.records.Samples`) with room for ``n`` samples."""
-    return new_samples(n, N_STATE, N_CONTACTS)
+    return empty_samples(n, N_STATE, N_CONTACTS)
 
 
 def _grown(bufs: Samples) -> Samples:
