@@ -21,12 +21,6 @@ OVER_LIMIT = {
     "frictionflow.core.dopri:_gd": (5, 13),
     "frictionflow.core.dopri:_root_between": (14, 14),
     "frictionflow.core.dopri:_stick_walk": (40, 15),
-    "frictionflow.core.flowmap:_event_root": (21, 18),
-    "frictionflow.core.flowmap:_extremum_theta": (19, 13),
-    "frictionflow.core.flowmap:_first_root": (40, 16),
-    "frictionflow.core.flowmap:_track_min": (26, 15),
-    "frictionflow.core.flowmap:flow_map": (241, 14),
-    "frictionflow.core.forced_map:flow_map": (126, 13),
 }
 
 

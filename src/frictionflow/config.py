@@ -74,9 +74,9 @@ def _dimensional_table(table: Any) -> dict[str, float]:
 RUN_PARAMETERS: tuple[Param, ...] = (
     Param("t_end", "tau_end", "end time", "run", 500.0, lower=0.0, lower_open=True, upper=1e12),
     Param("x0", "X(0)", "initial displacement", "run", None, default_text="F_d", lower=-STATE_MAX, upper=STATE_MAX,
-          sweepable=True),
+          sweepable=True, subnormal_ok=True),
     Param("v0", "X'(0)", "initial velocity", "run", None, default_text="V_b", lower=-STATE_MAX, upper=STATE_MAX,
-          sweepable=True),
+          sweepable=True, subnormal_ok=True),
     Param("friction", "", "friction law", "run", "karnopp", kind="choice", choices=law_names()),
     Param("solver", "", "solver (auto: exact for piecewise-constant laws, else adaptive)", "run", "auto",
           kind="choice", choices=solver_names()),
@@ -122,6 +122,22 @@ class RunConfig:
     @classmethod
     def from_mapping(cls, values: Mapping[str, Any], *, source: str = "config") -> "RunConfig":
         """Build and validate from a mapping; unknown keys are refused by name."""
+        given = cls.checked(values, source=source)
+        if "dimensional" in given:
+            both = [k for k in DIMENSIONAL_SETS if k in given]
+            if both:
+                raise ValueError(f"{source}: give {both[0]} or dimensional, not both")
+        cfg = cls(given)
+        cfg.validate()
+        return cfg
+
+    @staticmethod
+    def checked(values: Mapping[str, Any], *, source: str = "config") -> dict[str, Any]:
+        """Each value of ``values`` checked by its declaration, by name (None: not given; an unknown key refused).
+
+        Only each value on its own: how they fit together is :meth:`validate`'s.  A config's values are checked
+        so before options override them: a wrong one is an error whether or not it is overridden.
+        """
         params = declared()
         given: dict[str, Any] = {}
         for key, value in values.items():
@@ -130,13 +146,7 @@ class RunConfig:
                 raise ValueError(f"{source}: unknown key {key!r}; allowed: {', '.join(sorted(params))}")
             if value is not None:
                 given[name] = params[name].check(value)
-        if "dimensional" in given:
-            both = [k for k in DIMENSIONAL_SETS if k in given]
-            if both:
-                raise ValueError(f"{source}: give {both[0]} or dimensional, not both")
-        cfg = cls(given)
-        cfg.validate()
-        return cfg
+        return given
 
     def replace(self, **changes: Any) -> "RunConfig":
         """A copy with some settings changed (validated)."""

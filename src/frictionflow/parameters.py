@@ -17,6 +17,7 @@ arrays of a sweep alike.
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, replace
 from typing import Any, Callable, Mapping
 
@@ -27,6 +28,8 @@ OWNERS = ("oscillator", "law", "solver", "run")
 MODEL_MAX = 1e3
 STATE_MAX = 1e6
 KINDS = ("real", "int", "choice", "text")
+#: the smallest positive normal float: a nonzero value below it in magnitude is subnormal
+SUBNORMAL_BELOW = sys.float_info.min
 
 
 @dataclass(frozen=True)
@@ -53,6 +56,11 @@ class Param:
         Whether it can be a sweep axis (every ``real`` of the oscillator, a law or the initial state).
     report:
         Whether it appears in the JSON ``params`` of a run.
+    subnormal_ok:
+        Whether a subnormal ``real`` (0 < |x| < 2.2e-308) is a value like any other (a state: as good as 0).
+        Otherwise it is refused as degenerate: a time, a step, a rate or a coefficient that small has lost
+        its precision, and the work built on it does not exist (its products underflow to 0, its reciprocals
+        overflow: a forcing period or a sample count of inf).
     """
 
     name: str
@@ -70,6 +78,7 @@ class Param:
     unit: str = "1"
     sweepable: bool = False
     report: bool = True
+    subnormal_ok: bool = False
     #: for ``text``: turns the given value (text, or a TOML list/table) into the setting
     parse: Callable[[Any], Any] | None = None
 
@@ -112,6 +121,9 @@ class Param:
             self.upper is not None and (x > self.upper or (self.upper_open and x == self.upper))
         ):
             raise self._bad(value)
+        if self.kind == "real" and not self.subnormal_ok and x != 0.0 and abs(x) < SUBNORMAL_BELOW:
+            raise ValueError(f"{self.name} must be {self.allowed}, got {value!r}: a subnormal number (0 < |x| < "
+                             f"{SUBNORMAL_BELOW:.3g}) makes the work degenerate (its products underflow to 0)")
         return x
 
     def _number(self, value: Any) -> float | int:

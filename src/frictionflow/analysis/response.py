@@ -76,6 +76,7 @@ def frequency_response(
     if bad or not directions:
         raise ValueError(f"directions must be some of {DIRECTIONS}, got {list(directions)!r}")
     solver = solver or auto_solver(friction)
+    _check_forcing(solver, model, omegas)
     names = (*Q.NAMES, *EXTRA)
     out = {n: np.full((len(directions), len(omegas)), np.nan) for n in names}
     with progress_bar("response", len(directions) * len(omegas), enabled=progress) as advance:
@@ -93,6 +94,15 @@ def frequency_response(
                 x, v = float(traj.x[-1]), float(traj.v[-1])
                 advance(1)
     return _dataset(out, model, friction, solver, omegas, directions, periods)
+
+
+def _check_forcing(solver: Solver, model: BeltOscillator, omegas: np.ndarray) -> None:
+    """Refuse, before any run, a frequency the solver cannot force at (the exact solver: a resonance it has no
+    closed form for), naming it: found only when the sweep reached it, it cost the runs before."""
+    for w in omegas:
+        problem = solver.forcing_problem(model.zeta, float(w), model.fex)
+        if problem:
+            raise ValueError(problem)
 
 
 def _checked_omegas(omegas: Sequence[float]) -> np.ndarray:

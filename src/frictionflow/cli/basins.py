@@ -20,9 +20,10 @@ from ..basins.study import DATASET_FORMATS, SweepOptions
 from ..io import check_output_path
 from ..plotting import FIGURE_FORMATS
 from ..sweep.config import NOT_IN_SWEEPS
+from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import check_out
 from ._app import app
-from .options import CONFIG_OPTION, merged_config, parameter_names, with_options, with_parameters
+from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
 from .sweep import _sigterm_as_interrupt
 
 #: the model's options, as a sweep takes them; the initial state is a range here (--x0, --v0), not a value
@@ -41,10 +42,10 @@ class BasinsOptions:
     vary: Optional[str] = typer.Option(
         None, "--vary", metavar="NAME=FROM:TO:N|NAME=V1,V2,..",
         help="Basin stability against one parameter (vb, zeta, fd, ...): the same initial states at each value.")
-    out: Optional[Path] = typer.Option(None, "--out", metavar="PATH", help="Labelled dataset: PATH.nc or PATH.zarr.")
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Basin map, or with --vary basin stability against the parameter (.png, .pdf, .svg).")
+    out: Optional[Path] = typer.Option(None, "--out", parser=path_text, metavar="PATH", help="Labelled dataset: PATH.nc or PATH.zarr.")
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Basin map, or with --vary basin stability against the parameter (.png, .pdf, .svg).")
     store: Optional[Path] = typer.Option(
-        None, "--store", metavar="PATH.zarr",
+        None, "--store", parser=path_text, metavar="PATH.zarr",
         help="Keep the sweep's resumable store here [beside --out, removed once --out is written].")
     tol: Optional[float] = typer.Option(
         None, "--tol", help="Tolerance telling attractors apart: relative on period and amplitude, absolute on stick fraction [1e-3].")
@@ -63,8 +64,8 @@ def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
     settings = merged_config(opts.config, params).given
     tol = opts.tol
     tolerances = Tolerances() if tol is None else Tolerances(period=tol, amplitude=tol, stick=tol)
-    if opts.chunk_size is not None and opts.chunk_size < 1:
-        raise ValueError(f"--chunk-size must be an integer >= 1, got {opts.chunk_size}")
+    if opts.chunk_size is not None:
+        CHUNK_SIZE.check(opts.chunk_size)
     grid = opts.sample is None
     x, v = parse_range("--x0", opts.x0, grid), parse_range("--v0", opts.v0, grid)
     _check_outputs(opts.out, opts.plot)

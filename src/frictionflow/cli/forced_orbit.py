@@ -17,13 +17,13 @@ from ..core import forced_map as fm
 from .._display import spoken
 from ..friction.registry import SWITCH_LAW, tangent_law_names
 from ..io import check_input_path, check_output_path, read_config, write_figure
-from ..orbits.forced import DEFAULT_STEPS, PARAMETERS, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
+from ..orbits.forced import DEFAULT_STEPS, PARAMETERS, check_parameter, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
 from ..orbits.forced_plot import plot_forced_branches
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ..solvers.base import kernel_params
 from ._app import app
-from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
+from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "friction", "dimensional"))
 HELP = {
@@ -69,7 +69,7 @@ def forced_orbit(
     transient: int = typer.Option(200, "--transient", help="Forcing periods run from (x0, v0) before shooting (0: shoot from them)."),
     steps: int = typer.Option(512, "--steps", help="RK4 steps per forcing period (switches are located whatever it is)."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Draw the orbit's phase portrait and time history (.png, .pdf, .svg)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the orbit's phase portrait and time history (.png, .pdf, .svg)."),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Newton shooting for the orbit of period m 2 pi / Omega: state at tau = 0, multipliers, power and TR_B."""
@@ -115,14 +115,10 @@ def _state_at(orbit, t: float, steps: int) -> np.ndarray:
     """The orbit's state at time t (< its period), by the flow map over [0, t] (t need not be whole periods)."""
     model = orbit.model
     p = kernel_params(model, orbit.friction)
-    end, mono = np.empty(2), np.empty((2, 2))
-    work, stats = np.empty(fm.N_WORK), np.empty(fm.N_STATS)
-    sticks = np.zeros((fm.MAX_STICKS, 2))
-    counts = np.zeros(fm.N_COUNTS, dtype=np.int64)
+    out = fm.map_out()
     n = max(4, int(np.ceil(steps * t / model.forcing_period)))
-    fm.flow_map(float(orbit.state[0]), float(orbit.state[1]), model.zeta, model.vb, p, float(t), n, end, mono, work,
-                stats, sticks, counts)
-    return end.copy()
+    fm.flow_map(float(orbit.state[0]), float(orbit.state[1]), model.zeta, model.vb, p, float(t), n, out)
+    return out.end.copy()
 
 
 @app.command("forced-continue", short_help=SHORT_HELP_CONTINUE)
@@ -138,15 +134,14 @@ def forced_continue(
     switch_pd: bool = typer.Option(False, "--switch-pd", help="Also continue the 2m branch born at the first period doubling."),
     sweep: int = typer.Option(0, "--sweep", help="Brute-force overlay: this many parameter values swept up (0: none)."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the branch(es) to stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Draw the bifurcation diagram (.png, .pdf, .svg)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the bifurcation diagram (.png, .pdf, .svg)."),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Pseudo-arclength continuation in Omega or F_ex: folds, period doublings, Neimark-Sacker, grazings."""
     if parameter not in PARAMETERS:
         raise ValueError(f"--parameter must be omega or fex, got {parameter!r}")
     for flag, value in (("--from", start), ("--to", stop)):
-        if not (np.isfinite(value) and value > 0):
-            raise ValueError(f"{flag} must be a finite {parameter} > 0, got {value!r}")
+        check_parameter(parameter, value, flag)  # both ends by the parameter's declaration, as the API checks them
     if start == stop:
         raise ValueError(f"--to must differ from --from ({start!r})")
     _check(m=m, steps=steps, max_points=max_points, sweep=sweep)

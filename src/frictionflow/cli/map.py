@@ -19,7 +19,7 @@ from ..orbits.forced_chart import FORCED_CURVES, forced_map
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ._app import app
-from .options import CONFIG_OPTION, merged_config, parameter_names, with_options, with_parameters
+from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("t_end", "friction", "dimensional"))
 HELP = {"t_end": "Length of each sweep simulation (the heat map) [500].",
@@ -71,10 +71,10 @@ class MapOptions:
     fold_every: int = typer.Option(2, "--fold-every", help="A continuation in y seeds fold curves at every n-th x value.")
     sweep: str = typer.Option("0", "--sweep", help="Heat map: NXxNY simulations over the plane (e.g. 40x30); 0 for none.")
     heat: str = typer.Option("R_c", "--heat", help="Sweep variable of the heat map (R_c, TR_B, P_fin, ...).")
-    sweep_out: Optional[Path] = typer.Option(None, "--sweep-out", help="Keep the sweep here (.zarr or .nc) [a temporary file].")
-    dataset: Optional[Path] = typer.Option(None, "--dataset", help="Write the curves (and the sweep) as an xarray dataset (.nc, .zarr).")
+    sweep_out: Optional[Path] = typer.Option(None, "--sweep-out", parser=path_text, metavar=PATH_METAVAR, help="Keep the sweep here (.zarr or .nc) [a temporary file].")
+    dataset: Optional[Path] = typer.Option(None, "--dataset", parser=path_text, metavar=PATH_METAVAR, help="Write the curves (and the sweep) as an xarray dataset (.nc, .zarr).")
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (curves, codimension-two points) to stdout.")
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Stability chart: the curves over the heat map (.png, .pdf, .svg).")
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Stability chart: the curves over the heat map (.png, .pdf, .svg).")
     config: Optional[Path] = CONFIG_OPTION
 
 

@@ -82,8 +82,28 @@ def _gathered(fn: Callable, extra: list[inspect.Parameter], name: str, pack: Cal
 def merged_config(config: Optional[Path], options: dict[str, Any]) -> RunConfig:
     """Config file values, overridden by the options given on the command line."""
     values: dict[str, Any] = read_config(config) if config is not None else {}
+    if config is not None:  # every value of the file checked, also those the options then override
+        try:
+            RunConfig.checked(values, source=str(config))
+        except ValueError as e:
+            said = str(e)  # (an unknown key already names the file)
+            raise ValueError(said if said.startswith(f"{config}: ") else f"{config}: {said}") from None
     values.update({k: v for k, v in options.items() if v is not None})
     return RunConfig.from_mapping(values, source=str(config) if config else "options")
 
 
-CONFIG_OPTION = typer.Option(None, "--config", help="TOML file with any of these options (names with underscores).")
+#: how a path option shows in --help (as typer shows a ``Path`` option without a parser)
+PATH_METAVAR = "<path>"
+
+
+def path_text(text: str | Path) -> Path:
+    """A path option's value: refuses an empty one, which ``Path`` would turn into ``.`` (this directory) and an
+    error would then quote as ``'.'``, not as what was typed."""
+    if isinstance(text, Path):
+        return text
+    if text == "":
+        raise typer.BadParameter("an empty path: give a file name")
+    return Path(text)
+
+
+CONFIG_OPTION = typer.Option(None, "--config", parser=path_text, metavar=PATH_METAVAR, help="TOML file with any of these options (names with underscores).")

@@ -22,7 +22,7 @@ from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ..solvers.registry import solver_names_where
 from ._app import app
-from .options import CONFIG_OPTION, merged_config, parameter_names, with_options, with_parameters
+from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "solver", "dimensional"))
 #: orbits need located switches: every solver but the fixed-step ones
@@ -71,7 +71,7 @@ def orbit(
     tol: Optional[float] = typer.Option(None, "--tol", help="Newton tolerance on P(X)-X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws]."),
     fd_check: bool = typer.Option(False, "--fd-check", help="Also report the monodromy matrix by finite differences of simulations."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Draw the orbit: phase portrait, time history, power (.png, .pdf, .svg)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the orbit: phase portrait, time history, power (.png, .pdf, .svg)."),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Find a periodic orbit by Newton shooting; report its Floquet multipliers, power flow and TR_B."""
@@ -111,7 +111,7 @@ class ContinueOptions:
                                 "(comma-separated: P_fin, P_dv, P_df, R_c, R_f, P_belt, P_heat, TR_B, amplitude, stick_fraction, period).")
     tol: Optional[float] = typer.Option(None, "--tol", help="Newton tolerance on each orbit's X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws].")
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (branches, bifurcations) to stdout.")
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Bifurcation diagram and power along the branches (.png, .pdf, .svg).")
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Bifurcation diagram and power along the branches (.png, .pdf, .svg).")
     config: Optional[Path] = CONFIG_OPTION
 
 

@@ -12,6 +12,7 @@ import typer
 
 from ..paper import Settings, reproduce as run_reproduction
 from ._app import app
+from .options import PATH_METAVAR, path_text
 
 if TYPE_CHECKING:
     from ..paper import Summary
@@ -19,7 +20,7 @@ if TYPE_CHECKING:
 
 @app.command()
 def reproduce(
-    out: Path = typer.Option(..., "--out", help="Output directory (created if missing; its parent must exist)."),
+    out: Path = typer.Option(..., "--out", parser=path_text, metavar=PATH_METAVAR, help="Output directory (created if missing; its parent must exist)."),
     t_end: Optional[float] = typer.Option(None, "--t-end", help="Run length of Figs. 2-6; averages over the last cycle before it [600]."),
     dt: Optional[float] = typer.Option(None, "--dt", help="RK4 step of the paper's method [1e-3]."),
     workers: Optional[int] = typer.Option(None, "--workers", help="Processes to use [up to 2]."),

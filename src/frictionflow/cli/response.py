@@ -16,7 +16,7 @@ from ..io import atomic_write, check_input_path, check_output_path
 from ..plotting import FIGURE_FORMATS, plot_response
 from ._app import app
 from .basins import parse_range
-from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
+from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
 
 DATASET_FORMATS = (".nc",)
 
@@ -30,8 +30,8 @@ def response(
     periods: int = typer.Option(300, "--periods", help="Forcing periods simulated at each frequency."),
     direction: str = typer.Option("both", "--direction", help="Sweep up, down or both (jumps and hysteresis show with both)."),
     as_json: bool = typer.Option(False, "--json", help="Print the response as one JSON object."),
-    out: Optional[Path] = typer.Option(None, "--out", help="Write the response dataset (.nc)."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Draw the response curves (.png, .pdf, .svg)."),
+    out: Optional[Path] = typer.Option(None, "--out", parser=path_text, metavar=PATH_METAVAR, help="Write the response dataset (.nc)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the response curves (.png, .pdf, .svg)."),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Frequency response: steady amplitude, power, TR_B and stick fraction against the forcing frequency."""

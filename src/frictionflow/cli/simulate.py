@@ -18,7 +18,7 @@ from ..params import DimensionalParams
 from ..plotting import FIGURE_FORMATS, plot_run
 from ..simulate import simulate as run_simulation
 from ._app import app
-from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
+from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
 
 
 @app.command()
@@ -26,8 +26,8 @@ from .options import CONFIG_OPTION, merged_config, parameter_names, with_paramet
 def simulate(
     params: dict[str, Any],
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
-    out: Optional[Path] = typer.Option(None, "--out", help="Write the trajectory (.csv or .nc)."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Draw time history, phase portrait and power flow (.png, .pdf, .svg)."),
+    out: Optional[Path] = typer.Option(None, "--out", parser=path_text, metavar=PATH_METAVAR, help="Write the trajectory (.csv or .nc)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw time history, phase portrait and power flow (.png, .pdf, .svg)."),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Simulate one run, find its steady state and report power flow and TR_B."""

@@ -20,6 +20,7 @@ import numpy as np
 import typer
 
 from ..sweep import KIND_NAMES, load_sweep, run_sweep
+from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import verify_sweep
 from ._app import app
 
@@ -53,8 +54,8 @@ def sweep(
 def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeout: float, chunk_size: Optional[int], as_json: bool) -> None:
     """Compute (or resume) the sweep and print its summary."""
     cfg = load_sweep(str(config))
-    if chunk_size is not None and chunk_size < 1:
-        raise ValueError(f"chunk-size must be an integer >= 1, got {chunk_size}")
+    if chunk_size is not None:
+        CHUNK_SIZE.check(chunk_size)
     if not (timeout > 0 and np.isfinite(timeout)):
         raise ValueError(f"--scheduler-timeout must be a number of seconds > 0, got {timeout}")
     t0 = time.perf_counter()

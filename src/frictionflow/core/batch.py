@@ -42,6 +42,7 @@ from . import sections as sec
 from .friction import FD, slip_magnitude_of
 from .layout import N_WORK
 from .records import N_CONTACTS, N_STATE, Events, new_samples, run_record
+from .rk4 import step_count
 from .threads import over_points
 
 # The result row is the first NR entries of the table's layout, the one
@@ -239,7 +240,7 @@ def _rk4_rows(j0, j1, runs, points, judge, out):
 def rk4_points(law: int, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray, t_end: float,
                dt: float, rtol: float, min_periods: int, noise: float, out: np.ndarray) -> None:
     """Batched fixed-step RK4 (lanes in lock step, SIMD) for every point."""
-    steps = max(1, int(math.ceil(t_end / dt - 1e-9)))
+    steps = step_count(t_end, dt)
     rk4_batch.warm_up()
     runs = rk4_batch.run_batch(law, zeta, vb, p, x0, v0, dt, steps, sec.tail_start(0.0, steps * dt))
     over_points(_rk4_rows, len(zeta), runs, Points(p, zeta, vb, x0, v0), Judge(rtol, min_periods, dt, True, noise), out)

@@ -54,6 +54,7 @@ integrands vanish at the cuts: no jump terms there).
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -102,6 +103,28 @@ MAX_ZERO_PHASES = 8
 EPS = 2.220446049250313e-16
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 
+# -- records ------------------------------------------------------------------------------
+# Module-level named tuples (numba types them as records; a kernel that takes them can still be
+# cached): the kernels take these rather than long lists of scalars and buffers.
+
+#: what a flow map is of (:func:`flow_map`'s argument): the model's zeta and V_b, the law's kernel
+#: record p, the parameter code ``P_*``, DOP853's relative tolerance, and whether slip goes on
+#: through V_r = 0 (``virtual``)
+Flow = namedtuple("Flow", "zeta vb p code rtol virtual")
+#: a run's settings: Flow's, then the law's F_s, resultant rule and F(0+), the state's absolute
+#: tolerance, whether the quadratures are integrated, the end rule (returns, horizon) and how many
+#: components a step advances
+Run = namedtuple("Run", "zeta vb p code rtol virtual fs res f0 atol_x quads returns horizon n_act")
+#: the slip field of a piece (what :func:`rhs` evaluates, with the law's record p): direction d, W_fin's
+#: indicator (1.0 where X' F_c > 0 on the piece), zeta, V_b and the parameter code.  Scalars only: the
+#: functions a step calls take their arrays one by one (p, the buffers), since taking an array out of a
+#: record, or passing a record of arrays, counts the arrays' references at every call
+Field = namedtuple("Field", "d ind zeta vb code")
+#: a run's step buffers: the piece's vector y, the end y1 of the step being taken, the end ``out`` of a
+#: trial step inside it, a stage's argument tmp (the last slot of each holds how many components a step
+#: advances), the stages K; taken apart once per slip piece
+Steps = namedtuple("Steps", "y y1 out tmp K")
+
 
 # -- parameter partials ------------------------------------------------------------
 #: the kernel slot of each law-parameter code (the law's own module gives the derivative)
@@ -144,8 +167,9 @@ def law_terms(p, s, code):
 
 
 @njit(cache=True)
-def rhs(y, d, ind, zeta, vb, p, code, out):
-    """The slip field of the state, the tangents, xi and the two quadratures with their derivatives."""
+def rhs(y, fl, p, out):
+    """The slip field ``fl`` (:class:`Field`, law p) of the state, the tangents, xi and the quadratures with derivatives."""
+    d, ind, zeta, vb, code = fl
     x = y[IX]
     v = y[IV]
     s = d * (vb - v)
@@ -189,8 +213,8 @@ def accel(d, x, v, zeta, vb, p):
 
 
 @njit(cache=True)
-def dop_step(y, h, d, ind, zeta, vb, p, code, K, tmp, out):
-    """One DOP853 step of length h from y into ``out`` (stages in K; K[0] must hold the slope at y).
+def dop_step(y, h, fl, p, K, tmp, out):
+    """One DOP853 step of length h of the field ``fl`` (law p) from y into ``out`` (stages in K; K[0]: the slope at y).
 
     Only the first ``int(y[NY])`` components are advanced (the quadratures are
     left out while only the map and its Jacobian are wanted).
@@ -202,7 +226,7 @@ def dop_step(y, h, d, ind, zeta, vb, p, code, K, tmp, out):
             for j in range(s):
                 acc += A[s, j] * K[j, i]
             tmp[i] = y[i] + h * acc
-        rhs(tmp, d, ind, zeta, vb, p, code, K[s])
+        rhs(tmp, fl, p, K[s])
     for i in range(n):
         acc = 0.0
         for j in range(N_STAGES):
@@ -211,9 +235,9 @@ def dop_step(y, h, d, ind, zeta, vb, p, code, K, tmp, out):
 
 
 @njit(cache=True)
-def error_norm(y, ynew, h, K, rtol, atol_x, d, ind, zeta, vb, p, code):
-    """SciPy's DOP853 error norm on the first :data:`N_ERR` components."""
-    rhs(ynew, d, ind, zeta, vb, p, code, K[N_STAGES])
+def error_norm(y, ynew, h, K, rtol, atol_x, fl, p):
+    """SciPy's DOP853 error norm on the first :data:`N_ERR` components (``fl``: the slip field)."""
+    rhs(ynew, fl, p, K[N_STAGES])
     e5 = 0.0
     e3 = 0.0
     for i in range(N_ERR):
@@ -233,6 +257,8 @@ def error_norm(y, ynew, h, K, rtol, atol_x, d, ind, zeta, vb, p, code):
 
 
 # -- events in a slip piece ------------------------------------------------------------
+# Every step calls these: they take their arrays one by one (see Field).  ``ev`` = (kind, sig)
+# names the event: kind 0 the switch V_r = 0, kind 1 the zero of X' (sig: the sign of X' on the piece).
 @njit(cache=True)
 def _g(y, kind, d, sig, vb):
     """Event function: kind 0 the switch d (V_b - X'), kind 1 the zero of X' (sig X')."""
@@ -245,26 +271,27 @@ def _g_rate(a, kind, d, sig):
 
 
 @njit(cache=True)
-def _event_root(y, lo, hi, glo, ghi, theta, kind, d, sig, ind, zeta, vb, p, code, K, tmp, out, t):
-    """theta with g(theta) = 0 (g(lo) > 0 >= g(hi)), from the guess ``theta``; the state there in ``out``.
+def _event_root(y, K, tmp, out, p, fl, b, theta, ev):
+    """theta with g(theta) = 0 in the bracket ``b`` (:func:`.roots.bracket`, g(lo) > 0 >= g(hi)), from ``theta``.
 
-    Newton with the slope of g at the step's end (the scheme's d/dtheta up to
-    its own error), kept inside the bracket; the bracket's own next point
+    The step of the field ``fl`` from y; the state at the root in ``out``.
+    Newton with the slope of g at the step's end (the scheme's d/dtheta up
+    to its own error), kept inside the bracket; the bracket's own next point
     (:mod:`.roots`) where Newton would leave it.
     """
-    b = bracket(lo, hi, glo, ghi, 4.0 * EPS * abs(t), 4.0 * EPS, 0.0, 100)
+    kind, sig = ev
     while b.status == RUNNING:
-        dop_step(y, theta, d, ind, zeta, vb, p, code, K, tmp, out)
-        gm = _g(out, kind, d, sig, vb)
+        dop_step(y, theta, fl, p, K, tmp, out)
+        gm = _g(out, kind, fl.d, sig, fl.vb)
         if gm == 0.0:
             return theta
         b = update(b, theta, gm)
-        rate = _g_rate(accel(d, out[IX], out[IV], zeta, vb, p), kind, d, sig)
+        rate = _g_rate(accel(fl.d, out[IX], out[IV], fl.zeta, fl.vb, p), kind, fl.d, sig)
         step = -gm / rate if rate != 0.0 else math.inf
         if abs(step) <= tolerance(b, theta):
             return theta
         theta = steer(b, theta + step).x
-    dop_step(y, b.hi, d, ind, zeta, vb, p, code, K, tmp, out)
+    dop_step(y, b.hi, fl, p, K, tmp, out)
     return b.hi
 
 
@@ -289,13 +316,14 @@ def _noise(v, vb):
 
 
 @njit(cache=True)
-def _extremum_theta(y, h, th, d, ind, zeta, vb, p, code, K, tmp, out, t):
-    """theta in (0, h) where X'' = 0 on the step from y (an extreme of X'), by Newton from ``th``; state in ``out``.
+def _extremum_theta(y, K, tmp, out, p, fl, h, th, t):
+    """theta in (0, h) where X'' = 0 on the step from y (an extreme of X'), by Newton from ``th``.
 
-    d X''/dtau = -X' - (2 zeta + F') X''.
+    The state there is left in ``out``.  d X''/dtau = -X' - (2 zeta + F') X''.
     """
+    d, zeta, vb = fl.d, fl.zeta, fl.vb
     for _ in range(20):
-        dop_step(y, th, d, ind, zeta, vb, p, code, K, tmp, out)
+        dop_step(y, th, fl, p, K, tmp, out)
         a = accel(d, out[IX], out[IV], zeta, vb, p)
         ad = -out[IV] - (2.0 * zeta + slip_slope(p, d * (vb - out[IV]))) * a
         if ad == 0.0:
@@ -306,61 +334,87 @@ def _extremum_theta(y, h, th, d, ind, zeta, vb, p, code, K, tmp, out, t):
             th = nxt
             break
         th = nxt
-    dop_step(y, th, d, ind, zeta, vb, p, code, K, tmp, out)
+    dop_step(y, th, fl, p, K, tmp, out)
     return th
 
 
 @njit(cache=True)
-def _first_root(y, h, kind, d, sig, fresh, ind, zeta, vb, p, code, K, tmp, out, y1, t):
-    """theta in (0, h] where event ``kind`` first happens in the step to y1 (-1: none)."""
+def _dip_bottom(y, K, tmp, out, p, fl, h, s, ev, t):
+    """The bottom of g's dip inside the step, from the Hermite sketch's minimum at the fraction ``s``.
+
+    Returns (theta, g there), located on the scheme's own steps; theta -1:
+    no dip below 0 inside.
+    """
+    th = _extremum_theta(y, K, tmp, out, p, fl, h, s * h, t)
+    if th <= 0.0 or th >= h:
+        return -1.0, 0.0  # the lowest point is an end of the step: no dip inside
+    gm = _g(out, ev[0], fl.d, ev[1], fl.vb)
+    if gm > 0.0:
+        return -1.0, 0.0  # a near miss of the scheme's own solution
+    return th, gm
+
+
+@njit(cache=True)
+def _positive_start(y, K, tmp, out, p, fl, hi, ev):
+    """The largest of hi / 2, hi / 4, ... where g > 0, and g there (none found: g <= 0).
+
+    The left end of a bracket when the step starts on the surface.
+    """
+    lo = hi
+    glo = 0.0
+    for _ in range(60):
+        lo *= 0.5
+        dop_step(y, lo, fl, p, K, tmp, out)
+        glo = _g(out, ev[0], fl.d, ev[1], fl.vb)
+        if glo > 0.0:
+            break
+    return lo, glo
+
+
+@njit(cache=True)
+def _first_root(y, y1, K, tmp, out, p, fl, h, ev, fresh, t):
+    """theta in (0, h] where the event ``ev`` first happens in the step from y to y1 (-1: none)."""
+    kind, sig = ev
+    d, vb = fl.d, fl.vb
     g0 = _g(y, kind, d, sig, vb)
     g1 = _g(y1, kind, d, sig, vb)
     noise = _noise(y1[IV], vb)
     if fresh and abs(g1) <= noise:
         return -1.0
-    m0 = _g_rate(accel(d, y[IX], y[IV], zeta, vb, p), kind, d, sig) * h
-    m1 = _g_rate(accel(d, y1[IX], y1[IV], zeta, vb, p), kind, d, sig) * h
+    m0 = _g_rate(accel(d, y[IX], y[IV], fl.zeta, vb, p), kind, d, sig) * h
+    m1 = _g_rate(accel(d, y1[IX], y1[IV], fl.zeta, vb, p), kind, d, sig) * h
     if g1 > 0.0:
         s, val = hermite_min(g0, g1, m0, m1)
         # no interior dip that could reach 0 (a phase just leaving the surface: only a clear one)
         if s < 0.0 or val >= (-noise if fresh else 0.05 * min(g0, g1) + noise):
             return -1.0
         # the dip's bottom on the scheme's own steps (the cubic is only a sketch of it)
-        th = _extremum_theta(y, h, s * h, d, ind, zeta, vb, p, code, K, tmp, out, t)
-        if th <= 0.0 or th >= h:
-            return -1.0  # the lowest point is an end of the step: no dip inside
-        gm = _g(out, kind, d, sig, vb)
-        if gm > 0.0:
-            return -1.0  # a near miss of the scheme's own solution
-        hi, ghi = th, gm
+        hi, ghi = _dip_bottom(y, K, tmp, out, p, fl, h, s, ev, t)
+        if hi < 0.0:
+            return -1.0
     else:
         hi, ghi = h, g1
     lo, glo = 0.0, g0
     if glo <= 0.0 or fresh:
-        lo = hi
-        glo = 0.0
-        for _ in range(60):
-            lo *= 0.5
-            dop_step(y, lo, d, ind, zeta, vb, p, code, K, tmp, out)
-            glo = _g(out, kind, d, sig, vb)
-            if glo > 0.0:
-                break
+        lo, glo = _positive_start(y, K, tmp, out, p, fl, hi, ev)
         if not glo > 0.0:
             return 0.0
     guess = h * _hermite_root(g0, g1, m0, m1, lo / h, hi / h)
     if not (lo < guess < hi):
         guess = 0.5 * (lo + hi)
-    return _event_root(y, lo, hi, glo, ghi, guess, kind, d, sig, ind, zeta, vb, p, code, K, tmp, out, t)
+    b = bracket(lo, hi, glo, ghi, 4.0 * EPS * abs(t), 4.0 * EPS, 0.0, 100)
+    return _event_root(y, K, tmp, out, p, fl, b, guess, ev)
 
 
 @njit(cache=True)
-def _track_min(y, y1, h, d, ind, zeta, vb, p, code, K, tmp, out, M, tot, t):
-    """The smallest V_r = d (V_b - X') inside the step y -> y1 (a maximum of d X'), kept if below the record.
+def _track_min(y, y1, K, tmp, out, p, fl, h, M, tot, t):
+    """The smallest V_r = d (V_b - X') inside the step y -> y1 (a maximum of d X'), if a record.
 
     Located by Newton on theta for X''(theta) = 0 on the scheme's own steps
     (d X''/dtau = -X' - (2 zeta + F') X''); its derivatives are the tangent
     columns' V components there (at an extremum a time shift moves nothing).
     """
+    d, zeta, vb = fl.d, fl.zeta, fl.vb
     g0 = d * (vb - y[IV])
     g1 = d * (vb - y1[IV])
     a0 = accel(d, y[IX], y[IV], zeta, vb, p)
@@ -368,7 +422,7 @@ def _track_min(y, y1, h, d, ind, zeta, vb, p, code, K, tmp, out, M, tot, t):
     s, val = hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
     if s < 0.0 or val > tot[T_VRMIN] + 1e-3 * (abs(vb) + abs(y[IV])):
         return
-    th = _extremum_theta(y, h, s * h, d, ind, zeta, vb, p, code, K, tmp, out, t)
+    th = _extremum_theta(y, K, tmp, out, p, fl, h, s * h, t)
     if th <= 0.0 or th >= h:
         return  # the smallest value is at an end of the step: no interior extremum (a tangential start)
     vr = d * (vb - out[IV])
@@ -379,7 +433,7 @@ def _track_min(y, y1, h, d, ind, zeta, vb, p, code, K, tmp, out, M, tot, t):
         tot[T_VRX] = out[IX]
         for c in range(3):
             dv = out[J10] * M[0, c] + out[J11] * M[1, c] + (out[XIV] if c == 2 else 0.0)
-            tot[T_DVR0 + c] = -d * dv + (d * dvb(code) if c == 2 else 0.0)  # g = d (V_b - X')
+            tot[T_DVR0 + c] = -d * dv + (d * dvb(fl.code) if c == 2 else 0.0)  # g = d (V_b - X')
 
 
 # -- bookkeeping ----------------------------------------------------------------------------
@@ -467,245 +521,287 @@ def _stick_quads(M, tot, xs, T, zeta, vb, code):
         tot[T_DWFIN0 + c] += alpha * L + beta * L2
 
 
+@njit(cache=True)
+def _record_switch(row, t, x, vb, frm, to, n0, n1, fb1, fa1):
+    """A switch's row of ``sw``: where (on X' = V_b), the modes, the surface's normal, X'' before and after."""
+    row[0] = t
+    row[1] = x
+    row[2] = vb
+    row[3] = frm
+    row[4] = to
+    row[5] = n0
+    row[6] = n1
+    row[7] = vb
+    row[8] = fb1
+    row[9] = vb
+    row[10] = fa1
+
+
+@njit(cache=True)
+def _positive(q):
+    return q if q > 0.0 else 0.0
+
+
+# -- the phases ------------------------------------------------------------------------------
+@njit(cache=True)
+def _stick(run, x, t, M, tot):
+    """A stick phase from X = x at t: X' = V_b until |F_e| reaches F_s on the side V_b drives it to.
+
+    Returns (T, ends): its duration, cut at the horizon (ends False).  Folds
+    the phase into the columns ``M`` and its work integrals into ``tot``.
+    """
+    zeta, vb, fs, res, f0 = run.zeta, run.vb, run.fs, run.res, run.f0
+    T = stick_duration(x, zeta, vb, fs, res)
+    if T < math.inf and rest_mode(x + vb * T, zeta, vb, fs, res, f0, 0.0, 0.0) == 0:
+        T = math.inf
+    ends = t + T < run.horizon
+    if not ends:
+        T = run.horizon - t
+    _stick_quads(M, tot, x, T, zeta, vb, run.code)
+    for c in range(3):
+        M[0, c] += T * M[1, c]
+    tot[T_STICK] += T
+    return T, ends
+
+
+@njit(cache=True)
+def _stick_exit(run, x, t, M, tot, row):
+    """The slip onset ending a stick phase at (x, V_b): saltation, W_fin's jump, the switch's ``row``; the new mode."""
+    zeta, vb, f0, code = run.zeta, run.vb, run.f0, run.code
+    new = rest_mode(x, zeta, vb, run.fs, run.res, f0, 0.0, 0.0)
+    side = 1.0 if vb > 0.0 else -1.0
+    fa1 = new * f0 - x - 2.0 * zeta * vb
+    hl = side * 2.0 * (dzeta(code) * vb + zeta * dvb(code)) * (1.0 if run.res else 0.0) - dfs(code)
+    qb = _positive(vb * stick_friction(x, zeta, vb, 0.0))
+    qa = _positive(vb * new * f0)
+    _switch(M, tot, side, 0.0, hl, vb, 0.0, vb, fa1, qb, qa)
+    _record_switch(row, t, x, vb, np.int64(0), new, side, 0.0, 0.0, fa1)
+    return new
+
+
+@njit(cache=True)
+def _slip_exit(run, mode, new, x, t, M, tot, row):
+    """The switch on V_r = 0 ending a slip phase in direction ``mode`` at (x, V_b) into ``new`` (stick or reversal)."""
+    zeta, vb, f0 = run.zeta, run.vb, run.f0
+    d = float(mode)
+    ab = d * f0 - x - 2.0 * zeta * vb
+    fa1 = 0.0 if new == 0 else new * f0 - x - 2.0 * zeta * vb
+    qb = _positive(vb * d * f0)
+    if new == 0:
+        qa = _positive(vb * stick_friction(x, zeta, vb, 0.0))
+    else:
+        qa = _positive(vb * new * f0)
+    _switch(M, tot, 0.0, -d, d * dvb(run.code), vb, ab, vb, fa1, qb, qa)
+    _record_switch(row, t, x, vb, mode, new, 0.0, 1.0, ab, fa1)
+
+
+@njit(cache=True, inline="always")
+def _slip_piece(run, st, mode, t, h, fresh, M, tot):
+    """A slip piece from (X, X') in ``st.y[:2]`` at t, in direction ``mode``, to its first event; h: the next step.
+
+    Returns (status, ended, t, h, fresh, sig): ``ended`` 1 the switch
+    V_r = 0, 2 a zero of X', 3 the horizon; sig the sign of X' on the piece.
+    The piece's vector (integrated from the identity) is left in ``st.y``.
+    Inlined by numba into :func:`flow_map` (a call, once per piece, was
+    measurably slower: the loop's array references are counted otherwise).
+    """
+    y, y1, out, tmp, K = st
+    p, horizon = run.p, run.horizon
+    d = float(mode)
+    x, v = y[IX], y[IV]
+    _reset_piece(y)
+    a0 = accel(d, x, v, run.zeta, run.vb, p)
+    sig = (1.0 if v > 0.0 else -1.0) if v != 0.0 else (1.0 if a0 > 0.0 else -1.0)
+    fl = Field(d, 1.0 if sig * d > 0.0 else 0.0, run.zeta, run.vb, run.code)
+    zfresh = v == 0.0
+    rhs(y, fl, p, K[0])
+    if h <= 0.0:
+        h = min(0.1, 0.01 * max(horizon - t, 1e-3))
+    for _ in range(1000000):
+        hh = min(h, horizon - t)
+        last = hh >= horizon - t
+        dop_step(y, hh, fl, p, K, tmp, y1)
+        err = error_norm(y, y1, hh, K, run.rtol, run.atol_x, fl, p)
+        if not math.isfinite(err):
+            h = 0.5 * hh
+            if h < 1e-14 * (1.0 + abs(t)):
+                return NOT_FINITE, 0, t, h, fresh, sig
+            continue
+        if err > 1.0:
+            h = hh * max(MIN_FACTOR, SAFETY * err ** (-1.0 / 8.0))
+            if h < 1e-14 * (1.0 + abs(t)):
+                return STEP_FAIL, 0, t, h, fresh, sig
+            continue
+        # accepted: the first event inside it, the step retaken to it
+        # (np.int64: a literal event kind would compile the root finders once per kind)
+        th_sw = -1.0 if run.virtual else _first_root(y, y1, K, tmp, out, p, fl, hh, (np.int64(0), sig), fresh, t)
+        th_z = _first_root(y, y1, K, tmp, out, p, fl, hh, (np.int64(1), sig), zfresh, t)
+        kind = 0 if th_sw >= 0.0 else -1
+        th = th_sw if th_sw >= 0.0 else hh
+        if th_z >= 0.0 and (kind < 0 or th_z < th):
+            kind, th = 1, th_z
+        if kind >= 0:
+            dop_step(y, th, fl, p, K, tmp, y1)
+            hh = th
+        if run.quads:
+            _track_min(y, y1, K, tmp, out, p, fl, hh, M, tot, t)
+        for i in range(run.n_act):
+            y[i] = y1[i]
+        t += hh
+        if kind >= 0:
+            return OK, 1 if kind == 0 else 2, t, h, fresh, sig
+        for i in range(run.n_act):
+            K[0, i] = K[N_STAGES, i]  # first same as last
+        h = hh * (MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err ** (-1.0 / 8.0)))
+        vr = d * (run.vb - y[IV])
+        fresh = fresh and not vr > _noise(y[IV], run.vb)
+        zfresh = zfresh and not sig * y[IV] > _noise(y[IV], 0.0)
+        if last:
+            return OK, 3, t, h, fresh, sig
+    return STEP_FAIL, 0, t, h, fresh, sig
+
+
 # -- the run ---------------------------------------------------------------------------------
 @njit(cache=True)
-def flow_map(x0, v0, zeta, vb, p, code, returns, horizon, rtol, quads, virtual, ph, sw, tot):
-    """Flow from (x0, v0) to the ``returns``-th section crossing (returns = 0: for ``horizon``).
-
-    Fills ``ph`` (phases), ``sw`` (switches) and ``tot`` (layout ``T_*``);
-    ``quads`` False leaves the work integrals out (zeros) and the smallest
-    V_r inside slip unrecorded.  ``virtual``: slip on through V_r = 0 in the
-    same direction (the slip field continued: no switches), for grazing
-    functions that stay smooth on both sides of a touch.  Returns a status (``OK``, ``NO_RETURN``: the horizon came first, ``FULL``:
-    more phases than rows, ``ZERO_PHASES``, ``STEP_FAIL``, ``NOT_FINITE``).
-    """
-    res = p[RESULTANT] != 0.0
+def _settings(flow, returns, horizon, quads):
+    """The :class:`Run` record of a run of ``flow`` (a :class:`Flow`)."""
+    zeta, vb, p, code, rtol, virtual = flow
     fs = p[FS]
-    f0 = slip_force(p, 0.0)
-    scale = max(abs(fs), abs(vb), 1e-12)
-    atol_x = rtol * scale
-    y = np.zeros(NY + 1)
-    y1 = np.zeros(NY + 1)
-    out = np.zeros(NY + 1)
-    tmp = np.zeros(NY + 1)
-    n_act = NY if quads else N_MAP
-    y[NY] = y1[NY] = out[NY] = tmp[NY] = n_act
-    K = np.empty((N_STAGES + 1, NY))
-    M = np.zeros((2, 3))
-    M[0, 0] = 1.0
-    M[1, 1] = 1.0
-    Jph = np.eye(2)
+    atol_x = rtol * max(abs(fs), abs(vb), 1e-12)
+    return Run(zeta, vb, p, code, rtol, virtual, fs, p[RESULTANT] != 0.0, slip_force(p, 0.0), atol_x, quads, returns,
+               horizon, NY if quads else N_MAP)
+
+
+@njit(cache=True)
+def _steps(n_act):
+    """The :class:`Steps` buffers of a run advancing ``n_act`` components."""
+    st = Steps(np.zeros(NY + 1), np.zeros(NY + 1), np.zeros(NY + 1), np.zeros(NY + 1), np.empty((N_STAGES + 1, NY)))
+    st.y[NY] = st.y1[NY] = st.out[NY] = st.tmp[NY] = n_act
+    return st
+
+
+@njit(cache=True)
+def _start(run, x, v, tot):
+    """Clear the summary ``tot``; returns the mode at (x, v): the slip direction, or the rest rule on V_r = 0."""
     for i in range(N_TOT):
         tot[i] = 0.0
     tot[T_XMIN] = math.inf
     tot[T_VRMIN] = math.inf
-    x, v = x0, v0
-    t = 0.0
-    if v == vb:
-        mode = rest_mode(x, zeta, vb, fs, res, f0, 0.0, 0.0)
-    else:
-        mode = 1 if vb - v > 0.0 else -1
-    armed = v > 0.0
-    fresh = v == vb
-    nph = np.int64(0)  # (not a literal: _record_phase compiles once)
-    nsw = 0
-    count = 0
-    zero_run = 0
-    h = 0.0
-    tph = 0.0
-    xph, vph = x, v
-    while True:
-        if nph >= ph.shape[0] or nsw >= sw.shape[0]:
-            return FULL
-        if mode == 0:
-            # stick: X' = V_b until |F_e| reaches F_s on the side V_b drives it to
-            T = stick_duration(x, zeta, vb, fs, res)
-            if T < math.inf and rest_mode(x + vb * T, zeta, vb, fs, res, f0, 0.0, 0.0) == 0:
-                T = math.inf
-            ends = t + T < horizon
-            if not ends:
-                T = horizon - t
-            Jph[0, 0], Jph[0, 1], Jph[1, 0], Jph[1, 1] = 1.0, T, 0.0, 1.0
-            _stick_quads(M, tot, x, T, zeta, vb, code)
+    if v == run.vb:
+        return rest_mode(x, run.zeta, run.vb, run.fs, run.res, run.f0, 0.0, 0.0)
+    return 1 if run.vb - v > 0.0 else -1
+
+
+@njit(cache=True)
+def _zero_of_v(sig, x, armed, count, returns, M, tot):
+    """A zero of X' ending a piece: a minimum of X (sig < 0) arms the section, a maximum while armed is a return.
+
+    Returns (armed, count, last): ``last``, the ``returns``-th return.  The
+    smallest minimum of X, with its derivatives, goes into ``tot``.
+    """
+    if sig < 0.0:
+        if x < tot[T_XMIN]:
+            tot[T_XMIN] = x
             for c in range(3):
-                M[0, c] += T * M[1, c]
-            tot[T_STICK] += T
-            x1 = x + vb * T
-            _record_phase(ph, nph, np.int64(0), tph, T, xph, vph, x1, vb, Jph)
-            nph += 1
-            t += T
-            x = x1
-            v = vb
-            armed = armed or vb > 0.0
-            if not ends:
-                break
-            new = rest_mode(x, zeta, vb, fs, res, f0, 0.0, 0.0)
-            side = 1.0 if vb > 0.0 else -1.0
-            fa1 = new * f0 - x - 2.0 * zeta * vb
-            hl = side * 2.0 * (dzeta(code) * vb + zeta * dvb(code)) * (1.0 if res else 0.0) - dfs(code)
-            qb = vb * stick_friction(x, zeta, vb, 0.0)
-            qb = qb if qb > 0.0 else 0.0
-            qa = vb * new * f0
-            qa = qa if qa > 0.0 else 0.0
-            _switch(M, tot, side, 0.0, hl, vb, 0.0, vb, fa1, qb, qa)
-            sw[nsw, 0] = t
-            sw[nsw, 1] = x
-            sw[nsw, 2] = vb
-            sw[nsw, 3] = 0
-            sw[nsw, 4] = new
-            sw[nsw, 5] = side
-            sw[nsw, 6] = 0.0
-            sw[nsw, 7] = vb
-            sw[nsw, 8] = 0.0
-            sw[nsw, 9] = vb
-            sw[nsw, 10] = fa1
-            nsw += 1
-            mode = new
-            fresh = True
-            Jph = np.eye(2)
-            tph, xph, vph = t, x, v
-            continue
-        # slip in direction d, cut at the zeros of X'
-        d = float(mode)
-        y[IX] = x
-        y[IV] = v
-        _reset_piece(y)
-        a0 = accel(d, x, v, zeta, vb, p)
-        sig = (1.0 if v > 0.0 else -1.0) if v != 0.0 else (1.0 if a0 > 0.0 else -1.0)
-        ind = 1.0 if sig * d > 0.0 else 0.0
-        zfresh = v == 0.0
-        rhs(y, d, ind, zeta, vb, p, code, K[0])
-        if h <= 0.0:
-            h = min(0.1, 0.01 * max(horizon - t, 1e-3))
-        ended = 0  # 0 running, 1 switch V_r = 0, 2 zero of X', 3 horizon
-        nsteps = 0
-        while ended == 0:
-            nsteps += 1
-            if nsteps > 1000000:
-                return STEP_FAIL
-            hh = min(h, horizon - t)
-            last = hh >= horizon - t
-            dop_step(y, hh, d, ind, zeta, vb, p, code, K, tmp, y1)
-            err = error_norm(y, y1, hh, K, rtol, atol_x, d, ind, zeta, vb, p, code)
-            if not math.isfinite(err):
-                h = 0.5 * hh
-                if h < 1e-14 * (1.0 + abs(t)):
-                    return NOT_FINITE
-                continue
-            if err > 1.0:
-                h = hh * max(MIN_FACTOR, SAFETY * err ** (-1.0 / 8.0))
-                if h < 1e-14 * (1.0 + abs(t)):
-                    return STEP_FAIL
-                continue
-            # accepted: the first event inside it
-            # (np.int64: a literal event kind would compile the root finders once per kind)
-            th_sw = -1.0 if virtual else _first_root(y, hh, np.int64(0), d, sig, fresh, ind, zeta, vb, p, code, K, tmp, out, y1,
-                                                     t)
-            th_z = _first_root(y, hh, np.int64(1), d, sig, zfresh, ind, zeta, vb, p, code, K, tmp, out, y1, t)
-            kind = -1
-            th = hh
-            if th_sw >= 0.0:
-                kind, th = 0, th_sw
-            if th_z >= 0.0 and (kind < 0 or th_z < th):
-                kind, th = 1, th_z
-            if kind >= 0:
-                dop_step(y, th, d, ind, zeta, vb, p, code, K, tmp, y1)
-                hh = th
-            if quads:
-                _track_min(y, y1, hh, d, ind, zeta, vb, p, code, K, tmp, out, M, tot, t)
-            for i in range(n_act):
-                y[i] = y1[i]
-            t += hh
-            vr = d * (vb - y[IV])
-            fac = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err ** (-1.0 / 8.0))
-            if kind < 0:
-                for i in range(n_act):
-                    K[0, i] = K[N_STAGES, i]  # first same as last
-                h = hh * fac
-                fresh = fresh and not vr > _noise(y[IV], vb)
-                zfresh = zfresh and not sig * y[IV] > _noise(y[IV], 0.0)
-                if last:
-                    ended = 3
-                continue
-            ended = 1 if kind == 0 else 2
-        x, v = y[IX], y[IV]
-        if ended == 1:
-            v = vb
-            y[IV] = vb
-        elif ended == 2:
-            v = 0.0
-            y[IV] = 0.0
-        _close_piece(y, M, tot, Jph)
-        zero_run = zero_run + 1 if (ended != 3 and t - tph <= 4.0 * EPS * (1.0 + abs(t))) else 0
-        if zero_run > MAX_ZERO_PHASES:
-            return ZERO_PHASES
-        if ended == 3:
-            _record_phase(ph, nph, mode, tph, t - tph, xph, vph, x, v, Jph)
-            nph += 1
-            break
-        if ended == 2:
-            # a zero of X': a minimum of X (arms the section) or a maximum (the section)
-            fresh = False
-            if sig < 0.0:
-                armed = True
-                if x < tot[T_XMIN]:
-                    tot[T_XMIN] = x
-                    for c in range(3):
-                        tot[T_DXMIN0 + c] = M[0, c]
-                continue
-            if armed and returns > 0:
-                count += 1
-                armed = False
-                if count == returns:
-                    _record_phase(ph, nph, mode, tph, t - tph, xph, vph, x, v, Jph)
-                    nph += 1
-                    break
-            continue
-        # a switch on V_r = 0
-        new = rest_mode(x, zeta, vb, fs, res, f0, 0.0, 0.0)
-        ab = d * f0 - x - 2.0 * zeta * vb
-        if new == mode:
-            tot[T_GRAZE] += 1
-            fresh = True
-            continue
-        _record_phase(ph, nph, mode, tph, t - tph, xph, vph, x, v, Jph)
-        nph += 1
-        fa1 = 0.0 if new == 0 else new * f0 - x - 2.0 * zeta * vb
-        qb = vb * d * f0
-        qb = qb if qb > 0.0 else 0.0
-        if new == 0:
-            qa = vb * stick_friction(x, zeta, vb, 0.0)
-            qa = qa if qa > 0.0 else 0.0
-        else:
-            qa = vb * new * f0
-            qa = qa if qa > 0.0 else 0.0
-        _switch(M, tot, 0.0, -d, d * dvb(code), vb, ab, vb, fa1, qb, qa)
-        sw[nsw, 0] = t
-        sw[nsw, 1] = x
-        sw[nsw, 2] = vb
-        sw[nsw, 3] = mode
-        sw[nsw, 4] = new
-        sw[nsw, 5] = 0.0
-        sw[nsw, 6] = 1.0
-        sw[nsw, 7] = vb
-        sw[nsw, 8] = ab
-        sw[nsw, 9] = vb
-        sw[nsw, 10] = fa1
-        nsw += 1
-        mode = new
-        fresh = True
-        Jph = np.eye(2)
-        tph, xph, vph = t, x, v
+                tot[T_DXMIN0 + c] = M[0, c]
+        return True, count, False
+    if armed and returns > 0:
+        count += 1
+        return False, count, count == returns
+    return armed, count, False
+
+
+@njit(cache=True)
+def _finish(run, tot, M, counts, end):
+    """The run's summary into ``tot`` (``counts``: phases, switches, returns; ``end``: t, x, v, mode); returns the status."""
+    nph, nsw, count = counts
+    t, x, v, mode = end
     tot[T_NPH] = nph
     tot[T_NSW] = nsw
     tot[T_RET] = count
     tot[T_TIME] = t
     tot[T_X] = x
     tot[T_V] = v
-    tot[T_FX] = v if mode != 0 else vb
-    tot[T_FV] = accel(float(mode), x, v, zeta, vb, p) if mode != 0 else 0.0
+    tot[T_FX] = v if mode != 0 else run.vb
+    tot[T_FV] = accel(float(mode), x, v, run.zeta, run.vb, run.p) if mode != 0 else 0.0
     tot[T_M00], tot[T_M01], tot[T_M02] = M[0, 0], M[0, 1], M[0, 2]
     tot[T_M10], tot[T_M11], tot[T_M12] = M[1, 0], M[1, 1], M[1, 2]
-    if returns > 0 and count < returns:
+    if run.returns > 0 and count < run.returns:
         return NO_RETURN
     return OK
+
+
+@njit(cache=True)
+def flow_map(x0, v0, flow, returns, horizon, quads, ph, sw, tot):
+    """Flow from (x0, v0) to the ``returns``-th section crossing (returns = 0: for ``horizon``).
+
+    ``flow``: the :class:`Flow` record (model, law, parameter, tolerance).
+    Fills ``ph`` (phases), ``sw`` (switches) and ``tot`` (layout ``T_*``);
+    ``quads`` False leaves the work integrals out (zeros) and the smallest
+    V_r inside slip unrecorded.  ``flow.virtual``: slip on through V_r = 0 in
+    the same direction (the slip field continued: no switches), for grazing
+    functions that stay smooth on both sides of a touch.  Returns a status (``OK``, ``NO_RETURN``: the horizon came first, ``FULL``:
+    more phases than rows, ``ZERO_PHASES``, ``STEP_FAIL``, ``NOT_FINITE``).
+    """
+    run = _settings(flow, returns, horizon, quads)
+    st = _steps(run.n_act)
+    y, vb = st.y, run.vb
+    M = np.zeros((2, 3))
+    M[0, 0] = M[1, 1] = 1.0
+    Jph = np.eye(2)
+    x, v, t = x0, v0, 0.0
+    mode = _start(run, x, v, tot)
+    armed, fresh = v > 0.0, v == vb
+    nph = np.int64(0)  # (not a literal: _record_phase compiles once)
+    nsw = count = zero_run = new = 0
+    h = 0.0
+    tph, xph, vph = t, x, v
+    while True:
+        if nph >= ph.shape[0] or nsw >= sw.shape[0]:
+            return FULL
+        if mode == 0:
+            T, ends = _stick(run, x, t, M, tot)
+            Jph[0, 0], Jph[0, 1], Jph[1, 0], Jph[1, 1] = 1.0, T, 0.0, 1.0
+            x1 = x + vb * T
+            _record_phase(ph, nph, np.int64(0), tph, T, xph, vph, x1, vb, Jph)
+            nph += 1
+            t, x, v = t + T, x1, vb
+            armed = armed or vb > 0.0
+            if not ends:
+                break
+            mode = _stick_exit(run, x, t, M, tot, sw[nsw])
+            nsw += 1
+        else:
+            y[IX], y[IV] = x, v
+            status, ended, t, h, fresh, sig = _slip_piece(run, st, mode, t, h, fresh, M, tot)
+            if status != OK:
+                return status
+            x, v = y[IX], y[IV]
+            if ended != 3:  # exactly on the surface it stopped at: V_r = 0 or X' = 0
+                v = y[IV] = vb if ended == 1 else 0.0
+            _close_piece(y, M, tot, Jph)
+            zero_run = zero_run + 1 if (ended != 3 and t - tph <= 4.0 * EPS * (1.0 + abs(t))) else 0
+            if zero_run > MAX_ZERO_PHASES:
+                return ZERO_PHASES
+            if ended == 2:
+                fresh = False
+                armed, count, last = _zero_of_v(sig, x, armed, count, returns, M, tot)
+                if not last:
+                    continue
+            elif ended == 1:
+                new = rest_mode(x, run.zeta, vb, run.fs, run.res, run.f0, 0.0, 0.0)
+                if new == mode:
+                    tot[T_GRAZE] += 1
+                    fresh = True
+                    continue
+            _record_phase(ph, nph, mode, tph, t - tph, xph, vph, x, v, Jph)
+            nph += 1
+            if ended != 1:
+                break  # the horizon, or the last return
+            _slip_exit(run, mode, new, x, t, M, tot, sw[nsw])
+            nsw += 1
+            mode = new
+        fresh = True
+        Jph[0, 0], Jph[0, 1], Jph[1, 0], Jph[1, 1] = 1.0, 0.0, 0.0, 1.0
+        tph, xph, vph = t, x, v
+    return _finish(run, tot, M, (nph, nsw, count), (t, x, v, mode))

@@ -36,6 +36,7 @@ Along the way it integrates what an orbit's report needs, over the span:
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -50,7 +51,7 @@ from .tangent import (
     start_mode, stick_exit,
 )
 
-__all__ = ["flow_map", "N_COUNTS", "N_STATS", "MAX_STICKS", "OK", "ZERO_PHASES", "NOT_FINITE",
+__all__ = ["flow_map", "map_out", "MapOut", "N_COUNTS", "N_STATS", "MAX_STICKS", "OK", "ZERO_PHASES", "NOT_FINITE",
            "C_STICK", "C_SLIP", "C_REVERSAL", "C_HELD", "C_GRAZE"]
 
 #: stats slots: X_min, X_max, max |X + 2 zeta X'|, time sticking, smallest interior minimum of |V_r| in slip,
@@ -61,6 +62,13 @@ N_STATS = 6
 MAX_STICKS = 256
 #: pieces a stick interval is cut into when looking for sign changes of the held force
 HOLD_PIECES = 4
+
+# Module-level named tuples (numba types them as records; a kernel that takes them can still be cached).
+#: what :func:`flow_map` fills (see there; :func:`map_out` allocates them)
+MapOut = namedtuple("MapOut", "end mono work stats sticks counts")
+#: the belt's scalars: zeta, V_b, the law's resultant rule and F_s (the arrays go apart: taking one out of a
+#: record in the step loop would count its references there)
+Belt = namedtuple("Belt", "zeta vb res fs")
 
 
 @njit(cache=True)
@@ -201,47 +209,113 @@ def _track_hold(x_s, t_s, a, b, zeta, vb, res, fs, p, stats):
             stats[S_HOLD] = min(stats[S_HOLD], max(-_stick_gap(x_s, t_s, tm, side, zeta, vb, res, fs, p), 0.0))
 
 
-@njit(cache=True)
-def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks, counts):
-    """Integrate from (x0, v0) at tau = 0 to tau = ``span`` in ``n_steps`` RK4 grid steps; returns (status, stick phases).
+# -- the run ------------------------------------------------------------------------------------------------
+def map_out() -> MapOut:
+    """Fresh :class:`MapOut` buffers for :func:`flow_map`."""
+    return MapOut(np.empty(2), np.empty((2, 2)), np.empty(N_WORK), np.empty(N_STATS), np.zeros((MAX_STICKS, 2)),
+                  np.zeros(N_COUNTS, dtype=np.int64))
 
-    Fills ``end`` (X, X' at ``span``), ``mono`` (2 x 2: d(end)/d(x0, v0), the
-    monodromy), ``work`` (:data:`~.layout.N_WORK` integrals over the span),
-    ``stats`` (:data:`N_STATS`: see ``S_*``), ``sticks`` (:data:`MAX_STICKS`
-    x 2: start and end time of each stick phase; a phase still sticking at
-    ``span`` ends there) and ``counts`` (:data:`~.tangent.N_COUNTS` switches).
-    """
-    res = p[RESULTANT] != 0.0
-    fs = p[FS]
-    h = span / n_steps
-    y = np.zeros(NY)
-    sc = scratch()
-    out = sc.out
-    g = np.empty((4, N_WORK))
+
+@njit(cache=True)
+def _start(bl, p, x0, v0, y, out):
+    """Clear ``out``'s sums and extremes; the state (x0, v0) and the identity into ``y``; returns the mode there."""
     for i in range(N_COUNTS):
-        counts[i] = 0
+        out.counts[i] = 0
     for i in range(N_WORK):
-        work[i] = 0.0
+        out.work[i] = 0.0
+    stats = out.stats
     stats[S_XMIN] = math.inf
     stats[S_XMAX] = -math.inf
     stats[S_QMAX] = 0.0
     stats[S_STICK_TIME] = 0.0
     stats[S_GAP] = math.inf
     stats[S_HOLD] = math.inf
-    n_sticks = 0
     y[0], y[1] = x0, v0
     y[2], y[3], y[4], y[5] = 1.0, 0.0, 0.0, 1.0
-    t = 0.0
-    mode = start_mode(x0, v0, t, zeta, vb, p)
-    x_s, t_s = x0, 0.0  # where the current stick phase began
+    mode = start_mode(x0, v0, 0.0, bl.zeta, bl.vb, p)
     if mode == 0:
-        y[1] = vb
+        y[1] = bl.vb
         y[3] = 0.0  # sticking from the start: the stick onset's dv -> 0
         y[5] = 0.0
-        sticks[0, 0] = 0.0
-    fresh = v0 == vb
-    _track_point(y[0], y[1], zeta, stats)
-    zero_run = 0
+        out.sticks[0, 0] = 0.0
+    _track_point(y[0], y[1], bl.zeta, stats)
+    return mode
+
+
+@njit(cache=True)
+def _slip_onset(bl, p, y, t, out, n_sticks):
+    """|F_e - f| reached F_s at t while sticking: (mode, n_sticks) after it.
+
+    The mass slips away (the slip onset's saltation on ``y``'s tangents, the
+    stick phase listed as ended) or, no slip direction being consistent, the
+    interface holds on (mode 0).
+    """
+    zeta, vb = bl.zeta, bl.vb
+    new = rest_mode(y[0], zeta, vb, bl.fs, bl.res, slip_force(p, 0.0), external_force(p, t), external_force_rate(p, t))
+    if new == 0:
+        out.counts[C_HELD] += 1
+        return 0, n_sticks
+    saltation_slip(y, new, t, zeta, vb, p)
+    if n_sticks < MAX_STICKS:
+        out.sticks[n_sticks, 1] = t
+    out.counts[C_SLIP] += 1
+    return new, n_sticks + 1
+
+
+@njit(cache=True)
+def _on_switch(bl, p, y, mode, t, out, n_sticks):
+    """Slip in direction ``mode`` reached V_r = 0 at t: a stick onset, a reversal or a graze; returns (mode, fresh)."""
+    zeta, vb = bl.zeta, bl.vb
+    y[1] = vb  # exactly on the switch
+    new = rest_mode(y[0], zeta, vb, bl.fs, bl.res, slip_force(p, 0.0), external_force(p, t), external_force_rate(p, t))
+    if new == 0:
+        saltation_stick(y)
+        if n_sticks < MAX_STICKS:
+            out.sticks[n_sticks, 0] = t
+        out.counts[C_STICK] += 1
+        return 0, False
+    if new != mode:
+        saltation_reversal(y, float(mode), new, t, zeta, vb, p)
+        out.counts[C_REVERSAL] += 1
+        return new, True
+    out.counts[C_GRAZE] += 1  # touched V_r = 0 and slips on the same way: no switch
+    return mode, True
+
+
+@njit(cache=True)
+def _finish(y, mode, span, out, n_sticks):
+    """The end state and the monodromy into ``out``, a phase still sticking listed; returns (status, stick phases)."""
+    if mode == 0:
+        if n_sticks < MAX_STICKS:
+            out.sticks[n_sticks, 1] = span
+        n_sticks += 1
+    out.end[0], out.end[1] = y[0], y[1]
+    mono = out.mono
+    mono[0, 0], mono[1, 0], mono[0, 1], mono[1, 1] = y[2], y[3], y[4], y[5]
+    for i in range(2, NY):
+        if not math.isfinite(y[i]):
+            return NOT_FINITE, n_sticks
+    return OK, n_sticks
+
+
+@njit(cache=True)
+def _walk(bl, p, y, mode, fresh, span, n_steps, out):
+    """Advance ``y`` from tau = 0 in ``mode`` over the RK4 grid to ``span``; returns (status, mode, stick phases).
+
+    The step loop itself, its buffers its own: the arrays it touches at
+    every step are taken out of their records once, here (taking one out in
+    the loop, or passing it to a helper there, would count its references
+    at each step).  Switches, rarer, are helpers of their own.
+    """
+    zeta, vb, res, fs = bl
+    work, stats = out.work, out.stats
+    sc = scratch()  # the RK4 stages; a step's end state lands in sc.out
+    end = sc.out
+    g = np.empty((4, N_WORK))
+    h = span / n_steps
+    t = 0.0
+    x_s, t_s = y[0], 0.0  # where the current stick phase began
+    n_sticks = zero_run = 0
     for j in range(1, n_steps + 1):
         target = span if j == n_steps else j * h
         while t < target:
@@ -254,73 +328,51 @@ def flow_map(x0, v0, zeta, vb, p, span, n_steps, end, mono, work, stats, sticks,
                 t = t_next
                 y[0] = x_s + vb * (t - t_s)
                 _track_point(y[0], y[1], zeta, stats)
-                if side == 0:
-                    continue
-                new = rest_mode(y[0], zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t),
-                                external_force_rate(p, t))
-                if new == 0:
-                    counts[C_HELD] += 1  # no slip direction is consistent: the interface holds on
-                    continue
-                saltation_slip(y, new, t, zeta, vb, p)
-                if n_sticks < MAX_STICKS:
-                    sticks[n_sticks, 1] = t
-                n_sticks += 1
-                mode = new
-                fresh = True
-                counts[C_SLIP] += 1
+                if side != 0:
+                    mode, n_sticks = _slip_onset(bl, p, y, t, out, n_sticks)
+                    fresh = fresh or mode != 0
                 continue
             d = float(mode)
-            was_fresh = fresh
             x_a, v_a, t_a = y[0], y[1], t
             a_a = accel(d, x_a, v_a, t_a, zeta, vb, p)
             theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, sc)
-            if not switched:
-                work_step(x_a, v_a, t_a, target - t_a, d, zeta, vb, p, work, g)
+            if theta > 0.0 or not switched:
+                dt = theta if switched else target - t_a
+                work_step(x_a, v_a, t_a, dt, d, zeta, vb, p, work, g)
                 for i in range(len(y)):
-                    y[i] = out[i]
-                t = target
+                    y[i] = end[i]
+                t = t + theta if switched else target
+                _track_step(x_a, v_a, a_a, y[0], y[1], accel(d, y[0], y[1], t, zeta, vb, p), dt, d, zeta, vb, stats,
+                            not (fresh or switched))  # a step inside the phase: its interior minimum of |V_r| counts
+            if not switched:
                 zero_run = 0
                 # a phase that has not yet left V_r = 0 by more than rounding is still starting
                 fresh = fresh and not d * (vb - y[1]) > rounding_noise(y[1], vb)
-                _track_step(x_a, v_a, a_a, y[0], y[1], accel(d, y[0], y[1], t, zeta, vb, p), t - t_a, d, zeta, vb,
-                            stats, not was_fresh)
                 continue
-            fresh = False
-            if theta > 0.0:
-                work_step(x_a, v_a, t_a, theta, d, zeta, vb, p, work, g)
-                for i in range(len(y)):
-                    y[i] = out[i]
-                t += theta
-                _track_step(x_a, v_a, a_a, y[0], y[1], accel(d, y[0], y[1], t, zeta, vb, p), theta, d, zeta, vb,
-                            stats, False)
             zero_run = zero_run + 1 if theta <= 4.0 * EPS * (1.0 + abs(t)) else 0
             if zero_run > MAX_ZERO_PHASES:
-                return ZERO_PHASES, n_sticks
-            y[1] = vb  # exactly on the switch
-            new = rest_mode(y[0], zeta, vb, fs, res, slip_force(p, 0.0), external_force(p, t),
-                            external_force_rate(p, t))
-            if new == 0:
-                saltation_stick(y)
+                return ZERO_PHASES, mode, n_sticks
+            mode, fresh = _on_switch(bl, p, y, mode, t, out, n_sticks)
+            if mode == 0:
                 x_s, t_s = y[0], t
-                if n_sticks < MAX_STICKS:
-                    sticks[n_sticks, 0] = t
-                mode = 0
-                counts[C_STICK] += 1
-            elif new != mode:
-                saltation_reversal(y, d, new, t, zeta, vb, p)
-                mode = new
-                fresh = True
-                counts[C_REVERSAL] += 1
-            else:
-                counts[C_GRAZE] += 1  # touched V_r = 0 and slips on the same way: no switch
-                fresh = True
-    if mode == 0:
-        if n_sticks < MAX_STICKS:
-            sticks[n_sticks, 1] = span
-        n_sticks += 1
-    end[0], end[1] = y[0], y[1]
-    mono[0, 0], mono[1, 0], mono[0, 1], mono[1, 1] = y[2], y[3], y[4], y[5]
-    for i in range(2, NY):
-        if not math.isfinite(y[i]):
-            return NOT_FINITE, n_sticks
-    return OK, n_sticks
+    return OK, mode, n_sticks
+
+
+@njit(cache=True)
+def flow_map(x0, v0, zeta, vb, p, span, n_steps, out):
+    """Integrate from (x0, v0) at tau = 0 to tau = ``span`` in ``n_steps`` RK4 grid steps; returns (status, stick phases).
+
+    Fills the :class:`MapOut` buffers ``out`` (:func:`map_out`): ``end`` (X,
+    X' at ``span``), ``mono`` (2 x 2: d(end)/d(x0, v0), the monodromy),
+    ``work`` (:data:`~.layout.N_WORK` integrals over the span), ``stats``
+    (:data:`N_STATS`: see ``S_*``), ``sticks`` (:data:`MAX_STICKS` x 2:
+    start and end time of each stick phase; a phase still sticking at
+    ``span`` ends there) and ``counts`` (:data:`~.tangent.N_COUNTS` switches).
+    """
+    bl = Belt(zeta, vb, p[RESULTANT] != 0.0, p[FS])
+    y = np.zeros(NY)
+    mode = _start(bl, p, x0, v0, y, out)
+    status, mode, n_sticks = _walk(bl, p, y, mode, v0 == vb, span, n_steps, out)
+    if status != OK:
+        return status, n_sticks
+    return _finish(y, mode, span, out, n_sticks)

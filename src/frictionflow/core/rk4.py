@@ -26,6 +26,9 @@ force ``fx`` = (f1, f2, f4).  Tuples of scalars cost nothing once inlined.
 
 from __future__ import annotations
 
+import math
+import sys
+
 from numba import literal_unroll, njit
 
 from .friction import COULOMB, KARNOPP, LAW, SMOOTH_LAWS, FASTMATH, band_force, band_force_select, band_law, band_mode, external_force
@@ -35,6 +38,19 @@ N_STATE = 7
 _VD = 3
 #: a step without external force
 NO_FORCE = (0.0, 0.0, 0.0)
+
+
+#: relative rounding of t_end / dt allowed for when counting steps (a few ulps: t_end and dt are each rounded,
+#: a forced run's dt a quotient of the forcing period)
+STEP_ROUNDING = 8 * sys.float_info.epsilon
+
+
+def step_count(t_end: float, dt: float) -> int:
+    """Steps of ``dt`` that reach ``t_end`` (at least 1): a quotient t_end / dt that is a whole number but for its
+    rounding is that number, not one more (a run ended a step past t_end when t_end is a whole number of forcing
+    periods, t_end / dt ~ 1e7 to 1e8: its rounding, a few ulps, is more than 1e-9 there)."""
+    x = t_end / dt
+    return max(1, math.ceil(x - max(1e-9, STEP_ROUNDING * x)))
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)

@@ -117,9 +117,10 @@ class CompiledFlow:
         ``quads`` False skips the work integrals (a quarter faster: Newton needs only the map).
         """
         horizon = min(duration, max_time)
+        flow = fm.Flow(self.zeta, self.vb, self.p, self.code, self.rtol, self.virtual)
         while True:
-            status = fm.flow_map(float(y0[0]), float(y0[1]), self.zeta, self.vb, self.p, self.code, int(returns), horizon,
-                                 self.rtol, quads, self.virtual, self._ph, self._sw, self.tot)
+            status = fm.flow_map(float(y0[0]), float(y0[1]), flow, int(returns), horizon, quads, self._ph, self._sw,
+                                 self.tot)
             if status != fm.FULL:
                 break
             n = 4 * self._ph.shape[0]

@@ -67,7 +67,7 @@ from ..core import forced_map as fm
 from ..core import tangent
 from ..friction.base import FrictionLaw
 from ..friction.registry import tangent_law_names
-from ..params import BeltOscillator
+from ..params import FEX, OMEGA, BeltOscillator
 from ..solvers.base import kernel_params
 from ..analysis.steady_state import stick_fraction
 from .measures import measures_of, one_period
@@ -79,6 +79,8 @@ DEFAULT_TRANSIENT = 200
 #: |mu| within this of 1 is neutral
 NEUTRAL_TOL = 1e-7
 PARAMETERS = ("omega", "fex")
+#: the declarations the continuation parameters are checked by
+CONTINUED = {"omega": OMEGA, "fex": FEX}
 SWITCH_NAMES = ("stick_onsets", "slip_onsets", "slip_reversals", "held_at_limit", "grazing_touches")
 #: refine special points to this (absolute, in lambda)
 LAMBDA_TOL = 1e-8
@@ -132,19 +134,16 @@ def flow_run(model: BeltOscillator, friction: FrictionLaw, state: Sequence[float
     """Phi over m forcing periods from ``state`` = (X, X') at tau = 0, with M, the work integrals and the extremes."""
     p = kernel_params(model, friction)
     span = m * model.forcing_period
-    end, mono = np.empty(2), np.empty((2, 2))
-    work, stats = np.empty(fm.N_WORK), np.empty(fm.N_STATS)
-    sticks = np.zeros((fm.MAX_STICKS, 2))
-    counts = np.zeros(fm.N_COUNTS, dtype=np.int64)
+    out = fm.map_out()
     x0 = float(state[0])
     v0 = _snap(float(state[1]), float(model.vb), x0)
-    status, n_sticks = fm.flow_map(x0, v0, float(model.zeta), float(model.vb), p, span, int(m * steps), end, mono,
-                                   work, stats, sticks, counts)
+    status, n_sticks = fm.flow_map(x0, v0, float(model.zeta), float(model.vb), p, span, int(m * steps), out)
     if status == fm.ZERO_PHASES:
         raise RuntimeError("the motion is caught switching without moving (repeated zero-length phases)")
-    if status == fm.NOT_FINITE or not np.all(np.isfinite(end)):
+    if status == fm.NOT_FINITE or not np.all(np.isfinite(out.end)):
         raise RuntimeError("the flow map left the floating-point range")
-    return MapRun(np.array([x0, v0]), end, mono, work, stats, sticks[:min(n_sticks, fm.MAX_STICKS)].copy(), counts, span)
+    return MapRun(np.array([x0, v0]), out.end, out.mono, out.work, out.stats,
+                  out.sticks[:min(n_sticks, fm.MAX_STICKS)].copy(), out.counts, span)
 
 
 def _snap(v: float, vb: float, x: float) -> float:
@@ -763,12 +762,17 @@ def _point(pb: _Problem, s: _Sol) -> BranchPoint:
                                                "hold_margin")})
 
 
-def _check_parameter(parameter: str, value: float, name: str) -> float:
+def check_parameter(parameter: str, value: float, name: str) -> float:
+    """``value`` of the continuation ``parameter`` (omega or fex), checked by its declaration (its range, both
+    ends of the interval alike) and > 0; ValueError starting with ``name`` (the end it is) otherwise."""
     if parameter not in PARAMETERS:
         raise ValueError(f"parameter must be one of {PARAMETERS}, got {parameter!r}")
-    value = float(value)
-    if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"{name}: {parameter} must be finite and > 0, got {value!r}")
+    try:
+        value = CONTINUED[parameter].check(value)
+    except ValueError as e:
+        raise ValueError(f"{name}: {e}") from None
+    if value <= 0.0:
+        raise ValueError(f"{name}: {parameter} must be > 0 (a forced orbit needs forcing), got {value!r}")
     return value
 
 
@@ -809,10 +813,10 @@ def continue_forced(
     _check_law(friction)
     if parameter not in PARAMETERS:
         raise ValueError(f"parameter must be one of {PARAMETERS}, got {parameter!r}")
-    start = _check_parameter(parameter, getattr(model, parameter) if start is None else start, "start")
+    start = check_parameter(parameter, getattr(model, parameter) if start is None else start, "start")
     if stop is None:
         raise ValueError(f"stop: give the other end of the {parameter} interval")
-    stop = _check_parameter(parameter, stop, "stop")
+    stop = check_parameter(parameter, stop, "stop")
     if stop == start:
         raise ValueError(f"stop must differ from start ({start!r})")
     m = _check_int("m", m, 1, 1000)

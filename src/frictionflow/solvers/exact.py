@@ -15,19 +15,32 @@ from ..core.records import Events, Samples, run_record
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
-from ..parameters import MODEL_MAX, positive_real
+from ..parameters import MODEL_MAX, SUBNORMAL_BELOW, Param
 from .base import kernel_params, DEFAULT_MAX_MEMORY, Solver, run_growing, trajectory_from
 from .events import EXACT_EVENT_MODES
 
-DENSE_DT = positive_real("dense_dt", "", "exact/adaptive: also sample every DENSE_DT", "solver", None, upper=MODEL_MAX,
-                         default_text="only switches and sections; 2pi/200 with --out/--plot")
+#: the dense grid's step: from 1e-9 up, as RK4's step (finer ones make the sample count of any run beyond memory,
+#: and a subnormal one made it inf)
+DENSE_DT = Param("dense_dt", "", "exact/adaptive: also sample every DENSE_DT", "solver", None, lower=1e-9, upper=MODEL_MAX,
+                 default_text="only switches and sections; 2pi/200 with --out/--plot")
 
 
 def resonance_problem(zeta: float, omega: float, fex: float) -> str | None:
-    """Why the exact solver cannot run (zeta, omega, fex), or None: undamped resonance has no closed form it uses."""
-    if fex > 0.0 and zeta == 0.0 and omega == 1.0:
+    """Why the exact solver cannot run (zeta, omega, fex), or None: undamped resonance has no closed form it uses.
+
+    Nor has a resonance so nearly undamped that |1 - Omega^2 + 2i zeta Omega|^2, whose reciprocal scales the
+    particular solution, is below the normal floats (zeta Omega below ~1e-154 at Omega = 1): the closed form
+    divides by 0 there, or builds on a denominator that has lost its digits.
+    """
+    if fex <= 0.0:
+        return None
+    if zeta == 0.0 and omega == 1.0:
         return (f"solver=exact: undamped resonance (zeta=0, omega=1, fex={fex:g}) has no periodic particular solution "
                 "(the response grows like tau sin tau); use zeta > 0 or omega != 1")
+    if (1.0 - omega * omega) ** 2 + (2.0 * zeta * omega) ** 2 < SUBNORMAL_BELOW:
+        return (f"solver=exact: resonance too nearly undamped (zeta={zeta:g}, omega={omega:.17g}): "
+                f"|1 - omega^2 + 2i zeta omega|^2 underflows, so the particular solution cannot be computed; "
+                "use a larger zeta or move omega away from 1")
     return None
 
 

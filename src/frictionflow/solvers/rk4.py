@@ -23,6 +23,7 @@ DT = Param("dt", "", "RK4 step", "solver", 1e-3, lower=1e-9, upper=MODEL_MAX)
 RECORD_EVERY = Param("record_every", "", "keep every k-th RK4 step", "solver", None, default_text="every step, up to 5e6 samples",
                      kind="int", lower=1, upper=1e12)
 from ..core import rk4 as kernel
+from ..core.rk4 import step_count
 
 #: RK4's stability limit h*|lambda| on the negative real axis
 RK4_REAL_LIMIT = 2.785
@@ -115,7 +116,7 @@ class RK4(Solver):
 
     def run_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
                    t_end: float, rtol: float, min_periods: int, out: np.ndarray) -> None:
-        # one law per sweep: the batched loop is compiled for its code
+        # one law per sweep: the batched loop is compiled for its code; it counts the steps as simulate does
         self.batched(int(p[0, LAW]), p, zeta, vb, x0, v0, t_end, self.dt, rtol, min_periods,
                      self.section_noise(self.describe()), out)
 
@@ -197,7 +198,7 @@ class RK4(Solver):
         dt = self.dt if dt is None else dt
         if dt > t_end:
             raise ValueError(f"dt must be <= t_end = {t_end:g}, got {dt:g}")
-        n = max(1, math.ceil(t_end / dt - 1e-9))
+        n = step_count(t_end, dt)
         if n > MAX_STEPS:
             raise ValueError(f"t_end={t_end:g} with dt={dt:g} makes {n:.3g} RK4 steps, more than {MAX_STEPS:.0e} "
                              "(hours of computing): raise dt or shorten t_end")

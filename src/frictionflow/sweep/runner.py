@@ -14,14 +14,21 @@ from typing import Any
 
 from .._progress import progress_bar
 from .compute import compute_chunk
-from .config import SweepConfig, chunk_shape, load_sweep, parse_sweep
+from ..parameters import Param
+from .config import MAX_AXIS, SweepConfig, chunk_shape, load_sweep, parse_sweep
 from .lock import STALE_AFTER, SweepLock
 from .store import RepairWarning, SweepStore, Verification, check_out, verify_sweep
 
-__all__ = ["SCHEDULER_TIMEOUT", "default_chunk_size", "run_sweep", "verify_sweep"]
+__all__ = ["CHUNK_SIZE", "SCHEDULER_TIMEOUT", "default_chunk_size", "run_sweep", "verify_sweep"]
 
 #: seconds to wait for a Dask scheduler before giving up
 SCHEDULER_TIMEOUT = 5.0
+#: a chunk is computed and held in memory at once (its points' results and runs): at most as many points as
+#: an axis may have
+CHUNK_SIZE = Param("chunk_size", "", "points per chunk (a task and a unit of commit)", "run", None, kind="int",
+                   lower=1, upper=MAX_AXIS)
+#: address schemes whose location is HOST:PORT (checked before connecting)
+HOST_PORT_SCHEMES = ("tcp", "tls", "ws", "wss")
 
 def default_chunk_size(cfg: SweepConfig) -> int:
     """About 0.2 s of work per chunk on one core (>= 100 ms per Dask task): what the solver declares."""
@@ -65,9 +72,7 @@ def run_sweep(
         Seconds after which another host's untouched lock on ``out`` counts as stale.
     """
     cfg = _as_config(config)
-    size = chunk_size or default_chunk_size(cfg)
-    if size < 1:
-        raise ValueError(f"chunk_size must be >= 1, got {size}")
+    size = default_chunk_size(cfg) if chunk_size is None else CHUNK_SIZE.check(chunk_size)
     if not (isinstance(scheduler_timeout, (int, float)) and math.isfinite(scheduler_timeout) and scheduler_timeout > 0):
         raise ValueError(f"scheduler_timeout must be a number of seconds > 0, got {scheduler_timeout!r}")
     check_out(out)
@@ -103,6 +108,7 @@ def _connect(address: str, timeout: float):
         from distributed import Client
     except ImportError:
         raise RuntimeError("--scheduler needs the 'distributed' package (pip install distributed)") from None
+    _check_address(address)
     try:
         # not the default client: a failed one must not linger as it (xarray's writes would then look for it)
         return Client(address, timeout=timeout, set_as_default=False)
@@ -112,6 +118,27 @@ def _connect(address: str, timeout: float):
         why = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
         why = f"no answer within {timeout:g} s" if "timed out" in why.lower() or isinstance(e, TimeoutError) else why
         raise RuntimeError(f"cannot connect to the Dask scheduler at {address}: {why}; is it running? (--scheduler-timeout sets the wait)") from None
+
+
+def _check_address(address: str) -> None:
+    """ValueError naming ``address`` unless it is SCHEME://HOST:PORT of a known scheme (or HOST:PORT, tcp).
+
+    Checked before a ``Client`` is made: one refused its address half-built
+    and lingered, its ``__del__`` then stalling the exit for 10 s and
+    printing an ignored exception.
+    """
+    from distributed.comm.addressing import parse_address, parse_host_port
+    from distributed.comm.registry import get_backend
+
+    try:
+        scheme, location = parse_address(address)
+        get_backend(scheme)  # an unknown scheme: ValueError naming the known ones
+        if scheme in HOST_PORT_SCHEMES:
+            _, port = parse_host_port(location)
+            if not 0 < port < 65536:
+                raise ValueError(f"port {port} is not in 1..65535")
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"scheduler: bad address {address!r} ({e})") from None
 
 
 def _report(found: Verification, store: SweepStore) -> None:
