@@ -95,7 +95,7 @@ def kernel_run(t_end: float = T_END, replicate: bool = True):
     t_mode = np.zeros(2, dtype=np.int64)
     t_tail = sections.tail_start(0.0, t_end)
 
-    run = run_record(FD, VB, t_end, ZETA, VB, t_tail, 0.0, 0.0, 0.0, 0, False, False, 0.0, 3, 0.0, 0.0)
+    run = run_record((FD, VB), t_end, ZETA, VB, t_tail, 0.0, (0.0, 0.0, 0), (False, False, 0.0, 3), (0.0, 0.0))
 
     def go():
         return kernel.run(run, p, *bufs, t_mode, replicate, None)

@@ -18,8 +18,8 @@ from _common import best_of, header
 
 from frictionflow import BeltOscillator, Karnopp, RK4, simulate
 from frictionflow.core import rk4, rk4_batch, sections
-from frictionflow.core.layout import N_PARAMS, N_WORK
-from frictionflow.core.records import Samples
+from frictionflow.core.layout import N_PARAMS
+from frictionflow.core.records import N_CONTACTS, N_STATE, empty_samples
 
 ZETA, VB, FD, VD, DT = 0.0, 0.01, 0.02, 1e-3, 1e-3
 
@@ -66,7 +66,9 @@ def compiled(n: int):
 def kernel_only(n: int):
     """The compiled kernel alone, recording every step into arrays allocated (and touched) beforehand."""
     p = Karnopp(FD, vd=VD, stick_force="spring").kernel_params()
-    out = Samples(*(np.zeros(n + 1) for _ in range(4)), np.zeros(n + 1, np.int8), np.zeros((n + 1, N_WORK)))
+    out = empty_samples(n + 1, N_STATE, N_CONTACTS)
+    for block in out:
+        block[...] = 0
 
     def run():
         s = np.zeros(rk4.N_STATE)

@@ -21,7 +21,6 @@ OVER_LIMIT = {
     "frictionflow.core.dopri:_gd": (5, 13),
     "frictionflow.core.dopri:_root_between": (14, 14),
     "frictionflow.core.dopri:_stick_walk": (40, 15),
-    "frictionflow.core.records:run_record": (28, 16),
 }
 
 

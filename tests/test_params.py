@@ -11,7 +11,8 @@ from frictionflow import BeltOscillator, DimensionalParams
 pos = st.floats(1e-3, 1e3, allow_nan=False)
 
 
-@given(m=pos, k=pos, l0=pos, zeta=st.floats(0, 5), vb=st.floats(-10, 10), fd=st.floats(0, 10), gap=st.floats(0, 10), vd=st.floats(1e-6, 1))
+@given(m=pos, k=pos, l0=pos, zeta=st.floats(0, 5, allow_subnormal=False), vb=st.floats(-10, 10, allow_subnormal=False),
+       fd=st.floats(0, 10, allow_subnormal=False), gap=st.floats(0, 10, allow_subnormal=False), vd=st.floats(1e-6, 1))
 @settings(max_examples=200, deadline=None)
 def test_round_trip_nondimensional_dimensional(m, k, l0, zeta, vb, fd, gap, vd):
     dim = DimensionalParams.from_nondimensional(zeta=zeta, vb=vb, fd=fd, fs=fd + gap, vd=vd, m=m, k=k, l_0=l0)

@@ -32,6 +32,9 @@ from .params import BeltOscillator
 
 #: column order of :attr:`Trajectory.dwork` and :attr:`Trajectory.work`
 WORK_NAMES = ("W_dv", "W_fin", "W_fout", "W_heat", "W_ex")
+#: the row names of the single mass's state and contact blocks
+SINGLE_MASS_STATE = ("X", "V")
+SINGLE_CONTACT = ("belt",)
 #: the per-sample friction mode codes of :attr:`Trajectory.mode`
 MODE_NAMES = {-1: "slip-", 0: "stick", 1: "slip+"}
 
@@ -57,14 +60,29 @@ class Trajectory(Summarized):
 
     ``traj(t)`` evaluates (X, X') anywhere in the span (:meth:`at`).
 
+    The state and the contacts are blocks, so that the record does not
+    assume one mass or one contact: ``state`` has one row per state
+    component (the layout of ``scipy.integrate.solve_ivp``'s ``y``),
+    ``force`` and ``modes`` one row per contact.  The single mass on the belt
+    has the state (X, X') and one contact; :attr:`x`, :attr:`v`, :attr:`fc`
+    and :attr:`mode` are views of its rows (writing into them writes the
+    blocks).
+
     Attributes
     ----------
-    t, x, v, fc:
-        Time tau, displacement X, velocity X', friction force F_c.
-    mode:
-        Friction mode at each sample: +1 slip+ (V_r > 0), 0 stick, -1 slip-.
+    t:
+        Time tau of each sample, ascending.
+    state:
+        (n, len(t)): the state's components, named by :attr:`state_names`
+        (the single mass: displacement X and velocity X').
+    force:
+        (k, len(t)): the friction force of each contact (the single mass:
+        F_c on the mass).
+    modes:
+        (k, len(t)) int8: each contact's friction mode at each sample, +1
+        slip+ (V_r > 0), 0 stick, -1 slip-.
     dwork:
-        (n, 5) integrals over (t[i-1], t[i]] (row 0 is zero), columns
+        (len(t), 5) integrals over (t[i-1], t[i]] (row 0 is zero), columns
         :data:`WORK_NAMES`: ``W_dv`` = int 2 zeta X'^2, ``W_fin`` =
         int max(P_f, 0), ``W_fout`` = int max(-P_f, 0), ``W_heat`` =
         int F_c V_r over slip (P_f = X' F_c), ``W_ex`` = int X' f(tau).
@@ -82,13 +100,15 @@ class Trajectory(Summarized):
     recorded:
         Which points are the solver's own samples, for trajectories made by
         :meth:`dense` or :meth:`sample` (None: every point is one).
+    state_names, contact_names:
+        Names of the rows of :attr:`state` and of :attr:`force` /
+        :attr:`modes` (the datasets' variable names).
     """
 
     t: np.ndarray
-    x: np.ndarray
-    v: np.ndarray
-    fc: np.ndarray
-    mode: np.ndarray
+    state: np.ndarray
+    force: np.ndarray
+    modes: np.ndarray
     dwork: np.ndarray
     model: BeltOscillator
     friction: FrictionLaw
@@ -96,6 +116,37 @@ class Trajectory(Summarized):
     events: dict[str, np.ndarray] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
     recorded: np.ndarray | None = None
+    state_names: tuple[str, ...] = SINGLE_MASS_STATE
+    contact_names: tuple[str, ...] = SINGLE_CONTACT
+
+    @classmethod
+    def single_mass(cls, t: np.ndarray, x: np.ndarray, v: np.ndarray, fc: np.ndarray, mode: np.ndarray,
+                    dwork: np.ndarray, **rest: Any) -> "Trajectory":
+        """The trajectory of the single mass on the belt from its columns (X, X', F_c, mode); ``rest``: the
+        remaining fields (``model``, ``friction``, ``solver``, ...)."""
+        return cls(t=np.asarray(t), state=np.stack((x, v)), force=np.asarray(fc)[None, :],
+                   modes=np.asarray(mode)[None, :], dwork=dwork, **rest)
+
+    # -- the single mass's views ------------------------------------------------
+    @property
+    def x(self) -> np.ndarray:
+        """Displacement X (the state's first row)."""
+        return self.state[0]
+
+    @property
+    def v(self) -> np.ndarray:
+        """Velocity X' (the state's second row)."""
+        return self.state[1]
+
+    @property
+    def fc(self) -> np.ndarray:
+        """Friction force F_c of the first contact."""
+        return self.force[0]
+
+    @property
+    def mode(self) -> np.ndarray:
+        """Friction mode of the first contact."""
+        return self.modes[0]
 
     def __len__(self) -> int:
         return len(self.t)
@@ -168,8 +219,8 @@ class Trajectory(Summarized):
         interp = cont.interpolant(self)
         out = self._at_times(times, is_sample, interp, cont.dwork_on_grid(self, interp, times, is_sample))
         keep = np.flatnonzero(is_sample)
-        for name in ("x", "v", "fc", "mode"):  # the samples as recorded, not re-evaluated
-            getattr(out, name)[keep] = getattr(self, name)
+        for block in ("state", "force", "modes"):  # the samples as recorded, not re-evaluated
+            getattr(out, block)[:, keep] = getattr(self, block)
         if self.recorded is not None:
             out.recorded[keep] = self.recorded
         return out
@@ -180,8 +231,9 @@ class Trajectory(Summarized):
         x, v = interp.state(times)
         fc, mode = interp.force(times, x, v)
         dwork = cont.dwork_at(self, interp, times) if dwork is None else dwork
-        return Trajectory(t=times, x=x, v=v, fc=fc, mode=mode, dwork=dwork, model=self.model, friction=self.friction,
-                          solver=dict(self.solver), events=self.events, extra=dict(self.extra), recorded=recorded)
+        return Trajectory.single_mass(times, x, v, fc, mode, dwork, model=self.model, friction=self.friction,
+                                      solver=dict(self.solver), events=self.events, extra=dict(self.extra),
+                                      recorded=recorded)
 
     def switches(self) -> np.ndarray:
         """True at the points where the friction mode switches (the located switches, or a mode change for RK4)."""
@@ -246,7 +298,8 @@ class Trajectory(Summarized):
         is_sample = np.ones(len(traj.t), dtype=bool) if traj.recorded is None else traj.recorded.copy()
         switch = np.zeros(len(traj.t), dtype=bool)
         switch[is_sample] = self.switches() if self.recorded is None else self.switches()[self.recorded]
-        data = {"X": traj.x, "V": traj.v, "F_c": traj.fc, "mode": traj.mode}
+        data = dict(zip(self.state_names, traj.state))
+        data.update(_contact_variables(traj))
         data.update({name: traj.work[:, j] for j, name in enumerate(WORK_NAMES)})
         data.update(is_sample=is_sample, switch=switch)
         ds = xr.Dataset(
@@ -254,12 +307,25 @@ class Trajectory(Summarized):
             coords={"tau": ("tau", traj.t, {"units": "1", "long_name": "non-dimensional time tau = omega0 t"})},
         )
         for k, (units, long_name) in DATASET_VARIABLES.items():
-            ds[k].attrs.update(units=units, long_name=long_name)
-        ds["mode"].attrs.update(_mode_flags())
+            if k in ds:
+                ds[k].attrs.update(units=units, long_name=long_name)
+        for k in ds:
+            if k == "mode" or k.startswith("mode_"):
+                ds[k].attrs.update(_mode_flags())
         ds.attrs.update(self.model.report())
         ds.attrs.update({f"friction_{k}": v for k, v in self.friction.as_dict().items()})
         ds.attrs.update({f"solver_{k}": v for k, v in self.solver.items() if v is not None})
         return ds
+
+
+def _contact_variables(traj: Trajectory) -> dict[str, np.ndarray]:
+    """The contact block's variables: ``F_c`` and ``mode`` for one contact, ``F_c_<name>``, ``mode_<name>`` for several."""
+    if len(traj.contact_names) == 1:
+        return {"F_c": traj.force[0], "mode": traj.modes[0]}
+    out = {}
+    for name, fc, mode in zip(traj.contact_names, traj.force, traj.modes):
+        out.update({f"F_c_{name}": fc, f"mode_{name}": mode})
+    return out
 
 
 def _mode_flags() -> dict[str, Any]:

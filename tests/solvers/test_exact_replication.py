@@ -36,8 +36,8 @@ def kernel_counts(model, friction, t_end, x0=None, v0=None, dense_dt=0.0, stop_p
     t_mode = np.zeros(2, dtype=np.int64)
     x0 = friction.fd if x0 is None else x0
     v0 = model.vb if v0 is None else v0
-    run = run_record(x0, v0, t_end, model.zeta, model.vb, sections.tail_start(0.0, t_end), dense_dt,
-                     stop_periodic=stop_periodic, stop_rtol=1e-9)
+    run = run_record((x0, v0), t_end, model.zeta, model.vb, sections.tail_start(0.0, t_end), dense_dt,
+                     (0.0, 0.0, 0), (stop_periodic, False, 1e-9, 3), (0.0, 0.0))
     args = (run, p, *bufs, t_mode) + (() if replicate is None else (replicate,))
     _, ne, status, _, _ = kernel.run(*args)
     assert status == kernel.DONE
@@ -131,8 +131,8 @@ def test_periodic_stop_none_compiles_a_run_that_never_stops_early():
     def stop(*last):
         bufs = output_buffers(Exact().sample_estimate(t_end))
         t_mode = np.zeros(1, dtype=np.int64)
-        run = run_record(friction.fd, model.vb, t_end, model.zeta, model.vb, sections.tail_start(0.0, t_end),
-                         stop_periodic=True, stop_rtol=1e-9)
+        run = run_record((friction.fd, model.vb), t_end, model.zeta, model.vb, sections.tail_start(0.0, t_end), 0.0,
+                         (0.0, 0.0, 0), (True, False, 1e-9, 3), (0.0, 0.0))
         return kernel.run(run, p, *bufs, t_mode, *last)[4]
 
     assert stop() < 0.2 * t_end  # stopped once the sections repeated

@@ -62,7 +62,8 @@ def compile_analysis() -> None:
     mode = np.where(v < 0.01, 1, 0).astype(np.int8)
     dwork = np.zeros((len(t), N_WORK))
     law = Coulomb(0.02, 0.04)
-    traj = Trajectory(t, x, v, x.copy(), mode, dwork, BeltOscillator(0.05, 0.01), law, {"name": "exact"})
+    traj = Trajectory.single_mass(t, x, v, x.copy(), mode, dwork, model=BeltOscillator(0.05, 0.01), friction=law,
+                                  solver={"name": "exact"})
     analyze(traj)
     certificate.radius(law, 0.05, 0.01)  # (a run that ends sliding with the belt asks for it)
 

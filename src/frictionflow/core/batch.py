@@ -41,7 +41,7 @@ from . import certificate, dopri, exact, rk4_batch
 from . import sections as sec
 from .friction import FD, slip_magnitude_of
 from .layout import N_WORK
-from .records import Events, Samples, run_record
+from .records import N_CONTACTS, N_STATE, Events, new_samples, run_record
 from .rk4 import step_count
 from .threads import over_points
 
@@ -96,8 +96,8 @@ def _row(rec, tail, fin, p, zeta, vb, rtol, min_periods, h, fixed_step, noise, o
 def _classify_samples(samples, k, p, zeta, vb, judge, out):
     """A point's result row from the first ``k`` of its ``samples`` (:class:`.records.Samples`)."""
     rtol, min_periods, h, fixed_step, noise = judge
-    t, x, v, fc, mode, work = samples
-    t, x, v, mode, work = t[:k], x[:k], v[:k], mode[:k], work[:k]
+    t, y, fc, modes, work = samples
+    t, x, v, mode, work = t[:k], y[0, :k], y[1, :k], modes[0, :k], work[:k]
     t_tail = sec.tail_start(t[0], t[-1])
     rec, tail, fin = sec.records_from_samples(t, x, v, mode, work, zeta, t_tail)
     if rec.shape[0] > sec.MAX_RECORDS:
@@ -108,8 +108,7 @@ def _classify_samples(samples, k, p, zeta, vb, judge, out):
 @njit(cache=True)
 def _buffers(cap):
     """One point's (samples, events) records (:mod:`.records`; events are not kept: one slot, never read)."""
-    return (Samples(np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap, dtype=np.int8),
-                    np.empty((cap, N_WORK))),
+    return (new_samples(cap, N_STATE, N_CONTACTS),
             Events(np.empty(1), np.empty(1, dtype=np.int64)))
 
 
@@ -147,12 +146,12 @@ def _exact_points(j0, j1, todo, cap, full, points, t_end, judge, out, stop_early
     rtol, min_periods = judge.rtol, judge.min_periods
     for j in todo[j0:j1]:
         samples, events = _buffers(cap)
-        t, x, v, fc, mode, work = samples
+        t, y, work = samples.t, samples.y, samples.work
         t_mode = np.zeros(1, dtype=np.int64)
         # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
         # (every argument positional and typed as from the façades: one compiled builder; no bare int constant)
-        run = run_record(x0[j], v0[j], t_end, zeta[j], vb[j], sec.tail_start(0.0, t_end), 0.0, 0.0, 0.0, np.int64(0),
-                         stop_early, stop_early, rtol, min_periods, 0.0, 0.0)
+        run = run_record((x0[j], v0[j]), t_end, zeta[j], vb[j], sec.tail_start(0.0, t_end), 0.0, (0.0, 0.0, np.int64(0)),
+                         (stop_early, stop_early, rtol, min_periods), (0.0, 0.0))
         k, ne, status, t_term, t_stop = exact.run(run, p[j], samples, events, t_mode)
         full[j] = status == exact.FULL
         if full[j]:
@@ -167,7 +166,7 @@ def _exact_points(j0, j1, todo, cap, full, points, t_end, judge, out, stop_early
                 for q in range(N_WORK):
                     tot[q] += work[i, q]
             a = sec.averages(tot[0], tot[1], tot[2], tot[3], 0.0, 0.5 * (x0[j] ** 2 + v0[j] ** 2),
-                             0.5 * (x[k - 1] ** 2 + v[k - 1] ** 2), max(t[k - 1], 1e-300))
+                             0.5 * (y[0, k - 1] ** 2 + y[1, k - 1] ** 2), max(t[k - 1], 1e-300))
             x_eq = t_mode[0] * slip_magnitude_of(p[j], abs(vb[j]))
             sec.put(out[j], sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID]))
         else:
@@ -213,8 +212,9 @@ def _adaptive_points(j0, j1, todo, cap, full, points, t_end, ode, judge, out):
             r = certificate.certified_radius(p[j], zeta[j], vb[j])
             last = j
         # stop once the end is known: the certified disc, or repeating sections (as the classifier judges them)
-        run = run_record(x0[j], v0[j], t_end, zeta[j], vb[j], sec.tail_start(0.0, t_end), 0.0, ode_rtol, ode_atol, max_steps,
-                         np.bool_(False), np.bool_(False), rtol, min_periods, r, math.copysign(slip_magnitude_of(p[j], abs(vb[j])), vb[j]))
+        run = run_record((x0[j], v0[j]), t_end, zeta[j], vb[j], sec.tail_start(0.0, t_end), 0.0, (ode_rtol, ode_atol, max_steps),
+                         (np.bool_(False), np.bool_(False), rtol, min_periods),
+                         (r, math.copysign(slip_magnitude_of(p[j], abs(vb[j])), vb[j])))
         # unforced only: sweeps send forced points through the façade (stroboscopic analysis)
         k, ne, status, t_stop, h = dopri.run_unforced(run, p[j], samples, events)
         full[j] = status == dopri.FULL

@@ -67,7 +67,7 @@ def _judge(samples, k, p, zeta, vb, settings, out, aux):
     the whole repetitions up to the last section sample; else the tail is
     the window and the kind is left to the Lyapunov pass (``aux``).
     """
-    t, x, v = samples[0], samples[1], samples[2]
+    t, x, v = samples.t, samples.y[0], samples.y[1]
     rtol, min_periods, noise = settings[S_RTOL], int(settings[S_MIN_PERIODS]), settings[S_NOISE]
     if not (math.isfinite(x[k - 1]) and math.isfinite(v[k - 1])):
         aux[A_STATUS] = FACADE  # diverged: every number is NaN there, the window from the first bad sample
@@ -107,8 +107,8 @@ def _forced_points(j0, j1, todo, cap, full, p, point, settings, out, aux, off):
         x0, v0, zeta, vb = point[j, P_X0], point[j, P_V0], point[j, P_ZETA], point[j, P_VB]
         # the run record simulate's exact façade builds (run_forced reads the state, span, tail and dense grid;
         # every argument typed as the façade's: one compiled builder)
-        run = run_record(x0, v0, t_end, zeta, vb, t_tail, settings[S_DENSE_DT], 0.0, 0.0, np.int64(0), off, off, 0.0,
-                         int(settings[S_MIN_PERIODS]), 0.0, 0.0)
+        run = run_record((x0, v0), t_end, zeta, vb, t_tail, settings[S_DENSE_DT], (0.0, 0.0, np.int64(0)),
+                         (off, off, 0.0, int(settings[S_MIN_PERIODS])), (0.0, 0.0))
         k, ne, status, t_term, t_stop = exact.run_forced(run, p[j], samples, events, t_mode)
         full[j] = status == exact.FULL
         if full[j]:

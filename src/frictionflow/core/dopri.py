@@ -190,7 +190,7 @@ def _run(forced, run, p, samples, events):
     rtol, atol, max_steps = run[ODE_RTOL], run[ODE_ATOL], int(run[MAX_STEPS])
     dense_dt, t_tail = run[DENSE_DT], run[T_TAIL]
     stop_rtol, min_periods, r_cert, x_eq = run[STOP_RTOL], int(run[MIN_PERIODS]), run[R_CERT], run[X_EQ]
-    out_t, out_x, out_v, out_fc, out_mode, out_w = samples
+    out_t, out_y, out_fc, out_mode, out_w = samples
     ev_t, ev_mode = events
     fs = p[FS]
     res = p[RESULTANT] != 0.0
@@ -224,7 +224,7 @@ def _run(forced, run, p, samples, events):
     ring = np.full((4, int(min_periods) + 2), np.nan)  # X and times of the last maxima, then minima
     n_max = 0
     n_min = 0
-    outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
+    outs = (out_t, out_y, out_fc, out_mode, out_w)
     if len(out_t) < 2:
         return 0, 0, FULL, t, h
     fc0 = stick_friction(x, zeta, vb, external_force(p, 0.0) if forced else 0.0)
@@ -456,11 +456,11 @@ def _run(forced, run, p, samples, events):
                     ev_mode[ne] = new
                 ne += 1
                 mode = new
-                out_mode[k - 1] = mode
+                out_mode[0, k - 1] = mode
                 if mode != 0:
-                    out_fc[k - 1] = mode * slip_force_at(p, 0.0)
+                    out_fc[0, k - 1] = mode * slip_force_at(p, 0.0)
                 else:
-                    out_fc[k - 1] = stick_friction(x, zeta, vb, external_force(p, t) if forced else 0.0)
+                    out_fc[0, k - 1] = stick_friction(x, zeta, vb, external_force(p, t) if forced else 0.0)
     if forced:
         if out_t[k - 1] < t_end - STROBE_TOL * (1.0 + t_end):  # a run that ends sticking
             tt, n_strobe = _strobe(t_end, n_strobe, period)

@@ -660,7 +660,7 @@ def _next_in_phase(ph, T, src, ta, tz, tt, dense_dt):
 def _copy_stretch(rel, outs, events, rp, t, k, ne):
     """Copy the repeating stretch of ``rp`` (:data:`Stretch`) once after sample ``k`` - 1 and event ``ne`` - 1,
     its times accumulated from ``t`` by the same additions as the integration (t + T, t + tb); returns the time reached."""
-    out_t, out_x, out_v, out_fc, out_mode, out_w = outs
+    out_t, out_y, out_fc, out_mode, out_w = outs
     ev_t, ev_mode = events
     tc = t
     e = ne
@@ -675,10 +675,11 @@ def _copy_stretch(rel, outs, events, rp, t, k, ne):
             e += 1
         else:
             out_t[k + i] = tc + r
-        out_x[k + i] = out_x[src]
-        out_v[k + i] = out_v[src]
-        out_fc[k + i] = out_fc[src]
-        out_mode[k + i] = out_mode[src]
+        for j in range(out_y.shape[0]):
+            out_y[j, k + i] = out_y[j, src]
+        for j in range(out_fc.shape[0]):
+            out_fc[j, k + i] = out_fc[j, src]
+            out_mode[j, k + i] = out_mode[j, src]
         for j in range(N_WORK):
             out_w[k + i, j] = out_w[src, j]
     return tc
@@ -744,7 +745,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
     """
     s = _settings(run, p)
     t_end, zeta = s.t_end, s.zeta
-    outs = (samples[0], samples[1], samples[2], samples[3], samples[4], samples[5])
+    outs = (samples[0], samples[1], samples[2], samples[3], samples[4])
     w = np.zeros(N_WORK)  # the work integrals since the last sample (emit restarts them)
     ring = np.zeros(4 * (int(run[MIN_PERIODS]) + 2))  # (np.zeros as for w: one allocation routine to compile)
     sc = (0, 0, abs(run[X0]))
@@ -1148,8 +1149,7 @@ def run_forced(run, p, samples, events, t_mode):
     zeta, t_end = s.zeta, s.t_end
     fo = Forcing(p[FEX], p[OMEGA], p[PHI], 2.0 * math.pi / p[OMEGA])
     fex, om, phi, _ = fo
-    out_t, out_x, out_v, out_fc, out_mode, out_w = samples
-    outs = (out_t, out_x, out_v, out_fc, out_mode, out_w)
+    outs = (samples[0], samples[1], samples[2], samples[3], samples[4])
     w = np.zeros(N_WORK)
     t, x = 0.0, run[X0]
     mode, v = _enter_forced(s, x, run[V0], fex * math.cos(phi), -fex * om * math.sin(phi), -om * om * fex * math.cos(phi), 0.0)

@@ -62,6 +62,7 @@ from numba import njit
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from . import codes
+from . import saltation as salt
 from .friction import (FD, FS, LAW_A, LAW_B, LAW_C, RESULTANT, rest_mode, slip_partial_of, slip_terms_of,
                        stick_duration, stick_friction)
 from .hermite import hermite, hermite_min
@@ -466,13 +467,16 @@ def _reset_piece(y):
 
 @njit(cache=True)
 def _switch(M, tot, n0, n1, hl, fb0, fb1, fa0, fa1, qfin_b, qfin_a):
-    """Saltation of the three columns and the jump of W_fin at a switch (W_dv's integrand is continuous)."""
-    den = n0 * fb0 + n1 * fb1
+    """Saltation (:mod:`.saltation`) of the three columns -- d/dx0, d/dv0, d/dlambda, the surface moving with
+    lambda at the rate ``hl`` -- and the jump of W_fin's derivatives: W_fin is carried as a third state row
+    whose integrand jumps from ``qfin_b`` to ``qfin_a`` and that the surface does not depend on (W_dv's
+    integrand is continuous: no jump)."""
+    cols = np.empty((3, 3))
     for c in range(3):
-        w = n0 * M[0, c] + n1 * M[1, c] + (hl if c == 2 else 0.0)
-        M[0, c] += (fa0 - fb0) * w / den
-        M[1, c] += (fa1 - fb1) * w / den
-        tot[T_DWFIN0 + c] += -(qfin_b - qfin_a) * w / den
+        cols[0, c], cols[1, c], cols[2, c] = M[0, c], M[1, c], tot[T_DWFIN0 + c]
+    salt.apply(cols, (fb0, fb1, qfin_b), (fa0, fa1, qfin_a), (n0, n1, 0.0), 0.0, (0.0, 0.0, hl))
+    for c in range(3):
+        M[0, c], M[1, c], tot[T_DWFIN0 + c] = cols[0, c], cols[1, c], cols[2, c]
 
 
 @njit(cache=True)

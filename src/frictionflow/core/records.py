@@ -4,21 +4,28 @@ Module-level named tuples (numba types them as records, and a kernel that
 takes them can still be cached): a kernel unpacks them once at its top.
 
 ==============  ==========================================================
-``Samples``     the arrays a run writes its samples into, one row per
-                sample: tau, X, X', F_c, the friction mode (int8) and the
-                work integrals since the previous sample (``(cap, N_WORK)``)
+``Samples``     the arrays a run writes its samples into, ``cap`` samples:
+                ``t`` (cap,) the times; ``y`` (n, cap) the state, one row
+                per component (the single mass: X, X'); ``fc`` (k, cap)
+                and ``mode`` (k, cap, int8) each contact's friction force
+                and mode; ``work`` (cap, N_WORK) the work integrals since
+                the previous sample.  Blocks of n and k rows, so that the
+                record does not assume one mass or one contact; a block's
+                rows are contiguous (``y[0]`` is a plain 1-D array)
 ``Events``      the arrays of the switches: tau and the mode entered
                 (int64); a run counts every switch but writes only as
                 many as fit
 ==============  ==========================================================
 
-The run record: the scalar settings of one run, a float64 array of
-``N_RUN`` named slots (the pattern of the force record ``p``,
-:mod:`.layout`), filled by :func:`run_record` only.  Flags are stored as
-1.0 / 0.0 (a kernel reads ``!= 0.0``), counts as floats (read ``int(...)``).
+The run record: the settings of one run and its initial state, a float64
+array of ``N_SETTINGS`` named slots followed by the state's n components
+(the pattern of the force record ``p``, :mod:`.layout`), filled by
+:func:`run_record` only.  Flags are stored as 1.0 / 0.0 (a kernel reads
+``!= 0.0``), counts as floats (read ``int(...)``).
 
 =================  =======================================================
-``X0``, ``V0``     the initial state (X, X') at tau = 0
+``Y0`` ...         the initial state at tau = 0, ``run[Y0 + i]`` (the
+                   single mass: ``X0``, ``V0`` = X, X')
 ``T_END``          the end of the run
 ``ZETA``, ``VB``   the damping ratio and the belt speed
 ``DENSE_DT``       also sample every ``DENSE_DT`` (0: no dense grid)
@@ -48,43 +55,66 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-Samples = namedtuple("Samples", "t x v fc mode work")
+from .layout import N_WORK
+
+Samples = namedtuple("Samples", "t y fc mode work")
 Events = namedtuple("Events", "t mode")
 
 # The run record's slots (see the table above); numba reads them as constants.
 (
-    X0, V0, T_END, ZETA, VB, DENSE_DT, T_TAIL, ODE_RTOL, ODE_ATOL, MAX_STEPS,
+    T_END, ZETA, VB, DENSE_DT, T_TAIL, ODE_RTOL, ODE_ATOL, MAX_STEPS,
     STOP_PERIODIC, STOP_TERMINAL, STOP_RTOL, MIN_PERIODS, R_CERT, X_EQ,
-) = range(16)
-N_RUN = 16
+) = range(14)
+N_SETTINGS = 14
+#: the initial state's first slot; the single mass's X(0) and X'(0)
+Y0 = N_SETTINGS
+X0, V0 = Y0, Y0 + 1
+
+
+#: the single mass on the belt: the state (X, X'), one contact
+N_STATE, N_CONTACTS = 2, 1
+
+
+def empty_samples(cap, n_state, n_contacts):
+    """Empty :data:`Samples` with room for ``cap`` samples of ``n_state`` components and ``n_contacts`` contacts.
+
+    Python callers use this one: numpy gives large arrays transparent huge
+    pages, and a long run's first touch of its buffers costs a quarter of
+    the time with 4 KiB pages (numba's allocator does not ask for them).
+    """
+    return Samples(np.empty(cap), np.empty((n_state, cap)), np.empty((n_contacts, cap)),
+                   np.empty((n_contacts, cap), dtype=np.int8), np.empty((cap, N_WORK)))
+
+
+#: :func:`empty_samples` compiled, for kernels that allocate their own (small) buffers
+new_samples = njit(cache=True)(empty_samples)
 
 
 @njit(cache=True)
-def run_record(x0, v0, t_end, zeta, vb, t_tail, dense_dt=0.0, ode_rtol=0.0, ode_atol=0.0, max_steps=0,
-               stop_periodic=False, stop_terminal=False, stop_rtol=0.0, min_periods=3, r_cert=0.0, x_eq=0.0):
-    """The run record (a float64 array of ``N_RUN`` slots) of one run's settings: the one place that fills it.
+def run_record(y0, t_end, zeta, vb, t_tail, dense_dt, ode, stop, cert):
+    """The run record (a float64 array: ``N_SETTINGS`` slots, then ``y0``) of one run: the one place that fills it.
 
-    From Python as from compiled code.  What a kernel does not read keeps
-    its default: no dense grid, no early stop (``min_periods`` 3 sizes the
-    adaptive kernel's ring all the same).  Callers on a hot path pass every
-    argument positionally (numba folds keywords and omitted arguments in
-    Python, and each set of omitted ones is a signature of its own).
+    From Python as from compiled code.  ``y0``: the initial state (a tuple
+    or array of n floats); ``ode`` = (rtol, atol, max_steps) of the
+    adaptive step (zeros where unused); ``stop`` = (periodic, terminal,
+    rtol, min_periods) of the early stops (``min_periods`` 3 sizes the
+    adaptive kernel's ring even with no stop); ``cert`` = (radius, X*) of
+    the adaptive solver's certified equilibrium (zeros: off).  Callers pass
+    every argument positionally, with the same types from every call site
+    (each set of types is a compiled builder of its own).
     """
-    r = np.empty(N_RUN)
-    r[X0] = x0
-    r[V0] = v0
+    r = np.empty(N_SETTINGS + len(y0))
+    for i in range(len(y0)):
+        r[Y0 + i] = y0[i]
     r[T_END] = t_end
     r[ZETA] = zeta
     r[VB] = vb
     r[DENSE_DT] = dense_dt
     r[T_TAIL] = t_tail
-    r[ODE_RTOL] = ode_rtol
-    r[ODE_ATOL] = ode_atol
-    r[MAX_STEPS] = max_steps
-    r[STOP_PERIODIC] = 1.0 if stop_periodic else 0.0
-    r[STOP_TERMINAL] = 1.0 if stop_terminal else 0.0
-    r[STOP_RTOL] = stop_rtol
-    r[MIN_PERIODS] = min_periods
-    r[R_CERT] = r_cert
-    r[X_EQ] = x_eq
+    r[ODE_RTOL], r[ODE_ATOL], r[MAX_STEPS] = ode[0], ode[1], ode[2]
+    r[STOP_PERIODIC] = 1.0 if stop[0] else 0.0
+    r[STOP_TERMINAL] = 1.0 if stop[1] else 0.0
+    r[STOP_RTOL] = stop[2]
+    r[MIN_PERIODS] = stop[3]
+    r[R_CERT], r[X_EQ] = cert[0], cert[1]
     return r

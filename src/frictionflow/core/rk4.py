@@ -120,10 +120,10 @@ def _record(out, k, t, x, v, fm, w):
     numba's reference counts on ``out``'s arrays, atomic operations per sample.
     """
     out.t[k] = t
-    out.x[k] = x
-    out.v[k] = v
-    out.fc[k] = fm[0]
-    out.mode[k] = fm[1]
+    out.y[0, k] = x
+    out.y[1, k] = v
+    out.fc[0, k] = fm[0]
+    out.mode[0, k] = fm[1]
     out.work[k, 0] = w[0]
     out.work[k, 1] = w[1]
     out.work[k, 2] = w[2]

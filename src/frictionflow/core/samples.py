@@ -11,19 +11,20 @@ from .layout import N_WORK
 # 496 -> 374 ns per switch).  Small scalar callees are forceinline: cheaper to compile.
 @njit(inline="always")
 def emit(outs, k, t, x, v, fc, mode, w):
-    """Write sample ``k`` into ``outs`` = (t, x, v, fc, mode, work); False when the arrays are full.
+    """Write the single mass's sample ``k`` into ``outs`` (:data:`.records.Samples`); False when the arrays are full.
 
-    ``w`` holds the N_WORK work integrals accumulated since the previous sample;
-    they are written and restart from zero.
+    (x, v) is the state, ``fc`` and ``mode`` the one contact's.  ``w`` holds
+    the N_WORK work integrals accumulated since the previous sample; they
+    are written and restart from zero.
     """
-    out_t, out_x, out_v, out_fc, out_mode, out_w = outs
+    out_t, out_y, out_fc, out_mode, out_w = outs
     if k >= len(out_t):
         return False
     out_t[k] = t
-    out_x[k] = x
-    out_v[k] = v
-    out_fc[k] = fc
-    out_mode[k] = mode
+    out_y[0, k] = x
+    out_y[1, k] = v
+    out_fc[0, k] = fc
+    out_mode[0, k] = mode
     for j in range(N_WORK):
         out_w[k, j] = w[j]
         w[j] = 0.0

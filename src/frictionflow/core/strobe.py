@@ -210,7 +210,8 @@ def window_row(samples, k, t0, t1, zeta, fex, out):
     K + U at both ends; TR_B, the extremes and the stick fraction over the
     samples t0..t1.  ``kind`` and ``period`` are the caller's.
     """
-    t, x, v, fc, mode, work = samples
+    t, y, fc, modes, work = samples
+    x, v, mode = y[0], y[1], modes[0]
     i0 = first_at_or_after(t, k, t0)
     i1 = first_at_or_after(t, k, t1)
     dw = np.zeros(N_WORK)

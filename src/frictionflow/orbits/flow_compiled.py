@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import flowmap as fm
+from ..core import saltation as salt
 from ..core.layout import LAW_A, LAW_B, LAW_C
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
@@ -151,7 +152,7 @@ class CompiledFlow:
         switches = []
         for r in self._sw[:nsw]:
             n, fb, fa = r[5:7].copy(), r[7:9].copy(), r[9:11].copy()
-            S = np.eye(2) + np.outer(fa - fb, n) / float(n @ fb) if float(n @ fb) != 0.0 else np.full((2, 2), np.nan)
+            S = salt.matrix(fb, fa, n)
             switches.append(Switch(float(r[0]), r[1:3].copy(), SLIP_NAMES[int(r[3])], SLIP_NAMES[int(r[4])], n, fb, fa, S))
         M = np.array([[tot[fm.T_M00], tot[fm.T_M01], tot[fm.T_M02]], [tot[fm.T_M10], tot[fm.T_M11], tot[fm.T_M12]]])
         return SensitiveSegment(

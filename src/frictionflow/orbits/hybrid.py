@@ -24,6 +24,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core import saltation as salt
+
 #: friction modes a phase can be in, and whether the mass is held there
 STICKING_MODES = ("stick", "band-sat+", "band-sat-", "edge-lo", "edge-hi")
 
@@ -79,11 +81,11 @@ class Switch:
 
 
 def saltation(f_before: np.ndarray, f_after: np.ndarray, normal: np.ndarray) -> np.ndarray:
-    """S = I + (f+ - f-) n^T / (n . f-) for a transversal crossing of h = 0 with grad h = n."""
-    den = float(normal @ f_before)
-    if den == 0.0:
+    """S = I + (f+ - f-) n^T / (n . f-) for a transversal crossing of h = 0 with grad h = n (:mod:`..core.saltation`)."""
+    S = salt.matrix(np.asarray(f_before, float), np.asarray(f_after, float), np.asarray(normal, float))
+    if np.isnan(S).all():
         raise ZeroDivisionError("the trajectory touches the switching surface tangentially (grazing)")
-    return np.eye(2) + np.outer(f_after - f_before, normal) / den
+    return S
 
 
 @dataclass

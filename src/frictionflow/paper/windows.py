@@ -62,7 +62,8 @@ def tail(traj: Trajectory, t_from: float) -> Trajectory:
     i = traj.index(t_from)
     dwork = traj.dwork[i:].copy()
     dwork[0] = 0.0  # the integrals before t_from are not part of the tail
-    return replace(traj, t=traj.t[i:], x=traj.x[i:], v=traj.v[i:], fc=traj.fc[i:], mode=traj.mode[i:], dwork=dwork)
+    return replace(traj, t=traj.t[i:], state=traj.state[:, i:], force=traj.force[:, i:], modes=traj.modes[:, i:],
+                   dwork=dwork)
 
 
 class Cycles:

@@ -163,8 +163,8 @@ class Adaptive(Solver):
 
         # a single run goes to its end (no early stop: sweeps stop where the end is known, core.batch); every
         # argument positional, typed as the exact façade's: one compiled builder for both
-        rec = run_record(float(x0), float(v0), float(t_end), model.zeta, model.vb, t_tail, dense_dt, self.rtol, self.atol,
-                         self.max_steps, False, False, 0.0, 3, 0.0, 0.0)
+        rec = run_record((float(x0), float(v0)), float(t_end), model.zeta, model.vb, t_tail, dense_dt,
+                         (self.rtol, self.atol, self.max_steps), (False, False, 0.0, 3), (0.0, 0.0))
 
         def kernel(bufs: tuple[Samples, Events]) -> tuple:
             return run(rec, p, *bufs)
@@ -175,7 +175,7 @@ class Adaptive(Solver):
             advance(1)
         if status in (dopri.STEP_CAP, dopri.TINY_STEP):
             why = f"max_steps={self.max_steps} reached" if status == dopri.STEP_CAP else "the step size vanished"
-            x, v, mode = bufs[0].x, bufs[0].v, bufs[0].mode
+            x, v, mode = bufs[0].y[0], bufs[0].y[1], bufs[0].mode[0]
             raise StepLimitError(
                 f"adaptive: {why} at tau={t_stop:.10g} (X={x[n - 1]:.6g}, X'={v[n - 1]:.6g}, "
                 f"mode {int(mode[n - 1]):+d}, step {h:.3g}) after {ne} switches; "

@@ -16,7 +16,7 @@ from typing import Any, Callable, ClassVar, Mapping
 import numpy as np
 
 from ..core.layout import FEX, N_WORK, OMEGA, PHI
-from ..core.records import Events, Samples
+from ..core.records import N_CONTACTS, N_STATE, Events, Samples, empty_samples
 from ..friction.base import FrictionLaw
 from ..parameters import Param, resolve
 from ..modes import SwitchMode
@@ -184,8 +184,7 @@ class Solver(ABC):
 
 def output_buffers(cap: int) -> tuple[Samples, Events]:
     """The records an event-driven kernel writes into (:mod:`frictionflow.core.records`), room for ``cap`` of each."""
-    t, x, v, fc = (np.empty(cap) for _ in range(4))
-    return (Samples(t, x, v, fc, np.empty(cap, dtype=np.int8), np.empty((cap, N_WORK))),
+    return (empty_samples(cap, N_STATE, N_CONTACTS),
             Events(np.empty(cap), np.empty(cap, dtype=np.int64)))
 
 
@@ -206,9 +205,9 @@ def trajectory_from(
     :class:`SwitchMode` (see :mod:`.events`): the events leave the solver in
     public values only.
     """
-    (t, x, v, fc, mode, work), (ev_t, ev_mode) = buffers
+    (t, y, fc, mode, work), (ev_t, ev_mode) = buffers
     return Trajectory(
-        t=t[:n].copy(), x=x[:n].copy(), v=v[:n].copy(), fc=fc[:n].copy(), mode=mode[:n].copy(), dwork=work[:n].copy(),
+        t=t[:n].copy(), state=y[:, :n].copy(), force=fc[:, :n].copy(), modes=mode[:, :n].copy(), dwork=work[:n].copy(),
         model=model, friction=friction, solver=solver,
         events={"t": ev_t[:n_events].copy(), "mode": switch_modes(ev_mode[:n_events], event_modes)},
         extra=extra or {},

@@ -154,8 +154,8 @@ class Exact(Solver):
         t_mode = np.zeros(1, dtype=np.int64)
 
         # every argument positional, typed as the adaptive façade's: one compiled builder for both
-        rec = run_record(float(x0), float(v0), float(t_end), model.zeta, model.vb, t_tail, dense, 0.0, 0.0, 0, False, False,
-                         0.0, 3, 0.0, 0.0)
+        rec = run_record((float(x0), float(v0)), float(t_end), model.zeta, model.vb, t_tail, dense, (0.0, 0.0, 0),
+                         (False, False, 0.0, 3), (0.0, 0.0))
 
         def run(bufs: tuple[Samples, Events]) -> tuple:
             if model.forced:
@@ -170,7 +170,7 @@ class Exact(Solver):
         else:  # (no context manager: ~1 us, a few per cent of a short run)
             (n, ne, status, t_term, _), bufs = run_growing(run, estimate, self._full, max_memory, lambda: self.sized(t_end))
         if status == kernel.STUCK:
-            t, x, v = bufs[0][:3]
+            t, (x, v) = bufs[0].t, bufs[0].y
             raise RuntimeError(f"exact: repeated zero-length phases at tau={t[n - 1]:.17g}, X={x[n - 1]:.17g}, "
                                f"X'={v[n - 1]:.17g}" + _sliding_hint(model, friction, t[n - 1], x[n - 1], v[n - 1]))
         extra = {"t_terminal": None if t_term < 0 else float(t_term), "terminal_mode": int(t_mode[0])}

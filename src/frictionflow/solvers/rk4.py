@@ -15,7 +15,7 @@ from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, Param
 from ..core import batch, sections
 from ..core.layout import FEX, LAW, N_WORK
-from ..core.records import Samples
+from ..core.records import N_CONTACTS, N_STATE, Samples, empty_samples
 from .base import kernel_params, DEFAULT_MAX_MEMORY, CoarseStepWarning, Solver, check_memory
 
 # (a step below 1e-9 or more steps than MAX_STEPS would run for days: refused up front)
@@ -53,9 +53,23 @@ class ThinnedOutputWarning(UserWarning):
 
 
 def _arrays(n: int) -> Samples:
-    """t, X, X', F_c, mode and work arrays for ``n`` samples (the kernels' output record)."""
-    t, x, v, fc = (np.empty(n) for _ in range(4))
-    return Samples(t, x, v, fc, np.empty(n, dtype=np.int8), np.empty((n, N_WORK)))
+    """The kernels' output record (:data:`~frictionflow.core.records.Samples`) with room for ``n`` samples."""
+    return empty_samples(n, N_STATE, N_CONTACTS)
+
+
+def _grown(bufs: Samples) -> Samples:
+    """``bufs`` with twice the room, the samples kept (each block grows along its sample axis)."""
+    t, y, fc, mode, work = bufs
+    more = _arrays(len(t))
+    return Samples(np.concatenate([t, more.t]), np.concatenate([y, more.y], axis=1),
+                   np.concatenate([fc, more.fc], axis=1), np.concatenate([mode, more.mode], axis=1),
+                   np.concatenate([work, more.work]))
+
+
+def _first(bufs: Samples, k: int) -> Samples:
+    """The first ``k`` samples of ``bufs`` (views)."""
+    t, y, fc, mode, work = bufs
+    return Samples(t[:k], y[:, :k], fc[:, :k], mode[:, :k], work[:k])
 
 
 class RK4(Solver):
@@ -163,7 +177,7 @@ class RK4(Solver):
             else:
                 out = self._thinned(n, every, x0, v0, args, max_memory, t_end, advance)
         return Trajectory(
-            *out[:5], dwork=out[5], model=model, friction=friction,
+            t=out.t, state=out.y, force=out.fc, modes=out.mode, dwork=out.work, model=model, friction=friction,
             solver=self.describe() | {"record_every": every, "steps": n} | ({"dt": dt} if dt != self.dt else {}),
         )
 
@@ -220,5 +234,5 @@ class RK4(Solver):
             advance(i_done - i)
             i = i_done
             if i < i1:  # full: more room, and on from where it stopped
-                bufs = Samples(*(np.concatenate([b, np.empty((len(b),) + b.shape[1:], b.dtype)]) for b in bufs))
-        return tuple(b[:k] for b in bufs)
+                bufs = _grown(bufs)
+        return _first(bufs, k)
