@@ -1,4 +1,4 @@
-"""``frictionflow sweep``, and ``frictionflow sweep --verify OUT``.
+"""``frictionflow sweep``, ``frictionflow sweep --verify OUT`` and ``sweep --verify OUT --repair``.
 
 Exit codes: 0 done (or, with ``--verify``, intact); 1 a failure that is not
 the input's fault -- the output in use by another run, a scheduler that does
@@ -19,7 +19,7 @@ from typing import Iterator, Optional
 import numpy as np
 import typer
 
-from ..sweep import KIND_NAMES, load_sweep, run_sweep
+from ..sweep import KIND_NAMES, load_sweep, repair_sweep, run_sweep
 from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import verify_sweep
 from ._app import app
@@ -32,6 +32,9 @@ def sweep(
     verify: Optional[str] = typer.Option(
         None, "--verify", metavar="OUT", help="Check the sweep output OUT without computing: each bad chunk, then a summary; exit code 1 if damaged."
     ),
+    repair: bool = typer.Option(
+        False, "--repair", help="With --verify: rebuild damaged metadata from the sweep's settings (recorded, or CONFIG) and keep every chunk that verifies; computes nothing."
+    ),
     restart: bool = typer.Option(False, "--restart", help="Discard an existing output (required when the config changed)."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT; default: this machine's cores."),
     scheduler_timeout: float = typer.Option(5.0, "--scheduler-timeout", metavar="SECONDS", help="Seconds to wait for the scheduler to answer."),
@@ -39,10 +42,15 @@ def sweep(
     as_json: bool = typer.Option(False, "--json", help="Print a JSON summary (dims, counts per kind, points/s; with --verify the findings)."),
 ) -> None:
     """Sweep parameters over a grid; resumes where it stopped if killed, recomputing any damaged chunk."""
+    if repair and verify is None:
+        raise ValueError("--repair goes with --verify OUT (a run repairs what it resumes by itself)")
     if verify is not None:
-        if config is not None or out is not None:
-            raise ValueError("--verify OUT checks an existing output: give it no CONFIG and no --out")
-        _verify(verify, as_json)
+        if out is not None or (config is not None and not repair):
+            raise ValueError("--verify OUT checks an existing output: give it no CONFIG (unless --repair) and no --out")
+        if repair:
+            _repair(verify, config, as_json)
+        else:
+            _verify(verify, as_json)
         return
     if config is None:
         raise ValueError("missing CONFIG: a sweep's TOML file (or --verify OUT to check an output)")
@@ -96,6 +104,15 @@ def _verify(path: str, as_json: bool) -> None:
         raise RuntimeError(found.summary())  # one line on stderr, exit code 1
     if not as_json:
         print(found.summary())
+
+
+def _repair(path: str, config: Optional[Path], as_json: bool) -> None:
+    """Rebuild an output's damaged metadata and verify its chunks, computing nothing: one line (or JSON)."""
+    found = repair_sweep(path, None if config is None else load_sweep(str(config)))
+    if as_json:
+        print(json.dumps(found.as_dict()))
+    else:
+        print(found.repair_line())
 
 
 @contextmanager

@@ -4,7 +4,7 @@ from .compute import KIND_NAMES, VARIABLES, compute_chunk
 from .config import GRID_KEYS, SweepConfig, load_sweep, parse_sweep
 from .store import verify_sweep
 from .plotting import plot_cut, plot_map
-from .runner import run_sweep
+from .runner import repair_sweep, run_sweep
 
 __all__ = [
     "GRID_KEYS",
@@ -16,6 +16,7 @@ __all__ = [
     "parse_sweep",
     "plot_cut",
     "plot_map",
+    "repair_sweep",
     "run_sweep",
     "verify_sweep",
 ]

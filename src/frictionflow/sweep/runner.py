@@ -17,9 +17,9 @@ from .compute import compute_chunk
 from ..parameters import Param
 from .config import MAX_AXIS, SweepConfig, chunk_shape, load_sweep, parse_sweep
 from .lock import STALE_AFTER, SweepLock
-from .store import RepairWarning, SweepStore, Verification, check_out, verify_sweep
+from .store import RepairWarning, SweepStore, Verification, check_out, stored_config, verify_sweep
 
-__all__ = ["CHUNK_SIZE", "SCHEDULER_TIMEOUT", "default_chunk_size", "run_sweep", "verify_sweep"]
+__all__ = ["CHUNK_SIZE", "SCHEDULER_TIMEOUT", "default_chunk_size", "repair_sweep", "run_sweep", "verify_sweep"]
 
 #: seconds to wait for a Dask scheduler before giving up
 SCHEDULER_TIMEOUT = 5.0
@@ -89,6 +89,36 @@ def run_sweep(
         return store.finish()  # still locked: a .nc is converted by this run only
 
 
+def repair_sweep(
+    out: str | Path,
+    config: SweepConfig | dict[str, Any] | str | Path | None = None,
+    *,
+    lock_stale_after: float = STALE_AFTER,
+) -> Verification:
+    """Repair a sweep output without computing (``frictionflow sweep --verify OUT --repair``).
+
+    Damaged or missing metadata (an emptied ``zarr.json`` of the root or of
+    a variable) is rebuilt from the sweep's settings -- ``config``, or the
+    settings the output records -- then every committed chunk is verified
+    against its checksum: those that verify are kept, the flags of the others
+    cleared, so that running the sweep again computes only them.  Returns
+    the findings (:attr:`Verification.rebuilt`, :meth:`Verification.repair_line`).
+    Raises ValueError for an output that is missing, not a sweep, or holds
+    another sweep; :class:`~frictionflow.sweep.store.DamagedStoreError` when
+    only ``--restart`` helps.
+    """
+    target = check_out(out)
+    if not (target.exists() or target.with_name(target.name + ".partial.zarr").exists()):
+        raise ValueError(f"out: {str(target)!r} does not exist")
+    cfg = stored_config(target) if config is None else _as_config(config)
+    with SweepLock(target, stale_after=lock_stale_after):
+        store = SweepStore(target, cfg, cfg.shape)  # (a resumed store keeps the chunks it was started with)
+        try:
+            return store.verify(repair=True)
+        finally:
+            store.close()
+
+
 def _as_config(config: SweepConfig | dict[str, Any] | str | Path) -> SweepConfig:
     if isinstance(config, (str, Path)):
         return load_sweep(str(config))
@@ -151,7 +181,9 @@ def _report(found: Verification, store: SweepStore) -> None:
             RepairWarning,
             stacklevel=3,
         )
-    if found.bad:
+    if found.rebuilt:  # one line: what was rebuilt, kept and is recomputed
+        warnings.warn(found.repair_line().replace("left to recompute", "recomputed"), RepairWarning, stacklevel=3)
+    elif found.bad:
         kinds = ", ".join(f"{n} {k}" for k, n in found.counts().items())
         warnings.warn(f"{out}: recomputing {len(found.bad)} of {found.n_chunks} chunks that were damaged: {kinds}", RepairWarning, stacklevel=3)
 

@@ -18,6 +18,14 @@ checked for complete, readable data instead (every chunk file is written,
 even an all-NaN one, so a missing file is damage), kept or recomputed, and
 the flags are written anew.
 
+Metadata that is damaged or missing (an emptied ``zarr.json`` of the root or
+of a variable) is rebuilt on resume (:meth:`SweepStore._rebuild_metadata`, or
+:func:`~frictionflow.sweep.runner.repair_sweep`): the layout is a function of
+the config and the chunk shape, which the root's attributes and, as a spare
+copy, the bookkeeping group's attributes record.  The chunk files are left as
+they are and each committed one is then verified against its checksum, so the
+finished work is kept and only what does not verify is recomputed.
+
 The flags stay in the finished store, in its ``_sweep`` group, which
 :func:`xarray.open_zarr` does not read, so that :func:`verify_sweep`
 (``frictionflow sweep --verify``) can check the store later.  A ``.nc``
@@ -31,6 +39,7 @@ import hashlib
 import json
 import platform
 import shutil
+import tempfile
 from collections import Counter
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -44,7 +53,7 @@ from .._version import __version__
 from ..io import _directory_problem, atomic_write, stale_temporaries
 from ..parameters import declared
 from .compute import chunk_slices
-from .config import GRID_KEYS, SAMPLE, SweepConfig, n_chunks
+from .config import GRID_KEYS, SAMPLE, SweepConfig, n_chunks, parse_sweep
 
 #: the sweep's bookkeeping group (not part of the dataset: xarray reads only the root's arrays)
 BOOK = "_sweep"
@@ -145,6 +154,7 @@ class Verification:
     unrecorded: bool = False  #: no checksums at all (an older store): data checked for completeness only
     unknown: int = 0  #: chunks whose checksum was lost or never recorded, checked for complete data instead
     repairable: bool = True  #: whether running the sweep again repairs it (else ``--restart`` is needed)
+    rebuilt: list[str] = field(default_factory=list)  #: metadata documents rebuilt from the settings (``root``, variables)
 
     @property
     def intact(self) -> bool:
@@ -171,6 +181,15 @@ class Verification:
         fix = "run the same sweep again to recompute what is bad" if self.repairable else "run the sweep again with --restart"
         return f"{self.path}: damaged: {'; '.join(parts)}; {fix}"
 
+    def repair_line(self) -> str:
+        """One line: what a repair rebuilt, kept and left to recompute."""
+        parts = [f"rebuilt the metadata of {', '.join(self.rebuilt)} from the sweep's settings"] if self.rebuilt else []
+        parts.append(f"kept {self.done} finished chunks that verify")
+        if self.bad:
+            kinds = ", ".join(f"{n} {k}" for k, n in self.counts().items())
+            parts.append(f"{len(self.bad)} damaged chunks ({kinds}) left to recompute")
+        return f"{self.path}: repaired: {'; '.join(parts)}"
+
     def as_dict(self) -> dict:
         return {
             "out": str(self.path),
@@ -180,6 +199,7 @@ class Verification:
             "bad": [{"chunk": list(b.chunk), "where": b.where, "reason": b.reason} for b in self.bad],
             "problems": self.problems,
             "checksums_recorded": not self.unrecorded,
+            "rebuilt": self.rebuilt,
         }
 
 
@@ -199,6 +219,8 @@ class SweepStore:
         #: an existing output: what it holds is checked (:meth:`verify`) before it is trusted
         self.resumed = self.path.exists() or self.target.exists()
         if self.path.exists():
+            if self.path.is_dir():
+                self.rebuilt = self._rebuild_metadata()
             self._reopen(mode="r+")
             if self.root.attrs.get("config_sha256") != cfg.fingerprint():
                 raise ValueError(f"out: {str(self.target)!r} holds a different sweep (its config changed); use --restart to start over")
@@ -236,6 +258,7 @@ class SweepStore:
         self._nc = None
         self._vars = None
         self._flag_array = None
+        self.rebuilt: list[str] = []  #: metadata documents rebuilt from the settings when reopened
 
     def _reopen(self, mode: str) -> None:
         """Open the existing Zarr store, refusing anything that is not a sweep's."""
@@ -287,11 +310,11 @@ class SweepStore:
             raise DamagedStoreError(self.target, f"its variable {Q.SWEPT[0].name!r} cannot be read ({_short(e)})") from None
         self.grid = n_chunks(self.shape, self.chunks)
 
-    def _create(self):
+    def _create(self, path: Path | None = None):
         import zarr
 
         cfg = self.cfg
-        root = zarr.open_group(str(self.path), mode="w", zarr_format=3)
+        root = zarr.open_group(str(path or self.path), mode="w", zarr_format=3)
         for name, values in cfg.axes.items():
             a = root.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8", dimension_names=(name,))
             a[:] = values
@@ -325,11 +348,50 @@ class SweepStore:
         """The done-flag array (all 0), in the bookkeeping group; replaces a damaged one."""
         total = int(np.prod(self.grid))
         book = root.require_group(BOOK)
-        book.attrs.update(_BOOK_ATTRS)
+        book.attrs.update({**_BOOK_ATTRS, **self._identity()})
         self._flag_array = book.create_array(
             "chunks_done", shape=(total,), chunks=(1,), dtype="u8", fill_value=0, dimension_names=("chunk",), overwrite=True
         )
         return self._flag_array
+
+    def _identity(self) -> dict:
+        """What matches a store to its settings, kept in the bookkeeping group too (the root may be the damaged part)."""
+        if self.cfg is not None:
+            source = json.dumps(self.cfg.source, default=str)  # (unsorted: the grid's order is the dimensions')
+            return {"config": source, "config_sha256": self.cfg.fingerprint(), "chunk_shape": list(self.chunks), "dims": list(self.cfg.dims)}
+        attrs = dict(self.root.attrs) if self.root is not None else {}
+        return {k: attrs[k] for k in ("config", "config_sha256", "chunk_shape") if k in attrs} | {"dims": list(self.dims)}
+
+    def _rebuild_metadata(self) -> list[str]:
+        """Damaged or missing ``zarr.json`` documents rewritten from the settings; the names of those rebuilt.
+
+        Only for a store that identifies itself as this sweep's (the root's
+        attributes, else the bookkeeping group's); anything else is left to
+        :meth:`_reopen` to refuse.  The chunk files are not touched:
+        :meth:`verify` judges them against their checksums afterwards.  The
+        done-flag array's own metadata is left to :meth:`verify` too (it
+        checks the data of chunks whose flags are lost).
+        """
+        names = ["", *self.cfg.axes, *self.cfg.sample, *(q.name for q in Q.SWEPT)]
+        names += [BOOK] if (self.path / BOOK).is_dir() else []
+        broken = [n for n in names if not _readable_doc(self.path / n / "zarr.json")]
+        identity = _stored_identity(self.path) if broken else None
+        if identity is None:
+            return []
+        if identity["config_sha256"] != self.cfg.fingerprint():
+            raise ValueError(f"out: {str(self.target)!r} holds a different sweep (its config changed); use --restart to start over")
+        self.chunks = identity["chunk_shape"]
+        self.grid = n_chunks(self.shape, self.chunks)
+        with tempfile.TemporaryDirectory(prefix=f".{self.path.name}.rebuild-", dir=self.path.parent) as tmp:
+            template = Path(tmp) / "template.zarr"
+            self._create(template)  # the layout a fresh run would write, with the store's chunks
+            self._flag_array = None
+            for name in broken:
+                doc = self.path / name / "zarr.json"
+                doc.parent.mkdir(parents=True, exist_ok=True)
+                with atomic_write(doc, "out") as part:
+                    shutil.copyfile(template / name / "zarr.json", part)
+        return ["root" if n == "" else n for n in broken]
 
     # -- chunks ------------------------------------------------------------------
     def _flat(self, chunk: tuple[int, ...]) -> int:
@@ -400,7 +462,7 @@ class SweepStore:
         damaged finished NetCDF file is rebuilt as a journal of its good
         chunks.
         """
-        report = Verification(self.target, int(np.prod(self.grid)))
+        report = Verification(self.target, int(np.prod(self.grid)), rebuilt=list(self.rebuilt))
         try:
             flags, unknown = self._read_flags(report)
             self._check_chunks(flags, unknown, report)
@@ -640,6 +702,11 @@ def verify_sweep(path: str | Path) -> Verification:
     for a path that is not a sweep output at all.
     """
     target = Path(path)
+    journal = target.with_name(target.name + ".partial.zarr") if target.suffix.lower() == ".nc" else target
+    broken = _broken_docs(journal) if journal.is_dir() else []
+    if broken and _stored_identity(journal) is not None:
+        problem = f"its metadata is unreadable (zarr.json of {', '.join(broken)}); --verify OUT --repair rebuilds it from the sweep's settings"
+        return Verification(target, 0, problems=[problem])
     try:
         store = SweepStore.existing(target)
     except DamagedStoreError as e:
@@ -648,6 +715,76 @@ def verify_sweep(path: str | Path) -> Verification:
         return store.verify()
     finally:
         store.close()
+
+
+def _readable_doc(path: Path) -> bool:
+    """Whether ``path`` is a readable Zarr v3 metadata document (not emptied, truncated or missing)."""
+    try:
+        doc = json.loads(path.read_bytes())
+    except (OSError, ValueError):
+        return False
+    return isinstance(doc, dict) and doc.get("zarr_format") == 3 and doc.get("node_type") in ("group", "array")
+
+
+def _stored_identity(store: Path, spare_first: bool = False) -> dict | None:
+    """A store's config, its fingerprint and chunk shape: from the root's attributes, else from the bookkeeping group's.
+
+    ``spare_first``: the bookkeeping group's first (its config keeps the grid's order; the root's is sorted).
+    """
+    docs = [store / "zarr.json", store / BOOK / "zarr.json"]
+    for doc in reversed(docs) if spare_first else docs:
+        try:
+            attrs = json.loads(doc.read_bytes()).get("attributes", {})
+            chunks = tuple(int(c) for c in attrs["chunk_shape"])
+            if isinstance(attrs["config_sha256"], str) and chunks and min(chunks) >= 1:
+                return {**attrs, "chunk_shape": chunks}
+        except Exception:  # unreadable, not JSON, or without the keys: try the next
+            continue
+    return None
+
+
+def _stored_dims(store: Path) -> list[str] | None:
+    """The grid's dimensions in order, from the first readable result variable's metadata."""
+    for q in Q.SWEPT:
+        try:
+            return list(json.loads((store / q.name / "zarr.json").read_bytes())["dimension_names"])
+        except Exception:
+            continue
+    return None
+
+
+def _broken_docs(store: Path) -> list[str]:
+    """The nodes of a sweep store whose metadata cannot be read (``root`` for the group)."""
+    names = ["", *sorted({d.name for d in store.iterdir() if d.is_dir()} | {q.name for q in Q.SWEPT})]
+    return ["root" if n == "" else n for n in names if not _readable_doc(store / n / "zarr.json")]
+
+
+def stored_config(path: str | Path) -> SweepConfig:
+    """The settings a sweep output was written with (recorded in its attributes), to repair it without its config file."""
+    target = Path(path)
+    journal = target.with_name(target.name + ".partial.zarr") if target.suffix.lower() == ".nc" else target
+    identity = _stored_identity(journal, spare_first=True) if journal.is_dir() else _nc_identity(target)
+    if identity is None or "config" not in identity:
+        raise ValueError(f"out: {str(target)!r} records no readable settings (its metadata is damaged or it is not a sweep); "
+                         "give the sweep's CONFIG to repair it, or use --restart to start over")
+    source = json.loads(identity["config"])
+    dims = identity.get("dims") or (_stored_dims(journal) if journal.is_dir() else None) or []
+    grid = {**{d: source["grid"][d] for d in dims if d in source["grid"]}, **source["grid"]}  # the axes in their order
+    cfg = parse_sweep({**source["settings"], "grid": grid}, source=str(target), check_points=False)
+    if cfg.fingerprint() != identity["config_sha256"]:
+        raise ValueError(f"out: {str(target)!r}: its recorded settings do not match their fingerprint; give the sweep's CONFIG, or use --restart")
+    return cfg
+
+
+def _nc_identity(target: Path) -> dict | None:
+    """A finished NetCDF sweep's config and fingerprint (None if it cannot be read)."""
+    import xarray as xr
+
+    try:
+        with xr.open_dataset(target, cache=False) as ds:
+            return {**{k: ds.attrs[k] for k in ("config", "config_sha256")}, "dims": list(ds[Q.SWEPT[0].name].dims)}
+    except Exception:
+        return None
 
 
 def _remove(p: Path) -> None:
