@@ -675,11 +675,11 @@ def _copy_stretch(rel, outs, events, rp, t, k, ne):
             e += 1
         else:
             out_t[k + i] = tc + r
-        for j in range(out_y.shape[0]):
-            out_y[j, k + i] = out_y[j, src]
-        for j in range(out_fc.shape[0]):
-            out_fc[j, k + i] = out_fc[j, src]
-            out_mode[j, k + i] = out_mode[j, src]
+        # this engine's closed forms are the single mass's: the state (X, X') and one contact
+        out_y[0, k + i] = out_y[0, src]
+        out_y[1, k + i] = out_y[1, src]
+        out_fc[0, k + i] = out_fc[0, src]
+        out_mode[0, k + i] = out_mode[0, src]
         for j in range(N_WORK):
             out_w[k + i, j] = out_w[src, j]
     return tc
