@@ -17,9 +17,9 @@ import warnings
 
 from .labels import DIVERGED, NOT_SETTLED, Attractor, Tolerances, label_attractors
 from .plotting import plot_basins
-from .study import Basins, basins, write_dataset
+from .study import Basins, SweepOptions, basins, write_dataset
 
-__all__ = ["DIVERGED", "NOT_SETTLED", "Attractor", "Basins", "Tolerances", "basins", "label_attractors", "plot_basins", "write_dataset"]
+__all__ = ["DIVERGED", "NOT_SETTLED", "Attractor", "Basins", "Tolerances", "basins", "label_attractors", "plot_basins", "SweepOptions", "write_dataset"]
 
 
 class _CallableModule(types.ModuleType):

@@ -322,7 +322,7 @@ def _aitken(a0, a1, a2):
     return a2 - (a2 - a1) ** 2 / den
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _periodic_strictly(out, rec, tol, rtol, min_periods, h, noise):
     """Maxima, minima and periods repeat to tol (:func:`classify`): fill ``out`` and return True, else False."""
     n = rec.shape[0]
@@ -344,7 +344,7 @@ def _periodic_strictly(out, rec, tol, rtol, min_periods, h, noise):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _periodic_jitter(out, rec, min_periods):
     """Periodic to within the jitter of a fixed step through a stick band (:func:`classify`): fill ``out`` and return True, else False."""
     n = rec.shape[0]
@@ -381,7 +381,7 @@ def _periodic_jitter(out, rec, min_periods):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _amplitude_slope(rec, use):
     """(ok, slope): the least-squares slope of log((X - LO) / 2) against T over the last ``use`` records; not ok if an amplitude is not positive."""
     n = rec.shape[0]
@@ -404,7 +404,7 @@ def _amplitude_slope(rec, use):
     return True, sxy / sxx
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _heading(out, rec, tol, slope):
     """Where a run that is not settled is heading (``C_HEAD``), with the limit centre and amplitude (Aitken) of the last three records."""
     n = rec.shape[0]
@@ -427,7 +427,7 @@ def _heading(out, rec, tol, slope):
         out[C_HEAD] = HEAD_GROWING
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _not_settled(out, rec, tol):
     """Fill ``out`` for a run that is not settled: the last period as its window, and where it is going."""
     n = rec.shape[0]

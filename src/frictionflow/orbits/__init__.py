@@ -34,6 +34,7 @@ from .brute_force import sweep
 from .chart import StabilityChart, stability_chart, stability_map
 from .monitors import FORCED_MONITORS, MONITORS, Extremum, branch_extrema, continue_extremum
 from .forced_chart import ForcedChart, continue_forced_extremum, forced_branch_extrema, forced_chart, forced_map
+from .settings import ContinuationSettings, ForcedContinuationSettings
 from .sensitivity import OrbitDerivatives, locate_fold, locate_grazing, orbit_derivatives, stick_slip_grazing
 
 __all__ = [
@@ -43,6 +44,7 @@ __all__ = [
     "BranchPoint",
     "continuation",
     "ContinuationResult",
+    "ContinuationSettings",
     "continue_extremum",
     "continue_forced",
     "continue_forced_extremum",
@@ -53,6 +55,7 @@ __all__ = [
     "forced_branch_extrema",
     "forced_chart",
     "forced_map",
+    "ForcedContinuationSettings",
     "FORCED_MONITORS",
     "ForcedBranch",
     "ForcedChart",
