@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 import frictionflow
+from frictionflow import Adaptive, BeltOscillator, Coulomb, Exact, analyze, simulate
 from frictionflow.analysis import response as response_module
 from frictionflow.cli import main
 from frictionflow.orbits.forced import continue_forced
@@ -102,6 +103,14 @@ def test_a_subnormal_end_time_is_refused_not_called_an_equilibrium():
     code, out, err, _ = cli("simulate", "--t-end", "5e-324", "--json")
     assert code == 2 and out == ""  # was: kind equilibrium, V_min = V_max = 0 although X'(0) = V_b = 0.01
     one_line(err, "t_end must be finite and in (0, 1e+12], got 5e-324", "subnormal", "degenerate")
+
+
+@pytest.mark.parametrize("solver", [Exact(), Adaptive(), RK4(dt=1e-9)], ids=["exact", "adaptive", "rk4"])
+def test_a_run_too_short_to_move_is_not_an_equilibrium(solver):
+    """A mass carried at V_b for 1e-8 has not settled anywhere (it was called an equilibrium: X and X' barely
+    spread over so short a tail, but X' is V_b, not 0)."""
+    traj = simulate(BeltOscillator(0.05, 0.01), Coulomb(0.02, 0.04), solver, t_end=1e-8)
+    assert analyze(traj).steady_state.kind == "not_settled"
 
 
 # -- smaller ---------------------------------------------------------------------------------------

@@ -471,8 +471,10 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
     out[C_NPER] = 0.0
     out[C_HEAD] = HEAD_NONE
     tol = rtol * scale
-    # Equilibrium: nothing moves over the tail.
-    if tail[A_XMAX] - tail[A_XMIN] <= tol and tail[A_VMAX] - tail[A_VMIN] <= tol:
+    # Equilibrium: nothing moves over the tail -- X and X' stay put, and X' stays at 0 (a tail too short for X
+    # to move, of a mass carried at V_b, is not one)
+    if (tail[A_XMAX] - tail[A_XMIN] <= tol and tail[A_VMAX] - tail[A_VMIN] <= tol
+            and max(abs(tail[A_VMAX]), abs(tail[A_VMIN])) <= tol):
         out[C_KIND] = EQUILIBRIUM
         out[C_START] = -1
         out[C_END] = -1
