@@ -16,6 +16,7 @@ import pytest
 import frictionflow
 from frictionflow import Adaptive, BeltOscillator, Coulomb, Exact, analyze, simulate
 from frictionflow.analysis import response as response_module
+from frictionflow.analysis.lyapunov import lyapunov_exponents
 from frictionflow.cli import main
 from frictionflow.orbits.forced import continue_forced
 from frictionflow.parameters import declared
@@ -97,6 +98,19 @@ def test_other_malformed_addresses_are_bad_input(address, says, tmp_path, capsys
     one_line(capsys.readouterr().err, f"scheduler: bad address {address!r}", says)
 
 
+def test_a_lyapunov_run_too_long_for_memory_is_refused_before_any_work():
+    code, out, err, seconds = cli("lyapunov", "--t-end", "1e12", "--t-transient", "20", "--steps", "64", "--json")
+    assert code == 2 and out == ""  # was: numpy's MemoryError traceback after trying to allocate 3.47 TiB
+    one_line(err, "1.59e+11 blocks", "RK4 steps", "GiB", "max_memory=4 GiB", "shorten t_end or raise max_memory")
+    # the same limit through the API, and a run within it still runs
+    model, law = BeltOscillator(0.05, 0.2, fex=0.1, omega=0.8), Coulomb(0.3, 0.5)
+    blocks = 8 * 2**30 / 40  # 8 GiB of 40-byte block records
+    with pytest.raises(ValueError, match="max_memory=1 GiB"):
+        lyapunov_exponents(model, law, t_transient=0.0, t_end=blocks * model.forcing_period, max_memory=1.0)
+    assert lyapunov_exponents(model, law, t_transient=0.0, t_end=20 * model.forcing_period, steps_per_block=16,
+                              max_memory=1e-3).exponents is not None
+
+
 # -- the wrong output ------------------------------------------------------------------------------
 
 def test_a_subnormal_end_time_is_refused_not_called_an_equilibrium():
@@ -111,6 +125,15 @@ def test_a_run_too_short_to_move_is_not_an_equilibrium(solver):
     spread over so short a tail, but X' is V_b, not 0)."""
     traj = simulate(BeltOscillator(0.05, 0.01), Coulomb(0.02, 0.04), solver, t_end=1e-8)
     assert analyze(traj).steady_state.kind == "not_settled"
+
+
+@pytest.mark.parametrize("argv", [("--fex", "0.01", "--omega", "1e-3"), ("--friction", "stribeck", "--fex", "1.0", "--t-end", "1.0")])
+def test_a_forced_run_shorter_than_its_section_needs_is_not_settled_over_the_whole_run(argv):
+    """Fewer than two forcing periods leave no stroboscopic section to judge (it was: "window must satisfy ...")."""
+    code, out, err, _ = cli("simulate", *argv, "--json")
+    assert code == 0, err
+    ss = json.loads(out)["steady_state"]
+    assert ss["kind"] == "not_settled" and ss["window"][0] == 0.0 and ss["window"][1] > 0.0
 
 
 # -- smaller ---------------------------------------------------------------------------------------

@@ -133,6 +133,9 @@ def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: 
         reps = JITTER_REPEATS - 1
     period = traj.model.forcing_period
     out = {"multiple": None, "lyapunov": None, "n_periods": 0, "jitter": None}
+    if len(tail) < 2:  # shorter than two forcing periods: no section to judge; the run itself is the window
+        out.update(kind="not_settled", period=None, window=(float(traj.t[0]), float(traj.t[-1])))
+        return out
     if m:
         if jitter:  # the relative spread over the repetitions, as the autonomous classifier reports it
             k = JITTER_REPEATS * m

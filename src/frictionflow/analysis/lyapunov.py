@@ -39,7 +39,7 @@ from ..core import tangent
 from ..friction.base import FrictionLaw
 from ..friction.registry import tangent_law_names
 from ..params import BeltOscillator
-from ..solvers.base import kernel_params
+from ..solvers.base import DEFAULT_MAX_MEMORY, kernel_params
 
 #: RK4 steps per block unless told (the convergence test halves it)
 DEFAULT_STEPS = 512
@@ -137,6 +137,34 @@ def _positive(name: str, value: float) -> float:
     return value
 
 
+#: what one block keeps (X, X', mode at its end; two running estimates), in bytes
+_BYTES_PER_BLOCK = (3 + 2) * 8
+
+
+def _check_size(n_transient: int, n_blocks: int, steps_per_block: int, t_end: float, max_memory: float) -> None:
+    """Refuse, before any work, a run whose per-block record exceeds ``max_memory`` GiB (its size and steps said)."""
+    blocks = n_transient + n_blocks
+    need = blocks * _BYTES_PER_BLOCK / 2**30
+    if not need <= max_memory:
+        raise ValueError(f"t_end={t_end:g} makes {blocks:.3g} blocks ({blocks * steps_per_block:.3g} RK4 steps with their "
+                         f"tangents), whose record needs {need:.3g} GiB but max_memory={max_memory:g} GiB: shorten t_end "
+                         "or raise max_memory")
+
+
+def _check_run(x0: float, v0: float, t_transient: float, t_end: float, steps_per_block: int) -> None:
+    """ValueError naming the first argument of :func:`lyapunov_exponents` out of its range."""
+    for name, value in (("x0", x0), ("v0", v0)):
+        if not math.isfinite(float(value)):
+            raise ValueError(f"{name} must be finite, got {value!r}")
+    if not (math.isfinite(t_transient) and t_transient >= 0.0):
+        raise ValueError(f"t_transient must be finite and >= 0, got {t_transient!r}")
+    _positive("t_end", t_end)
+    if not t_end > t_transient:
+        raise ValueError(f"t_end ({t_end!r}) must exceed t_transient ({t_transient!r})")
+    if int(steps_per_block) != steps_per_block or steps_per_block < 4:
+        raise ValueError(f"steps_per_block must be an integer >= 4, got {steps_per_block!r}")
+
+
 def lyapunov_exponents(
     model: BeltOscillator,
     friction: FrictionLaw,
@@ -147,6 +175,7 @@ def lyapunov_exponents(
     *,
     steps_per_block: int = DEFAULT_STEPS,
     block: float | None = None,
+    max_memory: float = DEFAULT_MAX_MEMORY,
 ) -> LyapunovResult:
     """Both Lyapunov exponents of the motion from (x0, v0), averaged over tau in [t_transient, t_end].
 
@@ -166,6 +195,10 @@ def lyapunov_exponents(
     block:
         Renormalisation interval: the forcing period 2 pi / Omega when forced
         (and then it must be), 2 pi unforced unless given.
+    max_memory:
+        GiB the per-block record (the section and the running estimates) may
+        take; a longer run is refused before any work, with its size and
+        its number of RK4 steps.
     """
     _check_law(friction)
     if model.forced:
@@ -174,18 +207,10 @@ def lyapunov_exponents(
         block = model.forcing_period
     else:
         block = DEFAULT_UNFORCED_BLOCK if block is None else _positive("block", block)
-    for name, value in (("x0", x0), ("v0", v0)):
-        if not math.isfinite(float(value)):
-            raise ValueError(f"{name} must be finite, got {value!r}")
-    if not (math.isfinite(t_transient) and t_transient >= 0.0):
-        raise ValueError(f"t_transient must be finite and >= 0, got {t_transient!r}")
-    _positive("t_end", t_end)
-    if not t_end > t_transient:
-        raise ValueError(f"t_end ({t_end!r}) must exceed t_transient ({t_transient!r})")
-    if int(steps_per_block) != steps_per_block or steps_per_block < 4:
-        raise ValueError(f"steps_per_block must be an integer >= 4, got {steps_per_block!r}")
+    _check_run(x0, v0, t_transient, t_end, steps_per_block)
     n_transient = math.ceil(t_transient / block - 1e-9)
     n_blocks = max(1, math.ceil((t_end - n_transient * block) / block - 1e-9))
+    _check_size(n_transient, n_blocks, int(steps_per_block), t_end, max_memory)
     p = kernel_params(model, friction)
     strobe = np.zeros((n_transient + n_blocks, 3))
     est = np.full((n_blocks, 2), np.nan)

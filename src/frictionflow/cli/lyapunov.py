@@ -61,7 +61,7 @@ def lyapunov(
     t_end = cfg.given.get("t_end", 6000.0)
     result = lyapunov_exponents(model, law, x0=cfg.x0 if cfg.x0 is not None else 0.0,
                                 v0=cfg.v0 if cfg.v0 is not None else 0.0, t_transient=t_transient, t_end=t_end,
-                                steps_per_block=steps, block=block)
+                                steps_per_block=steps, block=block, max_memory=cfg.max_memory)
     if as_json:
         print(json.dumps(result.as_dict(), allow_nan=False))
     else:
