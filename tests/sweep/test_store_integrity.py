@@ -22,31 +22,10 @@ import xarray as xr
 
 from frictionflow.cli import main
 from frictionflow.sweep import run_sweep
-from frictionflow.sweep import runner
 from frictionflow.sweep.lock import OutputInUseError, StaleLockWarning, SweepLock, lock_path
 from frictionflow.sweep.store import RepairWarning, verify_sweep
 
-#: 4 chunks of 1 x 2 x 2 points (chunk_size=4), about 0.1 s of work
-CFG = {
-    "friction": "coulomb",
-    "fs": 0.04,
-    "t_end": 100.0,
-    "grid": {"zeta": [0.0, 0.04, 0.08, 0.12], "vb": [0.005, 0.02], "fd": [0.01, 0.02]},
-}
-CFG_TOML = """friction = "coulomb"
-fs = 0.04
-t_end = 100.0
-[grid]
-zeta = [0.0, 0.04, 0.08, 0.12]
-vb = [0.005, 0.02]
-fd = [0.01, 0.02]
-"""
-
-
-def _run(out, cfg=CFG) -> xr.Dataset:
-    """The sweep into ``out``, loaded and closed."""
-    with run_sweep(cfg, out, chunk_size=4) as ds:
-        return ds.load()
+from .store_cases import CFG, CFG_TOML, interrupted, run_small
 
 
 def _strip_time(ds: xr.Dataset) -> xr.Dataset:
@@ -67,7 +46,7 @@ def _chunk_file(out, var: str, chunk: int):
 @pytest.fixture(scope="module")
 def fresh(tmp_path_factory) -> xr.Dataset:
     """The uninterrupted, undamaged sweep."""
-    return _run(tmp_path_factory.mktemp("fresh") / "fresh.zarr")
+    return run_small(tmp_path_factory.mktemp("fresh") / "fresh.zarr")
 
 
 @pytest.fixture
@@ -81,12 +60,12 @@ def config_file(tmp_path):
 
 def test_deleted_truncated_and_altered_chunks_are_recomputed_with_a_message(tmp_path, fresh):
     out = tmp_path / "c.zarr"
-    _run(out)
+    run_small(out)
     _chunk_file(out, "P_belt", 1).unlink()  # missing: read back as NaN
     _chunk_file(out, "kind", 2).write_bytes(_chunk_file(out, "kind", 2).read_bytes()[:5])  # truncated
     shutil.copy(_chunk_file(out, "X_max", 0), _chunk_file(out, "X_max", 3))  # valid data, wrong values
     with pytest.warns(RepairWarning, match=r"recomputing 3 of 4 chunks that were damaged: 1 missing, 1 unreadable, 1 checksum mismatch"):
-        ds = _run(out)
+        ds = run_small(out)
     _same(ds, fresh)
     assert verify_sweep(out).intact
 
@@ -95,7 +74,7 @@ def test_deleted_truncated_and_altered_chunks_are_recomputed_with_a_message(tmp_
 def test_damaged_done_flags_are_rebuilt_from_the_data(tmp_path, fresh, damage):
     """'An empty done-flag breaks every resume without a hint': now it is repaired, and said so."""
     out = tmp_path / "c.zarr"
-    _run(out)
+    run_small(out)
     flags = out / "_sweep" / "chunks_done"
     if damage == "flag files emptied":
         for f in (flags / "c").iterdir():
@@ -107,7 +86,7 @@ def test_damaged_done_flags_are_rebuilt_from_the_data(tmp_path, fresh, damage):
     _chunk_file(out, "P_belt", 1).unlink()  # without checksums a missing file must still be found
     assert not verify_sweep(out).intact or damage == "bookkeeping deleted"
     with pytest.warns(RepairWarning) as record:
-        ds = _run(out)
+        ds = run_small(out)
     messages = [str(w.message) for w in record]
     assert any("checked every chunk's data instead, kept 3 complete chunks" in m for m in messages), messages
     assert any("recomputing 1 of 4 chunks that were damaged: 1 missing" in m for m in messages), messages
@@ -116,44 +95,28 @@ def test_damaged_done_flags_are_rebuilt_from_the_data(tmp_path, fresh, damage):
     assert found.intact and not found.unrecorded  # the checksums are recorded again
 
 
-def _interrupted(out, monkeypatch, after: int) -> None:
-    """A run into ``out`` interrupted (Ctrl-C) after ``after`` chunks."""
-    real, calls = runner.compute_chunk, []
-
-    def compute(*args):
-        if len(calls) == after:
-            raise KeyboardInterrupt
-        calls.append(args)
-        return real(*args)
-
-    monkeypatch.setattr(runner, "compute_chunk", compute)
-    with pytest.raises(KeyboardInterrupt):
-        _run(out)
-    monkeypatch.undo()
-
-
 def test_interrupted_run_releases_its_lock_and_an_emptied_flag_is_repaired(tmp_path, fresh, monkeypatch):
     out = tmp_path / "c.zarr"
-    _interrupted(out, monkeypatch, after=2)
+    interrupted(out, monkeypatch, after=2)
     assert not lock_path(out).exists()
     (out / "_sweep" / "chunks_done" / "c" / "0").write_bytes(b"")  # one done-flag emptied
     with pytest.warns(RepairWarning, match=r"done-flags: 1 of 4 unreadable.*kept 1 complete chunks"):
-        ds = _run(out)
+        ds = run_small(out)
     _same(ds, fresh)
 
 
 def test_netcdf_output_is_checked_and_repaired_too(tmp_path):
     netCDF4 = pytest.importorskip("netCDF4")
-    ref = _run(tmp_path / "fresh.nc")
+    ref = run_small(tmp_path / "fresh.nc")
     out = tmp_path / "c.nc"
-    _run(out)
+    run_small(out)
     assert verify_sweep(out).intact
     with netCDF4.Dataset(out, "a") as nc:  # one value of chunk 2 changed, the file still valid
         nc["X_max"][2, 0, 0] = nc["X_max"][2, 0, 0] + 1e-3
     found = verify_sweep(out)
     assert [(b.chunk, b.reason) for b in found.bad] == [((2, 0, 0), "checksum mismatch")]
     with pytest.warns(RepairWarning, match="recomputing 1 of 4 chunks that were damaged: 1 checksum mismatch"):
-        ds = _run(out)
+        ds = run_small(out)
     _same(ds, ref)
     assert verify_sweep(out).intact and not (tmp_path / "c.nc.partial.zarr").exists()
 
@@ -162,7 +125,7 @@ def test_netcdf_output_is_checked_and_repaired_too(tmp_path):
 
 def test_verify_reports_each_bad_chunk_and_exits_1_only_when_damaged(tmp_path, capsys):
     out = tmp_path / "v.zarr"
-    _run(out)
+    run_small(out)
     assert main(["sweep", "--verify", str(out)]) == 0
     got = capsys.readouterr()
     assert got.out.strip() == f"{out}: intact: 4 of 4 chunks verified (complete)" and got.err == ""
@@ -182,11 +145,11 @@ def test_verify_reports_each_bad_chunk_and_exits_1_only_when_damaged(tmp_path, c
 
 def test_verify_of_an_unfinished_store_and_of_an_unreadable_netcdf(tmp_path, capsys, monkeypatch):
     out = tmp_path / "u.zarr"
-    _interrupted(out, monkeypatch, after=1)
+    interrupted(out, monkeypatch, after=1)
     assert main(["sweep", "--verify", str(out)]) == 0
     assert "intact: 1 of 4 chunks verified (incomplete, 3 chunks still to compute)" in capsys.readouterr().out
     nc = tmp_path / "t.nc"
-    _run(nc)
+    run_small(nc)
     nc.write_bytes(nc.read_bytes()[:3000])  # truncated: HDF5 signature, unreadable
     assert main(["sweep", "--verify", str(nc)]) == 1
     err = capsys.readouterr().err.strip()
@@ -232,16 +195,16 @@ def test_stale_locks_are_taken_over_with_a_warning(tmp_path, fresh):
     gone.wait()
     lock.write_text(json.dumps({"pid": gone.pid, "host": socket.gethostname(), "started": "2020-01-01T00:00:00+00:00"}))
     with pytest.warns(StaleLockWarning, match=rf"taking over a stale lock of PID {gone.pid} \(started 2020-01-01.*\): PID {gone.pid} is no longer running"):
-        _same(_run(out), fresh)
+        _same(run_small(out), fresh)
     assert not lock.exists()
     # another host's lock: held while it is refreshed, stale once older than lock_stale_after
     lock.write_text(json.dumps({"pid": 4242, "host": "elsewhere.invalid", "started": "2020-01-01T00:00:00+00:00"}))
     with pytest.raises(OutputInUseError, match=r"in use by PID 4242 on host elsewhere.invalid \(started 2020-01-01"):
-        _run(out)
+        run_small(out)
     old = time.time() - 3600
     os.utime(lock, (old, old))
     with pytest.warns(StaleLockWarning, match=r"PID 4242 on host elsewhere.invalid .*not refreshed for 60 min \(stale after 10 min\)"):
-        _run(out)
+        run_small(out)
     assert not lock.exists()
 
 
@@ -265,9 +228,9 @@ def test_without_flock_a_lock_is_judged_by_its_pid_and_start_time(tmp_path, monk
 
 def test_the_lock_is_released_on_error(tmp_path):
     out = tmp_path / "c.zarr"
-    _run(out)
+    run_small(out)
     with pytest.raises(ValueError, match="config changed"):
-        _run(out, {**CFG, "t_end": 50.0})
+        run_small(out, {**CFG, "t_end": 50.0})
     assert not lock_path(out).exists()
 
 

@@ -22,30 +22,10 @@ import xarray as xr
 import frictionflow
 
 from frictionflow.cli import main
-from frictionflow.sweep import repair_sweep, run_sweep, runner
+from frictionflow.sweep import repair_sweep, runner
 from frictionflow.sweep.store import RepairWarning, verify_sweep
 
-#: 4 chunks of 1 x 2 x 2 points (chunk_size=4), along zeta
-CFG = {
-    "friction": "coulomb",
-    "fs": 0.04,
-    "t_end": 100.0,
-    "grid": {"zeta": [0.0, 0.04, 0.08, 0.12], "vb": [0.005, 0.02], "fd": [0.01, 0.02]},
-}
-CFG_TOML = """friction = "coulomb"
-fs = 0.04
-t_end = 100.0
-[grid]
-zeta = [0.0, 0.04, 0.08, 0.12]
-vb = [0.005, 0.02]
-fd = [0.01, 0.02]
-"""
-
-
-def _run(out, cfg=CFG) -> xr.Dataset:
-    with run_sweep(cfg, out, chunk_size=4) as ds:
-        return ds.load()
-
+from .store_cases import CFG, CFG_TOML, interrupted, run_small
 
 def _same(ds: xr.Dataset, ref: xr.Dataset) -> None:
     a, b = ds.copy(), ref.copy()
@@ -55,23 +35,7 @@ def _same(ds: xr.Dataset, ref: xr.Dataset) -> None:
 
 @pytest.fixture(scope="module")
 def fresh(tmp_path_factory) -> xr.Dataset:
-    return _run(tmp_path_factory.mktemp("fresh") / "fresh.zarr")
-
-
-def _partial(out, monkeypatch, after: int) -> None:
-    """A run into ``out`` interrupted after ``after`` chunks (of 4)."""
-    real, calls = runner.compute_chunk, []
-
-    def compute(*args):
-        if len(calls) == after:
-            raise KeyboardInterrupt
-        calls.append(args)
-        return real(*args)
-
-    with monkeypatch.context() as m:
-        m.setattr(runner, "compute_chunk", compute)
-        with pytest.raises(KeyboardInterrupt):
-            _run(out)
+    return run_small(tmp_path_factory.mktemp("fresh") / "fresh.zarr")
 
 
 def _empty(out, node: str) -> None:
@@ -81,7 +45,7 @@ def _empty(out, node: str) -> None:
 @pytest.mark.parametrize("node", ["", "P_belt", "kind"], ids=["root", "P_belt", "kind"])
 def test_resume_rebuilds_emptied_metadata_and_keeps_the_finished_chunks(tmp_path, fresh, monkeypatch, node):
     out = tmp_path / "c.zarr"
-    _partial(out, monkeypatch, after=2)
+    interrupted(out, monkeypatch, after=2)
     _empty(out, node)
     found = verify_sweep(out)
     assert not found.intact and "metadata is unreadable" in found.summary() and "--repair" in found.summary()
@@ -90,7 +54,7 @@ def test_resume_rebuilds_emptied_metadata_and_keeps_the_finished_chunks(tmp_path
         real = runner.compute_chunk
         m.setattr(runner, "compute_chunk", lambda *a: calls.append(a[1]) or real(*a))
         with pytest.warns(RepairWarning) as record:
-            ds = _run(out)
+            ds = run_small(out)
     assert calls == [(2, 0, 0), (3, 0, 0)]  # the two finished chunks kept
     lines = [str(w.message) for w in record]
     name = node or "root"
@@ -101,7 +65,7 @@ def test_resume_rebuilds_emptied_metadata_and_keeps_the_finished_chunks(tmp_path
 
 def test_verify_repair_rebuilds_without_computing(tmp_path, fresh, monkeypatch, capsys):
     out = tmp_path / "c.zarr"
-    _partial(out, monkeypatch, after=2)
+    interrupted(out, monkeypatch, after=2)
     _empty(out, "")
     _empty(out, "X_max")
 
@@ -120,14 +84,14 @@ def test_verify_repair_rebuilds_without_computing(tmp_path, fresh, monkeypatch, 
     with monkeypatch.context() as m:
         real = runner.compute_chunk
         m.setattr(runner, "compute_chunk", lambda *a: calls.append(a[1]) or real(*a))
-        ds = _run(out)
+        ds = run_small(out)
     assert calls == [(2, 0, 0), (3, 0, 0)]
     _same(ds, fresh)
 
 
 def test_api_repair_with_the_config_and_as_json(tmp_path, monkeypatch, capsys):
     out = tmp_path / "c.zarr"
-    _partial(out, monkeypatch, after=3)
+    interrupted(out, monkeypatch, after=3)
     _empty(out, "kind")
     found = repair_sweep(out, CFG)
     assert found.rebuilt == ["kind"] and found.done == 3 and found.intact
@@ -141,7 +105,7 @@ def test_api_repair_with_the_config_and_as_json(tmp_path, monkeypatch, capsys):
 
 def test_a_damaged_chunk_next_to_damaged_metadata_is_recomputed(tmp_path, fresh, monkeypatch):
     out = tmp_path / "c.zarr"
-    _partial(out, monkeypatch, after=3)
+    interrupted(out, monkeypatch, after=3)
     _empty(out, "")
     chunk = out / "X_max" / "c" / "1" / "0" / "0"
     chunk.write_bytes(chunk.read_bytes()[:5])  # truncated
@@ -150,7 +114,7 @@ def test_a_damaged_chunk_next_to_damaged_metadata_is_recomputed(tmp_path, fresh,
         real = runner.compute_chunk
         m.setattr(runner, "compute_chunk", lambda *a: calls.append(a[1]) or real(*a))
         with pytest.warns(RepairWarning) as record:
-            ds = _run(out)
+            ds = run_small(out)
     assert sorted(calls) == [(1, 0, 0), (3, 0, 0)]  # the damaged one and the one never computed
     lines = [str(w.message) for w in record]
     assert lines == [f"{out}: repaired: rebuilt the metadata of root from the sweep's settings; kept 2 finished chunks that verify; "
@@ -161,7 +125,7 @@ def test_a_damaged_chunk_next_to_damaged_metadata_is_recomputed(tmp_path, fresh,
 
 def test_verify_repair_leaves_a_damaged_chunk_to_the_next_run(tmp_path, fresh, monkeypatch, capsys):
     out = tmp_path / "c.zarr"
-    _partial(out, monkeypatch, after=3)
+    interrupted(out, monkeypatch, after=3)
     _empty(out, "P_belt")
     (out / "kind" / "c" / "0" / "0" / "0").unlink()
     assert main(["sweep", "--verify", str(out), "--repair"]) == 0
@@ -170,20 +134,20 @@ def test_verify_repair_leaves_a_damaged_chunk_to_the_next_run(tmp_path, fresh, m
     with monkeypatch.context() as m:
         real = runner.compute_chunk
         m.setattr(runner, "compute_chunk", lambda *a: calls.append(a[1]) or real(*a))
-        ds = _run(out)
+        ds = run_small(out)
     assert sorted(calls) == [(0, 0, 0), (3, 0, 0)]
     _same(ds, fresh)
 
 
 def test_a_store_that_cannot_be_matched_still_needs_restart(tmp_path, monkeypatch, capsys):
     out = tmp_path / "c.zarr"
-    _partial(out, monkeypatch, after=2)
+    interrupted(out, monkeypatch, after=2)
     _empty(out, "")
     with pytest.raises(ValueError, match="holds a different sweep .*use --restart"):
-        _run(out, {**CFG, "t_end": 50.0})
+        run_small(out, {**CFG, "t_end": 50.0})
     _empty(out, "_sweep")  # nothing left that names its settings
     with pytest.raises(ValueError, match=r"exists and is not a Zarr store; use --restart to replace it"):
-        _run(out)
+        run_small(out)
     assert main(["sweep", "--verify", str(out), "--repair"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "records no readable settings" in err[0] and "--restart" in err[0]
@@ -193,7 +157,7 @@ def test_a_store_that_cannot_be_matched_still_needs_restart(tmp_path, monkeypatc
 
 def test_cli_resume_in_a_subprocess_says_what_was_repaired_in_one_line(tmp_path, monkeypatch):
     out = tmp_path / "c.zarr"
-    _partial(out, monkeypatch, after=2)
+    interrupted(out, monkeypatch, after=2)
     _empty(out, "")
     config = tmp_path / "c.toml"
     config.write_text(CFG_TOML)
