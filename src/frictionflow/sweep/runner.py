@@ -17,7 +17,7 @@ from .compute import compute_chunk
 from ..parameters import Param
 from .config import MAX_AXIS, SweepConfig, chunk_shape, load_sweep, parse_sweep
 from .lock import STALE_AFTER, SweepLock
-from .store import RepairWarning, SweepStore, Verification, check_out, stored_config, verify_sweep
+from .store import RepairWarning, SweepStore, Verification, check_out, journal_path, stored_config, verify_sweep
 
 __all__ = ["CHUNK_SIZE", "SCHEDULER_TIMEOUT", "default_chunk_size", "repair_sweep", "run_sweep", "verify_sweep"]
 
@@ -108,7 +108,7 @@ def repair_sweep(
     only ``--restart`` helps.
     """
     target = check_out(out)
-    if not (target.exists() or target.with_name(target.name + ".partial.zarr").exists()):
+    if not (target.exists() or journal_path(target).exists()):
         raise ValueError(f"out: {str(target)!r} does not exist")
     cfg = stored_config(target) if config is None else _as_config(config)
     with SweepLock(target, stale_after=lock_stale_after):

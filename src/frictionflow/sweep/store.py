@@ -252,7 +252,7 @@ class SweepStore:
     def _locate(self, target: Path) -> None:
         self.target = target
         self.netcdf = target.suffix.lower() == ".nc"
-        self.path = target.with_name(target.name + ".partial.zarr") if self.netcdf else target
+        self.path = journal_path(target)
         self.complete = False
         self.root = None
         self._nc = None
@@ -702,7 +702,7 @@ def verify_sweep(path: str | Path) -> Verification:
     for a path that is not a sweep output at all.
     """
     target = Path(path)
-    journal = target.with_name(target.name + ".partial.zarr") if target.suffix.lower() == ".nc" else target
+    journal = journal_path(target)
     broken = _broken_docs(journal) if journal.is_dir() else []
     if broken and _stored_identity(journal) is not None:
         problem = f"its metadata is unreadable (zarr.json of {', '.join(broken)}); --verify OUT --repair rebuilds it from the sweep's settings"
@@ -715,6 +715,11 @@ def verify_sweep(path: str | Path) -> Verification:
         return store.verify()
     finally:
         store.close()
+
+
+def journal_path(target: Path) -> Path:
+    """The Zarr store a sweep output is written in: ``target`` itself, or for a NetCDF one its ``.partial.zarr`` journal."""
+    return target.with_name(target.name + ".partial.zarr") if target.suffix.lower() == ".nc" else target
 
 
 def _readable_doc(path: Path) -> bool:
@@ -762,7 +767,7 @@ def _broken_docs(store: Path) -> list[str]:
 def stored_config(path: str | Path) -> SweepConfig:
     """The settings a sweep output was written with (recorded in its attributes), to repair it without its config file."""
     target = Path(path)
-    journal = target.with_name(target.name + ".partial.zarr") if target.suffix.lower() == ".nc" else target
+    journal = journal_path(target)
     identity = _stored_identity(journal, spare_first=True) if journal.is_dir() else _nc_identity(target)
     if identity is None or "config" not in identity:
         raise ValueError(f"out: {str(target)!r} records no readable settings (its metadata is damaged or it is not a sweep); "
