@@ -3,12 +3,22 @@
 Build (warnings are errors, the gallery is executed)::
 
     pip install ".[docs]" && sphinx-build -W -b html docs docs/_build/html
+
+The user guide is written in Markdown (MyST), the API reference comes from the
+docstrings (NumPy sections, read by napoleon), the command-line reference from
+the command definitions (``_ext/cli_reference.py``), and the equations are
+typeset by a copy of MathJax shipped with the site (``sphinx-mathjax-offline``):
+the pages need no network.
 """
 
 from __future__ import annotations
 
 import re
+import sys
 from importlib.metadata import version as _version
+from pathlib import Path
+
+import sphinx.ext.autosummary
 
 import matplotlib
 
@@ -20,17 +30,31 @@ copyright = "the frictionflow authors"  # noqa: A001 - Sphinx's name
 release = _version("frictionflow")
 version = release
 
+sys.path.insert(0, str(Path(__file__).resolve().parent / "_ext"))
+
 extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax 3 copied into _static/mathjax: equations render offline
     "sphinx.ext.viewcode",
     "sphinx_gallery.gen_gallery",
+    "myst_parser",
+    "cli_reference",
 ]
 
+# -- the user guide: Markdown with $...$ math ----------------------------------------------------
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+myst_enable_extensions = ["dollarmath", "colon_fence"]
+myst_heading_anchors = 3
+
 # -- API reference from the docstrings (NumPy style, read by napoleon) ----------------------------
-autosummary_generate = True
+# one page per topic documents its objects itself; the autosummary tables there only link to them
+autosummary_generate = False
+# a summary ends at the first full stop: not at "Eq. 3" or "Fig. 2"
+sphinx.ext.autosummary.WELL_KNOWN_ABBREVIATIONS = (
+    *sphinx.ext.autosummary.WELL_KNOWN_ABBREVIATIONS, "Eq.", "Eqs.", "Fig.", "Figs.", "Ref.", "cf.")
 autodoc_default_options = {"members": True, "show-inheritance": False}
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"
@@ -61,9 +85,8 @@ sphinx_gallery_conf = {
 html_theme = "furo"
 html_title = f"frictionflow {release}"
 # examples/ holds the gallery's sources; sphinx-gallery turns them into auto_examples/
-exclude_patterns = ["_build", "examples", "Thumbs.db", ".DS_Store"]
-# a class page documents its members itself (dataclass fields made by decorators cannot be listed by import)
-templates_path = ["_templates"]
+# generated/cli.md is written by _ext/cli_reference.py and included by cli.rst
+exclude_patterns = ["_build", "examples", "generated", "Thumbs.db", ".DS_Store"]
 
 
 # Docstrings are written for the terminal: |V_r| is an absolute value, not a
