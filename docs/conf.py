@@ -81,6 +81,9 @@ sphinx_gallery_conf = {
     "write_computation_times": False,
 }
 
+# "--verify" and "X'" are typed as they are meant: no dashes or curly quotes made of them
+smartquotes = False
+
 # -- HTML ---------------------------------------------------------------------------------------
 html_theme = "furo"
 html_title = f"frictionflow {release}"

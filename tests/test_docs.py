@@ -1,12 +1,29 @@
-"""The documentation builds, warnings as errors, running every example of its gallery.
+"""The documentation builds, warnings as errors, running every example of its gallery; what it shows is checked.
 
-The build is the README's command, on a copy of ``docs/`` (the gallery
-writes its generated pages beside its sources: a copy keeps the checkout
-clean).  About a minute on two cores.
+The build is the command the guide gives, on a copy of ``docs/`` (the gallery
+and the command-line reference write their generated pages beside their
+sources: a copy keeps the checkout clean), once for the module.  About a minute
+on two cores, most of it the gallery.
+
+The equations are typeset by a copy of MathJax shipped with the site
+(``sphinx-mathjax-offline``).  A headless Chromium opens built pages with every
+host name unresolvable and must find no raw TeX in the visible text.  pip cannot
+provide that browser: the ``playwright`` wheel carries only a driver and
+``playwright install chromium`` downloads the browser from its own CDN, not from
+PyPI; ``pyppeteer`` downloads it too.  Debian's ``chromium-headless-shell`` (or
+any Chromium or Chrome on the ``PATH``, or ``FRICTIONFLOW_CHROMIUM``) is used;
+without one the browser test is skipped, saying so, and the non-browser checks
+(the pages load the bundled MathJax by a relative path, nothing from the
+network, and the bundle with its fonts is in the site) still run.
 """
 
 from __future__ import annotations
 
+import enum
+import html.parser
+import inspect
+import os
+import re
 import shutil
 import subprocess
 import sys
@@ -16,23 +33,321 @@ import pytest
 
 pytest.importorskip("sphinx")
 pytest.importorskip("sphinx_gallery")
+pytest.importorskip("myst_parser")
+pytest.importorskip("sphinx-mathjax-offline")
 
-DOCS = Path(__file__).resolve().parent.parent / "docs"
+import typer  # noqa: E402
+from sphinx.ext.napoleon import Config, NumpyDocstring  # noqa: E402
+
+from frictionflow.cli import COMMAND_MODULES, app, load_commands  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
 GENERATED = ("_build", "auto_examples", "generated", "sg_execution_times.rst")
+GUIDE = ("installation", "model", "friction", "solvers", "steady_states", "power_flow", "forcing", "orbits",
+         "lyapunov", "basins", "sweeps", "paper")
+BROWSERS = ("chromium-headless-shell", "chromium", "chromium-browser", "google-chrome", "google-chrome-stable",
+            "chrome", "headless_shell")
 
 
-def test_docs_build_with_their_gallery_and_no_warning(tmp_path):
-    src = tmp_path / "docs"
+@pytest.fixture(scope="module")
+def site(tmp_path_factory) -> Path:
+    """The site built from a copy of ``docs/`` with ``-W``; its html directory."""
+    tmp = tmp_path_factory.mktemp("docs")
+    src = tmp / "docs"
     shutil.copytree(DOCS, src, ignore=shutil.ignore_patterns(*GENERATED))
-    out = tmp_path / "html"
+    # CHANGELOG.md and CITATION.cff are included from the repository's root, one level up
+    for name in ("CHANGELOG.md", "CITATION.cff"):
+        shutil.copy(ROOT / name, tmp / name)
+    out = tmp / "html"
     cmd = [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", str(src), str(out)]
-    done = subprocess.run(cmd, capture_output=True, text=True, timeout=900, cwd=tmp_path)
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=900, cwd=tmp)
     assert done.returncode == 0, done.stderr[-5000:]
-    examples = sorted(p.stem for p in (src / "examples").glob("plot_*.py"))
+    return out
+
+
+class _Text(html.parser.HTMLParser):
+    """The text a reader sees: no script, style or head, nor MathJax's hidden MathML for screen readers."""
+
+    HIDDEN = {"script", "style", "head", "mjx-assistive-mml", "template"}
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.depth = 0
+        self.parts: list[str] = []
+
+    def handle_starttag(self, tag, attrs):  # noqa: ANN001
+        if tag in self.HIDDEN or self.depth:
+            self.depth += tag not in {"br", "img", "meta", "link", "input", "hr"}
+
+    def handle_endtag(self, tag):  # noqa: ANN001
+        if self.depth:
+            self.depth -= 1
+
+    def handle_data(self, data):  # noqa: ANN001
+        if not self.depth:
+            self.parts.append(data)
+
+
+def visible_text(page: str) -> str:
+    parser = _Text()
+    parser.feed(page)
+    return " ".join(parser.parts)
+
+
+def test_docs_build_with_their_gallery_and_no_warning(site):
+    examples = sorted(p.stem for p in (DOCS / "examples").glob("plot_*.py"))
     assert len(examples) >= 6
     for name in examples:  # every example ran and drew at least one figure
-        assert (out / "auto_examples" / f"{name}.html").is_file()
-        assert list((out / "_images").glob(f"sphx_glr_{name}_001.png")), f"{name} drew no figure"
-    api = (out / "api.html").read_text()
-    assert "frictionflow.simulate" in api and "frictionflow.Trajectory" in api
-    assert (out / "generated" / "frictionflow.Trajectory.html").is_file()
+        assert (site / "auto_examples" / f"{name}.html").is_file()
+        assert list((site / "_images").glob(f"sphx_glr_{name}_001.png")), f"{name} drew no figure"
+
+
+def test_the_guide_has_every_page_in_its_table_of_contents(site):
+    index = (site / "guide" / "index.html").read_text()
+    for name in GUIDE:
+        assert (site / "guide" / f"{name}.html").is_file(), name
+        assert f'href="{name}.html"' in index, f"{name} is not in the guide's table of contents"
+    for page in ("cli", "api/index", "contributing", "changelog", "citation"):
+        assert f'href="{page}.html"' in (site / "index.html").read_text(), page
+    changelog = visible_text((site / "changelog.html").read_text())
+    assert "Unreleased" in changelog and "SwitchMode" in changelog  # CHANGELOG.md itself, rendered
+    assert "cff-version" in (site / "citation.html").read_text()
+
+
+def _commands() -> dict:
+    load_commands(None)
+    return typer.main.get_command(app).commands
+
+
+def test_the_command_line_reference_has_every_command_and_every_option(site):
+    page = (site / "cli.html").read_text()
+    commands = _commands()
+    assert set(commands) == set(COMMAND_MODULES)
+    for name, command in commands.items():
+        match = re.search(rf'<section id="frictionflow-{re.escape(name)}">(.*?)</section>', page, re.S)
+        assert match, f"no section for {name}"
+        text = visible_text(match.group(1))
+        for param in command.params:
+            for opt in param.opts:
+                if opt.startswith("-"):
+                    assert opt in text, f"{name}: {opt} missing from the reference"
+            if param.help:  # the help text is the command's own, not a paraphrase
+                assert " ".join(param.help.split())[:40] in " ".join(text.split()), f"{name} {param.name}"
+
+
+def _api_objects() -> list[str]:
+    """Every object the API pages document (their autofunction/autoclass directives)."""
+    names = []
+    for page in sorted((DOCS / "api").glob("*.rst")):
+        names += re.findall(r"^\.\. auto(?:function|class):: (\S+)", page.read_text(), re.M)
+    return names
+
+
+def _resolve(name: str):  # noqa: ANN202
+    module, _, attr = name.rpartition(".")
+    while True:
+        try:
+            obj = __import__(module, fromlist=["_"])
+            break
+        except ImportError:
+            module, _, head = module.rpartition(".")
+            attr = f"{head}.{attr}"
+    for part in attr.split("."):
+        obj = getattr(obj, part)
+    return obj
+
+
+def test_the_api_reference_is_grouped_by_topic_and_public(site):
+    topics = re.findall(r'class="reference internal" href="(\w+)\.html"', (site / "api" / "index.html").read_text())
+    assert 8 <= len(set(topics)) <= 15, topics  # topics in the sidebar, not one entry per name
+    names = _api_objects()
+    assert len(names) >= 80 and len(set(names)) == len(names)
+    for name in names:
+        assert not any(part.startswith("_") for part in name.split(".")), name
+        assert not name.startswith("frictionflow.core"), name
+        _resolve(name)
+    pages = {p.stem: p.read_text() for p in (site / "api").glob("*.html")}
+    assert "frictionflow.simulate" in pages["simulation"] and "frictionflow.Trajectory" in pages["simulation"]
+    for stem, page in pages.items():  # a summary is a sentence, not cut at an abbreviation
+        for cell in re.findall(r'<td><p>(.*?)</p></td>', page, re.S):
+            text = visible_text(cell).strip()
+            assert not re.search(r"\b(Eq|Eqs|Fig|Figs)\.$", text), f"{stem}: summary cut: {text!r}"
+
+
+def _documented(obj) -> set[str]:  # noqa: ANN001
+    """Names a NumPy docstring describes: Parameters, Other Parameters, and a class's Attributes."""
+    lines = str(NumpyDocstring(inspect.getdoc(obj) or "", Config(napoleon_use_param=True), what="class"))
+    names = set()
+    for field in re.findall(r"^:param ([^:]+):", lines, re.M) + re.findall(r"^\.\. attribute:: (\S+)", lines, re.M):
+        names.update(n.strip().lstrip("*") for n in field.split(","))
+    return names
+
+
+def _parameters(obj) -> list[str]:  # noqa: ANN001
+    target = obj.__init__ if inspect.isclass(obj) else obj
+    try:
+        sig = inspect.signature(target)
+    except (TypeError, ValueError):
+        return []
+    return [n for n, p in sig.parameters.items() if n not in ("self", "cls") and not n.startswith("_")
+            and not (inspect.isclass(obj) and issubclass(obj, BaseException))]
+
+
+#: public parameters still without a description, by object: this list may only shrink
+UNDESCRIBED: dict[str, set[str]] = {
+    "frictionflow.analyze": {'min_periods', 'rtol', 'traj', 'window'},
+    "frictionflow.Analysis": {'TR_B', 'amplitude', 'power', 'steady_state', 'trajectory'},
+    "frictionflow.steady_state": {'traj'},
+    "frictionflow.SteadyState": {'decay_rate', 'forced', 'forcing_multiple', 'heading', 'jitter', 'kind', 'limit',
+        'lyapunov', 'manual_window', 'n_periods', 'period', 'stability', 'stick_fraction', 'window'},
+    "frictionflow.sliding_equilibrium": {'friction', 'model', 'value'},
+    "frictionflow.SlidingEquilibrium": {'damping', 'eigenvalues', 'value', 'x'},
+    "frictionflow.power_flow": {'traj', 'window'},
+    "frictionflow.PowerFlow": {'P_belt', 'P_df', 'P_dv', 'P_ex', 'P_f', 'P_fin', 'P_heat', 'R_c', 'R_f',
+        'energy_residual', 'window'},
+    "frictionflow.instantaneous_power": {'traj'},
+    "frictionflow.transmissibility": {'traj', 'window'},
+    "frictionflow.amplitude": {'traj', 'window'},
+    "frictionflow.basins.Basins": {'attractors', 'codes', 'dataset', 'design', 'files', 'seconds', 'tolerances',
+        'vary'},
+    "frictionflow.basins.Attractor": {'amplitude', 'kind', 'members', 'name', 'period', 'stick_fraction', 'x_mid'},
+    "frictionflow.basins.Tolerances": {'amplitude', 'floor', 'period', 'stick'},
+    "frictionflow.basins.label_attractors": {'along', 'ds', 'tolerances'},
+    "frictionflow.basins.plot_basins": {'name', 'path', 'result'},
+    "frictionflow.basins.write_dataset": {'ds', 'name', 'path'},
+    "frictionflow.orbits.stability_map": {'heat', 'kw', 'law', 'model', 'sweep_out', 'sweep_shape', 't_end',
+        'x_param', 'x_values', 'y_param', 'y_range'},
+    "frictionflow.orbits.stability_chart": {'law', 'model', 'x_param', 'y_param'},
+    "frictionflow.orbits.StabilityChart": {'codim2', 'continued_in', 'curves', 'grid', 'grid_axis', 'heat',
+        'params', 'runs', 'span', 'sweep', 'x_param', 'y_param'},
+    "frictionflow.orbits.forced_map": {'heat', 'kw', 'law', 'model', 'sweep_out', 'sweep_shape', 'sweep_y_range',
+        't_end', 'x_param', 'x_range', 'y_param', 'y_values'},
+    "frictionflow.orbits.forced_chart": {'law', 'model', 'options'},
+    "frictionflow.orbits.ForcedChart": {'codim2', 'continued_in', 'curves', 'grid', 'grid_axis', 'heat', 'params',
+        'runs', 'span', 'sweep', 'x_param', 'y_param'},
+    "frictionflow.plotting.plot_run": {'name', 'path', 'result'},
+    "frictionflow.plotting.plot_trajectory": {'name', 'path', 'traj'},
+    "frictionflow.orbits.plotting.plot_orbit": {'name', 'orbit', 'path'},
+    "frictionflow.orbits.plotting.plot_bifurcation": {'name', 'path', 'result', 'sweep'},
+    "frictionflow.orbits.plot_forced_branches": {'branches', 'name', 'path', 'sweep'},
+    "frictionflow.io.write_trajectory": {'name', 'path', 'traj'},
+    "frictionflow.io.read_config": {'name', 'path'},
+    "frictionflow.frequency_response": {'friction', 'progress', 'solver', 'v0', 'x0'},
+    "frictionflow.LyapunovResult": {'exponents', 'friction', 'model', 'running', 'sections', 'settings', 'switches',
+        'times'},
+    "frictionflow.SlipLaw": {'stick_force'},
+    "frictionflow.friction.law_names": {'configurable', 'where'},
+    "frictionflow.friction.law_class": {'name'},
+    "frictionflow.orbits.find_orbit": {'friction', 'max_iter', 'model'},
+    "frictionflow.orbits.PeriodicOrbit": {'friction', 'iterations', 'measures', 'model', 'monodromy', 'period',
+        'residual', 'returns', 'segment', 'state'},
+    "frictionflow.orbits.multipliers": {'monodromy'},
+    "frictionflow.orbits.fd_monodromy": {'eps', 'friction', 'model', 'period', 'solver', 'state'},
+    "frictionflow.orbits.continuation": {'friction', 'model', 'options'},
+    "frictionflow.orbits.ContinuationSettings": {'max_period', 'max_step', 'v0', 'x0'},
+    "frictionflow.orbits.ContinuationResult": {'bifurcations', 'branches', 'param', 'params', 'start', 'stop',
+        'sweep'},
+    "frictionflow.orbits.Branch": {'end', 'kind', 'points', 'seed'},
+    "frictionflow.orbits.BranchPoint": {'eigenvalues', 'kind', 'measures', 'modes', 'multiplier', 'orbit', 'period',
+        'stability', 'stick_fraction', 'value', 'x'},
+    "frictionflow.orbits.Bifurcation": {'branch', 'detail', 'type', 'value'},
+    "frictionflow.orbits.sweep": {'friction', 'model', 'param', 'solver', 't_end', 'v0', 'values', 'x0'},
+    "frictionflow.orbits.find_forced_orbit": {'max_iter', 'transient_periods'},
+    "frictionflow.orbits.ForcedOrbit": {'TR_B', 'X_max', 'X_min', 'amplitude', 'averages', 'energy_residual',
+        'friction', 'hold_margin', 'iterations', 'm', 'min_gap', 'model', 'monodromy', 'multipliers', 'period',
+        'residual', 'settings', 'shortest_stick', 'state', 'stick_fraction', 'stick_phases', 'switches'},
+    "frictionflow.orbits.continue_forced": {'friction', 'm', 'model', 'options', 'orbit', 'parameter', 'settings',
+        'start', 'stop', 'v0', 'x0'},
+    "frictionflow.orbits.ForcedContinuationSettings": {'h_max', 'h_min'},
+    "frictionflow.orbits.ForcedBranch": {'end', 'events', 'friction', 'm', 'model', 'parameter', 'points',
+        'settings'},
+    "frictionflow.orbits.stroboscopic_sweep": {'friction', 'keep', 'model', 'parameter', 'steps',
+        'transient_periods', 'v0', 'values', 'x0'},
+    "frictionflow.orbits.branch_extrema": {'law', 'model', 'monitor', 'refine', 'result', 'returns'},
+    "frictionflow.orbits.continue_extremum": {'hi', 'law', 'lo', 'model', 'monitor', 'param', 'param2', 'returns',
+        'start', 'values2', 'width'},
+    "frictionflow.orbits.forced_branch_extrema": {'branch', 'monitor', 'refine'},
+    "frictionflow.orbits.continue_forced_extremum": {'hi', 'law', 'lo', 'm', 'model', 'monitor', 'param2',
+        'parameter', 'start', 'steps', 'values2', 'width'},
+    "frictionflow.orbits.Extremum": {'branch', 'extra', 'kind', 'method', 'monitor', 'monitor_value', 'param',
+        'value', 'x'},
+    "frictionflow.paper.compute": {'settings'},
+    "frictionflow.paper.evaluate": {'data'},
+    "frictionflow.paper.Settings": {'band_t_end', 'shown_dt', 'window_step'},
+    "frictionflow.paper.Summary": {'claims', 'data', 'files', 'out_dir', 'report', 'seconds', 'settings',
+        'timings'},
+    "frictionflow.paper.Claim": {'evidence', 'figure', 'key', 'quote', 'verdict'},
+    "frictionflow.DimensionalParams": {'c', 'f_d', 'f_ex', 'f_ms', 'k', 'l_0', 'm', 'phi_ex', 'v_b', 'v_d', 'w_ex'},
+    "frictionflow.Trajectory": {'contact_names', 'friction'},
+    "frictionflow.solvers.auto_solver": {'friction'},
+    "frictionflow.sweep.run_sweep": {'out', 'progress'},
+    "frictionflow.sweep.SweepConfig": {'axes', 'fixed', 'run', 'sample', 'source'},
+    "frictionflow.sweep.load_sweep": {'path'},
+    "frictionflow.sweep.parse_sweep": {'check_points', 'source', 'values'},
+    "frictionflow.sweep.verify_sweep": {'path'},
+    "frictionflow.sweep.repair_sweep": {'config', 'lock_stale_after', 'out'},
+    "frictionflow.sweep.plot_map": {'ds', 'log', 'name', 'path', 'sel', 'var', 'x', 'y'},
+    "frictionflow.sweep.plot_cut": {'ds', 'hue', 'name', 'path', 'sel', 'var', 'x'},
+}
+
+
+def test_every_public_parameter_is_described():
+    missing = {}
+    for name in _api_objects():
+        obj = _resolve(name)
+        if inspect.isclass(obj) and (obj.__init__ is object.__init__ or issubclass(obj, enum.Enum)):
+            continue
+        lacking = set(_parameters(obj)) - _documented(obj)
+        if lacking:
+            missing[name] = lacking
+    for name, lacking in UNDESCRIBED.items():  # the allowance holds only what is still missing
+        assert lacking <= missing.get(name, set()), f"{name}: {lacking - missing.get(name, set())} now described"
+    extra = {n: sorted(v - UNDESCRIBED.get(n, set())) for n, v in missing.items() if v - UNDESCRIBED.get(n, set())}
+    assert not extra, f"parameters without a description: {extra}"
+
+
+def test_the_equations_use_the_mathjax_shipped_with_the_site(site):
+    bundle = site / "_static" / "mathjax"
+    assert (bundle / "tex-chtml.js").stat().st_size > 100_000
+    assert list((bundle / "output" / "chtml" / "fonts" / "woff-v2").glob("MathJax_Main-Regular.woff"))
+    for page in [site / "guide" / "model.html", site / "guide" / "power_flow.html", site / "index.html"]:
+        text = page.read_text()
+        assert 'class="math' in text, f"{page.name} has no equation to check"
+        scripts = re.findall(r'<script[^>]*\bsrc="([^"]+)"', text)
+        assert any(s.endswith("_static/mathjax/tex-chtml.js") and not s.startswith(("http:", "https:", "//"))
+                   for s in scripts), scripts
+        assert not [s for s in scripts if s.startswith(("http:", "https:", "//"))], scripts
+
+
+def _browser() -> str | None:
+    given = os.environ.get("FRICTIONFLOW_CHROMIUM")
+    if given:
+        return given
+    for name in BROWSERS:
+        if path := shutil.which(name):
+            return path
+    for path in sorted(Path.home().glob(".cache/ms-playwright/*/*/chrome*")):  # a playwright install, if any
+        if path.is_file() and os.access(path, os.X_OK):
+            return str(path)
+    return None
+
+
+def test_equations_render_offline_in_headless_chromium(site):
+    browser = _browser()
+    if browser is None:
+        pytest.skip("no headless Chromium (pip cannot install one; Debian: apt-get install chromium-headless-shell)")
+    for page in ("guide/model.html", "guide/power_flow.html", "index.html"):
+        source = (site / page).read_text()
+        equations = source.count('class="math notranslate nohighlight"')
+        assert equations > 0
+        cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+               "--host-resolver-rules=MAP * ~NOTFOUND",  # no network: every host name fails
+               "--virtual-time-budget=30000", "--dump-dom", (site / page).as_uri()]
+        done = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+        assert done.returncode == 0, done.stderr[-2000:]
+        dom = done.stdout
+        text = visible_text(dom)
+        for raw in ("\\(", "\\)", "\\[", "\\begin", "$$"):
+            assert raw not in text, f"{page}: raw TeX {raw!r} in the visible text"
+        assert dom.count("<mjx-container") == equations, f"{page}: not every equation typeset"
