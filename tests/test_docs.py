@@ -38,6 +38,7 @@ pytest.importorskip("sphinx-mathjax-offline")
 
 import typer  # noqa: E402
 from sphinx.ext.napoleon import Config, NumpyDocstring  # noqa: E402
+from sphinx.pycode import ModuleAnalyzer  # noqa: E402
 
 from frictionflow.cli import COMMAND_MODULES, app, load_commands  # noqa: E402
 
@@ -176,10 +177,14 @@ def test_the_api_reference_is_grouped_by_topic_and_public(site):
 
 
 def _documented(obj) -> set[str]:  # noqa: ANN001
-    """Names a NumPy docstring describes: Parameters, Other Parameters, and a class's Attributes."""
+    """Names a NumPy docstring describes (Parameters, Other Parameters, a class's Attributes), and ``#:`` fields."""
     lines = str(NumpyDocstring(inspect.getdoc(obj) or "", Config(napoleon_use_param=True), what="class"))
     names = set()
-    for field in re.findall(r"^:param ([^:]+):", lines, re.M) + re.findall(r"^\.\. attribute:: (\S+)", lines, re.M):
+    if inspect.isclass(obj):  # a dataclass field documented by a "#:" comment is an attribute on the page
+        for klass in (k for k in obj.__mro__ if k.__module__.startswith("frictionflow")):
+            docs = ModuleAnalyzer.for_module(klass.__module__).find_attr_docs()
+            names.update(attr for (scope, attr), doc in docs.items() if scope == klass.__qualname__ and "".join(doc).strip())
+    for field in re.findall(r"^:param ([^:]+):", lines, re.M) + re.findall(r"^\.\. attribute:: (.+)$", lines, re.M):
         names.update(n.strip().lstrip("*") for n in field.split(","))
     return names
 
@@ -196,26 +201,6 @@ def _parameters(obj) -> list[str]:  # noqa: ANN001
 
 #: public parameters still without a description, by object: this list may only shrink
 UNDESCRIBED: dict[str, set[str]] = {
-    "frictionflow.analyze": {'min_periods', 'rtol', 'traj', 'window'},
-    "frictionflow.Analysis": {'TR_B', 'amplitude', 'power', 'steady_state', 'trajectory'},
-    "frictionflow.steady_state": {'traj'},
-    "frictionflow.SteadyState": {'decay_rate', 'forced', 'forcing_multiple', 'heading', 'jitter', 'kind', 'limit',
-        'lyapunov', 'manual_window', 'n_periods', 'period', 'stability', 'stick_fraction', 'window'},
-    "frictionflow.sliding_equilibrium": {'friction', 'model', 'value'},
-    "frictionflow.SlidingEquilibrium": {'damping', 'eigenvalues', 'value', 'x'},
-    "frictionflow.power_flow": {'traj', 'window'},
-    "frictionflow.PowerFlow": {'P_belt', 'P_df', 'P_dv', 'P_ex', 'P_f', 'P_fin', 'P_heat', 'R_c', 'R_f',
-        'energy_residual', 'window'},
-    "frictionflow.instantaneous_power": {'traj'},
-    "frictionflow.transmissibility": {'traj', 'window'},
-    "frictionflow.amplitude": {'traj', 'window'},
-    "frictionflow.basins.Basins": {'attractors', 'codes', 'dataset', 'design', 'files', 'seconds', 'tolerances',
-        'vary'},
-    "frictionflow.basins.Attractor": {'amplitude', 'kind', 'members', 'name', 'period', 'stick_fraction', 'x_mid'},
-    "frictionflow.basins.Tolerances": {'amplitude', 'floor', 'period', 'stick'},
-    "frictionflow.basins.label_attractors": {'along', 'ds', 'tolerances'},
-    "frictionflow.basins.plot_basins": {'name', 'path', 'result'},
-    "frictionflow.basins.write_dataset": {'ds', 'name', 'path'},
     "frictionflow.orbits.stability_map": {'heat', 'kw', 'law', 'model', 'sweep_out', 'sweep_shape', 't_end',
         'x_param', 'x_values', 'y_param', 'y_range'},
     "frictionflow.orbits.stability_chart": {'law', 'model', 'x_param', 'y_param'},
@@ -231,21 +216,12 @@ UNDESCRIBED: dict[str, set[str]] = {
     "frictionflow.orbits.plotting.plot_orbit": {'name', 'orbit', 'path'},
     "frictionflow.orbits.plotting.plot_bifurcation": {'name', 'path', 'result', 'sweep'},
     "frictionflow.orbits.plot_forced_branches": {'branches', 'name', 'path', 'sweep'},
-    "frictionflow.io.write_trajectory": {'name', 'path', 'traj'},
-    "frictionflow.io.read_config": {'name', 'path'},
-    "frictionflow.frequency_response": {'friction', 'progress', 'solver', 'v0', 'x0'},
-    "frictionflow.LyapunovResult": {'exponents', 'friction', 'model', 'running', 'sections', 'settings', 'switches',
-        'times'},
-    "frictionflow.SlipLaw": {'stick_force'},
-    "frictionflow.friction.law_names": {'configurable', 'where'},
-    "frictionflow.friction.law_class": {'name'},
     "frictionflow.orbits.find_orbit": {'friction', 'max_iter', 'model'},
     "frictionflow.orbits.PeriodicOrbit": {'friction', 'iterations', 'measures', 'model', 'monodromy', 'period',
         'residual', 'returns', 'segment', 'state'},
     "frictionflow.orbits.multipliers": {'monodromy'},
     "frictionflow.orbits.fd_monodromy": {'eps', 'friction', 'model', 'period', 'solver', 'state'},
     "frictionflow.orbits.continuation": {'friction', 'model', 'options'},
-    "frictionflow.orbits.ContinuationSettings": {'max_period', 'max_step', 'v0', 'x0'},
     "frictionflow.orbits.ContinuationResult": {'bifurcations', 'branches', 'param', 'params', 'start', 'stop',
         'sweep'},
     "frictionflow.orbits.Branch": {'end', 'kind', 'points', 'seed'},
@@ -259,7 +235,6 @@ UNDESCRIBED: dict[str, set[str]] = {
         'residual', 'settings', 'shortest_stick', 'state', 'stick_fraction', 'stick_phases', 'switches'},
     "frictionflow.orbits.continue_forced": {'friction', 'm', 'model', 'options', 'orbit', 'parameter', 'settings',
         'start', 'stop', 'v0', 'x0'},
-    "frictionflow.orbits.ForcedContinuationSettings": {'h_max', 'h_min'},
     "frictionflow.orbits.ForcedBranch": {'end', 'events', 'friction', 'm', 'model', 'parameter', 'points',
         'settings'},
     "frictionflow.orbits.stroboscopic_sweep": {'friction', 'keep', 'model', 'parameter', 'steps',
@@ -274,15 +249,12 @@ UNDESCRIBED: dict[str, set[str]] = {
         'value', 'x'},
     "frictionflow.paper.compute": {'settings'},
     "frictionflow.paper.evaluate": {'data'},
-    "frictionflow.paper.Settings": {'band_t_end', 'shown_dt', 'window_step'},
     "frictionflow.paper.Summary": {'claims', 'data', 'files', 'out_dir', 'report', 'seconds', 'settings',
         'timings'},
     "frictionflow.paper.Claim": {'evidence', 'figure', 'key', 'quote', 'verdict'},
     "frictionflow.DimensionalParams": {'c', 'f_d', 'f_ex', 'f_ms', 'k', 'l_0', 'm', 'phi_ex', 'v_b', 'v_d', 'w_ex'},
-    "frictionflow.Trajectory": {'contact_names', 'friction'},
-    "frictionflow.solvers.auto_solver": {'friction'},
     "frictionflow.sweep.run_sweep": {'out', 'progress'},
-    "frictionflow.sweep.SweepConfig": {'axes', 'fixed', 'run', 'sample', 'source'},
+    "frictionflow.sweep.SweepConfig": {'axes', 'fixed', 'run', 'source'},
     "frictionflow.sweep.load_sweep": {'path'},
     "frictionflow.sweep.parse_sweep": {'check_points', 'source', 'values'},
     "frictionflow.sweep.verify_sweep": {'path'},

@@ -277,7 +277,18 @@ def write_figure(fig, path: str | Path, name: str = "path", *, close: bool = Tru
 # -- trajectories and configs ---------------------------------------------------------------------
 
 def write_trajectory(traj: Trajectory, path: str | Path, *, name: str = "out") -> Path:
-    """Write ``traj`` as CSV or NetCDF, chosen by the extension; ``name`` is the option named in errors."""
+    """Write ``traj`` as CSV or NetCDF, chosen by the extension; ``name`` is the option named in errors.
+
+    Parameters
+    ----------
+    traj:
+        A run, from :func:`~frictionflow.simulate`.
+    path:
+        ``*.csv`` (one row per sample: tau, X, V, F_c, mode and the work integrals) or ``*.nc`` (the
+        dataset of :meth:`~frictionflow.Trajectory.to_xarray`).
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--out``).
+    """
     p = check_output_path(path, TRAJECTORY_FORMATS, name)
     with atomic_write(p, name) as tmp:
         if p.suffix.lower() == ".nc":
@@ -290,7 +301,16 @@ def write_trajectory(traj: Trajectory, path: str | Path, *, name: str = "out") -
 
 
 def read_config(path: str | Path, name: str = "config") -> dict[str, Any]:
-    """Parse a TOML config; a missing, unreadable or malformed file raises ValueError naming ``name``."""
+    """Parse a TOML config; a missing, unreadable or malformed file raises ValueError naming ``name``.
+
+    Parameters
+    ----------
+    path:
+        The TOML file.
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--config``).
+    """
+
     p = check_input_path(path, name)
     try:
         with open(p, "rb") as f:

@@ -38,8 +38,18 @@ from .transmissibility import amplitude_of
 class SlidingEquilibrium:
     """X* = F(V_b), its effective damping 2 zeta + F'(V_b) and what follows from it.
 
-    ``value`` is the parameter value it was computed at along a parameter
-    (continuation), NaN otherwise.
+    Attributes
+    ----------
+    x:
+        X* = F(V_b), the displacement at which the spring balances the slip
+        force (NaN where the law holds the mass instead).
+    damping:
+        The effective damping 2 zeta + F'(V_b): > 0 stable, < 0 unstable.
+    eigenvalues:
+        The two eigenvalues of the slip vector field's Jacobian at X*.
+    value:
+        The parameter value it was computed at along a parameter
+        (continuation), NaN otherwise.
     """
 
     x: float
@@ -76,7 +86,18 @@ def sliding_equilibrium(model: BeltOscillator, friction: FrictionLaw, value: flo
     """The equilibrium of steady sliding at V_r = V_b and its linear stability.
 
     X* is NaN where the law holds the mass instead (inside Karnopp's band).
+
+    Parameters
+    ----------
+    model:
+        The oscillator (its zeta and V_b).
+    friction:
+        The friction law (its slip force and slope at V_b).
+    value:
+        A parameter value to record with the result (continuation); NaN
+        by default.
     """
+
     c = 2.0 * model.zeta + friction.slip_slope(abs(model.vb))
     return SlidingEquilibrium(x=friction.sliding_equilibrium(model.vb), damping=c, eigenvalues=eigenvalues(c), value=value)
 

@@ -52,12 +52,29 @@ SWITCH_NAMES = ("stick_onsets", "slip_onsets", "slip_reversals", "held_at_limit"
 class LyapunovResult(Summarized):
     """Both Lyapunov exponents of a run, their running estimates and what happened on the way.
 
-    ``exponents``: (lambda_1, lambda_2), largest first (lambda_2 may be -inf,
-    see the module docstring).  ``running``: the estimates after each
-    averaged block (rows; column i is lambda_i), at ``times`` (time since the
-    transient ended).  ``sections``: (X, X', mode) at every block end, the
-    transient's included (forced: the stroboscopic sequence).
+    Attributes
+    ----------
+    model, friction:
+        What was run.
+    exponents:
+        (lambda_1, lambda_2), largest first (lambda_2 may be -inf, see the
+        module docstring).
+    running:
+        The estimates after each averaged block (rows; column i is
+        lambda_i).
+    times:
+        The time of each row of ``running``, since the transient ended.
+    switches:
+        How many switches of each kind the run went through, by name
+        (stick onsets, slip onsets, slip reversals, holds at the limit,
+        grazing touches).
+    sections:
+        (X, X', mode) at every block end, the transient's included (forced:
+        the stroboscopic sequence).
+    settings:
+        The run's settings (transient, end, block, steps per block).
     """
+
 
     model: BeltOscillator
     friction: FrictionLaw

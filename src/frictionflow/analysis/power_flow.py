@@ -54,6 +54,27 @@ class PowerFlow:
     to the friction input W_fin; when W_fin is below 1e-12 of the stored
     energy times the window length (an equilibrium), relative to the latter
     (see :func:`frictionflow.core.sections.averages`).
+
+    Attributes
+    ----------
+    window:
+        (t0, t1), the times averaged over.
+    energy_residual:
+        The power balance's relative residual over the window (above).
+    P_dv:
+        Mean power the damper dissipates, 2 zeta X'^2.
+    P_fin, P_df:
+        Mean power friction puts in, max(P_f, 0), and takes out,
+        max(-P_f, 0).
+    R_c, R_f:
+        P_dv / P_fin and P_df / P_fin (NaN when P_fin is rounding).
+    P_belt, P_heat:
+        Mean power the belt delivers, F_c V_b, and the heat made at the
+        interface, F_c V_r (P_f = P_belt - P_heat).
+    P_f:
+        Mean friction power X' F_c.
+    P_ex:
+        Mean power of the external force (0 unforced).
     """
 
     window: tuple[float, float]
@@ -75,6 +96,13 @@ class PowerFlow:
 
 def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> PowerFlow:
     """Time-averaged power flow of ``traj`` over ``window`` (whole run if None).
+
+    Parameters
+    ----------
+    traj:
+        A run, from :func:`~frictionflow.simulate`.
+    window:
+        (t0, t1), or None for the whole run.
 
     ``window`` = (t0, t1), any times of the run's span with t0 < t1: the
     averages are over exactly that window.  Where an end falls between
@@ -109,7 +137,20 @@ def _checked_window(traj: Trajectory, window: tuple[float, float]) -> tuple[floa
 
 
 def instantaneous_power(traj: Trajectory) -> dict[str, np.ndarray]:
-    """Eq. 8 term by term at every sample: K', U', P_dv, P_f, P_belt, P_heat, P_ex."""
+    """Eq. 8 term by term at every sample: K', U', P_dv, P_f, P_belt, P_heat, P_ex.
+
+    Parameters
+    ----------
+    traj:
+        A run, from :func:`~frictionflow.simulate`.
+
+    Returns
+    -------
+    dict
+        ``K_dot``, ``U_dot``, ``P_dv``, ``P_f``, ``P_belt``, ``P_heat``,
+        ``P_ex``: arrays over the samples ``traj.t``.
+    """
+
     v, fc = traj.v, traj.fc
     p_f = v * fc
     slipping = traj.mode != 0

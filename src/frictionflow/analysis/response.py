@@ -58,15 +58,25 @@ def frequency_response(
     ----------
     model:
         The oscillator with its forcing amplitude ``fex`` > 0 (its ``omega`` is replaced by each of ``omegas``).
+    friction:
+        The friction law.
     omegas:
         Forcing frequencies (> 0), in increasing order.
+    solver:
+        A solver that supports forcing; default: the law's (exact for piecewise-constant laws, else adaptive).
     periods:
         Forcing periods simulated at each frequency (the analysis reads the second half).
     directions:
         ``"up"`` (increasing Omega), ``"down"``, or both (default): each sweep starts from (x0, v0).
+    x0, v0:
+        The state each sweep starts from, at its first frequency; every later frequency starts from the
+        state the previous one ended in.
     rtol:
         Steady-state tolerance (default: the solver's, as :func:`~frictionflow.analysis.analyze`).
+    progress:
+        Draw a progress bar on stderr.
     """
+
     omegas = _checked_omegas(omegas)
     if not model.forced:
         raise ValueError("fex must be > 0 for a frequency response (the forcing amplitude), got 0")

@@ -50,7 +50,47 @@ HEADINGS = {sec.HEAD_NONE: None, sec.HEAD_EQUILIBRIUM: "equilibrium", sec.HEAD_P
 
 @dataclass(frozen=True)
 class SteadyState:
-    """What the run settled on, and the window to average over."""
+    """What the run settled on, and the window to average over.
+
+    Attributes
+    ----------
+    kind:
+        ``periodic``, ``equilibrium``, ``not_settled`` or ``diverged``;
+        forced runs also ``quasi_periodic`` or ``chaotic``.
+    window:
+        (t0, t1), the window the averages are taken over.
+    period:
+        The period of a periodic steady state (else None).
+    n_periods:
+        How many periods (forced: repetitions of the section) repeat at the
+        end of the run.
+    decay_rate:
+        Not settled: the rate at which the amplitude decays (negative: grows).
+    heading:
+        Not settled: where the motion is heading (``equilibrium``,
+        ``periodic``, ``growing``), or None.
+    limit:
+        Where it is heading or resting: ``{"x": X*}`` for an equilibrium,
+        ``{"amplitude", "x_center"}`` of the limit cycle by Aitken
+        extrapolation; None otherwise.
+    manual_window:
+        True when the window was given (``window=``), not detected.
+    stability:
+        ``stable``, ``unstable`` or ``neutral`` where the solver knows it
+        (the equilibrium's linear stability), else None.
+    stick_fraction:
+        The fraction of the window the mass spends sticking.
+    jitter:
+        Fixed-step RK4 through a stick band: the spread of the section
+        values accepted as periodic.
+    forcing_multiple:
+        Forced and periodic: the period in forcing periods, m.
+    lyapunov:
+        Forced: the largest Lyapunov exponent, where the classification
+        needed it.
+    forced:
+        Whether the run was forced (the keys its report carries).
+    """
 
     kind: str
     window: tuple[float, float]
@@ -165,7 +205,10 @@ def steady_state(
 
     Parameters
     ----------
+    traj:
+        A run, from :func:`~frictionflow.simulate`.
     rtol:
+
         Convergence tolerance relative to the motion's scale
         max(range of X, range of X', |V_b|, F_d).
     min_periods:

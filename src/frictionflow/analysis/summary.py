@@ -22,6 +22,19 @@ class Analysis(Summarized):
 
     Shows itself as a short summary (``repr``, and a table in notebooks);
     :meth:`plot` draws the run.
+
+    Attributes
+    ----------
+    trajectory:
+        The run analysed.
+    steady_state:
+        What it settled on, and the window (:class:`SteadyState`).
+    power:
+        The averages over that window (:class:`PowerFlow`).
+    TR_B:
+        The force transmissibility over that window.
+    amplitude:
+        ``X_min``, ``X_max``, ``V_min``, ``V_max`` over that window.
     """
 
     trajectory: Trajectory
@@ -120,7 +133,21 @@ def analyze(
     For an equilibrium the averages, TR_B and amplitudes are those of the
     equilibrium itself (the motion left over the tail is below the
     convergence tolerance) and the energy residual is that of the whole run.
+
+    Parameters
+    ----------
+    traj:
+        A run, from :func:`~frictionflow.simulate`.
+    window:
+        (t0, t1) to average over instead of the detected window; the kind
+        is still the detected one.
+    rtol:
+        The steady-state tolerance, relative to the motion's scale
+        (default: the solver's: RK4 1e-6, adaptive 1e-8, exact 1e-10).
+    min_periods:
+        Number of consecutive repeated periods a periodic orbit needs.
     """
+
     if not isinstance(traj, Trajectory):  # a model or law passed by mistake would fail deep inside
         raise TypeError(f"analyze: traj must be a Trajectory (from simulate(model, friction, ...)), "
                         f"got {type(traj).__name__}")

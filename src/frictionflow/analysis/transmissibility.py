@@ -27,6 +27,13 @@ def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None
     """TR_B = max |F_tB| / F_ex over the window, F_tB = X + 2 zeta X' (Eq. 6; F_ex = F_d unforced).
 
     NaN when the reference force is 0 (no excitation level to refer to).
+
+    Parameters
+    ----------
+    traj:
+        A run, from :func:`~frictionflow.simulate`.
+    window:
+        (t0, t1), or None for the whole run.
     """
     ref = excitation_level(traj)
     if ref <= 0:
@@ -36,7 +43,16 @@ def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None
 
 
 def amplitude(traj: Trajectory, window: tuple[float, float] | None = None) -> dict[str, float]:
-    """Extremes of X and X' over the window (the table's ``amplitude`` quantities, in its order)."""
+    """Extremes of X and X' over the window (the table's ``amplitude`` quantities, in its order).
+
+    Parameters
+    ----------
+    traj:
+        A run, from :func:`~frictionflow.simulate`.
+    window:
+        (t0, t1), or None for the whole run.
+    """
+
     s = _slice(traj, window)
     x, v = traj.x[s], traj.v[s]
     found = {"X_min": x.min(), "X_max": x.max(), "V_min": v.min(), "V_max": v.max()}

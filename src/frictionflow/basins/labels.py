@@ -73,12 +73,12 @@ class Tolerances:
 class Attractor:
     """One attractor found among some points: its name, kind and representative (median) steady state."""
 
-    name: str
+    name: str  #: ``equilibrium``, ``slip_cycle``, ``stick_slip_cycle`` (``_2``, ``_3``, ... by amplitude)
     kind: str  #: ``equilibrium`` or ``periodic``
     members: np.ndarray  #: flat indices of its points
-    period: float
-    amplitude: float
-    stick_fraction: float
+    period: float  #: the median period of its points (NaN for the equilibrium)
+    amplitude: float  #: the median amplitude X_max - X_min of its points
+    stick_fraction: float  #: the median stick fraction of its points
     x_mid: float  #: (X_max + X_min) / 2: X* for the equilibrium
 
 
@@ -212,7 +212,19 @@ def label_attractors(ds, along: str | None = None, tolerances: Tolerances | None
     ``outcome`` dimension (the codes: attractors 0.., -1 not settled, -2
     diverged) and the :data:`TABLES` over ([``along``,] ``outcome``).
     Returns the new dataset and, per group, the attractors found.
+
+    Parameters
+    ----------
+    ds:
+        A finished sweep over initial states (every point has a result).
+    along:
+        A swept parameter to label separately at each of its values, or
+        None to label all points together.
+    tolerances:
+        How close two points' steady states must be to count as one
+        attractor (default :class:`Tolerances`).
     """
+
     import xarray as xr
 
     tol = tolerances or Tolerances()

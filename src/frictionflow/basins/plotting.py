@@ -23,7 +23,22 @@ def colour(name: str, i: int) -> str:
 
 @draws(Basins)
 def plot_basins(result: Basins, path: str | Path | None = None, *, name: str = "path"):
-    """The basin map, or with ``vary`` the basin-stability curves; saved atomically to ``path`` if given."""
+    """The basin map, or with ``vary`` the basin-stability curves; saved atomically to ``path`` if given.
+
+    Parameters
+    ----------
+    result:
+        What :func:`basins` returned.
+    path:
+        A file to save the figure to (PNG, PDF or SVG by its extension), or None.
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--plot``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+
     import matplotlib
 
     if path is not None:

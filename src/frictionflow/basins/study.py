@@ -44,6 +44,27 @@ class Basins(Summarized):
     ``attractor_period``, ...; see :data:`~frictionflow.basins.labels.TABLES`).
     ``attractors`` lists, per value of the varied parameter (one entry
     without ``vary``), the attractors found there.
+
+    Attributes
+    ----------
+    dataset:
+        The labelled ``xarray.Dataset`` (above).
+    attractors:
+        Per value of the varied parameter, the :class:`Attractor` s found.
+    codes:
+        The code of every outcome by name (attractors 0, 1, ...,
+        ``not_settled`` -1, ``diverged`` -2).
+    tolerances:
+        The :class:`Tolerances` the labels were given with.
+    design:
+        How the initial states were chosen: the grid or the random sample
+        (ranges, number, seed).
+    vary:
+        The varied parameter of a basin-stability study, or None.
+    seconds:
+        Wall time of the whole computation.
+    files:
+        The files written, by role (``out``, ``plot``, ...).
     """
 
     dataset: Any
@@ -351,7 +372,18 @@ class _sweep_store:
 
 
 def write_dataset(ds, path: str | Path, name: str = "out") -> Path:
-    """Write ``ds`` as NetCDF or (consolidated) Zarr by the extension, atomically: complete or not at all."""
+    """Write ``ds`` as NetCDF or (consolidated) Zarr by the extension, atomically: complete or not at all.
+
+    Parameters
+    ----------
+    ds:
+        The dataset to write.
+    path:
+        ``*.nc`` (NetCDF) or any other name (a Zarr store).
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--out``).
+    """
+
     p = Path(path)
     if p.suffix.lower() == ".nc":
         with atomic_write(p, name) as tmp:

@@ -34,8 +34,15 @@ def register(cls: type["FrictionLaw"]) -> type["FrictionLaw"]:
 
 
 def law_names(configurable: bool = True, where: Callable[[type["FrictionLaw"]], bool] | None = None) -> tuple[str, ...]:
-    """Names of the registered laws (``configurable``: only those a config or the CLI can build; ``where``:
-    only those whose class passes it, e.g. ``lambda law: law.has_tangent_kernel``, for messages)."""
+    """Names of the registered laws, in the order they were registered.
+
+    Parameters
+    ----------
+    configurable:
+        Only those a config or the command line can build (not ``SlipLaw``, which takes a function).
+    where:
+        Only those whose class passes this test, e.g. ``lambda law: law.has_tangent_kernel`` (for messages).
+    """
     return tuple(n for n, c in _LAWS.items() if (c.configurable or not configurable) and (where is None or where(c)))
 
 
@@ -54,7 +61,14 @@ def law_classes() -> tuple[type["FrictionLaw"], ...]:
 
 
 def law_class(name: str) -> type["FrictionLaw"]:
-    """The law registered as ``name``; ValueError listing the names otherwise."""
+    """The law registered as ``name``; ValueError listing the names otherwise.
+
+    Parameters
+    ----------
+    name:
+        A name of :func:`law_names` (``karnopp``, ``coulomb``, ...).
+    """
+
     cls = _LAWS.get(name)
     if cls is None or not cls.configurable:
         raise ValueError(f"friction must be one of {', '.join(law_names())}, got {name!r}")

@@ -50,7 +50,11 @@ class SlipLaw(FrictionLaw):
     dfunc:
         Optional derivative of ``func`` (for the equilibrium's stability); by
         default a central difference.
+    stick_force:
+        The force held while sticking: ``resultant`` X + 2 zeta X' (default)
+        or ``spring`` X (the paper's).
     """
+
 
     name = "user"
     code = layout.STRIBECK  # only the adaptive solver runs it, rebuilt around the user's function

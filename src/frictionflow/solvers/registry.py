@@ -49,7 +49,14 @@ def solver_class(name: str, friction: FrictionLaw) -> type[Solver]:
 
 
 def auto_solver(friction: FrictionLaw) -> Solver:
-    """The default solver for ``friction``."""
+    """The default solver for ``friction``: :class:`Exact` for piecewise-constant laws, else :class:`Adaptive`.
+
+    Parameters
+    ----------
+    friction:
+        A friction law.
+    """
+
     return Exact() if friction.piecewise_constant else Adaptive()
 
 
