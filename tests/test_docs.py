@@ -185,7 +185,7 @@ def _documented(obj) -> set[str]:  # noqa: ANN001
             docs = ModuleAnalyzer.for_module(klass.__module__).find_attr_docs()
             names.update(attr for (scope, attr), doc in docs.items() if scope == klass.__qualname__ and "".join(doc).strip())
     for field in re.findall(r"^:param ([^:]+):", lines, re.M) + re.findall(r"^\.\. attribute:: (.+)$", lines, re.M):
-        names.update(n.strip().lstrip("*") for n in field.split(","))
+        names.update(n.strip().lstrip("\\*") for n in field.split(","))
     return names
 
 
@@ -201,16 +201,6 @@ def _parameters(obj) -> list[str]:  # noqa: ANN001
 
 #: public parameters still without a description, by object: this list may only shrink
 UNDESCRIBED: dict[str, set[str]] = {
-    "frictionflow.orbits.stability_map": {'heat', 'kw', 'law', 'model', 'sweep_out', 'sweep_shape', 't_end',
-        'x_param', 'x_values', 'y_param', 'y_range'},
-    "frictionflow.orbits.stability_chart": {'law', 'model', 'x_param', 'y_param'},
-    "frictionflow.orbits.StabilityChart": {'codim2', 'continued_in', 'curves', 'grid', 'grid_axis', 'heat',
-        'params', 'runs', 'span', 'sweep', 'x_param', 'y_param'},
-    "frictionflow.orbits.forced_map": {'heat', 'kw', 'law', 'model', 'sweep_out', 'sweep_shape', 'sweep_y_range',
-        't_end', 'x_param', 'x_range', 'y_param', 'y_values'},
-    "frictionflow.orbits.forced_chart": {'law', 'model', 'options'},
-    "frictionflow.orbits.ForcedChart": {'codim2', 'continued_in', 'curves', 'grid', 'grid_axis', 'heat', 'params',
-        'runs', 'span', 'sweep', 'x_param', 'y_param'},
     "frictionflow.plotting.plot_run": {'name', 'path', 'result'},
     "frictionflow.plotting.plot_trajectory": {'name', 'path', 'traj'},
     "frictionflow.orbits.plotting.plot_orbit": {'name', 'orbit', 'path'},
@@ -221,14 +211,6 @@ UNDESCRIBED: dict[str, set[str]] = {
         'residual', 'returns', 'segment', 'state'},
     "frictionflow.orbits.multipliers": {'monodromy'},
     "frictionflow.orbits.fd_monodromy": {'eps', 'friction', 'model', 'period', 'solver', 'state'},
-    "frictionflow.orbits.continuation": {'friction', 'model', 'options'},
-    "frictionflow.orbits.ContinuationResult": {'bifurcations', 'branches', 'param', 'params', 'start', 'stop',
-        'sweep'},
-    "frictionflow.orbits.Branch": {'end', 'kind', 'points', 'seed'},
-    "frictionflow.orbits.BranchPoint": {'eigenvalues', 'kind', 'measures', 'modes', 'multiplier', 'orbit', 'period',
-        'stability', 'stick_fraction', 'value', 'x'},
-    "frictionflow.orbits.Bifurcation": {'branch', 'detail', 'type', 'value'},
-    "frictionflow.orbits.sweep": {'friction', 'model', 'param', 'solver', 't_end', 'v0', 'values', 'x0'},
     "frictionflow.orbits.find_forced_orbit": {'max_iter', 'transient_periods'},
     "frictionflow.orbits.ForcedOrbit": {'TR_B', 'X_max', 'X_min', 'amplitude', 'averages', 'energy_residual',
         'friction', 'hold_margin', 'iterations', 'm', 'min_gap', 'model', 'monodromy', 'multipliers', 'period',

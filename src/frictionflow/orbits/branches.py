@@ -22,9 +22,32 @@ POINT_POWER = tuple(n for n in Q.PAPER_AVERAGES if n != "P_f")
 class BranchPoint:
     """One solution on a branch: an equilibrium or a periodic orbit at parameter ``value``.
 
-    ``x`` is X* for an equilibrium and the orbit's X on the section X' = 0
-    for a periodic orbit.  ``multiplier`` is the nontrivial Floquet
-    multiplier of an orbit; ``eigenvalues`` those of an equilibrium.
+    Attributes
+    ----------
+    value:
+        The parameter's value.
+    kind:
+        ``equilibrium`` or ``periodic``.
+    stability:
+        ``stable``, ``unstable`` or ``neutral``.
+    x:
+        X* for an equilibrium; the orbit's X on the section X' = 0 for a
+        periodic orbit.
+    measures:
+        Averages over one period (or at the equilibrium), TR_B and the
+        extremes of X and X'.
+    period:
+        The orbit's period (None for an equilibrium).
+    multiplier:
+        The nontrivial Floquet multiplier of an orbit.
+    eigenvalues:
+        The eigenvalues of an equilibrium.
+    stick_fraction:
+        The fraction of the period spent sticking.
+    modes:
+        The orbit's phase sequence (slip, stick, band modes) over one period.
+    orbit:
+        The :class:`PeriodicOrbit` itself, for an orbit.
     """
 
     value: float
@@ -100,7 +123,20 @@ class BranchPoint:
 
 @dataclass
 class Branch:
-    """A connected set of solutions, in the order continuation found them."""
+    """A connected set of solutions, in the order continuation found them.
+
+    Attributes
+    ----------
+    kind:
+        ``equilibrium`` or ``periodic``.
+    points:
+        Its :class:`BranchPoint` s.
+    seed:
+        How it began (the sliding equilibrium, a Hopf point, an attractor a
+        simulation reached at an end of the interval).
+    end:
+        How it ended (the interval's end, a grazing, a period blow-up, ...).
+    """
 
     kind: str
     points: list[BranchPoint]
@@ -113,7 +149,21 @@ class Branch:
 
 @dataclass(frozen=True)
 class Bifurcation:
-    """A special point: ``type`` is hopf, fold, grazing, switching, period_blowup or branch_end."""
+    """A special point: ``type`` is hopf, fold, grazing, switching, period_blowup or branch_end.
+
+    Attributes
+    ----------
+    type:
+        The kind of point (above).
+    value:
+        The parameter's value there.
+    branch:
+        The index of the branch it lies on in
+        :attr:`ContinuationResult.branches`, if any.
+    detail:
+        What else is known about it (a Hopf point's criticality, the
+        multiplier at a fold, ...); the JSON output carries these keys.
+    """
 
     type: str
     value: float
@@ -129,7 +179,24 @@ class ContinuationResult(Summarized):
     """Branches of equilibria and periodic orbits in one parameter, with the bifurcations found.
 
     Shows itself as a short summary; :meth:`plot` draws the bifurcation diagram.
+
+    Attributes
+    ----------
+    param:
+        The continued parameter.
+    start, stop:
+        The interval it was continued over.
+    params:
+        Every other parameter's value (the oscillator's and the law's).
+    branches:
+        The :class:`Branch` es found.
+    bifurcations:
+        The :class:`Bifurcation` s found on them.
+    sweep:
+        The brute-force simulations along the interval (``sweep`` of the
+        settings; one dict per value), or None.
     """
+
 
     param: str
     start: float

@@ -29,7 +29,24 @@ def sweep(
     v0: float | None = None,
     solver: Solver | None = None,
 ) -> list[dict[str, Any]]:
-    """Simulate and analyze at each value of ``param``; one dict per value (NaN where undefined)."""
+    """Simulate and analyze at each value of ``param``; one dict per value (NaN where undefined).
+
+    Parameters
+    ----------
+    model, friction:
+        The oscillator and the law at every other parameter's value.
+    param:
+        The parameter to vary (a name of the oscillator or of the law, such as ``zeta`` or ``vb``).
+    values:
+        Its values.
+    t_end:
+        Length of each simulation.
+    x0, v0:
+        Initial state (default the paper's X(0) = F_d, X'(0) = V_b).
+    solver:
+        A solver (default: the law's).
+    """
+
     out = []
     for lam in values:
         m, law = with_param(model, friction, param, float(lam))

@@ -58,7 +58,34 @@ CURVES = ("hopf", "grazing", "fold")
 @dataclass(repr=False)
 class StabilityChart(Chart):
     """Curves in the (x, y) plane of two parameters (found in y at each x of a grid), codimension-two points,
-    and optionally a sweep heat map."""
+    and optionally a sweep heat map.
+
+    Attributes
+    ----------
+    x_param, y_param:
+        The parameters of the plane's axes.
+    grid:
+        The values of the ``grid_axis`` parameter the curves were traced at.
+    span:
+        The interval of the other parameter.
+    params:
+        Every other parameter's value (the oscillator's and the law's).
+    curves:
+        The curves found, each with its kind and its points.
+    codim2:
+        The codimension-two points where curves meet or change character.
+    runs:
+        The continuation run at each grid value, when the points are its
+        events (else empty).
+    sweep:
+        An ``xarray.Dataset`` of simulations on the plane, or None.
+    heat:
+        The sweep variable drawn under the curves ("" without a sweep).
+    grid_axis:
+        ``x`` or ``y``: which parameter ``grid`` holds.
+    continued_in:
+        The parameter each grid value's continuation ran in, "" otherwise.
+    """
 
     def _notes(self) -> list[Row]:
         return [("codim 2", "; ".join(f"{p.kind} at {self.x_param}={num(p.x)}, {self.y_param}={num(p.y)}"
@@ -371,6 +398,10 @@ def stability_chart(
 
     Parameters
     ----------
+    model, law:
+        The oscillator and its friction law at the other parameters' values.
+    x_param, y_param:
+        The parameters of the plane's axes (``vb``, ``zeta``, or a parameter of the law).
     x_values:
         The grid of the first parameter.
     y_range, n_scan:
@@ -424,11 +455,23 @@ def stability_map(
 ) -> StabilityChart:
     """:func:`stability_chart` with a heat map from a sweep of simulations over the same plane.
 
-    ``sweep_shape`` (n_x, n_y): the sweep's grid (None: no sweep); it is
-    written to ``sweep_out`` (.zarr or .nc; default a temporary .nc) by
-    :func:`frictionflow.sweep.run_sweep` and ``heat`` (a sweep variable such as R_c or
-    TR_B) is drawn under the curves.  Other keywords go to :func:`stability_chart`.
+    Parameters
+    ----------
+    model, law, x_param, x_values, y_param, y_range:
+        The system and the plane, as :func:`stability_chart`.
+    sweep_shape:
+        (n_x, n_y), the sweep's grid (None: no sweep), run by
+        :func:`frictionflow.sweep.run_sweep`.
+    sweep_out:
+        Where the sweep is written (.zarr or .nc; default a temporary .nc).
+    t_end:
+        Length of each simulation of the sweep.
+    heat:
+        The sweep variable drawn under the curves (R_c, TR_B, ...).
+    **kw:
+        Passed on to :func:`stability_chart`.
     """
+
     sweep = HeatMap(sweep_shape, sweep_out, t_end, heat).run(model, law, x_param, (x_values[0], x_values[-1]),
                                                              y_param, y_range)
     return stability_chart(model, law, x_param, x_values, y_param, y_range, sweep=sweep, heat=heat, **kw)

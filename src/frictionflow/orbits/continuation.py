@@ -50,8 +50,11 @@ def continuation(
 
     Parameters
     ----------
+    model, friction:
+        The oscillator and its friction law at the other parameters' values.
     param:
         zeta, vb, or a parameter of the friction law (fd, fs, vd, vs, delta, viscous).
+
     start, stop:
         The interval's ends (finite, distinct; either order).
     settings:

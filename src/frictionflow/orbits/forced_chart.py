@@ -277,6 +277,32 @@ class ForcedChart(Chart):
     """Curves of forced special points in the (x, y) plane (continued in x at each y of a grid), and a heat map.
 
     The curves' points are (x, y) with y a grid value; ``grid_axis`` is "y".
+
+    Attributes
+    ----------
+    x_param, y_param:
+        The parameters of the plane's axes.
+    grid:
+        The values of the ``grid_axis`` parameter the curves were traced at.
+    span:
+        The interval of the other parameter.
+    params:
+        Every other parameter's value (the oscillator's and the law's).
+    curves:
+        The curves found, each with its kind and its points.
+    codim2:
+        The codimension-two points where curves meet or change character.
+    runs:
+        The continuation run at each grid value, when the points are its
+        events (else empty).
+    sweep:
+        An ``xarray.Dataset`` of simulations on the plane, or None.
+    heat:
+        The sweep variable drawn under the curves ("" without a sweep).
+    grid_axis:
+        ``x`` or ``y``: which parameter ``grid`` holds.
+    continued_in:
+        The parameter each grid value's continuation ran in, "" otherwise.
     """
 
     grid_axis: str = "y"
@@ -407,6 +433,8 @@ def forced_chart(
 
     Parameters
     ----------
+    model, law:
+        The forced oscillator and its friction law (with Coulomb's stick rule), at the other parameters' values.
     x_param, x_range:
         The parameter continued (``omega`` or ``fex``) and its interval.
     y_param, y_values:
@@ -453,12 +481,25 @@ def forced_map(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y
                heat: str = "TR_B", sweep_y_range: tuple[float, float] | None = None, **kw: Any) -> ForcedChart:
     """:func:`forced_chart` with a heat map from a sweep of simulations over the same plane.
 
-    ``sweep_shape`` (n_x, n_y): the sweep's grid (None: no sweep), run by
-    :func:`frictionflow.sweep.run_sweep` (forced points run one by one: keep it
-    coarse) into ``sweep_out`` (default a temporary .nc); ``heat``: the sweep
-    variable drawn under the curves (TR_B, R_c, ...); ``sweep_y_range``: its
-    y interval (default: the grid's).
+    Parameters
+    ----------
+    model, law, x_param, x_range, y_param, y_values:
+        The system and the plane, as :func:`forced_chart`.
+    sweep_shape:
+        (n_x, n_y), the sweep's grid (None: no sweep), run by
+        :func:`frictionflow.sweep.run_sweep` (keep it coarse).
+    sweep_out:
+        Where the sweep is written (.zarr or .nc; default a temporary .nc).
+    t_end:
+        Length of each simulation of the sweep.
+    heat:
+        The sweep variable drawn under the curves (TR_B, R_c, ...).
+    sweep_y_range:
+        The sweep's y interval (default: the grid's).
+    **kw:
+        Passed on to :func:`forced_chart`.
     """
+
     ys = np.asarray(y_values, dtype=float)
     y_sweep = sweep_y_range if sweep_y_range is not None else (float(ys.min()), float(ys.max()))
     sweep = HeatMap(sweep_shape, sweep_out, t_end, heat).run(model, law, x_param, x_range, y_param, y_sweep)
