@@ -199,53 +199,6 @@ def _parameters(obj) -> list[str]:  # noqa: ANN001
             and not (inspect.isclass(obj) and issubclass(obj, BaseException))]
 
 
-#: public parameters still without a description, by object: this list may only shrink
-UNDESCRIBED: dict[str, set[str]] = {
-    "frictionflow.plotting.plot_run": {'name', 'path', 'result'},
-    "frictionflow.plotting.plot_trajectory": {'name', 'path', 'traj'},
-    "frictionflow.orbits.plotting.plot_orbit": {'name', 'orbit', 'path'},
-    "frictionflow.orbits.plotting.plot_bifurcation": {'name', 'path', 'result', 'sweep'},
-    "frictionflow.orbits.plot_forced_branches": {'branches', 'name', 'path', 'sweep'},
-    "frictionflow.orbits.find_orbit": {'friction', 'max_iter', 'model'},
-    "frictionflow.orbits.PeriodicOrbit": {'friction', 'iterations', 'measures', 'model', 'monodromy', 'period',
-        'residual', 'returns', 'segment', 'state'},
-    "frictionflow.orbits.multipliers": {'monodromy'},
-    "frictionflow.orbits.fd_monodromy": {'eps', 'friction', 'model', 'period', 'solver', 'state'},
-    "frictionflow.orbits.find_forced_orbit": {'max_iter', 'transient_periods'},
-    "frictionflow.orbits.ForcedOrbit": {'TR_B', 'X_max', 'X_min', 'amplitude', 'averages', 'energy_residual',
-        'friction', 'hold_margin', 'iterations', 'm', 'min_gap', 'model', 'monodromy', 'multipliers', 'period',
-        'residual', 'settings', 'shortest_stick', 'state', 'stick_fraction', 'stick_phases', 'switches'},
-    "frictionflow.orbits.continue_forced": {'friction', 'm', 'model', 'options', 'orbit', 'parameter', 'settings',
-        'start', 'stop', 'v0', 'x0'},
-    "frictionflow.orbits.ForcedBranch": {'end', 'events', 'friction', 'm', 'model', 'parameter', 'points',
-        'settings'},
-    "frictionflow.orbits.stroboscopic_sweep": {'friction', 'keep', 'model', 'parameter', 'steps',
-        'transient_periods', 'v0', 'values', 'x0'},
-    "frictionflow.orbits.branch_extrema": {'law', 'model', 'monitor', 'refine', 'result', 'returns'},
-    "frictionflow.orbits.continue_extremum": {'hi', 'law', 'lo', 'model', 'monitor', 'param', 'param2', 'returns',
-        'start', 'values2', 'width'},
-    "frictionflow.orbits.forced_branch_extrema": {'branch', 'monitor', 'refine'},
-    "frictionflow.orbits.continue_forced_extremum": {'hi', 'law', 'lo', 'm', 'model', 'monitor', 'param2',
-        'parameter', 'start', 'steps', 'values2', 'width'},
-    "frictionflow.orbits.Extremum": {'branch', 'extra', 'kind', 'method', 'monitor', 'monitor_value', 'param',
-        'value', 'x'},
-    "frictionflow.paper.compute": {'settings'},
-    "frictionflow.paper.evaluate": {'data'},
-    "frictionflow.paper.Summary": {'claims', 'data', 'files', 'out_dir', 'report', 'seconds', 'settings',
-        'timings'},
-    "frictionflow.paper.Claim": {'evidence', 'figure', 'key', 'quote', 'verdict'},
-    "frictionflow.DimensionalParams": {'c', 'f_d', 'f_ex', 'f_ms', 'k', 'l_0', 'm', 'phi_ex', 'v_b', 'v_d', 'w_ex'},
-    "frictionflow.sweep.run_sweep": {'out', 'progress'},
-    "frictionflow.sweep.SweepConfig": {'axes', 'fixed', 'run', 'source'},
-    "frictionflow.sweep.load_sweep": {'path'},
-    "frictionflow.sweep.parse_sweep": {'check_points', 'source', 'values'},
-    "frictionflow.sweep.verify_sweep": {'path'},
-    "frictionflow.sweep.repair_sweep": {'config', 'lock_stale_after', 'out'},
-    "frictionflow.sweep.plot_map": {'ds', 'log', 'name', 'path', 'sel', 'var', 'x', 'y'},
-    "frictionflow.sweep.plot_cut": {'ds', 'hue', 'name', 'path', 'sel', 'var', 'x'},
-}
-
-
 def test_every_public_parameter_is_described():
     missing = {}
     for name in _api_objects():
@@ -254,11 +207,8 @@ def test_every_public_parameter_is_described():
             continue
         lacking = set(_parameters(obj)) - _documented(obj)
         if lacking:
-            missing[name] = lacking
-    for name, lacking in UNDESCRIBED.items():  # the allowance holds only what is still missing
-        assert lacking <= missing.get(name, set()), f"{name}: {lacking - missing.get(name, set())} now described"
-    extra = {n: sorted(v - UNDESCRIBED.get(n, set())) for n, v in missing.items() if v - UNDESCRIBED.get(n, set())}
-    assert not extra, f"parameters without a description: {extra}"
+            missing[name] = sorted(lacking)
+    assert not missing, f"parameters without a description: {missing}"
 
 
 def test_the_equations_use_the_mathjax_shipped_with_the_site(site):

@@ -99,14 +99,30 @@ declare(BeltOscillator.parameters)
 class DimensionalParams:
     """Dimensional parameters (SI or any consistent units).
 
-    ``f_ex`` / ``w_ex`` / ``phi_ex``: amplitude, angular frequency (rad per
-    unit time; default omega0) and phase of the external force
-    f_ex cos(w_ex t + phi_ex).
+    :meth:`nondimensional` converts them by the paper's Eq. 3 (omega0 =
+    sqrt(k/m), zeta = c / (2 m omega0), X = x / l_0, F = f / (k l_0),
+    V = v / (omega0 l_0)).
 
-    ``f_ms`` (maximum static friction) defaults to ``f_d`` and ``v_d`` (the
-    Karnopp dead-zone half width) to the paper's V_d = 1e-3 in
-    non-dimensional units.
+    Parameters
+    ----------
+    m, c, k:
+        Mass, viscous damping coefficient and spring stiffness (m x'' + c x' + k x = f).
+    v_b:
+        Belt speed.
+    f_d:
+        Kinetic (dynamic) friction force.
+    f_ms:
+        Maximum static friction force (default ``f_d``, the paper's choice).
+    v_d:
+        Karnopp's dead-zone half width (default: the paper's V_d = 1e-3 in
+        non-dimensional units).
+    l_0:
+        The length scale of X = x / l_0.
+    f_ex, w_ex, phi_ex:
+        Amplitude, angular frequency (rad per unit time; default omega0) and
+        phase of the external force f_ex cos(w_ex t + phi_ex).
     """
+
 
     m: float
     c: float

@@ -31,6 +31,15 @@ def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "p
 
     Returns the matplotlib figure; saves it to ``path`` (PNG, PDF or SVG by
     extension) when given.
+
+    Parameters
+    ----------
+    result:
+        What :func:`~frictionflow.analyze` returned.
+    path:
+        A file to save the figure to, or None.
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--plot``).
     """
     import matplotlib
 
@@ -94,7 +103,17 @@ def plot_trajectory(traj, path: str | Path | None = None, *, name: str = "path")
 
     Returns the matplotlib figure; saves it to ``path`` (PNG, PDF or SVG by
     extension) when given.
+
+    Parameters
+    ----------
+    traj:
+        A run, from :func:`~frictionflow.simulate`.
+    path:
+        A file to save the figure to, or None.
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--plot``).
     """
+
     import matplotlib
 
     if path is not None:

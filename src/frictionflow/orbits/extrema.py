@@ -18,7 +18,31 @@ FORCED_MONITORS = ("P_dv", "P_df", "P_fin", "R_c", "R_f", "P_belt", "P_heat", "P
 
 @dataclass(frozen=True)
 class Extremum:
-    """A located extremum of ``monitor`` along a branch: at ``value`` of the parameter, orbit through (x, 0)."""
+    """A located extremum of ``monitor`` along a branch: at ``value`` of the parameter, orbit through (x, 0).
+
+    Attributes
+    ----------
+    monitor:
+        The monitored quantity (``P_fin``, ``R_c``, ``TR_B``, ``amplitude``, ...).
+    kind:
+        ``max`` or ``min``.
+    param:
+        The branch's parameter.
+    value:
+        Its value at the extremum.
+    monitor_value:
+        The monitor's value there.
+    x:
+        The orbit's X on its section there (forced: at tau = 0).
+    branch:
+        The index of the branch it lies on, if known.
+    method:
+        How it was refined: ``slope root`` (a root of the exact slope) or
+        ``brent`` (the monitor itself).
+    extra:
+        What else is known there (a second parameter's value, ...).
+    """
+
 
     monitor: str
     kind: str  # "max" or "min"

@@ -32,7 +32,13 @@ NEUTRAL_TOL = 1e-7
 
 
 def multipliers(monodromy: np.ndarray) -> np.ndarray:
-    """All Floquet multipliers (eigenvalues of M), largest modulus first."""
+    """All Floquet multipliers (eigenvalues of M), largest modulus first.
+
+    Parameters
+    ----------
+    monodromy:
+        The monodromy matrix M (square).
+    """
     mu = np.linalg.eigvals(np.asarray(monodromy, dtype=float)).astype(complex)
     return mu[np.argsort(-np.abs(mu), kind="stable")]
 
@@ -65,8 +71,22 @@ def fd_monodromy(
     """M by central differences of the time-``period`` map, integrated by :func:`frictionflow.simulate`.
 
     Independent of the phase Jacobians and saltation matrices: a check on
-    them.  ``eps`` defaults to 1e-6 of the orbit's scale.
+    them.
+
+    Parameters
+    ----------
+    model, friction:
+        The oscillator and its law.
+    state:
+        (X, X') on the orbit.
+    period:
+        The orbit's period: the time the map integrates over.
+    eps:
+        The difference step (default 1e-6 of the orbit's scale).
+    solver:
+        The solver of the perturbed runs (default: the law's).
     """
+
     scale = max(abs(state[0]), abs(model.vb), friction.fs, 1e-12)
     h = 1e-6 * scale if eps is None else eps
     cols = []

@@ -219,13 +219,51 @@ def measures(model: BeltOscillator, friction: FrictionLaw, run: MapRun) -> dict[
 class ForcedOrbit(Summarized):
     """A periodic orbit of the forced oscillator: a fixed point of the m-period stroboscopic map.
 
-    ``state``: (X, X') at the forcing phase tau = 0 (mod 2 pi / Omega).
-    ``residual``: max|Phi(P) - P| at the returned P.  ``multipliers``: the
-    eigenvalues of ``monodromy``, largest modulus first.  ``averages``: the
-    power averages over one orbit period (P_dv, P_df, P_fin, R_c, R_f,
-    P_belt, P_heat, P_f, P_ex).  ``min_gap``: the smallest interior minimum
-    of |V_r| inside a slip phase (inf if none) and ``shortest_stick``: the
-    shortest stick phase -- the distances to grazing.
+    Attributes
+    ----------
+    model, friction:
+        The forced oscillator and its law.
+    m:
+        The period in forcing periods.
+    state:
+        (X, X') at the forcing phase tau = 0 (mod 2 pi / Omega).
+    period:
+        The orbit's period, m 2 pi / Omega.
+    monodromy:
+        The Jacobian of the m-period stroboscopic map at ``state``
+        (saltation matrices included).
+    multipliers:
+        The eigenvalues of ``monodromy``, largest modulus first.
+    residual:
+        max|Phi(P) - P| at the returned P.
+    iterations:
+        Newton iterations taken.
+    amplitude, X_min, X_max:
+        (X_max - X_min) / 2 and the extremes of X over one period.
+    TR_B:
+        The force transmissibility over one period (relative to F_ex).
+    stick_fraction:
+        The fraction of the period spent sticking.
+    averages:
+        The power averages over one orbit period (P_dv, P_df, P_fin, R_c,
+        R_f, P_belt, P_heat, P_f, P_ex).
+    energy_residual:
+        The power balance's relative residual over the period.
+    stick_phases:
+        The number of stick phases in one period.
+    shortest_stick:
+        The shortest stick phase (NaN without one): a distance to grazing.
+    min_gap:
+        The smallest interior minimum of |V_r| inside a slip phase (inf if
+        none): a distance to grazing.
+    hold_margin:
+        The smallest margin F_s - |held force| inside a stick phase (inf
+        if none): how close sticking comes to breaking away early.
+    switches:
+        The switches of one period by kind.
+    settings:
+        How the orbit was found (steps per period, transient, tolerance,
+        method).
     """
 
     model: BeltOscillator
@@ -389,6 +427,11 @@ def find_forced_orbit(
         RK4 grid steps per forcing period (switches are located whatever it is).
     tol:
         |Phi(P) - P| relative to the motion's scale.
+    transient_periods:
+        Forcing periods run from (x0, v0) before Newton starts (see ``x0, v0``).
+    max_iter:
+        Newton iterations before giving up (a RuntimeError saying where it stopped).
+
     """
     _check_model(model)
     _check_law(friction)
@@ -471,7 +514,26 @@ class BranchEvent:
 
 @dataclass(frozen=True, repr=False)
 class ForcedBranch(Summarized):
-    """A branch of forced periodic orbits of period m 2 pi / Omega in lambda = Omega or F_ex."""
+    """A branch of forced periodic orbits of period m 2 pi / Omega in lambda = Omega or F_ex.
+
+    Attributes
+    ----------
+    model, friction:
+        The forced oscillator (at the first orbit's parameter value) and its law.
+    parameter:
+        lambda: ``omega`` or ``fex``.
+    m:
+        The orbits' period in forcing periods.
+    points:
+        The orbits found, in the order traced (lambda, state, multipliers, measures).
+    events:
+        The special points between them (fold, period doubling,
+        Neimark-Sacker, grazing), refined to ~1e-8 in lambda.
+    end:
+        Why the branch stopped (left the interval, failed to continue, ``max_points``).
+    settings:
+        How it was traced (:class:`~.settings.ForcedContinuationSettings`'s fields).
+    """
 
     model: BeltOscillator
     friction: FrictionLaw
@@ -807,6 +869,25 @@ def continue_forced(
     arclength: lambda over |stop - start|, the state over the first orbit's
     size), ``max_points`` [400], ``detect`` (locate the special points [True])
     and ``tol`` (Newton tolerance [1e-11]).
+
+    Parameters
+    ----------
+    model, friction:
+        A forced oscillator (``fex`` > 0) and a law with Coulomb's stick rule.
+    parameter:
+        lambda: ``omega`` or ``fex``.
+    start, stop:
+        Where the branch starts (default: ``model``'s value) and the end it is traced toward.
+    m:
+        The period in forcing periods.
+    x0, v0:
+        The start of :func:`find_forced_orbit` when ``orbit`` is not given.
+    orbit:
+        The first orbit, already found.
+    settings:
+        How the branch is traced (above).
+    **options:
+        Fields of ``settings`` (above), replacing the record's.
     """
     s = merged(ForcedContinuationSettings, settings, options, "continue_forced")
     _check_model(model)
@@ -944,7 +1025,30 @@ def stroboscopic_sweep(model: BeltOscillator, friction: FrictionLaw, parameter: 
     continuation, so a sweep up follows the branch it is on until it ends).
     Integrated by :func:`frictionflow.core.tangent.run` (RK4, located
     switches); a run that fails leaves NaN.
+
+    Parameters
+    ----------
+    model, friction:
+        A forced oscillator and its law.
+    parameter:
+        lambda: ``omega`` or ``fex``.
+    values:
+        Its values, run in the given order.
+    transient_periods:
+        Forcing periods run at each value before its section is kept.
+    keep:
+        Forcing periods whose section (X, X') is kept at each value.
+    x0, v0:
+        The state the first value starts from.
+    steps:
+        RK4 steps per forcing period.
+
+    Returns
+    -------
+    StroboscopicSweep
+        ``parameter``, ``values`` and the kept sections ``x``, ``v`` (one row per value).
     """
+
     _check_model(model)
     _check_law(friction)
     if parameter not in PARAMETERS:

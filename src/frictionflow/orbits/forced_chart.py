@@ -188,6 +188,15 @@ def forced_branch_extrema(branch: ForcedBranch, monitor: str, *, refine: bool = 
     Each :class:`~.monitors.Extremum` carries lambda (``value``), the monitor
     there, X (``x``) and, in ``extra``, X' (``V``), m and ``at``: ``grazing
     corner`` where the stick-phase count changes across the extremum.
+
+    Parameters
+    ----------
+    branch:
+        A branch from :func:`~.forced.continue_forced`.
+    monitor:
+        The quantity (``P_fin``, ``P_ex``, ``R_c``, ``TR_B``, ``amplitude``, ...; see :data:`FORCED_MONITORS`).
+    refine:
+        Refine each extremum on re-shot orbits (False: the best branch point).
     """
     _check_monitor(monitor)
     lam = branch.lam
@@ -224,7 +233,29 @@ def continue_forced_extremum(model: BeltOscillator, law: FrictionLaw, monitor: s
     ``width`` of [lo, hi] around the last one (widened twice while it lands
     on the window's edge).  Stops at the first value where it is lost.  Each
     result names ``param2``'s value in ``extra``.
+
+    Parameters
+    ----------
+    model, law:
+        The forced oscillator and its law at ``start``.
+    monitor:
+        The quantity whose extremum is followed.
+    parameter:
+        The branch's parameter, lambda (``omega`` or ``fex``).
+    lo, hi:
+        The interval of lambda searched.
+    param2, values2:
+        The second parameter and its values, in the order followed.
+    start:
+        The extremum at ``model``'s value of ``param2``.
+    m:
+        The orbits' period in forcing periods.
+    steps:
+        RK4 steps per forcing period.
+    width:
+        The search window around the last extremum, as a fraction of [lo, hi].
     """
+
     _check_monitor(monitor)
     for name in (parameter, param2):
         if name not in PARAMETERS:

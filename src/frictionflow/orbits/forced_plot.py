@@ -45,7 +45,24 @@ def _event_value(branch: ForcedBranch, lam: float, what: str) -> float:
 
 def plot_forced_branches(branches: ForcedBranch | Sequence[ForcedBranch], path: str | Path | None = None, *,
                          sweep: StroboscopicSweep | None = None, name: str = "path"):
-    """The bifurcation diagram of ``branches`` (one parameter), with ``sweep``'s brute-force dots on the X panel."""
+    """The bifurcation diagram of ``branches`` (one parameter), with ``sweep``'s brute-force dots on the X panel.
+
+    Parameters
+    ----------
+    branches:
+        One or more branches from :func:`~frictionflow.orbits.continue_forced`, in the same parameter.
+    path:
+        A file to save the figure to (PNG, PDF or SVG by its extension), or None.
+    sweep:
+        A :func:`~frictionflow.orbits.stroboscopic_sweep` to draw as dots, or None.
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--plot``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+
     import matplotlib
 
     if path is not None:

@@ -148,10 +148,20 @@ def branch_extrema(result, monitor: str, model: BeltOscillator | None = None, la
                    refine: bool = True, returns: int = 1) -> list[Extremum]:
     """Extrema of ``monitor`` along every periodic branch of ``result`` (refined unless ``refine`` is False).
 
-    ``model``, ``law``: the system the continuation ran on (its other
-    parameters).  ``result`` may also be a forced branch
-    (:class:`~.forced.ForcedBranch`, which carries its system):
-    :func:`~.forced_chart.forced_branch_extrema`.
+    Parameters
+    ----------
+    result:
+        A :class:`ContinuationResult`, or a forced branch
+        (:class:`~.forced.ForcedBranch`, which carries its system:
+        :func:`~.forced_chart.forced_branch_extrema`).
+    monitor:
+        The quantity (``P_fin``, ``P_dv``, ``R_c``, ``TR_B``, ``amplitude``, ...; see :data:`MONITORS`).
+    model, law:
+        The system the continuation ran on (its other parameters).
+    refine:
+        Refine each extremum as a root of its exact slope (False: the best branch point).
+    returns:
+        Section crossings per period, as in the continuation.
     """
     if isinstance(result, ForcedBranch):
         return forced_branch_extrema(result, monitor, refine=refine)
@@ -189,7 +199,27 @@ def continue_extremum(model: BeltOscillator, law: FrictionLaw, monitor: str, par
     the extremum refined in a window of ``width`` of [lo, hi] around it (widened
     while the slope does not change sign there).  Stops at the first value
     where the extremum is lost.
+
+    Parameters
+    ----------
+    model, law:
+        The oscillator and its law at ``start``.
+    monitor:
+        The quantity whose extremum is followed.
+    param:
+        The branch's parameter, lambda.
+    lo, hi:
+        The interval of lambda searched.
+    param2, values2:
+        The second parameter and its values, in the order followed.
+    start:
+        The extremum at the current value of ``param2`` (from :func:`branch_extrema`).
+    width:
+        The search window around the last extremum, as a fraction of [lo, hi].
+    returns:
+        Section crossings per period.
     """
+
     out = []
     lam, x = start.value, start.x
     span = hi - lo

@@ -71,6 +71,17 @@ def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None,
     """Amplitude, power flow, power ratios and TR_B against the parameter, one panel each.
 
     Returns the figure; saves it to ``path`` when given.
+
+    Parameters
+    ----------
+    result:
+        What :func:`~frictionflow.orbits.continuation` returned.
+    path:
+        A file to save the figure to (PNG, PDF or SVG by its extension), or None.
+    sweep:
+        Draw the brute-force simulations of ``result.sweep`` as dots.
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--plot``).
     """
     plt = _pyplot(path)
     fig, ax = plt.subplots(2, 2, figsize=(11, 8), sharex=True, constrained_layout=True)
@@ -133,7 +144,22 @@ def _title(result: ContinuationResult) -> str:
 
 @draws(PeriodicOrbit)
 def plot_orbit(orbit: PeriodicOrbit, path: str | Path | None = None, *, name: str = "path"):
-    """Phase portrait, X(tau) and the instantaneous friction and damper power over one period."""
+    """Phase portrait, X(tau) and the instantaneous friction and damper power over one period.
+
+    Parameters
+    ----------
+    orbit:
+        What :func:`~frictionflow.orbits.find_orbit` returned.
+    path:
+        A file to save the figure to (PNG, PDF or SVG by its extension), or None.
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--plot``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+
     plt = _pyplot(path)
     traj = orbit.trajectory(dense_dt=orbit.period / 400)
     fig, ax = plt.subplots(1, 3, figsize=(13, 4), constrained_layout=True)

@@ -46,9 +46,28 @@ class ShootingError(RuntimeError):
 class PeriodicOrbit(Summarized):
     """A periodic orbit, its Floquet multipliers and its power flow.
 
-    ``state`` = (X, 0) is where it crosses the section; ``returns`` how many
-    section crossings make one period (1 for a simple orbit).  Shows itself
-    as a short summary; :meth:`plot` draws it.
+    Shows itself as a short summary; :meth:`plot` draws it.
+
+    Attributes
+    ----------
+    model, friction:
+        The oscillator and its law.
+    state:
+        (X, 0), where the orbit crosses the section X' = 0.
+    period:
+        Its period.
+    returns:
+        How many section crossings make one period (1 for a simple orbit).
+    segment:
+        The flow over one period: its phases and switches.
+    monodromy:
+        The monodromy matrix over one period (saltation matrices included).
+    residual:
+        |P(X) - X| at the returned X.
+    iterations:
+        Newton iterations taken.
+    measures:
+        Averages over one period, TR_B and the extremes of X and X'.
     """
 
     model: BeltOscillator
@@ -307,6 +326,8 @@ def find_orbit(
 
     Parameters
     ----------
+    model, friction:
+        The oscillator and its law.
     x0, v0:
         Start state (default X = F_d, X' = V_b, as :func:`frictionflow.simulate`).
     transient:
@@ -317,6 +338,9 @@ def find_orbit(
         Section crossings per period (2 for a period-2 orbit, ...).
     tol:
         Newton tolerance on P(X) - X relative to max(F_s, |V_b|).
+    max_iter:
+        Newton iterations before giving up (:class:`ShootingError`).
+
     solver:
         Solver for the transient and for the power-flow period
         (default: exact for piecewise-constant laws, else adaptive).

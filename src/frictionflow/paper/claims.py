@@ -32,7 +32,21 @@ Data = dict[str, "xr.Dataset"]
 
 @dataclass(frozen=True)
 class Claim:
-    """One statement of the paper and what our results say about it."""
+    """One statement of the paper and what our results say about it.
+
+    Attributes
+    ----------
+    key:
+        A short name of the claim (the keys of ``claims.json``).
+    figure:
+        The figure of the paper it is about.
+    quote:
+        What the paper says.
+    verdict:
+        ``supported``, ``refuted`` or ``partly``.
+    evidence:
+        Our numbers behind the verdict.
+    """
 
     key: str
     figure: str
@@ -55,7 +69,14 @@ def claim(key: str, figure: str, quote: str):
 
 
 def evaluate(data: Data) -> list[Claim]:
-    """Every registered claim, checked against ``data``."""
+    """Every registered claim, checked against ``data``.
+
+    Parameters
+    ----------
+    data:
+        The studies' data sets by name, from :func:`compute`.
+    """
+
     out = []
     for key, figure, quote, check in _CHECKS:
         verdict, evidence = check(data)

@@ -57,7 +57,27 @@ DATASETS = {
 
 @dataclass
 class Summary:
-    """What :func:`reproduce` wrote and what it found."""
+    """What :func:`reproduce` wrote and what it found.
+
+    Attributes
+    ----------
+    out_dir:
+        The directory written to.
+    report:
+        The self-contained ``report.html``.
+    files:
+        Every file written (figures, data, ``claims.json``, the report).
+    claims:
+        Each :class:`Claim` with its verdict.
+    settings:
+        The :class:`Settings` the studies ran with.
+    seconds:
+        Wall time of the whole reproduction.
+    timings:
+        Wall time of each stage, by name.
+    data:
+        The studies' data sets by name (as :func:`compute` returns them).
+    """
 
     out_dir: Path
     report: Path
@@ -139,7 +159,14 @@ def assemble(parts: dict[str, xr.Dataset]) -> dict[str, xr.Dataset]:
 
 
 def compute(settings: Settings | None = None) -> dict[str, xr.Dataset]:
-    """Every study's data set, computed in this process (no files): what the figures and claims read."""
+    """Every study's data set, computed in this process (no files): what the figures and claims read.
+
+    Parameters
+    ----------
+    settings:
+        Run length, step and grids (default :class:`Settings`: the paper's method at tau_end = 600, dt = 1e-3).
+    """
+
     settings = Settings() if settings is None else settings
     parts: dict[str, xr.Dataset] = {}
     for fn, args in compute_jobs(settings):

@@ -58,10 +58,10 @@ SAMPLE_KEYS = ("x0", "v0")
 class SweepConfig:
     """A validated sweep: fixed run settings, the swept axes, and how to chunk them."""
 
-    run: RunConfig
-    axes: dict[str, np.ndarray]
-    fixed: dict[str, float] = field(default_factory=dict)
-    source: dict[str, Any] = field(default_factory=dict)
+    run: RunConfig  #: the settings every point shares (law, solver, t_end, ...)
+    axes: dict[str, np.ndarray]  #: the swept parameters and their values, in the grid's order
+    fixed: dict[str, float] = field(default_factory=dict)  #: parameters given one value in the grid
+    source: dict[str, Any] = field(default_factory=dict)  #: the settings and the grid it was parsed from (recorded in the output)
     #: per point of the ``sample`` axis: the drawn values of each sampled parameter
     sample: dict[str, np.ndarray] = field(default_factory=dict)
 
@@ -189,8 +189,15 @@ def _ranges(cfg: SweepConfig):
 def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_points: bool = True) -> SweepConfig:
     """Validate a sweep config mapping (a parsed TOML file).
 
-    ``check_points=False`` skips what only needs checking once per sweep (every
-    axis's extremes, memory, step warnings): for the chunks of a validated sweep.
+    Parameters
+    ----------
+    values:
+        The mapping: simulate's settings plus a ``grid`` table.
+    source:
+        How error messages name where it came from (a file's path).
+    check_points:
+        False skips what only needs checking once per sweep (every axis's
+        extremes, memory, step warnings): for the chunks of a validated sweep.
     """
     values = dict(values)
     grid = values.pop("grid", None)
@@ -296,7 +303,14 @@ def _check_resonance(cfg: SweepConfig) -> None:
 
 
 def load_sweep(path: str) -> SweepConfig:
-    """Read and validate a sweep config file."""
+    """Read and validate a sweep config file.
+
+    Parameters
+    ----------
+    path:
+        A TOML file: simulate's settings plus a ``[grid]`` table.
+    """
+
     return parse_sweep(read_config(path), source=str(path))
 
 

@@ -20,7 +20,29 @@ def _select(ds, var: str, keep: tuple[str, ...], sel: dict[str, Any]):
 
 def plot_map(ds, var: str, x: str, y: str, path: str | Path | None = None, log: tuple[bool, bool] = (False, False), *,
              name: str = "path", **sel: Any):
-    """Heat map of ``var`` over parameters ``x`` and ``y`` (other swept parameters fixed by ``sel``)."""
+    """Heat map of ``var`` over parameters ``x`` and ``y`` (other swept parameters fixed by ``sel``).
+
+    Parameters
+    ----------
+    ds:
+        A sweep's dataset (:func:`run_sweep`).
+    var:
+        The variable to draw (``R_c``, ``TR_B``, ``period``, ...).
+    x, y:
+        The swept parameters of the axes.
+    path:
+        A file to save the figure to (PNG, PDF or SVG by its extension), or None.
+    log:
+        Logarithmic (x, y) axes.
+    name:
+        How error messages name ``path``.
+    **sel:
+        A value for every other swept parameter, such as ``fd=0.02``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     import matplotlib
 
     if path is not None:
@@ -40,7 +62,30 @@ def plot_map(ds, var: str, x: str, y: str, path: str | Path | None = None, log: 
 
 
 def plot_cut(ds, var: str, x: str, path: str | Path | None = None, hue: str | None = None, *, name: str = "path", **sel: Any):
-    """Line cut of ``var`` along ``x``, one line per value of ``hue`` (if given)."""
+    """Line cut of ``var`` along ``x``, one line per value of ``hue`` (if given).
+
+    Parameters
+    ----------
+    ds:
+        A sweep's dataset (:func:`run_sweep`).
+    var:
+        The variable to draw.
+    x:
+        The swept parameter of the horizontal axis.
+    path:
+        A file to save the figure to (PNG, PDF or SVG by its extension), or None.
+    hue:
+        A swept parameter drawn as one line per value, or None.
+    name:
+        How error messages name ``path``.
+    **sel:
+        A value for every other swept parameter.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+
     import matplotlib
 
     if path is not None:

@@ -58,6 +58,8 @@ def run_sweep(
     ----------
     config:
         A :class:`SweepConfig`, a mapping as in a TOML file, or a path to one.
+    out:
+        The output: a Zarr store (``*.zarr``, chunked, for large grids) or a NetCDF file (``*.nc``).
     restart:
         Discard an existing output (needed when its config differs).
     client, scheduler:
@@ -70,7 +72,10 @@ def run_sweep(
         Seconds to wait for ``scheduler`` to answer (RuntimeError naming the address after that).
     lock_stale_after:
         Seconds after which another host's untouched lock on ``out`` counts as stale.
+    progress:
+        Draw a progress bar on stderr.
     """
+
     cfg = _as_config(config)
     size = default_chunk_size(cfg) if chunk_size is None else CHUNK_SIZE.check(chunk_size)
     if not (isinstance(scheduler_timeout, (int, float)) and math.isfinite(scheduler_timeout) and scheduler_timeout > 0):
@@ -106,7 +111,18 @@ def repair_sweep(
     Raises ValueError for an output that is missing, not a sweep, or holds
     another sweep; :class:`~frictionflow.sweep.store.DamagedStoreError` when
     only ``--restart`` helps.
+
+    Parameters
+    ----------
+    out:
+        The sweep's output (``*.zarr`` or ``*.nc``).
+    config:
+        The sweep's settings (a :class:`SweepConfig`, a mapping or a TOML
+        file), or None to use those the output records.
+    lock_stale_after:
+        Seconds after which another host's untouched lock on ``out`` counts as stale.
     """
+
     target = check_out(out)
     if not (target.exists() or journal_path(target).exists()):
         raise ValueError(f"out: {str(target)!r} does not exist")

@@ -700,7 +700,13 @@ def verify_sweep(path: str | Path) -> Verification:
     damage beyond single chunks (:attr:`Verification.problems`);
     :attr:`Verification.intact` says whether all is well.  Raises ValueError
     for a path that is not a sweep output at all.
+
+    Parameters
+    ----------
+    path:
+        The sweep's output (``*.zarr`` or ``*.nc``).
     """
+
     target = Path(path)
     journal = journal_path(target)
     broken = _broken_docs(journal) if journal.is_dir() else []
