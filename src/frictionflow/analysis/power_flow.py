@@ -97,20 +97,22 @@ class PowerFlow:
 def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> PowerFlow:
     """Time-averaged power flow of ``traj`` over ``window`` (whole run if None).
 
+    ``window`` = (t0, t1), any times of the run's span with t0 < t1: the
+
+    averages are over exactly that window.  Where an end falls between
+    samples, the motion is evaluated there (:meth:`Trajectory.at`) and the
+    work of the partial sample interval integrated on the interpolant
+    (:func:`frictionflow._continuous.dwork_at`); windows that start and end
+    on samples sum the solver's own work integrals.
+
     Parameters
     ----------
     traj:
         A run, from :func:`~frictionflow.simulate`.
     window:
         (t0, t1), or None for the whole run.
-
-    ``window`` = (t0, t1), any times of the run's span with t0 < t1: the
-    averages are over exactly that window.  Where an end falls between
-    samples, the motion is evaluated there (:meth:`Trajectory.at`) and the
-    work of the partial sample interval integrated on the interpolant
-    (:func:`frictionflow._continuous.dwork_at`); windows that start and end
-    on samples sum the solver's own work integrals.
     """
+
     t0, t1 = (float(traj.t[0]), float(traj.t[-1])) if window is None else _checked_window(traj, window)
     # the first sample at t0 and the last at t1 (a switch can leave two samples at one time)
     i0, i1 = int(np.searchsorted(traj.t, t0)), int(np.searchsorted(traj.t, t1, side="right")) - 1

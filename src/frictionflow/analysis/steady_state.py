@@ -103,7 +103,7 @@ class SteadyState:
     stability: str | None = None
     stick_fraction: float | None = None
     jitter: float | None = None
-    #: forced runs: the period in forcing periods, and the largest Lyapunov exponent where it was needed
+    # forced runs: the period in forcing periods, and the largest Lyapunov exponent where it was needed
     forcing_multiple: int | None = None
     lyapunov: float | None = None
     forced: bool = False
