@@ -8,13 +8,14 @@ on two cores, most of it the gallery.
 The equations are typeset by a copy of MathJax shipped with the site
 (``sphinx-mathjax-offline``).  A headless Chromium opens built pages with every
 host name unresolvable and must find no raw TeX in the visible text.  pip cannot
-provide that browser: the ``playwright`` wheel carries only a driver and
+provide that browser: the ``playwright`` wheel carries only a driver, and
 ``playwright install chromium`` downloads the browser from its own CDN, not from
-PyPI; ``pyppeteer`` downloads it too.  Debian's ``chromium-headless-shell`` (or
-any Chromium or Chrome on the ``PATH``, or ``FRICTIONFLOW_CHROMIUM``) is used;
-without one the browser test is skipped, saying so, and the non-browser checks
-(the pages load the bundled MathJax by a relative path, nothing from the
-network, and the bundle with its fonts is in the site) still run.
+PyPI (tried: it fails where only package registries are reachable).  Debian's
+``chromium-headless-shell`` (or any Chromium or Chrome on the ``PATH``, or
+``FRICTIONFLOW_CHROMIUM``) is used; without one the browser test is skipped,
+saying so, and the non-browser checks (the pages load the bundled MathJax by a
+relative path, nothing from the network, and the bundle with its fonts is in
+the site) still run.
 """
 
 from __future__ import annotations
