@@ -46,7 +46,7 @@ extensions = [
 
 # -- the user guide: Markdown with $...$ math ----------------------------------------------------
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-myst_enable_extensions = ["dollarmath", "colon_fence"]
+myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
 
 # -- API reference from the docstrings (NumPy style, read by napoleon) ----------------------------
