@@ -269,3 +269,13 @@ def test_the_readme_is_a_landing_page_whose_links_resolve():
     for link in links:
         if not link.startswith(("http:", "https:")):
             assert (ROOT / link).exists(), f"README links to a missing {link}"
+
+
+def test_the_citation_file_is_complete_and_names_this_version():
+    yaml = pytest.importorskip("yaml")
+    cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
+    for key in ("cff-version", "message", "title", "authors", "version", "license"):  # CFF 1.2.0's required keys
+        assert cff.get(key), key
+    assert all(a.get("name") or a.get("family-names") for a in cff["authors"])
+    project = re.search(r'^version = "([^"]+)"', (ROOT / "pyproject.toml").read_text(), re.M).group(1)
+    assert str(cff["version"]) == project
