@@ -274,7 +274,7 @@ def test_the_readme_is_a_landing_page_whose_links_resolve():
 def test_the_citation_file_is_complete_and_names_this_version():
     yaml = pytest.importorskip("yaml")
     cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
-    for key in ("cff-version", "message", "title", "authors", "version", "license"):  # CFF 1.2.0's required keys
+    for key in ("cff-version", "message", "title", "authors", "version", "license"):  # CFF 1.2.0 requires the first four
         assert cff.get(key), key
     assert all(a.get("name") or a.get("family-names") for a in cff["authors"])
     project = re.search(r'^version = "([^"]+)"', (ROOT / "pyproject.toml").read_text(), re.M).group(1)
