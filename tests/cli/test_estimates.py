@@ -99,6 +99,12 @@ def test_lyapunov_at_zeta_1000_ends_at_once():
     assert len(err.strip().splitlines()) == 1 and err.startswith("error: "), err
 
 
+def test_reproducing_the_paper_with_a_microsecond_step_is_refused(tmp_path):
+    refused(("reproduce", "--out", str(tmp_path / "out"), "--dt", "1e-6", "--t-end", "1e5"), "RK4 steps", "days",
+            "--no-limit")
+    assert not (tmp_path / "out").exists()
+
+
 def test_simulate_rk4_above_the_limit_is_refused_and_no_limit_lifts_only_the_estimate():
     refused(("simulate", "--solver", "rk4", "--dt", "1e-9", "--t-end", "1e4", "--json"), "1e+13 rk4 steps", "days",
             "--no-limit")
@@ -143,6 +149,7 @@ README = [
     "basins --friction stribeck --fd 0.02 --fs 0.04 --vs 0.05 --delta 1 --zeta 0.03 --t-end 300 --x0=-0.28:0.32 "
     "--v0=-0.3:0.3 --sample 500 --vary vb=0.06:0.2:15",
     "sweep {sweep_toml} --out {out}",
+    "reproduce --out {out_dir}",
 ]
 SWEEP_TOML = ('friction = "coulomb"\nfs = 0.04\nt_end = 500.0\n\n[grid]\nzeta = { start = 0.0, stop = 0.1, num = 101 }\n'
               'vb = { start = 1e-3, stop = 0.1, num = 100, scale = "log" }\nfd = [0.01, 0.02, 0.03]\n')
@@ -159,7 +166,8 @@ def test_the_readme_commands_are_within_the_limits(command, tmp_path, monkeypatc
 
     verdict.__wrapped__ = estimate.refusal
     monkeypatch.setattr(estimate, "refusal", verdict)
-    argv = shlex.split(command.format(sweep_toml=tmp_path / "sweep.toml", out=tmp_path / "results.zarr"))
+    argv = shlex.split(command.format(sweep_toml=tmp_path / "sweep.toml", out=tmp_path / "results.zarr",
+                                      out_dir=tmp_path / "repro"))
     with pytest.raises(Checked):
         main(argv)
     (est, why), = seen
@@ -174,6 +182,5 @@ def test_every_model_command_takes_no_limit():
 
     load_commands(None)
     group = typer.main.get_command(app)
-    lacking = [name for name in COMMAND_MODULES if name != "reproduce"
-               and "--no-limit" not in {o for p in group.commands[name].params for o in p.opts}]
+    lacking = [name for name in COMMAND_MODULES if "--no-limit" not in {o for p in group.commands[name].params for o in p.opts}]
     assert not lacking
