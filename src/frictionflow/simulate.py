@@ -42,9 +42,8 @@ def simulate(
         Draw a progress bar on stderr for long runs.
     max_memory:
         GiB the samples may take; a longer run is refused up front, saying so.
-
-    Inside :func:`frictionflow.estimate.limited`, a run estimated above its
-    limits (an hour of computing) is refused before it starts.
+        Inside :func:`frictionflow.estimate.limited`, a run estimated above
+        its limits (an hour of computing) is refused before it starts too.
     """
     if not isinstance(model, BeltOscillator):
         raise TypeError(f"model must be a BeltOscillator, got {type(model).__name__}")
