@@ -9,9 +9,11 @@ are the constants of :data:`SECONDS_PER`, measured once on the project's
 machine.
 
 :func:`enforce` is the one place an estimate meets the limits: about an hour
-of computing, ``max_memory``, and the free space of each output's disk.  The
-limits are those :func:`limited` put in force -- none unless a caller does
-(the command line does for every command, and its ``--no-limit`` lifts them);
+of computing, the free space of each output's disk, and a memory bound if
+one is set (:class:`Limits`; the runs' own ``max_memory`` checks stay where
+they are).  The limits are those :func:`limited` put in force -- none unless
+a caller does (the command line does for every command, and its
+``--no-limit`` lifts them);
 the first estimate accepted inside :func:`limited` is the one the progress
 bars show (:func:`frictionflow._progress.progress_bar`) and the one that
 counts: a study's estimate covers the runs it makes, which are not checked
