@@ -17,7 +17,7 @@ from __future__ import annotations
 LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("rules", (
         "frictionflow.core", "frictionflow.modes", "frictionflow.quantities", "frictionflow.parameters",
-        "frictionflow._validate", "frictionflow._progress", "frictionflow._display", "frictionflow._layers",
+        "frictionflow._validate", "frictionflow._progress", "frictionflow.estimate", "frictionflow._display", "frictionflow._layers",
         "frictionflow._figures", "frictionflow._json", "frictionflow._version", "frictionflow._lazy",
     )),
     ("laws", ("frictionflow.friction",)),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from contextlib import contextmanager
+from contextvars import ContextVar
 from typing import Callable, Iterator
 
 from rich.console import Console
@@ -16,6 +17,9 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
+#: the estimate of the work under way (set by :func:`frictionflow.estimate.enforce`), shown after each bar's name
+ESTIMATE: ContextVar[str | None] = ContextVar("frictionflow_estimate", default=None)
+
 
 @contextmanager
 def progress_bar(
@@ -23,11 +27,15 @@ def progress_bar(
 ) -> Iterator[Callable[[float], None]]:
     """Yield ``advance(n)``; draws a bar on stderr when ``enabled``.
 
-    With ``unit`` (e.g. "points") the bar also shows the rate in units/s.
+    With ``unit`` (e.g. "points") the bar also shows the rate in units/s; the
+    estimate of the work under way, if any, follows the description.
     """
     if not enabled:
         yield lambda n: None
         return
+    estimate = ESTIMATE.get()
+    if estimate:
+        description = f"{description} (estimated {estimate})"
     columns = [TextColumn("[bold]{task.description}"), BarColumn(), TaskProgressColumn(), MofNCompleteColumn()]
     if unit:
         columns.append(TextColumn("{task.fields[rate]} " + unit + "/s"))

@@ -276,6 +276,13 @@ def write_figure(fig, path: str | Path, name: str = "path", *, close: bool = Tru
 
 # -- trajectories and configs ---------------------------------------------------------------------
 
+def trajectory_bytes(samples: float, path: str | Path) -> float:
+    """About the size of a trajectory file of ``samples`` rows (:func:`write_trajectory`): 24 characters a
+    CSV value (``%.17g``), 8 bytes a NetCDF one."""
+    values = 5 + len(WORK_NAMES)
+    return samples * values * (8 if Path(path).suffix.lower() == ".nc" else 24)
+
+
 def write_trajectory(traj: Trajectory, path: str | Path, *, name: str = "out") -> Path:
     """Write ``traj`` as CSV or NetCDF, chosen by the extension; ``name`` is the option named in errors.
 

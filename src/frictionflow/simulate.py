@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from .config import RUN_PARAMETERS
+from .estimate import enforce
 from .friction.base import FrictionLaw
 from .params import BeltOscillator
 from .solvers.base import DEFAULT_MAX_MEMORY, Solver
@@ -41,6 +42,8 @@ def simulate(
         Draw a progress bar on stderr for long runs.
     max_memory:
         GiB the samples may take; a longer run is refused up front, saying so.
+        Inside :func:`frictionflow.estimate.limited`, a run estimated above
+        its limits (an hour of computing) is refused before it starts too.
     """
     if not isinstance(model, BeltOscillator):
         raise TypeError(f"model must be a BeltOscillator, got {type(model).__name__}")
@@ -53,4 +56,5 @@ def simulate(
     solver = auto_solver(friction) if solver is None else solver
     if not solver.supports(friction):
         raise ValueError(f"solver={solver.name} does not support friction={friction.name}")
+    enforce(lambda: solver.cost(model, friction, t_end))  # within the limits in force (frictionflow.estimate.limited)
     return solver.solve(model, friction, x0, v0, t_end, progress=progress, max_memory=max_memory)

@@ -28,7 +28,7 @@ rounding noise that a floating-point frame would show.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -36,6 +36,7 @@ import numpy as np
 from .._display import Row, Summarized, num, spoken, system_row
 from .._json import jsonable
 from ..core import tangent
+from ..estimate import enforce, located_run
 from ..friction.base import FrictionLaw
 from ..friction.registry import tangent_law_names
 from ..params import BeltOscillator
@@ -228,6 +229,9 @@ def lyapunov_exponents(
     n_transient = math.ceil(t_transient / block - 1e-9)
     n_blocks = max(1, math.ceil((t_end - n_transient * block) / block - 1e-9))
     _check_size(n_transient, n_blocks, int(steps_per_block), t_end, max_memory)
+    blocks = n_transient + n_blocks
+    run = located_run(float(blocks) * steps_per_block, blocks * block, "tangent_step", model.omega if model.forced else 1.0)
+    enforce(replace(run, memory=blocks * _BYTES_PER_BLOCK))  # within the limits in force (frictionflow.estimate.limited)
     p = kernel_params(model, friction)
     strobe = np.zeros((n_transient + n_blocks, 3))
     est = np.full((n_blocks, 2), np.nan)

@@ -24,6 +24,7 @@ import numpy as np
 
 from .. import quantities as Q
 from .._progress import progress_bar
+from ..estimate import Estimate, enforce
 from ..friction.base import FrictionLaw
 from ..params import OMEGA, BeltOscillator
 from ..simulate import simulate
@@ -87,6 +88,7 @@ def frequency_response(
         raise ValueError(f"directions must be some of {DIRECTIONS}, got {list(directions)!r}")
     solver = solver or auto_solver(friction)
     _check_forcing(solver, model, omegas)
+    enforce(response_estimate(model, friction, solver, omegas, periods).times(len(directions)))
     names = (*Q.NAMES, *EXTRA)
     out = {n: np.full((len(directions), len(omegas)), np.nan) for n in names}
     with progress_bar("response", len(directions) * len(omegas), enabled=progress) as advance:
@@ -104,6 +106,14 @@ def frequency_response(
                 x, v = float(traj.x[-1]), float(traj.v[-1])
                 advance(1)
     return _dataset(out, model, friction, solver, omegas, directions, periods)
+
+
+def response_estimate(model: BeltOscillator, friction: FrictionLaw, solver: Solver, omegas: np.ndarray,
+                      periods: int) -> Estimate:
+    """One sweep through ``omegas``: a run of ``periods`` forcing periods at each (the solver's estimates, added)."""
+    runs = [solver.cost(replace(model, omega=float(w)), friction, periods * 2.0 * np.pi / float(w)) for w in omegas]
+    return Estimate(float(len(runs)), f"runs of {periods} forcing periods", sum(r.seconds for r in runs),
+                    max(r.memory for r in runs))
 
 
 def _check_forcing(solver: Solver, model: BeltOscillator, omegas: np.ndarray) -> None:

@@ -27,7 +27,9 @@ from .._display import Summarized, num
 from .._figures import draw
 from ..io import FIGURE_FORMATS, atomic_write, check_output_path, temporary_path
 from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS, SweepConfig, parse_sweep
-from ..sweep.runner import run_sweep
+from ..estimate import Estimate, enforce
+from ..sweep.compute import VARIABLES
+from ..sweep.runner import run_sweep, sweep_estimate
 from ..sweep.store import check_out
 from .labels import OUTCOMES, Attractor, Tolerances, label_attractors
 
@@ -231,6 +233,7 @@ def basins(
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "plot")
     design["points"] = int(cfg.size // (len(cfg.axes[along]) if along else 1))
+    enforce(_estimate(cfg, run, out))  # within the limits in force (frictionflow.estimate.limited)
     t0 = time.perf_counter()
     with _sweep_store(run.store, out) as path:
         labelled, found = label_attractors(_swept(cfg, path, run), along, tol)
@@ -251,6 +254,14 @@ def _sweep_options(given: SweepOptions | None, params: dict[str, Any]) -> SweepO
         raise TypeError(f"basins(): sweep_options must be a SweepOptions, got {type(given).__name__}")
     own = {f.name: params.pop(f.name) for f in fields(SweepOptions) if f.name in params}
     return replace(given if given is not None else SweepOptions(), **own)
+
+
+def _estimate(cfg: SweepConfig, run: SweepOptions, out: str | Path | None) -> Estimate:
+    """The sweep's estimate with its store where :class:`_sweep_store` puts it, the results held in memory to
+    be labelled, and ``out`` written from them."""
+    results = float(cfg.size) * 8 * len(VARIABLES)
+    store = run.store or (Path(str(out) + ".sweep.zarr") if out is not None else Path(tempfile.gettempdir()) / "sweep.zarr")
+    return replace(sweep_estimate(cfg, store, "store"), memory=results).writing(out, results)
 
 
 def _swept(cfg: SweepConfig, path: Path, run: SweepOptions):

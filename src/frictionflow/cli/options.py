@@ -21,6 +21,7 @@ from typing import Any, Callable, Optional
 import typer
 
 from ..config import RunConfig
+from ..estimate import Limits, limited
 from ..io import read_config
 from ..parameters import Param, declared
 
@@ -42,10 +43,34 @@ def _option(p: Param, help_override: dict[str, str]) -> inspect.Parameter:
 
 
 def with_parameters(names: tuple[str, ...], help_override: dict[str, str] | None = None) -> Callable:
-    """Decorator: give a command one option per parameter in ``names``, passed to it as ``params``."""
+    """Decorator: give a command one option per parameter in ``names``, passed to it as ``params``, and
+    :func:`bounded`'s ``--no-limit``."""
     params = declared()
     extra = [_option(params[n], help_override or {}) for n in names]
-    return lambda fn: _gathered(fn, extra, "params", lambda given: given)
+    return lambda fn: bounded(_gathered(fn, extra, "params", lambda given: given))
+
+
+#: the option that lifts the limits of :mod:`frictionflow.estimate` (the same on every command)
+NO_LIMIT = "--no-limit"
+NO_LIMIT_OPTION = typer.Option(False, NO_LIMIT, help="Run even when the work is estimated above an hour of computing "
+                               "or an output above the free space of its disk.")
+
+
+def bounded(fn: Callable) -> Callable:
+    """Decorator: run the command within the limits of :mod:`frictionflow.estimate`; its option ``--no-limit``
+    lifts them (the estimate is still shown by the progress bars)."""
+    signature = inspect.signature(fn, eval_str=True)
+
+    @functools.wraps(fn)
+    def command(*args: Any, no_limit: bool = False, **kwargs: Any) -> Any:
+        with limited(None if no_limit else Limits(lift=NO_LIMIT)):
+            return fn(*args, **kwargs)
+
+    extra = inspect.Parameter("no_limit", inspect.Parameter.KEYWORD_ONLY, default=NO_LIMIT_OPTION, annotation=bool)
+    command.__signature__ = signature.replace(parameters=[*signature.parameters.values(), extra])  # type: ignore[attr-defined]
+    command.__annotations__ = {}
+    del command.__wrapped__
+    return command
 
 
 def with_options(record: type) -> Callable:

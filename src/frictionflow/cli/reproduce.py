@@ -12,13 +12,14 @@ import typer
 
 from ..paper import Settings, reproduce as run_reproduction
 from ._app import app
-from .options import PATH_METAVAR, path_text
+from .options import PATH_METAVAR, bounded, path_text
 
 if TYPE_CHECKING:
     from ..paper import Summary
 
 
 @app.command()
+@bounded
 def reproduce(
     out: Path = typer.Option(..., "--out", parser=path_text, metavar=PATH_METAVAR, help="Output directory (created if missing; its parent must exist)."),
     t_end: Optional[float] = typer.Option(None, "--t-end", help="Run length of Figs. 2-6; averages over the last cycle before it [600]."),

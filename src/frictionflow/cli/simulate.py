@@ -13,7 +13,8 @@ import typer
 
 from ..analysis import analyze, precompile
 from ..config import RunConfig
-from ..io import TRAJECTORY_FORMATS, check_input_path, check_output_path, write_trajectory
+from ..estimate import enforce
+from ..io import TRAJECTORY_FORMATS, check_input_path, check_output_path, trajectory_bytes, write_trajectory
 from ..params import DimensionalParams
 from ..plotting import FIGURE_FORMATS, plot_run
 from ..simulate import simulate as run_simulation
@@ -46,6 +47,8 @@ def simulate(
         # windows snap to samples: sample finely enough that a hand-set window lands within 1e-3
         cfg = cfg.replace(dense_dt=min(cfg.dense_dt or 1e-3, 1e-3))
     model, law, solv = cfg.build()
+    samples = solv.sample_estimate(cfg.t_end, model)
+    enforce(solv.cost(model, law, cfg.t_end).writing(out, 0 if out is None else trajectory_bytes(samples, out), "--out"))
     analysis_ready = precompile.in_background()  # a first run: the analysis compiles on another core meanwhile
     traj = run_simulation(model, law, solv, t_end=cfg.t_end, x0=cfg.x0, v0=cfg.v0, progress=sys.stderr.isatty(),
                           max_memory=cfg.max_memory)

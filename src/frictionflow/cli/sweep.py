@@ -23,9 +23,11 @@ from ..sweep import KIND_NAMES, load_sweep, repair_sweep, run_sweep
 from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import verify_sweep
 from ._app import app
+from .options import bounded
 
 
 @app.command()
+@bounded
 def sweep(
     config: Optional[Path] = typer.Argument(None, help="TOML file: simulate's settings plus a [grid] table of swept parameters."),
     out: Optional[str] = typer.Option(None, "--out", metavar="PATH", help="Results: PATH.zarr (chunked, for large grids) or PATH.nc."),

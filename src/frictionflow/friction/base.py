@@ -168,6 +168,11 @@ class FrictionLaw:
         p = self.kernel_params()
         return (p[layout.FD], p[layout.FS], p[layout.LAW_A], p[layout.LAW_B], p[layout.LAW_C])
 
+    def resolvable(self) -> bool:
+        """Whether its slip curve changes on a velocity scale adaptive steps can resolve in floating point
+        (cost estimates assume a run of one that cannot goes to its step cap)."""
+        return True
+
     def hopf_damping(self, vb: float) -> float:
         """zeta at which steady sliding at belt speed ``vb`` changes stability: 2 zeta + F'(V_b) = 0."""
         return -0.5 * self.slip_slope(abs(vb))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from ..core import layout
 from ..core.curve_stribeck import magnitude, partial, slope, terms  # noqa: F401  (the law's curve, re-exported)
 from ..parameters import MODEL_MAX, nonnegative_real, positive_real
@@ -60,3 +62,7 @@ class Stribeck(FrictionLaw):
         rk4_band: float = 1e-4,
     ) -> None:
         self._assign(fd=fd, fs=fs, vs=vs, delta=delta, viscous=viscous, stick_force=stick_force, rk4_band=rk4_band)
+
+    def resolvable(self) -> bool:
+        # (V_r / V_s)^delta overflows at every V_r a step can tell from 0 once V_s^delta is below the normal floats
+        return self.vs ** self.delta >= sys.float_info.min

@@ -41,12 +41,13 @@ import numpy as np
 
 from .._display import Row, num
 from .._lazy import lazy_module
+from ..estimate import Estimate, enforce
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .charting import Chart, Codim2, Curve, CurvePoint, HeatMap, dedupe, sweep_config, trace  # noqa: F401  (re-exported)
 from .continuation import continuation
 from .equilibria import equilibrium
-from .flow_compiled import CompiledFlow
+from .flow_compiled import CompiledFlow, flow_seconds
 from .parameters import get_param, with_param
 from .sensitivity import locate_fold, stick_slip_margin
 
@@ -424,6 +425,7 @@ def stability_chart(
     if x_param == y_param:
         raise ValueError("the two parameters must differ")
     xs = np.asarray(x_values, dtype=float)
+    enforce(chart_estimate(law, len(xs), n_scan, curves, fold_every))  # within the limits in force, if any
     lo, hi = float(min(y_range)), float(max(y_range))
     ys = np.linspace(lo, hi, n_scan)
     plane = (model, law, x_param, y_param)
@@ -437,6 +439,18 @@ def stability_chart(
     out_curves, codim = trace(sources, xs)
     return StabilityChart(x_param, y_param, xs, (lo, hi), {**model.report(), **law.as_dict()}, out_curves, codim,
                           sweep=sweep, heat=heat if sweep is not None else "")
+
+
+def chart_estimate(law: FrictionLaw, n_x: int, n_scan: int, curves: tuple[str, ...], fold_every: int) -> Estimate:
+    """The compiled orbit flows of the curves: one per scan point and x for the grazing curve, and as many per
+    fold seed (a bound for the continuations in y that seed the folds; the Hopf curve needs none).
+
+    A flow's cost: :func:`~.flow_compiled.flow_seconds`.
+    """
+    grazing = "grazing" in curves and law.stick_rule == "switch"
+    folds = "fold" in curves and not law.piecewise_constant
+    flows = float(n_x * n_scan) * (grazing + folds / fold_every)
+    return Estimate(flows, "orbit flows", flows * flow_seconds(law))
 
 
 def stability_map(
@@ -471,7 +485,9 @@ def stability_map(
     **kw:
         Passed on to :func:`stability_chart`.
     """
-
-    sweep = HeatMap(sweep_shape, sweep_out, t_end, heat).run(model, law, x_param, (x_values[0], x_values[-1]),
-                                                             y_param, y_range)
+    heat_map, x_range = HeatMap(sweep_shape, sweep_out, t_end, heat), (x_values[0], x_values[-1])
+    curves = chart_estimate(law, len(x_values), kw.get("n_scan", 201), kw.get("curves", CURVES), kw.get("fold_every", 2))
+    sweep_cost = heat_map.estimate(model, law, x_param, x_range, y_param, y_range)
+    enforce(curves if sweep_cost is None else curves.then(sweep_cost))  # within the limits in force, if any
+    sweep = heat_map.run(model, law, x_param, x_range, y_param, y_range)
     return stability_chart(model, law, x_param, x_values, y_param, y_range, sweep=sweep, heat=heat, **kw)

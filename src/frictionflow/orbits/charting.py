@@ -33,7 +33,9 @@ from .._json import jsonable
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..sweep.compute import VARIABLES
-from ..sweep.runner import run_sweep
+from ..estimate import Estimate
+from ..sweep.config import parse_sweep
+from ..sweep.runner import run_sweep, sweep_estimate
 
 
 @dataclass
@@ -248,6 +250,15 @@ class HeatMap:
     out: Any = None
     t_end: float = 500.0
     heat: str = "R_c"
+
+    def estimate(self, model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str,
+                 y_range) -> Estimate | None:
+        """The sweep's estimate (:func:`~frictionflow.sweep.runner.sweep_estimate`), or None without a shape."""
+        if self.shape is None:
+            return None
+        cfg = parse_sweep(sweep_config(model, law, x_param, x_range, y_param, y_range, self.shape, self.t_end))
+        return sweep_estimate(cfg, self.out if self.out is not None else Path(tempfile.gettempdir()) / "sweep.nc",
+                              "sweep_out")
 
     def run(self, model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_range):
         """The sweep over x_range by y_range (an xarray.Dataset, loaded), or None without a shape."""

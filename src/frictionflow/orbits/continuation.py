@@ -22,9 +22,11 @@ from typing import Any
 
 import numpy as np
 
+from ..estimate import Estimate, enforce
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..solvers.base import Solver
+from ..solvers.registry import auto_solver
 from .branches import Bifurcation, Branch, BranchPoint, ContinuationResult
 from .cycle_problem import CycleProblem, Solution
 from .equilibria import equilibrium, equilibrium_branch, hopf_points
@@ -32,6 +34,7 @@ from .flow import make_flow
 from .parameters import with_param
 from .shooting import ShootingError, find_orbit, orbit_from_segment
 from .brute_force import sweep as brute_force_sweep
+from .flow_compiled import flow_seconds
 from .settings import SEEDS, ContinuationSettings, merged
 from .tracing import StepControl, Trace, Tracer
 
@@ -84,6 +87,7 @@ def continuation(
     """
     s = merged(ContinuationSettings, settings, options, "continuation")
     _check(model, friction, param, (start, stop), s)
+    enforce(continuation_estimate(model, friction, s))  # within the limits in force, if any
     branches: list[Branch] = []
     hopfs = _equilibria(branches, model, friction, param, np.linspace(start, stop, max(2, s.n_equilibria)), stop < start)
     problem = CycleProblem(model, friction, param, start, stop, returns=s.returns, tol=s.tol, max_period=s.max_period)
@@ -103,6 +107,22 @@ def continuation(
         result.sweep = brute_force_sweep(model, friction, param, np.linspace(start, stop, s.sweep), t_end=s.transient,
                                          x0=s.x0, v0=s.v0, solver=s.solver)
     return result
+
+
+#: shooting runs per branch point (a bound for the corrector and the step control)
+_RUNS_PER_POINT = 10
+
+
+def continuation_estimate(model: BeltOscillator, friction: FrictionLaw, s: ContinuationSettings) -> Estimate:
+    """The seed and sweep simulations (each to ``transient``), and ``max_points`` points of
+    :data:`_RUNS_PER_POINT` orbit flows on a branch per seed (a bound: the Hopf points may be more or fewer).
+    A flow's cost: :func:`~.flow_compiled.flow_seconds`.
+    """
+    solver = s.solver or auto_solver(friction)
+    runs = 2 * ("start" in s.seeds or "stop" in s.seeds) + s.sweep
+    simulations = solver.cost(model, friction, s.transient).times(runs)
+    flows = float(len(s.seeds) * s.max_points * _RUNS_PER_POINT)
+    return Estimate(flows, "orbit flows", flows * flow_seconds(friction)).then(simulations)
 
 
 def _check(model: BeltOscillator, friction: FrictionLaw, param: str, ends: tuple[float, float], s: ContinuationSettings) -> None:

@@ -24,6 +24,7 @@ import numpy as np
 from ..core import flowmap as fm
 from ..core import saltation as salt
 from ..core.layout import LAW_A, LAW_B, LAW_C
+from ..estimate import SECONDS_PER
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .flow_smooth import SLIP_NAMES
@@ -82,6 +83,16 @@ class SensitiveSegment(Segment):
         dX = self.M[0] - fx * self.M[1] / a if fx != 0.0 else self.M[0].copy()
         dT = -self.M[1] / a if a != 0.0 else np.full(3, np.nan)  # a tangential return: no return-time derivative
         return np.vstack([dX, dT])
+
+
+#: steps a piece of the compiled flow may take (the step loop of :func:`frictionflow.core.flowmap.flow_map`)
+FLOW_STEP_CAP = 1_000_000
+
+
+def flow_seconds(law: FrictionLaw) -> float:
+    """CPU seconds of a compiled flow over a cycle or two, for estimates; a law whose slip curve the steps cannot
+    resolve (:meth:`FrictionLaw.resolvable`) is assumed to take two pieces to their step cap."""
+    return SECONDS_PER["flow_run"] if law.resolvable() else 2 * FLOW_STEP_CAP * SECONDS_PER["flow_step"]
 
 
 class CompiledFlow:

@@ -65,6 +65,7 @@ from .._display import Row, Summarized, num, pairs, system_row
 from .._json import jsonable
 from ..core import forced_map as fm
 from ..core import tangent
+from ..estimate import Estimate, enforce, located_run
 from ..friction.base import FrictionLaw
 from ..friction.registry import tangent_law_names
 from ..params import FEX, OMEGA, BeltOscillator
@@ -398,6 +399,11 @@ def transient(model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float
     return flow_run(model, friction, (x0, v0), periods, steps).end
 
 
+def forced_estimate(model: BeltOscillator, periods: float, steps: int) -> Estimate:
+    """Flow maps of ``model`` over ``periods`` forcing periods, ``steps`` RK4 grid steps each, switches located."""
+    return located_run(float(periods) * steps, float(periods) * model.forcing_period, "map_step", model.omega)
+
+
 def find_forced_orbit(
     model: BeltOscillator,
     friction: FrictionLaw,
@@ -445,6 +451,8 @@ def find_forced_orbit(
     transient_periods = _check_int("transient_periods", transient_periods, 0, 10**7)
     if not (math.isfinite(tol) and tol > 0):
         raise ValueError(f"tol must be > 0, got {tol!r}")
+    # within the limits in force, if any: the transient and (a bound) max_iter Newton runs of m periods
+    enforce(forced_estimate(model, transient_periods + m * max_iter, steps))
     guess = transient(model, friction, float(x0 or 0.0), float(v0 or 0.0), transient_periods, steps)
     run, iterations = newton(model, friction, guess, m, steps, tol, max_iter)
     return _orbit_from(model, friction, m, run, iterations,
@@ -905,6 +913,7 @@ def continue_forced(
     if not (0 < s.h_min <= s.h0 <= s.h_max):
         raise ValueError(f"steps must satisfy 0 < h_min <= h0 <= h_max, got {s.h_min!r}, {s.h0!r}, {s.h_max!r}")
     base = replace(model, **{parameter: start})
+    enforce(branch_estimate(base, parameter, (start, stop), m, s, orbit is None))  # within the limits in force
     if orbit is None:
         orbit = find_forced_orbit(base, friction, m, x0, v0, steps=s.steps, tol=s.tol)
     elif orbit.m != m or not math.isclose(getattr(orbit.model, parameter), start, rel_tol=1e-12):
@@ -912,6 +921,25 @@ def continue_forced(
     sx = max(orbit.amplitude, float(np.max(np.abs(orbit.state))), model.fex, abs(model.vb), friction.fd, 1e-9)
     pb = _Problem(base, friction, parameter, m, steps=s.steps, scales=(sx, abs(stop - start)), interval=(start, stop), tol=s.tol)
     return _trace_forced(pb, orbit.state, (start, stop), sx, s)
+
+
+#: corrector runs per branch point (a bound: :class:`_Problem`'s corrector stops at 10 iterations)
+_RUNS_PER_POINT = 10
+
+
+def branch_estimate(base: BeltOscillator, parameter: str, interval: tuple[float, float], m: int,
+                     s: ForcedContinuationSettings, first: bool) -> Estimate:
+    """The branch's flow maps: ``max_points`` points of :data:`_RUNS_PER_POINT` runs (a bound) of m periods, after
+    the first orbit's transient and Newton runs (``first``).
+
+    In omega the points are taken as spread evenly over the interval: a
+    forcing period of the mean of 2 pi / omega there (an expectation, not a
+    bound: a branch may crowd its points anywhere).
+    """
+    lo, hi = min(interval), max(interval)
+    slowest = replace(base, omega=(hi - lo) / math.log(hi / lo)) if parameter == "omega" else base
+    periods = s.max_points * _RUNS_PER_POINT * m + (DEFAULT_TRANSIENT + 40 * m if first else 0)
+    return forced_estimate(slowest, periods, s.steps)
 
 
 def _trace_forced(pb: _Problem, state: np.ndarray, interval: tuple[float, float], sx: float,

@@ -47,6 +47,7 @@ import numpy as np
 
 from .._display import Row, num
 from .._lazy import lazy_module
+from ..estimate import Estimate, enforce
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .charting import Chart, Codim2, Curve, CurvePoint, HeatMap, dedupe, trace
@@ -54,6 +55,7 @@ from .extrema import FORCED_MONITORS, Extremum
 from .forced import (
     PARAMETERS,
     ForcedBranch,
+    branch_estimate,
     ForcedShootingError,
     continue_forced,
     find_forced_orbit,
@@ -494,6 +496,7 @@ def forced_chart(
     settings = merged(ForcedContinuationSettings, continuation, options, "forced_chart", "continuation")
     (lo, hi), ys = _check_plane(x_param, x_range, y_param, y_values, curves)
     ms = (m,) if isinstance(m, (int, np.integer)) else tuple(m)
+    enforce(forced_chart_estimate(model, (x_param, (lo, hi)), (y_param, ys), ms, settings))  # within the limits in force
     if x_start is None:
         here = float(getattr(model, x_param))
         x_start = lo if abs(here - lo) <= abs(here - hi) else hi
@@ -505,6 +508,16 @@ def forced_chart(
     return ForcedChart(x_param, y_param, ys, (lo, hi), {**model.report(), **law.as_dict(), "m": list(ms)},
                        sorted(out_curves, key=lambda c: (c.kind, c.m)), runs=[r for s in sources for r in s.runs],
                        sweep=sweep, heat=heat if sweep is not None else "", continued_in=x_param)
+
+
+def forced_chart_estimate(model: BeltOscillator, x: tuple[str, tuple[float, float]], y: tuple[str, Sequence[float]],
+                          ms: Sequence[int], settings: ForcedContinuationSettings) -> Estimate:
+    """A branch over the x interval (``x``: its name and ends) at each y value (``y``: its name and values) and
+    each m of ``ms``, as :func:`~.forced.branch_estimate` estimates one."""
+    (x_param, x_range), (y_param, ys) = x, y
+    runs = [branch_estimate(replace(model, **{y_param: float(v)}), x_param, x_range, mm, settings, True)
+            for v in ys for mm in ms]
+    return Estimate(float(len(runs)), "branches", sum(r.seconds for r in runs))
 
 
 def forced_map(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_values, *,
@@ -533,5 +546,13 @@ def forced_map(model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y
 
     ys = np.asarray(y_values, dtype=float)
     y_sweep = sweep_y_range if sweep_y_range is not None else (float(ys.min()), float(ys.max()))
-    sweep = HeatMap(sweep_shape, sweep_out, t_end, heat).run(model, law, x_param, x_range, y_param, y_sweep)
+    heat_map = HeatMap(sweep_shape, sweep_out, t_end, heat)
+    m = kw.get("m", 1)
+    settings = replace(kw.get("continuation") or ForcedContinuationSettings(),
+                       **{k: kw[k] for k in ("steps", "max_points") if k in kw})
+    curves = forced_chart_estimate(model, (x_param, (min(x_range), max(x_range))), (y_param, ys),
+                                   (m,) if isinstance(m, (int, np.integer)) else tuple(m), settings)
+    sweep_cost = heat_map.estimate(model, law, x_param, x_range, y_param, y_sweep)
+    enforce(curves if sweep_cost is None else curves.then(sweep_cost))  # within the limits in force, if any
+    sweep = heat_map.run(model, law, x_param, x_range, y_param, y_sweep)
     return forced_chart(model, law, x_param, x_range, y_param, y_values, sweep=sweep, heat=heat, **kw)

@@ -14,7 +14,7 @@ import os
 import time
 from collections.abc import Callable
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -22,6 +22,7 @@ from typing import Any
 from .._lazy import lazy_module
 from .. import _validate as check
 from .._progress import progress_bar
+from ..estimate import SECONDS_PER, Estimate, enforce
 from ..analysis import analyze
 from ..io import atomic_write, check_output_dir, check_output_path
 from ..params import BeltOscillator
@@ -145,6 +146,23 @@ def compute_jobs(settings: Settings) -> list[tuple[Callable[..., dict[str, xr.Da
     return jobs
 
 
+#: CPU seconds of the pipeline besides its RK4 steps (start-up, the exact runs, analyses, figures, report), and
+#: per RK4 step: ``reproduce --workers 1`` took 9.5 s of CPU with the quick settings (3.1e7 steps) and 11.4 s
+#: with the published ones (1.1e8 steps) on the project's machine, rounded up
+PAPER_SECONDS = 10.0
+SECONDS_PER_PAPER_STEP = SECONDS_PER["rk4_step"]
+
+
+def reproduce_estimate(settings: Settings) -> Estimate:
+    """The RK4 steps of the paper's runs at ``settings.dt`` (the creep runs at their own steps), and the time of
+    the pipeline (:data:`PAPER_SECONDS` and :data:`SECONDS_PER_PAPER_STEP`)."""
+    runs = ((len(sweep.VB) * len(sweep.FD) * len(settings.zeta_grid) + len(fig2.CASES) + len(fig3.CASES)
+             + len(fig4.CASES)) * settings.t_end + len(transient.CASES) * settings.window_t_end
+            + len(settings.band_vb) * settings.band_t_end + settings.band_history_t_end)
+    steps = runs / settings.dt + settings.band_history_t_end * sum(1.0 / dt for dt in band.CREEP_DT)
+    return Estimate(steps, "RK4 steps", PAPER_SECONDS + steps * SECONDS_PER_PAPER_STEP)
+
+
 def assemble(parts: dict[str, xr.Dataset]) -> dict[str, xr.Dataset]:
     """Join the jobs' pieces into one data set per study."""
     data = {k: v for k, v in parts.items() if "/" not in k}
@@ -257,6 +275,7 @@ def reproduce(out_dir: str | Path, settings: Settings | None = None, *, workers:
     settings = Settings() if settings is None else settings
     out = check_out_dir(out_dir)
     workers = min(2, os.cpu_count() or 1) if workers is None else check.positive_int("workers", workers)
+    enforce(replace(reproduce_estimate(settings), cores=workers))  # within the limits in force, if any
     out.mkdir(exist_ok=True)
 
     jobs = compute_jobs(settings)

@@ -140,6 +140,19 @@ class Adaptive(Solver):
             forced = int(t_end / model.forcing_period) + 2 + int(40 * t_end * max(model.omega - 1.0, 0.0))
         return int(40 * t_end) + 256 + dense + forced
 
+    def step_estimate(self, t_end: float, model: BeltOscillator, friction: FrictionLaw) -> float:
+        """Steps to ``t_end``, at most ``max_steps``: its samples, and the steps its stability limit adds.
+
+        A bound, not a count: Dormand-Prince is stable for h |lambda| below
+        about 3.3, and a damping 2 zeta >> 1 makes |lambda| ~ 2 zeta; a slip
+        curve it cannot resolve (:meth:`FrictionLaw.resolvable`) is assumed
+        to take it to its step cap.
+        """
+        if not friction.resolvable():
+            return float(self.max_steps)
+        stiff = t_end * 2.0 * model.zeta / 3.3
+        return float(min(self.max_steps, self.sample_estimate(t_end, model) + stiff))
+
     @staticmethod
     def _full(result: tuple, bufs: tuple[Samples, Events]) -> bool:
         return result[2] == dopri.FULL or result[1] > len(bufs[1].t)

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..core.layout import FEX, N_WORK, OMEGA, PHI
 from ..core.records import N_CONTACTS, N_STATE, Events, Samples, empty_samples
+from ..estimate import SECONDS_PER, Estimate
 from ..friction.base import FrictionLaw
 from ..parameters import Param, resolve
 from ..modes import SwitchMode
@@ -105,6 +106,9 @@ class Solver(ABC):
         they then run one ``simulate`` and ``analyze`` each.
     supports_forcing:
         It integrates an external force f(tau) (:meth:`forcing_problem` names the exceptions).
+    step_cost, point_cost_per:
+        Its cost model: the keys of :data:`frictionflow.estimate.SECONDS_PER` of a step of a
+        single run, and of a sweep point's work per unit of time (:meth:`cost`, :meth:`point_cost`).
     """
 
     name: str = "abstract"
@@ -118,6 +122,8 @@ class Solver(ABC):
     batched: ClassVar[Callable[..., None] | None] = None
     batched_forced: ClassVar[Callable[..., np.ndarray] | None] = None
     supports_forcing: ClassVar[bool] = True
+    step_cost: ClassVar[str] = "adaptive_step"
+    point_cost_per: ClassVar[str] = "adaptive_point_time"
 
     @classmethod
     def from_values(cls, values: Mapping[str, Any]) -> "Solver":
@@ -166,6 +172,27 @@ class Solver(ABC):
         """Fill ``out`` for forced points through :attr:`batched_forced`; returns which points it left to
         the façade (all of them without a batched kernel)."""
         return np.ones(len(zeta), dtype=bool)
+
+    def sample_estimate(self, t_end: float, model: BeltOscillator | None = None) -> int:
+        """Room for the samples of a run to ``t_end`` (a first guess: event-driven runs grow it)."""
+        raise NotImplementedError
+
+    def step_estimate(self, t_end: float, model: BeltOscillator, friction: FrictionLaw) -> float:
+        """Steps of a run to ``t_end``: one per kept sample unless the solver says otherwise."""
+        return float(self.sample_estimate(t_end, model))
+
+    def cost(self, model: BeltOscillator, friction: FrictionLaw, t_end: float) -> Estimate:
+        """The estimate of one run to ``t_end``: its steps, their time, its samples' memory."""
+        steps = self.step_estimate(t_end, model, friction)
+        return Estimate(steps, f"{self.name} steps", steps * SECONDS_PER[self.step_cost],
+                        float(self.sample_estimate(t_end, model)) * BYTES_PER_SAMPLE)
+
+    def point_cost(self, model: BeltOscillator, friction: FrictionLaw, t_end: float) -> Estimate:
+        """The estimate of one unforced sweep point to ``t_end`` in the batched kernel (no samples kept).
+
+        A bound: a point stops once its steady state is settled.
+        """
+        return Estimate(t_end, "time units", t_end * SECONDS_PER[self.point_cost_per])
 
     def describe(self) -> dict[str, Any]:
         """Name and settings, for reports and JSON."""

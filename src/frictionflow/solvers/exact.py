@@ -118,6 +118,9 @@ class Exact(Solver):
         return self.batched_forced(p, zeta, vb, x0, v0, t_end, rtol, 3, self.section_noise(self.describe()), out,
                                    dense_dt=self.dense_dt or 0.0, lyapunov=friction.has_tangent_kernel)
 
+    step_cost = "exact_sample"  # a step of the exact solver is a kept sample: a switch, an extreme, a dense point
+    point_cost_per = "exact_point_time"
+
     def sample_estimate(self, t_end: float, model: BeltOscillator | None = None) -> int:
         """Room for the samples of a run to ``t_end``: ~8 per natural period, the dense grid included.
 

@@ -16,6 +16,7 @@ from ..parameters import MODEL_MAX, Param
 from ..core import batch, sections
 from ..core.layout import FEX, LAW, N_WORK
 from ..core.records import N_CONTACTS, N_STATE, Samples, empty_samples
+from ..estimate import SECONDS_PER, Estimate
 from .base import kernel_params, DEFAULT_MAX_MEMORY, CoarseStepWarning, Solver, check_memory
 
 # (a step below 1e-9 or more steps than MAX_STEPS would run for days: refused up front)
@@ -95,6 +96,7 @@ class RK4(Solver):
     steady_rtol = 1e-6  # fixed-step RK4 resolves orbits to about 1e-6 at dt = 1e-3
     fixed_step = True
     batched = staticmethod(batch.rk4_points)
+    step_cost = "rk4_step"
 
     def __init__(self, dt: float = 1e-3, record_every: int | None = None) -> None:
         self.dt = DT.check(dt)
@@ -119,6 +121,22 @@ class RK4(Solver):
         # one law per sweep: the batched loop is compiled for its code; it counts the steps as simulate does
         self.batched(int(p[0, LAW]), p, zeta, vb, x0, v0, t_end, self.dt, rtol, min_periods,
                      self.section_noise(self.describe()), out)
+
+    def step_estimate(self, t_end: float, model: BeltOscillator, friction: FrictionLaw) -> float:
+        """Steps to ``t_end`` with the step used (:meth:`aligned_step`): exact, not an estimate."""
+        return float(math.ceil(t_end / self.aligned_step(model)[0] - 1e-9))
+
+    def sample_estimate(self, t_end: float, model: BeltOscillator | None = None) -> int:
+        """Samples kept: every ``record_every``-th step (unless told: every step, up to 5e6) and those around events."""
+        n = math.ceil(t_end / (self.dt if model is None else self.aligned_step(model)[0]) - 1e-9)
+        if self.record_every is None and n < MAX_AUTO_SAMPLES:
+            return n + 1
+        return min(n + 1, n // (self.record_every or max(1, n // MAX_AUTO_SAMPLES)) + int(4 * t_end) + 64)
+
+    def point_cost(self, model: BeltOscillator, friction: FrictionLaw, t_end: float) -> Estimate:
+        """A sweep point's steps to ``t_end`` in the batched kernel (a bound: it stops once settled)."""
+        steps = self.step_estimate(t_end, model, friction)
+        return Estimate(steps, "RK4 steps", steps * SECONDS_PER["rk4_point_step"])
 
     def step_limits(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float) -> dict[str, float]:
         """Largest steps that resolve the stick band and keep RK4 stable."""

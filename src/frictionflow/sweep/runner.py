@@ -8,18 +8,21 @@ checked chunk by chunk first (:meth:`SweepStore.verify`).
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from pathlib import Path
 from typing import Any
 
 from .._progress import progress_bar
-from .compute import compute_chunk
+from ..estimate import Estimate, enforce
+from .compute import VARIABLES, compute_chunk
 from ..parameters import Param
 from .config import MAX_AXIS, SweepConfig, chunk_shape, load_sweep, parse_sweep
 from .lock import STALE_AFTER, SweepLock
 from .store import RepairWarning, SweepStore, Verification, check_out, journal_path, stored_config, verify_sweep
 
-__all__ = ["CHUNK_SIZE", "SCHEDULER_TIMEOUT", "default_chunk_size", "repair_sweep", "run_sweep", "verify_sweep"]
+__all__ = ["CHUNK_SIZE", "SCHEDULER_TIMEOUT", "default_chunk_size", "repair_sweep", "run_sweep", "sweep_estimate",
+           "verify_sweep"]
 
 #: seconds to wait for a Dask scheduler before giving up
 SCHEDULER_TIMEOUT = 5.0
@@ -34,6 +37,22 @@ def default_chunk_size(cfg: SweepConfig) -> int:
     """About 0.2 s of work per chunk on one core (>= 100 ms per Dask task): what the solver declares."""
     _, _, solver = cfg.run.build()
     return solver.chunk_points(cfg.run.t_end)
+
+
+def sweep_estimate(cfg: SweepConfig, out: str | Path | None = None, name: str = "out") -> Estimate:
+    """Every point of ``cfg`` run to its t_end on this machine's cores, and the store ``out`` (given as ``name``)
+    its results fill.
+
+    A bound: a point stops once its steady state is settled.  A forced
+    point is costed as a single run (the batched kernels and the façade
+    alike); the store holds a float per variable and point.
+    """
+    model, law, solver = cfg.run.build()
+    forced = model.forced or "fex" in cfg.axes or "fex" in cfg.sample
+    point = solver.cost(model, law, cfg.run.t_end) if forced else solver.point_cost(model, law, cfg.run.t_end)
+    work = Estimate(float(cfg.size), f"points of {point.work:.3g} {point.unit}", point.seconds * cfg.size,
+                    cores=os.cpu_count() or 1)
+    return work.writing(out, float(cfg.size) * 8 * len(VARIABLES), name)
 
 
 def run_sweep(
@@ -81,6 +100,7 @@ def run_sweep(
     if not (isinstance(scheduler_timeout, (int, float)) and math.isfinite(scheduler_timeout) and scheduler_timeout > 0):
         raise ValueError(f"scheduler_timeout must be a number of seconds > 0, got {scheduler_timeout!r}")
     check_out(out)
+    enforce(sweep_estimate(cfg, out))  # within the limits in force (frictionflow.estimate.limited)
     with SweepLock(out, stale_after=lock_stale_after):
         own_client = _connect(scheduler, scheduler_timeout) if client is None and scheduler is not None else None
         try:

@@ -1,0 +1,186 @@
+"""Issue 20, item 1: an estimate before any work; work above the limits refused in one line naming the estimate and
+``--no-limit``; ordinary work (the README's commands) not refused.
+
+The refusals run as typed, each in its own process, and must come back within a few seconds (an unbounded run
+would take hours to days).  The README's commands are checked in-process up to the comparison only: the
+comparison's verdict is recorded and the command stopped there, before any of its work.
+"""
+
+from __future__ import annotations
+
+import os
+import shlex
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+import frictionflow
+from frictionflow import estimate
+from frictionflow.cli import main
+from tests.test_atomic_output import full_dir  # noqa: F401  (fixture: a directory on a 64 KiB tmpfs)
+
+SRC = str(Path(frictionflow.__file__).resolve().parents[1])
+#: seconds a refusal may take, start-up and imports included (it does no work; a run it refuses takes hours)
+QUICK = 20.0
+BIG_GRID = 't_end = 50\n\n[grid]\nzeta = {start = 0.0, stop = 0.1, num = 100000}\nvb = {start = 0.01, stop = 0.1, num = 100000}\n'
+
+
+def cli(*argv: str, cwd: Path | None = None, timeout: float = 120) -> tuple[int, str, str, float]:
+    """``python -m frictionflow ARGV`` in its own process, on this tree: (exit code, stdout, stderr, seconds)."""
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH")])))
+    t0 = time.monotonic()
+    done = subprocess.run([sys.executable, "-m", "frictionflow", *argv], capture_output=True, text=True, env=env,
+                          cwd=cwd, timeout=timeout, check=False)
+    return done.returncode, done.stdout, done.stderr, time.monotonic() - t0
+
+
+def refused(argv: tuple[str, ...], *words: str, cwd: Path | None = None) -> str:
+    """Run ``argv``: exit 2 at once, nothing on stdout, one ``error: ...`` line with the estimate and ``words``."""
+    code, out, err, seconds = cli(*argv, cwd=cwd)
+    lines = err.strip().splitlines()
+    assert code == 2 and out == "" and len(lines) == 1, err
+    assert lines[0].startswith("error: ") and "estimated " in lines[0] and all(w in lines[0] for w in words), err
+    assert seconds < QUICK, seconds
+    return lines[0]
+
+
+# -- the hostile commands of the issue -------------------------------------------------------------
+
+def test_a_sweep_of_1e10_points_is_refused_for_its_store_and_time(tmp_path):
+    (tmp_path / "big.toml").write_text(BIG_GRID)
+    line = refused(("sweep", "big.toml", "--out", "big.zarr"), "1e+10 points", "days", "TiB", "free",
+                   "--no-limit", cwd=tmp_path)
+    assert line.startswith("error: out: 'big.zarr' would need about 1.16 TiB but its disk has ")
+    assert not (tmp_path / "big.zarr").exists() and not list(tmp_path.glob("*.lock"))
+
+
+def test_a_basins_grid_of_1e10_points_is_refused(tmp_path):
+    refused(("basins", "--x0=-0.28:0.32:100000", "--v0=-0.3:0.3:100000", "--json"), "1e+10 points", "in memory",
+            "--no-limit", cwd=tmp_path)
+    assert not list(tmp_path.iterdir())
+
+
+def test_basins_with_a_nanosecond_rk4_step_is_refused(tmp_path):
+    line = refused(("basins", "--x0=-0.28:0.32:3", "--v0=-0.3:0.3:3", "--friction", "karnopp", "--solver", "rk4",
+                    "--dt", "1e-9", "--t-end", "50", "--json"), "9 points of 5e+10 RK4 steps", "above the limit of 1 h",
+                   "--no-limit", cwd=tmp_path)
+    assert " h " in line or "days" in line
+
+
+def test_a_forced_orbit_at_a_nanoscale_frequency_is_refused():
+    # a transient of 10 forcing periods is 6.3e10 time units: its switches, not its 5120 grid steps, cost days
+    refused(("forced-orbit", "--omega", "1e-9", "--fex", "0.1", "--transient", "10", "--json"), "switches", "days",
+            "--no-limit")
+
+
+def test_a_map_with_a_stribeck_curve_below_the_normal_floats_is_refused():
+    # V_s^2 underflows: each grazing-margin flow runs to its step cap (2.7 s measured), 41 x 201 of them
+    refused(("map", "--x", "vb", "--x-from", "0.1", "--x-to", "0.5", "--y", "zeta", "--y-from", "0.01", "--y-to", "0.1",
+             "--friction", "stribeck", "--vs", "1e-300", "--json"), "orbit flows", " h", "--no-limit")
+
+
+def test_a_lyapunov_run_of_1e12_time_units_is_refused_by_memory_then_by_time(tmp_path):
+    code, out, err, seconds = cli("lyapunov", "--t-end", "1e12", "--t-transient", "20", "--steps", "64", "--json")
+    assert code == 2 and out == "" and seconds < QUICK
+    assert err.count("\n") == 1 and "1.02e+13 RK4 steps" in err and "raise max_memory" in err, err
+    # memory lifted by the config: the time limit still holds, and says how to lift it
+    (tmp_path / "mem.toml").write_text("max_memory = 1e6\n")
+    refused(("lyapunov", "--t-end", "1e12", "--t-transient", "20", "--steps", "64", "--json", "--config",
+             str(tmp_path / "mem.toml")), "1.02e+13 RK4 steps", "days", "--no-limit")
+
+
+def test_lyapunov_at_zeta_1000_ends_at_once():
+    """Not a cost: 6000 time units are 5e5 tangent steps.  The run stops at once on zero-length phases."""
+    code, out, err, seconds = cli("lyapunov", "--zeta", "1000", "--json")
+    assert seconds < QUICK and out == "" and code in (1, 2)
+    assert len(err.strip().splitlines()) == 1 and err.startswith("error: "), err
+
+
+def test_reproducing_the_paper_with_a_microsecond_step_is_refused(tmp_path):
+    refused(("reproduce", "--out", str(tmp_path / "out"), "--dt", "1e-6", "--t-end", "1e5"), "RK4 steps", "days",
+            "--no-limit")
+    assert not (tmp_path / "out").exists()
+
+
+def test_simulate_rk4_above_the_limit_is_refused_and_no_limit_lifts_only_the_estimate():
+    refused(("simulate", "--solver", "rk4", "--dt", "1e-9", "--t-end", "1e4", "--json"), "1e+13 rk4 steps", "days",
+            "--no-limit")
+    code, _, err, _ = cli("simulate", "--solver", "rk4", "--dt", "1e-9", "--t-end", "1e4", "--json", "--no-limit")
+    assert code == 2 and "more than 1e+11" in err  # the solver's own cap still holds
+
+
+def test_an_output_larger_than_its_disk_is_refused_before_any_work(tmp_path, full_dir, capsys):
+    """A sweep store of megabytes on a 64 KiB disk: refused by its estimate, nothing computed or written."""
+    (tmp_path / "s.toml").write_text("t_end = 50\n\n[grid]\nzeta = {start = 0.0, stop = 0.1, num = 50000}\n")
+    out = full_dir / "r.zarr"
+    assert main(["sweep", str(tmp_path / "s.toml"), "--out", str(out)]) == 2
+    line = capsys.readouterr().err.strip()
+    assert line.startswith(f"error: out: {str(out)!r} would need about ") and "\n" not in line
+    assert " MiB but its disk has " in line and " KiB free" in line
+    assert "no space left on device (estimated 5e+04 points" in line and line.endswith("--no-limit")
+    assert list(full_dir.iterdir()) == []
+
+
+# -- ordinary work is not refused ------------------------------------------------------------------
+
+class Checked(Exception):
+    """Raised in place of the work once the estimate has been compared with the limits."""
+
+
+README = [
+    "simulate --fd 0.02 --vb 0.01 --zeta 0",
+    "simulate --fex 0.3 --omega 0.8 --zeta 0.05 --vb 0 --friction coulomb --fd 0.05 --json",
+    "simulate --solver rk4 --t-end 2000",
+    "response --omega 0.3:2.5:200 --fex 0.3 --zeta 0.05 --vb 0 --friction coulomb --fd 0.05",
+    "lyapunov --fex 0.5 --omega 1 --zeta 0.01 --vb 0.1 --fd 0.5 --fs 1.0 --json",
+    "orbit --friction coulomb --fs 0.04 --zeta 0.05 --json",
+    "continue --param zeta --from 0.2 --to 0.4 --friction stribeck --vb 0.016 --sweep 11 --json",
+    "map --friction stribeck --fd 0.02 --fs 0.04 --vs 0.01 --x vb --x-from 0.004 --x-to 0.03 --x-points 27 --y zeta "
+    "--y-from 0 --y-to 1 --sweep 27x26 --t-end 300 --heat R_c",
+    "map --friction coulomb --fd 0.5 --fs 1.0 --zeta 0.05 --vb 0.1 --fex 0.5 --x omega --x-from 1.5 --x-to 2.2 --y fex "
+    "--y-from 0.4 --y-to 0.5 --y-points 5 --m 1,2 --sweep 8x5 --heat TR_B",
+    "forced-orbit --fex 0.5 --omega 0.8 --json",
+    "forced-continue --fex 0.01 --from 0.8 --to 1.2 --json",
+    "basins --friction stribeck --fd 0.02 --fs 0.04 --vs 0.05 --delta 1 --zeta 0.03 --t-end 300 --vb 0.12 "
+    "--x0=-0.28:0.32:121 --v0=-0.3:0.3:121",
+    "basins --friction stribeck --fd 0.02 --fs 0.04 --vs 0.05 --delta 1 --zeta 0.03 --t-end 300 --x0=-0.28:0.32 "
+    "--v0=-0.3:0.3 --sample 500 --vary vb=0.06:0.2:15",
+    "sweep {sweep_toml} --out {out}",
+    "reproduce --out {out_dir}",
+]
+SWEEP_TOML = ('friction = "coulomb"\nfs = 0.04\nt_end = 500.0\n\n[grid]\nzeta = { start = 0.0, stop = 0.1, num = 101 }\n'
+              'vb = { start = 1e-3, stop = 0.1, num = 100, scale = "log" }\nfd = [0.01, 0.02, 0.03]\n')
+
+
+@pytest.mark.parametrize("command", README, ids=[c.split()[0] + str(i) for i, c in enumerate(README)])
+def test_the_readme_commands_are_within_the_limits(command, tmp_path, monkeypatch):
+    (tmp_path / "sweep.toml").write_text(SWEEP_TOML)
+    seen = []
+
+    def verdict(est, limits):
+        seen.append((est, estimate.refusal.__wrapped__(est, limits)))
+        raise Checked
+
+    verdict.__wrapped__ = estimate.refusal
+    monkeypatch.setattr(estimate, "refusal", verdict)
+    argv = shlex.split(command.format(sweep_toml=tmp_path / "sweep.toml", out=tmp_path / "results.zarr",
+                                      out_dir=tmp_path / "repro"))
+    with pytest.raises(Checked):
+        main(argv)
+    (est, why), = seen
+    assert why is None, why
+    assert est.wall < 0.25 * estimate.DEFAULT_SECONDS, est.text()  # well inside: an estimate is not a count
+
+
+def test_every_model_command_takes_no_limit():
+    from frictionflow.cli import COMMAND_MODULES, load_commands
+    from frictionflow.cli._app import app
+    import typer
+
+    load_commands(None)
+    group = typer.main.get_command(app)
+    lacking = [name for name in COMMAND_MODULES if "--no-limit" not in {o for p in group.commands[name].params for o in p.opts}]
+    assert not lacking
