@@ -69,10 +69,21 @@ GIB = 2.0**30
 class Estimate:
     """The cost of a run or a study, before it starts.
 
-    ``work`` of ``unit`` (e.g. 5e10 "RK4 steps"), ``seconds`` of CPU on one
-    core, shared over ``cores``; ``memory`` bytes held at once; ``outputs``:
-    (name, path, bytes) of each file written, ``name`` the option or argument
-    that gave its path.
+    Attributes
+    ----------
+    work:
+        How much work, in ``unit`` (e.g. 5e10).
+    unit:
+        What the work counts (e.g. "RK4 steps", "points").
+    seconds:
+        CPU seconds on one core.
+    memory:
+        Bytes held at once.
+    outputs:
+        (name, path, bytes) of each file written, ``name`` the option or
+        argument that gave its path.
+    cores:
+        Cores the work is shared over.
     """
 
     work: float
@@ -129,8 +140,19 @@ def size(n: float) -> str:
 
 @dataclass(frozen=True)
 class Limits:
-    """What a run may cost: CPU ``seconds`` (wall, its cores counted), ``memory`` GiB, and its outputs at most
-    the free space of their disks (``disk``).  ``lift`` names what lifts them (said when refusing)."""
+    """What a run may cost.
+
+    Attributes
+    ----------
+    seconds:
+        Wall seconds (the CPU seconds over the work's cores).
+    memory:
+        GiB held at once.
+    disk:
+        Whether every output must fit the free space of its disk.
+    lift:
+        What lifts the limits (said when refusing, e.g. ``--no-limit``).
+    """
 
     seconds: float = DEFAULT_SECONDS
     memory: float = math.inf
@@ -149,7 +171,13 @@ _STATE: ContextVar[_State | None] = ContextVar("frictionflow_limits", default=No
 
 @contextmanager
 def limited(limits: Limits | None) -> Iterator[None]:
-    """Put ``limits`` in force for the work done inside (None: no limit, but the estimate is still shown)."""
+    """Put ``limits`` in force for the work done inside.
+
+    Parameters
+    ----------
+    limits:
+        The limits; None: no limit, but the estimate is still shown.
+    """
     token, shown = _STATE.set(_State(limits)), ESTIMATE.set(None)
     try:
         yield
@@ -167,7 +195,15 @@ def free_space(path: str | Path) -> float:
 
 
 def refusal(est: Estimate, limits: Limits) -> str | None:
-    """Why ``est`` is above ``limits`` (one line with the estimate and what lifts it), or None."""
+    """Why ``est`` is above ``limits`` (one line with the estimate and what lifts it), or None.
+
+    Parameters
+    ----------
+    est:
+        The estimated cost.
+    limits:
+        The limits it is held to.
+    """
     if est.memory > limits.memory * GIB:
         return (f"estimated {est.text()}: needs {size(est.memory)} in memory but max_memory={limits.memory:g} GiB; "
                 "raise max_memory or make the run shorter")
@@ -189,6 +225,11 @@ def enforce(estimate: Estimate | Callable[[], Estimate] | None) -> None:
     runs it is made of are not checked again, and the progress bars show it.
     Outside :func:`limited`, nothing is compared (a callable ``estimate`` is
     not even called: for the runs of a study, which need none).
+
+    Parameters
+    ----------
+    estimate:
+        The cost, a callable that computes it, or None (not known).
     """
     state = _STATE.get()
     if state is None or estimate is None or state.accepted is not None:
