@@ -29,6 +29,7 @@ from hypothesis import strategies as st
 from frictionflow import quantities as Q
 from frictionflow.cli import load_commands
 from frictionflow.cli._app import app
+from frictionflow.friction import law_class, law_names
 from frictionflow.parameters import Param, declared
 
 PARAMS = declared()
@@ -236,13 +237,23 @@ def cases(draw: Any, command: str, hostile_only: bool = False) -> Case:
     given = dict(BASE[command])
     given.update({n: v for n, (v, _) in values.items()})
     bad = {n for n, (_, b) in values.items() if b}
+    if mode == "cheap" and "friction" in opts:
+        _law_having(draw, given)
     config: dict[str, Any] = {}
     if "config" in opts or command == "sweep":
-        config = draw(_config(command, opts, given))
+        config = draw(_config(command, opts, given, mode == "hostile"))
     for n in config:
         if n in given and draw(st.booleans()):  # only in the file (else in both: the command line wins)
             del given[n]
     return Case(command, given, config, bad)
+
+
+def _law_having(draw: Any, given: dict[str, str]) -> None:
+    """A cheap case names a friction law that has the law parameters it gives (one of them, drawn)."""
+    wanted = {n for n in given if PARAMS.get(n) is not None and PARAMS[n].owner == "law"}
+    laws = [law for law in law_names() if wanted <= {p.name for p in law_class(law).parameters}]
+    if wanted and laws and given.get("friction") not in laws:
+        given["friction"] = draw(st.sampled_from(laws))
 
 
 def toml_value(text: str) -> Any:
@@ -254,11 +265,12 @@ def toml_value(text: str) -> Any:
 
 
 @st.composite
-def _config(draw: Any, command: str, opts: dict[str, Option], given: dict[str, str]) -> dict[str, Any]:
-    """Values for a config file: some of the declared options the command takes (sweep: also its grid)."""
+def _config(draw: Any, command: str, opts: dict[str, Option], given: dict[str, str], bad: bool) -> dict[str, Any]:
+    """Values for a config file: some of the declared options the command takes (sweep: also its grid);
+    cheap ones, or (``bad``) also hostile ones and values of the wrong TOML type."""
     declared_opts = sorted(n for n, o in opts.items() if o.param is not None)
     if command == "sweep":
-        return draw(_sweep_config())
+        return draw(_sweep_config(bad))
     if not draw(st.booleans()):
         return {}
     names = draw(st.lists(st.sampled_from(declared_opts), max_size=3, unique=True))
@@ -266,30 +278,38 @@ def _config(draw: Any, command: str, opts: dict[str, Option], given: dict[str, s
     for n in names:
         if n in given and draw(st.booleans()):
             out[n] = toml_value(given[n])
-        else:
+        elif bad:
             out[n] = draw(st.one_of(cheap(opts[n]).map(toml_value), hostile(opts[n]).map(toml_value),
                                     st.sampled_from([True, [1.0], {"a": 1}])))
+        else:
+            out[n] = draw(cheap(opts[n]).map(toml_value))
+    if not bad and "friction" in opts:
+        _law_having(draw, out)
     return out
 
 
 @st.composite
-def _sweep_config(draw: Any) -> dict[str, Any]:
+def _sweep_config(draw: Any, bad: bool) -> dict[str, Any]:
     """A sweep's TOML: run settings (declared parameters) and a [grid] of one or two sweepable axes."""
     run_names = [n for n, p in PARAMS.items() if p.kind != "text"]
     runs = {"t_end": 20.0, "friction": "coulomb"}
     for n in draw(st.lists(st.sampled_from(run_names), max_size=2, unique=True)):
         o = Option(n, PARAMS[n].flag, PARAMS[n].kind, PARAMS[n], False, None)
-        runs[n] = toml_value(draw(st.one_of(cheap(o), hostile(o))))
+        runs[n] = toml_value(draw(st.one_of(cheap(o), hostile(o)) if bad else cheap(o)))
     axes = draw(st.lists(st.sampled_from([n for n, p in PARAMS.items() if p.sweepable]), min_size=1, max_size=2,
                          unique=True))
     grid = {}
     for n in axes:
         o = Option(n, PARAMS[n].flag, PARAMS[n].kind, PARAMS[n], False, None)
-        values = st.lists(st.one_of(cheap(o), cheap(o), hostile(o)).map(toml_value), min_size=1, max_size=3)
+        one = st.one_of(cheap(o), cheap(o), hostile(o)) if bad else cheap(o)
+        values = st.lists(one.map(toml_value), min_size=1, max_size=3)
         lo, hi = CHEAP.get(n, (0.0, 0.1))
-        table = st.builds(lambda num: {"start": lo, "stop": hi, "num": num},
-                          st.one_of(st.integers(1, 3), st.sampled_from([0, -1, 10**12, 2.5, "3"])))
-        grid[n] = draw(st.one_of(values, table))
+        nums = st.one_of(st.integers(1, 3), st.sampled_from([0, -1, 10**12, 2.5, "3"])) if bad else st.integers(1, 3)
+        grid[n] = draw(st.one_of(values, st.builds(lambda num: {"start": lo, "stop": hi, "num": num}, nums)))
+    if not bad:
+        named = runs | {n: "" for n in grid}  # the axes' law parameters too
+        _law_having(draw, named)
+        runs = {k: v for k, v in runs.items() if k not in grid} | {"friction": named["friction"]}
     return {**runs, "grid": grid}
 
 
