@@ -111,16 +111,17 @@ def dicts_named(data: Any, key: str) -> Iterator[dict[str, Any]]:
             yield from dicts_named(v, key)
 
 
-def echoed(data: Any, given: dict[str, str], declared_options: set[str]) -> None:
+def echoed(data: Any, given: dict[str, str], declared_options: set[str], varied: set[str]) -> None:
     """Every declared parameter given (that the result reports) is in ``params`` with the value given.
 
-    ``declared_options``: the command's options that are the declared parameters of that name."""
+    ``declared_options``: the command's options that are the declared parameters of that name; ``varied``:
+    the parameters the command itself varies (a continuation's, a map's axes), whose value it sets."""
     reports = list(dicts_named(data, "params"))
     if not reports or "dimensional" in given:
         return
     for name, text in given.items():
         p = PARAMS.get(name)
-        if p is None or p.kind == "text" or name not in declared_options:
+        if p is None or p.kind == "text" or name not in declared_options or name in varied:
             continue
         value = text if p.kind == "choice" else float(text)
         for params in reports:

@@ -58,7 +58,7 @@ CHEAP: dict[str, tuple[float, float]] = {
     "t_end": (1.0, 40.0), "dt": (2e-3, 0.05), "dense_dt": (0.05, 1.0), "max_steps": (10**5, 10**7),
     "record_every": (1, 50), "x0": (-0.1, 0.1), "v0": (-0.1, 0.1), "zeta": (0.0, 0.5), "vb": (-0.2, 0.2),
     "fd": (0.0, 0.05), "fs": (0.0, 0.1), "vd": (1e-4, 1e-2), "vs": (1e-3, 0.1), "delta": (0.5, 3.0),
-    "viscous": (0.0, 0.1), "k1": (0.0, 0.3), "k3": (5.0, 50.0), "rk4_band": (1e-5, 1e-3), "rtol": (1e-10, 1e-4),
+    "viscous": (0.0, 0.1), "k1": (0.0, 0.3), "k3": (5.0, 50.0), "rk4_band": (1e-5, 1e-3), "rtol": (1e-10, 1e-4), "ode_rtol": (1e-10, 1e-6),
     "max_memory": (0.05, 1.0), "fex": (0.0, 0.1), "omega": (0.5, 2.0), "phi": (-3.2, 3.2),
     # a command's own options
     "points": (2, 6), "max_points": (2, 6), "transient": (0, 3), "steps": (16, 128), "periods": (8, 16),
@@ -149,6 +149,7 @@ def cheap(opt: Option) -> st.SearchStrategy[str]:
     if p is not None:  # the cheap range clipped to the declared one
         lo = max(lo, p.lower) if p.lower is not None else lo
         hi = min(hi, p.upper) if p.upper is not None else hi
+    assert lo <= hi, f"{opt.name}: the cheap range ({lo}, {hi}) is outside the declared one"
     if opt.kind == "int":
         return st.integers(int(math.ceil(lo)), int(hi)).map(str)
     low_open = p is not None and p.lower_open and lo == p.lower
@@ -156,8 +157,9 @@ def cheap(opt: Option) -> st.SearchStrategy[str]:
 
 
 def _around(opt: Option) -> tuple[float, float]:
-    """A command's own number without a cheap range: a span about its default."""
-    d = opt.default if isinstance(opt.default, (int, float)) and not isinstance(opt.default, bool) else 1.0
+    """A number without a cheap range: a span about its default (the declared one for a declared parameter)."""
+    d = opt.param.default if opt.param is not None else opt.default
+    d = d if isinstance(d, (int, float)) and not isinstance(d, bool) else 1.0
     return (d / 4, d * 4) if d > 0 else (0.0, 1.0)
 
 
@@ -180,6 +182,23 @@ def hostile(opt: Option) -> st.SearchStrategy[str]:
     else:
         texts += [repr(x) for e in ends for x in (e, math.nextafter(e, -math.inf), math.nextafter(e, math.inf))]
     return st.sampled_from(texts)
+
+
+def edge(opt: Option) -> st.SearchStrategy[str]:
+    """A value the declaration allows at an extreme: an end of the range (the nearest float inside an open
+    end), the smallest normal number, 1e-300 -- the work it asks for may be huge (then refused up front)."""
+    p = opt.param
+    if p is None or opt.kind not in ("real", "int"):
+        return cheap(opt)
+    ends = [math.nextafter(e, math.inf if e == p.lower else -math.inf) if is_open else e
+            for e, is_open in ((p.lower, p.lower_open), (p.upper, p.upper_open)) if e is not None]
+    values = []
+    for x in (*ends, sys.float_info.min, 1e-300, -1e-300, 1e-9, 1.0):
+        try:
+            values.append(p.check(int(x) if opt.kind == "int" and float(x).is_integer() else x))
+        except ValueError:
+            pass  # not allowed: the hostile draws have it
+    return st.sampled_from([str(v) if opt.kind == "int" else repr(float(v)) for v in values] or ["1"])
 
 
 @dataclass
@@ -210,34 +229,38 @@ class Case:
         return argv
 
 
-def _draw_values(draw: Any, names: list[str], opts: dict[str, Option], bad: bool) -> dict[str, tuple[str, bool]]:
-    """A value for each of ``names``: cheap, or (when ``bad``) hostile for at least one of them."""
+def _draw_values(draw: Any, names: list[str], opts: dict[str, Option], mode: str) -> dict[str, tuple[str, bool]]:
+    """A value for each of ``names``: cheap, or (mode ``hostile``/``edge``) hostile or at an allowed extreme
+    for at least one of them."""
     out = {}
     plain = [n for n in names if opts[n].kind != "flag"]
-    bad_one = draw(st.sampled_from(plain)) if bad and plain else None
+    odd = mode in ("hostile", "edge")
+    odd_one = draw(st.sampled_from(plain)) if odd and plain else None
+    unusual = hostile if mode == "hostile" else edge
     for n in names:
-        is_bad = n == bad_one or (bad and draw(st.booleans()))
-        out[n] = (draw(hostile(opts[n]) if is_bad else cheap(opts[n])), is_bad)
+        is_odd = n == odd_one or (odd and draw(st.booleans()))
+        out[n] = (draw(unusual(opts[n]) if is_odd else cheap(opts[n])), is_odd)
     return out
 
 
 @st.composite
-def cases(draw: Any, command: str, hostile_only: bool = False) -> Case:
+def cases(draw: Any, command: str, modes: tuple[str, ...] = ("cheap", "cheap", "hostile")) -> Case:
     """A command line of ``command``: its base, a few options changed (each cheap, or hostile), some of the
     model's values in a config file instead (TOML-typed: a number stays a number, junk becomes a string).
 
-    ``hostile_only``: at least one option hostile (for a command whose cheapest valid run is slow)."""
+    ``modes``: what the case's values are drawn as -- ``cheap`` (all valid and cheap), ``hostile`` (at least
+    one hostile value), ``edge`` (at least one value at an allowed extreme); one of them is drawn."""
     opts = OPTIONS[command]
     plain = sorted(n for n, o in opts.items() if n != "config" and o.flag and o.kind != "flag")
     flags = sorted(n for n, o in opts.items() if n != "as_json" and o.kind == "flag")
-    mode = "hostile" if hostile_only else draw(st.sampled_from(["cheap", "cheap", "hostile"]))
-    names = draw(st.lists(st.sampled_from(plain), min_size=int(mode == "hostile"), max_size=3, unique=True))
+    mode = draw(st.sampled_from(modes))
+    names = draw(st.lists(st.sampled_from(plain), min_size=int(mode != "cheap"), max_size=3, unique=True))
     names += draw(st.lists(st.sampled_from(flags), max_size=2, unique=True)) if flags else []
-    values = _draw_values(draw, names, opts, mode == "hostile")
+    values = _draw_values(draw, names, opts, mode)
     given = dict(BASE[command])
     given.update({n: v for n, (v, _) in values.items()})
     bad = {n for n, (_, b) in values.items() if b}
-    if mode == "cheap" and "friction" in opts:
+    if mode != "hostile" and "friction" in opts:
         _law_having(draw, given)
     config: dict[str, Any] = {}
     if "config" in opts or command == "sweep":

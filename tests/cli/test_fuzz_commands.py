@@ -11,8 +11,9 @@ declarations).  Whatever is drawn, the outcome is one of
 never a traceback, an ignored exception, a run past :data:`TIME_CAP`, a crash at the address-space cap
 :data:`MEMORY_CAP` or a peak resident size past :data:`RSS_BOUND`.
 
-Two profiles: the default run draws a few cases per command (derandomized: the same cases every run);
-``-m slow`` draws many more, at random.  Neither shrinks a failing case (a hang would cost the time cap
+Two profiles: the default run draws a few cases per command (derandomized: the same cases every run),
+cheap or hostile; ``-m slow`` draws many more, at random, and also values at the allowed extremes (the
+ends of the ranges: work that must be refused by its estimate when it is too large).  Neither shrinks a failing case (a hang would cost the time cap
 at every step): the report shows the command line as drawn.
 """
 
@@ -124,7 +125,10 @@ def check(case: Case, o: Outcome, argv: list[str], d: Path, before: set[str]) ->
     data = _json(o.out, shown)
     given = {**{k: str(v) for k, v in case.config.items() if not isinstance(v, dict)}, **case.given}
     PHYSICS[case.command](data, given, d)
-    C.echoed(data, given, {n for n, opt in OPTIONS[case.command].items() if opt.param is not None})
+    opts = OPTIONS[case.command]
+    # an option whose value names a parameter (continue --param, map --x/--y): the command varies that one
+    varied = {given.get(n, opt.default) for n, opt in opts.items() if opt.kind == "text" and opt.param is None}
+    C.echoed(data, given, {n for n, opt in opts.items() if opt.param is not None}, varied & set(C.PARAMS))
 
 
 def _json(out: str, shown: str) -> Any:
@@ -145,14 +149,15 @@ def _simulate(data: dict[str, Any], given: dict[str, str], d: Path) -> None:
     w0, w1 = ss["window"]
     assert w0 < w1 <= float(given.get("t_end", "500")) * (1 + 1e-12), ss["window"]
     assert (ss["period"] is not None) == (kind == "periodic"), ss
-    if kind == "periodic":
+    whole_periods = kind == "periodic" and not ss["manual_window"]  # --window T0:T1 averages over what it says
+    if whole_periods:
         n, period = ss["n_periods"], ss["period"]
         assert period > 0 and n >= 1 and abs((w1 - w0) - n * period) <= 0.25 * period, ss
     if kind == "equilibrium":
         _at_rest(ext, av, params)
     rel = max(float(given.get("rtol", 0.0)), C.STEADY_RTOL[data["solver"]["name"]], ss.get("jitter") or 0.0)
     closing = C.closing_of_window(ext, rel, w1 - w0)
-    C.powers(av, np.array([kind == "periodic"]), closing)
+    C.powers(av, np.array([whole_periods]), closing)
     if params.get("zeta") == 0.0:
         assert av["P_dv"] == 0.0, av
     if kind in ("periodic", "equilibrium"):
@@ -351,8 +356,8 @@ def test_every_command_is_fuzzed():
     assert set(PHYSICS) == set(COMMANDS) == set(OPTIONS)
 
 
-def _fuzz(command: str, data: st.DataObject, tmp_path_factory: pytest.TempPathFactory, hostile_only: bool) -> None:
-    case = data.draw(cases(command, hostile_only=hostile_only))
+def _fuzz(command: str, data: st.DataObject, tmp_path_factory: pytest.TempPathFactory, modes: tuple[str, ...]) -> None:
+    case = data.draw(cases(command, modes))
     d = tmp_path_factory.mktemp(command)
     before = listing(d) | ({"cfg.toml"} if case.config else set())
     o, argv = run_case(case, d)
@@ -364,7 +369,7 @@ def _fuzz(command: str, data: st.DataObject, tmp_path_factory: pytest.TempPathFa
 @DEFAULT
 @given(data=st.data())
 def test_fuzz(command, data, tmp_path_factory):
-    _fuzz(command, data, tmp_path_factory, hostile_only=command in COSTLY)
+    _fuzz(command, data, tmp_path_factory, ("hostile",) if command in COSTLY else ("cheap", "cheap", "hostile"))
 
 
 @pytest.mark.slow
@@ -372,4 +377,4 @@ def test_fuzz(command, data, tmp_path_factory):
 @SLOW
 @given(data=st.data())
 def test_fuzz_slow(command, data, tmp_path_factory):
-    _fuzz(command, data, tmp_path_factory, hostile_only=False)
+    _fuzz(command, data, tmp_path_factory, ("cheap", "hostile", "edge"))
