@@ -378,3 +378,40 @@ def test_fuzz(command, data, tmp_path_factory):
 @given(data=st.data())
 def test_fuzz_slow(command, data, tmp_path_factory):
     _fuzz(command, data, tmp_path_factory, ("cheap", "hostile", "edge"))
+
+
+def _simulated(capsys: pytest.CaptureFixture, *argv: str) -> dict[str, Any]:
+    from frictionflow.cli import main
+
+    assert main(["simulate", *argv, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+@pytest.mark.parametrize("damage", ["negative P_df", "unbalanced", "equilibrium that moves", "period of a not_settled",
+                                    "fd not echoed", "TR_B below max|X|/F_d"])
+def test_the_checks_catch_a_damaged_result(damage, capsys):
+    """The physical checks are not vacuous: a real result passes, each kind of damage to it is caught."""
+    given = {"t_end": "30", "zeta": "0.0", "fd": "0.02"}
+    data = _simulated(capsys, *(x for n, v in given.items() for x in (f"--{n.replace('_', '-')}", v)))
+    _simulate(data, given, Path("."))
+    C.echoed(data, given, set(given), set())
+    av, ss = data["averages"], data["steady_state"]
+    if damage == "negative P_df":
+        av["P_df"], av["P_fin"] = -av["P_df"], av["P_fin"] - 2 * av["P_df"]  # P_f = P_fin - P_df kept
+    elif damage == "unbalanced":
+        av["P_fin"] *= 1 + 1e-6
+        av["P_f"], av["P_belt"] = av["P_fin"] - av["P_df"], av["P_fin"] - av["P_df"] + av["P_heat"]
+        av["R_c"], av["R_f"] = av["P_dv"] / av["P_fin"], av["P_df"] / av["P_fin"]  # only the balance is off
+    elif damage == "equilibrium that moves":
+        ss.update(kind="equilibrium", period=None)
+    elif damage == "period of a not_settled":
+        ss["kind"] = "not_settled"
+    elif damage == "TR_B below max|X|/F_d":
+        data["TR_B"] *= 0.99
+    if damage == "fd not echoed":
+        data["params"]["fd"] = 0.03
+        with pytest.raises(AssertionError):
+            C.echoed(data, given, set(given), set())
+        return
+    with pytest.raises(AssertionError):
+        _simulate(data, given, Path("."))
