@@ -267,7 +267,7 @@ def reproduce(out_dir: str | Path, settings: Settings | None = None, *, workers:
         Step, run length and grids; default :class:`Settings()` (the published
         configuration), :meth:`Settings.quick` for a smoke test.
     workers:
-        Processes to use (default: up to 2, the cores available).
+        Processes to use (default: up to 2, the cores available); at most one per independent computation.
     progress:
         Draw a progress bar on stderr.
     """
@@ -284,7 +284,7 @@ def reproduce(out_dir: str | Path, settings: Settings | None = None, *, workers:
     lap = _Lap(start, timings)
     _warm_up(settings)
     lap("start-up")
-    with _executor(workers) as pool:
+    with _executor(min(workers, len(jobs))) as pool:  # a process beyond one per job would have nothing to do
         # every job is submitted before the progress bar starts its thread (workers are forked on first submit)
         pending = [pool.submit(fn, *args) for fn, args in jobs]
         with progress_bar("reproduce", len(jobs) + len(FIGURES) + len(DATASETS) + 1, enabled=progress) as advance:
