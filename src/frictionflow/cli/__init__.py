@@ -13,7 +13,8 @@ import warnings
 
 import typer
 
-from ._app import app
+from ._app import PanelledCommand, app
+from .vocabulary import rewrite
 
 #: the module that registers each command, imported when the command runs (all of them for the command
 #: list): a command pays only for what it uses (``simulate`` does not load scipy.optimize or xarray).
@@ -68,6 +69,7 @@ def _set_short_help() -> None:
     for info in app.registered_commands:
         name = info.name or info.callback.__name__.replace("_", "-")
         info.short_help = SHORT_HELP.get(name, info.short_help)
+        info.cls = PanelledCommand  # its options listed by help panel
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None):  # noqa: ANN001
@@ -81,6 +83,9 @@ def main(argv: list[str] | None = None) -> int:
     load_commands(argv)
     command = typer.main.get_command(app)
     try:
+        argv, deprecations = rewrite(argv)  # the spellings of earlier releases, one line each on stderr
+        for line in deprecations:
+            print(f"warning: {line}", file=sys.stderr)
         command.main(args=argv, prog_name="frictionflow", standalone_mode=False)
     except typer.Exit as e:
         return e.exit_code
