@@ -50,9 +50,9 @@ def test_forced_continue_json_and_plot(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("args, name", [
-    (["forced-continue", *SUB3, "--parameter", "zeta", "--from", "0.1", "--to", "0.2"], "--parameter"),
-    (["forced-continue", *SUB3, "--from", "-1", "--to", "0.2"], "--from"),
-    (["forced-continue", *SUB3, "--from", "1", "--to", "1"], "--to"),
+    (["forced-continue", *SUB3, "--parameter", "zeta", "--from", "0.1", "--to", "0.2"], "--vary"),
+    (["forced-continue", *SUB3, "--from", "-1", "--to", "0.2"], "--vary FROM"),
+    (["forced-continue", *SUB3, "--from", "1", "--to", "1"], "--vary"),
     (["forced-orbit", *SUB3, "--m", "0"], "m"),
     (["forced-orbit", "--zeta", "0.05", "--vb", "0.1", "--friction", "coulomb"], "fex"),
     (["forced-orbit", *SUB3[:-6], "--friction", "karnopp"], "friction"),

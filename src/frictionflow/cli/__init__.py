@@ -77,15 +77,27 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; returns the exit code (0 ok, 1 failure, 2 bad input)."""
+    """Entry point; returns the exit code (0 ok, 1 failure, 2 bad input).
+
+    Spellings of earlier releases are rewritten first; each says so in one line on stderr, after the run (bad input
+    keeps its one line: the error).
+    """
+    deprecations: list[str] = []
+    code = _main(argv, deprecations)
+    if code != 2:
+        for line in deprecations:
+            print(f"warning: {line}", file=sys.stderr)
+    return code
+
+
+def _main(argv: list[str] | None, deprecations: list[str]) -> int:
     warnings.showwarning = _one_line_warning
     argv = sys.argv[1:] if argv is None else list(argv)
     load_commands(argv)
     command = typer.main.get_command(app)
     try:
-        argv, deprecations = rewrite(argv)  # the spellings of earlier releases, one line each on stderr
-        for line in deprecations:
-            print(f"warning: {line}", file=sys.stderr)
+        argv, lines = rewrite(argv)
+        deprecations.extend(lines)
         command.main(args=argv, prog_name="frictionflow", standalone_mode=False)
     except typer.Exit as e:
         return e.exit_code

@@ -169,8 +169,8 @@ def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None
     start, stop = span.start, span.stop
     if parameter not in PARAMETERS:
         raise ValueError(f"--vary: forced-continue varies omega or fex, got {parameter!r}")
-    for value in (start, stop):
-        check_parameter(parameter, value, "--vary")  # both ends by the parameter's declaration, as the API checks them
+    for end, value in (("FROM", start), ("TO", stop)):
+        check_parameter(parameter, value, f"--vary {end}")  # both ends by the parameter's declaration, as the API does
     if start == stop:
         raise ValueError(f"--vary: TO must differ from FROM ({start!r})")
     m, overlay = _one_m(opts.m), overlay_count(opts.overlay)
