@@ -24,13 +24,13 @@ from .vocabulary import option, overlay_shape, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("t_end", "friction", "dimensional"))
 #: the command's own settings, with their ranges (bounded: the cost grows with them)
-COMMAND_PARAMETERS = {p.name: p for p in (
-    Param("x_points", "", "N of --x: values of the first parameter", "run", 41, kind="int", lower=2, upper=10_000),
-    Param("scan", "", "N of --y: scan points of the second parameter", "run", 201, kind="int", lower=3, upper=1_000_000),
-    Param("fold_every", "", "x values between fold seeds", "run", 2, kind="int", lower=1, upper=10_000),
-    Param("y_points", "", "N of --y: grid values of the second parameter (forced maps)", "run", 5, kind="int", lower=1,
-          upper=10_000),
-)}
+COMMAND_PARAMETERS = {
+    "x_points": Param("--x N", "", "values of the first parameter", "run", 41, kind="int", lower=2, upper=10_000),
+    "scan": Param("--y N", "", "scan points of the second parameter", "run", 201, kind="int", lower=3, upper=1_000_000),
+    "fold_every": Param("fold_every", "", "x values between fold seeds", "run", 2, kind="int", lower=1, upper=10_000),
+    "y_points": Param("--y N", "", "grid values of the second parameter (forced maps)", "run", 5, kind="int", lower=1,
+                      upper=10_000),
+}
 #: a map in these runs the forced system's curves (continued in x at each y of a grid)
 FORCING = ("omega", "fex")
 DATASET_FORMATS = (".nc", ".zarr", ".json")
@@ -86,11 +86,11 @@ def map_(params: dict[str, Any], opts: MapOptions) -> None:
     --x/--y among omega and fex: the forced system's fold, period-doubling, Neimark-Sacker and grazing curves."""
     plane = Plane.of(opts)
     COMMAND_PARAMETERS["fold_every"].check(opts.fold_every)
-    nx = COMMAND_PARAMETERS["x_points"].check(plane.xs.num if plane.xs.num is not None else 41)
+    nx = _count("x_points", plane.xs.num)
     if plane.forced:
         _forced_map(params, opts, plane, nx)
         return
-    n_scan = COMMAND_PARAMETERS["scan"].check(plane.ys.num if plane.ys.num is not None else 201)
+    n_scan = _count("scan", plane.ys.num)
     curve_list = _curve_list(opts.curves, CURVES, "")
     shape = overlay_shape(opts.overlay)
     _check_outputs(opts)
@@ -101,6 +101,12 @@ def map_(params: dict[str, Any], opts: MapOptions) -> None:
                           sweep_out=opts.store, t_end=cfg.given.get("t_end", 500.0), heat=opts.heat,
                           curves=curve_list, n_scan=n_scan, fold_every=opts.fold_every)
     _report(chart, opts, provenance(law, "auto"))
+
+
+def _count(name: str, given: int | None) -> int:
+    """N of a range, checked by its declaration (None: its default)."""
+    p = COMMAND_PARAMETERS[name]
+    return p.default if given is None else p.check(given)
 
 
 def _curve_list(text: Optional[str], allowed: tuple[str, ...], what: str) -> tuple[str, ...]:
@@ -163,7 +169,7 @@ def _check_forced_plane(plane: Plane) -> None:
 def _forced_map(params: dict[str, Any], opts: MapOptions, plane: Plane, nx: int) -> None:
     """The forced system's chart: continuation in x at each of N values of y (N of --y)."""
     _check_forced_plane(plane)
-    ny = COMMAND_PARAMETERS["y_points"].check(plane.ys.num if plane.ys.num is not None else 5)
+    ny = _count("y_points", plane.ys.num)
     curve_list = _curve_list(opts.curves, FORCED_CURVES, " for a forced map")
     orders = _orders(opts.m)
     shape = overlay_shape(opts.overlay)

@@ -176,8 +176,9 @@ def parameter_help(command: str, names: tuple[str, ...], detail: dict[str, str] 
         if (command, name) in PARAMETER_DEFAULTS:
             p = p.with_default(PARAMETER_DEFAULTS[command, name][0])
         text = p.help()
-        if name == "friction" and LAW_NEEDS.get(command):
-            text = text[:-1] + f" (the first law {command} can use)."
+        wants = LAW_NEEDS.get(command, ()) + LAW_WANTS.get(command, ())
+        if name == "friction" and wants:
+            text = text[:-1] + f" (the first law with {spoken(tuple(CAPABILITIES[c][0] for c in wants), 'and')})."
         if detail and name in detail:
             text += " " + detail[name]
         out[name] = text
@@ -208,9 +209,9 @@ def overlay_shape(text: str) -> tuple[int, int] | None:
 # -- the friction law: one rule for the default, one line for a law a command cannot use -------------------------
 #: what a command may need of a law: (words for messages, test on the law's class)
 CAPABILITIES: dict[str, tuple[str, Callable[[type], bool]]] = {
-    "switch": ("Coulomb's stick rule (a law without a stick band)", lambda law: law.stick_rule == "switch"),
+    "switch": ("Coulomb's stick rule", lambda law: law.stick_rule == "switch"),
     "tangent": ("a tangent kernel", lambda law: law.has_tangent_kernel),
-    "falling": ("a slip curve with a slope (for Hopf and fold curves)", lambda law: not law.piecewise_constant),
+    "falling": ("a falling slip curve", lambda law: not law.piecewise_constant),
 }
 #: what each command needs of a law (it refuses a law without them); commands not named take every law
 LAW_NEEDS: dict[str, tuple[str, ...]] = {
@@ -242,8 +243,8 @@ def check_law(command: str, name: str) -> None:
     missing = [CAPABILITIES[c][0] for c in needs if not CAPABILITIES[c][1](law)]
     if missing:
         usable = tuple(n for n in law_names() if _has(law_class(n), needs))
-        raise ValueError(f"--friction: {command} cannot use {name}: it needs {spoken(tuple(missing), 'and')}; "
-                         f"use {spoken(usable)}")
+        raise ValueError(f"--friction: {command} cannot use {name} (stick rule: {law.stick_rule}): it needs "
+                         f"{spoken(tuple(missing), 'and')}; use {spoken(usable)}")
 
 
 # -- spellings of earlier releases -----------------------------------------------------------------------------------
