@@ -23,7 +23,7 @@ from ..sweep.store import check_out
 from ._app import app
 from .._ranges import parse_range as _parse_range
 from .options import CONFIG_OPTION, command_config, parameter_names, with_options, with_parameters
-from .output import provenance
+from .output import provenance, show
 from .vocabulary import option, parameter_help
 from .sweep import _sigterm_as_interrupt
 
@@ -126,7 +126,7 @@ def _print(result, caption: str) -> None:  # noqa: ANN001
     console = Console()
     title, _ = result._summary()
     if result.vary is None:
-        table = Table(title=title, caption=caption)
+        table = Table(title=title)
         table.add_column("outcome", no_wrap=True)
         for col in ("code", "fraction", "s.e.", "period", "amplitude", "stick"):
             table.add_column(col, justify="right")
@@ -136,14 +136,13 @@ def _print(result, caption: str) -> None:  # noqa: ANN001
     else:
         report = result.to_dict()["results"]
         reached = [j for j, o in enumerate(report[0]["outcomes"]) if any(r["outcomes"][j]["count"] for r in report)]
-        table = Table(title=f"basin stability ± standard error, {result.design['points']} initial states ({result.design['kind']})",
-                      caption=caption)
+        table = Table(title=f"basin stability ± standard error, {result.design['points']} initial states ({result.design['kind']})")
         table.add_column(result.vary, justify="right")
         for j in reached:
             table.add_column(report[0]["outcomes"][j]["name"], justify="right", no_wrap=True)
         for r in report:
             table.add_row(num(r[result.vary]), *(f"{r['outcomes'][j]['fraction']:.3f} ± {r['outcomes'][j]['stderr']:.3f}" for j in reached))
-    console.print(table)
+    show(console, table, caption)
     for key in ("out", "plot"):
         if key in result.files:
             console.print(f"{key}: {result.files[key]}")

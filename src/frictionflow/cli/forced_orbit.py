@@ -6,7 +6,7 @@ Registered by importing this module in :mod:`frictionflow.cli` (``from . import 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Optional
 
@@ -16,7 +16,7 @@ from .._json import jsonable
 from ..core import forced_map as fm
 from .._ranges import parse_named_range
 from ..io import check_output_path, write_figure
-from ..orbits.forced import DEFAULT_STEPS, PARAMETERS, check_parameter, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
+from ..orbits.forced import DEFAULT_STEPS, DEFAULT_TRANSIENT, PARAMETERS, check_parameter, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
 from ..orbits.forced_plot import plot_forced_branches
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
@@ -178,7 +178,10 @@ def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None
     _check_outputs(opts.out, opts.plot)
     cfg, model, law = _build("forced-continue", opts.config, params)
     x0, v0 = start_state(cfg, model, law)
-    branch = continue_forced(model, law, parameter, start, stop, m=m, x0=x0, v0=v0, steps=opts.steps_per_period,
+    # the first orbit as forced-orbit finds it: DEFAULT_TRANSIENT forcing periods from the start, then Newton
+    first = find_forced_orbit(replace(model, **{parameter: start}), law, m=m, x0=x0, v0=v0,
+                              transient_periods=DEFAULT_TRANSIENT, steps=opts.steps_per_period)
+    branch = continue_forced(model, law, parameter, start, stop, m=m, orbit=first, steps=opts.steps_per_period,
                              max_points=opts.max_points)
     branches = [branch]
     if opts.switch_pd and branch.events_of("period_doubling"):

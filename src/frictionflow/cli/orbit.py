@@ -23,7 +23,7 @@ from ..solvers.registry import solver_names_where
 from .._ranges import parse_named_range
 from ._app import app
 from .options import CONFIG_OPTION, command_config, parameter_names, with_options, with_parameters
-from .output import provenance, write_json
+from .output import provenance, show, write_json
 from .vocabulary import option, overlay_count, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "solver", "dimensional"))
@@ -172,7 +172,7 @@ def _print_orbit(report: dict[str, Any], caption: str) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    table = Table(title=f"periodic orbit: {report['stability']}, period {report['period']:.10g}", caption=caption)
+    table = Table(title=f"periodic orbit: {report['stability']}, period {report['period']:.10g}")
     table.add_column("quantity")
     table.add_column("value", justify="right")
     table.add_row("section point X (X'=0)", f"{report['state']['X']:.12g}")
@@ -187,7 +187,7 @@ def _print_orbit(report: dict[str, Any], caption: str) -> None:
     table.add_row("energy residual", f"{report['energy_residual']:.2e}")
     if "fd_deviation" in report:
         table.add_row("max |M - M_fd|", f"{report['fd_deviation']:.2e}")
-    Console().print(table)
+    show(Console(), table, caption)
 
 
 def _print_continuation(report: dict[str, Any], caption: str) -> None:
@@ -202,13 +202,13 @@ def _print_continuation(report: dict[str, Any], caption: str) -> None:
         vals = [p["value"] for p in pts]
         table.add_row(str(i), info["kind"], info["seed"], str(len(pts)), f"{min(vals):.6g}..{max(vals):.6g}", info["end"])
     console.print(table)
-    bt = Table(title="bifurcations", caption=caption)
+    bt = Table(title="bifurcations")
     for col in ("type", "value", "branch", "detail"):
         bt.add_column(col)
     for b in report["bifurcations"]:
         detail = ", ".join(f"{k}={v}" for k, v in b.items() if k not in ("type", "value", "branch"))
         bt.add_row(b["type"], f"{b['value']:.8g}", str(b["branch"]), detail)
-    console.print(bt)
+    show(console, bt, caption)
     if report.get("extrema"):
         et = Table(title="extrema of monitors along the branches")
         for col in ("monitor", "kind", "value", "monitor value", "branch", "method"):

@@ -27,12 +27,18 @@ def print_summary(result: Any, caption: str) -> None:
     from rich.table import Table
 
     title, rows = result._summary()
-    table = Table(title=title, caption=caption)
+    table = Table(title=title)
     table.add_column("quantity", no_wrap=True)
     table.add_column("value")
     for label, value in rows:
         table.add_row(label, value)
-    Console().print(table)
+    show(Console(), table, caption)
+
+
+def show(console: Any, table: Any, caption: str) -> None:
+    """A table and, under it on one line (not wrapped to the table's width), what produced it."""
+    console.print(table)
+    console.print(caption, soft_wrap=True, highlight=False, markup=False)
 
 
 def write_json(path: Path, report: dict[str, Any]) -> None:

@@ -15,7 +15,7 @@ from ..plotting import FIGURE_FORMATS, plot_response
 from ._app import app
 from .._ranges import parse_named_range
 from .options import CONFIG_OPTION, command_config, parameter_names, start_state, with_parameters
-from .output import provenance
+from .output import provenance, show
 from .vocabulary import option, parameter_help
 
 DATASET_FORMATS = (".nc",)
@@ -84,7 +84,7 @@ def _print_table(ds, caption: str) -> None:
     shown = sorted(set(np.linspace(0, n - 1, min(n, TABLE_ROWS)).round().astype(int).tolist()))
     if len(shown) < n:
         caption += f"; {len(shown)} of {n} frequencies shown (--json or --out for all)"
-    table = Table(title="frequency response", caption=caption)
+    table = Table(title="frequency response")
     for col in ("Omega", "sweep", "kind", "m", "amplitude", "TR_B", "P_ex", "stick"):
         table.add_column(col, justify="right")
     for j in shown:
@@ -93,4 +93,4 @@ def _print_table(ds, caption: str) -> None:
             s = ds.sel(direction=d).isel(omega=j)
             table.add_row(f"{w:.5g}", str(d), Q.KINDS[int(s["kind"])], str(int(s["multiple"])), f"{float(s['amplitude']):.5g}",
                           f"{float(s['TR_B']):.5g}", f"{float(s['P_ex']):.4e}", f"{float(s['stick_fraction']):.3f}")
-    Console().print(table)
+    show(Console(), table, caption)

@@ -17,7 +17,7 @@ from ..plotting import FIGURE_FORMATS, plot_run
 from ..simulate import simulate as run_simulation
 from ._app import app
 from .options import CONFIG_OPTION, command_config, parameter_names, with_parameters
-from .output import provenance
+from .output import provenance, show
 from .vocabulary import option, parameter_help
 
 NAMES = parameter_names(("oscillator", "law", "solver", "run"))
@@ -76,7 +76,7 @@ def _print_summary(report: dict[str, Any], caption: str) -> None:
     from rich.table import Table
 
     ss = report["steady_state"]
-    table = Table(title=f"steady state: {ss['kind']}  window {ss['window'][0]:.6g}..{ss['window'][1]:.6g}", caption=caption)
+    table = Table(title=f"steady state: {ss['kind']}  window {ss['window'][0]:.6g}..{ss['window'][1]:.6g}")
     table.add_column("quantity")
     table.add_column("value", justify="right")
     if ss["period"] is not None:
@@ -89,4 +89,4 @@ def _print_summary(report: dict[str, Any], caption: str) -> None:
     for k, v in report["amplitude"].items():
         table.add_row(k, f"{v:.6g}")
     table.add_row("energy residual", f"{report['energy_residual']:.2e}")
-    Console().print(table)
+    show(Console(), table, caption)
