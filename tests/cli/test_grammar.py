@@ -266,3 +266,10 @@ def test_out_writes_what_json_prints(tmp_path, capsys):
     assert main([*args, "--out", str(path)]) == 0
     assert json.loads(path.read_text()) == printed
     assert main([*args, "--out", str(tmp_path / "orbit.nc")]) == 2
+
+
+def test_a_missing_option_error_names_every_missing_one(capsys):
+    assert main(["map", "--fd", "0.1"]) == 2
+    assert capsys.readouterr().err.strip() == "error: missing options --x, --y"
+    assert main(["map", "--x", "vb=0.01:0.02"]) == 2
+    assert "'--y'" in capsys.readouterr().err

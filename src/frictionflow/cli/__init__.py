@@ -115,11 +115,23 @@ def _main(argv: list[str] | None, deprecations: list[str]) -> int:
         if hasattr(e, "format_message") and hasattr(e, "exit_code"):
             if type(e).__name__ == "NoArgsIsHelpError":
                 print(e.format_message(), file=sys.stderr)
+            elif type(e).__name__ == "MissingParameter" and len(missing := _missing(e, argv)) > 1:
+                print(f"error: missing options {', '.join(missing)}", file=sys.stderr)
             else:
                 print(f"error: {e.format_message()}", file=sys.stderr)
             return int(e.exit_code)
         raise
     return 0
+
+
+def _missing(error: Exception, argv: list[str]) -> list[str]:
+    """Every required option of the failed command that ``argv`` does not give (click names only the first)."""
+    ctx = getattr(error, "ctx", None)
+    if ctx is None:
+        return []
+    given = {word.split("=")[0] for word in argv}
+    return [p.opts[0] for p in ctx.command.params
+            if p.param_type_name == "option" and p.required and not given & set(p.opts)]
 
 
 def run() -> None:  # pragma: no cover - console script

@@ -174,7 +174,8 @@ def parameter_help(command: str, names: tuple[str, ...], detail: dict[str, str] 
         if name == "friction":
             p = p.with_default(default_law(command))
         if (command, name) in PARAMETER_DEFAULTS:
-            p = p.with_default(PARAMETER_DEFAULTS[command, name][0])
+            value, reason = PARAMETER_DEFAULTS[command, name]
+            p = p.with_default(value, f"{value:g}: {reason}")
         text = p.help()
         wants = LAW_NEEDS.get(command, ()) + LAW_WANTS.get(command, ())
         if name == "friction" and wants:
