@@ -25,9 +25,7 @@ from ..friction import FrictionLaw
 from ..io import check_input_path, read_config
 from ..params import BeltOscillator
 from ..parameters import Param, declared
-from .vocabulary import PATH_METAVAR, check_law, default_law, option, panel_of, path_text
-
-__all__ = ["PATH_METAVAR", "path_text"]  # (re-exported: the commands import them from here)
+from .vocabulary import PATH_METAVAR, check_law, default_law, option, panel_of, path_text  # noqa: F401 (re-exported)
 
 #: the run's parameters every model command takes (the others are command-specific)
 MODEL_RUN = ("x0", "v0", "t_end", "friction", "solver", "dimensional")
