@@ -309,15 +309,15 @@ def test_cli_vary_prints_a_table(capsys):
 
 
 @pytest.mark.parametrize("args, words", [
-    (["--vb", "0.12", "--x0", "abc", "--v0=-0.3:0.3:5"], "--x0 must be FROM:TO:N"),
-    (["--vb", "0.12", "--x0=-0.3:0.3:5", "--v0=-0.3:0.3:5", "--sample", "10"], "--x0 must be FROM:TO"),
-    (["--vb", "0.12", "--x0=0.3:-0.3:5", "--v0=-0.3:0.3:5"], "x0: low 0.3 > high -0.3"),
-    (["--x0=-0.3:0.3:5", "--v0=-0.3:0.3:5", "--vary", "x0=0.1,0.2"], "'x0' cannot be varied"),
-    (["--vb", "0.1", "--x0=-0.3:0.3:5", "--v0=-0.3:0.3:5", "--vary", "vb=0.1,0.2"], "vb is also given"),
-    (["--vb", "0.12", "--x0=-0.3:0.3:5", "--v0=-0.3:0.3:5", "--out", "b.csv"], "--out must end in"),
-    (["--vb", "0.12", "--x0=-0.3:0.3:5", "--v0=-0.3:0.3:5", "--plot", "b.gif"], "--plot must end in"),
-    (["--vb", "0.12", "--x0=-0.3:0.3:5", "--v0=-0.3:0.3:5", "--tol", "2"], "tolerance period"),
-    (["--vb", "0.12", "--x0=-0.3:0.3:5", "--v0=-0.3:0.3:5", "--zeta", "-1"], "zeta must be"),
+    (["--vb", "0.12", "--x0-range", "abc", "--v0-range=-0.3:0.3:5"], "--x0-range must be FROM:TO:N"),
+    (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--sample", "10"], "--x0-range (with --sample, N is --sample's) must be FROM:TO"),
+    (["--vb", "0.12", "--x0-range=0.3:-0.3:5", "--v0-range=-0.3:0.3:5"], "x0: low 0.3 > high -0.3"),
+    (["--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--vary", "x0=0.1,0.2"], "'x0' cannot be varied"),
+    (["--vb", "0.1", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--vary", "vb=0.1,0.2"], "vb is also given"),
+    (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--out", "b.csv"], "--out must end in"),
+    (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--plot", "b.gif"], "--plot must end in"),
+    (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--attractor-tol", "2"], "tolerance period"),
+    (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--zeta", "-1"], "zeta must be"),
 ])
 def test_cli_bad_input_exits_2_with_one_line(args, words, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)

@@ -293,7 +293,8 @@ def test_cli_prints_the_exponents(capsys):
     assert main(args) == 0
     d = json.loads(capsys.readouterr().out)
     model, law = system(*PERIODIC_STICK)
-    r = lyapunov_exponents(model, law, t_transient=100.0, t_end=600.0, steps_per_block=128)
+    # the CLI starts where every command does, at (F_d, V_b)
+    r = lyapunov_exponents(model, law, x0=fd, v0=vb, t_transient=100.0, t_end=600.0, steps_per_block=128)
     assert d["exponents"][0] == r.exponents[0] and d["params"]["friction"] == "coulomb"
     assert main(["lyapunov", "--friction", "karnopp"]) == 2
     assert "band" in capsys.readouterr().err

@@ -19,7 +19,9 @@ def test_forced_orbit_json_matches_the_api(capsys):
 
     assert main(["forced-orbit", *SUB3, "--m", "3", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    o = find_forced_orbit(BeltOscillator(zeta=0.05, vb=0.1, fex=0.5, omega=1.0), Coulomb(0.5, 1.0), m=3)
+    # the CLI starts where every command does, at (F_d, V_b), and runs 200 forcing periods first
+    o = find_forced_orbit(BeltOscillator(zeta=0.05, vb=0.1, fex=0.5, omega=1.0), Coulomb(0.5, 1.0), m=3, x0=0.5, v0=0.1,
+                          transient_periods=200)
     assert out["m"] == 3 and out["stability"] == "stable"
     assert out["state"]["X"] == pytest.approx(o.state[0], abs=1e-12)
     assert out["multipliers"][1] == [0.0, 0.0]
@@ -48,9 +50,9 @@ def test_forced_continue_json_and_plot(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("args, name", [
-    (["forced-continue", *SUB3, "--parameter", "zeta", "--from", "0.1", "--to", "0.2"], "--parameter"),
-    (["forced-continue", *SUB3, "--from", "-1", "--to", "0.2"], "--from"),
-    (["forced-continue", *SUB3, "--from", "1", "--to", "1"], "--to"),
+    (["forced-continue", *SUB3, "--parameter", "zeta", "--from", "0.1", "--to", "0.2"], "--vary"),
+    (["forced-continue", *SUB3, "--from", "-1", "--to", "0.2"], "--vary FROM"),
+    (["forced-continue", *SUB3, "--from", "1", "--to", "1"], "--vary"),
     (["forced-orbit", *SUB3, "--m", "0"], "m"),
     (["forced-orbit", "--zeta", "0.05", "--vb", "0.1", "--friction", "coulomb"], "fex"),
     (["forced-orbit", *SUB3[:-6], "--friction", "karnopp"], "friction"),

@@ -141,9 +141,9 @@ def test_a_forced_run_shorter_than_its_section_needs_is_not_settled_over_the_who
 def test_forced_continue_checks_the_end_of_the_range_as_its_start(capsys):
     code = main(["forced-continue", "--fex", "0.01", "--from", "0.8", "--to", "1e300", "--json"])
     assert code == 2
-    one_line(capsys.readouterr().err, "--to: omega must be finite and in (0, 1000], got 1e+300")
+    one_line(capsys.readouterr().err, "--vary TO: omega must be finite and in (0, 1000], got 1e+300")
     assert main(["forced-continue", "--parameter", "fex", "--from", "1e300", "--to", "0.02", "--json"]) == 2
-    one_line(capsys.readouterr().err, "--from: fex must be finite and in [0, 1000], got 1e+300")
+    one_line(capsys.readouterr().err, "--vary FROM: fex must be finite and in [0, 1000], got 1e+300")
 
 
 def test_continue_forced_checks_both_ends_by_the_declaration():

@@ -41,9 +41,9 @@ def test_map_writes_json_dataset_and_chart(capsys, tmp_path):
 
 @pytest.mark.parametrize("args, message", [
     (["--curves", "hopf,nonsense"], "--curves"),
-    (["--sweep", "4by3"], "--sweep"),
+    (["--sweep", "4by3"], "--overlay"),
     (["--plot", "chart.txt"], "--plot"),
-    (["--x-points", "1"], "x_points"),
+    (["--x-points", "1"], "--x N"),
 ])
 def test_map_refuses_bad_input(capsys, tmp_path, args, message):
     args = [a if not a.endswith(".txt") else str(tmp_path / a) for a in args]

@@ -48,8 +48,8 @@ def test_forced_map_writes_json_dataset_and_chart(capsys, tmp_path):
     (["--x", "fex", "--y", "fex"], "--y"),
     (["--x", "omega", "--y", "fex", "--curves", "hopf"], "--curves"),
     (["--x", "omega", "--y", "fex", "--m", "0"], "--m"),
-    (["--x", "omega", "--y", "fex", "--y-points", "0"], "y_points"),
-    (["--x", "omega", "--y", "fex", "--x-to", "-1"], "--x-to"),
+    (["--x", "omega", "--y", "fex", "--y-points", "0"], "--y fex: N must be >= 1"),
+    (["--x", "omega", "--y", "fex", "--x-to", "-1"], "--x: omega must be finite and > 0"),
     (["--x", "omega", "--y", "fex", "--friction", "karnopp"], "--friction"),
 ])
 def test_forced_map_refuses_bad_input(capsys, args, message):

@@ -34,7 +34,7 @@ def test_json_dataset_and_figure(capsys, tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--omega", "1:2"], "--omega must be FROM:TO:N"),
+    (["--omega", "1:2"], "--vary omega must be FROM:TO:N"),
     (["--omega", "2:1:5"], "omega must be increasing"),
     (["--omega", "0.5:1:3", "--direction", "left"], "--direction"),
     (["--omega", "0.5:1:3", "--out", "r.txt"], "--out"),

@@ -13,7 +13,8 @@ import warnings
 
 import typer
 
-from ._app import app
+from ._app import PanelledCommand, app
+from .vocabulary import rewrite
 
 #: the module that registers each command, imported when the command runs (all of them for the command
 #: list): a command pays only for what it uses (``simulate`` does not load scipy.optimize or xarray).
@@ -68,6 +69,7 @@ def _set_short_help() -> None:
     for info in app.registered_commands:
         name = info.name or info.callback.__name__.replace("_", "-")
         info.short_help = SHORT_HELP.get(name, info.short_help)
+        info.cls = PanelledCommand  # its options listed by help panel
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None):  # noqa: ANN001
@@ -75,12 +77,27 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; returns the exit code (0 ok, 1 failure, 2 bad input)."""
+    """Entry point; returns the exit code (0 ok, 1 failure, 2 bad input).
+
+    Spellings of earlier releases are rewritten first; each says so in one line on stderr, after the run (bad input
+    keeps its one line: the error).
+    """
+    deprecations: list[str] = []
+    code = _main(argv, deprecations)
+    if code != 2:
+        for line in deprecations:
+            print(f"warning: {line}", file=sys.stderr)
+    return code
+
+
+def _main(argv: list[str] | None, deprecations: list[str]) -> int:
     warnings.showwarning = _one_line_warning
     argv = sys.argv[1:] if argv is None else list(argv)
     load_commands(argv)
     command = typer.main.get_command(app)
     try:
+        argv, lines = rewrite(argv)
+        deprecations.extend(lines)
         command.main(args=argv, prog_name="frictionflow", standalone_mode=False)
     except typer.Exit as e:
         return e.exit_code
@@ -98,11 +115,23 @@ def main(argv: list[str] | None = None) -> int:
         if hasattr(e, "format_message") and hasattr(e, "exit_code"):
             if type(e).__name__ == "NoArgsIsHelpError":
                 print(e.format_message(), file=sys.stderr)
+            elif type(e).__name__ == "MissingParameter" and len(missing := _missing(e, argv)) > 1:
+                print(f"error: missing options {', '.join(missing)}", file=sys.stderr)
             else:
                 print(f"error: {e.format_message()}", file=sys.stderr)
             return int(e.exit_code)
         raise
     return 0
+
+
+def _missing(error: Exception, argv: list[str]) -> list[str]:
+    """Every required option of the failed command that ``argv`` does not give (click names only the first)."""
+    ctx = getattr(error, "ctx", None)
+    if ctx is None:
+        return []
+    given = {word.split("=")[0] for word in argv}
+    return [p.opts[0] for p in ctx.command.params
+            if p.param_type_name == "option" and p.required and not given & set(p.opts)]
 
 
 def run() -> None:  # pragma: no cover - console script

@@ -6,9 +6,31 @@ here, not from the package that imports them.
 
 from __future__ import annotations
 
+import click
 import typer
+import typer.core
 
 from .._version import __version__
+from .vocabulary import PANELS
+
+
+class PanelledCommand(typer.core.TyperCommand):
+    """A command whose --help lists its options in panels (``rich_help_panel``) as plain text sections.
+
+    Plain text, not rich boxes: help texts keep their ``[default]`` brackets and read the same in any terminal.
+    """
+
+    def format_options(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        groups: dict[str, list[tuple[str, str]]] = {}
+        for param in self.get_params(ctx):
+            record = param.get_help_record(ctx)
+            if record is not None:
+                panel = "Arguments" if param.param_type_name == "argument" else getattr(param, "rich_help_panel", None)
+                groups.setdefault(panel or "Options", []).append(record)
+        order = ("Arguments", *PANELS)
+        for panel in sorted(groups, key=lambda p: order.index(p) if p in order else len(order)):
+            with formatter.section(panel):
+                formatter.write_dl(groups[panel])
 
 app = typer.Typer(
     name="frictionflow",

@@ -12,8 +12,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Optional
 
-import typer
-
 from .._display import num
 from ..basins import Tolerances, basins as run_basins
 from ..basins.study import DATASET_FORMATS, SweepOptions
@@ -23,7 +21,10 @@ from ..sweep.config import NOT_IN_SWEEPS
 from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import check_out
 from ._app import app
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
+from .._ranges import parse_range as _parse_range
+from .options import CONFIG_OPTION, command_config, parameter_names, with_options, with_parameters
+from .output import provenance, show
+from .vocabulary import option, parameter_help
 from .sweep import _sigterm_as_interrupt
 
 #: the model's options, as a sweep takes them; the initial state is a range here (--x0, --v0), not a value
@@ -35,39 +36,37 @@ MODEL = tuple(n for n in parameter_names(("oscillator", "law", "solver"), run=("
 class BasinsOptions:
     """The basins command's own options (the model's come as ``params``), each with its typer option."""
 
-    x0: str = typer.Option(..., "--x0", metavar="FROM:TO[:N]", help="Range of X(0): FROM:TO:N grid points, or FROM:TO with --sample.")
-    v0: str = typer.Option(..., "--v0", metavar="FROM:TO[:N]", help="Range of X'(0), as --x0.")
-    sample: Optional[int] = typer.Option(None, "--sample", metavar="N", help="N random initial states in the ranges instead of a grid.")
-    seed: int = typer.Option(0, "--seed", help="Seed of --sample (the same points for a seed on every machine).")
-    vary: Optional[str] = typer.Option(
-        None, "--vary", metavar="NAME=FROM:TO:N|NAME=V1,V2,..",
-        help="Basin stability against one parameter (vb, zeta, fd, ...): the same initial states at each value.")
-    out: Optional[Path] = typer.Option(None, "--out", parser=path_text, metavar="PATH", help="Labelled dataset: PATH.nc or PATH.zarr.")
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Basin map, or with --vary basin stability against the parameter (.png, .pdf, .svg).")
-    store: Optional[Path] = typer.Option(
-        None, "--store", parser=path_text, metavar="PATH.zarr",
-        help="Keep the sweep's resumable store here [beside --out, removed once --out is written].")
-    tol: Optional[float] = typer.Option(
-        None, "--tol", help="Tolerance telling attractors apart: relative on period and amplitude, absolute on stick fraction [1e-3].")
-    restart: bool = typer.Option(False, "--restart", help="Discard an existing sweep store (needed when the settings changed).")
-    chunk_size: Optional[int] = typer.Option(None, "--chunk-size", help="Initial states per chunk (a task and a unit of commit).")
-    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT; default: this machine's cores.")
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object: the attractors, basin stability and standard errors.")
+    x0_range: str = option("--x0-range", required=True)
+    v0_range: str = option("--v0-range", required=True)
+    sample: Optional[int] = option("--sample")
+    seed: int = option("--seed")
+    vary: Optional[str] = option("--vary", "Here: basin stability against one parameter (vb, zeta, fd, ...), the same "
+                                 "initial states at each value; or NAME=V1,V2,..")
+    attractor_tol: Optional[float] = option("--attractor-tol")
+    out: Optional[Path] = option("--out", "Here: the labelled dataset, .nc or .zarr.")
+    plot: Optional[Path] = option("--plot", "Here: the basin map, or with --vary basin stability against the parameter.")
+    store: Optional[Path] = option("--store", "Here: [beside --out, removed once --out is written].")
+    restart: bool = option("--restart")
+    chunk_size: Optional[int] = option("--chunk-size")
+    scheduler: Optional[str] = option("--scheduler")
+    as_json: bool = option("--json")
     config: Optional[Path] = CONFIG_OPTION
 
 
 @app.command(short_help="Basins of attraction and basin stability over initial states.")
-@with_parameters(MODEL, {"t_end": "Length of every simulation [500]; points not settled by then are labelled not_settled."})
+@with_parameters(MODEL, parameter_help("basins", MODEL, {"t_end": "Here: the length of every simulation; points not "
+                                                                  "settled by then are labelled not_settled."}))
 @with_options(BasinsOptions)
 def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
     """Basins of attraction of the initial states at fixed parameters: attractors, basin stability (with binomial standard errors), map and dataset."""
-    settings = merged_config(opts.config, params).given
-    tol = opts.tol
+    cfg = command_config("basins", opts.config, params)
+    settings, (_, law, solver) = cfg.given, cfg.build()
+    tol = opts.attractor_tol
     tolerances = Tolerances() if tol is None else Tolerances(period=tol, amplitude=tol, stick=tol)
     if opts.chunk_size is not None:
         CHUNK_SIZE.check(opts.chunk_size)
     grid = opts.sample is None
-    x, v = parse_range("--x0", opts.x0, grid), parse_range("--v0", opts.v0, grid)
+    x, v = parse_range("--x0-range", opts.x0_range, grid), parse_range("--v0-range", opts.v0_range, grid)
     _check_outputs(opts.out, opts.plot)
     run = SweepOptions(store=opts.store, restart=opts.restart, chunk_size=opts.chunk_size, scheduler=opts.scheduler,
                        progress=sys.stderr.isatty())
@@ -81,7 +80,7 @@ def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
     if opts.as_json:
         print(json.dumps(result.to_dict(), allow_nan=False))
     else:
-        _print(result)
+        _print(result, provenance(law, solver))
 
 
 def _check_outputs(out: Optional[Path], plot: Optional[Path]) -> None:
@@ -95,18 +94,11 @@ def _check_outputs(out: Optional[Path], plot: Optional[Path]) -> None:
 
 
 def parse_range(name: str, text: str, with_count: bool) -> tuple:
-    """``FROM:TO:N`` (a grid) or ``FROM:TO`` (a sample's range) -> a tuple; ValueError naming the option."""
-    parts = text.split(":")
-    want = "FROM:TO:N" if with_count else "FROM:TO (with --sample the number of points is --sample)"
-    if len(parts) != (3 if with_count else 2):
-        raise ValueError(f"{name} must be {want}, got {text!r}")
-    try:
-        values: list[Any] = [float(p) for p in parts[:2]]
-        if with_count:
-            values.append(int(parts[2]))
-    except ValueError:
-        raise ValueError(f"{name} must be {want} with numbers, got {text!r}") from None
-    return tuple(values)
+    """``FROM:TO:N`` (a grid) or ``FROM:TO`` (a sample's range: --sample is N) -> a tuple; ValueError naming the
+    option."""
+    r = _parse_range(name + (" (with --sample, N is --sample's)" if not with_count else ""), text,
+                     "required" if with_count else "none")
+    return (r.start, r.stop, r.num) if with_count else (r.start, r.stop)
 
 
 def parse_vary(text: Optional[str]) -> Optional[dict[str, Any]]:
@@ -117,16 +109,16 @@ def parse_vary(text: Optional[str]) -> Optional[dict[str, Any]]:
     name = name.strip().replace("-", "_")
     if not sep or not name or not values.strip():
         raise ValueError(f"--vary must be NAME=FROM:TO:N or NAME=V1,V2,..., got {text!r}")
+    if ":" in values:
+        r = _parse_range(f"--vary {name}", values.strip())
+        return {name: {"start": r.start, "stop": r.stop, "num": r.num}}
     try:
-        if ":" in values:
-            start, stop, num = values.split(":")
-            return {name: {"start": float(start), "stop": float(stop), "num": int(num)}}
         return {name: [float(v) for v in values.split(",")]}
     except ValueError:
         raise ValueError(f"--vary must be NAME=FROM:TO:N or NAME=V1,V2,... with numbers, got {text!r}") from None
 
 
-def _print(result) -> None:
+def _print(result, caption: str) -> None:  # noqa: ANN001
     """The outcomes as a table (with --vary: basin stability per value)."""
     from rich.console import Console
     from rich.table import Table
@@ -150,7 +142,7 @@ def _print(result) -> None:
             table.add_column(report[0]["outcomes"][j]["name"], justify="right", no_wrap=True)
         for r in report:
             table.add_row(num(r[result.vary]), *(f"{r['outcomes'][j]['fraction']:.3f} ± {r['outcomes'][j]['stderr']:.3f}" for j in reached))
-    console.print(table)
+    show(console, table, caption)
     for key in ("out", "plot"):
         if key in result.files:
             console.print(f"{key}: {result.files[key]}")

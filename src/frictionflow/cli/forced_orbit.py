@@ -6,40 +6,37 @@ Registered by importing this module in :mod:`frictionflow.cli` (``from . import 
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Optional
 
 import numpy as np
-import typer
 
 from .._json import jsonable
 from ..core import forced_map as fm
-from .._display import spoken
-from ..friction.registry import SWITCH_LAW, tangent_law_names
-from ..io import check_input_path, check_output_path, read_config, write_figure
-from ..orbits.forced import DEFAULT_STEPS, PARAMETERS, check_parameter, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
+from .._ranges import parse_named_range
+from ..io import check_output_path, write_figure
+from ..orbits.forced import DEFAULT_STEPS, DEFAULT_TRANSIENT, PARAMETERS, check_parameter, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
 from ..orbits.forced_plot import plot_forced_branches
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ..solvers.base import kernel_params
 from ._app import app
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
+from .options import CONFIG_OPTION, command_config, parameter_names, start_state, with_options, with_parameters
+from .output import FLOW_MAP, print_summary, provenance, write_json
+from .vocabulary import option, overlay_count, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "friction", "dimensional"))
-HELP = {
-    "x0": "Start X at tau = 0 [0].",
-    "v0": "Start X' at tau = 0 [0].",
-    "friction": f"Friction law with Coulomb's stick rule: {spoken(tangent_law_names())} [{SWITCH_LAW}].",
-}
 COMMAND_PARAMETERS = {p.name: p for p in (
     Param("m", "", "period in forcing periods", "run", 1, kind="int", lower=1, upper=1000),
-    Param("steps", "", "RK4 steps per forcing period", "run", 512, kind="int", lower=4, upper=1_000_000),
-    Param("transient", "", "forcing periods before shooting", "run", 200, kind="int", lower=0, upper=10_000_000),
+    Param("steps_per_period", "", "RK4 steps per forcing period", "run", 512, kind="int", lower=4, upper=1_000_000),
+    Param("transient_periods", "", "forcing periods before shooting", "run", 200, kind="int", lower=0, upper=10_000_000),
     Param("max_points", "", "points of the branch", "run", 400, kind="int", lower=2, upper=100_000),
-    Param("sweep", "", "brute-force parameter values", "run", 0, kind="int", lower=0, upper=10_000),
+    Param("overlay", "", "brute-force parameter values", "run", 0, kind="int", lower=0, upper=10_000),
 )}
 SHORT_HELP_ORBIT = "Periodic orbit of the forced oscillator and its Floquet multipliers."
 SHORT_HELP_CONTINUE = "Continue forced periodic orbits in Omega or F_ex, with bifurcations."
+OUT_FORMATS = (".json",)
 
 
 def _check(**values: Any) -> None:
@@ -48,42 +45,67 @@ def _check(**values: Any) -> None:
             COMMAND_PARAMETERS[name].check(value)
 
 
-def _build(config: Optional[Path], params: dict[str, Any]):
-    file_values: dict[str, Any] = {}
-    if config is not None:
-        check_input_path(config, "--config")
-        file_values = read_config(config)
-    given = dict(params)
-    if given.get("friction") is None and "friction" not in file_values:
-        given["friction"] = SWITCH_LAW
-    cfg = merged_config(config, given)
+def _one_m(text: str) -> int:
+    """``--m``: one period in forcing periods (these commands follow one orbit)."""
+    try:
+        m = int(text)
+    except ValueError:
+        raise ValueError(f"--m must be one integer here (the orbit's period in forcing periods), got {text!r}") from None
+    return _check(m=m) or m
+
+
+def _build(command: str, config: Optional[Path], params: dict[str, Any]):
+    cfg = command_config(command, config, params)
     model, law, _ = cfg.build()
     return cfg, model, law
 
 
-@app.command("forced-orbit", short_help=SHORT_HELP_ORBIT)
-@with_parameters(MODEL, HELP)
-def forced_orbit(
-    params: dict[str, Any],
-    m: int = typer.Option(1, "--m", help="Period in forcing periods (1 harmonic, > 1 subharmonic)."),
-    transient: int = typer.Option(200, "--transient", help="Forcing periods run from (x0, v0) before shooting (0: shoot from them)."),
-    steps: int = typer.Option(512, "--steps", help="RK4 steps per forcing period (switches are located whatever it is)."),
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the orbit's phase portrait and time history (.png, .pdf, .svg)."),
-    config: Optional[Path] = CONFIG_OPTION,
-) -> None:
-    """Newton shooting for the orbit of period m 2 pi / Omega: state at tau = 0, multipliers, power and TR_B."""
-    _check(m=m, transient=transient, steps=steps)
+def _check_outputs(out: Optional[Path], plot: Optional[Path]) -> None:
+    if out is not None:
+        check_output_path(out, OUT_FORMATS, "--out")
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "--plot")
-    cfg, model, law = _build(config, params)
-    orbit = find_forced_orbit(model, law, m=m, x0=cfg.x0, v0=cfg.v0, transient_periods=transient, steps=steps)
-    if plot is not None:
-        _plot_orbit(orbit, plot)
+
+
+def _report(report: dict[str, Any], out: Optional[Path], as_json: bool, results: list, caption: str) -> None:
+    """The report to --out, then as JSON or as tables on stdout."""
+    if out is not None:
+        write_json(out, report)
     if as_json:
-        print(json.dumps(orbit.as_dict(), allow_nan=False))
+        print(json.dumps(report, allow_nan=False))
     else:
-        print(orbit.summary())
+        for r in results:
+            print_summary(r, caption)
+
+
+@dataclass(frozen=True)
+class ForcedOrbitOptions:
+    """The forced-orbit command's own options (the model's come as ``params``)."""
+
+    m: str = option("--m")
+    transient_periods: int = option("--transient-periods")
+    steps_per_period: int = option("--steps-per-period")
+    as_json: bool = option("--json")
+    out: Optional[Path] = option("--out", "Here: the JSON object, .json.")
+    plot: Optional[Path] = option("--plot", "Here: the orbit's phase portrait and time history.")
+    config: Optional[Path] = CONFIG_OPTION
+
+
+@app.command("forced-orbit", short_help=SHORT_HELP_ORBIT)
+@with_parameters(MODEL, parameter_help("forced-orbit", MODEL))
+@with_options(ForcedOrbitOptions)
+def forced_orbit(params: dict[str, Any], opts: ForcedOrbitOptions) -> None:
+    """Newton shooting for the orbit of period m 2 pi / Omega: state at tau = 0, multipliers, power and TR_B."""
+    m = _one_m(opts.m)
+    _check(transient_periods=opts.transient_periods, steps_per_period=opts.steps_per_period)
+    _check_outputs(opts.out, opts.plot)
+    cfg, model, law = _build("forced-orbit", opts.config, params)
+    x0, v0 = start_state(cfg, model, law)
+    orbit = find_forced_orbit(model, law, m=m, x0=x0, v0=v0, transient_periods=opts.transient_periods,
+                              steps=opts.steps_per_period)
+    if opts.plot is not None:
+        _plot_orbit(orbit, opts.plot)
+    _report(orbit.as_dict(), opts.out, opts.as_json, [orbit], provenance(law, FLOW_MAP))
 
 
 def _plot_orbit(orbit, path: Path) -> None:
@@ -121,50 +143,57 @@ def _state_at(orbit, t: float, steps: int) -> np.ndarray:
     return out.end.copy()
 
 
+@dataclass(frozen=True)
+class ForcedContinueOptions:
+    """The forced-continue command's own options (the model's come as ``params``)."""
+
+    vary: str = option("--vary", "Here: omega or fex, FROM:TO (the first orbit is found at FROM; the branch chooses "
+                       "its points).", required=True)
+    m: str = option("--m")
+    steps_per_period: int = option("--steps-per-period")
+    max_points: int = option("--max-points")
+    switch_pd: bool = option("--switch-pd")
+    overlay: str = option("--overlay", "Here: N parameter values swept up.")
+    as_json: bool = option("--json")
+    out: Optional[Path] = option("--out", "Here: the JSON object, .json.")
+    plot: Optional[Path] = option("--plot", "Here: the bifurcation diagram.")
+    config: Optional[Path] = CONFIG_OPTION
+
+
 @app.command("forced-continue", short_help=SHORT_HELP_CONTINUE)
-@with_parameters(MODEL, HELP)
-def forced_continue(
-    params: dict[str, Any],
-    parameter: str = typer.Option("omega", "--parameter", help="The continuation parameter: omega or fex."),
-    start: float = typer.Option(..., "--from", help="Start value of the parameter (the first orbit is found there)."),
-    stop: float = typer.Option(..., "--to", help="End value of the parameter."),
-    m: int = typer.Option(1, "--m", help="Period in forcing periods."),
-    steps: int = typer.Option(512, "--steps", help="RK4 steps per forcing period."),
-    max_points: int = typer.Option(400, "--max-points", help="Most points on the branch."),
-    switch_pd: bool = typer.Option(False, "--switch-pd", help="Also continue the 2m branch born at the first period doubling."),
-    sweep: int = typer.Option(0, "--sweep", help="Brute-force overlay: this many parameter values swept up (0: none)."),
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the branch(es) to stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the bifurcation diagram (.png, .pdf, .svg)."),
-    config: Optional[Path] = CONFIG_OPTION,
-) -> None:
+@with_parameters(MODEL, parameter_help("forced-continue", MODEL))
+@with_options(ForcedContinueOptions)
+def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None:
     """Pseudo-arclength continuation in Omega or F_ex: folds, period doublings, Neimark-Sacker, grazings."""
+    parameter, span = parse_named_range("--vary", opts.vary, "none")
+    start, stop = span.start, span.stop
     if parameter not in PARAMETERS:
-        raise ValueError(f"--parameter must be omega or fex, got {parameter!r}")
-    for flag, value in (("--from", start), ("--to", stop)):
-        check_parameter(parameter, value, flag)  # both ends by the parameter's declaration, as the API checks them
+        raise ValueError(f"--vary: forced-continue varies omega or fex, got {parameter!r}")
+    for end, value in (("FROM", start), ("TO", stop)):
+        check_parameter(parameter, value, f"--vary {end}")  # both ends by the parameter's declaration, as the API does
     if start == stop:
-        raise ValueError(f"--to must differ from --from ({start!r})")
-    _check(m=m, steps=steps, max_points=max_points, sweep=sweep)
-    if plot is not None:
-        check_output_path(plot, FIGURE_FORMATS, "--plot")
-    cfg, model, law = _build(config, params)
-    branch = continue_forced(model, law, parameter, start, stop, m=m, x0=cfg.x0, v0=cfg.v0, steps=steps,
-                             max_points=max_points)
+        raise ValueError(f"--vary: TO must differ from FROM ({start!r})")
+    m, overlay = _one_m(opts.m), overlay_count(opts.overlay)
+    _check(steps_per_period=opts.steps_per_period, max_points=opts.max_points, overlay=overlay)
+    _check_outputs(opts.out, opts.plot)
+    cfg, model, law = _build("forced-continue", opts.config, params)
+    x0, v0 = start_state(cfg, model, law)
+    # the first orbit as forced-orbit finds it: DEFAULT_TRANSIENT forcing periods from the start, then Newton
+    first = find_forced_orbit(replace(model, **{parameter: start}), law, m=m, x0=x0, v0=v0,
+                              transient_periods=DEFAULT_TRANSIENT, steps=opts.steps_per_period)
+    branch = continue_forced(model, law, parameter, start, stop, m=m, orbit=first, steps=opts.steps_per_period,
+                             max_points=opts.max_points)
     branches = [branch]
-    if switch_pd and branch.events_of("period_doubling"):
+    if opts.switch_pd and branch.events_of("period_doubling"):
         branches.append(switch_period_doubling(branch))
     brute = None
-    if sweep:
-        values = np.linspace(min(start, stop), max(start, stop), sweep)
+    if overlay:
+        values = np.linspace(min(start, stop), max(start, stop), overlay)
         brute = stroboscopic_sweep(branch.model, law, parameter, values, x0=float(branch.points[0].state[0]) if start < stop else 0.0,
                                    v0=float(branch.points[0].state[1]) if start < stop else 0.0)
-    if plot is not None:
-        plot_forced_branches(branches, plot, sweep=brute, name="--plot")
-    if as_json:
-        out: dict[str, Any] = {"branches": [b.as_dict() for b in branches]}
-        if brute is not None:
-            out["brute_force"] = jsonable({"values": brute.values, "X": brute.x, "V": brute.v})
-        print(json.dumps(out, allow_nan=False))
-    else:
-        for b in branches:
-            print(b.summary())
+    if opts.plot is not None:
+        plot_forced_branches(branches, opts.plot, sweep=brute, name="--plot")
+    report: dict[str, Any] = {"branches": [b.as_dict() for b in branches]}
+    if brute is not None:
+        report["brute_force"] = jsonable({"values": brute.values, "X": brute.x, "V": brute.v})
+    _report(report, opts.out, opts.as_json, branches, provenance(law, FLOW_MAP))

@@ -6,63 +6,55 @@ import json
 from pathlib import Path
 from typing import Any, Optional
 
-import typer
-
 from ..analysis.lyapunov import lyapunov_exponents
-from .._display import spoken
-from ..friction.registry import SWITCH_LAW, tangent_law_names
-from ..io import check_input_path, read_config
+from ..io import check_output_path
 from ..parameters import Param
 from ._app import app
-from .options import CONFIG_OPTION, merged_config, parameter_names, with_parameters
+from .options import CONFIG_OPTION, command_config, parameter_names, start_state, with_parameters
+from .output import FLOW_MAP, print_summary, provenance, write_json
+from .vocabulary import PARAMETER_DEFAULTS, option, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "dimensional"))
-HELP = {
-    "x0": "Start X [0].",
-    "v0": "Start X' [0].",
-    "t_end": "End of the averaging, transient included (rounded up to whole blocks) [6000].",
-    "friction": f"Friction law with Coulomb's stick rule: {spoken(tangent_law_names())} [{SWITCH_LAW}].",
-}
 #: the command's own settings, with their ranges (bounded: the cost grows with them)
 COMMAND_PARAMETERS = {p.name: p for p in (
     Param("t_transient", "", "transient before averaging", "run", 1000.0, lower=0.0, upper=1e9),
-    Param("steps", "", "RK4 steps per block", "run", 512, kind="int", lower=4, upper=1_000_000),
+    Param("steps_per_period", "", "RK4 steps per block", "run", 512, kind="int", lower=4, upper=1_000_000),
     Param("block", "", "renormalisation interval of an unforced run", "run", None, lower=0.0, lower_open=True, upper=1e6),
 )}
 
 
 #: the command list's line (click would cut the docstring); cli.SHORT_HELP may name it too
 SHORT_HELP = "Lyapunov exponents of the stick-slip flow, forced or not."
+OUT_FORMATS = (".json",)
 
 
 @app.command(short_help=SHORT_HELP)
-@with_parameters(MODEL, HELP)
+@with_parameters(MODEL, parameter_help("lyapunov", MODEL))
 def lyapunov(
     params: dict[str, Any],
-    t_transient: float = typer.Option(1000.0, "--t-transient", help="Time before the averaging starts (rounded up to whole blocks)."),
-    steps: int = typer.Option(512, "--steps", help="RK4 steps per block (forcing period); switches are located whatever it is."),
-    block: Optional[float] = typer.Option(None, "--block", help="Renormalisation interval when unforced [2 pi]; forced: the forcing period."),
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout (-inf as null)."),
+    t_transient: float = option("--t-transient"),
+    steps_per_period: int = option("--steps-per-period"),
+    block: Optional[float] = option("--block"),
+    as_json: bool = option("--json"),
+    out: Optional[Path] = option("--out", "Here: the JSON object, .json."),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Lyapunov exponents of the stick-slip flow (switches located, saltation matrices, QR once per forcing period)."""
-    file_values: dict[str, Any] = {}
-    if config is not None:
-        check_input_path(config, "--config")
-        file_values = read_config(config)
-    for name, value in (("t_transient", t_transient), ("steps", steps), ("block", block)):
+    for name, value in (("t_transient", t_transient), ("steps_per_period", steps_per_period), ("block", block)):
         if value is not None:
             COMMAND_PARAMETERS[name].check(value)
-    given = dict(params)
-    if given.get("friction") is None and "friction" not in file_values:
-        given["friction"] = SWITCH_LAW
-    cfg = merged_config(config, given)
+    if out is not None:
+        check_output_path(out, OUT_FORMATS, "--out")
+    cfg = command_config("lyapunov", config, params)
     model, law, _ = cfg.build()
-    t_end = cfg.given.get("t_end", 6000.0)
-    result = lyapunov_exponents(model, law, x0=cfg.x0 if cfg.x0 is not None else 0.0,
-                                v0=cfg.v0 if cfg.v0 is not None else 0.0, t_transient=t_transient, t_end=t_end,
-                                steps_per_block=steps, block=block, max_memory=cfg.max_memory)
+    x0, v0 = start_state(cfg, model, law)
+    t_end = cfg.given.get("t_end", PARAMETER_DEFAULTS["lyapunov", "t_end"][0])
+    result = lyapunov_exponents(model, law, x0=x0, v0=v0, t_transient=t_transient, t_end=t_end,
+                                steps_per_block=steps_per_period, block=block, max_memory=cfg.max_memory)
+    report = result.as_dict()
+    if out is not None:
+        write_json(out, report)
     if as_json:
-        print(json.dumps(result.as_dict(), allow_nan=False))
+        print(json.dumps(report, allow_nan=False))
     else:
-        print(result.summary())
+        print_summary(result, provenance(law, FLOW_MAP))

@@ -22,8 +22,11 @@ import typer
 
 from ..config import RunConfig
 from ..estimate import Limits, limited
-from ..io import read_config
+from ..friction import FrictionLaw
+from ..io import check_input_path, read_config
+from ..params import BeltOscillator
 from ..parameters import Param, declared
+from .vocabulary import PATH_METAVAR, check_law, default_law, option, panel_of, path_text  # noqa: F401 (re-exported)
 
 #: the run's parameters every model command takes (the others are command-specific)
 MODEL_RUN = ("x0", "v0", "t_end", "friction", "solver", "dimensional")
@@ -38,8 +41,8 @@ def parameter_names(owners: tuple[str, ...], run: tuple[str, ...] = ()) -> tuple
 
 def _option(p: Param, help_override: dict[str, str]) -> inspect.Parameter:
     annotation = Optional[_TYPES[p.kind]]
-    option = typer.Option(None, p.flag, help=help_override.get(p.name, p.help()))
-    return inspect.Parameter(p.name, inspect.Parameter.KEYWORD_ONLY, default=option, annotation=annotation)
+    given = typer.Option(None, p.flag, help=help_override.get(p.name, p.help()), rich_help_panel=panel_of(p))
+    return inspect.Parameter(p.name, inspect.Parameter.KEYWORD_ONLY, default=given, annotation=annotation)
 
 
 def with_parameters(names: tuple[str, ...], help_override: dict[str, str] | None = None) -> Callable:
@@ -117,18 +120,24 @@ def merged_config(config: Optional[Path], options: dict[str, Any]) -> RunConfig:
     return RunConfig.from_mapping(values, source=str(config) if config else "options")
 
 
-#: how a path option shows in --help (as typer shows a ``Path`` option without a parser)
-PATH_METAVAR = "<path>"
+def command_config(command: str, config: Optional[Path], params: dict[str, Any]) -> RunConfig:
+    """The run's settings on ``command``: the config file's, overridden by the options given, with the command's
+    default law (:func:`~.vocabulary.default_law`) unless one is chosen; a law it cannot use refused in one line."""
+    file_values: dict[str, Any] = {}
+    if config is not None:
+        check_input_path(config, "--config")  # before reading it, naming the option
+        file_values = read_config(config)
+    given = dict(params)
+    if given.get("friction") is None and "friction" not in file_values:
+        given["friction"] = default_law(command)
+    cfg = merged_config(config, given)
+    check_law(command, cfg.friction)
+    return cfg
 
 
-def path_text(text: str | Path) -> Path:
-    """A path option's value: refuses an empty one, which ``Path`` would turn into ``.`` (this directory) and an
-    error would then quote as ``'.'``, not as what was typed."""
-    if isinstance(text, Path):
-        return text
-    if text == "":
-        raise typer.BadParameter("an empty path: give a file name")
-    return Path(text)
+def start_state(cfg: RunConfig, model: BeltOscillator, law: FrictionLaw) -> tuple[float, float]:
+    """(x0, v0) as given, else (F_d, V_b) -- the start of every command that takes one."""
+    return (law.fd if cfg.x0 is None else cfg.x0), (model.vb if cfg.v0 is None else cfg.v0)
 
 
-CONFIG_OPTION = typer.Option(None, "--config", parser=path_text, metavar=PATH_METAVAR, help="TOML file with any of these options (names with underscores).")
+CONFIG_OPTION = option("--config")

@@ -8,11 +8,10 @@ from pathlib import Path
 from typing import Any, Optional
 
 import numpy as np
-import typer
 
 from .._display import spoken
 from ..config import RunConfig
-from ..io import check_input_path, check_output_path
+from ..io import check_output_path
 from ..orbits import continuation, find_orbit
 from ..orbits.floquet import fd_monodromy
 from ..orbits.monitors import MONITORS, branch_extrema
@@ -21,21 +20,25 @@ from ..orbits.settings import ContinuationSettings
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ..solvers.registry import solver_names_where
+from .._ranges import parse_named_range
 from ._app import app
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
+from .options import CONFIG_OPTION, command_config, parameter_names, with_options, with_parameters
+from .output import provenance, show, write_json
+from .vocabulary import option, overlay_count, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "solver", "dimensional"))
 #: orbits need located switches: every solver but the fixed-step ones
 LOCATING = ("auto", *solver_names_where(lambda cls: not cls.fixed_step))
-SOLVER_HELP = f"Solver of the transient and the power-flow period: {spoken(LOCATING)} [auto]."
+SOLVER_HELP = f"Here: the transient's and the power-flow period's, {spoken(LOCATING)}."
+OUT_FORMATS = (".json",)
 
 
 #: the orbit commands' own settings, with their ranges (bounded: each point costs a shooting or a simulation)
 COMMAND_PARAMETERS = {p.name: p for p in (
     Param("returns", "", "crossings of the section per period", "run", 1, kind="int", lower=1, upper=64),
     Param("tol", "", "Newton tolerance", "run", None, lower=0.0, lower_open=True, upper=1e-3),
-    Param("points", "", "grid points of the equilibrium branch", "run", 101, kind="int", lower=2, upper=100_000),
-    Param("max_points", "", "points per orbit branch", "run", 300, kind="int", lower=2, upper=100_000),
+    Param("points", "", "N of --vary: grid points of the equilibrium branch", "run", 101, kind="int", lower=2, upper=100_000),
+    Param("max_points", "", "points per orbit branch", "run", 400, kind="int", lower=2, upper=100_000),
     Param("sweep", "", "brute-force simulations", "run", 0, kind="int", lower=0, upper=10_000),
     Param("max_period", "", "period at which a branch ends", "run", 500.0, lower=0.0, lower_open=True, upper=1e6),
     Param("step", "", "first arclength step", "run", 0.02, lower=0.0, lower_open=True, upper=1.0),
@@ -48,10 +51,8 @@ def _check(**values: Any) -> None:
             COMMAND_PARAMETERS[name].check(value)
 
 
-def _config(config: Optional[Path], params: dict[str, Any]) -> RunConfig:
-    if config is not None:
-        check_input_path(config, "--config")  # before reading it, naming the option
-    cfg = merged_config(config, params)
+def _config(command: str, config: Optional[Path], params: dict[str, Any]) -> RunConfig:
+    cfg = command_config(command, config, params)
     if cfg.solver not in LOCATING:
         raise ValueError(f"solver={cfg.solver} cannot locate switches exactly; use {spoken(LOCATING)} for orbits")
     return cfg
@@ -61,64 +62,80 @@ def _dump(report: dict[str, Any]) -> None:
     print(json.dumps(report, allow_nan=False))
 
 
+@dataclass(frozen=True)
+class OrbitOptions:
+    """The orbit command's own options (the model's come as ``params``)."""
+
+    guess: bool = option("--guess")
+    returns: int = option("--returns")
+    tol: Optional[float] = option("--tol")
+    fd_check: bool = option("--fd-check")
+    as_json: bool = option("--json")
+    out: Optional[Path] = option("--out", "Here: the JSON object, .json.")
+    plot: Optional[Path] = option("--plot", "Here: phase portrait, time history and power of the orbit.")
+    config: Optional[Path] = CONFIG_OPTION
+
+
 @app.command()
-@with_parameters(MODEL, {"x0": "Start X [F_d].", "v0": "Start X' [V_b].", "solver": SOLVER_HELP,
-                         "t_end": "Transient simulated from the start before shooting [500]."})
-def orbit(
-    params: dict[str, Any],
-    guess: bool = typer.Option(False, "--guess", help="Shoot from the start state itself, without a transient (to reach unstable orbits)."),
-    returns: int = typer.Option(1, "--returns", help="Crossings of the section X'=0 per period (2: period-2 orbit)."),
-    tol: Optional[float] = typer.Option(None, "--tol", help="Newton tolerance on P(X)-X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws]."),
-    fd_check: bool = typer.Option(False, "--fd-check", help="Also report the monodromy matrix by finite differences of simulations."),
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the orbit: phase portrait, time history, power (.png, .pdf, .svg)."),
-    config: Optional[Path] = CONFIG_OPTION,
-) -> None:
+@with_parameters(MODEL, parameter_help("orbit", MODEL, {"solver": SOLVER_HELP, "t_end": "Here: the transient before shooting."}))
+@with_options(OrbitOptions)
+def orbit(params: dict[str, Any], opts: OrbitOptions) -> None:
     """Find a periodic orbit by Newton shooting; report its Floquet multipliers, power flow and TR_B."""
-    cfg = _config(config, params)
-    _check(returns=returns, tol=tol)
-    if plot is not None:
-        check_output_path(plot, FIGURE_FORMATS, "--plot")  # before any work: a bad path writes nothing
+    cfg = _config("orbit", opts.config, params)
+    _check(returns=opts.returns, tol=opts.tol)
+    _check_outputs(opts.out, opts.plot)  # before any work: a bad path writes nothing
     model, law, solv = cfg.build()
-    found = find_orbit(model, law, x0=cfg.x0, v0=cfg.v0, transient=0.0 if guess else cfg.t_end, returns=returns, tol=tol, solver=solv)
+    found = find_orbit(model, law, x0=cfg.x0, v0=cfg.v0, transient=0.0 if opts.guess else cfg.t_end, returns=opts.returns,
+                       tol=opts.tol, solver=solv)
     report = found.to_dict()
-    if fd_check:
+    if opts.fd_check:
         M = fd_monodromy(model, law, found.state, found.period, solver=solv)
         report["fd_monodromy"] = M.tolist()
         report["fd_deviation"] = float(np.max(np.abs(M - found.monodromy)))
+    if opts.plot is not None:
+        plot_orbit(found, opts.plot, name="--plot")
+    _report(report, opts.out, opts.as_json, lambda: _print_orbit(report, provenance(law, solv)))
+
+
+def _check_outputs(out: Optional[Path], plot: Optional[Path]) -> None:
+    if out is not None:
+        check_output_path(out, OUT_FORMATS, "--out")
     if plot is not None:
-        plot_orbit(found, plot, name="--plot")
+        check_output_path(plot, FIGURE_FORMATS, "--plot")
+
+
+def _report(report: dict[str, Any], out: Optional[Path], as_json: bool, table) -> None:  # noqa: ANN001
+    """The report to --out, then as JSON or as the table on stdout."""
+    if out is not None:
+        write_json(out, report)
     if as_json:
         _dump(report)
     else:
-        _print_orbit(report)
+        table()
 
 
 @dataclass(frozen=True)
 class ContinueOptions:
     """The continue command's own options (the model's come as ``params``), each with its typer option."""
 
-    param: str = typer.Option(..., "--param", help="Parameter to continue: the oscillator's or the law's (zeta, vb, fd, ...).")
-    start: float = typer.Option(..., "--from", help="Start value of the parameter.")
-    stop: float = typer.Option(..., "--to", help="End value of the parameter.")
-    seeds: str = typer.Option("hopf,start,stop", "--seeds", help="Where orbit branches start: hopf, start, stop (comma-separated).")
-    points: int = typer.Option(101, "--points", help="Grid points of the equilibrium branch.")
-    max_points: int = typer.Option(300, "--max-points", help="Points per orbit branch at most.")
-    max_period: float = typer.Option(500.0, "--max-period", help="A branch ends (period_blowup) once its period exceeds this.")
-    step: float = typer.Option(0.02, "--step", help="First arclength step, relative to the interval.")
-    sweep: int = typer.Option(0, "--sweep", help="Overlay this many brute-force simulations across the interval.")
-    monitor: str = typer.Option("", "--monitor", help="Locate the extrema of these per-orbit quantities along the branches "
-                                "(comma-separated: P_fin, P_dv, P_df, R_c, R_f, P_belt, P_heat, TR_B, amplitude, stick_fraction, period).")
-    tol: Optional[float] = typer.Option(None, "--tol", help="Newton tolerance on each orbit's X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws].")
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object (branches, bifurcations) to stdout.")
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Bifurcation diagram and power along the branches (.png, .pdf, .svg).")
+    vary: str = option("--vary", "Here: the oscillator's or the law's parameter (zeta, vb, fd, ...); N grid points "
+                       "of the equilibrium branch [101].", required=True)
+    seeds: str = option("--seeds")
+    max_points: int = option("--max-points")
+    max_period: float = option("--max-period")
+    step: float = option("--step")
+    overlay: str = option("--overlay", "Here: N simulations across the range.")
+    monitor: str = option("--monitor")
+    tol: Optional[float] = option("--tol")
+    as_json: bool = option("--json")
+    out: Optional[Path] = option("--out", "Here: the JSON object, .json.")
+    plot: Optional[Path] = option("--plot", "Here: the bifurcation diagram and power along the branches.")
     config: Optional[Path] = CONFIG_OPTION
 
 
 @app.command("continue")
-@with_parameters(MODEL, {"x0": "Start X of the seed and sweep simulations [F_d].", "solver": SOLVER_HELP,
-                         "v0": "Start X' of the seed and sweep simulations [V_b].",
-                         "t_end": "Length of the seed and sweep simulations [500]."})
+@with_parameters(MODEL, parameter_help("continue", MODEL, {"solver": SOLVER_HELP,
+                                                          "t_end": "Here: the length of the seed and overlay simulations."}))
 @with_options(ContinueOptions)
 def continue_(params: dict[str, Any], opts: ContinueOptions) -> None:
     """Continue equilibria and periodic orbits in one parameter; report Hopf points, folds, grazing and power along branches."""
@@ -126,33 +143,32 @@ def continue_(params: dict[str, Any], opts: ContinueOptions) -> None:
     for m in monitors:
         if m not in MONITORS:
             raise ValueError(f"--monitor must be among {', '.join(MONITORS)}, got {m!r}")
-
-    cfg = _config(opts.config, params)
+    param, span = parse_named_range("--vary", opts.vary, "optional")
+    overlay = overlay_count(opts.overlay)
+    cfg = _config("continue", opts.config, params)
     seed_list = tuple(s.strip() for s in opts.seeds.split(",") if s.strip())
-    _check(points=opts.points, max_points=opts.max_points, sweep=opts.sweep, max_period=opts.max_period, step=opts.step, tol=opts.tol)
-    if opts.plot is not None:
-        check_output_path(opts.plot, FIGURE_FORMATS, "--plot")  # before any work: a bad path writes nothing
+    points = COMMAND_PARAMETERS["points"].default if span.num is None else span.num
+    _check(points=points, max_points=opts.max_points, sweep=overlay, max_period=opts.max_period, step=opts.step, tol=opts.tol)
+    _check_outputs(opts.out, opts.plot)  # before any work: a bad path writes nothing
     model, law, solv = cfg.build()
-    settings = ContinuationSettings(seeds=seed_list, transient=cfg.t_end, n_equilibria=opts.points, max_points=opts.max_points,
-                                    max_period=opts.max_period, step=opts.step, sweep=opts.sweep, solver=solv, x0=cfg.x0,
+    # (unset: F_d and V_b at each parameter value, as start_state says at one)
+    settings = ContinuationSettings(seeds=seed_list, transient=cfg.t_end, n_equilibria=points, max_points=opts.max_points,
+                                    max_period=opts.max_period, step=opts.step, sweep=overlay, solver=solv, x0=cfg.x0,
                                     v0=cfg.v0, tol=opts.tol)
-    result = continuation(model, law, opts.param, opts.start, opts.stop, settings=settings)
+    result = continuation(model, law, param, span.start, span.stop, settings=settings)
     if opts.plot is not None:
         plot_bifurcation(result, opts.plot, name="--plot")
     report = result.to_dict()
     if monitors:
         report["extrema"] = [e.to_dict() for m in monitors for e in branch_extrema(result, m, model, law)]
-    if opts.as_json:
-        _dump(report)
-    else:
-        _print_continuation(report)
+    _report(report, opts.out, opts.as_json, lambda: _print_continuation(report, provenance(law, solv)))
 
 
 def _fmt(v: Any, spec: str = ".6g") -> str:
     return "n/a" if v is None else format(v, spec)
 
 
-def _print_orbit(report: dict[str, Any]) -> None:
+def _print_orbit(report: dict[str, Any], caption: str) -> None:
     from rich.console import Console
     from rich.table import Table
 
@@ -171,10 +187,10 @@ def _print_orbit(report: dict[str, Any]) -> None:
     table.add_row("energy residual", f"{report['energy_residual']:.2e}")
     if "fd_deviation" in report:
         table.add_row("max |M - M_fd|", f"{report['fd_deviation']:.2e}")
-    Console().print(table)
+    show(Console(), table, caption)
 
 
-def _print_continuation(report: dict[str, Any]) -> None:
+def _print_continuation(report: dict[str, Any], caption: str) -> None:
     from rich.console import Console
     from rich.table import Table
 
@@ -192,7 +208,7 @@ def _print_continuation(report: dict[str, Any]) -> None:
     for b in report["bifurcations"]:
         detail = ", ".join(f"{k}={v}" for k, v in b.items() if k not in ("type", "value", "branch"))
         bt.add_row(b["type"], f"{b['value']:.8g}", str(b["branch"]), detail)
-    console.print(bt)
+    show(console, bt, caption)
     if report.get("extrema"):
         et = Table(title="extrema of monitors along the branches")
         for col in ("monitor", "kind", "value", "monitor value", "branch", "method"):

@@ -12,7 +12,12 @@ import typer
 
 from ..paper import Settings, reproduce as run_reproduction
 from ._app import app
-from .options import PATH_METAVAR, bounded, path_text
+from .options import bounded
+from .vocabulary import option, parameter_help
+
+#: the declared parameters reproduce takes (with the paper's defaults), by name
+HELP = parameter_help("reproduce", ("t_end", "dt"), {"t_end": "Here: the run length of Figs. 2-6.",
+                                                      "dt": "Here: the step of the paper's method."})
 
 if TYPE_CHECKING:
     from ..paper import Summary
@@ -21,12 +26,12 @@ if TYPE_CHECKING:
 @app.command()
 @bounded
 def reproduce(
-    out: Path = typer.Option(..., "--out", parser=path_text, metavar=PATH_METAVAR, help="Output directory (created if missing; its parent must exist)."),
-    t_end: Optional[float] = typer.Option(None, "--t-end", help="Run length of Figs. 2-6; averages over the last cycle before it [600]."),
-    dt: Optional[float] = typer.Option(None, "--dt", help="RK4 step of the paper's method [1e-3]."),
-    workers: Optional[int] = typer.Option(None, "--workers", help="Processes to use [up to 2]."),
-    quick: bool = typer.Option(False, "--quick", help="Reduced grids and shorter auxiliary runs: a smoke test, not the published figures."),
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object (verdicts, files, timings) instead of the table."),
+    out: Path = option("--out", "Here: a directory (created if missing; its parent must exist).", required=True),
+    t_end: Optional[float] = typer.Option(None, "--t-end", help=HELP["t_end"], rich_help_panel="Window"),
+    dt: Optional[float] = typer.Option(None, "--dt", help=HELP["dt"], rich_help_panel="Solver"),
+    workers: Optional[int] = option("--workers"),
+    quick: bool = option("--quick"),
+    as_json: bool = option("--json", "Here: the verdicts, files and timings."),
 ) -> None:
     """Reproduce Figs. 2-6 of the paper with its method and the exact solver; write figures, data and report.html."""
     base = Settings.quick() if quick else Settings()

@@ -8,48 +8,52 @@ from pathlib import Path
 from typing import Any, Optional
 
 import numpy as np
-import typer
-
 from .. import quantities as Q
 from ..analysis.response import DIRECTIONS, frequency_response
-from ..io import atomic_write, check_input_path, check_output_path
+from ..io import atomic_write, check_output_path
 from ..plotting import FIGURE_FORMATS, plot_response
 from ._app import app
-from .basins import parse_range
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
+from .._ranges import parse_named_range
+from .options import CONFIG_OPTION, command_config, parameter_names, start_state, with_parameters
+from .output import provenance, show
+from .vocabulary import option, parameter_help
 
 DATASET_FORMATS = (".nc",)
+NAMES = tuple(n for n in parameter_names(("oscillator", "law", "solver"), run=("x0", "v0", "friction", "solver")) if n != "omega")
+#: rows of the table (the whole response is in --json and --out)
+TABLE_ROWS = 12
 
 
 @app.command()
-@with_parameters(tuple(n for n in parameter_names(("oscillator", "law", "solver"), run=("x0", "v0", "friction", "solver"))
-                       if n != "omega"))
+@with_parameters(NAMES, parameter_help("response", NAMES))
 def response(
     params: dict[str, Any],
-    omega: str = typer.Option(..., "--omega", metavar="FROM:TO:N", help="Forcing frequencies: N points from FROM to TO."),
-    periods: int = typer.Option(300, "--periods", help="Forcing periods simulated at each frequency."),
-    direction: str = typer.Option("both", "--direction", help="Sweep up, down or both (jumps and hysteresis show with both)."),
-    as_json: bool = typer.Option(False, "--json", help="Print the response as one JSON object."),
-    out: Optional[Path] = typer.Option(None, "--out", parser=path_text, metavar=PATH_METAVAR, help="Write the response dataset (.nc)."),
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the response curves (.png, .pdf, .svg)."),
+    vary: str = option("--vary", "Here: omega=FROM:TO:N, the forcing frequencies.", required=True),
+    periods: int = option("--periods"),
+    direction: str = option("--direction"),
+    as_json: bool = option("--json"),
+    out: Optional[Path] = option("--out", "Here: the response dataset, .nc."),
+    plot: Optional[Path] = option("--plot", "Here: the response curves."),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Frequency response: steady amplitude, power, TR_B and stick fraction against the forcing frequency."""
-    if config is not None:
-        check_input_path(config, "--config")
-    w0, w1, n = parse_range("--omega", omega, with_count=True)
+    name, omega = parse_named_range("--vary", vary)
+    if name != "omega":
+        raise ValueError(f"--vary: response varies omega (the forcing frequency), got {name!r}")
+    w0, w1, n = omega.start, omega.stop, omega.num
     if not (1 <= n <= 100_000):
-        raise ValueError(f"--omega: N must be in [1, 100000], got {n}")
+        raise ValueError(f"--vary: N must be in [1, 100000], got {n}")
     if direction not in (*DIRECTIONS, "both"):
         raise ValueError(f"--direction must be up, down or both, got {direction!r}")
     if out is not None:
         check_output_path(out, DATASET_FORMATS, "--out")
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "--plot")
-    cfg = merged_config(config, params)
+    cfg = command_config("response", config, params)
     model, law, solver = cfg.build()
+    x0, v0 = start_state(cfg, model, law)
     ds = frequency_response(model, law, np.linspace(w0, w1, n) if n > 1 else [w0], solver=solver, periods=periods,
-                            directions=DIRECTIONS if direction == "both" else (direction,), x0=cfg.x0, v0=cfg.v0,
+                            directions=DIRECTIONS if direction == "both" else (direction,), x0=x0, v0=v0,
                             rtol=cfg.rtol, progress=sys.stderr.isatty())
     if out is not None:
         with atomic_write(out, "--out") as tmp:
@@ -59,7 +63,7 @@ def response(
     if as_json:
         print(json.dumps(_as_json(ds)))
     else:
-        _print_table(ds)
+        _print_table(ds, provenance(law, solver))
 
 
 def _as_json(ds) -> dict[str, Any]:
@@ -71,16 +75,22 @@ def _as_json(ds) -> dict[str, Any]:
             **{str(d): {v: plain(ds[v].sel(direction=d).values) for v in ds.data_vars} for d in ds["direction"].values}}
 
 
-def _print_table(ds) -> None:
+def _print_table(ds, caption: str) -> None:
+    """At most :data:`TABLE_ROWS` frequencies, evenly spaced over the range (both ends kept)."""
     from rich.console import Console
     from rich.table import Table
 
+    n = ds.sizes["omega"]
+    shown = sorted(set(np.linspace(0, n - 1, min(n, TABLE_ROWS)).round().astype(int).tolist()))
+    if len(shown) < n:
+        caption += f"; {len(shown)} of {n} frequencies shown (--json or --out for all)"
     table = Table(title="frequency response")
     for col in ("Omega", "sweep", "kind", "m", "amplitude", "TR_B", "P_ex", "stick"):
         table.add_column(col, justify="right")
-    for j, w in enumerate(ds["omega"].values):
+    for j in shown:
+        w = ds["omega"].values[j]
         for d in ds["direction"].values:
             s = ds.sel(direction=d).isel(omega=j)
             table.add_row(f"{w:.5g}", str(d), Q.KINDS[int(s["kind"])], str(int(s["multiple"])), f"{float(s['amplitude']):.5g}",
                           f"{float(s['TR_B']):.5g}", f"{float(s['P_ex']):.4e}", f"{float(s['stick_fraction']):.3f}")
-    Console().print(table)
+    show(Console(), table, caption)

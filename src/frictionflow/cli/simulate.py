@@ -9,8 +9,6 @@ import warnings
 from pathlib import Path
 from typing import Any, Optional
 
-import typer
-
 from ..analysis import analyze, precompile
 from ..config import RunConfig
 from ..estimate import enforce
@@ -19,23 +17,25 @@ from ..params import DimensionalParams
 from ..plotting import FIGURE_FORMATS, plot_run
 from ..simulate import simulate as run_simulation
 from ._app import app
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
+from .options import CONFIG_OPTION, command_config, parameter_names, with_parameters
+from .output import provenance, show
+from .vocabulary import option, parameter_help
+
+NAMES = parameter_names(("oscillator", "law", "solver", "run"))
 
 
 @app.command()
-@with_parameters(parameter_names(("oscillator", "law", "solver", "run")))
+@with_parameters(NAMES, parameter_help("simulate", NAMES))
 def simulate(
     params: dict[str, Any],
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
-    out: Optional[Path] = typer.Option(None, "--out", parser=path_text, metavar=PATH_METAVAR, help="Write the trajectory (.csv or .nc)."),
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw time history, phase portrait and power flow (.png, .pdf, .svg)."),
+    as_json: bool = option("--json"),
+    out: Optional[Path] = option("--out", "Here: the trajectory, .csv or .nc."),
+    plot: Optional[Path] = option("--plot", "Here: time history, phase portrait and power flow."),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Simulate one run, find its steady state and report power flow and TR_B."""
     # Every path is checked before any work, so a bad one costs nothing and writes nothing.
-    if config is not None:
-        check_input_path(config, "--config")
-    cfg = merged_config(config, params)
+    cfg = command_config("simulate", config, params)
     if out is not None:
         check_output_path(out, TRAJECTORY_FORMATS, "--out")
     if plot is not None:
@@ -67,14 +67,14 @@ def simulate(
     if as_json:
         print(json.dumps(report))
     else:
-        _print_summary(report)
+        _print_summary(report, provenance(law, solv))
 
 
 def model_omega0(cfg: RunConfig) -> float:
     return DimensionalParams(**cfg.dimensional).omega0  # type: ignore[arg-type]
 
 
-def _print_summary(report: dict[str, Any]) -> None:
+def _print_summary(report: dict[str, Any], caption: str) -> None:
     from rich.console import Console
     from rich.table import Table
 
@@ -92,4 +92,4 @@ def _print_summary(report: dict[str, Any]) -> None:
     for k, v in report["amplitude"].items():
         table.add_row(k, f"{v:.6g}")
     table.add_row("energy residual", f"{report['energy_residual']:.2e}")
-    Console().print(table)
+    show(Console(), table, caption)

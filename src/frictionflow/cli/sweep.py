@@ -24,24 +24,21 @@ from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import verify_sweep
 from ._app import app
 from .options import bounded
+from .vocabulary import option
 
 
 @app.command()
 @bounded
 def sweep(
     config: Optional[Path] = typer.Argument(None, help="TOML file: simulate's settings plus a [grid] table of swept parameters."),
-    out: Optional[str] = typer.Option(None, "--out", metavar="PATH", help="Results: PATH.zarr (chunked, for large grids) or PATH.nc."),
-    verify: Optional[str] = typer.Option(
-        None, "--verify", metavar="OUT", help="Check the sweep output OUT without computing: each bad chunk, then a summary; exit code 1 if damaged."
-    ),
-    repair: bool = typer.Option(
-        False, "--repair", help="With --verify: rebuild damaged metadata from the sweep's settings (recorded, or CONFIG) and keep every chunk that verifies; computes nothing."
-    ),
-    restart: bool = typer.Option(False, "--restart", help="Discard an existing output (required when the config changed)."),
-    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT; default: this machine's cores."),
-    scheduler_timeout: float = typer.Option(5.0, "--scheduler-timeout", metavar="SECONDS", help="Seconds to wait for the scheduler to answer."),
-    chunk_size: Optional[int] = typer.Option(None, "--chunk-size", help="Points per chunk (a task and a unit of commit)."),
-    as_json: bool = typer.Option(False, "--json", help="Print a JSON summary (dims, counts per kind, points/s; with --verify the findings)."),
+    out: Optional[Path] = option("--out", "Here: PATH.zarr (chunked, for large grids) or PATH.nc."),
+    verify: Optional[str] = option("--verify"),
+    repair: bool = option("--repair"),
+    restart: bool = option("--restart"),
+    scheduler: Optional[str] = option("--scheduler"),
+    scheduler_timeout: float = option("--scheduler-timeout"),
+    chunk_size: Optional[int] = option("--chunk-size"),
+    as_json: bool = option("--json", "Here: the summary (dims, counts per kind, points/s; with --verify the findings)."),
 ) -> None:
     """Sweep parameters over a grid; resumes where it stopped if killed, recomputing any damaged chunk."""
     if repair and verify is None:

@@ -10,6 +10,7 @@
     zeta = { start = 0.0, stop = 0.1, num = 51 }
     vb = { start = 1e-3, stop = 0.1, num = 41, scale = "log" }
     fd = [0.01, 0.02, 0.04]
+    vs = "0.01:0.05:5"       # FROM:TO:N, as ranges are written on the command line
     vd = 1e-3                # a number: fixed, not an axis
 
 A ``sample`` entry is one axis of initial states drawn at random (uniformly
@@ -36,6 +37,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from .. import _validate as check
+from .._ranges import parse_range
 from ..config import RunConfig
 from ..friction import law_class
 from ..io import read_config
@@ -114,8 +116,11 @@ def _count(where: str, value: Any) -> int:
 
 
 def _axis(key: str, value: Any) -> np.ndarray | float:
-    """A grid entry: a number (fixed), a list, or {start, stop, num, scale}."""
+    """A grid entry: a number (fixed), a list, {start, stop, num, scale} or "FROM:TO:N" (the CLI's range)."""
     where = f"grid.{key}"
+    if isinstance(value, str):
+        r = parse_range(where, value)
+        value = {"start": r.start, "stop": r.stop, "num": r.num}
     if isinstance(value, bool):
         raise ValueError(f"{where} must be a number, a list or a {{start, stop, num, scale}} table, got {value!r}")
     if isinstance(value, (int, float)):

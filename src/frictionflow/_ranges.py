@@ -1,0 +1,63 @@
+"""The one range syntax of the command line and the configs: ``FROM:TO:N`` (N values from FROM to TO).
+
+Every option or TOML value that is a range of a parameter is written so;
+``NAME=FROM:TO:N`` names the parameter where the option does not.  Whether
+N must, may or must not be given is the caller's (a sample's range has no N,
+a continuation chooses its own points).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+#: whether a range's N is ``required``, ``optional`` or refused (``none``)
+COUNTS = ("required", "optional", "none")
+
+
+@dataclass(frozen=True)
+class Range:
+    """FROM, TO and (if given) N of a range."""
+
+    start: float
+    stop: float
+    num: int | None = None
+
+    def text(self) -> str:
+        """The range as it is written."""
+        return f"{self.start:g}:{self.stop:g}" + ("" if self.num is None else f":{self.num}")
+
+
+def syntax(count: str) -> str:
+    """How a range with this ``count`` rule is written, for help texts and messages."""
+    return {"required": "FROM:TO:N", "optional": "FROM:TO[:N]", "none": "FROM:TO"}[count]
+
+
+def parse_range(name: str, text: str, count: str = "required") -> Range:
+    """``FROM:TO:N`` -> :class:`Range`; ValueError naming ``name`` (the option or key) and the syntax otherwise."""
+    if count not in COUNTS:
+        raise ValueError(f"count must be one of {', '.join(COUNTS)}, got {count!r}")
+    want = syntax(count)
+    parts = str(text).split(":")
+    allowed = {"required": (3,), "optional": (2, 3), "none": (2,)}[count]
+    if len(parts) not in allowed:
+        raise ValueError(f"{name} must be {want}, got {text!r}")
+    try:
+        start, stop = float(parts[0]), float(parts[1])
+        num = int(parts[2]) if len(parts) == 3 else None
+    except ValueError:
+        raise ValueError(f"{name} must be {want} with numbers (N an integer), got {text!r}") from None
+    if not (math.isfinite(start) and math.isfinite(stop)):
+        raise ValueError(f"{name} must be {want} with finite FROM and TO, got {text!r}")
+    if num is not None and num < 1:
+        raise ValueError(f"{name}: N must be >= 1, got {text!r}")
+    return Range(start, stop, num)
+
+
+def parse_named_range(name: str, text: str, count: str = "required") -> tuple[str, Range]:
+    """``NAME=FROM:TO:N`` -> (NAME with underscores, :class:`Range`); ValueError naming ``name`` otherwise."""
+    key, sep, rest = str(text).partition("=")
+    key = key.strip().replace("-", "_")
+    if not sep or not key:
+        raise ValueError(f"{name} must be NAME={syntax(count)} (e.g. vb=0.01:0.03{':21' if count != 'none' else ''}), got {text!r}")
+    return key, parse_range(f"{name} {key}", rest.strip(), count)

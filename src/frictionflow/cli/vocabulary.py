@@ -1,0 +1,364 @@
+"""The command line's vocabulary: every option name with one meaning, one type, one default and one help panel.
+
+A command takes its options from here -- the model's from the declared
+parameters (:mod:`frictionflow.parameters`, through :mod:`.options`), its own
+from :data:`TERMS` by :func:`option` -- so that an option name means the same
+thing on every command.  A range is written ``FROM:TO:N`` everywhere
+(:mod:`frictionflow._ranges`), ``NAME=FROM:TO:N`` where the option does not
+name the parameter.  The friction law defaults by one rule
+(:func:`default_law`).  Spellings of earlier releases are declared in
+:data:`DEPRECATED`: :func:`rewrite` turns them into today's, with one line on
+stderr, before the command line is parsed.
+
+``tests/cli/test_grammar.py`` walks every command and holds them to this table.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Optional
+
+import typer
+
+from .._display import spoken
+from ..friction.registry import law_class, law_names
+from ..parameters import Param, declared
+
+#: the help panels, in the order --help shows them (options without one come last, under "Options")
+PANELS = ("Model", "Forcing", "Friction", "Solver", "Window", "Study", "Run", "Output")
+#: the oscillator's parameters of the external force (their panel is Forcing, not Model)
+FORCING = ("fex", "omega", "phi")
+#: panels of the run's own declared parameters (the rest by owner: oscillator Model, law Friction, solver Solver)
+RUN_PANELS = {"x0": "Model", "v0": "Model", "dimensional": "Model", "friction": "Friction", "solver": "Solver",
+              "max_memory": "Solver", "t_end": "Window", "window": "Window", "rtol": "Window"}
+OWNER_PANELS = {"oscillator": "Model", "law": "Friction", "solver": "Solver", "run": "Run"}
+
+#: how a path option shows in --help (as typer shows a ``Path`` option without a parser)
+PATH_METAVAR = "<path>"
+
+
+def path_text(text: str | Path) -> Path:
+    """A path option's value: refuses an empty one, which ``Path`` would turn into ``.`` (this directory) and an
+    error would then quote as ``'.'``, not as what was typed."""
+    if isinstance(text, Path):
+        return text
+    if text == "":
+        raise typer.BadParameter("an empty path: give a file name")
+    return Path(text)
+
+
+def panel_of(p: Param) -> str:
+    """The help panel of a declared parameter's option."""
+    if p.owner == "oscillator" and p.name in FORCING:
+        return "Forcing"
+    if p.owner == "run":
+        return RUN_PANELS.get(p.name, "Run")
+    return OWNER_PANELS[p.owner]
+
+
+@dataclass(frozen=True)
+class Term:
+    """One option of the vocabulary: its flag, meaning (the help text), type, default and panel."""
+
+    flag: str
+    meaning: str
+    annotation: Any
+    default: Any = None
+    panel: str = "Study"
+    metavar: Optional[str] = None
+    path: bool = False
+
+    @property
+    def name(self) -> str:
+        """The command function's parameter (``--json`` is ``as_json``: ``json`` is a module)."""
+        return "as_json" if self.flag == "--json" else self.flag[2:].replace("-", "_")
+
+
+def _terms(*terms: Term) -> dict[str, Term]:
+    return {t.flag: t for t in terms}
+
+
+OPT_PATH = Optional[Path]
+#: the commands' own options (the model's parameters are declared by their owners)
+TERMS: dict[str, Term] = _terms(
+    # -- output ---------------------------------------------------------------
+    Term("--json", "Print one JSON object with the results to stdout instead of the table.", bool, False, "Output"),
+    Term("--out", "Write the results (the format by the suffix).", OPT_PATH, None, "Output", PATH_METAVAR, True),
+    Term("--plot", "Draw the results (.png, .pdf, .svg).", OPT_PATH, None, "Output", PATH_METAVAR, True),
+    Term("--store", "Keep the sweep's resumable store here.", OPT_PATH, None, "Output", "PATH.zarr", True),
+    Term("--config", "TOML file with any of the model's options (names with underscores).", OPT_PATH, None, "Model",
+         PATH_METAVAR, True),
+    # -- running ----------------------------------------------------------------
+    Term("--restart", "Discard an existing sweep output or store (needed when the settings changed).", bool, False, "Run"),
+    Term("--scheduler", "Dask scheduler address tcp://HOST:PORT; default: this machine's cores.", Optional[str], None, "Run"),
+    Term("--scheduler-timeout", "Seconds to wait for the scheduler to answer.", float, 5.0, "Run", "SECONDS"),
+    Term("--chunk-size", "Points per chunk of a sweep (a task and a unit of commit).", Optional[int], None, "Run"),
+    Term("--verify", "Check the sweep output OUT without computing: each bad chunk, then a summary; exit code 1 if "
+         "damaged.", Optional[str], None, "Run", "OUT"),
+    Term("--repair", "With --verify: rebuild damaged metadata from the sweep's settings (recorded, or CONFIG) and keep "
+         "every chunk that verifies; computes nothing.", bool, False, "Run"),
+    Term("--workers", "Processes to use [up to 2].", Optional[int], None, "Run"),
+    Term("--quick", "Reduced grids and shorter auxiliary runs: a smoke test, not the published figures.", bool, False),
+    # -- what is varied ---------------------------------------------------------
+    Term("--vary", "The parameter varied and its range, NAME=FROM:TO:N.", Optional[str], None, "Study", "NAME=FROM:TO[:N]"),
+    Term("--x", "First parameter (horizontal axis) and its range, NAME=FROM:TO:N (N values, the curves' resolution "
+         "in x) [N 41].", Optional[str], None, "Study", "NAME=FROM:TO[:N]"),
+    Term("--y", "Second parameter (vertical axis) and its range, NAME=FROM:TO:N (N points: the scan for sign changes "
+         "[201], forced maps the grid [5]).", Optional[str], None, "Study", "NAME=FROM:TO[:N]"),
+    Term("--x0-range", "Range of X(0): FROM:TO:N grid points, or FROM:TO with --sample.", Optional[str], None, "Study",
+         "FROM:TO[:N]"),
+    Term("--v0-range", "Range of X'(0), as --x0-range.", Optional[str], None, "Study", "FROM:TO[:N]"),
+    Term("--sample", "N random initial states in the ranges instead of a grid.", Optional[int], None, "Study", "N"),
+    Term("--seed", "Seed of --sample (the same points for a seed on every machine).", int, 0),
+    Term("--overlay", "Brute-force simulations drawn under the curves: N along the range, NXxNY over a plane (0: none).",
+         str, "0", "Study", "N|NXxNY"),
+    Term("--heat", "Sweep variable of the --overlay heat map (R_c, TR_B, P_fin, ...).", str, "R_c"),
+    # -- the command's study ----------------------------------------------------
+    Term("--attractor-tol", "Tolerance telling attractors apart: relative on period and amplitude, absolute on stick "
+         "fraction [1e-3].", Optional[float], None),
+    Term("--tol", "Newton tolerance on each orbit's X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws].",
+         Optional[float], None, "Solver"),
+    Term("--periods", "Forcing periods simulated at each frequency.", int, 300, "Window"),
+    Term("--direction", "Sweep up, down or both (jumps and hysteresis show with both).", str, "both"),
+    Term("--t-transient", "Time before the averaging starts (rounded up to whole blocks).", float, 1000.0, "Window"),
+    Term("--transient-periods", "Forcing periods run from (x0, v0) before shooting (0: shoot from them).", int, 200,
+         "Window"),
+    Term("--steps-per-period", "RK4 steps per forcing period (per block when unforced); switches are located "
+         "whatever it is.", int, 512, "Solver"),
+    Term("--block", "Renormalisation interval when unforced [2 pi]; forced: the forcing period.", Optional[float], None,
+         "Window"),
+    Term("--guess", "Shoot from the start state itself, without a transient (to reach unstable orbits).", bool, False),
+    Term("--returns", "Crossings of the section X'=0 per period (2: period-2 orbit).", int, 1),
+    Term("--fd-check", "Also report the monodromy matrix by finite differences of simulations.", bool, False),
+    Term("--m", "Period of the orbit(s) in forcing periods (1 harmonic, > 1 subharmonic); comma-separated where a "
+         "command follows several (map).", str, "1", "Study", "M[,M..]"),
+    Term("--seeds", "Where orbit branches start: hopf, start, stop (comma-separated).", str, "hopf,start,stop"),
+    Term("--max-points", "Points per orbit branch at most.", int, 400),
+    Term("--max-period", "A branch ends (period_blowup) once its period exceeds this.", float, 500.0),
+    Term("--step", "First arclength step, relative to the interval.", float, 0.02),
+    Term("--switch-pd", "Also continue the 2m branch born at the first period doubling.", bool, False),
+    Term("--monitor", "Locate the extrema of these per-orbit quantities along the branches (comma-separated: P_fin, "
+         "P_dv, P_df, R_c, R_f, P_belt, P_heat, TR_B, amplitude, stick_fraction, period).", str, ""),
+    Term("--curves", "Curves to compute (comma-separated): hopf, grazing, fold [all]; forced (--x/--y omega, fex): "
+         "fold, period_doubling, neimark_sacker, grazing [all].", Optional[str], None),
+    Term("--fold-every", "A continuation in y seeds fold curves at every n-th x value.", int, 2),
+)
+
+#: declared parameters whose default differs on a command, with the reason (shown in its help)
+PARAMETER_DEFAULTS: dict[tuple[str, str], tuple[Any, str]] = {
+    ("lyapunov", "t_end"): (6000.0, "the averaging needs long runs; transient included, rounded up to whole blocks"),
+    ("reproduce", "t_end"): (600.0, "the paper's run length; averages over the last cycle before it"),
+}
+
+
+def option(flag: str, detail: str | None = None, *, required: bool = False) -> Any:
+    """The ``typer.Option`` of vocabulary term ``flag``; ``detail`` says what it is on this command (appended to
+    the meaning), ``required`` makes it one the command needs."""
+    t = TERMS[flag]
+    default = ... if required else t.default
+    text = t.meaning if detail is None else f"{t.meaning} {detail}"
+    if not required and default is not None and default is not False and default != "" and "[" not in t.meaning:
+        text += f" [{default}]"  # as the declared parameters show theirs
+    extra: dict[str, Any] = {"parser": path_text} if t.path else {}
+    return typer.Option(default, flag, help=text, metavar=t.metavar, rich_help_panel=t.panel, show_default=False,
+                        **extra)
+
+
+def parameter_help(command: str, names: tuple[str, ...], detail: dict[str, str] | None = None) -> dict[str, str]:
+    """The help of the declared parameters ``names`` on ``command``: the declared text with the command's default
+    law and its declared defaults (:data:`PARAMETER_DEFAULTS`), and ``detail`` (what it is used for here) appended."""
+    out = {}
+    for name in names:
+        p = declared()[name]
+        if name == "friction":
+            p = p.with_default(default_law(command))
+        if (command, name) in PARAMETER_DEFAULTS:
+            value, reason = PARAMETER_DEFAULTS[command, name]
+            p = p.with_default(value, f"{value:g}: {reason}")
+        text = p.help()
+        wants = LAW_NEEDS.get(command, ()) + LAW_WANTS.get(command, ())
+        if name == "friction" and wants:
+            text = text[:-1] + f" (the first law with {spoken(tuple(CAPABILITIES[c][0] for c in wants), 'and')})."
+        if detail and name in detail:
+            text += " " + detail[name]
+        out[name] = text
+    return out
+
+
+def overlay_count(text: str) -> int:
+    """``--overlay N`` along one parameter's range (0: none)."""
+    try:
+        return int(text)
+    except ValueError:
+        raise ValueError(f"--overlay must be a number N of simulations along the range (0: none), got {text!r}") from None
+
+
+def overlay_shape(text: str) -> tuple[int, int] | None:
+    """``--overlay NXxNY`` over a plane (e.g. 40x30), or 0 for none."""
+    if text.strip() in ("", "0"):
+        return None
+    try:
+        nx, ny = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise ValueError(f"--overlay must be NXxNY (e.g. 40x30) or 0, got {text!r}") from None
+    if not (2 <= nx <= 2000 and 2 <= ny <= 2000):
+        raise ValueError(f"--overlay must have 2..2000 points per axis, got {text!r}")
+    return nx, ny
+
+
+# -- the friction law: one rule for the default, one line for a law a command cannot use -------------------------
+#: what a command may need of a law: (words for messages, test on the law's class)
+CAPABILITIES: dict[str, tuple[str, Callable[[type], bool]]] = {
+    "switch": ("Coulomb's stick rule", lambda law: law.stick_rule == "switch"),
+    "tangent": ("a tangent kernel", lambda law: law.has_tangent_kernel),
+    "falling": ("a falling slip curve", lambda law: not law.piecewise_constant),
+}
+#: what each command needs of a law (it refuses a law without them); commands not named take every law
+LAW_NEEDS: dict[str, tuple[str, ...]] = {
+    "forced-orbit": ("switch", "tangent"), "forced-continue": ("switch", "tangent"), "lyapunov": ("switch", "tangent"),
+}
+#: what a command's default law should also have to give all its results (map: a chart with every curve)
+LAW_WANTS: dict[str, tuple[str, ...]] = {"map": ("switch", "falling")}
+
+
+def _has(law: type, capabilities: tuple[str, ...]) -> bool:
+    return all(CAPABILITIES[c][1](law) for c in capabilities)
+
+
+def default_law(command: str) -> str:
+    """The default law of ``command``: the first registered law it can use that gives all its results."""
+    names = law_names()
+    needs = LAW_NEEDS.get(command, ())
+    for wants in (needs + LAW_WANTS.get(command, ()), needs):
+        usable = [n for n in names if _has(law_class(n), wants)]
+        if usable:
+            return usable[0]
+    raise ValueError(f"no registered law has what {command} needs")
+
+
+def check_law(command: str, name: str) -> None:
+    """One line (ValueError) when ``command`` cannot use the law ``name``."""
+    needs = LAW_NEEDS.get(command, ())
+    law = law_class(name)
+    missing = [CAPABILITIES[c][0] for c in needs if not CAPABILITIES[c][1](law)]
+    if missing:
+        usable = tuple(n for n in law_names() if _has(law_class(n), needs))
+        raise ValueError(f"--friction: {command} cannot use {name} (stick rule: {law.stick_rule}): it needs "
+                         f"{spoken(tuple(missing), 'and')}; use {spoken(usable)}")
+
+
+# -- spellings of earlier releases -----------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Deprecated:
+    """Old option spellings of ``commands`` and how they are written today.
+
+    ``build`` makes the new option's value from the old options' values (by flag; with ``joins``, the current
+    options whose old-style value belongs with them, such as map's ``--x NAME``).
+    """
+
+    commands: tuple[str, ...]
+    old: tuple[str, ...]
+    new: str
+    build: Callable[[dict[str, str]], str] = lambda given: next(iter(given.values()))
+    joins: tuple[str, ...] = ()
+
+
+def _need(given: dict[str, str], flags: tuple[str, ...], new: str) -> None:
+    missing = [f for f in flags if f not in given]
+    if missing:
+        raise ValueError(f"{'/'.join(flags)} are deprecated and go together (missing {', '.join(missing)}): write {new}")
+
+
+def _continue_vary(given: dict[str, str]) -> str:
+    _need(given, ("--param", "--from", "--to"), "--vary NAME=FROM:TO[:N]")
+    n = f":{given['--points']}" if "--points" in given else ""
+    return f"{given['--param']}={given['--from']}:{given['--to']}{n}"
+
+
+def _forced_vary(given: dict[str, str]) -> str:
+    _need(given, ("--from", "--to"), "--vary NAME=FROM:TO")
+    return f"{given.get('--parameter', 'omega')}={given['--from']}:{given['--to']}"
+
+
+def _axis(axis: str, default: str, counts: tuple[str, ...]) -> Callable[[dict[str, str]], str]:
+    """Map's ``--AXIS NAME --AXIS-from A --AXIS-to B`` (and a count) -> ``NAME=A:B[:N]``."""
+    flag = f"--{axis}"
+
+    def build(given: dict[str, str]) -> str:
+        n = [given[c] for c in counts if c in given]
+        if len(n) > 1:
+            raise ValueError(f"{' and '.join(counts)} are deprecated and both set N of {flag} NAME=FROM:TO:N: give one")
+        tail = f":{n[0]}" if n else ""
+        if "=" in given.get(flag, ""):  # today's --AXIS with only a deprecated count beside it
+            if f"{flag}-from" in given or f"{flag}-to" in given:
+                raise ValueError(f"give {flag} NAME=FROM:TO:N or the deprecated {flag}-from/{flag}-to, not both")
+            return given[flag] + tail if given[flag].count(":") == 1 else given[flag]
+        _need(given, (f"{flag}-from", f"{flag}-to"), f"{flag} NAME=FROM:TO:N")
+        return f"{given.get(flag, default)}={given[f'{flag}-from']}:{given[f'{flag}-to']}{tail}"
+
+    return build
+
+
+#: every deprecated spelling, kept for one release
+DEPRECATED: tuple[Deprecated, ...] = (
+    Deprecated(("response",), ("--omega",), "--vary", lambda given: f"omega={given['--omega']}"),
+    Deprecated(("basins",), ("--x0",), "--x0-range"),
+    Deprecated(("basins",), ("--v0",), "--v0-range"),
+    Deprecated(("basins",), ("--tol",), "--attractor-tol"),
+    Deprecated(("continue",), ("--param", "--from", "--to", "--points"), "--vary", _continue_vary),
+    Deprecated(("forced-continue",), ("--parameter", "--from", "--to"), "--vary", _forced_vary),
+    Deprecated(("continue", "forced-continue", "map"), ("--sweep",), "--overlay"),
+    Deprecated(("forced-orbit",), ("--transient",), "--transient-periods"),
+    Deprecated(("forced-orbit", "forced-continue", "lyapunov"), ("--steps",), "--steps-per-period"),
+    Deprecated(("map",), ("--x-from", "--x-to", "--x-points"), "--x", _axis("x", "vb", ("--x-points",)), ("--x",)),
+    Deprecated(("map",), ("--y-from", "--y-to", "--y-points", "--scan"), "--y",
+               _axis("y", "zeta", ("--y-points", "--scan")), ("--y",)),
+    Deprecated(("map",), ("--sweep-out",), "--store"),
+    Deprecated(("map",), ("--dataset",), "--out"),
+)
+
+
+def _take(argv: list[str], flags: tuple[str, ...]) -> tuple[dict[str, str], list[str]]:
+    """The values of ``flags`` in ``argv`` (``--flag V`` or ``--flag=V``) and ``argv`` without them."""
+    given: dict[str, str] = {}
+    rest: list[str] = []
+    i = 0
+    while i < len(argv):
+        word = argv[i]
+        if word == "--":
+            rest.extend(argv[i:])
+            break
+        flag, eq, value = word.partition("=")
+        if flag in flags:
+            if not eq:
+                if i + 1 >= len(argv):
+                    raise ValueError(f"{flag} needs a value")
+                i += 1
+                value = argv[i]
+            given[flag] = value
+        else:
+            rest.append(word)
+        i += 1
+    return given, rest
+
+
+def rewrite(argv: list[str]) -> tuple[list[str], list[str]]:
+    """``argv`` with the deprecated spellings of its command written today's way, and one line for each."""
+    command = next((a for a in argv if not a.startswith("-")), None)
+    lines = []
+    for dep in DEPRECATED:
+        if command not in dep.commands:
+            continue
+        given, rest = _take(argv, dep.old + dep.joins)
+        old = [f for f in dep.old if f in given]
+        if not old:
+            continue
+        value = dep.build(given)
+        if dep.new not in dep.joins and any(w == dep.new or w.startswith(dep.new + "=") for w in rest):
+            raise ValueError(f"give {dep.new} or the deprecated {'/'.join(old)}, not both")
+        cut = rest.index("--") if "--" in rest else len(rest)
+        argv = [*rest[:cut], f"{dep.new}={value}", *rest[cut:]]  # one word: a value may start with '-'
+        lines.append(f"{'/'.join(old)} {'is' if len(old) == 1 else 'are'} deprecated and will be removed in the next "
+                     f"release: write {dep.new} {value}")
+    return argv, lines
