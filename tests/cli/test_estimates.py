@@ -93,7 +93,7 @@ def test_a_lyapunov_run_of_1e12_time_units_is_refused_by_memory_then_by_time(tmp
 
 
 def test_lyapunov_at_zeta_1000_ends_at_once():
-    """Not a cost: 6000 time units are 5e5 tangent steps.  The run stops at once on zero-length phases."""
+    """Not a cost: 6000 time units are 5e5 tangent steps; RK4's default step is unstable there, refused at once."""
     code, out, err, seconds = cli("lyapunov", "--zeta", "1000", "--json")
     assert seconds < QUICK and out == "" and code in (1, 2)
     assert len(err.strip().splitlines()) == 1 and err.startswith("error: "), err

@@ -238,7 +238,7 @@ def test_help_is_grouped_in_panels_and_keeps_its_brackets(capsys):
     assert main(["simulate", "--help"]) == 0
     out = capsys.readouterr().out
     heads = [line.rstrip(":") for line in out.splitlines() if line.endswith(":") and not line.startswith(" ")]
-    assert heads == ["Model", "Forcing", "Friction", "Solver", "Window", "Output", "Options"]
+    assert heads == ["Model", "Forcing", "Friction", "Solver", "Window", "Run", "Output", "Options"]  # Run: --no-limit
     assert "[rk4 1e-6, adaptive 1e-8, exact 1e-10]" in " ".join(out.split())
 
 

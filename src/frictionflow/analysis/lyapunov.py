@@ -183,6 +183,24 @@ def _check_run(x0: float, v0: float, t_transient: float, t_end: float, steps_per
         raise ValueError(f"steps_per_block must be an integer >= 4, got {steps_per_block!r}")
 
 
+#: RK4's stability limit on the negative real axis: |1 + z + z^2/2 + z^3/6 + z^4/24| <= 1 for z in [-RK4_REAL_LIMIT, 0]
+RK4_REAL_LIMIT = 2.785293563405282
+
+
+def _check_stable(zeta: float, block: float, steps_per_block: int) -> None:
+    """Refuse steps RK4 cannot take stably: an overdamped slip phase (zeta > 1) decays at the rate
+    zeta + sqrt(zeta^2 - 1), whose product with the step must stay within RK4's real stability limit (for
+    zeta <= 1 the rates are 1 and any 4 steps per block are stable).  An unstable step does not fail: it
+    gives an exponent of the wrong sign and millions of spurious grazing switches."""
+    rate = zeta + math.sqrt(zeta * zeta - 1.0) if zeta > 1.0 else 1.0
+    h = block / steps_per_block
+    if h * rate > RK4_REAL_LIMIT:
+        need = math.ceil(block * rate / RK4_REAL_LIMIT)
+        raise ValueError(f"steps_per_block={steps_per_block}: RK4 steps of {h:.3g} are unstable at zeta={zeta:g} (the fast "
+                         f"slip mode decays at rate {rate:.4g}; rate x step must stay below {RK4_REAL_LIMIT:.4g}): "
+                         f"use at least {need} steps per block (--steps-per-period)")
+
+
 def lyapunov_exponents(
     model: BeltOscillator,
     friction: FrictionLaw,
@@ -226,6 +244,7 @@ def lyapunov_exponents(
     else:
         block = DEFAULT_UNFORCED_BLOCK if block is None else _positive("block", block)
     _check_run(x0, v0, t_transient, t_end, steps_per_block)
+    _check_stable(float(model.zeta), block, int(steps_per_block))
     n_transient = math.ceil(t_transient / block - 1e-9)
     n_blocks = max(1, math.ceil((t_end - n_transient * block) / block - 1e-9))
     _check_size(n_transient, n_blocks, int(steps_per_block), t_end, max_memory)

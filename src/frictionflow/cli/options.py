@@ -55,8 +55,7 @@ def with_parameters(names: tuple[str, ...], help_override: dict[str, str] | None
 
 #: the option that lifts the limits of :mod:`frictionflow.estimate` (the same on every command)
 NO_LIMIT = "--no-limit"
-NO_LIMIT_OPTION = typer.Option(False, NO_LIMIT, help="Run even when the work is estimated above an hour of computing "
-                               "or an output above the free space of its disk.")
+NO_LIMIT_OPTION = option(NO_LIMIT)
 
 
 def bounded(fn: Callable) -> Callable:

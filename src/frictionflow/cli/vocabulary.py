@@ -99,6 +99,8 @@ TERMS: dict[str, Term] = _terms(
     Term("--repair", "With --verify: rebuild damaged metadata from the sweep's settings (recorded, or CONFIG) and keep "
          "every chunk that verifies; computes nothing.", bool, False, "Run"),
     Term("--workers", "Processes to use [up to 2].", Optional[int], None, "Run"),
+    Term("--no-limit", "Run even when the work is estimated above an hour of computing or an output above the free "
+         "space of its disk.", bool, False, "Run"),
     Term("--quick", "Reduced grids and shorter auxiliary runs: a smoke test, not the published figures.", bool, False),
     # -- what is varied ---------------------------------------------------------
     Term("--vary", "The parameter varied and its range, NAME=FROM:TO:N.", Optional[str], None, "Study", "NAME=FROM:TO[:N]"),
