@@ -39,16 +39,15 @@ SUBNORMAL = 5e-324
 BASE: dict[str, dict[str, str]] = {
     "simulate": {"t_end": "30"},
     "orbit": {"t_end": "30"},
-    "continue": {"param": "vb", "start": "0.01", "stop": "0.03", "points": "5", "max_points": "5", "t_end": "30"},
-    "forced-orbit": {"fex": "0.05", "zeta": "0.05", "omega": "0.8", "friction": "coulomb", "transient": "2",
-                     "steps": "64"},
-    "forced-continue": {"fex": "0.05", "zeta": "0.05", "start": "0.8", "stop": "0.9", "max_points": "5",
-                        "steps": "64", "friction": "coulomb"},
-    "response": {"omega": "0.5:1.5:3", "fex": "0.01", "zeta": "0.05", "periods": "8"},
-    "lyapunov": {"t_end": "50", "t_transient": "10", "steps": "64"},
-    "basins": {"x0": "-0.1:0.1:3", "v0": "-0.1:0.1:3", "t_end": "30"},
-    "map": {"x_from": "0.005", "x_to": "0.02", "x_points": "3", "y_from": "0", "y_to": "0.1", "friction": "coulomb",
-            "scan": "21"},
+    "continue": {"vary": "vb=0.01:0.03:5", "max_points": "5", "t_end": "30"},
+    "forced-orbit": {"fex": "0.05", "zeta": "0.05", "omega": "0.8", "friction": "coulomb", "transient_periods": "2",
+                     "steps_per_period": "64"},
+    "forced-continue": {"fex": "0.05", "zeta": "0.05", "vary": "omega=0.8:0.9", "max_points": "5",
+                        "steps_per_period": "64", "friction": "coulomb"},
+    "response": {"vary": "omega=0.5:1.5:3", "fex": "0.01", "zeta": "0.05", "periods": "8"},
+    "lyapunov": {"t_end": "50", "t_transient": "10", "steps_per_period": "64"},
+    "basins": {"x0_range": "-0.1:0.1:3", "v0_range": "-0.1:0.1:3", "t_end": "30"},
+    "map": {"x": "vb=0.005:0.02:3", "y": "zeta=0:0.1:21", "friction": "coulomb"},
     "sweep": {"out": "r.zarr"},
     "reproduce": {"out": "rep", "quick": "", "t_end": "50", "workers": "1"},
 }
@@ -61,8 +60,8 @@ CHEAP: dict[str, tuple[float, float]] = {
     "viscous": (0.0, 0.1), "k1": (0.0, 0.3), "k3": (5.0, 50.0), "rk4_band": (1e-5, 1e-3), "rtol": (1e-10, 1e-4), "ode_rtol": (1e-10, 1e-6),
     "max_memory": (0.05, 1.0), "fex": (0.0, 0.1), "omega": (0.5, 2.0), "phi": (-3.2, 3.2),
     # a command's own options
-    "points": (2, 6), "max_points": (2, 6), "transient": (0, 3), "steps": (16, 128), "periods": (8, 16),
-    "t_transient": (0.0, 20.0), "x_points": (2, 4), "y_points": (2, 3), "scan": (5, 25), "sweep": (0, 0),
+    "max_points": (2, 6), "transient_periods": (0, 3), "steps_per_period": (16, 128), "periods": (8, 16),
+    "t_transient": (0.0, 20.0), "attractor_tol": (1e-4, 1e-2),
     "max_period": (10.0, 500.0), "step": (0.01, 0.1), "returns": (1, 2), "tol": (1e-11, 1e-6), "m": (1, 2),
     "fold_every": (1, 3), "seed": (0, 1000), "sample": (1, 6), "chunk_size": (1, 50), "workers": (1, 1),
     "block": (1.0, 10.0), "scheduler_timeout": (0.5, 5.0),
@@ -71,11 +70,12 @@ CHEAP: dict[str, tuple[float, float]] = {
 #: Free-text options: valid shapes (what the help text describes), beside the generic hostile texts.
 _MODEL = [n for n, p in PARAMS.items() if p.sweepable and p.owner in ("oscillator", "law")]
 TEXT: dict[str, list[str]] = {
-    "param": _MODEL, "x": _MODEL, "y": _MODEL, "parameter": ["omega", "fex"], "direction": ["up", "down", "both"],
-    "omega": ["0.5:1.5:3", "0.8:1.2:2", "1.5:0.5:3", "1:1:1"], "x0": ["-0.1:0.1:3", "-0.1:0.1", "0:0:1"],
-    "v0": ["-0.1:0.1:3", "-0.1:0.1:2"], "seeds": ["hopf", "start", "stop", "hopf,start,stop"],
+    "x": [f"{n}=0.005:0.02:3" for n in _MODEL], "y": [f"{n}=0:0.1:11" for n in _MODEL],
+    "direction": ["up", "down", "both"], "x0_range": ["-0.1:0.1:3", "-0.1:0.1", "0:0:1"],
+    "v0_range": ["-0.1:0.1:3", "-0.1:0.1:2"], "seeds": ["hopf", "start", "stop", "hopf,start,stop"],
     "monitor": ["P_fin", "TR_B", "R_c"], "curves": ["hopf", "grazing", "hopf,grazing"], "m": ["1", "1,2"],
-    "heat": ["R_c", "TR_B", "P_fin"], "sweep": ["2x2", "0"], "vary": ["zeta=0:0.1:2", "fd=0.02,0.03"],
+    "heat": ["R_c", "TR_B", "P_fin"], "overlay": ["2x2", "0", "3"],
+    "vary": ["zeta=0:0.1:2", "fd=0.02,0.03", "vb=0.01:0.03:3", "omega=0.5:1.5:3", "omega=0.8:0.9", "fex=0.01:0.05:2"],
     "window": ["10:20", "0:30", "20:10"], "dimensional": ["m=1,c=0.08,k=4,v_b=0.02,f_d=0.08"],
     "scheduler": ["notanaddress", "tcp://", "tcp://256.0.0.1:x"],
 }

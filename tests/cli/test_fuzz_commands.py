@@ -127,7 +127,8 @@ def check(case: Case, o: Outcome, argv: list[str], d: Path, before: set[str]) ->
     PHYSICS[case.command](data, given, d)
     opts = OPTIONS[case.command]
     # an option whose value names a parameter (continue --param, map --x/--y): the command varies that one
-    varied = {given.get(n, opt.default) for n, opt in opts.items() if opt.kind == "text" and opt.param is None}
+    # a study names the parameter it varies as NAME or NAME=FROM:TO:N (--vary, map's --x/--y)
+    varied = {str(given.get(n, opt.default)).split("=")[0] for n, opt in opts.items() if opt.kind == "text" and opt.param is None}
     C.echoed(data, given, {n for n, opt in opts.items() if opt.param is not None}, varied & set(C.PARAMS))
 
 
@@ -244,7 +245,7 @@ def _forced_point(pt: dict[str, Any], state: dict[str, Any], period: float, para
 
 
 def _forced_continue(data: dict[str, Any], given: dict[str, str], d: Path) -> None:
-    lo, hi = sorted((float(given["start"]), float(given["stop"])))
+    lo, hi = sorted(float(v) for v in given["vary"].split("=")[1].split(":")[:2])
     for branch in data["branches"]:
         params, m = branch["params"], branch["m"]
         for pt in branch["points"]:
@@ -252,12 +253,12 @@ def _forced_continue(data: dict[str, Any], given: dict[str, str], d: Path) -> No
             assert lo - 1e-9 * abs(hi - lo) <= lam <= hi + 1e-9 * abs(hi - lo), (lam, lo, hi)
             omega = lam if branch["parameter"] == "omega" else params["omega"]
             at = {**params, branch["parameter"]: lam}
-            _forced_point(pt, {"X": pt["X"], "V": pt["V"]}, m * 2 * math.pi / omega, at, int(given.get("steps", 512)))
+            _forced_point(pt, {"X": pt["X"], "V": pt["V"]}, m * 2 * math.pi / omega, at, int(given.get("steps_per_period", 512)))
 
 
 def _response(data: dict[str, Any], given: dict[str, str], d: Path) -> None:
     omega = np.array(data["omega"])
-    start, stop, n = given["omega"].split(":")
+    start, stop, n = given["vary"].split("=")[1].split(":")
     assert np.allclose(omega, np.linspace(float(start), float(stop), int(n)), rtol=1e-12, atol=0), omega
     rel = max(float(given.get("rtol", 0.0)), C.LOOSEST_RTOL)
     for direction in ("up", "down"):
@@ -301,7 +302,8 @@ def _basins(data: dict[str, Any], given: dict[str, str], d: Path) -> None:
 
 
 def _map(data: dict[str, Any], given: dict[str, str], d: Path) -> None:
-    x = np.linspace(float(given["x_from"]), float(given["x_to"]), int(given.get("x_points", "41")))
+    x_from, x_to, *n = given["x"].split("=")[1].split(":")
+    x = np.linspace(float(x_from), float(x_to), int(n[0]) if n else 41)
     assert np.allclose(data["x_values"], x, rtol=1e-12, atol=0), data["x_values"]
     lo, hi = sorted(data["y_range"])
     x_lo, x_hi = sorted((x[0], x[-1]))
