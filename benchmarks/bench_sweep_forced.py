@@ -5,9 +5,11 @@
 
 Prints points/s, the process's CPU time per point and the steady-state
 kinds (points whose stroboscopic section does not repeat need the largest
-Lyapunov exponent, a tangent run of 420 forcing periods: they dominate the
-time).  The CPU time is what a point costs whatever else the machine runs:
-on a shared machine compare it rather than the rate.  ``--ab OLD NEW`` runs
+Lyapunov exponent, a tangent run of up to 420 forcing periods, ended once
+the exponent is clearly negative: they dominate the time).  The CPU time is what a point costs whatever else the machine runs:
+on a shared machine compare it rather than the rate.  The heap is collected
+before the timed run (as ``timeit`` keeps the collector out of its timing):
+a full collection costs ~0.1 s whatever the sweep.  ``--ab OLD NEW`` runs
 the same benchmark with ``PYTHONPATH=OLD`` and ``PYTHONPATH=NEW`` alternately
 (each ``--repeat`` times, in fresh processes) and prints the ratios of the
 best rates and of the least CPU per point.  Goal (issue 19, item 7):
@@ -17,6 +19,7 @@ best rates and of the least CPU per point.  Goal (issue 19, item 7):
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 import math
 import os
@@ -46,6 +49,9 @@ def measure(args: argparse.Namespace) -> dict:
     tmp = Path(tempfile.mkdtemp())
     try:
         run_sweep(config(2, args.omega, args.zeta), tmp / "warm.zarr")  # load (or compile) the kernels
+        # a full collection of the heap the imports and the loaded kernels left (~0.1 s) would otherwise fall
+        # inside or outside the timed run by chance, with how many objects each version happens to allocate
+        gc.collect()
         t, cpu = time.perf_counter(), time.process_time()
         ds = run_sweep(config(n_side, args.omega, args.zeta), tmp / "sweep.zarr")
         elapsed, cpu = time.perf_counter() - t, time.process_time() - cpu

@@ -44,7 +44,8 @@ import numpy as np
 from ..core.sections import _stationary
 # the test's constants, shared with its compiled port (the batched forced sweep)
 from ..core import strobe
-from ..core.strobe import LYAPUNOV_PERIODS, LYAPUNOV_STEPS, LYAPUNOV_TRANSIENT, MAX_MULTIPLE, REVISIT_SHARE
+from ..core.strobe import (LYAPUNOV_PERIODS, LYAPUNOV_SPREAD_FLOOR, LYAPUNOV_STEPS, LYAPUNOV_STOP, LYAPUNOV_TRANSIENT,
+                           MAX_MULTIPLE, REVISIT_SHARE)
 from ..trajectory import Trajectory
 from .lyapunov import lyapunov_exponents
 
@@ -175,6 +176,10 @@ def largest_exponent(traj: Trajectory) -> tuple[float, float] | None:
     tangent kernel: None, and the run stays ``not_settled``.  The uncertainty
     is the spread of the running estimate over the second half of the
     averaging (at least 1e-4: a finite run cannot tell smaller exponents from 0).
+    The averaging ends early once the exponent is below -2 times that
+    uncertainty, checked after 60, 80, ... periods (:data:`~frictionflow.core.strobe.LYAPUNOV_STOP`):
+    the kind is then ``not_settled`` whatever the remaining periods give,
+    and the value is that of the periods averaged.
     """
     law = traj.friction
     if not law.has_tangent_kernel:
@@ -183,7 +188,8 @@ def largest_exponent(traj: Trajectory) -> tuple[float, float] | None:
     period = traj.model.forcing_period
     try:
         r = lyapunov_exponents(traj.model, law, float(traj.x[i]), float(traj.v[i]), t_transient=LYAPUNOV_TRANSIENT * period,
-                               t_end=(LYAPUNOV_TRANSIENT + LYAPUNOV_PERIODS) * period, steps_per_block=LYAPUNOV_STEPS)
+                               t_end=(LYAPUNOV_TRANSIENT + LYAPUNOV_PERIODS) * period, steps_per_block=LYAPUNOV_STEPS,
+                               stop=LYAPUNOV_STOP)
     except RuntimeError:  # a grazing switch the tangent map cannot cross
         return None
-    return float(r.exponents[0]), max(float(r.spread[0]), 1e-4)
+    return float(r.exponents[0]), max(float(r.spread[0]), LYAPUNOV_SPREAD_FLOOR)

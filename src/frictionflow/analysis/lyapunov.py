@@ -169,6 +169,19 @@ def _check_size(n_transient: int, n_blocks: int, steps_per_block: int, t_end: fl
                          "or raise max_memory")
 
 
+def _check_stop(stop: tuple[int, int, float, float] | None) -> None:
+    """ValueError unless ``stop`` is None or (first >= 2, every >= 1, factor > 0, floor >= 0)."""
+    if stop is None:
+        return
+    ok = isinstance(stop, (tuple, list)) and len(stop) == 4
+    if ok:
+        first, every, factor, floor = stop
+        ok = (int(first) == first >= 2 and int(every) == every >= 1 and math.isfinite(factor) and factor > 0.0
+              and math.isfinite(floor) and floor >= 0.0)
+    if not ok:
+        raise ValueError(f"stop must be (first >= 2, every >= 1, factor > 0, floor >= 0) or None, got {stop!r}")
+
+
 def _check_run(x0: float, v0: float, t_transient: float, t_end: float, steps_per_block: int) -> None:
     """ValueError naming the first argument of :func:`lyapunov_exponents` out of its range."""
     for name, value in (("x0", x0), ("v0", v0)):
@@ -201,6 +214,28 @@ def _check_stable(zeta: float, block: float, steps_per_block: int) -> None:
                          f"use at least {need} steps per block (--steps-per-period)")
 
 
+def _tangent_run(model: BeltOscillator, friction: FrictionLaw, start: tuple[float, float, float, int],
+                 blocks: tuple[int, int], stop: tuple[int, int, float, float] | None) -> tuple:
+    """The tangent kernel's run from ``start`` = (x0, v0, block, steps per block) over ``blocks`` = (transient,
+    averaged): (s1, s2, averaged blocks done, sections, running estimates, switch counts); RuntimeError where
+    it cannot continue."""
+    x0, v0, block, steps = start
+    n_transient, n_blocks = blocks
+    strobe = np.zeros((n_transient + n_blocks, 3))
+    est = np.full((n_blocks, 2), np.nan)
+    counts = np.zeros(tangent.N_COUNTS, dtype=np.int64)
+    rule = (n_blocks + 1, n_blocks + 1, 0.0, 0.0) if stop is None else tuple(stop)  # (never ends early)
+    status, s1, s2, n_done = tangent.run_until(x0, v0, float(model.zeta), float(model.vb), kernel_params(model, friction),
+                                               block, steps, blocks, (int(rule[0]), int(rule[1]), float(rule[2]),
+                                                                      float(rule[3])), strobe, est, counts)
+    if status == tangent.ZERO_PHASES:
+        raise RuntimeError("the motion is caught switching without moving (repeated zero-length phases): "
+                           "a grazing or sliding motion the switch model cannot continue")
+    if status == tangent.NOT_FINITE:
+        raise RuntimeError("the tangent vectors left the floating-point range (a grazing switch?)")
+    return s1, s2, n_done, strobe, est, counts
+
+
 def lyapunov_exponents(
     model: BeltOscillator,
     friction: FrictionLaw,
@@ -212,6 +247,7 @@ def lyapunov_exponents(
     steps_per_block: int = DEFAULT_STEPS,
     block: float | None = None,
     max_memory: float = DEFAULT_MAX_MEMORY,
+    stop: tuple[int, int, float, float] | None = None,
 ) -> LyapunovResult:
     """Both Lyapunov exponents of the motion from (x0, v0), averaged over tau in [t_transient, t_end].
 
@@ -235,6 +271,12 @@ def lyapunov_exponents(
         GiB the per-block record (the section and the running estimates) may
         take; a longer run is refused before any work, with its size and
         its number of RK4 steps.
+    stop:
+        (first, every, factor, floor): end the averaging once lambda_1 is
+        below -factor max(spread, floor) after first, first + every, ...
+        blocks (:func:`frictionflow.core.tangent.run_until`; the forced
+        classifier's rule).  ``running``, ``sections`` and the settings then
+        cover the blocks done.  None: every block.
     """
     _check_law(friction)
     if model.forced:
@@ -244,6 +286,7 @@ def lyapunov_exponents(
     else:
         block = DEFAULT_UNFORCED_BLOCK if block is None else _positive("block", block)
     _check_run(x0, v0, t_transient, t_end, steps_per_block)
+    _check_stop(stop)
     _check_stable(float(model.zeta), block, int(steps_per_block))
     n_transient = math.ceil(t_transient / block - 1e-9)
     n_blocks = max(1, math.ceil((t_end - n_transient * block) / block - 1e-9))
@@ -251,18 +294,9 @@ def lyapunov_exponents(
     blocks = n_transient + n_blocks
     run = located_run(float(blocks) * steps_per_block, blocks * block, "tangent_step", model.omega if model.forced else 1.0)
     enforce(replace(run, memory=blocks * _BYTES_PER_BLOCK))  # within the limits in force (frictionflow.estimate.limited)
-    p = kernel_params(model, friction)
-    strobe = np.zeros((n_transient + n_blocks, 3))
-    est = np.full((n_blocks, 2), np.nan)
-    counts = np.zeros(tangent.N_COUNTS, dtype=np.int64)
-    status, s1, s2 = tangent.run(float(x0), float(v0), float(model.zeta), float(model.vb), p, float(block),
-                                 int(steps_per_block), n_transient, n_blocks, strobe, est, counts)
-    if status == tangent.ZERO_PHASES:
-        raise RuntimeError("the motion is caught switching without moving (repeated zero-length phases): "
-                           "a grazing or sliding motion the switch model cannot continue")
-    if status == tangent.NOT_FINITE:
-        raise RuntimeError("the tangent vectors left the floating-point range (a grazing switch?)")
-    elapsed = n_blocks * block
+    start = (float(x0), float(v0), float(block), int(steps_per_block))
+    s1, s2, n_done, strobe, est, counts = _tangent_run(model, friction, start, (n_transient, n_blocks), stop)
+    elapsed = n_done * block
     exps = (s1 / elapsed, s2 / elapsed)
     if exps[1] > exps[0]:  # only rounding can put them out of order (equal exponents)
         exps = (exps[1], exps[0])
@@ -270,11 +304,11 @@ def lyapunov_exponents(
         model=model,
         friction=friction,
         exponents=(float(exps[0]), float(exps[1])),
-        running=est,
-        times=block * np.arange(1, n_blocks + 1),
+        running=est[:n_done],
+        times=block * np.arange(1, n_done + 1),
         switches={name: int(c) for name, c in zip(SWITCH_NAMES, counts, strict=True)},
-        sections=strobe,
+        sections=strobe[:n_transient + n_done],
         settings={"x0": float(x0), "v0": float(v0), "t_transient": n_transient * block,
-                  "t_end": (n_transient + n_blocks) * block, "block": block, "blocks": n_blocks,
+                  "t_end": (n_transient + n_done) * block, "block": block, "blocks": n_done,
                   "steps_per_block": int(steps_per_block), "method": "RK4 + located switches + saltation, QR per block"},
     )

@@ -11,7 +11,7 @@ repetitions up to the run's end, which a shorter run would not have.
 A point whose section repeats is done in the kernel.  One whose section does
 not repeat has its row (the window is then the tail) but not its kind, which
 the largest Lyapunov exponent decides (chaotic, quasi-periodic or not
-settled); that exponent's tangent run (:func:`.tangent.run`, with the
+settled); that exponent's tangent run (:func:`.tangent.run_until`, with the
 settings of ``forced.largest_exponent``) runs in a second pass over those
 points, in threads too.  What the kernel cannot judge as the façade does --
 a stalled run (the façade raises), a section time without a sample, a state
@@ -120,26 +120,29 @@ def _forced_points(j0, j1, todo, cap, full, p, point, settings, out, aux, off):
 
 
 @njit(cache=True, nogil=True)
-def _tangent_points(j0, j1, start, zeta, vb, p, block, counts, steps, found):
-    """The tangent runs of ``forced.largest_exponent`` for points j0..j1: ``found[j]`` = (status, s1, s2, spread).
+def _tangent_points(j0, j1, start, zeta, vb, p, block, counts, run, found):
+    """The tangent runs of ``forced.largest_exponent`` for points j0..j1: ``found[j]`` = (status, s1, s2, spread,
+    averaged blocks done).
 
     ``start[j]``: the state at the last section sample; ``counts[j]``: the
-    transient and averaged blocks; spread: the range of the running estimate
-    of lambda_1 over the second half of the averaging (NaN unless finite).
+    transient and averaged blocks; ``run``: (RK4 steps per block, its stop
+    rule: :func:`.tangent.run_until`); spread: the range of the running
+    estimate of lambda_1 over the second half of the blocks done (NaN unless finite).
     """
+    steps, stop = run
     for j in range(j0, j1):
         n_tr, n_bl = counts[j, 0], counts[j, 1]
         strobe_states = np.zeros((n_tr + n_bl, 3))
         est = np.full((n_bl, 2), np.nan)
         switches = np.zeros(tangent.N_COUNTS, dtype=np.int64)
-        status, s1, s2 = tangent.run(start[j, 0], start[j, 1], zeta[j], vb[j], p[j], block[j], steps, n_tr, n_bl,
-                                     strobe_states, est, switches)
+        status, s1, s2, n_done = tangent.run_until(start[j, 0], start[j, 1], zeta[j], vb[j], p[j], block[j], steps,
+                                                   (n_tr, n_bl), stop, strobe_states, est, switches)
         lo, hi, finite = np.inf, -np.inf, True
-        for i in range(n_bl // 2, n_bl):
+        for i in range(n_done // 2, n_done):
             e = est[i, 0]
             finite = finite and math.isfinite(e)
             lo, hi = min(lo, e), max(hi, e)
-        found[j, 0], found[j, 1], found[j, 2] = status, s1, s2
+        found[j, 0], found[j, 1], found[j, 2], found[j, 4] = status, s1, s2, n_done
         found[j, 3] = hi - lo if finite else np.nan
 
 
@@ -188,20 +191,21 @@ def _kinds(p, zeta, vb, aux) -> np.ndarray:
         t_transient, t_end = strobe.LYAPUNOV_TRANSIENT * b, (strobe.LYAPUNOV_TRANSIENT + strobe.LYAPUNOV_PERIODS) * b
         n_tr = math.ceil(t_transient / b - 1e-9)
         counts[j] = n_tr, max(1, math.ceil((t_end - n_tr * b) / b - 1e-9))
-    found = np.empty((n, 4))
+    found = np.empty((n, 5))
     start = np.ascontiguousarray(aux[:, [A_X, A_V]])
+    stop = tuple(int(c) if i < 2 else float(c) for i, c in enumerate(strobe.LYAPUNOV_STOP))
     # a piece per point: a tangent run costs tens of milliseconds, so a thread left with a piece of several at
     # the end would keep the other idle that long (a piece's dispatch costs tens of microseconds)
-    over_points(_tangent_points, n, start, zeta, vb, np.ascontiguousarray(p), block, counts, strobe.LYAPUNOV_STEPS,
-                found, per_thread=max(1, n))
+    over_points(_tangent_points, n, start, zeta, vb, np.ascontiguousarray(p), block, counts,
+                (strobe.LYAPUNOV_STEPS, stop), found, per_thread=max(1, n))
     kinds = np.full(n, NOT_SETTLED, dtype=float)
     for j in range(n):
-        status, s1, s2, spread = found[j].tolist()
+        status, s1, s2, spread, n_done = found[j].tolist()
         if status != tangent.OK:
             continue  # the tangent run could not cross a switch: no exponent, not settled
-        elapsed = int(counts[j, 1]) * float(block[j])
+        elapsed = int(n_done) * float(block[j])
         lam = s2 / elapsed if s2 / elapsed > s1 / elapsed else s1 / elapsed  # the larger (rounding may swap them)
-        spread = max(spread, 1e-4)  # (NaN stays NaN: Python's max keeps its first argument)
+        spread = max(spread, strobe.LYAPUNOV_SPREAD_FLOOR)  # (NaN stays NaN: Python's max keeps its first argument)
         if lam > spread:
             kinds[j] = CHAOTIC
         elif abs(lam) <= spread and aux[j, A_REVISITS] != 0.0:

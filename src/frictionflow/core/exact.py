@@ -1017,27 +1017,23 @@ def _piece_work(pc, xa, va, xb, vb_, L, v2, w_ex):
     return 2.0 * zeta * v2, max(pf, 0.0), max(-pf, 0.0), heat, w_ex
 
 
-@njit(cache=True, inline="always")
-def _add_forced_piece(w, pc, wr, a, b, L, theta):
-    """Add the work integrals of the piece of length L from ``a`` to ``b`` = (motion, X, X') to ``w``.
+@njit(cache=True, forceinline=True)
+def _forced_piece_work(pc, wr, a, b, L, theta):
+    """The work integrals (N_WORK) of the piece of length L from ``a`` to ``b`` = (motion, X, X').
 
     ``wr`` = (from_start, rep): rebuilt per piece (:func:`_forced_piece`, at
     the forcing's phase theta) unless ``from_start``, else from the phase's
     representation ``rep`` (:func:`cf.work_rep`) between the two motions.
+    Returned, not added to the run's array here: a callee taking an array
+    costs two atomic reference-count updates per call.
     """
     from_start, rep = wr
     sta, xa, va = a
     stb, xb, vb_ = b
     if from_start:
         v2, wx = cf.work_between(rep, pc.dyn, sta[8], sta[9], stb[8], stb[9], L)
-        d0, d1, d2, d3, d4 = _piece_work(pc, xa, va, xb, vb_, L, v2, wx)
-    else:
-        d0, d1, d2, d3, d4 = _forced_piece(pc, theta, xa, va, xb, vb_, L)
-    w[0] += d0
-    w[1] += d1
-    w[2] += d2
-    w[3] += d3
-    w[4] += d4
+        return _piece_work(pc, xa, va, xb, vb_, L, v2, wx)
+    return _forced_piece(pc, theta, xa, va, xb, vb_, L)
 
 
 @njit(cache=True)
@@ -1112,7 +1108,7 @@ def _tick(ck, tb, ts, t, s, period):
 @njit(cache=True, forceinline=True)
 def _forced_start(ph, s, t, strobe, period):
     """(wr, sta, clock) of a forced phase ``ph`` (:func:`_next_root`) starting at t: how its work integrals are
-    computed (:func:`_add_forced_piece`), the motion at its start, its known sample times (:func:`_clock`)."""
+    computed (:func:`_forced_piece_work`), the motion at its start, its known sample times (:func:`_clock`)."""
     co, dyn, zeta, force, pz, fz, om = ph
     # the work integrals from this representation (OSC critically or over-damped: rebuilt per piece)
     wr = (dyn != cf.OSC or co[0] == cf.UNDER, cf.work_rep(co, dyn, zeta, pz, fz, om))
@@ -1153,8 +1149,7 @@ def run_forced(run, p, samples, events, t_mode):
     w = np.zeros(N_WORK)
     t, x = 0.0, run[X0]
     mode, v = _enter_forced(s, x, run[V0], fex * math.cos(phi), -fex * om * math.sin(phi), -om * om * fex * math.cos(phi), 0.0)
-    k = ne = zero_len = 0
-    strobe = 1  # the next stroboscopic index (k = 0 is the start)
+    k, ne, zero_len, strobe = 0, 0, 0, 1  # strobe: the next stroboscopic index (k = 0 is the start)
     ev = np.zeros((MAX_EVENTS_PER_MODE + 4, N_EV_COLUMNS))  # a phase's event table (EA ... ELAST)
     while True:
         dyn, force, fck = dynamics(mode, zeta, s.fd, s.fs, s.res)
@@ -1190,13 +1185,17 @@ def run_forced(run, p, samples, events, t_mode):
                 ck, t_abs = _tick(ck, tb, ts, t, s, fo.period)
                 if tb <= ta:
                     continue  # the same time from another source
-            _add_forced_piece(w, pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
+            dw = _forced_piece_work(pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
+            for q in range(N_WORK):
+                w[q] += dw[q]
             fb = fex * math.cos(om * t_abs + phi) if fck != FC_CONST else 0.0
             if not emit(outs, k, t_abs, xb, vb_, friction_force(fck, force, xb, vb_, zeta) - fb, pc.fmode, w):
                 return k, ne, FULL, -1.0, t + ta
             k += 1
             ta, xa, va, sta = tb, xb, vb_, stb
-        _add_forced_piece(w, pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
+        dw = _forced_piece_work(pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
+        for q in range(N_WORK):
+            w[q] += dw[q]
         which, T, ste, strobe = i, tb, stb, ck.strobe
         x, v = ste[0], ste[1]
         if which < 0:

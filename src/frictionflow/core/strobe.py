@@ -39,6 +39,12 @@ LYAPUNOV_PERIODS = 400
 LYAPUNOV_TRANSIENT = 20
 #: RK4 steps per forcing period of the Lyapunov exponent's tangent run
 LYAPUNOV_STEPS = 256
+#: the smallest uncertainty of a finite run's exponent: below it an exponent cannot be told from 0
+LYAPUNOV_SPREAD_FLOOR = 1e-4
+#: the tangent run ends once lambda_1 < -2 max(spread, floor), checked after 60, 80, 100, ... averaged periods
+#: (:func:`frictionflow.core.tangent.run_until`: first, every, factor, floor): the kind is then not_settled
+#: whatever the remaining periods give
+LYAPUNOV_STOP = (60, 20, 2.0, LYAPUNOV_SPREAD_FLOOR)
 #: a non-repeating section is quasi-periodic only if its second half revisits the first to this share of its scale
 REVISIT_SHARE = 0.05
 

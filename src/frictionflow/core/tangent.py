@@ -464,6 +464,39 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
     end), ``est`` (n_blocks, 2: the running exponent estimates after each
     averaged block) and ``counts`` (:data:`N_COUNTS`, over the whole run).
     """
+    never = (n_blocks + 1, n_blocks + 1, 0.0, 0.0)  # (from the arguments: int64, not a literal type per constant)
+    status, s1, s2, _ = run_until(x0, v0, zeta, vb, p, block, n_sub, (n_transient, n_blocks), never, strobe, est, counts)
+    return status, s1, s2
+
+
+@njit(cache=True)
+def _negative(est, n, stop):
+    """Whether lambda_1's estimate after n averaged blocks (``est[n - 1, 0]``) is below -factor times its
+    uncertainty, checked at n = first, first + every, ...; ``stop`` = (first, every, factor, floor).
+
+    The uncertainty is the range of the running estimate over the second half
+    of the n blocks, at least ``floor``; NaN (not finite) never stops.
+    """
+    first, every, factor, floor = stop
+    if every <= 0 or n < first or (n - first) % every != 0:
+        return False
+    lo, hi = np.inf, -np.inf
+    for i in range(n // 2, n):
+        lo, hi = min(lo, est[i, 0]), max(hi, est[i, 0])
+    spread = hi - lo
+    return math.isfinite(spread) and est[n - 1, 0] < -factor * max(spread, floor)
+
+
+@njit(cache=True)
+def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, counts):
+    """:func:`run` of ``blocks`` = (n_transient, n_blocks), ended early once lambda_1 is negative beyond its
+    uncertainty (:func:`_negative`, ``stop``); returns (status, s1, s2, averaged blocks done).
+
+    A running estimate converging like C / n onto 0 has its range over the
+    second half about equal to itself, so a ``factor`` of 2 does not end a
+    run whose exponent is heading for 0.  Only negative exponents end the
+    run: a positive one (chaos) is averaged over every block.
+    """
     h = block / n_sub
     sc = scratch()
     out = sc.out
@@ -478,6 +511,7 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
     s2 = 0.0
     collapsed = mode == 0
     j = 0
+    n_transient, n_blocks = blocks
     for blk in range(n_transient + n_blocks):
         for _ in range(n_sub):
             j += 1
@@ -503,7 +537,7 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
                     t += theta
                 zero_run = zero_run + 1 if theta <= 4.0 * EPS * (1.0 + abs(t)) else 0
                 if zero_run > MAX_ZERO_PHASES:
-                    return ZERO_PHASES, s1, s2
+                    return ZERO_PHASES, s1, s2, blk - n_transient
                 mode = _slip_end(y, t, d, zeta, vb, p, counts)
                 fresh = mode != 0  # a slip phase entered here starts on V_r = 0
                 if mode == 0:
@@ -511,11 +545,13 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
                     collapsed = True
         r11, r22 = _block_end(y, mode, strobe[blk])
         if not (math.isfinite(r11) and math.isfinite(r22)):
-            return NOT_FINITE, s1, s2
+            return NOT_FINITE, s1, s2, blk - n_transient
         if blk >= n_transient:
             s1, s2 = _average(s1, s2, r11, r22, collapsed, blk - n_transient, block, est)
+            if _negative(est, blk - n_transient + 1, stop):
+                return OK, s1, s2, blk - n_transient + 1
         collapsed = mode == 0
-    return OK, s1, s2
+    return OK, s1, s2, n_blocks
 
 
 @njit(cache=True)

@@ -311,25 +311,29 @@ class SweepStore:
         self.grid = n_chunks(self.shape, self.chunks)
 
     def _create(self, path: Path | None = None):
+        """The store's layout, each metadata document written once with its attributes (a write costs a
+        round trip through zarr's event loop); the root's attributes, which mark it as this sweep's, last."""
         import zarr
 
         cfg = self.cfg
         root = zarr.open_group(str(path or self.path), mode="w", zarr_format=3)
         for name, values in cfg.axes.items():
-            a = root.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8", dimension_names=(name,))
+            attrs = _SAMPLE_ATTRS if name == SAMPLE else declared()[name].attrs
+            a = root.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8", dimension_names=(name,),
+                                  attributes=dict(attrs))
             a[:] = values
-            a.attrs.update(_SAMPLE_ATTRS if name == SAMPLE else declared()[name].attrs)
         for name, values in cfg.sample.items():  # the drawn values, coordinates along the sample axis
-            a = root.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8", dimension_names=(SAMPLE,))
+            a = root.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8", dimension_names=(SAMPLE,),
+                                  attributes=dict(declared()[name].attrs))
             a[:] = values
-            a.attrs.update(declared()[name].attrs)
         for q in Q.SWEPT:  # the result variables, as the quantities table describes them
-            a = root.create_array(q.name, shape=cfg.shape, chunks=self.chunks, dtype=q.dtype, fill_value=_fill(q), dimension_names=cfg.dims)
-            a.attrs.update(units=q.units, long_name=q.long_name)
+            attrs = {"units": q.units, "long_name": q.long_name}
             if cfg.sample:  # (CF: xarray then reads the drawn values as coordinates, not variables)
-                a.attrs["coordinates"] = " ".join(cfg.sample)
+                attrs["coordinates"] = " ".join(cfg.sample)
             if q.flags:
-                a.attrs.update(flag_values=list(range(len(q.flags))), flag_meanings=" ".join(q.flags))
+                attrs.update(flag_values=list(range(len(q.flags))), flag_meanings=" ".join(q.flags))
+            root.create_array(q.name, shape=cfg.shape, chunks=self.chunks, dtype=q.dtype, fill_value=_fill(q),
+                              dimension_names=cfg.dims, attributes=attrs)
         self._create_flags(root)
         attrs = provenance(cfg)
         fixed = {k: v for k, v in cfg.fixed.items()}
@@ -341,14 +345,14 @@ class SweepStore:
         attrs.update({f"fixed_{k}": float(v) for k, v in fixed.items()})
         attrs.update({"friction": cfg.run.friction, "solver": cfg.run.solver, "stick_force": cfg.run.stick_force, "t_end": cfg.run.t_end})
         attrs["chunk_shape"] = list(self.chunks)
-        root.attrs.update(attrs)
+        root.update_attributes(attrs)
         return root
 
     def _create_flags(self, root):
         """The done-flag array (all 0), in the bookkeeping group; replaces a damaged one."""
         total = int(np.prod(self.grid))
         book = root.require_group(BOOK)
-        book.attrs.update({**_BOOK_ATTRS, **self._identity()})
+        book.update_attributes({**_BOOK_ATTRS, **self._identity()})
         self._flag_array = book.create_array(
             "chunks_done", shape=(total,), chunks=(1,), dtype="u8", fill_value=0, dimension_names=("chunk",), overwrite=True
         )
