@@ -63,7 +63,7 @@ def test_report_is_self_contained_and_has_each_figure_with_its_caption_and_verdi
 
 def test_prints_the_verdicts_and_where_the_report_is(run):
     printed = run[1]
-    assert "case2_has_no_limit_cycle" in printed and "refuted" in printed and "report.html" in printed
+    assert "case2_settles_on_a_limit_cycle" in printed and "refuted" in printed and "report.html" in printed
 
 
 @pytest.mark.parametrize(

@@ -23,7 +23,7 @@ from ..sweep.config import NOT_IN_SWEEPS
 from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import check_out
 from ._app import app
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
+from .options import CONFIG_OPTION, DPI_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
 from .sweep import _sigterm_as_interrupt
 
 #: the model's options, as a sweep takes them; the initial state is a range here (--x0, --v0), not a value
@@ -43,7 +43,8 @@ class BasinsOptions:
         None, "--vary", metavar="NAME=FROM:TO:N|NAME=V1,V2,..",
         help="Basin stability against one parameter (vb, zeta, fd, ...): the same initial states at each value.")
     out: Optional[Path] = typer.Option(None, "--out", parser=path_text, metavar="PATH", help="Labelled dataset: PATH.nc or PATH.zarr.")
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Basin map, or with --vary basin stability against the parameter (.png, .pdf, .svg).")
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Basin map, or with --vary basin stability against the parameter (.png, .pdf, .svg, .eps).")
+    dpi: float = DPI_OPTION
     store: Optional[Path] = typer.Option(
         None, "--store", parser=path_text, metavar="PATH.zarr",
         help="Keep the sweep's resumable store here [beside --out, removed once --out is written].")
@@ -74,7 +75,7 @@ def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
     with _sigterm_as_interrupt():
         try:
             result = run_basins(settings, x0=x, v0=v, sample=opts.sample, seed=opts.seed, vary=parse_vary(opts.vary), out=opts.out,
-                                plot=opts.plot, tolerances=tolerances, sweep_options=run)
+                                plot=opts.plot, dpi=opts.dpi, tolerances=tolerances, sweep_options=run)
         except KeyboardInterrupt:
             print("interrupted: the sweep's store keeps the chunks finished so far; run the same command to resume", file=sys.stderr)
             raise

@@ -6,6 +6,7 @@ Registered by importing this module in :mod:`frictionflow.cli` (``from . import 
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Optional
 
@@ -13,17 +14,15 @@ import numpy as np
 import typer
 
 from .._json import jsonable
-from ..core import forced_map as fm
 from .._display import spoken
 from ..friction.registry import SWITCH_LAW, tangent_law_names
-from ..io import check_input_path, check_output_path, read_config, write_figure
-from ..orbits.forced import DEFAULT_STEPS, PARAMETERS, check_parameter, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
-from ..orbits.forced_plot import plot_forced_branches
+from ..io import check_input_path, check_output_path, read_config
+from ..orbits.forced import PARAMETERS, check_parameter, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
+from ..orbits.forced_plot import plot_forced_branches, plot_forced_orbit
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
-from ..solvers.base import kernel_params
 from ._app import app
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
+from .options import CONFIG_OPTION, DPI_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "friction", "dimensional"))
 HELP = {
@@ -69,7 +68,8 @@ def forced_orbit(
     transient: int = typer.Option(200, "--transient", help="Forcing periods run from (x0, v0) before shooting (0: shoot from them)."),
     steps: int = typer.Option(512, "--steps", help="RK4 steps per forcing period (switches are located whatever it is)."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the orbit's phase portrait and time history (.png, .pdf, .svg)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the orbit's phase portrait and time history (.png, .pdf, .svg, .eps)."),
+    dpi: float = DPI_OPTION,
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Newton shooting for the orbit of period m 2 pi / Omega: state at tau = 0, multipliers, power and TR_B."""
@@ -79,88 +79,60 @@ def forced_orbit(
     cfg, model, law = _build(config, params)
     orbit = find_forced_orbit(model, law, m=m, x0=cfg.x0, v0=cfg.v0, transient_periods=transient, steps=steps)
     if plot is not None:
-        _plot_orbit(orbit, plot)
+        plot_forced_orbit(orbit, plot, name="--plot", dpi=dpi)
     if as_json:
         print(json.dumps(orbit.as_dict(), allow_nan=False))
     else:
         print(orbit.summary())
 
 
-def _plot_orbit(orbit, path: Path) -> None:
-    """Phase portrait and X(tau) over one orbit period, sampled by runs of the flow map from tau = 0."""
-    import matplotlib
+@dataclass(frozen=True)
+class ForcedContinueOptions:
+    """The forced-continue command's own options (the model's come as ``params``), each with its typer option."""
 
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    n = 200 * orbit.m
-    ts = np.linspace(0.0, orbit.period, n + 1)[1:]
-    pts = np.array([orbit.state, *(_state_at(orbit, t, DEFAULT_STEPS) for t in ts)])
-    tt = np.concatenate([[0.0], ts])
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
-    ax[0].plot(pts[:, 0], pts[:, 1], lw=1.2)
-    ax[0].plot([orbit.state[0]], [orbit.state[1]], "ko", mfc="none", label=r"$\tau = 0$")
-    ax[0].axhline(orbit.model.vb, color="0.6", lw=0.8, ls=":")
-    ax[0].set(xlabel="X", ylabel="X'", title=f"orbit, m={orbit.m} ({orbit.stability})")
-    ax[0].legend(fontsize=8)
-    ax[1].plot(tt, pts[:, 0], label="X")
-    ax[1].plot(tt, pts[:, 1], label="X'")
-    ax[1].set(xlabel=r"$\tau$", title="one period")
-    ax[1].legend(fontsize=8)
-    fig.tight_layout()
-    write_figure(fig, path, "--plot")
-
-
-def _state_at(orbit, t: float, steps: int) -> np.ndarray:
-    """The orbit's state at time t (< its period), by the flow map over [0, t] (t need not be whole periods)."""
-    model = orbit.model
-    p = kernel_params(model, orbit.friction)
-    out = fm.map_out()
-    n = max(4, int(np.ceil(steps * t / model.forcing_period)))
-    fm.flow_map(float(orbit.state[0]), float(orbit.state[1]), model.zeta, model.vb, p, float(t), n, out)
-    return out.end.copy()
+    parameter: str = typer.Option("omega", "--parameter", help="The continuation parameter: omega or fex.")
+    start: float = typer.Option(..., "--from", help="Start value of the parameter (the first orbit is found there).")
+    stop: float = typer.Option(..., "--to", help="End value of the parameter.")
+    m: int = typer.Option(1, "--m", help="Period in forcing periods.")
+    steps: int = typer.Option(512, "--steps", help="RK4 steps per forcing period.")
+    max_points: int = typer.Option(400, "--max-points", help="Most points on the branch.")
+    switch_pd: bool = typer.Option(False, "--switch-pd", help="Also continue the 2m branch born at the first period doubling.")
+    sweep: int = typer.Option(0, "--sweep", help="Brute-force overlay: this many parameter values swept up (0: none).")
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the branch(es) to stdout.")
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the bifurcation diagram (.png, .pdf, .svg, .eps).")
+    dpi: float = DPI_OPTION
+    config: Optional[Path] = CONFIG_OPTION
 
 
 @app.command("forced-continue", short_help=SHORT_HELP_CONTINUE)
 @with_parameters(MODEL, HELP)
-def forced_continue(
-    params: dict[str, Any],
-    parameter: str = typer.Option("omega", "--parameter", help="The continuation parameter: omega or fex."),
-    start: float = typer.Option(..., "--from", help="Start value of the parameter (the first orbit is found there)."),
-    stop: float = typer.Option(..., "--to", help="End value of the parameter."),
-    m: int = typer.Option(1, "--m", help="Period in forcing periods."),
-    steps: int = typer.Option(512, "--steps", help="RK4 steps per forcing period."),
-    max_points: int = typer.Option(400, "--max-points", help="Most points on the branch."),
-    switch_pd: bool = typer.Option(False, "--switch-pd", help="Also continue the 2m branch born at the first period doubling."),
-    sweep: int = typer.Option(0, "--sweep", help="Brute-force overlay: this many parameter values swept up (0: none)."),
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the branch(es) to stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the bifurcation diagram (.png, .pdf, .svg)."),
-    config: Optional[Path] = CONFIG_OPTION,
-) -> None:
+@with_options(ForcedContinueOptions)
+def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None:
     """Pseudo-arclength continuation in Omega or F_ex: folds, period doublings, Neimark-Sacker, grazings."""
-    if parameter not in PARAMETERS:
-        raise ValueError(f"--parameter must be omega or fex, got {parameter!r}")
-    for flag, value in (("--from", start), ("--to", stop)):
-        check_parameter(parameter, value, flag)  # both ends by the parameter's declaration, as the API checks them
-    if start == stop:
-        raise ValueError(f"--to must differ from --from ({start!r})")
-    _check(m=m, steps=steps, max_points=max_points, sweep=sweep)
-    if plot is not None:
-        check_output_path(plot, FIGURE_FORMATS, "--plot")
-    cfg, model, law = _build(config, params)
-    branch = continue_forced(model, law, parameter, start, stop, m=m, x0=cfg.x0, v0=cfg.v0, steps=steps,
-                             max_points=max_points)
+    if opts.parameter not in PARAMETERS:
+        raise ValueError(f"--parameter must be omega or fex, got {opts.parameter!r}")
+    for flag, value in (("--from", opts.start), ("--to", opts.stop)):
+        check_parameter(opts.parameter, value, flag)  # both ends by the parameter's declaration, as the API checks them
+    if opts.start == opts.stop:
+        raise ValueError(f"--to must differ from --from ({opts.start!r})")
+    _check(m=opts.m, steps=opts.steps, max_points=opts.max_points, sweep=opts.sweep)
+    if opts.plot is not None:
+        check_output_path(opts.plot, FIGURE_FORMATS, "--plot")
+    cfg, model, law = _build(opts.config, params)
+    branch = continue_forced(model, law, opts.parameter, opts.start, opts.stop, m=opts.m, x0=cfg.x0, v0=cfg.v0,
+                             steps=opts.steps, max_points=opts.max_points)
     branches = [branch]
-    if switch_pd and branch.events_of("period_doubling"):
+    if opts.switch_pd and branch.events_of("period_doubling"):
         branches.append(switch_period_doubling(branch))
     brute = None
-    if sweep:
-        values = np.linspace(min(start, stop), max(start, stop), sweep)
-        brute = stroboscopic_sweep(branch.model, law, parameter, values, x0=float(branch.points[0].state[0]) if start < stop else 0.0,
-                                   v0=float(branch.points[0].state[1]) if start < stop else 0.0)
-    if plot is not None:
-        plot_forced_branches(branches, plot, sweep=brute, name="--plot")
-    if as_json:
+    if opts.sweep:
+        values = np.linspace(min(opts.start, opts.stop), max(opts.start, opts.stop), opts.sweep)
+        up = opts.start < opts.stop
+        brute = stroboscopic_sweep(branch.model, law, opts.parameter, values, x0=float(branch.points[0].state[0]) if up else 0.0,
+                                   v0=float(branch.points[0].state[1]) if up else 0.0)
+    if opts.plot is not None:
+        plot_forced_branches(branches, opts.plot, sweep=brute, name="--plot", dpi=opts.dpi)
+    if opts.as_json:
         out: dict[str, Any] = {"branches": [b.as_dict() for b in branches]}
         if brute is not None:
             out["brute_force"] = jsonable({"values": brute.values, "X": brute.x, "V": brute.v})

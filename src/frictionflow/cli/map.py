@@ -19,7 +19,7 @@ from ..orbits.forced_chart import FORCED_CURVES, forced_map
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ._app import app
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
+from .options import CONFIG_OPTION, DPI_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("t_end", "friction", "dimensional"))
 HELP = {"t_end": "Length of each sweep simulation (the heat map) [500].",
@@ -74,7 +74,8 @@ class MapOptions:
     sweep_out: Optional[Path] = typer.Option(None, "--sweep-out", parser=path_text, metavar=PATH_METAVAR, help="Keep the sweep here (.zarr or .nc) [a temporary file].")
     dataset: Optional[Path] = typer.Option(None, "--dataset", parser=path_text, metavar=PATH_METAVAR, help="Write the curves (and the sweep) as an xarray dataset (.nc, .zarr).")
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (curves, codimension-two points) to stdout.")
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Stability chart: the curves over the heat map (.png, .pdf, .svg).")
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Stability chart: the curves over the heat map (.png, .pdf, .svg, .eps).")
+    dpi: float = DPI_OPTION
     config: Optional[Path] = CONFIG_OPTION
 
 
@@ -130,7 +131,7 @@ def _config(params: dict[str, Any], config: Optional[Path]):
 def _report(chart, opts: MapOptions) -> None:
     """The chart's figure and dataset where asked, then its JSON or summary on stdout."""
     if opts.plot is not None:
-        plot_chart(chart, opts.plot, name="--plot")
+        plot_chart(chart, opts.plot, name="--plot", dpi=opts.dpi)
     if opts.dataset is not None:
         _write_dataset(chart.to_xarray(), opts.dataset)
     if opts.as_json:

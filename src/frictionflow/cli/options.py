@@ -21,7 +21,7 @@ from typing import Any, Callable, Optional
 import typer
 
 from ..config import RunConfig
-from ..io import read_config
+from ..io import DEFAULT_DPI, DPI_RANGE, FIGURE_FORMATS, read_config
 from ..parameters import Param, declared
 
 #: the run's parameters every model command takes (the others are command-specific)
@@ -107,3 +107,9 @@ def path_text(text: str | Path) -> Path:
 
 
 CONFIG_OPTION = typer.Option(None, "--config", parser=path_text, metavar=PATH_METAVAR, help="TOML file with any of these options (names with underscores).")
+#: the figure formats, as the --plot options' help says them
+FIGURE_SUFFIXES = ", ".join(FIGURE_FORMATS)
+#: every command that writes a figure takes this one --dpi
+DPI_OPTION = typer.Option(DEFAULT_DPI, "--dpi", min=DPI_RANGE[0], max=DPI_RANGE[1], metavar="<float>", show_default=False,
+                          help=f"Resolution of the figures in dots per inch [{DEFAULT_DPI:g}]; the --plot file's suffix "
+                               f"sets the format ({FIGURE_SUFFIXES}).")

@@ -22,7 +22,7 @@ from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ..solvers.registry import solver_names_where
 from ._app import app
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
+from .options import CONFIG_OPTION, DPI_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_options, with_parameters
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "solver", "dimensional"))
 #: orbits need located switches: every solver but the fixed-step ones
@@ -71,7 +71,8 @@ def orbit(
     tol: Optional[float] = typer.Option(None, "--tol", help="Newton tolerance on P(X)-X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws]."),
     fd_check: bool = typer.Option(False, "--fd-check", help="Also report the monodromy matrix by finite differences of simulations."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the orbit: phase portrait, time history, power (.png, .pdf, .svg)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the orbit: phase portrait, time history, power (.png, .pdf, .svg, .eps)."),
+    dpi: float = DPI_OPTION,
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Find a periodic orbit by Newton shooting; report its Floquet multipliers, power flow and TR_B."""
@@ -87,7 +88,7 @@ def orbit(
         report["fd_monodromy"] = M.tolist()
         report["fd_deviation"] = float(np.max(np.abs(M - found.monodromy)))
     if plot is not None:
-        plot_orbit(found, plot, name="--plot")
+        plot_orbit(found, plot, name="--plot", dpi=dpi)
     if as_json:
         _dump(report)
     else:
@@ -111,7 +112,8 @@ class ContinueOptions:
                                 "(comma-separated: P_fin, P_dv, P_df, R_c, R_f, P_belt, P_heat, TR_B, amplitude, stick_fraction, period).")
     tol: Optional[float] = typer.Option(None, "--tol", help="Newton tolerance on each orbit's X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws].")
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (branches, bifurcations) to stdout.")
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Bifurcation diagram and power along the branches (.png, .pdf, .svg).")
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Bifurcation diagram and power along the branches (.png, .pdf, .svg, .eps).")
+    dpi: float = DPI_OPTION
     config: Optional[Path] = CONFIG_OPTION
 
 
@@ -138,7 +140,7 @@ def continue_(params: dict[str, Any], opts: ContinueOptions) -> None:
                                     v0=cfg.v0, tol=opts.tol)
     result = continuation(model, law, opts.param, opts.start, opts.stop, settings=settings)
     if opts.plot is not None:
-        plot_bifurcation(result, opts.plot, name="--plot")
+        plot_bifurcation(result, opts.plot, name="--plot", dpi=opts.dpi)
     report = result.to_dict()
     if monitors:
         report["extrema"] = [e.to_dict() for m in monitors for e in branch_extrema(result, m, model, law)]

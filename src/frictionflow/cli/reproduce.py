@@ -12,7 +12,7 @@ import typer
 
 from ..paper import Settings, reproduce as run_reproduction
 from ._app import app
-from .options import PATH_METAVAR, path_text
+from .options import DPI_OPTION, PATH_METAVAR, path_text
 
 if TYPE_CHECKING:
     from ..paper import Summary
@@ -26,6 +26,7 @@ def reproduce(
     workers: Optional[int] = typer.Option(None, "--workers", help="Processes to use [up to 2]."),
     quick: bool = typer.Option(False, "--quick", help="Reduced grids and shorter auxiliary runs: a smoke test, not the published figures."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (verdicts, files, timings) instead of the table."),
+    dpi: float = DPI_OPTION,
 ) -> None:
     """Reproduce Figs. 2-6 of the paper with its method and the exact solver; write figures, data and report.html."""
     base = Settings.quick() if quick else Settings()
@@ -34,7 +35,7 @@ def reproduce(
         changes["window_t_end"] = t_end  # the window study covers at least the run length
     settings = dataclasses.replace(base, **changes)  # validated by Settings
     # reproduce() checks --out and --workers before it computes or writes anything
-    summary = run_reproduction(out, settings, workers=workers, progress=sys.stderr.isatty())
+    summary = run_reproduction(out, settings, workers=workers, progress=sys.stderr.isatty(), dpi=dpi)
     if as_json:
         print(json.dumps(summary.to_dict()))
     else:
@@ -48,8 +49,8 @@ def _print_summary(summary: Summary) -> None:
 
     table = Table(title=f"paper claims checked: {summary.counts()}")
     table.add_column("figure")
-    table.add_column("claim")
-    table.add_column("verdict")
+    table.add_column("the paper's claim")
+    table.add_column("our verdict on it")
     for c in summary.claims:
         table.add_row(c.figure, c.key, c.verdict)
     console = Console()

@@ -16,7 +16,7 @@ from ..io import atomic_write, check_input_path, check_output_path
 from ..plotting import FIGURE_FORMATS, plot_response
 from ._app import app
 from .basins import parse_range
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
+from .options import CONFIG_OPTION, DPI_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
 
 DATASET_FORMATS = (".nc",)
 
@@ -31,7 +31,8 @@ def response(
     direction: str = typer.Option("both", "--direction", help="Sweep up, down or both (jumps and hysteresis show with both)."),
     as_json: bool = typer.Option(False, "--json", help="Print the response as one JSON object."),
     out: Optional[Path] = typer.Option(None, "--out", parser=path_text, metavar=PATH_METAVAR, help="Write the response dataset (.nc)."),
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the response curves (.png, .pdf, .svg)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw the response curves (.png, .pdf, .svg, .eps)."),
+    dpi: float = DPI_OPTION,
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Frequency response: steady amplitude, power, TR_B and stick fraction against the forcing frequency."""
@@ -55,7 +56,7 @@ def response(
         with atomic_write(out, "--out") as tmp:
             ds.to_netcdf(tmp)
     if plot is not None:
-        plot_response(ds, plot, name="--plot")
+        plot_response(ds, plot, name="--plot", dpi=dpi)
     if as_json:
         print(json.dumps(_as_json(ds)))
     else:

@@ -18,7 +18,7 @@ from ..params import DimensionalParams
 from ..plotting import FIGURE_FORMATS, plot_run
 from ..simulate import simulate as run_simulation
 from ._app import app
-from .options import CONFIG_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
+from .options import CONFIG_OPTION, DPI_OPTION, PATH_METAVAR, merged_config, parameter_names, path_text, with_parameters
 
 
 @app.command()
@@ -27,7 +27,8 @@ def simulate(
     params: dict[str, Any],
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the results to stdout."),
     out: Optional[Path] = typer.Option(None, "--out", parser=path_text, metavar=PATH_METAVAR, help="Write the trajectory (.csv or .nc)."),
-    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw time history, phase portrait and power flow (.png, .pdf, .svg)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", parser=path_text, metavar=PATH_METAVAR, help="Draw time history, phase portrait and power flow (.png, .pdf, .svg, .eps)."),
+    dpi: float = DPI_OPTION,
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Simulate one run, find its steady state and report power flow and TR_B."""
@@ -60,7 +61,7 @@ def simulate(
     if out is not None:
         write_trajectory(traj, out, name="--out")
     if plot is not None:
-        plot_run(result, plot, name="--plot")
+        plot_run(result, plot, name="--plot", dpi=dpi)
     if as_json:
         print(json.dumps(report))
     else:
