@@ -147,7 +147,7 @@ def plot_orbit(orbit: PeriodicOrbit, path: str | Path | None = None, *, name: st
     legend_outside(ax[0], fontsize=7)
     ax[1].plot(traj.t, traj.x, label="$X$")
     ax[1].plot(traj.t, traj.v, label="$X'$")
-    ax[1].set(xlabel=r"$\tau$", title=f"one period $T={sig(orbit.period, 6)}$")
+    ax[1].set(xlabel=r"$\tau$", title=f"one period $T={sig(orbit.period, 4)}$")
     legend_outside(ax[1], fontsize=7)
     p = instantaneous_power(traj)
     ax[2].plot(traj.t, p["P_f"], label="$P_f$")
