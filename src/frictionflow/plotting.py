@@ -77,17 +77,7 @@ def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "p
     wthin = _thin(i1 + 1 - i0)
 
     fig, ax = plt.subplots(2, 2, figsize=(12, 7.5), layout="constrained")
-    run = (float(traj.t[0]), float(traj.t[-1]))
-    span = shown_span(*run, ss.period)
-    if span != run:
-        span = shown_span(float(ss.window[0]), float(ss.window[1]), ss.period)
-    shown = slice(traj.index(span[0]), traj.index(span[1]) + 1)
-    sthin = _thin(shown.stop - shown.start)
-    ax[0, 0].plot(traj.t[shown][sthin], traj.x[shown][sthin], lw=0.7, label="$X$")
-    ax[0, 0].plot(traj.t[shown][sthin], traj.v[shown][sthin], lw=0.7, label="$X'$")
-    ax[0, 0].axvspan(max(ss.window[0], span[0]), ss.window[1], color="0.9", zorder=0, label=f"window ({ss.kind})")
-    ax[0, 0].set(xlabel=r"$\tau$", title=_history_title(span, run))
-    legend_outside(ax[0, 0])
+    _history_panel(ax[0, 0], traj, ss)
 
     ax[0, 1].plot(traj.x[whole], traj.v[whole], lw=0.5, color="0.7", label="whole run")
     ax[0, 1].plot(traj.x[win][wthin], traj.v[win][wthin], lw=1.0, color="C3", label="steady-state\nwindow")
@@ -121,6 +111,21 @@ def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "p
     if path is not None:
         write_figure(fig, path, name, dpi=dpi)  # atomic: no partial figure on failure
     return fig
+
+
+def _history_panel(ax, traj: Trajectory, ss) -> None:
+    """X and X' against tau over the run, or over the end of the steady-state window of a long run; the window shaded."""
+    run = (float(traj.t[0]), float(traj.t[-1]))
+    span = shown_span(*run, ss.period)
+    if span != run:
+        span = shown_span(float(ss.window[0]), float(ss.window[1]), ss.period)
+    shown = slice(traj.index(span[0]), traj.index(span[1]) + 1)
+    sthin = _thin(shown.stop - shown.start)
+    ax.plot(traj.t[shown][sthin], traj.x[shown][sthin], lw=0.7, label="$X$")
+    ax.plot(traj.t[shown][sthin], traj.v[shown][sthin], lw=0.7, label="$X'$")
+    ax.axvspan(max(ss.window[0], span[0]), ss.window[1], color="0.9", zorder=0, label=f"window ({ss.kind})")
+    ax.set(xlabel=r"$\tau$", title=_history_title(span, run))
+    legend_outside(ax)
 
 
 @draws(Trajectory)
