@@ -260,7 +260,7 @@ def test_plot_response(tmp_path):
     from frictionflow import Karnopp, RK4
 
     ds = frequency_response(BeltOscillator(zeta=0.1, vb=0.0, fex=0.3), Karnopp(0.05, 0.05), [0.8, 1.0, 1.2],
-                            solver=RK4(dt=5e-3), periods=20)
+                            solver=RK4(dt=3e-4), periods=20)
     fig = plot_response(ds, tmp_path / "r.png")
     assert_png(tmp_path / "r.png", fig, DEFAULT_DPI)
     assert_legends_beside_the_data(fig)
