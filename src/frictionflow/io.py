@@ -257,17 +257,38 @@ def _full(directory: Path) -> bool:
         return False
 
 
-#: the figure formats the package writes (matplotlib picks the format by the extension)
-FIGURE_FORMATS = (".png", ".pdf", ".svg")
+#: the figure formats the package writes, chosen by the file's suffix (PNG raster; PDF, SVG and EPS vector)
+FIGURE_FORMATS = (".png", ".pdf", ".svg", ".eps")
+#: dots per inch of a written figure unless the caller says otherwise (fit for print at column width)
+DEFAULT_DPI = 150.0
+#: the resolutions accepted: below 10 dpi text is unreadable, above 2400 a page-sized PNG runs to gigabytes
+DPI_RANGE = (10.0, 2400.0)
 
 
-def write_figure(fig, path: str | Path, name: str = "path", *, close: bool = True, **savefig: Any) -> Path:
-    """Save a matplotlib figure atomically (format by the extension) and, unless ``close=False``, close it."""
+def check_dpi(dpi: Any, name: str = "dpi") -> float:
+    """``dpi`` as a float, or a one-line ``ValueError`` naming ``name`` and the allowed range."""
+    lo, hi = DPI_RANGE
+    if isinstance(dpi, bool) or not isinstance(dpi, (int, float, np.integer, np.floating)) or not lo <= dpi <= hi:
+        raise ValueError(f"{name} must be a number in [{lo:g}, {hi:g}] (dots per inch), got {dpi!r}")
+    return float(dpi)
+
+
+def write_figure(fig, path: str | Path, name: str = "path", *, close: bool = True, dpi: float = DEFAULT_DPI,
+                 **savefig: Any) -> Path:
+    """Save a matplotlib figure atomically and, unless ``close=False``, close it.
+
+    The format is the suffix's (:data:`FIGURE_FORMATS`); ``dpi`` sets the
+    resolution of a PNG and of the raster parts of a vector file.  A bad
+    suffix or ``dpi`` raises a one-line ``ValueError`` and writes nothing.
+    """
     import matplotlib.pyplot as plt
 
     try:
+        dpi = check_dpi(dpi)
+        if Path(path).suffix.lower() not in FIGURE_FORMATS:
+            raise ValueError(f"{name} must end in one of {', '.join(FIGURE_FORMATS)}, got {str(path)!r}")
         with atomic_write(path, name) as tmp:
-            fig.savefig(tmp, **savefig)
+            fig.savefig(tmp, dpi=dpi, format=Path(path).suffix.lower()[1:], **savefig)
     finally:
         if close:
             plt.close(fig)
@@ -301,10 +322,17 @@ def write_trajectory(traj: Trajectory, path: str | Path, *, name: str = "out") -
         if p.suffix.lower() == ".nc":
             traj.to_xarray().to_netcdf(tmp)
         else:
-            cols = np.column_stack([traj.t, traj.x, traj.v, traj.fc, traj.mode, traj.work])
-            header = ",".join(["tau", "X", "V", "F_c", "mode", *WORK_NAMES])
-            np.savetxt(tmp, cols, delimiter=",", header=header, comments="", fmt="%.17g")
+            _write_csv(traj, tmp)
     return p
+
+
+def _write_csv(traj: Trajectory, path: Path) -> None:
+    """The samples as CSV: the NetCDF file's columns (``is_sample`` and ``switch`` as 0/1), full precision."""
+    is_sample = np.ones(len(traj.t), dtype=bool) if traj.recorded is None else traj.recorded
+    switch = traj.switches() & is_sample  # as to_xarray: switches are marked on the solver's own samples
+    cols = np.column_stack([traj.t, traj.x, traj.v, traj.fc, traj.mode, traj.work, is_sample, switch])
+    header = ",".join(["tau", "X", "V", "F_c", "mode", *WORK_NAMES, "is_sample", "switch"])
+    np.savetxt(path, cols, delimiter=",", header=header, comments="", fmt="%.17g")
 
 
 def read_config(path: str | Path, name: str = "config") -> dict[str, Any]:

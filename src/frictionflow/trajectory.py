@@ -170,9 +170,12 @@ class Trajectory(Summarized):
         changes = int(np.count_nonzero(np.diff(self.mode))) if len(self.mode) else 0
         return f"{changes} mode changes between samples (not located by this solver)"
 
-    def plot(self, path: Any = None):
-        """X(tau), X'(tau) and the phase portrait on the true curve, switches marked; returns the figure."""
-        return draw(self, path)
+    def plot(self, path: Any = None, **options: Any):
+        """X(tau), X'(tau) and the phase portrait on the true curve, switches marked; returns the figure.
+
+        ``options``: the figure function's keywords (``dpi``: dots per inch, ``name``).
+        """
+        return draw(self, path, **options)
 
     # -- the motion at any time -------------------------------------------------------
     def at(self, t: Any) -> tuple[Any, Any]:
@@ -313,7 +316,8 @@ class Trajectory(Summarized):
             if k == "mode" or k.startswith("mode_"):
                 ds[k].attrs.update(_mode_flags())
         ds.attrs.update(self.model.report())
-        ds.attrs.update({f"friction_{k}": v for k, v in self.friction.as_dict().items()})
+        # the law's name as ``friction`` (not under its own prefix), its parameters as ``friction_<name>``
+        ds.attrs.update({k if k == "friction" else f"friction_{k}": v for k, v in self.friction.as_dict().items()})
         ds.attrs.update({f"solver_{k}": v for k, v in self.solver.items() if v is not None})
         return ds
 

@@ -23,7 +23,7 @@ def run(tmp_path_factory):
     d = tmp_path_factory.mktemp("repro") / "out"
     printed = io.StringIO()
     with contextlib.redirect_stdout(printed):
-        code = main(["reproduce", "--out", str(d), "--quick"])
+        code = main(["reproduce", "--out", str(d), "--quick", "--dpi", "120"])
     assert code == 0
     return d, printed.getvalue()
 
@@ -38,6 +38,14 @@ def test_writes_every_figure_as_png_and_pdf(out):
         for ext in (".png", ".pdf"):
             p = out / f"{stem}{ext}"
             assert p.stat().st_size > 5_000, p
+
+
+def test_the_figures_are_at_the_dpi_asked_for(out):
+    from PIL import Image
+
+    for stem in STEMS + EXTRA:
+        with Image.open(out / f"{stem}.png") as im:
+            assert im.info["dpi"] == pytest.approx((120, 120), abs=0.0254)  # pHYs: whole pixels per metre
 
 
 def test_writes_the_data_of_every_figure_as_netcdf_with_units_and_csv(out):
@@ -63,7 +71,7 @@ def test_report_is_self_contained_and_has_each_figure_with_its_caption_and_verdi
 
 def test_prints_the_verdicts_and_where_the_report_is(run):
     printed = run[1]
-    assert "case2_has_no_limit_cycle" in printed and "refuted" in printed and "report.html" in printed
+    assert "case2_settles_on_a_limit_cycle" in printed and "refuted" in printed and "report.html" in printed
 
 
 @pytest.mark.parametrize(

@@ -37,14 +37,15 @@ from typing import Any
 import numpy as np
 
 from .. import quantities as Q
+from .._display import Row, Summarized, num, pairs
 from .. import _continuous as cont
 from ..core import sections as sec
 from ..trajectory import Trajectory
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 @Q.table_fields(Q.FORCED_AVERAGES, after="window")
-class PowerFlow:
+class PowerFlow(Summarized):
     """Average power flow over a window, and the residual of the power balance.
 
     Its fields after ``window`` are the quantities ``simulate --json`` reports
@@ -54,6 +55,9 @@ class PowerFlow:
     to the friction input W_fin; when W_fin is below 1e-12 of the stored
     energy times the window length (an equilibrium), relative to the latter
     (see :func:`frictionflow.core.sections.averages`).
+
+    Its ``repr`` (and ``_repr_html_`` in a notebook) shows the averages in
+    significant digits; :meth:`to_dict` has them exactly.
 
     Attributes
     ----------
@@ -89,6 +93,18 @@ class PowerFlow:
     def averages(self, forced: bool = False) -> dict[str, float]:
         """The averages by name (``forced=False``: without those only forced runs report)."""
         return {k: getattr(self, k) for k in (Q.FORCED_AVERAGES if forced else Q.AVERAGES)}
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        av = self.averages(forced=True)
+        rows = [("window", f"tau {num(self.window[0])} .. {num(self.window[1])}"),
+                ("power", pairs({k: av[k] for k in ("P_fin", "P_df", "P_dv")})),
+                ("ratios", pairs({k: av[k] for k in ("R_c", "R_f")})),
+                ("belt, heat", pairs({k: av[k] for k in ("P_belt", "P_heat")})),
+                ("net friction", pairs({"P_f": av["P_f"]}))]
+        if av["P_ex"] != 0.0:
+            rows.append(("external force", pairs({"P_ex": av["P_ex"]})))
+        rows.append(("residual", num(self.energy_residual, 2)))
+        return "PowerFlow", rows
 
     def to_dict(self) -> dict[str, Any]:
         return {"window": list(self.window), **self.averages(forced=True), "energy_residual": self.energy_residual}

@@ -37,6 +37,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from .. import quantities as Q
+from .._display import Row, Summarized, num, pairs
 from ..core import certificate
 from ..core import sections as sec
 from ..solvers.registry import solver_classes, solver_named
@@ -48,9 +49,12 @@ KINDS = Q.KINDS
 HEADINGS = {sec.HEAD_NONE: None, sec.HEAD_EQUILIBRIUM: "equilibrium", sec.HEAD_PERIODIC: "periodic", sec.HEAD_GROWING: "growing"}
 
 
-@dataclass(frozen=True)
-class SteadyState:
+@dataclass(frozen=True, repr=False)
+class SteadyState(Summarized):
     """What the run settled on, and the window to average over.
+
+    Its ``repr`` (and ``_repr_html_`` in a notebook) shows the fields that are
+    set, in significant digits; :meth:`to_dict` has every field exactly.
 
     Attributes
     ----------
@@ -107,6 +111,23 @@ class SteadyState:
     forcing_multiple: int | None = None
     lyapunov: float | None = None
     forced: bool = False
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        kind = ", ".join(x for x in (self.kind, self.stability) if x)
+        rows = [("kind", kind + (" (window set by hand)" if self.manual_window else "")),
+                ("window", f"tau {num(self.window[0])} .. {num(self.window[1])}")]
+        if self.period is not None:
+            rows.append(("period", f"{num(self.period, 8)} ({self.n_periods} in the window)"))
+        if self.forcing_multiple:
+            rows.append(("forcing periods", str(self.forcing_multiple)))
+        optional = (("decay rate", self.decay_rate, 4), ("stick fraction", self.stick_fraction, 4),
+                    ("jitter", self.jitter, 2), ("Lyapunov exponent", self.lyapunov, 3))
+        rows += [(label, num(value, digits)) for label, value, digits in optional if value is not None]
+        if self.heading:
+            rows.append(("heading", self.heading))
+        if self.limit:
+            rows.append(("limit", pairs(self.limit)))
+        return "SteadyState", rows
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)

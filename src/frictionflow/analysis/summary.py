@@ -74,9 +74,12 @@ class Analysis(Summarized):
         ]
         return "Analysis", rows
 
-    def plot(self, path: Any = None):
-        """Time history, phase portrait, power and averages (:func:`frictionflow.plotting.plot_run`); returns the figure."""
-        return draw(self, path)
+    def plot(self, path: Any = None, **options: Any):
+        """Time history, phase portrait, power and averages (:func:`frictionflow.plotting.plot_run`); returns the figure.
+
+        ``options``: the figure function's keywords (``dpi``: dots per inch, ``name``).
+        """
+        return draw(self, path, **options)
 
     def quantities(self) -> dict[str, float]:
         """Every quantity of the table (:mod:`frictionflow.quantities`) by name, ``kind`` as its code."""

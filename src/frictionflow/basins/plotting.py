@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 import numpy as np
 
-from .._figures import draws
-from ..io import write_figure
+from .._figures import draws, legend_outside, math_values, sig
+from ..io import DEFAULT_DPI, write_figure
 from ..parameters import declared
 from .study import Basins
 
@@ -22,7 +22,7 @@ def colour(name: str, i: int) -> str:
 
 
 @draws(Basins)
-def plot_basins(result: Basins, path: str | Path | None = None, *, name: str = "path"):
+def plot_basins(result: Basins, path: str | Path | None = None, *, name: str = "path", dpi: float = DEFAULT_DPI):
     """The basin map, or with ``vary`` the basin-stability curves; saved atomically to ``path`` if given.
 
     Parameters
@@ -30,9 +30,11 @@ def plot_basins(result: Basins, path: str | Path | None = None, *, name: str = "
     result:
         What :func:`basins` returned.
     path:
-        A file to save the figure to (PNG, PDF or SVG by its extension), or None.
+        A file to save the figure to (PNG, PDF, SVG or EPS by its suffix), or None.
     name:
         How error messages name ``path`` (the command line passes its option, such as ``--plot``).
+    dpi:
+        Dots per inch of a raster file (PNG); default 150.
 
     Returns
     -------
@@ -45,17 +47,17 @@ def plot_basins(result: Basins, path: str | Path | None = None, *, name: str = "
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6.4, 4.8) if result.vary else (5.4, 5.0), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(7.6, 4.8) if result.vary else (7.6, 5.0), layout="constrained")
     if result.vary is None:
         _map(ax, result)
     else:
         _curves(ax, result)
     ds = result.dataset
     law = ds.attrs.get("friction", "")
-    fixed = ", ".join(f"{k.removeprefix('fixed_')}={ds.attrs[k]:g}" for k in ("fixed_zeta", "fixed_vb") if k in ds.attrs)
-    ax.set_title(f"{law}: {fixed}, t_end={ds.attrs.get('t_end', float('nan')):g}", fontsize=9)
+    fixed = {k.removeprefix("fixed_"): ds.attrs[k] for k in ("fixed_zeta", "fixed_vb") if k in ds.attrs}
+    ax.set_title(f"{law}: {math_values(fixed | {'t_end': ds.attrs.get('t_end', float('nan'))})}", fontsize=9)
     if path is not None:
-        write_figure(fig, path, name, dpi=110)  # atomic: no partial figure on failure
+        write_figure(fig, path, name, dpi=dpi)  # atomic: no partial figure on failure
     return fig
 
 
@@ -87,9 +89,9 @@ def _map(ax, result: Basins) -> None:
         if n.startswith("equilibrium"):
             ax.plot(float(ds["attractor_x_mid"][j]), 0.0, marker="*", ms=12, color="white", mec="black", ls="none")
     p, se = result.fractions, result.stderr
-    ax.legend(handles=[Patch(color=colour(n, j), label=f"{n}: {p[n]:.3g} ± {se[n]:.1g}") for j, n in shown],
-              fontsize=8, loc="upper right", framealpha=0.85)
-    ax.set(xlabel="X(0)", ylabel="X'(0)")
+    legend_outside(ax, handles=[Patch(color=colour(n, j), label=f"{n}: {sig(p[n])} ± {sig(se[n], 1)}") for j, n in shown],
+                   title="basin stability")
+    ax.set(xlabel="$X(0)$", ylabel="$X'(0)$")
     spans = np.ptp(ds["x0"].values), np.ptp(ds["v0"].values)
     if min(spans) > 0 and 1 / 3 < spans[0] / spans[1] < 3:
         ax.set_aspect("equal")  # X and X' in the same units: the energy's level sets look round
@@ -102,4 +104,4 @@ def _curves(ax, result: Basins) -> None:
         ax.errorbar(x, result.fractions[n], yerr=result.stderr[n], marker="o", ms=4, capsize=2, color=colour(n, j), label=n)
 
     ax.set(xlabel=declared()[result.vary].long_name, ylabel="basin stability", ylim=(-0.02, 1.02))
-    ax.legend(fontsize=8)
+    legend_outside(ax)

@@ -25,7 +25,7 @@ import numpy as np
 from .. import _validate as check
 from .._display import Summarized, num
 from .._figures import draw
-from ..io import FIGURE_FORMATS, atomic_write, check_output_path, temporary_path
+from ..io import DEFAULT_DPI, FIGURE_FORMATS, atomic_write, check_dpi, check_output_path, temporary_path
 from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS, SweepConfig, parse_sweep
 from ..estimate import Estimate, enforce
 from ..sweep.compute import VARIABLES
@@ -129,9 +129,10 @@ class Basins(Summarized):
         report.update(self.files)
         return report
 
-    def plot(self, path: str | Path | None = None, *, name: str = "path"):
-        """The basin map (or, with ``vary``, basin stability against the parameter); saved to ``path`` if given."""
-        return draw(self, path, name=name)
+    def plot(self, path: str | Path | None = None, *, name: str = "path", dpi: float = DEFAULT_DPI):
+        """The basin map (or, with ``vary``, basin stability against the parameter); saved to ``path`` if given
+        (``dpi`` dots per inch)."""
+        return draw(self, path, name=name, dpi=dpi)
 
     def _summary(self) -> tuple[str, list[tuple[str, str]]]:
         title = f"basins: {self.design['points']} initial states ({self.design['kind']})"
@@ -181,6 +182,7 @@ def basins(
     plot: str | Path | None = None,
     tolerances: Tolerances | None = None,
     sweep_options: SweepOptions | None = None,
+    dpi: float = DEFAULT_DPI,
     **params: Any,
 ) -> Basins:
     """Basins of attraction of the initial states, and their basin stability.
@@ -204,9 +206,11 @@ def basins(
     out:
         The labelled dataset, ``.nc`` or ``.zarr`` (written atomically).
     plot:
-        The basin map, or with ``vary`` the basin-stability curves (.png, .pdf, .svg).
+        The basin map, or with ``vary`` the basin-stability curves (.png, .pdf, .svg, .eps).
     tolerances:
         How close steady states must be to be one attractor (:class:`Tolerances`).
+    dpi:
+        Resolution of ``plot`` in dots per inch.
     sweep_options:
         How the sweep runs and where its store lives (:class:`SweepOptions`).
         Its fields are also taken as keywords among ``params``, replacing the
@@ -232,6 +236,7 @@ def basins(
         check_out(out)  # .nc or .zarr in a writable directory: refused before any work
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "plot")
+        check_dpi(dpi)
     design["points"] = int(cfg.size // (len(cfg.axes[along]) if along else 1))
     enforce(_estimate(cfg, run, out))  # within the limits in force (frictionflow.estimate.limited)
     t0 = time.perf_counter()
@@ -243,7 +248,7 @@ def basins(
             write_dataset(labelled, out)
             result.files["out"] = str(out)
     if plot is not None:
-        result.plot(plot, name="plot")
+        result.plot(plot, name="plot", dpi=dpi)
         result.files["plot"] = str(plot)
     return result
 

@@ -45,6 +45,7 @@ class BasinsOptions:
     attractor_tol: Optional[float] = option("--attractor-tol")
     out: Optional[Path] = option("--out", "Here: the labelled dataset, .nc or .zarr.")
     plot: Optional[Path] = option("--plot", "Here: the basin map, or with --vary basin stability against the parameter.")
+    dpi: float = option("--dpi")
     store: Optional[Path] = option("--store", "Here: [beside --out, removed once --out is written].")
     restart: bool = option("--restart")
     chunk_size: Optional[int] = option("--chunk-size")
@@ -73,7 +74,7 @@ def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
     with _sigterm_as_interrupt():
         try:
             result = run_basins(settings, x0=x, v0=v, sample=opts.sample, seed=opts.seed, vary=parse_vary(opts.vary), out=opts.out,
-                                plot=opts.plot, tolerances=tolerances, sweep_options=run)
+                                plot=opts.plot, dpi=opts.dpi, tolerances=tolerances, sweep_options=run)
         except KeyboardInterrupt:
             print("interrupted: the sweep's store keeps the chunks finished so far; run the same command to resume", file=sys.stderr)
             raise

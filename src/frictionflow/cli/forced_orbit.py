@@ -13,14 +13,12 @@ from typing import Any, Optional
 import numpy as np
 
 from .._json import jsonable
-from ..core import forced_map as fm
 from .._ranges import parse_named_range
-from ..io import check_output_path, write_figure
-from ..orbits.forced import DEFAULT_STEPS, DEFAULT_TRANSIENT, PARAMETERS, check_parameter, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
-from ..orbits.forced_plot import plot_forced_branches
+from ..io import check_output_path
+from ..orbits.forced import DEFAULT_TRANSIENT, PARAMETERS, check_parameter, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
+from ..orbits.forced_plot import plot_forced_branches, plot_forced_orbit
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
-from ..solvers.base import kernel_params
 from ._app import app
 from .options import CONFIG_OPTION, command_config, parameter_names, start_state, with_options, with_parameters
 from .output import FLOW_MAP, print_summary, provenance, write_json
@@ -88,6 +86,7 @@ class ForcedOrbitOptions:
     as_json: bool = option("--json")
     out: Optional[Path] = option("--out", "Here: the JSON object, .json.")
     plot: Optional[Path] = option("--plot", "Here: the orbit's phase portrait and time history.")
+    dpi: float = option("--dpi")
     config: Optional[Path] = CONFIG_OPTION
 
 
@@ -104,43 +103,8 @@ def forced_orbit(params: dict[str, Any], opts: ForcedOrbitOptions) -> None:
     orbit = find_forced_orbit(model, law, m=m, x0=x0, v0=v0, transient_periods=opts.transient_periods,
                               steps=opts.steps_per_period)
     if opts.plot is not None:
-        _plot_orbit(orbit, opts.plot)
+        plot_forced_orbit(orbit, opts.plot, name="--plot", dpi=opts.dpi)
     _report(orbit.as_dict(), opts.out, opts.as_json, [orbit], provenance(law, FLOW_MAP))
-
-
-def _plot_orbit(orbit, path: Path) -> None:
-    """Phase portrait and X(tau) over one orbit period, sampled by runs of the flow map from tau = 0."""
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    n = 200 * orbit.m
-    ts = np.linspace(0.0, orbit.period, n + 1)[1:]
-    pts = np.array([orbit.state, *(_state_at(orbit, t, DEFAULT_STEPS) for t in ts)])
-    tt = np.concatenate([[0.0], ts])
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
-    ax[0].plot(pts[:, 0], pts[:, 1], lw=1.2)
-    ax[0].plot([orbit.state[0]], [orbit.state[1]], "ko", mfc="none", label=r"$\tau = 0$")
-    ax[0].axhline(orbit.model.vb, color="0.6", lw=0.8, ls=":")
-    ax[0].set(xlabel="X", ylabel="X'", title=f"orbit, m={orbit.m} ({orbit.stability})")
-    ax[0].legend(fontsize=8)
-    ax[1].plot(tt, pts[:, 0], label="X")
-    ax[1].plot(tt, pts[:, 1], label="X'")
-    ax[1].set(xlabel=r"$\tau$", title="one period")
-    ax[1].legend(fontsize=8)
-    fig.tight_layout()
-    write_figure(fig, path, "--plot")
-
-
-def _state_at(orbit, t: float, steps: int) -> np.ndarray:
-    """The orbit's state at time t (< its period), by the flow map over [0, t] (t need not be whole periods)."""
-    model = orbit.model
-    p = kernel_params(model, orbit.friction)
-    out = fm.map_out()
-    n = max(4, int(np.ceil(steps * t / model.forcing_period)))
-    fm.flow_map(float(orbit.state[0]), float(orbit.state[1]), model.zeta, model.vb, p, float(t), n, out)
-    return out.end.copy()
 
 
 @dataclass(frozen=True)
@@ -157,6 +121,7 @@ class ForcedContinueOptions:
     as_json: bool = option("--json")
     out: Optional[Path] = option("--out", "Here: the JSON object, .json.")
     plot: Optional[Path] = option("--plot", "Here: the bifurcation diagram.")
+    dpi: float = option("--dpi")
     config: Optional[Path] = CONFIG_OPTION
 
 
@@ -192,7 +157,7 @@ def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None
         brute = stroboscopic_sweep(branch.model, law, parameter, values, x0=float(branch.points[0].state[0]) if start < stop else 0.0,
                                    v0=float(branch.points[0].state[1]) if start < stop else 0.0)
     if opts.plot is not None:
-        plot_forced_branches(branches, opts.plot, sweep=brute, name="--plot")
+        plot_forced_branches(branches, opts.plot, sweep=brute, name="--plot", dpi=opts.dpi)
     report: dict[str, Any] = {"branches": [b.as_dict() for b in branches]}
     if brute is not None:
         report["brute_force"] = jsonable({"values": brute.values, "X": brute.x, "V": brute.v})

@@ -54,6 +54,7 @@ class MapOptions:
                                  "or the JSON object, .json.")
     as_json: bool = option("--json")
     plot: Optional[Path] = option("--plot", "Here: the stability chart, the curves over the heat map.")
+    dpi: float = option("--dpi")
     config: Optional[Path] = CONFIG_OPTION
 
 
@@ -129,7 +130,7 @@ def _check_outputs(opts: MapOptions) -> None:
 def _report(chart, opts: MapOptions, caption: str) -> None:  # noqa: ANN001
     """The chart's figure and dataset where asked, then its JSON or table on stdout."""
     if opts.plot is not None:
-        plot_chart(chart, opts.plot, name="--plot")
+        plot_chart(chart, opts.plot, name="--plot", dpi=opts.dpi)
     if opts.out is not None and opts.out.suffix == ".json":
         write_json(opts.out, chart.to_dict())
     elif opts.out is not None:

@@ -140,3 +140,5 @@ def start_state(cfg: RunConfig, model: BeltOscillator, law: FrictionLaw) -> tupl
 
 
 CONFIG_OPTION = option("--config")
+#: every command that writes a figure takes this one --dpi
+DPI_OPTION = option("--dpi")

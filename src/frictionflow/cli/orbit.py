@@ -73,6 +73,7 @@ class OrbitOptions:
     as_json: bool = option("--json")
     out: Optional[Path] = option("--out", "Here: the JSON object, .json.")
     plot: Optional[Path] = option("--plot", "Here: phase portrait, time history and power of the orbit.")
+    dpi: float = option("--dpi")
     config: Optional[Path] = CONFIG_OPTION
 
 
@@ -93,7 +94,7 @@ def orbit(params: dict[str, Any], opts: OrbitOptions) -> None:
         report["fd_monodromy"] = M.tolist()
         report["fd_deviation"] = float(np.max(np.abs(M - found.monodromy)))
     if opts.plot is not None:
-        plot_orbit(found, opts.plot, name="--plot")
+        plot_orbit(found, opts.plot, name="--plot", dpi=opts.dpi)
     _report(report, opts.out, opts.as_json, lambda: _print_orbit(report, provenance(law, solv)))
 
 
@@ -130,6 +131,7 @@ class ContinueOptions:
     as_json: bool = option("--json")
     out: Optional[Path] = option("--out", "Here: the JSON object, .json.")
     plot: Optional[Path] = option("--plot", "Here: the bifurcation diagram and power along the branches.")
+    dpi: float = option("--dpi")
     config: Optional[Path] = CONFIG_OPTION
 
 
@@ -157,7 +159,7 @@ def continue_(params: dict[str, Any], opts: ContinueOptions) -> None:
                                     v0=cfg.v0, tol=opts.tol)
     result = continuation(model, law, param, span.start, span.stop, settings=settings)
     if opts.plot is not None:
-        plot_bifurcation(result, opts.plot, name="--plot")
+        plot_bifurcation(result, opts.plot, name="--plot", dpi=opts.dpi)
     report = result.to_dict()
     if monitors:
         report["extrema"] = [e.to_dict() for m in monitors for e in branch_extrema(result, m, model, law)]

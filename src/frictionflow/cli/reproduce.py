@@ -32,6 +32,7 @@ def reproduce(
     workers: Optional[int] = option("--workers"),
     quick: bool = option("--quick"),
     as_json: bool = option("--json", "Here: the verdicts, files and timings."),
+    dpi: float = option("--dpi"),
 ) -> None:
     """Reproduce Figs. 2-6 of the paper with its method and the exact solver; write figures, data and report.html."""
     base = Settings.quick() if quick else Settings()
@@ -40,7 +41,7 @@ def reproduce(
         changes["window_t_end"] = t_end  # the window study covers at least the run length
     settings = dataclasses.replace(base, **changes)  # validated by Settings
     # reproduce() checks --out and --workers before it computes or writes anything
-    summary = run_reproduction(out, settings, workers=workers, progress=sys.stderr.isatty())
+    summary = run_reproduction(out, settings, workers=workers, progress=sys.stderr.isatty(), dpi=dpi)
     if as_json:
         print(json.dumps(summary.to_dict()))
     else:
@@ -54,8 +55,8 @@ def _print_summary(summary: Summary) -> None:
 
     table = Table(title=f"paper claims checked: {summary.counts()}")
     table.add_column("figure")
-    table.add_column("claim")
-    table.add_column("verdict")
+    table.add_column("the paper's claim")
+    table.add_column("our verdict on it")
     for c in summary.claims:
         table.add_row(c.figure, c.key, c.verdict)
     console = Console()

@@ -34,6 +34,7 @@ def response(
     as_json: bool = option("--json"),
     out: Optional[Path] = option("--out", "Here: the response dataset, .nc."),
     plot: Optional[Path] = option("--plot", "Here: the response curves."),
+    dpi: float = option("--dpi"),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Frequency response: steady amplitude, power, TR_B and stick fraction against the forcing frequency."""
@@ -59,7 +60,7 @@ def response(
         with atomic_write(out, "--out") as tmp:
             ds.to_netcdf(tmp)
     if plot is not None:
-        plot_response(ds, plot, name="--plot")
+        plot_response(ds, plot, name="--plot", dpi=dpi)
     if as_json:
         print(json.dumps(_as_json(ds)))
     else:

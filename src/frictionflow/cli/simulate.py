@@ -12,7 +12,7 @@ from typing import Any, Optional
 from ..analysis import analyze, precompile
 from ..config import RunConfig
 from ..estimate import enforce
-from ..io import TRAJECTORY_FORMATS, check_input_path, check_output_path, trajectory_bytes, write_trajectory
+from ..io import TRAJECTORY_FORMATS, check_output_path, trajectory_bytes, write_trajectory
 from ..params import DimensionalParams
 from ..plotting import FIGURE_FORMATS, plot_run
 from ..simulate import simulate as run_simulation
@@ -31,6 +31,7 @@ def simulate(
     as_json: bool = option("--json"),
     out: Optional[Path] = option("--out", "Here: the trajectory, .csv or .nc."),
     plot: Optional[Path] = option("--plot", "Here: time history, phase portrait and power flow."),
+    dpi: float = option("--dpi"),
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Simulate one run, find its steady state and report power flow and TR_B."""
@@ -63,7 +64,7 @@ def simulate(
     if out is not None:
         write_trajectory(traj, out, name="--out")
     if plot is not None:
-        plot_run(result, plot, name="--plot")
+        plot_run(result, plot, name="--plot", dpi=dpi)
     if as_json:
         print(json.dumps(report))
     else:

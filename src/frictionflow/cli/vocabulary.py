@@ -23,6 +23,7 @@ import typer
 
 from .._display import spoken
 from ..friction.registry import law_class, law_names
+from ..io import DEFAULT_DPI, DPI_RANGE, FIGURE_FORMATS
 from ..parameters import Param, declared
 
 #: the help panels, in the order --help shows them (options without one come last, under "Options")
@@ -68,6 +69,8 @@ class Term:
     panel: str = "Study"
     metavar: Optional[str] = None
     path: bool = False
+    #: (lowest, highest) value, checked by click before the command runs
+    bounds: Optional[tuple[float, float]] = None
 
     @property
     def name(self) -> str:
@@ -85,7 +88,9 @@ TERMS: dict[str, Term] = _terms(
     # -- output ---------------------------------------------------------------
     Term("--json", "Print one JSON object with the results to stdout instead of the table.", bool, False, "Output"),
     Term("--out", "Write the results (the format by the suffix).", OPT_PATH, None, "Output", PATH_METAVAR, True),
-    Term("--plot", "Draw the results (.png, .pdf, .svg).", OPT_PATH, None, "Output", PATH_METAVAR, True),
+    Term("--plot", f"Draw the results ({', '.join(FIGURE_FORMATS)}).", OPT_PATH, None, "Output", PATH_METAVAR, True),
+    Term("--dpi", f"Resolution of the figures in dots per inch, in [{DPI_RANGE[0]:g}, {DPI_RANGE[1]:g}]; the --plot file's "
+         "suffix sets the format.", float, DEFAULT_DPI, "Output", "<float>", bounds=DPI_RANGE),
     Term("--store", "Keep the sweep's resumable store here.", OPT_PATH, None, "Output", "PATH.zarr", True),
     Term("--config", "TOML file with any of the model's options (names with underscores).", OPT_PATH, None, "Model",
          PATH_METAVAR, True),
@@ -163,6 +168,8 @@ def option(flag: str, detail: str | None = None, *, required: bool = False) -> A
     if not required and default is not None and default is not False and default != "" and "[" not in t.meaning:
         text += f" [{default}]"  # as the declared parameters show theirs
     extra: dict[str, Any] = {"parser": path_text} if t.path else {}
+    if t.bounds is not None:
+        extra.update(min=t.bounds[0], max=t.bounds[1])
     return typer.Option(default, flag, help=text, metavar=t.metavar, rich_help_panel=t.panel, show_default=False,
                         **extra)
 

@@ -2,33 +2,85 @@
 
 from __future__ import annotations
 
-from functools import lru_cache
+import weakref
 from typing import Any, Callable
 
 import numpy as np
+from llvmlite import ir
+from numba import cfunc, njit, types
+from numba.core.registry import CPUDispatcher
+from numba.extending import intrinsic
 
 from ..core import layout
 from .base import FD, FS, STICK_FORCE, FrictionLaw
 from .registry import register
 
+#: the slot of the kernels' force record that carries the address of the user's compiled function (a user law
+#: has no parameters of its own in the record)
+ADDRESS = layout.LAW_A
+#: the signature every user function is compiled to: |F| from the relative speed
+SLIP_SIGNATURE = types.float64(types.float64)
 
-@lru_cache(maxsize=32)
-def compiled_force(func: Callable[[float], float]) -> Callable[[np.ndarray, float], float] | None:
-    """``func`` as a compiled ``(p, speed) -> |F|`` (the kernels' signature), or None if numba cannot compile it."""
-    from numba import njit
-    from numba.core.registry import CPUDispatcher
+#: func -> its compiled form, while func lives (the law holds func, and the compiled form too)
+_COMPILED: "weakref.WeakKeyDictionary[Callable, Any]" = weakref.WeakKeyDictionary()
 
+
+@intrinsic
+def _call_at(typingctx, bits, speed):
+    """Call the ``double(double)`` function whose address is the bit pattern of the float64 ``bits``."""
+    def codegen(context, builder, signature, args):
+        bits, speed = args
+        function = ir.FunctionType(ir.DoubleType(), [ir.DoubleType()])
+        address = builder.inttoptr(builder.bitcast(bits, ir.IntType(64)), function.as_pointer())
+        return builder.call(address, [speed])
+
+    return types.float64(types.float64, types.float64), codegen
+
+
+@njit(cache=True)
+def user_slip_force(p, speed):
+    """The slip force of the user function whose address ``p[ADDRESS]`` holds (the kernels' ``(p, speed)``).
+
+    One function for every user law: the kernels rebuilt around it are
+    compiled once per process, not once per user function.
+    """
+    return _call_at(p[ADDRESS], speed)
+
+
+def compiled_function(func: Callable[[float], float]) -> Any | None:
+    """``func`` compiled to a C callable ``double(double)`` (a numba ``cfunc``), or None if numba cannot compile it.
+
+    Compiling a small function takes a fraction of a second; the result is
+    kept while ``func`` lives.  An exception raised by ``func`` in compiled
+    code cannot cross the C boundary: the call returns NaN instead, which
+    ends the run.
+    """
+    try:
+        return _COMPILED[func]
+    except (KeyError, TypeError):
+        pass
     jitted = func if isinstance(func, CPUDispatcher) else njit(func)
 
-    @njit
-    def user_force(p, speed):
-        return jitted(speed)
+    def slip(speed):
+        try:
+            return jitted(speed)
+        except Exception:  # noqa: BLE001  (nothing can be raised through the C boundary)
+            return np.nan
 
     try:
-        user_force(np.zeros(layout.N_PARAMS), 0.5)
+        compiled = cfunc(SLIP_SIGNATURE)(slip)
     except Exception:  # not numba-compilable: the kernels run it in Python
-        return None
-    return user_force
+        compiled = None
+    try:
+        _COMPILED[func] = compiled
+    except TypeError:  # not weakly referable: compiled again for the next law
+        pass
+    return compiled
+
+
+def address_bits(compiled: Any) -> float:
+    """The address of a compiled function as the float64 with the same bits (what ``p[ADDRESS]`` holds)."""
+    return float(np.array([compiled.address], dtype=np.int64).view(np.float64)[0])
 
 
 @register
@@ -42,6 +94,12 @@ class SlipLaw(FrictionLaw):
         relative speed ``speed`` > 0.  A numba-compilable function (plain
         ``math``/``numpy`` code, or already ``numba.njit``-ed) runs compiled;
         anything else runs in the Python version of the adaptive solver.
+        The adaptive solver's kernels for user laws are compiled once per
+        process (about 6 s of CPU on first use), and each new function
+        then only compiles itself (about 0.1-0.4 s): they call the
+        function whose address the law's force record carries.  An
+        exception ``func`` raises in compiled code becomes NaN, which ends
+        the run (no exception crosses compiled code).
     fs:
         Maximum static friction F_s (defaults to ``func(0)``).
     fd:
@@ -79,7 +137,26 @@ class SlipLaw(FrictionLaw):
         self._assign(fd=float(func(1e2)) if fd is None else fd, fs=f0 if fs is None else fs, stick_force=stick_force)
 
     def kernel_force(self) -> Callable[[np.ndarray, float], float] | None:
-        return compiled_force(self.func)
+        """:func:`user_slip_force` (the same for every user law), or None if numba cannot compile ``func``."""
+        return None if self._compiled() is None else user_slip_force
+
+    def kernel_params(self) -> np.ndarray:
+        """The force record, with the address of the compiled ``func`` in ``p[ADDRESS]`` (0 if not compiled)."""
+        p = super().kernel_params()
+        compiled = self._compiled()
+        if compiled is not None:
+            p[ADDRESS] = address_bits(compiled)
+        return p
+
+    def _compiled(self) -> Any | None:
+        """The compiled ``func``, held by the law so that its address stays valid while the law is used."""
+        if "_compiled_func" not in self.__dict__:
+            self.__dict__["_compiled_func"] = compiled_function(self.func)
+        return self.__dict__["_compiled_func"]
+
+    def __getstate__(self) -> dict[str, Any]:
+        # a compiled function and its address belong to this process: another compiles its own
+        return {k: v for k, v in self.__dict__.items() if k != "_compiled_func"}
 
     @property
     def band(self) -> None:

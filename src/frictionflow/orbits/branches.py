@@ -221,9 +221,12 @@ class ContinuationResult(Summarized):
             rows.append(("simulations", f"{len(self.sweep)} overlaid"))
         return "ContinuationResult", rows
 
-    def plot(self, path: Any = None):
-        """Bifurcation diagram, power and TR_B along the branches (:func:`~frictionflow.orbits.plotting.plot_bifurcation`)."""
-        return draw(self, path)
+    def plot(self, path: Any = None, **options: Any):
+        """Bifurcation diagram, power and TR_B along the branches (:func:`~frictionflow.orbits.plotting.plot_bifurcation`).
+
+        ``options``: the figure function's keywords (``dpi``: dots per inch, ``name``).
+        """
+        return draw(self, path, **options)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ``branches`` is a list of lists of points; ``branch_info`` says how each began and ended."""

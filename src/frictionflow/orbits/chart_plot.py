@@ -6,8 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .._figures import draws
-from ..io import write_figure
+from .._figures import draws, legend_outside, symbol
+from ..io import DEFAULT_DPI, write_figure
 from .charting import Chart
 
 #: how each curve is drawn, and what it means in the legend
@@ -27,15 +27,18 @@ CODIM2 = {"bautin": dict(marker="o", color="black", label="Bautin (Hopf changes 
 
 
 @draws(Chart)
-def plot_chart(chart, path: str | Path | None = None, *, name: str = "path"):
-    """Curves of ``chart`` (a :class:`~.charting.Chart`: stability or forced) over its sweep's heat map, if it has one."""
+def plot_chart(chart, path: str | Path | None = None, *, name: str = "path", dpi: float = DEFAULT_DPI):
+    """Curves of ``chart`` (a :class:`~.charting.Chart`: stability or forced) over its sweep's heat map, if it has one.
+
+    Saved to ``path`` (PNG, PDF, SVG or EPS by the suffix, ``dpi`` dots per inch) when given.
+    """
     import matplotlib
 
     if path is not None:
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7, 5), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(9.5, 5), layout="constrained")
     xp, yp = chart.x_param, chart.y_param
     if chart.sweep is not None and chart.heat:
         da = chart.sweep[chart.heat]
@@ -70,11 +73,12 @@ def plot_chart(chart, path: str | Path | None = None, *, name: str = "path"):
         if pts:
             arr = np.array(pts)
             ax.plot(arr[:, 0], arr[:, 1], ls="none", ms=8, mfc="white", mew=2, **CODIM2[kind])
-    ax.set(xlabel=xp, ylabel=yp, xlim=(chart.x_values[0], chart.x_values[-1]), ylim=tuple(chart.y_range),
+    ax.set(xlabel=symbol(xp), ylabel=symbol(yp), xlim=(chart.x_values[0], chart.x_values[-1]), ylim=tuple(chart.y_range),
            title=f"stability chart ({chart.params.get('friction', '?')})")
-    ax.legend(fontsize=7, loc="best", framealpha=0.85)
+    if ax.get_legend_handles_labels()[0]:
+        legend_outside(ax, fontsize=7)
     if path is not None:
-        write_figure(fig, path, name)
+        write_figure(fig, path, name, dpi=dpi)
     return fig
 
 

@@ -222,9 +222,12 @@ class Chart(Summarized):
                 ds[f"sweep_{k}"] = v
         return ds
 
-    def plot(self, path: Any = None):
-        """The curves over the sweep heat map (:func:`~.chart_plot.plot_chart`)."""
-        return draw(self, path)
+    def plot(self, path: Any = None, **options: Any):
+        """The curves over the sweep heat map (:func:`~.chart_plot.plot_chart`).
+
+        ``options``: the figure function's keywords (``dpi``: dots per inch, ``name``).
+        """
+        return draw(self, path, **options)
 
 
 # -- the heat map under the curves ---------------------------------------------------------------------

@@ -8,7 +8,8 @@ and TR_B.  With a :class:`~.forced.StroboscopicSweep` the brute-force
 section points (X at tau_k of the last forcing periods, swept with state
 continuation) are overlaid as dots on the X panel: where the branch is
 stable they lie on it, and past a bifurcation they show what the motion
-does instead.  Saved as PNG, PDF or SVG by the file's extension.
+does instead.  Saved as PNG, PDF, SVG or EPS by the file's suffix, at ``dpi``
+dots per inch.
 """
 
 from __future__ import annotations
@@ -18,8 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io import write_figure
-from .forced import ForcedBranch, StroboscopicSweep
+from .._figures import equal_aspect, legend_outside, math_values
+from ..core import forced_map as fm
+from ..io import DEFAULT_DPI, write_figure
+from ..solvers.base import kernel_params
+from .forced import DEFAULT_STEPS, ForcedBranch, ForcedOrbit, StroboscopicSweep
 
 MARKERS = {"fold": "s", "period_doubling": "^", "neimark_sacker": "o", "grazing": "D", "branch_end": "x",
            "branch_point": "*"}
@@ -44,7 +48,7 @@ def _event_value(branch: ForcedBranch, lam: float, what: str) -> float:
 
 
 def plot_forced_branches(branches: ForcedBranch | Sequence[ForcedBranch], path: str | Path | None = None, *,
-                         sweep: StroboscopicSweep | None = None, name: str = "path"):
+                         sweep: StroboscopicSweep | None = None, name: str = "path", dpi: float = DEFAULT_DPI):
     """The bifurcation diagram of ``branches`` (one parameter), with ``sweep``'s brute-force dots on the X panel.
 
     Parameters
@@ -52,11 +56,13 @@ def plot_forced_branches(branches: ForcedBranch | Sequence[ForcedBranch], path: 
     branches:
         One or more branches from :func:`~frictionflow.orbits.continue_forced`, in the same parameter.
     path:
-        A file to save the figure to (PNG, PDF or SVG by its extension), or None.
+        A file to save the figure to (PNG, PDF, SVG or EPS by its suffix), or None.
     sweep:
         A :func:`~frictionflow.orbits.stroboscopic_sweep` to draw as dots, or None.
     name:
         How error messages name ``path`` (the command line passes its option, such as ``--plot``).
+    dpi:
+        Dots per inch of a raster file (PNG); default 150.
 
     Returns
     -------
@@ -76,7 +82,7 @@ def plot_forced_branches(branches: ForcedBranch | Sequence[ForcedBranch], path: 
     parameter = branches[0].parameter
     if any(b.parameter != parameter for b in branches) or (sweep is not None and sweep.parameter != parameter):
         raise ValueError("branches and sweep must share one parameter")
-    fig, ax = plt.subplots(2, 2, figsize=(11, 7.5), sharex=True)
+    fig, ax = plt.subplots(2, 2, figsize=(12, 7.5), sharex=True, layout="constrained")
     if sweep is not None:
         lam, x = sweep.points()
         ax[0, 1].plot(lam, x, ".", color="0.55", ms=2, label="brute force (section)", zorder=1)
@@ -102,17 +108,60 @@ def plot_forced_branches(branches: ForcedBranch | Sequence[ForcedBranch], path: 
             ax[0, 1].plot([e.lam], [e.state[0]], marker, color="k", mfc="none", ms=7, zorder=3)
     xl = LABELS.get(parameter, parameter)
     ax[0, 0].set(ylabel="amplitude $(X_{max}-X_{min})/2$", title="branches (solid stable, dashed unstable)")
-    ax[0, 0].legend(fontsize=7)
+    legend_outside(ax[0, 0], fontsize=7)
     ax[0, 1].set(ylabel=r"$X(\tau_k)$", title="stroboscopic X" + (" with brute force" if sweep is not None else ""))
     if sweep is not None:
-        ax[0, 1].legend(fontsize=7)
+        legend_outside(ax[0, 1], fontsize=7)
     ax[1, 0].set(xlabel=xl, ylabel="average power", title="power along the branches")
-    ax[1, 0].legend(fontsize=7)
+    legend_outside(ax[1, 0], fontsize=7)
     ax[1, 1].set(xlabel=xl, ylabel=r"$TR_B$", title=r"max$|X+2\zeta X'|/F_{ex}$")
     m = branches[0].model
-    fig.suptitle(f"ζ={m.zeta:g}, V_b={m.vb:g}, " + (f"Ω={m.omega:g}" if parameter == "fex" else f"F_ex={m.fex:g}")
-                 + f"; {branches[0].friction!r}", fontsize=9)
-    fig.tight_layout()
+    fixed = {"zeta": m.zeta, "vb": m.vb} | ({"omega": m.omega} if parameter == "fex" else {"fex": m.fex})
+    fig.suptitle(math_values(fixed) + f"; {branches[0].friction!r}", fontsize=9)
     if path is not None:
-        write_figure(fig, path, name)
+        write_figure(fig, path, name, dpi=dpi)
     return fig
+
+
+def plot_forced_orbit(orbit: ForcedOrbit, path: str | Path | None = None, *, name: str = "path", dpi: float = DEFAULT_DPI):
+    """Phase portrait (equal aspect) and X(tau) over one period of a forced orbit, by runs of the flow map from tau = 0.
+
+    Saved to ``path`` (PNG, PDF, SVG or EPS by the suffix, ``dpi`` dots per inch) when given.
+    """
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    n = 200 * orbit.m
+    ts = np.linspace(0.0, orbit.period, n + 1)[1:]
+    pts = np.array([orbit.state, *(_state_at(orbit, t, DEFAULT_STEPS) for t in ts)])
+    tt = np.concatenate([[0.0], ts])
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    ax[0].plot(pts[:, 0], pts[:, 1], lw=1.2)
+    ax[0].plot([orbit.state[0]], [orbit.state[1]], "ko", mfc="none", label=r"$\tau = 0$")
+    ax[0].axhline(orbit.model.vb, color="0.6", lw=0.8, ls=":", label=r"$X'=V_b$")
+    ax[0].set(xlabel="$X$", ylabel="$X'$", title=f"orbit, $m={orbit.m}$ ({orbit.stability})")
+    equal_aspect(ax[0])
+    legend_outside(ax[0])
+    ax[1].plot(tt, pts[:, 0], label="$X$")
+    ax[1].plot(tt, pts[:, 1], label="$X'$")
+    ax[1].set(xlabel=r"$\tau$", title="one period")
+    legend_outside(ax[1])
+    m = orbit.model
+    fig.suptitle(math_values({"zeta": m.zeta, "vb": m.vb, "fex": m.fex, "omega": m.omega}) + f"; {orbit.friction!r}",
+                 fontsize=9)
+    if path is not None:
+        write_figure(fig, path, name, dpi=dpi)
+    return fig
+
+
+def _state_at(orbit: ForcedOrbit, t: float, steps: int) -> np.ndarray:
+    """The orbit's state at time t (< its period), by the flow map over [0, t] (t need not be whole periods)."""
+    model = orbit.model
+    p = kernel_params(model, orbit.friction)
+    out = fm.map_out()
+    n = max(4, int(np.ceil(steps * t / model.forcing_period)))
+    fm.flow_map(float(orbit.state[0]), float(orbit.state[1]), model.zeta, model.vb, p, float(t), n, out)
+    return out.end.copy()

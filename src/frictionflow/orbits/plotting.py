@@ -2,8 +2,8 @@
 
 Stable solutions are drawn solid, unstable (and neutral) dashed; equilibria
 in grey, orbits in colour; bifurcations are marked on the amplitude panel and
-brute-force sweep points overlaid as dots.  Figures are saved as PNG, PDF or
-SVG by the file's extension.
+brute-force sweep points overlaid as dots.  Figures are saved as PNG, PDF,
+SVG or EPS by the file's suffix, at ``dpi`` dots per inch (150 by default).
 """
 
 from __future__ import annotations
@@ -14,13 +14,11 @@ from typing import Any
 
 import numpy as np
 
-from .._figures import draws
+from .._figures import draws, equal_aspect, legend_outside, math_values, sig, symbol
 from ..analysis.power_flow import instantaneous_power
-from ..io import write_figure
+from ..io import DEFAULT_DPI, FIGURE_FORMATS, write_figure  # noqa: F401  (FIGURE_FORMATS: re-exported)
 from .branches import Branch, ContinuationResult
 from .shooting import PeriodicOrbit
-
-FIGURE_FORMATS = (".png", ".pdf", ".svg")
 _MARKERS = {"hopf": "o", "fold": "s", "grazing": "D", "switching": "v", "period_blowup": "x", "branch_end": "x"}
 
 
@@ -67,7 +65,8 @@ def _value(point, quantity: str) -> float:
 
 
 @draws(ContinuationResult)
-def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None, *, sweep: bool = True, name: str = "path"):
+def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None, *, sweep: bool = True, name: str = "path",
+                     dpi: float = DEFAULT_DPI):
     """Amplitude, power flow, power ratios and TR_B against the parameter, one panel each.
 
     Returns the figure; saves it to ``path`` when given.
@@ -84,7 +83,7 @@ def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None,
         How error messages name ``path`` (the command line passes its option, such as ``--plot``).
     """
     plt = _pyplot(path)
-    fig, ax = plt.subplots(2, 2, figsize=(11, 8), sharex=True, constrained_layout=True)
+    fig, ax = plt.subplots(2, 2, figsize=(12, 8), sharex=True, layout="constrained")
     colors = {bi: f"C{bi % 10}" for bi in range(len(result.branches))}
     a = ax[0, 0]
     _draw(a, result, "amplitude", colors, label_branches=True)
@@ -99,20 +98,20 @@ def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None,
     if sweep and result.sweep:
         sw = [s for s in result.sweep if s["kind"] in ("periodic", "equilibrium")]
         a.plot([s["value"] for s in sw], [s["amplitude"] for s in sw], ".", color="k", ms=4, label="simulations")
-    a.set(ylabel="amplitude (X_max - X_min)/2", title="bifurcation diagram (solid stable, dashed unstable)")
-    a.legend(fontsize=7, loc="best")
+    a.set(ylabel=r"amplitude $(X_{max}-X_{min})/2$", title="bifurcation diagram (solid stable, dashed unstable)")
+    legend_outside(a, fontsize=7)
 
     _draw_quantities(ax[0, 1], result, (("P_fin", "C2"), ("P_df", "C1"), ("P_dv", "C0")))
     ax[0, 1].set(title="average power along the orbit branches", ylabel="power")
     ax[0, 1].ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
     _draw_quantities(ax[1, 0], result, (("R_c", "C0"), ("R_f", "C1")))
-    ax[1, 0].set(xlabel=result.param, ylabel="ratio", title="R_c = P_dv/P_fin, R_f = P_df/P_fin")
+    ax[1, 0].set(xlabel=symbol(result.param), ylabel="ratio", title=r"$R_c = P_{dv}/P_{fin}$, $R_f = P_{df}/P_{fin}$")
 
     _draw(ax[1, 1], result, "TR_B", colors)
-    ax[1, 1].set(xlabel=result.param, ylabel="TR_B", title="force transmissibility")
+    ax[1, 1].set(xlabel=symbol(result.param), ylabel=r"$TR_B$", title="force transmissibility")
     fig.suptitle(_title(result))
     if path is not None:
-        write_figure(fig, path, name)  # atomic: no partial figure on failure
+        write_figure(fig, path, name, dpi=dpi)  # atomic: no partial figure on failure
     return fig
 
 
@@ -123,7 +122,8 @@ def _draw_quantities(ax, result: ContinuationResult, quantities: tuple[tuple[str
             if b.kind != "periodic":
                 continue
             for stable, idx in _runs(b):
-                ax.plot([b.points[i].value for i in idx], [_value(b.points[i], q) for i in idx], ls="-" if stable else "--", color=color, label=q)
+                ax.plot([b.points[i].value for i in idx], [_value(b.points[i], q) for i in idx], ls="-" if stable else "--",
+                        color=color, label=f"${q[0]}_{{{q[2:]}}}$")
     _legend_unique(ax)
 
 
@@ -134,26 +134,28 @@ def _legend_unique(ax) -> None:
         if l not in seen or (seen[l].get_linestyle() != "-" and h.get_linestyle() == "-"):
             seen[l] = h  # a solid (stable) line stands for the quantity in the legend
     if seen:
-        ax.legend(seen.values(), seen.keys(), fontsize=7)
+        legend_outside(ax, handles=list(seen.values()), labels=list(seen.keys()), fontsize=7)
 
 
 def _title(result: ContinuationResult) -> str:
-    fixed = ", ".join(f"{k}={v:g}" for k, v in result.params.items() if isinstance(v, float) and k != result.param)
-    return f"continuation in {result.param} ({result.params.get('friction')}: {fixed})"
+    fixed = {k: v for k, v in result.params.items() if isinstance(v, float) and k != result.param}
+    return f"continuation in {symbol(result.param)} ({result.params.get('friction')}: {math_values(fixed)})"
 
 
 @draws(PeriodicOrbit)
-def plot_orbit(orbit: PeriodicOrbit, path: str | Path | None = None, *, name: str = "path"):
-    """Phase portrait, X(tau) and the instantaneous friction and damper power over one period.
+def plot_orbit(orbit: PeriodicOrbit, path: str | Path | None = None, *, name: str = "path", dpi: float = DEFAULT_DPI):
+    """Phase portrait (equal aspect), X(tau) and the instantaneous friction and damper power over one period.
 
     Parameters
     ----------
     orbit:
         What :func:`~frictionflow.orbits.find_orbit` returned.
     path:
-        A file to save the figure to (PNG, PDF or SVG by its extension), or None.
+        A file to save the figure to (PNG, PDF, SVG or EPS by its suffix), or None.
     name:
         How error messages name ``path`` (the command line passes its option, such as ``--plot``).
+    dpi:
+        Dots per inch of a raster file (PNG); default 150.
 
     Returns
     -------
@@ -162,26 +164,28 @@ def plot_orbit(orbit: PeriodicOrbit, path: str | Path | None = None, *, name: st
 
     plt = _pyplot(path)
     traj = orbit.trajectory(dense_dt=orbit.period / 400)
-    fig, ax = plt.subplots(1, 3, figsize=(13, 4), constrained_layout=True)
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.2), layout="constrained")
     stick = traj.mode == 0
     ax[0].plot(traj.x, traj.v, color="C3", lw=1.2)
     ax[0].plot(traj.x[stick], traj.v[stick], ".", color="k", ms=2, label="stick")
     ax[0].plot([orbit.state[0]], [0.0], "o", color="k", mfc="none", label="section point")
     ax[0].axhline(orbit.model.vb, color="k", ls=":", lw=0.8)
-    ax[0].set(xlabel="X", ylabel="X'", title="phase portrait")
-    ax[0].legend(fontsize=7)
-    ax[1].plot(traj.t, traj.x, label="X")
-    ax[1].plot(traj.t, traj.v, label="X'")
-    ax[1].set(xlabel=r"$\tau$", title=f"one period T = {orbit.period:.6g}")
-    ax[1].legend(fontsize=7)
+    ax[0].set(xlabel="$X$", ylabel="$X'$", title="phase portrait")
+    equal_aspect(ax[0])
+    legend_outside(ax[0], fontsize=7)
+    ax[1].plot(traj.t, traj.x, label="$X$")
+    ax[1].plot(traj.t, traj.v, label="$X'$")
+    ax[1].set(xlabel=r"$\tau$", title=f"one period $T={sig(orbit.period, 4)}$")
+    legend_outside(ax[1], fontsize=7)
     p = instantaneous_power(traj)
-    ax[2].plot(traj.t, p["P_f"], label="P_f")
-    ax[2].plot(traj.t, p["P_dv"], label="P_dv")
+    ax[2].plot(traj.t, p["P_f"], label="$P_f$")
+    ax[2].plot(traj.t, p["P_dv"], label="$P_{dv}$")
     ax[2].set(xlabel=r"$\tau$", title="instantaneous power")
     ax[2].ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
-    ax[2].legend(fontsize=7)
+    legend_outside(ax[2], fontsize=7)
     mu = orbit.multiplier
-    fig.suptitle(f"{orbit.stability} orbit, multiplier {mu.real:.4g}{mu.imag:+.2g}j, stick fraction {orbit.stick_fraction:.3f}, TR_B {orbit.measures.TR_B:.4g}")
+    fig.suptitle(f"{orbit.stability} orbit, multiplier {sig(mu.real, 4)}{mu.imag:+.2g}j, "
+                 f"stick fraction {sig(orbit.stick_fraction)}, $TR_B={sig(orbit.measures.TR_B, 4)}$")
     if path is not None:
-        write_figure(fig, path, name)  # atomic: no partial figure on failure
+        write_figure(fig, path, name, dpi=dpi)  # atomic: no partial figure on failure
     return fig

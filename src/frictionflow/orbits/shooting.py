@@ -125,9 +125,12 @@ class PeriodicOrbit(Summarized):
         ]
         return "PeriodicOrbit", rows
 
-    def plot(self, path: Any = None):
-        """Phase portrait, X(tau) and power over one period (:func:`~frictionflow.orbits.plotting.plot_orbit`)."""
-        return draw(self, path)
+    def plot(self, path: Any = None, **options: Any):
+        """Phase portrait, X(tau) and power over one period (:func:`~frictionflow.orbits.plotting.plot_orbit`).
+
+        ``options``: the figure function's keywords (``dpi``: dots per inch, ``name``).
+        """
+        return draw(self, path, **options)
 
     def trajectory(self, dense_dt: float | None = None, solver: Solver | None = None) -> Trajectory:
         """One period integrated by the package's solver (``dense_dt`` for smooth plots)."""

@@ -30,7 +30,7 @@ from ..simulate import simulate
 from ..solvers import RK4, Exact
 from .runs import Point, paper_law
 from .settings import Settings
-from .style import LABELS, figure, panel_title
+from .style import LABELS, figure, legend, panel_title
 
 xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
@@ -144,7 +144,7 @@ LINES = {"karnopp_rk4": {"lw": 1.6}, "karnopp_exact": {"lw": 1.2, "ls": "--"}, "
 
 def plot(sweep: xr.Dataset, hist: xr.Dataset):
     """(a) velocity amplitude against V_b; (b) X' at V_b = V_d / 2; (c) X' and (d) X at V_b = V_d."""
-    fig, axes = figure(2, 2, (11.5, 7.5), left=0.09, bottom=0.08, top=0.91, hspace=0.32, wspace=0.25)
+    fig, axes = figure(2, 2, (14, 7.5))
     vd = float(sweep.attrs["vd"])
     ax = axes[0, 0]
     for model, desc in MODELS:
@@ -155,7 +155,7 @@ def plot(sweep: xr.Dataset, hist: xr.Dataset):
     ax.plot(vb, vb - vd, color="k", lw=0.7, ls="--", label=r"$V_b - V_d$")
     ax.axvline(vd, color="k", lw=0.8, ls="-.")
     ax.set(xscale="log", yscale="log", xlabel=LABELS["vb"], ylabel=r"half the range of $X'$ in the steady state")
-    ax.legend(fontsize=7, loc="upper left")
+    legend(ax, fontsize=7)
     panel_title(ax, "a", r"$\zeta=0$, $F_d=0.02$; dash-dot: $V_b=V_d$ (exact: at rest, off the axis)")
 
     ax = axes[0, 1]
@@ -169,7 +169,7 @@ def plot(sweep: xr.Dataset, hist: xr.Dataset):
     backwards = float((exact.V_half < 0).mean())
     ax.set(xlabel=LABELS["tau"], ylabel=LABELS["V"], ylim=(vh - 1.6 * vd, vh + 2.2 * vd))
     ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
-    ax.legend(fontsize=6.5, loc="upper right")
+    legend(ax, fontsize=6.5)
     panel_title(ax, "b", fr"$V_b=V_d/2$: in the band {100 * inside:.0f} % of the time, "
                          fr"moving against the belt {100 * backwards:.0f} %")
 
@@ -179,7 +179,7 @@ def plot(sweep: xr.Dataset, hist: xr.Dataset):
     ax.axhline(float(hist.attrs["vb"]), color="k", ls="--", lw=0.8, label=r"belt $V_b$ (what stick would mean)")
     ax.set(xlabel=LABELS["tau"], ylabel=LABELS["V"])
     ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
-    ax.legend(fontsize=7, loc="lower right")
+    legend(ax, fontsize=7)
     panel_title(ax, "c", r"$V_b=V_d=0.001$: the mass stops, the belt does not")
 
     ax = axes[1, 1]
@@ -187,7 +187,7 @@ def plot(sweep: xr.Dataset, hist: xr.Dataset):
         ax.plot(hist.tau_long, hist.X_long.sel(model=model), color=COLORS[model], label=desc, **LINES[model])
     ax.axhline(FD, color="k", lw=0.6, ls=":", label=r"$X = F_d$")
     ax.set(xlabel=LABELS["tau"], ylabel=LABELS["X"])
-    ax.legend(fontsize=7, loc="lower right")
+    legend(ax, fontsize=7)
     speeds = "\n".join(f"{v:.1e} (dt = {d:g})" for d, v in zip(hist.dt.values, hist.creep_speed.values))
     ax.text(0.03, 0.55, f"RK4 creep speed X' at τ = {CREEP_AT:g}:\n{speeds}", transform=ax.transAxes, fontsize=7)
     panel_title(ax, "d", r"$V_b=V_d$: exact rests at $F_d-V_b$; RK4 creeps on to $F_d$")

@@ -11,7 +11,8 @@ from typing import Any
 
 
 from .._lazy import lazy_module
-from ..io import atomic_write, write_figure
+from ..io import DEFAULT_DPI, atomic_write, write_figure
+from .style import freeze_layout
 
 xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
@@ -131,14 +132,19 @@ def write_dataset(ds: xr.Dataset, out_dir: Path, stem: str) -> list[Path]:
     return paths
 
 
-def save_figure(fig, out_dir: Path, stem: str) -> list[Path]:
-    """Save ``fig`` as ``stem.png`` and ``stem.pdf`` (each atomically) and close it."""
+def save_figure(fig, out_dir: Path, stem: str, dpi: float = DEFAULT_DPI) -> list[Path]:
+    """Save ``fig`` as ``stem.png`` (``dpi`` dots per inch) and ``stem.pdf`` (each atomically) and close it.
+
+    The layout is computed once, for the PNG, and kept for the PDF
+    (:func:`.style.freeze_layout`).
+    """
     import matplotlib.pyplot as plt
 
     paths = [Path(out_dir) / f"{stem}.png", Path(out_dir) / f"{stem}.pdf"]
     try:
-        write_figure(fig, paths[0], OPTION, close=False, dpi=110)
-        write_figure(fig, paths[1], OPTION, close=False)
+        write_figure(fig, paths[0], OPTION, close=False, dpi=dpi)
+        freeze_layout(fig)
+        write_figure(fig, paths[1], OPTION, close=False, dpi=dpi)
     finally:
         plt.close(fig)
     return paths

@@ -17,7 +17,7 @@ from .._lazy import lazy_module
 from .cases import cases_dataset, select
 from .results import Runner
 from .runs import Point
-from .style import EXACT_STYLE, LABELS, figure, panel_title, solver_note
+from .style import EXACT_STYLE, LABELS, figure, legend, panel_title, solver_note
 
 xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
@@ -50,7 +50,7 @@ def dataset(runner: Runner) -> xr.Dataset:
 
 def plot(ds: xr.Dataset):
     """Two panels as the paper's: (a) V_b at F_d = 0.02, (b) F_d at V_b = 0.01."""
-    fig, grid = figure(1, 2, (10, 3.8), left=0.08, bottom=0.13, top=0.84)
+    fig, grid = figure(1, 2, (12, 3.8))
     axes = grid[0]
     for ax, (letter, lines) in zip(axes, PANELS.items()):
         for vb, fd, color, label in lines:
@@ -60,7 +60,7 @@ def plot(ds: xr.Dataset):
         ax.axhline(0.0, color="0.6", lw=0.6)
         ax.set(xlabel=LABELS["tau"], ylabel=LABELS["P_f"])
         ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
-        ax.legend(fontsize=8, loc="upper right")
+        legend(ax, fontsize=8)
         solver_note(ax)
     panel_title(axes[0], "a", r"$F_d=0.02$")
     panel_title(axes[1], "b", r"$V_b=0.01$")

@@ -9,11 +9,12 @@ motion is a spiral shrinking by exp(-2 pi zeta) per turn (see
 from __future__ import annotations
 
 
+from .._figures import equal_aspect
 from .._lazy import lazy_module
 from .cases import cases_dataset, select
 from .results import Runner
 from .runs import Point
-from .style import EXACT_STYLE, LABELS, figure, panel_title, solver_note
+from .style import EXACT_STYLE, LABELS, figure, legend, panel_title, solver_note
 
 xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
@@ -41,7 +42,7 @@ def dataset(runner: Runner) -> xr.Dataset:
 
 def plot(ds: xr.Dataset):
     """Two phase-portrait panels as the paper's, each orbit labelled with its size."""
-    fig, grid = figure(1, 2, (10, 4.2), left=0.08, bottom=0.12, top=0.85)
+    fig, grid = figure(1, 2, (13, 4.6))
     axes = grid[0]
     for ax, (letter, lines) in zip(axes, PANELS.items()):
         for zeta, vb, color, label in lines:
@@ -53,7 +54,9 @@ def plot(ds: xr.Dataset):
         ax.plot([0.02], [0.0], "k+", ms=9, label=r"sliding equilibrium $X^*=F_d$")
         ax.set(xlabel=LABELS["X"], ylabel=LABELS["V"])
         ax.ticklabel_format(style="sci", scilimits=(-3, 3), useOffset=True)
-        ax.legend(fontsize=7.5, loc="upper left")
+        equal_aspect(ax)
+        ax.locator_params(axis="x", nbins=5)  # the X values differ in the 4th digit: long tick labels
+        legend(ax, fontsize=7.5)
         solver_note(ax)
         t0, t1 = float(ds.tau[0]), float(ds.tau[-1])
         ax.text(0.99, 0.06, fr"$\tau \in [{t0:g}, {t1:g}]$", transform=ax.transAxes, ha="right", fontsize=7.5)

@@ -7,7 +7,7 @@ from .._lazy import lazy_module
 from .cases import cases_dataset, select
 from .results import Runner
 from .runs import Point
-from .style import EXACT_STYLE, LABELS, figure, panel_title, solver_note
+from .style import EXACT_STYLE, LABELS, figure, legend, panel_title, solver_note
 
 xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
@@ -40,7 +40,7 @@ def dataset(runner: Runner) -> xr.Dataset:
 
 def plot(ds: xr.Dataset):
     """2 x 3 panels as the paper's; each legend entry carries the line's peak value."""
-    fig, axes = figure(2, 3, (13, 6.5), left=0.06, bottom=0.08, top=0.9, hspace=0.4)
+    fig, axes = figure(2, 3, (16, 6.5))
     for col, lines in enumerate(COLUMNS):
         for row, (var, peak, sym) in enumerate((("P_dv_inst", "peak_P_dv", "P_dv"), ("P_f", "peak_P_f", "P_f"))):
             ax = axes[row, col]
@@ -51,7 +51,7 @@ def plot(ds: xr.Dataset):
                 ax.plot(c.tau, c[var].sel(solver="exact"), color=color, **EXACT_STYLE)
             ax.set(xlabel=LABELS["tau"], ylabel=LABELS[sym])
             ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
-            ax.legend(fontsize=7, loc="upper right")
+            legend(ax, fontsize=7)
             panel_title(ax, "abcdef"[3 * row + col])
     solver_note(axes[1, 2])
     fig.suptitle("Case II: instantaneous damper power (top) and friction power (bottom) at the end of the run",

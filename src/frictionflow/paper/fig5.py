@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._lazy import lazy_module
-from .style import LABELS, figure, panel_title
+from .style import LABELS, figure, legend, panel_title
 
 xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
@@ -38,7 +38,7 @@ def dataset(sweep: xr.Dataset) -> xr.Dataset:
 
 def plot(ds: xr.Dataset, t_end: float):
     """(a) R_c and (b) R_f against zeta over the last cycle before ``t_end``."""
-    fig, grid = figure(1, 2, (10.5, 4.2), left=0.08, bottom=0.12, top=0.86)
+    fig, grid = figure(1, 2, (13, 4.4))
     axes = grid[0]
     for ax, (name, letter) in zip(axes, (("R_c", "a"), ("R_f", "b"))):
         for fd, color in ((0.02, "tab:blue"), (0.04, "tab:green")):
@@ -55,11 +55,11 @@ def plot(ds: xr.Dataset, t_end: float):
         if name == "R_c":
             ax.set_yscale("log")
         ax.set(xlabel=LABELS["zeta"], ylabel=LABELS[name])
-        ax.legend(fontsize=7.5, loc="best")
-        panel_title(ax, letter, f"last cycle before τ = {t_end:g}")
+        legend(ax, fontsize=7.5)
+        panel_title(ax, letter, rf"last cycle before $\tau={t_end:g}$")
         ax.text(0.01, 0.01, "o-: paper's method (RK4)   x: exact solver, same window\n"
-                "exact steady state: P_fin = 0 for every ζ > 0, so R_c and R_f are undefined",
+                r"exact steady state: $P_{fin}=0$ for every $\zeta>0$, so $R_c$ and $R_f$ are undefined",
                 transform=ax.transAxes, fontsize=6.5, color="0.35", va="bottom")
-    fig.suptitle("Dissipation ratios against damping (vertical lines: the paper's ζ = 0.01 solid, 0.03 dashed)",
+    fig.suptitle(r"Dissipation ratios against damping (vertical lines: the paper's $\zeta=0.01$ solid, $0.03$ dashed)",
                  fontsize=10)
     return fig

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 
 from .._lazy import lazy_module
-from .style import LABELS, figure
+from .style import LABELS, figure, legend
 
 xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
 
@@ -28,13 +28,13 @@ def dataset(sweep: xr.Dataset) -> xr.Dataset:
 
 def plot(ds: xr.Dataset, t_end: float):
     """One panel as the paper's; the exact solver's steady state as open squares."""
-    fig, grid = figure(1, 1, (6.5, 4.5), left=0.11, bottom=0.12, top=0.92)
+    fig, grid = figure(1, 1, (8.5, 4.5))
     ax = grid[0, 0]
     for (vb, fd), color in LINES.items():
         ax.plot(ds.zeta, ds.last_TR_B.sel(solver="rk4", vb=vb, fd=fd), "o-", color=color, ms=3.5,
                 label=fr"$V_b={vb:g},\ F_d={fd:g}$")
         ax.plot(ds.zeta, ds.steady_TR_B.sel(solver="exact", vb=vb, fd=fd), "s", color=color, ms=7, mfc="none")
     ax.set(xlabel=LABELS["zeta"], ylabel=LABELS["TR_B"])
-    ax.legend(fontsize=8)
-    ax.set_title(f"o-: paper's method, last cycle before τ = {t_end:g};  □: exact steady state", fontsize=8)
+    legend(ax, fontsize=8)
+    ax.set_title(rf"o-: paper's method, last cycle before $\tau={t_end:g}$;  □: exact steady state", fontsize=8)
     return fig

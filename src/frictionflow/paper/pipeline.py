@@ -24,7 +24,7 @@ from .. import _validate as check
 from .._progress import progress_bar
 from ..estimate import SECONDS_PER, Estimate, enforce
 from ..analysis import analyze
-from ..io import atomic_write, check_output_dir, check_output_path
+from ..io import DEFAULT_DPI, atomic_write, check_dpi, check_output_dir, check_output_path
 from ..params import BeltOscillator
 from ..simulate import simulate
 from ..solvers import Exact, RK4
@@ -131,8 +131,8 @@ def _history_job(settings: Settings) -> dict[str, xr.Dataset]:
     return {"band_history": band.history_dataset(settings)}
 
 
-def _plot_job(stem: str, plot: Callable[..., Any], args: tuple, out_dir: Path) -> list[Path]:
-    return save_figure(plot(*args), out_dir, stem)
+def _plot_job(stem: str, plot: Callable[..., Any], args: tuple, out_dir: Path, dpi: float) -> list[Path]:
+    return save_figure(plot(*args), out_dir, stem, dpi)
 
 
 def compute_jobs(settings: Settings) -> list[tuple[Callable[..., dict[str, xr.Dataset]], tuple]]:
@@ -251,7 +251,7 @@ def output_names() -> list[str]:
 
 
 def reproduce(out_dir: str | Path, settings: Settings | None = None, *, workers: int | None = None,
-              progress: bool = False) -> Summary:
+              progress: bool = False, dpi: float = DEFAULT_DPI) -> Summary:
     """Run every study of Figs. 2-6 with the paper's method and the exact solver; write everything to ``out_dir``.
 
     Writes ``fig2`` ... ``fig6`` and the three figures of "where the paper
@@ -270,10 +270,13 @@ def reproduce(out_dir: str | Path, settings: Settings | None = None, *, workers:
         Processes to use (default: up to 2, the cores available); at most one per independent computation.
     progress:
         Draw a progress bar on stderr.
+    dpi:
+        Resolution of the PNG figures (and of the report's images) in dots per inch.
     """
     start = time.perf_counter()
     settings = Settings() if settings is None else settings
     out = check_out_dir(out_dir)
+    dpi = check_dpi(dpi)
     workers = min(2, os.cpu_count() or 1) if workers is None else check.positive_int("workers", workers)
     enforce(replace(reproduce_estimate(settings), cores=workers))  # within the limits in force, if any
     out.mkdir(exist_ok=True)
@@ -297,7 +300,7 @@ def reproduce(out_dir: str | Path, settings: Settings | None = None, *, workers:
             described = settings.describe()
             for name, (stem, title) in DATASETS.items():
                 annotate(data[name], title, described)
-            outputs = [pool.submit(_plot_job, stem, fn, args, out) for stem, fn, args in figure_jobs(data, settings)]
+            outputs = [pool.submit(_plot_job, stem, fn, args, out, dpi) for stem, fn, args in figure_jobs(data, settings)]
             outputs += [pool.submit(write_dataset, data[name], out, stem) for name, (stem, _t) in DATASETS.items()]
             for f in outputs:
                 files += f.result()

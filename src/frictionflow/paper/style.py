@@ -1,8 +1,10 @@
-"""Matplotlib set-up shared by the figures: the paper's symbols and a non-interactive backend."""
+"""Matplotlib set-up shared by the figures: the paper's symbols, a non-interactive backend, the layout and legends."""
 
 from __future__ import annotations
 
 from typing import Any
+
+from .._figures import legend_outside
 
 #: axis labels in the paper's symbols
 LABELS = {
@@ -32,19 +34,25 @@ def pyplot():
     return plt
 
 
-def figure(nrows: int, ncols: int, figsize: tuple[float, float], **adjust: float):
-    """A figure with a grid of axes laid out once by ``subplots_adjust``.
+def figure(nrows: int, ncols: int, figsize: tuple[float, float]):
+    """A figure with a grid of axes, laid out by matplotlib's constrained layout (legends beside the axes fit).
 
-    Matplotlib's constrained layout would re-measure every text on each of
-    the two saves (PNG and PDF) and doubles the drawing time; fixed margins
-    suffice for figures whose contents we know.
+    The layout is computed when the figure is first drawn; :func:`freeze_layout`
+    keeps it for further saves instead of measuring every text again.
     """
     plt = pyplot()
-    fig, axes = plt.subplots(nrows, ncols, figsize=figsize, squeeze=False)
-    margins = {"left": 0.07, "right": 0.98, "bottom": 0.1, "top": 0.88, "wspace": 0.22, "hspace": 0.35}
-    margins.update(adjust)
-    fig.subplots_adjust(**margins)
+    fig, axes = plt.subplots(nrows, ncols, figsize=figsize, squeeze=False, layout="constrained")
     return fig, axes
+
+
+def freeze_layout(fig: Any) -> None:
+    """Keep the layout of the last draw: a second save (the PDF after the PNG) does not lay the figure out again."""
+    fig.set_layout_engine("none")
+
+
+def legend(ax: Any, **kw: Any) -> Any:
+    """The panel's legend beside it, off the data (:func:`frictionflow._figures.legend_outside`)."""
+    return legend_outside(ax, **kw)
 
 
 def panel_title(ax: Any, letter: str, text: str = "") -> None:

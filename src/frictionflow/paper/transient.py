@@ -30,7 +30,7 @@ from .._lazy import lazy_module
 from .results import AMPLITUDE_FLOOR, decay_rate
 from .runs import SOLVERS, Point, run
 from .settings import Settings
-from .style import EXACT_STYLE, LABELS, figure, panel_title
+from .style import EXACT_STYLE, LABELS, figure, legend, panel_title
 from .windows import CYCLE_STARTS, Cycles
 
 xr = lazy_module("xarray")  # loaded on first use: importing the CLI stays quick
@@ -162,7 +162,7 @@ YLABELS = {"peak_P_dv": r"max $P_{dv}$ over the cycle", "peak_P_f": r"max $|P_f|
 
 def plot_window(ds: xr.Dataset, t_end: float):
     """The paper's numbers against the window position, in the paper's Fig. 5 legend scheme."""
-    fig, axes = figure(2, 2, (11, 7.5), left=0.08, bottom=0.08, top=0.91, hspace=0.3, wspace=0.22)
+    fig, axes = figure(2, 2, (12.5, 7.5))
     panels = (
         ("peak_P_dv", "a", r"largest instantaneous $P_{dv}$ in the cycle (Fig. 4a-c)", "damper power below 1e-11"),
         ("peak_P_f", "b", r"largest instantaneous $|P_f|$ in the cycle (Fig. 4d-f)", "friction power of order 1e-6"),
@@ -181,7 +181,7 @@ def plot_window(ds: xr.Dataset, t_end: float):
         ax.set_yscale("log")
         ax.set(xlabel=r"window position $\tau_i$ (start of the averaging cycle)", ylabel=YLABELS[var])
         panel_title(ax, letter, title)
-    axes[0, 0].legend(fontsize=7, loc="lower left")
+    legend(axes[0, 0], fontsize=7)
     fig.suptitle(f"Case II: everything the paper averages decays with the window's position "
                  f"(solid/dashed: paper's method; dotted: exact; grey line: our t_end = {t_end:g})", fontsize=9.5)
     return fig
@@ -189,7 +189,7 @@ def plot_window(ds: xr.Dataset, t_end: float):
 
 def plot_decay(ds: xr.Dataset):
     """(a) cycle amplitude against time with fitted rates; (b) the power balance of the base case."""
-    fig, grid = figure(1, 2, (11, 4.3), left=0.08, bottom=0.12, top=0.9)
+    fig, grid = figure(1, 2, (13, 4.3))
     axes = grid[0]
     ax = axes[0]
     for i, (p, color, ls, label) in enumerate(CASES):
@@ -200,7 +200,7 @@ def plot_decay(ds: xr.Dataset):
         ax.plot(c.window_start.sel(solver="exact"), c.amplitude.sel(solver="exact"), color=color, ls=":")
     ax.set_yscale("log")
     ax.set(xlabel=LABELS["tau"], ylabel="cycle amplitude (half the range of X)")
-    ax.legend(fontsize=7)
+    legend(ax, fontsize=7)
     panel_title(ax, "a", r"amplitude decays as $e^{-\zeta\tau}$: no limit cycle")
 
     ax = axes[1]
@@ -213,6 +213,6 @@ def plot_decay(ds: xr.Dataset):
             ls="--", label=r"$-(\bar P_{f,in}-\bar P_{df})$, cycles from a maximum of X (net < 0)")
     ax.set_yscale("log")
     ax.set(xlabel=r"window position $\tau_i$", ylabel="power")
-    ax.legend(fontsize=7)
+    legend(ax, fontsize=7)
     panel_title(ax, "b", r"$\zeta=0.01, V_b=0.01, F_d=0.02$: friction's net input vs the damper")
     return fig

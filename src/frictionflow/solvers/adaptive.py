@@ -44,7 +44,10 @@ def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
     """
     if friction.compiled_slip:
         return _builtin_run, True
-    return _user_kernel(friction.func, friction.kernel_force())
+    force = friction.kernel_force()
+    if force is not None:  # one kernel for every compiled user function: it calls the one whose address p holds
+        return _compiled_user_kernel(force), True
+    return _python_user_kernel(friction.func), False
 
 
 def _builtin_run(run, p, samples, events):
@@ -52,15 +55,17 @@ def _builtin_run(run, p, samples, events):
     return (dopri.run_forced if p[FEX] != 0.0 else dopri.run_unforced)(run, p, samples, events)
 
 
-@lru_cache(maxsize=32)
-def _user_kernel(func: Callable[[float], float], force: Callable | None) -> tuple[Callable, bool]:
-    if force is not None:
-        return _rebuild(force, compiled=True), True
+@lru_cache(maxsize=None)
+def _compiled_user_kernel(force: Callable) -> Callable:
+    return _rebuild(force, compiled=True)
 
+
+@lru_cache(maxsize=32)
+def _python_user_kernel(func: Callable[[float], float]) -> Callable:
     def py_force(p, speed):
         return float(func(speed))
 
-    return _rebuild(py_force, compiled=False), False
+    return _rebuild(py_force, compiled=False)
 
 
 def _rebuild(force: Callable, compiled: bool) -> Callable:

@@ -1,0 +1,73 @@
+"""A SlipLaw's kernels are compiled once per process, not once per user function.
+
+Every compiled user function runs in the same rebuilt kernel, which calls the
+function whose address the law's force record carries.  What must hold: the
+kernel object is shared, each law still gets its own function's numbers (the
+built-in Stribeck law's, to rounding), a law survives pickling, and a function
+that raises in compiled code ends the run instead of returning a made-up force.
+"""
+
+from __future__ import annotations
+
+import math
+import pickle
+
+import numpy as np
+import pytest
+
+from frictionflow import Adaptive, BeltOscillator, SlipLaw, Stribeck, simulate
+from frictionflow.friction.user import ADDRESS, compiled_function
+from frictionflow.solvers.adaptive import kernel_for
+
+M = BeltOscillator(zeta=0.05, vb=0.01)
+
+
+def stribeck(fd: float, fs: float, vs: float):
+    """The built-in Stribeck curve (delta = 2) as a plain function, a new callable on every call."""
+    def force(s):
+        return fd + (fs - fd) * math.exp(-((s / vs) ** 2))
+    return force
+
+
+def gaussian_bump(s):
+    return 0.02 + 0.02 * math.exp(-((s / 0.02) ** 2))
+
+
+def test_every_compiled_user_law_runs_in_one_kernel():
+    a, b = SlipLaw(stribeck(0.02, 0.04, 0.02)), SlipLaw(stribeck(0.03, 0.05, 0.01))
+    (run_a, compiled_a), (run_b, compiled_b) = kernel_for(a), kernel_for(b)
+    assert compiled_a and compiled_b and run_a is run_b
+    # each record points at its own function
+    assert a.kernel_params()[ADDRESS] != b.kernel_params()[ADDRESS]
+
+
+@pytest.mark.parametrize(("fd", "fs", "vs"), [(0.02, 0.04, 0.02), (0.03, 0.05, 0.01), (0.01, 0.03, 0.005)])
+def test_each_user_law_gets_its_own_numbers(fd, fs, vs):
+    user = simulate(M, SlipLaw(stribeck(fd, fs, vs)), Adaptive(), t_end=30)
+    builtin = simulate(M, Stribeck(fd, fs, vs=vs), Adaptive(), t_end=30)
+    assert np.allclose(user.x, builtin.x, rtol=0, atol=1e-15) and np.array_equal(user.mode, builtin.mode)
+
+
+def test_a_pickled_law_compiles_its_function_in_the_new_process_state():
+    law = SlipLaw(gaussian_bump)
+    law.kernel_params()  # compiled and held
+    state = pickle.loads(pickle.dumps(law)).__dict__
+    assert "_compiled_func" not in state  # an address is only valid in the process that compiled it
+    again = pickle.loads(pickle.dumps(law))
+    a = simulate(M, law, Adaptive(), t_end=20)
+    b = simulate(M, again, Adaptive(), t_end=20)
+    assert np.array_equal(a.x, b.x)
+
+
+def test_the_compiled_form_is_kept_while_the_function_lives():
+    assert compiled_function(gaussian_bump) is compiled_function(gaussian_bump)
+
+
+def test_a_function_that_raises_in_compiled_code_ends_the_run():
+    def refuses_fast(s):
+        if s > 0.015:
+            raise ValueError("too fast")
+        return 0.02 + 0.02 * math.exp(-((s / 0.02) ** 2))
+
+    traj = simulate(M, SlipLaw(refuses_fast, fd=0.02), Adaptive(), t_end=30, x0=0.0, v0=0.0)
+    assert np.isnan(traj.x[-1])  # not the 0.0 a C callback returns when its exception is dropped
