@@ -76,11 +76,13 @@ def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None,
     result:
         What :func:`~frictionflow.orbits.continuation` returned.
     path:
-        A file to save the figure to (PNG, PDF or SVG by its extension), or None.
+        A file to save the figure to (PNG, PDF, SVG or EPS by its suffix), or None.
     sweep:
         Draw the brute-force simulations of ``result.sweep`` as dots.
     name:
         How error messages name ``path`` (the command line passes its option, such as ``--plot``).
+    dpi:
+        Dots per inch of a raster file (PNG); default 150.
     """
     plt = _pyplot(path)
     fig, ax = plt.subplots(2, 2, figsize=(12, 8), sharex=True, layout="constrained")
