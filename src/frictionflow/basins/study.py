@@ -232,11 +232,7 @@ def basins(
     grid, design = _design(x0, v0, sample, seed)
     along, grid = _vary(vary, values, grid)
     cfg = parse_sweep({**values, "grid": grid}, source="basins")
-    if out is not None:
-        check_out(out)  # .nc or .zarr in a writable directory: refused before any work
-    if plot is not None:
-        check_output_path(plot, FIGURE_FORMATS, "plot")
-        check_dpi(dpi)
+    _check_outputs(out, plot, dpi)
     design["points"] = int(cfg.size // (len(cfg.axes[along]) if along else 1))
     enforce(_estimate(cfg, run, out))  # within the limits in force (frictionflow.estimate.limited)
     t0 = time.perf_counter()
@@ -251,6 +247,16 @@ def basins(
         result.plot(plot, name="plot", dpi=dpi)
         result.files["plot"] = str(plot)
     return result
+
+
+def _check_outputs(out: str | Path | None, plot: str | Path | None, dpi: float) -> None:
+    """Refuse, before any work, an ``out`` that is not .nc or .zarr in a writable directory and a ``plot`` of an
+    unknown format or resolution."""
+    if out is not None:
+        check_out(out)
+    if plot is not None:
+        check_output_path(plot, FIGURE_FORMATS, "plot")
+        check_dpi(dpi)
 
 
 def _sweep_options(given: SweepOptions | None, params: dict[str, Any]) -> SweepOptions:
