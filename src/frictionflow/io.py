@@ -251,11 +251,11 @@ def write_error(e: BaseException, name: str, target: str | Path, then: str = "")
     an :class:`OutputError` otherwise (a full disk, an I/O error).  ``then``
     says what was kept and how to go on.
     """
-    problem = _write_problem(e, Path(target).parent)
-    if problem is None:
+    found = _write_problem(e, Path(target).parent)
+    if found is None:
         return None
+    problem, number = found
     message = f"{name}: cannot write {str(target)!r}: {problem}" + (f"; {then}" if then else "")
-    number = getattr(e, "errno", None) if isinstance(e, OSError) else (errno.ENOSPC if problem == _NO_SPACE else None)
     if number in PATH_ERRNOS:
         return ValueError(message)
     return OutputError(message, number)
@@ -276,13 +276,15 @@ def _remove(path: Path) -> None:
         pass
 
 
-def _write_problem(e: BaseException, directory: Path) -> str | None:
-    """What a failed write hit, in a few words, when it was the file system; None for anything else."""
+def _write_problem(e: BaseException, directory: Path) -> tuple[str, int | None] | None:
+    """What a failed write hit, in a few words, and its errno, when it was the file system; None for anything else."""
     if isinstance(e, OSError):
-        return _reason(e)
+        if e.errno in (errno.EACCES, errno.EPERM) and _full(directory) and os.access(directory, os.W_OK):
+            return _NO_SPACE, errno.ENOSPC  # the NetCDF library's word for a file it could not create on a full disk
+        return _reason(e), e.errno
     if isinstance(e, RuntimeError) and str(e).startswith("NetCDF:"):
         # the NetCDF library reports a full disk as a generic "HDF error"
-        return _NO_SPACE if _full(directory) else str(e)
+        return (_NO_SPACE, errno.ENOSPC) if _full(directory) else (str(e), None)
     return None
 
 

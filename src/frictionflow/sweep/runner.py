@@ -9,9 +9,11 @@ one line and leaves the store as resumable as an interrupted one.
 
 from __future__ import annotations
 
+import logging
 import math
 import warnings
 from concurrent.futures import CancelledError
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -82,7 +84,7 @@ def run_sweep(
     with SweepLock(out, stale_after=lock_stale_after):
         own_client = _connect(scheduler, scheduler_timeout) if client is None and scheduler is not None else None
         try:
-            with writing(target):
+            with writing(target), _quiet(own_client is not None):
                 store = SweepStore(out, cfg, chunk_shape(cfg.shape, size), restart=restart)
                 if store.resumed:
                     _report(store.verify(repair=True), store)
@@ -188,6 +190,30 @@ def _probe(address: str, timeout: float) -> str | None:
     if not (isinstance(reply, dict) and reply.get("type") == "Scheduler"):
         return f"something answers there, but not as a Dask scheduler (it says it is {str(reply)[:60]!r})"
     return None
+
+
+class _Silence(logging.Filter):
+    """Drops the records of Dask's client below CRITICAL."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return record.levelno >= logging.CRITICAL
+
+
+@contextmanager
+def _quiet(on: bool):
+    """While the run's own client works, its log off the terminal: what Dask recovers from by itself (a
+    result gathered again after its worker died) needs no word, and what it cannot recover from ends the run
+    in one line of ours."""
+    loggers = [v for k, v in logging.root.manager.loggerDict.items() if k.split(".")[0] == "distributed"] if on else []
+    handlers = {h for lg in loggers for h in getattr(lg, "handlers", ())}  # (distributed.client has its own)
+    silence = _Silence()
+    for h in handlers:
+        h.addFilter(silence)
+    try:
+        yield
+    finally:
+        for h in handlers:
+            h.removeFilter(silence)
 
 
 def _no_answer(e: BaseException, timeout: float) -> str:

@@ -118,6 +118,8 @@ def writing(target: Path) -> Iterator[None]:
     try:
         yield
     except OSError as e:
+        if e.errno is None:  # not the file system's (a Dask connection closed, ...): raised as it is
+            raise
         raise write_error(e, "out", target, KEPT) from None
 
 
