@@ -192,6 +192,19 @@ def test_a_sweep_that_fills_its_disk_stops_in_one_line_and_resumes_to_the_same_r
     assert verify_sweep(out).intact
 
 
+def test_a_lock_whose_record_cannot_be_written_is_one_line_and_not_left_behind(tmpfs, tmp_path, capsys):
+    disk = tmpfs("1m")
+    filler = disk.fill()
+    out = disk.where / "r.zarr"
+    assert main(["sweep", str(_config(tmp_path)), "--out", str(out), *SWEEP]) == 1
+    one_line(capsys.readouterr().err, f"out: cannot write {str(disk.where / 'r.zarr.lock')!r}: no space left on device",
+             "nothing was computed or written")
+    assert listing(disk.where) == ["filler"]  # a lock left behind would be taken over with a warning next time
+    filler.unlink()
+    assert main(["sweep", str(_config(tmp_path)), "--out", str(out), *SWEEP]) == 0
+    assert listing(disk.where) == ["r.zarr"]
+
+
 def test_a_store_the_disk_cannot_hold_even_empty_is_not_left_half_created(tmpfs, tmp_path, reference, capsys):
     disk = tmpfs("60k")  # not even the store's metadata fits
     (tmp_path / "s.toml").write_text(CFG_TOML)
