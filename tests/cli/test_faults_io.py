@@ -165,6 +165,16 @@ def test_a_write_error_is_bad_input_only_when_the_path_is_at_fault(number, kind)
     assert write_error(KeyError("bug"), "--out", "/x/t.nc") is None  # not the file system's: raised as it is
 
 
+@pytest.mark.parametrize("number, code", [(errno.ENOSPC, 1), (errno.EIO, 1), (errno.EACCES, 2), (errno.EROFS, 2)])
+def test_a_system_error_no_writer_put_into_words_is_still_one_line_with_its_code(monkeypatch, capsys, number, code):
+    def fails(*args, **kwargs):
+        raise OSError(number, os.strerror(number), "/somewhere/t.nc")
+
+    monkeypatch.setattr("frictionflow.cli.simulate.run_simulation", fails)
+    assert main(["simulate", "--t-end", "1"]) == code
+    assert capsys.readouterr().err == f"error: {os.strerror(number)}: '/somewhere/t.nc'\n"
+
+
 # -- a full disk -------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("suffix", [".zarr", ".nc"])

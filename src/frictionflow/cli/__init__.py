@@ -1,7 +1,7 @@
 """The ``frictionflow`` command: a thin layer over the Python API.
 
-Every failure prints one line ``error: ...`` on stderr (never a traceback)
-and exits with one of the codes of :data:`EXIT_CODES` (the README's table):
+A failure prints one line ``error: ...`` on stderr (not a traceback) and
+exits with one of the codes of :data:`EXIT_CODES` (the README's table):
 0 done; 1 a failure that is not the command line's fault (a full disk, an
 I/O error, a scheduler that does not answer, a lost Dask worker, an output in
 use by another run, a damaged output found by ``--verify``, an interruption,

@@ -13,7 +13,7 @@ import logging
 import math
 import warnings
 from concurrent.futures import CancelledError
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import Any
 
@@ -193,7 +193,7 @@ def _probe(address: str, timeout: float) -> str | None:
 
 
 class _Silence(logging.Filter):
-    """Drops the records of Dask's client below CRITICAL."""
+    """Drops every log record below CRITICAL."""
 
     def filter(self, record: logging.LogRecord) -> bool:
         return record.levelno >= logging.CRITICAL
@@ -201,9 +201,12 @@ class _Silence(logging.Filter):
 
 @contextmanager
 def _quiet(on: bool):
-    """While the run's own client works, its log off the terminal: what Dask recovers from by itself (a
-    result gathered again after its worker died) needs no word, and what it cannot recover from ends the run
-    in one line of ours."""
+    """Dask's log off the terminal while the run's own client works (``on``).
+
+    What Dask recovers from by itself (a result gathered again after its
+    worker died) needs no word, and what it cannot recover from ends the run
+    in one line of ours.
+    """
     loggers = [v for k, v in logging.root.manager.loggerDict.items() if k.split(".")[0] == "distributed"] if on else []
     handlers = {h for lg in loggers for h in getattr(lg, "handlers", ())}  # (distributed.client has its own)
     silence = _Silence()
@@ -311,7 +314,8 @@ def _run_dask(client: Any, cfg: SweepConfig, store: SweepStore, todo: list, chun
                 ac.add(f)
     finally:
         if futures:  # stopped early: nothing left running for a result no one will collect
-            client.cancel(list(futures))
+            with suppress(Exception):  # (a client that lost its scheduler cannot cancel: the failure is said already)
+                client.cancel(list(futures))
 
 
 def _result(fut, chunk: tuple[int, ...]):
