@@ -89,7 +89,7 @@ html_theme = "furo"
 html_title = f"frictionflow {release}"
 # examples/ holds the gallery's sources; sphinx-gallery turns them into auto_examples/
 # generated/cli.md is written by _ext/cli_reference.py and included by cli.rst
-exclude_patterns = ["_build", "examples", "generated", "Thumbs.db", ".DS_Store"]
+exclude_patterns = ["_build", "examples", "generated", "exit_codes.md", "Thumbs.db", ".DS_Store"]
 
 
 # Docstrings are written for the terminal: |V_r| is an absolute value, not a

@@ -18,7 +18,7 @@ import pytest
 import xarray as xr
 
 from frictionflow import BeltOscillator, Karnopp, RK4, simulate
-from frictionflow.io import atomic_write, check_output_path, stale_temporaries, temporary_path, write_figure, write_trajectory
+from frictionflow.io import OutputError, atomic_write, check_output_path, stale_temporaries, temporary_path, write_figure, write_trajectory
 
 ENOSPC = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
@@ -106,7 +106,7 @@ def test_a_completed_write_replaces_the_target_and_leaves_no_temporary(tmp_path)
 def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path):
     target = tmp_path / "a.csv"
     target.write_text("old")
-    with pytest.raises(ValueError, match=r"^--out: cannot write '.*a\.csv': no space left on device$"):
+    with pytest.raises(OutputError, match=r"^--out: cannot write '.*a\.csv': no space left on device$"):
         with atomic_write(target, "--out") as tmp:
             tmp.write_text("partial")
             raise ENOSPC
@@ -167,7 +167,7 @@ def test_check_output_path_refuses_a_read_only_directory(readonly_dir):
 
 @pytest.mark.parametrize("name", ["t.csv", "t.nc"])
 def test_trajectory_on_a_full_disk_leaves_no_file(traj, full_dir, name):
-    with pytest.raises(ValueError, match=rf"^out: cannot write '.*{name}': no space left on device$"):
+    with pytest.raises(OutputError, match=rf"^out: cannot write '.*{name}': no space left on device$"):
         write_trajectory(traj, full_dir / name)
     assert entries(full_dir) == []
 
@@ -175,14 +175,14 @@ def test_trajectory_on_a_full_disk_leaves_no_file(traj, full_dir, name):
 @pytest.mark.parametrize("name, writer", [("t.csv", "numpy.savetxt"), ("t.nc", "xarray.Dataset.to_netcdf")])
 def test_trajectory_writer_failing_half_way_leaves_no_file(traj, tmp_path, monkeypatch, name, writer):
     monkeypatch.setattr(writer, half_then_fail(ENOSPC))
-    with pytest.raises(ValueError, match=rf"^--out: cannot write .*{name}': no space left on device$"):
+    with pytest.raises(OutputError, match=rf"^--out: cannot write .*{name}': no space left on device$"):
         write_trajectory(traj, tmp_path / name, name="--out")
     assert entries(tmp_path) == []
 
 
 def test_a_netcdf_library_failure_is_reported_and_leaves_no_file(traj, tmp_path, monkeypatch):
     monkeypatch.setattr("xarray.Dataset.to_netcdf", half_then_fail(RuntimeError("NetCDF: HDF error")))
-    with pytest.raises(ValueError, match=r"^out: cannot write .*NetCDF: HDF error$"):
+    with pytest.raises(OutputError, match=r"^out: cannot write .*NetCDF: HDF error$"):
         write_trajectory(traj, tmp_path / "t.nc")
     assert entries(tmp_path) == []
 
@@ -201,7 +201,7 @@ def test_a_figure_on_a_full_disk_leaves_no_file_and_is_closed(full_dir, suffix):
 
     fig, ax = plt.subplots()
     ax.imshow(np.random.default_rng(0).random((600, 600)))  # noise: far more than 64 KiB in any format
-    with pytest.raises(ValueError, match=r"^--plot: cannot write .*: no space left on device$"):
+    with pytest.raises(OutputError, match=r"^--plot: cannot write .*: no space left on device$"):
         write_figure(fig, full_dir / f"f{suffix}", "--plot")
     assert entries(full_dir) == [] and not plt.fignum_exists(fig.number)
 
@@ -211,7 +211,7 @@ def test_every_plot_function_saves_through_the_atomic_writer(traj, tmp_path, mon
     from frictionflow.plotting import plot_run
 
     monkeypatch.setattr("matplotlib.figure.Figure.savefig", half_then_fail(ENOSPC))
-    with pytest.raises(ValueError, match=r"^--plot: cannot write .*run\.png'"):
+    with pytest.raises(OutputError, match=r"^--plot: cannot write .*run\.png'"):
         plot_run(analyze(traj), tmp_path / "run.png", name="--plot")
     assert entries(tmp_path) == []
 
@@ -226,12 +226,12 @@ def test_paper_data_and_figures_failing_half_way_leave_nothing(tmp_path, monkeyp
 
     ds = xr.Dataset({"X": ("tau", np.arange(3.0)), "TR_B": ((), 1.0)}, coords={"tau": np.arange(3.0)})
     monkeypatch.setattr("pandas.DataFrame.to_csv", half_then_fail(ENOSPC))
-    with pytest.raises(ValueError, match=r"^out: cannot write .*fig2\.csv'"):
+    with pytest.raises(OutputError, match=r"^out: cannot write .*fig2\.csv'"):
         write_dataset(ds, tmp_path, "fig2")
     assert entries(tmp_path) == ["fig2.nc"]  # complete, written before the CSV failed
     monkeypatch.setattr("matplotlib.figure.Figure.savefig", half_then_fail(ENOSPC))
     fig, _ = plt.subplots()
-    with pytest.raises(ValueError, match=r"^out: cannot write .*fig3\.png'"):
+    with pytest.raises(OutputError, match=r"^out: cannot write .*fig3\.png'"):
         save_figure(fig, tmp_path, "fig3")
     assert entries(tmp_path) == ["fig2.nc"] and not plt.fignum_exists(fig.number)
 
@@ -268,7 +268,7 @@ def test_a_failing_sweep_conversion_leaves_no_netcdf_and_the_rerun_cleans_up(tmp
 
     with monkeypatch.context() as m:
         m.setattr(xr.Dataset, "to_netcdf", incomplete_then_full)
-        with pytest.raises(ValueError, match=r"^out: cannot write .*r\.nc': no space left on device$"):
+        with pytest.raises(OutputError, match=r"^out: cannot write .*r\.nc': no space left on device; every chunk is kept in .*r\.nc\.partial\.zarr.: run the same command again to convert it$"):
             run_sweep(SWEEP, out, chunk_size=2)
     assert entries(tmp_path) == ["r.nc.partial.zarr"]  # the journal only: no r.nc, no temporary
     # what a conversion killed outright leaves: its temporary (and, before, r.nc.tmp)

@@ -9,6 +9,12 @@ written under a temporary name beside its target and renamed into place only
 when complete, so a failure or a kill never leaves a partial file under the
 target's name.  :func:`check_output_path` refuses, before any work, the
 paths that could not be written at all.
+
+A write that fails is one of two things (:func:`write_error`): a path the
+user chose that cannot be written (permission denied, a read-only file
+system, a directory in the way: :class:`ValueError`, bad input, exit code 2)
+or a file system failing under a good path (a full disk, an I/O error:
+:class:`OutputError`, exit code 1, the same command succeeds once it is fixed).
 """
 
 from __future__ import annotations
@@ -28,6 +34,21 @@ import numpy as np
 from .trajectory import WORK_NAMES, Trajectory
 
 TRAJECTORY_FORMATS = (".csv", ".nc")
+#: errors of a write that mean the path itself cannot be written (bad input); any other error of the file
+#: system (ENOSPC, EDQUOT, EIO, EFBIG, ...) is a failure under a good path
+PATH_ERRNOS = frozenset({errno.EACCES, errno.EPERM, errno.EROFS, errno.EISDIR, errno.ENOTDIR, errno.ENAMETOOLONG,
+                         errno.ENOENT, errno.EEXIST, errno.ENOTEMPTY, errno.ELOOP, errno.EXDEV})
+
+
+class OutputError(RuntimeError):
+    """An output could not be written although its path is fine: a full disk, an I/O error (exit code 1).
+
+    ``errno`` is the system's error number when one is known.
+    """
+
+    def __init__(self, message: str, number: int | None = None) -> None:
+        super().__init__(message)
+        self.errno = number
 #: bytes of the target's stem kept in a temporary's name (so that it fits wherever the target fits)
 _TEMP_STEM_BYTES = 64
 
@@ -194,14 +215,17 @@ def stale_temporaries(path: str | Path) -> list[Path]:
 
 
 @contextmanager
-def atomic_write(path: str | Path, name: str = "path") -> Iterator[Path]:
+def atomic_write(path: str | Path, name: str = "path", then: str = "") -> Iterator[Path]:
     """Yield a temporary path beside ``path``; rename it to ``path`` only when the block completes.
 
     The block writes the whole file to the temporary path.  On any failure
     (or interruption) the temporary is removed and ``path`` is left as it
-    was; a file-system failure (permission denied, disk full, a directory in
-    the way, a name too long, ...) becomes a one-line ``ValueError`` naming
-    ``name`` (the option that gave the path) and the path.
+    was; a file-system failure becomes one line naming ``name`` (the option
+    that gave the path) and the path (:func:`write_error`): a ``ValueError``
+    when the path cannot be written (permission denied, a read-only file
+    system, a directory in the way, a name too long), an :class:`OutputError`
+    when the file system failed under it (a full disk, an I/O error);
+    ``then`` is added to it (what was kept, how to go on).
     """
     target = Path(path)
     if target.is_symlink():
@@ -212,11 +236,29 @@ def atomic_write(path: str | Path, name: str = "path") -> Iterator[Path]:
         _sync(tmp)  # the data on disk before the name: a crash cannot leave a named, empty file
         os.replace(tmp, target)
     except BaseException as e:
-        problem = _write_problem(e, target.parent)  # before removing: the disk is still full
+        error = write_error(e, name, target, then)  # before removing: the disk is still full
         _remove(tmp)
-        if problem is None:
+        if error is None:
             raise
-        raise ValueError(f"{name}: cannot write {str(target)!r}: {problem}") from None
+        raise error from None
+
+
+def write_error(e: BaseException, name: str, target: str | Path, then: str = "") -> Exception | None:
+    """The one-line error for a failed write of ``target``, or None when ``e`` is not the file system's.
+
+    ``name: cannot write 'TARGET': WHY[; THEN]``, as a :class:`ValueError`
+    when the path cannot be written (:data:`PATH_ERRNOS`: bad input) and as
+    an :class:`OutputError` otherwise (a full disk, an I/O error).  ``then``
+    says what was kept and how to go on.
+    """
+    found = _write_problem(e, Path(target).parent)
+    if found is None:
+        return None
+    problem, number = found
+    message = f"{name}: cannot write {str(target)!r}: {problem}" + (f"; {then}" if then else "")
+    if number in PATH_ERRNOS:
+        return ValueError(message)
+    return OutputError(message, number)
 
 
 def _sync(path: Path) -> None:
@@ -234,14 +276,19 @@ def _remove(path: Path) -> None:
         pass
 
 
-def _write_problem(e: BaseException, directory: Path) -> str | None:
-    """What a failed write hit, in a few words, when it was the file system; None for anything else."""
+def _write_problem(e: BaseException, directory: Path) -> tuple[str, int | None] | None:
+    """What a failed write hit, in a few words, and its errno, when it was the file system; None for anything else."""
     if isinstance(e, OSError):
-        return _reason(e)
+        if e.errno in (errno.EACCES, errno.EPERM) and _full(directory) and os.access(directory, os.W_OK):
+            return _NO_SPACE, errno.ENOSPC  # the NetCDF library's word for a file it could not create on a full disk
+        return _reason(e), e.errno
     if isinstance(e, RuntimeError) and str(e).startswith("NetCDF:"):
         # the NetCDF library reports a full disk as a generic "HDF error"
-        return os.strerror(errno.ENOSPC).lower() if _full(directory) else str(e)
+        return (_NO_SPACE, errno.ENOSPC) if _full(directory) else (str(e), None)
     return None
+
+
+_NO_SPACE = os.strerror(errno.ENOSPC).lower()
 
 
 def _reason(e: OSError) -> str:

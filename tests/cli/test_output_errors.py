@@ -1,5 +1,7 @@
 """Paths the CLI cannot write or read: one line naming the option and the path, exit 2, nothing written.
 
+A good path on a full disk is not bad input: the same one line, exit 1 (the README's exit codes).
+
 Every path is checked before any work: the commands' computations are
 replaced by a tripwire, so a test fails if a bad path is found only after
 computing.
@@ -24,9 +26,9 @@ def run(capsys, *argv: str) -> tuple[int, str]:
     return code, capsys.readouterr().err
 
 
-def assert_refused(code: int, err: str, option: str, path: Path | str, *words: str) -> None:
-    """Exit 2 and one line ``error: OPTION: ...`` naming the path (and ``words``), no traceback."""
-    assert code == 2, err
+def assert_refused(code: int, err: str, option: str, path: Path | str, *words: str, expect: int = 2) -> None:
+    """Exit ``expect`` (2: bad input) and one line ``error: OPTION: ...`` naming the path (and ``words``), no traceback."""
+    assert code == expect, err
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"error: {option}"), err
     assert repr(str(path))[1:-1] in lines[0] and all(w in lines[0] for w in words), err
@@ -100,7 +102,7 @@ def test_simulate_with_a_good_out_and_a_bad_plot_writes_nothing(capsys, cwd, no_
 @pytest.mark.parametrize("name", ["t.csv", "t.nc"])
 def test_simulate_on_a_full_disk_leaves_no_file(capsys, full_dir, name):
     path = full_dir / name
-    assert_refused(*run(capsys, "simulate", *FAST, "--out", str(path)), "--out", path, "no space left on device")
+    assert_refused(*run(capsys, "simulate", *FAST, "--out", str(path)), "--out", path, "no space left on device", expect=1)
     assert listing(full_dir) == []
 
 
@@ -110,13 +112,13 @@ def test_simulate_when_the_writer_fails_half_way_leaves_no_file(capsys, tmp_path
 
     monkeypatch.setattr(writer, half_then_fail(ENOSPC))
     path = tmp_path / name
-    assert_refused(*run(capsys, "simulate", *FAST, "--out", str(path)), "--out", path, "no space left on device")
+    assert_refused(*run(capsys, "simulate", *FAST, "--out", str(path)), "--out", path, "no space left on device", expect=1)
     assert listing(tmp_path) == []
 
 
 def test_simulate_plot_on_a_full_disk_leaves_no_file(capsys, full_dir):
     path = full_dir / "f.svg"  # the time history alone is far over 64 KiB as SVG
-    assert_refused(*run(capsys, "simulate", *FAST, "--plot", str(path)), "--plot", path, "no space left on device")
+    assert_refused(*run(capsys, "simulate", *FAST, "--plot", str(path)), "--plot", path, "no space left on device", expect=1)
     assert listing(full_dir) == []
 
 
@@ -161,7 +163,7 @@ def test_reproduce_into_a_read_only_directory(capsys, no_work, readonly_dir):
 def test_reproduce_on_a_full_disk_fails_in_one_line_and_leaves_no_partial_file(capsys, full_dir):
     out = full_dir / "out"
     code, err = run(capsys, "reproduce", "--out", str(out), "--quick", "--workers", "1")
-    assert_refused(code, err, "out", out, "no space left on device")
+    assert_refused(code, err, "out", out, "no space left on device", expect=1)
     assert not [p.name for p in out.iterdir() if p.name.startswith(".")]  # no temporary left either
 
 
@@ -180,6 +182,6 @@ def test_reproduce_failing_to_write_claims_or_report_leaves_no_such_file(capsys,
     monkeypatch.setattr(Path, "write_text", fails_for_name)
     out = tmp_path / "out"
     code, err = run(capsys, "reproduce", "--out", str(out), "--quick", "--workers", "1")
-    assert_refused(code, err, "out", out / name, "no space left on device")
+    assert_refused(code, err, "out", out / name, "no space left on device", expect=1)
     written = listing(out)
     assert name not in written and not [n for n in written if n.startswith(".")]

@@ -25,7 +25,7 @@ import numpy as np
 from .. import _validate as check
 from .._display import Summarized, num
 from .._figures import draw
-from ..io import DEFAULT_DPI, FIGURE_FORMATS, atomic_write, check_dpi, check_output_path, temporary_path
+from ..io import DEFAULT_DPI, FIGURE_FORMATS, atomic_write, check_dpi, check_output_path, temporary_path, write_error
 from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS, SweepConfig, parse_sweep
 from ..estimate import Estimate, enforce
 from ..sweep.compute import VARIABLES
@@ -423,7 +423,7 @@ def write_dataset(ds, path: str | Path, name: str = "out") -> Path:
     except OSError as e:
         if old is not None and not p.exists():
             os.replace(old, p)  # the previous output back in place: complete or not at all
-        raise ValueError(f"{name}: cannot write {str(p)!r}: {e.strerror or e}") from None
+        raise write_error(e, name, p) from None  # bad input (a read-only directory) or a failure (a full disk)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     if old is not None and old.is_dir():

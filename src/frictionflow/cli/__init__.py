@@ -1,8 +1,14 @@
 """The ``frictionflow`` command: a thin layer over the Python API.
 
-Errors in what the user typed (bad values, unknown options, malformed
-configs) print one line ``error: ...`` on stderr and exit with code 2, before
-anything is computed or written.
+A failure prints one line ``error: ...`` on stderr (not a traceback) and
+exits with one of the codes of :data:`EXIT_CODES` (the README's table):
+0 done; 1 a failure that is not the command line's fault (a full disk, an
+I/O error, a scheduler that does not answer, a lost Dask worker, an output in
+use by another run, a damaged output found by ``--verify``, an interruption,
+a run that could not finish), after which the same command succeeds once the
+cause is gone -- a sweep's store resumes; 2 bad input (values, options,
+configs, and paths that cannot be written: a missing or read-only directory,
+a directory in the way), refused before anything is computed or written.
 """
 
 from __future__ import annotations
@@ -13,8 +19,12 @@ import warnings
 
 import typer
 
+from ..io import PATH_ERRNOS
 from ._app import PanelledCommand, app
 from .vocabulary import rewrite
+
+#: the exit codes of every command (documented in the README's "Exit codes")
+EXIT_CODES = {0: "done", 1: "failed, not for the command line's fault: run it again once the cause is gone", 2: "bad input"}
 
 #: the module that registers each command, imported when the command runs (all of them for the command
 #: list): a command pays only for what it uses (``simulate`` does not load scipy.optimize or xarray).
@@ -107,9 +117,13 @@ def _main(argv: list[str] | None, deprecations: list[str]) -> int:
     except ValueError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
-    except RuntimeError as e:  # a run that could not finish (the adaptive step cap, ...)
+    except RuntimeError as e:  # a run that could not finish (the adaptive step cap, a full disk, ...)
         print(f"error: {e}", file=sys.stderr)
         return 1
+    except OSError as e:  # the system's error where no writer put it into words: still one line
+        where = f": {e.filename!r}" if e.filename else ""
+        print(f"error: {e.strerror or e}{where}", file=sys.stderr)
+        return 2 if e.errno in PATH_ERRNOS else 1
     except Exception as e:
         # Usage errors of click (vendored by recent typer): unknown options, bad types.
         if hasattr(e, "format_message") and hasattr(e, "exit_code"):

@@ -10,8 +10,9 @@ from typing import Any, Optional
 import numpy as np
 
 from .._ranges import Range, parse_named_range
+from ..basins.study import write_dataset
 from ..friction.registry import switch_law_names
-from ..io import atomic_write, check_output_path
+from ..io import check_output_path
 from ..orbits.chart import CURVES, stability_map
 from ..orbits.chart_plot import plot_chart
 from ..orbits.forced_chart import FORCED_CURVES, forced_map
@@ -189,10 +190,5 @@ def _forced_map(params: dict[str, Any], opts: MapOptions, plane: Plane, nx: int)
 
 
 def _write_dataset(ds, path: Path) -> None:
-    """NetCDF atomically (no partial file on failure); Zarr (a directory) directly."""
-    if path.suffix == ".zarr":
-        ds.to_zarr(path, mode="w")
-        return
-
-    with atomic_write(path, "--out") as tmp:
-        ds.to_netcdf(tmp)
+    """NetCDF or Zarr by the extension, atomically: complete or not at all (a failure in one line)."""
+    write_dataset(ds, path, "--out")

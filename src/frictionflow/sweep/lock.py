@@ -24,6 +24,8 @@ import warnings
 from datetime import datetime, timezone
 from pathlib import Path
 
+from ..io import write_error
+
 try:
     import fcntl
 except ImportError:  # pragma: no cover - not POSIX: PID checks only
@@ -111,6 +113,9 @@ class SweepLock:
                     os.close(fd)
                     continue
                 self._take(fd, flocked)
+            except OSError as e:  # our record could not be written (a full disk): the file is ours to remove
+                self._abandon(fd, flocked)
+                raise write_error(e, "out", self.path, "nothing was computed or written") from None
             except BaseException:
                 os.close(fd)
                 raise
@@ -123,7 +128,17 @@ class SweepLock:
         try:
             return os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
         except OSError as e:
-            raise ValueError(f"out: cannot create the lock file {str(self.path)!r}: {e.strerror}") from None
+            raise write_error(e, "out", self.path, "nothing was computed or written") from None
+
+    def _abandon(self, fd: int, flocked: bool) -> None:
+        """Give up a lock file we hold but could not write our record into."""
+        try:
+            if flocked and _inode(self.path) == os.fstat(fd).st_ino:
+                os.unlink(self.path)
+        except OSError:
+            pass
+        finally:
+            os.close(fd)
 
     def _flock(self, fd: int) -> bool:
         """Exclusive flock: True if taken, False where the file system has none; raises if held."""

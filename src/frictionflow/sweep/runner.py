@@ -2,14 +2,19 @@
 
 A run holds the output's lock (:mod:`.lock`) from before it touches the
 output until it returns, fails or is interrupted; a resumed output is
-checked chunk by chunk first (:meth:`SweepStore.verify`).
+checked chunk by chunk first (:meth:`SweepStore.verify`).  A run that fails
+-- a full disk, a Dask worker lost for good, a scheduler gone -- stops with
+one line and leaves the store as resumable as an interrupted one.
 """
 
 from __future__ import annotations
 
+import logging
 import math
 import os
 import warnings
+from concurrent.futures import CancelledError
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import Any
 
@@ -19,7 +24,7 @@ from .compute import VARIABLES, compute_chunk
 from ..parameters import Param
 from .config import MAX_AXIS, SweepConfig, chunk_shape, load_sweep, parse_sweep
 from .lock import STALE_AFTER, SweepLock
-from .store import RepairWarning, SweepStore, Verification, check_out, journal_path, stored_config, verify_sweep
+from .store import KEPT, RepairWarning, SweepStore, Verification, _short, check_out, journal_path, stored_config, verify_sweep, writing
 
 __all__ = ["CHUNK_SIZE", "SCHEDULER_TIMEOUT", "default_chunk_size", "repair_sweep", "run_sweep", "sweep_estimate",
            "verify_sweep"]
@@ -99,19 +104,21 @@ def run_sweep(
     size = default_chunk_size(cfg) if chunk_size is None else CHUNK_SIZE.check(chunk_size)
     if not (isinstance(scheduler_timeout, (int, float)) and math.isfinite(scheduler_timeout) and scheduler_timeout > 0):
         raise ValueError(f"scheduler_timeout must be a number of seconds > 0, got {scheduler_timeout!r}")
-    check_out(out)
+    target = check_out(out)
     enforce(sweep_estimate(cfg, out))  # within the limits in force (frictionflow.estimate.limited)
     with SweepLock(out, stale_after=lock_stale_after):
         own_client = _connect(scheduler, scheduler_timeout) if client is None and scheduler is not None else None
         try:
-            store = SweepStore(out, cfg, chunk_shape(cfg.shape, size), restart=restart)
-            if store.resumed:
-                _report(store.verify(repair=True), store)
-            _compute(store, cfg, own_client or client, progress)
+            with writing(target), _quiet(own_client is not None):
+                store = SweepStore(out, cfg, chunk_shape(cfg.shape, size), restart=restart)
+                if store.resumed:
+                    _report(store.verify(repair=True), store)
+                _compute(store, cfg, own_client or client, progress)
         finally:
             if own_client is not None:
                 own_client.close()
-        return store.finish()  # still locked: a .nc is converted by this run only
+        with writing(target):
+            return store.finish()  # still locked: a .nc is converted by this run only
 
 
 def repair_sweep(
@@ -175,15 +182,83 @@ def _connect(address: str, timeout: float):
     except ImportError:
         raise RuntimeError("--scheduler needs the 'distributed' package (pip install distributed)") from None
     _check_address(address)
+    why = _probe(address, timeout)  # before a Client exists: one that fails half-way lingers (see _check_address)
+    if why is None:
+        try:
+            # not the default client: a failed one must not linger as it (xarray's writes would then look for it)
+            return Client(address, timeout=timeout, set_as_default=False)
+        except ValueError as e:
+            raise ValueError(f"scheduler: bad address {address!r} ({e})") from None
+        except Exception as e:  # OSError / TimeoutError from the comm layer: the scheduler went away since the probe
+            why = _no_answer(e, timeout)
+    raise RuntimeError(f"cannot connect to the Dask scheduler at {address}: {why}; is a scheduler running there? (--scheduler-timeout sets the wait)")
+
+
+def _probe(address: str, timeout: float) -> str | None:
+    """Why no Dask scheduler answers at ``address`` within ``timeout`` s (None: one does).
+
+    A plain connection asking for the scheduler's identity, in an event loop
+    of its own (the caller's may be running): something else listening there
+    (a web server, a proxy) is told apart from a scheduler that is down.
+    """
+    import asyncio  # (only with a scheduler: not a cost of every command)
+    from concurrent.futures import ThreadPoolExecutor
+
+    from distributed.comm import connect
+
+    async def identity():
+        comm = await connect(address, timeout=timeout)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    with ThreadPoolExecutor(1) as pool:
+        try:
+            reply = pool.submit(asyncio.run, asyncio.wait_for(identity(), timeout)).result()
+        except (OSError, TimeoutError) as e:  # refused, unreachable, or silent: down (or not yet up)
+            return _no_answer(e, timeout)
+        except MemoryError:  # a foreign protocol's first bytes read as the length of a frame
+            return "something answers there, but not in Dask's protocol"
+        except Exception as e:
+            return f"something answers there, but not as a Dask scheduler ({_short(e)})"
+    if not (isinstance(reply, dict) and reply.get("type") == "Scheduler"):
+        return f"something answers there, but not as a Dask scheduler (it says it is {str(reply)[:60]!r})"
+    return None
+
+
+class _Silence(logging.Filter):
+    """Drops every log record below CRITICAL."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return record.levelno >= logging.CRITICAL
+
+
+@contextmanager
+def _quiet(on: bool):
+    """Dask's log off the terminal while the run's own client works (``on``).
+
+    What Dask recovers from by itself (a result gathered again after its
+    worker died) needs no word, and what it cannot recover from ends the run
+    in one line of ours.
+    """
+    loggers = [v for k, v in logging.root.manager.loggerDict.items() if k.split(".")[0] == "distributed"] if on else []
+    handlers = {h for lg in loggers for h in getattr(lg, "handlers", ())}  # (distributed.client has its own)
+    silence = _Silence()
+    for h in handlers:
+        h.addFilter(silence)
     try:
-        # not the default client: a failed one must not linger as it (xarray's writes would then look for it)
-        return Client(address, timeout=timeout, set_as_default=False)
-    except ValueError as e:
-        raise ValueError(f"scheduler: bad address {address!r} ({e})") from None
-    except Exception as e:  # OSError / TimeoutError from the comm layer, whatever the cause
-        why = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-        why = f"no answer within {timeout:g} s" if "timed out" in why.lower() or isinstance(e, TimeoutError) else why
-        raise RuntimeError(f"cannot connect to the Dask scheduler at {address}: {why}; is it running? (--scheduler-timeout sets the wait)") from None
+        yield
+    finally:
+        for h in handlers:
+            h.removeFilter(silence)
+
+
+def _no_answer(e: BaseException, timeout: float) -> str:
+    """A failed connection in a few words ("no answer within T s" when it timed out)."""
+    text = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+    return f"no answer within {timeout:g} s" if "timed out" in text.lower() or isinstance(e, TimeoutError) else text
 
 
 def _check_address(address: str) -> None:
@@ -261,14 +336,38 @@ def _run_dask(client: Any, cfg: SweepConfig, store: SweepStore, todo: list, chun
         if len(futures) >= window:
             break
     ac = as_completed(list(futures))
-    for fut in ac:
-        chunk = futures.pop(fut)
-        res = fut.result()
-        store.write(chunk, res)
-        advance(res[0].size)
-        del fut, res
-        nxt = next(pending, None)
-        if nxt is not None:
-            f = submit(nxt)
-            futures[f] = nxt
-            ac.add(f)
+    try:
+        for fut in ac:
+            chunk = futures.pop(fut)
+            res = _result(fut, chunk)
+            store.write(chunk, res)
+            advance(res[0].size)
+            del fut, res
+            nxt = next(pending, None)
+            if nxt is not None:
+                f = submit(nxt)
+                futures[f] = nxt
+                ac.add(f)
+    finally:
+        if futures:  # stopped early: nothing left running for a result no one will collect
+            with suppress(Exception):  # (a client that lost its scheduler cannot cancel: the failure is said already)
+                client.cancel(list(futures))
+
+
+def _result(fut, chunk: tuple[int, ...]):
+    """A chunk task's result; a task the cluster lost for good (its workers died) as one line (RuntimeError).
+
+    An error of the computation itself is raised as it is.
+    """
+    from distributed.comm.core import CommClosedError
+    from distributed.scheduler import KilledWorker
+
+    try:
+        return fut.result()
+    except KilledWorker:
+        why = "every worker that ran it died (KilledWorker: see the workers' logs)"
+    except CancelledError:
+        why = "the scheduler cancelled it (the scheduler restarted, or this client lost it)"
+    except (CommClosedError, TimeoutError) as e:
+        why = f"the connection to the scheduler was lost ({_short(e)})"
+    raise RuntimeError(f"the Dask cluster lost chunk {chunk}: {why}; {KEPT}")

@@ -37,10 +37,12 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import platform
 import shutil
 import tempfile
 from collections import Counter
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
@@ -50,7 +52,7 @@ import numpy as np
 
 from .. import quantities as Q
 from .._version import __version__
-from ..io import _directory_problem, atomic_write, stale_temporaries
+from ..io import _directory_problem, atomic_write, stale_temporaries, temporary_path, write_error
 from ..parameters import declared
 from .compute import chunk_slices
 from .config import GRID_KEYS, SAMPLE, SweepConfig, n_chunks, parse_sweep
@@ -67,6 +69,8 @@ _BOOK_ATTRS = {
 }
 #: the ``sample`` axis (not a parameter: the index of a drawn initial state)
 _SAMPLE_ATTRS = {"units": "1", "long_name": "index of the randomly drawn point (its values: the sampled coordinates)"}
+#: what a run that failed to write says it leaves (its lock held: nothing else writes the store meanwhile)
+KEPT = "the chunks finished so far are kept: run the same command again to resume"
 #: the first bytes of a NetCDF-4 (HDF5) and of a classic NetCDF file
 _NC_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
 
@@ -101,6 +105,22 @@ def chunk_checksum(values: Sequence[np.ndarray]) -> int:
             v = np.where(np.isnan(v), np.nan, v)
         h.update(v.tobytes())
     return int.from_bytes(h.digest()[:8], "little") or 1  # 0 means "not done"
+
+
+@contextmanager
+def writing(target: Path) -> Iterator[None]:
+    """A file-system failure while a run writes its store, as one line (:func:`~frictionflow.io.write_error`).
+
+    Zarr writes each file under a temporary name and renames it, and a
+    chunk's done-flag is written after its data: whatever failed, the store
+    holds whole files and flags only for whole chunks, so it resumes.
+    """
+    try:
+        yield
+    except OSError as e:
+        if e.errno is None:  # not the file system's (a Dask connection closed, ...): raised as it is
+            raise
+        raise write_error(e, "out", target, KEPT) from None
 
 
 def check_out(path: str | Path) -> Path:
@@ -216,6 +236,8 @@ class SweepStore:
         if restart:
             for p in (self.path, self.target):
                 _remove(p)
+        for old in stale_temporaries(self.path):  # a creation killed half-way (under the lock: not a live one)
+            shutil.rmtree(old, ignore_errors=True)
         #: an existing output: what it holds is checked (:meth:`verify`) before it is trusted
         self.resumed = self.path.exists() or self.target.exists()
         if self.path.exists():
@@ -230,7 +252,7 @@ class SweepStore:
                 self.close()
                 raise ValueError(f"out: {str(self.target)!r} holds a different sweep (its config changed); use --restart to replace it")
         else:
-            self.root = self._create()
+            self.root = self._create_whole()
 
     @classmethod
     def existing(cls, path: str | Path) -> "SweepStore":
@@ -347,6 +369,24 @@ class SweepStore:
         attrs["chunk_shape"] = list(self.chunks)
         root.update_attributes(attrs)
         return root
+
+    def _create_whole(self):
+        """A new store, built under a hidden name beside its path and renamed into place: whole or absent.
+
+        (A store half-created when the disk filled would not even say which
+        sweep it is, and only ``--restart`` could replace it.)
+        """
+        import zarr
+
+        tmp = temporary_path(self.path)
+        try:
+            self._create(tmp)
+            os.replace(tmp, self.path)
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
+        self._flag_array = None  # (opened under the temporary name)
+        return zarr.open_group(str(self.path), mode="r+", use_consolidated=False)
 
     def _create_flags(self, root):
         """The done-flag array (all 0), in the bookkeeping group; replaces a damaged one."""
@@ -622,7 +662,7 @@ class SweepStore:
 
     def _rebuild_journal(self, flags: np.ndarray) -> None:
         """A damaged finished NetCDF sweep: its good chunks copied into a new journal, the bad ones left to do."""
-        self.root = self._create()
+        self.root = self._create_whole()
         for f in np.nonzero(flags)[0]:
             chunk = self._chunk(f)
             self._commit(chunk, self._read(chunk))  # read from the NetCDF file, written into the journal
@@ -652,7 +692,8 @@ class SweepStore:
             old.unlink(missing_ok=True)
         ds = xr.open_zarr(str(self.path), consolidated=False)
         try:
-            with atomic_write(self.target, "out") as tmp:  # r.nc appears only complete
+            kept = f"every chunk is kept in {str(self.path)!r}: run the same command again to convert it"
+            with atomic_write(self.target, "out", kept) as tmp:  # r.nc appears only complete
                 ds.to_netcdf(tmp)
                 self._record_checksums(tmp)
         finally:
