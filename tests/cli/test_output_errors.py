@@ -101,8 +101,10 @@ def test_simulate_with_a_good_out_and_a_bad_plot_writes_nothing(capsys, cwd, no_
 
 @pytest.mark.parametrize("name", ["t.csv", "t.nc"])
 def test_simulate_on_a_full_disk_leaves_no_file(capsys, full_dir, name):
+    """A disk already too small for the estimated output: refused before any work (exit 2); one that fills while
+    the file is written is exit 1 (the test below and tests/cli/test_faults_io.py)."""
     path = full_dir / name
-    assert_refused(*run(capsys, "simulate", *FAST, "--out", str(path)), "--out", path, "no space left on device", expect=1)
+    assert_refused(*run(capsys, "simulate", *FAST, "--out", str(path)), "--out", path, "no space left on device", expect=2)
     assert listing(full_dir) == []
 
 
