@@ -8,33 +8,20 @@ comparison's verdict is recorded and the command stopped there, before any of it
 
 from __future__ import annotations
 
-import os
 import shlex
-import subprocess
-import sys
-import time
 from pathlib import Path
 
 import pytest
 
-import frictionflow
 from frictionflow import estimate
 from frictionflow.cli import main
+from tests.cli.processes import cli
 from tests.test_atomic_output import full_dir  # noqa: F401  (fixture: a directory on a 64 KiB tmpfs)
 
-SRC = str(Path(frictionflow.__file__).resolve().parents[1])
 #: seconds a refusal may take, start-up and imports included (it does no work; a run it refuses takes hours)
 QUICK = 20.0
 BIG_GRID = 't_end = 50\n\n[grid]\nzeta = {start = 0.0, stop = 0.1, num = 100000}\nvb = {start = 0.01, stop = 0.1, num = 100000}\n'
 
-
-def cli(*argv: str, cwd: Path | None = None, timeout: float = 120) -> tuple[int, str, str, float]:
-    """``python -m frictionflow ARGV`` in its own process, on this tree: (exit code, stdout, stderr, seconds)."""
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH")])))
-    t0 = time.monotonic()
-    done = subprocess.run([sys.executable, "-m", "frictionflow", *argv], capture_output=True, text=True, env=env,
-                          cwd=cwd, timeout=timeout, check=False)
-    return done.returncode, done.stdout, done.stderr, time.monotonic() - t0
 
 
 def refused(argv: tuple[str, ...], *words: str, cwd: Path | None = None) -> str:

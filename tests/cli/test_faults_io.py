@@ -30,15 +30,14 @@ from pathlib import Path
 import pytest
 import xarray as xr
 
-import frictionflow
 from frictionflow.cli import EXIT_CODES, main
 from frictionflow.io import OutputError, write_error
 from frictionflow.sweep import run_sweep, runner
 from frictionflow.sweep.store import SweepStore, verify_sweep
+from tests.cli.processes import SRC, cli, one_line
 from tests.sweep.store_cases import CFG, CFG_TOML
 from tests.test_atomic_output import readonly_dir  # noqa: F401  (fixture)
 
-SRC = str(Path(frictionflow.__file__).resolve().parents[1])
 #: the sweep of tests/sweep/store_cases.py, 4 chunks of 4 points: about 100 KiB of metadata, then 68 KiB per chunk
 #: --no-limit: these runs meet a disk that fills while they write; one refused before any work because its
 #: output is estimated larger than the free space is tests/cli/test_estimates.py's (exit 2)
@@ -47,21 +46,6 @@ SWEEP = ["--chunk-size", "4", "--no-limit"]
 
 # -- helpers -----------------------------------------------------------------------------------------
 
-def cli(*argv: str, cwd: Path | None = None, timeout: float = 300) -> tuple[int, str, str, float]:
-    """``python -m frictionflow ARGV`` in its own process, on this tree: (exit code, stdout, stderr, seconds)."""
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH")])))
-    t0 = time.monotonic()
-    done = subprocess.run([sys.executable, "-m", "frictionflow", *argv], capture_output=True, text=True, env=env,
-                          cwd=cwd, timeout=timeout, check=False)
-    return done.returncode, done.stdout, done.stderr, time.monotonic() - t0
-
-
-def one_line(err: str, *words: str) -> str:
-    """The single ``error:`` line of ``err``, holding ``words``; no traceback, no ignored exception."""
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: "), err
-    assert all(w in lines[0] for w in words), err
-    return lines[0]
 
 
 def listing(d: Path) -> list[str]:

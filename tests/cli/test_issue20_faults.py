@@ -5,15 +5,9 @@ README documents) or the right output -- run as typed, in its own process where 
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
-import time
-from pathlib import Path
 
 import pytest
 
-import frictionflow
 from frictionflow import Adaptive, BeltOscillator, Coulomb, Exact, analyze, simulate
 from frictionflow.analysis import response as response_module
 from frictionflow.analysis.lyapunov import lyapunov_exponents
@@ -25,26 +19,11 @@ from frictionflow.friction import law_class
 from frictionflow.solvers.exact import resonance_problem
 from frictionflow.solvers.rk4 import RK4, step_count
 from frictionflow.sweep import run_sweep
+from tests.cli.processes import cli, one_line
 
-SRC = str(Path(frictionflow.__file__).resolve().parents[1])
 SWEEP_TOML = "t_end = 50\n\n[grid]\nzeta = [0.0, 0.04]\n"
 
 
-def cli(*argv: str, cwd: Path | None = None, timeout: float = 300) -> tuple[int, str, str, float]:
-    """``python -m frictionflow ARGV`` in its own process, on this tree: (exit code, stdout, stderr, seconds)."""
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH")])))
-    t0 = time.monotonic()
-    done = subprocess.run([sys.executable, "-m", "frictionflow", *argv], capture_output=True, text=True, env=env,
-                          cwd=cwd, timeout=timeout, check=False)
-    return done.returncode, done.stdout, done.stderr, time.monotonic() - t0
-
-
-def one_line(err: str, *words: str) -> str:
-    """The single ``error:`` line of ``err``, holding ``words``; no traceback, no ignored exception."""
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: "), err
-    assert all(w in lines[0] for w in words), err
-    return lines[0]
 
 
 # -- tracebacks ------------------------------------------------------------------------------------

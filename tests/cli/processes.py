@@ -1,0 +1,31 @@
+"""The command line in its own process, for tests of what a user sees: exit code, stdout, stderr, time."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import frictionflow
+
+#: the source tree under test, put first on the child's path (the installed package may be another tree)
+SRC = str(Path(frictionflow.__file__).resolve().parents[1])
+
+
+def cli(*argv: str, cwd: Path | None = None, timeout: float = 300) -> tuple[int, str, str, float]:
+    """``python -m frictionflow ARGV`` in its own process, on this tree: (exit code, stdout, stderr, seconds)."""
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH")])))
+    t0 = time.monotonic()
+    done = subprocess.run([sys.executable, "-m", "frictionflow", *argv], capture_output=True, text=True, env=env,
+                          cwd=cwd, timeout=timeout, check=False)
+    return done.returncode, done.stdout, done.stderr, time.monotonic() - t0
+
+
+def one_line(err: str, *words: str) -> str:
+    """The single ``error:`` line of ``err``, holding ``words``; no traceback, no ignored exception."""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), err
+    assert all(w in lines[0] for w in words), err
+    return lines[0]
