@@ -11,11 +11,17 @@ from __future__ import annotations
 import shlex
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from frictionflow import estimate
 from frictionflow.cli import main
+from frictionflow.cli.forced_orbit import ForcedContinueOptions
+from frictionflow.cli.forced_orbit import _job as forced_job
+from frictionflow.orbits.forced import stroboscopic_estimate
+from frictionflow.params import BeltOscillator
 from tests.cli.processes import cli
+from frictionflow.analysis.response import response_bytes
 from tests.test_atomic_output import full_dir  # noqa: F401  (fixture: a directory on a 64 KiB tmpfs)
 
 #: seconds a refusal may take, start-up and imports included (it does no work; a run it refuses takes hours)
@@ -109,6 +115,43 @@ def test_an_output_larger_than_its_disk_is_refused_before_any_work(tmp_path, ful
     assert " MiB but its disk has " in line and " KiB free" in line
     assert "no space left on device (estimated 5e+04 points" in line and line.endswith("--no-limit")
     assert list(full_dir.iterdir()) == []
+
+
+def test_a_response_file_larger_than_its_disk_is_refused_before_any_run(full_dir, capsys):
+    out = full_dir / "r.nc"
+    argv = ["response", "--vary", "omega=0.5:1.5:40", "--fex", "0.01", "--zeta", "0.05", "--periods", "20"]
+    assert main([*argv, "--out", str(out)]) == 2
+    line = capsys.readouterr().err.strip()
+    assert line.startswith(f"error: --out: {str(out)!r} would need about ") and "\n" not in line
+    assert "no space left on device (estimated 80 runs of 20 forcing periods" in line and line.endswith("--no-limit")
+    assert list(full_dir.iterdir()) == []
+
+
+@pytest.mark.parametrize("n", [3, 40])
+def test_the_response_file_estimate_bounds_the_file(tmp_path, n):
+    """The estimate is an upper bound of the file written, and not a loose one (within 4x once the data dominate)."""
+    out = tmp_path / "r.nc"
+    assert main(["response", "--vary", f"omega=0.5:1.5:{n}", "--fex", "0.01", "--zeta", "0.05", "--periods", "8",
+                 "--out", str(out), "--json"]) == 0
+    size, estimate = out.stat().st_size, response_bytes(2, n)
+    assert size <= estimate <= 4 * max(size, 32 * 2**10), (size, estimate)
+
+
+def test_a_forced_branch_is_estimated_whole_before_its_first_orbit():
+    """The first orbit is found before the branch; its small estimate must not stand for the branch."""
+    refused(("forced-continue", "--vary", "omega=0.8:0.9", "--fex", "0.05", "--zeta", "0.05", "--max-points", "100000",
+             "--steps-per-period", "100000", "--json"), "1e+11 RK4 steps", "--no-limit")
+
+
+def test_the_brute_force_overlay_joins_the_forced_branch_estimate():
+    model = BeltOscillator(zeta=0.05, vb=0.01, fex=0.05, omega=0.5)
+    opts = ForcedContinueOptions(vary="omega=0.5:0.9", m="1", steps_per_period=64, max_points=5, switch_pd=False,
+                                 overlay="0", as_json=True, out=None, plot=None, dpi=150.0, config=None)
+    alone, with_overlay = (forced_job(model, "omega", (0.5, 0.9), 1, opts, n) for n in (0, 50))
+    overlay = stroboscopic_estimate(model, "omega", np.linspace(0.5, 0.9, 50))
+    assert with_overlay.seconds == pytest.approx(alone.seconds + overlay.seconds, rel=1e-12)
+    # at the lowest frequency: 50 values x 340 forcing periods x 256 steps
+    assert overlay.work == 50 * 340 * 256 and overlay.seconds > 0
 
 
 # -- ordinary work is not refused ------------------------------------------------------------------

@@ -116,6 +116,16 @@ def response_estimate(model: BeltOscillator, friction: FrictionLaw, solver: Solv
                     max(r.memory for r in runs))
 
 
+#: a response file's fixed part (NetCDF header, coordinates, attributes), rounded up from the 27 kB of a
+#: 3-frequency, 2-direction file
+_FILE_BYTES = 64 * 2**10
+
+
+def response_bytes(n_directions: int, n_omegas: int) -> float:
+    """Upper estimate of the response dataset's NetCDF size: every quantity at 8 bytes a point, and the header."""
+    return _FILE_BYTES + 8.0 * (len(Q.NAMES) + len(EXTRA)) * n_directions * n_omegas
+
+
 def _check_forcing(solver: Solver, model: BeltOscillator, omegas: np.ndarray) -> None:
     """Refuse, before any run, a frequency the solver cannot force at (the exact solver: a resonance it has no
     closed form for), naming it: found only when the sweep reached it, it cost the runs before."""

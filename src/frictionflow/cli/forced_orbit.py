@@ -15,7 +15,10 @@ import numpy as np
 from .._json import jsonable
 from .._ranges import parse_named_range
 from ..io import check_output_path
-from ..orbits.forced import DEFAULT_TRANSIENT, PARAMETERS, check_parameter, continue_forced, find_forced_orbit, stroboscopic_sweep, switch_period_doubling
+from ..estimate import Estimate, enforce
+from ..orbits.forced import (DEFAULT_TRANSIENT, PARAMETERS, branch_estimate, check_parameter, continue_forced, find_forced_orbit,
+                             stroboscopic_estimate, stroboscopic_sweep, switch_period_doubling)
+from ..orbits.settings import ForcedContinuationSettings
 from ..orbits.forced_plot import plot_forced_branches, plot_forced_orbit
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
@@ -107,6 +110,20 @@ def forced_orbit(params: dict[str, Any], opts: ForcedOrbitOptions) -> None:
     _report(orbit.as_dict(), opts.out, opts.as_json, [orbit], provenance(law, FLOW_MAP))
 
 
+def _job(model, parameter: str, interval: tuple[float, float], m: int, opts: "ForcedContinueOptions",  # noqa: ANN001
+         overlay: int) -> Estimate:
+    """The command's cost: the branch with its first orbit (found as forced-orbit finds it), then the overlay.
+
+    Estimated here because the first orbit is found before the branch: its own estimate, accepted first, would
+    otherwise stand for the whole command.
+    """
+    settings = ForcedContinuationSettings(steps=opts.steps_per_period, max_points=opts.max_points)
+    job = branch_estimate(replace(model, **{parameter: interval[0]}), parameter, interval, m, settings, True)
+    if overlay:
+        job = job.then(stroboscopic_estimate(model, parameter, np.linspace(min(interval), max(interval), overlay)))
+    return job
+
+
 @dataclass(frozen=True)
 class ForcedContinueOptions:
     """The forced-continue command's own options (the model's come as ``params``)."""
@@ -143,6 +160,7 @@ def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None
     _check_outputs(opts.out, opts.plot)
     cfg, model, law = _build("forced-continue", opts.config, params)
     x0, v0 = start_state(cfg, model, law)
+    enforce(_job(model, parameter, (start, stop), m, opts, overlay))  # the whole command, before its first run
     # the first orbit as forced-orbit finds it: DEFAULT_TRANSIENT forcing periods from the start, then Newton
     first = find_forced_orbit(replace(model, **{parameter: start}), law, m=m, x0=x0, v0=v0,
                               transient_periods=DEFAULT_TRANSIENT, steps=opts.steps_per_period)

@@ -9,7 +9,8 @@ from typing import Any, Optional
 
 import numpy as np
 from .. import quantities as Q
-from ..analysis.response import DIRECTIONS, frequency_response
+from ..analysis.response import DIRECTIONS, frequency_response, response_bytes, response_estimate
+from ..estimate import enforce
 from ..io import atomic_write, check_output_path
 from ..plotting import FIGURE_FORMATS, plot_response
 from ._app import app
@@ -53,8 +54,11 @@ def response(
     cfg = command_config("response", config, params)
     model, law, solver = cfg.build()
     x0, v0 = start_state(cfg, model, law)
-    ds = frequency_response(model, law, np.linspace(w0, w1, n) if n > 1 else [w0], solver=solver, periods=periods,
-                            directions=DIRECTIONS if direction == "both" else (direction,), x0=x0, v0=v0,
+    omegas, directions = np.linspace(w0, w1, n) if n > 1 else np.array([w0]), DIRECTIONS if direction == "both" else (direction,)
+    if out is not None and model.forced:  # the file joins the runs' estimate (the first accepted is the command's)
+        runs = response_estimate(model, law, solver, omegas, periods).times(len(directions))
+        enforce(runs.writing(out, response_bytes(len(directions), len(omegas)), "--out"))
+    ds = frequency_response(model, law, omegas, solver=solver, periods=periods, directions=directions, x0=x0, v0=v0,
                             rtol=cfg.rtol, progress=sys.stderr.isatty())
     if out is not None:
         with atomic_write(out, "--out") as tmp:

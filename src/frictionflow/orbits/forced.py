@@ -1044,9 +1044,23 @@ class StroboscopicSweep:
         return 0
 
 
+#: the brute-force sweep's defaults: forcing periods run before, and kept after, at each value; RK4 steps per period
+SWEEP_TRANSIENT, SWEEP_KEEP, SWEEP_STEPS = 300, 40, 256
+
+
+def stroboscopic_estimate(model: BeltOscillator, parameter: str, values: Sequence[float], *,
+                          transient_periods: int = SWEEP_TRANSIENT, keep: int = SWEEP_KEEP,
+                          steps: int = SWEEP_STEPS) -> Estimate:
+    """:func:`stroboscopic_sweep`'s tangent runs: ``transient_periods + keep`` forcing periods at each value,
+    the longest period (the lowest omega) taken for all."""
+    slowest = replace(model, omega=float(min(values))) if parameter == "omega" else model
+    periods = float(len(values)) * (transient_periods + keep)
+    return located_run(periods * steps, periods * slowest.forcing_period, "tangent_step", slowest.omega)
+
+
 def stroboscopic_sweep(model: BeltOscillator, friction: FrictionLaw, parameter: str, values: Sequence[float], *,
-                       transient_periods: int = 300, keep: int = 40, x0: float = 0.0, v0: float = 0.0,
-                       steps: int = 256) -> StroboscopicSweep:
+                       transient_periods: int = SWEEP_TRANSIENT, keep: int = SWEEP_KEEP, x0: float = 0.0, v0: float = 0.0,
+                       steps: int = SWEEP_STEPS) -> StroboscopicSweep:
     """Brute force: at each lambda in ``values`` (in the given order), run the forced system and keep its section.
 
     Each value starts from the state the previous one ended in (state
