@@ -3,9 +3,16 @@ are independent computations (a huge count once crashed the process pool with an
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
+import time
+
 import pytest
 
 from frictionflow.paper import Settings, pipeline
+from tests.cli.processes import SRC
 
 
 class _Sized(Exception):
@@ -25,3 +32,26 @@ def test_the_pool_has_at_most_one_process_per_computation(workers, tmp_path, mon
         pipeline.reproduce(tmp_path / "out", Settings.quick(), workers=workers)
     assert sized.value.args[0] == min(workers, jobs)
     assert 1 < jobs < 10**3
+
+
+def test_a_killed_worker_ends_reproduce_in_one_line_with_exit_1(tmp_path):
+    """SIGKILL one pool process mid-run: one ``error:`` line, exit 1 (the documented code), no traceback."""
+    psutil = pytest.importorskip("psutil")
+    run = subprocess.Popen([sys.executable, "-m", "frictionflow", "reproduce", "--quick", "--workers", "2",
+                            "--out", str(tmp_path / "out")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                           env=dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH")]))))
+    parent, deadline, killed = psutil.Process(run.pid), time.monotonic() + 120, False
+    while not killed and run.poll() is None and time.monotonic() < deadline:
+        # the pool's processes are forked: their command line is the parent's (a compiling helper's is not)
+        workers = [c for c in parent.children() if c.cmdline() == parent.cmdline()]
+        if workers:
+            time.sleep(0.5)
+            workers[0].send_signal(signal.SIGKILL)
+            killed = True
+        time.sleep(0.05)
+    out, err = run.communicate(timeout=300)
+    if not killed:
+        pytest.skip("the run ended before a pool process was seen")
+    lines = err.strip().splitlines()
+    assert run.returncode == 1 and len(lines) == 1 and lines[0].startswith("error: "), err
+    assert "Traceback" not in err and out == ""
