@@ -61,31 +61,7 @@ class StabilityChart(Chart):
     """Curves in the (x, y) plane of two parameters (found in y at each x of a grid), codimension-two points,
     and optionally a sweep heat map.
 
-    Attributes
-    ----------
-    x_param, y_param:
-        The parameters of the plane's axes.
-    grid:
-        The values of the ``grid_axis`` parameter the curves were traced at.
-    span:
-        The interval of the other parameter.
-    params:
-        Every other parameter's value (the oscillator's and the law's).
-    curves:
-        The curves found, each with its kind and its points.
-    codim2:
-        The codimension-two points where curves meet or change character.
-    runs:
-        The continuation run at each grid value, when the points are its
-        events (else empty).
-    sweep:
-        An ``xarray.Dataset`` of simulations on the plane, or None.
-    heat:
-        The sweep variable drawn under the curves ("" without a sweep).
-    grid_axis:
-        ``x`` or ``y``: which parameter ``grid`` holds.
-    continued_in:
-        The parameter each grid value's continuation ran in, "" otherwise.
+    Its fields, shared by every chart, are listed below.
     """
 
     def _notes(self) -> list[Row]:

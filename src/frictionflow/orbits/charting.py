@@ -134,17 +134,29 @@ class Chart(Summarized):
     ``runs`` recorded), "" otherwise.
     """
 
+    #: the parameter of the plane's x axis
     x_param: str
+    #: the parameter of the plane's y axis
     y_param: str
+    #: the values of the ``grid_axis`` parameter the curves were traced at
     grid: np.ndarray
+    #: the interval of the other parameter
     span: tuple[float, float]
+    #: every other parameter's value (the oscillator's and the law's)
     params: dict[str, Any]
+    #: the curves found, each with its kind and its points
     curves: list[Curve]
+    #: the codimension-two points where curves meet or change character
     codim2: list[Codim2] = field(default_factory=list)
+    #: the continuation run at each grid value, when the points are its events (else empty)
     runs: list[Any] = field(default_factory=list)
-    sweep: Any = None  # an xarray.Dataset of simulations on the (x, y) grid
-    heat: str = ""  # the sweep variable drawn under the curves
+    #: an ``xarray.Dataset`` of simulations on the plane, or None
+    sweep: Any = None
+    #: the sweep variable drawn under the curves ("" without a sweep)
+    heat: str = ""
+    #: ``x`` or ``y``: which parameter ``grid`` holds
     grid_axis: str = "x"
+    #: the parameter each grid value's continuation ran in, "" otherwise
     continued_in: str = ""
 
     @property

@@ -311,31 +311,7 @@ class ForcedChart(Chart):
 
     The curves' points are (x, y) with y a grid value; ``grid_axis`` is "y".
 
-    Attributes
-    ----------
-    x_param, y_param:
-        The parameters of the plane's axes.
-    grid:
-        The values of the ``grid_axis`` parameter the curves were traced at.
-    span:
-        The interval of the other parameter.
-    params:
-        Every other parameter's value (the oscillator's and the law's).
-    curves:
-        The curves found, each with its kind and its points.
-    codim2:
-        The codimension-two points where curves meet or change character.
-    runs:
-        The continuation run at each grid value, when the points are its
-        events (else empty).
-    sweep:
-        An ``xarray.Dataset`` of simulations on the plane, or None.
-    heat:
-        The sweep variable drawn under the curves ("" without a sweep).
-    grid_axis:
-        ``x`` or ``y``: which parameter ``grid`` holds.
-    continued_in:
-        The parameter each grid value's continuation ran in, "" otherwise.
+    Its fields, shared by every chart, are listed below.
     """
 
     grid_axis: str = "y"
