@@ -19,6 +19,7 @@ from ..simulate import simulate as run_simulation
 from ._app import app
 from .options import CONFIG_OPTION, command_config, parameter_names, with_parameters
 from .output import provenance, show
+from .structure import simulate_model
 from .vocabulary import option, parameter_help
 
 NAMES = parameter_names(("oscillator", "law", "solver", "run"))
@@ -33,8 +34,13 @@ def simulate(
     plot: Optional[Path] = option("--plot", "Here: time history, phase portrait and power flow."),
     dpi: float = option("--dpi"),
     config: Optional[Path] = CONFIG_OPTION,
+    model_file: Optional[Path] = option("--model"),
 ) -> None:
     """Simulate one run, find its steady state and report power flow and TR_B."""
+    if model_file is not None:
+        if config is not None:
+            raise ValueError("--model describes the whole system: --config cannot be given with it")
+        return simulate_model(model_file, params, as_json, {"out": out, "plot": plot, "dpi": dpi})
     # Every path is checked before any work, so a bad one costs nothing and writes nothing.
     cfg = command_config("simulate", config, params)
     if out is not None:

@@ -92,6 +92,8 @@ TERMS: dict[str, Term] = _terms(
     Term("--dpi", f"Resolution of the figures in dots per inch, in [{DPI_RANGE[0]:g}, {DPI_RANGE[1]:g}]; the --plot file's "
          "suffix sets the format.", float, DEFAULT_DPI, "Output", "<float>", bounds=DPI_RANGE),
     Term("--store", "Keep the sweep's resumable store here.", OPT_PATH, None, "Output", "PATH.zarr", True),
+    Term("--model", "TOML model file of a structure with several masses and contacts (dof, mass, spring, damper, "
+         "contact, force); the single-mass options are then refused.", OPT_PATH, None, "Model", PATH_METAVAR, True),
     Term("--config", "TOML file with any of the model's options (names with underscores).", OPT_PATH, None, "Model",
          PATH_METAVAR, True),
     # -- running ----------------------------------------------------------------

@@ -1,0 +1,290 @@
+"""The steady state and the power flow of a structure with several masses and contacts.
+
+A :class:`~frictionflow.motion.Motion` is judged as the single mass is, on a
+section, but in the whole state: the section is the downward crossing of
+q_i' = 0 for the coordinate i that moves most over the tail (a bounded
+motion's velocities average to zero, so each moving coordinate crosses it),
+located to rounding on the exact solution (:meth:`Motion.at`).
+
+``periodic``
+    The state at the section has repeated with some period p (in section
+    crossings) for ``min_periods`` periods, to ``rtol`` of the state's size.
+    The window is those whole periods.
+``equilibrium``
+    Every state component has stopped moving over the tail (the last tenth of
+    the run, at least 4 pi of the slowest natural period's scale).
+``not_settled``
+    Neither; the window is the tail.
+``contact_lost``
+    A normal load reached zero: the run ended there (nothing is averaged).
+
+The averages are each element's powers over the window
+(:meth:`Motion.element_power`), the amplitudes each coordinate's extremes
+there, and the stick fraction is given per contact.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .._display import Row, Summarized, num
+
+STRUCTURE_KINDS = ("periodic", "equilibrium", "not_settled", "contact_lost")
+#: largest number of section crossings in one period that is looked for
+MAX_CROSSINGS = 12
+#: grid points per shortest natural period when looking for section crossings
+GRID_PER_PERIOD = 64
+
+
+@dataclass(frozen=True, repr=False)
+class StructureSteadyState(Summarized):
+    """What a structure's run settled on, and the window to average over.
+
+    Attributes
+    ----------
+    kind:
+        One of :data:`STRUCTURE_KINDS`.
+    period:
+        The period (periodic only, else NaN).
+    window:
+        (t0, t1): the whole periods that repeat, or the tail.
+    stick_fraction:
+        Per contact, the share of the window it spends stuck.
+    periods:
+        How many periods the window holds (periodic only, else 0).
+    """
+
+    kind: str
+    period: float
+    window: tuple[float, float]
+    stick_fraction: tuple[float, ...]
+    periods: int = 0
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        rows = [("kind", self.kind), ("period", num(self.period)),
+                ("window", f"{num(self.window[0])} .. {num(self.window[1])}"),
+                ("stick fraction", ", ".join(num(s, 4) for s in self.stick_fraction))]
+        return "StructureSteadyState", rows
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "period": None if math.isnan(self.period) else self.period,
+                "window": list(self.window), "stick_fraction": list(self.stick_fraction), "periods": self.periods}
+
+
+@dataclass(frozen=True, repr=False)
+class StructureAnalysis(Summarized):
+    """A structure's steady state, each element's average powers and each coordinate's extremes over its window.
+
+    Attributes
+    ----------
+    motion:
+        The run analysed.
+    steady_state:
+        :class:`StructureSteadyState`.
+    elements:
+        Element name -> its average powers over the window (``P`` for springs,
+        dampers and forces: the power it puts into the structure; ``P_belt``
+        and ``P_heat`` for contacts).
+    amplitude:
+        ``{"X_max": {dof: value}, "X_min": {dof: value}}`` over the window.
+    energy_residual:
+        The relative residual of the energy balance over the window.
+    """
+
+    motion: Any
+    steady_state: StructureSteadyState
+    elements: dict[str, dict[str, float]] = field(default_factory=dict)
+    amplitude: dict[str, dict[str, float]] = field(default_factory=dict)
+    energy_residual: float = math.nan
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        rows = [("steady state", self.steady_state.kind), ("period", num(self.steady_state.period)),
+                ("energy residual", num(self.energy_residual, 3))]
+        rows += [(name, ", ".join(f"{k} {num(v, 4)}" for k, v in powers.items()))
+                 for name, powers in self.elements.items()]
+        return "StructureAnalysis", rows
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``simulate --model --json`` report."""
+        return {"steady_state": self.steady_state.to_dict(), "amplitude": self.amplitude,
+                "elements": self.elements, "energy_residual": _finite(self.energy_residual),
+                "status": self.motion.status, "switches": int(len(self.motion.switches))}
+
+
+def _finite(x: float) -> float | None:
+    return None if not math.isfinite(x) else float(x)
+
+
+def analyze_structure(motion: Any, rtol: float = 1e-6, min_periods: int = 3,
+                      window: tuple[float, float] | None = None) -> StructureAnalysis:
+    """Steady state, element powers, amplitudes and energy residual of ``motion``.
+
+    Parameters
+    ----------
+    motion:
+        A :class:`~frictionflow.motion.Motion`.
+    rtol:
+        The section states must repeat to ``rtol`` of the state's size.
+    min_periods:
+        How many periods must repeat (>= 1).
+    window:
+        (t0, t1) to average over instead of the steady state's own window.
+    """
+    if not 0.0 < rtol < 1.0:
+        raise ValueError(f"rtol must be in (0, 1), got {rtol!r}")
+    if int(min_periods) != min_periods or min_periods < 1:
+        raise ValueError(f"min_periods must be an integer >= 1, got {min_periods!r}")
+    ss = structure_steady_state(motion, rtol, int(min_periods))
+    if window is not None:
+        t0, t1 = float(window[0]), float(window[1])
+        if not motion.t[0] <= t0 < t1 <= motion.t[-1]:
+            raise ValueError(f"window must lie in [{motion.t[0]:g}, {motion.t[-1]:g}] with t0 < t1, got {window!r}")
+        ss = StructureSteadyState(ss.kind, ss.period, (t0, t1), stick_fractions(motion, (t0, t1)), ss.periods)
+    if ss.kind == "contact_lost":
+        return StructureAnalysis(motion, ss)
+    t0, t1 = ss.window
+    return StructureAnalysis(motion, ss, motion.element_power(t0, t1), amplitudes(motion, ss.window),
+                             window_residual(motion, ss.window))
+
+
+def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3) -> StructureSteadyState:
+    """Classify ``motion`` (see the module's description)."""
+    t_start, t_end = float(motion.t[0]), float(motion.t[-1])
+    if motion.status != "ok":
+        return StructureSteadyState("contact_lost", math.nan, (t_start, t_end), (math.nan,) * _contacts(motion))
+    tail = (max(t_start, t_end - max(0.1 * (t_end - t_start), 4.0 * math.pi)), t_end)
+    grid = np.linspace(tail[0], t_end, _grid_size(motion, tail))
+    states = np.asarray(motion.at(grid))
+    scale = float(np.max(np.abs(states))) + 1e-300
+    if np.all(np.ptp(states, axis=1) <= rtol * scale):
+        return StructureSteadyState("equilibrium", math.nan, tail, stick_fractions(motion, tail))
+    found = _periodic(motion, rtol, min_periods)
+    if found is not None:
+        period, window, p = found
+        return StructureSteadyState("periodic", period, window, stick_fractions(motion, window), min_periods)
+    return StructureSteadyState("not_settled", math.nan, tail, stick_fractions(motion, tail))
+
+
+def _contacts(motion: Any) -> int:
+    return int(np.asarray(motion.modes).shape[0])
+
+
+def _n(motion: Any) -> int:
+    return int(np.asarray(motion.state).shape[0]) // 2
+
+
+def _grid_size(motion: Any, span: tuple[float, float]) -> int:
+    """Grid points over ``span`` resolving the fastest natural period (GRID_PER_PERIOD each)."""
+    a = motion.assembly
+    k_over_m = np.linalg.eigvals(np.linalg.solve(a.mass, a.stiffness + np.eye(_n(motion)) * 1e-300))
+    omega = math.sqrt(max(float(np.max(np.abs(k_over_m))), 1e-6))
+    return max(64, int(math.ceil((span[1] - span[0]) * omega / (2.0 * math.pi) * GRID_PER_PERIOD)) + 1)
+
+
+def _periodic(motion: Any, rtol: float, min_periods: int) -> tuple[float, tuple[float, float], int] | None:
+    """(period, window, crossings per period) if the section states repeat, else None."""
+    times = section_times(motion)
+    need = min_periods + 1
+    if len(times) < need:
+        return None
+    states = np.asarray(motion.at(times))
+    scale = float(np.max(np.abs(states))) + 1e-300
+    for p in range(1, MAX_CROSSINGS + 1):
+        last = len(times) - 1
+        first = last - min_periods * p
+        if first < 0:
+            return None
+        gaps = np.max(np.abs(states[:, first + p:last + 1] - states[:, first:last + 1 - p]), axis=0)
+        if np.all(gaps <= rtol * scale):
+            periods = np.diff(times[first:last + 1:p])
+            if np.ptp(periods) <= rtol * max(float(np.mean(periods)), 1e-300) * 10.0 + 1e-9 * periods[0]:
+                return float(np.mean(periods)), (float(times[first]), float(times[last])), p
+    return None
+
+
+def section_times(motion: Any) -> np.ndarray:
+    """The times where q_i' crosses 0 downwards, for the coordinate i moving most over the run's second half."""
+    t_start, t_end = float(motion.t[0]), float(motion.t[-1])
+    span = (t_start + 0.5 * (t_end - t_start), t_end)
+    grid = np.linspace(span[0], span[1], _grid_size(motion, span))
+    states = np.asarray(motion.at(grid))
+    n = _n(motion)
+    row = n + int(np.argmax(np.ptp(states[n:], axis=1)))
+    v = states[row]
+    hits = np.flatnonzero((v[:-1] > 0.0) & (v[1:] <= 0.0))
+    return np.array([_refine(motion, row, grid[i], grid[i + 1]) for i in hits])
+
+
+def _refine(motion: Any, row: int, a: float, b: float) -> float:
+    """The crossing of state row ``row`` through 0 in [a, b], to rounding."""
+    fa = float(np.asarray(motion.at(a))[row])
+    fb = float(np.asarray(motion.at(b))[row])
+    if fb == 0.0:
+        return b
+    if fa * fb > 0.0:  # a tangency the grid brackets from one side: take the grid point
+        return b
+    return brentq(lambda s: float(np.asarray(motion.at(s))[row]), a, b, xtol=1e-14, rtol=4 * np.finfo(float).eps)
+
+
+def stick_fractions(motion: Any, window: tuple[float, float]) -> tuple[float, ...]:
+    """Per contact, the share of ``window`` spent stuck (a sample's mode holds until the next sample)."""
+    t = np.asarray(motion.t)
+    t0, t1 = window
+    if t1 <= t0:
+        return tuple(math.nan for _ in range(_contacts(motion)))
+    lo = np.clip(t[:-1], t0, t1)
+    hi = np.clip(t[1:], t0, t1)
+    span = hi - lo
+    modes = np.asarray(motion.modes)[:, :-1]
+    return tuple(float(np.sum(span[m == 0]) / (t1 - t0)) for m in modes)
+
+
+def amplitudes(motion: Any, window: tuple[float, float]) -> dict[str, dict[str, float]]:
+    """Each coordinate's maximum and minimum over ``window`` (at its velocity's zeros, or the window's ends)."""
+    n = _n(motion)
+    grid = np.linspace(window[0], window[1], _grid_size(motion, window))
+    states = np.asarray(motion.at(grid))
+    out_max, out_min = {}, {}
+    for i, name in enumerate(motion.dof_names):
+        v = states[n + i]
+        hits = np.flatnonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0.0)
+        times = [window[0], window[1], *(_refine(motion, n + i, grid[j], grid[j + 1]) for j in hits)]
+        values = np.asarray(motion.at(np.asarray(times)))[i]
+        out_max[name], out_min[name] = float(np.max(values)), float(np.min(values))
+    return {"X_max": out_max, "X_min": out_min}
+
+
+def mechanical_energy(assembly: Any, state: np.ndarray) -> np.ndarray:
+    """Kinetic plus spring energy of ``state`` (2n rows; columns are instants)."""
+    n = assembly.mass.shape[0]
+    q, v = state[:n], state[n:]
+    kinetic = 0.5 * np.einsum("it,ij,jt->t", v, assembly.mass, v)
+    potential = 0.5 * np.einsum("it,ij,jt->t", q, assembly.stiffness, q)
+    return kinetic + potential
+
+
+def window_residual(motion: Any, window: tuple[float, float]) -> float:
+    """|change of kinetic + spring energy - work of dampers, forces and contacts| over ``window``, relative.
+
+    Relative to the largest of the energies and the works' magnitudes that
+    enter it, so that a balance closed to rounding gives ~1e-15.
+    """
+    t0, t1 = window
+    ends = np.asarray(motion.at(np.array([t0, t1])))
+    energy = mechanical_energy(motion.assembly, ends)
+    span = t1 - t0
+    works = []
+    for name, powers in motion.element_power(t0, t1).items():
+        if name.startswith("spring."):
+            continue  # the spring energy is in `energy`
+        if name.startswith("contact."):
+            works += [powers["P_belt"] * span, -powers["P_heat"] * span]
+        else:
+            works.append(powers["P"] * span)
+    scale = max(float(np.max(np.abs(energy))), *(abs(w) for w in works), 1e-300)
+    return abs(float(energy[1] - energy[0]) - float(sum(works))) / scale

@@ -1,0 +1,124 @@
+"""Figures of a structure's run: time histories and phase portraits per coordinate, where the energy goes.
+
+The curves are the exact solution evaluated on a fine grid
+(:meth:`~frictionflow.motion.Motion.at`), never straight lines between
+switches.  The energy panel is a balance of two bars over the steady-state
+window: what comes in (each belt's input, each force's work) and where it
+goes (each contact's heat, each damper's dissipation), so that their
+heights are equal when the balance closes.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ._figures import draws, legend_outside, sig
+from .analysis.structure import StructureAnalysis
+from .io import DEFAULT_DPI, write_figure
+
+#: at most this many periods of the window are drawn in the time histories
+SHOWN_PERIODS = 5
+GRID_POINTS = 4000
+
+
+def energy_budget(elements: dict[str, dict[str, float]]) -> tuple[list[tuple[str, float]], list[tuple[str, float]]]:
+    """(inputs, outputs): (label, average power >= 0) that feed the structure and that it loses.
+
+    A belt's input is ``P_belt`` of its contact; a contact's heat, a damper's
+    dissipation (-P) and a force's negative work are outputs.  Springs store
+    and give back (their average over whole periods is zero): they are left
+    out.
+    """
+    inputs: list[tuple[str, float]] = []
+    outputs: list[tuple[str, float]] = []
+    for name, powers in elements.items():
+        if name.startswith("contact."):
+            _signed(inputs, outputs, f"{name} belt", powers["P_belt"])
+            outputs.append((f"{name} heat", powers["P_heat"]))
+        elif not name.startswith("spring."):
+            _signed(inputs, outputs, name, powers["P"])
+    return inputs, outputs
+
+
+def _signed(inputs: list, outputs: list, label: str, value: float) -> None:
+    (inputs if value >= 0.0 else outputs).append((label, abs(value)))
+
+
+@draws(StructureAnalysis)
+def plot_structure(result: StructureAnalysis, path: str | Path | None = None, *, name: str = "path",
+                   dpi: float = DEFAULT_DPI):
+    """Draw each coordinate's history and phase portrait, each contact's mode and the energy budget.
+
+    Returns the matplotlib figure; saves it to ``path`` (PNG, PDF, SVG or EPS
+    by the suffix) when given.
+
+    Parameters
+    ----------
+    result:
+        What :func:`~frictionflow.analysis.structure.analyze_structure` returned.
+    path:
+        A file to save the figure to, or None.
+    name:
+        How error messages name ``path`` (the command line passes its option).
+    dpi:
+        Dots per inch of a raster file (PNG); default 150.
+    """
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    motion, ss = result.motion, result.steady_state
+    fig, ax = plt.subplots(2, 2, figsize=(12, 7.5), layout="constrained")
+    t0, t1 = _shown(ss)
+    grid = np.linspace(t0, t1, GRID_POINTS)
+    states = np.asarray(motion.at(grid))
+    n = states.shape[0] // 2
+    for i, dof in enumerate(motion.dof_names):
+        ax[0, 0].plot(grid, states[i], lw=0.8, label=dof)
+        ax[0, 1].plot(states[i], states[n + i], lw=0.8, label=dof)
+    ax[0, 0].set(xlabel=r"$\tau$", ylabel="$q$", title="displacements")
+    ax[0, 1].set(xlabel="$q$", ylabel="$q'$", title="phase portraits")
+    legend_outside(ax[0, 0])
+    legend_outside(ax[0, 1])
+    _modes_panel(ax[1, 0], motion, (t0, t1))
+    _budget_panel(ax[1, 1], result)
+    fig.suptitle(f"{ss.kind}" + (f", period {sig(ss.period, 4)}" if ss.kind == "periodic" else ""))
+    if path is not None:
+        write_figure(fig, path, name, dpi=dpi)
+    return fig
+
+
+def _shown(ss: Any) -> tuple[float, float]:
+    t0, t1 = ss.window
+    if ss.kind == "periodic" and ss.period > 0.0:
+        t0 = max(t0, t1 - SHOWN_PERIODS * ss.period)
+    return t0, t1
+
+
+def _modes_panel(ax: Any, motion: Any, span: tuple[float, float]) -> None:
+    """Each contact's mode (-1 slip-, 0 stick, +1 slip+) as a step curve, offset per contact."""
+    t = np.asarray(motion.t)
+    keep = (t >= span[0]) & (t <= span[1])
+    for j, contact in enumerate(motion.contact_names):
+        ax.step(t[keep], np.asarray(motion.modes)[j][keep] + 3 * j, where="post", lw=0.8, label=contact)
+    ax.set(xlabel=r"$\tau$", title="contact modes (-1 slip-, 0 stick, +1 slip+; offset 3 per contact)")
+    legend_outside(ax)
+
+
+def _budget_panel(ax: Any, result: StructureAnalysis) -> None:
+    """Two stacked bars: the average power coming in and where it goes."""
+    inputs, outputs = energy_budget(result.elements)
+    for x, parts in ((0, inputs), (1, outputs)):
+        bottom = 0.0
+        for label, value in parts:
+            ax.bar(x, value, bottom=bottom, label=label)
+            bottom += value
+    ax.set_xticks([0, 1], ["in", "out"])
+    ax.set(title=f"where the energy goes (residual {sig(result.energy_residual, 2)})")
+    ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
+    legend_outside(ax)

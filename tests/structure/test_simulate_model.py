@@ -1,0 +1,122 @@
+"""``simulate --model FILE``: a one-dof model file gives the single mass's steady state and powers.
+
+The single-mass command and the model file describe the same system by two
+independent routes (its closed forms and analysis; the structure engine and
+its section analysis), so their agreement is the check.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from frictionflow.analysis.structure import analyze_structure
+from frictionflow.solvers.structure import simulate_system
+from frictionflow.structure_plot import energy_budget
+from frictionflow.system import load_system
+
+from ..cli.processes import cli, one_line
+
+ONE_DOF = """
+dof = ["x"]
+mass = [1.0]
+[[spring]]
+on = {{ x = 1.0 }}
+k = 1.0
+[[damper]]
+on = {{ x = 1.0 }}
+c = {c}
+[[contact]]
+on = {{ x = 1.0 }}
+belt = {vb}
+friction = "coulomb"
+fd = 0.02
+fs = 0.04
+stick_force = "{stick}"
+"""
+
+CASES = {"damped": (0.05, 0.01, "resultant"), "spring": (0.05, 0.01, "spring"), "fast_belt": (0.02, 0.02, "resultant")}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_one_dof_model_agrees_with_simulate(tmp_path, case):
+    zeta, vb, stick = CASES[case]
+    path = tmp_path / "one.toml"
+    path.write_text(ONE_DOF.format(c=2 * zeta, vb=vb, stick=stick))
+    code, out, err, _ = cli("simulate", "--model", str(path), "--t-end", "300", "--json")
+    assert code == 0, err
+    model = json.loads(out)
+    code, out, err, _ = cli("simulate", "--friction", "coulomb", "--fd", "0.02", "--fs", "0.04", "--vb", str(vb),
+                            "--zeta", str(zeta), "--stick-force", stick, "--t-end", "300", "--json")
+    assert code == 0, err
+    single = json.loads(out)
+    assert model["steady_state"]["kind"] == single["steady_state"]["kind"] == "periodic"
+    assert model["steady_state"]["period"] == pytest.approx(single["steady_state"]["period"], rel=1e-9)
+    assert model["steady_state"]["stick_fraction"][0] == pytest.approx(single["steady_state"]["stick_fraction"],
+                                                                       rel=1e-8)
+    av = single["averages"]
+    contact, damper = model["elements"]["contact.0"], model["elements"]["damper.0"]
+    assert contact["P_belt"] == pytest.approx(av["P_belt"], rel=1e-8)
+    assert contact["P_heat"] == pytest.approx(av["P_heat"], rel=1e-8)
+    assert -damper["P"] == pytest.approx(av["P_dv"], rel=1e-8)
+    assert model["amplitude"]["X_max"]["x"] == pytest.approx(single["amplitude"]["X_max"], rel=1e-9)
+    assert model["amplitude"]["X_min"]["x"] == pytest.approx(single["amplitude"]["X_min"], rel=1e-9, abs=1e-12)
+    assert model["energy_residual"] < 1e-10
+
+
+def test_model_refuses_single_mass_options(tmp_path):
+    path = tmp_path / "one.toml"
+    path.write_text(ONE_DOF.format(c=0.1, vb=0.01, stick="resultant"))
+    code, out, err, _ = cli("simulate", "--model", str(path), "--fd", "0.3", "--json")
+    assert code == 2 and out == ""
+    one_line(err, "--fd", "--model")
+
+
+def test_model_file_missing_is_one_line(tmp_path):
+    code, out, err, _ = cli("simulate", "--model", str(tmp_path / "none.toml"), "--json")
+    assert code == 2 and out == ""
+    one_line(err, "--model")
+
+
+def test_two_masses_budget_closes(tmp_path):
+    """A chain of two masses, one contact each: the energy coming in equals what leaves, over the window."""
+    path = tmp_path / "chain.toml"
+    path.write_text("""
+dof = ["x1", "x2"]
+mass = [1.0, 1.5]
+[[spring]]
+on = { x1 = 1.0 }
+k = 1.0
+[[spring]]
+on = { x1 = 1.0, x2 = -1.0 }
+k = 0.6
+[[damper]]
+on = { x1 = 1.0 }
+c = 0.05
+[[damper]]
+on = { x2 = 1.0 }
+c = 0.04
+[[contact]]
+on = { x1 = 1.0 }
+belt = 0.01
+friction = "coulomb"
+fd = 0.02
+fs = 0.04
+[[contact]]
+on = { x2 = 1.0 }
+belt = 0.01
+friction = "coulomb"
+fd = 0.03
+fs = 0.05
+""")
+    result = analyze_structure(simulate_system(load_system(path), 400.0))
+    assert result.energy_residual < 1e-10
+    assert set(result.elements) == {"spring.0", "spring.1", "damper.0", "damper.1", "contact.0", "contact.1"}
+    assert all(result.elements[d]["P"] <= 0.0 for d in ("damper.0", "damper.1"))  # dampers only take
+    assert all(result.elements[c]["P_heat"] >= 0.0 for c in ("contact.0", "contact.1"))
+    if result.steady_state.kind == "periodic":  # over whole periods the stored energy returns: in = out
+        inputs, outputs = energy_budget(result.elements)
+        inflow, outflow = sum(v for _, v in inputs), sum(v for _, v in outputs)
+        assert math.isclose(inflow, outflow, rel_tol=1e-8)
