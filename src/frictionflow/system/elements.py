@@ -162,7 +162,7 @@ class Force:
 
 @dataclass(frozen=True)
 class Initial:
-    """The initial state: displacements ``q`` and velocities ``v`` by dof name (missing: 0).
+    """The initial state: displacements ``q`` and velocities ``v`` by dof name (missing: 0; a system keeps every dof).
 
     Parameters
     ----------

@@ -92,8 +92,8 @@ class System:
                               for a, f in _elements(self.forces, "force", Force))
         if not isinstance(self.initial, Initial):
             raise TypeError(f"initial must be an Initial, got {self.initial!r}")
-        out["initial"] = Initial(checks.coefficients("initial", self.initial.q, dof, "q"),
-                                 checks.coefficients("initial", self.initial.v, dof, "v"))
+        out["initial"] = Initial(*(_full(checks.coefficients("initial", pairs, dof, key), dof)
+                                   for key, pairs in (("q", self.initial.q), ("v", self.initial.v))))
         q0 = vector(out["initial"].q, dof)
         for j, contact in enumerate(out["contacts"]):
             _loaded(f"contact.{j}", contact.normal, q0, dof)
@@ -272,6 +272,12 @@ def _elements(items: Any, kind: str, cls: type) -> list[tuple[str, Any]]:
         if not isinstance(item, cls):
             raise TypeError(f"{kind}.{i} must be a {cls.__name__}, got {item!r}")
     return [(f"{kind}.{i}", item) for i, item in enumerate(items)]
+
+
+def _full(pairs: tuple[tuple[str, float], ...], dof: tuple[str, ...]) -> tuple[tuple[str, float], ...]:
+    """Every dof's value (missing: 0), so that equal states compare equal however they were written."""
+    given = dict(pairs)
+    return tuple((name, given.get(name, 0.0)) for name in dof)
 
 
 def _contact(address: str, c: Contact, dof: tuple[str, ...]) -> Contact:
