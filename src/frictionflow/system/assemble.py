@@ -1,4 +1,4 @@
-"""A :class:`~frictionflow.system.System` assembled into the arrays the engines read (:class:`~.core.assembly.Assembly`)."""
+"""A :class:`~frictionflow.system.System` assembled into the arrays the engines read (``core.assembly.Assembly``)."""
 
 from __future__ import annotations
 
