@@ -50,7 +50,7 @@ def vector(pairs: Pairs, dof: tuple[str, ...]) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Spring:
-    """A spring: force -k (e . q) along e.
+    """A spring: force -k (e^T q) along e.
 
     Parameters
     ----------
@@ -69,7 +69,7 @@ class Spring:
 
 @dataclass(frozen=True)
 class Damper:
-    """A viscous damper: force -c (e . q') along e.
+    """A viscous damper: force -c (e^T q') along e.
 
     Parameters
     ----------
@@ -88,7 +88,7 @@ class Damper:
 
 @dataclass(frozen=True)
 class Normal:
-    """A contact's normal load N = preload + n . q (state dependent when n != 0).
+    """A contact's normal load N = preload + n^T q (state dependent when n != 0).
 
     Parameters
     ----------
@@ -107,7 +107,7 @@ class Normal:
 
 @dataclass(frozen=True)
 class Contact:
-    """A friction contact along e on a belt moving at ``belt``: V_r = belt - e . q'.
+    """A friction contact along e on a belt moving at ``belt``: V_r = belt - e^T q'.
 
     Parameters
     ----------

@@ -5,8 +5,8 @@ The equation of motion over the generalised coordinates q (names ``dof``) is
     M q'' + C q' + K q = sum_j e_j F_j + sum_i g_i A_i cos(Omega_i t + phi_i)
 
 with K = sum k_s e_s e_s^T over the springs, C = sum c_d e_d e_d^T over the
-dampers, contact j rubbing along e_j on a belt at b_j (V_r,j = b_j - e_j . q')
-with F_j = N_j(q) law_j(V_r,j) while slipping, N_j = P_j + n_j . q (1 without
+dampers, contact j rubbing along e_j on a belt at b_j (V_r,j = b_j - e_j^T q')
+with F_j = N_j(q) law_j(V_r,j) while slipping, N_j = P_j + n_j^T q (1 without
 a normal load), and harmonic forces along g_i.  See :doc:`/guide/models`.
 """
 
@@ -75,7 +75,7 @@ class System:
 
     @property
     def label(self) -> str:
-        """How messages name the model: ``model FILE``, or ``model`` when it was built in Python."""
+        """Names the model in messages (``model FILE``, or ``model`` when it was built in Python)."""
         return "model" if self.source is None else f"model {self.source}"
 
     def _validated(self) -> dict[str, Any]:
