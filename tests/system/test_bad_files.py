@@ -76,14 +76,14 @@ def test_a_zero_diagonal_mass(tmp_path):
 # -- dof --------------------------------------------------------------------------------------------
 def test_an_unknown_dof(tmp_path):
     text = model_text(damper="[[damper]]\non = { x3 = 1.0 }\nc = 0.04")
-    refused(tmp_path, text, "damper.0: unknown dof 'x3' in on (dof: x1, x2)")
+    refused(tmp_path, text, "damper.0: unknown dof 'x3' (dof: x1, x2) in on")
 
 
 def test_an_unknown_dof_in_the_normal_load_and_the_initial_state(tmp_path):
     contact = GOOD["contact"].replace("x2 = -2.0", "y = -2.0")
-    refused(tmp_path, model_text(contact=contact), "contact.0: unknown dof 'y' in normal (dof: x1, x2)")
+    refused(tmp_path, model_text(contact=contact), "contact.0: unknown dof 'y' (dof: x1, x2) in normal")
     (tmp_path / "m.toml").unlink()
-    refused(tmp_path, model_text(initial="[initial]\nv = { x9 = 1.0 }"), "initial: unknown dof 'x9' in v")
+    refused(tmp_path, model_text(initial="[initial]\nv = { x9 = 1.0 }"), "initial: unknown dof 'x9' (dof: x1, x2) in v")
 
 
 def test_a_duplicate_dof(tmp_path):

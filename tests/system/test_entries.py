@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from frictionflow import Coulomb
+from frictionflow import Coulomb, SlipLaw
 from frictionflow.system import Contact, Damper, Force, Initial, Normal, Spring, System, assemble, load_system
 
 MODEL = {
@@ -161,3 +161,12 @@ def test_elements_of_the_wrong_class_are_a_type_error():
         System(dof=("x",), mass=(1.0,), springs=({"on": {"x": 1.0}, "k": 1.0},))
     with pytest.raises(TypeError, match="^model: contact.0.friction must be a friction law object, got 'coulomb'"):
         System(dof=("x",), mass=(1.0,), contacts=(Contact({"x": 1.0}, 0.1, "coulomb"),))
+
+
+def test_a_law_built_from_a_function_round_trips_and_keeps_its_parameters():
+    law = SlipLaw(lambda speed: 0.1 + 0.0 * speed, fs=0.2)
+    system = System(dof=("x",), mass=(1.0,), contacts=(Contact({"x": 1.0}, 0.5, law),))
+    assert System.from_dict(system.to_dict()) == system and system.to_dict()["contact"][0]["friction"] is law
+    assert system.entry("contact.0.fs") == 0.2 and system.with_entry("contact.0.belt", 0.7).contacts[0].law is law
+    with pytest.raises(ValueError, match="^model: contact.0: the law 'user' is built from a function"):
+        system.with_entry("contact.0.fs", 0.3)

@@ -147,7 +147,7 @@ def coefficients(address: str, value: Any, dof: tuple[str, ...], where: str) -> 
     given = _as_table(f"{address}.{where}", value)
     for key in given:
         if key not in dof:
-            raise ValueError(f"{address}: unknown dof {key!r} in {where} (dof: {', '.join(dof)})")
+            raise ValueError(f"{address}: unknown dof {key!r} (dof: {', '.join(dof)}) in {where}")
     return tuple((name, number(f"{address}.{where}.{name}", given[name])) for name in dof if name in given)
 
 

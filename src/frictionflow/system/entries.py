@@ -116,9 +116,8 @@ def _element_slot(system: Any, element: Any, table: dict[str, Any], address: str
     kind, rest = parts[0], parts[2:]
     keys = NUMERIC_KEYS[kind] + (tuple(p.name for p in element.law.parameters) if kind == "contact" else ())
     if len(rest) == 1 and rest[0] in keys:
-        if rest[0] not in table:  # a law built from a function keeps its parameters in its object
-            return [(element.law.values(), rest[0])], None
-        return [(table, rest[0])], None
+        # a law built from a function keeps its parameters in its object, not in the table
+        return [(table, rest[0])], getattr(element.law, rest[0], None) if kind == "contact" else None
     if len(rest) == 2 and rest[0] == "on" and rest[1] in system.dof:
         return [(table["on"], rest[1])], 0.0
     if kind == "contact" and len(rest) == 2 and rest[0] == "normal" and (rest[1] == "preload" or rest[1] in system.dof):
