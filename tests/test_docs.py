@@ -46,7 +46,7 @@ from frictionflow.cli import COMMAND_MODULES, app, load_commands  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 GENERATED = ("_build", "auto_examples", "generated", "sg_execution_times.rst")
-GUIDE = ("installation", "model", "friction", "solvers", "steady_states", "power_flow", "forcing", "orbits",
+GUIDE = ("installation", "model", "models", "friction", "solvers", "steady_states", "power_flow", "forcing", "orbits",
          "lyapunov", "basins", "sweeps", "paper")
 BROWSERS = ("chromium-headless-shell", "chromium", "chromium-browser", "google-chrome", "google-chrome-stable",
             "chrome", "headless_shell")

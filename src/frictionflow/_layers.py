@@ -22,7 +22,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
         "frictionflow._ranges",
     )),
     ("laws", ("frictionflow.friction",)),
-    ("model", ("frictionflow.params",)),
+    ("model", ("frictionflow.params", "frictionflow.system")),
     ("engines", (
         "frictionflow.solvers", "frictionflow._continuous", "frictionflow.trajectory", "frictionflow.simulate",
         "frictionflow.config",

@@ -1,0 +1,68 @@
+"""A :class:`~frictionflow.system.System` assembled into the arrays the engines read (``core.assembly.Assembly``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core import layout
+from ..core.assembly import Assembly
+from .elements import vector
+from .model import System
+
+#: the forcing slots of a law row: the structure's forces are elements of their own, not a contact's
+FORCING_SLOTS = (layout.FEX, layout.OMEGA, layout.PHI)
+
+
+def assemble(system: System) -> Assembly:
+    """M, K = sum k e e^T, C = sum c e e^T and the per-element arrays of ``system``.
+
+    Parameters
+    ----------
+    system:
+        The validated model.
+
+    Returns
+    -------
+    Assembly
+        Every array float64 and C-contiguous; a kind with no element has shape (0, n) or (0,).
+        A contact's law row is its law's :meth:`~frictionflow.friction.FrictionLaw.kernel_params`
+        with the forcing slots 0; its normal row is [preload, n_1, ..., n_n] ([1, 0, ..., 0] without
+        a normal load).
+    """
+    dof, n = system.dof, system.n
+    spring_dir = _rows([s.on for s in system.springs], dof)
+    spring_k = np.array([s.k for s in system.springs], dtype=np.float64)
+    damper_dir = _rows([d.on for d in system.dampers], dof)
+    damper_c = np.array([d.c for d in system.dampers], dtype=np.float64)
+    law = np.zeros((len(system.contacts), layout.N_PARAMS))
+    normal = np.zeros((len(system.contacts), n + 1))
+    for j, contact in enumerate(system.contacts):
+        law[j] = contact.law.kernel_params()
+        law[j, list(FORCING_SLOTS)] = 0.0
+        if contact.normal is None:
+            normal[j, 0] = 1.0
+        else:
+            normal[j, 0] = contact.normal.preload
+            normal[j, 1:] = vector(contact.normal.on, dof)
+    return Assembly(
+        mass=np.ascontiguousarray(system.mass_matrix),
+        stiffness=np.ascontiguousarray((spring_dir.T * spring_k) @ spring_dir),
+        damping=np.ascontiguousarray((damper_dir.T * damper_c) @ damper_dir),
+        contact_dir=_rows([c.on for c in system.contacts], dof),
+        belt=np.array([c.belt for c in system.contacts], dtype=np.float64),
+        law=law, normal=normal,
+        force_dir=_rows([f.on for f in system.forces], dof),
+        force_amp=np.array([f.amplitude for f in system.forces], dtype=np.float64),
+        force_omega=np.array([f.omega for f in system.forces], dtype=np.float64),
+        force_phi=np.array([f.phi for f in system.forces], dtype=np.float64),
+        spring_dir=spring_dir, spring_k=spring_k, damper_dir=damper_dir, damper_c=damper_c,
+        q0=np.ascontiguousarray(system.q0), v0=np.ascontiguousarray(system.v0),
+    )
+
+
+def _rows(directions: list, dof: tuple[str, ...]) -> np.ndarray:
+    """The directions as the rows of a (len(directions), n) array."""
+    out = np.zeros((len(directions), len(dof)))
+    for i, on in enumerate(directions):
+        out[i] = vector(on, dof)
+    return out

@@ -1,0 +1,180 @@
+"""The checks of a model's entries, each naming the entry it refuses by its full address.
+
+Every function raises ``ValueError`` with one line that starts with the
+entry's address (``spring.1.k must be >= 0, got -2``); the system adds the
+file in front (``model m.toml: ...``).  Text, booleans and None are not
+numbers here, whatever Python would convert them to: in a model file they
+are mistakes.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import Any, Mapping
+
+#: a dof name: an identifier (addresses are dotted, and ``preload`` is the normal load's own key)
+DOF_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+RESERVED = ("preload",)
+
+
+def number(address: str, value: Any, allowed: str = "a finite number") -> float:
+    """``value`` as a float; it must be a finite number (not text, a boolean or None).
+
+    Parameters
+    ----------
+    address:
+        The entry's address, for the message (``spring.0.k``).
+    value:
+        The given value.
+    allowed:
+        The allowed values in words, for the message of a value that is no number at all.
+    """
+    if isinstance(value, (bool, str)) or value is None:
+        raise ValueError(f"{address} must be {allowed}, got {value!r}")
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{address} must be {allowed}, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{address} must be finite, got {value!r}")
+    return x
+
+
+def nonnegative(address: str, value: Any) -> float:
+    """A finite number >= 0 (a stiffness, a damping coefficient, an amplitude).
+
+    Parameters
+    ----------
+    address:
+        The entry's address, for the message.
+    value:
+        The given value.
+    """
+    x = number(address, value, "a finite number >= 0")
+    if x < 0.0:
+        raise ValueError(f"{address} must be >= 0, got {value!r}")
+    return x
+
+
+def positive(address: str, value: Any) -> float:
+    """A finite number > 0 (a mass, a forcing frequency).
+
+    Parameters
+    ----------
+    address:
+        The entry's address, for the message.
+    value:
+        The given value.
+    """
+    x = number(address, value, "a finite number > 0")
+    if x <= 0.0:
+        raise ValueError(f"{address} must be > 0, got {value!r}")
+    return x
+
+
+def table(address: str, value: Any) -> Mapping[str, Any]:
+    """``value``, which must be a table (a mapping with text keys).
+
+    Parameters
+    ----------
+    address:
+        The entry's address, for the message.
+    value:
+        The given value.
+    """
+    if not isinstance(value, Mapping) or not all(isinstance(k, str) for k in value):
+        raise ValueError(f"{address} must be a table, got {value!r}")
+    return value
+
+
+def keys(address: str, given: Mapping[str, Any], allowed: tuple[str, ...], required: tuple[str, ...] = ()) -> None:
+    """Refuse a key of ``given`` outside ``allowed`` and a missing key of ``required``.
+
+    Parameters
+    ----------
+    address:
+        The table's address (``contact.0``), for the message.
+    given:
+        The table.
+    allowed:
+        Every key it may hold, listed by the message.
+    required:
+        The keys it must hold.
+    """
+    for key in given:
+        if key not in allowed:
+            raise ValueError(f"{address}: unknown key {key!r} (allowed: {', '.join(allowed)})")
+    missing = [key for key in required if key not in given]
+    if missing:
+        raise ValueError(f"{address}: missing {', '.join(missing)} (required: {', '.join(required)})")
+
+
+def dof_names(value: Any) -> tuple[str, ...]:
+    """The dof list: at least one name, each an identifier other than ``preload``, none twice.
+
+    Parameters
+    ----------
+    value:
+        The given ``dof`` (a list of text).
+    """
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, (list, tuple)) or not value:
+        raise ValueError(f"dof must be a non-empty list of names, got {value!r}")
+    seen: set[str] = set()
+    for i, name in enumerate(value):
+        if not isinstance(name, str) or not DOF_NAME.fullmatch(name) or name in RESERVED:
+            raise ValueError(f"dof.{i} must be a name (letters, digits, _; not {', '.join(RESERVED)}), got {name!r}")
+        if name in seen:
+            raise ValueError(f"dof: duplicate dof {name!r}")
+        seen.add(name)
+    return tuple(value)
+
+
+def coefficients(address: str, value: Any, dof: tuple[str, ...], where: str) -> tuple[tuple[str, float], ...]:
+    """A table dof -> finite coefficient as (dof, value) pairs in dof order.
+
+    Parameters
+    ----------
+    address:
+        The owning element's address (``spring.1``), for the message.
+    value:
+        The given table (a mapping, or (dof, value) pairs).
+    dof:
+        The system's dof names.
+    where:
+        The entry the table is (``on``, ``normal``, ``initial.q``), for the message.
+    """
+    given = _as_table(f"{address}.{where}", value)
+    for key in given:
+        if key not in dof:
+            raise ValueError(f"{address}: unknown dof {key!r} (dof: {', '.join(dof)}) in {where}")
+    return tuple((name, number(f"{address}.{where}.{name}", given[name])) for name in dof if name in given)
+
+
+def _as_table(address: str, value: Any) -> Mapping[str, Any]:
+    """A table given as a mapping or as (key, value) pairs (how the element records keep it)."""
+    if isinstance(value, (tuple, list)):
+        try:
+            value = dict(value)
+        except (TypeError, ValueError):
+            raise ValueError(f"{address} must be a table, got {value!r}") from None
+    return table(address, value)
+
+
+def direction(address: str, value: Any, dof: tuple[str, ...]) -> tuple[tuple[str, float], ...]:
+    """An element's direction ``on``: :func:`coefficients` of which at least one is nonzero.
+
+    Parameters
+    ----------
+    address:
+        The element's address (``damper.0``), for the message.
+    value:
+        The given ``on`` table.
+    dof:
+        The system's dof names.
+    """
+    pairs = coefficients(address, value, dof, "on")
+    if not any(c != 0.0 for _, c in pairs):
+        raise ValueError(f"{address}.on must have a nonzero entry over the dof ({', '.join(dof)}): a zero-length "
+                         f"direction, got {dict(pairs)!r}")
+    return pairs
