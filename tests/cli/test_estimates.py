@@ -24,7 +24,9 @@ from tests.cli.processes import cli, one_line
 from frictionflow.cli import options as cli_options
 from frictionflow.core import flowmap
 from frictionflow.friction import Coulomb, Stribeck
-from frictionflow.orbits import shooting
+from frictionflow.orbits import continuation, shooting
+from frictionflow.orbits.continuation import continuation_estimate
+from frictionflow.orbits.settings import ContinuationSettings
 from frictionflow.orbits.flow_compiled import CompiledFlow
 from frictionflow.orbits.flow_exact import ExactFlow
 from frictionflow.orbits.shooting import shooting_estimate
@@ -362,3 +364,18 @@ def test_the_same_branch_at_the_default_max_period_is_within_the_limit(monkeypat
         main([*CONTINUE, "--max-points", "2000"])
     (est, why), = seen
     assert why is None and "6e+04 orbit flows of up to 500 time units" in est.text(), (why, est.text())
+
+
+def test_the_branch_estimate_bounds_its_flows(monkeypatch):
+    """A small continuation (a Hopf branch and the seeds' simulations): no more flows than estimated, none longer than
+    the estimate's span (--max-period, where a branch ends); a loose bound (about 450x here in flow time: every seed is
+    counted at max_points points of 10 flows each, every flow at max_period)."""
+    model, law = BeltOscillator(zeta=0.1, vb=0.016), Stribeck(fd=0.02, fs=0.04, vs=0.01, delta=1.0, viscous=0.05)
+    settings = ContinuationSettings(max_points=20)
+    est = continuation_estimate(model, law, settings)
+    flows = Flows(monkeypatch)
+    result = continuation(model, law, "vb", 0.005, 0.025, settings=settings)
+    assert len(result.branches) > 1  # orbits were traced, not only the equilibria
+    assert len(flows.durations) <= est.work and max(flows.durations) <= settings.max_period
+    assert sum(flows.durations) <= est.work * settings.max_period <= 1000 * sum(flows.durations)
+    assert f"{est.work:.3g} orbit flows of up to {settings.max_period:.3g} time units" in est.text()
