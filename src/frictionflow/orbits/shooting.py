@@ -349,6 +349,12 @@ def find_orbit(
     solver:
         Solver for the transient and for the power-flow period
         (default: exact for piecewise-constant laws, else adaptive).
+
+    Inside :func:`frictionflow.estimate.limited` the transient is estimated
+    before it runs and the shooting once the transient has found its period
+    (:func:`shooting_estimate` over :func:`section_span`), each refused
+    (ValueError) above the limits; without a transient, the shooting is
+    estimated before any work, each flow bounded by :data:`~.hybrid.MAX_TIME`.
     """
     x = friction.fd if x0 is None else float(x0)
     v = model.vb if v0 is None else float(v0)
@@ -394,7 +400,7 @@ def shooting_flows(max_iter: int) -> float:
 
 def shooting_estimate(shooting: Shooting, span: float) -> Estimate:
     """The cost of a Newton shooting whose flows each run at most ``span`` time units (their ``returns`` section
-    crossings), then one period of its solver for the power flow.
+    crossings), then the orbit's period (as long as a flow) by its solver, for the power flow.
 
     Parameters
     ----------
@@ -406,8 +412,7 @@ def shooting_estimate(shooting: Shooting, span: float) -> Estimate:
     span = min(span, MAX_TIME)
     flows = shooting_flows(shooting.max_iter)
     seconds = flows * flow_cost(shooting.model, shooting.friction, span)
-    period = (shooting.solver or auto_solver(shooting.friction)).cost(shooting.model, shooting.friction,
-                                                                       span / max(shooting.returns, 1))
+    period = (shooting.solver or auto_solver(shooting.friction)).cost(shooting.model, shooting.friction, span)
     return Estimate(flows, f"orbit flows of up to {span:.3g} time units", seconds).then(period)
 
 
