@@ -326,7 +326,7 @@ COMMANDS = {
                  "--solver", "rk4", "--dt", "5e-3", "--periods", "20", "--omega", "0.9:1.1:2"],
     "forced-orbit": ["forced-orbit", "--zeta", "0.05", "--vb", "0.1", "--fex", "0.5", "--omega", "1.0", "--friction",
                      "coulomb", "--fd", "0.5", "--fs", "1.0", "--m", "3"],
-    "forced-continue": ["forced-continue", "--zeta", "0.05", "--vb", "0.1", "--fex", "0.5", "--omega", "1.0",
+    "forced-continue": ["forced-continue", "--zeta", "0.05", "--vb", "0.1", "--fex", "0.5",
                         "--friction", "coulomb", "--fd", "0.5", "--fs", "1.0", "--m", "3", "--from", "1.25", "--to",
                         "1.3", "--max-points", "8"],
     "map": ["map", "--friction", "stribeck", "--fd", "0.02", "--fs", "0.04", "--vs", "0.01", "--x", "vb", "--x-from",

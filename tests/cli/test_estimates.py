@@ -20,7 +20,17 @@ from frictionflow.cli.forced_orbit import ForcedContinueOptions
 from frictionflow.cli.forced_orbit import _job as forced_job
 from frictionflow.orbits.forced import stroboscopic_estimate
 from frictionflow.params import BeltOscillator
-from tests.cli.processes import cli
+from tests.cli.processes import cli, one_line
+from frictionflow.cli import options as cli_options
+from frictionflow.core import flowmap
+from frictionflow.friction import Coulomb, Stribeck
+from frictionflow.orbits import continuation, shooting
+from frictionflow.orbits.continuation import continuation_estimate
+from frictionflow.orbits.settings import ContinuationSettings
+from frictionflow.orbits.flow_compiled import CompiledFlow
+from frictionflow.orbits.flow_exact import ExactFlow
+from frictionflow.orbits.shooting import shooting_estimate
+from frictionflow.solvers.registry import auto_solver
 from frictionflow.analysis.response import response_bytes
 from tests.test_atomic_output import full_dir  # noqa: F401  (fixture: a directory on a 64 KiB tmpfs)
 
@@ -214,3 +224,158 @@ def test_every_model_command_takes_no_limit():
     group = typer.main.get_command(app)
     lacking = [name for name in COMMAND_MODULES if "--no-limit" not in {o for p in group.commands[name].params for o in p.opts}]
     assert not lacking
+
+
+# -- the Newton shooting after a transient, estimated once the transient has found its period ----------------------
+
+#: a time limit between the estimates of a Coulomb orbit's transient and of its shooting (see the tests' premises)
+LOW_LIMIT = 2e-3
+ORBIT = ("orbit", "--friction", "coulomb", "--fd", "0.02", "--fs", "0.04", "--zeta", "0.05", "--vb", "0.01")
+
+
+def low_limit(monkeypatch) -> None:
+    """The commands' limits lowered to :data:`LOW_LIMIT` seconds, and Newton made to fail the test if it starts."""
+    monkeypatch.setattr(cli_options, "Limits", lambda lift: estimate.Limits(seconds=LOW_LIMIT, lift=lift))
+
+    def tripwire(*args, **kwargs):
+        raise AssertionError("the shooting started")
+
+    monkeypatch.setattr(shooting, "newton", tripwire)
+
+
+def test_an_orbit_whose_shooting_is_above_the_limit_is_refused_after_its_transient(tmp_path, monkeypatch, capsys):
+    model, law = BeltOscillator(zeta=0.05, vb=0.01), Coulomb(fd=0.02, fs=0.04)
+    assert auto_solver(law).cost(model, law, 500.0).wall < LOW_LIMIT  # premise: the transient is within the limit
+    low_limit(monkeypatch)
+    out = tmp_path / "o.json"
+    assert main([*ORBIT, "--json", "--out", str(out)]) == 2
+    captured = capsys.readouterr()
+    line = one_line(captured.err, "estimated 84 orbit flows of up to ", "above the limit", "--no-limit")
+    # the span: twice the period the transient found (7.63: test_no_limit_lifts_the_shooting_limit finds the orbit)
+    span = float(line.split("of up to ")[1].split(" time units")[0])
+    assert 14 < span < 16, line
+    assert captured.out == "" and not out.exists()
+
+
+def test_an_orbit_guess_is_estimated_before_any_work(monkeypatch, capsys):
+    """No transient, no period: each flow is bounded by where every flow stops (1e4 time units)."""
+    low_limit(monkeypatch)
+    flows = Flows(monkeypatch)
+    assert main([*ORBIT, "--guess", "--json"]) == 2
+    one_line(capsys.readouterr().err, "estimated 84 orbit flows of up to 1e+04 time units", "--no-limit")
+    assert not flows.durations
+
+
+def test_no_limit_lifts_the_shooting_limit(monkeypatch, capsys):
+    monkeypatch.setattr(cli_options, "Limits", lambda lift: estimate.Limits(seconds=LOW_LIMIT, lift=lift))
+    assert main([*ORBIT, "--json", "--no-limit"]) == 0
+    assert '"period": 7.63' in capsys.readouterr().out
+
+
+def test_a_study_s_estimate_covers_the_shootings_of_its_runs():
+    """Inside a study (an estimate accepted that leaves nothing open) a run's shooting is not estimated again; only the
+    stage the accepted estimate left open is, and once."""
+    small, big = estimate.Estimate(1, "steps", 1.0), estimate.Estimate(1, "flows", 1e9)
+    with estimate.limited(estimate.Limits()):
+        estimate.enforce(small)
+        estimate.enforce_stage("shooting", big)  # not left open: the study's estimate stands
+    with estimate.limited(estimate.Limits()):
+        estimate.enforce(small, open_stage="shooting")
+        estimate.enforce_stage("other", big)
+        with pytest.raises(ValueError, match="estimated 1 flows, about 31.7 years, above the limit of 1 h"):
+            estimate.enforce_stage("shooting", big)
+    with estimate.limited(estimate.Limits()):
+        estimate.enforce(small, open_stage="shooting")
+        estimate.enforce_stage("shooting", small)
+        estimate.enforce_stage("shooting", big)  # estimated once: the stage is no longer open
+    with estimate.limited(None):  # no limits: shown, never refused
+        estimate.enforce(small, open_stage="shooting")
+        estimate.enforce_stage("shooting", big)
+
+
+class Flows:
+    """The length of every flow an orbit engine runs (the closed-form engine's runs, the compiled engine's kernel)."""
+
+    def __init__(self, monkeypatch) -> None:
+        self.durations: list[float] = []
+        run, raw = ExactFlow.run, CompiledFlow.raw
+
+        def exact_run(flow, *args, **kwargs):
+            seg = run(flow, *args, **kwargs)
+            self.durations.append(seg.duration)
+            return seg
+
+        def compiled_raw(flow, *args, **kwargs):
+            status = raw(flow, *args, **kwargs)
+            self.durations.append(float(flow.tot[flowmap.T_TIME]))
+            return status
+
+        monkeypatch.setattr(ExactFlow, "run", exact_run)
+        monkeypatch.setattr(CompiledFlow, "raw", compiled_raw)
+
+
+@pytest.mark.parametrize("law, zeta, vb, returns", [
+    (Coulomb(fd=0.02, fs=0.04), 0.05, 0.01, 1),  # the closed-form engine
+    (Stribeck(fd=0.02, fs=0.04, vs=0.01), 0.05, 0.016, 1),  # the compiled one
+    (Stribeck(fd=0.02, fs=0.04, vs=0.01), 0.05, 0.016, 2),
+], ids=["coulomb", "stribeck", "stribeck-2-returns"])
+def test_the_shooting_estimate_bounds_its_flows(monkeypatch, law, zeta, vb, returns):
+    """Every flow of the shooting is within the estimate's span, there are no more than it counts, and their total
+    length is within 100x of the bound (it counts all 40 of Newton's iterations with a halving each, over twice the
+    period; these converge at the first)."""
+    model = BeltOscillator(zeta=zeta, vb=vb)
+    seen = []
+
+    def recorded(shoot, span):
+        seen.append((span, shooting_estimate(shoot, span)))
+        return seen[-1][1]
+
+    monkeypatch.setattr(shooting, "shooting_estimate", recorded)
+    with estimate.limited(estimate.Limits()):
+        flows = Flows(monkeypatch)
+        found = shooting.find_orbit(model, law, returns=returns)
+    (span, est), = seen
+    bound = est.work * span
+    assert len(flows.durations) <= est.work and max(flows.durations) <= span
+    assert sum(flows.durations) <= bound <= 100 * sum(flows.durations), (flows.durations, span, est.text())
+    assert found.period <= span <= 2 * found.period * (1 + 1e-6)  # twice the period, as found by the transient
+
+
+CONTINUE = ("continue", "--vary", "vb=0.01:0.3", "--friction", "stribeck", "--zeta", "0.05", "--json")
+
+
+def test_a_branch_whose_orbits_may_reach_a_long_max_period_is_refused_before_any_work():
+    """The orbits' periods are found only as a branch is traced; ``--max-period``, where a branch ends, bounds them
+    before any work: 3 seeds x 2000 points x 10 flows of up to 1e4 time units are hours."""
+    refused((*CONTINUE, "--max-points", "2000", "--max-period", "1e5"), "6e+04 orbit flows of up to 1e+04 time units",
+            " h", "--no-limit")
+
+
+def test_the_same_branch_at_the_default_max_period_is_within_the_limit(monkeypatch):
+    seen = []
+
+    def verdict(est, limits):
+        seen.append((est, estimate.refusal.__wrapped__(est, limits)))
+        raise Checked
+
+    verdict.__wrapped__ = estimate.refusal
+    monkeypatch.setattr(estimate, "refusal", verdict)
+    with pytest.raises(Checked):
+        main([*CONTINUE, "--max-points", "2000"])
+    (est, why), = seen
+    assert why is None and "6e+04 orbit flows of up to 500 time units" in est.text(), (why, est.text())
+
+
+def test_the_branch_estimate_bounds_its_flows(monkeypatch):
+    """A small continuation (a Hopf branch and the seeds' simulations): no more flows than estimated, none longer than
+    the estimate's span (--max-period, where a branch ends); a loose bound (about 450x here in flow time: every seed is
+    counted at max_points points of 10 flows each, every flow at max_period)."""
+    model, law = BeltOscillator(zeta=0.1, vb=0.016), Stribeck(fd=0.02, fs=0.04, vs=0.01, delta=1.0, viscous=0.05)
+    settings = ContinuationSettings(max_points=20)
+    est = continuation_estimate(model, law, settings)
+    flows = Flows(monkeypatch)
+    result = continuation(model, law, "vb", 0.005, 0.025, settings=settings)
+    assert len(result.branches) > 1  # orbits were traced, not only the equilibria
+    assert len(flows.durations) <= est.work and max(flows.durations) <= settings.max_period
+    assert sum(flows.durations) <= est.work * settings.max_period <= 1000 * sum(flows.durations)
+    assert f"{est.work:.3g} orbit flows of up to {settings.max_period:.3g} time units" in est.text()

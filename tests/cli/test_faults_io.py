@@ -251,6 +251,47 @@ def test_a_netcdf_conversion_on_a_full_disk_keeps_the_journal_and_converts_it_ne
     same(opened(out), reference[".nc"])
 
 
+@pytest.mark.parametrize("node", ["", "kind"], ids=["root", "kind"])
+def test_a_repair_on_a_full_disk_stops_in_one_line_and_the_store_still_repairs_and_resumes(tmpfs, tmp_path, reference,
+                                                                                          monkeypatch, capsys, node):
+    """``sweep --verify OUT --repair`` rebuilds an emptied ``zarr.json``: on a disk that is full once it holds the
+    lock, it says what the sweep says there (exit 1), writes no half file, and the same repair succeeds once there is
+    room, keeping the finished chunk."""
+    disk = tmpfs("200k")  # the store's metadata and one chunk fit, the second chunk does not
+    config, out = _config(tmp_path), disk.where / "r.zarr"
+    assert cli("sweep", str(config), "--out", str(out), *SWEEP)[0] == 1  # a real full disk left it half done
+    done = verify_sweep(out).done
+    assert 1 <= done < 4
+    (out / node / "zarr.json").write_bytes(b"")  # damaged metadata: what --repair rebuilds
+    filler = []
+
+    class FillsTheDisk(runner.SweepLock):
+        def acquire(self):
+            super().acquire()
+            filler.append(disk.fill())  # the lock is taken: now the disk is full
+
+    with monkeypatch.context() as m:
+        m.setattr(runner, "SweepLock", FillsTheDisk)
+        assert main(["sweep", "--verify", str(out), "--repair"]) == 1
+    got = capsys.readouterr()
+    assert got.out == "" and filler  # was: the generic line, without what is kept and how to go on
+    one_line(got.err, f"out: cannot write {str(out)!r}: no space left on device",
+             "the chunks finished so far are kept: run the same command again to resume")
+    assert listing(disk.where) == ["filler", out.name] and not leftovers(out)  # no lock, no temporary
+    filler[0].unlink()
+    disk.resize("2m")  # room: the page the sweep left free held the lock, not the rebuilt metadata
+    assert main(["sweep", "--verify", str(out), "--repair"]) == 0
+    got = capsys.readouterr()
+    assert got.out.startswith(f"{out}: repaired: rebuilt the metadata of {node or 'root'} from the sweep's settings; "
+                              f"kept {done} finished chunk") and got.err == "", got
+    calls = []
+    real = runner.compute_chunk
+    monkeypatch.setattr(runner, "compute_chunk", lambda *a: calls.append(a) or real(*a))
+    assert main(["sweep", str(config), "--out", str(out), *SWEEP]) == 0
+    assert 0 < len(calls) == verify_sweep(out).n_chunks - done  # the finished chunks kept
+    same(opened(out), reference[".zarr"])
+
+
 @pytest.mark.parametrize("command, name", [
     (["simulate", "--solver", "rk4", "--dt", "0.01", "--t-end", "20", "--no-limit"], "t.nc"),
     (["response", "--vary", "omega=0.5:1.5:3", "--fex", "0.01", "--zeta", "0.05", "--periods", "20", "--no-limit"], "r.nc"),

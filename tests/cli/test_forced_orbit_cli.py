@@ -11,6 +11,8 @@ from frictionflow.cli import main
 
 SUB3 = ["--zeta", "0.05", "--vb", "0.1", "--fex", "0.5", "--omega", "1.0", "--friction", "coulomb", "--fd", "0.5",
         "--fs", "1.0"]
+#: the same system continued in omega (which the branch sets: no --omega)
+SUB3_IN_OMEGA = [a for i, a in enumerate(SUB3) if "--omega" not in SUB3[i - 1:i + 1]]
 
 
 def test_forced_orbit_json_matches_the_api(capsys):
@@ -38,7 +40,7 @@ def test_forced_orbit_plot(tmp_path, capsys):
 
 def test_forced_continue_json_and_plot(tmp_path, capsys):
     path = tmp_path / "branch.svg"
-    args = ["forced-continue", *SUB3, "--m", "3", "--parameter", "omega", "--from", "1.25", "--to", "1.35",
+    args = ["forced-continue", *SUB3_IN_OMEGA, "--m", "3", "--parameter", "omega", "--from", "1.25", "--to", "1.35",
             "--switch-pd", "--sweep", "5", "--json", "--plot", str(path)]
     assert main(args) == 0
     out = json.loads(capsys.readouterr().out)
@@ -61,3 +63,27 @@ def test_bad_input_exits_2_naming_the_parameter(args, name, capsys):
     assert main(args) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and err.startswith("error:") and name in err
+
+
+@pytest.mark.parametrize("given", ["option", "config"])
+@pytest.mark.parametrize("parameter, interval", [("omega", "1.25:1.35"), ("fex", "0.4:0.5")])
+def test_forced_continue_refuses_a_value_of_the_parameter_it_varies(tmp_path, capsys, monkeypatch, given, parameter,
+                                                                    interval):
+    """The branch sets the varied parameter from FROM to TO: a value given besides --vary (an option or a config's
+    key) would be ignored without a word, so it is refused in one line naming both, before any work."""
+    monkeypatch.setattr("frictionflow.cli.forced_orbit.find_forced_orbit",
+                        lambda *a, **k: pytest.fail("computed despite the conflict"))
+    system = [a for i, a in enumerate(SUB3) if f"--{parameter}" not in SUB3[i - 1:i + 1]]
+    value = {"omega": "0.7", "fex": "0.3"}[parameter]
+    if given == "option":
+        extra = [f"--{parameter}", value]
+        words = [f"--{parameter} {value} conflicts with --vary {parameter}=FROM:TO", "give one of them"]
+    else:
+        (tmp_path / "c.toml").write_text(f"{parameter} = {value}\n")
+        extra = ["--config", str(tmp_path / "c.toml")]
+        words = [f"--config: {parameter} = {value} conflicts with --vary {parameter}=FROM:TO", "remove it from"]
+    assert main(["forced-continue", *system, *extra, "--vary", f"{parameter}={interval}", "--json"]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert captured.out == "" and len(lines) == 1 and lines[0].startswith("error: "), captured.err
+    assert all(w in lines[0] for w in words), lines[0]

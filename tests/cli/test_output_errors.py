@@ -9,11 +9,15 @@ computing.
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 from frictionflow.cli import main
+from tests.cli.processes import SRC
 from tests.test_atomic_output import full_dir, readonly_dir  # noqa: F401  (fixtures)
 
 FAST = ["--solver", "rk4", "--dt", "0.01", "--t-end", "20"]  # well over 64 KiB of CSV or NetCDF
@@ -34,16 +38,26 @@ def assert_refused(code: int, err: str, option: str, path: Path | str, *words: s
     assert repr(str(path))[1:-1] in lines[0] and all(w in lines[0] for w in words), err
 
 
+#: every command's computation, where the command looks it up when it runs (its own module)
+WORK = ("frictionflow.cli.simulate.run_simulation", "frictionflow.cli.orbit.find_orbit",
+        "frictionflow.cli.orbit.continuation", "frictionflow.paper.pipeline.compute_jobs")
+
+
+def tripwire(*args, **kwargs):
+    raise AssertionError("computed before refusing a bad path")
+
+
+def trip_every_command(monkeypatch) -> None:
+    """Replace each of :data:`WORK` by a tripwire, in the module that uses it: a module first imported now (and
+    binding names from another) keeps nothing of it once ``monkeypatch`` is undone."""
+    for target in WORK:
+        monkeypatch.setattr(target, tripwire)
+
+
 @pytest.fixture
 def no_work(monkeypatch):
     """Make every command's computation fail the test if it is reached."""
-
-    def tripwire(*args, **kwargs):
-        raise AssertionError("computed before refusing a bad path")
-
-    for target in ("frictionflow.cli.simulate.run_simulation", "frictionflow.orbits.find_orbit",
-                   "frictionflow.orbits.continuation", "frictionflow.paper.pipeline.compute_jobs"):
-        monkeypatch.setattr(target, tripwire)
+    trip_every_command(monkeypatch)
 
 
 @pytest.fixture
@@ -187,3 +201,29 @@ def test_reproduce_failing_to_write_claims_or_report_leaves_no_such_file(capsys,
     assert_refused(code, err, "out", out / name, "no space left on device", expect=1)
     written = listing(out)
     assert name not in written and not [n for n in written if n.startswith(".")]
+
+
+def test_the_tripwires_leave_nothing_behind_when_the_commands_are_first_imported_under_them():
+    """A command module first imported while the tripwires are in place, as a test in a random order may, runs its
+    real computation once they are undone (a tripwire on ``frictionflow.orbits`` would stay in ``cli.orbit``)."""
+    script = """
+import sys
+from _pytest.monkeypatch import MonkeyPatch
+from tests.cli.test_output_errors import WORK, trip_every_command
+assert "frictionflow.cli.orbit" not in sys.modules
+import importlib
+with MonkeyPatch.context() as mp:
+    trip_every_command(mp)
+    importlib.import_module("frictionflow.cli.orbit")  # as running the command would
+from frictionflow import orbits
+orbit = importlib.import_module("frictionflow.cli.orbit")
+assert orbit.find_orbit is orbits.find_orbit and orbit.continuation is orbits.continuation
+for target in WORK:
+    module, name = target.rsplit(".", 1)
+    assert getattr(importlib.import_module(module), name).__name__ != "tripwire", target
+print("ok")
+"""
+    root = Path(__file__).resolve().parents[2]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([SRC, str(root)]))
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env, cwd=root, timeout=120)
+    assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr

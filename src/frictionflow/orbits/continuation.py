@@ -30,11 +30,11 @@ from ..solvers.registry import auto_solver
 from .branches import Bifurcation, Branch, BranchPoint, ContinuationResult
 from .cycle_problem import CycleProblem, Solution
 from .equilibria import equilibrium, equilibrium_branch, hopf_points
-from .flow import make_flow
+from .flow import flow_cost, make_flow
 from .parameters import with_param
-from .shooting import ShootingError, find_orbit, orbit_from_segment
+from .shooting import Shooting, ShootingError, find_orbit, orbit_from_segment, shooting_estimate
 from .brute_force import sweep as brute_force_sweep
-from .flow_compiled import flow_seconds
+from .hybrid import MAX_TIME
 from .settings import SEEDS, ContinuationSettings, merged
 from .tracing import StepControl, Trace, Tracer
 
@@ -116,13 +116,19 @@ _RUNS_PER_POINT = 10
 def continuation_estimate(model: BeltOscillator, friction: FrictionLaw, s: ContinuationSettings) -> Estimate:
     """The seed and sweep simulations (each to ``transient``), and ``max_points`` points of
     :data:`_RUNS_PER_POINT` orbit flows on a branch per seed (a bound: the Hopf points may be more or fewer).
-    A flow's cost: :func:`~.flow_compiled.flow_seconds`.
+
+    A flow's cost (:func:`~.flow.flow_cost`) is that of ``returns`` periods of ``max_period``, where a branch ends:
+    a bound known before any work (the orbits' periods are found only as the branch is traced), at most
+    :data:`~.hybrid.MAX_TIME`, where every flow stops.
     """
     solver = s.solver or auto_solver(friction)
     runs = 2 * ("start" in s.seeds or "stop" in s.seeds) + s.sweep
     simulations = solver.cost(model, friction, s.transient).times(runs)
     flows = float(len(s.seeds) * s.max_points * _RUNS_PER_POINT)
-    return Estimate(flows, "orbit flows", flows * flow_seconds(friction)).then(simulations)
+    span = min(s.returns * s.max_period, MAX_TIME)
+    ends = Shooting(model, friction, s.returns, solver=solver)  # the shootings of the seeds' simulations
+    return (Estimate(flows, f"orbit flows of up to {span:.3g} time units", flows * flow_cost(model, friction, span))
+            .then(simulations).then(shooting_estimate(ends, span).times(runs - s.sweep)))
 
 
 def _check(model: BeltOscillator, friction: FrictionLaw, param: str, ends: tuple[float, float], s: ContinuationSettings) -> None:

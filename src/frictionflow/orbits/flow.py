@@ -6,18 +6,19 @@ import math
 from typing import Callable, Protocol
 
 from .._display import spoken
+from ..estimate import SECONDS_PER
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
-from .flow_compiled import CompiledFlow, supports
+from .flow_compiled import CompiledFlow, flow_seconds, supports
 from .flow_exact import ExactFlow
 from .flow_smooth import SmoothFlow
-from .hybrid import Segment
+from .hybrid import MAX_TIME, Segment
 
 
 class Flow(Protocol):
     """What shooting and continuation need from an engine."""
 
-    def run(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = 1e4) -> Segment:
+    def run(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = MAX_TIME) -> Segment:
         """Flow from ``y0`` for ``duration`` or to the ``returns``-th section crossing."""
         ...
 
@@ -51,3 +52,16 @@ ENGINES: dict[str, Callable[[BeltOscillator, FrictionLaw, float, "str | None"], 
     "compiled": lambda model, law, rtol, param: CompiledFlow(model, law, param=param, rtol=rtol),
     "smooth": lambda model, law, rtol, param: SmoothFlow(model, law, rtol=rtol),
 }
+
+
+#: each engine's class, for what it declares (its cost per time unit flowed)
+ENGINE_CLASSES: dict[str, type] = {"exact": ExactFlow, "compiled": CompiledFlow, "smooth": SmoothFlow}
+
+
+def flow_cost(model: BeltOscillator, law: FrictionLaw, span: float, engine: str = "auto") -> float:
+    """CPU seconds of one flow of ``span`` time units (at most :data:`~.hybrid.MAX_TIME`, where every flow stops)
+    on ``engine``, from its declared cost per time unit; a compiled flow of a law whose slip curve its steps cannot
+    resolve is assumed to run to its step caps (:func:`~.flow_compiled.flow_seconds`)."""
+    name = auto_engine(model, law) if engine == "auto" else engine
+    seconds = SECONDS_PER["flow_start"] + min(span, MAX_TIME) * SECONDS_PER[ENGINE_CLASSES[name].time_cost]
+    return max(seconds, flow_seconds(law)) if name == "compiled" and not law.resolvable() else seconds

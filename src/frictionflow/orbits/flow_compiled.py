@@ -28,7 +28,7 @@ from ..estimate import SECONDS_PER
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .flow_smooth import SLIP_NAMES
-from .hybrid import Phase, Segment, Switch
+from .hybrid import MAX_TIME, Phase, Segment, Switch
 
 #: the oscillator's parameters with a column of their own
 _MODEL_CODES = {"vb": fm.P_VB, "zeta": fm.P_ZETA}
@@ -98,6 +98,9 @@ def flow_seconds(law: FrictionLaw) -> float:
 class CompiledFlow:
     """Flow maps of one (model, law), derivatives with respect to ``param`` included."""
 
+    #: its cost per time unit flowed: a key of :data:`frictionflow.estimate.SECONDS_PER`
+    time_cost = "compiled_flow_time"
+
     def __init__(self, model: BeltOscillator, law: FrictionLaw, param: str | None = None, rtol: float = 1e-11,
                  virtual: bool = False) -> None:
         if model.forced:
@@ -121,7 +124,7 @@ class CompiledFlow:
         self._sw = np.empty((64, fm.N_SW))
         self.tot = np.empty(fm.N_TOT)
 
-    def raw(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = 1e4,
+    def raw(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = MAX_TIME,
             quads: bool = True) -> int:
         """Run the kernel; the summary is left in ``self.tot`` (layout ``flowmap.T_*``); returns its status.
 
@@ -147,7 +150,7 @@ class CompiledFlow:
             raise RuntimeError(f"compiled flow from X={y0[0]:.17g}, X'={y0[1]:.17g} failed: {reason}")
         return status
 
-    def run(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = 1e4) -> SensitiveSegment:
+    def run(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = MAX_TIME) -> SensitiveSegment:
         """Flow from ``y0`` for ``duration``, or until the ``returns``-th crossing of the section."""
         self.raw(y0, duration=duration, returns=returns, max_time=max_time)
         return self.segment(y0)

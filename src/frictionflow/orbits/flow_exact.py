@@ -22,7 +22,7 @@ from ..friction.base import FrictionLaw
 from ..modes import SwitchMode
 from ..params import BeltOscillator
 from ..solvers.events import EXACT_EVENT_MODES
-from .hybrid import Phase, Segment, Switch, saltation
+from .hybrid import MAX_TIME, Phase, Segment, Switch, saltation
 
 #: how phases and switches name each mode (orbit reports and JSON use these labels)
 PHASE_LABELS = {
@@ -50,6 +50,9 @@ def phase_jacobian(dyn: int, zeta: float, t: float) -> np.ndarray:
 
 class ExactFlow:
     """Flow maps of one (model, law) with piecewise-constant friction."""
+
+    #: its cost per time unit flowed: a key of :data:`frictionflow.estimate.SECONDS_PER`
+    time_cost = "exact_flow_time"
 
     def __init__(self, model: BeltOscillator, law: FrictionLaw) -> None:
         if not law.piecewise_constant:
@@ -103,7 +106,7 @@ class ExactFlow:
             t_from = float(self._crit[m - 1])
 
     # -- the walk -----------------------------------------------------------
-    def run(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = 1e4) -> Segment:
+    def run(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = MAX_TIME) -> Segment:
         """Flow from ``y0`` for ``duration``, or until the ``returns``-th crossing of the section.
 
         Raises RuntimeError when neither happens before ``max_time``.

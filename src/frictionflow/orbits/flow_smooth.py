@@ -27,7 +27,7 @@ from .._lazy import lazy_module
 from ..core.friction import rest_mode, slip_magnitude_of, slip_slope_of, stick_duration
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
-from .hybrid import Phase, Segment, Switch, saltation
+from .hybrid import MAX_TIME, Phase, Segment, Switch, saltation
 
 optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
@@ -65,6 +65,9 @@ class _Event:
 
 class SmoothFlow:
     """Flow maps of one (model, law) whose slip force is a smooth function of |V_r|."""
+
+    #: its cost per time unit flowed: a key of :data:`frictionflow.estimate.SECONDS_PER`
+    time_cost = "smooth_flow_time"
 
     def __init__(self, model: BeltOscillator, law: FrictionLaw, rtol: float = 1e-11) -> None:
         self.F, self.dF = slip_curve(law)
@@ -167,7 +170,7 @@ class SmoothFlow:
         return stick_duration(x, self.zeta, self.vb, self.fs, self.res)
 
     # -- the walk -------------------------------------------------------------
-    def run(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = 1e4) -> Segment:
+    def run(self, y0: tuple[float, float], *, duration: float = math.inf, returns: int = 0, max_time: float = MAX_TIME) -> Segment:
         """Flow from ``y0`` for ``duration``, or until the ``returns``-th crossing of the section."""
         x, v = float(y0[0]), float(y0[1])
         mode = self.rest_mode(x) if v == self.vb else (1 if self.vb > v else -1)

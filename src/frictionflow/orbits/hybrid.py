@@ -26,6 +26,9 @@ import numpy as np
 
 from ..core import saltation as salt
 
+#: the longest a flow runs unless told otherwise (its ``max_time``): every flow of shooting and continuation is
+#: bounded by it
+MAX_TIME = 1e4
 #: friction modes a phase can be in, and whether the mass is held there
 STICKING_MODES = ("stick", "band-sat+", "band-sat-", "edge-lo", "edge-hi")
 

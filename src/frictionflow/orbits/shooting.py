@@ -21,14 +21,16 @@ import numpy as np
 from .._display import Row, Summarized, num, pairs, system_row
 from .._figures import draw
 from .._json import jsonable
+from ..estimate import Estimate, enforce, enforce_stage
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..simulate import simulate
 from ..solvers.base import Solver
+from ..solvers.registry import auto_solver
 from ..trajectory import Trajectory
 from . import floquet
-from .flow import Flow, make_flow
-from .hybrid import Segment
+from .flow import Flow, flow_cost, make_flow
+from .hybrid import MAX_TIME, Segment
 from .measures import OrbitMeasures, measure, one_period
 
 #: a converged fixed point must also have |G / (x - X*)| below this (see :func:`newton`)
@@ -347,15 +349,26 @@ def find_orbit(
     solver:
         Solver for the transient and for the power-flow period
         (default: exact for piecewise-constant laws, else adaptive).
+
+    Inside :func:`frictionflow.estimate.limited` the transient is estimated
+    before it runs and the shooting once the transient has found its period
+    (:func:`shooting_estimate` over :func:`section_span`), each refused
+    (ValueError) above the limits; without a transient, the shooting is
+    estimated before any work, each flow bounded by :data:`~.hybrid.MAX_TIME`.
     """
     x = friction.fd if x0 is None else float(x0)
     v = model.vb if v0 is None else float(v0)
     if transient < 0 or not math.isfinite(transient):
         raise ValueError(f"transient must be finite and >= 0, got {transient!r}")
     flow = make_flow(model, friction)  # refuses laws it cannot differentiate, before any work
-    if transient > 0:
+    shooting = Shooting(model, friction, returns, max_iter, solver)
+    if transient > 0:  # the shooting's period is the transient's to find: estimated once it has
+        enforce(lambda: (solver or auto_solver(friction)).cost(model, friction, transient), open_stage="shooting")
         traj = simulate(model, friction, solver, t_end=transient, x0=x, v0=v)
+        enforce_stage("shooting", lambda: shooting_estimate(shooting, section_span(traj, returns)))
         x, v = float(traj.x[-1]), float(traj.v[-1])
+    else:  # no period known: every flow stops at MAX_TIME
+        enforce(lambda: shooting_estimate(shooting, MAX_TIME))
     x_star = friction.sliding_equilibrium(model.vb)
     if abs(x - x_star) + abs(v) <= 1e-9 * _scale(model, friction):
         raise ShootingError(f"the start (X={x:.10g}, X'={v:.3g}) is the sliding equilibrium: no orbit to follow from it")
@@ -364,3 +377,57 @@ def find_orbit(
     except RuntimeError as e:
         raise ShootingError(f"from X={x:.10g}, X'={v:.10g} the motion never reaches the section X' = 0: {e}") from None
     return shoot(model, friction, guess, returns=returns, tol=tol, max_iter=max_iter, flow=flow, solver=solver)
+
+
+@dataclass(frozen=True)
+class Shooting:
+    """What a shooting's cost depends on besides its period: the system, section crossings per period, Newton's
+    iterations and the solver of the period whose power flow is measured."""
+
+    model: BeltOscillator
+    friction: FrictionLaw
+    returns: int = 1
+    max_iter: int = 40
+    solver: Solver | None = None
+
+
+def shooting_flows(max_iter: int) -> float:
+    """Flows a Newton shooting of ``max_iter`` iterations makes: each iteration's map and one halving of its step,
+    the flow to the section before Newton and the fixed point's segment after it.  A bound unless backtracking
+    halves the steps more than once an iteration on average (it may halve one step up to 12 times)."""
+    return 2.0 * (max_iter + 1) + 2.0
+
+
+def shooting_estimate(shooting: Shooting, span: float) -> Estimate:
+    """The cost of a Newton shooting whose flows each run at most ``span`` time units (their ``returns`` section
+    crossings), then the orbit's period (as long as a flow) by its solver, for the power flow.
+
+    Parameters
+    ----------
+    shooting:
+        The system and the shooting's settings.
+    span:
+        A bound on one flow's length (e.g. :func:`section_span`; at most :data:`~.hybrid.MAX_TIME`).
+    """
+    span = min(span, MAX_TIME)
+    flows = shooting_flows(shooting.max_iter)
+    seconds = flows * flow_cost(shooting.model, shooting.friction, span)
+    period = (shooting.solver or auto_solver(shooting.friction)).cost(shooting.model, shooting.friction, span)
+    return Estimate(flows, f"orbit flows of up to {span:.3g} time units", seconds).then(period)
+
+
+#: the flows of Newton's iterates are held to this many times the span the transient ended with: the iterates are
+#: near its attractor, whose period the transient has nearly found
+SPAN_MARGIN = 2.0
+
+
+def section_span(traj: Trajectory, returns: int = 1) -> float:
+    """A bound on the length of a shooting's flows after the transient ``traj``: :data:`SPAN_MARGIN` times the time
+    of its last ``returns`` returns to the section X' = 0 (X' falling through zero), or :data:`~.hybrid.MAX_TIME`
+    (where every flow stops) if it crossed fewer times."""
+    v = np.asarray(traj.v)
+    down = np.flatnonzero((v[:-1] > 0.0) & (v[1:] <= 0.0)) + 1
+    if len(down) <= returns:
+        return MAX_TIME
+    t = np.asarray(traj.t)
+    return min(MAX_TIME, SPAN_MARGIN * float(t[down[-1]] - t[down[-1 - returns]]))

@@ -75,8 +75,9 @@ class Settings:
         for name in ("dt", "t_end", "vd", "exact_dense_dt", "shown_span", "shown_dt", "window_t_end", "window_step",
                      "band_t_end", "band_history_t_end"):
             check.positive(name, getattr(self, name))
-        if self.shown_span >= self.t_end:
-            raise ValueError(f"shown_span must be < t_end = {self.t_end:g}, got {self.shown_span!r}")
+        if self.shown_span >= self.t_end:  # named by t_end: what a command line can change (reproduce --t-end)
+            raise ValueError(f"t_end must be > {self.shown_span:g} (shown_span: the end of each run the time histories "
+                             f"and phase portraits show), got {self.t_end!r}")
         if self.window_t_end < self.t_end:
             raise ValueError(f"window_t_end must be >= t_end = {self.t_end:g}, got {self.window_t_end!r}")
         if not self.zeta_grid or any(z < 0 for z in self.zeta_grid) or 0.01 not in self.zeta_grid or 0.03 not in self.zeta_grid:

@@ -137,7 +137,9 @@ def repair_sweep(
     the findings (:attr:`Verification.rebuilt`, :meth:`Verification.repair_line`).
     Raises ValueError for an output that is missing, not a sweep, or holds
     another sweep; :class:`~frictionflow.sweep.store.DamagedStoreError` when
-    only ``--restart`` helps.
+    only ``--restart`` helps; :class:`~frictionflow.io.OutputError` when the
+    disk fills (or fails) while repairing, in the words a sweep uses there:
+    what it wrote is whole, and the same repair (or the sweep) goes on.
 
     Parameters
     ----------
@@ -154,7 +156,7 @@ def repair_sweep(
     if not (target.exists() or journal_path(target).exists()):
         raise ValueError(f"out: {str(target)!r} does not exist")
     cfg = stored_config(target) if config is None else _as_config(config)
-    with SweepLock(target, stale_after=lock_stale_after):
+    with SweepLock(target, stale_after=lock_stale_after), writing(target):  # a full disk: the sweep's own line
         store = SweepStore(target, cfg, cfg.shape)  # (a resumed store keeps the chunks it was started with)
         try:
             return store.verify(repair=True)
