@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from ._figures import draws, legend_outside, sig
-from .analysis.structure import StructureAnalysis
+from .analysis.structure import StructureAnalysis, states_at
 from .io import DEFAULT_DPI, write_figure
 
 #: at most this many periods of the window are drawn in the time histories
@@ -76,9 +76,9 @@ def plot_structure(result: StructureAnalysis, path: str | Path | None = None, *,
     fig, ax = plt.subplots(2, 2, figsize=(12, 7.5), layout="constrained")
     t0, t1 = _shown(ss)
     grid = np.linspace(t0, t1, GRID_POINTS)
-    states = np.asarray(motion.at(grid))
+    states = states_at(motion, (grid))
     n = states.shape[0] // 2
-    for i, dof in enumerate(motion.dof_names):
+    for i, dof in enumerate(motion.dof):
         ax[0, 0].plot(grid, states[i], lw=0.8, label=dof)
         ax[0, 1].plot(states[i], states[n + i], lw=0.8, label=dof)
     ax[0, 0].set(xlabel=r"$\tau$", ylabel="$q$", title="displacements")
@@ -104,7 +104,7 @@ def _modes_panel(ax: Any, motion: Any, span: tuple[float, float]) -> None:
     """Each contact's mode (-1 slip-, 0 stick, +1 slip+) as a step curve, offset per contact."""
     t = np.asarray(motion.t)
     keep = (t >= span[0]) & (t <= span[1])
-    for j, contact in enumerate(motion.contact_names):
+    for j, contact in enumerate(motion.contacts):
         ax.step(t[keep], np.asarray(motion.modes)[j][keep] + 3 * j, where="post", lw=0.8, label=contact)
     ax.set(xlabel=r"$\tau$", title="contact modes (-1 slip-, 0 stick, +1 slip+; offset 3 per contact)")
     legend_outside(ax)

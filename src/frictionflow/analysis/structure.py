@@ -159,7 +159,7 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
         return StructureSteadyState("contact_lost", math.nan, (t_start, t_end), (math.nan,) * _contacts(motion))
     tail = (max(t_start, t_end - max(0.1 * (t_end - t_start), 4.0 * math.pi)), t_end)
     grid = np.linspace(tail[0], t_end, _grid_size(motion, tail))
-    states = np.asarray(motion.at(grid))
+    states = states_at(motion, (grid))
     scale = float(np.max(np.abs(states))) + 1e-300
     if np.all(np.ptp(states, axis=1) <= rtol * scale):
         return StructureSteadyState("equilibrium", math.nan, tail, stick_fractions(motion, tail))
@@ -168,6 +168,13 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
         period, window, p = found
         return StructureSteadyState("periodic", period, window, stick_fractions(motion, window), min_periods)
     return StructureSteadyState("not_settled", math.nan, tail, stick_fractions(motion, tail))
+
+
+def states_at(motion: Any, times: Any) -> np.ndarray:
+    """The exact state (2n,) at ``times`` (a scalar) or (2n, len(times)) at each of ``times``."""
+    if np.ndim(times) == 0:
+        return motion.at(float(times))
+    return np.column_stack([motion.at(float(t)) for t in times]) if len(times) else np.empty((2 * _n(motion), 0))
 
 
 def _contacts(motion: Any) -> int:
@@ -192,7 +199,7 @@ def _periodic(motion: Any, rtol: float, min_periods: int) -> tuple[float, tuple[
     need = min_periods + 1
     if len(times) < need:
         return None
-    states = np.asarray(motion.at(times))
+    states = states_at(motion, (times))
     scale = float(np.max(np.abs(states))) + 1e-300
     for p in range(1, MAX_CROSSINGS + 1):
         last = len(times) - 1
@@ -212,7 +219,7 @@ def section_times(motion: Any) -> np.ndarray:
     t_start, t_end = float(motion.t[0]), float(motion.t[-1])
     span = (t_start + 0.5 * (t_end - t_start), t_end)
     grid = np.linspace(span[0], span[1], _grid_size(motion, span))
-    states = np.asarray(motion.at(grid))
+    states = states_at(motion, (grid))
     n = _n(motion)
     row = n + int(np.argmax(np.ptp(states[n:], axis=1)))
     v = states[row]
@@ -222,13 +229,13 @@ def section_times(motion: Any) -> np.ndarray:
 
 def _refine(motion: Any, row: int, a: float, b: float) -> float:
     """The crossing of state row ``row`` through 0 in [a, b], to rounding."""
-    fa = float(np.asarray(motion.at(a))[row])
-    fb = float(np.asarray(motion.at(b))[row])
+    fa = float(states_at(motion, a)[row])
+    fb = float(states_at(motion, b)[row])
     if fb == 0.0:
         return b
     if fa * fb > 0.0:  # a tangency the grid brackets from one side: take the grid point
         return b
-    return brentq(lambda s: float(np.asarray(motion.at(s))[row]), a, b, xtol=1e-14, rtol=4 * np.finfo(float).eps)
+    return brentq(lambda s: float(motion.at(s)[row]), a, b, xtol=1e-14, rtol=4 * np.finfo(float).eps)
 
 
 def stick_fractions(motion: Any, window: tuple[float, float]) -> tuple[float, ...]:
@@ -248,13 +255,13 @@ def amplitudes(motion: Any, window: tuple[float, float]) -> dict[str, dict[str, 
     """Each coordinate's maximum and minimum over ``window`` (at its velocity's zeros, or the window's ends)."""
     n = _n(motion)
     grid = np.linspace(window[0], window[1], _grid_size(motion, window))
-    states = np.asarray(motion.at(grid))
+    states = states_at(motion, (grid))
     out_max, out_min = {}, {}
-    for i, name in enumerate(motion.dof_names):
+    for i, name in enumerate(motion.dof):
         v = states[n + i]
         hits = np.flatnonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0.0)
         times = [window[0], window[1], *(_refine(motion, n + i, grid[j], grid[j + 1]) for j in hits)]
-        values = np.asarray(motion.at(np.asarray(times)))[i]
+        values = states_at(motion, (np.asarray(times)))[i]
         out_max[name], out_min[name] = float(np.max(values)), float(np.min(values))
     return {"X_max": out_max, "X_min": out_min}
 
@@ -275,7 +282,7 @@ def window_residual(motion: Any, window: tuple[float, float]) -> float:
     enter it, so that a balance closed to rounding gives ~1e-15.
     """
     t0, t1 = window
-    ends = np.asarray(motion.at(np.array([t0, t1])))
+    ends = states_at(motion, (np.array([t0, t1])))
     energy = mechanical_energy(motion.assembly, ends)
     span = t1 - t0
     works = []
