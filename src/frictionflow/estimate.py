@@ -55,6 +55,11 @@ SECONDS_PER = {
     "switch": 3e-6,  # a located switch of the forced kernels (root bisection, saltation)
     "flow_step": 3e-6,  # the compiled orbit flow (Dormand-Prince with sensitivities), per step
     "flow_run": 1e-3,  # a compiled orbit flow over a cycle or two (a grazing margin, a fold corrector's run)
+    # a structure's steady sliding at one parameter value (model rebuilt and validated, assembled, linearised):
+    # 2e-4 s on the 2-dof Hoffmann model, plus the eigenvalues of the 2n x 2n Jacobian (numpy's eig: 3.8e-8 s
+    # times (2n)^3 at 2n = 200, all threads counted)
+    "structure_point": 5e-4,
+    "eig_cube": 5e-8,
 }
 #: switches per unit time a forced kernel is assumed to locate: a stick-slip cycle has two per natural period,
 #: chattering a few more; a bound for the estimate, not a count (the motion decides)

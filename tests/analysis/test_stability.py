@@ -122,7 +122,7 @@ def test_the_flutter_threshold_of_hoffmanns_undamped_model_is_the_discriminants_
         s = np.roots([1.0, -(k11 + k22), k11 * k22 - k21 * (k12 - mu * CN)]).astype(complex)
         expected = np.concatenate([1j * np.sqrt(s), -1j * np.sqrt(s)])
         assert same_spectrum(lam, expected, 1e-12)
-    assert np.array_equal(scan.stable, np.zeros(len(values), dtype=bool))  # undamped: never strictly stable
+    assert np.array_equal(scan.stable, values < mu_c)  # undamped modes: stable, marginally, below the threshold
     assert np.all(scan.eigenvalues.real.max(axis=1)[values > mu_c] > 1e-3)
 
 
@@ -217,3 +217,23 @@ def test_a_scan_names_the_value_it_fails_at_and_refuses_bad_values():
         stability_scan(single_mass, [0.01, 0.03, 0.02])
     with pytest.raises(ValueError, match="at least 2 finite"):
         stability_scan(single_mass, [0.01])
+
+
+# -- the figure ---------------------------------------------------------------------------------------------------------
+
+def test_the_loci_figure_marks_each_critical_point_where_it_was_found(tmp_path):
+    import frictionflow  # noqa: F401  (registers the figures)
+    from frictionflow.stability_plot import MARKERS
+    from frictionflow.analysis.stability import KINDS
+
+    assert set(MARKERS) == set(KINDS)
+    scan = stability_scan(lambda mu: hoffmann(mu, 0.05), np.linspace(0.1, 0.8, 8), param="contact.0.fd")
+    path = tmp_path / "loci.png"
+    fig = scan.plot(path)
+    assert path.stat().st_size > 0
+    top, bottom = fig.axes[:2]
+    marked = [line for line in top.lines if line.get_marker() == MARKERS["mode_coupling"][0]]
+    assert len(marked) == 1 and marked[0].get_xdata()[0] == scan.critical[0].value
+    freq = [line for line in bottom.lines if line.get_marker() == MARKERS["mode_coupling"][0]]
+    assert freq[0].get_ydata()[0] == scan.critical[0].frequency
+    assert bottom.get_xlabel() == "contact.0.fd"

@@ -41,6 +41,7 @@ from .._lazy import lazy_module
 from ..core.assembly import Assembly
 from ..core.friction import slip_magnitude_of, slip_slope_of
 from ..core.layout import LAW, VD
+from ..estimate import SECONDS_PER, Estimate
 from ..friction.base import FrictionLaw
 from ..friction.registry import law_classes
 
@@ -50,6 +51,8 @@ optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the C
 KINDS = ("mode_coupling", "negative_damping", "divergence")
 #: a real part below this times the spectrum's size is taken as zero (undamped modes: rounding, not damping)
 ZERO_REAL = 1e-8
+#: evaluations a scan's estimate allows for locating its critical points (brentq: about 60 for each of two)
+REFINE_EVALUATIONS = 120
 
 
 @dataclass(frozen=True, repr=False)
@@ -245,8 +248,10 @@ class StabilityScan(Summarized):
 
     @property
     def stable(self) -> np.ndarray:
-        """(P,) bool: every eigenvalue strictly in the left half plane at that value."""
-        return np.all(self.eigenvalues.real < 0.0, axis=1)
+        """(P,) bool: no eigenvalue in the right half plane at that value (a real part within :data:`ZERO_REAL`
+        of the spectrum's size is zero: undamped modes count as stable, marginally, as for the critical points)."""
+        lam = self.eigenvalues
+        return ~np.any(lam.real > ZERO_REAL * np.abs(lam).max(axis=1, keepdims=True), axis=1)
 
     def plot(self, path: Any = None, **kwargs: Any) -> Any:
         """The eigenvalue loci (:func:`frictionflow.stability_plot.plot_stability`); saved to ``path`` if given."""
@@ -254,7 +259,7 @@ class StabilityScan(Summarized):
 
     def _summary(self) -> tuple[str, list[Row]]:
         span = f"{num(self.values[0])} .. {num(self.values[-1])} ({len(self.values)} values)"
-        rows = [(self.param, span), ("stable at", f"{int(np.sum(self.stable))} of {len(self.values)} values")]
+        rows = [(self.param, span), ("stable at", f"{int(np.sum(self.stable))} of {len(self.values)} values (Re <= 0)")]
         rows += [(f"critical {num(c.value, 8)}", f"{c.kind}, frequency {num(c.frequency, 6)}, unstable "
                   f"{'above' if c.unstable_above else 'below'}") for c in self.critical]
         if not self.critical:
@@ -307,6 +312,22 @@ def stability_scan(assembly_at: Callable[[float], Assembly], values: Sequence[fl
         raise ValueError(f"{param}: the number of degrees of freedom changes along the values")
     lam = _track(vals, slides)
     return StabilityScan(param, vals, lam, tuple(_critical_points(vals, lam, spectrum)))
+
+
+def scan_estimate(n: int, points: int) -> Estimate:
+    """What :func:`stability_scan` of a structure with ``n`` dof over ``points`` values costs, before it starts.
+
+    Parameters
+    ----------
+    n:
+        Degrees of freedom (the eigenvalue problem is 2n x 2n).
+    points:
+        Values of the parameter.
+    """
+    evaluations = points + REFINE_EVALUATIONS
+    each = SECONDS_PER["structure_point"] + SECONDS_PER["eig_cube"] * (2.0 * n) ** 3
+    return Estimate(evaluations, f"eigenvalue problems of size {2 * n}", evaluations * each,
+                    memory=points * 2 * n * 16.0 + (2 * n) ** 2 * 16.0 * 4)
 
 
 def _checked_values(values: Sequence[float]) -> np.ndarray:
