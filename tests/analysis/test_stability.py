@@ -237,3 +237,80 @@ def test_the_loci_figure_marks_each_critical_point_where_it_was_found(tmp_path):
     freq = [line for line in bottom.lines if line.get_marker() == MARKERS["mode_coupling"][0]]
     assert freq[0].get_ydata()[0] == scan.critical[0].frequency
     assert bottom.get_xlabel() == "contact.0.fd"
+
+
+# -- the mechanism, against Routh-Hurwitz on the characteristic polynomial written out --------------------------------
+
+def quartic(mass, damping, stiffness) -> np.ndarray:
+    """a0..a4 of det(lambda^2 M + lambda C + K) = a0 l^4 + a1 l^3 + a2 l^2 + a3 l + a4, a 2 x 2 written out."""
+    entry = [[[mass[i][j], damping[i][j], stiffness[i][j]] for j in range(2)] for i in range(2)]
+    return np.polysub(np.polymul(entry[0][0], entry[1][1]), np.polymul(entry[0][1], entry[1][0]))
+
+
+def hurwitz(mass, damping, stiffness) -> float:
+    """Delta_3 = a1 a2 a3 - a0 a3^2 - a1^2 a4: a complex pair crosses the imaginary axis where it vanishes (all
+    a_i > 0: stable iff Delta_3 > 0), at lambda = +-i sqrt(a3 / a1)."""
+    a0, a1, a2, a3, a4 = quartic(mass, damping, stiffness)
+    return a1 * a2 * a3 - a0 * a3**2 - a1**2 * a4
+
+
+def hurwitz_roots(delta, lo, hi, n=200) -> list[float]:
+    """Every root of ``delta`` in [lo, hi] (a sign change between n grid points, then brentq)."""
+    from scipy.optimize import brentq
+
+    grid = np.linspace(lo, hi, n)
+    signs = np.sign([delta(x) for x in grid])
+    return [brentq(delta, grid[i], grid[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps)
+            for i in np.flatnonzero(signs[:-1] != signs[1:])]
+
+
+def test_damping_that_is_not_proportional_lowers_the_flutter_threshold_and_it_is_still_mode_coupling():
+    # C = diag(0.02, 0.08) is positive definite and Coulomb's slope is 0: nothing feeds energy through the
+    # damping, so the instability is the circulatory forces' (mode coupling), though it sets in before the
+    # two frequencies meet (the destabilisation paradox): the threshold is Routh-Hurwitz's, below the undamped one
+    c = np.diag([0.02, 0.08])
+
+    def delta(mu):
+        k_eff = KH - mu * np.array([[0.0, CN], [0.0, 0.0]])
+        return hurwitz(np.eye(2), c, k_eff)
+
+    [mu_h] = hurwitz_roots(delta, 0.1, 0.8)
+    assert mu_h < hoffmann_threshold()[0]
+    build = lambda mu: assembly(np.eye(2), KH, c, [[1.0, 0.0]], [0.5], [Coulomb(fd=mu, fs=mu)],  # noqa: E731
+                                normal=[[PRELOAD, 0.0, CN]])
+    scan = stability_scan(build, np.linspace(0.1, 0.8, 15))
+    [crit] = scan.critical
+    assert crit.kind == "mode_coupling" and crit.value == pytest.approx(mu_h, rel=1e-12)
+    a = quartic(np.eye(2), c, KH - mu_h * np.array([[0.0, CN], [0.0, 0.0]]))
+    assert crit.frequency == pytest.approx(math.sqrt(a[3] / a[1]), rel=1e-12)
+    assert abs(crit.frequency - hoffmann_threshold()[1]) > 0.05  # the frequencies have not met
+
+
+def test_a_falling_curve_on_a_two_mass_chain_is_negative_damping_where_routh_hurwitz_says():
+    # x1 on the belt (Stribeck, delta = 1, no normal-load coupling: K_eff = K symmetric), x2 hung on x1
+    law = Stribeck(fd=0.02, fs=0.04, vs=0.01, delta=1.0)
+    M, K, C = np.diag([1.0, 0.5]), np.array([[1.6, -0.6], [-0.6, 0.6]]), np.diag([0.03, 0.02])
+
+    def slope(v):
+        return -(law.fs - law.fd) / law.vs * math.exp(-v / law.vs)
+
+    # both modes are fed below their own belt speed: Delta_3 vanishes at each crossing
+    roots = hurwitz_roots(lambda v: hurwitz(M, C + slope(v) * np.diag([1.0, 0.0]), K), 0.005, 0.08)
+    scan = stability_scan(lambda v: assembly(M, K, C, [[1.0, 0.0]], [v], [law]), np.linspace(0.005, 0.08, 31))
+    assert len(roots) == len(scan.critical) == 2
+    for crit, b_h in zip(sorted(scan.critical, key=lambda c: c.value), roots):
+        assert crit.kind == "negative_damping" and not crit.unstable_above
+        assert crit.value == pytest.approx(b_h, rel=1e-12)
+        a = quartic(M, C + slope(b_h) * np.diag([1.0, 0.0]), K)
+        assert crit.frequency == pytest.approx(math.sqrt(a[3] / a[1]), rel=1e-12)
+    # the two frequencies stay apart (the lower mode crosses first)
+    assert abs(scan.critical[0].frequency - scan.critical[1].frequency) > 0.5
+
+
+def test_the_growth_parts_add_up_to_the_real_parts():
+    law = Stribeck(fd=0.3, fs=0.5, vs=0.1, delta=1.0)
+    s = steady_sliding(assembly(np.eye(2), KH, np.diag([0.02, 0.05]), [[1.0, 0.0]], [0.05], [law],
+                                normal=[[PRELOAD, 0.0, CN]]))
+    damping, circulatory = s.growth_parts()
+    assert np.allclose(damping + circulatory, s.eigenvalues.real, rtol=0, atol=1e-13)
+    assert np.all(circulatory != 0) and np.any(damping > 0)  # both mechanisms present here

@@ -21,10 +21,15 @@ frequency and split in damping (mode coupling, flutter).  The single mass
 Along one parameter (:func:`stability_scan`) the eigenvalues are tracked from
 value to value (nearest continuation of the eigenvalue, the mode shape's
 overlap breaking ties) and every change of sign of a mode's real part is
-located by ``brentq`` and classified: ``mode_coupling`` where the mode's
-frequency has merged with another's while their real parts split,
-``negative_damping`` where it crosses alone, ``divergence`` for a real
-eigenvalue through zero (K_eff singular; no frequency).
+located by ``brentq`` and classified by what feeds the mode just beyond it
+(:meth:`SteadySliding.growth_parts`: the real part is the damping forces'
+share plus the circulatory forces'): ``negative_damping`` where the damping's
+share is the larger (C_eff feeds the mode; its frequency stays apart from the
+others'), ``mode_coupling`` where the circulatory forces' is (typically two
+frequencies coalesce there and the real parts split; with damping that is
+not proportional the crossing can come before the frequencies meet, and C_eff
+positive definite still feeds nothing), ``divergence`` for a real eigenvalue
+through zero (no frequency).
 """
 
 from __future__ import annotations
@@ -69,6 +74,8 @@ class SteadySliding(Summarized):
         (k,) the signed slip values sgn(b_j) |F|(|b_j|).
     slope:
         (k,) d|F|/d|V_r| at |b_j|.
+    mass:
+        (n, n) M.
     stiffness, damping:
         (n, n) K_eff and C_eff.
     jacobian:
@@ -83,6 +90,7 @@ class SteadySliding(Summarized):
     normal: np.ndarray
     mu: np.ndarray
     slope: np.ndarray
+    mass: np.ndarray
     stiffness: np.ndarray
     damping: np.ndarray
     jacobian: np.ndarray
@@ -93,6 +101,33 @@ class SteadySliding(Summarized):
     def stable(self) -> bool:
         """Every eigenvalue strictly in the left half plane."""
         return bool(np.all(self.eigenvalues.real < 0.0))
+
+    def growth_parts(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each eigenvalue's real part split into what the damping and the circulatory forces contribute.
+
+        With x the mode shape, m = x^H M x, c = x^H C_eff x and k = x^H K_eff x, the eigenvalue
+        lambda = sigma + i omega solves lambda^2 m + lambda c + k = 0, whose imaginary part gives
+
+            sigma = -c / (2 m) - Im(k) / (2 m omega)
+
+        the first term the damping's share (positive only where C_eff feeds the mode: negative damping), the
+        second the circulatory forces' (the antisymmetric part of K_eff: mode coupling).  NaN for a real
+        eigenvalue (omega = 0).
+
+        Returns
+        -------
+        (damping, circulatory):
+            Two (2n,) arrays whose sum is the eigenvalues' real parts.
+        """
+        n = self.q.size
+        x = self.eigenvectors[:n]
+        m = np.einsum("ij,ik,kj->j", x.conj(), self.mass, x).real
+        c = np.einsum("ij,ik,kj->j", x.conj(), self.damping, x).real
+        k_im = np.einsum("ij,ik,kj->j", x.conj(), self.stiffness, x).imag
+        omega = self.eigenvalues.imag
+        with np.errstate(divide="ignore", invalid="ignore"):
+            circulatory = np.where(omega != 0.0, -k_im / (2.0 * m * omega), np.nan)
+        return -c / (2.0 * m), circulatory
 
     def _summary(self) -> tuple[str, list[Row]]:
         rows = [("q*", ", ".join(num(x, 6) for x in self.q)), ("N*", ", ".join(num(x, 6) for x in self.normal)),
@@ -177,7 +212,7 @@ def steady_sliding(assembly: Assembly, laws: Sequence[FrictionLaw] | None = None
     c_eff = np.asarray(assembly.damping, dtype=float) + (e * (loads * slope)[:, None]).T @ e
     a = first_order(mass, c_eff, k_eff)
     lam, vec = np.linalg.eig(a)
-    return SteadySliding(q, loads, mu, slope, k_eff, c_eff, a, lam, vec)
+    return SteadySliding(q, loads, mu, slope, mass, k_eff, c_eff, a, lam, vec)
 
 
 def first_order(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
@@ -426,18 +461,30 @@ def _pick(lam: np.ndarray, targets: np.ndarray) -> np.ndarray:
 
 
 def _locate(b: _Bracket, spectrum: _Spectrum) -> Critical:
-    """Classify the crossing in ``b`` and refine its value; the frequency there (a coalesced pair's mean)."""
+    """Refine the crossing in ``b``, classify it by what feeds the mode just beyond, and its frequency there
+    (a coalesced pair's mean: each of the two is only known to ~sqrt(eps) at the coalescence, their mean to
+    rounding)."""
     partner = _partner(b)
-    if max(abs(b.lam_s[b.k].imag), abs(b.lam_u[b.k].imag)) <= b.tol:
-        kind, modes = "divergence", [b.k]
-    elif partner is not None:
-        kind, modes = "mode_coupling", [b.k, partner]
-    else:
-        kind, modes = "negative_damping", [b.k]
+    modes = [b.k] if partner is None else [b.k, partner]
     value = _refine(b, modes, spectrum)
     at = _pick(spectrum(value), b.interp(value)[modes])
-    frequency = 0.0 if kind == "divergence" else float(np.mean(np.abs(at.imag)))
-    return Critical(float(value), kind, frequency, unstable_above=bool(b.unstable > b.stable))
+    above = bool(b.unstable > b.stable)
+    if max(abs(b.lam_s[b.k].imag), abs(b.lam_u[b.k].imag)) <= b.tol:
+        return Critical(float(value), "divergence", 0.0, above)
+    beyond = value + 0.5 * (b.unstable - value)
+    kind = _mechanism(spectrum.sliding(beyond), b.interp(beyond)[modes])
+    return Critical(float(value), kind, float(np.mean(np.abs(at.imag))), above)
+
+
+def _mechanism(s: SteadySliding, targets: np.ndarray) -> str:
+    """``mode_coupling`` where the circulatory forces feed the growing mode more than the damping forces do,
+    ``negative_damping`` otherwise (:meth:`SteadySliding.growth_parts`); the growing mode: of the eigenvalues
+    nearest to ``targets``, the one with the largest real part."""
+    lam = s.eigenvalues
+    _, cols = optimize.linear_sum_assignment(np.abs(targets[:, None] - lam[None, :]))
+    i = cols[np.argmax(lam[cols].real)]
+    damping, circulatory = s.growth_parts()
+    return "mode_coupling" if circulatory[i] > damping[i] else "negative_damping"
 
 
 def _refine(b: _Bracket, modes: list[int], spectrum: _Spectrum) -> float:
