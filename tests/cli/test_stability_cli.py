@@ -142,3 +142,18 @@ def test_a_missing_or_bad_model_file_is_refused_in_one_line(models, capsys):
     assert main(["stability", "--model", str(models / "bad.toml"), "--vary", "contact.0.fd=0.1:0.8"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "x3" in err[0]
+
+
+def test_a_scan_estimated_above_the_limit_is_refused_before_it_starts(models, capsys):
+    # a chain of 100 masses: 10^5 eigenvalue problems of size 200 are hours of work
+    n = 100
+    lines = [f"dof = [{', '.join(f'{chr(34)}x{i}{chr(34)}' for i in range(n))}]", f"mass = [{', '.join(['1.0'] * n)}]"]
+    for i in range(n):
+        on = f"x{i} = 1.0" if i == 0 else f"x{i} = 1.0, x{i - 1} = -1.0"
+        lines += ["[[spring]]", f"on = {{ {on} }}", "k = 1.0"]
+    lines += ["[[contact]]", "on = { x0 = 1.0 }", "belt = 0.1", 'friction = "coulomb"', "fd = 0.1", "fs = 0.2"]
+    (models / "chain.toml").write_text("\n".join(lines) + "\n")
+    args = ["stability", "--model", str(models / "chain.toml"), "--vary", "contact.0.belt=0.1:0.2:100000"]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "estimated" in err[0] and "--no-limit" in err[0], err
