@@ -307,6 +307,16 @@ def test_a_falling_curve_on_a_two_mass_chain_is_negative_damping_where_routh_hur
     assert abs(scan.critical[0].frequency - scan.critical[1].frequency) > 0.5
 
 
+def test_a_real_eigenvalue_through_zero_is_a_divergence_where_the_stiffness_vanishes():
+    # a hand-built negative stiffness 0.3 - p (no normal-load coupling: N = 1 on both sides): the equilibrium
+    # q* = F / (0.3 - p) exists on both sides; one real eigenvalue passes 0 at p = 0.3, with no frequency
+    build = lambda p: single_mass(0.05, Coulomb(0.02, 0.04))._replace(stiffness=np.array([[0.3 - p]]))  # noqa: E731
+    scan = stability_scan(build, np.linspace(0.0, 0.6, 8))
+    [crit] = scan.critical
+    assert crit.kind == "divergence" and crit.unstable_above and crit.frequency == 0.0
+    assert crit.value == pytest.approx(0.3, rel=1e-14)
+
+
 def test_the_growth_parts_add_up_to_the_real_parts():
     law = Stribeck(fd=0.3, fs=0.5, vs=0.1, delta=1.0)
     s = steady_sliding(assembly(np.eye(2), KH, np.diag([0.02, 0.05]), [[1.0, 0.0]], [0.05], [law],

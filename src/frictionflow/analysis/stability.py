@@ -99,8 +99,10 @@ class SteadySliding(Summarized):
 
     @property
     def stable(self) -> bool:
-        """Every eigenvalue strictly in the left half plane."""
-        return bool(np.all(self.eigenvalues.real < 0.0))
+        """No eigenvalue in the right half plane (a real part within :data:`ZERO_REAL` of the spectrum's size is
+        zero: undamped modes count as stable, marginally)."""
+        lam = self.eigenvalues
+        return not bool(np.any(lam.real > ZERO_REAL * np.abs(lam).max()))
 
     def growth_parts(self) -> tuple[np.ndarray, np.ndarray]:
         """Each eigenvalue's real part split into what the damping and the circulatory forces contribute.
@@ -194,12 +196,10 @@ def steady_sliding(assembly: Assembly, laws: Sequence[FrictionLaw] | None = None
         One line: a belt at rest, a belt inside a stick band, K_eff singular (no isolated
         equilibrium) or a normal load <= 0 at the equilibrium (the contact is lost).
     """
-    mass, stiff = np.asarray(assembly.mass, dtype=float), np.asarray(assembly.stiffness, dtype=float)
-    e = np.asarray(assembly.contact_dir, dtype=float).reshape(-1, mass.shape[0])
-    normal = np.asarray(assembly.normal, dtype=float).reshape(len(e), -1)
-    preload, coef = normal[:, 0], normal[:, 1:]
+    mass = np.asarray(assembly.mass, dtype=float)
+    e, preload, coef = _contacts(assembly)
     mu, slope = contact_slip(assembly, laws)
-    k_eff = stiff - (e * mu[:, None]).T @ coef
+    k_eff = effective_stiffness(assembly, mu)
     if np.linalg.cond(k_eff) * np.finfo(float).eps > 1e-6:
         raise ValueError("no steady-sliding equilibrium: K_eff = K - sum_j mu_j e_j n_j^T is singular "
                          "(a direction without stiffness, or the friction cancels it)")
@@ -213,6 +213,20 @@ def steady_sliding(assembly: Assembly, laws: Sequence[FrictionLaw] | None = None
     a = first_order(mass, c_eff, k_eff)
     lam, vec = np.linalg.eig(a)
     return SteadySliding(q, loads, mu, slope, mass, k_eff, c_eff, a, lam, vec)
+
+
+def _contacts(assembly: Assembly) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(e, P, n): the contacts' directions (k, n), preloads (k,) and normal-load coefficients (k, n)."""
+    n = np.asarray(assembly.mass).shape[0]
+    e = np.asarray(assembly.contact_dir, dtype=float).reshape(-1, n)
+    normal = np.asarray(assembly.normal, dtype=float).reshape(len(e), n + 1)
+    return e, normal[:, 0], normal[:, 1:]
+
+
+def effective_stiffness(assembly: Assembly, mu: np.ndarray) -> np.ndarray:
+    """K_eff = K - sum_j mu_j e_j n_j^T, with ``mu`` the contacts' signed slip values (:func:`contact_slip`)."""
+    e, _, coef = _contacts(assembly)
+    return np.asarray(assembly.stiffness, dtype=float) - (e * np.asarray(mu)[:, None]).T @ coef
 
 
 def first_order(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
@@ -318,6 +332,12 @@ class _Spectrum:
 
     def __call__(self, value: float) -> np.ndarray:
         return self.sliding(value).eigenvalues
+
+    def stiffness_det(self, value: float) -> float:
+        """det K_eff at ``value``: where a real eigenvalue passes zero it does too (no equilibrium needed)."""
+        laws = None if self.laws_at is None else self.laws_at(value)
+        assembly = self.assembly_at(value)
+        return float(np.linalg.det(effective_stiffness(assembly, contact_slip(assembly, laws)[0])))
 
 
 def stability_scan(assembly_at: Callable[[float], Assembly], values: Sequence[float], *, param: str = "parameter",
@@ -434,9 +454,9 @@ def _critical_points(values: np.ndarray, lam: np.ndarray, spectrum: _Spectrum) -
     for i in range(len(values) - 1):
         t = max(tol[i], tol[i + 1])
         for k in np.flatnonzero(unstable[i] != unstable[i + 1]):
-            if min(lam[i, k].imag, lam[i + 1, k].imag) < -t:
-                continue  # the conjugate of a mode of the upper half plane: counted there
             s, u = (i, i + 1) if unstable[i + 1, k] else (i + 1, i)
+            if lam[u, k].imag < -t:
+                continue  # the conjugate of a mode of the upper half plane: counted there
             found.append(_locate(_Bracket(values[s], values[u], lam[s], lam[u], int(k), t), spectrum))
     return found
 
@@ -464,13 +484,17 @@ def _locate(b: _Bracket, spectrum: _Spectrum) -> Critical:
     """Refine the crossing in ``b``, classify it by what feeds the mode just beyond, and its frequency there
     (a coalesced pair's mean: each of the two is only known to ~sqrt(eps) at the coalescence, their mean to
     rounding)."""
+    above = bool(b.unstable > b.stable)
+    if abs(b.lam_u[b.k].imag) <= b.tol:
+        # a real eigenvalue through 0 changes the sign of det A = det(M^-1 K_eff): K_eff is singular there,
+        # where the equilibrium itself does not exist
+        value = _root(spectrum.stiffness_det, b.stable, b.unstable)
+        if value is not None:
+            return Critical(float(value), "divergence", 0.0, above)
     partner = _partner(b)
     modes = [b.k] if partner is None else [b.k, partner]
     value = _refine(b, modes, spectrum)
     at = _pick(spectrum(value), b.interp(value)[modes])
-    above = bool(b.unstable > b.stable)
-    if max(abs(b.lam_s[b.k].imag), abs(b.lam_u[b.k].imag)) <= b.tol:
-        return Critical(float(value), "divergence", 0.0, above)
     beyond = value + 0.5 * (b.unstable - value)
     kind = _mechanism(spectrum.sliding(beyond), b.interp(beyond)[modes])
     return Critical(float(value), kind, float(np.mean(np.abs(at.imag))), above)
