@@ -324,3 +324,34 @@ def test_the_growth_parts_add_up_to_the_real_parts():
     damping, circulatory = s.growth_parts()
     assert np.allclose(damping + circulatory, s.eigenvalues.real, rtol=0, atol=1e-13)
     assert np.all(circulatory != 0) and np.any(damping > 0)  # both mechanisms present here
+
+
+def test_on_a_six_mass_chain_the_critical_points_account_for_every_change_in_the_unstable_count():
+    # independent of the tracking: count the eigenvalues of the upper half plane with Re > 0 at each value; between
+    # two values the count changes by the critical points there (+1 losing stability upwards, -1 regaining it)
+    n, rng = 6, np.random.default_rng(3)
+    K = np.diag(1.0 + rng.random(n))
+    for i in range(1, n):
+        k = 0.5 + rng.random()
+        K[i - 1:i + 1, i - 1:i + 1] += k * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    M = np.diag(1.0 + rng.random(n))
+    C = 0.01 * K + 0.005 * M
+    e = np.zeros((2, n))
+    e[0, 0] = e[1, 3] = 1.0
+    normal = np.zeros((2, n + 1))
+    normal[:, 0], normal[0, 3], normal[1, 6] = 1.0, 1.5, -1.2
+
+    def build(mu):
+        laws = [Stribeck(fd=mu, fs=1.5 * mu, vs=0.1, delta=1.0), Coulomb(fd=mu, fs=mu)]
+        return assembly(M, K, C, e, [0.3, 0.2], laws, normal=normal)
+
+    values = np.linspace(0.05, 1.5, 60)
+    scan = stability_scan(build, values)
+    counts = []
+    for mu in values:
+        lam = np.linalg.eigvals(steady_sliding(build(mu)).jacobian)
+        counts.append(int(np.sum((lam.real > 1e-8 * np.abs(lam).max()) & (lam.imag >= 0))))
+    assert max(counts) >= 3  # several modes lose stability in the range
+    for i in range(len(values) - 1):
+        inside = [c for c in scan.critical if values[i] < c.value < values[i + 1]]
+        assert counts[i + 1] - counts[i] == sum(1 if c.unstable_above else -1 for c in inside), i
