@@ -170,6 +170,21 @@ def test_a_falling_slip_curve_destabilises_one_mass_below_the_closed_form_belt_s
     assert np.array_equal(scan.stable, values > v_star)
 
 
+def test_the_law_objects_give_the_slip_curve_where_the_kernel_rows_cannot():
+    # a user's slip function (its kernel row cannot hold it): the curve of STRIBECK, its slope given; the
+    # assemblies' rows are Coulomb's (flat, no instability): the laws given decide
+    from frictionflow import SlipLaw
+
+    law = SlipLaw(lambda v: 0.02 + 0.02 * math.exp(-v / 0.01), dfunc=lambda v: -2.0 * math.exp(-v / 0.01))
+    v_star = 0.01 * math.log(0.02 / (2.0 * ZETA * 0.01))
+    scan = stability_scan(lambda v: single_mass(v, Coulomb(0.02, 0.04)), np.linspace(0.005, 0.08, 31),
+                          laws_at=lambda v: [law])
+    [crit] = scan.critical
+    assert crit.kind == "negative_damping" and crit.value == pytest.approx(v_star, rel=1e-12)
+    with pytest.raises(ValueError, match="stick band"):
+        steady_sliding(single_mass(5e-4, Coulomb(0.02, 0.04)), laws=[Karnopp(0.02, 0.04, vd=1e-3)])
+
+
 @pytest.mark.parametrize("law", [Coulomb(fd=0.02, fs=0.04), STRIBECK, Stribeck(fd=0.02, fs=0.05, vs=0.02),
                                  Cubic(fs=0.04, k1=0.3, k3=10.0)])
 @pytest.mark.parametrize("vb", [0.003, 0.0297, 0.07, -0.02])

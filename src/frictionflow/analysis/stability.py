@@ -163,20 +163,20 @@ def contact_slip(assembly: Assembly, laws: Sequence[FrictionLaw] | None = None) 
             raise ValueError(f"contact.{j}.belt must be nonzero and finite for steady sliding, got {b:g}")
         speed = abs(b)
         if laws is None:
-            _check_band(j, rows[j], speed)
+            cls = next((c for c in law_classes() if c.code == int(rows[j, LAW])), None)
+            _check_band(j, None if cls is None else cls.stick_rule, rows[j, VD], speed)
             mu[j], slope[j] = slip_magnitude_of(rows[j], speed), slip_slope_of(rows[j], speed)
         else:
-            _check_band(j, laws[j].kernel_params(), speed, laws[j])
+            _check_band(j, laws[j].stick_rule, laws[j].band, speed)
             mu[j], slope[j] = float(laws[j].slip_magnitude(speed)), laws[j].slip_slope(speed)
         mu[j] *= math.copysign(1.0, b)
     return mu, slope
 
 
-def _check_band(j: int, row: np.ndarray, speed: float, law: FrictionLaw | None = None) -> None:
+def _check_band(j: int, stick_rule: str | None, band: float | None, speed: float) -> None:
     """Refuse a belt speed inside the stick band of a law with one (it holds the contact there, no sliding)."""
-    cls = type(law) if law is not None else next((c for c in law_classes() if c.code == int(row[LAW])), None)
-    if cls is not None and cls.stick_rule == "band" and speed <= row[VD]:
-        raise ValueError(f"contact.{j}.belt = {speed:g} is inside the law's stick band |V_r| <= {row[VD]:g}: "
+    if stick_rule == "band" and band is not None and speed <= band:
+        raise ValueError(f"contact.{j}.belt = {speed:g} is inside the law's stick band |V_r| <= {band:g}: "
                          "the contact is held there, no steady sliding")
 
 
