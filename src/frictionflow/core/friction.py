@@ -9,8 +9,9 @@
   :func:`stick_duration`: how long an unforced stick lasts (closed form).
 * :func:`rest_mode`: Coulomb's set-valued stick rule at V_r = 0 (used by the
   adaptive kernel and the Python orbit flows).
-* :func:`band_force` / :func:`band_mode`: Karnopp's stick band |V_r| <= V_d
-  (fixed-step RK4), the law's parameters as one record (:func:`band_law`).
+* :func:`band_force` / :func:`band_mode` / :func:`band_side`: Karnopp's stick
+  band |V_r| <= V_d (fixed-step RK4; the exact kernel's fallback
+  :func:`~.exact.region_mode`), the law's parameters as one record (:func:`band_law`).
 * :func:`external_force`: the harmonic force f(tau) = F_ex cos(Omega tau + phi).
 
 Every rule that decides sticking takes ``fext``, the external force at that
@@ -207,6 +208,20 @@ def band_law(law, p):
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
+def band_side(fe, fs):
+    """Inside the stick band, the side of the static bound the held force ``fe`` (:func:`held_force`) is on.
+
+    +1 when F_e - f >= F_s (the band saturates at +F_s), -1 when <= -F_s,
+    0 when the interface holds it (|F_e - f| < F_s).
+    """
+    if fe >= fs:
+        return 1
+    if fe <= -fs:
+        return -1
+    return 0
+
+
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def band_force(lw, x, v, zeta, vb, fext):
     """Friction force of a law with a stick band |V_r| <= V_d (Karnopp's scheme); ``lw``: its :func:`band_law`.
 
@@ -220,9 +235,10 @@ def band_force(lw, x, v, zeta, vb, fext):
     if vr < -vd:
         return -slip_magnitude(law, fd, fs, a, b, c, -vr)
     fe = held_force_fm(x, zeta, v, resultant, fext)
-    if fe >= fs:
+    side = band_side(fe, fs)
+    if side > 0:
         return fs
-    if fe <= -fs:
+    if side < 0:
         return -fs
     return fe
 
