@@ -6,7 +6,8 @@
   functions (in its module in :mod:`frictionflow.friction`).
 * :func:`held_force` / :func:`stick_friction`: the force the interface must
   hold, F_e - f, and the friction force while sticking, X + 2 zeta V_b - f;
-  :func:`stick_duration`: how long an unforced stick lasts (closed form).
+  :func:`stick_duration`: how long an unforced stick lasts (closed form; a
+  forced one: :mod:`.stick`).
 * :func:`rest_mode`: Coulomb's set-valued stick rule at V_r = 0 (used by the
   adaptive kernel and the Python orbit flows).
 * :func:`band_force` / :func:`band_mode` / :func:`band_side`: Karnopp's stick
@@ -140,7 +141,7 @@ def stick_duration(x, zeta, vb, fs, resultant):
 
     F_e moves at the rate V_b, towards the limit on V_b's side; 0 when it is
     there or beyond already.  (A forced stick has no closed form: its end is
-    searched on the held force, :func:`held_force`.)
+    searched on the held force along the phase, :mod:`.stick`.)
     """
     if vb == 0.0:
         return math.inf
