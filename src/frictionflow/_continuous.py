@@ -44,6 +44,7 @@ import math
 import numpy as np
 
 from .core import closed_form as cf
+from .core.event_modes import EXACT_CODES, exact_motion, held_modes
 from .core.hermite import hermite, quintic
 from .core.layout import N_WORK
 from .modes import SwitchMode
@@ -160,16 +161,10 @@ class ClosedForm(Interpolant):
         return dyn[modes + 1], centre[modes + 1]
 
     def _table(self) -> dict[SwitchMode, tuple[int, float]]:
-        """Motion type and OSC centre of each mode (as :func:`frictionflow.core.exact.dynamics`)."""
+        """Motion type and OSC centre of each mode the exact kernel records (:func:`.core.event_modes.exact_motion`)."""
         law = self.traj.friction
-        fd, fs = law.fd, getattr(law, "fs", law.fd)
-        hold = EXP if law.stick_force == "spring" and self.zeta > 0.0 else LIN
-        S = SwitchMode
-        return {
-            S.SLIP_POSITIVE: (OSC, fd), S.SLIP_NEGATIVE: (OSC, -fd), S.STICK: (LIN, 0.0),
-            S.BAND_HOLD: (hold, 0.0), S.BAND_SATURATED_POSITIVE: (OSC, fs), S.BAND_SATURATED_NEGATIVE: (OSC, -fs),
-            S.BAND_EDGE_LOWER: (LIN, 0.0), S.BAND_EDGE_UPPER: (LIN, 0.0),
-        }
+        fd, fs, res = law.fd, getattr(law, "fs", law.fd), law.stick_force != "spring"
+        return {mode: exact_motion(mode, self.zeta, fd, fs, res) for mode in EXACT_CODES}
 
     def _first_phase(self) -> SwitchMode:
         """The mode of the run's first phase (no switch records it).
@@ -183,14 +178,12 @@ class ClosedForm(Interpolant):
         x, v, fc, m = tr.x[0], tr.v[0], tr.fc[0], int(tr.mode[0])
         if m != 0:
             return SwitchMode(m)
+        held = held_modes(tr.friction.stick_rule)  # Coulomb's switch holds only in STICK, the band in its own modes
+        if len(held) == 1:
+            return held[0]
         table = self._table()
         tol = 1e-12 * (abs(x) + abs(v) + abs(fc) + tr.friction.fs + 1e-300)
-        found = [s for s in table if s not in (SwitchMode.SLIP_POSITIVE, SwitchMode.SLIP_NEGATIVE)
-                 and abs(self._fc_of(s, table, x, v) - fc) <= tol]
-        if tr.friction.stick_rule == "switch":  # Coulomb-type laws stick only in STICK
-            found = [s for s in found if s == SwitchMode.STICK] or [SwitchMode.STICK]
-        elif SwitchMode.STICK in found:
-            found.remove(SwitchMode.STICK)
+        found = [s for s in held if abs(self._fc_of(s, table, x, v) - fc) <= tol]
         ev_t = tr.events["t"]
         last = np.searchsorted(tr.t, ev_t[0], side="left") if len(ev_t) else len(tr.t) - 1
         if len(found) <= 1 or tr.t[last] <= tr.t[0]:

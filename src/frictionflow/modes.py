@@ -3,7 +3,7 @@
 Every solver that locates switches records, for each switch, the mode the
 motion enters; ``Trajectory.events["mode"]`` holds these as
 :class:`SwitchMode` values, whatever codes the solver's kernel uses
-internally (the translation tables are in :mod:`frictionflow.solvers.events`).
+internally (the translation tables are in :mod:`frictionflow.core.event_modes`).
 
 This module depends on nothing else in the package, so that any layer
 (trajectory, solvers, analysis) can import it without a cycle.

@@ -18,7 +18,7 @@ integral W_ex = int X' f, and the run a sample at every tau_k = k 2 pi / Omega
 (the stroboscopic section).  A stick phase then holds F_e - f(tau), which
 varies: it is walked through the monotone pieces of that force, whose ends
 (the zeros of its rate V_b - f') are known in closed form, so that no
-excursion beyond F_s is missed however short (:func:`_stick_exit`).  The
+excursion beyond F_s is missed however short (:func:`.stick.exit_time`).  The
 forced and unforced runs are two specialisations of one body (:func:`_run`,
 ``forced`` a constant in each): the unforced one computes what this kernel
 computed before forcing existed, to the bit.
@@ -38,12 +38,13 @@ from numba import njit
 
 from . import codes
 from .friction import (FD, FEX, FS, LAW, LAW_A, LAW_B, LAW_C, OMEGA, PHI, RESULTANT, external_force, external_force_rate,
-                       held_force, rest_mode, slip_magnitude, stick_duration, stick_friction)
+                       rest_mode, slip_magnitude, stick_duration, stick_friction)
 from . import sections as sec
 from .layout import N_WORK
 from .records import (DENSE_DT, MAX_STEPS, MIN_PERIODS, ODE_ATOL, ODE_RTOL, R_CERT, STOP_RTOL, T_END, T_TAIL, V0, VB, X0, X_EQ,
                       ZETA)
 from .samples import emit
+from .stick import exit_time as _stick_exit, friction_zero as _friction_zero  # the forced stick's walk, stated once
 
 A21 = 1 / 5
 A31, A32 = 3 / 40, 9 / 40
@@ -558,89 +559,6 @@ def _strobe(tt, n, period):
     while n * period <= tt + tol:
         n += 1
     return tt, n
-
-
-@njit(cache=True)
-def _held(xs, ts, t, zeta, vb, res, p):
-    """F_e - f(t), the force the interface must hold at ``t`` in a stick phase that began at (ts, xs)."""
-    return held_force(xs + vb * (t - ts), zeta, vb, res, external_force(p, t))
-
-
-@njit(cache=True)
-def _next_turn(t, vb, p):
-    """The first time after ``t`` where the held force turns: its rate V_b - f' = V_b + F_ex Omega sin(Omega t + phi) vanishes.
-
-    Between two turns it is monotone.  inf when it never turns (|V_b| >= F_ex Omega).
-    """
-    om, ph = p[OMEGA], p[PHI]
-    r = -vb / (p[FEX] * om)
-    if abs(r) >= 1.0:
-        return np.inf
-    two_pi = 2.0 * math.pi
-    first = math.asin(r)
-    best = np.inf
-    for th in (first, math.pi - first):
-        tc = (th + two_pi * (math.floor((om * t + ph - th) / two_pi) + 1.0) - ph) / om
-        while tc <= t:  # rounding
-            tc += two_pi / om
-        best = min(best, tc)
-    return best
-
-
-@njit(cache=True)
-def _level_time(xs, ts, lo, hi, level, s, offset, zeta, vb, res, p):
-    """Bisection on a monotone piece where s (held + offset) < level at lo and >= level at hi: the first time it is >= level."""
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if mid <= lo or mid >= hi:
-            break
-        if s * (_held(xs, ts, mid, zeta, vb, res, p) + offset) >= level:
-            hi = mid
-        else:
-            lo = mid
-    return hi
-
-
-@njit(cache=True)
-def _stick_exit(xs, ts, t_end, hold, zeta, vb, fs, res, p):
-    """When a forced stick from (ts, xs) first reaches |F_e - f| >= F_s moving outwards (t_end if never).
-
-    The held force is walked through its monotone pieces (:func:`_next_turn`):
-    on each it leaves the bound iff it is beyond it at the piece's end, so an
-    excursion however short is found, to the last bit by bisection.  With
-    ``hold`` (it was on the bound and held there) the first piece does not
-    end the stick if it starts on the bound already.
-    """
-    a = ts
-    ga = _held(xs, ts, a, zeta, vb, res, p)
-    while a < t_end:
-        b = min(_next_turn(a, vb, p), t_end)
-        gb = _held(xs, ts, b, zeta, vb, res, p)
-        s = 1.0 if gb >= ga else -1.0  # the held force's direction on the piece
-        if s * gb >= fs:
-            if s * ga < fs:
-                return _level_time(xs, ts, a, b, fs, s, 0.0, zeta, vb, res, p)
-            if not (hold and a == ts):
-                return a
-        a, ga = b, gb
-    return t_end
-
-
-@njit(cache=True)
-def _friction_zero(xs, ts, t0, t1, zeta, vb, res, p):
-    """The first sign change of the held friction force F_c = X + 2 zeta V_b - f in (t0, t1) (inf if none)."""
-    off = 0.0 if res else 2.0 * zeta * vb  # F_c - (F_e - f)
-    a = t0
-    fa = _held(xs, ts, a, zeta, vb, res, p) + off
-    while a < t1:
-        b = min(_next_turn(a, vb, p), t1)
-        fb = _held(xs, ts, b, zeta, vb, res, p) + off
-        if fa * fb < 0.0:
-            s = 1.0 if fb > 0.0 else -1.0
-            z = _level_time(xs, ts, a, b, 0.0, s, off, zeta, vb, res, p)
-            return z if z < t1 else np.inf
-        a, fa = b, fb
-    return np.inf
 
 
 @njit(cache=True)

@@ -23,6 +23,28 @@ and the first two time derivatives of each of its boundary functions.  A
 trajectory that touches a boundary within rounding without crossing it
 (grazing) does not switch.
 
+The stick rules here and in :mod:`.friction`.  Where the rule is the same it is
+called from there: the held force (:func:`~.friction.held_force`), and in the
+region fallback (:func:`region_mode`) the slip direction by V_r
+(:func:`~.friction.band_mode`) and the band's side of F_s
+(:func:`~.friction.band_side`).  Two things stay here:
+
+* *Karnopp's band as modes* (HOLD, SAT_POS/NEG, EDGE_LO/HI, their order
+  :data:`KARNOPP_ORDER` and HOLD's EXP motion with F_e = X): only this kernel
+  integrates the band phase by phase; RK4 evaluates the band's force at each
+  step (:func:`~.friction.band_force`) and needs no modes, and the Filippov
+  sliding on a band edge exists only between two closed-form phases.
+* *The consistency test* (:func:`consistent`), Coulomb's STICK included: each
+  region as linear boundaries a X + b X' - c (the switch search's event
+  functions, :func:`mode_boundaries`), judged on the value and the first two
+  time derivatives with tolerances scaled by the rounding of each term and of
+  f (``ftol``).  :func:`~.friction.rest_mode` (the adaptive, tangent and flow
+  map kernels) states Coulomb's rule at V_r = 0 with fixed relative margins
+  and a zero rate taken as outwards; away from |F_e - f| = F_s the two choose
+  alike (``tests/core/test_mode_rules.py``), but within rounding of it, where
+  every stick exit is located, they do not, so each engine keeps its own and
+  its bits.
+
 The kernel emits samples -- phase starts, zeros of X' (where X' is set to
 exactly 0), extremes of X' and of X + 2 zeta X', the start of the tail, an
 optional dense grid, and the end -- each with the exact cumulative work
@@ -71,7 +93,8 @@ from numba import njit
 from . import codes
 from . import closed_form as cf
 from . import sections as sec
-from .friction import COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD, held_force, stick_friction
+from .friction import (COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD, band_mode, band_side, held_force,
+                       stick_friction)
 from .layout import N_WORK
 from .records import DENSE_DT, MIN_PERIODS, STOP_PERIODIC, STOP_RTOL, STOP_TERMINAL, T_END, T_TAIL, V0, VB, X0, ZETA
 from .samples import emit
@@ -238,10 +261,16 @@ def consistent(mode, lw, zeta, vb, x, v, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
     return True
 
 
+@njit(cache=True, forceinline=True)
+def mode_order(law):
+    """The modes of law code ``law`` in the order :func:`select_mode` tries them (Coulomb's switch, else the band)."""
+    return COULOMB_ORDER if law == COULOMB else KARNOPP_ORDER
+
+
 @njit(cache=True)
 def select_mode(lw, zeta, vb, x, v, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
     """The mode the motion continues in from (x, v); -1 if none is consistent.  (lw, f, ftol: see :func:`consistent`.)"""
-    order = COULOMB_ORDER if lw[0] == COULOMB else KARNOPP_ORDER
+    order = mode_order(lw[0])
     for m in order:
         if consistent(m, lw, zeta, vb, x, v, f, df, ddf, ftol):
             return m
@@ -250,21 +279,25 @@ def select_mode(lw, zeta, vb, x, v, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
 
 @njit(cache=True)
 def region_mode(law, zeta, vb, fd, fs, vd, res, x, v, f=0.0):
-    """The mode by region alone (a fallback when no mode is consistent; f: the external force)."""
-    if law == COULOMB:
-        if v < vb:
-            return SLIP_POS
-        if v > vb:
-            return SLIP_NEG
-        return STICK
-    if vb - v > vd:
+    """The mode by region alone (a fallback when no mode is consistent; f: the external force).
+
+    The shared rules of :mod:`.friction`: the slip direction by V_r
+    (:func:`~.friction.band_mode`; Coulomb's switch is a band of width 0),
+    inside Karnopp's band the side of F_s the held force is on
+    (:func:`~.friction.band_side`).
+    """
+    coulomb = law == COULOMB
+    d = band_mode(v, vb, 0.0 if coulomb else vd)
+    if d > 0:
         return SLIP_POS
-    if vb - v < -vd:
+    if d < 0:
         return SLIP_NEG
-    fe = held_force(x, zeta, v, res, f)
-    if fe >= fs:
+    if coulomb:
+        return STICK
+    side = band_side(held_force(x, zeta, v, res, f), fs)
+    if side > 0:
         return SAT_POS
-    if fe <= -fs:
+    if side < 0:
         return SAT_NEG
     return HOLD
 

@@ -6,11 +6,13 @@
   functions (in its module in :mod:`frictionflow.friction`).
 * :func:`held_force` / :func:`stick_friction`: the force the interface must
   hold, F_e - f, and the friction force while sticking, X + 2 zeta V_b - f;
-  :func:`stick_duration`: how long an unforced stick lasts (closed form).
+  :func:`stick_duration`: how long an unforced stick lasts (closed form; a
+  forced one: :mod:`.stick`).
 * :func:`rest_mode`: Coulomb's set-valued stick rule at V_r = 0 (used by the
   adaptive kernel and the Python orbit flows).
-* :func:`band_force` / :func:`band_mode`: Karnopp's stick band |V_r| <= V_d
-  (fixed-step RK4), the law's parameters as one record (:func:`band_law`).
+* :func:`band_force` / :func:`band_mode` / :func:`band_side`: Karnopp's stick
+  band |V_r| <= V_d (fixed-step RK4; the exact kernel's fallback
+  :func:`~.exact.region_mode`), the law's parameters as one record (:func:`band_law`).
 * :func:`external_force`: the harmonic force f(tau) = F_ex cos(Omega tau + phi).
 
 Every rule that decides sticking takes ``fext``, the external force at that
@@ -139,7 +141,7 @@ def stick_duration(x, zeta, vb, fs, resultant):
 
     F_e moves at the rate V_b, towards the limit on V_b's side; 0 when it is
     there or beyond already.  (A forced stick has no closed form: its end is
-    searched on the held force, :func:`held_force`.)
+    searched on the held force along the phase, :mod:`.stick`.)
     """
     if vb == 0.0:
         return math.inf
@@ -207,6 +209,20 @@ def band_law(law, p):
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
+def band_side(fe, fs):
+    """Inside the stick band, the side of the static bound the held force ``fe`` (:func:`held_force`) is on.
+
+    +1 when F_e - f >= F_s (the band saturates at +F_s), -1 when <= -F_s,
+    0 when the interface holds it (|F_e - f| < F_s).
+    """
+    if fe >= fs:
+        return 1
+    if fe <= -fs:
+        return -1
+    return 0
+
+
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def band_force(lw, x, v, zeta, vb, fext):
     """Friction force of a law with a stick band |V_r| <= V_d (Karnopp's scheme); ``lw``: its :func:`band_law`.
 
@@ -220,9 +236,10 @@ def band_force(lw, x, v, zeta, vb, fext):
     if vr < -vd:
         return -slip_magnitude(law, fd, fs, a, b, c, -vr)
     fe = held_force_fm(x, zeta, v, resultant, fext)
-    if fe >= fs:
+    side = band_side(fe, fs)
+    if side > 0:
         return fs
-    if fe <= -fs:
+    if side < 0:
         return -fs
     return fe
 

@@ -72,8 +72,9 @@ position (Illinois, :mod:`.roots`) on g(theta) = g(the RK4 step of length theta)
 |dtheta| ~ 1e-15 tau: the switch is a root of the scheme's own solution, and
 the state and tangent vectors at the switch are one RK4 step of length theta.
 A stick phase ends where |F_e - f(tau)| reaches F_s: an explicit function of
-tau, whose sign changes (and interior maxima, found on its derivative) are
-searched step by step and refined by the same false position.  The mode after
+tau (:func:`.stick.held_along`, its rate :func:`.stick.held_rate`), whose sign
+changes (and interior maxima, found on its derivative) are searched step by
+step and refined by the same false position.  The mode after
 every switch is :func:`~.friction.rest_mode` with the external force and its
 rate at that instant.
 
@@ -95,10 +96,11 @@ import numpy as np
 from numba import njit
 
 from . import codes
-from .friction import (FS, RESULTANT, external_force, external_force_rate, held_force, rest_mode, slip_magnitude_of,
+from .friction import (FS, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of,
                        slip_slope_of)
 from .hermite import hermite_min
 from .roots import RUNNING, bracket, update
+from .stick import held_along, held_rate
 
 #: the 6-vector integrated in slip: X, X', then the tangent vectors u1 = (y2, y3), u2 = (y4, y5)
 NY = 6
@@ -252,12 +254,12 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, sc):
 @njit(cache=True)
 def _stick_gap(x0, t0, t, side, zeta, vb, res, fs, p):
     """side (F_e - f(t)) - F_s while sticking from (x0, t0): >= 0 on (or past) the side's limit."""
-    return side * held_force(x0 + vb * (t - t0), zeta, vb, res, external_force(p, t)) - fs
+    return side * held_along(x0, t0, t, zeta, vb, res, p) - fs
 
 
 @njit(cache=True)
 def _stick_gap_rate(t, side, vb, p):
-    return side * (vb - external_force_rate(p, t))
+    return side * held_rate(t, vb, p)
 
 
 @njit(cache=True)

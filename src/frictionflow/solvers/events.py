@@ -2,9 +2,11 @@
 
 The compiled kernels record the mode entered at each switch in their own
 codes (the exact kernel's SLIP_POS ... STICK = 1 ... 8, the adaptive
-kernel's -1/0/+1).  Each solver has one table here, and
-:func:`switch_modes` applies it when a :class:`~frictionflow.trajectory.Trajectory`
-is built, so kernel codes never leave the solvers.  Fixed-step RK4 locates
+kernel's -1/0/+1).  Each solver has one table, stated in
+:mod:`frictionflow.core.event_modes` (below the engines: the closed-form
+interpolant reads it too) and re-exported here; :func:`switch_modes`
+applies it when a :class:`~frictionflow.trajectory.Trajectory` is built, so
+kernel codes never leave the solvers.  Fixed-step RK4 locates
 no switches and has no table.
 """
 
@@ -16,28 +18,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..core import exact as ke
-from ..core import friction as kf
+from ..core.event_modes import ADAPTIVE_EVENT_MODES, EXACT_EVENT_MODES  # noqa: F401  (re-exported: the solvers' tables)
 from ..modes import SwitchMode
-
-#: the exact event-driven kernel (:mod:`frictionflow.core.exact`)
-EXACT_EVENT_MODES: Mapping[int, SwitchMode] = {
-    ke.SLIP_POS: SwitchMode.SLIP_POSITIVE,
-    ke.SLIP_NEG: SwitchMode.SLIP_NEGATIVE,
-    ke.STICK: SwitchMode.STICK,
-    ke.HOLD: SwitchMode.BAND_HOLD,
-    ke.SAT_POS: SwitchMode.BAND_SATURATED_POSITIVE,
-    ke.SAT_NEG: SwitchMode.BAND_SATURATED_NEGATIVE,
-    ke.EDGE_LO: SwitchMode.BAND_EDGE_LOWER,
-    ke.EDGE_HI: SwitchMode.BAND_EDGE_UPPER,
-}
-
-#: the Dormand-Prince kernel (:mod:`frictionflow.core.dopri`): slip direction or stick
-ADAPTIVE_EVENT_MODES: Mapping[int, SwitchMode] = {
-    kf.SLIP_POS: SwitchMode.SLIP_POSITIVE,
-    kf.SLIP_NEG: SwitchMode.SLIP_NEGATIVE,
-    kf.STICK: SwitchMode.STICK,
-}
 
 
 def switch_modes(codes: np.ndarray, table: Mapping[int, SwitchMode]) -> np.ndarray:

@@ -1,0 +1,122 @@
+"""A forced stick phase: the held force along it, its monotone pieces and where it leaves the static bound.
+
+While the mass sticks from (ts, xs), X = xs + V_b (tau - ts) and X' = V_b,
+so the force the interface must hold, F_e - f(tau) (:func:`~.friction.held_force`),
+is an explicit function of tau (:func:`held_along`) with the rate
+V_b - f'(tau) (:func:`held_rate`).  The stick ends where it first reaches
+|F_e - f| >= F_s moving outwards; an unforced stick has a closed form for
+that (:func:`~.friction.stick_duration`), a forced one is searched here.
+
+The rate's zeros are known in closed form (:func:`next_turn`), so the held
+force is walked through its monotone pieces: on each it crosses a level iff
+it is beyond it at the piece's end, and no excursion however short is
+missed (:func:`exit_time`, :func:`friction_zero`, used by the adaptive
+kernel :mod:`.dopri`).  The tangent integrator (:mod:`.tangent`) searches
+the same exit on the steps of its grid, on :func:`held_along` and
+:func:`held_rate`, refined by false position (:mod:`.roots`) to a few
+units of rounding rather than bisected to the last bit: the two agree to
+about 1e-13 (``tests/core/test_stick.py``) but not bit for bit, so each
+keeps its refinement and the outputs it has (the tangent integrator on this
+walk moves Lyapunov exponents by up to ~4e-12 relative).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .friction import FEX, OMEGA, PHI, external_force, external_force_rate, held_force
+
+
+@njit(cache=True)
+def held_along(xs, ts, t, zeta, vb, res, p):
+    """F_e - f(t), the force the interface must hold at ``t`` in a stick phase that began at (ts, xs).
+
+    ``res``: F_e = X + 2 zeta V_b (else X); ``p``: the force record (its external force).
+    """
+    return held_force(xs + vb * (t - ts), zeta, vb, res, external_force(p, t))
+
+
+@njit(cache=True)
+def held_rate(t, vb, p):
+    """d(F_e - f)/dtau while sticking: V_b - f'(t)."""
+    return vb - external_force_rate(p, t)
+
+
+@njit(cache=True)
+def next_turn(t, vb, p):
+    """The first time after ``t`` where the held force turns: its rate V_b - f' = V_b + F_ex Omega sin(Omega t + phi) vanishes.
+
+    Between two turns it is monotone.  inf when it never turns (|V_b| >= F_ex Omega).
+    """
+    om, ph = p[OMEGA], p[PHI]
+    r = -vb / (p[FEX] * om)
+    if abs(r) >= 1.0:
+        return np.inf
+    two_pi = 2.0 * math.pi
+    first = math.asin(r)
+    best = np.inf
+    for th in (first, math.pi - first):
+        tc = (th + two_pi * (math.floor((om * t + ph - th) / two_pi) + 1.0) - ph) / om
+        while tc <= t:  # rounding
+            tc += two_pi / om
+        best = min(best, tc)
+    return best
+
+
+@njit(cache=True)
+def level_time(xs, ts, lo, hi, level, s, offset, zeta, vb, res, p):
+    """Bisection on a monotone piece where s (held + offset) < level at lo and >= level at hi: the first time it is >= level."""
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if s * (held_along(xs, ts, mid, zeta, vb, res, p) + offset) >= level:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+@njit(cache=True)
+def exit_time(xs, ts, t_end, hold, zeta, vb, fs, res, p):
+    """When a forced stick from (ts, xs) first reaches |F_e - f| >= F_s moving outwards (t_end if never).
+
+    The held force is walked through its monotone pieces (:func:`next_turn`):
+    on each it leaves the bound iff it is beyond it at the piece's end, so an
+    excursion however short is found, to the last bit by bisection.  With
+    ``hold`` (it was on the bound and held there) the first piece does not
+    end the stick if it starts on the bound already.
+    """
+    a = ts
+    ga = held_along(xs, ts, a, zeta, vb, res, p)
+    while a < t_end:
+        b = min(next_turn(a, vb, p), t_end)
+        gb = held_along(xs, ts, b, zeta, vb, res, p)
+        s = 1.0 if gb >= ga else -1.0  # the held force's direction on the piece
+        if s * gb >= fs:
+            if s * ga < fs:
+                return level_time(xs, ts, a, b, fs, s, 0.0, zeta, vb, res, p)
+            if not (hold and a == ts):
+                return a
+        a, ga = b, gb
+    return t_end
+
+
+@njit(cache=True)
+def friction_zero(xs, ts, t0, t1, zeta, vb, res, p):
+    """The first sign change of the held friction force F_c = X + 2 zeta V_b - f in (t0, t1) (inf if none)."""
+    off = 0.0 if res else 2.0 * zeta * vb  # F_c - (F_e - f)
+    a = t0
+    fa = held_along(xs, ts, a, zeta, vb, res, p) + off
+    while a < t1:
+        b = min(next_turn(a, vb, p), t1)
+        fb = held_along(xs, ts, b, zeta, vb, res, p) + off
+        if fa * fb < 0.0:
+            s = 1.0 if fb > 0.0 else -1.0
+            z = level_time(xs, ts, a, b, 0.0, s, off, zeta, vb, res, p)
+            return z if z < t1 else np.inf
+        a, fa = b, fb
+    return np.inf
