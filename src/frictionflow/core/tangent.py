@@ -138,7 +138,13 @@ def slip_slope(p, s):
 @njit(cache=True)
 def accel(d, x, v, t, zeta, vb, p):
     """X'' while slipping in direction d."""
-    return d * slip_force(p, d * (vb - v)) + external_force(p, t) - x - 2.0 * zeta * v
+    return accel_with(d, x, v, external_force(p, t), zeta, vb, p)
+
+
+@njit(cache=True, forceinline=True)
+def accel_with(d, x, v, f, zeta, vb, p):
+    """:func:`accel` given the external force f."""
+    return d * slip_force(p, d * (vb - v)) + f - x - 2.0 * zeta * v
 
 
 # The slip step works on tuples (the 6-vector and RK4's stages are values, not arrays): a call of a compiled
@@ -148,9 +154,15 @@ def accel(d, x, v, t, zeta, vb, p):
 @njit(cache=True, forceinline=True)
 def _rhs(y, t, d, zeta, vb, p):
     """The slip field of the state and of both tangent vectors (``y``: the 6-vector as a tuple)."""
+    return _rhs_f(y, external_force(p, t), d, zeta, vb, p)
+
+
+@njit(cache=True, forceinline=True)
+def _rhs_f(y, f, d, zeta, vb, p):
+    """:func:`_rhs` given the external force f there (RK4's two middle stages share it)."""
     x = y[0]
     v = y[1]
-    acc = accel(d, x, v, t, zeta, vb, p)
+    acc = accel_with(d, x, v, f, zeta, vb, p)
     damp = 2.0 * zeta + slip_slope(p, d * (vb - v))
     return (v, acc, y[3], -y[2] - damp * y[3], y[5], -y[4] - damp * y[5])
 
@@ -164,9 +176,15 @@ def _axpy(y, a, k):
 @njit(cache=True, forceinline=True)
 def _rk4(y, t, h, d, zeta, vb, p):
     """One classical RK4 step of length h from (y, t) (6-tuples): the state at its end."""
-    k1 = _rhs(y, t, d, zeta, vb, p)
-    k2 = _rhs(_axpy(y, 0.5 * h, k1), t + 0.5 * h, d, zeta, vb, p)
-    k3 = _rhs(_axpy(y, 0.5 * h, k2), t + 0.5 * h, d, zeta, vb, p)
+    return _rk4_from(y, t, h, d, zeta, vb, p, _rhs(y, t, d, zeta, vb, p))
+
+
+@njit(cache=True, forceinline=True)
+def _rk4_from(y, t, h, d, zeta, vb, p, k1):
+    """:func:`_rk4` given its first stage ``k1`` (the field at (y, t))."""
+    f_mid = external_force(p, t + 0.5 * h)
+    k2 = _rhs_f(_axpy(y, 0.5 * h, k1), f_mid, d, zeta, vb, p)
+    k3 = _rhs_f(_axpy(y, 0.5 * h, k2), f_mid, d, zeta, vb, p)
     k4 = _rhs(_axpy(y, h, k3), t + h, d, zeta, vb, p)
     c = h / 6.0
     return (y[0] + c * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]), y[1] + c * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]),
@@ -230,9 +248,10 @@ def _slip_step(y, t, h, d, zeta, vb, p, fresh):
     ``fresh``: the phase began at t (g(0) = 0; the left end of a bracket is then looked for inside).
     """
     g0 = d * (vb - y[1])
-    end = _rk4(y, t, h, d, zeta, vb, p)
+    k1 = _rhs(y, t, d, zeta, vb, p)
+    end = _rk4_from(y, t, h, d, zeta, vb, p, k1)
     g1 = d * (vb - end[1])
-    a0 = accel(d, y[0], y[1], t, zeta, vb, p)
+    a0 = k1[1]  # X'' at the start: the first stage's
     noise = rounding_noise(y[1], vb)
     if fresh and abs(g1) <= noise:
         # leaving tangentially (Stribeck's a+ = 0), or a step too short to show it: the
