@@ -884,12 +884,11 @@ def _refine_forced(ph, fn, s, lo, hi, g_hi, dg_hi, d2g_hi, st_hi):
 
 
 # The event table of a forced phase (run_forced): per event function G = a X + b X' + d X'' - e f - c a row of
-# constants -- its coefficients, those of its bound on |G''| (cf.bound_at) and its graze level -- and apart its
-# side, the one thing a walk changes.  Tuples of a fixed number of slots (the most a mode has: Karnopp's
-# saturated band, 3 boundaries and 3 sample functions), not an array: a compiled function taking an array, or an array bound to another
-# name in the loops of run_forced, costs two atomic reference-count updates each time.
+# constants -- its coefficients, those of its bound on |G''| (cf.bound_at) and its graze level -- and apart
+# its side, the one thing a walk changes.  Tuples of six slots (the most a mode has: Karnopp's saturated
+# band, 3 boundaries and 3 sample functions), not an array: a compiled function taking an array, or an
+# array bound to another name in the loops of run_forced, costs two atomic reference-count updates each time.
 EA, EB, ED, EE, EC, EK1, EK2, EKP, EGRAZE = range(9)
-N_EVENT_SLOTS = 6
 NO_EVENT = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
