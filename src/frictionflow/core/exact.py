@@ -951,19 +951,23 @@ def _fold(step, r):
 
 
 @njit(cache=True, forceinline=True)
-def _cross(ev, s, last, i, live, nb, ph, t, st, found):
-    """``found`` = (index, time, motion) of the earliest crossing so far, with event function ``i`` (``ev``, side
-    ``s``) refined if it has crossed at t (motion ``st``): the earlier wins; a boundary (i < nb) wins a tie to
-    ulps over a sample function."""
+def _below(ev, s, live, st):
+    """Whether the event function ``ev`` (side ``s``) has crossed at the motion ``st``: beyond its touch level."""
     if not live:
-        return found
+        return False
+    x, v, acc, f = st[0], st[1], st[2], st[4]
+    g = ev[EA] * x + ev[EB] * v + ev[ED] * acc - ev[EE] * f - ev[EC]
+    return not s * g > 0.0 and not s * g > -ev[EGRAZE]  # on 0 within the touch level: not (yet) a crossing
+
+
+@njit(cache=True, forceinline=True)
+def _cross(ev, s, last, i, nb, ph, t, st, found):
+    """``found`` = (index, time, motion) of the earliest crossing so far, with event function ``i`` (``ev``, side
+    ``s``, crossed at t: motion ``st``) refined: the earlier wins; a boundary (i < nb) wins a tie to ulps over a
+    sample function."""
     dyn, zeta, om = ph[1], ph[2], ph[6]
     x, v, acc, jerk, f, df = st[0], st[1], st[2], st[3], st[4], st[5]
     g = ev[EA] * x + ev[EB] * v + ev[ED] * acc - ev[EE] * f - ev[EC]
-    if s * g > 0.0:
-        return found
-    if s * g > -ev[EGRAZE]:
-        return found  # on 0 within the touch level: not (yet) a crossing
     fn = (ev[EA], ev[EB], ev[ED], ev[EE], ev[EC])
     dg = ev[EA] * v + ev[EB] * acc + ev[ED] * jerk - ev[EE] * df
     tr, sr = _refine_forced(ph, fn, s, last, t, g, dg, _d2g(dyn, zeta, om, fn, acc, jerk, f), st)
@@ -989,14 +993,19 @@ def _walk_step(tab, sides, lasts, n, ph, t, t1, st):
 
 @njit(cache=True, forceinline=True)
 def _crossing(tab, sides, lasts, n, nb, ph, t, st):
-    """The earliest crossing at t (:func:`_cross` over the event functions in order): (index or -1, time, motion)."""
+    """The earliest crossing at t (:func:`_cross` over the event functions that crossed, in order): (index or -1,
+    time, motion).  Which crossed is read slot by slot; the few that did are refined in one loop (one copy of
+    the refinement in the compiled code, not one per slot)."""
+    crossed = (_below(tab[0], sides[0], n > 0, st), _below(tab[1], sides[1], n > 1, st),
+               _below(tab[2], sides[2], n > 2, st), _below(tab[3], sides[3], n > 3, st),
+               _below(tab[4], sides[4], n > 4, st), _below(tab[5], sides[5], n > 5, st))
     found = (-1, np.inf, st)
-    found = _cross(tab[0], sides[0], lasts[0], 0, n > 0, nb, ph, t, st, found)
-    found = _cross(tab[1], sides[1], lasts[1], 1, n > 1, nb, ph, t, st, found)
-    found = _cross(tab[2], sides[2], lasts[2], 2, n > 2, nb, ph, t, st, found)
-    found = _cross(tab[3], sides[3], lasts[3], 3, n > 3, nb, ph, t, st, found)
-    found = _cross(tab[4], sides[4], lasts[4], 4, n > 4, nb, ph, t, st, found)
-    return _cross(tab[5], sides[5], lasts[5], 5, n > 5, nb, ph, t, st, found)
+    if not (crossed[0] or crossed[1] or crossed[2] or crossed[3] or crossed[4] or crossed[5]):
+        return found
+    for i in range(n):
+        if crossed[i]:
+            found = _cross(tab[i], sides[i], lasts[i], i, nb, ph, t, st, found)
+    return found
 
 
 @njit(cache=True, forceinline=True)
