@@ -916,11 +916,13 @@ def _refine_forced(ph, fn, s, lo, hi, g_hi, dg_hi, d2g_hi, st_hi):
     return hi, st_hi
 
 
-# The event table of a forced phase (run_forced): one row per event function G = a X + b X' + d X'' - e f - c
-# with its side, the constants of its bound on |G''| (cf.bound_at), its graze level and the last time it was
-# on its side.  One array: every call that takes an array costs two atomic reference-count updates.
-EA, EB, ED, EE, EC, ESIDE, EK1, EK2, EKP, EGRAZE, ELAST = range(11)
-N_EV_COLUMNS = 11
+# The event table of a forced phase (run_forced): per event function G = a X + b X' + d X'' - e f - c a row of
+# constants -- its coefficients, those of its bound on |G''| (cf.bound_at) and its graze level -- and apart
+# its side, the one thing a walk changes.  Tuples of six slots (the most a mode has: Karnopp's saturated
+# band, 3 boundaries and 3 sample functions), not an array: a compiled function taking an array, or an
+# array bound to another name in the loops of run_forced, costs two atomic reference-count updates each time.
+EA, EB, ED, EE, EC, EK1, EK2, EKP, EGRAZE = range(9)
+NO_EVENT = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @njit(cache=True)
@@ -936,81 +938,145 @@ def _bound_consts(ph, x, v, fn):
     return K1, K2, om * om * mz, 1e-12 * scale + 1e-300
 
 
-@njit(cache=True, inline="always")
-def _next_root(ph, ev, n, nb, t0, st0, t1):
-    """The first crossing of any of the event functions in (t0, t1]: (index or -1, time, the motion there).
+@njit(cache=True, forceinline=True)
+def _decide(ev, side, live, st):
+    """The side of the event function ``ev`` at the walk's start (state ``st``): ``side`` if set, else from G
+    (or G' where G is on 0 within the graze level)."""
+    if side != 0.0 or not live:
+        return side
+    x, v, acc, jerk, f, df = st[0], st[1], st[2], st[3], st[4], st[5]
+    g = ev[EA] * x + ev[EB] * v + ev[ED] * acc - ev[EE] * f - ev[EC]
+    dg = ev[EA] * v + ev[EB] * acc + ev[ED] * jerk - ev[EE] * df
+    return 1.0 if g > ev[EGRAZE] or (g >= -ev[EGRAZE] and dg >= 0.0) else -1.0
 
-    Function i is G_i = a X + b X' + d X'' - e f - c (row i of the event
-    table ``ev``); it starts on side ``ev[i, ESIDE]`` (s G > 0; 0: decided at t0 from G, or G'
-    where G is on 0).  The functions are walked together, one evaluation of
-    the motion per step: from t, G_i stays above -graze until the first root
-    of s G + s G' u - M u^2 / 2 (M: the bound on |G_i''|), and must go below it
-    where s G + s G' u + M u^2 / 2 does, monotonically.  The next point is
-    the nearest of these; a function that has crossed there is refined
-    (the earliest wins; boundaries, the first ``nb``, on a tie to ulps).
-    ``st0``: the motion at t0 (:func:`cf.forced_eval`); with no crossing the
-    time is t1 and the motion is that at t1.
+
+@njit(cache=True, forceinline=True)
+def _reach(ev, s, last, live, ph, t, st):
+    """(u, on_zero, last) of one event function at t (motion ``st``): the walk may step u; ``on_zero``: it is
+    within its graze level of crossing (the walk stands); ``last``: the last walk time it was on its side."""
+    if not live:
+        return np.inf, False, last
+    co, dyn = ph[0], ph[1]
+    x, v, acc, jerk, f, df, e1, e2 = st[0], st[1], st[2], st[3], st[4], st[5], st[6], st[7]
+    g = ev[EA] * x + ev[EB] * v + ev[ED] * acc - ev[EE] * f - ev[EC]
+    dg = ev[EA] * v + ev[EB] * acc + ev[ED] * jerk - ev[EE] * df
+    sg = s * g
+    sdg = s * dg
+    if sg > 0.0:
+        last = t
+    ahead = sg + ev[EGRAZE]
+    if ahead <= 0.0:
+        return 0.0, True, last
+    m2 = cf.bound_at(co, dyn, ev[EK1], ev[EK2], ev[EKP], t, e1, e2)
+    if sdg < 0.0:
+        disc = sdg * sdg - 2.0 * m2 * ahead
+        if disc >= 0.0:
+            return 2.0 * ahead / (-sdg + math.sqrt(disc)), False, last
+        return 2.0 * ahead / (-sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead)), False, last
+    return (sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead)) / m2, False, last
+
+
+@njit(cache=True, forceinline=True)
+def _fold(step, r):
+    """The walk's step after one more event function's :func:`_reach` ``r``: 0 once one stands on its zero."""
+    u, on_zero = r[0], r[1]
+    return 0.0 if on_zero else min(step, u)
+
+
+@njit(cache=True, forceinline=True)
+def _below(ev, s, live, st):
+    """Whether the event function ``ev`` (side ``s``) has crossed at the motion ``st``: beyond its touch level."""
+    if not live:
+        return False
+    x, v, acc, f = st[0], st[1], st[2], st[4]
+    g = ev[EA] * x + ev[EB] * v + ev[ED] * acc - ev[EE] * f - ev[EC]
+    return not s * g > 0.0 and not s * g > -ev[EGRAZE]  # on 0 within the touch level: not (yet) a crossing
+
+
+@njit(cache=True, forceinline=True)
+def _cross(ev, s, last, i, nb, ph, t, st, found):
+    """``found`` = (index, time, motion) of the earliest crossing so far, with event function ``i`` (``ev``, side
+    ``s``, crossed at t: motion ``st``) refined: the earlier wins; a boundary (i < nb) wins a tie to ulps over a
+    sample function."""
+    dyn, zeta, om = ph[1], ph[2], ph[6]
+    x, v, acc, jerk, f, df = st[0], st[1], st[2], st[3], st[4], st[5]
+    g = ev[EA] * x + ev[EB] * v + ev[ED] * acc - ev[EE] * f - ev[EC]
+    fn = (ev[EA], ev[EB], ev[ED], ev[EE], ev[EC])
+    dg = ev[EA] * v + ev[EB] * acc + ev[ED] * jerk - ev[EE] * df
+    tr, sr = _refine_forced(ph, fn, s, last, t, g, dg, _d2g(dyn, zeta, om, fn, acc, jerk, f), st)
+    best, tb = found[0], found[1]
+    boundary_tie = i < nb and best >= nb and tr <= tb + 8.0 * EPS * (1.0 + tb)
+    if tr < tb or boundary_tie:
+        return i, tr, sr
+    return found
+
+
+@njit(cache=True, forceinline=True)
+def _walk_step(tab, sides, lasts, n, ph, t, t1, st):
+    """(step, lasts): how far the walk may go from t (the nearest of the event functions' reaches, :func:`_reach`)."""
+    r0 = _reach(tab[0], sides[0], lasts[0], n > 0, ph, t, st)
+    r1 = _reach(tab[1], sides[1], lasts[1], n > 1, ph, t, st)
+    r2 = _reach(tab[2], sides[2], lasts[2], n > 2, ph, t, st)
+    r3 = _reach(tab[3], sides[3], lasts[3], n > 3, ph, t, st)
+    r4 = _reach(tab[4], sides[4], lasts[4], n > 4, ph, t, st)
+    r5 = _reach(tab[5], sides[5], lasts[5], n > 5, ph, t, st)
+    step = _fold(_fold(_fold(_fold(_fold(_fold(t1 - t, r0), r1), r2), r3), r4), r5)
+    return step, (r0[2], r1[2], r2[2], r3[2], r4[2], r5[2])
+
+
+@njit(cache=True, forceinline=True)
+def _crossing(tab, sides, lasts, n, nb, ph, t, st):
+    """The earliest crossing at t (:func:`_cross` over the event functions that crossed, in order): (index or -1,
+    time, motion).  Which crossed is read slot by slot; the few that did are refined in one loop (one copy of
+    the refinement in the compiled code, not one per slot)."""
+    crossed = (_below(tab[0], sides[0], n > 0, st), _below(tab[1], sides[1], n > 1, st),
+               _below(tab[2], sides[2], n > 2, st), _below(tab[3], sides[3], n > 3, st),
+               _below(tab[4], sides[4], n > 4, st), _below(tab[5], sides[5], n > 5, st))
+    found = (-1, np.inf, st)
+    if not (crossed[0] or crossed[1] or crossed[2] or crossed[3] or crossed[4] or crossed[5]):
+        return found
+    for i in range(n):
+        if crossed[i]:
+            found = _cross(tab[i], sides[i], lasts[i], i, nb, ph, t, st, found)
+    return found
+
+
+@njit(cache=True, forceinline=True)
+def _next_root(ph, table, t0, st0, t1):
+    """The first crossing of any of the event functions in (t0, t1]: (index or -1, time, the motion there, sides).
+
+    ``table`` = (tab, sides, n, nb) (:func:`_event_table`): function i is
+    G_i = a X + b X' + d X'' - e f - c (``tab[i]``); it starts on side
+    ``sides[i]`` (s G > 0; 0: decided at t0 from G, or G' where G is on 0;
+    the sides decided are returned).  The functions are walked together,
+    one evaluation of the motion per step: from t, G_i stays above -graze
+    until the first root of s G + s G' u - M u^2 / 2 (M: the bound on
+    |G_i''|), and must go below it where s G + s G' u + M u^2 / 2 does,
+    monotonically.  The next point is the nearest of these; a function that
+    has crossed there is refined (the earliest wins; boundaries, the first
+    ``nb``, on a tie to ulps).  ``st0``: the motion at t0
+    (:func:`cf.forced_eval`); with no crossing the time is t1 and the motion
+    is that at t1.
     """
     co, dyn, zeta, force, pz, fz, om = ph
+    tab, sides, n, nb = table
+    sides = (_decide(tab[0], sides[0], n > 0, st0), _decide(tab[1], sides[1], n > 1, st0),
+             _decide(tab[2], sides[2], n > 2, st0), _decide(tab[3], sides[3], n > 3, st0),
+             _decide(tab[4], sides[4], n > 4, st0), _decide(tab[5], sides[5], n > 5, st0))
+    lasts = (t0, t0, t0, t0, t0, t0)
     t = t0
     st = st0
-    first = True
     while True:
-        x, v, acc, jerk, f, df, e1, e2 = st[0], st[1], st[2], st[3], st[4], st[5], st[6], st[7]
-        step = t1 - t
-        for i in range(n):
-            g = ev[i, EA] * x + ev[i, EB] * v + ev[i, ED] * acc - ev[i, EE] * f - ev[i, EC]
-            dg = ev[i, EA] * v + ev[i, EB] * acc + ev[i, ED] * jerk - ev[i, EE] * df
-            graze = ev[i, EGRAZE]
-            if first:
-                ev[i, ELAST] = t
-                if ev[i, ESIDE] == 0.0:
-                    ev[i, ESIDE] = 1.0 if g > graze or (g >= -graze and dg >= 0.0) else -1.0
-            s = ev[i, ESIDE]
-            sg = s * g
-            sdg = s * dg
-            if sg > 0.0:
-                ev[i, ELAST] = t
-            ahead = sg + graze
-            if ahead <= 0.0:
-                step = 0.0
-                continue
-            m2 = cf.bound_at(co, dyn, ev[i, EK1], ev[i, EK2], ev[i, EKP], t, e1, e2)
-            if sdg < 0.0:
-                disc = sdg * sdg - 2.0 * m2 * ahead
-                if disc >= 0.0:
-                    u = 2.0 * ahead / (-sdg + math.sqrt(disc))
-                else:
-                    u = 2.0 * ahead / (-sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead))
-            else:
-                u = (sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead)) / m2
-            step = min(step, u)
-        first = False
+        step, lasts = _walk_step(tab, sides, lasts, n, ph, t, t1, st)
         if step > 0.0:
             tn = min(t + step, t1)
             t = tn if tn > t else min(np.nextafter(t, np.inf), t1)  # at least an ulp: no standing still
             st = cf.forced_eval(co, dyn, zeta, force, pz, fz, om, t)
-            x, v, acc, jerk, f, df = st[0], st[1], st[2], st[3], st[4], st[5]
-        # which functions have crossed at t?
-        best = -1
-        tb = np.inf
-        stb = st
-        for i in range(n):
-            g = ev[i, EA] * x + ev[i, EB] * v + ev[i, ED] * acc - ev[i, EE] * f - ev[i, EC]
-            if ev[i, ESIDE] * g > 0.0:
-                continue
-            if ev[i, ESIDE] * g > -ev[i, EGRAZE]:
-                continue  # on 0 within the touch level: not (yet) a crossing
-            fn = (ev[i, EA], ev[i, EB], ev[i, ED], ev[i, EE], ev[i, EC])
-            dg = ev[i, EA] * v + ev[i, EB] * acc + ev[i, ED] * jerk - ev[i, EE] * df
-            tr, sr = _refine_forced(ph, fn, ev[i, ESIDE], ev[i, ELAST], t, g, dg, _d2g(dyn, zeta, om, fn, acc, jerk, f), st)
-            boundary_tie = i < nb and best >= nb and tr <= tb + 8.0 * EPS * (1.0 + tb)
-            if tr < tb or boundary_tie:
-                best, tb, stb = i, tr, sr
+        best, tb, stb = _crossing(tab, sides, lasts, n, nb, ph, t, st)
         if best >= 0:
-            return best, tb, stb
+            return best, tb, stb, sides
         if t >= t1:
-            return -1, t1, st
+            return -1, t1, st, sides
 
 
 #: what the work integrals of a forced phase's pieces read (:func:`_piece_work`): its motion (``dyn``,
@@ -1083,28 +1149,37 @@ def _sample_functions(dyn, fck, zeta):
     return 1, ((1.0, 2.0 * zeta, 0.0, 1.0, 0.0), none, none)
 
 
-@njit(cache=True, inline="always")
-def _event_table(ev, ph, s, mode, fck, x, v):
-    """Fill ``ev`` with a forced phase's event functions; returns (n, nb): how many, how many boundaries first.
+@njit(cache=True, forceinline=True)
+def _event(ph, x, v, fns, i):
+    """Row ``i`` of a forced phase's event table (:func:`_event_table`) from its functions ``fns`` = (n, nb, bs, sf)."""
+    n, nb, bs, sf = fns
+    if i >= n:
+        return NO_EVENT
+    if i < nb:
+        ba, bb, bc, _ = bs[i]
+        fn = (ba, bb, 0.0, ba, bc)
+    else:
+        fn = sf[i - nb]
+    K1, K2, Kp, graze = _bound_consts(ph, x, v, fn)
+    return (fn[0], fn[1], fn[2], fn[3], fn[4], K1, K2, Kp, graze)
 
-    The mode's boundaries a (X - f) + b X' - c, then the sample functions
-    (:func:`_sample_functions`: their side is decided by the walk).
+
+@njit(cache=True, forceinline=True)
+def _event_table(ph, s, mode, fck, x, v):
+    """A forced phase's event functions: (tab, sides, n, nb), ``n`` of them, the first ``nb`` the boundaries.
+
+    The mode's boundaries a (X - f) + b X' - c, with their sides, then the
+    sample functions (:func:`_sample_functions`: side 0, decided by the walk).
     """
     dyn, zeta = ph[1], ph[2]
     nb, bs = mode_boundaries(mode, s.law, zeta, s.vb, s.fd, s.fs, s.vd, s.res)
     m, sf = _sample_functions(dyn, fck, zeta)
-    n = nb + m
-    for i in range(n):
-        if i < nb:
-            ba, bb, bc, side = bs[i]
-            fn = (ba, bb, 0.0, ba, bc)
-        else:
-            fn, side = sf[i - nb], 0.0
-        ev[i, EA], ev[i, EB], ev[i, ED], ev[i, EE], ev[i, EC] = fn
-        ev[i, EK1], ev[i, EK2], ev[i, EKP], ev[i, EGRAZE] = _bound_consts(ph, x, v, fn)
-        ev[i, ESIDE] = side
-        ev[i, ELAST] = 0.0
-    return n, nb
+    fns = (nb + m, nb, bs, sf)
+    tab = (_event(ph, x, v, fns, 0), _event(ph, x, v, fns, 1), _event(ph, x, v, fns, 2),
+           _event(ph, x, v, fns, 3), _event(ph, x, v, fns, 4), _event(ph, x, v, fns, 5))
+    sides = (bs[0][3] if nb > 0 else 0.0, bs[1][3] if nb > 1 else 0.0, bs[2][3] if nb > 2 else 0.0,
+             bs[3][3] if nb > 3 else 0.0, 0.0, 0.0)
+    return tab, sides, nb + m, nb
 
 
 @njit(cache=True, forceinline=True)
@@ -1148,16 +1223,27 @@ def _forced_start(ph, s, t, strobe, period):
     return wr, cf.forced_eval(co, dyn, zeta, force, pz, fz, om, 0.0), _clock(s, t, strobe, period)
 
 
-@njit(cache=True, inline="always")
-def _crossed(ev, i, v):
-    """Sample function ``i`` of ``ev`` crossed: it is on its other side now; X' (``v``) is exactly 0 at a zero of X'."""
-    ev[i, ESIDE] = -ev[i, ESIDE]
-    return 0.0 if ev[i, EB] == 1.0 and ev[i, EA] == 0.0 and ev[i, ED] == 0.0 else v
+@njit(cache=True, forceinline=True)
+def _crossed(table, i, v):
+    """(the table with sample function ``i`` on its other side now, X'): X' (``v``) is exactly 0 at a zero of X'."""
+    tab, sd, n, nb = table
+    sides = (-sd[0] if i == 0 else sd[0], -sd[1] if i == 1 else sd[1], -sd[2] if i == 2 else sd[2],
+             -sd[3] if i == 3 else sd[3], -sd[4] if i == 4 else sd[4], -sd[5] if i == 5 else sd[5])
+    ev = tab[i]
+    return (tab, sides, n, nb), (0.0 if ev[EB] == 1.0 and ev[EA] == 0.0 and ev[ED] == 0.0 else v)
 
 
 @njit(cache=True, forceinline=True)
 def _enter_forced(s, x, v, f, df, ddf, ftol):
-    """(mode, X') of the forced motion that continues from (x, v) under f and its rates (:func:`_enter`, :func:`consistent`)."""
+    """(mode, X') of the forced motion that continues from (x, v) under f and its rates (:func:`_enter`, :func:`consistent`).
+
+    At a switch, f and f' come from the same evaluation as (X, X'): the
+    switch was located on them (G <= 0 there), and f recomputed from the
+    absolute time differs by F_ex times the rounding of the argument, which
+    at tau ~ 1e2 exceeds a boundary's rounding tolerance where X - f is a
+    difference of near-equal terms (stick under the resultant rule with
+    2 zeta V_b ~ F_s): stick would be taken again with zero length.
+    """
     mode = select_mode(law_record(s.law, s.fd, s.fs, s.vd, s.res), s.zeta, s.vb, x, v, f, df, ddf, ftol)
     if mode < 0:
         mode = region_mode(s.law, s.zeta, s.vb, s.fd, s.fs, s.vd, s.res, x, v, f)
@@ -1183,7 +1269,6 @@ def run_forced(run, p, samples, events, t_mode):
     t, x = 0.0, run[X0]
     mode, v = _enter_forced(s, x, run[V0], fex * math.cos(phi), -fex * om * math.sin(phi), -om * om * fex * math.cos(phi), 0.0)
     k, ne, zero_len, strobe = 0, 0, 0, 1  # strobe: the next stroboscopic index (k = 0 is the start)
-    ev = np.zeros((MAX_EVENTS_PER_MODE + 4, N_EV_COLUMNS))  # a phase's event table (EA ... ELAST)
     while True:
         dyn, force, fck = dynamics(mode, zeta, s.fd, s.fs, s.res)
         theta = om * t + phi
@@ -1195,7 +1280,7 @@ def run_forced(run, p, samples, events, t_mode):
             break
         co, pz, fz = cf.forced_phase(dyn, zeta, force, x, v, fex, om, theta)
         ph = (co, dyn, zeta, force, pz, fz, om)
-        nn = _event_table(ev, ph, s, mode, fck, x, v)
+        table = _event_table(ph, s, mode, fck, x, v)
         pc = ForcedPiece(dyn, fck, zeta, s.vb, force, fex, om, FRICTION_MODE[mode])
         # the phase's samples (the loop that writes them stays here: see :mod:`.samples`)
         wr, sta, ck = _forced_start(ph, s, t, strobe, fo.period)
@@ -1203,13 +1288,14 @@ def run_forced(run, p, samples, events, t_mode):
         while True:
             ts = ck.strobe * fo.period - t
             tk = min(min(ck.tt, ck.td), min(ts, ck.tw))
-            i, tb, stb = _next_root(ph, ev, nn[0], nn[1], ta, sta, min(tk, horizon))
+            i, tb, stb, sides = _next_root(ph, table, ta, sta, min(tk, horizon))
+            table = (table[0], sides, table[2], table[3])
             xb, vb_ = stb[0], stb[1]
-            if i >= 0 and i < nn[1]:
+            if i >= 0 and i < table[3]:
                 break  # a boundary: the phase ends
             t_abs = t + tb
             if i >= 0:
-                vb_ = _crossed(ev, i, vb_)
+                table, vb_ = _crossed(table, i, vb_)
             else:
                 if tk >= horizon:
                     tb = horizon  # the run ends inside the phase
@@ -1235,13 +1321,11 @@ def run_forced(run, p, samples, events, t_mode):
             t = t_end
             continue
         t = t + T
-        # f and f' from the same evaluation as (X, X'): the switch was located on them (G <= 0 there), and
-        # f recomputed from the absolute time differs by F_ex times the rounding of the argument, which at
-        # tau ~ 1e2 exceeds a boundary's rounding tolerance where X - f is a difference of near-equal terms
-        # (stick under the resultant rule with 2 zeta V_b ~ F_s): stick was then taken again with zero length.
         mode, v = _enter_forced(s, x, v, ste[4], ste[5], -om * om * ste[4], 8.0 * EPS * fex * (1.0 + abs(om * t + phi)))
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
         if zero_len > 8:
             return k, ne, STUCK, -1.0, t
-        ne = _record_event(events, ne, t, mode)
+        if ne < len(events.t):  # written here, not by _record_event: see the event table's comment
+            events.t[ne], events.mode[ne] = t, mode
+        ne += 1
     return k, ne, DONE, -1.0, t_end

@@ -94,11 +94,13 @@ from collections import namedtuple
 
 import numpy as np
 from numba import njit
+from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from . import codes
 from .friction import (FS, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of,
                        slip_slope_of)
 from .hermite import hermite_min
+from .layout import N_PARAMS
 from .roots import RUNNING, bracket, update
 from .stick import held_along, held_rate
 
@@ -138,65 +140,87 @@ def slip_slope(p, s):
 @njit(cache=True)
 def accel(d, x, v, t, zeta, vb, p):
     """X'' while slipping in direction d."""
-    return d * slip_force(p, d * (vb - v)) + external_force(p, t) - x - 2.0 * zeta * v
+    return accel_with(d, x, v, external_force(p, t), zeta, vb, p)
 
 
-# rhs and rk4_step are inlined by numba (inline="always"): a call of a compiled function costs
-# two atomic reference-count updates per array argument, as much as rhs's arithmetic, and
-# LLVM's inlining keeps them.  rk4_step has two copies: _g_step's and slip_until's first step.
-@njit(cache=True, inline="always")
-def rhs(y, t, d, zeta, vb, p, out):
-    """The slip field of the state and of both tangent vectors."""
+@njit(cache=True, forceinline=True)
+def accel_with(d, x, v, f, zeta, vb, p):
+    """:func:`accel` given the external force f."""
+    return d * slip_force(p, d * (vb - v)) + f - x - 2.0 * zeta * v
+
+
+# The slip step works on tuples (the 6-vector and RK4's stages are values, not arrays): a call of a compiled
+# function costs two atomic reference-count updates per array argument, and so does an array bound to
+# another name (an inlined callee's argument) in a loop -- more than the step's arithmetic.
+# :func:`slip_until` and :func:`rk4_step` keep their array form for callers outside the kernel.
+@njit(cache=True, forceinline=True)
+def _rhs(y, t, d, zeta, vb, p):
+    """The slip field of the state and of both tangent vectors (``y``: the 6-vector as a tuple)."""
+    return _rhs_f(y, external_force(p, t), d, zeta, vb, p)
+
+
+@njit(cache=True, forceinline=True)
+def _rhs_f(y, f, d, zeta, vb, p):
+    """:func:`_rhs` given the external force f there (RK4's two middle stages share it)."""
     x = y[0]
     v = y[1]
-    out[0] = v
-    out[1] = accel(d, x, v, t, zeta, vb, p)
+    acc = accel_with(d, x, v, f, zeta, vb, p)
     damp = 2.0 * zeta + slip_slope(p, d * (vb - v))
-    out[2] = y[3]
-    out[3] = -y[2] - damp * y[3]
-    out[4] = y[5]
-    out[5] = -y[4] - damp * y[5]
+    return (v, acc, y[3], -y[2] - damp * y[3], y[5], -y[4] - damp * y[5])
+
+
+@njit(cache=True, forceinline=True)
+def _axpy(y, a, k):
+    """y + a k, element by element (6-tuples)."""
+    return (y[0] + a * k[0], y[1] + a * k[1], y[2] + a * k[2], y[3] + a * k[3], y[4] + a * k[4], y[5] + a * k[5])
+
+
+@njit(cache=True, forceinline=True)
+def _rk4(y, t, h, d, zeta, vb, p):
+    """One classical RK4 step of length h from (y, t) (6-tuples): the state at its end."""
+    return _rk4_from(y, t, h, d, zeta, vb, p, _rhs(y, t, d, zeta, vb, p))
+
+
+@njit(cache=True, forceinline=True)
+def _rk4_from(y, t, h, d, zeta, vb, p, k1):
+    """:func:`_rk4` given its first stage ``k1`` (the field at (y, t))."""
+    f_mid = external_force(p, t + 0.5 * h)
+    k2 = _rhs_f(_axpy(y, 0.5 * h, k1), f_mid, d, zeta, vb, p)
+    k3 = _rhs_f(_axpy(y, 0.5 * h, k2), f_mid, d, zeta, vb, p)
+    k4 = _rhs(_axpy(y, h, k3), t + h, d, zeta, vb, p)
+    c = h / 6.0
+    return (y[0] + c * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]), y[1] + c * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]),
+            y[2] + c * (k1[2] + 2.0 * k2[2] + 2.0 * k3[2] + k4[2]), y[3] + c * (k1[3] + 2.0 * k2[3] + 2.0 * k3[3] + k4[3]),
+            y[4] + c * (k1[4] + 2.0 * k2[4] + 2.0 * k3[4] + k4[4]), y[5] + c * (k1[5] + 2.0 * k2[5] + 2.0 * k3[5] + k4[5]))
 
 
 @njit(cache=True)
 def scratch():
-    """Fresh :class:`Scratch` for :func:`rk4_step` (every array of length :data:`NY`)."""
+    """Fresh :class:`Scratch` for :func:`rk4_step` and :func:`slip_until` (every array of length :data:`NY`)."""
     return Scratch(np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def rk4_step(y, t, h, d, zeta, vb, p, sc):
     """One classical RK4 step of length h from (y, t) into ``sc.out`` (``sc``: a :class:`Scratch`)."""
-    k1, k2, k3, k4, tmp, out = sc.k1, sc.k2, sc.k3, sc.k4, sc.tmp, sc.out
-    rhs(y, t, d, zeta, vb, p, k1)
-    for i in range(NY):
-        tmp[i] = y[i] + 0.5 * h * k1[i]
-    rhs(tmp, t + 0.5 * h, d, zeta, vb, p, k2)
-    for i in range(NY):
-        tmp[i] = y[i] + 0.5 * h * k2[i]
-    rhs(tmp, t + 0.5 * h, d, zeta, vb, p, k3)
-    for i in range(NY):
-        tmp[i] = y[i] + h * k3[i]
-    rhs(tmp, t + h, d, zeta, vb, p, k4)
-    for i in range(NY):
-        out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+    out = sc.out
+    out[0], out[1], out[2], out[3], out[4], out[5] = _rk4((y[0], y[1], y[2], y[3], y[4], y[5]), t, h, d, zeta, vb, p)
 
 
 @njit(cache=True)
-def _g_step(y, t, theta, d, zeta, vb, p, sc):
-    """The switch function d (V_b - X') after an RK4 step of length theta (state in ``sc.out``)."""
-    rk4_step(y, t, theta, d, zeta, vb, p, sc)
-    return d * (vb - sc.out[1])
+def _g_step(y, t, theta, d, zeta, vb, p):
+    """(the switch function d (V_b - X'), the state) after an RK4 step of length theta."""
+    out = _rk4(y, t, theta, d, zeta, vb, p)
+    return d * (vb - out[1]), out
 
 
 @njit(cache=True)
-def _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, sc):
-    """theta where g(theta) = 0, g(lo) > 0 >= g(hi), to a few units of tau (:mod:`.roots`); the state at it in ``sc.out``."""
+def _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p):
+    """(theta, the state there): theta where g(theta) = 0, g(lo) > 0 >= g(hi), to a few units of tau (:mod:`.roots`)."""
     b = bracket(lo, hi, glo, ghi, 4.0 * EPS * abs(t), 4.0 * EPS, 0.0, 200)
     while b.status == RUNNING:
-        b = update(b, b.x, _g_step(y, t, b.x, d, zeta, vb, p, sc))
-    _g_step(y, t, b.hi, d, zeta, vb, p, sc)
-    return b.hi
+        b = update(b, b.x, _g_step(y, t, b.x, d, zeta, vb, p)[0])
+    return b.hi, _g_step(y, t, b.hi, d, zeta, vb, p)[1]
 
 
 @njit(cache=True)
@@ -209,29 +233,41 @@ def rounding_noise(v, vb):
 def slip_until(y, t, h, d, zeta, vb, p, fresh, sc):
     """One slip step of at most h; returns (theta, switched): the step taken and whether it ends on V_r = 0.
 
-    The state at its end in ``sc.out`` (``sc``: a :class:`Scratch`).
+    The state at its end in ``sc.out`` (``sc``: a :class:`Scratch`).  The
+    array form of :func:`_slip_step`.
+    """
+    theta, switched, end = _slip_step((y[0], y[1], y[2], y[3], y[4], y[5]), t, h, d, zeta, vb, p, fresh)
+    out = sc.out
+    out[0], out[1], out[2], out[3], out[4], out[5] = end
+    return theta, switched
+
+
+@njit(cache=True)
+def _slip_step(y, t, h, d, zeta, vb, p, fresh):
+    """One slip step of at most h from the 6-vector ``y`` (a tuple); returns (theta, switched, the state at
+    its end): the step taken and whether it ends on V_r = 0.
 
     ``fresh``: the phase began at t (g(0) = 0; the left end of a bracket is then looked for inside).
     """
     g0 = d * (vb - y[1])
-    rk4_step(y, t, h, d, zeta, vb, p, sc)  # the step nearly every call takes: inlined, not a call of _g_step
-    g1 = d * (vb - sc.out[1])
-    a0 = accel(d, y[0], y[1], t, zeta, vb, p)
+    k1 = _rhs(y, t, d, zeta, vb, p)
+    end = _rk4_from(y, t, h, d, zeta, vb, p, k1)
+    g1 = d * (vb - end[1])
+    a0 = k1[1]  # X'' at the start: the first stage's
     noise = rounding_noise(y[1], vb)
     if fresh and abs(g1) <= noise:
         # leaving tangentially (Stribeck's a+ = 0), or a step too short to show it: the
         # stick rule chose a direction that leaves, so V_r = 0 is no switch yet
-        return h, False
+        return h, False, end
     if g1 > 0.0:
         # two crossings inside the step?  The Hermite cubic of g (g' = -d X'') dips below 0
-        a1 = accel(d, sc.out[0], sc.out[1], t + h, zeta, vb, p)
+        a1 = accel(d, end[0], end[1], t + h, zeta, vb, p)
         s, val = hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
         if s < 0.0 or val >= -noise:
-            return h, False
-        gm = _g_step(y, t, s * h, d, zeta, vb, p, sc)
+            return h, False, end
+        gm = _g_step(y, t, s * h, d, zeta, vb, p)[0]
         if gm > 0.0:  # the scheme's own solution stays off the surface: a near miss
-            _g_step(y, t, h, d, zeta, vb, p, sc)
-            return h, False
+            return h, False, end
         hi, ghi = s * h, gm
     else:
         hi, ghi = h, g1
@@ -242,13 +278,13 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, sc):
         glo = 0.0
         for _ in range(60):
             lo *= 0.5
-            glo = _g_step(y, t, lo, d, zeta, vb, p, sc)
+            glo, end = _g_step(y, t, lo, d, zeta, vb, p)
             if glo > 0.0:
                 break
         if not glo > 0.0:
-            return 0.0, True  # leaves the surface the wrong way at once: a zero-length phase
-    theta = _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p, sc)
-    return theta, True
+            return 0.0, True, end  # leaves the surface the wrong way at once: a zero-length phase
+    theta, end = _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p)
+    return theta, True, end
 
 
 @njit(cache=True)
@@ -500,8 +536,7 @@ def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, coun
     run: a positive one (chaos) is averaged over every block.
     """
     h = block / n_sub
-    sc = scratch()
-    out = sc.out
+    p = to_fixed_tuple(p, N_PARAMS)  # the force record as a tuple: calls taking it cost no reference counting
     for i in range(N_COUNTS):
         counts[i] = 0
     y, mode = _start(x0, v0, zeta, vb, p)
@@ -524,18 +559,16 @@ def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, coun
                     fresh = True  # read once slipping: a slip phase entered here starts on V_r = 0
                     continue
                 d = float(mode)
-                theta, switched = slip_until(y, t, target - t, d, zeta, vb, p, fresh, sc)
+                theta, switched, out = _slip_step((y[0], y[1], y[2], y[3], y[4], y[5]), t, target - t, d, zeta, vb, p, fresh)
                 if not switched:
-                    for i in range(NY):
-                        y[i] = out[i]
+                    y[0], y[1], y[2], y[3], y[4], y[5] = out
                     t = target
                     zero_run = 0
                     # a phase that has not yet left V_r = 0 by more than rounding is still starting
                     fresh = fresh and not d * (vb - y[1]) > rounding_noise(y[1], vb)
                     continue
                 if theta > 0.0:
-                    for i in range(NY):
-                        y[i] = out[i]
+                    y[0], y[1], y[2], y[3], y[4], y[5] = out
                     t += theta
                 zero_run = zero_run + 1 if theta <= 4.0 * EPS * (1.0 + abs(t)) else 0
                 if zero_run > MAX_ZERO_PHASES:
