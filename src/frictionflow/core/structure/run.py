@@ -178,3 +178,14 @@ def run(asm, minv, t_end, dense_dt, out):
         if not emit(out, i, asm, cb, q, v, t, acc):
             return Result(codes.FULL, i, nsw, -1, np.nan)
         i += 1
+
+
+@njit(cache=True)
+def advance(asm, minv, modes, q, v, t0, tau, n_work):
+    """(q, q', work over the stretch) ``tau`` after (q, q') at ``t0`` in the modes ``modes`` (no switch between)."""
+    cb = build(asm, minv, modes)
+    ph = start(cb, asm, q, v, t0)
+    acc = np.zeros(n_work)
+    integrate(asm, cb, ph, asm.force_omega, 0.0, tau, acc)
+    q1, v1 = state_at(cb, ph, asm.force_omega, tau)
+    return q1, v1, acc
