@@ -4,9 +4,11 @@ Every event function is positive inside its mode's region (:mod:`.combo`).
 The walk covers (0, tau_end] with intervals [a, b] and, for every active
 function g, decides one of
 
-* root-free: g(a), g(b) > 0 and min(g(a), g(b)) > M2 h^2 / 8, M2 a bound on
-  |g''| over the interval (:func:`.phase.bound`): the chord through the ends
-  is above min(g(a), g(b)) and g differs from it by at most M2 h^2 / 8;
+* root-free: g(a), g(b) > 0 and min(g(a), g(b)) > M2 h^2 / 8 + r, M2 a bound
+  on |g''| over the interval (:func:`.phase.bound`): the chord through the
+  ends is above min(g(a), g(b)) and g differs from it by at most M2 h^2 / 8;
+  r = ROUNDING times the size of g's terms (:func:`.phase.event_size`): a
+  function that comes within rounding of 0 is not certified clear of it;
   at a phase start where g(0) = 0 (a contact that just began to slip:
   ``departing``), g(s) >= g'(0) s - M2 s^2 / 2 > 0 when g'(0) > M2 h / 2, or
   with g'(0) >= 0, g(s) >= g''(0) s^2 / 2 - M3 s^3 / 6 > 0 when g''(0) > M3 h / 3;
@@ -15,8 +17,8 @@ function g, decides one of
 
 When every function is decided, the earliest root (Illinois, :mod:`..roots`)
 is the event.  An interval that reaches ``floor`` undecided is a touch: a
-function within M2 floor^2 / 8 (~1e-25 of its size) of 0 that need not
-cross; it is reported as an event at the end nearer 0 (``graze``), and the
+function within rounding (or M2 floor^2 / 8, ~1e-25 of its size) of 0
+that need not cross; it is reported as an event at the end nearer 0 (``graze``), and the
 stick rule decides what follows (a slipping contact whose V_r touches 0
 tangentially may stick there).
 """
@@ -26,9 +28,11 @@ from __future__ import annotations
 from numba import njit
 
 from ..roots import RUNNING, bracket, update
-from .phase import bound, event_rate, event_value, modal_at
+from .phase import bound, event_rate, event_size, event_value, modal_at
 
 EPS = 2.220446049250313e-16
+#: a function within this many EPS of the size of its terms of 0 counts as touching 0
+ROUNDING = 16.0
 
 
 @njit(cache=True)
@@ -53,7 +57,7 @@ def verdict(cb, ph, om, e, a, h, za, ga, gb, start):
     """1: root-free on [a, a + h]; 2: exactly one root there; 0: undecided (``start``: g(a) = 0 departing)."""
     m2 = bound(cb, ph, om, e, a, h, za, 2)
     if gb > 0.0:
-        if ga > 0.0 and min(ga, gb) > m2 * h * h / 8.0:
+        if ga > 0.0 and min(ga, gb) > m2 * h * h / 8.0 + ROUNDING * EPS * event_size(cb, ph, e, a + h, za):
             return 1
         if start:
             g1 = event_rate(cb, ph, om, e, a, za, 1)
@@ -113,7 +117,7 @@ def first_event(cb, ph, om, tau_end, departing, h0, floor):
     values(cb, ph, om, 0.0, za, ga)
     dep = departing.copy()
     for e in range(len(ga)):
-        if cb.active[e] and ga[e] <= 0.0:
+        if cb.active[e] and ga[e] <= ROUNDING * EPS * event_size(cb, ph, e, 0.0, za):
             dep[e] = True
         if dep[e]:
             ga[e] = 0.0

@@ -158,3 +158,12 @@ def bound(cb, ph, om, e, a, h, za, order):
             dz += al ** (order - 1 - i) * bt[i]
         s += abs(cb.W[e, m]) * dz
     return s
+
+
+@njit(cache=True)
+def event_size(cb, ph, e, tau, z):
+    """The sum of the magnitudes of event function ``e``'s terms at ``tau``: its rounding is a few EPS of it."""
+    s = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + np.abs(cb.Dh[e]).sum()
+    for a in range(len(z)):
+        s += abs(cb.W[e, a] * z[a])
+    return s
