@@ -51,11 +51,13 @@ def test_analyze_refuses_a_model_in_one_line():
 def test_every_result_with_a_plot_method_has_a_registered_figure():
     """The figures register on import of frictionflow (and frictionflow.orbits): ``.plot()`` finds them."""
     from frictionflow.analysis import Analysis
+    from frictionflow.analysis.stability import StabilityScan
     from frictionflow.basins import Basins
     from frictionflow.orbits import ContinuationResult, ForcedChart, PeriodicOrbit, StabilityChart
     from frictionflow.trajectory import Trajectory
 
-    for cls in (Trajectory, Analysis, Basins, ContinuationResult, PeriodicOrbit, StabilityChart, ForcedChart):
+    for cls in (Trajectory, Analysis, Basins, ContinuationResult, PeriodicOrbit, StabilityChart, ForcedChart,
+                StabilityScan):
         assert any(c in _figures._DRAWERS for c in cls.__mro__), cls.__name__
 
 

@@ -9,6 +9,7 @@
 
 from . import basins  # the subpackage (its function: basins.basins, or compute_basins)
 from . import plotting  # noqa: F401  (imported to register the figures of Trajectory.plot and Analysis.plot)
+from . import stability_plot  # noqa: F401  (registers the figure of StabilityScan.plot)
 from ._version import __version__
 from .analysis import (
     Analysis,
@@ -25,6 +26,7 @@ from .analysis import (
     transmissibility,
 )
 from .analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
+from .analysis.stability import StabilityScan, SteadySliding, stability_scan, steady_sliding
 from .basins import Basins
 from .basins import basins as compute_basins
 from .friction import Coulomb, Cubic, FrictionLaw, Karnopp, SlipLaw, Stribeck
@@ -52,6 +54,8 @@ __all__ = [
     "SlidingEquilibrium",
     "SlipLaw",
     "Solver",
+    "StabilityScan",
+    "SteadySliding",
     "SteadyState",
     "StepLimitError",
     "Stribeck",
@@ -68,6 +72,8 @@ __all__ = [
     "power_flow",
     "simulate",
     "sliding_equilibrium",
+    "stability_scan",
+    "steady_sliding",
     "steady_state",
     "transmissibility",
 ]

@@ -33,7 +33,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("figures", (
         "frictionflow.plotting", "frictionflow.basins.plotting", "frictionflow.orbits.plotting",
         "frictionflow.orbits.chart_plot", "frictionflow.orbits.forced_plot", "frictionflow.sweep.plotting",
-        "frictionflow.structure_plot",
+        "frictionflow.structure_plot", "frictionflow.stability_plot",
         "frictionflow.paper",
     )),
     # the facades: the package and the subpackages whose namespace re-exports figures

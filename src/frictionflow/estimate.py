@@ -66,6 +66,11 @@ SECONDS_PER = {
     "exact_flow_time": 1e-5,  # the closed-form orbit flow, per time unit flowed
     "compiled_flow_time": 3e-5,  # the compiled orbit flow (with sensitivities), per time unit flowed
     "smooth_flow_time": 1e-3,  # scipy's orbit flow (user laws), per time unit flowed
+    # a structure's steady sliding at one parameter value (model rebuilt and validated, assembled, linearised):
+    # 2e-4 s on the 2-dof Hoffmann model, plus the eigenvalues of the 2n x 2n Jacobian (numpy's eig: 3.8e-8 s
+    # times (2n)^3 at 2n = 200, all threads counted)
+    "structure_point": 5e-4,
+    "eig_cube": 5e-8,
 }
 #: switches per unit time a forced kernel is assumed to locate: a stick-slip cycle has two per natural period,
 #: chattering a few more; a bound for the estimate, not a count (the motion decides)

@@ -50,6 +50,8 @@ BASE: dict[str, dict[str, str]] = {
     "map": {"x": "vb=0.005:0.02:3", "y": "zeta=0:0.1:21", "friction": "coulomb"},
     "sweep": {"out": "r.zarr"},
     "reproduce": {"out": "rep", "quick": "", "t_end": "50", "workers": "1"},
+    "stability": {"model": str(Path(__file__).resolve().parent / "models" / "flutter_2dof.toml"),
+                  "vary": "contact.0.fd=0.1:0.8:9"},
 }
 
 #: Valid values that keep the work small, for the options that set its amount (declared or a command's own).

@@ -349,9 +349,32 @@ def _reproduce(data: dict[str, Any], given: dict[str, str], d: Path) -> None:
         assert (out / name).exists(), name
 
 
+def _stability(data: dict[str, Any], given: dict[str, str], d: Path) -> None:
+    """Each row's eigenvalues closed under conjugation (a real system); the critical points inside the range,
+    of a known kind, and accounting for every change in the count of unstable eigenvalues between two values."""
+    from frictionflow.analysis.stability import KINDS
+
+    values = np.array(data["values"])
+    lam = np.array([[complex(z["re"], z["im"]) for z in row] for row in data["eigenvalues"]])
+    assert lam.shape[0] == len(values) >= 2
+    assert np.all(np.diff(values) > 0) or np.all(np.diff(values) < 0), values
+    scale = np.abs(lam).max(axis=1)
+    for row, s in zip(lam, scale):
+        gap = np.abs(row[:, None] - np.conj(row)[None, :]).min(axis=1)
+        assert gap.max() <= 1e-12 * s, row
+    unstable = [int(np.sum((row.real > 1e-8 * s) & (row.imag >= 0))) for row, s in zip(lam, scale)]
+    for c in data["critical"]:
+        assert c["kind"] in KINDS and c["frequency"] >= 0 and min(values) < c["value"] < max(values), c
+    for i in range(len(values) - 1):
+        lo, hi = sorted(values[i:i + 2])
+        step = sum((1 if c["unstable_above"] else -1) * (1 if values[i + 1] > values[i] else -1)
+                   for c in data["critical"] if lo < c["value"] < hi)
+        assert unstable[i + 1] - unstable[i] == step, (i, unstable, data["critical"])
+
+
 PHYSICS = {"simulate": _simulate, "orbit": _orbit, "continue": _continue, "forced-orbit": _forced_orbit,
            "forced-continue": _forced_continue, "response": _response, "lyapunov": _lyapunov, "basins": _basins,
-           "map": _map, "sweep": _sweep, "reproduce": _reproduce}
+           "map": _map, "sweep": _sweep, "reproduce": _reproduce, "stability": _stability}
 
 
 def test_every_command_is_fuzzed():

@@ -35,6 +35,9 @@ friction = "coulomb"
 fd = 0.02
 fs = 0.04
 stick_force = "{stick}"
+[initial]
+q = {{ x = 0.02 }}
+v = {{ x = {vb} }}
 """
 
 CASES = {"damped": (0.05, 0.01, "resultant"), "spring": (0.05, 0.01, "spring"), "fast_belt": (0.02, 0.02, "resultant")}
@@ -49,7 +52,8 @@ def test_one_dof_model_agrees_with_simulate(tmp_path, case):
     assert code == 0, err
     model = json.loads(out)
     code, out, err, _ = cli("simulate", "--friction", "coulomb", "--fd", "0.02", "--fs", "0.04", "--vb", str(vb),
-                            "--zeta", str(zeta), "--stick-force", stick, "--t-end", "300", "--json")
+                            "--zeta", str(zeta), "--stick-force", stick, "--x0", "0.02", "--v0", str(vb), "--t-end", "300",
+                            "--json")
     assert code == 0, err
     single = json.loads(out)
     assert model["steady_state"]["kind"] == single["steady_state"]["kind"] == "periodic"

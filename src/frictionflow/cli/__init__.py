@@ -41,6 +41,7 @@ COMMAND_MODULES = {
     "forced-orbit": "forced_orbit",
     "forced-continue": "forced_orbit",
     "map": "map",
+    "stability": "stability",
 }
 
 #: one line per command for the command list (click would cut the docstring at its first period)
@@ -55,6 +56,7 @@ SHORT_HELP = {
     "forced-orbit": "Periodic orbit of the forced oscillator and its Floquet multipliers.",
     "forced-continue": "Continue forced periodic orbits in Omega or F_ex, with bifurcations.",
     "map": "Stability chart in two parameters: Hopf, grazing, fold (and forced: period-doubling) curves.",
+    "stability": "Eigenvalues of a structure's steady sliding along one model entry: flutter and negative damping.",
 }
 
 

@@ -34,7 +34,7 @@ def simulate(
     plot: Optional[Path] = option("--plot", "Here: time history, phase portrait and power flow."),
     dpi: float = option("--dpi"),
     config: Optional[Path] = CONFIG_OPTION,
-    model_file: Optional[Path] = option("--model"),
+    model_file: Optional[Path] = option("--model", "Runs that structure; the single-mass options are then refused."),
 ) -> None:
     """Simulate one run, find its steady state and report power flow and TR_B."""
     if model_file is not None:

@@ -92,10 +92,10 @@ TERMS: dict[str, Term] = _terms(
     Term("--dpi", f"Resolution of the figures in dots per inch, in [{DPI_RANGE[0]:g}, {DPI_RANGE[1]:g}]; the --plot file's "
          "suffix sets the format.", float, DEFAULT_DPI, "Output", "<float>", bounds=DPI_RANGE),
     Term("--store", "Keep the sweep's resumable store here.", OPT_PATH, None, "Output", "PATH.zarr", True),
-    Term("--model", "TOML model file of a structure with several masses and contacts (dof, mass, spring, damper, "
-         "contact, force); the single-mass options are then refused.", OPT_PATH, None, "Model", PATH_METAVAR, True),
     Term("--config", "TOML file with any of the model's options (names with underscores).", OPT_PATH, None, "Model",
          PATH_METAVAR, True),
+    Term("--model", "Model file (TOML) of a linear structure with friction contacts: dof, mass, springs, dampers, "
+         "contacts, forces.", OPT_PATH, None, "Model", PATH_METAVAR, True),
     # -- running ----------------------------------------------------------------
     Term("--restart", "Discard an existing sweep output or store (needed when the settings changed).", bool, False, "Run"),
     Term("--scheduler", "Dask scheduler address tcp://HOST:PORT; default: this machine's cores.", Optional[str], None, "Run"),
@@ -287,6 +287,15 @@ def _continue_vary(given: dict[str, str]) -> str:
     return f"{given['--param']}={given['--from']}:{given['--to']}{n}"
 
 
+def _entry_vary(given: dict[str, str]) -> str:
+    """``--param ENTRY --from A --to B [--points N]`` -> ``ENTRY=A:B[:N]`` (not deprecated: see :data:`PIECES`)."""
+    missing = [f for f in ("--param", "--from", "--to") if f not in given]
+    if missing:
+        raise ValueError(f"--param, --from and --to go together (missing {', '.join(missing)}), or write "
+                         "--vary ENTRY=FROM:TO[:N]")
+    return _continue_vary(given)
+
+
 def _forced_vary(given: dict[str, str]) -> str:
     _need(given, ("--from", "--to"), "--vary NAME=FROM:TO")
     return f"{given.get('--parameter', 'omega')}={given['--from']}:{given['--to']}"
@@ -330,6 +339,13 @@ DEPRECATED: tuple[Deprecated, ...] = (
 )
 
 
+#: a range in pieces that a command accepts for good beside its --vary (the spelling its issue gives), rewritten
+#: to --vary before parsing without a warning; the grammar's one option stays --vary
+PIECES: tuple[Deprecated, ...] = (
+    Deprecated(("stability",), ("--param", "--from", "--to", "--points"), "--vary", _entry_vary),
+)
+
+
 def _take(argv: list[str], flags: tuple[str, ...]) -> tuple[dict[str, str], list[str]]:
     """The values of ``flags`` in ``argv`` (``--flag V`` or ``--flag=V``) and ``argv`` without them."""
     given: dict[str, str] = {}
@@ -355,10 +371,11 @@ def _take(argv: list[str], flags: tuple[str, ...]) -> tuple[dict[str, str], list
 
 
 def rewrite(argv: list[str]) -> tuple[list[str], list[str]]:
-    """``argv`` with the deprecated spellings of its command written today's way, and one line for each."""
+    """``argv`` with the deprecated spellings of its command written today's way, and one line for each; the
+    ranges in pieces of :data:`PIECES` rewritten too, without a line."""
     command = next((a for a in argv if not a.startswith("-")), None)
     lines = []
-    for dep in DEPRECATED:
+    for dep in (*DEPRECATED, *PIECES):
         if command not in dep.commands:
             continue
         given, rest = _take(argv, dep.old + dep.joins)
@@ -367,9 +384,12 @@ def rewrite(argv: list[str]) -> tuple[list[str], list[str]]:
             continue
         value = dep.build(given)
         if dep.new not in dep.joins and any(w == dep.new or w.startswith(dep.new + "=") for w in rest):
-            raise ValueError(f"give {dep.new} or the deprecated {'/'.join(old)}, not both")
+            spelling = "" if dep in PIECES else "the deprecated "
+            raise ValueError(f"give {dep.new} or {spelling}{'/'.join(old)}, not both")
         cut = rest.index("--") if "--" in rest else len(rest)
         argv = [*rest[:cut], f"{dep.new}={value}", *rest[cut:]]  # one word: a value may start with '-'
+        if dep in PIECES:
+            continue
         lines.append(f"{'/'.join(old)} {'is' if len(old) == 1 else 'are'} deprecated and will be removed in the next "
                      f"release: write {dep.new} {value}")
     return argv, lines

@@ -1,0 +1,70 @@
+"""The figure of a stability scan: eigenvalue loci of steady sliding against the parameter, critical points marked."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ._figures import draws, legend_outside, sig
+from .analysis.stability import KINDS, StabilityScan
+from .io import DEFAULT_DPI, write_figure
+
+#: how each kind of critical point is marked
+MARKERS = {"mode_coupling": ("o", "C3"), "negative_damping": ("s", "C2"), "divergence": ("D", "k")}
+
+
+@draws(StabilityScan)
+def plot_stability(scan: StabilityScan, path: str | Path | None = None, *, name: str = "path",
+                   dpi: float = DEFAULT_DPI) -> Any:
+    """Real part and frequency of every eigenvalue of the upper half plane against the parameter.
+
+    Each tracked eigenvalue is one colour in both panels, so that two frequencies that coalesce and the
+    real parts that split there read as one event; the critical points are marked by kind.  Returns the
+    matplotlib figure; saves it to ``path`` (PNG, PDF, SVG or EPS by its suffix, ``dpi`` dots per inch) when given.
+
+    Parameters
+    ----------
+    scan:
+        A :class:`~frictionflow.analysis.stability.StabilityScan`.
+    path:
+        A file to save the figure to, or None.
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--plot``).
+    dpi:
+        Dots per inch of a raster file (PNG).
+    """
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True, layout="constrained")
+    lam = scan.eigenvalues
+    scale = max(float(np.abs(lam).max()), np.finfo(float).tiny)
+    upper = np.where(lam.imag >= -1e-8 * scale, lam, np.nan)  # the conjugates repeat the same loci
+    for i in range(lam.shape[1]):
+        if np.all(np.isnan(upper[:, i])):
+            continue
+        ax[0].plot(scan.values, upper[:, i].real, lw=1.0, color=f"C{i % 10}")
+        ax[1].plot(scan.values, upper[:, i].imag, lw=1.0, color=f"C{i % 10}")
+    ax[0].axhline(0.0, color="k", lw=0.6, ls=":")
+    for kind in KINDS:
+        at = [c for c in scan.critical if c.kind == kind]
+        if at:
+            marker, color = MARKERS[kind]
+            label = f"{kind.replace('_', ' ')}: " + ", ".join(sig(c.value, 6) for c in at)
+            ax[0].plot([c.value for c in at], [0.0] * len(at), marker, color=color, ms=6, mfc="none", label=label)
+            ax[1].plot([c.value for c in at], [c.frequency for c in at], marker, color=color, ms=6, mfc="none")
+    for c in scan.critical:
+        for a in ax:
+            a.axvline(c.value, color="0.6", lw=0.6, ls="--")
+    ax[0].set(ylabel=r"Re $\lambda$ (growth rate)", title="steady sliding: eigenvalues of the linearisation")
+    ax[1].set(xlabel=scan.param, ylabel=r"Im $\lambda$ (frequency)")
+    if scan.critical:
+        legend_outside(ax[0])
+    if path is not None:
+        write_figure(fig, path, name, dpi=dpi)
+    return fig

@@ -1,0 +1,159 @@
+"""``frictionflow stability --model FILE``: the eigenvalues of steady sliding along one model entry (issue 22, 5-6).
+
+The model files are written here; the thresholds are the closed forms derived in the tests (the same derivations
+as tests/analysis/test_stability.py, on these files' numbers).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from frictionflow.cli import main
+
+# Hoffmann's minimal model: x1 tangential, x2 normal, M = I; springs k1 on x1, k2 on x2, k3 along (1, 1); one
+# contact along x1 with N = P + c x2, Coulomb at mu = fd (fs = 2 keeps fd <= fs over the range)
+HOFFMANN = """
+dof = ["x1", "x2"]
+mass = [1.0, 1.0]
+[[spring]]
+on = { x1 = 1.0 }
+k = 1.0
+[[spring]]
+on = { x2 = 1.0 }
+k = 1.8
+[[spring]]
+on = { x1 = 1.0, x2 = 1.0 }
+k = 0.5
+[[contact]]
+on = { x1 = 1.0 }
+belt = 0.5
+friction = "coulomb"
+fd = 0.3
+fs = 2.0
+normal = { preload = 1.0, x2 = 2.0 }
+"""
+
+# one mass on a Stribeck curve |F| = fd + (fs - fd) exp(-v / vs) (delta = 1), zeta = 0.05
+SINGLE = """
+dof = ["x"]
+mass = [1.0]
+[[spring]]
+on = { x = 1.0 }
+k = 1.0
+[[damper]]
+on = { x = 1.0 }
+c = 0.1
+[[contact]]
+on = { x = 1.0 }
+belt = 0.05
+friction = "stribeck"
+fd = 0.02
+fs = 0.04
+vs = 0.01
+delta = 1.0
+"""
+
+
+def hoffmann_threshold() -> tuple[float, float]:
+    """K = [[1.5, 0.5], [0.5, 2.3]], K_eff = K - mu e n^T = [[1.5, 0.5 - 2 mu], [0.5, 2.3]]: det(K_eff - s I) = 0 has
+    the discriminant (K11 - K22)^2 + 4 K21 (K12 - 2 mu), zero at mu_c; the frequencies meet at sqrt((K11 + K22)/2)."""
+    k11, k12, k21, k22, c = 1.5, 0.5, 0.5, 2.3, 2.0
+    return ((k11 - k22) ** 2 + 4.0 * k21 * k12) / (4.0 * k21 * c), math.sqrt((k11 + k22) / 2.0)
+
+
+@pytest.fixture
+def models(tmp_path):
+    (tmp_path / "hoffmann.toml").write_text(HOFFMANN)
+    (tmp_path / "single.toml").write_text(SINGLE)
+    return tmp_path
+
+
+def run_json(capsys, *args):
+    assert main(["stability", *args, "--json"]) == 0
+    out, err = capsys.readouterr()
+    return json.loads(out), err
+
+
+def test_the_flutter_threshold_of_a_model_file(models, capsys):
+    report, err = run_json(capsys, "--model", str(models / "hoffmann.toml"), "--vary", "contact.0.fd=0.1:0.8:15")
+    mu_c, omega_c = hoffmann_threshold()
+    assert err == ""
+    assert report["param"] == "contact.0.fd" and len(report["values"]) == 15
+    assert len(report["eigenvalues"]) == 15 and all(len(row) == 4 for row in report["eigenvalues"])
+    [crit] = report["critical"]
+    assert crit["kind"] == "mode_coupling"
+    assert crit["value"] == pytest.approx(mu_c, rel=1e-12) and crit["frequency"] == pytest.approx(omega_c, rel=1e-12)
+
+
+def test_the_issues_spelling_gives_the_same_result_without_a_warning(models, capsys):
+    model = str(models / "hoffmann.toml")
+    new, _ = run_json(capsys, "--model", model, "--vary", "contact.0.fd=0.1:0.8:15")
+    old, err = run_json(capsys, "--model", model, "--param", "contact.0.fd", "--from", "0.1", "--to", "0.8",
+                        "--points", "15")
+    assert old == new and err == ""
+
+
+def test_negative_damping_of_one_mass_at_the_closed_form_belt_speed(models, capsys):
+    # 2 zeta + d|F|/dv = 0: 0.1 = (fs - fd)/vs exp(-v/vs) -> v* = vs ln((fs - fd) / (0.1 vs))
+    report, _ = run_json(capsys, "--model", str(models / "single.toml"), "--vary", "contact.0.belt=0.005:0.08:31")
+    [crit] = report["critical"]
+    assert crit["kind"] == "negative_damping" and not crit["unstable_above"]
+    assert crit["value"] == pytest.approx(0.01 * math.log(0.02 / (0.1 * 0.01)), rel=1e-12)
+    assert crit["frequency"] == pytest.approx(1.0, rel=1e-12)
+
+
+def test_out_writes_what_json_prints_and_plot_draws(models, capsys):
+    args = ["--model", str(models / "hoffmann.toml"), "--vary", "contact.0.fd=0.1:0.8:9"]
+    printed, _ = run_json(capsys, *args)
+    out, fig = models / "s.json", models / "s.png"
+    assert main(["stability", *args, "--out", str(out), "--plot", str(fig)]) == 0
+    table = " ".join(capsys.readouterr().out.split())
+    assert json.loads(out.read_text()) == printed and fig.stat().st_size > 0
+    assert "mode_coupling" in table and "2 dof, 1 contact;" in table
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--vary", "spring.7.k=0:1"], "spring.7"),
+    (["--vary", "contact.0.fd=0.1:0.8:1"], "N must be"),
+    (["--vary", "contact.0.fd=0.3:0.3"], "FROM and TO must differ"),
+    (["--vary", "contact.0.belt=-0.5:0.5:3"], "contact.0.belt = 0: contact.0.belt must be nonzero"),
+    (["--vary", "contact.0.fd=0.1:0.8", "--param", "contact.0.fd", "--from", "0.1", "--to", "0.2"], "not both"),
+    (["--param", "contact.0.fd", "--from", "0.1"], "--param, --from and --to go together"),
+    (["--vary", "contact.0.fd=0.1:0.8", "--out", "{dir}/s.txt"], "--out must end in"),
+    (["--vary", "contact.0.fd=0.1:0.8", "--plot", "{dir}/s.txt"], "--plot must end in"),
+])
+def test_bad_input_is_refused_in_one_line_with_nothing_written(models, capsys, args, words):
+    argv = ["stability", "--model", str(models / "hoffmann.toml"), *[a.format(dir=models) for a in args]]
+    if "--out" not in args:
+        argv += ["--out", str(models / "written.json")]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0], err
+    assert not (models / "written.json").exists() and not (models / "s.txt").exists()
+
+
+def test_a_missing_or_bad_model_file_is_refused_in_one_line(models, capsys):
+    assert main(["stability", "--model", str(models / "none.toml"), "--vary", "contact.0.fd=0.1:0.8"]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
+    (models / "bad.toml").write_text(HOFFMANN.replace('x2 = 2.0 }', 'x3 = 2.0 }'))
+    assert main(["stability", "--model", str(models / "bad.toml"), "--vary", "contact.0.fd=0.1:0.8"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "x3" in err[0]
+
+
+def test_a_scan_estimated_above_the_limit_is_refused_before_it_starts(models, capsys):
+    # a chain of 100 masses: 10^5 eigenvalue problems of size 200 are hours of work
+    n = 100
+    lines = [f"dof = [{', '.join(f'{chr(34)}x{i}{chr(34)}' for i in range(n))}]", f"mass = [{', '.join(['1.0'] * n)}]"]
+    for i in range(n):
+        on = f"x{i} = 1.0" if i == 0 else f"x{i} = 1.0, x{i - 1} = -1.0"
+        lines += ["[[spring]]", f"on = {{ {on} }}", "k = 1.0"]
+    lines += ["[[contact]]", "on = { x0 = 1.0 }", "belt = 0.1", 'friction = "coulomb"', "fd = 0.1", "fs = 0.2"]
+    (models / "chain.toml").write_text("\n".join(lines) + "\n")
+    args = ["stability", "--model", str(models / "chain.toml"), "--vary", "contact.0.belt=0.1:0.2:100000"]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "estimated" in err[0] and "--no-limit" in err[0], err
