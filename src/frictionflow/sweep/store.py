@@ -622,7 +622,7 @@ class SweepStore:
             return []
         missing = []
         for q, arr in zip(self.table, self._arrays()):
-            key = arr.metadata.encode_chunk_key(chunk)
+            key = arr.metadata.encode_chunk_key(tuple(chunk) + (0,) * len(q.dims))  # (extra dims: one chunk each)
             if not (self.path / q.name / key).is_file():
                 missing.append(q.name)
         return missing
