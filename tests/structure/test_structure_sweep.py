@@ -11,7 +11,7 @@ import xarray as xr
 import frictionflow as ff
 from frictionflow.analysis.structure import STRUCTURE_KINDS, analyze_structure
 from frictionflow.solvers.structure import simulate_system
-from frictionflow.sweep import run_sweep, verify_sweep
+from frictionflow.sweep import repair_sweep, run_sweep, verify_sweep
 from frictionflow.sweep import runner
 from frictionflow.sweep.model import load_model_sweep, parse_model_sweep
 from frictionflow.system import System, load_system
@@ -220,3 +220,23 @@ def test_fixed_entries_apply_to_every_point(two_dof):
     assert cfg.fixed == {"damper.1.c": 0.5} and cfg.dims == ("spring.2.k",)
     assert cfg.point_system((1,)).entry("damper.1.c") == 0.5 and cfg.point_system((1,)).entry("spring.2.k") == 0.2
     assert not math.isnan(cfg.size)
+
+
+def test_damage_is_found_and_repaired(two_dof, monkeypatch):
+    """A model sweep's store is checked like the single mass's: a damaged chunk found, its metadata rebuilt from
+    the settings it records (no config file), only the bad chunk computed again."""
+    out = two_dof / "damaged.zarr"
+    whole = run_sweep(two_dof / "sweep.toml", out, chunk_size=1).load()
+    (out / "P_heat" / "c" / "1" / "0" / "0").write_bytes(b"")  # a truncated chunk file of a variable over `contact`
+    found = verify_sweep(out)
+    assert not found.intact and [b.chunk for b in found.bad] == [(1, 0)]
+    (out / "zarr.json").write_text("")  # the root's metadata emptied
+    repaired = repair_sweep(out)
+    assert repaired.rebuilt == ["root"] and repaired.done == 3
+    calls = []
+    real = runner.compute_model_chunk
+    monkeypatch.setattr(runner, "compute_model_chunk", lambda *a: calls.append(a[1]) or real(*a))
+    again = run_sweep(two_dof / "sweep.toml", out, chunk_size=1).load()
+    assert calls == [(1, 0)]
+    assert_same(whole, again)
+    assert verify_sweep(out).intact

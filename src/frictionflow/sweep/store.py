@@ -844,7 +844,7 @@ def stored_config(path: str | Path) -> SweepConfig:
     source = json.loads(identity["config"])
     dims = identity.get("dims") or (_stored_dims(journal) if journal.is_dir() else None) or []
     grid = {**{d: source["grid"][d] for d in dims if d in source["grid"]}, **source["grid"]}  # the axes in their order
-    cfg = config_from_source({**source, "grid": grid}, source=str(target))
+    cfg = config_from_source({**source, "grid": grid}, str(target))
     if cfg.fingerprint() != identity["config_sha256"]:
         raise ValueError(f"out: {str(target)!r}: its recorded settings do not match their fingerprint; give the sweep's CONFIG, or use --restart")
     return cfg
