@@ -240,3 +240,19 @@ def test_damage_is_found_and_repaired(two_dof, monkeypatch):
     assert calls == [(1, 0)]
     assert_same(whole, again)
     assert verify_sweep(out).intact
+
+
+def test_estimate_before_any_work(two_dof, tmp_path):
+    """The cost is estimated (a probe run scaled to t_end) and held to the limits before anything is written."""
+    from frictionflow.estimate import Limits, limited
+
+    cfg = load_model_sweep(two_dof / "sweep.toml")
+    est = runner.sweep_estimate(cfg, tmp_path / "r.zarr")
+    assert est.work == 4 and est.seconds > 0
+    # per point: kind, period, energy_residual; stick_fraction, P_belt, P_heat over 2 contacts; P over 5 elements;
+    # X_max, X_min over 2 dof
+    assert est.outputs == (("out", str(tmp_path / "r.zarr"), 4 * 8.0 * (3 + 3 * 2 + 5 + 2 * 2)),)
+    with limited(Limits(seconds=1e-9)), pytest.raises(ValueError) as e:
+        run_sweep(cfg, tmp_path / "r.zarr")
+    assert "\n" not in str(e.value)
+    assert list(tmp_path.iterdir()) == []
