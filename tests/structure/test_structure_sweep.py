@@ -256,3 +256,23 @@ def test_estimate_before_any_work(two_dof, tmp_path):
         run_sweep(cfg, tmp_path / "r.zarr")
     assert "\n" not in str(e.value)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_lost_contact_is_its_own_kind(tmp_path):
+    """N = 1 - c x reaches zero for the larger c: that point is ``contact_lost``, with nothing averaged."""
+    system = System.from_dict({
+        "dof": ["x"], "mass": [1.0], "spring": [{"on": {"x": 1.0}, "k": 1.0}], "damper": [{"on": {"x": 1.0}, "c": 0.1}],
+        "contact": [{"on": {"x": 1.0}, "belt": 0.5, "friction": "coulomb", "fd": 0.3, "fs": 0.4,
+                     "normal": {"preload": 1.0, "x": -5.0}}]})
+    ds = run_sweep(parse_model_sweep({"t_end": 50.0, "grid": {"contact.0.normal.x": [-5.0, -0.5]}}, system),
+                   tmp_path / "r.nc").load()
+    lost = ds.isel({"contact.0.normal.x": 0})
+    assert STRUCTURE_KINDS[int(lost["kind"])] == "contact_lost"
+    motion = simulate_system(system, 50.0)
+    assert motion.status == "contact_lost"  # (the engine's own report, independent of the sweep)
+    for name in ("period", "stick_fraction", "P", "P_belt", "P_heat", "X_max", "X_min", "energy_residual"):
+        assert np.all(np.isnan(lost[name].values)), name
+    kept = ds.isel({"contact.0.normal.x": 1})
+    want = point_values(system.with_entry("contact.0.normal.x", -0.5), 50.0)
+    assert int(kept["kind"]) == want["kind"] and STRUCTURE_KINDS[want["kind"]] != "contact_lost"
+    np.testing.assert_array_equal(kept["P_heat"].values, want["P_heat"])
