@@ -105,3 +105,9 @@ def test_bad_settings_and_model_path(files):
     assert code == 2
     one_line(err, "'fd' is not used by a model sweep")
     assert not (files / "r.nc").exists()
+
+
+def test_summary_line_names_the_grid(files):
+    code, stdout, err, _ = cli("sweep", str(files / "s.toml"), "--out", str(files / "r.zarr"))
+    assert code == 0, err
+    assert stdout.startswith(f"4 points (contact.0.belt=2 x spring.2.k=2) -> {files / 'r.zarr'}: periodic "), stdout

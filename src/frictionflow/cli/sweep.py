@@ -80,7 +80,7 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
     counts = {name: int(np.count_nonzero(kinds == i)) for i, name in enumerate(names)}
     summary = {
         "out": str(out),
-        "dims": {d: int(n) for d, n in ds.sizes.items()},
+        "dims": {d: int(ds.sizes[d]) for d in ds["kind"].dims},  # the grid's (not a model sweep's contact, dof, ...)
         "points": int(kinds.size),
         "kinds": counts,
         "seconds": elapsed,
