@@ -19,7 +19,8 @@ from typing import Iterator, Optional
 import numpy as np
 import typer
 
-from ..sweep import KIND_NAMES, load_sweep, repair_sweep, run_sweep
+from ..sweep import repair_sweep, run_sweep
+from ..sweep.model import load_any_sweep
 from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import verify_sweep
 from ._app import app
@@ -30,7 +31,8 @@ from .vocabulary import option
 @app.command()
 @bounded
 def sweep(
-    config: Optional[Path] = typer.Argument(None, help="TOML file: simulate's settings plus a [grid] table of swept parameters."),
+    config: Optional[Path] = typer.Argument(None, help="TOML file: simulate's settings plus a [grid] table of swept parameters "
+                                            "(or model = FILE and a [grid] of its entries, e.g. \"contact.0.belt\")."),
     out: Optional[Path] = option("--out", "Here: PATH.zarr (chunked, for large grids) or PATH.nc."),
     verify: Optional[str] = option("--verify"),
     repair: bool = option("--repair"),
@@ -60,7 +62,7 @@ def sweep(
 
 def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeout: float, chunk_size: Optional[int], as_json: bool) -> None:
     """Compute (or resume) the sweep and print its summary."""
-    cfg = load_sweep(str(config))
+    cfg = load_any_sweep(str(config))
     if chunk_size is not None:
         CHUNK_SIZE.check(chunk_size)
     if not (timeout > 0 and np.isfinite(timeout)):
@@ -74,10 +76,11 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
             raise
     elapsed = time.perf_counter() - t0
     kinds = np.asarray(ds["kind"].values)
-    counts = {name: int(np.count_nonzero(kinds == i)) for i, name in enumerate(KIND_NAMES)}
+    names = str(ds["kind"].attrs["flag_meanings"]).split()  # the single mass's kinds, or a structure's
+    counts = {name: int(np.count_nonzero(kinds == i)) for i, name in enumerate(names)}
     summary = {
         "out": str(out),
-        "dims": {d: int(n) for d, n in ds.sizes.items()},
+        "dims": {d: int(ds.sizes[d]) for d in ds["kind"].dims},  # the grid's (not a model sweep's contact, dof, ...)
         "points": int(kinds.size),
         "kinds": counts,
         "seconds": elapsed,
@@ -107,7 +110,7 @@ def _verify(path: str, as_json: bool) -> None:
 
 def _repair(path: str, config: Optional[Path], as_json: bool) -> None:
     """Rebuild an output's damaged metadata and verify its chunks, computing nothing: one line (or JSON)."""
-    found = repair_sweep(path, None if config is None else load_sweep(str(config)))
+    found = repair_sweep(path, None if config is None else load_any_sweep(str(config)))
     if as_json:
         print(json.dumps(found.as_dict()))
     else:

@@ -32,11 +32,12 @@ import json
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping, NamedTuple
 
 import numpy as np
 
 from .. import _validate as check
+from .. import quantities as Q
 from .._ranges import parse_range
 from ..config import RunConfig
 from ..friction import law_class
@@ -54,6 +55,21 @@ NOT_IN_SWEEPS = ("window", "dimensional", "record_every", "dense_dt")
 #: the grid entry (and axis) of a random sample of initial states, and what it may draw
 SAMPLE = "sample"
 SAMPLE_KEYS = ("x0", "v0")
+
+
+class Variable(NamedTuple):
+    """One result variable of a sweep dataset: over the grid's dims, then ``dims`` (labelled by the config)."""
+
+    name: str
+    units: str
+    long_name: str
+    dtype: str = "f8"
+    flags: tuple[str, ...] = ()  #: an integer code's meanings (CF flag_meanings)
+    dims: tuple[str, ...] = ()  #: dimensions after the grid's (``contact``, ``dof``, ...), labelled by ``SweepConfig.labels``
+
+
+#: the single-mass sweep's variables: the kernels' result row, as the quantities table describes it
+SINGLE_MASS = tuple(Variable(q.name, q.units, q.long_name, q.dtype, q.flags) for q in Q.SWEPT)
 
 
 @dataclass
@@ -83,6 +99,35 @@ class SweepConfig:
         """A hash of everything that determines the results (to refuse resuming a changed sweep)."""
         text = json.dumps(self.source, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()
+
+    @property
+    def variables(self) -> tuple[Variable, ...]:
+        """The result variables, in the order the chunks' results and checksums hold them."""
+        return SINGLE_MASS
+
+    @property
+    def labels(self) -> dict[str, tuple[str, ...]]:
+        """The labels of the variables' dims beyond the grid's (none: every variable is one number per point)."""
+        return {}
+
+    def axis_attrs(self, name: str) -> dict[str, str]:
+        """The attributes of axis ``name``'s coordinate."""
+        if name == SAMPLE:
+            return {"units": "1", "long_name": "index of the randomly drawn point (its values: the sampled coordinates)"}
+        return dict(declared()[name].attrs)
+
+    def attributes(self) -> dict[str, Any]:
+        """The dataset's attributes beyond the provenance: the fixed settings of every point."""
+        fixed = dict(self.fixed)
+        model, law, _ = self.run.build()  # every setting of a point, defaults resolved
+        settings = {**model.as_dict(), **law.values(), "x0": self.run.x0, "v0": self.run.v0}
+        for key, value in settings.items():
+            if key in GRID_KEYS and key not in self.axes and value is not None:
+                fixed.setdefault(key, value)
+        attrs: dict[str, Any] = {f"fixed_{k}": float(v) for k, v in fixed.items()}
+        attrs.update({"friction": self.run.friction, "solver": self.run.solver, "stick_force": self.run.stick_force,
+                      "t_end": self.run.t_end})
+        return attrs
 
     def point_params(self, index: tuple[np.ndarray, ...]) -> dict[str, np.ndarray]:
         """Per-point parameter arrays for grid indices (one index array per axis)."""
@@ -115,8 +160,12 @@ def _count(where: str, value: Any) -> int:
     return int(value)
 
 
-def _axis(key: str, value: Any) -> np.ndarray | float:
-    """A grid entry: a number (fixed), a list, {start, stop, num, scale} or "FROM:TO:N" (the CLI's range)."""
+def _axis(key: str, value: Any, number: Callable[[str, str, Any], float] | None = None) -> np.ndarray | float:
+    """A grid entry: a number (fixed), a list, {start, stop, num, scale} or "FROM:TO:N" (the CLI's range).
+
+    ``number(key, where, value)`` checks one value (default: the declared parameter ``key``'s check).
+    """
+    check_value = _value if number is None else number
     where = f"grid.{key}"
     if isinstance(value, str):
         r = parse_range(where, value)
@@ -124,13 +173,13 @@ def _axis(key: str, value: Any) -> np.ndarray | float:
     if isinstance(value, bool):
         raise ValueError(f"{where} must be a number, a list or a {{start, stop, num, scale}} table, got {value!r}")
     if isinstance(value, (int, float)):
-        return _value(key, where, value)
+        return check_value(key, where, value)
     if isinstance(value, list):
         if not value:
             raise ValueError(f"{where} is an empty list; give at least one value")
         if len(value) > MAX_AXIS:
             raise ValueError(f"{where} has {len(value)} values; at most {MAX_AXIS}")
-        arr = np.array([_value(key, f"{where}[{i}]", v) for i, v in enumerate(value)])
+        arr = np.array([check_value(key, f"{where}[{i}]", v) for i, v in enumerate(value)])
         if len(np.unique(arr)) != len(arr):
             raise ValueError(f"{where} has repeated values")
         return arr
@@ -142,8 +191,8 @@ def _axis(key: str, value: Any) -> np.ndarray | float:
         missing = {"start", "stop", "num"} - set(value)
         if missing:
             raise ValueError(f"{where}: missing {', '.join(sorted(missing))}")
-        start = _value(key, f"{where}.start", value["start"])
-        stop = _value(key, f"{where}.stop", value["stop"])
+        start = check_value(key, f"{where}.start", value["start"])
+        stop = check_value(key, f"{where}.stop", value["stop"])
         num = _count(f"{where}.num", value["num"])
         scale = check.choice(f"{where}.scale", value.get("scale", "linear"), ("linear", "log"))
         if num > 1 and start == stop:

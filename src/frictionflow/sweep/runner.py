@@ -22,7 +22,8 @@ from .._progress import progress_bar
 from ..estimate import Estimate, enforce
 from .compute import VARIABLES, compute_chunk
 from ..parameters import Param
-from .config import MAX_AXIS, SweepConfig, chunk_shape, load_sweep, parse_sweep
+from .config import MAX_AXIS, SweepConfig, chunk_shape, parse_sweep
+from .model import ModelSweepConfig, compute_model_chunk, default_model_chunk, load_any_sweep, model_sweep_estimate
 from .lock import STALE_AFTER, SweepLock
 from .store import KEPT, RepairWarning, SweepStore, Verification, _short, check_out, journal_path, stored_config, verify_sweep, writing
 
@@ -38,8 +39,13 @@ CHUNK_SIZE = Param("chunk_size", "", "points per chunk (a task and a unit of com
 #: address schemes whose location is HOST:PORT (checked before connecting)
 HOST_PORT_SCHEMES = ("tcp", "tls", "ws", "wss")
 
-def default_chunk_size(cfg: SweepConfig) -> int:
-    """About 0.2 s of work per chunk on one core (>= 100 ms per Dask task): what the solver declares."""
+def default_chunk_size(cfg: SweepConfig | ModelSweepConfig) -> int:
+    """About 0.2 s of work per chunk on one core (>= 100 ms per Dask task): what the solver declares.
+
+    A model sweep's points run one at a time, each far longer: a few points per chunk.
+    """
+    if isinstance(cfg, ModelSweepConfig):
+        return default_model_chunk(cfg)
     _, _, solver = cfg.run.build()
     return solver.chunk_points(cfg.run.t_end)
 
@@ -50,8 +56,11 @@ def sweep_estimate(cfg: SweepConfig, out: str | Path | None = None, name: str = 
 
     A bound: a point stops once its steady state is settled.  A forced
     point is costed as a single run (the batched kernels and the façade
-    alike); the store holds a float per variable and point.
+    alike); the store holds a float per variable and point.  A model sweep
+    is costed from a probe run (:func:`~frictionflow.sweep.model.model_sweep_estimate`).
     """
+    if isinstance(cfg, ModelSweepConfig):
+        return model_sweep_estimate(cfg, out, name)
     model, law, solver = cfg.run.build()
     forced = model.forced or "fex" in cfg.axes or "fex" in cfg.sample
     point = solver.cost(model, law, cfg.run.t_end) if forced else solver.point_cost(model, law, cfg.run.t_end)
@@ -105,7 +114,8 @@ def run_sweep(
     if not (isinstance(scheduler_timeout, (int, float)) and math.isfinite(scheduler_timeout) and scheduler_timeout > 0):
         raise ValueError(f"scheduler_timeout must be a number of seconds > 0, got {scheduler_timeout!r}")
     target = check_out(out)
-    enforce(sweep_estimate(cfg, out))  # within the limits in force (frictionflow.estimate.limited)
+    # within the limits in force (frictionflow.estimate.limited); a model sweep's probe runs only when they are
+    enforce((lambda: sweep_estimate(cfg, out)) if isinstance(cfg, ModelSweepConfig) else sweep_estimate(cfg, out))
     with SweepLock(out, stale_after=lock_stale_after):
         own_client = _connect(scheduler, scheduler_timeout) if client is None and scheduler is not None else None
         try:
@@ -164,12 +174,19 @@ def repair_sweep(
             store.close()
 
 
-def _as_config(config: SweepConfig | dict[str, Any] | str | Path) -> SweepConfig:
+def _as_config(config: SweepConfig | ModelSweepConfig | dict[str, Any] | str | Path) -> SweepConfig | ModelSweepConfig:
     if isinstance(config, (str, Path)):
-        return load_sweep(str(config))
-    if isinstance(config, SweepConfig):
+        return load_any_sweep(str(config))
+    if isinstance(config, (SweepConfig, ModelSweepConfig)):
         return config
+    if "model" in config:
+        raise ValueError("a model sweep is given as its file or a ModelSweepConfig (its model path is relative to the file)")
     return parse_sweep(config)
+
+
+def chunk_function(cfg: SweepConfig | ModelSweepConfig):
+    """What computes one chunk of ``cfg`` (a pure function of its source and the chunk: a Dask task)."""
+    return compute_model_chunk if isinstance(cfg, ModelSweepConfig) else compute_chunk
 
 
 def _connect(address: str, timeout: float):
@@ -306,8 +323,9 @@ def _compute(store: SweepStore, cfg: SweepConfig, client: Any, progress: bool) -
     todo, chunks = store.todo(), store.chunks  # a resumed sweep keeps the chunks it was started with
     with progress_bar("sweep", cfg.size, enabled=progress, done=store.points_done(), unit="points") as advance:
         if client is None:
+            compute = chunk_function(cfg)
             for chunk in todo:
-                res = compute_chunk(cfg.source, chunk, chunks)
+                res = compute(cfg.source, chunk, chunks)
                 store.write(chunk, res)
                 advance(res[0].size)
         else:
@@ -328,9 +346,10 @@ def _run_dask(client: Any, cfg: SweepConfig, store: SweepStore, todo: list, chun
     window = 2 * workers + 2
     pending = iter(todo)
     source = cfg.source
+    compute = chunk_function(cfg)
 
     def submit(chunk):
-        return client.submit(compute_chunk, source, chunk, chunks, key=f"frictionflow-chunk-{store.cfg.fingerprint()[:12]}-{'-'.join(map(str, chunk))}", pure=False, retries=3)
+        return client.submit(compute, source, chunk, chunks, key=f"frictionflow-chunk-{store.cfg.fingerprint()[:12]}-{'-'.join(map(str, chunk))}", pure=False, retries=3)
 
     futures = {}
     for chunk in pending:

@@ -50,12 +50,11 @@ from typing import Iterator, NamedTuple, Sequence
 
 import numpy as np
 
-from .. import quantities as Q
 from .._version import __version__
 from ..io import _directory_problem, atomic_write, stale_temporaries, temporary_path, write_error
-from ..parameters import declared
 from .compute import chunk_slices
-from .config import GRID_KEYS, SAMPLE, SweepConfig, n_chunks, parse_sweep
+from .config import SAMPLE, SINGLE_MASS, SweepConfig, Variable, n_chunks
+from .model import config_from_source
 
 #: the sweep's bookkeeping group (not part of the dataset: xarray reads only the root's arrays)
 BOOK = "_sweep"
@@ -67,8 +66,6 @@ _BOOK_ATTRS = {
     "description": "frictionflow sweep bookkeeping: per chunk (C order over the chunk grid) 0 = not computed, "
     "else the first 8 bytes (little-endian) of the SHA-256 of the chunk's variables as written, in table order, NaN canonical",
 }
-#: the ``sample`` axis (not a parameter: the index of a drawn initial state)
-_SAMPLE_ATTRS = {"units": "1", "long_name": "index of the randomly drawn point (its values: the sampled coordinates)"}
 #: what a run that failed to write says it leaves (its lock held: nothing else writes the store meanwhile)
 KEPT = "the chunks finished so far are kept: run the same command again to resume"
 #: the first bytes of a NetCDF-4 (HDF5) and of a classic NetCDF file
@@ -229,6 +226,7 @@ class SweepStore:
     def __init__(self, path: str | Path, cfg: SweepConfig, chunks: tuple[int, ...], restart: bool = False) -> None:
         self._locate(check_out(path))
         self.cfg = cfg
+        self.table = cfg.variables
         self.shape = cfg.shape
         self.dims = cfg.dims
         self.chunks = chunks
@@ -263,6 +261,7 @@ class SweepStore:
             raise ValueError(f"out must end in .zarr or .nc, got {str(path)!r}")
         self.cfg = None
         self.resumed = True
+        self.table = _stored_table(self.path) if self.path.is_dir() else None
         if self.path.exists():
             self._reopen(mode="r")
         elif self.target.exists():
@@ -315,7 +314,9 @@ class SweepStore:
                 raise DamagedStoreError(self.target, f"a NetCDF file that cannot be opened ({_short(e)})") from None
             raise ValueError(f"out: {shown!r} exists and is not a NetCDF file; use --restart to replace it") from None
         attrs = self._nc.attrs
-        if "config_sha256" not in attrs or "chunk_shape" not in attrs or Q.SWEPT[0].name not in self._nc:
+        if self.table is None:
+            self.table = _table_of(attrs.get("config"))
+        if "config_sha256" not in attrs or "chunk_shape" not in attrs or self.table[0].name not in self._nc:
             self._nc.close()
             raise ValueError(f"out: {shown!r} is a NetCDF file but not a frictionflow sweep; use --restart to replace it")
         self.complete = True
@@ -325,11 +326,11 @@ class SweepStore:
     def _layout_from(self, get) -> None:
         """Shape, dims and chunk grid from the stored ``kind`` variable."""
         try:
-            first = get(Q.SWEPT[0].name)
+            first = get(self.table[0].name)  # (the kind: over the grid's dims only)
             self.shape = tuple(first.shape)
             self.dims = tuple(getattr(first, "dims", None) or first.metadata.dimension_names)
         except Exception as e:
-            raise DamagedStoreError(self.target, f"its variable {Q.SWEPT[0].name!r} cannot be read ({_short(e)})") from None
+            raise DamagedStoreError(self.target, f"its variable {self.table[0].name!r} cannot be read ({_short(e)})") from None
         self.grid = n_chunks(self.shape, self.chunks)
 
     def _create(self, path: Path | None = None):
@@ -340,32 +341,26 @@ class SweepStore:
         cfg = self.cfg
         root = zarr.open_group(str(path or self.path), mode="w", zarr_format=3)
         for name, values in cfg.axes.items():
-            attrs = _SAMPLE_ATTRS if name == SAMPLE else declared()[name].attrs
             a = root.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8", dimension_names=(name,),
-                                  attributes=dict(attrs))
+                                  attributes=cfg.axis_attrs(name))
             a[:] = values
         for name, values in cfg.sample.items():  # the drawn values, coordinates along the sample axis
             a = root.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8", dimension_names=(SAMPLE,),
-                                  attributes=dict(declared()[name].attrs))
+                                  attributes=cfg.axis_attrs(name))
             a[:] = values
-        for q in Q.SWEPT:  # the result variables, as the quantities table describes them
-            attrs = {"units": q.units, "long_name": q.long_name}
+        _create_labels(root, cfg.labels)
+        for q in self.table:  # the result variables, as the config's table describes them
+            attrs = {"units": q.units, "long_name": q.long_name} if q.units else {"long_name": q.long_name}
             if cfg.sample:  # (CF: xarray then reads the drawn values as coordinates, not variables)
                 attrs["coordinates"] = " ".join(cfg.sample)
             if q.flags:
                 attrs.update(flag_values=list(range(len(q.flags))), flag_meanings=" ".join(q.flags))
-            root.create_array(q.name, shape=cfg.shape, chunks=self.chunks, dtype=q.dtype, fill_value=_fill(q),
-                              dimension_names=cfg.dims, attributes=attrs)
+            extra = tuple(len(cfg.labels[d]) for d in q.dims)
+            root.create_array(q.name, shape=cfg.shape + extra, chunks=tuple(self.chunks) + extra, dtype=q.dtype,
+                              fill_value=_fill(q), dimension_names=cfg.dims + q.dims, attributes=attrs)
         self._create_flags(root)
         attrs = provenance(cfg)
-        fixed = {k: v for k, v in cfg.fixed.items()}
-        model, law, _ = cfg.run.build()  # every setting of a point, defaults resolved
-        settings = {**model.as_dict(), **law.values(), "x0": cfg.run.x0, "v0": cfg.run.v0}
-        for key, value in settings.items():
-            if key in GRID_KEYS and key not in cfg.axes and value is not None:
-                fixed.setdefault(key, value)
-        attrs.update({f"fixed_{k}": float(v) for k, v in fixed.items()})
-        attrs.update({"friction": cfg.run.friction, "solver": cfg.run.solver, "stick_force": cfg.run.stick_force, "t_end": cfg.run.t_end})
+        attrs.update(cfg.attributes())
         attrs["chunk_shape"] = list(self.chunks)
         root.update_attributes(attrs)
         return root
@@ -416,7 +411,7 @@ class SweepStore:
         done-flag array's own metadata is left to :meth:`verify` too (it
         checks the data of chunks whose flags are lost).
         """
-        names = ["", *self.cfg.axes, *self.cfg.sample, *(q.name for q in Q.SWEPT)]
+        names = ["", *self.cfg.axes, *self.cfg.sample, *self.cfg.labels, *(q.name for q in self.table)]
         names += [BOOK] if (self.path / BOOK).is_dir() else []
         broken = [n for n in names if not _readable_doc(self.path / n / "zarr.json")]
         identity = _stored_identity(self.path) if broken else None
@@ -459,7 +454,7 @@ class SweepStore:
         """The result variables' arrays, writing every chunk file (even all-fill ones: a missing file is then damage)."""
         if self._vars is None:
             arrays = []
-            for q in Q.SWEPT:
+            for q in self.table:
                 try:
                     arrays.append(self.root[q.name].with_config({"write_empty_chunks": True}))
                 except Exception as e:
@@ -487,7 +482,7 @@ class SweepStore:
 
     def write(self, chunk: tuple[int, ...], results: np.ndarray) -> None:
         """Commit one chunk: its data first, then its flag, which is the data's checksum."""
-        values = [_stored(q, results[j]) for j, q in enumerate(Q.SWEPT)]  # results: the kernels' rows, in the table's order
+        values = [_stored(q, results[j]) for j, q in enumerate(self.table)]  # results: one array per variable, in the table's order
         self._commit(chunk, values)
 
     def _commit(self, chunk: tuple[int, ...], values: list[np.ndarray]) -> None:
@@ -607,7 +602,7 @@ class SweepStore:
     def _check_chunk(self, chunk: tuple[int, ...], recorded: int | None) -> tuple[str | None, int]:
         """Why chunk cannot be kept (None if it can), and its checksum as read."""
         missing = self._missing_files(chunk)
-        if missing and recorded is None and len(missing) == len(Q.SWEPT):
+        if missing and recorded is None and len(missing) == len(self.table):
             return "not computed", 0
         if missing:
             return f"missing: {', '.join(missing)}", 0
@@ -626,8 +621,8 @@ class SweepStore:
         if self._nc is not None:
             return []
         missing = []
-        for q, arr in zip(Q.SWEPT, self._arrays()):
-            key = arr.metadata.encode_chunk_key(chunk)
+        for q, arr in zip(self.table, self._arrays()):
+            key = arr.metadata.encode_chunk_key(tuple(chunk) + (0,) * len(q.dims))  # (extra dims: one chunk each)
             if not (self.path / q.name / key).is_file():
                 missing.append(q.name)
         return missing
@@ -636,7 +631,7 @@ class SweepStore:
         """A chunk's variables as stored, in table order; an error names the variable that failed."""
         sl = self._slices(chunk)
         values = []
-        for j, q in enumerate(Q.SWEPT):
+        for j, q in enumerate(self.table):
             try:
                 v = self._nc[q.name][sl].values if self._nc is not None else self._arrays()[j][sl]
             except Exception as e:
@@ -720,12 +715,34 @@ def _consolidate(path: Path) -> None:
         zarr.consolidate_metadata(str(path))
 
 
-def _fill(q: Q.Quantity) -> float:
+def _create_labels(root, labels: dict[str, tuple[str, ...]]) -> None:
+    """The labels of the dims beyond the grid's (``contact``, ``dof``, ...) as text coordinates."""
+    for dim, names in labels.items():
+        a = root.create_array(dim, shape=(len(names),), chunks=(max(1, len(names)),), dtype=str,
+                              dimension_names=(dim,), attributes={"long_name": f"{dim} name"})
+        a[:] = np.array(names, dtype=object)
+
+
+def _table_of(config: str | None) -> tuple[Variable, ...]:
+    """The result variables of the sweep whose recorded settings are ``config`` (JSON); the single mass's if unknown."""
+    try:
+        return config_from_source(json.loads(config)).variables
+    except Exception:  # not recorded or unreadable: an older store, or damage the checks report
+        return SINGLE_MASS
+
+
+def _stored_table(store: Path) -> tuple[Variable, ...]:
+    """The result variables of the Zarr store at ``store`` (from its recorded settings)."""
+    identity = _stored_identity(store)
+    return _table_of(None if identity is None else identity.get("config"))
+
+
+def _fill(q: Variable) -> float:
     """The value of a point not computed yet: NaN, or -1 for an integer code."""
     return np.nan if q.dtype == "f8" else -1
 
 
-def _stored(q: Q.Quantity, row: np.ndarray) -> np.ndarray:
+def _stored(q: Variable, row: np.ndarray) -> np.ndarray:
     """A kernel result row as the variable stores it (an integer code: NaN becomes the fill value)."""
     if q.dtype == "f8":
         return np.asarray(row, dtype="f8")
@@ -801,9 +818,10 @@ def _stored_identity(store: Path, spare_first: bool = False) -> dict | None:
 
 def _stored_dims(store: Path) -> list[str] | None:
     """The grid's dimensions in order, from the first readable result variable's metadata."""
-    for q in Q.SWEPT:
+    for q in _stored_table(store):
         try:
-            return list(json.loads((store / q.name / "zarr.json").read_bytes())["dimension_names"])
+            dims = list(json.loads((store / q.name / "zarr.json").read_bytes())["dimension_names"])
+            return dims[:len(dims) - len(q.dims)]
         except Exception:
             continue
     return None
@@ -811,7 +829,7 @@ def _stored_dims(store: Path) -> list[str] | None:
 
 def _broken_docs(store: Path) -> list[str]:
     """The nodes of a sweep store whose metadata cannot be read (``root`` for the group)."""
-    names = ["", *sorted({d.name for d in store.iterdir() if d.is_dir()} | {q.name for q in Q.SWEPT})]
+    names = ["", *sorted({d.name for d in store.iterdir() if d.is_dir()} | {q.name for q in _stored_table(store)})]
     return ["root" if n == "" else n for n in names if not _readable_doc(store / n / "zarr.json")]
 
 
@@ -826,7 +844,7 @@ def stored_config(path: str | Path) -> SweepConfig:
     source = json.loads(identity["config"])
     dims = identity.get("dims") or (_stored_dims(journal) if journal.is_dir() else None) or []
     grid = {**{d: source["grid"][d] for d in dims if d in source["grid"]}, **source["grid"]}  # the axes in their order
-    cfg = parse_sweep({**source["settings"], "grid": grid}, source=str(target), check_points=False)
+    cfg = config_from_source({**source, "grid": grid}, str(target))
     if cfg.fingerprint() != identity["config_sha256"]:
         raise ValueError(f"out: {str(target)!r}: its recorded settings do not match their fingerprint; give the sweep's CONFIG, or use --restart")
     return cfg
@@ -838,7 +856,8 @@ def _nc_identity(target: Path) -> dict | None:
 
     try:
         with xr.open_dataset(target, cache=False) as ds:
-            return {**{k: ds.attrs[k] for k in ("config", "config_sha256")}, "dims": list(ds[Q.SWEPT[0].name].dims)}
+            first = _table_of(ds.attrs.get("config"))[0].name
+            return {**{k: ds.attrs[k] for k in ("config", "config_sha256")}, "dims": list(ds[first].dims)}
     except Exception:
         return None
 

@@ -1,0 +1,380 @@
+"""Sweeps over a model file's entries: every point a :class:`~frictionflow.system.System` run and analysed.
+
+::
+
+    model = "chain.toml"      # relative to this file
+    t_end = 300.0
+    rtol = 1e-6               # optional: the steady state's repeat tolerance (simulate --model's)
+
+    [grid]
+    "contact.0.belt" = "0.01:0.1:10"     # quoted: the address is one key
+    "spring.1.k" = [0.5, 1.0]
+    "damper.0.c" = 0.05                  # a number: fixed, not an axis
+
+Each point is ``simulate_system(system.with_entry(...)..., t_end)`` and
+:func:`~frictionflow.analysis.structure.analyze_structure`, run one at a time.
+The dataset's dims are the axes (named by their addresses); its variables
+are the steady state's kind (a flag variable), period and stick fraction per
+contact, the average powers per element (``P`` over ``element``: the springs,
+dampers and forces; ``P_belt`` and ``P_heat`` over ``contact``), ``X_max``
+and ``X_min`` over ``dof`` and the energy residual.  The store, its chunks,
+resume, verification and Dask are the single-mass sweep's
+(:mod:`frictionflow.sweep.store`, :mod:`frictionflow.sweep.runner`), given
+this table of variables.
+"""
+
+from __future__ import annotations
+
+import difflib
+import hashlib
+import itertools
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from ..analysis.structure import STRUCTURE_KINDS, analyze_structure
+from ..estimate import Estimate
+from ..io import read_config
+from ..solvers.structure import simulate_system
+from ..system import System, load_system
+from .compute import chunk_slices
+from .config import MAX_POINTS, Variable, _axis, parse_sweep
+
+#: the top-level keys of a model sweep (besides ``grid``)
+MODEL_KEYS = ("model", "t_end", "rtol")
+#: simulate --model's defaults
+T_END = 300.0
+RTOL = 1e-6
+#: grid values checked one by one through System.with_entry, per axis, at most (beyond: the extremes)
+CHECK_EACH = 1000
+#: up to this many axes, every corner of the grid is checked as a whole system (entries checked together)
+CHECK_CORNERS = 6
+#: the model-sweep's probe run for the estimate: at most this long (its cost is scaled to t_end)
+PROBE_T = 50.0
+#: points per chunk (a chunk is a unit of commit and a Dask task)
+CHUNK_POINTS = 8
+
+
+@dataclass
+class ModelSweepConfig:
+    """A validated sweep over a model's entries: the base system, the axes, the run's length."""
+
+    system: System  #: the model with the fixed grid entries applied
+    axes: dict[str, np.ndarray]  #: entry address -> its values, in the grid's order
+    t_end: float
+    rtol: float = RTOL
+    fixed: dict[str, float] = field(default_factory=dict)  #: entries given one value in the grid
+    source: dict[str, Any] = field(default_factory=dict)  #: the model (as a mapping), settings and grid
+    model_file: str | None = None  #: the model file, for the dataset's attributes
+    sample: dict[str, np.ndarray] = field(default_factory=dict)  #: (no sampled axes in a model sweep)
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        return tuple(self.axes)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(a) for a in self.axes.values())
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape, dtype=np.int64))
+
+    def fingerprint(self) -> str:
+        """A hash of the model's content, the settings and the grid (not the file's path: a moved file is the same sweep)."""
+        text = json.dumps(self.source, sort_keys=True, default=str)
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    @property
+    def labels(self) -> dict[str, tuple[str, ...]]:
+        """The labels of the variables' dims beyond the grid's (a dim without labels is left out)."""
+        s = self.system
+        found = {"contact": s.contact_names, "element": s.spring_names + s.damper_names + s.force_names, "dof": s.dof}
+        return {k: v for k, v in found.items() if v}
+
+    @property
+    def variables(self) -> tuple[Variable, ...]:
+        """The result variables, in the order :func:`compute_model_chunk` returns them."""
+        kinds = ", ".join(f"{i} {k.replace('_', ' ')}" for i, k in enumerate(STRUCTURE_KINDS))
+        table = [
+            Variable("kind", "1", f"steady state: {kinds}", "i1", STRUCTURE_KINDS),
+            Variable("period", "", "period of the periodic steady state (NaN unless periodic)"),
+            Variable("stick_fraction", "1", "share of the steady-state window the contact spends stuck", dims=("contact",)),
+            Variable("P", "", "time-averaged power the element puts into the structure", dims=("element",)),
+            Variable("P_belt", "", "time-averaged power the belt delivers through the contact (F b)", dims=("contact",)),
+            Variable("P_heat", "", "time-averaged heat generated at the contact (F V_r)", dims=("contact",)),
+            Variable("X_max", "", "maximum of the coordinate over the steady-state window", dims=("dof",)),
+            Variable("X_min", "", "minimum of the coordinate over the steady-state window", dims=("dof",)),
+            Variable("energy_residual", "1", "relative residual of the energy balance over the window"),
+        ]
+        labels = self.labels
+        return tuple(v for v in table if all(d in labels for d in v.dims))
+
+    def axis_attrs(self, name: str) -> dict[str, str]:
+        """The attributes of the axis ``name`` (an entry's address)."""
+        return {"long_name": f"model entry {name}"}
+
+    def attributes(self) -> dict[str, Any]:
+        """The dataset's attributes beyond the provenance."""
+        attrs: dict[str, Any] = {f"fixed_{k}": float(v) for k, v in self.fixed.items()}
+        attrs.update({"model": json.dumps(self.source["model"], sort_keys=True, default=str), "solver": "exact",
+                      "t_end": self.t_end, "rtol": self.rtol})
+        if self.model_file is not None:
+            attrs["model_file"] = self.model_file
+        return attrs
+
+    def point_system(self, index: tuple[int, ...]) -> System:
+        """The system at grid index ``index`` (one integer per axis)."""
+        system = self.system
+        for (address, values), i in zip(self.axes.items(), index):
+            system = system.with_entry(address, float(values[i]))
+        return system
+
+
+def flat_grid(grid: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    """``[grid]`` with TOML's nested tables (an unquoted ``contact.0.belt = ...``) joined back into addresses.
+
+    A table of range keys (``start``, ``stop``, ``num``, ``scale``) is a value, not a level.
+    """
+    out: dict[str, Any] = {}
+    for key, value in grid.items():
+        address = f"{prefix}{key}"
+        if isinstance(value, Mapping) and value and not set(value) <= {"start", "stop", "num", "scale"}:
+            out.update(flat_grid(value, address + "."))
+        else:
+            out[address] = value
+    return out
+
+
+def _unknown_entry(source: str, key: str, system: System) -> ValueError:
+    """One line: the unknown address and a few valid ones (the closest first)."""
+    valid = system.entries()
+    near = difflib.get_close_matches(key, valid, n=4, cutoff=0.5)
+    shown = list(dict.fromkeys([*near, *valid]))[:6]
+    return ValueError(f"{source}: unknown grid key {key!r}: not an entry of the model; its entries include "
+                      f"{', '.join(shown)} ({len(valid)} in all: System.entries())")
+
+
+def _entry_checker(system: System, source: str):
+    """``number(key, where, value)`` for :func:`~frictionflow.sweep.config._axis`: a number the model accepts there."""
+
+    def number(key: str, where: str, value: Any) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise ValueError(f"{source}: {where} must be a finite number, got {value!r}")
+        try:
+            system.with_entry(key, float(value))
+        except (ValueError, TypeError) as e:
+            raise ValueError(f"{source}: {where} = {value!r}: {e}") from None
+        return float(value)
+
+    return number
+
+
+def _settings(values: Mapping[str, Any], source: str) -> tuple[float, float]:
+    """t_end and rtol, checked."""
+    unknown = [k for k in values if k not in MODEL_KEYS]
+    if unknown:
+        raise ValueError(f"{source}: key {unknown[0]!r} is not used by a model sweep (allowed: {', '.join(MODEL_KEYS)}, "
+                         "[grid]; the model's own entries go in the model file or the grid)")
+    t_end, rtol = values.get("t_end", T_END), values.get("rtol", RTOL)
+    if isinstance(t_end, bool) or not isinstance(t_end, (int, float)) or not (math.isfinite(t_end) and t_end > 0):
+        raise ValueError(f"{source}: t_end must be a finite number > 0, got {t_end!r}")
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 0.0 < rtol < 1.0:
+        raise ValueError(f"{source}: rtol must be a number in (0, 1), got {rtol!r}")
+    return float(t_end), float(rtol)
+
+
+def parse_model_sweep(values: Mapping[str, Any], system: System, source: str = "config", *,
+                      check_points: bool = True, model_file: str | None = None) -> ModelSweepConfig:
+    """Validate a model sweep: the settings, and a ``[grid]`` of entry addresses of ``system``.
+
+    Parameters
+    ----------
+    values:
+        The sweep's mapping (a parsed TOML file): ``t_end``, ``rtol`` and ``grid`` (``model`` is read by the caller).
+    system:
+        The model the grid's addresses refer to.
+    source:
+        How error messages name where it came from.
+    check_points:
+        False skips checking each value and the grid's corners (for the chunks of a validated sweep).
+    model_file:
+        The model file's path, recorded in the dataset's attributes.
+    """
+    values = {k: v for k, v in values.items() if k != "model"}
+    grid = values.pop("grid", None)
+    if grid is None or not isinstance(grid, Mapping) or not grid:
+        raise ValueError(f"{source}: a non-empty [grid] table of model entries to sweep is required")
+    t_end, rtol = _settings(values, source)
+    grid = flat_grid(grid)
+    valid = set(system.entries())
+    unknown = [k for k in grid if k not in valid]
+    if unknown:
+        raise _unknown_entry(source, unknown[0], system)
+    number = _entry_checker(system, source) if check_points else (lambda key, where, value: float(value))
+    axes: dict[str, np.ndarray] = {}
+    fixed: dict[str, float] = {}
+    for key, val in grid.items():
+        a = _axis(key, val, number if not isinstance(val, list) or len(val) <= CHECK_EACH else _plain)
+        if isinstance(a, np.ndarray):
+            axes[key] = a
+        else:
+            fixed[key] = a
+    if not axes:
+        raise ValueError(f"{source}: [grid] fixes every entry; give at least one list or range to sweep")
+    points = math.prod(len(a) for a in axes.values())
+    if points > MAX_POINTS:
+        raise ValueError(f"{source}: the grid has {points:.3g} points; at most {MAX_POINTS:.0e}")
+    base = system
+    for key, v in fixed.items():
+        base = base.with_entry(key, v)
+    cfg = ModelSweepConfig(base, axes, t_end, rtol, fixed, {"model": system.to_dict(), "settings": values, "grid": dict(grid)},
+                           model_file)
+    if check_points:
+        _check_corners(cfg, source)
+    return cfg
+
+
+def _plain(key: str, where: str, value: Any) -> float:
+    """A value of a long list: its type here, the model's checks on the extremes (:func:`_check_corners`)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ValueError(f"{where} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _check_corners(cfg: ModelSweepConfig, source: str) -> None:
+    """Every axis's extremes, and (up to CHECK_CORNERS axes) every corner of the grid as a whole system."""
+    ends = {k: sorted({float(a.min()), float(a.max())}) for k, a in cfg.axes.items()}
+    combos = itertools.product(*ends.values()) if len(ends) <= CHECK_CORNERS else \
+        ([*(v[0] for v in ends.values())], [*(v[-1] for v in ends.values())])
+    for corner in combos:
+        system = cfg.system
+        try:
+            for key, v in zip(ends, corner):
+                system = system.with_entry(key, v)
+        except ValueError as e:
+            at = ", ".join(f"{k} = {v:g}" for k, v in zip(ends, corner))
+            raise ValueError(f"{source}: grid point ({at}) is not a valid model: {e}") from None
+
+
+def load_model_sweep(path: str | Path, values: Mapping[str, Any] | None = None) -> ModelSweepConfig:
+    """Read and validate a model sweep file (its ``model`` relative to the file).
+
+    Parameters
+    ----------
+    path:
+        The sweep's TOML file.
+    values:
+        Its parsed contents, if already read.
+    """
+    values = read_config(path) if values is None else values
+    model = values.get("model")
+    if not isinstance(model, str) or not model:
+        raise ValueError(f"{path}: model must be the path of a model file (relative to {path}), got {model!r}")
+    where = Path(model) if Path(model).is_absolute() else Path(path).parent / model
+    if not where.is_file():
+        raise ValueError(f"{path}: model: {str(where)!r} is not a file")
+    return parse_model_sweep(values, load_system(where), source=str(path), model_file=str(where))
+
+
+def load_any_sweep(path: str | Path):
+    """A sweep file: a model sweep when it names a ``model``, else the single-mass sweep (:func:`~.config.load_sweep`).
+
+    Parameters
+    ----------
+    path:
+        The sweep's TOML file.
+    """
+    values = read_config(path)
+    if "model" in values:
+        return load_model_sweep(path, values)
+    return parse_sweep(values, source=str(path))
+
+
+def config_from_source(source: Mapping[str, Any], name: str = "config"):
+    """The sweep a recorded ``source`` (:attr:`SweepConfig.source`) describes, without re-checking its points.
+
+    Parameters
+    ----------
+    source:
+        ``{"settings", "grid"}`` of a single-mass sweep, plus ``"model"`` (the model's mapping) for a model sweep.
+    name:
+        How error messages name where it came from.
+    """
+    if "model" in source:
+        system = System.from_dict(source["model"], source=None)
+        return parse_model_sweep({**source["settings"], "grid": source["grid"]}, system, name, check_points=False)
+    return parse_sweep({**source["settings"], "grid": source["grid"]}, source=name, check_points=False)
+
+
+def point_rows(cfg: ModelSweepConfig, system: System) -> list[np.ndarray]:
+    """One point's values, one array per variable of ``cfg.variables`` (over its extra dims)."""
+    result = analyze_structure(simulate_system(system, cfg.t_end), rtol=cfg.rtol)
+    ss = result.steady_state
+    labels = cfg.labels
+    elements = result.elements
+    amp = result.amplitude
+
+    def over(dim: str, get) -> np.ndarray:
+        return np.array([get(name) for name in labels[dim]], dtype=float)
+
+    values = {
+        "kind": np.array(STRUCTURE_KINDS.index(ss.kind)),
+        "period": np.array(ss.period),
+        "stick_fraction": np.array(ss.stick_fraction, dtype=float),
+        "P": over("element", lambda e: elements.get(e, {}).get("P", math.nan)) if "element" in labels else None,
+        "P_belt": over("contact", lambda c: elements.get(c, {}).get("P_belt", math.nan)) if "contact" in labels else None,
+        "P_heat": over("contact", lambda c: elements.get(c, {}).get("P_heat", math.nan)) if "contact" in labels else None,
+        "X_max": over("dof", lambda d: amp.get("X_max", {}).get(d, math.nan)),
+        "X_min": over("dof", lambda d: amp.get("X_min", {}).get(d, math.nan)),
+        "energy_residual": np.array(result.energy_residual),
+    }
+    return [values[v.name] for v in cfg.variables]
+
+
+def compute_model_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[int, ...]) -> list[np.ndarray]:
+    """Results of one chunk of the model sweep ``source``: per variable, (*chunk's shape, *its extra dims).
+
+    A pure function of its arguments (a Dask task): each point is
+    ``analyze_structure(simulate_system(system at the point, t_end))``.
+    """
+    cfg = config_from_source(source)
+    sl = chunk_slices(chunk, chunks, cfg.shape)
+    shape = tuple(s.stop - s.start for s in sl)
+    labels = cfg.labels
+    out = [np.empty(shape + tuple(len(labels[d]) for d in v.dims), dtype="f8") for v in cfg.variables]
+    for local in np.ndindex(*shape):
+        index = tuple(i + s.start for i, s in zip(local, sl))
+        for arr, row in zip(out, point_rows(cfg, cfg.point_system(index))):
+            arr[local] = row
+    return out
+
+
+def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, name: str = "out") -> Estimate:
+    """The sweep's cost from a probe: the grid's first point run to min(t_end, PROBE_T), scaled to t_end.
+
+    A bound in the sense of the single-mass sweep's (the points run to
+    t_end); points run one at a time on one core (or as Dask tasks).
+    """
+    probe_t = min(cfg.t_end, PROBE_T)
+    start = time.process_time()
+    analyze_structure(simulate_system(cfg.point_system((0,) * len(cfg.axes)), probe_t), rtol=cfg.rtol)
+    per_point = (time.process_time() - start) * cfg.t_end / probe_t
+    work = Estimate(float(cfg.size), f"model points of t_end {cfg.t_end:g} (probe: {probe_t:g})",
+                    per_point * cfg.size, cores=1)
+    cells = sum(math.prod(len(cfg.labels[d]) for d in v.dims) for v in cfg.variables)
+    return work.writing(out, float(cfg.size) * 8 * cells, name)
+
+
+def default_model_chunk(cfg: ModelSweepConfig) -> int:
+    """Points per chunk: CHUNK_POINTS (a kill loses at most one chunk's points)."""
+    return max(1, min(CHUNK_POINTS, cfg.size))
+
+
+__all__ = ["ModelSweepConfig", "compute_model_chunk", "config_from_source", "load_any_sweep", "load_model_sweep",
+           "model_sweep_estimate", "parse_model_sweep"]
