@@ -33,6 +33,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .._display import Row, Summarized, num
+from .stability import steady_sliding
 
 STRUCTURE_KINDS = ("periodic", "equilibrium", "not_settled", "contact_lost")
 #: largest number of section crossings in one period that is looked for
@@ -147,6 +148,8 @@ def analyze_structure(motion: Any, rtol: float = 1e-6, min_periods: int = 3,
         ss = StructureSteadyState(ss.kind, ss.period, (t0, t1), stick_fractions(motion, (t0, t1)), ss.periods)
     if ss.kind == "contact_lost":
         return StructureAnalysis(motion, ss)
+    if ss.kind == "equilibrium" and window is None and _certified(motion):
+        return _at_sliding_equilibrium(motion, ss)
     t0, t1 = ss.window
     return StructureAnalysis(motion, ss, motion.element_power(t0, t1), amplitudes(motion, ss.window),
                              window_residual(motion, ss.window))
@@ -161,13 +164,61 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
     grid = np.linspace(tail[0], t_end, _grid_size(motion, tail))
     states = states_at(motion, (grid))
     scale = float(np.max(np.abs(states))) + 1e-300
-    if np.all(np.ptp(states, axis=1) <= rtol * scale):
+    if np.all(np.ptp(states, axis=1) <= rtol * scale) or _certified(motion):
         return StructureSteadyState("equilibrium", math.nan, tail, stick_fractions(motion, tail))
     found = _periodic(motion, rtol, min_periods)
     if found is not None:
         period, window, p = found
         return StructureSteadyState("periodic", period, window, stick_fractions(motion, window), min_periods)
     return StructureSteadyState("not_settled", math.nan, tail, stick_fractions(motion, tail))
+
+
+def _certified(motion: Any) -> bool:
+    """Is the run's end proven to slide into the steady-sliding equilibrium without another switch?
+
+    With every contact slipping the way its belt drives it and no force, the
+    motion is the linearisation's: x(t) = x* + sum_i c_i v_i e^{lambda_i t}.
+    If every Re lambda_i < 0, each contact's relative velocity stays within
+    sum_i |(e_j . v_i) c_i| of b_j (and each normal load within the same bound
+    of its equilibrium value) for all later times; below |b_j| (and N_j*) no
+    switch can come.  The single mass's certificate
+    (:mod:`frictionflow.core.certificate`) is the same argument on a disc.
+    """
+    a = motion.assembly
+    modes = np.asarray(motion.modes)[:, -1]
+    if np.any(np.asarray(a.force_amp) != 0.0) or np.any(modes != np.sign(a.belt)) or np.any(a.belt == 0.0):
+        return False
+    try:
+        eq = steady_sliding(a)
+    except ValueError:
+        return False
+    if not np.all(eq.eigenvalues.real < 0.0):
+        return False
+    n = len(eq.q)
+    c = np.linalg.solve(eq.eigenvectors, np.asarray(motion.state)[:, -1] - np.concatenate((eq.q, np.zeros(n))))
+    speed = np.abs(np.asarray(a.contact_dir) @ eq.eigenvectors[n:]) @ np.abs(c)
+    load = np.abs(np.asarray(a.normal)[:, 1:] @ eq.eigenvectors[:n]) @ np.abs(c)
+    margin = 1.0 - 1e-9  # rounding of the bound itself
+    return bool(np.all(speed < margin * np.abs(a.belt)) and np.all(load < margin * eq.normal))
+
+
+def _at_sliding_equilibrium(motion: Any, ss: StructureSteadyState) -> StructureAnalysis:
+    """The analysis of a run certified to end in steady sliding: the equilibrium's own values.
+
+    The springs and dampers then do no work, each contact's belt input and
+    heat are F_j b_j (V_r = b_j), and every coordinate rests at q*.
+    """
+    a = motion.assembly
+    eq = steady_sliding(a)
+    elements = {name: {"P": 0.0} for name in motion.channels if not name.startswith("contact.")}
+    for j, contact in enumerate(motion.contacts):
+        power = float(eq.normal[j] * eq.mu[j] * a.belt[j])
+        elements[contact] = {"P_belt": power, "P_heat": power}
+    rest = {dof: float(x) for dof, x in zip(motion.dof, eq.q)}
+    fractions = tuple(0.0 for _ in motion.contacts)
+    ss = StructureSteadyState("equilibrium", math.nan, ss.window, fractions)
+    return StructureAnalysis(motion, ss, elements, {"X_max": rest, "X_min": dict(rest)},
+                             window_residual(motion, ss.window))
 
 
 def states_at(motion: Any, times: Any) -> np.ndarray:
