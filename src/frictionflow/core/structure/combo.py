@@ -160,7 +160,9 @@ def build(asm, minv, modes):
     t[:n, :nr] = z
     t[n:, nr:] = z
     w = mm(mm(d, t).astype(np.complex128), v)
-    return Combo(modes.copy(), stuck, z, r, he, keff, f0, lam, v, vi, vb, d, dc, dh, active, w)
+    c = np.ascontiguousarray
+    return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, c(lam), c(v), c(vi), c(vb), c(d), dc, c(dh),
+                 active, c(w))
 
 
 @njit(cache=True)

@@ -151,8 +151,8 @@ def run(asm, minv, t_end, dense_dt, out):
     while True:
         ph = start(cb, asm, q, v, t)
         dep = np.zeros(N_SLOTS * k, dtype=np.bool_)
-        for j in range(k):
-            dep[N_SLOTS * j] = leaving[j]
+        for j in range(k):  # a contact that left V_r = 0 and slips: its V_r starts from 0
+            dep[N_SLOTS * j] = leaving[j] and cb.modes[j] != STICK
         tau, slot, _ = first_event(cb, ph, om, t_end - t, dep, first_step(cb, om, t_end - t), floor)
         i, tau_last, next_t, ok = dense_samples(out, i, asm, cb, ph, om, tau, 0.0, next_t, dense_dt, acc)
         if not ok:
