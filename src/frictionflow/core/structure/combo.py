@@ -41,6 +41,8 @@ Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh acti
 N_SLOTS = 3
 #: a stuck set whose directions are this close to dependent is refused (its held forces are not defined)
 RANK_TOL = 1e-10
+#: the combinations kept per run (the first ones met; a chain with many contacts meets new ones at most switches)
+CACHE_SIZE = 64
 #: an eigenvector basis this ill-conditioned is refused (a defective matrix: an undamped rigid mode)
 COND_MAX = 1e10
 
@@ -167,12 +169,11 @@ def build(asm, minv, modes):
 
 @njit(cache=True)
 def lookup(cache, asm, minv, modes):
-    """The combination of ``modes`` from ``cache`` (a list), built and appended when missing."""
+    """The combination of ``modes`` from ``cache`` (a list), built (and kept while there is room) when missing."""
     for i in range(len(cache)):
         if np.all(cache[i].modes == modes):
             return cache[i]
     cb = build(asm, minv, modes)
-    if len(cache) >= 64:
-        cache.pop(0)
-    cache.append(cb)
+    if len(cache) < CACHE_SIZE:  # (no eviction: popping records of arrays from a compiled list corrupts memory)
+        cache.append(cb)
     return cb
