@@ -22,7 +22,7 @@ from frictionflow import Coulomb
 from frictionflow.core.assembly import Assembly
 from frictionflow.solvers.structure import run_assembly
 
-T_END = {2: 400.0, 10: 100.0, 100: 10.0}
+T_END = {2: 400.0, 10: 100.0, 100: 2.0}
 
 
 def chain(n: int, seed: int = 1) -> Assembly:

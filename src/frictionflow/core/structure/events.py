@@ -75,13 +75,19 @@ def verdict(cb, ph, om, e, a, h, za, ga, gb, start):
 
 
 @njit(cache=True)
-def decide_interval(cb, ph, om, a, h, za, ga, gb, departing):
-    """(all decided, any root) over the active functions on [a, a + h]."""
+def decide_interval(cb, ph, om, a, h, za, ga, gb, departing, clear):
+    """(all decided, any root) over the active functions on [a, a + h].
+
+    ``clear[e]``: function e is proven root-free up to there (an interval
+    that was halved for another function's sake needs no second proof).
+    """
     decided, root = True, False
     for e in range(len(ga)):
-        if not cb.active[e]:
+        if not cb.active[e] or clear[e] >= a + h:
             continue
         v = verdict(cb, ph, om, e, a, h, za, ga[e], gb[e], departing[e] and a == 0.0)
+        if v == 1:
+            clear[e] = a + h
         decided = decided and v != 0
         root = root or gb[e] <= 0.0
     return decided, root
@@ -126,12 +132,13 @@ def first_event(cb, ph, om, tau_end, departing, h0, floor):
             ga[e] = 0.0
     a, h = 0.0, h0
     gb = ga.copy()
+    clear = np.full(len(ga), -1.0)
     zb = za.copy()
     while a < tau_end:
         b = min(a + h, tau_end)
         modal_into(cb, ph, om, b, zb)
         values(cb, ph, om, b, zb, gb)
-        decided, root = decide_interval(cb, ph, om, a, b - a, za, ga, gb, dep)
+        decided, root = decide_interval(cb, ph, om, a, b - a, za, ga, gb, dep, clear)
         if not decided and b - a > floor:
             h = 0.5 * (b - a)
             continue

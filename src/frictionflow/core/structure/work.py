@@ -35,8 +35,11 @@ def n_channels(asm) -> int:
 
 
 @njit(cache=True)
-def friction_into(asm, cb, ph, q, v, t, f):
-    """Each contact's friction force into ``f``: +-F_d N_j slipping, the held force (dampers included) stuck."""
+def friction_into(asm, cb, q, v, t, f, rest):
+    """Each contact's friction force into ``f``: +-F_d N_j slipping, the held force (dampers included) stuck.
+
+    ``rest``: room for C q' + K_eff q - f0 - forces(t), computed once for all the stuck contacts.
+    """
     n = len(q)
     for j in range(len(f)):
         if cb.modes[j] != STICK:
@@ -44,21 +47,27 @@ def friction_into(asm, cb, ph, q, v, t, f):
             for i in range(n):
                 nj += asm.normal[j, 1 + i] * q[i]
             f[j] = cb.modes[j] * asm.law[j, FD] * nj
+    if len(cb.stuck) == 0:
+        return
+    for i in range(n):
+        x = -cb.f0[i]
+        for b in range(n):
+            x += asm.damping[i, b] * v[b] + cb.keff[i, b] * q[b]
+        rest[i] = x
+    for g in range(len(asm.force_amp)):
+        c = asm.force_amp[g] * math.cos(asm.force_omega[g] * t + asm.force_phi[g])
+        for i in range(n):
+            rest[i] -= asm.force_dir[g, i] * c
     for s in range(len(cb.stuck)):
         lam = 0.0
-        for i in range(n):  # HE (C q' + K_eff q - f0 - forces(t))
-            x = -cb.f0[i]
-            for b in range(n):
-                x += asm.damping[i, b] * v[b] + cb.keff[i, b] * q[b]
-            for g in range(len(asm.force_amp)):
-                x -= asm.force_dir[g, i] * asm.force_amp[g] * math.cos(asm.force_omega[g] * t + asm.force_phi[g])
-            lam += cb.HE[s, i] * x
+        for i in range(n):
+            lam += cb.HE[s, i] * rest[i]
         f[cb.stuck[s]] = lam
 
 
 @njit(cache=True)
-def powers(asm, cb, ph, q, v, t, f, out):
-    """The power of every channel at (q, q', t), into ``out`` (``f``: room for the friction forces)."""
+def powers(asm, cb, q, v, t, f, rest, out):
+    """The power of every channel at (q, q', t), into ``out`` (``f``, ``rest``: room, see :func:`friction_into`)."""
     c = 0
     for s in range(len(asm.spring_k)):
         out[c] = -asm.spring_k[s] * (asm.spring_dir[s] @ q) * (asm.spring_dir[s] @ v)
@@ -70,7 +79,7 @@ def powers(asm, cb, ph, q, v, t, f, out):
     for i in range(len(asm.force_amp)):
         out[c] = asm.force_amp[i] * math.cos(asm.force_omega[i] * t + asm.force_phi[i]) * (asm.force_dir[i] @ v)
         c += 1
-    friction_into(asm, cb, ph, q, v, t, f)
+    friction_into(asm, cb, q, v, t, f, rest)
     k = len(asm.belt)
     for j in range(k):
         out[c + j] = f[j] * asm.belt[j]
@@ -88,13 +97,13 @@ def integrate(asm, cb, ph, om, ta, tb, acc):
     h = span / nsub
     n = len(asm.q0)
     p, f = np.empty(len(acc)), np.empty(len(asm.belt))
-    z, q, v = np.empty(len(cb.lam), dtype=np.complex128), np.empty(n), np.empty(n)
+    z, q, v, rest = np.empty(len(cb.lam), dtype=np.complex128), np.empty(n), np.empty(n), np.empty(n)
     for s in range(nsub):
         mid = ta + (s + 0.5) * h
         for g in range(len(NODES)):
             tau = mid + 0.5 * h * NODES[g]
             modal_into(cb, ph, om, tau, z)
             state_into(cb, ph, tau, z, q, v)
-            powers(asm, cb, ph, q, v, ph.t0 + tau, f, p)
+            powers(asm, cb, q, v, ph.t0 + tau, f, rest, p)
             for c in range(len(acc)):
                 acc[c] += 0.5 * h * WEIGHTS[g] * p[c]
