@@ -37,6 +37,8 @@ from numba import njit
 from ..layout import FD, FS, RESULTANT, STICK
 
 Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W")
+#: what the stick rule needs of a combination (no eigen-decomposition): its held forces and accelerations
+Split = namedtuple("Split", "modes stuck R HE keff f0")
 #: event slots per contact: the mode's own boundary (two sides while stuck) and the normal load
 N_SLOTS = 3
 #: a stuck set whose directions are this close to dependent is refused (its held forces are not defined)
@@ -89,6 +91,23 @@ def constraint_split(asm, minv, stuck):
         raise ValueError("structure: the stuck contacts' directions are dependent (their held forces are not defined)")
     z = vt[ns:].T.copy()
     return z, r, r.T.copy()
+
+
+@njit(cache=True)
+def split(asm, minv, modes):
+    """The :data:`Split` of ``modes``: the stuck set's R and HE and the slipping contacts' K_eff and f0."""
+    n = minv.shape[0]
+    stuck = np.nonzero(modes == STICK)[0]
+    keff, f0 = slip_terms(asm, modes)
+    ns = len(stuck)
+    if ns == 0:
+        return Split(modes.copy(), stuck, np.zeros((n, 0)), np.zeros((0, n)), keff, f0)
+    es = np.empty((ns, n))
+    for i in range(ns):
+        es[i] = asm.contact_dir[stuck[i]]
+    mie = mm(minv, es.T.copy())
+    r = mm(mie, np.linalg.inv(mm(es, mie)))
+    return Split(modes.copy(), stuck, np.ascontiguousarray(r), r.T.copy(), keff, f0)
 
 
 @njit(cache=True)

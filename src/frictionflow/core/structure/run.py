@@ -115,7 +115,7 @@ def initial(asm, minv, cache):
         vr = asm.belt[j] - asm.contact_dir[j] @ v
         modes[j] = 1 if vr > 0.0 else (-1 if vr < 0.0 else 0)
     leaving = modes == STICK
-    decide(cache, asm, minv, q, v, 0.0, modes, leaving)
+    decide(asm, minv, q, v, 0.0, modes, leaving)
     return modes, hold_velocity(asm, lookup(cache, asm, minv, modes), v), -1
 
 
@@ -168,7 +168,7 @@ def run(asm, minv, t_end, dense_dt, out):
         if lost >= 0:
             ok = emit(out, i, asm, cb, q, v, t, acc)
             return Result(codes.CONTACT_LOST if ok else codes.FULL, i + 1, nsw, lost, t)
-        decide(cache, asm, minv, q, v, t, new, leaving)
+        decide(asm, minv, q, v, t, new, leaving)
         nsw = record_switches(out, nsw, t, cb.modes, new)
         cb = lookup(cache, asm, minv, new)
         v = hold_velocity(asm, cb, v)
