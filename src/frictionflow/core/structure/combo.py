@@ -37,10 +37,14 @@ from numba import njit
 from ..layout import FD, FS, RESULTANT, STICK
 
 Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W")
+#: what the stick rule needs of a combination (no eigen-decomposition): its held forces and accelerations
+Split = namedtuple("Split", "modes stuck R HE keff f0")
 #: event slots per contact: the mode's own boundary (two sides while stuck) and the normal load
 N_SLOTS = 3
 #: a stuck set whose directions are this close to dependent is refused (its held forces are not defined)
 RANK_TOL = 1e-10
+#: the combinations kept per run (the first ones met; a chain with many contacts meets new ones at most switches)
+CACHE_SIZE = 64
 #: an eigenvector basis this ill-conditioned is refused (a defective matrix: an undamped rigid mode)
 COND_MAX = 1e10
 
@@ -87,6 +91,23 @@ def constraint_split(asm, minv, stuck):
         raise ValueError("structure: the stuck contacts' directions are dependent (their held forces are not defined)")
     z = vt[ns:].T.copy()
     return z, r, r.T.copy()
+
+
+@njit(cache=True)
+def split(asm, minv, modes):
+    """The :data:`Split` of ``modes``: the stuck set's R and HE and the slipping contacts' K_eff and f0."""
+    n = minv.shape[0]
+    stuck = np.nonzero(modes == STICK)[0]
+    keff, f0 = slip_terms(asm, modes)
+    ns = len(stuck)
+    if ns == 0:
+        return Split(modes.copy(), stuck, np.zeros((n, 0)), np.zeros((0, n)), keff, f0)
+    es = np.empty((ns, n))
+    for i in range(ns):
+        es[i] = asm.contact_dir[stuck[i]]
+    mie = mm(minv, es.T.copy())
+    r = mm(mie, np.linalg.inv(mm(es, mie)))
+    return Split(modes.copy(), stuck, np.ascontiguousarray(r), r.T.copy(), keff, f0)
 
 
 @njit(cache=True)
@@ -160,17 +181,18 @@ def build(asm, minv, modes):
     t[:n, :nr] = z
     t[n:, nr:] = z
     w = mm(mm(d, t).astype(np.complex128), v)
-    return Combo(modes.copy(), stuck, z, r, he, keff, f0, lam, v, vi, vb, d, dc, dh, active, w)
+    c = np.ascontiguousarray
+    return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, c(lam), c(v), c(vi), c(vb), c(d), dc, c(dh),
+                 active, c(w))
 
 
 @njit(cache=True)
 def lookup(cache, asm, minv, modes):
-    """The combination of ``modes`` from ``cache`` (a list), built and appended when missing."""
+    """The combination of ``modes`` from ``cache`` (a list), built (and kept while there is room) when missing."""
     for i in range(len(cache)):
         if np.all(cache[i].modes == modes):
             return cache[i]
     cb = build(asm, minv, modes)
-    if len(cache) >= 64:
-        cache.pop(0)
-    cache.append(cb)
+    if len(cache) < CACHE_SIZE:  # (no eviction: popping records of arrays from a compiled list corrupts memory)
+        cache.append(cb)
     return cb

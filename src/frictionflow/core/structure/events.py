@@ -25,10 +25,11 @@ tangentially may stick there).
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from ..roots import RUNNING, bracket, update
-from .phase import bound, event_rate, event_size, event_value, modal_at
+from .phase import bound, event_rate, event_size, event_value, modal_at, modal_into
 
 EPS = 2.220446049250313e-16
 #: a function within this many EPS of the size of its terms of 0 counts as touching 0
@@ -47,8 +48,10 @@ def values(cb, ph, om, tau, z, g):
 def locate(cb, ph, om, e, a, b, ga, gb):
     """The root of event function ``e`` in [a, b] (g(a) > 0 >= g(b)): the far end of the final bracket."""
     br = bracket(a, b, ga, gb, 0.0, 2.0 * EPS, 0.0, 200, 0.0)
+    z = np.empty(len(cb.lam), dtype=np.complex128)
     while br.status == RUNNING:
-        br = update(br, br.x, event_value(cb, ph, om, e, br.x, modal_at(cb, ph, om, br.x)))
+        modal_into(cb, ph, om, br.x, z)
+        br = update(br, br.x, event_value(cb, ph, om, e, br.x, z))
     return br.hi
 
 
@@ -72,13 +75,19 @@ def verdict(cb, ph, om, e, a, h, za, ga, gb, start):
 
 
 @njit(cache=True)
-def decide_interval(cb, ph, om, a, h, za, ga, gb, departing):
-    """(all decided, any root) over the active functions on [a, a + h]."""
+def decide_interval(cb, ph, om, a, h, za, ga, gb, departing, clear):
+    """(all decided, any root) over the active functions on [a, a + h].
+
+    ``clear[e]``: function e is proven root-free up to there (an interval
+    that was halved for another function's sake needs no second proof).
+    """
     decided, root = True, False
     for e in range(len(ga)):
-        if not cb.active[e]:
+        if not cb.active[e] or clear[e] >= a + h:
             continue
         v = verdict(cb, ph, om, e, a, h, za, ga[e], gb[e], departing[e] and a == 0.0)
+        if v == 1:
+            clear[e] = a + h
         decided = decided and v != 0
         root = root or gb[e] <= 0.0
     return decided, root
@@ -123,11 +132,13 @@ def first_event(cb, ph, om, tau_end, departing, h0, floor):
             ga[e] = 0.0
     a, h = 0.0, h0
     gb = ga.copy()
+    clear = np.full(len(ga), -1.0)
+    zb = za.copy()
     while a < tau_end:
         b = min(a + h, tau_end)
-        zb = modal_at(cb, ph, om, b)
+        modal_into(cb, ph, om, b, zb)
         values(cb, ph, om, b, zb, gb)
-        decided, root = decide_interval(cb, ph, om, a, b - a, za, ga, gb, dep)
+        decided, root = decide_interval(cb, ph, om, a, b - a, za, ga, gb, dep, clear)
         if not decided and b - a > floor:
             h = 0.5 * (b - a)
             continue
@@ -138,5 +149,6 @@ def first_event(cb, ph, om, tau_end, departing, h0, floor):
             tau, slot = nearest_zero(cb, ph, om, a, b, za, ga, gb, dep)
             if slot >= 0:
                 return tau, slot, True
-        a, za, ga, h = b, zb, gb.copy(), min(2.0 * h, h0)
+        a, h = b, min(2.0 * h, h0)
+        za[:], ga[:] = zb, gb
     return tau_end, -1, False

@@ -4,7 +4,7 @@ In modal coordinates z = V^-1 (y, y') the reduced equations decouple:
 z_m' = lam_m z_m + beta_m(tau), beta = b0 + b1 tau + sum_i bh_i cos(theta_i + Omega_i tau)
 (tau: the time since the phase's start t0, theta_i = Omega_i t0 + phi_i), so
 
-    z_m(tau) = e^{lam tau} z_m(0) + expint(lam, 0, tau) b0_m + linint(lam, tau) b1_m
+    z_m(tau) = e^{lam tau} z_m(0) + tau phi1(lam tau) b0_m + tau^2 phi2(lam tau) b1_m
                + sum_i bh_mi (e^{i theta} expint(lam, i Omega, tau) + e^{-i theta} expint(lam, -i Omega, tau)) / 2
 
 (:mod:`.spectral`).  Every event function is g(tau) = Re(W z(tau)) + e0 + e1 tau
@@ -25,7 +25,7 @@ import numpy as np
 from numba import njit
 
 from .combo import mm
-from .spectral import expint, linint
+from .spectral import expint, phis
 
 Phase = namedtuple("Phase", "t0 z0 b0 b1 bh theta e0 e1 u0 bs")
 
@@ -54,49 +54,58 @@ def start(cb, asm, q, v, t0):
     theta = asm.force_omega * t0 + asm.force_phi
     tv = np.concatenate((ru, rb))
     e0 = cb.D @ tv + cb.dc
-    e1 = cb.D[:, :n] @ rb
+    e1 = np.ascontiguousarray(cb.D[:, :n]) @ rb
     return Phase(t0, z0, b0, b1, bh, theta, e0, e1, u0, bs)
 
 
 @njit(cache=True)
-def modal_at(cb, ph, om, tau):
-    """z(tau): the modal coordinates ``tau`` after the phase's start (``om``: the forces' Omega)."""
-    r2 = len(cb.lam)
-    z = np.empty(r2, dtype=np.complex128)
-    for a in range(r2):
+def modal_into(cb, ph, om, tau, z):
+    """z(tau) into ``z``: the modal coordinates ``tau`` after the phase's start (``om``: the forces' Omega)."""
+    for a in range(len(cb.lam)):
         lam = cb.lam[a]
-        s = cmath.exp(lam * tau) * ph.z0[a] + expint(lam, 0.0j, tau) * ph.b0[a] + linint(lam, tau) * ph.b1[a]
+        e, p1, p2 = phis(lam, tau)
+        s = e * ph.z0[a] + p1 * ph.b0[a] + p2 * ph.b1[a]
         for f in range(len(om)):
             w = 1j * om[f]
             ep = cmath.exp(1j * ph.theta[f])
             s += 0.5 * ph.bh[a, f] * (ep * expint(lam, w, tau) + ep.conjugate() * expint(lam, -w, tau))
         z[a] = s
+
+
+@njit(cache=True)
+def modal_at(cb, ph, om, tau):
+    """z(tau), a new array (:func:`modal_into`)."""
+    z = np.empty(len(cb.lam), dtype=np.complex128)
+    modal_into(cb, ph, om, tau, z)
     return z
 
 
 @njit(cache=True)
-def beta_at(ph, om, tau, order):
-    """beta^(order)(tau), order 0 or 1: the modal forcing or its rate."""
-    r2 = len(ph.z0)
-    out = np.empty(r2, dtype=np.complex128)
-    for a in range(r2):
-        s = ph.b0[a] + ph.b1[a] * tau if order == 0 else ph.b1[a]
-        for f in range(len(om)):
-            arg = ph.theta[f] + om[f] * tau
-            s += ph.bh[a, f] * (math.cos(arg) if order == 0 else -om[f] * math.sin(arg))
-        out[a] = s
-    return out
+def state_into(cb, ph, tau, z, q, v):
+    """(q, q') at ``tau`` into ``q``, ``v`` from z = z(tau): Re(V z) through Z, plus the stuck directions' part."""
+    n, r = cb.Z.shape
+    for i in range(n):
+        q[i], v[i] = 0.0, 0.0
+    for a in range(2 * r):
+        x = 0.0
+        for b in range(2 * r):
+            x += (cb.V[a, b] * z[b]).real
+        col, out = (a, q) if a < r else (a - r, v)
+        for i in range(n):
+            out[i] += cb.Z[i, col] * x
+    for s in range(len(ph.u0)):
+        u = ph.u0[s] + ph.bs[s] * tau
+        for i in range(n):
+            q[i] += cb.R[i, s] * u
+            v[i] += cb.R[i, s] * ph.bs[s]
 
 
 @njit(cache=True)
 def state_at(cb, ph, om, tau):
-    """(q, q') at ``tau`` after the phase's start."""
-    n, r = cb.Z.shape
-    x = (cb.V @ modal_at(cb, ph, om, tau)).real if r else np.zeros(0)
-    q, v = cb.Z @ x[:r], cb.Z @ x[r:]
-    if len(ph.u0):
-        q += cb.R @ (ph.u0 + ph.bs * tau)
-        v += cb.R @ ph.bs
+    """(q, q') at ``tau`` after the phase's start, new arrays."""
+    n = cb.Z.shape[0]
+    q, v = np.empty(n), np.empty(n)
+    state_into(cb, ph, tau, modal_at(cb, ph, om, tau), q, v)
     return q, v
 
 
@@ -122,16 +131,28 @@ def event_value(cb, ph, om, e, tau, z):
 
 
 @njit(cache=True)
+def beta_mode(ph, om, m, tau):
+    """(beta_m(tau), beta_m'(tau)): mode m's forcing and its rate."""
+    b, db = ph.b0[m] + ph.b1[m] * tau, ph.b1[m] + 0.0j
+    for f in range(len(om)):
+        arg = ph.theta[f] + om[f] * tau
+        b += ph.bh[m, f] * math.cos(arg)
+        db -= ph.bh[m, f] * om[f] * math.sin(arg)
+    return b, db
+
+
+@njit(cache=True)
 def event_rate(cb, ph, om, e, tau, z, order):
     """d^order g_e / dtau^order at ``tau`` (order 1 or 2; ``z`` = z(tau))."""
-    lam = cb.lam
-    beta = beta_at(ph, om, tau, 0)
     s = harmonic(cb.Dh[e], ph, om, tau, order) + (ph.e1[e] if order == 1 else 0.0)
-    rate1 = beta_at(ph, om, tau, 1) if order == 2 else beta
     for a in range(len(z)):
-        d = lam[a] * z[a] + beta[a]
+        if cb.W[e, a] == 0.0:
+            continue
+        lam = cb.lam[a]
+        b, db = beta_mode(ph, om, a, tau)
+        d = lam * z[a] + b
         if order == 2:
-            d = lam[a] * d + rate1[a]
+            d = lam * d + db
         s += (cb.W[e, a] * d).real
     return s
 
@@ -144,19 +165,19 @@ def bound(cb, ph, om, e, a, h, za, order):
     for f in range(len(om)):
         s += abs(cb.Dh[e, f]) * om[f] ** order
     for m in range(len(za)):
+        w = abs(cb.W[e, m])
+        if w == 0.0:
+            continue
         lam = cb.lam[m]
-        bt = np.zeros(order)  # bounds on |beta^(i)| over the interval
-        bt[0] = abs(ph.b0[m]) + abs(ph.b1[m]) * tmax
-        bt[1] = abs(ph.b1[m])
+        # bounds on |beta|, |beta'|, |beta''| over the interval
+        b0, b1, b2 = abs(ph.b0[m]) + abs(ph.b1[m]) * tmax, abs(ph.b1[m]), 0.0
         for f in range(len(om)):
-            for i in range(order):
-                bt[i] += abs(ph.bh[m, f]) * om[f] ** i
-        zb = math.exp(max(lam.real, 0.0) * h) * (abs(za[m]) + h * bt[0])
+            c = abs(ph.bh[m, f])
+            b0, b1, b2 = b0 + c, b1 + c * om[f], b2 + c * om[f] ** 2
+        zb = math.exp(max(lam.real, 0.0) * h) * (abs(za[m]) + h * b0)
         al = abs(lam)
-        dz = al ** order * zb
-        for i in range(order):
-            dz += al ** (order - 1 - i) * bt[i]
-        s += abs(cb.W[e, m]) * dz
+        dz = al * al * zb + al * b0 + b1 if order == 2 else al ** 3 * zb + al * al * b0 + al * b1 + b2
+        s += w * dz
     return s
 
 

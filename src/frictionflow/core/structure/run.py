@@ -115,7 +115,7 @@ def initial(asm, minv, cache):
         vr = asm.belt[j] - asm.contact_dir[j] @ v
         modes[j] = 1 if vr > 0.0 else (-1 if vr < 0.0 else 0)
     leaving = modes == STICK
-    decide(cache, asm, minv, q, v, 0.0, modes, leaving)
+    decide(asm, minv, q, v, 0.0, modes, leaving)
     return modes, hold_velocity(asm, lookup(cache, asm, minv, modes), v), -1
 
 
@@ -151,8 +151,8 @@ def run(asm, minv, t_end, dense_dt, out):
     while True:
         ph = start(cb, asm, q, v, t)
         dep = np.zeros(N_SLOTS * k, dtype=np.bool_)
-        for j in range(k):
-            dep[N_SLOTS * j] = leaving[j]
+        for j in range(k):  # a contact that left V_r = 0 and slips: its V_r starts from 0
+            dep[N_SLOTS * j] = leaving[j] and cb.modes[j] != STICK
         tau, slot, _ = first_event(cb, ph, om, t_end - t, dep, first_step(cb, om, t_end - t), floor)
         i, tau_last, next_t, ok = dense_samples(out, i, asm, cb, ph, om, tau, 0.0, next_t, dense_dt, acc)
         if not ok:
@@ -168,7 +168,7 @@ def run(asm, minv, t_end, dense_dt, out):
         if lost >= 0:
             ok = emit(out, i, asm, cb, q, v, t, acc)
             return Result(codes.CONTACT_LOST if ok else codes.FULL, i + 1, nsw, lost, t)
-        decide(cache, asm, minv, q, v, t, new, leaving)
+        decide(asm, minv, q, v, t, new, leaving)
         nsw = record_switches(out, nsw, t, cb.modes, new)
         cb = lookup(cache, asm, minv, new)
         v = hold_velocity(asm, cb, v)

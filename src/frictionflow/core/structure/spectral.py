@@ -25,6 +25,27 @@ N_TERMS = 30
 
 
 @njit(cache=True)
+def phis(lam, tau):
+    """(e^{lam tau}, int_0^tau e^{lam (tau - s)} ds, int_0^tau e^{lam (tau - s)} s ds): one exponential, one series.
+
+    tau phi1(z) and tau^2 phi2(z), z = lam tau; below |z| = 1 from the series of phi2 (stopped once a term
+    no longer changes the sum) and phi1 = 1 + z phi2.
+    """
+    z = lam * tau
+    e = cmath.exp(z)
+    if abs(z) >= SERIES:
+        return e, (e - 1.0) / lam, (e - 1.0 - z) / (lam * lam)
+    term = 0.5 + 0.0j
+    p2 = term
+    for j in range(1, N_TERMS):
+        term *= z / (j + 2)
+        p2 += term
+        if abs(term) <= 1e-17 * abs(p2):
+            break
+    return e, tau * (1.0 + z * p2), tau * tau * p2
+
+
+@njit(cache=True)
 def phi_series(d, first):
     """sum_{j >= 0} d^j / (j + first)!  (first = 1: phi1, first = 2: phi2)."""
     term = 1.0 + 0.0j

@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 
 from ..layout import FD, FS, RESULTANT, STICK
-from .combo import lookup
+from .combo import split
 
 #: a held force this close to its limit counts as on it (the single mass's rule, rest_mode)
 ON_LIMIT = 1e-14
@@ -81,10 +81,10 @@ def acceleration(asm, cb, q, v, t):
 
 
 @njit(cache=True)
-def release_over_limit(cache, asm, minv, q, v, t, modes, released):
+def release_over_limit(asm, minv, q, v, t, modes, released):
     """The active-set loop: release the stuck contact most over F_s N_j until none is (``released`` marks them)."""
     for _ in range(len(modes) + 1):
-        cb = lookup(cache, asm, minv, modes)
+        cb = split(asm, minv, modes)
         if len(cb.stuck) == 0:
             return
         rule, _ = held(asm, cb, q, v, t)
@@ -103,10 +103,10 @@ def release_over_limit(cache, asm, minv, q, v, t, modes, released):
 
 
 @njit(cache=True)
-def check_directions(cache, asm, minv, q, v, t, modes, leaving):
+def check_directions(asm, minv, q, v, t, modes, leaving):
     """Each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it (``leaving``: those)."""
     for attempt in range(2):
-        cb = lookup(cache, asm, minv, modes)
+        cb = split(asm, minv, modes)
         acc = acceleration(asm, cb, q, v, t)
         tol = RATE_TOL * (np.abs(acc).max() + np.abs(minv).max() * np.abs(cb.f0).max() + 1e-300)
         changed = False
@@ -119,14 +119,14 @@ def check_directions(cache, asm, minv, q, v, t, modes, leaving):
 
 
 @njit(cache=True)
-def decide(cache, asm, minv, q, v, t, modes, leaving):
+def decide(asm, minv, q, v, t, modes, leaving):
     """The contact modes after an event at (q, q', t), in place; ``leaving``: the contacts slipping from V_r = 0.
 
     ``modes`` holds 0 for every contact at V_r = 0 that may stick and the
     forced direction of those released (their held force reached F_s N).
     """
-    release_over_limit(cache, asm, minv, q, v, t, modes, leaving)
-    check_directions(cache, asm, minv, q, v, t, modes, leaving)
+    release_over_limit(asm, minv, q, v, t, modes, leaving)
+    check_directions(asm, minv, q, v, t, modes, leaving)
 
 
 @njit(cache=True)
