@@ -15,6 +15,7 @@ import numpy as np
 
 from ._lazy import lazy_module
 from .core.assembly import Assembly
+from .core.structure.evaluate import states as exact_states
 from .core.structure.run import advance
 
 #: the friction mode codes of :attr:`Motion.modes`
@@ -94,6 +95,24 @@ class Motion:
         """The state (q, q') at time ``t`` (2n,), exact: the closed form of the phase that holds t."""
         q, v, _ = self._from_sample(t)
         return np.concatenate((q, v))
+
+    def states(self, times: Any) -> np.ndarray:
+        """The exact state (2n, m) at each of ``times`` (any order), each from the phase that holds it.
+
+        Unlike :meth:`at`, no work is integrated, and each sample's phase is
+        set up once for all the times after it: the way to evaluate a grid.
+        """
+        times = np.asarray(times, dtype=float).ravel()
+        if times.size and not (self.t[0] <= times.min() and times.max() <= self.t[-1]):
+            raise ValueError(f"times must lie in [{self.t[0]}, {self.t[-1]}]")
+        order = np.argsort(times, kind="stable")
+        out = np.empty((2 * self.n, times.size))
+        filled = np.empty_like(out)
+        a = self.assembly
+        exact_states(a, np.linalg.inv(a.mass), np.ascontiguousarray(self.t), np.ascontiguousarray(self.state),
+               np.ascontiguousarray(self.modes), np.ascontiguousarray(times[order]), filled)
+        out[:, order] = filled
+        return out
 
     def work_at(self, t: float) -> np.ndarray:
         """The cumulative work of every channel at time ``t``."""

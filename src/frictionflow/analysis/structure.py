@@ -224,8 +224,8 @@ def _at_sliding_equilibrium(motion: Any, ss: StructureSteadyState) -> StructureA
 def states_at(motion: Any, times: Any) -> np.ndarray:
     """The exact state (2n,) at ``times`` (a scalar) or (2n, len(times)) at each of ``times``."""
     if np.ndim(times) == 0:
-        return motion.at(float(times))
-    return np.column_stack([motion.at(float(t)) for t in times]) if len(times) else np.empty((2 * _n(motion), 0))
+        return motion.states([float(times)])[:, 0]
+    return motion.states(times)
 
 
 def _contacts(motion: Any) -> int:
@@ -286,7 +286,7 @@ def _refine(motion: Any, row: int, a: float, b: float) -> float:
         return b
     if fa * fb > 0.0:  # a tangency the grid brackets from one side: take the grid point
         return b
-    return brentq(lambda s: float(motion.at(s)[row]), a, b, xtol=1e-14, rtol=4 * np.finfo(float).eps)
+    return brentq(lambda s: float(motion.states([s])[row, 0]), a, b, xtol=1e-14, rtol=4 * np.finfo(float).eps)
 
 
 def stick_fractions(motion: Any, window: tuple[float, float]) -> tuple[float, ...]:

@@ -20,10 +20,7 @@ from ..core.structure.work import n_channels
 from ..friction.registry import law_classes
 from ..motion import Motion
 
-try:  # the model package (frictionflow.system) is written beside this engine and merged with it
-    from ..system import assemble
-except ImportError:  # pragma: no cover -- only before that merge
-    assemble = None
+from ..system import assemble
 
 #: the solver's name in messages
 NAME = "exact"
