@@ -293,14 +293,17 @@ class _Run:
         self.switches, self.switch_modes, self.evaluations = [], [], 0
 
     def record(self, ph: Phase, sol) -> None:
-        n2 = 2 * self.asm.mass.shape[0]
         self.next += len(sol.t)
         self.evaluations += sol.nfev
         for i, t in enumerate(sol.t):
-            self.t.append(t)
-            self.y.append(sol.y[:, i])
-            self.modes.append(ph.modes.copy())
-            self.force.append(friction(ph, sol.y[:n2, i], forcing(self.asm, t)))
+            self.point(ph, t, sol.y[:, i])
+
+    def point(self, ph: Phase, t: float, y: np.ndarray) -> None:
+        n2 = 2 * self.asm.mass.shape[0]
+        self.t.append(t)
+        self.y.append(y)
+        self.modes.append(ph.modes.copy())
+        self.force.append(friction(ph, y[:n2], forcing(self.asm, t)))
 
 
 def _after_event(asm, ph: Phase, sol):
@@ -373,8 +376,10 @@ def integrate(asm, t_end: float, *, t_eval=None, dense_dt=None, rtol: float = 1e
         if sol.status == 0:
             break
         kind, j, t, y = _after_event(asm, ph, sol)
-        if kind == "lost":
+        if kind == "lost":  # the run ends on the loss, its last sample there
             status, lost = "contact_lost", (j, t)
+            if not run.t or run.t[-1] < t:
+                run.point(ph, t, y)
             break
         new = _next_phase(asm, ph, kind, j, t, y)
         if np.any(new.modes != ph.modes):
@@ -386,7 +391,8 @@ def integrate(asm, t_end: float, *, t_eval=None, dense_dt=None, rtol: float = 1e
 
 def _result(asm, run: _Run, status: str, lost, work: bool, chans: tuple) -> Reference:
     n2, k = 2 * asm.mass.shape[0], len(asm.belt)
-    y = np.array(run.y).T.reshape(-1, len(run.t))
+    rows = n2 + (len(chans) if work else 0)
+    y = np.array(run.y).reshape(len(run.t), rows).T
     return Reference(t=np.array(run.t), state=y[:n2], modes=np.array(run.modes, dtype=np.int8).T.reshape(k, -1),
                      force=np.array(run.force).T.reshape(k, -1), switches=np.array(run.switches),
                      switch_modes=np.array(run.switch_modes, dtype=np.int8).reshape(-1, k), status=status,
