@@ -298,6 +298,14 @@ class _Run:
         for i, t in enumerate(sol.t):
             self.point(ph, t, sol.y[:, i])
 
+    def switch(self, t: float, modes: np.ndarray) -> None:
+        """Record a switch; one within the tie window of the last is the same switch (a tie taken in two)."""
+        if self.switches and t - self.switches[-1] <= _tie_window(t):
+            self.switch_modes[-1] = modes.copy()
+        else:
+            self.switches.append(t)
+            self.switch_modes.append(modes.copy())
+
     def point(self, ph: Phase, t: float, y: np.ndarray) -> None:
         n2 = 2 * self.asm.mass.shape[0]
         self.t.append(t)
@@ -323,11 +331,45 @@ def _start(asm) -> tuple:
     return y, decide(asm, modes, 0.0, y, {})
 
 
+def _tie_window(t: float) -> float:
+    """The time within which two events count as one (1e3 ulps of t): solve_ivp reports one event of a tie."""
+    return 1e3 * np.finfo(float).eps * max(1.0, abs(t))
+
+
+def arriving(asm, ph: Phase, t: float, y: np.ndarray) -> np.ndarray:
+    """The slipping contacts reaching V_r = 0 within the tie window of t (approaching it, and that near)."""
+    n = asm.mass.shape[0]
+    acc = (ph.jac @ y + ph.const + ph.drive @ forcing(asm, t))[n:]
+    vr, dvr = relative_velocity(asm, y), -asm.contact_dir @ acc
+    s = ph.modes.astype(float)
+    return np.flatnonzero((s != 0.0) & (s * dvr < 0.0) & (s * vr <= -s * dvr * _tie_window(t)))
+
+
+def leaving(asm, ph: Phase, t: float, y: np.ndarray) -> dict:
+    """The stuck contacts whose held force reaches the limit within the tie window of t -> their slip direction."""
+    n = asm.mass.shape[0]
+    if not len(ph.stuck):
+        return {}
+    f = forcing(asm, t)
+    df = -asm.force_amp * asm.force_omega * np.sin(asm.force_omega * t + asm.force_phi)
+    h = held(ph, y, f)
+    dh = ph.hy @ (ph.jac @ y + ph.const + ph.drive @ f) + ph.hf @ df
+    fs = asm.law[ph.stuck, layout.FS]
+    g = fs * normal_load(asm, y[:n])[ph.stuck] - np.abs(h)
+    dg = fs * (asm.normal[ph.stuck, 1:] @ y[n:]) - np.sign(h) * dh
+    near = (dg < 0.0) & (g <= -dg * _tie_window(t))
+    return {int(j): (1 if hi > 0.0 else -1) for j, hi in zip(ph.stuck[near], h[near])}
+
+
 def _next_phase(asm, ph: Phase, kind: str, j: int, t: float, y: np.ndarray) -> Phase:
-    """The phase after the event ``kind`` of contact ``j`` at (t, y) (y's q' projected onto V_r = 0)."""
+    """The phase after the event ``kind`` of contact ``j`` at (t, y) (y's q' projected onto V_r = 0).
+
+    Contacts tied with ``j`` (:func:`arriving`, :func:`leaving`) switch with it.
+    """
     n2 = 2 * asm.mass.shape[0]
     modes = ph.modes.copy()
-    release = {}
+    modes[arriving(asm, ph, t, y[:n2])] = 0
+    release = leaving(asm, ph, t, y[:n2])
     if kind == "stick":
         modes[j] = 0
     else:
@@ -383,8 +425,7 @@ def integrate(asm, t_end: float, *, t_eval=None, dense_dt=None, rtol: float = 1e
             break
         new = _next_phase(asm, ph, kind, j, t, y)
         if np.any(new.modes != ph.modes):
-            run.switches.append(t)
-            run.switch_modes.append(new.modes.copy())
+            run.switch(t, new.modes)
         ph = new
     return _result(asm, run, status, lost, work, chans)
 

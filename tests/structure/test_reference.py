@@ -143,3 +143,35 @@ def test_converges_in_rtol_with_one_mass_stuck_while_the_other_slips():
     np.testing.assert_array_equal(coarse.switch_modes, fine.switch_modes)
     np.testing.assert_allclose(coarse.switches, fine.switches, rtol=0, atol=1e-6)
     np.testing.assert_allclose(coarse.state, fine.state, rtol=0, atol=1e-6)
+
+
+def test_identical_uncoupled_masses_switch_together_as_the_single_mass():
+    """Three copies of one oscillator: every switch a three-way tie, each copy the single mass's motion."""
+    zeta, vb, law, x0, v0, _ = SINGLE["paper stick-slip"]
+    exact = simulate(BeltOscillator(zeta, vb), law, Exact(), t_end=80.0, x0=x0, v0=v0)
+    e = np.eye(3)
+    el = Elements(e, (e, [1.0] * 3), (e, [2.0 * zeta] * 3), (e, [vb] * 3, [law] * 3, None), None, [x0] * 3, [v0] * 3)
+    r = ref.integrate(build(el), 80.0, t_eval=exact.t, rtol=1e-12, atol=1e-14)
+    assert len(r.switches) == len(exact.events["t"])
+    np.testing.assert_allclose(r.switches, exact.events["t"], rtol=0, atol=1e-10)
+    np.testing.assert_array_equal(r.switch_modes, np.repeat(exact.events["mode"][:, None], 3, axis=1))
+    for i in range(3):
+        np.testing.assert_allclose(r.state[[i, 3 + i]], exact.state, rtol=0, atol=1e-10)
+
+
+def test_uncoupled_masses_each_as_its_own_single_mass():
+    """Two different oscillators side by side (no ties): each dof follows its own single-mass solution."""
+    cases = [SINGLE["paper stick-slip"], SINGLE["fs = fd, negative belt"]]
+    t_end = 60.0
+    e = np.eye(2)
+    el = Elements(np.diag([1.0, 1.0]), (e, [1.0, 1.0]), (e, [2.0 * c[0] for c in cases]),
+                  (e, [c[1] for c in cases], [c[2] for c in cases], None), None,
+                  [c[3] for c in cases], [c[4] for c in cases])
+    times = np.linspace(0.0, t_end, 121)
+    r = ref.integrate(build(el), t_end, t_eval=times, rtol=1e-12, atol=1e-14)
+    singles = [simulate(BeltOscillator(z, vb), law, Exact(), t_end=t_end, x0=x0, v0=v0)
+               for z, vb, law, x0, v0, _ in cases]
+    np.testing.assert_allclose(np.sort(r.switches), np.sort(np.concatenate([s.events["t"] for s in singles])),
+                               rtol=0, atol=1e-10)
+    for i, s in enumerate(singles):
+        np.testing.assert_allclose(r.state[[i, 2 + i]], np.array([s.at(t) for t in times]).T, rtol=0, atol=1e-10)
