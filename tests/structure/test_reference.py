@@ -15,6 +15,7 @@ import pytest
 from scipy.linalg import expm
 
 from frictionflow import BeltOscillator, Coulomb, Exact, simulate
+from frictionflow.core import layout
 
 from . import reference as ref
 from .chains import Elements, build, chain, single_mass
@@ -175,3 +176,44 @@ def test_uncoupled_masses_each_as_its_own_single_mass():
                                rtol=0, atol=1e-10)
     for i, s in enumerate(singles):
         np.testing.assert_allclose(r.state[[i, 2 + i]], np.array([s.at(t) for t in times]).T, rtol=0, atol=1e-10)
+
+
+def kkt(asm, y: np.ndarray, modes: np.ndarray):
+    """Acceleration and stuck contacts' forces from the saddle-point system [[M, -E^T], [E, 0]] [a; lam] = [r; 0]."""
+    n = asm.mass.shape[0]
+    q, v = y[:n], y[n:]
+    r = -asm.stiffness @ q - asm.damping @ v
+    for j, s in enumerate(modes):
+        if s != 0:
+            r = r + asm.contact_dir[j] * s * asm.law[j, layout.FD] * (asm.normal[j, 0] + asm.normal[j, 1:] @ q)
+    e = asm.contact_dir[modes == 0]
+    s_ = len(e)
+    lhs = np.block([[asm.mass, -e.T], [e, np.zeros((s_, s_))]])
+    sol = np.linalg.solve(lhs, np.concatenate((r, np.zeros(s_))))
+    return sol[:n], sol[n:]
+
+
+def test_stick_decision_is_consistent_on_random_states():
+    """Both contacts of a coupled pair at V_r = 0: the modes chosen satisfy the stick rule and slip the right way.
+
+    Checked with the accelerations and held forces of a saddle-point solve,
+    not the reference's projector: stuck contacts hold less than F_s N, a
+    contact released from V_r = 0 accelerates away from it on its side.
+    """
+    rng = np.random.default_rng(22)
+    el = sliding_pair()
+    el = el._replace(forces=None, contacts=(el.contacts[0], [0.1, -0.2], el.contacts[2], el.contacts[3]))
+    asm = ref.as_arrays(build(el))
+    seen = set()
+    for _ in range(300):
+        q = rng.uniform(-1.0, 1.0, 2)
+        y = np.concatenate((q, asm.belt))  # e_j = unit vectors: q' = b puts both at V_r = 0
+        ph = ref.decide(asm, np.zeros(2, dtype=np.int8), 0.0, y, {})
+        a, lam = kkt(asm, y, ph.modes)
+        np.testing.assert_allclose(ph.jac @ y + ph.const, np.concatenate((y[2:], a)), rtol=0, atol=1e-12)
+        limit = asm.law[ph.stuck, layout.FS] * ref.normal_load(asm, q)[ph.stuck]
+        assert np.all(np.abs(lam) < limit)
+        slipping = ph.modes != 0
+        assert np.all(ph.modes[slipping] * (-asm.contact_dir[slipping] @ a) > 0.0)
+        seen.add(tuple(ph.modes.tolist()))
+    assert {(0, 0), (1, 0), (0, 1), (-1, 0), (0, -1)} <= seen and any(0 not in m for m in seen)
