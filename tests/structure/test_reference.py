@@ -5,7 +5,10 @@ Coulomb and ``Exact``): switch times, modes, states and forces; (b) two
 masses in pure sliding (a linear ODE with constant and harmonic forces, with a
 normal load linear in q) against the matrix exponential of the augmented
 system; (c) the energy balance from its own work channels; (d) its
-convergence in rtol on a chain with stick-slip of both masses.
+convergence in rtol on a chain with stick-slip of both masses; ties
+(identical uncoupled masses), uncoupled masses each as its single mass, the
+stick decision against a saddle-point solve, and a contact loss at the
+closed form's root.
 """
 
 from __future__ import annotations
@@ -13,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.linalg import expm
+from scipy.optimize import brentq
 
 from frictionflow import BeltOscillator, Coulomb, Exact, simulate
 from frictionflow.core import layout
@@ -217,3 +221,22 @@ def test_stick_decision_is_consistent_on_random_states():
         assert np.all(ph.modes[slipping] * (-asm.contact_dir[slipping] @ a) > 0.0)
         seen.add(tuple(ph.modes.tolist()))
     assert {(0, 0), (1, 0), (0, 1), (-1, 0), (0, -1)} <= seen and any(0 not in m for m in seen)
+
+
+def test_contact_loss_at_the_closed_form_root():
+    """One dof sliding on a fast belt with N = 1 + 2x: the run stops where the closed form's N reaches 0."""
+    law = Coulomb(0.3, 0.4)
+    el = Elements([[1.0]], ([[1.0]], [1.0]), ([[1.0]], [0.1]), ([[1.0]], [5.0], [law], [[1.0, 2.0]]), None, [0.0], [-1.0])
+    # slip+ throughout: x'' = -x - 0.1 x' + 0.3 (1 + 2x), z = (x, x', 1)
+    a = np.array([[0.0, 1.0, 0.0], [-1.0 + 0.6, -0.1, 0.3], [0.0, 0.0, 0.0]])
+    z0 = np.array([0.0, -1.0, 1.0])
+
+    def load(t):
+        return 1.0 + 2.0 * (expm(a * t) @ z0)[0]
+
+    t_lost = brentq(load, 0.0, 2.0, xtol=1e-15)  # x falls from 0 to -0.5 within the first 2 time units
+    assert load(0.5 * t_lost) > 0.0 and (expm(a * t_lost) @ z0)[1] < 5.0  # one root, and still slipping
+    r = ref.integrate(build(el), 10.0, dense_dt=0.1, rtol=1e-12, atol=1e-14)
+    assert r.status == "contact_lost" and r.lost[0] == 0
+    assert abs(r.lost[1] - t_lost) < 1e-10 and r.t[-1] == r.lost[1]
+    np.testing.assert_allclose(r.state[:, -1], (expm(a * t_lost) @ z0)[:2], rtol=0, atol=1e-10)
