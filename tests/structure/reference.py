@@ -109,7 +109,7 @@ def normal_load(asm, q: np.ndarray) -> np.ndarray:
 
 def _slip_rows(asm, modes: np.ndarray):
     """The slipping contacts' forces s F_d (P + n.q) as Fq q + F0, one row per contact (0 for stuck)."""
-    s = np.where(modes != 0, modes, 0).astype(float) * asm.law[:, layout.FD]
+    s = modes.astype(float) * asm.law[:, layout.FD]  # 0 for the stuck ones
     return s[:, None] * asm.normal[:, 1:], s * asm.normal[:, 0]
 
 
