@@ -10,7 +10,7 @@ import frictionflow as ff
 from frictionflow.solvers.structure import run_assembly
 
 from .builders import chain
-from .reference import check_phases
+from .phase_reference import check_phases
 
 NODES, WEIGHTS = np.polynomial.legendre.leggauss(12)
 

@@ -10,7 +10,7 @@ import frictionflow as ff
 from frictionflow.solvers.structure import run_assembly
 
 from .builders import assembly, chain, single_mass
-from .reference import check_phases
+from .phase_reference import check_phases
 
 FORCED = [  # (zeta, vb, fd, fs, fex, omega, phi)
     (0.05, 0.01, 0.02, 0.04, 0.03, 0.8, 0.3),

@@ -1,0 +1,143 @@
+"""Multi-DOF exact engine vs scipy solve_ivp (DOP853 with events) on chains of masses, in one run (issue 22, item 7).
+
+    python benchmarks/bench_structure.py
+
+Cases: chains of unit masses, each on a spring (k = 1) and a damper (c = 0.04)
+to the ground, springs k = 0.5 between neighbours, one Coulomb contact per
+mass on a belt at 0.1 (F_d/F_s alternating 0.2/0.4 and 0.1/0.35), started
+from q_i = 0.5 sin(i) at rest: sustained stick-slip (the switch rate stays
+steady over the run) with masses sticking while their neighbours slip.
+
+1. Exact engine (``frictionflow.solvers.structure.run_assembly``) against the
+   independent scipy event integrator of the tests
+   (``tests/structure/reference.py``: DOP853 per phase, events for stick,
+   release and contact loss, linear phase matrices formed once per phase) on
+   the 2-mass and the 10-mass chain.  The reference runs at several rtol; for
+   each: its largest switch-time error against the exact engine, its CPU
+   time, and the ratio.  Headlines: the ratio at the loosest rtol whose
+   switch times agree with the engine's to 1e-9 (all switches found, none
+   added), and at rtol 1e-13, the reference's best (switch times to ~1e-11,
+   the nearest scipy comes to the exact engine's accuracy: a lower bound).  Goal >= 100x, moonshot 1000x.
+2. The exact engine on chains of n = 2, 10, 30, 100 masses over the same
+   time: switches, CPU time, time per switch and how it grows with n
+   (the exponent between successive n).
+
+Times are CPU times of this process (best of several), so that load from
+other processes disturbs them less.  Both sides record no dense samples
+(only the switches and the ends).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from _common import header
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the tests' reference integrator and chains
+
+from tests.structure import reference  # noqa: E402
+from tests.structure.chains import chain  # noqa: E402
+
+from frictionflow import Coulomb  # noqa: E402
+
+RTOLS = (1e-6, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13)
+T_END = {2: 400.0, 10: 100.0}
+T_SCALING = 100.0
+ACCURACY = 1e-9
+
+
+def chain_case(n: int):
+    """The benchmark's chain of ``n`` masses (see the module's docstring)."""
+    laws = [Coulomb(0.2, 0.4) if i % 2 == 0 else Coulomb(0.1, 0.35) for i in range(n)]
+    return chain(n, [0.1] * n, laws, q0=0.5 * np.sin(np.arange(1, n + 1)))
+
+
+def cpu_best_of(fn, repeat: int = 3) -> float:
+    """Smallest CPU time of ``repeat`` calls."""
+    best = math.inf
+    for _ in range(repeat):
+        t = time.process_time()
+        fn()
+        best = min(best, time.process_time() - t)
+    return best
+
+
+def repeats(seconds: float) -> int:
+    """How many calls to time: a few for slow ones, more for fast ones (about 1 s in all)."""
+    return int(min(50, max(3, 1.0 / max(seconds, 1e-6))))
+
+
+def switch_error(ref_switches: np.ndarray, switches: np.ndarray) -> float:
+    """Largest switch-time difference (inf when the two find a different number of switches)."""
+    if len(ref_switches) != len(switches):
+        return math.inf
+    return float(np.max(np.abs(ref_switches - switches))) if len(switches) else 0.0
+
+
+def engine_timing(run_assembly, asm, t_end: float) -> tuple[float, np.ndarray]:
+    """CPU time of the exact engine on ``asm`` and its switch times (after a compiling run)."""
+    motion = run_assembly(asm, t_end)
+    once = cpu_best_of(lambda: run_assembly(asm, t_end), 1)
+    t = cpu_best_of(lambda: run_assembly(asm, t_end), repeats(once))
+    sw = motion.switches
+    return t, np.asarray(sw["t"] if isinstance(sw, dict) else sw, dtype=float)
+
+
+def compare(n: int, run_assembly) -> None:
+    """Part 1 for the chain of ``n`` masses."""
+    asm, t_end = chain_case(n), T_END[n]
+    if run_assembly is not None:
+        t_exact, switches = engine_timing(run_assembly, asm, t_end)
+    else:  # no engine yet: the reference at its tightest stands in as the target, and no ratio
+        t_exact, switches = math.nan, reference.integrate(asm, t_end, rtol=3e-14, atol=1e-16).switches
+    print(f"\n## {n}-mass chain, t_end {t_end:g}: {len(switches)} switches")
+    print(f"exact engine {t_exact * 1e3:10.3f} ms  ({t_exact / max(len(switches), 1) * 1e6:.2f} us per switch)")
+    print(f"{'rtol':>8} {'switches':>9} {'switch err':>11} {'CPU ms':>10} {'ratio':>9}")
+    rows = []
+    for rtol in RTOLS:
+        ref = reference.integrate(asm, t_end, rtol=rtol, atol=rtol * 1e-2)
+        t_ref = cpu_best_of(lambda: reference.integrate(asm, t_end, rtol=rtol, atol=rtol * 1e-2), 3)
+        err = switch_error(ref.switches, switches)
+        rows.append((rtol, err, t_ref))
+        print(f"{rtol:8.0e} {len(ref.switches):9d} {err:11.2e} {t_ref * 1e3:10.1f} {t_ref / t_exact:9.0f}x")
+    reached = [r for r in rows if r[1] <= ACCURACY]
+    if reached:
+        rtol, err, t_ref = reached[0]
+        print(f"same accuracy (switch times to {ACCURACY:g}): scipy rtol {rtol:g} (error {err:.1e}), "
+              f"exact {t_ref / t_exact:.0f}x faster (goal >= 100x, moonshot 1000x)")
+    rtol, err, t_ref = rows[-1]
+    print(f"scipy at its best (rtol {rtol:g}, switch error vs exact {err:.1e}): exact {t_ref / t_exact:.0f}x faster")
+
+
+def scaling(run_assembly) -> None:
+    """Part 2: the exact engine's time per switch on chains of growing n."""
+    print(f"\n## exact engine on longer chains, t_end {T_SCALING:g}")
+    print(f"{'n':>5} {'switches':>9} {'CPU ms':>10} {'us/switch':>10} {'growth':>8}")
+    prev = None
+    for n in (2, 10, 30, 100):
+        t, switches = engine_timing(run_assembly, chain_case(n), T_SCALING)
+        per = t / max(len(switches), 1)
+        growth = "" if prev is None else f"n^{math.log(per / prev[1]) / math.log(n / prev[0]):.2f}"
+        print(f"{n:5d} {len(switches):9d} {t * 1e3:10.2f} {per * 1e6:10.2f} {growth:>8}")
+        prev = (n, per)
+
+
+def main() -> None:
+    header("multi-DOF exact engine vs scipy DOP853 with events (Coulomb chains)")
+    try:
+        from frictionflow.solvers.structure import run_assembly
+    except ImportError as err:  # the benchmark still times the reference alone
+        print(f"# exact engine not available ({err}): reference timings only")
+        run_assembly = None
+    for n in (2, 10):
+        compare(n, run_assembly)
+    if run_assembly is not None:
+        scaling(run_assembly)
+
+
+if __name__ == "__main__":
+    main()
