@@ -75,7 +75,7 @@ EPS = 2.220446049250313e-16
 #: the functions that read the slip force, themselves or through a callee here, callees first: a user's law
 #: runs copies of them whose ``slip_force`` is the user's (:func:`frictionflow.solvers.adaptive.kernel_for`)
 KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_of", "_events_at", "_gd", "_root_between", "_root",
-                "_first_sample", "_leave_stick", "_stick", "_forced_stick", "_attempt", "_at_section", "_slip", "_switch",
+                "_first_sample", "_leave_stick", "_stick", "_forced_stick", "_at_section", "_slip", "_switch",
                 "_run", "run_unforced", "run_forced")
 
 
@@ -190,7 +190,7 @@ def run_forced(run, p, samples, events):
 
 
 #: a run's settings, unpacked once (:func:`_setup`; numba keeps a named tuple of scalars in registers)
-Setup = namedtuple("Setup", "t_end zeta vb rtol atol max_steps dense_dt t_tail stop_rtol r_cert x_eq res ny h_max period")
+Setup = namedtuple("Setup", "t_end zeta vb rtol atol max_steps dense_dt t_tail stop_rtol r_cert x_eq res h_max period")
 #: the sample grid: whether the tail's start is sampled, the next dense-grid time, the next stroboscopic index
 Cursor = namedtuple("Cursor", "tail_done next_dense n_strobe")
 #: a phase function's status when the run goes on (never a kernel's status code)
@@ -247,8 +247,7 @@ def _setup(run, p, forced):
     h_max = H_MAX / max(1.0, p[OMEGA]) if forced else H_MAX
     period = 2.0 * math.pi / p[OMEGA] if forced else np.inf
     return Setup(run[T_END], run[ZETA], run[VB], run[ODE_RTOL], run[ODE_ATOL], int(run[MAX_STEPS]), run[DENSE_DT],
-                 run[T_TAIL], run[STOP_RTOL], run[R_CERT], run[X_EQ], p[RESULTANT] != 0.0, NY_FORCED if forced else NY,
-                 h_max, period)
+                 run[T_TAIL], run[STOP_RTOL], run[R_CERT], run[X_EQ], p[RESULTANT] != 0.0, h_max, period)
 
 
 @njit(cache=True)
@@ -395,8 +394,9 @@ def _slip(forced, s, p, at, cur, scr, ring, sinks):
     t, x, v, mode, h, k, steps, n_max, n_min = at
     K, y, yn, ys, tmp = scr
     outs, w, _ = sinks
-    vb, ny, d = s.vb, s.ny, float(mode)
-    ph = (s.zeta, vb, d)
+    zeta, vb, d, rtol, atol = s.zeta, s.vb, float(mode), s.rtol, s.atol
+    ny = NY_FORCED if forced else NY  # a constant: the loops over the state unrolled
+    ph = (zeta, vb, d)
     y[0], y[1], y[2], y[3], y[4] = x, v, 0.0, 0.0, 0.0
     if forced:
         y[5] = 0.0
@@ -411,7 +411,29 @@ def _slip(forced, s, p, at, cur, scr, ring, sinks):
         if status != GO:
             return status, (t, x, v, h, k, steps, n_max, n_min), False, cur
         h = min(h, s.h_max, s.t_end - t)  # at most h_max: the event search looks at signs at step ends only
-        err = _attempt(y, K, tmp, yn, (t, h), ph, p, s, forced)
+        for i in range(ny):
+            tmp[i] = y[i] + h * A21 * K[0, i]
+        rhs(tmp, t + C2 * h, d, zeta, vb, p, K[1], forced)
+        for i in range(ny):
+            tmp[i] = y[i] + h * (A31 * K[0, i] + A32 * K[1, i])
+        rhs(tmp, t + C3 * h, d, zeta, vb, p, K[2], forced)
+        for i in range(ny):
+            tmp[i] = y[i] + h * (A41 * K[0, i] + A42 * K[1, i] + A43 * K[2, i])
+        rhs(tmp, t + C4 * h, d, zeta, vb, p, K[3], forced)
+        for i in range(ny):
+            tmp[i] = y[i] + h * (A51 * K[0, i] + A52 * K[1, i] + A53 * K[2, i] + A54 * K[3, i])
+        rhs(tmp, t + C5 * h, d, zeta, vb, p, K[4], forced)
+        for i in range(ny):
+            tmp[i] = y[i] + h * (A61 * K[0, i] + A62 * K[1, i] + A63 * K[2, i] + A64 * K[3, i] + A65 * K[4, i])
+        rhs(tmp, t + h, d, zeta, vb, p, K[5], forced)
+        for i in range(ny):
+            yn[i] = y[i] + h * (B1 * K[0, i] + B3 * K[2, i] + B4 * K[3, i] + B5 * K[4, i] + B6 * K[5, i])
+        rhs(yn, t + h, d, zeta, vb, p, K[6], forced)
+        err = 0.0
+        for i in range(ny):
+            e = h * (E1 * K[0, i] + E3 * K[2, i] + E4 * K[3, i] + E5 * K[4, i] + E6 * K[5, i] + E7 * K[6, i])
+            sc = atol + rtol * max(abs(y[i]), abs(yn[i]))
+            err = max(err, abs(e) / sc)
         if err > 1.0:
             h *= max(0.2, 0.9 * err ** -0.2)
             continue
@@ -470,42 +492,6 @@ def _slip(forced, s, p, at, cur, scr, ring, sinks):
             x, v = y[0], y[1]
             h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
     return GO, (t, x, v, h, k, steps, n_max, n_min), switched, cur
-
-
-@njit(cache=True, forceinline=True)
-def _attempt(y, K, tmp, yn, step, ph, p, s, forced):
-    """A Dormand-Prince step ``step`` = (t, h) from y (K[0] its slope): the stages into K, the solution into ``yn``.
-
-    Returns the error norm (above 1: rejected).  The work integrals count in
-    it too: their dense output is what the samples see.
-    """
-    t, h = step
-    zeta, vb, d = ph
-    ny = s.ny
-    for i in range(ny):
-        tmp[i] = y[i] + h * A21 * K[0, i]
-    rhs(tmp, t + C2 * h, d, zeta, vb, p, K[1], forced)
-    for i in range(ny):
-        tmp[i] = y[i] + h * (A31 * K[0, i] + A32 * K[1, i])
-    rhs(tmp, t + C3 * h, d, zeta, vb, p, K[2], forced)
-    for i in range(ny):
-        tmp[i] = y[i] + h * (A41 * K[0, i] + A42 * K[1, i] + A43 * K[2, i])
-    rhs(tmp, t + C4 * h, d, zeta, vb, p, K[3], forced)
-    for i in range(ny):
-        tmp[i] = y[i] + h * (A51 * K[0, i] + A52 * K[1, i] + A53 * K[2, i] + A54 * K[3, i])
-    rhs(tmp, t + C5 * h, d, zeta, vb, p, K[4], forced)
-    for i in range(ny):
-        tmp[i] = y[i] + h * (A61 * K[0, i] + A62 * K[1, i] + A63 * K[2, i] + A64 * K[3, i] + A65 * K[4, i])
-    rhs(tmp, t + h, d, zeta, vb, p, K[5], forced)
-    for i in range(ny):
-        yn[i] = y[i] + h * (B1 * K[0, i] + B3 * K[2, i] + B4 * K[3, i] + B5 * K[4, i] + B6 * K[5, i])
-    rhs(yn, t + h, d, zeta, vb, p, K[6], forced)
-    err = 0.0
-    for i in range(ny):
-        e = h * (E1 * K[0, i] + E3 * K[2, i] + E4 * K[3, i] + E5 * K[4, i] + E6 * K[5, i] + E7 * K[6, i])
-        sc = s.atol + s.rtol * max(abs(y[i]), abs(yn[i]))
-        err = max(err, abs(e) / sc)
-    return err
 
 
 @njit(cache=True, forceinline=True)
