@@ -75,8 +75,8 @@ EPS = 2.220446049250313e-16
 #: the functions that read the slip force, themselves or through a callee here, callees first: a user's law
 #: runs copies of them whose ``slip_force`` is the user's (:func:`frictionflow.solvers.adaptive.kernel_for`)
 KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_of", "_events_at", "_gd", "_root_between", "_root",
-                "_first_sample", "_leave_stick", "_stick", "_forced_stick", "_at_section", "_slip", "_switch",
-                "_run", "run_unforced", "run_forced")
+                "_first_sample", "_leave_stick", "_stick", "_forced_stick", "_slip_start", "_first_event", "_at_section",
+                "_slip", "_switch", "_run", "run_unforced", "run_forced")
 
 
 # Inlined by numba (inline="always") where every step calls it (rhs and the step's sample): a call
@@ -229,10 +229,14 @@ def _run(forced, run, p, samples, events):
             v = s.vb
         else:
             t_phase = t
-            status, at, switched, cur = _slip(forced, s, p, (t, x, v, mode, h, k, steps, n_max, n_min), cur, scr, ring, sinks)
+            at = (t, x, v, mode, h, k, steps, n_max, n_min)
+            status, at, switched, cur = _slip(forced, s, p, at, cur, scr, ring, sinks[:2])
             t, x, v, h, k, steps, n_max, n_min = at
             if switched:
-                mode, hold, ne = _switch(forced, s, p, fs, (t, t_phase, x), k, ne, sinks)
+                mode, hold, fc = _switch(forced, s, p, fs, (t, t_phase, x))
+                ne = _record_switch(events, ne, t, mode)
+                samples[3][0, k - 1] = mode
+                samples[2][0, k - 1] = fc
         if status != GO:
             return k, ne, status, t, h
     k, status = _finish(forced, s, p, (t, x, v, k), cur, sinks)
@@ -382,28 +386,21 @@ def _forced_stick(s, p, fs, at, cur, sinks):
 
 
 @njit(cache=True)
-def _slip(forced, s, p, at, cur, scr, ring, sinks):
+def _slip(forced, s, p, at, cur, scr, ring, out):
     """A slip phase from ``at`` = (t, x, v, mode, h, k, steps, n_max, n_min): Dormand-Prince with the direction fixed.
 
-    Each accepted step is sampled on its dense output at its events, in time
-    order (:func:`_first_sample_in`), and at its end, the switch if it is one.
-    The step loop and the samples' loop write arrays: they stay here (an
-    inlined part with a loop would keep its arrays' reference counting, paid
-    at every step).  Returns (status, at, switched, cur) at the phase's end.
+    Each accepted step is sampled at its events on its dense output, in time order, and at its end (or switch).
+    The loops over steps and samples write arrays: they stay here (an inlined part taking arrays keeps their
+    reference counting, paid every step).  ``out`` = (samples, works).  Returns (status, at, switched, cur) where the phase ended.
     """
     t, x, v, mode, h, k, steps, n_max, n_min = at
     K, y, yn, ys, tmp = scr
-    outs, w, _ = sinks
+    outs, w = out
     zeta, vb, d, rtol, atol = s.zeta, s.vb, float(mode), s.rtol, s.atol
     ny = NY_FORCED if forced else NY  # a constant: the loops over the state unrolled
     ph = (zeta, vb, d)
-    y[0], y[1], y[2], y[3], y[4] = x, v, 0.0, 0.0, 0.0
-    if forced:
-        y[5] = 0.0
+    h = _slip_start(y, K, (t, x, v, h), ph, p, forced)
     last = (0.0, 0.0, 0.0, 0.0)  # the phase's integrals W_dv, W_f, W_heat, W_ex (from ys) at the last sample
-    rhs(y, t, d, s.zeta, vb, p, K[0], forced)
-    if h <= 0.0:
-        h = 0.01 * max(1e-3, min(1.0, (abs(x) + abs(v) + 1e-6) / (abs(K[0, 1]) + 1e-12)))
     switched = False
     while t < s.t_end and not switched:
         steps += 1
@@ -448,26 +445,14 @@ def _slip(forced, s, p, at, cur, scr, ring, sinks):
             # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
             ga = _events_of(y, K[0, 1], s.zeta) if th == 0.0 else _events_at(y, K, (t, h), th, ph, p, ys, tmp, forced)
             best, kind = theta_end, -1
-            for kk in range(1, 4):
-                if ga[kk - 1] * gb[kk - 1] < 0.0:
-                    r = _root_between(kk, y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
-                    if r < best:
-                        best, kind = r, kk
+            if ga[0] * gb[0] < 0.0 or ga[1] * gb[1] < 0.0 or ga[2] * gb[2] < 0.0:
+                best, kind = _first_event((ga, gb), y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
             best, kind, tt = _first_sample_in(best, kind, (t, h), s, cur, forced)
             dense(y, K, h, best, ys, ny)
             if kind == 1:
                 ys[1] = 0.0  # exactly: the section crossing is a sample
             # works since the phase began, split at the zeros of X'
-            dwf = ys[3] - last[1]
-            if dwf > 0.0:
-                w[1] += dwf
-            else:
-                w[2] -= dwf
-            w[0] += ys[2] - last[0]
-            w[3] += ys[4] - last[2]
-            if forced:
-                w[4] += ys[5] - last[3]
-            last = (ys[2], ys[3], ys[4], ys[5] if forced else 0.0)
+            last = _add_works(w, ys, last, forced)
             tt, cur = _sampled(kind, tt, s, cur, forced)
             if switched and kind == -1:
                 ys[1] = vb  # exactly at the switch
@@ -485,13 +470,59 @@ def _slip(forced, s, p, at, cur, scr, ring, sinks):
         if switched:
             x, v = ys[0], vb
         else:
-            for i in range(ny):
+            for i in range(NY_FORCED):  # the state and FSAL (a loop: array slice assignment costs compile time)
                 y[i] = yn[i]
-            for i in range(K.shape[1]):  # FSAL (a loop: array slice assignment costs compile time)
                 K[0, i] = K[6, i]
             x, v = y[0], y[1]
             h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
     return GO, (t, x, v, h, k, steps, n_max, n_min), switched, cur
+
+
+@njit(cache=True)
+def _slip_start(y, K, start, ph, p, forced):
+    """A slip phase's start ``start`` = (t, x, v, h) into y (the integrals from zero) and its slope into K[0].
+
+    Returns the step to try: h, or a first one from the scales of X, X' and X''.
+    """
+    t, x, v, h = start
+    zeta, vb, d = ph
+    y[0], y[1], y[2], y[3], y[4] = x, v, 0.0, 0.0, 0.0
+    if forced:
+        y[5] = 0.0
+    rhs(y, t, d, zeta, vb, p, K[0], forced)
+    if h <= 0.0:
+        h = 0.01 * max(1e-3, min(1.0, (abs(x) + abs(v) + 1e-6) / (abs(K[0, 1]) + 1e-12)))
+    return h
+
+
+@njit(cache=True)
+def _first_event(signs, y, K, step, span, ph, p, ys, tmp, forced):
+    """The first of the sample events 1, 2, 3 whose sign changes over ``span`` (``signs`` = (ga, gb) at its ends):
+    (theta, kind), located by :func:`_root_between`; (span's end, -1) if none."""
+    ga, gb = signs
+    best, kind = span[1], -1
+    for kk in range(1, 4):
+        if ga[kk - 1] * gb[kk - 1] < 0.0:
+            r = _root_between(kk, y, K, step, span, ph, p, ys, tmp, forced)
+            if r < best:
+                best, kind = r, kk
+    return best, kind
+
+
+@njit(cache=True, forceinline=True)
+def _add_works(w, ys, last, forced):
+    """Add the works since the last sample to ``w``, from the phase's integrals ``ys`` now and ``last`` = (W_dv,
+    W_f, W_heat, W_ex) then; the friction work split into in and out at the zeros of X'.  Returns the new ``last``."""
+    dwf = ys[3] - last[1]
+    if dwf > 0.0:
+        w[1] += dwf
+    else:
+        w[2] -= dwf
+    w[0] += ys[2] - last[0]
+    w[3] += ys[4] - last[2]
+    if forced:
+        w[4] += ys[5] - last[3]
+    return (ys[2], ys[3], ys[4], ys[5] if forced else 0.0)
 
 
 @njit(cache=True, forceinline=True)
@@ -548,11 +579,10 @@ def _at_section(ring, counts, sample, s, p):
 
 
 @njit(cache=True)
-def _switch(forced, s, p, fs, where, k, ne, sinks):
-    """A slip phase from t_phase ended on V_r = 0 at ``where`` = (t, t_phase, x): the mode that continues, the switch,
-    and the last sample's mode and friction rewritten to it.  Returns (mode, hold, ne)."""
+def _switch(forced, s, p, fs, where):
+    """A slip phase from t_phase ended on V_r = 0 at ``where`` = (t, t_phase, x): (the mode that continues, hold, the
+    friction force then) -- the switch's, which its sample (the phase's last) is given."""
     t, t_phase, x = where
-    outs, _, events = sinks
     mode = at_rest(x, s.zeta, s.vb, fs, s.res, p, t)
     hold = False
     if forced and t - t_phase <= NO_SLIP * (1.0 + abs(t)):
@@ -560,14 +590,9 @@ def _switch(forced, s, p, fs, where, k, ne, sinks):
         # rule chose ends as it starts, and would again -- held, past this monotone piece
         mode = 0
         hold = True
-    ne = _record_switch(events, ne, t, mode)
-    out_fc, out_mode = outs[2], outs[3]
-    out_mode[0, k - 1] = mode
     if mode != 0:
-        out_fc[0, k - 1] = mode * slip_force_at(p, 0.0)
-    else:
-        out_fc[0, k - 1] = stick_friction(x, s.zeta, s.vb, external_force(p, t) if forced else 0.0)
-    return mode, hold, ne
+        return mode, hold, mode * slip_force_at(p, 0.0)
+    return mode, hold, stick_friction(x, s.zeta, s.vb, external_force(p, t) if forced else 0.0)
 
 
 @njit(cache=True)
