@@ -75,7 +75,7 @@ EPS = 2.220446049250313e-16
 #: the functions that read the slip force, themselves or through a callee here, callees first: a user's law
 #: runs copies of them whose ``slip_force`` is the user's (:func:`frictionflow.solvers.adaptive.kernel_for`)
 KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_of", "_events_at", "_gd", "_root_between", "_root",
-                "_first_sample", "_leave_stick", "_stick", "_forced_stick", "_slip_start", "_first_event", "_at_section",
+                "_first_sample", "_after_stick", "_slip_start", "_first_event", "_at_section",
                 "_slip", "_switch", "_run", "run_unforced", "run_forced")
 
 
@@ -201,13 +201,15 @@ GO = -1
 def _run(forced, run, p, samples, events):
     """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations).
 
-    A loop over phases, each a compiled function called once per phase that returns where it ended:
-    stick (:func:`_stick`; forced, :func:`_forced_stick`) and slip (:func:`_slip`, then :func:`_switch`).
-    The run's arrays are made here once: ``sinks`` = (samples, the works since the last sample (W_dv,
-    W_fin, W_fout, W_heat, W_ex), events), the step's scratch and the ring of the last maxima and minima.
+    A loop over phases -- stick (:func:`_stick`, :func:`_forced_stick`), slip (:func:`_slip`) -- each a compiled
+    function called once per phase that returns where it ended; the switches are written here (the stick
+    rule: :func:`_after_stick`, :func:`_switch`).  The run's arrays are made here once, and are passed on
+    to as few calls as can be (each passing costs reference counting): the samples ``outs``, the works since
+    the last sample ``w`` (W_dv, W_fin, W_fout, W_heat, W_ex), the step's scratch, the ring of the last maxima
+    and minima.
     """
     s = _setup(run, p, forced)
-    sinks = ((samples[0], samples[1], samples[2], samples[3], samples[4]), np.zeros(N_WORK), events)
+    outs, w = (samples[0], samples[1], samples[2], samples[3], samples[4]), np.zeros(N_WORK)
     scr = (np.zeros((7, NY_FORCED)), np.zeros(NY_FORCED), np.zeros(NY_FORCED), np.zeros(NY_FORCED), np.zeros(NY_FORCED))
     ring = np.full((4, int(run[MIN_PERIODS]) + 2), np.nan)  # X and times of the last maxima, then minima
     t, x, v, h, fs = 0.0, run[X0], run[V0], 0.0, p[FS]
@@ -218,28 +220,37 @@ def _run(forced, run, p, samples, events):
     cur = Cursor(s.t_tail <= 0.0, s.dense_dt if s.dense_dt > 0.0 else np.inf, np.int64(1))  # (k = 0 is the first sample)
     if len(samples[0]) < 2:
         return 0, 0, FULL, t, h
-    mode = _first_sample(forced, s, p, (x, v, fs), sinks)
+    mode = _first_sample(forced, s, p, (x, v, fs), outs, w)
     k += 1
     while t < s.t_end:
-        if mode == 0 and forced:
-            status, t, x, mode, hold, k, ne, cur = _forced_stick(s, p, fs, (t, x, hold, k, ne), cur, sinks)
-            v = s.vb
-        elif mode == 0:
-            status, t, x, mode, fs, k, ne, cur = _stick(s, p, fs, (t, x, k, ne), cur, sinks)
-            v = s.vb
-        else:
+        if mode != 0:
             t_phase = t
-            at = (t, x, v, mode, h, k, steps, n_max, n_min)
-            status, at, switched, cur = _slip(forced, s, p, at, cur, scr, ring, sinks[:2])
+            status, at, switched, cur = _slip(forced, s, p, (t, x, v, mode, h, k, steps, n_max, n_min), cur, scr, ring, outs, w)
             t, x, v, h, k, steps, n_max, n_min = at
             if switched:
                 mode, hold, fc = _switch(forced, s, p, fs, (t, t_phase, x))
                 ne = _record_switch(events, ne, t, mode)
-                samples[3][0, k - 1] = mode
-                samples[2][0, k - 1] = fc
+                outs[3][0, k - 1] = mode  # the phase's last sample is the switch's
+                outs[2][0, k - 1] = fc
+        else:
+            if forced:
+                status, t, x, k, cur = _forced_stick(s, p, fs, (t, x, hold, k), cur, outs, w)
+            else:
+                status, t, x, k, cur = _stick(s, p, fs, (t, x, k), cur, outs, w)
+            v = s.vb
+            if status == GO and t < s.t_end:
+                mode, tt, fc, cur = _after_stick(forced, s, p, fs, (t, x), cur)
+                hold = mode == 0  # on F_s but held (moving back inwards, or no consistent slip): on from here
+                if mode == 0 and not forced:
+                    fs = np.inf  # (possible with F_e = X when zeta V_b is large): the interface holds for good
+                elif mode != 0:
+                    ne = _record_switch(events, ne, t, mode)
+                    if not emit(outs, k, tt, x, v, fc, mode, w):
+                        return k, ne, FULL, t, h
+                    k += 1
         if status != GO:
             return k, ne, status, t, h
-    k, status = _finish(forced, s, p, (t, x, v, k), cur, sinks)
+    k, status = _finish(forced, s, p, (t, x, v, k), cur, outs, w)
     return k, ne, status, t, h
 
 
@@ -255,7 +266,7 @@ def _setup(run, p, forced):
 
 
 @njit(cache=True)
-def _first_sample(forced, s, p, start, sinks):
+def _first_sample(forced, s, p, start, outs, w):
     """The mode at the start ``start`` = (x, v, F_s) -- the stick rule's if V_r = 0 -- and its sample at t = 0."""
     x, v, fs = start
     if v == s.vb:
@@ -263,7 +274,7 @@ def _first_sample(forced, s, p, start, sinks):
     else:
         mode = 1 if s.vb - v > 0.0 else -1
     fc0 = stick_friction(x, s.zeta, s.vb, external_force(p, 0.0) if forced else 0.0)
-    emit(sinks[0], np.int64(0), 0.0, x, v, fc0 if mode == 0 else mode * slip_force_at(p, abs(s.vb - v)), mode, sinks[1])
+    emit(outs, np.int64(0), 0.0, x, v, fc0 if mode == 0 else mode * slip_force_at(p, abs(s.vb - v)), mode, w)
     return mode
 
 
@@ -278,37 +289,27 @@ def _record_switch(events, ne, t, mode):
 
 
 @njit(cache=True)
-def _leave_stick(forced, s, p, fs, at, cur, sinks):
-    """A stick phase reached |F_e| = F_s at ``at`` = (t, x, k, ne): the mode the stick rule selects, and if it slips
-    the switch and its sample (a forced one on the stroboscopic time if within rounding).
-
-    Returns (status, mode, k, ne, cur); mode 0: no slip direction is consistent.
-    """
-    t, x, k, ne = at
-    outs, w, events = sinks
+def _after_stick(forced, s, p, fs, where, cur):
+    """A stick phase reached |F_e| = F_s at ``where`` = (t, x): the mode the stick rule selects (0: no slip direction
+    is consistent) and, if it slips, its sample's time (forced: on the stroboscopic time if within rounding) and
+    friction.  Returns (mode, time, friction, cur)."""
+    t, x = where
     mode = at_rest(x, s.zeta, s.vb, fs, s.res, p, t)
-    if mode == 0:
-        return GO, mode, k, ne, cur
-    ne = _record_switch(events, ne, t, mode)
-    tt = t
-    if forced:
-        tt, n_strobe = _strobe(t, cur.n_strobe, s.period)
-        cur = Cursor(cur.tail_done, cur.next_dense, n_strobe)
-    if not emit(outs, k, tt, x, s.vb, mode * slip_force_at(p, 0.0), mode, w):
-        return FULL, mode, k, ne, cur
-    return GO, mode, k + 1, ne, cur
+    if mode == 0 or not forced:
+        return mode, t, mode * slip_force_at(p, 0.0), cur
+    tt, n_strobe = _strobe(t, cur.n_strobe, s.period)
+    return mode, tt, mode * slip_force_at(p, 0.0), Cursor(cur.tail_done, cur.next_dense, n_strobe)
 
 
 @njit(cache=True)
-def _stick(s, p, fs, at, cur, sinks):
-    """An unforced stick phase from ``at`` = (t, x, k, ne): X' = V_b until |F_e| = F_s (closed forms), and what follows.
+def _stick(s, p, fs, at, cur, outs, w):
+    """An unforced stick phase from ``at`` = (t, x, k): X' = V_b until |F_e| = F_s or t_end (closed forms).
 
     Samples at the zero of F_c (where the friction work is split into in and
-    out), the tail's start and the dense grid.  Returns (status, t, x, mode,
-    fs, k, ne, cur); F_s infinite when the interface holds for good.
+    out), the tail's start and the dense grid.  Returns (status, t, x, k, cur)
+    at its end.
     """
-    t, x, k, ne = at
-    outs, w, _ = sinks
+    t, x, k = at
     zeta, vb = s.zeta, s.vb
     tail_done, next_dense = cur.tail_done, cur.next_dense
     stick_mode = np.int64(0)  # (not a literal 0: emit compiles once)
@@ -333,17 +334,9 @@ def _stick(s, p, fs, at, cur, sinks):
         if ta >= T:
             break
         if not emit(outs, k, t + ta, x + vb * ta, vb, stick_friction(x + vb * ta, zeta, vb, 0.0), stick_mode, w):
-            return FULL, t, x, 0, fs, k, ne, Cursor(tail_done, next_dense, cur.n_strobe)
+            return FULL, t, x, k, Cursor(tail_done, next_dense, cur.n_strobe)
         k += 1
-    cur = Cursor(tail_done, next_dense, cur.n_strobe)
-    t += T
-    x += vb * T
-    if t >= s.t_end:
-        return GO, t, x, 0, fs, k, ne, cur
-    status, mode, k, ne, cur = _leave_stick(False, s, p, fs, (t, x, k, ne), cur, sinks)
-    # mode 0: |F_e| = F_s but neither slip direction is consistent (possible with
-    # F_e = X when zeta V_b is large): the interface holds for good
-    return status, t, x, mode, (np.inf if mode == 0 else fs), k, ne, cur
+    return GO, t + T, x + vb * T, k, Cursor(tail_done, next_dense, cur.n_strobe)
 
 
 @njit(cache=True, forceinline=True)
@@ -364,38 +357,27 @@ def _stick_piece(ta, T, fcz, tail, dense_at):
 
 
 @njit(cache=True)
-def _forced_stick(s, p, fs, at, cur, sinks):
-    """A forced stick phase from ``at`` = (t, x, hold, k, ne): the held force F_e - f(tau) varies; to where it
-    leaves the static bound (:func:`_stick_exit`), and what follows.
-
-    Returns (status, t, x, mode, hold, k, ne, cur); mode 0 with ``hold``: on
-    F_s but held (moving back inwards, or no consistent slip), on from there.
-    """
-    t, x, hold, k, ne = at
-    outs, w, _ = sinks
+def _forced_stick(s, p, fs, at, cur, outs, w):
+    """A forced stick phase from ``at`` = (t, x, hold, k): the held force F_e - f(tau) varies; to where it leaves
+    the static bound (:func:`_stick_exit`) or t_end.  Returns (status, t, x, k, cur) at its end."""
+    t, x, hold, k = at
     te = _stick_exit(x, t, s.t_end, hold, s.zeta, s.vb, fs, s.res, p)
     k, cur, room = _stick_walk(outs, k, w, (t, x, te), s, p, cur)
     if not room:
-        return FULL, t, x, 0, hold, k, ne, cur
-    x += s.vb * (te - t)
-    t = te
-    if t >= s.t_end:
-        return GO, t, x, 0, hold, k, ne, cur
-    status, mode, k, ne, cur = _leave_stick(True, s, p, fs, (t, x, k, ne), cur, sinks)
-    return status, t, x, mode, mode == 0, k, ne, cur
+        return FULL, t, x, k, cur
+    return GO, te, x + s.vb * (te - t), k, cur
 
 
 @njit(cache=True)
-def _slip(forced, s, p, at, cur, scr, ring, out):
+def _slip(forced, s, p, at, cur, scr, ring, outs, w):
     """A slip phase from ``at`` = (t, x, v, mode, h, k, steps, n_max, n_min): Dormand-Prince with the direction fixed.
 
     Each accepted step is sampled at its events on its dense output, in time order, and at its end (or switch).
     The loops over steps and samples write arrays: they stay here (an inlined part taking arrays keeps their
-    reference counting, paid every step).  ``out`` = (samples, works).  Returns (status, at, switched, cur) where the phase ended.
+    reference counting, paid every step).  Returns (status, at, switched, cur) where the phase ended.
     """
     t, x, v, mode, h, k, steps, n_max, n_min = at
     K, y, yn, ys, tmp = scr
-    outs, w = out
     zeta, vb, d, rtol, atol = s.zeta, s.vb, float(mode), s.rtol, s.atol
     ny = NY_FORCED if forced else NY  # a constant: the loops over the state unrolled
     ph = (zeta, vb, d)
@@ -596,10 +578,9 @@ def _switch(forced, s, p, fs, where):
 
 
 @njit(cache=True)
-def _finish(forced, s, p, end, cur, sinks):
+def _finish(forced, s, p, end, cur, outs, w):
     """The run's end at ``end`` = (t, x, v, k): a run that ends sticking gets its last sample at t_end.  Returns (k, status)."""
     t, x, v, k = end
-    outs, w, _ = sinks
     out_t = outs[0]
     stick_mode = np.int64(0)
     if forced:
