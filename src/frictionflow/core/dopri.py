@@ -408,18 +408,13 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
         for i in range(ny):
             yn[i] = y[i] + h * (B1 * K[0, i] + B3 * K[2, i] + B4 * K[3, i] + B5 * K[4, i] + B6 * K[5, i])
         rhs(yn, t + h, d, zeta, vb, p, K[6], forced)
-        err = 0.0
-        for i in range(ny):
-            e = h * (E1 * K[0, i] + E3 * K[2, i] + E4 * K[3, i] + E5 * K[4, i] + E6 * K[5, i] + E7 * K[6, i])
-            sc = atol + rtol * max(abs(y[i]), abs(yn[i]))
-            err = max(err, abs(e) / sc)
+        err = _error(h, K, y, yn, (rtol, atol), ny)
         if err > 1.0:
             h *= max(0.2, 0.9 * err ** -0.2)
             continue
-        theta_end = 1.0  # accepted: events on the dense output, in time order
-        if _g(np.int64(0), yn, K[6, 1], s.zeta, vb, d) <= 0.0:
-            theta_end = _root(np.int64(0), y, K, (t, h), ph, p, forced)
-            switched = True
+        # accepted: events on the dense output, in time order, up to the switch if the step crosses V_r = 0
+        switched = _g(np.int64(0), yn, K[6, 1], zeta, vb, d) <= 0.0
+        theta_end = _root(np.int64(0), y, K, (t, h), ph, p, forced) if switched else 1.0
         th = 0.0
         # the sample events at the step's end: one dense output and X'' for all three
         gb = _events_at(y, K, (t, h), theta_end, ph, p, ys, tmp, forced)
@@ -431,13 +426,11 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
                 best, kind = _first_event((ga, gb), y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
             best, kind, tt = _first_sample_in(best, kind, (t, h), s, cur, forced)
             dense(y, K, h, best, ys, ny)
-            if kind == 1:
-                ys[1] = 0.0  # exactly: the section crossing is a sample
+            if kind == 1 or (switched and kind == -1):
+                ys[1] = 0.0 if kind == 1 else vb  # exactly: the section crossing is a sample; the switch
             # works since the phase began, split at the zeros of X'
             last = _add_works(w, ys, last, forced)
             tt, cur = _sampled(kind, tt, s, cur, forced)
-            if switched and kind == -1:
-                ys[1] = vb  # exactly at the switch
             if not emit(outs, k, tt, ys[0], ys[1], d * slip_force(p, abs(vb - ys[1])), mode, w):
                 return FULL, (t, x, v, h, k, steps, n_max, n_min), False, cur
             k += 1
@@ -449,15 +442,26 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
             if kind == -1:
                 break
         t += theta_end * h
-        if switched:
-            x, v = ys[0], vb
-        else:
+        if not switched:
             for i in range(NY_FORCED):  # the state and FSAL (a loop: array slice assignment costs compile time)
                 y[i] = yn[i]
                 K[0, i] = K[6, i]
-            x, v = y[0], y[1]
             h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
+        x, v = (ys[0], vb) if switched else (y[0], y[1])
     return GO, (t, x, v, h, k, steps, n_max, n_min), switched, cur
+
+
+@njit(cache=True, forceinline=True)
+def _error(h, K, y, yn, tol, ny):
+    """The step's error norm (above 1: rejected) with ``tol`` = (rtol, atol), over the first ``ny`` components: the
+    work integrals too, their dense output is what the samples see.  (No call, no view: nothing to count references of.)"""
+    rtol, atol = tol
+    err = 0.0
+    for i in range(ny):
+        e = h * (E1 * K[0, i] + E3 * K[2, i] + E4 * K[3, i] + E5 * K[4, i] + E6 * K[5, i] + E7 * K[6, i])
+        sc = atol + rtol * max(abs(y[i]), abs(yn[i]))
+        err = max(err, abs(e) / sc)
+    return err
 
 
 @njit(cache=True)
