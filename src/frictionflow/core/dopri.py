@@ -373,8 +373,8 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
     """A slip phase from ``at`` = (t, x, v, mode, h, k, steps, n_max, n_min): Dormand-Prince with the direction fixed.
 
     Each accepted step is sampled at its events on its dense output, in time order, and at its end (or switch).
-    The loops over steps and samples write arrays: they stay here (an inlined part taking arrays keeps their
-    reference counting, paid every step).  Returns (status, at, switched, cur) where the phase ended.
+    The loops over steps and samples stay here (an inlined part that takes arrays and calls or makes views
+    keeps their reference counting, paid every step).  Returns (status, at, switched, cur) where it ended.
     """
     t, x, v, mode, h, k, steps, n_max, n_min = at
     K, y, yn, ys, tmp = scr
