@@ -74,7 +74,7 @@ OK, STEP_CAP, TINY_STEP, FULL = codes.OK, codes.STEP_CAP, codes.TINY_STEP, codes
 EPS = 2.220446049250313e-16
 #: the functions that read the slip force, themselves or through a callee here, callees first: a user's law
 #: runs copies of them whose ``slip_force`` is the user's (:func:`frictionflow.solvers.adaptive.kernel_for`)
-KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_of", "_events_at", "_gd", "_root_between", "_root",
+KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_of", "_events_at", "_gd", "_root",
                 "_first_sample", "_after_stick", "_slip_start", "_first_event", "_at_section",
                 "_slip", "_switch", "_run", "run_unforced", "run_forced")
 
@@ -190,14 +190,14 @@ def run_forced(run, p, samples, events):
 
 
 #: a run's settings, unpacked once (:func:`_setup`; numba keeps a named tuple of scalars in registers)
-Setup = namedtuple("Setup", "t_end zeta vb rtol atol max_steps dense_dt t_tail stop_rtol r_cert x_eq res h_max period")
+Setup = namedtuple("Setup", "t_end zeta vb rtol atol max_steps dense_dt t_tail stop_rtol r_cert x_eq res h_max period forced")
 #: the sample grid: whether the tail's start is sampled, the next dense-grid time, the next stroboscopic index
 Cursor = namedtuple("Cursor", "tail_done next_dense n_strobe")
 #: a phase function's status when the run goes on (never a kernel's status code)
 GO = -1
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def _run(forced, run, p, samples, events):
     """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations).
 
@@ -208,7 +208,7 @@ def _run(forced, run, p, samples, events):
     the last sample ``w`` (W_dv, W_fin, W_fout, W_heat, W_ex), the step's scratch, the ring of the last maxima
     and minima.
     """
-    s = _setup(run, p, forced)
+    s = _setup(run, p, np.bool_(forced))
     outs, w = (samples[0], samples[1], samples[2], samples[3], samples[4]), np.zeros(N_WORK)
     scr = (np.zeros((7, NY_FORCED)), np.zeros(NY_FORCED), np.zeros(NY_FORCED), np.zeros(NY_FORCED), np.zeros(NY_FORCED))
     ring = np.full((4, int(run[MIN_PERIODS]) + 2), np.nan)  # X and times of the last maxima, then minima
@@ -220,7 +220,7 @@ def _run(forced, run, p, samples, events):
     cur = Cursor(s.t_tail <= 0.0, s.dense_dt if s.dense_dt > 0.0 else np.inf, np.int64(1))  # (k = 0 is the first sample)
     if len(samples[0]) < 2:
         return 0, 0, FULL, t, h
-    mode = _first_sample(forced, s, p, (x, v, fs), outs, w)
+    mode = _first_sample(s, p, (x, v, fs), outs, w)
     k += 1
     while t < s.t_end:
         if mode != 0:
@@ -228,7 +228,7 @@ def _run(forced, run, p, samples, events):
             status, at, switched, cur = _slip(forced, s, p, (t, x, v, mode, h, k, steps, n_max, n_min), cur, scr, ring, outs, w)
             t, x, v, h, k, steps, n_max, n_min = at
             if switched:
-                mode, hold, fc = _switch(forced, s, p, fs, (t, t_phase, x))
+                mode, hold, fc = _switch(s, p, fs, (t, t_phase, x))
                 ne = _record_switch(events, ne, t, mode)
                 outs[3][0, k - 1] = mode  # the phase's last sample is the switch's
                 outs[2][0, k - 1] = fc
@@ -239,7 +239,7 @@ def _run(forced, run, p, samples, events):
                 status, t, x, k, cur = _stick(s, p, fs, (t, x, k), cur, outs, w)
             v = s.vb
             if status == GO and t < s.t_end:
-                mode, tt, fc, cur = _after_stick(forced, s, p, fs, (t, x), cur)
+                mode, tt, fc, cur = _after_stick(s, p, fs, (t, x), cur)
                 hold = mode == 0  # on F_s but held (moving back inwards, or no consistent slip): on from here
                 if mode == 0 and not forced:
                     fs = np.inf  # (possible with F_e = X when zeta V_b is large): the interface holds for good
@@ -250,30 +250,30 @@ def _run(forced, run, p, samples, events):
                     k += 1
         if status != GO:
             return k, ne, status, t, h
-    k, status = _finish(forced, s, p, (t, x, v, k), cur, outs, w)
+    k, status = _finish(s, p, (t, x, v, k), cur, outs, w)
     return k, ne, status, t, h
 
 
 @njit(cache=True, forceinline=True)
 def _setup(run, p, forced):
-    """The :data:`Setup` of the run record ``run`` and the force record ``p``."""
+    """The :data:`Setup` of the run record ``run`` and the force record ``p`` (``forced`` not a literal: compiled once)."""
     # the forced step cap: the same fraction of the forcing period as H_MAX is of the natural one,
     # as the event search sees signs only at step ends and f oscillates at Omega inside X''
     h_max = H_MAX / max(1.0, p[OMEGA]) if forced else H_MAX
     period = 2.0 * math.pi / p[OMEGA] if forced else np.inf
     return Setup(run[T_END], run[ZETA], run[VB], run[ODE_RTOL], run[ODE_ATOL], int(run[MAX_STEPS]), run[DENSE_DT],
-                 run[T_TAIL], run[STOP_RTOL], run[R_CERT], run[X_EQ], p[RESULTANT] != 0.0, h_max, period)
+                 run[T_TAIL], run[STOP_RTOL], run[R_CERT], run[X_EQ], p[RESULTANT] != 0.0, h_max, period, forced)
 
 
 @njit(cache=True)
-def _first_sample(forced, s, p, start, outs, w):
+def _first_sample(s, p, start, outs, w):
     """The mode at the start ``start`` = (x, v, F_s) -- the stick rule's if V_r = 0 -- and its sample at t = 0."""
     x, v, fs = start
     if v == s.vb:
         mode = at_rest(x, s.zeta, s.vb, fs, s.res, p, 0.0)
     else:
         mode = 1 if s.vb - v > 0.0 else -1
-    fc0 = stick_friction(x, s.zeta, s.vb, external_force(p, 0.0) if forced else 0.0)
+    fc0 = stick_friction(x, s.zeta, s.vb, external_force(p, 0.0) if s.forced else 0.0)
     emit(outs, np.int64(0), 0.0, x, v, fc0 if mode == 0 else mode * slip_force_at(p, abs(s.vb - v)), mode, w)
     return mode
 
@@ -289,13 +289,13 @@ def _record_switch(events, ne, t, mode):
 
 
 @njit(cache=True)
-def _after_stick(forced, s, p, fs, where, cur):
+def _after_stick(s, p, fs, where, cur):
     """A stick phase reached |F_e| = F_s at ``where`` = (t, x): the mode the stick rule selects (0: no slip direction
     is consistent) and, if it slips, its sample's time (forced: on the stroboscopic time if within rounding) and
     friction.  Returns (mode, time, friction, cur)."""
     t, x = where
     mode = at_rest(x, s.zeta, s.vb, fs, s.res, p, t)
-    if mode == 0 or not forced:
+    if mode == 0 or not s.forced:
         return mode, t, mode * slip_force_at(p, 0.0), cur
     tt, n_strobe = _strobe(t, cur.n_strobe, s.period)
     return mode, tt, mode * slip_force_at(p, 0.0), Cursor(cur.tail_done, cur.next_dense, n_strobe)
@@ -424,13 +424,12 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
             best, kind = theta_end, -1
             if ga[0] * gb[0] < 0.0 or ga[1] * gb[1] < 0.0 or ga[2] * gb[2] < 0.0:
                 best, kind = _first_event((ga, gb), y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
-            best, kind, tt = _first_sample_in(best, kind, (t, h), s, cur, forced)
+            best, kind, tt, cur = _next_sample(best, kind, (t, h), s, cur)
             dense(y, K, h, best, ys, ny)
             if kind == 1 or (switched and kind == -1):
                 ys[1] = 0.0 if kind == 1 else vb  # exactly: the section crossing is a sample; the switch
             # works since the phase began, split at the zeros of X'
-            last = _add_works(w, ys, last, forced)
-            tt, cur = _sampled(kind, tt, s, cur, forced)
+            last = _add_works(w, ys, last, s.forced)
             if not emit(outs, k, tt, ys[0], ys[1], d * slip_force(p, abs(vb - ys[1])), mode, w):
                 return FULL, (t, x, v, h, k, steps, n_max, n_min), False, cur
             k += 1
@@ -483,15 +482,26 @@ def _slip_start(y, K, start, ph, p, forced):
 
 @njit(cache=True)
 def _first_event(signs, y, K, step, span, ph, p, ys, tmp, forced):
-    """The first of the sample events 1, 2, 3 whose sign changes over ``span`` (``signs`` = (ga, gb) at its ends):
-    (theta, kind), located by :func:`_root_between`; (span's end, -1) if none."""
+    """The first of the sample events 1, 2, 3 whose sign changes over theta in ``span`` = (lo, hi] (``signs`` = (ga, gb)
+    at its ends): (theta, kind), each located by bisection on the dense output (:func:`_gd`); (hi, -1) if none."""
     ga, gb = signs
     best, kind = span[1], -1
     for kk in range(1, 4):
         if ga[kk - 1] * gb[kk - 1] < 0.0:
-            r = _root_between(kk, y, K, step, span, ph, p, ys, tmp, forced)
-            if r < best:
-                best, kind = r, kk
+            lo, hi = span
+            glo = _gd(kk, y, K, step, lo, ph, p, ys, tmp, forced)
+            for _ in range(80):
+                mid = 0.5 * (lo + hi)
+                if mid <= lo or mid >= hi:
+                    break
+                gm = _gd(kk, y, K, step, mid, ph, p, ys, tmp, forced)
+                if gm * glo > 0.0:
+                    lo = mid
+                    glo = gm
+                else:
+                    hi = mid
+            if hi < best:
+                best, kind = hi, kk
     return best, kind
 
 
@@ -512,11 +522,12 @@ def _add_works(w, ys, last, forced):
 
 
 @njit(cache=True, forceinline=True)
-def _first_sample_in(best, kind, step, s, cur, forced):
+def _next_sample(best, kind, step, s, cur):
     """The first sample in the step ``step`` = (t, h): an event of ``kind`` at theta ``best`` (-1: the step's end), or
     the grid's next point before it -- the tail's start (4), the dense grid (5), a stroboscopic time (6).
 
-    Returns (theta, kind, time).
+    Returns (theta, kind, its time, the :data:`Cursor` past it); forced, a time within rounding of a stroboscopic
+    one is put on it (:func:`_strobe`).
     """
     t, h = step
     tt = t + best * h
@@ -528,21 +539,15 @@ def _first_sample_in(best, kind, step, s, cur, forced):
         best = (cur.next_dense - t) / h
         kind = 5
         tt = cur.next_dense
-    if forced and cur.n_strobe * s.period < tt - STROBE_TOL * (1.0 + tt):
-        tt = cur.n_strobe * s.period
-        best = (tt - t) / h
-        kind = 6
-    return best, kind, tt
-
-
-@njit(cache=True, forceinline=True)
-def _sampled(kind, tt, s, cur, forced):
-    """The grid past a sample of ``kind`` at ``tt``: (the sample's time -- forced, on a stroboscopic time if within
-    rounding, :func:`_strobe` --, the :data:`Cursor` after it)."""
     n_strobe = cur.n_strobe
-    if forced:
+    if s.forced:
+        if n_strobe * s.period < tt - STROBE_TOL * (1.0 + tt):
+            tt = n_strobe * s.period
+            best = (tt - t) / h
+            kind = 6
         tt, n_strobe = _strobe(tt, n_strobe, s.period)
-    return tt, Cursor(cur.tail_done or kind == 4, cur.next_dense + s.dense_dt if kind == 5 else cur.next_dense, n_strobe)
+    return best, kind, tt, Cursor(cur.tail_done or kind == 4, cur.next_dense + s.dense_dt if kind == 5 else cur.next_dense,
+                                  n_strobe)
 
 
 @njit(cache=True)
@@ -565,29 +570,29 @@ def _at_section(ring, counts, sample, s, p):
 
 
 @njit(cache=True)
-def _switch(forced, s, p, fs, where):
+def _switch(s, p, fs, where):
     """A slip phase from t_phase ended on V_r = 0 at ``where`` = (t, t_phase, x): (the mode that continues, hold, the
     friction force then) -- the switch's, which its sample (the phase's last) is given."""
     t, t_phase, x = where
     mode = at_rest(x, s.zeta, s.vb, fs, s.res, p, t)
     hold = False
-    if forced and t - t_phase <= NO_SLIP * (1.0 + abs(t)):
+    if s.forced and t - t_phase <= NO_SLIP * (1.0 + abs(t)):
         # F_s met at a rounding-level tangency (the held force touching F_s): the slip the
         # rule chose ends as it starts, and would again -- held, past this monotone piece
         mode = 0
         hold = True
     if mode != 0:
         return mode, hold, mode * slip_force_at(p, 0.0)
-    return mode, hold, stick_friction(x, s.zeta, s.vb, external_force(p, t) if forced else 0.0)
+    return mode, hold, stick_friction(x, s.zeta, s.vb, external_force(p, t) if s.forced else 0.0)
 
 
 @njit(cache=True)
-def _finish(forced, s, p, end, cur, outs, w):
+def _finish(s, p, end, cur, outs, w):
     """The run's end at ``end`` = (t, x, v, k): a run that ends sticking gets its last sample at t_end.  Returns (k, status)."""
     t, x, v, k = end
     out_t = outs[0]
     stick_mode = np.int64(0)
-    if forced:
+    if s.forced:
         if out_t[k - 1] < s.t_end - STROBE_TOL * (1.0 + s.t_end):
             tt, _ = _strobe(s.t_end, cur.n_strobe, s.period)
             if not emit(outs, k, tt, x, v, stick_friction(x, s.zeta, s.vb, external_force(p, s.t_end)), stick_mode, w):
@@ -640,24 +645,6 @@ def _gd(kind, y, K, step, theta, ph, p, ys, tmp, forced):
     dense(y, K, h, theta, ys, np.int64(2))  # X and X' are all the event functions read
     rhs(ys, t + theta * h, d, zeta, vb, p, tmp, forced)
     return _g(kind, ys, tmp[1], zeta, vb, d)
-
-
-@njit(cache=True)
-def _root_between(kind, y, K, step, span, ph, p, ys, tmp, forced):
-    """Bisection for a sign change of event ``kind`` on the dense output, theta in ``span`` = (lo, hi] (:func:`_gd`)."""
-    lo, hi = span
-    glo = _gd(kind, y, K, step, lo, ph, p, ys, tmp, forced)
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        if mid <= lo or mid >= hi:
-            break
-        gm = _gd(kind, y, K, step, mid, ph, p, ys, tmp, forced)
-        if gm * glo > 0.0:
-            lo = mid
-            glo = gm
-        else:
-            hi = mid
-    return hi
 
 
 @njit(cache=True)
