@@ -357,18 +357,6 @@ def _stick_piece(ta, T, fcz, tail, dense_at):
 
 
 @njit(cache=True)
-def _forced_stick(s, p, fs, at, cur, outs, w):
-    """A forced stick phase from ``at`` = (t, x, hold, k): the held force F_e - f(tau) varies; to where it leaves
-    the static bound (:func:`_stick_exit`) or t_end.  Returns (status, t, x, k, cur) at its end."""
-    t, x, hold, k = at
-    te = _stick_exit(x, t, s.t_end, hold, s.zeta, s.vb, fs, s.res, p)
-    k, cur, room = _stick_walk(outs, k, w, (t, x, te), s, p, cur)
-    if not room:
-        return FULL, t, x, k, cur
-    return GO, te, x + s.vb * (te - t), k, cur
-
-
-@njit(cache=True)
 def _slip(forced, s, p, at, cur, scr, ring, outs, w):
     """A slip phase from ``at`` = (t, x, v, mode, h, k, steps, n_max, n_min): Dormand-Prince with the direction fixed.
 
@@ -785,16 +773,16 @@ def _stick_work(xs, ts, ta, tb, zeta, vb, p, w):
 
 
 @njit(cache=True)
-def _stick_walk(outs, k, w, span, s, p, cur):
-    """A forced stick phase's samples and works over ``span`` = (ts, xs, te): from (ts, xs) to its end ``te``
-    (excluded: the caller's sample).
+def _forced_stick(s, p, fs, at, cur, outs, w):
+    """A forced stick phase from ``at`` = (t, x, hold, k): the held force F_e - f(tau) varies; to where it leaves
+    the static bound (:func:`_stick_exit`) or t_end.  Returns (status, t, x, k, cur) at its end.
 
-    Samples at the zeros of F_c (where the friction work is split into in
-    and out), the tail's start, the dense grid and the stroboscopic times
-    (``cur``, a :data:`Cursor`).  Returns (k, cur, room).
+    Samples at the zeros of F_c (where the friction work is split into in and out), the tail's start, the dense
+    grid and the stroboscopic times (``cur``, a :data:`Cursor`); not at its end (the caller's sample).
     """
-    ts, xs, te = span
+    ts, xs, hold, k = at
     zeta, vb = s.zeta, s.vb
+    te = _stick_exit(xs, ts, s.t_end, hold, zeta, vb, fs, s.res, p)
     tail_done, next_dense, n_strobe = cur
     ta = ts
     stick_mode = np.int64(0)  # (not a literal 0: emit compiles once)
@@ -818,7 +806,7 @@ def _stick_walk(outs, k, w, span, s, p, cur):
         _stick_work(xs, ts, ta, tb, zeta, vb, p, w)
         ta = tb
         if tag == 0:
-            return k, Cursor(tail_done, next_dense, n_strobe), True
+            return GO, te, xs + vb * (te - ts), k, Cursor(tail_done, next_dense, n_strobe)
         if tag == 1:
             tail_done = True
         if tag == 2:
@@ -826,5 +814,5 @@ def _stick_walk(outs, k, w, span, s, p, cur):
         tt, n_strobe = _strobe(tb, n_strobe, s.period)
         xb = xs + vb * (tb - ts)
         if not emit(outs, k, tt, xb, vb, stick_friction(xb, zeta, vb, external_force(p, tb)), stick_mode, w):
-            return k, Cursor(tail_done, next_dense, n_strobe), False
+            return FULL, ts, xs, k, Cursor(tail_done, next_dense, n_strobe)
         k += 1
