@@ -74,7 +74,7 @@ OK, STEP_CAP, TINY_STEP, FULL = codes.OK, codes.STEP_CAP, codes.TINY_STEP, codes
 EPS = 2.220446049250313e-16
 #: the functions that read the slip force, themselves or through a callee here, callees first: a user's law
 #: runs copies of them whose ``slip_force`` is the user's (:func:`frictionflow.solvers.adaptive.kernel_for`)
-KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_of", "_events_at", "_gd", "_root",
+KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_at", "_gd", "_root",
                 "_first_sample", "_after_stick", "_slip_start", "_first_event", "_at_section",
                 "_slip", "_switch", "_run", "run_unforced", "run_forced")
 
@@ -189,7 +189,8 @@ def run_forced(run, p, samples, events):
     return _run(True, run, p, samples, events)
 
 
-#: a run's settings, unpacked once (:func:`_setup`; numba keeps a named tuple of scalars in registers)
+#: a run's settings, unpacked once (numba keeps a named tuple of scalars in registers); ``forced`` not a literal:
+#: the parts called once a phase read it and compile once for both variants
 Setup = namedtuple("Setup", "t_end zeta vb rtol atol max_steps dense_dt t_tail stop_rtol r_cert x_eq res h_max period forced")
 #: the sample grid: whether the tail's start is sampled, the next dense-grid time, the next stroboscopic index
 Cursor = namedtuple("Cursor", "tail_done next_dense n_strobe")
@@ -208,7 +209,11 @@ def _run(forced, run, p, samples, events):
     the last sample ``w`` (W_dv, W_fin, W_fout, W_heat, W_ex), the step's scratch, the ring of the last maxima
     and minima.
     """
-    s = _setup(run, p, np.bool_(forced))
+    # the forced step cap: the same fraction of the forcing period as H_MAX is of the natural one,
+    # as the event search sees signs only at step ends and f oscillates at Omega inside X''
+    s = Setup(run[T_END], run[ZETA], run[VB], run[ODE_RTOL], run[ODE_ATOL], int(run[MAX_STEPS]), run[DENSE_DT], run[T_TAIL],
+              run[STOP_RTOL], run[R_CERT], run[X_EQ], p[RESULTANT] != 0.0, H_MAX / max(1.0, p[OMEGA]) if forced else H_MAX,
+              2.0 * math.pi / p[OMEGA] if forced else np.inf, np.bool_(forced))
     outs, w = (samples[0], samples[1], samples[2], samples[3], samples[4]), np.zeros(N_WORK)
     scr = (np.zeros((7, NY_FORCED)), np.zeros(NY_FORCED), np.zeros(NY_FORCED), np.zeros(NY_FORCED), np.zeros(NY_FORCED))
     ring = np.full((4, int(run[MIN_PERIODS]) + 2), np.nan)  # X and times of the last maxima, then minima
@@ -252,17 +257,6 @@ def _run(forced, run, p, samples, events):
             return k, ne, status, t, h
     k, status = _finish(s, p, (t, x, v, k), cur, outs, w)
     return k, ne, status, t, h
-
-
-@njit(cache=True, forceinline=True)
-def _setup(run, p, forced):
-    """The :data:`Setup` of the run record ``run`` and the force record ``p`` (``forced`` not a literal: compiled once)."""
-    # the forced step cap: the same fraction of the forcing period as H_MAX is of the natural one,
-    # as the event search sees signs only at step ends and f oscillates at Omega inside X''
-    h_max = H_MAX / max(1.0, p[OMEGA]) if forced else H_MAX
-    period = 2.0 * math.pi / p[OMEGA] if forced else np.inf
-    return Setup(run[T_END], run[ZETA], run[VB], run[ODE_RTOL], run[ODE_ATOL], int(run[MAX_STEPS]), run[DENSE_DT],
-                 run[T_TAIL], run[STOP_RTOL], run[R_CERT], run[X_EQ], p[RESULTANT] != 0.0, h_max, period, forced)
 
 
 @njit(cache=True)
@@ -317,7 +311,13 @@ def _stick(s, p, fs, at, cur, outs, w):
     fcz = -stick_friction(x, zeta, vb, 0.0) / vb if vb != 0.0 else -1.0
     ta = 0.0
     while True:
-        tb, tag = _stick_piece(ta, T, fcz, s.t_tail - t if not tail_done else -1.0, next_dense - t)
+        tb, tag = T, 0  # the piece's end: the phase's, the zero of F_c, the tail's start or the dense grid's next point
+        if ta < fcz < tb:
+            tb = fcz
+        if not tail_done and ta < s.t_tail - t < tb:
+            tb, tag = s.t_tail - t, 1
+        if next_dense - t < tb and next_dense - t > ta:
+            tb, tag = next_dense - t, 2
         L = tb - ta
         xa = x + vb * ta
         w[0] += 2.0 * zeta * vb * vb * L
@@ -337,23 +337,6 @@ def _stick(s, p, fs, at, cur, outs, w):
             return FULL, t, x, k, Cursor(tail_done, next_dense, cur.n_strobe)
         k += 1
     return GO, t + T, x + vb * T, k, Cursor(tail_done, next_dense, cur.n_strobe)
-
-
-@njit(cache=True, forceinline=True)
-def _stick_piece(ta, T, fcz, tail, dense_at):
-    """The end of the unforced stick's piece from ``ta`` (times from the phase's start): the phase's end T, the zero
-    ``fcz`` of F_c, the tail's start ``tail`` or the dense grid's next point ``dense_at``; (tb, tag: 0, 1 tail, 2 grid)."""
-    tb = T
-    tag = 0
-    if ta < fcz < tb:
-        tb = fcz
-    if ta < tail < tb:
-        tb = tail
-        tag = 1
-    if dense_at < tb and dense_at > ta:
-        tb = dense_at
-        tag = 2
-    return tb, tag
 
 
 @njit(cache=True)
@@ -408,7 +391,7 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
         gb = _events_at(y, K, (t, h), theta_end, ph, p, ys, tmp, forced)
         while True:
             # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
-            ga = _events_of(y, K[0, 1], s.zeta) if th == 0.0 else _events_at(y, K, (t, h), th, ph, p, ys, tmp, forced)
+            ga = (y[1], K[0, 1], y[1] + 2.0 * zeta * K[0, 1]) if th == 0.0 else _events_at(y, K, (t, h), th, ph, p, ys, tmp, forced)
             best, kind = theta_end, -1
             if ga[0] * gb[0] < 0.0 or ga[1] * gb[1] < 0.0 or ga[2] * gb[2] < 0.0:
                 best, kind = _first_event((ga, gb), y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
@@ -542,8 +525,8 @@ def _next_sample(best, kind, step, s, cur):
 def _at_section(ring, counts, sample, s, p):
     """A sample ``sample`` = (t, X, mode) on the section X' = 0 of an unforced slip: pushed to the maxima or minima.
 
-    ``counts`` = (n_max, n_min) pushed so far.  Returns (n_max, n_min, stop):
-    whether the run's end is known (:func:`_known_end`).
+    ``counts`` = (n_max, n_min) pushed so far.  Returns (n_max, n_min, stop): whether the run's end is known --
+    inside the certified disc, or its maxima and minima repeating (see :func:`run`).
     """
     n_max, n_min = counts
     tt, x, mode = sample
@@ -554,7 +537,14 @@ def _at_section(ring, counts, sample, s, p):
     else:
         sec.push_section(ring[2], ring[3], x, tt)
         n_min += 1
-    return n_max, n_min, _known_end(ring, n_max, n_min, x, mode, s.vb, s.stop_rtol, s.r_cert, s.x_eq)
+    if s.r_cert > 0.0 and mode * s.vb > 0.0 and (x - s.x_eq) ** 2 <= s.r_cert * s.r_cert:
+        return n_max, n_min, True  # inside the certified disc
+    if s.stop_rtol <= 0.0 or n_min == 0:
+        return n_max, n_min, False
+    m = ring.shape[1]
+    tol = s.stop_rtol * (ring[0, m - 1] - ring[2, m - 1])
+    return n_max, n_min, (sec.ring_repeats(ring[0], ring[1], n_max, tol, s.stop_rtol)
+                          and sec.ring_repeats(ring[2], ring[3], n_min, tol, s.stop_rtol))
 
 
 @njit(cache=True)
@@ -576,39 +566,18 @@ def _switch(s, p, fs, where):
 
 @njit(cache=True)
 def _finish(s, p, end, cur, outs, w):
-    """The run's end at ``end`` = (t, x, v, k): a run that ends sticking gets its last sample at t_end.  Returns (k, status)."""
+    """The run's end at ``end`` = (t, x, v, k): a run that ends sticking gets its last sample at t_end (forced: unless
+    one is there within rounding, the stroboscopic one).  Returns (k, status)."""
     t, x, v, k = end
-    out_t = outs[0]
-    stick_mode = np.int64(0)
+    tt, f, before = s.t_end, 0.0, s.t_end
     if s.forced:
-        if out_t[k - 1] < s.t_end - STROBE_TOL * (1.0 + s.t_end):
-            tt, _ = _strobe(s.t_end, cur.n_strobe, s.period)
-            if not emit(outs, k, tt, x, v, stick_friction(x, s.zeta, s.vb, external_force(p, s.t_end)), stick_mode, w):
-                return k, FULL
-            k += 1
-    elif out_t[k - 1] < s.t_end:
-        if not emit(outs, k, s.t_end, x, v, stick_friction(x, s.zeta, s.vb, 0.0), stick_mode, w):
+        tt, _ = _strobe(s.t_end, cur.n_strobe, s.period)
+        f, before = external_force(p, s.t_end), s.t_end - STROBE_TOL * (1.0 + s.t_end)
+    if outs[0][k - 1] < before:
+        if not emit(outs, k, tt, x, v, stick_friction(x, s.zeta, s.vb, f), np.int64(0), w):
             return k, FULL
         k += 1
     return k, OK
-
-
-@njit(cache=True)
-def _known_end(ring, n_max, n_min, x, mode, vb, stop_rtol, r_cert, x_eq):
-    """At a section: inside the certified disc, or maxima and minima repeating (see :func:`run`)."""
-    if r_cert > 0.0 and mode * vb > 0.0 and (x - x_eq) ** 2 <= r_cert * r_cert:
-        return True
-    if stop_rtol <= 0.0 or n_min == 0:
-        return False
-    m = ring.shape[1]
-    tol = stop_rtol * (ring[0, m - 1] - ring[2, m - 1])
-    return sec.ring_repeats(ring[0], ring[1], n_max, tol, stop_rtol) and sec.ring_repeats(ring[2], ring[3], n_min, tol, stop_rtol)
-
-
-@njit(cache=True, forceinline=True)
-def _events_of(y, a, zeta):
-    """The sample events 1, 2, 3 of :func:`_g` at state ``y`` with X'' = ``a``."""
-    return y[1], a, y[1] + 2.0 * zeta * a
 
 
 @njit(cache=True)
@@ -622,7 +591,7 @@ def _events_at(y, K, step, theta, ph, p, ys, tmp, forced):
     zeta, vb, d = ph
     dense(y, K, h, theta, ys, np.int64(2))
     rhs(ys, t + theta * h, d, zeta, vb, p, tmp, forced)
-    return _events_of(ys, tmp[1], zeta)
+    return ys[1], tmp[1], ys[1] + 2.0 * zeta * tmp[1]
 
 
 @njit(cache=True)
