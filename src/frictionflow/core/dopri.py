@@ -208,6 +208,11 @@ def _run(forced, run, p, samples, events):
     to as few calls as can be (each passing costs reference counting): the samples ``outs``, the works since
     the last sample ``w`` (W_dv, W_fin, W_fout, W_heat, W_ex), the step's scratch, the ring of the last maxima
     and minima.
+
+    Inlined by numba into :func:`run_unforced` and :func:`run_forced`, not compiled on its own: every compiled
+    function's machine code includes what it calls, so a level of its own would optimise and generate the
+    whole kernel once more.  For the same reason the parts are few and shallow, and those called once a
+    phase (not ``_slip``'s step) read ``s.forced`` rather than taking the literal: compiled once, not twice.
     """
     # the forced step cap: the same fraction of the forcing period as H_MAX is of the natural one,
     # as the event search sees signs only at step ends and f oscillates at Omega inside X''
