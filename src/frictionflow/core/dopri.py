@@ -198,7 +198,7 @@ Cursor = namedtuple("Cursor", "tail_done next_dense n_strobe")
 GO = -1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, forceinline=True)
 def _run(forced, run, p, samples, events):
     """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations).
 
@@ -209,10 +209,10 @@ def _run(forced, run, p, samples, events):
     the last sample ``w`` (W_dv, W_fin, W_fout, W_heat, W_ex), the step's scratch, the ring of the last maxima
     and minima.
 
-    Inlined by numba into :func:`run_unforced` and :func:`run_forced`, not compiled on its own: every compiled
-    function's machine code includes what it calls, so a level of its own would optimise and generate the
-    whole kernel once more.  For the same reason the parts are few and shallow, and those called once a
-    phase (not ``_slip``'s step) read ``s.forced`` rather than taking the literal: compiled once, not twice.
+    Every compiled function's machine code includes what it calls (optimised and generated again), so the parts
+    are few and shallow, and those called once a phase (not ``_slip``'s step) read ``s.forced`` rather than
+    taking the literal: compiled once, not twice.  This body is inlined by LLVM, not by numba: numba's
+    inlining into the two variants compiles less but makes the step loop slower.
     """
     # the forced step cap: the same fraction of the forcing period as H_MAX is of the natural one,
     # as the event search sees signs only at step ends and f oscillates at Omega inside X''
