@@ -198,7 +198,7 @@ Cursor = namedtuple("Cursor", "tail_done next_dense n_strobe")
 GO = -1
 
 
-@njit(cache=True, forceinline=True)
+@njit(cache=True, inline="always")
 def _run(forced, run, p, samples, events):
     """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations).
 
@@ -209,10 +209,10 @@ def _run(forced, run, p, samples, events):
     the last sample ``w`` (W_dv, W_fin, W_fout, W_heat, W_ex), the step's scratch, the ring of the last maxima
     and minima.
 
-    Every compiled function's machine code includes what it calls (optimised and generated again), so the parts
-    are few and shallow, and those called once a phase (not ``_slip``'s step) read ``s.forced`` rather than
-    taking the literal: compiled once, not twice.  This body is inlined by LLVM, not by numba: numba's
-    inlining into the two variants compiles less but makes the step loop slower.
+    Inlined by numba into :func:`run_unforced` and :func:`run_forced`, not compiled on its own: every compiled
+    function's machine code includes what it calls (optimised and generated again), so a level of its own would
+    compile the whole kernel once more.  For the same reason the parts are few and shallow, and those called
+    once a phase (not ``_slip``'s step) read ``s.forced`` rather than taking the literal: compiled once, not twice.
     """
     # the forced step cap: the same fraction of the forcing period as H_MAX is of the natural one,
     # as the event search sees signs only at step ends and f oscillates at Omega inside X''
@@ -344,13 +344,14 @@ def _stick(s, p, fs, at, cur, outs, w):
     return GO, t + T, x + vb * T, k, Cursor(tail_done, next_dense, cur.n_strobe)
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _slip(forced, s, p, at, cur, scr, ring, outs, w):
     """A slip phase from ``at`` = (t, x, v, mode, h, k, steps, n_max, n_min): Dormand-Prince with the direction fixed.
 
     Each accepted step is sampled at its events on its dense output, in time order, and at its end (or switch).
-    The loops over steps and samples stay here (an inlined part that takes arrays and calls or makes views
-    keeps their reference counting, paid every step).  Returns (status, at, switched, cur) where it ended.
+    The step and sample loops stay here: an inlined part that takes arrays and calls or makes views keeps their
+    reference counting.  Inlined by LLVM into the variant, where :func:`rhs` is inlined in turn (called, the step
+    is slower).  Returns (status, at, switched, cur) where it ended.
     """
     t, x, v, mode, h, k, steps, n_max, n_min = at
     K, y, yn, ys, tmp = scr
