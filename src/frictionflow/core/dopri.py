@@ -32,6 +32,7 @@ from __future__ import annotations
 
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -72,6 +73,11 @@ STROBE_TOL = 1e-12
 NO_SLIP = 1e-12
 OK, STEP_CAP, TINY_STEP, FULL = codes.OK, codes.STEP_CAP, codes.TINY_STEP, codes.FULL
 EPS = 2.220446049250313e-16
+#: the functions that read the slip force, themselves or through a callee here, callees first: a user's law
+#: runs copies of them whose ``slip_force`` is the user's (:func:`frictionflow.solvers.adaptive.kernel_for`)
+KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_at", "_gd", "_root",
+                "_first_sample", "_after_stick", "_slip_start", "_first_event", "_at_section",
+                "_slip", "_switch", "_run", "run_unforced", "run_forced")
 
 
 # Inlined by numba (inline="always") where every step calls it (rhs and the step's sample): a call
@@ -184,352 +190,430 @@ def run_forced(run, p, samples, events):
     return _run(True, run, p, samples, events)
 
 
-@njit(cache=True, forceinline=True)
+#: a run's settings, unpacked once (numba keeps a named tuple of scalars in registers); ``forced`` not a literal:
+#: the parts called once a phase read it and compile once for both variants
+Setup = namedtuple("Setup", "t_end zeta vb rtol atol max_steps dense_dt t_tail stop_rtol r_cert x_eq res h_max period forced")
+#: the sample grid: whether the tail's start is sampled, the next dense-grid time, the next stroboscopic index
+Cursor = namedtuple("Cursor", "tail_done next_dense n_strobe")
+#: a phase function's status when the run goes on (never a kernel's status code)
+GO = -1
+
+
+@njit(cache=True, inline="always")
 def _run(forced, run, p, samples, events):
-    """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations)."""
-    x0, v0, t_end, zeta, vb = run[X0], run[V0], run[T_END], run[ZETA], run[VB]
-    rtol, atol, max_steps = run[ODE_RTOL], run[ODE_ATOL], int(run[MAX_STEPS])
-    dense_dt, t_tail = run[DENSE_DT], run[T_TAIL]
-    stop_rtol, min_periods, r_cert, x_eq = run[STOP_RTOL], int(run[MIN_PERIODS]), run[R_CERT], run[X_EQ]
-    out_t, out_y, out_fc, out_mode, out_w = samples
-    ev_t, ev_mode = events
-    fs = p[FS]
-    res = p[RESULTANT] != 0.0
-    ny = NY_FORCED if forced else NY
+    """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations).
+
+    A loop over phases -- stick (:func:`_stick`, :func:`_forced_stick`), slip (:func:`_slip`) -- each a compiled
+    function called once per phase that returns where it ended; the switches are written here (the stick
+    rule: :func:`_after_stick`, :func:`_switch`).  The run's arrays are made here once, and are passed on
+    to as few calls as can be (each passing costs reference counting): the samples ``outs``, the works since
+    the last sample ``w`` (W_dv, W_fin, W_fout, W_heat, W_ex), the step's scratch, the ring of the last maxima
+    and minima.
+
+    Inlined by numba into :func:`run_unforced` and :func:`run_forced`, not compiled on its own: every compiled
+    function's machine code includes what it calls (optimised and generated again), so a level of its own would
+    compile the whole kernel once more.  For the same reason the parts are few and shallow, and those called
+    once a phase (not ``_slip``'s step) read ``s.forced`` rather than taking the literal: compiled once, not twice.
+    """
     # the forced step cap: the same fraction of the forcing period as H_MAX is of the natural one,
     # as the event search sees signs only at step ends and f oscillates at Omega inside X''
-    h_max = H_MAX / max(1.0, p[OMEGA]) if forced else H_MAX
-    period = 2.0 * math.pi / p[OMEGA] if forced else np.inf
+    s = Setup(run[T_END], run[ZETA], run[VB], run[ODE_RTOL], run[ODE_ATOL], int(run[MAX_STEPS]), run[DENSE_DT], run[T_TAIL],
+              run[STOP_RTOL], run[R_CERT], run[X_EQ], p[RESULTANT] != 0.0, H_MAX / max(1.0, p[OMEGA]) if forced else H_MAX,
+              2.0 * math.pi / p[OMEGA] if forced else np.inf, np.bool_(forced))
+    outs, w = (samples[0], samples[1], samples[2], samples[3], samples[4]), np.zeros(N_WORK)
+    scr = (np.zeros((7, NY_FORCED)), np.zeros(NY_FORCED), np.zeros(NY_FORCED), np.zeros(NY_FORCED), np.zeros(NY_FORCED))
+    ring = np.full((4, int(run[MIN_PERIODS]) + 2), np.nan)  # X and times of the last maxima, then minima
+    t, x, v, h, fs = 0.0, run[X0], run[V0], 0.0, p[FS]
     # Counters and flags start as np.int64 / np.bool_, not bare constants: a constant reaching a compiled
     # callee has a literal type, for which numba would compile that callee once more.
-    n_strobe = np.int64(1)  # the next stroboscopic time is n_strobe * period (k = 0 is the first sample)
+    k, ne, steps, n_max, n_min = np.int64(0), np.int64(0), np.int64(0), np.int64(0), np.int64(0)
     hold = np.bool_(False)  # a forced stick that met F_s and held: its first monotone piece does not end it again
-    stick_mode = np.int64(0)  # the stick mode, written with the samples
-    K = np.zeros((7, NY_FORCED))
-    y = np.zeros(NY_FORCED)
-    yn = np.zeros(NY_FORCED)
-    ys = np.zeros(NY_FORCED)
-    tmp = np.zeros(NY_FORCED)
-    w = np.zeros(N_WORK)  # W_dv, W_fin, W_fout, W_heat, W_ex since the last sample
-    wf_last = 0.0
-    t = 0.0
-    x, v = x0, v0
-    if v0 == vb:
-        mode = at_rest(x0, zeta, vb, fs, res, p, 0.0)
-    else:
-        mode = 1 if vb - v0 > 0.0 else -1
-    k = np.int64(0)
-    ne = 0
-    steps = 0
-    h = 0.0
-    ring = np.full((4, int(min_periods) + 2), np.nan)  # X and times of the last maxima, then minima
-    n_max = 0
-    n_min = 0
-    outs = (out_t, out_y, out_fc, out_mode, out_w)
-    if len(out_t) < 2:
+    cur = Cursor(s.t_tail <= 0.0, s.dense_dt if s.dense_dt > 0.0 else np.inf, np.int64(1))  # (k = 0 is the first sample)
+    if len(samples[0]) < 2:
         return 0, 0, FULL, t, h
-    fc0 = stick_friction(x, zeta, vb, external_force(p, 0.0) if forced else 0.0)
-    emit(outs, k, t, x, v, fc0 if mode == 0 else mode * slip_force_at(p, abs(vb - v)), mode, w)
+    mode = _first_sample(s, p, (x, v, fs), outs, w)
     k += 1
-    next_dense = dense_dt if dense_dt > 0.0 else np.inf
-    tail_done = t_tail <= 0.0
-    while t < t_end:
-        if mode == 0 and forced:
-            # stick with the held force F_e - f(tau) varying: to where it leaves the static bound
-            te = _stick_exit(x, t, t_end, hold, zeta, vb, fs, res, p)
-            k, tail_done, next_dense, n_strobe, room = _stick_walk(
-                outs, k, w, x, t, te, zeta, vb, p, t_tail, tail_done, next_dense, dense_dt, n_strobe, period)
-            if not room:
-                return k, ne, FULL, t, h
-            x += vb * (te - t)
-            t = te
-            v = vb
-            if t >= t_end:
-                break
-            mode = at_rest(x, zeta, vb, fs, res, p, t)
-            hold = mode == 0  # on F_s but held (moving back inwards, or no consistent slip): on from here
-            if hold:
-                continue
-            if ne < len(ev_t):
-                ev_t[ne] = t
-                ev_mode[ne] = mode
-            ne += 1
-            tt, n_strobe = _strobe(t, n_strobe, period)
-            if not emit(outs, k, tt, x, v, mode * slip_force_at(p, 0.0), mode, w):
-                return k, ne, FULL, t, h
-            k += 1
-        elif mode == 0:
-            # stick: X' = V_b until |F_e| = F_s
-            T = min(t_end - t, stick_duration(x, zeta, vb, fs, res))
-            fcz = -stick_friction(x, zeta, vb, 0.0) / vb if vb != 0.0 else -1.0
-            ta = 0.0
-            while True:
-                tb = T
-                tag = 0
-                if ta < fcz < tb:
-                    tb = fcz
-                if not tail_done and ta < t_tail - t < tb:
-                    tb = t_tail - t
-                    tag = 1
-                if next_dense - t < tb and next_dense - t > ta:
-                    tb = next_dense - t
-                    tag = 2
-                L = tb - ta
-                xa = x + vb * ta
-                w[0] += 2.0 * zeta * vb * vb * L
-                pf = vb * (stick_friction(xa, zeta, vb, 0.0) * L + 0.5 * vb * L * L)
-                if pf > 0.0:
-                    w[1] += pf
-                else:
-                    w[2] -= pf
-                ta = tb
-                if tag == 1:
-                    tail_done = True
-                if tag == 2:
-                    next_dense += dense_dt
-                if ta >= T:
-                    break
-                if not emit(outs, k, t + ta, x + vb * ta, vb, stick_friction(x + vb * ta, zeta, vb, 0.0), stick_mode, w):
-                    return k, ne, FULL, t, h
-                k += 1
-            t += T
-            x += vb * T
-            v = vb
-            if t >= t_end:
-                break
-            mode = at_rest(x, zeta, vb, fs, res, p, t)
-            if mode == 0:
-                # |F_e| = F_s but neither slip direction is consistent (possible with
-                # F_e = X when zeta V_b is large): the interface holds for good
-                fs = np.inf
-                continue
-            if ne < len(ev_t):
-                ev_t[ne] = t
-                ev_mode[ne] = mode
-            ne += 1
-            if not emit(outs, k, t, x, v, mode * slip_force_at(p, 0.0), mode, w):
-                return k, ne, FULL, t, h
-            k += 1
-        else:
-            # slip: Dormand-Prince from (x, v) with the direction fixed
-            d = float(mode)
+    while t < s.t_end:
+        if mode != 0:
             t_phase = t
-            y[0], y[1], y[2], y[3], y[4] = x, v, 0.0, 0.0, 0.0
+            status, at, switched, cur = _slip(forced, s, p, (t, x, v, mode, h, k, steps, n_max, n_min), cur, scr, ring, outs, w)
+            t, x, v, h, k, steps, n_max, n_min = at
+            if switched:
+                mode, hold, fc = _switch(s, p, fs, (t, t_phase, x))
+                ne = _record_switch(events, ne, t, mode)
+                outs[3][0, k - 1] = mode  # the phase's last sample is the switch's
+                outs[2][0, k - 1] = fc
+        else:
             if forced:
-                y[5] = 0.0
-            wf_last = 0.0  # the phase's integrals (from ys) at the last sample
-            wdv_last = 0.0
-            wq_last = 0.0
-            wx_last = 0.0
-            rhs(y, t, d, zeta, vb, p, K[0], forced)
-            if h <= 0.0:
-                h = 0.01 * max(1e-3, min(1.0, (abs(x) + abs(v) + 1e-6) / (abs(K[0, 1]) + 1e-12)))
-            switched = False
-            while t < t_end and not switched:
-                steps += 1
-                if steps > max_steps:
-                    return k, ne, STEP_CAP, t, h
-                if h < 1e-14 * (1.0 + abs(t)):
-                    return k, ne, TINY_STEP, t, h
-                # at most h_max: the event search looks at signs at step ends only
-                h = min(h, h_max, t_end - t)
-                # the stages, each at its own time
-                for i in range(ny):
-                    tmp[i] = y[i] + h * A21 * K[0, i]
-                rhs(tmp, t + C2 * h, d, zeta, vb, p, K[1], forced)
-                for i in range(ny):
-                    tmp[i] = y[i] + h * (A31 * K[0, i] + A32 * K[1, i])
-                rhs(tmp, t + C3 * h, d, zeta, vb, p, K[2], forced)
-                for i in range(ny):
-                    tmp[i] = y[i] + h * (A41 * K[0, i] + A42 * K[1, i] + A43 * K[2, i])
-                rhs(tmp, t + C4 * h, d, zeta, vb, p, K[3], forced)
-                for i in range(ny):
-                    tmp[i] = y[i] + h * (A51 * K[0, i] + A52 * K[1, i] + A53 * K[2, i] + A54 * K[3, i])
-                rhs(tmp, t + C5 * h, d, zeta, vb, p, K[4], forced)
-                for i in range(ny):
-                    tmp[i] = y[i] + h * (A61 * K[0, i] + A62 * K[1, i] + A63 * K[2, i] + A64 * K[3, i] + A65 * K[4, i])
-                rhs(tmp, t + h, d, zeta, vb, p, K[5], forced)
-                for i in range(ny):
-                    yn[i] = y[i] + h * (B1 * K[0, i] + B3 * K[2, i] + B4 * K[3, i] + B5 * K[4, i] + B6 * K[5, i])
-                rhs(yn, t + h, d, zeta, vb, p, K[6], forced)
-                err = 0.0
-                for i in range(ny):  # the work integrals too: their dense output is what samples see
-                    e = h * (E1 * K[0, i] + E3 * K[2, i] + E4 * K[3, i] + E5 * K[4, i] + E6 * K[5, i] + E7 * K[6, i])
-                    sc = atol + rtol * max(abs(y[i]), abs(yn[i]))
-                    err = max(err, abs(e) / sc)
-                if err > 1.0:
-                    h *= max(0.2, 0.9 * err ** -0.2)
-                    continue
-                # accepted: events on the dense output, in time order
-                theta_end = 1.0
-                g_sw = _g(np.int64(0), yn, K[6, 1], zeta, vb, d)
-                if g_sw <= 0.0:
-                    theta_end = _root(np.int64(0), y, K, t, h, zeta, vb, d, p, forced)
-                    switched = True
-                th = 0.0
-                # the sample events at the step's end: one dense output and X'' for all three
-                gb = _events_at(y, K, t, h, theta_end, zeta, vb, d, p, ys, tmp, forced)
-                while True:
-                    # the earliest sample point in (th, theta_end]
-                    best = theta_end
-                    kind = -1
-                    # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
-                    ga = _events_of(y, K[0, 1], zeta) if th == 0.0 else _events_at(y, K, t, h, th, zeta, vb, d, p, ys, tmp, forced)
-                    for kk in range(1, 4):
-                        if ga[kk - 1] * gb[kk - 1] < 0.0:
-                            r = _root_between(kk, y, K, t, h, th, theta_end, zeta, vb, d, p, ys, tmp, forced)
-                            if r < best:
-                                best = r
-                                kind = kk
-                    tt = t + best * h
-                    if not tail_done and t_tail <= tt:
-                        best = (t_tail - t) / h
-                        kind = 4
-                        tt = t_tail
-                    if next_dense <= tt:
-                        best = (next_dense - t) / h
-                        kind = 5
-                        tt = next_dense
-                    if forced and n_strobe * period < tt - STROBE_TOL * (1.0 + tt):
-                        tt = n_strobe * period
-                        best = (tt - t) / h
-                        kind = 6
-                    dense(y, K, h, best, ys, ny)
-                    if kind == 1:
-                        ys[1] = 0.0  # exactly: the section crossing is a sample
-                    # works since the phase began, split at the zeros of X'
-                    dwf = ys[3] - wf_last
-                    if dwf > 0.0:
-                        w[1] += dwf
-                    else:
-                        w[2] -= dwf
-                    wf_last = ys[3]
-                    w[0] += ys[2] - wdv_last
-                    w[3] += ys[4] - wq_last
-                    wdv_last = ys[2]
-                    wq_last = ys[4]
-                    if forced:
-                        w[4] += ys[5] - wx_last
-                        wx_last = ys[5]
-                        tt, n_strobe = _strobe(tt, n_strobe, period)
-                    if kind == 4:
-                        tail_done = True
-                    if kind == 5:
-                        next_dense += dense_dt
-                    if switched and kind == -1:
-                        ys[1] = vb  # exactly at the switch
-                    if not emit(outs, k, tt, ys[0], ys[1], d * slip_force(p, abs(vb - ys[1])), mode, w):
+                status, t, x, k, cur = _forced_stick(s, p, fs, (t, x, hold, k), cur, outs, w)
+            else:
+                status, t, x, k, cur = _stick(s, p, fs, (t, x, k), cur, outs, w)
+            v = s.vb
+            if status == GO and t < s.t_end:
+                mode, tt, fc, cur = _after_stick(s, p, fs, (t, x), cur)
+                hold = mode == 0  # on F_s but held (moving back inwards, or no consistent slip): on from here
+                if mode == 0 and not forced:
+                    fs = np.inf  # (possible with F_e = X when zeta V_b is large): the interface holds for good
+                elif mode != 0:
+                    ne = _record_switch(events, ne, t, mode)
+                    if not emit(outs, k, tt, x, v, fc, mode, w):
                         return k, ne, FULL, t, h
                     k += 1
-                    if kind == 1 and not forced and (stop_rtol > 0.0 or r_cert > 0.0):
-                        falling = d * slip_force_at(p, abs(vb)) - ys[0] < 0.0  # X'' at X' = 0
-                        if falling:
-                            sec.push_section(ring[0], ring[1], ys[0], tt)
-                            n_max += 1
-                        else:
-                            sec.push_section(ring[2], ring[3], ys[0], tt)
-                            n_min += 1
-                        if _known_end(ring, n_max, n_min, ys[0], mode, vb, stop_rtol, r_cert, x_eq):
-                            return k, ne, OK, tt, h
-                    th = best
-                    if kind == -1:
-                        break
-                t += theta_end * h
-                if switched:
-                    x, v = ys[0], vb
-                else:
-                    for i in range(ny):
-                        y[i] = yn[i]
-                    for i in range(K.shape[1]):  # FSAL (a loop: array slice assignment costs compile time)
-                        K[0, i] = K[6, i]
-                    x, v = y[0], y[1]
-                    h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
-            if switched:
-                new = at_rest(x, zeta, vb, fs, res, p, t)
-                hold = False
-                if forced and t - t_phase <= NO_SLIP * (1.0 + abs(t)):
-                    # F_s met at a rounding-level tangency (the held force touching F_s): the slip the
-                    # rule chose ends as it starts, and would again -- held, past this monotone piece
-                    new = 0
-                    hold = True
-                if ne < len(ev_t):
-                    ev_t[ne] = t
-                    ev_mode[ne] = new
-                ne += 1
-                mode = new
-                out_mode[0, k - 1] = mode
-                if mode != 0:
-                    out_fc[0, k - 1] = mode * slip_force_at(p, 0.0)
-                else:
-                    out_fc[0, k - 1] = stick_friction(x, zeta, vb, external_force(p, t) if forced else 0.0)
-    if forced:
-        if out_t[k - 1] < t_end - STROBE_TOL * (1.0 + t_end):  # a run that ends sticking
-            tt, n_strobe = _strobe(t_end, n_strobe, period)
-            if not emit(outs, k, tt, x, v, stick_friction(x, zeta, vb, external_force(p, t_end)), stick_mode, w):
-                return k, ne, FULL, t, h
-            k += 1
-    elif out_t[k - 1] < t_end:  # a run that ends sticking
-        if not emit(outs, k, t_end, x, v, stick_friction(x, zeta, vb, 0.0), stick_mode, w):
-            return k, ne, FULL, t, h
-        k += 1
-    return k, ne, OK, t, h
+        if status != GO:
+            return k, ne, status, t, h
+    k, status = _finish(s, p, (t, x, v, k), cur, outs, w)
+    return k, ne, status, t, h
 
 
 @njit(cache=True)
-def _known_end(ring, n_max, n_min, x, mode, vb, stop_rtol, r_cert, x_eq):
-    """At a section: inside the certified disc, or maxima and minima repeating (see :func:`run`)."""
-    if r_cert > 0.0 and mode * vb > 0.0 and (x - x_eq) ** 2 <= r_cert * r_cert:
-        return True
-    if stop_rtol <= 0.0 or n_min == 0:
-        return False
-    m = ring.shape[1]
-    tol = stop_rtol * (ring[0, m - 1] - ring[2, m - 1])
-    return sec.ring_repeats(ring[0], ring[1], n_max, tol, stop_rtol) and sec.ring_repeats(ring[2], ring[3], n_min, tol, stop_rtol)
+def _first_sample(s, p, start, outs, w):
+    """The mode at the start ``start`` = (x, v, F_s) -- the stick rule's if V_r = 0 -- and its sample at t = 0."""
+    x, v, fs = start
+    if v == s.vb:
+        mode = at_rest(x, s.zeta, s.vb, fs, s.res, p, 0.0)
+    else:
+        mode = 1 if s.vb - v > 0.0 else -1
+    fc0 = stick_friction(x, s.zeta, s.vb, external_force(p, 0.0) if s.forced else 0.0)
+    emit(outs, np.int64(0), 0.0, x, v, fc0 if mode == 0 else mode * slip_force_at(p, abs(s.vb - v)), mode, w)
+    return mode
+
+
+@njit(cache=True)
+def _record_switch(events, ne, t, mode):
+    """Switch ``ne`` (to ``mode`` at t) into ``events`` if it fits; the count after it (all are counted)."""
+    ev_t, ev_mode = events
+    if ne < len(ev_t):
+        ev_t[ne] = t
+        ev_mode[ne] = mode
+    return ne + 1
+
+
+@njit(cache=True)
+def _after_stick(s, p, fs, where, cur):
+    """A stick phase reached |F_e| = F_s at ``where`` = (t, x): the mode the stick rule selects (0: no slip direction
+    is consistent) and, if it slips, its sample's time (forced: on the stroboscopic time if within rounding) and
+    friction.  Returns (mode, time, friction, cur)."""
+    t, x = where
+    mode = at_rest(x, s.zeta, s.vb, fs, s.res, p, t)
+    if mode == 0 or not s.forced:
+        return mode, t, mode * slip_force_at(p, 0.0), cur
+    tt, n_strobe = _strobe(t, cur.n_strobe, s.period)
+    return mode, tt, mode * slip_force_at(p, 0.0), Cursor(cur.tail_done, cur.next_dense, n_strobe)
+
+
+@njit(cache=True)
+def _stick(s, p, fs, at, cur, outs, w):
+    """An unforced stick phase from ``at`` = (t, x, k): X' = V_b until |F_e| = F_s or t_end (closed forms).
+
+    Samples at the zero of F_c (where the friction work is split into in and
+    out), the tail's start and the dense grid.  Returns (status, t, x, k, cur)
+    at its end.
+    """
+    t, x, k = at
+    zeta, vb = s.zeta, s.vb
+    tail_done, next_dense = cur.tail_done, cur.next_dense
+    stick_mode = np.int64(0)  # (not a literal 0: emit compiles once)
+    T = min(s.t_end - t, stick_duration(x, zeta, vb, fs, s.res))
+    fcz = -stick_friction(x, zeta, vb, 0.0) / vb if vb != 0.0 else -1.0
+    ta = 0.0
+    while True:
+        tb, tag = T, 0  # the piece's end: the phase's, the zero of F_c, the tail's start or the dense grid's next point
+        if ta < fcz < tb:
+            tb = fcz
+        if not tail_done and ta < s.t_tail - t < tb:
+            tb, tag = s.t_tail - t, 1
+        if next_dense - t < tb and next_dense - t > ta:
+            tb, tag = next_dense - t, 2
+        L = tb - ta
+        xa = x + vb * ta
+        w[0] += 2.0 * zeta * vb * vb * L
+        pf = vb * (stick_friction(xa, zeta, vb, 0.0) * L + 0.5 * vb * L * L)
+        if pf > 0.0:
+            w[1] += pf
+        else:
+            w[2] -= pf
+        ta = tb
+        if tag == 1:
+            tail_done = True
+        if tag == 2:
+            next_dense += s.dense_dt
+        if ta >= T:
+            break
+        if not emit(outs, k, t + ta, x + vb * ta, vb, stick_friction(x + vb * ta, zeta, vb, 0.0), stick_mode, w):
+            return FULL, t, x, k, Cursor(tail_done, next_dense, cur.n_strobe)
+        k += 1
+    return GO, t + T, x + vb * T, k, Cursor(tail_done, next_dense, cur.n_strobe)
 
 
 @njit(cache=True, forceinline=True)
-def _events_of(y, a, zeta):
-    """The sample events 1, 2, 3 of :func:`_g` at state ``y`` with X'' = ``a``."""
-    return y[1], a, y[1] + 2.0 * zeta * a
+def _slip(forced, s, p, at, cur, scr, ring, outs, w):
+    """A slip phase from ``at`` = (t, x, v, mode, h, k, steps, n_max, n_min): Dormand-Prince with the direction fixed.
+
+    Each accepted step is sampled at its events on its dense output, in time order, and at its end (or switch).
+    The step and sample loops stay here: an inlined part that takes arrays and calls or makes views keeps their
+    reference counting.  Inlined by LLVM into the variant, where :func:`rhs` is inlined in turn (called, the step
+    is slower).  Returns (status, at, switched, cur) where it ended.
+    """
+    t, x, v, mode, h, k, steps, n_max, n_min = at
+    K, y, yn, ys, tmp = scr
+    zeta, vb, d, rtol, atol = s.zeta, s.vb, float(mode), s.rtol, s.atol
+    ny = NY_FORCED if forced else NY  # a constant: the loops over the state unrolled
+    ph = (zeta, vb, d)
+    h = _slip_start(y, K, (t, x, v, h), ph, p, forced)
+    last = (0.0, 0.0, 0.0, 0.0)  # the phase's integrals W_dv, W_f, W_heat, W_ex (from ys) at the last sample
+    switched = False
+    while t < s.t_end and not switched:
+        steps += 1
+        status = STEP_CAP if steps > s.max_steps else (TINY_STEP if h < 1e-14 * (1.0 + abs(t)) else GO)
+        if status != GO:
+            return status, (t, x, v, h, k, steps, n_max, n_min), False, cur
+        h = min(h, s.h_max, s.t_end - t)  # at most h_max: the event search looks at signs at step ends only
+        for i in range(ny):
+            tmp[i] = y[i] + h * A21 * K[0, i]
+        rhs(tmp, t + C2 * h, d, zeta, vb, p, K[1], forced)
+        for i in range(ny):
+            tmp[i] = y[i] + h * (A31 * K[0, i] + A32 * K[1, i])
+        rhs(tmp, t + C3 * h, d, zeta, vb, p, K[2], forced)
+        for i in range(ny):
+            tmp[i] = y[i] + h * (A41 * K[0, i] + A42 * K[1, i] + A43 * K[2, i])
+        rhs(tmp, t + C4 * h, d, zeta, vb, p, K[3], forced)
+        for i in range(ny):
+            tmp[i] = y[i] + h * (A51 * K[0, i] + A52 * K[1, i] + A53 * K[2, i] + A54 * K[3, i])
+        rhs(tmp, t + C5 * h, d, zeta, vb, p, K[4], forced)
+        for i in range(ny):
+            tmp[i] = y[i] + h * (A61 * K[0, i] + A62 * K[1, i] + A63 * K[2, i] + A64 * K[3, i] + A65 * K[4, i])
+        rhs(tmp, t + h, d, zeta, vb, p, K[5], forced)
+        for i in range(ny):
+            yn[i] = y[i] + h * (B1 * K[0, i] + B3 * K[2, i] + B4 * K[3, i] + B5 * K[4, i] + B6 * K[5, i])
+        rhs(yn, t + h, d, zeta, vb, p, K[6], forced)
+        err = _error(h, K, y, yn, (rtol, atol), ny)
+        if err > 1.0:
+            h *= max(0.2, 0.9 * err ** -0.2)
+            continue
+        # accepted: events on the dense output, in time order, up to the switch if the step crosses V_r = 0
+        switched = _g(np.int64(0), yn, K[6, 1], zeta, vb, d) <= 0.0
+        theta_end = _root(np.int64(0), y, K, (t, h), ph, p, forced) if switched else 1.0
+        th = 0.0
+        # the sample events at the step's end: one dense output and X'' for all three
+        gb = _events_at(y, K, (t, h), theta_end, ph, p, ys, tmp, forced)
+        while True:
+            # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
+            ga = (y[1], K[0, 1], y[1] + 2.0 * zeta * K[0, 1]) if th == 0.0 else _events_at(y, K, (t, h), th, ph, p, ys, tmp, forced)
+            best, kind = theta_end, -1
+            if ga[0] * gb[0] < 0.0 or ga[1] * gb[1] < 0.0 or ga[2] * gb[2] < 0.0:
+                best, kind = _first_event((ga, gb), y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
+            best, kind, tt, cur = _next_sample(best, kind, (t, h), s, cur)
+            dense(y, K, h, best, ys, ny)
+            if kind == 1 or (switched and kind == -1):
+                ys[1] = 0.0 if kind == 1 else vb  # exactly: the section crossing is a sample; the switch
+            # works since the phase began, split at the zeros of X'
+            last = _add_works(w, ys, last, s.forced)
+            if not emit(outs, k, tt, ys[0], ys[1], d * slip_force(p, abs(vb - ys[1])), mode, w):
+                return FULL, (t, x, v, h, k, steps, n_max, n_min), False, cur
+            k += 1
+            if kind == 1 and not forced and (s.stop_rtol > 0.0 or s.r_cert > 0.0):
+                n_max, n_min, stop = _at_section(ring, (n_max, n_min), (tt, ys[0], mode), s, p)
+                if stop:
+                    return OK, (tt, x, v, h, k, steps, n_max, n_min), False, cur
+            th = best
+            if kind == -1:
+                break
+        t += theta_end * h
+        if not switched:
+            for i in range(NY_FORCED):  # the state and FSAL (a loop: array slice assignment costs compile time)
+                y[i] = yn[i]
+                K[0, i] = K[6, i]
+            h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
+        x, v = (ys[0], vb) if switched else (y[0], y[1])
+    return GO, (t, x, v, h, k, steps, n_max, n_min), switched, cur
+
+
+@njit(cache=True, forceinline=True)
+def _error(h, K, y, yn, tol, ny):
+    """The step's error norm (above 1: rejected) with ``tol`` = (rtol, atol), over the first ``ny`` components: the
+    work integrals too, their dense output is what the samples see.  (No call, no view: nothing to count references of.)"""
+    rtol, atol = tol
+    err = 0.0
+    for i in range(ny):
+        e = h * (E1 * K[0, i] + E3 * K[2, i] + E4 * K[3, i] + E5 * K[4, i] + E6 * K[5, i] + E7 * K[6, i])
+        sc = atol + rtol * max(abs(y[i]), abs(yn[i]))
+        err = max(err, abs(e) / sc)
+    return err
 
 
 @njit(cache=True)
-def _events_at(y, K, t, h, theta, zeta, vb, d, p, ys, tmp, forced):
-    """The sample events 1, 2, 3 on the dense output at theta: the values :func:`_gd` gives each, from one
-    evaluation of the dense output and X'' (the three read the same two)."""
+def _slip_start(y, K, start, ph, p, forced):
+    """A slip phase's start ``start`` = (t, x, v, h) into y (the integrals from zero) and its slope into K[0].
+
+    Returns the step to try: h, or a first one from the scales of X, X' and X''.
+    """
+    t, x, v, h = start
+    zeta, vb, d = ph
+    y[0], y[1], y[2], y[3], y[4] = x, v, 0.0, 0.0, 0.0
+    if forced:
+        y[5] = 0.0
+    rhs(y, t, d, zeta, vb, p, K[0], forced)
+    if h <= 0.0:
+        h = 0.01 * max(1e-3, min(1.0, (abs(x) + abs(v) + 1e-6) / (abs(K[0, 1]) + 1e-12)))
+    return h
+
+
+@njit(cache=True)
+def _first_event(signs, y, K, step, span, ph, p, ys, tmp, forced):
+    """The first of the sample events 1, 2, 3 whose sign changes over theta in ``span`` = (lo, hi] (``signs`` = (ga, gb)
+    at its ends): (theta, kind), each located by bisection on the dense output (:func:`_gd`); (hi, -1) if none."""
+    ga, gb = signs
+    best, kind = span[1], -1
+    for kk in range(1, 4):
+        if ga[kk - 1] * gb[kk - 1] < 0.0:
+            lo, hi = span
+            glo = _gd(kk, y, K, step, lo, ph, p, ys, tmp, forced)
+            for _ in range(80):
+                mid = 0.5 * (lo + hi)
+                if mid <= lo or mid >= hi:
+                    break
+                gm = _gd(kk, y, K, step, mid, ph, p, ys, tmp, forced)
+                if gm * glo > 0.0:
+                    lo = mid
+                    glo = gm
+                else:
+                    hi = mid
+            if hi < best:
+                best, kind = hi, kk
+    return best, kind
+
+
+@njit(cache=True, forceinline=True)
+def _add_works(w, ys, last, forced):
+    """Add the works since the last sample to ``w``, from the phase's integrals ``ys`` now and ``last`` = (W_dv,
+    W_f, W_heat, W_ex) then; the friction work split into in and out at the zeros of X'.  Returns the new ``last``."""
+    dwf = ys[3] - last[1]
+    if dwf > 0.0:
+        w[1] += dwf
+    else:
+        w[2] -= dwf
+    w[0] += ys[2] - last[0]
+    w[3] += ys[4] - last[2]
+    if forced:
+        w[4] += ys[5] - last[3]
+    return (ys[2], ys[3], ys[4], ys[5] if forced else 0.0)
+
+
+@njit(cache=True, forceinline=True)
+def _next_sample(best, kind, step, s, cur):
+    """The first sample in the step ``step`` = (t, h): an event of ``kind`` at theta ``best`` (-1: the step's end), or
+    the grid's next point before it -- the tail's start (4), the dense grid (5), a stroboscopic time (6).
+
+    Returns (theta, kind, its time, the :data:`Cursor` past it); forced, a time within rounding of a stroboscopic
+    one is put on it (:func:`_strobe`).
+    """
+    t, h = step
+    tt = t + best * h
+    if not cur.tail_done and s.t_tail <= tt:
+        best = (s.t_tail - t) / h
+        kind = 4
+        tt = s.t_tail
+    if cur.next_dense <= tt:
+        best = (cur.next_dense - t) / h
+        kind = 5
+        tt = cur.next_dense
+    n_strobe = cur.n_strobe
+    if s.forced:
+        if n_strobe * s.period < tt - STROBE_TOL * (1.0 + tt):
+            tt = n_strobe * s.period
+            best = (tt - t) / h
+            kind = 6
+        tt, n_strobe = _strobe(tt, n_strobe, s.period)
+    return best, kind, tt, Cursor(cur.tail_done or kind == 4, cur.next_dense + s.dense_dt if kind == 5 else cur.next_dense,
+                                  n_strobe)
+
+
+@njit(cache=True)
+def _at_section(ring, counts, sample, s, p):
+    """A sample ``sample`` = (t, X, mode) on the section X' = 0 of an unforced slip: pushed to the maxima or minima.
+
+    ``counts`` = (n_max, n_min) pushed so far.  Returns (n_max, n_min, stop): whether the run's end is known --
+    inside the certified disc, or its maxima and minima repeating (see :func:`run`).
+    """
+    n_max, n_min = counts
+    tt, x, mode = sample
+    falling = float(mode) * slip_force_at(p, abs(s.vb)) - x < 0.0  # X'' at X' = 0
+    if falling:
+        sec.push_section(ring[0], ring[1], x, tt)
+        n_max += 1
+    else:
+        sec.push_section(ring[2], ring[3], x, tt)
+        n_min += 1
+    if s.r_cert > 0.0 and mode * s.vb > 0.0 and (x - s.x_eq) ** 2 <= s.r_cert * s.r_cert:
+        return n_max, n_min, True  # inside the certified disc
+    if s.stop_rtol <= 0.0 or n_min == 0:
+        return n_max, n_min, False
+    m = ring.shape[1]
+    tol = s.stop_rtol * (ring[0, m - 1] - ring[2, m - 1])
+    return n_max, n_min, (sec.ring_repeats(ring[0], ring[1], n_max, tol, s.stop_rtol)
+                          and sec.ring_repeats(ring[2], ring[3], n_min, tol, s.stop_rtol))
+
+
+@njit(cache=True)
+def _switch(s, p, fs, where):
+    """A slip phase from t_phase ended on V_r = 0 at ``where`` = (t, t_phase, x): (the mode that continues, hold, the
+    friction force then) -- the switch's, which its sample (the phase's last) is given."""
+    t, t_phase, x = where
+    mode = at_rest(x, s.zeta, s.vb, fs, s.res, p, t)
+    hold = False
+    if s.forced and t - t_phase <= NO_SLIP * (1.0 + abs(t)):
+        # F_s met at a rounding-level tangency (the held force touching F_s): the slip the
+        # rule chose ends as it starts, and would again -- held, past this monotone piece
+        mode = 0
+        hold = True
+    if mode != 0:
+        return mode, hold, mode * slip_force_at(p, 0.0)
+    return mode, hold, stick_friction(x, s.zeta, s.vb, external_force(p, t) if s.forced else 0.0)
+
+
+@njit(cache=True)
+def _finish(s, p, end, cur, outs, w):
+    """The run's end at ``end`` = (t, x, v, k): a run that ends sticking gets its last sample at t_end (forced: unless
+    one is there within rounding, the stroboscopic one).  Returns (k, status)."""
+    t, x, v, k = end
+    tt, f, before = s.t_end, 0.0, s.t_end
+    if s.forced:
+        tt, _ = _strobe(s.t_end, cur.n_strobe, s.period)
+        f, before = external_force(p, s.t_end), s.t_end - STROBE_TOL * (1.0 + s.t_end)
+    if outs[0][k - 1] < before:
+        if not emit(outs, k, tt, x, v, stick_friction(x, s.zeta, s.vb, f), np.int64(0), w):
+            return k, FULL
+        k += 1
+    return k, OK
+
+
+@njit(cache=True)
+def _events_at(y, K, step, theta, ph, p, ys, tmp, forced):
+    """The sample events 1, 2, 3 on the dense output of the step ``step`` = (t, h) at theta: the values :func:`_gd`
+    gives each, from one evaluation of the dense output and X'' (the three read the same two).
+
+    ``ph`` = (zeta, V_b, d) is the slip phase's; ``ys``, ``tmp`` scratch.
+    """
+    t, h = step
+    zeta, vb, d = ph
     dense(y, K, h, theta, ys, np.int64(2))
     rhs(ys, t + theta * h, d, zeta, vb, p, tmp, forced)
-    return _events_of(ys, tmp[1], zeta)
+    return ys[1], tmp[1], ys[1] + 2.0 * zeta * tmp[1]
 
 
 @njit(cache=True)
-def _gd(kind, y, K, t, h, theta, zeta, vb, d, p, ys, tmp, forced):
-    """Event function ``kind`` on the dense output of the step [t, t + h] at theta."""
+def _gd(kind, y, K, step, theta, ph, p, ys, tmp, forced):
+    """Event function ``kind`` on the dense output of the step ``step`` = (t, h) at theta (``ph``: :func:`_events_at`)."""
+    t, h = step
+    zeta, vb, d = ph
     dense(y, K, h, theta, ys, np.int64(2))  # X and X' are all the event functions read
     rhs(ys, t + theta * h, d, zeta, vb, p, tmp, forced)
     return _g(kind, ys, tmp[1], zeta, vb, d)
 
 
 @njit(cache=True)
-def _root_between(kind, y, K, t, h, lo, hi, zeta, vb, d, p, ys, tmp, forced):
-    """Bisection for a sign change of event ``kind`` on the dense output, theta in (lo, hi]."""
-    glo = _gd(kind, y, K, t, h, lo, zeta, vb, d, p, ys, tmp, forced)
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        if mid <= lo or mid >= hi:
-            break
-        gm = _gd(kind, y, K, t, h, mid, zeta, vb, d, p, ys, tmp, forced)
-        if gm * glo > 0.0:
-            lo = mid
-            glo = gm
-        else:
-            hi = mid
-    return hi
-
-
-@njit(cache=True)
-def _root(kind, y, K, t, h, zeta, vb, d, p, forced):
-    """The switch: first theta in (0, 1] where d (V_b - X') <= 0 on the dense output."""
+def _root(kind, y, K, step, ph, p, forced):
+    """The switch: first theta in (0, 1] where d (V_b - X') <= 0 on the dense output (:func:`_gd`)."""
     ys = np.zeros(NY_FORCED)
     tmp = np.zeros(NY_FORCED)
     lo, hi = 0.0, 1.0
@@ -537,7 +621,7 @@ def _root(kind, y, K, t, h, zeta, vb, d, p, forced):
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
-        if _gd(kind, y, K, t, h, mid, zeta, vb, d, p, ys, tmp, forced) > 0.0:
+        if _gd(kind, y, K, step, mid, ph, p, ys, tmp, forced) > 0.0:
             lo = mid
         else:
             hi = mid
@@ -582,43 +666,46 @@ def _stick_work(xs, ts, ta, tb, zeta, vb, p, w):
 
 
 @njit(cache=True)
-def _stick_walk(outs, k, w, xs, ts, te, zeta, vb, p, t_tail, tail_done, next_dense, dense_dt, n_strobe, period):
-    """A forced stick phase's samples and works from (ts, xs) to its end ``te`` (excluded: the caller's sample).
+def _forced_stick(s, p, fs, at, cur, outs, w):
+    """A forced stick phase from ``at`` = (t, x, hold, k): the held force F_e - f(tau) varies; to where it leaves
+    the static bound (:func:`_stick_exit`) or t_end.  Returns (status, t, x, k, cur) at its end.
 
-    Samples at the zeros of F_c (where the friction work is split into in
-    and out), the tail's start, the dense grid and the stroboscopic times.
-    Returns (k, tail_done, next_dense, n_strobe, room).
+    Samples at the zeros of F_c (where the friction work is split into in and out), the tail's start, the dense
+    grid and the stroboscopic times (``cur``, a :data:`Cursor`); not at its end (the caller's sample).
     """
+    ts, xs, hold, k = at
+    zeta, vb = s.zeta, s.vb
+    te = _stick_exit(xs, ts, s.t_end, hold, zeta, vb, fs, s.res, p)
+    tail_done, next_dense, n_strobe = cur
     ta = ts
-    res = p[RESULTANT] != 0.0
     stick_mode = np.int64(0)  # (not a literal 0: emit compiles once)
     while True:
         tb = te
         tag = 0
-        if not tail_done and ta < t_tail < tb:
-            tb = t_tail
+        if not tail_done and ta < s.t_tail < tb:
+            tb = s.t_tail
             tag = 1
         if ta < next_dense < tb:
             tb = next_dense
             tag = 2
-        ns = n_strobe * period
+        ns = n_strobe * s.period
         if ns < tb - STROBE_TOL * (1.0 + tb):
             tb = max(ns, ta)  # (a time held on the bound may have passed it by rounding)
             tag = 3
-        z = _friction_zero(xs, ts, ta, tb, zeta, vb, res, p) if vb != 0.0 else np.inf  # (V_b = 0: no friction work)
+        z = _friction_zero(xs, ts, ta, tb, zeta, vb, s.res, p) if vb != 0.0 else np.inf  # (V_b = 0: no friction work)
         if z < tb:
             tb = z
             tag = 4
         _stick_work(xs, ts, ta, tb, zeta, vb, p, w)
         ta = tb
         if tag == 0:
-            return k, tail_done, next_dense, n_strobe, True
+            return GO, te, xs + vb * (te - ts), k, Cursor(tail_done, next_dense, n_strobe)
         if tag == 1:
             tail_done = True
         if tag == 2:
-            next_dense += dense_dt
-        tt, n_strobe = _strobe(tb, n_strobe, period)
+            next_dense += s.dense_dt
+        tt, n_strobe = _strobe(tb, n_strobe, s.period)
         xb = xs + vb * (tb - ts)
         if not emit(outs, k, tt, xb, vb, stick_friction(xb, zeta, vb, external_force(p, tb)), stick_mode, w):
-            return k, tail_done, next_dense, n_strobe, False
+            return FULL, ts, xs, k, Cursor(tail_done, next_dense, n_strobe)
         k += 1

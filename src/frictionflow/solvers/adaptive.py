@@ -32,10 +32,6 @@ class StepLimitError(RuntimeError):
     """The adaptive solver hit its step cap (or a vanishing step) before the end."""
 
 
-_KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_of", "_events_at", "_gd", "_root_between", "_root",
-                 "_known_end", "_run", "run_unforced", "run_forced")
-
-
 def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
     """The ``run`` kernel for a law: the built-in one, or one rebuilt around a user's slip function.
 
@@ -69,7 +65,7 @@ def _python_user_kernel(func: Callable[[float], float]) -> Callable:
 
 
 def _rebuild(force: Callable, compiled: bool) -> Callable:
-    kernels = rebind(dopri, _KERNEL_FUNCS, compiled, slip_force=force)
+    kernels = rebind(dopri, dopri.KERNEL_FUNCS, compiled, slip_force=force)
     unforced, forced = kernels["run_unforced"], kernels["run_forced"]
 
     def run(run, p, samples, events):
