@@ -25,7 +25,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("model", ("frictionflow.params", "frictionflow.system")),
     ("engines", (
         "frictionflow.solvers", "frictionflow._continuous", "frictionflow.trajectory", "frictionflow.simulate",
-        "frictionflow.config",
+        "frictionflow.config", "frictionflow.motion",
     )),
     ("results", ("frictionflow.io",)),
     ("analysis", ("frictionflow.analysis",)),

@@ -24,6 +24,9 @@ NO_RETURN = 5
 STEP_FAIL = 6
 #: the state left the floating-point range
 NOT_FINITE = 7
+#: a contact's normal load reached 0 (a structure with state-dependent normal loads): the run stops there
+CONTACT_LOST = 8
 
 NAMES = {OK: "ok", FULL: "full", STUCK: "stuck", STEP_CAP: "step cap", TINY_STEP: "tiny step",
-         NO_RETURN: "no return", STEP_FAIL: "step failed", NOT_FINITE: "not finite"}
+         NO_RETURN: "no return", STEP_FAIL: "step failed", NOT_FINITE: "not finite",
+         CONTACT_LOST: "contact lost"}

@@ -1,0 +1,176 @@
+"""One combination of contact modes: its reduced equations, their eigen-decomposition, its event maps.
+
+With the stuck contacts S (directions E_S, belt speeds b_S) the coordinates
+split as q = Z y + R u: Z (n, r) an orthonormal basis of E_S's null space,
+R = M^-1 E_S^T G with G = (E_S M^-1 E_S^T)^-1, so that E_S R = I and
+Z^T M R = 0, and u = E_S q = u(t0) + b_S (t - t0) is known.  Projected on Z
+the equations lose the constraint forces:
+
+    M_r y'' + C_r y' + K_r y = Z^T (f0 - C R b_S - K_eff R u(t) + forces(t))
+
+with M_r = Z^T M Z, C_r = Z^T C Z, K_r = Z^T K_eff Z.  K_eff = K - sum over
+slipping j of sigma_j F_d,j e_j n_j^T (a normal load N_j = P_j + n_j . q
+makes the friction force depend on q), f0 = sum sigma_j F_d,j P_j e_j.  The
+first-order matrix A = [[0, I], [-M_r^-1 K_r, -M_r^-1 C_r]] is
+eigen-decomposed once per combination: A = V diag(lam) V^-1.
+
+The held forces of the stuck contacts (what the constraints must hold) are
+lambda_S = G E_S M^-1 (C q' + K_eff q - f0 - forces(t)): with the contact's
+``stick_force`` "spring" the damper term is left out of the force compared
+with F_s N_j (the friction force itself always keeps it).
+
+Event functions (three slots per contact j, in this order):
+slot 3j: slipping, sigma_j V_r,j; stuck, F_s,j N_j - lambda_j; slot 3j+1:
+stuck, F_s,j N_j + lambda_j; slot 3j+2: N_j (when it depends on q).  Each is
+an affine map of (q, q') (rows of ``D``, constant ``dc``) plus harmonic
+terms (``Dh``: coefficient of cos(Omega_i t + phi_i)); ``W`` = D T V maps
+the modal coordinates (T: (y, y') -> (q, q')).
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from ..layout import FD, FS, RESULTANT, STICK
+
+Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W")
+#: event slots per contact: the mode's own boundary (two sides while stuck) and the normal load
+N_SLOTS = 3
+#: a stuck set whose directions are this close to dependent is refused (its held forces are not defined)
+RANK_TOL = 1e-10
+#: an eigenvector basis this ill-conditioned is refused (a defective matrix: an undamped rigid mode)
+COND_MAX = 1e10
+
+
+@njit(cache=True)
+def mm(a, b):
+    """a @ b that also takes empty operands (both of one dtype)."""
+    if a.shape[0] == 0 or a.shape[1] == 0 or b.shape[1] == 0:
+        return np.zeros((a.shape[0], b.shape[1]), dtype=a.dtype)
+    return np.ascontiguousarray(a) @ np.ascontiguousarray(b)
+
+
+@njit(cache=True)
+def slip_terms(asm, modes):
+    """(K_eff, f0): the stiffness and the constant force of the slipping contacts' friction."""
+    keff = asm.stiffness.copy()
+    n = keff.shape[0]
+    f0 = np.zeros(n)
+    for j in range(len(modes)):
+        if modes[j] == STICK:
+            continue
+        fd = modes[j] * asm.law[j, FD]
+        for a in range(n):
+            f0[a] += fd * asm.normal[j, 0] * asm.contact_dir[j, a]
+            for b in range(n):
+                keff[a, b] -= fd * asm.contact_dir[j, a] * asm.normal[j, 1 + b]
+    return keff, f0
+
+
+@njit(cache=True)
+def constraint_split(asm, minv, stuck):
+    """(Z, R, HE) of the stuck set (HE = G E_S M^-1: held forces from the forces on the structure)."""
+    n, ns = minv.shape[0], len(stuck)
+    if ns == 0:
+        return np.eye(n), np.zeros((n, 0)), np.zeros((0, n))
+    es = np.empty((ns, n))
+    for i in range(ns):
+        es[i] = asm.contact_dir[stuck[i]]
+    mie = mm(minv, es.T.copy())
+    g = np.linalg.inv(mm(es, mie))
+    r = mm(mie, g)
+    _, s, vt = np.linalg.svd(es, full_matrices=True)
+    if s.min() <= RANK_TOL * s.max():
+        raise ValueError("structure: the stuck contacts' directions are dependent (their held forces are not defined)")
+    z = vt[ns:].T.copy()
+    return z, r, r.T.copy()
+
+
+@njit(cache=True)
+def modal(m, c, k, z):
+    """(lam, V, V^-1, V^-1 B) of the reduced first-order matrix (B = [0; M_r^-1])."""
+    r = z.shape[1]
+    if r == 0:
+        e = np.zeros((0, 0), dtype=np.complex128)
+        return np.zeros(0, dtype=np.complex128), e, e, e
+    zt = z.T.copy()
+    mri = np.linalg.inv(mm(mm(zt, m), z))
+    a = np.zeros((2 * r, 2 * r))
+    a[:r, r:] = np.eye(r)
+    a[r:, :r] = -mm(mri, mm(mm(zt, k), z))
+    a[r:, r:] = -mm(mri, mm(mm(zt, c), z))
+    lam, v = np.linalg.eig(a.astype(np.complex128))
+    vi = np.linalg.inv(v)
+    if np.sqrt(np.sum(np.abs(v) ** 2) * np.sum(np.abs(vi) ** 2)) > COND_MAX * 2 * r:
+        raise ValueError("structure: a mode combination's matrix is defective (e.g. an undamped rigid mode)")
+    vb = mm(np.ascontiguousarray(vi[:, r:]), mri.astype(np.complex128))
+    return lam, v, vi, vb
+
+
+@njit(cache=True)
+def event_maps(asm, modes, stuck, he, keff, f0):
+    """(D, dc, Dh, active): each event slot as D (q, q') + dc + sum_i Dh_i cos(Omega_i t + phi_i)."""
+    k, n = asm.contact_dir.shape
+    m = len(asm.force_amp)
+    d = np.zeros((N_SLOTS * k, 2 * n))
+    dc = np.zeros(N_SLOTS * k)
+    dh = np.zeros((N_SLOTS * k, m))
+    active = np.zeros(N_SLOTS * k, dtype=np.bool_)
+    for j in range(k):
+        nj = asm.normal[j, 1:]
+        if np.any(nj != 0.0):
+            active[N_SLOTS * j + 2] = True
+            d[N_SLOTS * j + 2, :n] = nj
+            dc[N_SLOTS * j + 2] = asm.normal[j, 0]
+        if modes[j] != STICK:
+            active[N_SLOTS * j] = True
+            d[N_SLOTS * j, n:] = -modes[j] * asm.contact_dir[j]
+            dc[N_SLOTS * j] = modes[j] * asm.belt[j]
+    hk, hc, hf = mm(he, keff), mm(he, asm.damping), he @ f0 if len(stuck) else np.zeros(0)
+    hg = mm(he, asm.force_dir.T.copy())
+    for i in range(len(stuck)):
+        j = stuck[i]
+        fs = asm.law[j, FS]
+        for side in range(2):
+            sl, sg = N_SLOTS * j + side, 1.0 if side else -1.0  # F_s N -+ lambda
+            active[sl] = True
+            d[sl, :n] = fs * asm.normal[j, 1:] + sg * hk[i]
+            if asm.law[j, RESULTANT] != 0.0:
+                d[sl, n:] = sg * hc[i]
+            dc[sl] = fs * asm.normal[j, 0] - sg * hf[i]
+            for f in range(m):
+                dh[sl, f] = -sg * hg[i, f] * asm.force_amp[f]
+    return d, dc, dh, active
+
+
+@njit(cache=True)
+def build(asm, minv, modes):
+    """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact)."""
+    n = minv.shape[0]
+    stuck = np.nonzero(modes == STICK)[0]
+    keff, f0 = slip_terms(asm, modes)
+    z, r, he = constraint_split(asm, minv, stuck)
+    lam, v, vi, vb = modal(asm.mass, asm.damping, keff, z)
+    d, dc, dh, active = event_maps(asm, modes, stuck, he, keff, f0)
+    nr = z.shape[1]
+    t = np.zeros((2 * n, 2 * nr))
+    t[:n, :nr] = z
+    t[n:, nr:] = z
+    w = mm(mm(d, t).astype(np.complex128), v)
+    return Combo(modes.copy(), stuck, z, r, he, keff, f0, lam, v, vi, vb, d, dc, dh, active, w)
+
+
+@njit(cache=True)
+def lookup(cache, asm, minv, modes):
+    """The combination of ``modes`` from ``cache`` (a list), built and appended when missing."""
+    for i in range(len(cache)):
+        if np.all(cache[i].modes == modes):
+            return cache[i]
+    cb = build(asm, minv, modes)
+    if len(cache) >= 64:
+        cache.pop(0)
+    cache.append(cb)
+    return cb

@@ -1,0 +1,142 @@
+"""The first event of a phase, with no root skipped between the points evaluated (a proof, not a step size).
+
+Every event function is positive inside its mode's region (:mod:`.combo`).
+The walk covers (0, tau_end] with intervals [a, b] and, for every active
+function g, decides one of
+
+* root-free: g(a), g(b) > 0 and min(g(a), g(b)) > M2 h^2 / 8 + r, M2 a bound
+  on |g''| over the interval (:func:`.phase.bound`): the chord through the
+  ends is above min(g(a), g(b)) and g differs from it by at most M2 h^2 / 8;
+  r = ROUNDING times the size of g's terms (:func:`.phase.event_size`): a
+  function that comes within rounding of 0 is not certified clear of it;
+  at a phase start where g(0) = 0 (a contact that just began to slip:
+  ``departing``), g(s) >= g'(0) s - M2 s^2 / 2 > 0 when g'(0) > M2 h / 2, or
+  with g'(0) >= 0, g(s) >= g''(0) s^2 / 2 - M3 s^3 / 6 > 0 when g''(0) > M3 h / 3;
+* one root: g(a) > 0 >= g(b) and g' < 0 throughout (-g'(a) > M2 h);
+* undecided: the interval is halved.
+
+When every function is decided, the earliest root (Illinois, :mod:`..roots`)
+is the event.  An interval that reaches ``floor`` undecided is a touch: a
+function within rounding (or M2 floor^2 / 8, ~1e-25 of its size) of 0
+that need not cross; it is reported as an event at the end nearer 0 (``graze``), and the
+stick rule decides what follows (a slipping contact whose V_r touches 0
+tangentially may stick there).
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from ..roots import RUNNING, bracket, update
+from .phase import bound, event_rate, event_size, event_value, modal_at
+
+EPS = 2.220446049250313e-16
+#: a function within this many EPS of the size of its terms of 0 counts as touching 0
+ROUNDING = 16.0
+
+
+@njit(cache=True)
+def values(cb, ph, om, tau, z, g):
+    """Fill ``g`` with the active event functions at ``tau`` (``z`` = z(tau))."""
+    for e in range(len(g)):
+        if cb.active[e]:
+            g[e] = event_value(cb, ph, om, e, tau, z)
+
+
+@njit(cache=True)
+def locate(cb, ph, om, e, a, b, ga, gb):
+    """The root of event function ``e`` in [a, b] (g(a) > 0 >= g(b)): the far end of the final bracket."""
+    br = bracket(a, b, ga, gb, 0.0, 2.0 * EPS, 0.0, 200, 0.0)
+    while br.status == RUNNING:
+        br = update(br, br.x, event_value(cb, ph, om, e, br.x, modal_at(cb, ph, om, br.x)))
+    return br.hi
+
+
+@njit(cache=True)
+def verdict(cb, ph, om, e, a, h, za, ga, gb, start):
+    """1: root-free on [a, a + h]; 2: exactly one root there; 0: undecided (``start``: g(a) = 0 departing)."""
+    m2 = bound(cb, ph, om, e, a, h, za, 2)
+    if gb > 0.0:
+        if ga > 0.0 and min(ga, gb) > m2 * h * h / 8.0 + ROUNDING * EPS * event_size(cb, ph, e, a + h, za):
+            return 1
+        if start:
+            g1 = event_rate(cb, ph, om, e, a, za, 1)
+            if g1 > m2 * h / 2.0:
+                return 1
+            if g1 >= 0.0 and event_rate(cb, ph, om, e, a, za, 2) > bound(cb, ph, om, e, a, h, za, 3) * h / 3.0:
+                return 1
+        return 0
+    if ga > 0.0 and -event_rate(cb, ph, om, e, a, za, 1) > m2 * h:
+        return 2
+    return 0
+
+
+@njit(cache=True)
+def decide_interval(cb, ph, om, a, h, za, ga, gb, departing):
+    """(all decided, any root) over the active functions on [a, a + h]."""
+    decided, root = True, False
+    for e in range(len(ga)):
+        if not cb.active[e]:
+            continue
+        v = verdict(cb, ph, om, e, a, h, za, ga[e], gb[e], departing[e] and a == 0.0)
+        decided = decided and v != 0
+        root = root or gb[e] <= 0.0
+    return decided, root
+
+
+@njit(cache=True)
+def earliest(cb, ph, om, a, b, ga, gb):
+    """(tau, slot) of the earliest root among the functions that are <= 0 at b."""
+    best, slot = b, -1
+    for e in range(len(ga)):
+        if cb.active[e] and gb[e] <= 0.0:
+            t = locate(cb, ph, om, e, a, b, ga[e], gb[e]) if ga[e] > 0.0 else b
+            if slot < 0 or t < best:
+                best, slot = t, e
+    return best, slot
+
+
+@njit(cache=True)
+def nearest_zero(cb, ph, om, a, b, za, ga, gb, dep):
+    """(tau, slot): among the undecided functions (not departing at the start), the end of [a, b] nearest 0."""
+    best, tau, slot = 1.0e300, b, -1
+    for e in range(len(ga)):
+        start = dep[e] and a == 0.0
+        if cb.active[e] and not start and verdict(cb, ph, om, e, a, b - a, za, ga[e], gb[e], False) == 0:
+            for t, g in ((a, ga[e]), (b, gb[e])):
+                if t > 0.0 and g < best:
+                    best, tau, slot = g, t, e
+    return tau, slot
+
+
+@njit(cache=True)
+def first_event(cb, ph, om, tau_end, departing, h0, floor):
+    """(tau, slot, graze): the phase's first event in (0, tau_end]; slot -1: none (tau = tau_end)."""
+    za = modal_at(cb, ph, om, 0.0)
+    ga = ph.e0.copy()
+    values(cb, ph, om, 0.0, za, ga)
+    dep = departing.copy()
+    for e in range(len(ga)):
+        if cb.active[e] and ga[e] <= ROUNDING * EPS * event_size(cb, ph, e, 0.0, za):
+            dep[e] = True
+        if dep[e]:
+            ga[e] = 0.0
+    a, h = 0.0, h0
+    gb = ga.copy()
+    while a < tau_end:
+        b = min(a + h, tau_end)
+        zb = modal_at(cb, ph, om, b)
+        values(cb, ph, om, b, zb, gb)
+        decided, root = decide_interval(cb, ph, om, a, b - a, za, ga, gb, dep)
+        if not decided and b - a > floor:
+            h = 0.5 * (b - a)
+            continue
+        if root:
+            tau, slot = earliest(cb, ph, om, a, b, ga, gb)
+            return tau, slot, False
+        if not decided:
+            tau, slot = nearest_zero(cb, ph, om, a, b, za, ga, gb, dep)
+            if slot >= 0:
+                return tau, slot, True
+        a, za, ga, h = b, zb, gb.copy(), min(2.0 * h, h0)
+    return tau_end, -1, False

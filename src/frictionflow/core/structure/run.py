@@ -1,0 +1,191 @@
+"""The run loop: phase after phase, each to its first certified event, the stick rule at every event.
+
+Samples are written at the start, at every switch (after the new modes are
+decided, with the state made to satisfy the stuck contacts' constraints
+exactly), on an optional dense grid and at the end; each carries the
+cumulative work of every channel (:mod:`.work`).  A normal load reaching 0
+ends the run with :data:`~frictionflow.core.codes.CONTACT_LOST`.
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from .. import codes
+from ..layout import STICK
+from .combo import N_SLOTS, build, lookup
+from .events import first_event, values
+from .phase import modal_at, start, state_at
+from .stick import decide, friction_forces, hold_velocity, normal_load
+from .work import integrate
+
+#: the output buffers: samples (t, state (2n, T), force (k, T), modes (k, T), work (W, T)) and switches
+#: (time, contact, mode entered)
+Out = namedtuple("Out", "t state force modes work sw_t sw_contact sw_mode")
+#: what a run ends with: status, samples written, switches counted, the lost contact and when (-1, nan)
+Result = namedtuple("Result", "status n_samples n_switches lost_contact lost_time")
+#: a function within this fraction of its size of 0 at an event counts as reached too (simultaneous switches)
+SIMULTANEOUS = 1e-13
+#: zero-length phases in a row before the run gives up (STUCK)
+MAX_ZERO = 8
+
+
+@njit(cache=True)
+def emit(out, i, asm, cb, q, v, t, acc):
+    """Write sample ``i``; False when the buffers are full."""
+    if i >= len(out.t):
+        return False
+    n = len(q)
+    out.t[i] = t
+    out.state[:n, i] = q
+    out.state[n:, i] = v
+    out.force[:, i] = friction_forces(asm, cb, q, v, t)
+    out.modes[:, i] = cb.modes
+    out.work[:, i] = acc
+    return True
+
+
+@njit(cache=True)
+def first_step(cb, om, span):
+    """The walk's longest interval: a fraction of the fastest time scale (the whole span without one)."""
+    rate = (np.abs(cb.lam).max() if len(cb.lam) else 0.0) + (om.max() if len(om) else 0.0)
+    return span if rate == 0.0 else min(span, 1.0 / rate)
+
+
+@njit(cache=True)
+def reached(cb, ph, om, tau, slot):
+    """The event slots reached at ``tau``: the located one and any other within rounding of 0 or past it."""
+    z = modal_at(cb, ph, om, tau)
+    g = ph.e0.copy()
+    values(cb, ph, om, tau, z, g)
+    out = np.zeros(len(g), dtype=np.bool_)
+    for e in range(len(g)):
+        if not cb.active[e]:
+            continue
+        scale = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + np.abs(cb.Dh[e]).sum()
+        for a in range(len(z)):
+            scale += abs(cb.W[e, a] * z[a])
+        out[e] = e == slot or g[e] <= SIMULTANEOUS * scale
+    return out
+
+
+@njit(cache=True)
+def switch_modes(asm, modes, hit):
+    """(new modes before the stick rule, the contacts leaving V_r = 0, the contact whose load is lost or -1)."""
+    k = len(modes)
+    new = modes.copy()
+    leaving = np.zeros(k, dtype=np.bool_)
+    for e in range(len(hit)):
+        if not hit[e]:
+            continue
+        j, kind = e // N_SLOTS, e % N_SLOTS
+        if kind == 2:
+            return new, leaving, j
+        leaving[j] = True
+        if modes[j] == STICK:
+            new[j] = 1 if kind == 0 else -1  # F_s N - lambda = 0: lambda = +F_s N
+        else:
+            new[j] = STICK
+    return new, leaving, -1
+
+
+@njit(cache=True)
+def record_switches(out, nsw, t, old, new):
+    """Count (and write while there is room) each contact whose mode changed; the new count."""
+    for j in range(len(old)):
+        if old[j] != new[j]:
+            if nsw < len(out.sw_t):
+                out.sw_t[nsw], out.sw_contact[nsw], out.sw_mode[nsw] = t, j, new[j]
+            nsw += 1
+    return nsw
+
+
+@njit(cache=True)
+def initial(asm, minv, cache):
+    """(modes, q', contact lost or -1) at t = 0: slipping by the sign of V_r, the stick rule where it is 0."""
+    q, v = asm.q0.copy(), asm.v0.copy()
+    k = len(asm.belt)
+    modes = np.empty(k, dtype=np.int8)
+    for j in range(k):
+        if normal_load(asm, j, q) <= 0.0:
+            return modes, v, j
+        vr = asm.belt[j] - asm.contact_dir[j] @ v
+        modes[j] = 1 if vr > 0.0 else (-1 if vr < 0.0 else 0)
+    leaving = modes == STICK
+    decide(cache, asm, minv, q, v, 0.0, modes, leaving)
+    return modes, hold_velocity(asm, lookup(cache, asm, minv, modes), v), -1
+
+
+@njit(cache=True)
+def dense_samples(out, i, asm, cb, ph, om, tau, tau_last, next_t, dense_dt, acc):
+    """Emit the dense grid's points before ``tau``; (samples written, local time reached, next grid time, ok)."""
+    while dense_dt > 0.0 and next_t < ph.t0 + tau:
+        tl = next_t - ph.t0
+        integrate(asm, cb, ph, om, tau_last, tl, acc)
+        q, v = state_at(cb, ph, om, tl)
+        if not emit(out, i, asm, cb, q, v, next_t, acc):
+            return i, tl, next_t, False
+        i, tau_last, next_t = i + 1, tl, next_t + dense_dt
+    return i, tau_last, next_t, True
+
+
+@njit(cache=True)
+def run(asm, minv, t_end, dense_dt, out):
+    """Integrate the structure ``asm`` from t = 0 to ``t_end`` into ``out``; the :data:`Result`."""
+    k, om = len(asm.belt), asm.force_omega
+    cache = [build(asm, minv, np.zeros(k, dtype=np.int8))]
+    acc = np.zeros(out.work.shape[0])
+    modes, v, lost = initial(asm, minv, cache)
+    q, t = asm.q0.copy(), 0.0
+    cb = lookup(cache, asm, minv, modes if lost < 0 else np.zeros(k, dtype=np.int8))
+    if not emit(out, 0, asm, cb, q, v, t, acc):
+        return Result(codes.FULL, 0, 0, -1, np.nan)
+    if lost >= 0:
+        return Result(codes.CONTACT_LOST, 1, 0, lost, 0.0)
+    i, nsw, zeros, next_t = 1, 0, 0, dense_dt
+    leaving = np.zeros(k, dtype=np.bool_)
+    floor = 1e-13 * max(1.0, t_end)
+    while True:
+        ph = start(cb, asm, q, v, t)
+        dep = np.zeros(N_SLOTS * k, dtype=np.bool_)
+        for j in range(k):
+            dep[N_SLOTS * j] = leaving[j]
+        tau, slot, _ = first_event(cb, ph, om, t_end - t, dep, first_step(cb, om, t_end - t), floor)
+        i, tau_last, next_t, ok = dense_samples(out, i, asm, cb, ph, om, tau, 0.0, next_t, dense_dt, acc)
+        if not ok:
+            return Result(codes.FULL, i, nsw, -1, np.nan)
+        integrate(asm, cb, ph, om, tau_last, tau, acc)
+        q, v = state_at(cb, ph, om, tau)
+        t = t_end if slot < 0 else t + tau
+        if slot < 0:
+            if not emit(out, i, asm, cb, q, v, t, acc):
+                return Result(codes.FULL, i, nsw, -1, np.nan)
+            return Result(codes.OK, i + 1, nsw, -1, np.nan)
+        new, leaving, lost = switch_modes(asm, cb.modes, reached(cb, ph, om, tau, slot))
+        if lost >= 0:
+            ok = emit(out, i, asm, cb, q, v, t, acc)
+            return Result(codes.CONTACT_LOST if ok else codes.FULL, i + 1, nsw, lost, t)
+        decide(cache, asm, minv, q, v, t, new, leaving)
+        nsw = record_switches(out, nsw, t, cb.modes, new)
+        cb = lookup(cache, asm, minv, new)
+        v = hold_velocity(asm, cb, v)
+        zeros = zeros + 1 if tau <= floor else 0
+        if zeros > MAX_ZERO + k:
+            return Result(codes.STUCK, i, nsw, -1, np.nan)
+        if not emit(out, i, asm, cb, q, v, t, acc):
+            return Result(codes.FULL, i, nsw, -1, np.nan)
+        i += 1
+
+
+@njit(cache=True)
+def advance(asm, minv, modes, q, v, t0, tau, n_work):
+    """(q, q', work over the stretch) ``tau`` after (q, q') at ``t0`` in the modes ``modes`` (no switch between)."""
+    cb = build(asm, minv, modes)
+    ph = start(cb, asm, q, v, t0)
+    acc = np.zeros(n_work)
+    integrate(asm, cb, ph, asm.force_omega, 0.0, tau, acc)
+    q1, v1 = state_at(cb, ph, asm.force_omega, tau)
+    return q1, v1, acc

@@ -1,0 +1,153 @@
+"""``Motion``: the result of a run of a linear structure with friction contacts (issue 22).
+
+The samples hold the state, each contact's friction force and mode and the
+cumulative work of every element; between the samples the motion is the
+phase's closed form, which :meth:`Motion.at` evaluates exactly (from the
+last sample before t, in its modes: no switch lies between).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ._lazy import lazy_module
+from .core.assembly import Assembly
+from .core.structure.run import advance
+
+#: the friction mode codes of :attr:`Motion.modes`
+MODE_NAMES = {-1: "slip-", 0: "stick", 1: "slip+"}
+
+
+@dataclass(repr=False)
+class Motion:
+    """Samples of one run of a structure, and the exact motion between them.
+
+    Attributes
+    ----------
+    t:
+        (T,) sample times: the start, every switch, the dense grid if asked, the end.
+    state:
+        (2n, T): rows q (named by :attr:`dof`) then q'.
+    force:
+        (k, T): each contact's friction force on the structure.
+    modes:
+        (k, T) int8: -1 slip-, 0 stick, +1 slip+ (V_r > 0) after each sample.
+    work:
+        (W, T): cumulative work since t = 0 of each channel in :attr:`channels`: the work each spring,
+        damper and force does on the structure, then ``contact.j.belt`` (the belt's input F_j b_j) and
+        ``contact.j.heat`` (the interface heat F_j V_r,j >= 0).
+    channels:
+        The channel names.
+    switches:
+        (S,) switch times; ``switch_contact`` the contact index and ``switch_mode`` the mode entered.
+    dof, contacts:
+        The names of the coordinates and of the contacts.
+    status:
+        ``"ok"`` or ``"contact_lost"`` (then :attr:`lost` = (contact name, time)).
+    assembly, system:
+        What was run (``system``: the model object when the run came from one, else None).
+    """
+
+    t: np.ndarray
+    state: np.ndarray
+    force: np.ndarray
+    modes: np.ndarray
+    work: np.ndarray
+    channels: tuple[str, ...]
+    switches: np.ndarray
+    switch_contact: np.ndarray
+    switch_mode: np.ndarray
+    dof: tuple[str, ...]
+    contacts: tuple[str, ...]
+    status: str
+    assembly: Assembly
+    lost: tuple[str, float] | None = None
+    system: Any = None
+    elements: dict[str, tuple[str, ...]] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        return (f"Motion(n={len(self.dof)}, contacts={len(self.contacts)}, samples={len(self.t)}, "
+                f"switches={len(self.switches)}, status={self.status!r})")
+
+    @property
+    def n(self) -> int:
+        """The number of generalised coordinates."""
+        return len(self.dof)
+
+    def _from_sample(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(q, q', cumulative work) at ``t``, from the last sample at or before it."""
+        t = float(t)
+        if not self.t[0] <= t <= self.t[-1]:
+            raise ValueError(f"t must be in [{self.t[0]}, {self.t[-1]}], got {t}")
+        i = int(np.searchsorted(self.t, t, side="right")) - 1
+        n, a = self.n, self.assembly
+        if self.t[i] == t:
+            return self.state[:n, i].copy(), self.state[n:, i].copy(), self.work[:, i].copy()
+        q, v, dw = advance(a, np.linalg.inv(a.mass), self.modes[:, i].copy(), self.state[:n, i].copy(),
+                           self.state[n:, i].copy(), self.t[i], t - self.t[i], len(self.channels))
+        return q, v, self.work[:, i] + dw
+
+    def at(self, t: float) -> np.ndarray:
+        """The state (q, q') at time ``t`` (2n,), exact: the closed form of the phase that holds t."""
+        q, v, _ = self._from_sample(t)
+        return np.concatenate((q, v))
+
+    def work_at(self, t: float) -> np.ndarray:
+        """The cumulative work of every channel at time ``t``."""
+        return self._from_sample(t)[2]
+
+    def element_power(self, t0: float, t1: float) -> dict[str, dict[str, float]]:
+        """Element name -> its average powers over [t0, t1]: ``{"P": ...}`` for springs, dampers and forces,
+        ``{"P_belt": ..., "P_heat": ...}`` for contacts."""
+        if not t1 > t0:
+            raise ValueError(f"t1 must be > t0, got t0={t0}, t1={t1}")
+        avg = dict(zip(self.channels, (self.work_at(t1) - self.work_at(t0)) / (t1 - t0)))
+        out: dict[str, dict[str, float]] = {}
+        for name, value in avg.items():
+            if name.endswith(".belt") or name.endswith(".heat"):
+                element, part = name.rsplit(".", 1)
+                out.setdefault(element, {})["P_" + part] = float(value)
+            else:
+                out[name] = {"P": float(value)}
+        return out
+
+    def energy(self) -> tuple[np.ndarray, np.ndarray]:
+        """(kinetic, spring potential) energy at each sample."""
+        a, n = self.assembly, self.n
+        q, v = self.state[:n], self.state[n:]
+        kinetic = 0.5 * np.einsum("it,ij,jt->t", v, a.mass, v)
+        potential = 0.5 * np.einsum("s,st->t", a.spring_k, (a.spring_dir @ q) ** 2)
+        return kinetic, potential
+
+    def balance(self) -> np.ndarray:
+        """At each sample: Delta(KE + PE) - (damper + force works + belt input - heat); 0 up to rounding."""
+        kinetic, potential = self.energy()
+        e = kinetic + potential
+        sign = np.array([0.0 if c.startswith("spring.") else (-1.0 if c.endswith(".heat") else 1.0)
+                         for c in self.channels])
+        return (e - e[0]) - sign @ self.work
+
+    @property
+    def energy_residual(self) -> float:
+        """max |:meth:`balance`| relative to the size of the works (the largest sum of |work| over the channels)."""
+        scale = float(np.abs(self.work).sum(axis=0).max()) if self.work.size else 0.0
+        res = float(np.abs(self.balance()).max())
+        return res / scale if scale > 0.0 else res
+
+    def to_xarray(self):
+        """An xarray Dataset: ``q`` and ``v`` over (time, dof), ``force`` and ``mode`` over (time, contact),
+        ``work`` over (time, channel); the switches as attributes."""
+        xr = lazy_module("xarray")  # slow to import: loaded when a dataset is first asked for
+        n = self.n
+        return xr.Dataset(
+            {"q": (("time", "dof"), self.state[:n].T), "v": (("time", "dof"), self.state[n:].T),
+             "force": (("time", "contact"), self.force.T), "mode": (("time", "contact"), self.modes.T),
+             "work": (("time", "channel"), self.work.T)},
+            coords={"time": self.t, "dof": list(self.dof), "contact": list(self.contacts),
+                    "channel": list(self.channels)},
+            attrs={"status": self.status, "switch_times": self.switches, "switch_contact": self.switch_contact,
+                   "switch_mode": self.switch_mode, "energy_residual": self.energy_residual},
+        )

@@ -1,0 +1,122 @@
+"""The exact solver for linear structures with friction contacts: :func:`run_assembly`, :func:`simulate_system`.
+
+It supports the laws that are piecewise constant with the switch stick rule
+(their slip force is a constant times the normal load, stuck is a
+constraint): the capability is read from the law classes, never from names.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+import numpy as np
+
+from ..core import codes
+from ..core.assembly import Assembly
+from ..core.layout import LAW
+from ..core.structure.run import Out, run
+from ..core.structure.work import n_channels
+from ..friction.registry import law_classes
+from ..motion import Motion
+
+try:  # the model package (frictionflow.system) is written beside this engine and merged with it
+    from ..system import assemble
+except ImportError:  # pragma: no cover -- only before that merge
+    assemble = None
+
+#: the solver's name in messages
+NAME = "exact"
+#: the first buffer size (samples and switches); doubled while the run reports FULL
+FIRST_CAP = 1024
+
+
+def supported_laws() -> dict[int, str]:
+    """Law code -> name of the laws this solver supports: piecewise constant, switch stick rule."""
+    return {cls.code: cls.name for cls in law_classes() if cls.piecewise_constant and cls.stick_rule == "switch"}
+
+
+def _names(assembly: Assembly, names: Mapping[str, Any] | None) -> dict[str, tuple[str, ...]]:
+    """The dof and element names (given, or ``q0``... and ``kind.i``)."""
+    names = dict(names or {})
+    counts = {"spring": len(assembly.spring_k), "damper": len(assembly.damper_c), "force": len(assembly.force_amp),
+              "contact": len(assembly.belt)}
+    out = {"dof": tuple(names.get("dof", (f"q{i}" for i in range(len(assembly.q0)))))}
+    for kind, count in counts.items():
+        out[kind] = tuple(names.get(kind, (f"{kind}.{i}" for i in range(count))))
+    return out
+
+
+def _check(assembly: Assembly, t_end: float, dense_dt: float | None, contacts: tuple[str, ...]) -> None:
+    """One-line errors for a run that cannot be made."""
+    if not isinstance(assembly, Assembly):
+        raise TypeError(f"assembly must be a frictionflow.core.assembly.Assembly, got {type(assembly).__name__}")
+    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
+        raise ValueError(f"t_end must be a finite number > 0, got {t_end!r}")
+    if dense_dt is not None and not (math.isfinite(dense_dt) and dense_dt > 0):
+        raise ValueError(f"dense_dt must be a finite number > 0 (or None), got {dense_dt!r}")
+    laws = supported_laws()
+    for j, code in enumerate(assembly.law[:, LAW].astype(int)):
+        if code not in laws:
+            raise ValueError(f"solver={NAME} supports friction laws that are piecewise constant with the switch "
+                             f"stick rule ({', '.join(laws.values())}); {contacts[j]} has another law (code {code})")
+
+
+def _buffers(assembly: Assembly, cap: int) -> Out:
+    n, k = len(assembly.q0), len(assembly.belt)
+    return Out(np.empty(cap), np.empty((2 * n, cap)), np.empty((k, cap)), np.empty((k, cap), dtype=np.int8),
+               np.empty((n_channels(assembly), cap)), np.empty(cap), np.empty(cap, dtype=np.int64),
+               np.empty(cap, dtype=np.int8))
+
+
+def _channels(names: dict[str, tuple[str, ...]]) -> tuple[str, ...]:
+    return (*names["spring"], *names["damper"], *names["force"],
+            *(f"{c}.belt" for c in names["contact"]), *(f"{c}.heat" for c in names["contact"]))
+
+
+def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = None,
+                 names: Mapping[str, Any] | None = None, system: Any = None) -> Motion:
+    """Run the structure ``assembly`` from t = 0 to ``t_end`` with the exact event-driven engine.
+
+    Parameters
+    ----------
+    assembly:
+        The structure (:class:`~frictionflow.core.assembly.Assembly`).
+    t_end:
+        The end time, > 0.
+    dense_dt:
+        Also sample every ``dense_dt`` (None: the start, the switches and the end only).
+    names:
+        Optional names: ``dof`` and per kind (``spring``, ``damper``, ``contact``, ``force``) the element
+        names; default ``q0``, ... and ``spring.0``, ....
+    system:
+        The model object the assembly came from, kept on the result.
+    """
+    nm = _names(assembly, names)
+    _check(assembly, t_end, dense_dt, nm["contact"])
+    minv = np.linalg.inv(assembly.mass)
+    cap = FIRST_CAP
+    while True:
+        out = _buffers(assembly, cap)
+        res = run(assembly, minv, float(t_end), float(dense_dt or 0.0), out)
+        if res.status != codes.FULL and res.n_switches <= cap:
+            break
+        cap = 2 * max(cap, res.n_samples, res.n_switches)
+    if res.status not in (codes.OK, codes.CONTACT_LOST):
+        raise RuntimeError(f"solver={NAME}: the run ended with status '{codes.NAMES[res.status]}'")
+    s, w = res.n_samples, res.n_switches
+    lost = None if res.status == codes.OK else (nm["contact"][res.lost_contact], float(res.lost_time))
+    return Motion(
+        t=out.t[:s].copy(), state=out.state[:, :s].copy(), force=out.force[:, :s].copy(),
+        modes=out.modes[:, :s].copy(), work=out.work[:, :s].copy(), channels=_channels(nm),
+        switches=out.sw_t[:w].copy(), switch_contact=out.sw_contact[:w].copy(), switch_mode=out.sw_mode[:w].copy(),
+        dof=nm["dof"], contacts=nm["contact"], status="ok" if lost is None else "contact_lost",
+        assembly=assembly, lost=lost, system=system, elements={k: v for k, v in nm.items() if k != "dof"},
+    )
+
+
+def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None, solver: str = "exact") -> Motion:
+    """Run the model ``system`` (:class:`frictionflow.system.System`) to ``t_end``: assemble, then :func:`run_assembly`."""
+    if solver != NAME:
+        raise ValueError(f"solver must be '{NAME}' for a structure, got {solver!r}")
+    return run_assembly(assemble(system), t_end, dense_dt=dense_dt, names={"dof": system.dof}, system=system)
