@@ -173,7 +173,7 @@ def _row(flow: Flow, motion: Any, section: Any, dof: tuple[str, ...]) -> int:
     if section is None:
         t0, t1 = float(motion.t[0]), float(motion.t[-1])
         grid = np.linspace(t0 + 0.5 * (t1 - t0), t1, 512)
-        velocities = np.array([motion.at(s)[n:] for s in grid])
+        velocities = flow.states(motion, grid)[:, n:]
         return n + int(np.argmax(np.ptp(velocities, axis=0)))
     if isinstance(section, str):
         if section not in dof:
@@ -275,7 +275,7 @@ def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any, re
                             f"in t={length:.6g} (it settled on an equilibrium, or the transient is too short)")
     tc = float(times[-1] if t_transient > 0 else times[0])
     gap = float(np.diff(times)[-1]) if len(times) > 1 else slow
-    s = motion.at(tc)
+    s = flow.states(motion, np.array([tc]))[0]
     s[row] = 0.0
     try:
         return return_map(flow, s, row, returns, 1.5 * returns * gap), row
@@ -334,7 +334,7 @@ def _orbit(setup: Setup, ret: Return, row: int, returns: int, iterations: int, s
     """The :class:`StructureOrbit` of a converged return; ShootingError if it is an equilibrium."""
     flow, T = setup.flow, ret.time
     one = flow.run(ret.start, T)
-    grid = np.array([one.at(t) for t in np.linspace(0.0, T, 65)])
+    grid = flow.states(one, np.linspace(0.0, T, 65))
     if float(np.max(np.ptp(grid, axis=0))) <= 1e-9 * scale:
         raise ShootingError("shooting converged onto an equilibrium: no periodic orbit near this start")
     return StructureOrbit(

@@ -39,13 +39,15 @@ from scipy.optimize import brentq
 from ..core import saltation
 from ..core.layout import STICK
 from ..core.structure.combo import N_SLOTS, build
-from ..core.structure.run import advance
+from ..core.structure.phase import start, state_at
 from ..core.structure.stick import acceleration
 from ..core.structure.work import n_channels
 from ..solvers.structure import run_assembly
 
 #: grid points per fastest natural period when looking for section crossings
 GRID_PER_PERIOD = 64
+#: velocities below this fraction of the largest speed are rounding (sign changes there are not crossings)
+NOISE = 1e-10
 #: the longest run (in slowest natural periods) looked through for the next section crossing
 MAX_PERIODS = 400
 
@@ -96,12 +98,26 @@ class Flow:
         return run_assembly(asm, t_end, names=self.names)
 
     def advance(self, modes: np.ndarray, y: np.ndarray, t0: float, tau: float) -> np.ndarray:
-        """y(t0 + tau) from y at t0 in the modes ``modes`` (no switch between)."""
-        n = self.n
-        q, v, _ = advance(self.assembly, self.minv, np.ascontiguousarray(modes, dtype=np.int8),
-                          np.array(y[:n], dtype=float), np.array(y[n:], dtype=float), float(t0), float(tau),
-                          self.n_work)
+        """y(t0 + tau) from y at t0 in the modes ``modes`` (no switch between): the phase's closed form."""
+        n, asm = self.n, self.assembly
+        cb = self.combo(modes)
+        ph = start(cb, asm, np.array(y[:n], dtype=float), np.array(y[n:], dtype=float), float(t0))
+        q, v = state_at(cb, ph, asm.force_omega, float(tau))
         return np.concatenate((q, v))
+
+    def states(self, motion: Any, times: np.ndarray) -> np.ndarray:
+        """(len(times), 2n): the exact states of ``motion`` at the sorted ``times`` (one phase start per sample)."""
+        t, asm, n = np.asarray(motion.t), self.assembly, self.n
+        idx = np.clip(np.searchsorted(t, times, side="right") - 1, 0, len(t) - 1)
+        out = np.empty((len(times), 2 * n))
+        for i in np.unique(idx):
+            cb = self.combo(motion.modes[:, i])
+            y = motion.state[:, i]
+            ph = start(cb, asm, y[:n].copy(), y[n:].copy(), float(t[i]))
+            for m in np.flatnonzero(idx == i):
+                q, v = state_at(cb, ph, asm.force_omega, float(times[m] - t[i]))
+                out[m, :n], out[m, n:] = q, v
+        return out
 
     def field(self, modes: np.ndarray, y: np.ndarray, t: float) -> np.ndarray:
         """The vector field (q', q'') at (y, t) in the modes ``modes`` (stuck contacts held)."""
@@ -163,20 +179,24 @@ def crossings(flow: Flow, motion: Any, row: int, t0: float = 0.0) -> np.ndarray:
     count = int(math.ceil((t_end - t0) * flow.omega_max / (2.0 * math.pi) * GRID_PER_PERIOD)) + 2
     knots = np.asarray(motion.t)
     grid = np.union1d(np.linspace(t0, t_end, count), knots[(knots > t0) & (knots < t_end)])
-    values = np.array([motion.at(s)[row] for s in grid])
+    values = flow.states(motion, grid)[:, row]
     values[0] = 0.0 if t0 == 0.0 else values[0]  # the start lies on the section: not a crossing
-    hits = np.flatnonzero((values[:-1] > 0.0) & (values[1:] <= 0.0))
+    # a motion settled on an equilibrium has velocities of rounding size: their sign changes are no crossings
+    floor = NOISE * max(float(np.max(np.abs(values))), float(np.max(np.abs(flow.assembly.belt), initial=0.0)))
+    hits = np.flatnonzero((values[:-1] > floor) & (values[1:] <= 0.0))
     return np.array([_locate(flow, motion, row, grid[i], grid[i + 1]) for i in hits])
 
 
 def _locate(flow: Flow, motion: Any, row: int, a: float, b: float) -> float:
     """The crossing in [a, b], by bracketing then a Newton polish with the exact acceleration."""
-    fb = motion.at(b)[row]
-    if fb == 0.0:
+    def value(s: float) -> float:
+        return float(flow.states(motion, np.array([s]))[0, row])
+
+    if value(b) == 0.0:
         return b
-    t = brentq(lambda s: motion.at(s)[row], a, b, xtol=1e-15, rtol=4.0 * np.finfo(float).eps)
+    t = brentq(value, a, b, xtol=1e-15, rtol=4.0 * np.finfo(float).eps)
     i = int(np.searchsorted(motion.t, t, side="right")) - 1
-    y = motion.at(t)
+    y = flow.states(motion, np.array([t]))[0]
     rate = flow.field(motion.modes[:, i], y, t)[row]
     step = -y[row] / rate if rate != 0.0 else 0.0
     return t + step if a <= t + step <= b else t
@@ -202,7 +222,7 @@ def return_map(flow: Flow, start: np.ndarray, row: int, returns: int, horizon: f
             raise RuntimeError(f"the motion does not come back to the section within t={t_end:.6g}")
         t_end = min(2.0 * t_end, limit)
     T = float(times[returns - 1])
-    end = motion.at(T)
+    end = flow.states(motion, np.array([T]))[0]
     M = flow.monodromy(motion, T)
     i = int(np.searchsorted(motion.t, T, side="right")) - 1
     f_end = flow.field(motion.modes[:, i], end, T)
