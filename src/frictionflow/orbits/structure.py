@@ -49,7 +49,9 @@ class StructureOrbit(Summarized):
     state:
         (2n,) the state (q, q') where the orbit crosses the section.
     period:
-        The period (``returns`` section crossings).
+        The period.
+    returns:
+        How many section crossings make one period.
     section:
         The dof whose velocity's downward zero crossing is the section.
     monodromy:
@@ -68,6 +70,8 @@ class StructureOrbit(Summarized):
         One period run from :attr:`state` by the exact engine.
     dof, contacts:
         The names of the coordinates and of the contacts.
+    system:
+        The model the orbit belongs to (None for an assembly).
     """
 
     state: np.ndarray
