@@ -131,6 +131,23 @@ def test_newton_from_a_perturbed_guess_converges_to_the_same_orbit():
     np.testing.assert_allclose(again.state, found.state, atol=1e-10)
 
 
+@pytest.mark.parametrize("name", ["both_stick", "light_damping"])
+def test_a_section_point_with_a_stuck_contact(name):
+    """On q0' = 0 contact.1 is stuck (q1' = its belt): Newton moves within that constraint, and the orbit, its
+    period and its multipliers are those found on the other section."""
+    asm, _ = _chain(name)
+    other = find_structure_orbit(asm, section="q1")
+    found = find_structure_orbit(asm, section="q0")
+    assert list(found.motion.modes[:, 0]) == [1, 0] and found.state[3] == asm.belt[1]
+    assert found.period == pytest.approx(other.period, rel=1e-12)
+    np.testing.assert_allclose(np.sort_complex(found.multipliers), np.sort_complex(other.multipliers), atol=1e-9)
+    again = find_structure_orbit(asm, found.state + np.array([0.002, -0.002, 0.0, 0.0]), t_transient=0.0,
+                                 section="q0")
+    assert again.iterations >= 1
+    np.testing.assert_allclose(again.state, found.state, atol=1e-12)
+    np.testing.assert_allclose(_end(asm, found.state, found.period), found.state, atol=1e-10)
+
+
 def test_element_powers_over_one_period_balance():
     asm, _ = _chain("both_stick")
     found = find_structure_orbit(asm)

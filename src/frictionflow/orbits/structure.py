@@ -239,6 +239,13 @@ def _step(flow: Flow, ret: Return, row: int, returns: int) -> Return:
         except RuntimeError:
             pass
         lam *= 0.5
+    # far from the orbit the stuck set at P(s) may differ from s's, which Newton's coordinates cannot follow:
+    # one plain return (s -> P(s)) still gets closer to an attracting orbit
+    end = ret.end.copy()
+    end[row] = 0.0
+    new = return_map(flow, end, row, returns, 1.5 * ret.time)
+    if float(np.max(np.abs(_residual(new)))) < size:
+        return new
     raise ShootingError(f"Newton stalled at residual {size:.3g}: no periodic orbit near this start")
 
 
