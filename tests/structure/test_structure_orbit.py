@@ -159,6 +159,10 @@ def test_element_powers_over_one_period_balance():
     heat = sum(p["P_heat"] for name, p in el.items() if name.startswith("contact."))
     assert abs(springs) < 1e-12 and dampers < 0.0 < heat
     assert belts + dampers - heat == pytest.approx(0.0, abs=1e-12 * belts)
+    # V_r >= 0 throughout (no slip-): the heat F_d |V_r| averages to F_d <V_r> = F_d (b - <q'>) = F_d b
+    assert np.all(found.motion.modes >= 0)
+    for j in range(2):
+        assert el[f"contact.{j}"]["P_heat"] == pytest.approx(asm.law[j, FD] * asm.belt[j], rel=1e-12)
 
 
 def test_bad_arguments_are_refused_in_one_line():

@@ -71,4 +71,5 @@ def orbit_model(path: Path, params: dict[str, Any], opts: ModelOrbitOptions, con
     if opts.as_json:
         print(json.dumps(report, allow_nan=False))
     else:
-        print_summary(found, f"model {path}: Newton shooting on the return map, exact monodromy with saltation")
+        check = f"; max |M - M_fd| {report['fd_deviation']:.2e}" if opts.fd_check else ""
+        print_summary(found, f"model {path}: Newton shooting on the return map, exact monodromy with saltation{check}")

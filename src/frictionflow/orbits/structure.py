@@ -116,6 +116,7 @@ class StructureOrbit(Summarized):
             ("period", num(self.period, 10) + (f" ({self.returns} section crossings)" if self.returns > 1 else "")),
             ("section", f"{self.section}' = 0; " + ", ".join(f"{d}={num(x, 8)}" for d, x in zip(self.dof, self.state[:n]))),
             ("stability", f"{self.stability}, largest nontrivial |multiplier| {num(abs(self.multiplier))}"),
+            ("multipliers", ", ".join(num(m.real, 6) + (f"{m.imag:+.3g}j" if m.imag else "") for m in self.multipliers)),
             ("stick fraction", ", ".join(f"{c} {num(s, 4)}" for c, s in zip(self.contacts, self.stick_fraction))),
             ("energy residual", num(self.energy_residual, 3)),
             ("Newton", f"{self.iterations} iterations, residual {num(self.residual, 2)}"),
