@@ -38,6 +38,8 @@ from .structure_flow import Flow, Return, crossings, return_map
 DEFAULT_TOL = 1e-11
 #: backtracking halvings before Newton gives up
 MAX_HALVINGS = 12
+#: a Newton trial must return to the section within this many current periods
+RETURN_LIMIT = 4.0
 
 
 @dataclass(frozen=True, repr=False)
@@ -231,22 +233,19 @@ def _step(flow: Flow, ret: Return, row: int, returns: int) -> Return:
     except np.linalg.LinAlgError:
         raise ShootingError("the return map's Jacobian minus I is singular: Newton cannot proceed "
                             "(a fold, or a family of neutral orbits)") from None
-    size, lam = float(np.max(np.abs(r))), 1.0
-    for _ in range(MAX_HALVINGS):
-        try:
-            new = return_map(flow, _project(ret.start + lam * step, A, c, row), row, returns, 1.5 * ret.time)
-            if float(np.max(np.abs(_residual(new)))) < size:
-                return new
-        except RuntimeError:
-            pass
-        lam *= 0.5
-    # far from the orbit the stuck set at P(s) may differ from s's, which Newton's coordinates cannot follow:
-    # one plain return (s -> P(s)) still gets closer to an attracting orbit
+    size = float(np.max(np.abs(r)))
     end = ret.end.copy()
     end[row] = 0.0
-    new = return_map(flow, end, row, returns, 1.5 * ret.time)
-    if float(np.max(np.abs(_residual(new)))) < size:
-        return new
+    # far from the orbit the stuck set at P(s) may differ from s's, which Newton's coordinates cannot follow:
+    # after the halvings, one plain return (s -> P(s)) still gets closer to an attracting orbit
+    trials = [_project(ret.start + 0.5 ** i * step, A, c, row) for i in range(MAX_HALVINGS)] + [end]
+    for s in trials:
+        try:  # a trial that does not return within a few periods is not closer
+            new = return_map(flow, s, row, returns, 1.5 * ret.time, limit=RETURN_LIMIT * ret.time)
+        except RuntimeError:
+            continue
+        if float(np.max(np.abs(_residual(new)))) < size:
+            return new
     raise ShootingError(f"Newton stalled at residual {size:.3g}: no periodic orbit near this start")
 
 

@@ -202,13 +202,14 @@ def _locate(flow: Flow, motion: Any, row: int, a: float, b: float) -> float:
     return t + step if a <= t + step <= b else t
 
 
-def return_map(flow: Flow, start: np.ndarray, row: int, returns: int, horizon: float) -> Return:
+def return_map(flow: Flow, start: np.ndarray, row: int, returns: int, horizon: float,
+               limit: float | None = None) -> Return:
     """P(start): the ``returns``-th downward crossing of q'_row = 0, with the exact Jacobians.
 
-    ``horizon``: the first run's length; doubled until the crossings are found (up to :data:`MAX_PERIODS`
-    slowest natural periods).  RuntimeError if the motion never returns or loses a contact.
+    ``horizon``: the first run's length; doubled until the crossings are found, up to ``limit`` (default
+    :data:`MAX_PERIODS` slowest natural periods).  RuntimeError if the motion never returns or loses a contact.
     """
-    limit = MAX_PERIODS * 2.0 * math.pi / flow.omega_min
+    limit = MAX_PERIODS * 2.0 * math.pi / flow.omega_min if limit is None else max(limit, horizon)
     t_end = horizon
     while True:
         motion = flow.run(start, t_end)
