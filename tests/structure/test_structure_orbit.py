@@ -82,6 +82,16 @@ def test_one_dof_equals_the_single_mass_orbit(case):
     assert found.stick_fraction[0] == pytest.approx(ref.stick_fraction, abs=1e-9)
 
 
+@pytest.mark.parametrize("zeta, vb, stick_force", [(0.05, 0.01, "spring"), (0.02, 0.005, "spring"),
+                                                   (0.03, 0.01, "resultant")])
+def test_one_dof_equals_the_single_mass_orbit_for_either_held_force(zeta, vb, stick_force):
+    osc, law = BeltOscillator(zeta=zeta, vb=vb), Coulomb(fd=0.02, fs=0.04, stick_force=stick_force)
+    ref = find_orbit(osc, law, transient=300.0)
+    found = find_structure_orbit(System.single_mass(osc, law, x0=law.fd, v0=vb), t_transient=300.0)
+    assert found.period == pytest.approx(ref.period, rel=1e-9, abs=0)
+    np.testing.assert_allclose(found.monodromy, ref.monodromy, atol=1e-9)
+
+
 def test_one_dof_monodromy_against_finite_differences():
     law = Coulomb(fd=0.02, fs=0.04)
     asm = single_mass(0.05, 0.01, law, 0.02, 0.01)
