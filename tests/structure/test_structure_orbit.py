@@ -24,7 +24,7 @@ from frictionflow.system import System, load_system
 from tests.cli.processes import cli, one_line
 from tests.golden.cases import ORBIT
 
-from .builders import chain, single_mass
+from .builders import assembly, chain, single_mass
 
 #: two-mass chains with stick-slip orbits: (fs, belts, damper c, coupling k, section crossings per period)
 CHAINS = {
@@ -119,6 +119,19 @@ def test_chain_monodromy_against_finite_differences(name):
     mu_fd = np.linalg.eigvals(fd)
     for mu in found.multipliers:
         assert np.min(np.abs(mu_fd - mu)) < 1e-5
+
+
+def test_chain_with_a_state_dependent_normal_load():
+    """contact.0's load N = 1 - 0.3 x2: the slip force adds stiffness and the stick limit moves with x2."""
+    law = Coulomb(fd=0.1, fs=0.2).kernel_params()
+    asm = assembly([1.0, 1.0], springs=[([1, 0], 1.0), ([0, 1], 1.0), ([1, -1], 0.5)],
+                   dampers=[([1, 0], 0.3), ([0, 1], 0.3)],
+                   contacts=[([1, 0], 0.02, law, [1.0, 0.0, -0.3]), ([0, 1], 0.026, law, None)], q0=[0.0, 0.5])
+    found = find_structure_orbit(asm)
+    assert min(found.stick_fraction) > 0.1
+    np.testing.assert_allclose(_end(asm, found.state, found.period), found.state, atol=1e-10)
+    fd = _fd_monodromy(asm, found.state, found.period)
+    np.testing.assert_allclose(found.monodromy, fd, atol=1e-6 * max(1.0, np.abs(fd).max()))
 
 
 @pytest.mark.parametrize("name", sorted(CHAINS))
