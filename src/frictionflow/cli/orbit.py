@@ -24,6 +24,7 @@ from .._ranges import parse_named_range
 from ._app import app
 from .options import CONFIG_OPTION, command_config, parameter_names, with_options, with_parameters
 from .output import provenance, show, write_json
+from .structure_orbit import ModelOrbitOptions, orbit_model
 from .vocabulary import option, overlay_count, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "solver", "dimensional"))
@@ -75,6 +76,7 @@ class OrbitOptions:
     plot: Optional[Path] = option("--plot", "Here: phase portrait, time history and power of the orbit.")
     dpi: float = option("--dpi")
     config: Optional[Path] = CONFIG_OPTION
+    model: Optional[Path] = option("--model", "Here: its periodic orbit, Floquet multipliers and element powers.")
 
 
 @app.command()
@@ -82,8 +84,11 @@ class OrbitOptions:
 @with_options(OrbitOptions)
 def orbit(params: dict[str, Any], opts: OrbitOptions) -> None:
     """Find a periodic orbit by Newton shooting; report its Floquet multipliers, power flow and TR_B."""
-    cfg = _config("orbit", opts.config, params)
     _check(returns=opts.returns, tol=opts.tol)
+    if opts.model is not None:
+        model_opts = ModelOrbitOptions(opts.guess, opts.returns, opts.tol, opts.fd_check, opts.as_json, opts.out)
+        return orbit_model(opts.model, params, model_opts, opts.config, opts.plot)
+    cfg = _config("orbit", opts.config, params)
     _check_outputs(opts.out, opts.plot)  # before any work: a bad path writes nothing
     model, law, solv = cfg.build()
     found = find_orbit(model, law, x0=cfg.x0, v0=cfg.v0, transient=0.0 if opts.guess else cfg.t_end, returns=opts.returns,

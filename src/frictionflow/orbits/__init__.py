@@ -17,7 +17,8 @@ parameter), :mod:`.chart` (two-parameter stability charts),
 :mod:`.equilibria`, :mod:`.tracing` (pseudo-arclength, any problem), :mod:`.continuation`,
 :mod:`.brute_force` (simulations to overlay), :mod:`.plotting`; the forced
 oscillator's orbits (period fixed by the forcing): :mod:`.forced`, :mod:`.forced_plot`,
-and its monitors and (Omega, F_ex) charts: :mod:`.forced_chart`.
+and its monitors and (Omega, F_ex) charts: :mod:`.forced_chart`; structures with several masses and contacts:
+:mod:`.structure` (shooting, multipliers) on :mod:`.structure_flow` (return map, exact monodromy).
 """
 
 from .branches import Bifurcation, Branch, BranchPoint, ContinuationResult
@@ -31,6 +32,7 @@ from .hybrid import Phase, Segment, Switch, saltation
 from .parameters import parameter_names, with_param
 from .shooting import PeriodicOrbit, ShootingError, find_orbit, shoot
 from .brute_force import sweep
+from .structure import StructureOrbit, fd_structure_monodromy, find_structure_orbit
 from .chart import StabilityChart, stability_chart, stability_map
 from .monitors import FORCED_MONITORS, MONITORS, Extremum, branch_extrema, continue_extremum
 from .forced_chart import ForcedChart, continue_forced_extremum, forced_branch_extrema, forced_chart, forced_map
@@ -50,8 +52,10 @@ __all__ = [
     "continue_forced_extremum",
     "Extremum",
     "fd_monodromy",
+    "fd_structure_monodromy",
     "find_forced_orbit",
     "find_orbit",
+    "find_structure_orbit",
     "forced_branch_extrema",
     "forced_chart",
     "forced_map",
@@ -80,6 +84,7 @@ __all__ = [
     "StabilityChart",
     "stick_slip_grazing",
     "stroboscopic_sweep",
+    "StructureOrbit",
     "sweep",
     "Switch",
     "switch_period_doubling",

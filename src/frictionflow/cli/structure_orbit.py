@@ -1,0 +1,75 @@
+"""``frictionflow orbit --model FILE``: a structure's periodic orbit by shooting, its Floquet multipliers and powers.
+
+As for ``simulate --model``, the single-mass options are refused beside the
+model file (it describes the whole structure), except ``--t-end`` (here the
+transient before shooting); so are ``--config`` and ``--plot``.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, NamedTuple, Optional
+
+import numpy as np
+
+from ..io import check_input_path, check_output_path
+from ..orbits.structure import StructureOrbit, fd_structure_monodromy, find_structure_orbit
+from ..system import load_system
+from .output import print_summary, write_json
+from .structure import refuse_single_mass
+
+#: the transient before shooting when --t-end is not given
+DEFAULT_TRANSIENT = 300.0
+
+
+class ModelOrbitOptions(NamedTuple):
+    """The orbit command's options that apply to a model file."""
+
+    guess: bool
+    returns: int
+    tol: Optional[float]
+    fd_check: bool
+    as_json: bool
+    out: Optional[Path]
+
+
+def _refuse(params: dict[str, Any], config: Optional[Path], plot: Optional[Path]) -> None:
+    refuse_single_mass(params)
+    if config is not None:
+        raise ValueError("--model describes the whole system: --config cannot be given with it")
+    if plot is not None:
+        raise ValueError("--plot is not available with --model (use simulate --model --plot for the structure's figure)")
+
+
+def orbit_report(found: StructureOrbit, path: Path, transient: float, fd_check: bool) -> dict[str, Any]:
+    """The ``--json`` object: the orbit's report, the model file and the settings (and the FD check)."""
+    report = found.to_dict()
+    system = found.system
+    report["model"] = {"file": str(path), "dof": list(system.dof), "elements": list(system.element_names)}
+    report["params"] = {"t_transient": transient}
+    if fd_check:
+        M = fd_structure_monodromy(system, found.state, found.period)
+        report["fd_monodromy"] = M.tolist()
+        report["fd_deviation"] = float(np.max(np.abs(M - found.monodromy)))
+    return report
+
+
+def orbit_model(path: Path, params: dict[str, Any], opts: ModelOrbitOptions, config: Optional[Path] = None,
+                plot: Optional[Path] = None) -> None:
+    """The whole ``orbit --model`` command after option parsing (``params``: the single-mass options given)."""
+    _refuse(params, config, plot)
+    check_input_path(path, "--model")
+    system = load_system(path)
+    if opts.out is not None:
+        check_output_path(opts.out, (".json",), "--out")
+    transient = 0.0 if opts.guess else float(params.get("t_end") or DEFAULT_TRANSIENT)
+    found = find_structure_orbit(system, t_transient=transient, tol=opts.tol, returns=opts.returns)
+    report = orbit_report(found, path, transient, opts.fd_check)
+    if opts.out is not None:
+        write_json(opts.out, report)
+    if opts.as_json:
+        print(json.dumps(report, allow_nan=False))
+    else:
+        check = f"; max |M - M_fd| {report['fd_deviation']:.2e}" if opts.fd_check else ""
+        print_summary(found, f"model {path}: Newton shooting on the return map, exact monodromy with saltation{check}")

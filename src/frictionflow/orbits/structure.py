@@ -1,0 +1,385 @@
+"""Periodic orbits of a structure with friction contacts: Newton on the Poincare return map, Floquet multipliers.
+
+The section is the downward crossing of q_i' = 0 for one coordinate i (by
+default the one whose velocity varies most over the transient's second
+half, as :func:`frictionflow.analysis.structure.section_times` picks it).  A
+point s of the section has q_i' = 0, and q_j' = b_j along every contact
+stuck there; Newton runs on P(s) - s = 0 in the coordinates of that affine
+set (an orthonormal basis B of its directions), with the Jacobian
+B^T (DP - I) B from the exact monodromy (:mod:`.structure_flow`: phase
+transition matrices from the closed forms, saltation at every switch).
+
+At the fixed point the monodromy M over one period has the Floquet
+multipliers as its eigenvalues: one is 1 (the flow's own direction: the
+system is autonomous), a stuck contact contributes 0s (a stick phase forgets
+the perturbations it holds), and the largest of the others in modulus
+decides stability.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .._display import Row, Summarized, num
+from .._json import jsonable
+from ..analysis.structure import stick_fractions
+from ..core.assembly import Assembly
+from ..core.layout import STICK
+from ..system import assemble
+from . import floquet
+from .shooting import ShootingError
+from .structure_flow import Flow, Return, crossings, return_map
+
+#: Newton's default tolerance on |P(s) - s|, relative to the orbit's scale
+DEFAULT_TOL = 1e-11
+#: backtracking halvings before Newton gives up
+MAX_HALVINGS = 12
+#: a Newton trial must return to the section within this many current periods
+RETURN_LIMIT = 4.0
+
+
+@dataclass(frozen=True, repr=False)
+class StructureOrbit(Summarized):
+    """A periodic orbit of a structure, its Floquet multipliers and its power flow.
+
+    Attributes
+    ----------
+    state:
+        (2n,) the state (q, q') where the orbit crosses the section.
+    period:
+        The period.
+    returns:
+        How many section crossings make one period.
+    section:
+        The dof whose velocity's downward zero crossing is the section.
+    monodromy:
+        (2n, 2n) d y(T) / d y(0) over one period, saltation included.
+    multipliers:
+        Its eigenvalues, largest modulus first.
+    stick_fraction:
+        Per contact, the share of the period it spends stuck.
+    elements:
+        Element name -> its average powers over one period (:meth:`Motion.element_power`).
+    energy_residual:
+        The relative residual of the energy balance over one period.
+    residual, iterations:
+        max |P(s) - s| at the returned state and Newton's iterations.
+    motion:
+        One period run from :attr:`state` by the exact engine.
+    dof, contacts:
+        The names of the coordinates and of the contacts.
+    system:
+        The model the orbit belongs to (None for an assembly).
+    """
+
+    state: np.ndarray
+    period: float
+    section: str
+    returns: int
+    monodromy: np.ndarray
+    multipliers: np.ndarray
+    stick_fraction: tuple[float, ...]
+    elements: dict[str, dict[str, float]]
+    energy_residual: float
+    residual: float
+    iterations: int
+    motion: Any
+    dof: tuple[str, ...]
+    contacts: tuple[str, ...]
+    system: Any = field(default=None)
+
+    @property
+    def nontrivial(self) -> np.ndarray:
+        """The multipliers without the trivial one (the one closest to 1), largest modulus first."""
+        mu = self.multipliers
+        return np.delete(mu, int(np.argmin(np.abs(mu - 1.0))))
+
+    @property
+    def multiplier(self) -> complex:
+        """The nontrivial multiplier of largest modulus (it decides stability)."""
+        return complex(self.nontrivial[0])
+
+    @property
+    def stability(self) -> str:
+        """``stable``, ``unstable`` or ``neutral`` (:func:`frictionflow.orbits.floquet.classify`)."""
+        return floquet.classify(self.multiplier)
+
+    @property
+    def stable(self) -> bool:
+        return self.stability == "stable"
+
+    def _summary(self) -> tuple[str, list[Row]]:
+        n = len(self.dof)
+        rows = [
+            ("period", num(self.period, 10) + (f" ({self.returns} section crossings)" if self.returns > 1 else "")),
+            ("section", f"{self.section}' = 0; " + ", ".join(f"{d}={num(x, 8)}" for d, x in zip(self.dof, self.state[:n]))),
+            ("stability", f"{self.stability}, largest nontrivial |multiplier| {num(abs(self.multiplier))}"),
+            ("multipliers", ", ".join(num(m.real, 6) + (f"{m.imag:+.3g}j" if m.imag else "") for m in self.multipliers)),
+            ("stick fraction", ", ".join(f"{c} {num(s, 4)}" for c, s in zip(self.contacts, self.stick_fraction))),
+            ("energy residual", num(self.energy_residual, 3)),
+            ("Newton", f"{self.iterations} iterations, residual {num(self.residual, 2)}"),
+        ]
+        return "StructureOrbit", rows
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready report (NaN becomes None; multipliers as {re, im})."""
+        n = len(self.dof)
+        return jsonable({
+            "period": self.period,
+            "returns": self.returns,
+            "section": self.section,
+            "state": {"q": dict(zip(self.dof, self.state[:n])), "v": dict(zip(self.dof, self.state[n:]))},
+            "multipliers": [{"re": float(m.real), "im": float(m.imag)} for m in self.multipliers],
+            "multiplier": {"re": self.multiplier.real, "im": self.multiplier.imag},
+            "stable": self.stable,
+            "stability": self.stability,
+            "stick_fraction": list(self.stick_fraction),
+            "elements": self.elements,
+            "energy_residual": self.energy_residual,
+            "monodromy": self.monodromy,
+            "newton": {"iterations": self.iterations, "residual": self.residual},
+        })
+
+
+class Setup(NamedTuple):
+    """What the shooting works on: the flow and the names."""
+
+    flow: Flow
+    dof: tuple[str, ...]
+    contacts: tuple[str, ...]
+    system: Any
+
+
+def _setup(system_or_assembly: Any) -> Setup:
+    """The :class:`Setup` of a model or an assembly; one line if it cannot have an autonomous orbit."""
+    if isinstance(system_or_assembly, Assembly):
+        asm, system = system_or_assembly, None
+        dof = tuple(f"q{i}" for i in range(len(asm.q0)))
+        contacts = tuple(f"contact.{j}" for j in range(len(asm.belt)))
+    elif hasattr(system_or_assembly, "dof") and hasattr(system_or_assembly, "contact_names"):
+        system = system_or_assembly
+        asm, dof, contacts = assemble(system), tuple(system.dof), tuple(system.contact_names)
+    else:
+        raise TypeError("system_or_assembly must be a frictionflow.system.System or a core.assembly.Assembly, "
+                        f"got {type(system_or_assembly).__name__}")
+    if len(asm.force_amp):
+        raise ValueError("find_structure_orbit: the model has harmonic forces; its orbits are not autonomous "
+                         "(only structures without [[force]] elements are supported)")
+    if len(asm.belt) == 0:
+        raise ValueError("find_structure_orbit: the model has no contact (a linear structure has no isolated orbit)")
+    return Setup(Flow(asm, {"dof": dof}), dof, contacts, system)
+
+
+def _row(flow: Flow, motion: Any, section: Any, dof: tuple[str, ...]) -> int:
+    """The state row of the section's velocity: the dof named or indexed, or the one moving most."""
+    n = flow.n
+    if section is None:
+        t0, t1 = float(motion.t[0]), float(motion.t[-1])
+        grid = np.linspace(t0 + 0.5 * (t1 - t0), t1, 512)
+        velocities = flow.states(motion, grid)[:, n:]
+        return n + int(np.argmax(np.ptp(velocities, axis=0)))
+    if isinstance(section, str):
+        if section not in dof:
+            raise ValueError(f"section must be one of the dof ({', '.join(dof)}), got {section!r}")
+        return n + dof.index(section)
+    if isinstance(section, (int, np.integer)) and not isinstance(section, bool) and 0 <= section < n:
+        return n + int(section)
+    raise ValueError(f"section must be a dof name or an index in [0, {n - 1}], got {section!r}")
+
+
+def _constraints(flow: Flow, modes: np.ndarray, row: int) -> tuple[np.ndarray, np.ndarray]:
+    """(A, c): the section and the stuck contacts as A y = c (q'_row = 0; e_j . q' = b_j for stuck j)."""
+    n, asm = flow.n, flow.assembly
+    stuck = np.flatnonzero(np.asarray(modes) == STICK)
+    A = np.zeros((1 + len(stuck), 2 * n))
+    c = np.zeros(1 + len(stuck))
+    A[0, row] = 1.0
+    for i, j in enumerate(stuck):
+        A[1 + i, n:] = asm.contact_dir[j]
+        c[1 + i] = asm.belt[j]
+    return A, c
+
+
+def _basis(A: np.ndarray) -> np.ndarray:
+    """An orthonormal basis of A's null space (the directions Newton moves in)."""
+    _, sv, vt = np.linalg.svd(A, full_matrices=True)
+    rank = int(np.sum(sv > 1e-12 * sv.max()))
+    return vt[rank:].T.copy()
+
+
+def _project(y: np.ndarray, A: np.ndarray, c: np.ndarray, row: int) -> np.ndarray:
+    """The point of {A y = c} nearest ``y``, with the section's row exactly 0."""
+    out = y - A.T @ np.linalg.lstsq(A @ A.T, A @ y - c, rcond=None)[0]
+    out[row] = 0.0
+    return out
+
+
+def _residual(ret: Return) -> np.ndarray:
+    return ret.end - ret.start
+
+
+def _step(flow: Flow, ret: Return, row: int, returns: int) -> Return:
+    """One Newton step from ``ret`` with backtracking on max |P(s) - s|; ShootingError if it stalls."""
+    A, c = _constraints(flow, ret.modes, row)
+    B = _basis(A)
+    r = _residual(ret)
+    J = B.T @ (ret.jacobian - np.eye(len(r))) @ B
+    try:
+        step = B @ np.linalg.solve(J, -(B.T @ r))
+    except np.linalg.LinAlgError:
+        raise ShootingError("the return map's Jacobian minus I is singular: Newton cannot proceed "
+                            "(a fold, or a family of neutral orbits)") from None
+    size = float(np.max(np.abs(r)))
+    end = ret.end.copy()
+    end[row] = 0.0
+    # far from the orbit the stuck set at P(s) may differ from s's, which Newton's coordinates cannot follow:
+    # after the halvings, one plain return (s -> P(s)) still gets closer to an attracting orbit
+    trials = [_project(ret.start + 0.5 ** i * step, A, c, row) for i in range(MAX_HALVINGS)] + [end]
+    for s in trials:
+        try:  # a trial that does not return within a few periods is not closer
+            new = return_map(flow, s, row, returns, 1.5 * ret.time, limit=RETURN_LIMIT * ret.time)
+        except RuntimeError:
+            continue
+        if float(np.max(np.abs(_residual(new)))) < size:
+            return new
+    raise ShootingError(f"Newton stalled at residual {size:.3g}: no periodic orbit near this start")
+
+
+def _newton(flow: Flow, ret: Return, row: int, returns: int, tol_abs: float, max_iter: int) -> tuple[Return, int]:
+    """Newton on P(s) - s = 0 from ``ret``; the converged return and the iterations taken."""
+    for it in range(max_iter + 1):
+        if float(np.max(np.abs(_residual(ret)))) <= tol_abs:
+            return ret, it
+        if it < max_iter:
+            ret = _step(flow, ret, row, returns)
+    raise ShootingError(f"Newton did not converge in {max_iter} iterations "
+                        f"(residual {float(np.max(np.abs(_residual(ret)))):.3g})")
+
+
+def _check(t_transient: float, tol: float | None, returns: int, max_iter: int) -> None:
+    if not (isinstance(t_transient, (int, float)) and math.isfinite(t_transient) and t_transient >= 0):
+        raise ValueError(f"t_transient must be a finite number >= 0, got {t_transient!r}")
+    if tol is not None and not (isinstance(tol, (int, float)) and 0.0 < tol <= 1e-3):
+        raise ValueError(f"tol must be in (0, 1e-3], got {tol!r}")
+    if isinstance(returns, bool) or not isinstance(returns, (int, np.integer)) or not 1 <= returns <= 64:
+        raise ValueError(f"returns must be an integer in [1, 64], got {returns!r}")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
+        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+
+
+def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any, returns: int) -> tuple[Return, int]:
+    """The first return map: from the transient's last section crossing (or the guess's first), and the row."""
+    flow = setup.flow
+    slow = 2.0 * math.pi / flow.omega_min
+    length = t_transient if t_transient > 0 else 2.0 * slow * (returns + 1)
+    motion = flow.run(guess, length)
+    if motion.status != "ok":
+        raise ShootingError(f"{motion.lost[0]} lost its normal load at t={motion.lost[1]:.6g} in the transient")
+    row = _row(flow, motion, section, setup.dof)
+    times = crossings(flow, motion, row, 0.5 * length if t_transient > 0 else 0.0)
+    if len(times) == 0:
+        raise ShootingError(f"the motion does not cross the section {setup.dof[row - flow.n]}' = 0 downwards "
+                            f"in t={length:.6g} (it settled on an equilibrium, or the transient is too short)")
+    tc = float(times[-1] if t_transient > 0 else times[0])
+    gap = float(np.diff(times)[-1]) if len(times) > 1 else slow
+    s = flow.states(motion, np.array([tc]))[0]
+    s[row] = 0.0
+    try:
+        return return_map(flow, s, row, returns, 1.5 * returns * gap), row
+    except RuntimeError as e:
+        raise ShootingError(f"from the section point at t={tc:.6g}: {e}") from None
+
+
+def find_structure_orbit(
+    system_or_assembly: Any,
+    guess_state: Any = None,
+    *,
+    t_transient: float = 300.0,
+    tol: float | None = None,
+    returns: int = 1,
+    section: Any = None,
+    max_iter: int = 40,
+) -> StructureOrbit:
+    """A periodic orbit of a structure by Newton shooting on its return map, with its Floquet multipliers.
+
+    Parameters
+    ----------
+    system_or_assembly:
+        A :class:`frictionflow.system.System` or a :class:`frictionflow.core.assembly.Assembly`; contacts
+        with a piecewise-constant law (the exact engine's), no harmonic forces (the orbit is autonomous).
+    guess_state:
+        (2n,) start state (q, q'); default the model's initial state.
+    t_transient:
+        Simulate this long first and shoot from the last section crossing of its second half (> 0: an
+        attracting orbit); 0 shoots from the guess's first crossing (an unstable orbit near the guess).
+    tol:
+        Newton's tolerance on max |P(s) - s| relative to the orbit's scale (the largest of |s| and the
+        belt speeds); default 1e-11, at most 1e-3.
+    returns:
+        Section crossings per period (2 for a period-2 orbit), 1 to 64.
+    section:
+        The dof (name or index) whose velocity's downward zero crossing is the section; default the one
+        whose velocity varies most over the transient's second half.
+    max_iter:
+        Newton iterations before :class:`~frictionflow.orbits.shooting.ShootingError`.
+    """
+    _check(t_transient, tol, returns, max_iter)
+    setup = _setup(system_or_assembly)
+    flow, n = setup.flow, setup.flow.n
+    asm = flow.assembly
+    guess = np.concatenate((asm.q0, asm.v0)) if guess_state is None else np.asarray(guess_state, dtype=float)
+    if guess.shape != (2 * n,) or not np.all(np.isfinite(guess)):
+        raise ValueError(f"guess_state must be {2 * n} finite numbers (q then q'), got shape {guess.shape}")
+    ret, row = _start(setup, guess, float(t_transient), section, int(returns))
+    scale = max(float(np.max(np.abs(ret.start))), float(np.max(np.abs(asm.belt))), 1e-12)
+    ret, iterations = _newton(flow, ret, row, int(returns), (DEFAULT_TOL if tol is None else tol) * scale,
+                              int(max_iter))
+    return _orbit(setup, ret, row, int(returns), iterations, scale)
+
+
+def _orbit(setup: Setup, ret: Return, row: int, returns: int, iterations: int, scale: float) -> StructureOrbit:
+    """The :class:`StructureOrbit` of a converged return; ShootingError if it is an equilibrium."""
+    flow, T = setup.flow, ret.time
+    one = flow.run(ret.start, T)
+    grid = flow.states(one, np.linspace(0.0, T, 65))
+    if float(np.max(np.ptp(grid, axis=0))) <= 1e-9 * scale:
+        raise ShootingError("shooting converged onto an equilibrium: no periodic orbit near this start")
+    return StructureOrbit(
+        state=ret.start.copy(), period=T, section=setup.dof[row - flow.n], returns=returns,
+        monodromy=ret.monodromy, multipliers=floquet.multipliers(ret.monodromy),
+        stick_fraction=stick_fractions(one, (0.0, T)), elements=one.element_power(0.0, T),
+        energy_residual=one.energy_residual, residual=float(np.max(np.abs(_residual(ret)))),
+        iterations=iterations, motion=one, dof=setup.dof, contacts=setup.contacts, system=setup.system,
+    )
+
+
+def fd_structure_monodromy(system_or_assembly: Any, state: Any, period: float, eps: float | None = None) -> np.ndarray:
+    """The monodromy by central differences of the time-``period`` map, each end from a run of the exact engine.
+
+    Independent of the phase matrices and the saltation: a check on them (its columns for velocity
+    perturbations across a stuck contact's constraint start that contact slipping, so they differ there).
+
+    Parameters
+    ----------
+    system_or_assembly:
+        The structure.
+    state:
+        (2n,) the state at the start of the period.
+    period:
+        The time the map integrates over.
+    eps:
+        The difference step (default 1e-6 of the state's scale).
+    """
+    flow = _setup(system_or_assembly).flow
+    y = np.asarray(state, dtype=float)
+    scale = max(float(np.max(np.abs(y))), float(np.max(np.abs(flow.assembly.belt))), 1e-12)
+    h = 1e-6 * scale if eps is None else float(eps)
+    cols = []
+    for e in np.eye(len(y)):
+        ends = [flow.run(y + sign * h * e, float(period)).state[:, -1] for sign in (1.0, -1.0)]
+        cols.append((ends[0] - ends[1]) / (2.0 * h))
+    return np.column_stack(cols)

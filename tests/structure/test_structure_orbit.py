@@ -1,0 +1,272 @@
+"""Periodic orbits of structures (issue 22 item 4): shooting on the return map, exact monodromy, Floquet multipliers.
+
+Independent references: the single-mass orbit finder (its own flow maps and
+saltation) on the golden Coulomb cases; finite-difference monodromies from
+runs of the exact engine written here; the flow direction (vector field
+assembled by hand) as the trivial multiplier's eigenvector; one period of
+the engine from the orbit's state returning to it.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from frictionflow import BeltOscillator, Coulomb
+from frictionflow.core.layout import FD
+from frictionflow.orbits import find_orbit
+from frictionflow.orbits.shooting import ShootingError
+from frictionflow.orbits.structure import find_structure_orbit
+from frictionflow.solvers.structure import run_assembly
+from frictionflow.system import System, load_system
+from tests.cli.processes import cli, one_line
+from tests.golden.cases import ORBIT
+
+from .builders import assembly, chain, single_mass
+
+#: two-mass chains with stick-slip orbits: (fs, belts, damper c, coupling k, section crossings per period)
+CHAINS = {
+    "both_stick": (0.2, (0.02, 0.026), 0.3, 0.5, 1),
+    "light_damping": (0.2, (0.02, 0.026), 0.1, 0.5, 1),
+    "one_sticks": (0.2, (0.02, 0.04), 0.3, 0.3, 1),
+    "period_two": (0.2, (0.01, 0.013), 0.6, 0.5, 2),
+}
+
+
+def _chain(name):
+    fs, belts, c, kc, returns = CHAINS[name]
+    return chain(2, Coulomb(fd=0.1, fs=fs), list(belts), c=c, k_couple=kc, q0=[0.0, 0.5]), returns
+
+
+def _golden_args(case):
+    argv = ORBIT[case]
+    values = {argv[i][2:]: argv[i + 1] for i in range(1, len(argv) - 1, 2) if argv[i].startswith("--")}
+    assert values["friction"] == "coulomb"
+    return BeltOscillator(zeta=float(values["zeta"]), vb=float(values["vb"])), \
+        Coulomb(fd=float(values["fd"]), fs=float(values["fs"])), float(values["t-end"])
+
+
+def _end(asm, y, t_end):
+    n = len(asm.q0)
+    motion = run_assembly(asm._replace(q0=y[:n].copy(), v0=y[n:].copy()), t_end)
+    return motion.state[:, -1]
+
+
+def _fd_monodromy(asm, y, period, h=1e-7):
+    """Central differences of the engine's time-``period`` map (independent of the phase matrices and saltation)."""
+    cols = [(_end(asm, y + h * e, period) - _end(asm, y - h * e, period)) / (2 * h) for e in np.eye(len(y))]
+    return np.column_stack(cols)
+
+
+def _field(asm, y):
+    """(q', q'') with every contact slipping, assembled by hand: M q'' = -K q - C q' + sum sigma_j fd_j e_j."""
+    n = len(asm.q0)
+    q, v = y[:n], y[n:]
+    sigma = np.sign(asm.belt - asm.contact_dir @ v)
+    friction = asm.contact_dir.T @ (sigma * asm.law[:, FD])
+    return np.concatenate((v, np.linalg.solve(asm.mass, -asm.stiffness @ q - asm.damping @ v + friction)))
+
+
+@pytest.mark.parametrize("case", sorted(c for c in ORBIT if c.startswith("orbit_coulomb")))
+def test_one_dof_equals_the_single_mass_orbit(case):
+    osc, law, transient = _golden_args(case)
+    ref = find_orbit(osc, law, transient=transient)
+    found = find_structure_orbit(System.single_mass(osc, law, x0=law.fd, v0=osc.vb), t_transient=transient)
+    assert found.period == pytest.approx(ref.period, rel=1e-9, abs=0)
+    assert found.state[0] == pytest.approx(ref.state[0], rel=1e-9) and found.state[1] == 0.0
+    np.testing.assert_allclose(np.sort_complex(found.multipliers), np.sort_complex(ref.multipliers), atol=1e-9)
+    np.testing.assert_allclose(found.monodromy, ref.monodromy, atol=1e-9)
+    assert found.stability == ref.stability == "stable"
+    assert found.stick_fraction[0] == pytest.approx(ref.stick_fraction, abs=1e-9)
+
+
+@pytest.mark.parametrize("zeta, vb, stick_force", [(0.05, 0.01, "spring"), (0.02, 0.005, "spring"),
+                                                   (0.03, 0.01, "resultant")])
+def test_one_dof_equals_the_single_mass_orbit_for_either_held_force(zeta, vb, stick_force):
+    osc, law = BeltOscillator(zeta=zeta, vb=vb), Coulomb(fd=0.02, fs=0.04, stick_force=stick_force)
+    ref = find_orbit(osc, law, transient=300.0)
+    found = find_structure_orbit(System.single_mass(osc, law, x0=law.fd, v0=vb), t_transient=300.0)
+    assert found.period == pytest.approx(ref.period, rel=1e-9, abs=0)
+    np.testing.assert_allclose(found.monodromy, ref.monodromy, atol=1e-9)
+
+
+def test_one_dof_monodromy_against_finite_differences():
+    law = Coulomb(fd=0.02, fs=0.04)
+    asm = single_mass(0.05, 0.01, law, 0.02, 0.01)
+    found = find_structure_orbit(asm)
+    np.testing.assert_allclose(found.monodromy, _fd_monodromy(asm, found.state, found.period), atol=1e-6)
+
+
+@pytest.mark.parametrize("name", sorted(CHAINS))
+def test_chain_orbit_is_a_fixed_point_of_one_period(name):
+    asm, returns = _chain(name)
+    found = find_structure_orbit(asm, returns=returns)
+    assert found.state[2 + ["q0", "q1"].index(found.section)] == 0.0
+    np.testing.assert_allclose(_end(asm, found.state, found.period), found.state, atol=1e-10)
+    assert all(0.0 <= s < 1.0 for s in found.stick_fraction) and max(found.stick_fraction) > 0.1
+    assert found.energy_residual < 1e-12
+
+
+@pytest.mark.parametrize("name", sorted(CHAINS))
+def test_chain_monodromy_against_finite_differences(name):
+    asm, returns = _chain(name)
+    found = find_structure_orbit(asm, returns=returns)
+    assert np.all(found.motion.modes[:, 0] != 0)  # the section point slips: every perturbation is admissible
+    fd = _fd_monodromy(asm, found.state, found.period)
+    np.testing.assert_allclose(found.monodromy, fd, atol=1e-6 * max(1.0, np.abs(fd).max()))
+    mu_fd = np.linalg.eigvals(fd)
+    for mu in found.multipliers:
+        assert np.min(np.abs(mu_fd - mu)) < 1e-5
+
+
+def test_chain_with_a_state_dependent_normal_load():
+    """contact.0's load N = 1 - 0.3 x2: the slip force adds stiffness and the stick limit moves with x2."""
+    law = Coulomb(fd=0.1, fs=0.2).kernel_params()
+    asm = assembly([1.0, 1.0], springs=[([1, 0], 1.0), ([0, 1], 1.0), ([1, -1], 0.5)],
+                   dampers=[([1, 0], 0.3), ([0, 1], 0.3)],
+                   contacts=[([1, 0], 0.02, law, [1.0, 0.0, -0.3]), ([0, 1], 0.026, law, None)], q0=[0.0, 0.5])
+    found = find_structure_orbit(asm)
+    assert min(found.stick_fraction) > 0.1
+    np.testing.assert_allclose(_end(asm, found.state, found.period), found.state, atol=1e-10)
+    fd = _fd_monodromy(asm, found.state, found.period)
+    np.testing.assert_allclose(found.monodromy, fd, atol=1e-6 * max(1.0, np.abs(fd).max()))
+
+
+@pytest.mark.parametrize("name", sorted(CHAINS))
+def test_trivial_multiplier_is_the_flow_direction(name):
+    asm, returns = _chain(name)
+    found = find_structure_orbit(asm, returns=returns)
+    f0 = _field(asm, found.state)
+    np.testing.assert_allclose(found.monodromy @ f0, f0, atol=1e-9 * np.abs(f0).max())
+    assert np.min(np.abs(found.multipliers - 1.0)) < 1e-9
+    assert found.stable and abs(found.multiplier) < 1.0
+
+
+def test_newton_from_a_perturbed_guess_converges_to_the_same_orbit():
+    asm, _ = _chain("light_damping")
+    found = find_structure_orbit(asm)
+    guess = found.state + np.array([0.01, -0.01, 0.0, 0.002])
+    again = find_structure_orbit(asm, guess, t_transient=0.0, section=found.section)
+    assert again.iterations >= 1
+    assert again.period == pytest.approx(found.period, rel=1e-10)
+    np.testing.assert_allclose(again.state, found.state, atol=1e-10)
+
+
+@pytest.mark.parametrize("name", ["both_stick", "light_damping"])
+def test_a_section_point_with_a_stuck_contact(name):
+    """On q0' = 0 contact.1 is stuck (q1' = its belt): Newton moves within that constraint, and the orbit, its
+    period and its multipliers are those found on the other section."""
+    asm, _ = _chain(name)
+    other = find_structure_orbit(asm, section="q1")
+    found = find_structure_orbit(asm, section="q0")
+    assert list(found.motion.modes[:, 0]) == [1, 0] and found.state[3] == asm.belt[1]
+    assert found.period == pytest.approx(other.period, rel=1e-12)
+    np.testing.assert_allclose(np.sort_complex(found.multipliers), np.sort_complex(other.multipliers), atol=1e-9)
+    again = find_structure_orbit(asm, found.state + np.array([0.002, -0.002, 0.0, 0.0]), t_transient=0.0,
+                                 section="q0")
+    assert again.iterations >= 1
+    np.testing.assert_allclose(again.state, found.state, atol=1e-12)
+    np.testing.assert_allclose(_end(asm, found.state, found.period), found.state, atol=1e-10)
+
+
+def test_element_powers_over_one_period_balance():
+    asm, _ = _chain("both_stick")
+    found = find_structure_orbit(asm)
+    el = found.elements
+    # over a period the stored energy returns: the belts' input is what the dampers and interfaces take out
+    springs = sum(p["P"] for name, p in el.items() if name.startswith("spring."))
+    dampers = sum(p["P"] for name, p in el.items() if name.startswith("damper."))
+    belts = sum(p["P_belt"] for name, p in el.items() if name.startswith("contact."))
+    heat = sum(p["P_heat"] for name, p in el.items() if name.startswith("contact."))
+    assert abs(springs) < 1e-12 and dampers < 0.0 < heat
+    assert belts + dampers - heat == pytest.approx(0.0, abs=1e-12 * belts)
+    # V_r >= 0 throughout (no slip-): the heat F_d |V_r| averages to F_d <V_r> = F_d (b - <q'>) = F_d b
+    assert np.all(found.motion.modes >= 0)
+    for j in range(2):
+        assert el[f"contact.{j}"]["P_heat"] == pytest.approx(asm.law[j, FD] * asm.belt[j], rel=1e-12)
+
+
+def test_bad_arguments_are_refused_in_one_line():
+    asm, _ = _chain("both_stick")
+    with pytest.raises(ValueError, match="tol must be in"):
+        find_structure_orbit(asm, tol=0.1)
+    with pytest.raises(ValueError, match="returns must be"):
+        find_structure_orbit(asm, returns=0)
+    with pytest.raises(ValueError, match="guess_state must be 4"):
+        find_structure_orbit(asm, [0.0, 1.0])
+    with pytest.raises(ValueError, match="section must be"):
+        find_structure_orbit(asm, section="x9")
+    forced = chain(2, Coulomb(fd=0.1, fs=0.2), [0.02, 0.02], forces=[([1.0, 0.0], 0.1, 0.9, 0.0)])
+    with pytest.raises(ValueError, match="harmonic forces"):
+        find_structure_orbit(forced)
+    with pytest.raises(TypeError, match="system_or_assembly"):
+        find_structure_orbit("model.toml")
+
+
+def test_a_settled_equilibrium_is_no_orbit():
+    asm = chain(2, Coulomb(fd=0.1, fs=0.1), [0.5, 0.5], c=0.5, q0=[0.1, 0.1])  # fast belt: steady sliding
+    with pytest.raises(ShootingError, match="equilibrium"):
+        find_structure_orbit(asm, t_transient=200.0)
+
+
+MODEL = """dof = ["x1", "x2"]
+mass = [1.0, 1.0]
+[[spring]]
+on = { x1 = 1.0 }
+k = 1.0
+[[spring]]
+on = { x2 = 1.0 }
+k = 1.0
+[[spring]]
+on = { x1 = 1.0, x2 = -1.0 }
+k = 0.5
+[[damper]]
+on = { x1 = 1.0 }
+c = 0.3
+[[damper]]
+on = { x2 = 1.0 }
+c = 0.3
+[[contact]]
+on = { x1 = 1.0 }
+belt = 0.02
+friction = "coulomb"
+fd = 0.1
+fs = 0.2
+[[contact]]
+on = { x2 = 1.0 }
+belt = 0.026
+friction = "coulomb"
+fd = 0.1
+fs = 0.2
+[initial]
+q = { x2 = 0.5 }
+"""
+
+
+def test_cli_orbit_model_json(tmp_path):
+    path = tmp_path / "chain.toml"
+    path.write_text(MODEL, encoding="utf-8")
+    code, out, err, _ = cli("orbit", "--model", str(path), "--json", "--tol", "1e-11")
+    assert code == 0, err
+    report = json.loads(out)
+    api = find_structure_orbit(_chain("both_stick")[0], tol=1e-11)
+    assert report["period"] == pytest.approx(api.period, rel=1e-10)
+    assert report["section"] == "x2" and report["stable"] is True
+    assert [m["re"] for m in report["multipliers"]] == pytest.approx([m.real for m in api.multipliers], abs=1e-9)
+    assert report["stick_fraction"] == pytest.approx(list(api.stick_fraction), abs=1e-9)
+    assert set(report["elements"]) == set(load_system(path).element_names)
+    assert report["energy_residual"] < 1e-12
+    assert report["state"]["v"]["x2"] == 0.0
+
+
+def test_cli_orbit_model_refuses_single_mass_options(tmp_path):
+    path = tmp_path / "chain.toml"
+    path.write_text(MODEL, encoding="utf-8")
+    code, out, err, _ = cli("orbit", "--model", str(path), "--zeta", "0.1")
+    assert code == 2 and out == ""
+    one_line(err, "--zeta", "--model")
+    code, out, err, _ = cli("orbit", "--model", str(path), "--plot", str(tmp_path / "o.png"))
+    assert code == 2 and not (tmp_path / "o.png").exists()
+    one_line(err, "--plot")
