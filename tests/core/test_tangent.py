@@ -90,6 +90,24 @@ def test_stick_exit_at_an_interior_maximum_is_found():
     assert te == pytest.approx(math.acos(-fs / fex), rel=1e-15)
 
 
+def test_a_phase_held_past_fs_goes_on_past_its_monotone_piece():
+    # a stick phase begins where the stick rule held the interface (rest_mode): begun past F_s moving outwards
+    # (no consistent slip direction), it ends only where the held force, back inside, next reaches F_s outwards
+    zeta, vb, fs, fex, omega = 0.0, 0.002, 0.04, 0.03, 1.0
+    p = kernel_params(BeltOscillator(zeta=zeta, vb=vb, fex=fex, omega=omega), Coulomb(0.02, fs, stick_force="spring"))
+    t0 = 2.5
+    x0 = 1.01 * fs + fex * math.cos(omega * t0)  # F_e - f = 1.01 F_s, rising: V_b - f' = V_b + F_ex sin 2.5 > 0
+
+    def q(t):
+        return x0 + vb * (t - t0) - fex * math.cos(omega * t)
+
+    turn = brentq(lambda t: vb + fex * omega * math.sin(omega * t), 2.6, 4.0, xtol=1e-15)  # its maximum
+    back = brentq(lambda t: q(t) - fs, turn, turn + 2.0, xtol=1e-15)  # back inside
+    expected, side = _first_arrival(q, back + 1e-9, back + 20.0, fs)
+    te = tg.stick_phase(x0, t0, 50.0, zeta, vb, p)[2]
+    assert te == pytest.approx(expected, rel=2e-15)
+
+
 def test_unforced_stick_exit_is_the_closed_form():
     # F_e = X + 2 zeta V_b grows at V_b: it reaches F_s after (F_s - F_e) / V_b
     zeta, vb, fs = 0.05, 0.01, 0.04
