@@ -4,8 +4,8 @@ While the mass sticks from (ts, xs), X = xs + V_b (tau - ts) and X' = V_b,
 so the force the interface must hold, F_e - f(tau) (:func:`~.friction.held_force`),
 is an explicit function of tau (:func:`held_along`) with the rate
 V_b - f'(tau).  The stick ends where it first reaches |F_e - f| >= F_s
-moving outwards: unforced by a closed form
-(:func:`~.friction.stick_duration`), forced by the search here.
+moving outwards; an unforced stick has a closed form for that
+(:func:`~.friction.stick_duration`), a forced one is searched here.
 
 The rate's zeros are known in closed form (:func:`next_turn`), so the held
 force is walked through its monotone pieces: on each it crosses a level iff
@@ -24,7 +24,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .friction import FEX, OMEGA, PHI, external_force, held_force, stick_duration
+from .friction import FEX, OMEGA, PHI, external_force, held_force
 
 
 @njit(cache=True)
@@ -83,12 +83,11 @@ def exit_time(xs, ts, t_end, hold, zeta, vb, fs, res, p):
     excursion however short is found, to the last bit by bisection.  With
     ``hold`` (it was on the bound and held there) the first piece does not
     end the stick if it starts on the bound already.  Unforced (F_ex = 0)
-    the held force moves at V_b, one piece for ever: the closed form
-    :func:`~.friction.stick_duration`.
+    the held force moves at V_b, one piece to ``t_end``: bisected like the
+    others rather than taken from the closed form
+    (:func:`~.friction.stick_duration`), whose rounding may leave the force
+    the caller evaluates there a few units below F_s.
     """
-    if p[FEX] == 0.0:
-        dur = stick_duration(xs, zeta, vb, fs, res)
-        return t_end if hold and dur == 0.0 else min(ts + dur, t_end)
     a = ts
     ga = held_along(xs, ts, a, zeta, vb, res, p)
     while a < t_end:
