@@ -74,8 +74,8 @@ the state and tangent vectors at the switch are one RK4 step of length theta.
 A stick phase ends where |F_e - f(tau)| reaches F_s moving outwards: an
 explicit function of tau, searched once per phase, off the grid, by the
 adaptive kernel's rule (:func:`.stick.exit_time`: the held force walked
-through its monotone pieces and bisected to the last bit; unforced, the
-closed form).  The mode after every switch is :func:`~.friction.rest_mode`
+through its monotone pieces and bisected to the last bit; unforced, one
+piece).  The mode after every switch is :func:`~.friction.rest_mode`
 with the external force and its rate at that instant; where it holds the
 interface at F_s (no slip direction is consistent) the stick goes on as a
 new phase past the monotone piece it holds on.
