@@ -108,7 +108,7 @@ def test_a_phase_held_past_fs_goes_on_past_its_monotone_piece():
     assert te == pytest.approx(expected, rel=2e-15)
 
 
-def test_unforced_stick_exit_is_the_closed_forms():
+def test_unforced_stick_exit_is_the_closed_form():
     # F_e = X + 2 zeta V_b grows at V_b: it reaches F_s after (F_s - F_e) / V_b
     zeta, vb, fs = 0.05, 0.01, 0.04
     p = kernel_params(BeltOscillator(zeta=zeta, vb=vb), Coulomb(0.02, fs))
