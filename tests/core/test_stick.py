@@ -1,4 +1,4 @@
-"""The forced stick phase (core/stick.py) against an independent scan, and the two searches of its exit against each other."""
+"""The forced stick phase (core/stick.py) against an independent scan, in the walk itself and in the forced map's stick phases."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import pytest
 from scipy.optimize import brentq
 
 from frictionflow import BeltOscillator, Coulomb
+from frictionflow.core import forced_map as fm
 from frictionflow.core import stick
-from frictionflow.core import tangent as tg
 from frictionflow.solvers.base import kernel_params
 
 #: (zeta, V_b, F_s, F_ex, Omega, phi, resultant): turning held forces (|V_b| < F_ex Omega) and a monotone one
@@ -82,29 +82,29 @@ def test_friction_zero_is_where_the_held_friction_force_changes_sign(case):
 
 
 @pytest.mark.parametrize("case", CASES)
-def test_the_tangent_integrators_search_finds_the_same_exit(case):
-    # the tangent kernel walks the stick step by step with its own refinement (false position): the same rule
+def test_the_forced_maps_stick_phase_ends_at_the_first_arrival(case):
+    # the tangent integrator's stick phases (here the forced map's, which lists them) end by the same walk
     zeta, vb, fs, fex, omega, phi, res = case
     p = _p(*case)
-    x0, t0, t_end = 0.1, 0.0, 40.0
-    walk = stick.exit_time(x0, t0, t_end, False, zeta, vb, fs, res, p)
-    steps = np.linspace(t0, t_end, 801)
-    found = (math.inf, 0)
-    for a, b in zip(steps[:-1], steps[1:]):
-        found = tg.stick_exit(x0, t0, a, b, zeta, vb, res, fs, p)
-        if found[1]:
-            break
-    te, side = found
-    assert te == pytest.approx(walk, rel=1e-13)
-    assert side == int(math.copysign(1.0, stick.held_along(x0, t0, te, zeta, vb, res, p)))
+    x0, t_end = 0.1, 40.0
+    out = fm.map_out()
+    status, n_sticks = fm.flow_map(x0, vb, zeta, vb, p, t_end, 800, out)
+    assert status == fm.OK and n_sticks >= 1
+    expected, _ = _first_exit(x0, 0.0, t_end, zeta, vb, fs, fex, omega, phi, res)
+    assert out.sticks[0, 0] == 0.0
+    assert out.sticks[0, 1] == pytest.approx(expected, rel=4e-15)
 
 
-def test_held_force_and_its_rate():
+def test_held_force_and_its_turns():
     zeta, vb, fs, fex, omega, phi, res = CASES[1]
     p = _p(*CASES[1])
     for t in (0.0, 0.7, 3.9):
         assert stick.held_along(0.2, 0.1, t, zeta, vb, res, p) == pytest.approx(
             _held(0.2, 0.1, t, zeta, vb, fex, omega, phi, res), rel=1e-15, abs=1e-16)
-        h = 1e-6
-        fd = (_held(0.2, 0.1, t + h, zeta, vb, fex, omega, phi, res) - _held(0.2, 0.1, t - h, zeta, vb, fex, omega, phi, res)) / (2 * h)
-        assert stick.held_rate(t, vb, p) == pytest.approx(fd, rel=1e-8)
+        # the next turn: the rate V_b - f' = V_b + F_ex Omega sin(Omega t + phi) is 0 there and keeps its sign before
+        tc = stick.next_turn(t, vb, p)
+        rate = lambda s: vb + fex * omega * np.sin(omega * s + phi)  # noqa: E731
+        assert abs(rate(tc)) <= 1e-15
+        inside = np.linspace(t, tc, 1001)[1:-1]
+        assert np.all(np.sign(rate(inside)) == np.sign(rate(inside[0])))
+    assert stick.next_turn(0.0, 0.8, _p(*CASES[3])) == math.inf  # |V_b| > F_ex Omega

@@ -59,6 +59,14 @@ def test_a_touch_of_v_b_inside_one_step_is_found():
     assert out[1] == pytest.approx(vb, abs=1e-15)
 
 
+def _first_arrival(q, t0, t1, fs):
+    """The first time |q| >= F_s on a fine scan, refined by brentq to the last bits (xtol ~0, rtol 4 eps), and its side."""
+    grid = np.linspace(t0, t1, 30001)
+    first = next(i for i, t in enumerate(grid) if abs(q(t)) >= fs)
+    side = 1 if q(grid[first]) > 0 else -1
+    return brentq(lambda t: side * q(t) - fs, grid[first - 1], grid[first], xtol=1e-300), side
+
+
 def test_stick_exit_is_where_the_interface_force_reaches_fs():
     zeta, vb, fs, fex, omega = 0.05, 0.1, 1.0, 0.5, 1.3
     p = kernel_params(BeltOscillator(zeta=zeta, vb=vb, fex=fex, omega=omega), Coulomb(0.5, fs))
@@ -67,26 +75,47 @@ def test_stick_exit_is_where_the_interface_force_reaches_fs():
     def q(t):  # F_e - f(tau) while sticking
         return x0 + vb * (t - t0) + 2 * zeta * vb - fex * math.cos(omega * t)
 
-    grid = np.linspace(t0, t0 + 30.0, 30001)
-    first = next(i for i, t in enumerate(grid) if abs(q(t)) >= fs)
-    side = 1 if q(grid[first]) > 0 else -1
-    expected = brentq(lambda t: side * q(t) - fs, grid[first - 1], grid[first], xtol=1e-15)
-    te, found_side = math.inf, 0
-    for a, b in zip(np.arange(t0, t0 + 30.0, 0.05), np.arange(t0 + 0.05, t0 + 30.05, 0.05)):
-        te, found_side = tg.stick_exit(x0, t0, a, b, zeta, vb, True, fs, p)
-        if found_side:
-            break
-    assert found_side == side
-    assert te == pytest.approx(expected, abs=1e-12)
+    expected, side = _first_arrival(q, t0, t0 + 30.0, fs)
+    xs, ts, te = tg.stick_phase(x0, t0, t0 + 30.0, zeta, vb, p)
+    assert (xs, ts) == (x0, t0)
+    assert te == pytest.approx(expected, rel=2e-15)
+    assert side * q(te) >= fs * (1 - 1e-15)
 
 
 def test_stick_exit_at_an_interior_maximum_is_found():
-    # V_b = 0: the interface force is X + 0 - f(tau), maximal at Omega tau = pi: reaches F_s inside (a, b)
+    # V_b = 0: the interface force is X + 0 - f(tau), maximal at Omega tau = pi: reaches F_s before it
     fs, fex, omega, x0 = 0.4, 0.5, 1.0, 0.0
     p = kernel_params(BeltOscillator(zeta=0.0, vb=0.0, fex=fex, omega=omega), Coulomb(0.2, fs))
-    te, side = tg.stick_exit(x0, 0.0, math.pi - 1.0, math.pi + 1.0, 0.0, 0.0, True, fs, p)
-    assert side == 1
-    assert te == pytest.approx(math.acos(-fs / fex), abs=1e-12)
+    te = tg.stick_phase(x0, math.pi - 1.0, math.pi + 1.0, 0.0, 0.0, p)[2]
+    assert te == pytest.approx(math.acos(-fs / fex), rel=1e-15)
+
+
+def test_a_phase_held_past_fs_goes_on_past_its_monotone_piece():
+    # a stick phase begins where the stick rule held the interface (rest_mode): begun past F_s moving outwards
+    # (no consistent slip direction), it ends only where the held force, back inside, next reaches F_s outwards
+    zeta, vb, fs, fex, omega = 0.0, 0.002, 0.04, 0.03, 1.0
+    p = kernel_params(BeltOscillator(zeta=zeta, vb=vb, fex=fex, omega=omega), Coulomb(0.02, fs, stick_force="spring"))
+    t0 = 2.5
+    x0 = 1.01 * fs + fex * math.cos(omega * t0)  # F_e - f = 1.01 F_s, rising: V_b - f' = V_b + F_ex sin 2.5 > 0
+
+    def q(t):
+        return x0 + vb * (t - t0) - fex * math.cos(omega * t)
+
+    turn = brentq(lambda t: vb + fex * omega * math.sin(omega * t), 2.6, 4.0, xtol=1e-15)  # its maximum
+    back = brentq(lambda t: q(t) - fs, turn, turn + 2.0, xtol=1e-15)  # back inside
+    expected, side = _first_arrival(q, back + 1e-9, back + 20.0, fs)
+    te = tg.stick_phase(x0, t0, 50.0, zeta, vb, p)[2]
+    assert te == pytest.approx(expected, rel=2e-15)
+
+
+def test_unforced_stick_exit_is_the_closed_form():
+    # F_e = X + 2 zeta V_b grows at V_b: it reaches F_s after (F_s - F_e) / V_b
+    zeta, vb, fs = 0.05, 0.01, 0.04
+    p = kernel_params(BeltOscillator(zeta=zeta, vb=vb), Coulomb(0.02, fs))
+    x0, t0 = -0.01, 2.0
+    te = tg.stick_phase(x0, t0, 100.0, zeta, vb, p)[2]
+    assert te == pytest.approx(t0 + (fs - x0 - 2 * zeta * vb) / vb, rel=1e-15)
+    assert tg.stick_phase(x0, t0, 5.0, zeta, vb, p)[2] == 5.0  # not before the end
 
 
 def _block_map(p, zeta, vb, block, y, n_sub=512):

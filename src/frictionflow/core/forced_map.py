@@ -44,11 +44,11 @@ from numba import njit
 from .friction import FS, RESULTANT, external_force, external_force_rate, rest_mode
 from .hermite import hermite_min
 from .layout import FEX, N_WORK, OMEGA, W_DV, W_EX, W_FIN, W_FOUT
+from .stick import held_along, next_turn
 from .tangent import (
     saltation_reversal, saltation_slip, saltation_stick,
     C_GRAZE, C_HELD, C_REVERSAL, C_SLIP, C_STICK, EPS, MAX_ZERO_PHASES, N_COUNTS, NOT_FINITE, NY, OK, ZERO_PHASES,
-    _stick_gap, _stick_gap_rate, _stick_max, accel, rounding_noise, scratch, slip_force, slip_until,
-    start_mode, stick_exit,
+    accel, rounding_noise, scratch, slip_force, slip_until, start_mode, stick_phase,
 )
 
 __all__ = ["flow_map", "map_out", "MapOut", "N_COUNTS", "N_STATS", "MAX_STICKS", "OK", "ZERO_PHASES", "NOT_FINITE",
@@ -200,13 +200,17 @@ def _track_point(x, v, zeta, stats):
 
 @njit(cache=True)
 def _track_hold(x_s, t_s, a, b, zeta, vb, res, fs, p, stats):
-    """The margin F_s - |F_e - f| at interior maxima of either side's held force on the stick piece [a, b]."""
-    if b <= a:
-        return
-    for side in (1.0, -1.0):
-        if _stick_gap_rate(a, side, vb, p) > 0.0 and _stick_gap_rate(b, side, vb, p) < 0.0:
-            tm = _stick_max(a, b, side, vb, p)
-            stats[S_HOLD] = min(stats[S_HOLD], max(-_stick_gap(x_s, t_s, tm, side, zeta, vb, res, fs, p), 0.0))
+    """The margin F_s - |F_e - f| where the held force turns away from F_s inside the stick piece (a, b).
+
+    Its turns are :func:`.stick.next_turn`'s; (F_e - f)'' = -f'' = Omega^2 f,
+    so a turn is a maximum (towards +F_s) where f < 0, a minimum where f > 0.
+    """
+    tm = next_turn(a, vb, p)
+    while tm < b:
+        side = -1.0 if external_force(p, tm) > 0.0 else 1.0
+        margin = fs - side * held_along(x_s, t_s, tm, zeta, vb, res, p)
+        stats[S_HOLD] = min(stats[S_HOLD], max(margin, 0.0))
+        tm = next_turn(tm, vb, p)
 
 
 # -- the run ------------------------------------------------------------------------------------------------
@@ -314,22 +318,25 @@ def _walk(bl, p, y, mode, fresh, span, n_steps, out):
     g = np.empty((4, N_WORK))
     h = span / n_steps
     t = 0.0
-    x_s, t_s = y[0], 0.0  # where the current stick phase began
+    phase = stick_phase(y[0], 0.0, span, zeta, vb, p) if mode == 0 else (y[0], 0.0, span)
     n_sticks = zero_run = 0
     for j in range(1, n_steps + 1):
         target = span if j == n_steps else j * h
         while t < target:
             if mode == 0:
-                te, side = stick_exit(x_s, t_s, t, target, zeta, vb, res, fs, p)
-                t_next = target if side == 0 else te
+                x_s, t_s, te = phase
+                leaves = te <= target and te < span
+                t_next = te if leaves else target
                 stick_work(x_s, t_s, t, t_next, zeta, vb, p, work)
                 _track_hold(x_s, t_s, t, t_next, zeta, vb, res, fs, p, stats)
                 stats[S_STICK_TIME] += t_next - t
                 t = t_next
                 y[0] = x_s + vb * (t - t_s)
                 _track_point(y[0], y[1], zeta, stats)
-                if side != 0:
+                if leaves:
                     mode, n_sticks = _slip_onset(bl, p, y, t, out, n_sticks)
+                    if mode == 0:  # held at F_s: on, as a new phase past the monotone piece it holds on
+                        phase = stick_phase(y[0], t, span, zeta, vb, p)
                     fresh = fresh or mode != 0
                 continue
             d = float(mode)
@@ -354,7 +361,7 @@ def _walk(bl, p, y, mode, fresh, span, n_steps, out):
                 return ZERO_PHASES, mode, n_sticks
             mode, fresh = _on_switch(bl, p, y, mode, t, out, n_sticks)
             if mode == 0:
-                x_s, t_s = y[0], t
+                phase = stick_phase(y[0], t, span, zeta, vb, p)
     return OK, mode, n_sticks
 
 

@@ -3,21 +3,18 @@
 While the mass sticks from (ts, xs), X = xs + V_b (tau - ts) and X' = V_b,
 so the force the interface must hold, F_e - f(tau) (:func:`~.friction.held_force`),
 is an explicit function of tau (:func:`held_along`) with the rate
-V_b - f'(tau) (:func:`held_rate`).  The stick ends where it first reaches
-|F_e - f| >= F_s moving outwards; an unforced stick has a closed form for
-that (:func:`~.friction.stick_duration`), a forced one is searched here.
+V_b - f'(tau).  The stick ends where it first reaches |F_e - f| >= F_s
+moving outwards; an unforced stick has a closed form for that
+(:func:`~.friction.stick_duration`), a forced one is searched here.
 
 The rate's zeros are known in closed form (:func:`next_turn`), so the held
 force is walked through its monotone pieces: on each it crosses a level iff
 it is beyond it at the piece's end, and no excursion however short is
-missed (:func:`exit_time`, :func:`friction_zero`, used by the adaptive
-kernel :mod:`.dopri`).  The tangent integrator (:mod:`.tangent`) searches
-the same exit on the steps of its grid, on :func:`held_along` and
-:func:`held_rate`, refined by false position (:mod:`.roots`) to a few
-units of rounding rather than bisected to the last bit: the two agree to
-about 1e-13 (``tests/core/test_stick.py``) but not bit for bit, so each
-keeps its refinement and the outputs it has (the tangent integrator on this
-walk moves Lyapunov exponents by up to ~4e-12 relative).
+missed (:func:`exit_time`, :func:`friction_zero`).  Every kernel that
+integrates Coulomb's stick rule through a forced stick ends it here: the
+adaptive kernel (:mod:`.dopri`), the tangent integrator (:mod:`.tangent`)
+and the forced map (:mod:`.forced_map`), whose stick phases are searched
+once each, off their step grid.
 """
 
 from __future__ import annotations
@@ -27,7 +24,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .friction import FEX, OMEGA, PHI, external_force, external_force_rate, held_force
+from .friction import FEX, OMEGA, PHI, external_force, held_force
 
 
 @njit(cache=True)
@@ -40,19 +37,16 @@ def held_along(xs, ts, t, zeta, vb, res, p):
 
 
 @njit(cache=True)
-def held_rate(t, vb, p):
-    """d(F_e - f)/dtau while sticking: V_b - f'(t)."""
-    return vb - external_force_rate(p, t)
-
-
-@njit(cache=True)
 def next_turn(t, vb, p):
     """The first time after ``t`` where the held force turns: its rate V_b - f' = V_b + F_ex Omega sin(Omega t + phi) vanishes.
 
-    Between two turns it is monotone.  inf when it never turns (|V_b| >= F_ex Omega).
+    Between two turns it is monotone.  inf when it never turns (|V_b| >= F_ex Omega, unforced included).
     """
     om, ph = p[OMEGA], p[PHI]
-    r = -vb / (p[FEX] * om)
+    amp = p[FEX] * om
+    if amp == 0.0:
+        return np.inf
+    r = -vb / amp
     if abs(r) >= 1.0:
         return np.inf
     two_pi = 2.0 * math.pi
@@ -88,7 +82,11 @@ def exit_time(xs, ts, t_end, hold, zeta, vb, fs, res, p):
     on each it leaves the bound iff it is beyond it at the piece's end, so an
     excursion however short is found, to the last bit by bisection.  With
     ``hold`` (it was on the bound and held there) the first piece does not
-    end the stick if it starts on the bound already.
+    end the stick if it starts on the bound already.  Unforced (F_ex = 0)
+    the held force moves at V_b, one piece to ``t_end``: bisected like the
+    others rather than taken from the closed form
+    (:func:`~.friction.stick_duration`), whose rounding may leave the force
+    the caller evaluates there a few units below F_s.
     """
     a = ts
     ga = held_along(xs, ts, a, zeta, vb, res, p)

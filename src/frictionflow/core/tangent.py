@@ -71,12 +71,14 @@ one step) is retaken from its start with lengths theta found by false
 position (Illinois, :mod:`.roots`) on g(theta) = g(the RK4 step of length theta), to
 |dtheta| ~ 1e-15 tau: the switch is a root of the scheme's own solution, and
 the state and tangent vectors at the switch are one RK4 step of length theta.
-A stick phase ends where |F_e - f(tau)| reaches F_s: an explicit function of
-tau (:func:`.stick.held_along`, its rate :func:`.stick.held_rate`), whose sign
-changes (and interior maxima, found on its derivative) are searched step by
-step and refined by the same false position.  The mode after
-every switch is :func:`~.friction.rest_mode` with the external force and its
-rate at that instant.
+A stick phase ends where |F_e - f(tau)| reaches F_s moving outwards: an
+explicit function of tau, searched once per phase, off the grid, by the
+adaptive kernel's rule (:func:`.stick.exit_time`: the held force walked
+through its monotone pieces and bisected to the last bit; unforced, one
+piece).  The mode after every switch is :func:`~.friction.rest_mode`
+with the external force and its rate at that instant; where it holds the
+interface at F_s (no slip direction is consistent) the stick goes on as a
+new phase past the monotone piece it holds on.
 
 Exponents
 ---------
@@ -102,7 +104,7 @@ from .friction import (FS, RESULTANT, external_force, external_force_rate, rest_
 from .hermite import hermite_min
 from .layout import N_PARAMS
 from .roots import RUNNING, bracket, update
-from .stick import held_along, held_rate
+from .stick import exit_time
 
 #: the 6-vector integrated in slip: X, X', then the tangent vectors u1 = (y2, y3), u2 = (y4, y5)
 NY = 6
@@ -288,72 +290,16 @@ def _slip_step(y, t, h, d, zeta, vb, p, fresh):
 
 
 @njit(cache=True)
-def _stick_gap(x0, t0, t, side, zeta, vb, res, fs, p):
-    """side (F_e - f(t)) - F_s while sticking from (x0, t0): >= 0 on (or past) the side's limit."""
-    return side * held_along(x0, t0, t, zeta, vb, res, p) - fs
+def stick_phase(x_s, t_s, t_end, zeta, vb, p):
+    """A stick phase from (x_s, t_s): (x_s, t_s, the time it leaves F_s, :func:`.stick.exit_time`; t_end if not before).
 
-
-@njit(cache=True)
-def _stick_gap_rate(t, side, vb, p):
-    return side * held_rate(t, vb, p)
-
-
-@njit(cache=True)
-def _stick_root(x0, t0, lo, hi, side, zeta, vb, res, fs, p):
-    """First time in (lo, hi] where the gap of ``side`` reaches 0, given gap(lo) < 0 <= gap(hi).
-
-    To a few units of tau, and of 1 below |tau| = 1 (no chase of the rounding of times near 0).
+    Every stick phase begins where :func:`~.friction.rest_mode` has just
+    chosen to stick (a stick onset, the start, or a hold at F_s), so it is
+    searched as held (``hold``): if it begins on or past F_s moving outwards
+    (no slip direction was consistent), the rule's answer there stands for
+    that monotone piece instead of being asked again at the same instant.
     """
-    glo = _stick_gap(x0, t0, lo, side, zeta, vb, res, fs, p)
-    ghi = _stick_gap(x0, t0, hi, side, zeta, vb, res, fs, p)
-    b = bracket(lo, hi, glo, ghi, 0.0, 4.0 * EPS, 0.0, 200, 1.0)
-    while b.status == RUNNING:
-        b = update(b, b.x, _stick_gap(x0, t0, b.x, side, zeta, vb, res, fs, p))
-    return b.hi
-
-
-@njit(cache=True)
-def _stick_max(lo, hi, side, vb, p):
-    """The time in (lo, hi) where the gap's rate turns from + to - (its maximum there), by bisection."""
-    for _ in range(200):
-        m = 0.5 * (lo + hi)
-        if m <= lo or m >= hi:
-            break
-        if _stick_gap_rate(m, side, vb, p) > 0.0:
-            lo = m
-        else:
-            hi = m
-    return lo
-
-
-@njit(cache=True)
-def stick_exit(x0, t0, ta, tb, zeta, vb, res, fs, p):
-    """(time, side) of the first arrival of |F_e - f| at F_s in (ta, tb] while sticking (side 0: none).
-
-    A side whose gap is already >= 0 at ta (the interface held on past F_s)
-    counts only once it has come back inside.
-    """
-    best = math.inf
-    best_side = 0
-    for side in (1.0, -1.0):
-        ga = _stick_gap(x0, t0, ta, side, zeta, vb, res, fs, p)
-        if ga >= 0.0:
-            continue
-        gb = _stick_gap(x0, t0, tb, side, zeta, vb, res, fs, p)
-        hi = tb
-        if gb < 0.0:
-            # both ends inside: an interior maximum may still reach the limit
-            if not (_stick_gap_rate(ta, side, vb, p) > 0.0 and _stick_gap_rate(tb, side, vb, p) < 0.0):
-                continue
-            tm = _stick_max(ta, tb, side, vb, p)
-            if _stick_gap(x0, t0, tm, side, zeta, vb, res, fs, p) < 0.0:
-                continue
-            hi = tm
-        te = _stick_root(x0, t0, ta, hi, side, zeta, vb, res, fs, p)
-        if te < best:
-            best = te
-            best_side = int(side)
-    return best, best_side
+    return x_s, t_s, exit_time(x_s, t_s, t_end, True, zeta, vb, p[FS], p[RESULTANT] != 0.0, p)
 
 
 @njit(cache=True)
@@ -423,25 +369,26 @@ def _start(x0, v0, zeta, vb, p):
 
 
 @njit(cache=True)
-def _stick_on(y, t, target, x_s, t_s, zeta, vb, p, counts):
-    """Stick from t toward ``target`` (the phase began at (x_s, t_s)); returns (t, mode) where it stops.
+def _stick_on(y, t, target, phase, t_end, zeta, vb, p, counts):
+    """Stick from t toward ``target`` in the :func:`stick_phase` ``phase``; returns (t, mode, phase) where it stops.
 
-    Mode 0: sticking on to ``target``, or held at F_s where no slip
-    direction is consistent; else the slip direction entered, its
-    saltation applied to ``y``.
+    Mode 0: sticking on to ``target``, or held at F_s where
+    :func:`~.friction.rest_mode` gives no slip direction (a new phase, on
+    past the monotone piece it holds on); else the slip direction entered,
+    its saltation applied to ``y``.
     """
-    te, side = stick_exit(x_s, t_s, t, target, zeta, vb, p[RESULTANT] != 0.0, p[FS], p)
-    if side == 0:
+    x_s, t_s, te = phase
+    if te > target or te >= t_end:
         y[0] = x_s + vb * (target - t_s)
-        return target, 0
+        return target, 0, phase
     y[0] = x_s + vb * (te - t_s)
     new = surface_mode(y[0], te, zeta, vb, p)
     if new == 0:
-        counts[C_HELD] += 1  # no slip direction is consistent: the interface holds on
-        return te, 0
+        counts[C_HELD] += 1
+        return te, 0, stick_phase(y[0], te, t_end, zeta, vb, p)
     saltation_slip(y, new, te, zeta, vb, p)
     counts[C_SLIP] += 1
-    return te, new
+    return te, new, phase
 
 
 @njit(cache=True)
@@ -542,20 +489,21 @@ def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, coun
     y, mode = _start(x0, v0, zeta, vb, p)
     t = 0.0
     fresh = v0 == vb
-    x_s, t_s = y[0], t  # where the current stick phase began
+    n_transient, n_blocks = blocks
+    t_end = _grid_time((n_transient + n_blocks) * n_sub, n_sub, block, h)
+    phase = stick_phase(y[0], t, t_end, zeta, vb, p) if mode == 0 else (y[0], t, t_end)
     zero_run = 0
     s1 = 0.0
     s2 = 0.0
     collapsed = mode == 0
     j = 0
-    n_transient, n_blocks = blocks
     for blk in range(n_transient + n_blocks):
         for _ in range(n_sub):
             j += 1
             target = _grid_time(j, n_sub, block, h)
             while t < target:
                 if mode == 0:
-                    t, mode = _stick_on(y, t, target, x_s, t_s, zeta, vb, p, counts)
+                    t, mode, phase = _stick_on(y, t, target, phase, t_end, zeta, vb, p, counts)
                     fresh = True  # read once slipping: a slip phase entered here starts on V_r = 0
                     continue
                 d = float(mode)
@@ -576,7 +524,7 @@ def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, coun
                 mode = _slip_end(y, t, d, zeta, vb, p, counts)
                 fresh = mode != 0  # a slip phase entered here starts on V_r = 0
                 if mode == 0:
-                    x_s, t_s = y[0], t
+                    phase = stick_phase(y[0], t, t_end, zeta, vb, p)
                     collapsed = True
         r11, r22 = _block_end(y, mode, strobe[blk])
         if not (math.isfinite(r11) and math.isfinite(r22)):
