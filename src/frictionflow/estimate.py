@@ -70,6 +70,11 @@ SECONDS_PER = {
     # 2e-4 s on the 2-dof Hoffmann model, plus the eigenvalues of the 2n x 2n Jacobian (numpy's eig: 3.8e-8 s
     # times (2n)^3 at 2n = 200, all threads counted)
     "structure_point": 5e-4,
+    # a located switch of the exact structure engine: its phase set-up, event walk and stick rule (about 0.25 ms
+    # at n = 10 on this machine, rounded up), plus the eigen-decomposition of a new mode combination, which grows
+    # as n^3 (35 ms a switch at n = 100 measured)
+    "structure_switch": 1e-3,
+    "structure_switch_cube": 4e-8,
     "eig_cube": 5e-8,
 }
 #: switches per unit time a forced kernel is assumed to locate: a stick-slip cycle has two per natural period,

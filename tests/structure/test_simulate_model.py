@@ -11,6 +11,8 @@ import json
 import math
 
 import pytest
+import xarray as xr
+from PIL import Image
 
 from frictionflow.analysis.structure import analyze_structure
 from frictionflow.solvers.structure import simulate_system
@@ -124,3 +126,28 @@ fs = 0.05
         inputs, outputs = energy_budget(result.elements)
         inflow, outflow = sum(v for _, v in inputs), sum(v for _, v in outputs)
         assert math.isclose(inflow, outflow, rel_tol=1e-8)
+
+
+def test_model_run_estimated_before_work(tmp_path):
+    """A run whose switches alone would take hours is refused in one line, before any work."""
+    path = tmp_path / "one.toml"
+    path.write_text(ONE_DOF.format(c=0.1, vb=0.01, stick="resultant"))
+    code, out, err, seconds = cli("simulate", "--model", str(path), "--t-end", "1e9", "--json")
+    assert code == 2 and out == ""
+    one_line(err, "switches", "--no-limit")
+
+
+def test_model_figure_and_netcdf(tmp_path):
+    """--plot draws the run at the asked dpi; --out writes the samples labelled by dof, contact and channel."""
+    path = tmp_path / "one.toml"
+    path.write_text(ONE_DOF.format(c=0.1, vb=0.01, stick="resultant"))
+    png, nc = tmp_path / "run.png", tmp_path / "run.nc"
+    code, out, err, _ = cli("simulate", "--model", str(path), "--t-end", "100", "--plot", str(png), "--dpi", "80",
+                            "--out", str(nc))
+    assert code == 0, err
+    with Image.open(png) as im:
+        assert im.size == (960, 600)
+    ds = xr.open_dataset(nc)
+    assert list(ds["dof"].values) == ["x"] and list(ds["contact"].values) == ["contact.0"]
+    assert "contact.0.heat" in list(ds["channel"].values)
+    assert float(ds["time"][-1]) == 100.0

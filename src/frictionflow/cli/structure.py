@@ -15,9 +15,10 @@ from typing import Any, Optional
 from ..analysis.structure import StructureAnalysis, analyze_structure
 from ..io import atomic_write, check_input_path, check_output_path
 from ..plotting import FIGURE_FORMATS
-from ..solvers.structure import simulate_system
+from ..estimate import enforce
+from ..solvers.structure import run_estimate, simulate_system
 from ..structure_plot import plot_structure
-from ..system import System, load_system
+from ..system import System, assemble, load_system
 from .output import print_summary
 
 #: the single-mass options that still mean something beside a model file
@@ -44,6 +45,9 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     if outputs.get("plot") is not None:
         check_output_path(outputs["plot"], FIGURE_FORMATS, "--plot")
     t_end = 300.0 if params.get("t_end") is None else float(params["t_end"])
+    if not (math.isfinite(t_end) and t_end > 0.0):
+        raise ValueError(f"--t-end must be a finite time > 0, got {t_end!r}")
+    enforce(run_estimate(assemble(system), t_end))
     motion = simulate_system(system, t_end)
     window = _window(params.get("window"))
     rtol = 1e-6 if params.get("rtol") is None else float(params["rtol"])

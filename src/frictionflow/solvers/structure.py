@@ -17,6 +17,7 @@ from ..core.assembly import Assembly
 from ..core.layout import LAW
 from ..core.structure.run import Out, run
 from ..core.structure.work import n_channels
+from ..estimate import SECONDS_PER, Estimate
 from ..friction.registry import law_classes
 from ..motion import Motion
 
@@ -110,6 +111,28 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
         dof=nm["dof"], contacts=nm["contact"], status="ok" if lost is None else "contact_lost",
         assembly=assembly, lost=lost, system=system, elements={k: v for k, v in nm.items() if k != "dof"},
     )
+
+
+#: switches per natural period per contact assumed by :func:`run_estimate`: a stick-slip cycle has two,
+#: chattering near a grazing a few more (a bound for the estimate, not a count: the motion decides)
+SWITCHES_PER_PERIOD = 4.0
+
+
+def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None) -> Estimate:
+    """What a run of ``assembly`` to ``t_end`` costs, before it starts: switches, CPU seconds and memory.
+
+    The switches are bounded by :data:`SWITCHES_PER_PERIOD` per contact and
+    per period of the fastest undamped mode; each costs the engine's
+    declared seconds (:data:`frictionflow.estimate.SECONDS_PER`).
+    """
+    n, k = assembly.mass.shape[0], len(assembly.belt)
+    omega = math.sqrt(max(float(np.max(np.abs(np.linalg.eigvals(np.linalg.solve(assembly.mass,
+                                                                               assembly.stiffness))))), 1e-12))
+    switches = SWITCHES_PER_PERIOD * max(k, 1) * (t_end * omega / (2.0 * math.pi) + 1.0)
+    samples = switches + (0.0 if not dense_dt else t_end / dense_dt)
+    each = SECONDS_PER["structure_switch"] + SECONDS_PER["structure_switch_cube"] * float(n) ** 3
+    row = 8.0 * (2 * n + 2 * k + n_channels(assembly))
+    return Estimate(switches, f"switches of a {n}-dof structure", switches * each, memory=samples * row)
 
 
 def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None, solver: str = "exact") -> Motion:
