@@ -43,13 +43,21 @@ class Motion:
     channels:
         The channel names.
     switches:
-        (S,) switch times; ``switch_contact`` the contact index and ``switch_mode`` the mode entered.
+        (S,) switch times.
+    switch_contact:
+        (S,) the index of the contact that switched.
+    switch_mode:
+        (S,) the mode it entered.
     dof, contacts:
         The names of the coordinates and of the contacts.
     status:
-        ``"ok"`` or ``"contact_lost"`` (then :attr:`lost` = (contact name, time)).
+        ``"ok"`` or ``"contact_lost"``.
     assembly, system:
         What was run (``system``: the model object when the run came from one, else None).
+    lost:
+        (contact name, time) when a normal load reached zero, else None.
+    elements:
+        Element kind -> the names of its elements (``spring``, ``damper``, ``force``, ``contact``).
     """
 
     t: np.ndarray

@@ -345,11 +345,12 @@ def find_orbit(
         Newton tolerance on P(X) - X relative to max(F_s, |V_b|).
     max_iter:
         Newton iterations before giving up (:class:`ShootingError`).
-
     solver:
         Solver for the transient and for the power-flow period
         (default: exact for piecewise-constant laws, else adaptive).
 
+    Notes
+    -----
     Inside :func:`frictionflow.estimate.limited` the transient is estimated
     before it runs and the shooting once the transient has found its period
     (:func:`shooting_estimate` over :func:`section_span`), each refused

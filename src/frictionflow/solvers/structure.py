@@ -136,7 +136,20 @@ def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None
 
 
 def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None, solver: str = "exact") -> Motion:
-    """Run the model ``system`` (:class:`frictionflow.system.System`) to ``t_end``: assemble, then :func:`run_assembly`."""
+    """Run the model ``system`` to ``t_end``: assemble it, then :func:`run_assembly`.
+
+    Parameters
+    ----------
+    system:
+        The structure (:class:`frictionflow.system.System`, from a model file or built in Python).
+    t_end:
+        The end of the run (> 0); the run starts at t = 0 from the system's initial state.
+    dense_dt:
+        Also sample every ``dense_dt`` (None: the switches and the ends only; between samples
+        :meth:`~frictionflow.motion.Motion.at` evaluates the exact motion anyway).
+    solver:
+        ``"exact"``, the only solver for structures so far.
+    """
     if solver != NAME:
         raise ValueError(f"solver must be '{NAME}' for a structure, got {solver!r}")
     return run_assembly(assemble(system), t_end, dense_dt=dense_dt, names={"dof": system.dof}, system=system)
