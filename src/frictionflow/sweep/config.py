@@ -72,16 +72,11 @@ class Variable(NamedTuple):
 SINGLE_MASS = tuple(Variable(q.name, q.units, q.long_name, q.dtype, q.flags) for q in Q.SWEPT)
 
 
-@dataclass
-class SweepConfig:
-    """A validated sweep: fixed run settings, the swept axes, and how to chunk them."""
+class Grid:
+    """What every sweep config has from its ``axes`` (name -> values) and ``source`` (what it was parsed from)."""
 
-    run: RunConfig  #: the settings every point shares (law, solver, t_end, ...)
-    axes: dict[str, np.ndarray]  #: the swept parameters and their values, in the grid's order
-    fixed: dict[str, float] = field(default_factory=dict)  #: parameters given one value in the grid
-    source: dict[str, Any] = field(default_factory=dict)  #: the settings and the grid it was parsed from (recorded in the output)
-    #: per point of the ``sample`` axis: the drawn values of each sampled parameter
-    sample: dict[str, np.ndarray] = field(default_factory=dict)
+    axes: dict[str, np.ndarray]
+    source: dict[str, Any]
 
     @property
     def dims(self) -> tuple[str, ...]:
@@ -96,9 +91,25 @@ class SweepConfig:
         return int(np.prod(self.shape, dtype=np.int64))
 
     def fingerprint(self) -> str:
-        """A hash of everything that determines the results (to refuse resuming a changed sweep)."""
+        """A hash of everything that determines the results (to refuse resuming a changed sweep): ``source``.
+
+        A model sweep's source holds the model's content, not its file's path:
+        a moved file is the same sweep.
+        """
         text = json.dumps(self.source, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()
+
+
+@dataclass
+class SweepConfig(Grid):
+    """A validated sweep: fixed run settings, the swept axes, and how to chunk them."""
+
+    run: RunConfig  #: the settings every point shares (law, solver, t_end, ...)
+    axes: dict[str, np.ndarray]  #: the swept parameters and their values, in the grid's order
+    fixed: dict[str, float] = field(default_factory=dict)  #: parameters given one value in the grid
+    source: dict[str, Any] = field(default_factory=dict)  #: the settings and the grid it was parsed from (recorded in the output)
+    #: per point of the ``sample`` axis: the drawn values of each sampled parameter
+    sample: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def variables(self) -> tuple[Variable, ...]:

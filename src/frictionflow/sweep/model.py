@@ -26,7 +26,6 @@ this table of variables.
 from __future__ import annotations
 
 import difflib
-import hashlib
 import itertools
 import json
 import math
@@ -43,7 +42,7 @@ from ..io import read_config
 from ..solvers.structure import simulate_system
 from ..system import System, load_system
 from .compute import chunk_slices
-from .config import MAX_POINTS, Variable, _axis, parse_sweep
+from .config import MAX_POINTS, Grid, Variable, _axis, parse_sweep
 
 #: the top-level keys of a model sweep (besides ``grid``)
 MODEL_KEYS = ("model", "t_end", "rtol")
@@ -61,7 +60,7 @@ CHUNK_POINTS = 8
 
 
 @dataclass
-class ModelSweepConfig:
+class ModelSweepConfig(Grid):
     """A validated sweep over a model's entries: the base system, the axes, the run's length."""
 
     system: System  #: the model with the fixed grid entries applied
@@ -72,23 +71,6 @@ class ModelSweepConfig:
     source: dict[str, Any] = field(default_factory=dict)  #: the model (as a mapping), settings and grid
     model_file: str | None = None  #: the model file, for the dataset's attributes
     sample: dict[str, np.ndarray] = field(default_factory=dict)  #: (no sampled axes in a model sweep)
-
-    @property
-    def dims(self) -> tuple[str, ...]:
-        return tuple(self.axes)
-
-    @property
-    def shape(self) -> tuple[int, ...]:
-        return tuple(len(a) for a in self.axes.values())
-
-    @property
-    def size(self) -> int:
-        return int(np.prod(self.shape, dtype=np.int64))
-
-    def fingerprint(self) -> str:
-        """A hash of the model's content, the settings and the grid (not the file's path: a moved file is the same sweep)."""
-        text = json.dumps(self.source, sort_keys=True, default=str)
-        return hashlib.sha256(text.encode()).hexdigest()
 
     @property
     def labels(self) -> dict[str, tuple[str, ...]]:
