@@ -270,3 +270,12 @@ def test_cli_orbit_model_refuses_single_mass_options(tmp_path):
     code, out, err, _ = cli("orbit", "--model", str(path), "--plot", str(tmp_path / "o.png"))
     assert code == 2 and not (tmp_path / "o.png").exists()
     one_line(err, "--plot")
+
+
+def test_cli_orbit_model_estimated_before_work(tmp_path):
+    """A transient whose switches alone would take hours is refused in one line before any run."""
+    path = tmp_path / "chain.toml"
+    path.write_text(MODEL, encoding="utf-8")
+    code, out, err, seconds = cli("orbit", "--model", str(path), "--t-end", "1e9", "--json")
+    assert code == 2 and out == ""
+    one_line(err, "switches", "--no-limit")

@@ -29,6 +29,8 @@ from .._json import jsonable
 from ..analysis.structure import stick_fractions
 from ..core.assembly import Assembly
 from ..core.layout import STICK
+from ..estimate import enforce, enforce_stage
+from ..solvers.structure import run_estimate
 from ..system import assemble
 from . import floquet
 from .shooting import ShootingError
@@ -294,6 +296,11 @@ def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any, re
         raise ShootingError(f"from the section point at t={tc:.6g}: {e}") from None
 
 
+#: flows per Newton iteration counted by the shooting's estimate (the step, one backtracking halving), each
+#: bounded by 4 periods (a trial return that takes longer is rejected)
+SHOOTING_FLOWS = 2
+
+
 def find_structure_orbit(
     system_or_assembly: Any,
     guess_state: Any = None,
@@ -334,7 +341,11 @@ def find_structure_orbit(
     guess = np.concatenate((asm.q0, asm.v0)) if guess_state is None else np.asarray(guess_state, dtype=float)
     if guess.shape != (2 * n,) or not np.all(np.isfinite(guess)):
         raise ValueError(f"guess_state must be {2 * n} finite numbers (q then q'), got shape {guess.shape}")
+    slow = 2.0 * math.pi / flow.omega_min
+    transient = float(t_transient) if t_transient > 0 else 2.0 * slow * (int(returns) + 1)
+    enforce(lambda: run_estimate(asm, transient), open_stage="shooting")
     ret, row = _start(setup, guess, float(t_transient), section, int(returns))
+    enforce_stage("shooting", lambda: run_estimate(asm, SHOOTING_FLOWS * (int(max_iter) + 1) * 4.0 * ret.time))
     scale = max(float(np.max(np.abs(ret.start))), float(np.max(np.abs(asm.belt))), 1e-12)
     ret, iterations = _newton(flow, ret, row, int(returns), (DEFAULT_TOL if tol is None else tol) * scale,
                               int(max_iter))
