@@ -36,7 +36,7 @@ EPS = 2.220446049250313e-16
 ROUNDING = 16.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def values(cb, ph, om, tau, z, g):
     """Fill ``g`` with the active event functions at ``tau`` (``z`` = z(tau))."""
     for e in range(len(g)):
@@ -55,7 +55,7 @@ def locate(cb, ph, om, e, a, b, ga, gb):
     return br.hi
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def verdict(cb, ph, om, e, a, h, za, ga, gb, start):
     """1: root-free on [a, a + h]; 2: exactly one root there; 0: undecided (``start``: g(a) = 0 departing)."""
     m2 = bound(cb, ph, om, e, a, h, za, 2)

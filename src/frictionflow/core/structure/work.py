@@ -34,7 +34,7 @@ def n_channels(asm) -> int:
     return len(asm.spring_k) + len(asm.damper_c) + len(asm.force_amp) + 2 * len(asm.belt)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def friction_into(asm, cb, q, v, t, f, rest):
     """Each contact's friction force into ``f``: +-F_d N_j slipping, the held force (dampers included) stuck.
 
@@ -65,7 +65,7 @@ def friction_into(asm, cb, q, v, t, f, rest):
         f[cb.stuck[s]] = lam
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def powers(asm, cb, q, v, t, f, rest, out):
     """The power of every channel at (q, q', t), into ``out`` (``f``, ``rest``: room, see :func:`friction_into`)."""
     c = 0
