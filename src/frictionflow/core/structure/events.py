@@ -74,7 +74,7 @@ def verdict(cb, ph, om, e, a, h, za, ga, gb, start):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def decide_interval(cb, ph, om, a, h, za, ga, gb, departing, clear):
     """(all decided, any root) over the active functions on [a, a + h].
 
