@@ -182,6 +182,35 @@ def bound(cb, ph, om, e, a, h, za, order):
 
 
 @njit(cache=True, inline="always")
+def mode_bounds(cb, ph, om, a, h, za, out):
+    """Each mode's term of :func:`bound` of order 2 (before the weight |W[e, m]|) into ``out``: once per interval."""
+    tmax = abs(a) + h
+    for m in range(len(za)):
+        lam = cb.lam[m]
+        b0, b1 = abs(ph.b0[m]) + abs(ph.b1[m]) * tmax, abs(ph.b1[m])
+        for f in range(len(om)):
+            c = abs(ph.bh[m, f])
+            b0, b1 = b0 + c, b1 + c * om[f]
+        zb = math.exp(max(lam.real, 0.0) * h) * (abs(za[m]) + h * b0)
+        al = abs(lam)
+        out[m] = al * al * zb + al * b0 + b1
+
+
+@njit(cache=True, inline="always")
+def bound_of(cb, om, e, dz):
+    """:func:`bound` of order 2 from the modes' terms ``dz`` (:func:`mode_bounds`), summed in the same order."""
+    s = 0.0
+    for f in range(len(om)):
+        s += abs(cb.Dh[e, f]) * om[f] ** 2
+    for m in range(len(dz)):
+        w = abs(cb.W[e, m])
+        if w == 0.0:
+            continue
+        s += w * dz[m]
+    return s
+
+
+@njit(cache=True, inline="always")
 def event_size(cb, ph, e, tau, z):
     """The sum of the magnitudes of event function ``e``'s terms at ``tau``: its rounding is a few EPS of it."""
     s = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + np.abs(cb.Dh[e]).sum()
