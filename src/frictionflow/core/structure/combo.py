@@ -187,10 +187,19 @@ def build(asm, minv, modes):
 
 
 @njit(cache=True)
+def same(a, b):
+    """a == b elementwise (no temporary array: the scan runs at every switch)."""
+    for i in range(len(a)):
+        if a[i] != b[i]:
+            return False
+    return True
+
+
+@njit(cache=True)
 def lookup(cache, asm, minv, modes):
     """The combination of ``modes`` from ``cache`` (a list), built (and kept while there is room) when missing."""
     for i in range(len(cache)):
-        if np.all(cache[i].modes == modes):
+        if same(cache[i].modes, modes):
             return cache[i]
     cb = build(asm, minv, modes)
     if len(cache) < CACHE_SIZE:  # (no eviction: popping records of arrays from a compiled list corrupts memory)

@@ -29,14 +29,14 @@ import numpy as np
 from numba import njit
 
 from ..roots import RUNNING, bracket, update
-from .phase import bound, event_rate, event_size, event_value, modal_at, modal_into
+from .phase import bound, bound_of, event_rate, event_size, event_value, modal_at, modal_into, mode_bounds
 
 EPS = 2.220446049250313e-16
 #: a function within this many EPS of the size of its terms of 0 counts as touching 0
 ROUNDING = 16.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def values(cb, ph, om, tau, z, g):
     """Fill ``g`` with the active event functions at ``tau`` (``z`` = z(tau))."""
     for e in range(len(g)):
@@ -55,10 +55,12 @@ def locate(cb, ph, om, e, a, b, ga, gb):
     return br.hi
 
 
-@njit(cache=True)
-def verdict(cb, ph, om, e, a, h, za, ga, gb, start):
-    """1: root-free on [a, a + h]; 2: exactly one root there; 0: undecided (``start``: g(a) = 0 departing)."""
-    m2 = bound(cb, ph, om, e, a, h, za, 2)
+@njit(cache=True, inline="always")
+def verdict(cb, ph, om, e, a, h, za, ga, gb, start, m2):
+    """1: root-free on [a, a + h]; 2: exactly one root there; 0: undecided (``start``: g(a) = 0 departing).
+
+    ``m2``: the bound on |g_e''| over the interval (:func:`.phase.bound`).
+    """
     if gb > 0.0:
         if ga > 0.0 and min(ga, gb) > m2 * h * h / 8.0 + ROUNDING * EPS * event_size(cb, ph, e, a + h, za):
             return 1
@@ -74,18 +76,20 @@ def verdict(cb, ph, om, e, a, h, za, ga, gb, start):
     return 0
 
 
-@njit(cache=True)
-def decide_interval(cb, ph, om, a, h, za, ga, gb, departing, clear):
+@njit(cache=True, inline="always")
+def decide_interval(cb, ph, om, a, h, za, ga, gb, departing, clear, dz):
     """(all decided, any root) over the active functions on [a, a + h].
 
     ``clear[e]``: function e is proven root-free up to there (an interval
-    that was halved for another function's sake needs no second proof).
+    that was halved for another function's sake needs no second proof);
+    ``dz``: room for the modes' terms of the bounds, shared by all functions.
     """
     decided, root = True, False
+    mode_bounds(cb, ph, om, a, h, za, dz)
     for e in range(len(ga)):
         if not cb.active[e] or clear[e] >= a + h:
             continue
-        v = verdict(cb, ph, om, e, a, h, za, ga[e], gb[e], departing[e] and a == 0.0)
+        v = verdict(cb, ph, om, e, a, h, za, ga[e], gb[e], departing[e] and a == 0.0, bound_of(cb, om, e, dz))
         if v == 1:
             clear[e] = a + h
         decided = decided and v != 0
@@ -111,7 +115,8 @@ def nearest_zero(cb, ph, om, a, b, za, ga, gb, dep):
     best, tau, slot = 1.0e300, b, -1
     for e in range(len(ga)):
         start = dep[e] and a == 0.0
-        if cb.active[e] and not start and verdict(cb, ph, om, e, a, b - a, za, ga[e], gb[e], False) == 0:
+        m2 = bound(cb, ph, om, e, a, b - a, za, 2) if cb.active[e] and not start else 0.0
+        if cb.active[e] and not start and verdict(cb, ph, om, e, a, b - a, za, ga[e], gb[e], False, m2) == 0:
             for t, g in ((a, ga[e]), (b, gb[e])):
                 if t > 0.0 and g < best:
                     best, tau, slot = g, t, e
@@ -134,11 +139,12 @@ def first_event(cb, ph, om, tau_end, departing, h0, floor):
     gb = ga.copy()
     clear = np.full(len(ga), -1.0)
     zb = za.copy()
+    dz = np.empty(len(za))
     while a < tau_end:
         b = min(a + h, tau_end)
         modal_into(cb, ph, om, b, zb)
         values(cb, ph, om, b, zb, gb)
-        decided, root = decide_interval(cb, ph, om, a, b - a, za, ga, gb, dep, clear)
+        decided, root = decide_interval(cb, ph, om, a, b - a, za, ga, gb, dep, clear, dz)
         if not decided and b - a > floor:
             h = 0.5 * (b - a)
             continue

@@ -58,7 +58,7 @@ def start(cb, asm, q, v, t0):
     return Phase(t0, z0, b0, b1, bh, theta, e0, e1, u0, bs)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def modal_into(cb, ph, om, tau, z):
     """z(tau) into ``z``: the modal coordinates ``tau`` after the phase's start (``om``: the forces' Omega)."""
     for a in range(len(cb.lam)):
@@ -80,7 +80,7 @@ def modal_at(cb, ph, om, tau):
     return z
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def state_into(cb, ph, tau, z, q, v):
     """(q, q') at ``tau`` into ``q``, ``v`` from z = z(tau): Re(V z) through Z, plus the stuck directions' part."""
     n, r = cb.Z.shape
@@ -109,7 +109,7 @@ def state_at(cb, ph, om, tau):
     return q, v
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def harmonic(dh_row, ph, om, tau, order):
     """sum_i Dh_i d^order/dtau^order cos(theta_i + Omega_i tau)."""
     s = 0.0
@@ -121,7 +121,7 @@ def harmonic(dh_row, ph, om, tau, order):
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def event_value(cb, ph, om, e, tau, z):
     """Event function ``e`` at ``tau`` (``z`` = z(tau))."""
     s = ph.e0[e] + ph.e1[e] * tau + harmonic(cb.Dh[e], ph, om, tau, 0)
@@ -130,7 +130,7 @@ def event_value(cb, ph, om, e, tau, z):
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def beta_mode(ph, om, m, tau):
     """(beta_m(tau), beta_m'(tau)): mode m's forcing and its rate."""
     b, db = ph.b0[m] + ph.b1[m] * tau, ph.b1[m] + 0.0j
@@ -141,7 +141,7 @@ def beta_mode(ph, om, m, tau):
     return b, db
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def event_rate(cb, ph, om, e, tau, z, order):
     """d^order g_e / dtau^order at ``tau`` (order 1 or 2; ``z`` = z(tau))."""
     s = harmonic(cb.Dh[e], ph, om, tau, order) + (ph.e1[e] if order == 1 else 0.0)
@@ -157,7 +157,7 @@ def event_rate(cb, ph, om, e, tau, z, order):
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def bound(cb, ph, om, e, a, h, za, order):
     """A bound on |g_e^(order)| over [a, a + h] (order 2 or 3) from the modal amplitudes |z(a)|."""
     tmax = abs(a) + h
@@ -181,7 +181,36 @@ def bound(cb, ph, om, e, a, h, za, order):
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def mode_bounds(cb, ph, om, a, h, za, out):
+    """Each mode's term of :func:`bound` of order 2 (before the weight |W[e, m]|) into ``out``: once per interval."""
+    tmax = abs(a) + h
+    for m in range(len(za)):
+        lam = cb.lam[m]
+        b0, b1 = abs(ph.b0[m]) + abs(ph.b1[m]) * tmax, abs(ph.b1[m])
+        for f in range(len(om)):
+            c = abs(ph.bh[m, f])
+            b0, b1 = b0 + c, b1 + c * om[f]
+        zb = math.exp(max(lam.real, 0.0) * h) * (abs(za[m]) + h * b0)
+        al = abs(lam)
+        out[m] = al * al * zb + al * b0 + b1
+
+
+@njit(cache=True, inline="always")
+def bound_of(cb, om, e, dz):
+    """:func:`bound` of order 2 from the modes' terms ``dz`` (:func:`mode_bounds`), summed in the same order."""
+    s = 0.0
+    for f in range(len(om)):
+        s += abs(cb.Dh[e, f]) * om[f] ** 2
+    for m in range(len(dz)):
+        w = abs(cb.W[e, m])
+        if w == 0.0:
+            continue
+        s += w * dz[m]
+    return s
+
+
+@njit(cache=True, inline="always")
 def event_size(cb, ph, e, tau, z):
     """The sum of the magnitudes of event function ``e``'s terms at ``tau``: its rounding is a few EPS of it."""
     s = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + np.abs(cb.Dh[e]).sum()
