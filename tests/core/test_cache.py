@@ -35,3 +35,11 @@ def test_the_digest_covers_the_law_modules_and_the_quantities_table():
     assert {"stribeck.py", "cubic.py", "friction.py", "dopri.py", "quantities.py"} <= names
     files = _cache.kernel_sources()
     assert _cache.sources_digest(files) != _cache.sources_digest(files[:-1])
+
+
+def test_every_kernel_source_is_stamped_subpackages_included():
+    """A kernel in a subpackage of core (the structure engine) inlines its siblings: editing one must drop it too."""
+    core = _cache.PACKAGE / "core"
+    stamped = set(_cache.kernel_sources())
+    assert set(core.rglob("*.py")) <= stamped
+    assert core / "structure" / "phase.py" in stamped

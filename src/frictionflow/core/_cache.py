@@ -22,7 +22,7 @@ STAMP = "frictionflow-kernels.sha256"
 
 
 def kernel_sources() -> list[Path]:
-    files = [p for d in SOURCE_DIRS for p in sorted((PACKAGE / d).glob("*.py"))]
+    files = [p for d in SOURCE_DIRS for p in sorted((PACKAGE / d).rglob("*.py"))]  # core/structure/ too
     return files + [PACKAGE / f for f in SOURCE_FILES]
 
 
