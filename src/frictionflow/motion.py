@@ -141,10 +141,11 @@ class Motion:
                 out[name] = {"P": float(value)}
         return out
 
-    def energy(self) -> tuple[np.ndarray, np.ndarray]:
-        """(kinetic, spring potential) energy at each sample."""
+    def energy(self, state: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(kinetic, spring potential) energy at each sample, or of each column of ``state`` (2n, m)."""
         a, n = self.assembly, self.n
-        q, v = self.state[:n], self.state[n:]
+        state = self.state if state is None else state
+        q, v = state[:n], state[n:]
         kinetic = 0.5 * np.einsum("it,ij,jt->t", v, a.mass, v)
         potential = 0.5 * np.einsum("s,st->t", a.spring_k, (a.spring_dir @ q) ** 2)
         return kinetic, potential

@@ -33,6 +33,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .._display import Row, Summarized, num
+from ..core.assembly import natural_frequencies
 from .stability import steady_sliding
 
 STRUCTURE_KINDS = ("periodic", "equilibrium", "not_settled", "contact_lost")
@@ -238,9 +239,7 @@ def _n(motion: Any) -> int:
 
 def _grid_size(motion: Any, span: tuple[float, float]) -> int:
     """Grid points over ``span`` resolving the fastest natural period (GRID_PER_PERIOD each)."""
-    a = motion.assembly
-    k_over_m = np.linalg.eigvals(np.linalg.solve(a.mass, a.stiffness + np.eye(_n(motion)) * 1e-300))
-    omega = math.sqrt(max(float(np.max(np.abs(k_over_m))), 1e-6))
+    omega = max(float(natural_frequencies(motion.assembly).max(initial=0.0)), 1e-3)
     return max(64, int(math.ceil((span[1] - span[0]) * omega / (2.0 * math.pi) * GRID_PER_PERIOD)) + 1)
 
 
@@ -317,15 +316,6 @@ def amplitudes(motion: Any, window: tuple[float, float]) -> dict[str, dict[str, 
     return {"X_max": out_max, "X_min": out_min}
 
 
-def mechanical_energy(assembly: Any, state: np.ndarray) -> np.ndarray:
-    """Kinetic plus spring energy of ``state`` (2n rows; columns are instants)."""
-    n = assembly.mass.shape[0]
-    q, v = state[:n], state[n:]
-    kinetic = 0.5 * np.einsum("it,ij,jt->t", v, assembly.mass, v)
-    potential = 0.5 * np.einsum("it,ij,jt->t", q, assembly.stiffness, q)
-    return kinetic + potential
-
-
 def window_residual(motion: Any, window: tuple[float, float]) -> float:
     """|change of kinetic + spring energy - work of dampers, forces and contacts| over ``window``, relative.
 
@@ -334,7 +324,7 @@ def window_residual(motion: Any, window: tuple[float, float]) -> float:
     """
     t0, t1 = window
     ends = states_at(motion, (np.array([t0, t1])))
-    energy = mechanical_energy(motion.assembly, ends)
+    energy = sum(motion.energy(ends))
     span = t1 - t0
     works = []
     for name, powers in motion.element_power(t0, t1).items():

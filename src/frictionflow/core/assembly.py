@@ -41,8 +41,20 @@ from __future__ import annotations
 
 from collections import namedtuple
 
+import numpy as np
+
 Assembly = namedtuple(
     "Assembly",
     "mass stiffness damping contact_dir belt law normal force_dir force_amp force_omega force_phi "
     "spring_dir spring_k damper_dir damper_c q0 v0",
 )
+
+
+def natural_frequencies(assembly) -> np.ndarray:
+    """The undamped natural frequencies sqrt(eig(M^-1 K)) of ``assembly``, ascending (0 for a rigid mode).
+
+    The scale the engines and analyses take their time steps, grids and
+    estimates from (the contacts and the dampers left out).
+    """
+    k_over_m = np.abs(np.linalg.eigvals(np.linalg.solve(assembly.mass, assembly.stiffness)))
+    return np.sort(np.sqrt(k_over_m))

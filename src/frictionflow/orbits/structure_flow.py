@@ -37,6 +37,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..core import saltation
+from ..core.assembly import natural_frequencies
 from ..core.layout import STICK
 from ..core.structure.combo import N_SLOTS, build
 from ..core.structure.phase import start, state_at
@@ -79,9 +80,9 @@ class Flow:
         self.names = names
         self.n_work = n_channels(assembly)
         self._combos: dict[bytes, Any] = {}
-        k_over_m = np.abs(np.linalg.eigvals(self.minv @ assembly.stiffness))
-        self.omega_max = math.sqrt(max(float(k_over_m.max(initial=0.0)), 1e-12))
-        self.omega_min = math.sqrt(max(float(k_over_m.min(initial=1.0)), 1e-12))
+        omega = natural_frequencies(assembly)
+        self.omega_max = max(float(omega.max(initial=0.0)), 1e-6)
+        self.omega_min = max(float(omega.min(initial=1.0)), 1e-6)
 
     def combo(self, modes: np.ndarray) -> Any:
         """The engine's combination record of ``modes`` (cached)."""
@@ -106,18 +107,8 @@ class Flow:
         return np.concatenate((q, v))
 
     def states(self, motion: Any, times: np.ndarray) -> np.ndarray:
-        """(len(times), 2n): the exact states of ``motion`` at the sorted ``times`` (one phase start per sample)."""
-        t, asm, n = np.asarray(motion.t), self.assembly, self.n
-        idx = np.clip(np.searchsorted(t, times, side="right") - 1, 0, len(t) - 1)
-        out = np.empty((len(times), 2 * n))
-        for i in np.unique(idx):
-            cb = self.combo(motion.modes[:, i])
-            y = motion.state[:, i]
-            ph = start(cb, asm, y[:n].copy(), y[n:].copy(), float(t[i]))
-            for m in np.flatnonzero(idx == i):
-                q, v = state_at(cb, ph, asm.force_omega, float(times[m] - t[i]))
-                out[m, :n], out[m, n:] = q, v
-        return out
+        """(len(times), 2n): the exact states of ``motion`` at ``times`` (:meth:`Motion.states`, transposed)."""
+        return motion.states(times).T
 
     def field(self, modes: np.ndarray, y: np.ndarray, t: float) -> np.ndarray:
         """The vector field (q', q'') at (y, t) in the modes ``modes`` (stuck contacts held)."""

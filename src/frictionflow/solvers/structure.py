@@ -13,7 +13,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..core import codes
-from ..core.assembly import Assembly
+from ..core.assembly import Assembly, natural_frequencies
 from ..core.layout import LAW
 from ..core.structure.run import Out, run
 from ..core.structure.work import n_channels
@@ -126,8 +126,7 @@ def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None
     declared seconds (:data:`frictionflow.estimate.SECONDS_PER`).
     """
     n, k = assembly.mass.shape[0], len(assembly.belt)
-    omega = math.sqrt(max(float(np.max(np.abs(np.linalg.eigvals(np.linalg.solve(assembly.mass,
-                                                                               assembly.stiffness))))), 1e-12))
+    omega = max(float(natural_frequencies(assembly).max(initial=0.0)), 1e-6)
     switches = SWITCHES_PER_PERIOD * max(k, 1) * (t_end * omega / (2.0 * math.pi) + 1.0)
     samples = switches + (0.0 if not dense_dt else t_end / dense_dt)
     each = SECONDS_PER["structure_switch"] + SECONDS_PER["structure_switch_cube"] * float(n) ** 3
