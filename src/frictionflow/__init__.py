@@ -27,6 +27,7 @@ from .analysis import (
 )
 from .analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
 from .analysis.stability import StabilityScan, SteadySliding, stability_scan, steady_sliding
+from .analysis.stability_chart import StabilityChart, stability_chart
 from .basins import Basins
 from .basins import basins as compute_basins
 from .friction import Coulomb, Cubic, FrictionLaw, Karnopp, SlipLaw, Stribeck
@@ -54,6 +55,7 @@ __all__ = [
     "SlidingEquilibrium",
     "SlipLaw",
     "Solver",
+    "StabilityChart",
     "StabilityScan",
     "SteadySliding",
     "SteadyState",
@@ -72,6 +74,7 @@ __all__ = [
     "power_flow",
     "simulate",
     "sliding_equilibrium",
+    "stability_chart",
     "stability_scan",
     "steady_sliding",
     "steady_state",

@@ -9,6 +9,7 @@ import numpy as np
 
 from ._figures import draws, legend_outside, sig
 from .analysis.stability import KINDS, StabilityScan
+from .analysis.stability_chart import StabilityChart
 from .io import DEFAULT_DPI, write_figure
 
 #: how each kind of critical point is marked
@@ -65,6 +66,57 @@ def plot_stability(scan: StabilityScan, path: str | Path | None = None, *, name:
     ax[1].set(xlabel=scan.param, ylabel=r"Im $\lambda$ (frequency)")
     if scan.critical:
         legend_outside(ax[0])
+    if path is not None:
+        write_figure(fig, path, name, dpi=dpi)
+    return fig
+
+
+@draws(StabilityChart)
+def plot_stability_chart(chart: StabilityChart, path: str | Path | None = None, *, name: str = "path",
+                         dpi: float = DEFAULT_DPI) -> Any:
+    """The growth rate of the most unstable mode over the two parameters, with the located boundary by kind.
+
+    The colour is max Re lambda (diverging about 0: stable blue, unstable red); the grey contour is its zero
+    on the grid, the markers the points located along x on each line (:class:`StabilityChart`.boundary).
+    Returns the matplotlib figure; saves it to ``path`` (PNG, PDF, SVG or EPS by its suffix, ``dpi`` dots per
+    inch) when given.
+
+    Parameters
+    ----------
+    chart:
+        A :class:`~frictionflow.analysis.stability_chart.StabilityChart`.
+    path:
+        A file to save the figure to, or None.
+    name:
+        How error messages name ``path`` (the command line passes its option, such as ``--plot``).
+    dpi:
+        Dots per inch of a raster file (PNG).
+    """
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import TwoSlopeNorm
+
+    fig, ax = plt.subplots(figsize=(8, 6), layout="constrained")
+    g = chart.growth
+    top = max(float(np.abs(g).max()), np.finfo(float).tiny)
+    norm = TwoSlopeNorm(0.0, vmin=min(float(g.min()), -top * 1e-3), vmax=max(float(g.max()), top * 1e-3))
+    if len(chart.y_values) > 1:
+        mesh = ax.pcolormesh(chart.x_values, chart.y_values, g, cmap="RdBu_r", norm=norm, shading="nearest")
+        ax.contour(chart.x_values, chart.y_values, np.where(chart.stable, -1.0, 1.0), levels=[0.0], colors="0.4",
+                   linewidths=0.8)
+        fig.colorbar(mesh, ax=ax, label=r"max Re $\lambda$ (growth rate)")
+    for kind in KINDS:
+        at = [b for b in chart.boundary if b.point.kind == kind]
+        if at:
+            marker, color = MARKERS[kind]
+            ax.plot([b.point.value for b in at], [b.y_value for b in at], marker, color=color, ms=5, mfc="none",
+                    label=kind.replace("_", " "))
+    ax.set(xlabel=chart.x, ylabel=chart.y, title="steady sliding: growth rate and stability boundary")
+    if chart.boundary:
+        legend_outside(ax)
     if path is not None:
         write_figure(fig, path, name, dpi=dpi)
     return fig

@@ -157,3 +157,57 @@ def test_a_scan_estimated_above_the_limit_is_refused_before_it_starts(models, ca
     assert main(args) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "estimated" in err[0] and "--no-limit" in err[0], err
+
+
+# -- two entries: --x and --y ------------------------------------------------------------------------------------------
+
+def test_a_chart_over_two_entries_locates_the_threshold_on_every_line(models, capsys):
+    # spring.1.k = k2 sets K22 = k2 + 0.5; the discriminant's root moves with it (the closed form above, K22 free)
+    report, err = run_json(capsys, "--model", str(models / "hoffmann.toml"), "--x", "contact.0.fd=0.05:1.5:30",
+                           "--y", "spring.1.k=1.4:2.3:4")
+    assert err == "" and report["x"] == "contact.0.fd" and report["y"] == "spring.1.k"
+    assert len(report["growth"]) == 4 and all(len(row) == 30 for row in report["growth"])
+    assert [b["y_value"] for b in report["boundary"]] == pytest.approx(report["y_values"], rel=0, abs=0)
+    k11, k12, k21, c = 1.5, 0.5, 0.5, 2.0
+    for point in report["boundary"]:
+        k22 = point["y_value"] + 0.5
+        assert point["kind"] == "mode_coupling"
+        assert point["value"] == pytest.approx(((k11 - k22) ** 2 + 4.0 * k21 * k12) / (4.0 * k21 * c), rel=1e-12)
+        assert point["frequency"] == pytest.approx(math.sqrt((k11 + k22) / 2.0), rel=1e-12)
+
+
+def test_a_chart_line_equals_the_scan_of_that_line(models, capsys):
+    model = str(models / "hoffmann.toml")
+    chart, _ = run_json(capsys, "--model", model, "--x", "contact.0.fd=0.1:0.8:15", "--y", "spring.1.k=1.8:2.0:2")
+    scan, _ = run_json(capsys, "--model", model, "--vary", "contact.0.fd=0.1:0.8:15")
+    [point] = [b for b in chart["boundary"] if b["y_value"] == 1.8]
+    assert {k: point[k] for k in scan["critical"][0]} == scan["critical"][0]
+    top = [max(z["re"] for z in row) for row in scan["eigenvalues"]]
+    assert chart["growth"][0] == top
+
+
+def test_the_chart_writes_its_json_and_figure(models, capsys):
+    args = ["--model", str(models / "hoffmann.toml"), "--x", "contact.0.fd=0.1:0.8:8", "--y", "spring.1.k=1.5:2.5:3"]
+    printed, _ = run_json(capsys, *args)
+    out, fig = models / "c.json", models / "c.png"
+    assert main(["stability", *args, "--out", str(out), "--plot", str(fig)]) == 0
+    table = " ".join(capsys.readouterr().out.split())
+    assert json.loads(out.read_text()) == printed and fig.stat().st_size > 0
+    assert "StabilityChart" in table and "8 x 3 values of contact.0.fd x spring.1.k" in table
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--vary", "contact.0.fd=0.1:0.8", "--x", "contact.0.fd=0.1:0.8"], "one or the other"),
+    (["--x", "contact.0.fd=0.1:0.8"], "needs --y"),
+    (["--y", "spring.1.k=1:2"], "needs --x"),
+    ([], "needs --vary, or --x with --y"),
+    (["--x", "contact.0.fd=0.1:0.8", "--y", "contact.0.fd=0.2:0.3"], "the same entry"),
+    (["--x", "contact.0.fd=0.1:0.8", "--y", "spring.9.k=1:2"], "spring.9"),
+    (["--x", "contact.0.fd=0.1:0.8", "--y", "spring.1.k=1:2:1"], "--y spring.1.k: N must be"),
+])
+def test_bad_chart_input_is_refused_in_one_line_with_nothing_written(models, capsys, args, words):
+    argv = ["stability", "--model", str(models / "hoffmann.toml"), *args, "--out", str(models / "written.json")]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0], err
+    assert not (models / "written.json").exists()

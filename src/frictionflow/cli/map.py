@@ -43,8 +43,9 @@ SHORT_HELP = "Stability chart in two parameters: Hopf, grazing, fold (and forced
 class MapOptions:
     """The map command's own options (the model's come as ``params``), each with its typer option."""
 
-    x: str = option("--x", required=True)
-    y: str = option("--y", required=True)
+    x: str = option("--x", "Here: N values, the curves' resolution in x [41].", required=True)
+    y: str = option("--y", "Here: N points, the scan for sign changes [201]; forced maps, the grid [5].",
+                    required=True)
     curves: Optional[str] = option("--curves")
     m: str = option("--m", "Here: forced maps (e.g. 1,2).")
     fold_every: int = option("--fold-every")

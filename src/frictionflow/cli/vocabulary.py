@@ -111,10 +111,10 @@ TERMS: dict[str, Term] = _terms(
     Term("--quick", "Reduced grids and shorter auxiliary runs: a smoke test, not the published figures.", bool, False),
     # -- what is varied ---------------------------------------------------------
     Term("--vary", "The parameter varied and its range, NAME=FROM:TO:N.", Optional[str], None, "Study", "NAME=FROM:TO[:N]"),
-    Term("--x", "First parameter (horizontal axis) and its range, NAME=FROM:TO:N (N values, the curves' resolution "
-         "in x) [N 41].", Optional[str], None, "Study", "NAME=FROM:TO[:N]"),
-    Term("--y", "Second parameter (vertical axis) and its range, NAME=FROM:TO:N (N points: the scan for sign changes "
-         "[201], forced maps the grid [5]).", Optional[str], None, "Study", "NAME=FROM:TO[:N]"),
+    Term("--x", "First parameter (horizontal axis) and its range, NAME=FROM:TO:N.", Optional[str], None, "Study",
+         "NAME=FROM:TO[:N]"),
+    Term("--y", "Second parameter (vertical axis) and its range, NAME=FROM:TO:N.", Optional[str], None, "Study",
+         "NAME=FROM:TO[:N]"),
     Term("--x0-range", "Range of X(0): FROM:TO:N grid points, or FROM:TO with --sample.", Optional[str], None, "Study",
          "FROM:TO[:N]"),
     Term("--v0-range", "Range of X'(0), as --x0-range.", Optional[str], None, "Study", "FROM:TO[:N]"),

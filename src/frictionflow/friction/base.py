@@ -105,7 +105,7 @@ class FrictionLaw:
     def _check_values(self) -> None:
         """Rules between parameters (F_s >= F_d)."""
         if self.fs < self.fd:
-            raise ValueError(f"fs must be >= fd = {self.fd:g}, got {self.fs!r}")
+            raise ValueError(f"fs must be >= fd = {self.fd!r}, got {self.fs!r}")
 
     @classmethod
     def from_values(cls, values: Mapping[str, Any]) -> "FrictionLaw":
