@@ -30,7 +30,15 @@ from .stability import Critical, StabilityScan, scan_estimate, stability_scan
 
 @dataclass(frozen=True)
 class BoundaryPoint:
-    """A critical point of one line of the chart: at ``y`` = ``y_value``, ``point`` (its x value, kind, frequency)."""
+    """A critical point of one line of the chart.
+
+    Attributes
+    ----------
+    y_value:
+        The second parameter's value on that line.
+    point:
+        The critical point found along the line: its x value, kind, frequency and side.
+    """
 
     y_value: float
     point: Critical
