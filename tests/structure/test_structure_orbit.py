@@ -198,9 +198,6 @@ def test_bad_arguments_are_refused_in_one_line():
         find_structure_orbit(asm, [0.0, 1.0])
     with pytest.raises(ValueError, match="section must be"):
         find_structure_orbit(asm, section="x9")
-    forced = chain(2, Coulomb(fd=0.1, fs=0.2), [0.02, 0.02], forces=[([1.0, 0.0], 0.1, 0.9, 0.0)])
-    with pytest.raises(ValueError, match="harmonic forces"):
-        find_structure_orbit(forced)
     with pytest.raises(TypeError, match="system_or_assembly"):
         find_structure_orbit("model.toml")
 

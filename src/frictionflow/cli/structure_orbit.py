@@ -72,4 +72,5 @@ def orbit_model(path: Path, params: dict[str, Any], opts: ModelOrbitOptions, con
         print(json.dumps(report, allow_nan=False))
     else:
         check = f"; max |M - M_fd| {report['fd_deviation']:.2e}" if opts.fd_check else ""
-        print_summary(found, f"model {path}: Newton shooting on the return map, exact monodromy with saltation{check}")
+        where = "return map" if found.autonomous else "stroboscopic map"
+        print_summary(found, f"model {path}: Newton shooting on the {where}, exact monodromy with saltation{check}")

@@ -14,13 +14,20 @@ multipliers as its eigenvalues: one is 1 (the flow's own direction: the
 system is autonomous), a stuck contact contributes 0s (a stick phase forgets
 the perturbations it holds), and the largest of the others in modulus
 decides stability.
+
+With harmonic forces (all of one frequency Omega) the section is
+stroboscopic instead: P maps the state at t = 0 to the state at
+t = m 2 pi / Omega (``returns`` = m forcing periods, m > 1 for a
+subharmonic), Newton runs on P(s) - s = 0 within the stuck contacts'
+constraints only, and no multiplier is trivial (the period is fixed by the
+forcing, not by the flow).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
@@ -76,6 +83,9 @@ class StructureOrbit(Summarized):
         The names of the coordinates and of the contacts.
     system:
         The model the orbit belongs to (None for an assembly).
+    autonomous:
+        False for a forced structure's stroboscopic orbit: its period is the forcing's and no multiplier is
+        trivial.
     """
 
     state: np.ndarray
@@ -93,12 +103,13 @@ class StructureOrbit(Summarized):
     dof: tuple[str, ...]
     contacts: tuple[str, ...]
     system: Any = field(default=None)
+    autonomous: bool = True
 
     @property
     def nontrivial(self) -> np.ndarray:
-        """The multipliers without the trivial one (the one closest to 1), largest modulus first."""
+        """The multipliers without the trivial one (the one closest to 1; none when forced), largest modulus first."""
         mu = self.multipliers
-        return np.delete(mu, int(np.argmin(np.abs(mu - 1.0))))
+        return np.delete(mu, int(np.argmin(np.abs(mu - 1.0)))) if self.autonomous else mu
 
     @property
     def multiplier(self) -> complex:
@@ -117,8 +128,8 @@ class StructureOrbit(Summarized):
     def _summary(self) -> tuple[str, list[Row]]:
         n = len(self.dof)
         rows = [
-            ("period", num(self.period, 10) + (f" ({self.returns} section crossings)" if self.returns > 1 else "")),
-            ("section", f"{self.section}' = 0; " + ", ".join(f"{d}={num(x, 8)}" for d, x in zip(self.dof, self.state[:n]))),
+            ("period", num(self.period, 10) + (f" ({self.returns} {self._unit})" if self.returns > 1 else "")),
+            ("section", self.section + ("' = 0; " if self.autonomous else "; ") + ", ".join(f"{d}={num(x, 8)}" for d, x in zip(self.dof, self.state[:n]))),
             ("stability", f"{self.stability}, largest nontrivial |multiplier| {num(abs(self.multiplier))}"),
             ("multipliers", ", ".join(num(m.real, 6) + (f"{m.imag:+.3g}j" if m.imag else "") for m in self.multipliers)),
             ("stick fraction", ", ".join(f"{c} {num(s, 4)}" for c, s in zip(self.contacts, self.stick_fraction))),
@@ -127,6 +138,10 @@ class StructureOrbit(Summarized):
         ]
         return "StructureOrbit", rows
 
+    @property
+    def _unit(self) -> str:
+        return "section crossings" if self.autonomous else "forcing periods"
+
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready report (NaN becomes None; multipliers as {re, im})."""
         n = len(self.dof)
@@ -134,6 +149,7 @@ class StructureOrbit(Summarized):
             "period": self.period,
             "returns": self.returns,
             "section": self.section,
+            "autonomous": self.autonomous,
             "state": {"q": dict(zip(self.dof, self.state[:n])), "v": dict(zip(self.dof, self.state[n:]))},
             "multipliers": [{"re": float(m.real), "im": float(m.imag)} for m in self.multipliers],
             "multiplier": {"re": self.multiplier.real, "im": self.multiplier.imag},
@@ -168,9 +184,6 @@ def _setup(system_or_assembly: Any) -> Setup:
     else:
         raise TypeError("system_or_assembly must be a frictionflow.system.System or a core.assembly.Assembly, "
                         f"got {type(system_or_assembly).__name__}")
-    if len(asm.force_amp):
-        raise ValueError("find_structure_orbit: the model has harmonic forces; its orbits are not autonomous "
-                         "(only structures without [[force]] elements are supported)")
     if len(asm.belt) == 0:
         raise ValueError("find_structure_orbit: the model has no contact (a linear structure has no isolated orbit)")
     return Setup(Flow(asm, {"dof": dof}), dof, contacts, system)
@@ -193,30 +206,38 @@ def _row(flow: Flow, motion: Any, section: Any, dof: tuple[str, ...]) -> int:
     raise ValueError(f"section must be a dof name or an index in [0, {n - 1}], got {section!r}")
 
 
-def _constraints(flow: Flow, modes: np.ndarray, row: int) -> tuple[np.ndarray, np.ndarray]:
-    """(A, c): the section and the stuck contacts as A y = c (q'_row = 0; e_j . q' = b_j for stuck j)."""
+def _constraints(flow: Flow, modes: np.ndarray, row: int | None) -> tuple[np.ndarray, np.ndarray]:
+    """(A, c): the section and the stuck contacts as A y = c (q'_row = 0 unless ``row`` is None, stroboscopic;
+    e_j . q' = b_j for stuck j)."""
     n, asm = flow.n, flow.assembly
     stuck = np.flatnonzero(np.asarray(modes) == STICK)
-    A = np.zeros((1 + len(stuck), 2 * n))
-    c = np.zeros(1 + len(stuck))
-    A[0, row] = 1.0
+    first = 0 if row is None else 1
+    A = np.zeros((first + len(stuck), 2 * n))
+    c = np.zeros(first + len(stuck))
+    if row is not None:
+        A[0, row] = 1.0
     for i, j in enumerate(stuck):
-        A[1 + i, n:] = asm.contact_dir[j]
-        c[1 + i] = asm.belt[j]
+        A[first + i, n:] = asm.contact_dir[j]
+        c[first + i] = asm.belt[j]
     return A, c
 
 
 def _basis(A: np.ndarray) -> np.ndarray:
     """An orthonormal basis of A's null space (the directions Newton moves in)."""
+    if A.shape[0] == 0:
+        return np.eye(A.shape[1])
     _, sv, vt = np.linalg.svd(A, full_matrices=True)
     rank = int(np.sum(sv > 1e-12 * sv.max()))
     return vt[rank:].T.copy()
 
 
-def _project(y: np.ndarray, A: np.ndarray, c: np.ndarray, row: int) -> np.ndarray:
-    """The point of {A y = c} nearest ``y``, with the section's row exactly 0."""
+def _project(y: np.ndarray, A: np.ndarray, c: np.ndarray, row: int | None) -> np.ndarray:
+    """The point of {A y = c} nearest ``y``, with the section's row exactly 0 (``row`` None: stroboscopic)."""
+    if A.shape[0] == 0:
+        return y.copy()
     out = y - A.T @ np.linalg.lstsq(A @ A.T, A @ y - c, rcond=None)[0]
-    out[row] = 0.0
+    if row is not None:
+        out[row] = 0.0
     return out
 
 
@@ -224,8 +245,12 @@ def _residual(ret: Return) -> np.ndarray:
     return ret.end - ret.start
 
 
-def _step(flow: Flow, ret: Return, row: int, returns: int) -> Return:
-    """One Newton step from ``ret`` with backtracking on max |P(s) - s|; ShootingError if it stalls."""
+def _step(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray, Return], Return]) -> Return:
+    """One Newton step from ``ret`` with backtracking on max |P(s) - s|; ShootingError if it stalls.
+
+    ``again(s, ret)``: the map from the trial point ``s`` (RuntimeError if it does not return); ``row``: the
+    section's state row (None: stroboscopic, no row pinned).
+    """
     A, c = _constraints(flow, ret.modes, row)
     B = _basis(A)
     r = _residual(ret)
@@ -237,13 +262,14 @@ def _step(flow: Flow, ret: Return, row: int, returns: int) -> Return:
                             "(a fold, or a family of neutral orbits)") from None
     size = float(np.max(np.abs(r)))
     end = ret.end.copy()
-    end[row] = 0.0
+    if row is not None:
+        end[row] = 0.0
     # far from the orbit the stuck set at P(s) may differ from s's, which Newton's coordinates cannot follow:
     # after the halvings, one plain return (s -> P(s)) still gets closer to an attracting orbit
     trials = [_project(ret.start + 0.5 ** i * step, A, c, row) for i in range(MAX_HALVINGS)] + [end]
     for s in trials:
         try:  # a trial that does not return within a few periods is not closer
-            new = return_map(flow, s, row, returns, 1.5 * ret.time, limit=RETURN_LIMIT * ret.time)
+            new = again(s, ret)
         except RuntimeError:
             continue
         if float(np.max(np.abs(_residual(new)))) < size:
@@ -251,13 +277,14 @@ def _step(flow: Flow, ret: Return, row: int, returns: int) -> Return:
     raise ShootingError(f"Newton stalled at residual {size:.3g}: no periodic orbit near this start")
 
 
-def _newton(flow: Flow, ret: Return, row: int, returns: int, tol_abs: float, max_iter: int) -> tuple[Return, int]:
-    """Newton on P(s) - s = 0 from ``ret``; the converged return and the iterations taken."""
+def _newton(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray, Return], Return], tol_abs: float,
+            max_iter: int) -> tuple[Return, int]:
+    """Newton on P(s) - s = 0 from ``ret`` (``again``: the map, as :func:`_step`); the return and the iterations."""
     for it in range(max_iter + 1):
         if float(np.max(np.abs(_residual(ret)))) <= tol_abs:
             return ret, it
         if it < max_iter:
-            ret = _step(flow, ret, row, returns)
+            ret = _step(flow, ret, row, again)
     raise ShootingError(f"Newton did not converge in {max_iter} iterations "
                         f"(residual {float(np.max(np.abs(_residual(ret)))):.3g})")
 
@@ -317,7 +344,8 @@ def find_structure_orbit(
     ----------
     system_or_assembly:
         A :class:`frictionflow.system.System` or a :class:`frictionflow.core.assembly.Assembly`; contacts
-        with a piecewise-constant law (the exact engine's), no harmonic forces (the orbit is autonomous).
+        with a piecewise-constant law (the exact engine's).  With harmonic forces (one frequency Omega for
+        all) the orbit is the stroboscopic map's fixed point at t = 0 (the module's docstring).
     guess_state:
         (2n,) start state (q, q'); default the model's initial state.
     t_transient:
@@ -327,10 +355,11 @@ def find_structure_orbit(
         Newton's tolerance on max |P(s) - s| relative to the orbit's scale (the largest of |s| and the
         belt speeds); default 1e-11, at most 1e-3.
     returns:
-        Section crossings per period (2 for a period-2 orbit), 1 to 64.
+        Section crossings per period (2 for a period-2 orbit), 1 to 64; forced, forcing periods per period.
     section:
         The dof (name or index) whose velocity's downward zero crossing is the section; default the one
-        whose velocity varies most over the transient's second half.
+        whose velocity varies most over the transient's second half.  Forced: None (the section is
+        stroboscopic).
     max_iter:
         Newton iterations before :class:`~frictionflow.orbits.shooting.ShootingError`.
     """
@@ -341,26 +370,78 @@ def find_structure_orbit(
     guess = np.concatenate((asm.q0, asm.v0)) if guess_state is None else np.asarray(guess_state, dtype=float)
     if guess.shape != (2 * n,) or not np.all(np.isfinite(guess)):
         raise ValueError(f"guess_state must be {2 * n} finite numbers (q then q'), got shape {guess.shape}")
+    if len(asm.force_amp):
+        return _forced_orbit(setup, guess, float(t_transient), section, (tol, int(returns), int(max_iter)))
     slow = 2.0 * math.pi / flow.omega_min
     transient = float(t_transient) if t_transient > 0 else 2.0 * slow * (int(returns) + 1)
     enforce(lambda: run_estimate(asm, transient), open_stage="shooting")
     ret, row = _start(setup, guess, float(t_transient), section, int(returns))
     enforce_stage("shooting", lambda: run_estimate(asm, SHOOTING_FLOWS * (int(max_iter) + 1) * 4.0 * ret.time))
     scale = max(float(np.max(np.abs(ret.start))), float(np.max(np.abs(asm.belt))), 1e-12)
-    ret, iterations = _newton(flow, ret, row, int(returns), (DEFAULT_TOL if tol is None else tol) * scale,
-                              int(max_iter))
+    def again(s: np.ndarray, last: Return) -> Return:
+        return return_map(flow, s, row, int(returns), 1.5 * last.time, limit=RETURN_LIMIT * last.time)
+
+    ret, iterations = _newton(flow, ret, row, again, (DEFAULT_TOL if tol is None else tol) * scale, int(max_iter))
     return _orbit(setup, ret, row, int(returns), iterations, scale)
 
 
-def _orbit(setup: Setup, ret: Return, row: int, returns: int, iterations: int, scale: float) -> StructureOrbit:
-    """The :class:`StructureOrbit` of a converged return; ShootingError if it is an equilibrium."""
+def forcing_period(assembly: Assembly) -> float:
+    """2 pi / Omega of a structure's harmonic forces; one line if their frequencies differ."""
+    omega = np.unique(assembly.force_omega)
+    if len(omega) != 1:
+        raise ValueError("find_structure_orbit: the forces' frequencies differ "
+                         f"({', '.join(f'{w:g}' for w in omega)}): a stroboscopic orbit needs one forcing frequency")
+    return 2.0 * math.pi / float(omega[0])
+
+
+def strobe(flow: Flow, start: np.ndarray, T: float) -> Return:
+    """The stroboscopic map over ``T`` (a whole number of forcing periods) from ``start`` at t = 0, with its
+    exact monodromy (the section does not move, so the map's Jacobian is the monodromy)."""
+    motion = flow.run(start, T)
+    if motion.status != "ok":
+        raise RuntimeError(f"{motion.lost[0]} lost its normal load at t={motion.lost[1]:.6g}")
+    M = flow.monodromy(motion, T)
+    end = flow.states(motion, np.array([T]))[0]
+    return Return(np.array(start, dtype=float), T, end, M, M, motion, np.asarray(motion.modes[:, 0]).copy())
+
+
+def _forced_orbit(setup: Setup, guess: np.ndarray, t_transient: float, section: Any,
+                  settings: tuple[float | None, int, int]) -> StructureOrbit:
+    """Newton on the stroboscopic map of a forced structure: (tol, forcing periods, max_iter) in ``settings``."""
+    tol, periods, max_iter = settings
+    if section is not None:
+        raise ValueError(f"section must be None for a forced structure (its section is stroboscopic), got {section!r}")
+    flow, asm = setup.flow, setup.flow.assembly
+    T = periods * forcing_period(asm)
+    settle = math.ceil(t_transient / T) * T  # a whole number of periods: the map's phase
+    enforce(lambda: run_estimate(asm, settle + T), open_stage="shooting")
+    start = guess
+    if settle > 0:
+        motion = flow.run(guess, settle)
+        if motion.status != "ok":
+            raise ShootingError(f"{motion.lost[0]} lost its normal load at t={motion.lost[1]:.6g} in the transient")
+        start = flow.states(motion, np.array([settle]))[0]
+    try:
+        ret = strobe(flow, start, T)
+    except RuntimeError as e:
+        raise ShootingError(f"from the start: {e}") from None
+    enforce_stage("shooting", lambda: run_estimate(asm, SHOOTING_FLOWS * (max_iter + 1) * T))
+    scale = max(float(np.max(np.abs(ret.start))), float(np.max(np.abs(asm.belt))), 1e-12)
+    ret, iterations = _newton(flow, ret, None, lambda s, last: strobe(flow, s, T),
+                              (DEFAULT_TOL if tol is None else tol) * scale, max_iter)
+    return _orbit(setup, ret, None, periods, iterations, scale)
+
+
+def _orbit(setup: Setup, ret: Return, row: int | None, returns: int, iterations: int, scale: float) -> StructureOrbit:
+    """The :class:`StructureOrbit` of a converged return (``row`` None: stroboscopic); ShootingError if it is
+    an equilibrium."""
     flow, T = setup.flow, ret.time
     one = flow.run(ret.start, T)
-    grid = flow.states(one, np.linspace(0.0, T, 65))
-    if float(np.max(np.ptp(grid, axis=0))) <= 1e-9 * scale:
+    if row is not None and float(np.max(np.ptp(flow.states(one, np.linspace(0.0, T, 65)), axis=0))) <= 1e-9 * scale:
         raise ShootingError("shooting converged onto an equilibrium: no periodic orbit near this start")
     return StructureOrbit(
-        state=ret.start.copy(), period=T, section=setup.dof[row - flow.n], returns=returns,
+        state=ret.start.copy(), period=T, section="stroboscopic" if row is None else setup.dof[row - flow.n],
+        returns=returns, autonomous=row is not None,
         monodromy=ret.monodromy, multipliers=floquet.multipliers(ret.monodromy),
         stick_fraction=stick_fractions(one, (0.0, T)), elements=one.element_power(0.0, T),
         energy_residual=one.energy_residual, residual=float(np.max(np.abs(_residual(ret)))),
