@@ -41,9 +41,9 @@ def test_region_mode_is_the_region_the_state_lies_in(law):
 
 
 def test_coulomb_modes_agree_with_the_shared_stick_rule_off_the_bound():
-    # exact's consistency (boundary values and rates, its own tolerances) and friction.rest_mode state
-    # Coulomb's rule at V_r = 0 twice; within rounding of |F_e - f| = F_s their tolerances differ (module
-    # docstring of core/exact.py), away from it they must choose alike
+    # exact's consistency and friction.rest_mode ask one rule (friction.holds_within) with two tolerances;
+    # within rounding of |F_e - f| = F_s those differ (module docstring of core/exact.py), away from it
+    # the slip directions (rest_mode's own, exact's slip modes' consistency) must choose alike too
     rng = np.random.default_rng(3)
     sign = {ke.STICK: 0, ke.SLIP_POS: 1, ke.SLIP_NEG: -1}
     checked = 0

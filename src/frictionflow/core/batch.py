@@ -41,7 +41,7 @@ from . import certificate, dopri, exact, rk4_batch
 from . import sections as sec
 from .friction import FD, slip_magnitude_of
 from .layout import N_WORK
-from .records import N_CONTACTS, N_STATE, Events, new_samples, run_record
+from .records import N_CONTACTS, N_STATE, new_events, new_samples, run_record
 from .rk4 import step_count
 from .threads import over_points
 
@@ -109,7 +109,7 @@ def _classify_samples(samples, k, p, zeta, vb, judge, out):
 def _buffers(cap):
     """One point's (samples, events) records (:mod:`.records`; events are not kept: one slot, never read)."""
     return (new_samples(cap, N_STATE, N_CONTACTS),
-            Events(np.empty(1), np.empty(1, dtype=np.int64)))
+            new_events(1))
 
 
 def with_room(kernel, n: int, cap: int, *args) -> None:

@@ -160,7 +160,7 @@ def run(run, p, samples, events):
     0: not), ``t_tail`` (the start of the tail sampled for the analysis) and
     the early stop.  ``p`` is the force record (:mod:`.layout`); the samples
     go to the arrays of the record ``samples`` = (t, x, v, fc, mode, work)
-    and the switches to those of ``events`` = (t, mode) (:mod:`.records`,
+    and the switches to those of ``events`` = (t, mode, contact) (:mod:`.records`,
     :func:`frictionflow.solvers.base.output_buffers`), as many as fit (all
     are counted).
 
@@ -281,10 +281,11 @@ def _first_sample(s, p, start, outs, w):
 @njit(cache=True)
 def _record_switch(events, ne, t, mode):
     """Switch ``ne`` (to ``mode`` at t) into ``events`` if it fits; the count after it (all are counted)."""
-    ev_t, ev_mode = events
+    ev_t, ev_mode, ev_contact = events
     if ne < len(ev_t):
         ev_t[ne] = t
         ev_mode[ne] = mode
+        ev_contact[ne] = 0  # the single mass's one contact
     return ne + 1
 
 

@@ -24,26 +24,27 @@ trajectory that touches a boundary within rounding without crossing it
 (grazing) does not switch.
 
 The stick rules here and in :mod:`.friction`.  Where the rule is the same it is
-called from there: the held force (:func:`~.friction.held_force`), and in the
-region fallback (:func:`region_mode`) the slip direction by V_r
-(:func:`~.friction.band_mode`) and the band's side of F_s
-(:func:`~.friction.band_side`).  Two things stay here:
+called from there: the held force (:func:`~.friction.held_force`), Coulomb's
+stick rule (:func:`~.friction.holds_within`, with this kernel's tolerances:
+:func:`stick_holds`), and in the region fallback (:func:`region_mode`) the
+slip direction by V_r (:func:`~.friction.band_mode`) and the band's side of
+F_s (:func:`~.friction.band_side`).  Two things stay here:
 
 * *Karnopp's band as modes* (HOLD, SAT_POS/NEG, EDGE_LO/HI, their order
   :data:`KARNOPP_ORDER` and HOLD's EXP motion with F_e = X): only this kernel
   integrates the band phase by phase; RK4 evaluates the band's force at each
   step (:func:`~.friction.band_force`) and needs no modes, and the Filippov
   sliding on a band edge exists only between two closed-form phases.
-* *The consistency test* (:func:`consistent`), Coulomb's STICK included: each
-  region as linear boundaries a X + b X' - c (the switch search's event
+* *The consistency test* (:func:`consistent`) of the slip and band modes:
+  each region as linear boundaries a X + b X' - c (the switch search's event
   functions, :func:`mode_boundaries`), judged on the value and the first two
   time derivatives with tolerances scaled by the rounding of each term and of
-  f (``ftol``).  :func:`~.friction.rest_mode` (the adaptive, tangent and flow
-  map kernels) states Coulomb's rule at V_r = 0 with fixed relative margins
-  and a zero rate taken as outwards; away from |F_e - f| = F_s the two choose
-  alike (``tests/core/test_mode_rules.py``), but within rounding of it, where
-  every stick exit is located, they do not, so each engine keeps its own and
-  its bits.
+  f (``ftol``).  Coulomb's STICK is the shared rule with tolerances of the
+  same kind; :func:`~.friction.rest_mode` (the adaptive, tangent and flow map
+  kernels) calls it with fixed relative margins.  Within rounding of
+  |F_e - f| = F_s, where every stick exit is located, the two tolerances
+  choose differently, so each engine keeps its own (one rule, two
+  tolerances).
 
 The kernel emits samples -- phase starts, zeros of X' (where X' is set to
 exactly 0), extremes of X' and of X + 2 zeta X', the start of the tail, an
@@ -94,7 +95,7 @@ from . import codes
 from . import closed_form as cf
 from . import sections as sec
 from .friction import (COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD, band_mode, band_side, held_force,
-                       stick_friction)
+                       holds_within, stick_friction)
 from .layout import N_WORK
 from .records import DENSE_DT, MIN_PERIODS, STOP_PERIODIC, STOP_RTOL, STOP_TERMINAL, T_END, T_TAIL, V0, VB, X0, ZETA
 from .samples import emit
@@ -205,6 +206,28 @@ def law_record(law, fd, fs, vd, res):
     return (np.int64(law), float(fd), float(fs), float(vd), bool(res))
 
 
+@njit(cache=True, forceinline=True)
+def stick_holds(fs, res, zeta, vb, x, f, df, ddf, ftol):
+    """Coulomb's STICK at X' = V_b: the shared rule (:func:`~.friction.holds_within`) with this kernel's tolerances.
+
+    While sticking the held force F_e - f moves at the rate V_b - f' and
+    curves at -f''.  "On the limit" and "not moving" are within 256 ulps of
+    the size of the terms that make the held force (X, F_s -+ 2 zeta V_b, f,
+    and ``ftol``, the rounding of f) and of its rate (V_b, f'): every stick
+    exit is located to a few ulps of time, so the held force found there is
+    on F_s only to that rounding, and the rate decides.  (The other kernels'
+    fixed relative margin, :func:`~.friction.holds`, would let the rounding
+    of the located exit choose; a far side -F_s within rounding needs F_s
+    itself within rounding of 0, which the laws exclude.)
+    """
+    held = held_force(x, zeta, vb, res, f)
+    be = 2.0 * zeta if res else 0.0
+    c = abs(fs - be * vb) if held >= 0.0 else abs(fs + be * vb)  # the near boundary's constant
+    tol0 = 256.0 * EPS * (abs(x) + c + abs(f)) + ftol + 1e-300
+    tol1 = 256.0 * EPS * (abs(vb) + abs(df)) + 1e-300
+    return holds_within(held, vb - df, -ddf, fs - tol0, fs + tol0, tol1)
+
+
 @njit(cache=True)
 def consistent(mode, lw, zeta, vb, x, v, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
     """Does the motion stay in ``mode``'s region for a positive time from (x, v)?
@@ -227,13 +250,11 @@ def consistent(mode, lw, zeta, vb, x, v, f=0.0, df=0.0, ddf=0.0, ftol=0.0):
             return False
         if res or zeta == 0.0:
             return False  # the band holds the mass itself: no sliding on its edge
-    if law == COULOMB and mode == STICK and abs(v - vb) > vtol:
-        return False
-    dyn, force, _ = dynamics(mode, zeta, fd, fs, res)
-    a = j = 0.0  # X'' and its rate (LIN, and Coulomb's stick with X' = V_b held)
     if law == COULOMB and mode == STICK:
-        v = vb
-    elif dyn == cf.OSC:
+        return abs(v - vb) <= vtol and stick_holds(fs, res, zeta, vb, x, f, df, ddf, ftol)
+    dyn, force, _ = dynamics(mode, zeta, fd, fs, res)
+    a = j = 0.0  # X'' and its rate (LIN)
+    if dyn == cf.OSC:
         a = force - x - 2.0 * zeta * v + f
         j = -v - 2.0 * zeta * a + df
     elif dyn == cf.EXP:
@@ -610,10 +631,11 @@ def _phase_end(s, mode, dfk, x, v, t):
 @njit(cache=True, inline="always")
 def _record_event(events, ne, t, mode):
     """Count the switch at ``t`` into ``mode``, writing it if it fits; returns the new count."""
-    ev_t, ev_mode = events
+    ev_t, ev_mode, ev_contact = events
     if ne < len(ev_t):
         ev_t[ne] = t
         ev_mode[ne] = mode
+        ev_contact[ne] = 0  # the single mass's one contact
     return ne + 1
 
 
@@ -694,7 +716,7 @@ def _copy_stretch(rel, outs, events, rp, t, k, ne):
     """Copy the repeating stretch of ``rp`` (:data:`Stretch`) once after sample ``k`` - 1 and event ``ne`` - 1,
     its times accumulated from ``t`` by the same additions as the integration (t + T, t + tb); returns the time reached."""
     out_t, out_y, out_fc, out_mode, out_w = outs
-    ev_t, ev_mode = events
+    ev_t, ev_mode, ev_contact = events
     tc = t
     e = ne
     for i in range(rp.n_rows):
@@ -705,6 +727,7 @@ def _copy_stretch(rel, outs, events, rp, t, k, ne):
             out_t[k + i] = tc
             ev_t[e] = tc
             ev_mode[e] = ev_mode[rp.ne + e - ne]
+            ev_contact[e] = 0
             e += 1
         else:
             out_t[k + i] = tc + r
@@ -767,7 +790,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
     ``run``: the run record (:func:`.records.run_record`; its ODE slots are
     not read); ``p``: the force record (:mod:`.layout`).  Samples go to
     ``samples`` = (t, x, v, fc, mode, work), switches to ``events`` = (t,
-    mode) (:mod:`.records`).  Returns (k, ne, status, t_terminal, t_stop):
+    mode, contact) (:mod:`.records`).  Returns (k, ne, status, t_terminal, t_stop):
     the numbers of samples and of switches (all counted, ``events`` keeps
     those that fit; FULL: an output array was too short); when the final
     phase (no boundary is ever crossed again) began, or -1 (its friction
@@ -1326,6 +1349,6 @@ def run_forced(run, p, samples, events, t_mode):
         if zero_len > 8:
             return k, ne, STUCK, -1.0, t
         if ne < len(events.t):  # written here, not by _record_event: see the event table's comment
-            events.t[ne], events.mode[ne] = t, mode
+            events.t[ne], events.mode[ne], events.contact[ne] = t, mode, 0
         ne += 1
     return k, ne, DONE, -1.0, t_end

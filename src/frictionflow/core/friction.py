@@ -8,8 +8,12 @@
   hold, F_e - f, and the friction force while sticking, X + 2 zeta V_b - f;
   :func:`stick_duration`: how long an unforced stick lasts (closed form; a
   forced one: :mod:`.stick`).
-* :func:`rest_mode`: Coulomb's set-valued stick rule at V_r = 0 (used by the
-  adaptive kernel and the Python orbit flows).
+* :func:`holds_within` / :func:`holds`: Coulomb's stick rule for one contact,
+  stated once (within the limit, or on it and moving inwards); every engine's
+  stick decision calls it (:func:`rest_mode`, the exact kernel's
+  :func:`~.exact.consistent`, the structure's active set).
+* :func:`rest_mode`: Coulomb's set-valued stick rule at V_r = 0 with the slip
+  direction (used by the adaptive kernel and the Python orbit flows).
 * :func:`band_force` / :func:`band_mode` / :func:`band_side`: Karnopp's stick
   band |V_r| <= V_d (fixed-step RK4; the exact kernel's fallback
   :func:`~.exact.region_mode`), the law's parameters as one record (:func:`band_law`).
@@ -171,6 +175,52 @@ def external_force_rate(p, t):
     return -fex * p[OMEGA] * math.sin(p[OMEGA] * t + p[PHI])
 
 
+#: a held force this close to its limit, relative, counts as on it (the rule's tolerance with no rounding
+#: estimate of its own: the single mass's kernels and the structure's contacts)
+ON_LIMIT = 1e-14
+
+
+@njit(cache=True, forceinline=True)
+def holds_within(held, rate, curv, inner, outer, rate_tol):
+    """Coulomb's stick rule for one contact: does the interface keep holding the force ``held``?
+
+    The rule, stated once: it holds while |held| is within its limit, or on
+    the limit while sticking moves the held force back inwards.  ``inner``
+    and ``outer`` bound "on the limit" (|held| < ``inner``: within, holds;
+    |held| > ``outer``: beyond, releases); on it the held force's ``rate``
+    decides (|rate| <= ``rate_tol`` counts as 0), then its ``curv`` (its
+    second rate); a held force that neither moves nor curves inwards counts
+    as moving outwards and releases.  The tolerances are the caller's: the
+    exact kernel knows the rounding of each term (:func:`~.exact.consistent`),
+    the others use :func:`holds`.
+    """
+    size = abs(held)
+    if size < inner:
+        return True
+    if size > outer:
+        return False
+    out = rate if held >= 0.0 else -rate  # the rate away from 0, towards the limit
+    if out < -rate_tol:
+        return True
+    if out > rate_tol:
+        return False
+    return (curv if held >= 0.0 else -curv) < 0.0
+
+
+@njit(cache=True, forceinline=True)
+def holds(held, limit, rate):
+    """:func:`holds_within` with the shared tolerances: on the limit within ``ON_LIMIT`` of it (below only), the
+    rate's sign exact, no curvature (a ``rate`` of 0 counts as outwards)."""
+    return holds_within(held, rate, 0.0, limit * (1.0 - ON_LIMIT), limit, 0.0)
+
+
+@njit(cache=True, forceinline=True)
+def limit_ratio(held, limit):
+    """|held| / limit, how far over its limit a held force is (inf when the limit is 0 or below): among the
+    contacts that do not hold, the one to release first is the one with the largest."""
+    return abs(held) / limit if limit > 0.0 else math.inf
+
+
 @njit(cache=True)
 def rest_mode(x, zeta, vb, fs, resultant, f0, fext, dfext):
     """Coulomb's stick rule at V_r = 0: 0 to stick, or the slip direction +-1.
@@ -184,8 +234,7 @@ def rest_mode(x, zeta, vb, fs, resultant, f0, fext, dfext):
     """
     fe = held_force(x, zeta, vb, resultant, fext)
     rate = vb - dfext
-    outward = fe * rate > 0.0 or rate == 0.0
-    if abs(fe) < fs * (1.0 - 1e-14) or (abs(fe) <= fs and not outward):
+    if holds(fe, fs, rate):
         return 0
     tol = 1e-12 * (abs(f0) + abs(x) + 2.0 * zeta * abs(vb) + abs(fext))
     first = 1.0 if fe > 0.0 else -1.0

@@ -11,10 +11,14 @@ takes them can still be cached): a kernel unpacks them once at its top.
                 and mode; ``work`` (cap, N_WORK) the work integrals since
                 the previous sample.  Blocks of n and k rows, so that the
                 record does not assume one mass or one contact; a block's
-                rows are contiguous (``y[0]`` is a plain 1-D array)
-``Events``      the arrays of the switches: tau and the mode entered
-                (int64); a run counts every switch but writes only as
-                many as fit
+                rows are contiguous (``y[0]`` is a plain 1-D array).
+                The single-mass kernels and the structure engine
+                (:mod:`.structure.run`: y = (q, q'), one ``fc``/``mode``
+                row per contact, one ``work`` column per channel) write it
+``Events``      the arrays of the switches: tau, the mode entered and the
+                contact that switched (both int64; the single mass's
+                kernels write contact 0); a run counts every switch but
+                writes only as many as fit
 ==============  ==========================================================
 
 The run record: the settings of one run and its initial state, a float64
@@ -58,7 +62,7 @@ from numba import njit
 from .layout import N_WORK
 
 Samples = namedtuple("Samples", "t y fc mode work")
-Events = namedtuple("Events", "t mode")
+Events = namedtuple("Events", "t mode contact")
 
 # The run record's slots (see the table above); numba reads them as constants.
 (
@@ -75,19 +79,27 @@ X0, V0 = Y0, Y0 + 1
 N_STATE, N_CONTACTS = 2, 1
 
 
-def empty_samples(cap, n_state, n_contacts):
-    """Empty :data:`Samples` with room for ``cap`` samples of ``n_state`` components and ``n_contacts`` contacts.
+def empty_samples(cap, n_state, n_contacts, n_work=N_WORK):
+    """Empty :data:`Samples` with room for ``cap`` samples of ``n_state`` components, ``n_contacts`` contacts and
+    ``n_work`` work channels (the single mass's ``N_WORK``).
 
     Python callers use this one: numpy gives large arrays transparent huge
     pages, and a long run's first touch of its buffers costs a quarter of
     the time with 4 KiB pages (numba's allocator does not ask for them).
     """
     return Samples(np.empty(cap), np.empty((n_state, cap)), np.empty((n_contacts, cap)),
-                   np.empty((n_contacts, cap), dtype=np.int8), np.empty((cap, N_WORK)))
+                   np.empty((n_contacts, cap), dtype=np.int8), np.empty((cap, n_work)))
+
+
+def empty_events(cap):
+    """Empty :data:`Events` with room for ``cap`` switches."""
+    return Events(np.empty(cap), np.empty(cap, dtype=np.int64), np.empty(cap, dtype=np.int64))
 
 
 #: :func:`empty_samples` compiled, for kernels that allocate their own (small) buffers
 new_samples = njit(cache=True)(empty_samples)
+#: :func:`empty_events` compiled
+new_events = njit(cache=True)(empty_events)
 
 
 @njit(cache=True)

@@ -16,7 +16,7 @@ from typing import Any, Callable, ClassVar, Mapping
 import numpy as np
 
 from ..core.layout import FEX, N_WORK, OMEGA, PHI
-from ..core.records import N_CONTACTS, N_STATE, Events, Samples, empty_samples
+from ..core.records import N_CONTACTS, N_STATE, Events, Samples, empty_events, empty_samples
 from ..estimate import SECONDS_PER, Estimate
 from ..friction.base import FrictionLaw
 from ..parameters import Param, resolve
@@ -212,7 +212,7 @@ class Solver(ABC):
 def output_buffers(cap: int) -> tuple[Samples, Events]:
     """The records an event-driven kernel writes into (:mod:`frictionflow.core.records`), room for ``cap`` of each."""
     return (empty_samples(cap, N_STATE, N_CONTACTS),
-            Events(np.empty(cap), np.empty(cap, dtype=np.int64)))
+            empty_events(cap))
 
 
 def trajectory_from(
@@ -232,7 +232,7 @@ def trajectory_from(
     :class:`SwitchMode` (see :mod:`.events`): the events leave the solver in
     public values only.
     """
-    (t, y, fc, mode, work), (ev_t, ev_mode) = buffers
+    (t, y, fc, mode, work), (ev_t, ev_mode, _) = buffers  # the single mass: every event is contact 0's
     return Trajectory(
         t=t[:n].copy(), state=y[:, :n].copy(), force=fc[:, :n].copy(), modes=mode[:, :n].copy(), dwork=work[:n].copy(),
         model=model, friction=friction, solver=solver,

@@ -15,7 +15,8 @@ import numpy as np
 from ..core import codes
 from ..core.assembly import Assembly, natural_frequencies
 from ..core.layout import LAW
-from ..core.structure.run import Out, run
+from ..core.records import Events, Samples, empty_events, empty_samples
+from ..core.structure.run import run
 from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
 from ..friction.registry import law_classes
@@ -60,11 +61,10 @@ def _check(assembly: Assembly, t_end: float, dense_dt: float | None, contacts: t
                              f"stick rule ({', '.join(laws.values())}); {contacts[j]} has another law (code {code})")
 
 
-def _buffers(assembly: Assembly, cap: int) -> Out:
+def _buffers(assembly: Assembly, cap: int) -> tuple[Samples, Events]:
+    """The shared records (:mod:`frictionflow.core.records`) for ``cap`` samples and switches of ``assembly``."""
     n, k = len(assembly.q0), len(assembly.belt)
-    return Out(np.empty(cap), np.empty((2 * n, cap)), np.empty((k, cap)), np.empty((k, cap), dtype=np.int8),
-               np.empty((n_channels(assembly), cap)), np.empty(cap), np.empty(cap, dtype=np.int64),
-               np.empty(cap, dtype=np.int8))
+    return empty_samples(cap, 2 * n, k, n_channels(assembly)), empty_events(cap)
 
 
 def _channels(names: dict[str, tuple[str, ...]]) -> tuple[str, ...]:
@@ -95,8 +95,8 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
     minv = np.linalg.inv(assembly.mass)
     cap = FIRST_CAP
     while True:
-        out = _buffers(assembly, cap)
-        res = run(assembly, minv, float(t_end), float(dense_dt or 0.0), out)
+        out, events = _buffers(assembly, cap)
+        res = run(assembly, minv, float(t_end), float(dense_dt or 0.0), out, events)
         if res.status != codes.FULL and res.n_switches <= cap:
             break
         cap = 2 * max(cap, res.n_samples, res.n_switches)
@@ -104,10 +104,11 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
         raise RuntimeError(f"solver={NAME}: the run ended with status '{codes.NAMES[res.status]}'")
     s, w = res.n_samples, res.n_switches
     lost = None if res.status == codes.OK else (nm["contact"][res.lost_contact], float(res.lost_time))
-    return Motion(
-        t=out.t[:s].copy(), state=out.state[:, :s].copy(), force=out.force[:, :s].copy(),
-        modes=out.modes[:, :s].copy(), work=out.work[:, :s].copy(), channels=_channels(nm),
-        switches=out.sw_t[:w].copy(), switch_contact=out.sw_contact[:w].copy(), switch_mode=out.sw_mode[:w].copy(),
+    return Motion(  # Motion keeps the cumulative work, a row per channel: the records hold each sample's share
+        t=out.t[:s].copy(), state=out.y[:, :s].copy(), force=out.fc[:, :s].copy(),
+        modes=out.mode[:, :s].copy(), work=np.cumsum(out.work[:s], axis=0).T.copy(), channels=_channels(nm),
+        switches=events.t[:w].copy(), switch_contact=events.contact[:w].copy(),
+        switch_mode=events.mode[:w].astype(np.int8),
         dof=nm["dof"], contacts=nm["contact"], status="ok" if lost is None else "contact_lost",
         assembly=assembly, lost=lost, system=system, elements={k: v for k, v in nm.items() if k != "dof"},
     )

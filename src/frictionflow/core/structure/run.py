@@ -2,8 +2,10 @@
 
 Samples are written at the start, at every switch (after the new modes are
 decided, with the state made to satisfy the stuck contacts' constraints
-exactly), on an optional dense grid and at the end; each carries the
-cumulative work of every channel (:mod:`.work`).  A normal load reaching 0
+exactly), on an optional dense grid and at the end, into the shared records
+(:mod:`..records`): ``Samples`` (y = (q, q'), a row per contact, the work of
+every channel (:mod:`.work`) since the previous sample) and ``Events`` (each
+switch: time, mode entered, contact).  A normal load reaching 0
 ends the run with :data:`~frictionflow.core.codes.CONTACT_LOST`.
 """
 
@@ -22,9 +24,6 @@ from .phase import modal_at, start, state_at
 from .stick import decide, friction_forces, hold_velocity, normal_load
 from .work import integrate
 
-#: the output buffers: samples (t, state (2n, T), force (k, T), modes (k, T), work (W, T)) and switches
-#: (time, contact, mode entered)
-Out = namedtuple("Out", "t state force modes work sw_t sw_contact sw_mode")
 #: what a run ends with: status, samples written, switches counted, the lost contact and when (-1, nan)
 Result = namedtuple("Result", "status n_samples n_switches lost_contact lost_time")
 #: a function within this fraction of its size of 0 at an event counts as reached too (simultaneous switches)
@@ -35,16 +34,20 @@ MAX_ZERO = 8
 
 @njit(cache=True)
 def emit(out, i, asm, cb, q, v, t, acc):
-    """Write sample ``i``; False when the buffers are full."""
+    """Write sample ``i`` into the :data:`~..records.Samples` ``out``; False when they are full.
+
+    ``acc`` holds the work since the previous sample; it is written and restarts from zero.
+    """
     if i >= len(out.t):
         return False
     n = len(q)
     out.t[i] = t
-    out.state[:n, i] = q
-    out.state[n:, i] = v
-    out.force[:, i] = friction_forces(asm, cb, q, v, t)
-    out.modes[:, i] = cb.modes
-    out.work[:, i] = acc
+    out.y[:n, i] = q
+    out.y[n:, i] = v
+    out.fc[:, i] = friction_forces(asm, cb, q, v, t)
+    out.mode[:, i] = cb.modes
+    out.work[i, :] = acc
+    acc[:] = 0.0
     return True
 
 
@@ -93,12 +96,13 @@ def switch_modes(asm, modes, hit):
 
 
 @njit(cache=True)
-def record_switches(out, nsw, t, old, new):
-    """Count (and write while there is room) each contact whose mode changed; the new count."""
+def record_switches(events, nsw, t, old, new):
+    """Count (and write into the :data:`~..records.Events` while there is room) each contact whose mode changed;
+    the new count."""
     for j in range(len(old)):
         if old[j] != new[j]:
-            if nsw < len(out.sw_t):
-                out.sw_t[nsw], out.sw_contact[nsw], out.sw_mode[nsw] = t, j, new[j]
+            if nsw < len(events.t):
+                events.t[nsw], events.mode[nsw], events.contact[nsw] = t, new[j], j
             nsw += 1
     return nsw
 
@@ -133,11 +137,12 @@ def dense_samples(out, i, asm, cb, ph, om, tau, tau_last, next_t, dense_dt, acc)
 
 
 @njit(cache=True)
-def run(asm, minv, t_end, dense_dt, out):
-    """Integrate the structure ``asm`` from t = 0 to ``t_end`` into ``out``; the :data:`Result`."""
+def run(asm, minv, t_end, dense_dt, out, events):
+    """Integrate the structure ``asm`` from t = 0 to ``t_end`` into the records ``out`` (:data:`~..records.Samples`)
+    and ``events`` (:data:`~..records.Events`); the :data:`Result`."""
     k, om = len(asm.belt), asm.force_omega
     cache = [build(asm, minv, np.zeros(k, dtype=np.int8))]
-    acc = np.zeros(out.work.shape[0])
+    acc = np.zeros(out.work.shape[1])
     modes, v, lost = initial(asm, minv, cache)
     q, t = asm.q0.copy(), 0.0
     cb = lookup(cache, asm, minv, modes if lost < 0 else np.zeros(k, dtype=np.int8))
@@ -169,7 +174,7 @@ def run(asm, minv, t_end, dense_dt, out):
             ok = emit(out, i, asm, cb, q, v, t, acc)
             return Result(codes.CONTACT_LOST if ok else codes.FULL, i + 1, nsw, lost, t)
         decide(asm, minv, q, v, t, new, leaving)
-        nsw = record_switches(out, nsw, t, cb.modes, new)
+        nsw = record_switches(events, nsw, t, cb.modes, new)
         cb = lookup(cache, asm, minv, new)
         v = hold_velocity(asm, cb, v)
         zeros = zeros + 1 if tau <= floor else 0

@@ -3,12 +3,18 @@
 Stuck contacts S hold lambda_S = G E_S M^-1 (C q' + K_eff q - f0 - forces(t))
 (:mod:`.combo`); a contact with ``stick_force`` "spring" compares the same
 expression without the dampers' term with F_s N_j.  The rule per contact is
-the single mass's (:func:`frictionflow.core.friction.rest_mode`): it sticks
-while |held force| < F_s N_j, otherwise it slips in the direction of its
-held force, provided that direction makes V_r leave 0 on the right side
-(else the other one; if neither, it sticks).  Several contacts at once: an
-active-set loop releases the contact most over its limit and computes the
-others' held forces again, until every stuck contact is within its limit.
+the single mass's, stated once in :func:`frictionflow.core.friction.holds`
+(with its tolerance): a contact keeps sticking while its held force is within
+F_s N_j; otherwise it slips in the direction of its held force, provided
+that direction makes V_r leave 0 on the right side (else the other one; if
+neither, it sticks).  Several contacts at once: an active-set loop releases
+the contact most over its limit and computes the others' held forces again,
+until every stuck contact holds.
+
+A held force within ``ON_LIMIT`` of F_s N_j is on the limit: then its rate
+decides (:func:`held_rates`, lambda_S' from the combination's matrices and
+q'' of the candidate stuck set, relative to the limit's own rate F_s n_j . q'),
+as for the single mass; it is computed only then.
 """
 
 from __future__ import annotations
@@ -18,11 +24,10 @@ import math
 import numpy as np
 from numba import njit
 
+from ..friction import ON_LIMIT, holds, limit_ratio
 from ..layout import FD, FS, RESULTANT, STICK
 from .combo import split
 
-#: a held force this close to its limit counts as on it (the single mass's rule, rest_mode)
-ON_LIMIT = 1e-14
 #: a relative rate this close to 0 counts as 0
 RATE_TOL = 1e-12
 
@@ -81,6 +86,26 @@ def acceleration(asm, cb, q, v, t):
 
 
 @njit(cache=True)
+def held_rates(asm, cb, q, v, t):
+    """d/dt of each stuck contact's held force as its stick rule reads it (:func:`held`), with q'' of ``cb``.
+
+    lambda_S = G E_S M^-1 (C q' + K_eff q - f0 - forces(t)) with G E_S M^-1
+    and K_eff constant in the combination: lambda_S' = G E_S M^-1 (C q'' +
+    K_eff q' - forces'(t)); the "spring" rule leaves C q'' out.
+    """
+    d = cb.keff @ v
+    for i in range(len(asm.force_amp)):
+        w = asm.force_omega[i] * t + asm.force_phi[i]
+        d += asm.force_dir[i] * (asm.force_amp[i] * asm.force_omega[i] * math.sin(w))
+    spring = cb.HE @ d
+    rate = cb.HE @ (d + asm.damping @ acceleration(asm, cb, q, v, t))
+    for i in range(len(cb.stuck)):
+        if asm.law[cb.stuck[i], RESULTANT] == 0.0:
+            rate[i] = spring[i]
+    return rate
+
+
+@njit(cache=True)
 def release_over_limit(asm, minv, q, v, t, modes, released):
     """The active-set loop: release the stuck contact most over F_s N_j until none is (``released`` marks them)."""
     for _ in range(len(modes) + 1):
@@ -88,11 +113,20 @@ def release_over_limit(asm, minv, q, v, t, modes, released):
         if len(cb.stuck) == 0:
             return
         rule, _ = held(asm, cb, q, v, t)
-        worst, wr = -1, 1.0 - ON_LIMIT
+        worst, wr = -1, -1.0
+        rates = np.zeros(0)
         for i in range(len(cb.stuck)):
             j = cb.stuck[i]
             lim = asm.law[j, FS] * normal_load(asm, j, q)
-            ratio = abs(rule[i]) / lim if lim > 0.0 else math.inf
+            rate = 0.0
+            if lim > 0.0 and abs(rule[i]) >= lim * (1.0 - ON_LIMIT):  # on the limit: its rate decides
+                if len(rates) == 0:
+                    rates = held_rates(asm, cb, q, v, t)
+                # relative to the limit F_s N_j(q), which moves at F_s n_j . q'
+                rate = rates[i] - math.copysign(asm.law[j, FS] * (asm.normal[j, 1:] @ v), rule[i])
+            if holds(rule[i], lim, rate):
+                continue
+            ratio = limit_ratio(rule[i], lim)
             if ratio >= wr:
                 worst, wr = i, ratio
         if worst < 0:
