@@ -15,7 +15,7 @@ import numpy as np
 
 from ._lazy import lazy_module
 from .core.assembly import Assembly
-from .core.structure.evaluate import states as exact_states
+from .core.structure.batch import states_released as exact_states
 from .core.structure.run import advance
 
 #: the friction mode codes of :attr:`Motion.modes`

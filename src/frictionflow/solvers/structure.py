@@ -15,7 +15,8 @@ import numpy as np
 from ..core import codes
 from ..core.assembly import Assembly, natural_frequencies
 from ..core.layout import LAW
-from ..core.structure.run import Out, run
+from ..core.structure.batch import run_released
+from ..core.structure.run import Out
 from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
 from ..friction.registry import law_classes
@@ -96,7 +97,7 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
     cap = FIRST_CAP
     while True:
         out = _buffers(assembly, cap)
-        res = run(assembly, minv, float(t_end), float(dense_dt or 0.0), out)
+        res = run_released(assembly, minv, float(t_end), float(dense_dt or 0.0), out)
         if res.status != codes.FULL and res.n_switches <= cap:
             break
         cap = 2 * max(cap, res.n_samples, res.n_switches)
