@@ -17,7 +17,9 @@ through ``compute_model_chunk`` as the sweep runner calls it (chunks of the
 default size; no store, so that the file system is not timed).  Per side:
 the wall rate (points per wall second) and the CPU time per point (all
 threads of the process), best of the repeats, the sides alternating so that
-load from other processes falls on both.  The ratios are B / A for times
+load from other processes falls on both, and the kinds each side found
+(a point whose section does not repeat costs this checkout a Lyapunov
+exponent to tell quasi-periodic, chaotic and not settled apart).  The ratios are B / A for times
 (> 1: this checkout faster) and A / B for rates.
 """
 
@@ -64,7 +66,9 @@ def child(case: str) -> dict:
     import itertools
 
     import numba
+    import numpy as np
 
+    from frictionflow.analysis.structure import STRUCTURE_KINDS
     from frictionflow.sweep.model import compute_model_chunk, default_model_chunk, parse_model_sweep
     from frictionflow.system import System
 
@@ -75,10 +79,11 @@ def child(case: str) -> dict:
     todo = list(itertools.product(*(range(math.ceil(s / c)) for s, c in zip(cfg.shape, chunks))))
     compute_model_chunk(cfg.source, todo[0], chunks)  # compiles (or loads) every kernel
     wall, cpu = time.perf_counter(), time.process_time()
-    for chunk in todo:
-        compute_model_chunk(cfg.source, chunk, chunks)
+    kinds = [compute_model_chunk(cfg.source, chunk, chunks)[0] for chunk in todo]
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
-    return {"points": cfg.size, "wall": wall, "cpu": cpu, "threads": numba.get_num_threads()}
+    codes, counts = np.unique(np.concatenate([k.ravel() for k in kinds]).astype(int), return_counts=True)
+    found = {STRUCTURE_KINDS[c]: int(n) for c, n in zip(codes, counts)}
+    return {"points": cfg.size, "wall": wall, "cpu": cpu, "threads": numba.get_num_threads(), "kinds": found}
 
 
 def measure(src: str, case: str) -> dict:
@@ -109,7 +114,7 @@ def main() -> None:
                                                        "cpu": min(got["cpu"], old["cpu"])}
         a, b = best["A"], best["B"]
         pts = a["points"]
-        print(f"{case}: {pts} points, {a['threads']} threads")
+        print(f"{case}: {pts} points, {a['threads']} threads; kinds A {a['kinds']}, B {b['kinds']}")
         for side, r in (("A", a), ("B", b)):
             print(f"  {side}: {pts / r['wall']:8.1f} points/s wall, {1e3 * r['cpu'] / pts:8.2f} ms CPU per point")
         print(f"  wall rate A/B {b['wall'] / a['wall']:.2f}x, CPU per point B/A {b['cpu'] / a['cpu']:.2f}x")

@@ -162,6 +162,19 @@ def beyond_periodic(motion: Any, section: np.ndarray, block: float, autonomous: 
     The single mass's rule (:func:`frictionflow.analysis.forced.classify_forced`): ``chaotic`` if the
     exponent exceeds its uncertainty, ``quasi_periodic`` if it is within it and the section revisits
     itself to :data:`~frictionflow.core.strobe.REVISIT_SHARE` of ``scale``, else ``not_settled``.
+
+    Parameters
+    ----------
+    motion:
+        The run (:class:`~frictionflow.motion.Motion`, ended ``ok``).
+    section:
+        (2n, m): the states at the section's crossings, in time order.
+    block:
+        The exponent's renormalisation time (:func:`largest_exponent`).
+    autonomous:
+        No force acts: the exponent is the transverse one.
+    scale:
+        The motion's size on the section (the revisit test's tolerance is a share of it).
     """
     found = largest_exponent(motion, block, autonomous)
     if found is None:
