@@ -20,7 +20,9 @@ threads of the process), best of the repeats, the sides alternating so that
 load from other processes falls on both, and the kinds each side found
 (a point whose section does not repeat costs this checkout a Lyapunov
 exponent to tell quasi-periodic, chaotic and not settled apart).  The ratios are B / A for times
-(> 1: this checkout faster) and A / B for rates.
+(> 1: this checkout faster) and A / B for rates.  ``A plain`` is this
+checkout with a non-repeating section left ``not_settled`` without its
+exponent: the threads' effect alone, the same work as B.
 """
 
 from __future__ import annotations
@@ -61,8 +63,12 @@ CASES = {
 }
 
 
-def child(case: str) -> dict:
-    """Time one case in this process (the source tree on PYTHONPATH): wall and CPU over the whole grid."""
+def child(case: str, plain: bool = False) -> dict:
+    """Time one case in this process (the source tree on PYTHONPATH): wall and CPU over the whole grid.
+
+    ``plain``: a section that does not repeat is ``not_settled`` without its exponent (the verdict before the
+    quasi-periodic and chaotic kinds), so that the threads' effect is measured alone.
+    """
     import itertools
 
     import numba
@@ -72,6 +78,10 @@ def child(case: str) -> dict:
     from frictionflow.sweep.model import compute_model_chunk, default_model_chunk, parse_model_sweep
     from frictionflow.system import System
 
+    if plain:
+        from frictionflow.analysis import structure
+
+        structure._not_periodic = lambda motion: ("not_settled", math.nan)
     n, t_end, grid = CASES[case]
     cfg = parse_model_sweep({"t_end": t_end, "grid": grid}, System.from_dict(chain_model(n), source=None))
     size = default_model_chunk(cfg)
@@ -86,10 +96,10 @@ def child(case: str) -> dict:
     return {"points": cfg.size, "wall": wall, "cpu": cpu, "threads": numba.get_num_threads(), "kinds": found}
 
 
-def measure(src: str, case: str) -> dict:
+def measure(src: str, case: str, plain: bool = False) -> dict:
     env = dict(os.environ, PYTHONPATH=src)
-    done = subprocess.run([sys.executable, __file__, "--child", case], env=env, capture_output=True, text=True,
-                          check=True)
+    done = subprocess.run([sys.executable, __file__, "--child", case, *(["--plain"] if plain else [])], env=env,
+                          capture_output=True, text=True, check=True)
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
@@ -98,26 +108,28 @@ def main() -> None:
     parser.add_argument("--against", default="/work/main/src", help="the other source tree (B)")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--child")
+    parser.add_argument("--plain", action="store_true")
     args = parser.parse_args()
     if args.child:
-        print(json.dumps(child(args.child)))
+        print(json.dumps(child(args.child, args.plain)))
         return
     header("model sweeps: this checkout (A) vs " + args.against + " (B)")
     print(f"# load average at start: {os.getloadavg()[0]:.2f}")
     for case in CASES:
-        best = {"A": None, "B": None}
+        sides = {"A": (str(HERE), False), "A plain": (str(HERE), True), "B": (args.against, False)}
+        best = {side: None for side in sides}
         for _ in range(args.repeat):
-            for side, src in (("A", str(HERE)), ("B", args.against)):
-                got = measure(src, case)
+            for side, (src, plain) in sides.items():
+                got = measure(src, case, plain)
                 old = best[side]
                 best[side] = got if old is None else {**got, "wall": min(got["wall"], old["wall"]),
                                                        "cpu": min(got["cpu"], old["cpu"])}
-        a, b = best["A"], best["B"]
-        pts = a["points"]
-        print(f"{case}: {pts} points, {a['threads']} threads; kinds A {a['kinds']}, B {b['kinds']}")
-        for side, r in (("A", a), ("B", b)):
-            print(f"  {side}: {pts / r['wall']:8.1f} points/s wall, {1e3 * r['cpu'] / pts:8.2f} ms CPU per point")
-        print(f"  wall rate A/B {b['wall'] / a['wall']:.2f}x, CPU per point B/A {b['cpu'] / a['cpu']:.2f}x")
+        b, pts = best["B"], best["B"]["points"]
+        print(f"{case}: {pts} points, {b['threads']} threads")
+        for side, r in best.items():
+            print(f"  {side:8s} {pts / r['wall']:8.1f} points/s wall, {1e3 * r['cpu'] / pts:8.2f} ms CPU per point, "
+                  f"wall rate vs B {b['wall'] / r['wall']:.2f}x, CPU per point B/this {b['cpu'] / r['cpu']:.2f}x; "
+                  f"kinds {r['kinds']}")
 
 
 if __name__ == "__main__":
