@@ -6,11 +6,14 @@ import math
 import tomllib
 from fractions import Fraction
 
+import numpy as np
 import pytest
 
 import frictionflow as ff
 from frictionflow import quantities as Q
 from frictionflow.analysis.structure import MAX_CROSSINGS, STRUCTURE_KINDS, structure_steady_state
+from frictionflow.analysis.structure_lyapunov import revisits
+from frictionflow.core import strobe
 from frictionflow.solvers import RK4, Exact
 from frictionflow.solvers.structure import simulate_system
 from frictionflow.system import System
@@ -84,3 +87,16 @@ def test_a_transient_is_not_settled():
     early = structure_steady_state(simulate_system(system, 100.0))
     assert early.kind == "not_settled" and early.lyapunov < 0.0
     assert structure_steady_state(simulate_system(system, 400.0)).kind == "periodic"
+
+
+def test_the_revisit_test_in_two_components_is_the_single_mass_s():
+    """On (x, v) pairs, the structure's revisit test (any number of components) decides as the single mass's."""
+    rng = np.random.default_rng(3)
+    angle = np.sort(rng.uniform(0.0, 2.0 * np.pi, 40))
+    ring = np.vstack((np.cos(angle), np.sin(angle)))  # a closed curve, sampled twice over
+    ring = np.hstack((ring, ring + rng.normal(0.0, 1e-3, ring.shape)))
+    drift = ring * np.linspace(1.0, 2.0, ring.shape[1])  # a spiral: the second half leaves the first
+    for points in (ring, drift, ring[:, :10]):
+        for tol in (1e-2, 0.3):
+            assert revisits(points, tol) == strobe.revisits(points[0].copy(), points[1].copy(), tol)
+    assert revisits(ring, 1e-2) and not revisits(drift, 1e-2)
