@@ -24,7 +24,11 @@ transient and mimic a torus: there the separation's component along the
 flow vector is removed at every block end, leaving the transverse growth --
 the exponent of the section's return map, which is what the single mass's
 stroboscopic section measures when forced.  The run is restarted from a
-state at time t by shifting each force's phase by its omega t.
+state at time t by shifting each force's phase by its omega t.  The cost:
+the reference run over :data:`~frictionflow.core.strobe.LYAPUNOV_TRANSIENT`
++ :data:`~frictionflow.core.strobe.LYAPUNOV_PERIODS` blocks and one restarted
+run per block (each building its modes' decompositions afresh), fewer when
+the exponent is clearly negative.
 """
 
 from __future__ import annotations
