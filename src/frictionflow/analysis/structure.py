@@ -13,8 +13,13 @@ located to rounding on the exact solution (:meth:`Motion.at`).
 ``equilibrium``
     Every state component has stopped moving over the tail (the last tenth of
     the run, at least 4 pi of the slowest natural period's scale).
+``chaotic``, ``quasi_periodic``
+    The section does not repeat, and the largest Lyapunov exponent (two
+    nearby exact runs) and the section's revisits tell these apart as the
+    single mass's forced runs are told (:mod:`.structure_lyapunov`); the
+    window is the tail.
 ``not_settled``
-    Neither; the window is the tail.
+    None of these; the window is the tail.
 ``contact_lost``
     A normal load reached zero: the run ended there (nothing is averaged).
 
@@ -32,11 +37,15 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
+from .. import quantities as Q
 from .._display import Row, Summarized, num
 from ..core.assembly import natural_frequencies
 from .stability import steady_sliding
+from .structure_lyapunov import beyond_periodic
 
-STRUCTURE_KINDS = ("periodic", "equilibrium", "not_settled", "contact_lost")
+#: the kinds a structure's run is given: the shared ones (:data:`frictionflow.quantities.KINDS`) but
+#: ``diverged`` (an exact linear run stays finite), and ``contact_lost``; the first four keep their codes
+STRUCTURE_KINDS = (*Q.KINDS[:3], "contact_lost", *(k for k in Q.KINDS[3:] if k != "diverged"))
 #: largest number of section crossings in one period that is looked for
 MAX_CROSSINGS = 12
 #: grid points per shortest natural period when looking for section crossings
@@ -59,6 +68,8 @@ class StructureSteadyState(Summarized):
         Per contact, the share of the window it spends stuck.
     periods:
         How many periods the window holds (periodic only, else 0).
+    lyapunov:
+        The largest Lyapunov exponent where the section did not repeat and it was measured, else NaN.
     """
 
     kind: str
@@ -66,16 +77,20 @@ class StructureSteadyState(Summarized):
     window: tuple[float, float]
     stick_fraction: tuple[float, ...]
     periods: int = 0
+    lyapunov: float = math.nan
 
     def _summary(self) -> tuple[str, list[Row]]:
         rows = [("kind", self.kind), ("period", num(self.period)),
                 ("window", f"{num(self.window[0])} .. {num(self.window[1])}"),
                 ("stick fraction", ", ".join(num(s, 4) for s in self.stick_fraction))]
+        if math.isfinite(self.lyapunov):
+            rows.append(("Lyapunov exponent", num(self.lyapunov, 3)))
         return "StructureSteadyState", rows
 
     def to_dict(self) -> dict[str, Any]:
         return {"kind": self.kind, "period": None if math.isnan(self.period) else self.period,
-                "window": list(self.window), "stick_fraction": list(self.stick_fraction), "periods": self.periods}
+                "window": list(self.window), "stick_fraction": list(self.stick_fraction), "periods": self.periods,
+                "lyapunov": _finite(self.lyapunov)}
 
 
 @dataclass(frozen=True, repr=False)
@@ -146,7 +161,8 @@ def analyze_structure(motion: Any, rtol: float = 1e-6, min_periods: int = 3,
         t0, t1 = float(window[0]), float(window[1])
         if not motion.t[0] <= t0 < t1 <= motion.t[-1]:
             raise ValueError(f"window must lie in [{motion.t[0]:g}, {motion.t[-1]:g}] with t0 < t1, got {window!r}")
-        ss = StructureSteadyState(ss.kind, ss.period, (t0, t1), stick_fractions(motion, (t0, t1)), ss.periods)
+        ss = StructureSteadyState(ss.kind, ss.period, (t0, t1), stick_fractions(motion, (t0, t1)), ss.periods,
+                                  ss.lyapunov)
     if ss.kind == "contact_lost":
         return StructureAnalysis(motion, ss)
     if ss.kind == "equilibrium" and window is None and _certified(motion):
@@ -171,7 +187,27 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
     if found is not None:
         period, window, p = found
         return StructureSteadyState("periodic", period, window, stick_fractions(motion, window), min_periods)
-    return StructureSteadyState("not_settled", math.nan, tail, stick_fractions(motion, tail))
+    kind, lam = _not_periodic(motion)
+    return StructureSteadyState(kind, math.nan, tail, stick_fractions(motion, tail), lyapunov=lam)
+
+
+def _not_periodic(motion: Any) -> tuple[str, float]:
+    """(kind, largest exponent or NaN) of a run whose section does not repeat (:mod:`.structure_lyapunov`).
+
+    The exponent's block: the first force's period when forced, else the
+    section's mean return time; fewer than two crossings: ``not_settled``.
+    """
+    a = motion.assembly
+    forced = np.flatnonzero(np.asarray(a.force_amp) != 0.0)
+    times = section_times(motion)
+    if len(times) < 2:
+        return "not_settled", math.nan
+    block = 2.0 * math.pi / float(a.force_omega[forced[0]]) if len(forced) else float(np.mean(np.diff(times)))
+    section = states_at(motion, times)
+    scale = max(float(np.max(np.ptp(section, axis=1))), float(np.max(np.abs(a.belt), initial=0.0)),
+                float(np.max(np.abs(a.force_amp), initial=0.0)), 1e-300)
+    kind, lam = beyond_periodic(motion, section, block, not len(forced), scale)
+    return kind, math.nan if lam is None else lam
 
 
 def _certified(motion: Any) -> bool:

@@ -12,7 +12,8 @@
     "damper.0.c" = 0.05                  # a number: fixed, not an axis
 
 Each point is ``simulate_system(system.with_entry(...)..., t_end)`` and
-:func:`~frictionflow.analysis.structure.analyze_structure`, run one at a time.
+:func:`~frictionflow.analysis.structure.analyze_structure`; a chunk's points run on
+numba's threads at once (:func:`compute_model_chunk`).
 The dataset's dims are the axes (named by their addresses); its variables
 are the steady state's kind (a flag variable), period and stick fraction per
 contact, the average powers per element (``P`` over ``element``: the springs,
@@ -37,6 +38,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..analysis.structure import STRUCTURE_KINDS, analyze_structure
+from ..core.threads import over_points
 from ..estimate import Estimate
 from ..io import read_config
 from ..solvers.structure import simulate_system
@@ -57,6 +59,9 @@ CHECK_CORNERS = 6
 PROBE_T = 50.0
 #: points per chunk (a chunk is a unit of commit and a Dask task)
 CHUNK_POINTS = 8
+#: pieces per thread in a chunk: one point each (a point costs milliseconds to seconds: the threads
+#: finish together when each takes the next point)
+POINTS_PER_PIECE = CHUNK_POINTS
 
 
 @dataclass
@@ -323,17 +328,26 @@ def compute_model_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: 
     """Results of one chunk of the model sweep ``source``: per variable, (*chunk's shape, *its extra dims).
 
     A pure function of its arguments (a Dask task): each point is
-    ``analyze_structure(simulate_system(system at the point, t_end))``.
+    ``analyze_structure(simulate_system(system at the point, t_end))``, the
+    points spread over numba's threads (:func:`~frictionflow.core.threads.over_points`):
+    the engine and the grid evaluations release the GIL (``nogil`` kernels:
+    :func:`frictionflow.core.structure.run.run`, :func:`~frictionflow.core.structure.evaluate.states`), so
+    their compiled parts run at once.
     """
     cfg = config_from_source(source)
     sl = chunk_slices(chunk, chunks, cfg.shape)
     shape = tuple(s.stop - s.start for s in sl)
     labels = cfg.labels
     out = [np.empty(shape + tuple(len(labels[d]) for d in v.dims), dtype="f8") for v in cfg.variables]
-    for local in np.ndindex(*shape):
-        index = tuple(i + s.start for i, s in zip(local, sl))
-        for arr, row in zip(out, point_rows(cfg, cfg.point_system(index))):
-            arr[local] = row
+    points = list(np.ndindex(*shape))
+
+    def some(start: int, stop: int) -> None:  # each thread writes its own points' cells only
+        for local in points[start:stop]:
+            index = tuple(i + s.start for i, s in zip(local, sl))
+            for arr, row in zip(out, point_rows(cfg, cfg.point_system(index))):
+                arr[local] = row
+
+    over_points(some, len(points), per_thread=POINTS_PER_PIECE)
     return out
 
 
@@ -341,7 +355,7 @@ def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, n
     """The sweep's cost from a probe: the grid's first point run to min(t_end, PROBE_T), scaled to t_end.
 
     A bound in the sense of the single-mass sweep's (the points run to
-    t_end); points run one at a time on one core (or as Dask tasks).
+    t_end), counted on one core: a chunk's points share the cores, but their Python parts take turns.
     """
     probe_t = min(cfg.t_end, PROBE_T)
     start = time.process_time()

@@ -42,7 +42,7 @@ HOST_PORT_SCHEMES = ("tcp", "tls", "ws", "wss")
 def default_chunk_size(cfg: SweepConfig | ModelSweepConfig) -> int:
     """About 0.2 s of work per chunk on one core (>= 100 ms per Dask task): what the solver declares.
 
-    A model sweep's points run one at a time, each far longer: a few points per chunk.
+    A model sweep's points are each far longer: a few points per chunk.
     """
     if isinstance(cfg, ModelSweepConfig):
         return default_model_chunk(cfg)

@@ -15,7 +15,7 @@ from .combo import build
 from .phase import start, state_at
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # evaluated by a model sweep's threads at once
 def states(asm, minv, t, state, modes, times, out):
     """Fill ``out[:, m]`` with (q, q') at ``times[m]``; ``times`` ascending, within [t[0], t[-1]].
 

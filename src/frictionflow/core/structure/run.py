@@ -136,7 +136,7 @@ def dense_samples(out, i, asm, cb, ph, om, tau, tau_last, next_t, dense_dt, acc)
     return i, tau_last, next_t, True
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # a model sweep runs several points at once on threads
 def run(asm, minv, t_end, dense_dt, out, events):
     """Integrate the structure ``asm`` from t = 0 to ``t_end`` into the records ``out`` (:data:`~..records.Samples`)
     and ``events`` (:data:`~..records.Events`); the :data:`Result`."""

@@ -1,0 +1,191 @@
+"""Beyond periodic for structures: the largest Lyapunov exponent from two nearby exact runs, and the revisit test.
+
+When a structure's section does not repeat, its steady state is told as
+the single mass's forced runs are (:mod:`frictionflow.analysis.forced`),
+with the same constants (:mod:`frictionflow.core.strobe`):
+
+``chaotic``
+    the largest Lyapunov exponent is positive beyond its uncertainty;
+``quasi_periodic``
+    the exponent is indistinguishable from 0 and the section's points have
+    stopped drifting: every point of the second half lies within
+    :data:`~frictionflow.core.strobe.REVISIT_SHARE` of the section's scale of
+    a point of the first half (a closed curve, revisited);
+``not_settled``
+    otherwise (a negative exponent: still converging; or drifting).
+
+The exponent is Benettin's: a second run starts ``DELTA`` (relative to the
+motion's size) away from the reference, both are run by the exact engine
+for one block, the separation's growth is logged and the separation
+renormalised back to ``DELTA`` along its own direction, block after block.
+An autonomous structure's flow has a zero exponent along the motion itself
+(a shift in time neither grows nor decays), which would hide a converging
+transient and mimic a torus: there the separation's component along the
+flow vector is removed at every block end, leaving the transverse growth --
+the exponent of the section's return map, which is what the single mass's
+stroboscopic section measures when forced.  The run is restarted from a
+state at time t by shifting each force's phase by its omega t.  The cost:
+the reference run over :data:`~frictionflow.core.strobe.LYAPUNOV_TRANSIENT`
++ :data:`~frictionflow.core.strobe.LYAPUNOV_PERIODS` blocks and one restarted
+run per block (each building its modes' decompositions afresh), fewer when
+the exponent is clearly negative.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..core.strobe import (LYAPUNOV_PERIODS, LYAPUNOV_SPREAD_FLOOR, LYAPUNOV_STOP, LYAPUNOV_TRANSIENT,
+                           REVISIT_SHARE)
+from ..core.tangent import _negative
+from ..solvers.structure import run_assembly
+
+#: the separation of the two runs, relative to the motion's size (small against it, large against rounding)
+DELTA = 1e-7
+#: the flow vector is the reference's backward difference over this share of a block
+FLOW_STEP = 1e-6
+
+
+def restart(assembly: Any, state: np.ndarray, t: float) -> Any:
+    """``assembly`` started from ``state`` (q, q') at time ``t``: the forces' phases shifted by omega t."""
+    n = len(state) // 2
+    return assembly._replace(q0=np.array(state[:n], dtype=float), v0=np.array(state[n:], dtype=float),
+                             force_phi=np.asarray(assembly.force_phi) + np.asarray(assembly.force_omega) * t)
+
+
+def _flow(reference: Any, t: float, span: float) -> np.ndarray:
+    """The unit flow vector (q', q'') of the reference run at ``t``: a second-order backward difference."""
+    h = FLOW_STEP * span
+    s = reference.states(np.array([t - 2.0 * h, t - h, t]))
+    f = (3.0 * s[:, 2] - 4.0 * s[:, 1] + s[:, 0]) / (2.0 * h)
+    size = float(np.linalg.norm(f))
+    return f / size if size > 0.0 else f
+
+
+def _transverse(d: np.ndarray, flow: np.ndarray | None) -> np.ndarray:
+    """``d`` without its component along the unit ``flow`` (None: unchanged)."""
+    return d if flow is None else d - (flow @ d) * flow
+
+
+def largest_exponent(motion: Any, block: float, autonomous: bool,
+                     blocks: tuple[int, int] = (LYAPUNOV_TRANSIENT, LYAPUNOV_PERIODS),
+                     stop: tuple = LYAPUNOV_STOP) -> tuple[float, float] | None:
+    """(largest exponent, its uncertainty) of the structure's flow from the end of ``motion``; None if unavailable.
+
+    Parameters
+    ----------
+    motion:
+        A run (:class:`~frictionflow.motion.Motion`) that ended ``ok``; the exponent is measured after it.
+    block:
+        The time between renormalisations (a forcing period, or the section's mean return time).
+    autonomous:
+        No force: the separation along the flow is removed at every block end (see the module's description).
+    blocks:
+        (transient blocks, averaged blocks).
+    stop:
+        The single mass's early end (:data:`~frictionflow.core.strobe.LYAPUNOV_STOP`): once the running
+        estimate is below -factor times its uncertainty the kind is settled as not chaotic.
+
+    The uncertainty is the range of the running estimate over the second half
+    of the averaged blocks, at least :data:`~frictionflow.core.strobe.LYAPUNOV_SPREAD_FLOOR`.
+    None when a run of the pair loses a contact or the engine cannot go on.
+    """
+    a, t0 = motion.assembly, float(motion.t[-1])
+    n_transient, n_blocks = blocks
+    try:
+        reference = run_assembly(restart(a, motion.state[:, -1], t0), (n_transient + n_blocks) * block,
+                                 dense_dt=block)
+    except RuntimeError:
+        return None
+    size = float(np.max(np.abs(motion.state[:, -1]))) + float(np.max(np.abs(a.belt), initial=0.0))
+    delta = DELTA * size
+    if reference.status != "ok" or not delta > 0.0:
+        return None
+    est = np.full((n_blocks, 1), np.nan)
+    ends = reference.states(block * np.arange(n_transient + n_blocks + 1))
+    u = _transverse(np.ones(ends.shape[0]), _flow(reference, block, block) if autonomous else None)
+    total = 0.0
+    for b in range(n_transient + n_blocks):
+        grown = _one_block(reference, a, ends[:, b], t0 + b * block, u * (delta / np.linalg.norm(u)), block,
+                           ends[:, b + 1], autonomous, b)
+        if grown is None:
+            return None
+        u, gain = grown
+        if b >= n_transient:
+            k = b - n_transient
+            total += math.log(gain)
+            est[k, 0] = total / ((k + 1) * block)
+            if _negative(est, k + 1, stop):
+                return _result(est[:k + 1, 0])
+    return _result(est[:, 0])
+
+
+def _one_block(reference: Any, a: Any, start: np.ndarray, t: float, d: np.ndarray, block: float,
+               end: np.ndarray, autonomous: bool, b: int) -> tuple[np.ndarray, float] | None:
+    """(the separation's new direction, its growth over the block) for the pair started ``d`` apart at ``t``."""
+    try:
+        other = run_assembly(restart(a, start + d, t), block)
+    except RuntimeError:
+        return None
+    if other.status != "ok":
+        return None
+    flow = _flow(reference, (b + 1) * block, block) if autonomous else None
+    sep = _transverse(other.state[:, -1] - end, flow)
+    norm = float(np.linalg.norm(sep))
+    if not (math.isfinite(norm) and norm > 0.0):
+        return None
+    return sep / norm, norm / float(np.linalg.norm(d))
+
+
+def _result(running: np.ndarray) -> tuple[float, float]:
+    half = running[len(running) // 2:]
+    return float(running[-1]), max(float(np.ptp(half)), LYAPUNOV_SPREAD_FLOOR)
+
+
+def revisits(points: np.ndarray, tol: float) -> bool:
+    """Whether every section point (column of ``points``) of the second half lies within ``tol`` (max-norm)
+    of some point of the first half; at least 8 points in each half (the single mass's
+    :func:`frictionflow.core.strobe.revisits`, in any number of components)."""
+    h = points.shape[1] // 2
+    if h < 8:
+        return False
+    first = points[:, :h]
+    for b in range(h, points.shape[1]):
+        if not float(np.min(np.max(np.abs(first - points[:, b:b + 1]), axis=0))) <= tol:
+            return False
+    return True
+
+
+def beyond_periodic(motion: Any, section: np.ndarray, block: float, autonomous: bool,
+                    scale: float) -> tuple[str, float | None]:
+    """(kind, largest exponent or None) of a run whose section ``section`` (states as columns) does not repeat.
+
+    The single mass's rule (:func:`frictionflow.analysis.forced.classify_forced`): ``chaotic`` if the
+    exponent exceeds its uncertainty, ``quasi_periodic`` if it is within it and the section revisits
+    itself to :data:`~frictionflow.core.strobe.REVISIT_SHARE` of ``scale``, else ``not_settled``.
+
+    Parameters
+    ----------
+    motion:
+        The run (:class:`~frictionflow.motion.Motion`, ended ``ok``).
+    section:
+        (2n, m): the states at the section's crossings, in time order.
+    block:
+        The exponent's renormalisation time (:func:`largest_exponent`).
+    autonomous:
+        No force acts: the exponent is the transverse one.
+    scale:
+        The motion's size on the section (the revisit test's tolerance is a share of it).
+    """
+    found = largest_exponent(motion, block, autonomous)
+    if found is None:
+        return "not_settled", None
+    lam, spread = found
+    if lam > spread:
+        return "chaotic", lam
+    if abs(lam) <= spread and revisits(section, REVISIT_SHARE * scale):
+        return "quasi_periodic", lam
+    return "not_settled", lam

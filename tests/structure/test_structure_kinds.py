@@ -1,0 +1,102 @@
+"""A structure's section that does not repeat: quasi-periodic, chaotic or not settled, as the single mass tells them."""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+import frictionflow as ff
+from frictionflow import quantities as Q
+from frictionflow.analysis.structure import MAX_CROSSINGS, STRUCTURE_KINDS, structure_steady_state
+from frictionflow.analysis.structure_lyapunov import revisits
+from frictionflow.core import strobe
+from frictionflow.solvers import RK4, Exact
+from frictionflow.solvers.structure import simulate_system
+from frictionflow.system import System
+
+from .test_structure_sweep import TWO
+
+ZETA, VB, FD, FS = 0.05, 0.01, 0.02, 0.04
+
+
+def test_the_kinds_are_the_shared_ones():
+    assert set(STRUCTURE_KINDS) - {"contact_lost"} <= set(Q.KINDS)
+    assert STRUCTURE_KINDS[:4] == ("periodic", "equilibrium", "not_settled", "contact_lost")  # stored codes kept
+
+
+def _cycle_period(zeta: float, law, vb: float) -> float:
+    """The single mass's stick-slip cycle from rest (the single-mass exact solver and analysis)."""
+    tr = ff.simulate(ff.BeltOscillator(zeta=zeta, vb=vb), law, Exact(), t_end=800.0, x0=0.0, v0=0.0)
+    ss = ff.analyze(tr).steady_state
+    assert ss.kind == "periodic"
+    return ss.period
+
+
+def test_two_uncoupled_stick_slip_cycles_are_quasi_periodic():
+    """Two masses, each its own single-mass stick-slip cycle, with periods in no ratio p/q of small q: the motion
+    lies on the product of the two cycles (a torus), never repeats and never leaves it.
+
+    Mass 2 (k = 2) is the single mass in time tau = sqrt(2) t: y'' + (c / sqrt 2) y' + y = F / 2 with the belt
+    at b / sqrt 2, so its period is the single mass's with zeta = c / (2 sqrt 2), F_d, F_s halved, V_b / sqrt 2,
+    divided by sqrt 2."""
+    c, w = 2.0 * ZETA, math.sqrt(2.0)
+    t1 = _cycle_period(ZETA, ff.Coulomb(FD, FS), VB)
+    t2 = _cycle_period(c / (2.0 * w), ff.Coulomb(FD / 2.0, FS / 2.0), VB / w) / w
+    ratio = t1 / t2
+    near = Fraction(ratio).limit_denominator(MAX_CROSSINGS)
+    assert abs(ratio - float(near)) > 1e-3 * ratio  # no repetition within the crossings the classifier looks at
+    model = {"dof": ["x1", "x2"], "mass": [1.0, 1.0],
+             "spring": [{"on": {"x1": 1.0}, "k": 1.0}, {"on": {"x2": 1.0}, "k": 2.0}],
+             "damper": [{"on": {"x1": 1.0}, "c": c}, {"on": {"x2": 1.0}, "c": c}],
+             "contact": [{"on": {d: 1.0}, "belt": VB, "friction": "coulomb", "fd": FD, "fs": FS} for d in ("x1", "x2")]}
+    ss = structure_steady_state(simulate_system(System.from_dict(model, source=None), 3000.0))
+    assert ss.kind == "quasi_periodic"
+    assert abs(ss.lyapunov) < 1e-3
+
+
+def test_a_one_dof_model_at_the_single_mass_chaotic_point_is_chaotic():
+    """The single mass's chaotic point (tests/analysis/test_forced.py): the same kind, and the exponent of two
+    nearby exact runs against the single mass's tangent-space exponent (saltation matrices, RK4)."""
+    osc, law = ff.BeltOscillator(zeta=0.01, vb=0.1, fex=0.5, omega=1.0), ff.Coulomb(0.5, 1.0)
+    t_end = 300 * osc.forcing_period
+    single = ff.analyze(ff.simulate(osc, law, Exact(), t_end=t_end, x0=0.0, v0=0.0)).steady_state
+    mine = structure_steady_state(simulate_system(System.single_mass(osc, law), t_end))
+    assert mine.kind == single.kind == "chaotic"
+    assert mine.lyapunov == pytest.approx(single.lyapunov, rel=0.1)
+
+
+def test_a_one_dof_model_at_the_single_mass_quasi_periodic_point_is_quasi_periodic():
+    """The single mass's quasi-periodic point (tests/analysis/test_forced.py: the stick-slip cycle forced weakly
+    at an unrelated frequency)."""
+    osc, law = ff.BeltOscillator(zeta=ZETA, vb=VB, fex=0.003, omega=2.1), ff.Coulomb(FD, FS)
+    t_end = 400 * osc.forcing_period
+    single = ff.analyze(ff.simulate(osc, law, RK4(dt=1e-3), t_end=t_end, x0=0.02, v0=0.01)).steady_state
+    mine = structure_steady_state(simulate_system(System.single_mass(osc, law, x0=0.02, v0=0.01), t_end))
+    assert mine.kind == single.kind == "quasi_periodic"
+    assert abs(mine.lyapunov) < 1e-3
+
+
+def test_a_transient_is_not_settled():
+    """The two-mass chain on its way to a stick-slip cycle: not settled at t = 100 (a negative exponent: still
+    converging), periodic when run to 400."""
+    system = System.from_dict(tomllib.loads(TWO), source=None).with_entry("contact.0.belt", 0.005)
+    early = structure_steady_state(simulate_system(system, 100.0))
+    assert early.kind == "not_settled" and early.lyapunov < 0.0
+    assert structure_steady_state(simulate_system(system, 400.0)).kind == "periodic"
+
+
+def test_the_revisit_test_in_two_components_is_the_single_mass_s():
+    """On (x, v) pairs, the structure's revisit test (any number of components) decides as the single mass's."""
+    rng = np.random.default_rng(3)
+    angle = np.sort(rng.uniform(0.0, 2.0 * np.pi, 40))
+    ring = np.vstack((np.cos(angle), np.sin(angle)))  # a closed curve, sampled twice over
+    ring = np.hstack((ring, ring + rng.normal(0.0, 1e-3, ring.shape)))
+    drift = ring * np.linspace(1.0, 2.0, ring.shape[1])  # a spiral: the second half leaves the first
+    for points in (ring, drift, ring[:, :10]):
+        for tol in (1e-2, 0.3):
+            assert revisits(points, tol) == strobe.revisits(points[0].copy(), points[1].copy(), tol)
+    assert revisits(ring, 1e-2) and not revisits(drift, 1e-2)
