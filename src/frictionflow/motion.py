@@ -5,8 +5,9 @@ cumulative work of every element; between the samples the motion is the
 phase's closed form, which :meth:`Motion.at` evaluates exactly (from the
 last sample before t, in its modes: no switch lies between).  A run of the
 adaptive solver (any switch-rule law) samples every step instead and keeps
-the accelerations at both ends of each interval (:attr:`Motion.accel`): its
-:meth:`Motion.at` is the quintic Hermite form of q and the cubic one of q'.
+the accelerations and the channels' powers at both ends of each interval
+(:attr:`Motion.accel`, :attr:`Motion.power`): its :meth:`Motion.at` is the
+quintic Hermite form of q, the cubic one of q' and of the works.
 """
 
 from __future__ import annotations
@@ -66,6 +67,9 @@ class Motion:
         None for the exact engine's runs (the closed forms hold between samples); for a run sampled at
         every step (2n, T): rows 0..n-1 q'' just after each sample, rows n..2n-1 the q'' the next sample
         is reached with (both in the sample's modes), from which :meth:`at` interpolates.
+    power:
+        With :attr:`accel`, (2W, T): each channel's power just after each sample and the one the next
+        sample is reached with, from which :meth:`work_at` interpolates the works.
     solver:
         The name of the solver that made the run.
     """
@@ -87,6 +91,7 @@ class Motion:
     system: Any = None
     elements: dict[str, tuple[str, ...]] = field(default_factory=dict)
     accel: np.ndarray | None = None
+    power: np.ndarray | None = None
     solver: str = "exact"
 
     def __repr__(self) -> str:
@@ -110,7 +115,9 @@ class Motion:
         if self.accel is not None:
             s = (t - self.t[i]) / (self.t[i + 1] - self.t[i])
             state = self._interpolate(np.array([i]), np.array([s]))[:, 0]
-            return state[:n], state[n:], self.work[:, i] + s * (self.work[:, i + 1] - self.work[:, i])
+            h, w = self.t[i + 1] - self.t[i], len(self.channels)
+            work = hermite(self.work[:, i], self.work[:, i + 1], h * self.power[:w, i], h * self.power[w:, i], s)
+            return state[:n], state[n:], work
         q, v, dw = advance(a, np.linalg.inv(a.mass), self.modes[:, i].copy(), self.state[:n, i].copy(),
                            self.state[n:, i].copy(), self.t[i], t - self.t[i], len(self.channels))
         return q, v, self.work[:, i] + dw
@@ -152,8 +159,7 @@ class Motion:
         return np.concatenate((q, hermite(v0, v1, h * a0, h * a1, s)))
 
     def work_at(self, t: float) -> np.ndarray:
-        """The cumulative work of every channel at time ``t`` (between the samples of a run sampled at every
-        step: linear in t)."""
+        """The cumulative work of every channel at time ``t``."""
         return self._from_sample(t)[2]
 
     def element_power(self, t0: float, t1: float) -> dict[str, dict[str, float]]:

@@ -3,6 +3,7 @@ balances and an independent event-driven integrator (scipy's solve_ivp with its 
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -14,6 +15,8 @@ import frictionflow as ff
 from frictionflow.core.structure.combo import N_SLOTS
 from frictionflow.solvers.structure import simulate_system, structure_solvers, supported_laws
 from frictionflow.system import System, load_system
+
+from ..cli.processes import cli, one_line
 
 RTOL, ATOL = 1e-10, 1e-12
 EXAMPLES = "examples/models"
@@ -217,3 +220,50 @@ def test_the_solvers_declare_the_laws_they_run_in_structures():
     karnopp = _chain({"friction": "karnopp", "fd": 0.3, "fs": 0.5})
     with pytest.raises(ValueError, match=r"contact\.0 has friction=karnopp$"):
         simulate_system(karnopp, 10.0, solver="adaptive")
+
+
+# -- the command line ---------------------------------------------------------------------------------------------
+
+ONE_DOF_STRIBECK = """
+dof = ["x"]
+mass = [1.0]
+[[spring]]
+on = { x = 1.0 }
+k = 1.0
+[[damper]]
+on = { x = 1.0 }
+c = 0.1
+[[contact]]
+on = { x = 1.0 }
+belt = 0.01
+friction = "stribeck"
+fd = 0.02
+fs = 0.04
+vs = 0.05
+[initial]
+q = { x = 0.02 }
+v = { x = 0.01 }
+"""
+
+
+def test_cli_model_with_a_stribeck_law_runs_adaptive_and_agrees_with_the_single_mass(tmp_path):
+    path = tmp_path / "one.toml"
+    path.write_text(ONE_DOF_STRIBECK)
+    code, out, err, _ = cli("simulate", "--model", str(path), "--t-end", "300", "--json")
+    assert code == 0, err
+    model = json.loads(out)
+    code, out, err, _ = cli("simulate", "--friction", "stribeck", "--fd", "0.02", "--fs", "0.04", "--vs", "0.05",
+                            "--vb", "0.01", "--zeta", "0.05", "--x0", "0.02", "--v0", "0.01", "--t-end", "300",
+                            "--solver", "adaptive", "--json")
+    assert code == 0, err
+    single = json.loads(out)
+    assert model["steady_state"]["kind"] == single["steady_state"]["kind"] == "periodic"
+    assert model["steady_state"]["period"] == pytest.approx(single["steady_state"]["period"], rel=1e-7)
+    av, contact = single["averages"], model["elements"]["contact.0"]
+    assert contact["P_belt"] == pytest.approx(av["P_belt"], rel=1e-6)
+    assert contact["P_heat"] == pytest.approx(av["P_heat"], rel=1e-6)
+    assert -model["elements"]["damper.0"]["P"] == pytest.approx(av["P_dv"], rel=1e-6)
+    assert model["energy_residual"] < 1e-8
+    code, out, err, _ = cli("simulate", "--model", str(path), "--solver", "exact", "--t-end", "30", "--json")
+    assert code == 2 and out == ""
+    one_line(err, "solver=exact", "contact.0", "friction=stribeck", "solver=adaptive")

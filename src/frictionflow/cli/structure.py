@@ -16,13 +16,15 @@ from ..analysis.structure import StructureAnalysis, analyze_structure
 from ..io import atomic_write, check_input_path, check_output_path
 from ..plotting import FIGURE_FORMATS
 from ..estimate import enforce
-from ..solvers.structure import run_estimate, simulate_system
+from ..solvers.structure import (HOW, run_estimate, simulate_system, solver_settings, structure_parameters,
+                                 structure_solver_for)
 from ..structure_plot import plot_structure
 from ..system import System, assemble, load_system
 from .output import print_summary
 
-#: the single-mass options that still mean something beside a model file
-MODEL_KEEPS = ("t_end", "window", "rtol")
+#: the single-mass options that still mean something beside a model file: the run's length, window and
+#: tolerance, the solver and the structure solvers' own settings
+MODEL_KEEPS = ("t_end", "window", "rtol", "solver", *structure_parameters())
 MODEL_FORMATS = (".nc",)
 
 
@@ -47,8 +49,10 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     t_end = 300.0 if params.get("t_end") is None else float(params["t_end"])
     if not (math.isfinite(t_end) and t_end > 0.0):
         raise ValueError(f"--t-end must be a finite time > 0, got {t_end!r}")
-    enforce(run_estimate(assemble(system), t_end))
-    motion = simulate_system(system, t_end)
+    solver = structure_solver_for(system, params.get("solver") or "auto")
+    settings = solver_settings(solver, params)
+    enforce(run_estimate(assemble(system), t_end, solver=solver))
+    motion = simulate_system(system, t_end, solver=solver, **settings)
     window = _window(params.get("window"))
     rtol = 1e-6 if params.get("rtol") is None else float(params["rtol"])
     return analyze_structure(motion, rtol=rtol, window=window)
@@ -84,7 +88,7 @@ def simulate_model(path: Path, params: dict[str, Any], as_json: bool, outputs: d
     if as_json:
         print(json.dumps(report, allow_nan=False, default=_jsonable))
     else:
-        print_summary(result, f"model {path}, solver exact (located switches, closed-form phases)")
+        print_summary(result, f"model {path}, solver {result.motion.solver} ({HOW[result.motion.solver]})")
 
 
 def _jsonable(x: Any) -> Any:

@@ -28,6 +28,8 @@ from .registry import solver_named, solver_names_where
 
 #: the solver's name in messages
 NAME = "exact"
+#: how each structure solver integrates (the CLI summary's heading)
+HOW = {NAME: "located switches, closed-form phases", "adaptive": "located switches, Dormand-Prince 5(4) phases"}
 #: the first buffer size (samples and switches); doubled while the run reports FULL
 FIRST_CAP = 1024
 
@@ -41,6 +43,39 @@ def supported_laws(solver: str = NAME) -> dict[int, str]:
 def structure_solvers() -> tuple[str, ...]:
     """The names of the solvers that run structures."""
     return solver_names_where(lambda cls: cls.structure_laws is not None)
+
+
+def structure_solver_for(system: Any, solver: str = "auto") -> str:
+    """``solver``, or for ``"auto"`` the first structure solver (registry order) that runs every contact's law.
+
+    Parameters
+    ----------
+    system:
+        The structure (:class:`frictionflow.system.System`).
+    solver:
+        A name of :func:`structure_solvers` or ``"auto"``.
+    """
+    if solver != "auto":
+        _structure_solver(solver)
+        return solver
+    laws = [type(c.law) for c in system.contacts]
+    for name in structure_solvers():
+        if all(solver_named(name).structure_laws(law) for law in laws):
+            return name
+    return NAME  # none runs them all: the exact solver's message names the contact
+
+
+def solver_settings(solver: str, values: Mapping[str, Any]) -> dict[str, Any]:
+    """The settings of structure solver ``solver`` given in ``values`` (its declared parameters, not None),
+    by its keywords; ``dense_dt`` stays the run's."""
+    cls = _structure_solver(solver)
+    return {cls.keywords.get(p.name, p.name): values[p.name] for p in cls.parameters
+            if values.get(p.name) is not None and p.name != "dense_dt"}
+
+
+def structure_parameters() -> tuple[str, ...]:
+    """The names of every structure solver's declared parameters."""
+    return tuple(dict.fromkeys(p.name for name in structure_solvers() for p in solver_named(name).parameters))
 
 
 def _structure_solver(solver: Any) -> Any:
@@ -155,13 +190,16 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
 SWITCHES_PER_PERIOD = 4.0
 
 
-def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None) -> Estimate:
-    """What a run of ``assembly`` to ``t_end`` costs, before it starts: switches, CPU seconds and memory.
+def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None, solver: str = NAME) -> Estimate:
+    """What a run of ``assembly`` to ``t_end`` costs, before it starts: switches (steps), CPU seconds and memory.
 
     The switches are bounded by :data:`SWITCHES_PER_PERIOD` per contact and
     per period of the fastest undamped mode; each costs the engine's
-    declared seconds (:data:`frictionflow.estimate.SECONDS_PER`).
+    declared seconds (:data:`frictionflow.estimate.SECONDS_PER`).  The
+    adaptive solver's steps: :func:`.structure_adaptive.step_estimate`.
     """
+    if solver != NAME:
+        return structure_adaptive.step_estimate(assembly, t_end, dense_dt)
     n, k = assembly.mass.shape[0], len(assembly.belt)
     omega = max(float(natural_frequencies(assembly).max(initial=0.0)), 1e-6)
     switches = SWITCHES_PER_PERIOD * max(k, 1) * (t_end * omega / (2.0 * math.pi) + 1.0)

@@ -18,6 +18,7 @@ from ..core import codes
 from ..core.assembly import Assembly, natural_frequencies
 from ..core.structure.adaptive import AOut, Opts, run as run_kernel
 from ..core.structure.work import n_channels
+from ..estimate import SECONDS_PER, Estimate
 from ..motion import Motion
 from .adaptive import Adaptive
 
@@ -31,7 +32,8 @@ FIRST_CAP = 4096
 def _buffers(assembly: Assembly, cap: int) -> AOut:
     n, k = len(assembly.q0), len(assembly.belt)
     return AOut(np.empty(cap), np.empty((2 * n, cap)), np.empty((2 * n, cap)), np.empty((k, cap)),
-                np.empty((k, cap), dtype=np.int8), np.empty((n_channels(assembly), cap)), np.empty(cap),
+                np.empty((k, cap), dtype=np.int8), np.empty((n_channels(assembly), cap)),
+                np.empty((2 * n_channels(assembly), cap)), np.empty(cap),
                 np.empty(cap, dtype=np.int64), np.empty(cap, dtype=np.int8))
 
 
@@ -39,6 +41,21 @@ def h_max(assembly: Assembly) -> float:
     """The longest step: :data:`H_MAX` over the fastest natural or forcing frequency (H_MAX without one)."""
     rate = max(float(natural_frequencies(assembly).max(initial=0.0)), float(np.max(assembly.force_omega, initial=0.0)))
     return H_MAX / rate if rate > 0.0 else H_MAX
+
+
+#: steps per longest step's span the estimate assumes (tight tolerances take shorter steps than h_max)
+STEPS_PER_H_MAX = 8.0
+
+
+def step_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None) -> Estimate:
+    """What an adaptive run of ``assembly`` to ``t_end`` costs: :data:`STEPS_PER_H_MAX` steps per
+    :func:`h_max`, each the single mass's step cost times the stages' n^2 work (and a sample each)."""
+    n, k = assembly.mass.shape[0], len(assembly.belt)
+    steps = STEPS_PER_H_MAX * (t_end / h_max(assembly) + 1.0)
+    samples = steps + (0.0 if not dense_dt else t_end / dense_dt)
+    row = 8.0 * (4 * n + 2 * k + n_channels(assembly))
+    return Estimate(steps, f"steps of a {n}-dof structure", steps * SECONDS_PER["adaptive_step"] * max(n, 1) ** 2,
+                    memory=samples * row)
 
 
 def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str, tuple[str, ...]],
@@ -81,6 +98,6 @@ def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str
         switches=out.sw_t[:w].copy(), switch_contact=out.sw_contact[:w].copy(), switch_mode=out.sw_mode[:w].copy(),
         dof=elements["dof"], contacts=elements["contact"], status="ok" if lost is None else "contact_lost",
         assembly=assembly, lost=lost, system=system, elements={k: v for k, v in elements.items() if k != "dof"},
-        accel=out.accel[:, :s].copy(), solver=settings.name,
+        accel=out.accel[:, :s].copy(), power=out.power[:, :s].copy(), solver=settings.name,
     )
 

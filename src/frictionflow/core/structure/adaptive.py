@@ -39,8 +39,9 @@ from .run import MAX_ZERO, Result, record_switches, switch_modes
 from .stick import acceleration, decide, hold_velocity, held, normal_load
 
 #: the output buffers: samples (t, state (2n, T), accel (2n, T): the acceleration after the sample and the one
-#: the next sample is reached with, force (k, T), modes (k, T), work (W, T)) and switches (time, contact, mode)
-AOut = namedtuple("AOut", "t state accel force modes work sw_t sw_contact sw_mode")
+#: the next sample is reached with, force (k, T), modes (k, T), work (W, T), power (2W, T): the channels' powers
+#: both ways likewise) and switches (time, contact, mode)
+AOut = namedtuple("AOut", "t state accel force modes work power sw_t sw_contact sw_mode")
 #: the run's settings
 Opts = namedtuple("Opts", "t_end rtol atol h_max dense_dt max_steps")
 #: scratch: the stages K (7, m), y, y_new, a stage's input, the dense output, the contacts' forces, the
@@ -208,8 +209,10 @@ def emit(out, i, asm, sp, t, y, n, scr):
         out.state[r, i] = y[r]
     for r in range(n):
         out.accel[r, i] = out.accel[n + r, i] = scr.tmp[n + r]
-    for r in range(out.work.shape[0]):
+    nw = out.work.shape[0]
+    for r in range(nw):
         out.work[r, i] = y[2 * n + r]
+        out.power[r, i] = out.power[nw + r, i] = scr.tmp[2 * n + r]
     for j in range(len(scr.f)):
         out.force[j, i] = scr.f[j]
         out.modes[j, i] = sp.modes[j]
@@ -218,11 +221,14 @@ def emit(out, i, asm, sp, t, y, n, scr):
 
 @njit(cache=True)
 def arrive(out, i, asm, sp, t, y, n, scr):
-    """The acceleration (modes of ``sp``) sample ``i + 1`` at (t, y) is reached with, kept on sample ``i``."""
+    """The acceleration and powers (modes of ``sp``) sample ``i + 1`` at (t, y) is reached with, kept on sample ``i``."""
     if 0 <= i < len(out.t):
         rhs(asm, sp, t, y, n, scr.tmp, scr.f)
         for r in range(n):
             out.accel[n + r, i] = scr.tmp[n + r]
+        nw = out.work.shape[0]
+        for r in range(nw):
+            out.power[nw + r, i] = scr.tmp[2 * n + r]
 
 
 @njit(cache=True)
