@@ -37,6 +37,7 @@ from ..layout import FD, FS, STICK
 from .combo import N_SLOTS, Split, split
 from .run import MAX_ZERO, Result, record_switches, switch_modes
 from .stick import acceleration, decide, hold_velocity, held, normal_load
+from .work import element_powers
 
 #: the output buffers: samples (t, state (2n, T), accel (2n, T): the acceleration after the sample and the one
 #: the next sample is reached with, force (k, T), modes (k, T), work (W, T), power (2W, T): the channels' powers
@@ -94,17 +95,7 @@ def rhs(asm, sp, t, y, n, out, f):
     for i in range(n):
         out[i] = v[i]
         out[n + i] = a[i]
-    c = 2 * n
-    for s in range(len(asm.spring_k)):
-        out[c] = -asm.spring_k[s] * (asm.spring_dir[s] @ q) * (asm.spring_dir[s] @ v)
-        c += 1
-    for d in range(len(asm.damper_c)):
-        w = asm.damper_dir[d] @ v
-        out[c] = -asm.damper_c[d] * w * w
-        c += 1
-    for i in range(len(asm.force_amp)):
-        out[c] = asm.force_amp[i] * np.cos(asm.force_omega[i] * t + asm.force_phi[i]) * (asm.force_dir[i] @ v)
-        c += 1
+    c = element_powers(asm, q, v, t, out, 2 * n)
     k = len(asm.belt)
     for j in range(k):
         out[c + j] = f[j] * asm.belt[j]
