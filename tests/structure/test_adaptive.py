@@ -26,8 +26,9 @@ def _model(path):
     return load_system(Path(__file__).parents[2] / EXAMPLES / path)
 
 
-def _chain(law_table, n=2, belt=0.1, q0=None, v0=None, coupling=1.0, damping=0.05):
-    """n masses in a chain (wall-k-m1-kc-m2-...-k-wall), each rubbing on the belt with the law ``law_table``."""
+def _chain(law_table, n=2, belt=0.1, q0=None, v0=None, coupling=1.0, damping=0.05, forces=()):
+    """n masses in a chain (wall-k-m1-kc-m2-...-k-wall), each rubbing on the belt with the law ``law_table``
+    (``forces``: the model file's force tables)."""
     dof = [f"x{i}" for i in range(n)]
     springs = [{"on": {dof[0]: 1.0}, "k": 1.0}, {"on": {dof[-1]: 1.0}, "k": 1.0}]
     springs += [{"on": {dof[i]: 1.0, dof[i + 1]: -1.0}, "k": coupling} for i in range(n - 1)]
@@ -35,6 +36,8 @@ def _chain(law_table, n=2, belt=0.1, q0=None, v0=None, coupling=1.0, damping=0.0
             "damper": [{"on": {d: 1.0}, "c": damping} for d in dof],
             "contact": [{"on": {d: 1.0}, "belt": belt, **law_table} for d in dof],
             "initial": {"q": dict(zip(dof, q0 or [0.0] * n)), "v": dict(zip(dof, v0 or [0.0] * n))}}
+    if forces:
+        data["force"] = list(forces)
     return System.from_dict(data)
 
 
@@ -43,10 +46,15 @@ STRIBECK = {"friction": "stribeck", "fd": 0.3, "fs": 0.5, "vs": 0.2}
 
 # -- (1) Coulomb: the same motion as the exact engine --------------------------------------------------------
 
-@pytest.mark.parametrize("model", ["two_mass_chain.toml", "chain3"])
+COULOMB = {"friction": "coulomb", "fd": 0.3, "fs": 0.5}
+FORCE = {"on": {"x0": 1.0}, "amplitude": 0.6, "omega": 0.8, "phi": 0.3}
+
+
+@pytest.mark.parametrize("model", ["two_mass_chain.toml", "chain3", "forced_chain2"])
 def test_coulomb_chain_switches_as_the_exact_engine(model):
     system = (_model(model) if model.endswith(".toml")
-              else _chain({"friction": "coulomb", "fd": 0.3, "fs": 0.5}, n=3, q0=[0.2, -0.1, 0.0], v0=[0.0, 0.3, 0.0]))
+              else _chain(COULOMB, n=3, q0=[0.2, -0.1, 0.0], v0=[0.0, 0.3, 0.0]) if model == "chain3"
+              else _chain(COULOMB, n=2, q0=[0.1, 0.0], forces=[FORCE]))
     exact = simulate_system(system, 40.0)
     adaptive = simulate_system(system, 40.0, solver="adaptive", rtol=RTOL, atol=ATOL)
     assert len(exact.switches) >= 4
@@ -267,3 +275,17 @@ def test_cli_model_with_a_stribeck_law_runs_adaptive_and_agrees_with_the_single_
     code, out, err, _ = cli("simulate", "--model", str(path), "--solver", "exact", "--t-end", "30", "--json")
     assert code == 2 and out == ""
     one_line(err, "solver=exact", "contact.0", "friction=stribeck", "solver=adaptive")
+
+
+def test_dense_grid_samples_equal_the_exact_motion_and_the_step_cap_is_one_line():
+    system = _chain(COULOMB, n=2, q0=[0.1, 0.0], forces=[FORCE])
+    exact = simulate_system(system, 20.0)
+    motion = simulate_system(system, 20.0, solver="adaptive", dense_dt=0.5, rtol=RTOL, atol=ATOL)
+    grid = np.arange(1, 40) * 0.5
+    on_grid = np.isin(grid, motion.t)
+    assert on_grid.all()
+    columns = np.searchsorted(motion.t, grid)
+    np.testing.assert_allclose(motion.state[:, columns], exact.states(grid), rtol=0, atol=1e-7)
+    np.testing.assert_allclose(motion.work[:, columns], np.array([exact.work_at(t) for t in grid]).T, rtol=0, atol=1e-8)
+    with pytest.raises(RuntimeError, match=r"^solver=adaptive: the structure's run ended with status 'step cap'"):
+        simulate_system(system, 20.0, solver="adaptive", max_steps=10)
