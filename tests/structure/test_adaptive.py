@@ -275,6 +275,14 @@ def test_cli_model_with_a_stribeck_law_runs_adaptive_and_agrees_with_the_single_
     code, out, err, _ = cli("simulate", "--model", str(path), "--solver", "exact", "--t-end", "30", "--json")
     assert code == 2 and out == ""
     one_line(err, "solver=exact", "contact.0", "friction=stribeck", "solver=adaptive")
+    coulomb = tmp_path / "coulomb.toml"
+    coulomb.write_text(ONE_DOF_STRIBECK.replace('"stribeck"', '"coulomb"').replace("vs = 0.05\n", ""))
+    code, out, err, _ = cli("simulate", "--model", str(coulomb), "--ode-rtol", "1e-8", "--t-end", "30", "--json")
+    assert code == 2 and out == ""  # auto runs Coulomb contacts exactly: the adaptive tolerance would go unused
+    one_line(err, "--ode-rtol", "solver=exact")
+    code, out, err, _ = cli("orbit", "--model", str(coulomb), "--solver", "adaptive", "--json")
+    assert code == 2 and out == ""
+    one_line(err, "--solver", "--model")
 
 
 def test_dense_grid_samples_equal_the_exact_motion_and_the_step_cap_is_one_line():

@@ -73,9 +73,10 @@ def solver_settings(solver: str, values: Mapping[str, Any]) -> dict[str, Any]:
             if values.get(p.name) is not None and p.name != "dense_dt"}
 
 
-def structure_parameters() -> tuple[str, ...]:
-    """The names of every structure solver's declared parameters."""
-    return tuple(dict.fromkeys(p.name for name in structure_solvers() for p in solver_named(name).parameters))
+def structure_parameters(solver: str | None = None) -> tuple[str, ...]:
+    """The names of the declared parameters of structure solver ``solver`` (None: of every one)."""
+    names = structure_solvers() if solver is None else (solver,)
+    return tuple(dict.fromkeys(p.name for name in names for p in _structure_solver(name).parameters))
 
 
 def _structure_solver(solver: Any) -> Any:
