@@ -3,7 +3,11 @@
 The samples hold the state, each contact's friction force and mode and the
 cumulative work of every element; between the samples the motion is the
 phase's closed form, which :meth:`Motion.at` evaluates exactly (from the
-last sample before t, in its modes: no switch lies between).
+last sample before t, in its modes: no switch lies between).  A run of the
+adaptive solver (any switch-rule law) samples every step instead and keeps
+the accelerations and the channels' powers at both ends of each interval
+(:attr:`Motion.accel`, :attr:`Motion.power`): its :meth:`Motion.at` is the
+quintic Hermite form of q, the cubic one of q' and of the works.
 """
 
 from __future__ import annotations
@@ -15,6 +19,7 @@ import numpy as np
 
 from ._lazy import lazy_module
 from .core.assembly import Assembly
+from .core.hermite import hermite, quintic
 from .core.structure.evaluate import states as exact_states
 from .core.structure.run import advance
 
@@ -58,6 +63,15 @@ class Motion:
         (contact name, time) when a normal load reached zero, else None.
     elements:
         Element kind -> the names of its elements (``spring``, ``damper``, ``force``, ``contact``).
+    accel:
+        None for the exact engine's runs (the closed forms hold between samples); for a run sampled at
+        every step (2n, T): rows 0..n-1 q'' just after each sample, rows n..2n-1 the q'' the next sample
+        is reached with (both in the sample's modes), from which :meth:`at` interpolates.
+    power:
+        With :attr:`accel`, (2W, T): each channel's power just after each sample and the one the next
+        sample is reached with, from which :meth:`work_at` interpolates the works.
+    solver:
+        The name of the solver that made the run.
     """
 
     t: np.ndarray
@@ -76,6 +90,9 @@ class Motion:
     lost: tuple[str, float] | None = None
     system: Any = None
     elements: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    accel: np.ndarray | None = None
+    power: np.ndarray | None = None
+    solver: str = "exact"
 
     def __repr__(self) -> str:
         return (f"Motion(n={len(self.dof)}, contacts={len(self.contacts)}, samples={len(self.t)}, "
@@ -95,6 +112,12 @@ class Motion:
         n, a = self.n, self.assembly
         if self.t[i] == t:
             return self.state[:n, i].copy(), self.state[n:, i].copy(), self.work[:, i].copy()
+        if self.accel is not None:
+            s = (t - self.t[i]) / (self.t[i + 1] - self.t[i])
+            state = self._interpolate(np.array([i]), np.array([s]))[:, 0]
+            h, w = self.t[i + 1] - self.t[i], len(self.channels)
+            work = hermite(self.work[:, i], self.work[:, i + 1], h * self.power[:w, i], h * self.power[w:, i], s)
+            return state[:n], state[n:], work
         q, v, dw = advance(a, np.linalg.inv(a.mass), self.modes[:, i].copy(), self.state[:n, i].copy(),
                            self.state[n:, i].copy(), self.t[i], t - self.t[i], len(self.channels))
         return q, v, self.work[:, i] + dw
@@ -113,6 +136,10 @@ class Motion:
         times = np.asarray(times, dtype=float).ravel()
         if times.size and not (self.t[0] <= times.min() and times.max() <= self.t[-1]):
             raise ValueError(f"times must lie in [{self.t[0]}, {self.t[-1]}]")
+        if self.accel is not None:
+            i = np.clip(np.searchsorted(self.t, times, side="right") - 1, 0, max(len(self.t) - 2, 0))
+            span = np.where(self.t[i + 1] > self.t[i], self.t[i + 1] - self.t[i], 1.0)
+            return self._interpolate(i, np.clip((times - self.t[i]) / span, 0.0, 1.0))
         order = np.argsort(times, kind="stable")
         out = np.empty((2 * self.n, times.size))
         filled = np.empty_like(out)
@@ -121,6 +148,15 @@ class Motion:
                np.ascontiguousarray(self.modes), np.ascontiguousarray(times[order]), filled)
         out[:, order] = filled
         return out
+
+    def _interpolate(self, i: np.ndarray, s: np.ndarray) -> np.ndarray:
+        """(2n, m): the Hermite forms on the intervals ``i`` at their local times ``s`` in [0, 1]."""
+        n, a = self.n, self.accel
+        h = self.t[i + 1] - self.t[i]
+        q0, q1, v0, v1 = self.state[:n, i], self.state[:n, i + 1], self.state[n:, i], self.state[n:, i + 1]
+        a0, a1 = a[:n, i], a[n:, i]
+        q, _ = quintic(q0, q1, h * v0, h * v1, h * h * a0, h * h * a1, s)
+        return np.concatenate((q, hermite(v0, v1, h * a0, h * a1, s)))
 
     def work_at(self, t: float) -> np.ndarray:
         """The cumulative work of every channel at time ``t``."""

@@ -40,6 +40,8 @@ from scipy.optimize import brentq
 from .. import quantities as Q
 from .._display import Row, Summarized, num
 from ..core.assembly import natural_frequencies
+from ..core.layout import LAW
+from ..friction.registry import law_classes
 from .stability import steady_sliding
 from .structure_lyapunov import beyond_periodic
 
@@ -220,8 +222,13 @@ def _certified(motion: Any) -> bool:
     of its equilibrium value) for all later times; below |b_j| (and N_j*) no
     switch can come.  The single mass's certificate
     (:mod:`frictionflow.core.certificate`) is the same argument on a disc.
+    The motion is the linearisation's only where every contact's slip force
+    is piecewise constant: a smooth slip curve is not certified.
     """
     a = motion.assembly
+    linear = {cls.code for cls in law_classes() if cls.configurable and cls.piecewise_constant}
+    if not all(int(code) in linear for code in np.asarray(a.law)[:, LAW]):
+        return False
     modes = np.asarray(motion.modes)[:, -1]
     if np.any(np.asarray(a.force_amp) != 0.0) or np.any(modes != np.sign(a.belt)) or np.any(a.belt == 0.0):
         return False

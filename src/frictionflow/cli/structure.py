@@ -16,19 +16,22 @@ from ..analysis.structure import StructureAnalysis, analyze_structure
 from ..io import atomic_write, check_input_path, check_output_path
 from ..plotting import FIGURE_FORMATS
 from ..estimate import enforce
-from ..solvers.structure import run_estimate, simulate_system
+from ..solvers.structure import (HOW, run_estimate, simulate_system, solver_settings, structure_parameters,
+                                 structure_solver_for)
 from ..structure_plot import plot_structure
 from ..system import System, assemble, load_system
 from .output import print_summary
 
 #: the single-mass options that still mean something beside a model file
 MODEL_KEEPS = ("t_end", "window", "rtol")
+#: ... and beside ``simulate --model``: the solver and the structure solvers' own settings too
+SIMULATE_KEEPS = (*MODEL_KEEPS, "solver", *structure_parameters())
 MODEL_FORMATS = (".nc",)
 
 
-def refuse_single_mass(params: dict[str, Any]) -> None:
-    """One line if a single-mass option is given with ``--model``."""
-    given = sorted(k for k, v in params.items() if v is not None and k not in MODEL_KEEPS)
+def refuse_single_mass(params: dict[str, Any], keeps: tuple[str, ...] = MODEL_KEEPS) -> None:
+    """One line if a single-mass option other than ``keeps`` is given with ``--model``."""
+    given = sorted(k for k, v in params.items() if v is not None and k not in keeps)
     if given:
         flags = ", ".join("--" + k.replace("_", "-") for k in given)
         raise ValueError(f"--model describes the whole system: {flags} cannot be given with it "
@@ -37,7 +40,7 @@ def refuse_single_mass(params: dict[str, Any]) -> None:
 
 def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> StructureAnalysis:
     """Load, check the outputs, run and analyse the model file at ``path`` (``outputs``: out, plot, dpi)."""
-    refuse_single_mass(params)
+    refuse_single_mass(params, SIMULATE_KEEPS)
     check_input_path(path, "--model")
     system = load_system(path)
     if outputs.get("out") is not None:
@@ -47,11 +50,24 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     t_end = 300.0 if params.get("t_end") is None else float(params["t_end"])
     if not (math.isfinite(t_end) and t_end > 0.0):
         raise ValueError(f"--t-end must be a finite time > 0, got {t_end!r}")
-    enforce(run_estimate(assemble(system), t_end))
-    motion = simulate_system(system, t_end)
+    solver = structure_solver_for(system, params.get("solver") or "auto")
+    settings = solver_settings(solver, params)
+    _refuse_others(solver, params)
+    dense_dt = params.get("dense_dt")
+    enforce(run_estimate(assemble(system), t_end, dense_dt, solver=solver))
+    motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=solver, **settings)
     window = _window(params.get("window"))
     rtol = 1e-6 if params.get("rtol") is None else float(params["rtol"])
     return analyze_structure(motion, rtol=rtol, window=window)
+
+
+def _refuse_others(solver: str, params: dict[str, Any]) -> None:
+    """One line if another structure solver's setting is given beside ``--model`` (it would go unused)."""
+    own = structure_parameters(solver)
+    stray = [name for name in structure_parameters() if params.get(name) is not None and name not in own]
+    if stray:
+        flags = ", ".join("--" + name.replace("_", "-") for name in stray)
+        raise ValueError(f"{flags}: not a setting of solver={solver}, which runs this model")
 
 
 def _window(text: Any) -> Optional[tuple[float, float]]:
@@ -84,7 +100,7 @@ def simulate_model(path: Path, params: dict[str, Any], as_json: bool, outputs: d
     if as_json:
         print(json.dumps(report, allow_nan=False, default=_jsonable))
     else:
-        print_summary(result, f"model {path}, solver exact (located switches, closed-form phases)")
+        print_summary(result, f"model {path}, solver {result.motion.solver} ({HOW[result.motion.solver]})")
 
 
 def _jsonable(x: Any) -> Any:

@@ -103,6 +103,8 @@ class Adaptive(Solver):
     parameters = (ODE_RTOL, MAX_STEPS, DENSE_DT)
     keywords = {"ode_rtol": "rtol"}
     interpolant = "quintic_hermite"  # it samples every step: X'' at both ends is known
+    #: in a structure: every switch-rule law with a compiled slip curve (a user's function is not reached there)
+    structure_laws = staticmethod(lambda law: law.stick_rule == "switch" and law.compiled_slip)
     steady_rtol = 1e-8  # resolves orbits to about its rtol
     default_chunk = 256
     batched = staticmethod(batch.adaptive_points)

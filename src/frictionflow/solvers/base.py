@@ -106,6 +106,10 @@ class Solver(ABC):
         they then run one ``simulate`` and ``analyze`` each.
     supports_forcing:
         It integrates an external force f(tau) (:meth:`forcing_problem` names the exceptions).
+    structure_laws:
+        For linear structures with friction contacts (:func:`frictionflow.solvers.structure.simulate_system`):
+        a test of a law class, true for the laws this solver runs at a structure's contacts; None: it
+        does not run structures.
     step_cost, point_cost_per:
         Its cost model: the keys of :data:`frictionflow.estimate.SECONDS_PER` of a step of a
         single run, and of a sweep point's work per unit of time (:meth:`cost`, :meth:`point_cost`).
@@ -124,6 +128,7 @@ class Solver(ABC):
     supports_forcing: ClassVar[bool] = True
     step_cost: ClassVar[str] = "adaptive_step"
     point_cost_per: ClassVar[str] = "adaptive_point_time"
+    structure_laws: ClassVar[Callable[[type[FrictionLaw]], bool] | None] = None
 
     @classmethod
     def from_values(cls, values: Mapping[str, Any]) -> "Solver":

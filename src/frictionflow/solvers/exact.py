@@ -82,6 +82,8 @@ class Exact(Solver):
     name = "exact"
     parameters = (DENSE_DT,)
     interpolant = "closed_form"
+    #: in a structure: the laws whose phases are linear (piecewise-constant slip force, stuck a constraint)
+    structure_laws = staticmethod(lambda law: law.piecewise_constant and law.stick_rule == "switch")
     steady_rtol = 1e-10  # the closed forms resolve orbits to rounding
     default_chunk = 8192
     batched = staticmethod(batch.exact_points)

@@ -1,8 +1,10 @@
-"""The exact solver for linear structures with friction contacts: :func:`run_assembly`, :func:`simulate_system`.
+"""The solvers of linear structures with friction contacts: :func:`run_assembly`, :func:`simulate_system`.
 
-It supports the laws that are piecewise constant with the switch stick rule
-(their slip force is a constant times the normal load, stuck is a
-constraint): the capability is read from the law classes, never from names.
+The exact engine runs the laws that are piecewise constant with the switch
+stick rule (their slip force is a constant times the normal load, stuck is a
+constraint); the adaptive one (:mod:`.structure_adaptive`) every switch-rule
+law with a compiled slip curve.  Which solver runs structures, and with which
+laws, each solver class declares (``structure_laws``); nothing here names a law.
 """
 
 from __future__ import annotations
@@ -21,18 +23,77 @@ from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
 from ..friction.registry import law_classes
 from ..motion import Motion
-
 from ..system import assemble
+from . import structure_adaptive
+from .registry import solver_named, solver_names_where
 
 #: the solver's name in messages
 NAME = "exact"
+#: how each structure solver integrates (the CLI summary's heading)
+HOW = {NAME: "located switches, closed-form phases", "adaptive": "located switches, Dormand-Prince 5(4) phases"}
 #: the first buffer size (samples and switches); doubled while the run reports FULL
 FIRST_CAP = 1024
 
 
-def supported_laws() -> dict[int, str]:
-    """Law code -> name of the laws this solver supports: piecewise constant, switch stick rule."""
-    return {cls.code: cls.name for cls in law_classes() if cls.piecewise_constant and cls.stick_rule == "switch"}
+def supported_laws(solver: str = NAME) -> dict[int, str]:
+    """Law code -> name of the laws ``solver`` runs at a structure's contacts (its ``structure_laws``)."""
+    test = _structure_solver(solver).structure_laws
+    return {cls.code: cls.name for cls in law_classes() if cls.configurable and test(cls)}
+
+
+def structure_solvers() -> tuple[str, ...]:
+    """The names of the solvers that run structures."""
+    return solver_names_where(lambda cls: cls.structure_laws is not None)
+
+
+def structure_solver_for(system: Any, solver: str = "auto") -> str:
+    """``solver``, or for ``"auto"`` the first structure solver (registry order) that runs every contact's law.
+
+    Parameters
+    ----------
+    system:
+        The structure (:class:`frictionflow.system.System`).
+    solver:
+        A name of :func:`structure_solvers` or ``"auto"``.
+    """
+    if solver != "auto":
+        _structure_solver(solver)
+        return solver
+    laws = [type(c.law) for c in system.contacts]
+    for name in structure_solvers():
+        if all(solver_named(name).structure_laws(law) for law in laws):
+            return name
+    return NAME  # none runs them all: the exact solver's message names the contact
+
+
+def solver_settings(solver: str, values: Mapping[str, Any]) -> dict[str, Any]:
+    """The settings of structure solver ``solver`` given in ``values`` (its declared parameters, not None),
+    by its keywords; ``dense_dt`` stays the run's."""
+    cls = _structure_solver(solver)
+    return {cls.keywords.get(p.name, p.name): values[p.name] for p in cls.parameters
+            if values.get(p.name) is not None and p.name != "dense_dt"}
+
+
+def structure_parameters(solver: str | None = None) -> tuple[str, ...]:
+    """The names of the declared parameters of structure solver ``solver`` (None: of every one)."""
+    names = structure_solvers() if solver is None else (solver,)
+    return tuple(dict.fromkeys(p.name for name in names for p in _structure_solver(name).parameters))
+
+
+def _structure_solver(solver: Any) -> Any:
+    cls = solver_named(solver)
+    if cls is None or cls.structure_laws is None:
+        raise ValueError(f"solver must be one of {', '.join(structure_solvers())} for a structure, got {solver!r}")
+    return cls
+
+
+def _law_message(solver: str, contact: str, law: str) -> str:
+    """One line: ``solver`` does not run ``law`` at ``contact``; the structure solvers that would."""
+    runs = solver_names_where(lambda cls: cls.structure_laws is not None
+                              and any(cls.structure_laws(c) for c in law_classes() if c.name == law))
+    use = f"; use solver={' or '.join(runs)}" if runs else ""
+    return (f"solver={solver} runs structures whose contacts' laws are {', '.join(supported_laws(solver).values())}; "
+            f"{contact} has friction={law}{use}")
 
 
 def _names(assembly: Assembly, names: Mapping[str, Any] | None) -> dict[str, tuple[str, ...]]:
@@ -46,7 +107,7 @@ def _names(assembly: Assembly, names: Mapping[str, Any] | None) -> dict[str, tup
     return out
 
 
-def _check(assembly: Assembly, t_end: float, dense_dt: float | None, contacts: tuple[str, ...]) -> None:
+def _check(assembly: Assembly, t_end: float, dense_dt: float | None, contacts: tuple[str, ...], solver: str) -> None:
     """One-line errors for a run that cannot be made."""
     if not isinstance(assembly, Assembly):
         raise TypeError(f"assembly must be a frictionflow.core.assembly.Assembly, got {type(assembly).__name__}")
@@ -54,11 +115,11 @@ def _check(assembly: Assembly, t_end: float, dense_dt: float | None, contacts: t
         raise ValueError(f"t_end must be a finite number > 0, got {t_end!r}")
     if dense_dt is not None and not (math.isfinite(dense_dt) and dense_dt > 0):
         raise ValueError(f"dense_dt must be a finite number > 0 (or None), got {dense_dt!r}")
-    laws = supported_laws()
+    laws = supported_laws(solver)
     for j, code in enumerate(assembly.law[:, LAW].astype(int)):
         if code not in laws:
-            raise ValueError(f"solver={NAME} supports friction laws that are piecewise constant with the switch "
-                             f"stick rule ({', '.join(laws.values())}); {contacts[j]} has another law (code {code})")
+            known = {cls.code: cls.name for cls in law_classes() if cls.configurable}
+            raise ValueError(_law_message(solver, contacts[j], known.get(code, f"(law code {code})")))
 
 
 def _buffers(assembly: Assembly, cap: int) -> tuple[Samples, Events]:
@@ -73,8 +134,9 @@ def _channels(names: dict[str, tuple[str, ...]]) -> tuple[str, ...]:
 
 
 def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = None,
-                 names: Mapping[str, Any] | None = None, system: Any = None) -> Motion:
-    """Run the structure ``assembly`` from t = 0 to ``t_end`` with the exact event-driven engine.
+                 names: Mapping[str, Any] | None = None, system: Any = None, solver: str = NAME,
+                 settings: Mapping[str, Any] | None = None) -> Motion:
+    """Run the structure ``assembly`` from t = 0 to ``t_end`` with the exact event-driven engine (or ``solver``).
 
     Parameters
     ----------
@@ -89,9 +151,20 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
         names; default ``q0``, ... and ``spring.0``, ....
     system:
         The model object the assembly came from, kept on the result.
+    solver:
+        A solver that runs structures (:func:`structure_solvers`): ``"exact"`` (Coulomb's law) or
+        ``"adaptive"`` (every switch-rule law with a compiled slip curve).
+    settings:
+        The solver's own settings by keyword (the adaptive one's ``rtol``, ``atol``, ``max_steps``).
     """
     nm = _names(assembly, names)
-    _check(assembly, t_end, dense_dt, nm["contact"])
+    cls = _structure_solver(solver)
+    _check(assembly, t_end, dense_dt, nm["contact"], solver)
+    if solver != NAME:
+        settings = cls(**{**(settings or {}), "dense_dt": dense_dt})
+        return structure_adaptive.run(assembly, t_end, settings, nm, _channels(nm), system)
+    if settings:
+        raise ValueError(f"solver={NAME} takes no settings, got {', '.join(sorted(settings))}")
     minv = np.linalg.inv(assembly.mass)
     cap = FIRST_CAP
     while True:
@@ -119,13 +192,16 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
 SWITCHES_PER_PERIOD = 4.0
 
 
-def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None) -> Estimate:
-    """What a run of ``assembly`` to ``t_end`` costs, before it starts: switches, CPU seconds and memory.
+def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None, solver: str = NAME) -> Estimate:
+    """What a run of ``assembly`` to ``t_end`` costs, before it starts: switches (steps), CPU seconds and memory.
 
     The switches are bounded by :data:`SWITCHES_PER_PERIOD` per contact and
     per period of the fastest undamped mode; each costs the engine's
-    declared seconds (:data:`frictionflow.estimate.SECONDS_PER`).
+    declared seconds (:data:`frictionflow.estimate.SECONDS_PER`).  The
+    adaptive solver's steps: :func:`.structure_adaptive.step_estimate`.
     """
+    if solver != NAME:
+        return structure_adaptive.step_estimate(assembly, t_end, dense_dt)
     n, k = assembly.mass.shape[0], len(assembly.belt)
     omega = max(float(natural_frequencies(assembly).max(initial=0.0)), 1e-6)
     switches = SWITCHES_PER_PERIOD * max(k, 1) * (t_end * omega / (2.0 * math.pi) + 1.0)
@@ -135,7 +211,8 @@ def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None
     return Estimate(switches, f"switches of a {n}-dof structure", switches * each, memory=samples * row)
 
 
-def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None, solver: str = "exact") -> Motion:
+def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None, solver: str = NAME,
+                    **settings: Any) -> Motion:
     """Run the model ``system`` to ``t_end``: assemble it, then :func:`run_assembly`.
 
     Parameters
@@ -148,8 +225,14 @@ def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None,
         Also sample every ``dense_dt`` (None: the switches and the ends only; between samples
         :meth:`~frictionflow.motion.Motion.at` evaluates the exact motion anyway).
     solver:
-        ``"exact"``, the only solver for structures so far.
+        ``"exact"`` (the default; Coulomb's law), or ``"adaptive"`` for every switch-rule law with a
+        compiled slip curve (Stribeck, cubic, Coulomb): see :func:`structure_solvers`.
+    settings:
+        The solver's settings, e.g. ``rtol=1e-10, atol=1e-13`` for the adaptive solver.
     """
-    if solver != NAME:
-        raise ValueError(f"solver must be '{NAME}' for a structure, got {solver!r}")
-    return run_assembly(assemble(system), t_end, dense_dt=dense_dt, names={"dof": system.dof}, system=system)
+    test = _structure_solver(solver).structure_laws
+    for contact, name in zip(system.contacts, system.contact_names):
+        if not test(type(contact.law)):
+            raise ValueError(_law_message(solver, name, contact.law.name))
+    return run_assembly(assemble(system), t_end, dense_dt=dense_dt, names={"dof": system.dof}, system=system,
+                        solver=solver, settings=settings)

@@ -70,9 +70,8 @@ def friction_into(asm, cb, q, v, t, f, rest):
 
 
 @njit(cache=True, inline="always")
-def powers(asm, cb, q, v, t, f, rest, out):
-    """The power of every channel at (q, q', t), into ``out`` (``f``, ``rest``: room, see :func:`friction_into`)."""
-    c = 0
+def element_powers(asm, q, v, t, out, c):
+    """The springs', dampers' and forces' powers at (q, q', t) into ``out`` from channel ``c``; the next channel."""
     for s in range(len(asm.spring_k)):
         out[c] = -asm.spring_k[s] * (asm.spring_dir[s] @ q) * (asm.spring_dir[s] @ v)
         c += 1
@@ -83,6 +82,13 @@ def powers(asm, cb, q, v, t, f, rest, out):
     for i in range(len(asm.force_amp)):
         out[c] = asm.force_amp[i] * math.cos(asm.force_omega[i] * t + asm.force_phi[i]) * (asm.force_dir[i] @ v)
         c += 1
+    return c
+
+
+@njit(cache=True, inline="always")
+def powers(asm, cb, q, v, t, f, rest, out):
+    """The power of every channel at (q, q', t), into ``out`` (``f``, ``rest``: room, see :func:`friction_into`)."""
+    c = element_powers(asm, q, v, t, out, 0)
     friction_into(asm, cb, q, v, t, f, rest)
     k = len(asm.belt)
     for j in range(k):

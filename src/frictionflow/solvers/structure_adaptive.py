@@ -1,0 +1,103 @@
+"""The adaptive solver's runs of linear structures (any switch-rule law with a compiled slip curve).
+
+:func:`frictionflow.solvers.structure.run_assembly` checks the run and names
+its elements, then calls :func:`run` here: the kernel
+(:mod:`frictionflow.core.structure.adaptive`) with buffers that double while
+the run reports them full, and the :class:`~frictionflow.motion.Motion` of
+its samples (one per step, with the accelerations :meth:`Motion.at`
+interpolates from).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..core import codes
+from ..core.assembly import Assembly, natural_frequencies
+from ..core.structure.adaptive import AOut, Opts, run as run_kernel
+from ..core.structure.work import n_channels
+from ..estimate import SECONDS_PER, Estimate
+from ..motion import Motion
+from .adaptive import Adaptive
+
+#: the longest step, as a fraction of the fastest period's 1/(2 pi) (the single mass's 0.25): the event
+#: functions are watched at the step ends only
+H_MAX = 0.25
+#: the first buffer size; doubled while the run reports FULL
+FIRST_CAP = 4096
+
+
+def _buffers(assembly: Assembly, cap: int) -> AOut:
+    n, k = len(assembly.q0), len(assembly.belt)
+    return AOut(np.empty(cap), np.empty((2 * n, cap)), np.empty((2 * n, cap)), np.empty((k, cap)),
+                np.empty((k, cap), dtype=np.int8), np.empty((n_channels(assembly), cap)),
+                np.empty((2 * n_channels(assembly), cap)), np.empty(cap),
+                np.empty(cap, dtype=np.int64), np.empty(cap, dtype=np.int8))
+
+
+def h_max(assembly: Assembly) -> float:
+    """The longest step: :data:`H_MAX` over the fastest natural or forcing frequency (H_MAX without one)."""
+    rate = max(float(natural_frequencies(assembly).max(initial=0.0)), float(np.max(assembly.force_omega, initial=0.0)))
+    return H_MAX / rate if rate > 0.0 else H_MAX
+
+
+#: steps per longest step's span the estimate assumes (tight tolerances take shorter steps than h_max)
+STEPS_PER_H_MAX = 8.0
+
+
+def step_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None) -> Estimate:
+    """What an adaptive run of ``assembly`` to ``t_end`` costs: :data:`STEPS_PER_H_MAX` steps per
+    :func:`h_max`, each the single mass's step cost times the stages' n^2 work (and a sample each)."""
+    n, k = assembly.mass.shape[0], len(assembly.belt)
+    steps = STEPS_PER_H_MAX * (t_end / h_max(assembly) + 1.0)
+    samples = steps + (0.0 if not dense_dt else t_end / dense_dt)
+    row = 8.0 * (4 * n + 2 * k + n_channels(assembly))
+    return Estimate(steps, f"steps of a {n}-dof structure", steps * SECONDS_PER["adaptive_step"] * max(n, 1) ** 2,
+                    memory=samples * row)
+
+
+def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str, tuple[str, ...]],
+        channels: tuple[str, ...], system: Any = None) -> Motion:
+    """Run ``assembly`` to ``t_end`` with the adaptive solver's ``settings`` (rtol, atol, max_steps, dense_dt).
+
+    Parameters
+    ----------
+    assembly:
+        The structure, its laws checked by the caller.
+    t_end:
+        The end time, > 0.
+    settings:
+        The solver (:class:`~frictionflow.solvers.adaptive.Adaptive`) with its tolerances.
+    elements:
+        ``dof`` and per kind the element names.
+    channels:
+        The work channels' names.
+    system:
+        The model object the assembly came from, kept on the result.
+    """
+    opts = Opts(float(t_end), float(settings.rtol), float(settings.atol), h_max(assembly),
+                float(settings.dense_dt or 0.0), int(settings.max_steps))
+    minv = np.linalg.inv(assembly.mass)
+    cap = FIRST_CAP
+    while True:
+        out = _buffers(assembly, cap)
+        res = run_kernel(assembly, minv, opts, out)
+        if res.status != codes.FULL and res.n_switches <= cap:
+            break
+        cap = 2 * max(cap, res.n_samples, res.n_switches)
+    if res.status not in (codes.OK, codes.CONTACT_LOST):
+        raise RuntimeError(f"solver={settings.name}: the structure's run ended with status "
+                           f"'{codes.NAMES[res.status]}' at sample {res.n_samples} (max_steps={settings.max_steps})")
+    s, w = res.n_samples, res.n_switches
+    lost = None if res.status == codes.OK else (elements["contact"][res.lost_contact], float(res.lost_time))
+    return Motion(
+        t=out.t[:s].copy(), state=out.state[:, :s].copy(), force=out.force[:, :s].copy(),
+        modes=out.modes[:, :s].copy(), work=out.work[:, :s].copy(), channels=channels,
+        switches=out.sw_t[:w].copy(), switch_contact=out.sw_contact[:w].copy(), switch_mode=out.sw_mode[:w].copy(),
+        dof=elements["dof"], contacts=elements["contact"], status="ok" if lost is None else "contact_lost",
+        assembly=assembly, lost=lost, system=system, elements={k: v for k, v in elements.items() if k != "dof"},
+        accel=out.accel[:, :s].copy(), power=out.power[:, :s].copy(), solver=settings.name,
+    )
+
