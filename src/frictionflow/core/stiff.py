@@ -75,42 +75,46 @@ def lugre_stribeck(q, speed):
     return fc + (fs - fc) * e, dg
 
 
+#: columns of a law's derivative record ``d`` (m rows, one per internal state): its rate r, dr/dV_r, dF/dz,
+#: E's gradient and (diagonal) curvature, then dr/dz (m columns)
+D_RATE, D_RS, D_FZ, D_EZ, D_EZZ, D_RZ = range(6)
+
+
 @njit(cache=True, forceinline=True)
-def lugre(q, s, z, rate, dr_dz, dr_ds, df_dz, de_dz, d2e_dz2):
+def lugre(q, s, z, d):
     """LuGre (Canudas de Wit et al. 1995) at V_r = ``s``, bristle deflection z[0]; returns (F, dF/dV_r).
 
     z' = V_r - sigma0 |V_r| z / g(V_r), F = sigma0 z + sigma1 z' + sigma2 V_r,
-    E = sigma0 z^2 / 2.  Fills the rate, its derivatives, dF/dz and E's
-    gradient and curvature.
+    E = sigma0 z^2 / 2.  Fills the derivative record ``d`` (:data:`D_RATE` ...).
     """
     s0, s1, s2 = q[Q_LAW + 4], q[Q_LAW + 5], q[Q_LAW + 6]
     g, dg = lugre_stribeck(q, abs(s))
     sgn = 1.0 if s > 0.0 else (-1.0 if s < 0.0 else 0.0)
     zz = z[0]
-    rate[0] = s - s0 * abs(s) * zz / g
-    dr_dz[0, 0] = -s0 * abs(s) / g
-    dr_ds[0] = 1.0 - s0 * zz * sgn * (g - abs(s) * dg) / (g * g)
-    df_dz[0] = s0 + s1 * dr_dz[0, 0]
-    de_dz[0] = s0 * zz
-    d2e_dz2[0] = s0
-    return s0 * zz + s1 * rate[0] + s2 * s, s1 * dr_ds[0] + s2
+    d[0, D_RATE] = s - s0 * abs(s) * zz / g
+    d[0, D_RZ] = -s0 * abs(s) / g
+    d[0, D_RS] = 1.0 - s0 * zz * sgn * (g - abs(s) * dg) / (g * g)
+    d[0, D_FZ] = s0 + s1 * d[0, D_RZ]
+    d[0, D_EZ] = s0 * zz
+    d[0, D_EZZ] = s0
+    return s0 * zz + s1 * d[0, D_RATE] + s2 * s, s1 * d[0, D_RS] + s2
 
 
 @njit(cache=True, forceinline=True)
-def law_eval(q, s, z, rate, dr_dz, dr_ds, df_dz, de_dz, d2e_dz2):
-    """The stateful law of ``q[LAW]`` (one line per law); returns (F, dF/dV_r)."""
+def law_eval(q, s, z, d):
+    """The stateful law of ``q[LAW]`` (one line per law); returns (F, dF/dV_r) and fills ``d``."""
     # a single law so far: every other code is refused before a kernel runs (solvers.stiff)
-    return lugre(q, s, z, rate, dr_dz, dr_ds, df_dz, de_dz, d2e_dz2)
+    return lugre(q, s, z, d)
 
 
 @njit(cache=True)
-def work_of(q, zeta, vb, t, v, s, f, rate, de_dz, w):
+def work_of(q, zeta, vb, t, v, s, f, d, w):
     """The work integrands at one state: 2 zeta X'^2, max(P_f, 0), max(-P_f, 0), the interface heat
     F V_r - dE/dtau, X' f(tau) and the belt's input F V_b (P_f = X' F)."""
     pf = v * f
     store = 0.0
-    for i in range(len(rate)):
-        store += de_dz[i] * rate[i]
+    for i in range(d.shape[0]):
+        store += d[i, D_EZ] * d[i, D_RATE]
     w[0] = 2.0 * zeta * v * v
     w[1] = max(pf, 0.0)
     w[2] = max(-pf, 0.0)
@@ -127,23 +131,21 @@ def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, want_jac):
     m = n - 2
     x, v = y[0], y[1]
     s = vb - v
-    z = y[2:]
-    rate, dr_ds, df_dz, de_dz, d2e = np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m)
-    dr_dz = np.empty((m, m))
-    f, df_ds = law_eval(q, s, z, rate, dr_dz, dr_ds, df_dz, de_dz, d2e)
+    d = np.empty((m, D_RZ + m))
+    f, df_ds = law_eval(q, s, y[2:], d)
     dy[0] = v
     dy[1] = -x - 2.0 * zeta * v + f + external_force(q, t)
     for i in range(m):
-        dy[2 + i] = rate[i]
-    work_of(q, zeta, vb, t, v, s, f, rate, de_dz, dw)
+        dy[2 + i] = d[i, D_RATE]
+    work_of(q, zeta, vb, t, v, s, f, d, dw)
     if want_jac:
-        _jacobian(zeta, vb, v, s, f, df_ds, rate, dr_dz, dr_ds, df_dz, de_dz, d2e, jac, jw)
+        _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw)
         jw[4, 1] = external_force(q, t)
     return f
 
 
 @njit(cache=True)
-def _jacobian(zeta, vb, v, s, f, df_ds, rate, dr_dz, dr_ds, df_dz, de_dz, d2e, jac, jw):
+def _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw):
     """The exact Jacobian of the state and of the work integrands (d/dX' = -d/dV_r)."""
     n = jac.shape[0]
     m = n - 2
@@ -153,10 +155,10 @@ def _jacobian(zeta, vb, v, s, f, df_ds, rate, dr_dz, dr_ds, df_dz, de_dz, d2e, j
     jac[1, 0] = -1.0
     jac[1, 1] = -2.0 * zeta - df_ds
     for i in range(m):
-        jac[1, 2 + i] = df_dz[i]
-        jac[2 + i, 1] = -dr_ds[i]
+        jac[1, 2 + i] = d[i, D_FZ]
+        jac[2 + i, 1] = -d[i, D_RS]
         for j in range(m):
-            jac[2 + i, 2 + j] = dr_dz[i, j]
+            jac[2 + i, 2 + j] = d[i, D_RZ + j]
     pf = v * f
     dpf_dv = f - v * df_ds
     jw[0, 1] = 4.0 * zeta * v
@@ -165,16 +167,16 @@ def _jacobian(zeta, vb, v, s, f, df_ds, rate, dr_dz, dr_ds, df_dz, de_dz, d2e, j
     # heat: F V_r - sum e_i r_i
     dstore_ds = 0.0
     for i in range(m):
-        dstore_ds += de_dz[i] * dr_ds[i]
+        dstore_ds += d[i, D_EZ] * d[i, D_RS]
     jw[3, 1] = -(df_ds * s + f - dstore_ds)
     jw[5, 1] = -df_ds * vb
     for j in range(m):
-        dstore = d2e[j] * rate[j]
+        dstore = d[j, D_EZZ] * d[j, D_RATE]
         for i in range(m):
-            dstore += de_dz[i] * dr_dz[i, j]
-        jw[1, 2 + j], jw[2, 2 + j] = side * v * df_dz[j], (side - 1.0) * v * df_dz[j]
-        jw[3, 2 + j] = df_dz[j] * s - dstore
-        jw[5, 2 + j] = df_dz[j] * vb
+            dstore += d[i, D_EZ] * d[i, D_RZ + j]
+        jw[1, 2 + j], jw[2, 2 + j] = side * v * d[j, D_FZ], (side - 1.0) * v * d[j, D_FZ]
+        jw[3, 2 + j] = d[j, D_FZ] * s - dstore
+        jw[5, 2 + j] = d[j, D_FZ] * vb
 
 
 #: Rodas4 as a loop: stage i evaluates at t + C_NODE[i] h and y + sum_j A_TAB[i, j] K_j, adds
