@@ -26,8 +26,9 @@ def _fixed_steps(q, zeta, vb, y0, t_end, n):
     y, ynew, w = y0.copy(), np.empty(3), np.empty(stiff.N_CHANNELS)
     tol = np.array([1.0, 1.0, 1.0, 0.0])
     h = t_end / n
+    ws = stiff.scratch(3)
     for k in range(n):
-        stiff.rodas_step(q, zeta, vb, k * h, y, h, ynew, w, tol)
+        stiff.rodas_step(q, zeta, vb, k * h, y, h, ynew, w, tol, ws)
         y[:] = ynew
     return y
 

@@ -70,8 +70,9 @@ def lugre_stribeck(q, speed):
     """g(|V_r|) = F_C + (F_S - F_C) exp(-(|V_r|/v_s)^delta) and dg/d|V_r|."""
     fc, fs, vs, delta = q[Q_LAW], q[Q_LAW + 1], q[Q_LAW + 2], q[Q_LAW + 3]
     u = speed / vs
-    e = math.exp(-u**delta)
-    dg = 0.0 if speed == 0.0 else -(fs - fc) * e * delta * u ** (delta - 1.0) / vs
+    up = u if delta == 2.0 else u ** (delta - 1.0)  # one power (none for the Gaussian, the usual choice)
+    e = math.exp(-up * u)
+    dg = 0.0 if speed == 0.0 else -(fs - fc) * e * delta * up / vs
     return fc + (fs - fc) * e, dg
 
 
@@ -107,7 +108,7 @@ def law_eval(q, s, z, d):
     return lugre(q, s, z, d)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
 def work_of(q, zeta, vb, t, v, s, f, d, w):
     """The work integrands at one state: 2 zeta X'^2, max(P_f, 0), max(-P_f, 0), the interface heat
     F V_r - dE/dtau, X' f(tau) and the belt's input F V_b (P_f = X' F)."""
@@ -123,15 +124,15 @@ def work_of(q, zeta, vb, t, v, s, f, d, w):
     w[5] = f * vb
 
 
-@njit(cache=True)
-def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, want_jac):
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, want_jac, d):
     """dy/dtau and the work integrands at (t, y); with ``want_jac`` also the state's Jacobian ``jac`` (n x n)
-    and the integrands' gradients ``jw`` (N_CHANNELS x n).  Returns F."""
+    and the integrands' gradients ``jw`` (N_CHANNELS x n).  ``d``: room for the law's derivative record.
+    Returns F."""
     n = len(y)
     m = n - 2
     x, v = y[0], y[1]
     s = vb - v
-    d = np.empty((m, D_RZ + m))
     f, df_ds = law_eval(q, s, y[2:], d)
     dy[0] = v
     dy[1] = -x - 2.0 * zeta * v + f + external_force(q, t)
@@ -144,7 +145,7 @@ def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, want_jac):
     return f
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
 def _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw):
     """The exact Jacobian of the state and of the work integrands (d/dX' = -d/dV_r)."""
     n = jac.shape[0]
@@ -201,7 +202,7 @@ C_TAB = np.array([
 ])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
 def lu_factor(a, piv):
     """LU with partial pivoting in place (a small dense n x n); False if singular."""
     n = a.shape[0]
@@ -223,7 +224,7 @@ def lu_factor(a, piv):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
 def lu_solve(a, piv, b):
     """Solve in place with the factors of :func:`lu_factor`."""
     n = a.shape[0]
@@ -241,24 +242,31 @@ def lu_solve(a, piv, b):
 
 
 @njit(cache=True)
-def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol):
+def scratch(n):
+    """The arrays a step works in, allocated once per run: (dy, dw, jac, jw, LU factors, pivots, K, KW,
+    stage state, the law's derivative record)."""
+    return (np.empty(n), np.empty(N_CHANNELS), np.empty((n, n)), np.empty((N_CHANNELS, n)), np.empty((n, n)),
+            np.empty(n, dtype=np.int64), np.zeros((6, n)), np.zeros((6, N_CHANNELS)), np.empty(n),
+            np.empty((n - 2, D_RZ + n - 2)))
+
+
+@njit(cache=True)
+def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     """One Rodas4 step of length ``h`` from (t, y): the new state in ``ynew``, the work increments in
     ``wnew``; returns the error norm: the rms of the last stage, component c over
-    ``tol[c] + tol[n] max(|y_c|, |ynew_c|)`` (absolute scales, then rtol); inf if the step failed."""
+    ``tol[c] + tol[n] max(|y_c|, |ynew_c|)`` (absolute scales, then rtol); inf if the step failed.
+    ``ws``: the arrays of :func:`scratch`."""
     n = len(y)
-    dy, dw = np.empty(n), np.empty(N_CHANNELS)
-    jac, jw = np.empty((n, n)), np.empty((N_CHANNELS, n))
-    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, True)
+    dy, dw, jac, jw, a, piv, k, kw, yi, d = ws
+    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, True, d)
     fr = external_force_rate(q, t)
     ft_v, ft_w = fr, y[1] * fr  # d/dtau of X'' and of X' f(tau)
-    piv = np.empty(n, dtype=np.int64)
-    a = -jac
     for i in range(n):
+        for j in range(n):
+            a[i, j] = -jac[i, j]  # jac stays for the quadratures
         a[i, i] += 1.0 / (GAMMA * h)
     if not lu_factor(a, piv):
         return np.inf
-    k, kw = np.zeros((6, n)), np.zeros((6, N_CHANNELS))
-    yi, dummy_j, dummy_jw = np.empty(n), np.empty((n, n)), np.empty((N_CHANNELS, n))
     for st in range(6):
         if st > 0:
             for c in range(n):
@@ -266,7 +274,7 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol):
                 for j in range(st):
                     acc += A_TAB[st, j] * k[j, c]
                 yi[c] = acc
-            evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, dummy_j, dummy_jw, False)
+            evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, False, d)
         for c in range(n):
             acc = dy[c]
             for j in range(st):
@@ -309,6 +317,7 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
     h, h_max, max_steps = steps[0], steps[1], int(steps[2])
     t = 0.0
     y, ynew, wnew = y0.copy(), np.empty(n), np.empty(N_CHANNELS)
+    ws = scratch(n)
     t_out[0] = 0.0
     y_out[:, 0] = y0
     w_out[0, :] = 0.0
@@ -321,7 +330,7 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
         h = min(h, h_max)
         last = t + h >= t_end * (1.0 - 1e-14)
         hh = t_end - t if last else h
-        err = rodas_step(q, zeta, vb, t, y, hh, ynew, wnew, tol)
+        err = rodas_step(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
         taken += 1
         fac = 0.2 if err == np.inf else min(6.0, max(0.2, 0.9 * err ** -0.25))
         if err > 1.0:
