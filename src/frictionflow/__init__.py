@@ -29,11 +29,11 @@ from .analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
 from .analysis.stability import StabilityScan, SteadySliding, stability_scan, steady_sliding
 from .basins import Basins
 from .basins import basins as compute_basins
-from .friction import Coulomb, Cubic, FrictionLaw, Karnopp, SlipLaw, Stribeck
+from .friction import Coulomb, Cubic, FrictionLaw, Karnopp, LuGre, SlipLaw, Stribeck
 from .modes import SwitchMode
 from .params import BeltOscillator, DimensionalParams
 from .simulate import simulate
-from .solvers import RK4, Adaptive, CoarseStepWarning, Exact, Solver, StepLimitError
+from .solvers import RK4, Adaptive, CoarseStepWarning, Exact, Solver, StepLimitError, Stiff
 from .trajectory import Trajectory
 
 __all__ = [
@@ -48,6 +48,7 @@ __all__ = [
     "Exact",
     "FrictionLaw",
     "Karnopp",
+    "LuGre",
     "LyapunovResult",
     "PowerFlow",
     "RK4",
@@ -58,6 +59,7 @@ __all__ = [
     "SteadySliding",
     "SteadyState",
     "StepLimitError",
+    "Stiff",
     "Stribeck",
     "SwitchMode",
     "Trajectory",

@@ -30,8 +30,8 @@ STICK_SPEED_FRACTION = 1e-2
 class StatefulLaw(FrictionLaw):
     """Base class of laws with internal state (see the module's docstring).
 
-    Class attributes a stateful law sets besides :class:`FrictionLaw`'s
-    ----------------------------------------------------------------
+    Class attributes a stateful law sets
+    ------------------------------------
     internal_names:
         Its states' names (the rows of ``Trajectory.internal``).
     record_names:
