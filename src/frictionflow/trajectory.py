@@ -108,6 +108,8 @@ class Trajectory(Summarized):
     internal:
         (m, len(t)): the friction law's internal states (LuGre's bristle
         deflection z), named by :attr:`internal_names`; None for a static law.
+    internal_names:
+        Names of the rows of :attr:`internal` (the law's ``internal_names``).
     dbelt:
         Increments of the belt's work on the contact int F_c V_b over
         (t[i-1], t[i]] (row 0 zero), where the solver integrates it (the
