@@ -20,7 +20,7 @@ import sys
 import time
 
 import numpy as np
-from _common import header
+from _common import best_of, header
 from scipy.integrate import solve_ivp
 
 from frictionflow import BeltOscillator, simulate
@@ -34,12 +34,7 @@ LAW = LuGre(**P)
 
 
 def cpu_best(fn, repeat: int = 3) -> float:
-    best = float("inf")
-    for _ in range(repeat):
-        t = time.process_time()
-        fn()
-        best = min(best, time.process_time() - t)
-    return best
+    return best_of(fn, repeat, clock=time.process_time)
 
 
 def g(s):
