@@ -42,6 +42,7 @@ from .layout import LAW, N_PARAMS
 
 #: codes of the laws with internal state (the stiff engine's dispatch)
 LUGRE = 100
+DAHL = 101
 #: where a stateful law's own parameters start in ``q``
 Q_LAW = N_PARAMS
 #: work channels the engine integrates: damper, friction in, friction out, interface heat, external force, belt input
@@ -102,9 +103,35 @@ def lugre(q, s, z, d):
 
 
 @njit(cache=True, forceinline=True)
+def dahl(q, s, z, d):
+    """Dahl (1968) at V_r = ``s``, deflection z[0]; returns (F, dF/dV_r).
+
+    F = sigma0 z, z' = V_r phi(u) with u = 1 - sigma0 z sgn(V_r) / F_C and
+    phi(u) = |u|^alpha sgn(u) (alpha >= 1: a bounded Jacobian where u = 0,
+    steady sliding); E = sigma0 z^2 / 2.
+    """
+    fc, s0, alpha = q[Q_LAW], q[Q_LAW + 1], q[Q_LAW + 2]
+    sgn = 1.0 if s > 0.0 else (-1.0 if s < 0.0 else 0.0)
+    zz = z[0]
+    u = 1.0 - s0 * zz * sgn / fc
+    au = abs(u)
+    pw = 1.0 if alpha == 1.0 else au ** (alpha - 1.0)  # |u|^(alpha - 1)
+    phi = pw * u
+    d[0, D_RATE] = s * phi
+    d[0, D_RZ] = -alpha * pw * s0 * abs(s) / fc
+    d[0, D_RS] = phi  # sgn(V_r) jumps at 0, where V_r multiplies it: no term
+    d[0, D_FZ] = s0
+    d[0, D_EZ] = s0 * zz
+    d[0, D_EZZ] = s0
+    return s0 * zz, 0.0
+
+
+@njit(cache=True, forceinline=True)
 def law_eval(q, s, z, d):
     """The stateful law of ``q[LAW]`` (one line per law); returns (F, dF/dV_r) and fills ``d``."""
-    # a single law so far: every other code is refused before a kernel runs (solvers.stiff)
+    # every other code is refused before a kernel runs (solvers.stiff: the law's own capability)
+    if q[LAW] == DAHL:
+        return dahl(q, s, z, d)
     return lugre(q, s, z, d)
 
 

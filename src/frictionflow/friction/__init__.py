@@ -7,9 +7,10 @@ from .stribeck import Stribeck
 from .cubic import Cubic
 from .user import SlipLaw
 from .lugre import LuGre
+from .dahl import Dahl
 from .registry import law_class, law_classes, law_names, register
 
 __all__ = [
-    "STICK_FORCES", "STICK_RULES", "Coulomb", "Cubic", "FrictionLaw", "Karnopp", "LuGre", "SlipLaw", "Stribeck",
+    "STICK_FORCES", "STICK_RULES", "Coulomb", "Cubic", "Dahl", "FrictionLaw", "Karnopp", "LuGre", "SlipLaw", "Stribeck",
     "law_class", "law_classes", "law_names", "register",
 ]
