@@ -29,7 +29,7 @@ from .analysis.equilibrium import SlidingEquilibrium, sliding_equilibrium
 from .analysis.stability import StabilityScan, SteadySliding, stability_scan, steady_sliding
 from .basins import Basins
 from .basins import basins as compute_basins
-from .friction import Coulomb, Cubic, Dahl, FrictionLaw, Karnopp, LuGre, SlipLaw, Stribeck
+from .friction import Coulomb, Cubic, Dahl, ElastoPlastic, FrictionLaw, Karnopp, LuGre, SlipLaw, Stribeck
 from .modes import SwitchMode
 from .params import BeltOscillator, DimensionalParams
 from .simulate import simulate
@@ -46,6 +46,7 @@ __all__ = [
     "Cubic",
     "Dahl",
     "DimensionalParams",
+    "ElastoPlastic",
     "Exact",
     "FrictionLaw",
     "Karnopp",

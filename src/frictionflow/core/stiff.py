@@ -43,6 +43,7 @@ from .layout import LAW, N_PARAMS
 #: codes of the laws with internal state (the stiff engine's dispatch)
 LUGRE = 100
 DAHL = 101
+ELASTOPLASTIC = 102
 #: where a stateful law's own parameters start in ``q``
 Q_LAW = N_PARAMS
 #: work channels the engine integrates: damper, friction in, friction out, interface heat, external force, belt input
@@ -127,11 +128,51 @@ def dahl(q, s, z, d):
 
 
 @njit(cache=True, forceinline=True)
+def plastic_fraction(zz, s, zss, z_ba):
+    """alpha(z, V_r) of the elasto-plastic law and its derivatives in z and in z_ss: 0 (elastic) while
+    |z| <= z_ba or z and V_r disagree in sign, 1 from |z| >= z_ss, a half sine between."""
+    az = abs(zz)
+    if zz * s <= 0.0 or az <= z_ba:
+        return 0.0, 0.0, 0.0
+    if az >= zss:
+        return 1.0, 0.0, 0.0
+    w = zss - z_ba
+    theta = math.pi * (az - 0.5 * (zss + z_ba)) / w
+    c = 0.5 * math.cos(theta)
+    return 0.5 * math.sin(theta) + 0.5, c * math.pi / w * (1.0 if zz > 0.0 else -1.0), -c * math.pi * (az - z_ba) / (w * w)
+
+
+@njit(cache=True, forceinline=True)
+def elastoplastic(q, s, z, d):
+    """The elasto-plastic law (Dupont et al. 2002) at V_r = ``s``, deflection z[0]; returns (F, dF/dV_r).
+
+    z' = V_r - alpha(z, V_r) |V_r| z / z_ss(V_r), z_ss = g(V_r) / sigma0 (LuGre's g),
+    F = sigma0 z + sigma1 z' + sigma2 V_r, E = sigma0 z^2 / 2; below the break-away
+    deflection z_ba the contact is purely elastic (alpha = 0: true stiction).
+    """
+    s0, s1, s2, z_ba = q[Q_LAW + 4], q[Q_LAW + 5], q[Q_LAW + 6], q[Q_LAW + 7]
+    g, dg = lugre_stribeck(q, abs(s))
+    sgn = 1.0 if s > 0.0 else (-1.0 if s < 0.0 else 0.0)
+    zss, dzss = g / s0, dg * sgn / s0  # z_ss and dz_ss/dV_r
+    zz = z[0]
+    a, da_dz, da_dzss = plastic_fraction(zz, s, zss, z_ba)
+    d[0, D_RATE] = s - a * abs(s) * zz / zss
+    d[0, D_RZ] = -abs(s) / zss * (a + zz * da_dz)
+    d[0, D_RS] = 1.0 - zz / zss * (a * sgn + abs(s) * da_dzss * dzss) + a * abs(s) * zz * dzss / (zss * zss)
+    d[0, D_FZ] = s0 + s1 * d[0, D_RZ]
+    d[0, D_EZ] = s0 * zz
+    d[0, D_EZZ] = s0
+    return s0 * zz + s1 * d[0, D_RATE] + s2 * s, s1 * d[0, D_RS] + s2
+
+
+@njit(cache=True, forceinline=True)
 def law_eval(q, s, z, d):
     """The stateful law of ``q[LAW]`` (one line per law); returns (F, dF/dV_r) and fills ``d``."""
     # every other code is refused before a kernel runs (solvers.stiff: the law's own capability)
     if q[LAW] == DAHL:
         return dahl(q, s, z, d)
+    if q[LAW] == ELASTOPLASTIC:
+        return elastoplastic(q, s, z, d)
     return lugre(q, s, z, d)
 
 

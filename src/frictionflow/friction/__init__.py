@@ -8,9 +8,10 @@ from .cubic import Cubic
 from .user import SlipLaw
 from .lugre import LuGre
 from .dahl import Dahl
+from .elastoplastic import ElastoPlastic
 from .registry import law_class, law_classes, law_names, register
 
 __all__ = [
-    "STICK_FORCES", "STICK_RULES", "Coulomb", "Cubic", "Dahl", "FrictionLaw", "Karnopp", "LuGre", "SlipLaw", "Stribeck",
+    "STICK_FORCES", "STICK_RULES", "Coulomb", "Cubic", "Dahl", "ElastoPlastic", "FrictionLaw", "Karnopp", "LuGre", "SlipLaw", "Stribeck",
     "law_class", "law_classes", "law_names", "register",
 ]
