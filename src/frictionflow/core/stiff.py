@@ -84,23 +84,31 @@ D_RATE, D_RS, D_FZ, D_EZ, D_EZZ, D_RZ = range(6)
 
 
 @njit(cache=True, forceinline=True)
+def bristle_force(q, s, zz, d):
+    """F = sigma0 z + sigma1 z' + sigma2 V_r of the bristle laws (LuGre, elasto-plastic), from the rate and
+    its derivatives in ``d``; fills dF/dz and the stored energy's terms (sigma0 z^2 / 2), returns (F, dF/dV_r)."""
+    s0, s1, s2 = q[Q_LAW + 4], q[Q_LAW + 5], q[Q_LAW + 6]
+    d[0, D_FZ] = s0 + s1 * d[0, D_RZ]
+    d[0, D_EZ] = s0 * zz
+    d[0, D_EZZ] = s0
+    return s0 * zz + s1 * d[0, D_RATE] + s2 * s, s1 * d[0, D_RS] + s2
+
+
+@njit(cache=True, forceinline=True)
 def lugre(q, s, z, d):
     """LuGre (Canudas de Wit et al. 1995) at V_r = ``s``, bristle deflection z[0]; returns (F, dF/dV_r).
 
     z' = V_r - sigma0 |V_r| z / g(V_r), F = sigma0 z + sigma1 z' + sigma2 V_r,
     E = sigma0 z^2 / 2.  Fills the derivative record ``d`` (:data:`D_RATE` ...).
     """
-    s0, s1, s2 = q[Q_LAW + 4], q[Q_LAW + 5], q[Q_LAW + 6]
+    s0 = q[Q_LAW + 4]
     g, dg = lugre_stribeck(q, abs(s))
     sgn = 1.0 if s > 0.0 else (-1.0 if s < 0.0 else 0.0)
     zz = z[0]
     d[0, D_RATE] = s - s0 * abs(s) * zz / g
     d[0, D_RZ] = -s0 * abs(s) / g
     d[0, D_RS] = 1.0 - s0 * zz * sgn * (g - abs(s) * dg) / (g * g)
-    d[0, D_FZ] = s0 + s1 * d[0, D_RZ]
-    d[0, D_EZ] = s0 * zz
-    d[0, D_EZZ] = s0
-    return s0 * zz + s1 * d[0, D_RATE] + s2 * s, s1 * d[0, D_RS] + s2
+    return bristle_force(q, s, zz, d)
 
 
 @njit(cache=True, forceinline=True)
@@ -150,7 +158,7 @@ def elastoplastic(q, s, z, d):
     F = sigma0 z + sigma1 z' + sigma2 V_r, E = sigma0 z^2 / 2; below the break-away
     deflection z_ba the contact is purely elastic (alpha = 0: true stiction).
     """
-    s0, s1, s2, z_ba = q[Q_LAW + 4], q[Q_LAW + 5], q[Q_LAW + 6], q[Q_LAW + 7]
+    s0, z_ba = q[Q_LAW + 4], q[Q_LAW + 7]
     g, dg = lugre_stribeck(q, abs(s))
     sgn = 1.0 if s > 0.0 else (-1.0 if s < 0.0 else 0.0)
     zss, dzss = g / s0, dg * sgn / s0  # z_ss and dz_ss/dV_r
@@ -159,10 +167,7 @@ def elastoplastic(q, s, z, d):
     d[0, D_RATE] = s - a * abs(s) * zz / zss
     d[0, D_RZ] = -abs(s) / zss * (a + zz * da_dz)
     d[0, D_RS] = 1.0 - zz / zss * (a * sgn + abs(s) * da_dzss * dzss) + a * abs(s) * zz * dzss / (zss * zss)
-    d[0, D_FZ] = s0 + s1 * d[0, D_RZ]
-    d[0, D_EZ] = s0 * zz
-    d[0, D_EZZ] = s0
-    return s0 * zz + s1 * d[0, D_RATE] + s2 * s, s1 * d[0, D_RS] + s2
+    return bristle_force(q, s, zz, d)
 
 
 @njit(cache=True, forceinline=True)
