@@ -30,11 +30,11 @@ from .analysis.stability import StabilityScan, SteadySliding, stability_scan, st
 from .analysis.stability_chart import StabilityChart, stability_chart
 from .basins import Basins
 from .basins import basins as compute_basins
-from .friction import Coulomb, Cubic, FrictionLaw, Karnopp, SlipLaw, Stribeck
+from .friction import Coulomb, Cubic, Dahl, ElastoPlastic, FrictionLaw, Karnopp, LuGre, SlipLaw, Stribeck
 from .modes import SwitchMode
 from .params import BeltOscillator, DimensionalParams
 from .simulate import simulate
-from .solvers import RK4, Adaptive, CoarseStepWarning, Exact, Solver, StepLimitError
+from .solvers import RK4, Adaptive, CoarseStepWarning, Exact, Solver, StepLimitError, Stiff
 from .trajectory import Trajectory
 
 __all__ = [
@@ -45,10 +45,13 @@ __all__ = [
     "CoarseStepWarning",
     "Coulomb",
     "Cubic",
+    "Dahl",
     "DimensionalParams",
+    "ElastoPlastic",
     "Exact",
     "FrictionLaw",
     "Karnopp",
+    "LuGre",
     "LyapunovResult",
     "PowerFlow",
     "RK4",
@@ -60,6 +63,7 @@ __all__ = [
     "SteadySliding",
     "SteadyState",
     "StepLimitError",
+    "Stiff",
     "Stribeck",
     "SwitchMode",
     "Trajectory",

@@ -294,9 +294,44 @@ class CubicHermite(Interpolant):
         return self._slip_or(mode, x, v, held), mode
 
 
+class StateHermite(Interpolant):
+    """The stiff solver's steps (laws with internal state): quintic Hermite in X with X'' at both ends,
+    cubic Hermite in each internal state with its rate at both ends; the force from the law at the
+    interpolated state (F is continuous: no switch to keep apart)."""
+
+    def __init__(self, traj) -> None:
+        super().__init__(traj)
+        tr, law = traj, traj.friction
+        self.acc = tr.fc + self.model.external_force(tr.t) - tr.x - 2.0 * self.zeta * tr.v
+        self.zrate = law.rate(self.vb - tr.v, tr.internal)
+
+    def state(self, t):
+        tr = self.traj
+        if len(tr.t) < 2:
+            return np.full(t.shape, tr.x[0]), np.full(t.shape, tr.v[0])
+        i, h, s = self._local(t)
+        x, dx = quintic(tr.x[i], tr.x[i + 1], h * tr.v[i], h * tr.v[i + 1], h * h * self.acc[i], h * h * self.acc[i + 1], s)
+        return x, np.divide(dx, h, out=np.array(tr.v[i], dtype=float), where=h > 0)
+
+    def internal(self, t: np.ndarray) -> np.ndarray:
+        """The internal states (m, len(t)) at times ``t``."""
+        tr = self.traj
+        if len(tr.t) < 2:
+            return np.repeat(tr.internal[:, :1], len(t), axis=1)
+        i, h, s = self._local(t)
+        z, r = tr.internal, self.zrate
+        return hermite(z[:, i], z[:, i + 1], h * r[:, i], h * r[:, i + 1], s)
+
+    def force(self, t, x, v):
+        law = self.traj.friction
+        vr = self.vb - v
+        return law.force(vr, self.internal(t)), law.mode_of(vr)
+
+
 #: the interpolants by the name a solver declares (``Solver.interpolant``)
 FORMS: dict[str, type[Interpolant]] = {
     "closed_form": ClosedForm, "quintic_hermite": QuinticHermite, "cubic_hermite": CubicHermite,
+    "state_hermite": StateHermite,
 }
 
 

@@ -8,6 +8,7 @@ from .friction.base import FrictionLaw
 from .params import BeltOscillator
 from .solvers.base import DEFAULT_MAX_MEMORY, Solver
 from .solvers.auto import auto_solver
+from .solvers.registry import unsupported
 from .trajectory import Trajectory
 
 RUN = {p.name: p for p in RUN_PARAMETERS}
@@ -33,7 +34,8 @@ def simulate(
     solver:
         A solver object; default: :class:`~frictionflow.solvers.Exact` for
         piecewise-constant laws (Karnopp, Coulomb), else
-        :class:`~frictionflow.solvers.Adaptive`.
+        :class:`~frictionflow.solvers.Adaptive`; for laws with internal state (LuGre)
+        :class:`~frictionflow.solvers.Stiff`.
     t_end:
         Non-dimensional end time, > 0.
     x0, v0:
@@ -55,6 +57,6 @@ def simulate(
     v0 = model.vb if v0 is None else v0
     solver = auto_solver(friction) if solver is None else solver
     if not solver.supports(friction):
-        raise ValueError(f"solver={solver.name} does not support friction={friction.name}")
+        raise ValueError(unsupported(solver.name, friction))
     enforce(lambda: solver.cost(model, friction, t_end))  # within the limits in force (frictionflow.estimate.limited)
     return solver.solve(model, friction, x0, v0, t_end, progress=progress, max_memory=max_memory)

@@ -20,7 +20,7 @@ the true curve between the samples, with the samples and switches marked.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -49,6 +49,8 @@ DATASET_VARIABLES = {
     "W_fout": ("1", "cumulative friction output int max(-X' F_c, 0) dtau"),
     "W_heat": ("1", "cumulative interface heat int F_c V_r dtau over slip"),
     "W_ex": ("1", "cumulative work of the external force int X' F_ex cos(Omega tau + phi) dtau"),
+    "E_s": ("1", "energy stored in the contact (the law's internal states; sigma0 z^2/2 for LuGre)"),
+    "W_belt": ("1", "cumulative work of the belt on the contact int F_c V_b dtau"),
     "is_sample": ("1", "the solver's own sample (False: a point added on the true curve between samples)"),
     "switch": ("1", "a sample where the friction mode switches"),
 }
@@ -103,6 +105,15 @@ class Trajectory(Summarized):
     state_names, contact_names:
         Names of the rows of :attr:`state` and of :attr:`force` /
         :attr:`modes` (the datasets' variable names).
+    internal:
+        (m, len(t)): the friction law's internal states (LuGre's bristle
+        deflection z), named by :attr:`internal_names`; None for a static law.
+    internal_names:
+        Names of the rows of :attr:`internal` (the law's ``internal_names``).
+    dbelt:
+        Increments of the belt's work on the contact int F_c V_b over
+        (t[i-1], t[i]] (row 0 zero), where the solver integrates it (the
+        stiff solver); None otherwise.  See :meth:`interface_balance`.
     """
 
     t: np.ndarray
@@ -118,6 +129,9 @@ class Trajectory(Summarized):
     recorded: np.ndarray | None = None
     state_names: tuple[str, ...] = SINGLE_MASS_STATE
     contact_names: tuple[str, ...] = SINGLE_CONTACT
+    internal: np.ndarray | None = None
+    internal_names: tuple[str, ...] = ()
+    dbelt: np.ndarray | None = None
 
     @classmethod
     def single_mass(cls, t: np.ndarray, x: np.ndarray, v: np.ndarray, fc: np.ndarray, mode: np.ndarray,
@@ -222,8 +236,9 @@ class Trajectory(Summarized):
         interp = cont.interpolant(self)
         out = self._at_times(times, is_sample, interp, cont.dwork_on_grid(self, interp, times, is_sample))
         keep = np.flatnonzero(is_sample)
-        for block in ("state", "force", "modes"):  # the samples as recorded, not re-evaluated
-            getattr(out, block)[:, keep] = getattr(self, block)
+        for block in ("state", "force", "modes", "internal"):  # the samples as recorded, not re-evaluated
+            if getattr(self, block) is not None:
+                getattr(out, block)[:, keep] = getattr(self, block)
         if self.recorded is not None:
             out.recorded[keep] = self.recorded
         return out
@@ -234,9 +249,10 @@ class Trajectory(Summarized):
         x, v = interp.state(times)
         fc, mode = interp.force(times, x, v)
         dwork = cont.dwork_at(self, interp, times) if dwork is None else dwork
+        internal = None if self.internal is None else interp.internal(times)
         return Trajectory.single_mass(times, x, v, fc, mode, dwork, model=self.model, friction=self.friction,
                                       solver=dict(self.solver), events=self.events, extra=dict(self.extra),
-                                      recorded=recorded)
+                                      recorded=recorded, internal=internal, internal_names=self.internal_names)
 
     def switches(self) -> np.ndarray:
         """True at the points where the friction mode switches (the located switches, or a mode change for RK4)."""
@@ -255,6 +271,30 @@ class Trajectory(Summarized):
     def work(self) -> np.ndarray:
         """Running totals of the work integrals from t[0] (for plots and files; windows use :attr:`dwork`)."""
         return np.cumsum(self.dwork, axis=0)
+
+    @property
+    def stored_energy(self) -> np.ndarray:
+        """Energy stored in the contact at each sample (the law's ``stored_energy`` of the internal states;
+        zero for a static law)."""
+        if self.internal is None:
+            return np.zeros(len(self.t))
+        return np.asarray(self.friction.stored_energy(self.internal), dtype=float)
+
+    def interface_balance(self, i0: int = 0, i1: int = -1) -> "InterfaceBalance":
+        """Where the belt's work on the contact goes over samples (i0, i1]: into the mass (the friction
+        work int X' F_c), into heat, and into the energy the contact stores.
+
+        Needs the belt's work (:attr:`dbelt`, recorded by the solvers that integrate internal states).
+        """
+        if self.dbelt is None:
+            raise ValueError(f"solver={self.solver.get('name')} does not record the belt's work (dbelt): "
+                             "run a law with internal state through a solver that integrates them")
+        i1 = i1 % len(self.t)
+        w = self.window_work(i0, i1)
+        belt = float(self.dbelt[i0 + 1 : i1 + 1].sum())
+        stored = float(self.stored_energy[i1] - self.stored_energy[i0])
+        friction, heat = float(w[1] - w[2]), float(w[3])
+        return InterfaceBalance(belt, friction, heat, stored, belt - friction - heat - stored)
 
     def window_work(self, i0: int, i1: int) -> np.ndarray:
         """The work integrals (:data:`WORK_NAMES`) over samples (i0, i1]."""
@@ -304,6 +344,11 @@ class Trajectory(Summarized):
         data = dict(zip(self.state_names, traj.state))
         data.update(_contact_variables(traj))
         data.update({name: traj.work[:, j] for j, name in enumerate(WORK_NAMES)})
+        if traj.internal is not None:
+            data.update(zip(self.internal_names, traj.internal))
+            data["E_s"] = traj.stored_energy
+        if traj.dbelt is not None:
+            data["W_belt"] = np.cumsum(traj.dbelt)
         data.update(is_sample=is_sample, switch=switch)
         ds = xr.Dataset(
             {k: ("tau", np.asarray(v)) for k, v in data.items()},
@@ -312,6 +357,8 @@ class Trajectory(Summarized):
         for k, (units, long_name) in DATASET_VARIABLES.items():
             if k in ds:
                 ds[k].attrs.update(units=units, long_name=long_name)
+        for k in self.internal_names:
+            ds[k].attrs.update(units="1", long_name=f"internal state {k} of friction={self.friction.name}")
         for k in ds:
             if k == "mode" or k.startswith("mode_"):
                 ds[k].attrs.update(_mode_flags())
@@ -320,6 +367,20 @@ class Trajectory(Summarized):
         ds.attrs.update({k if k == "friction" else f"friction_{k}": v for k, v in self.friction.as_dict().items()})
         ds.attrs.update({f"solver_{k}": v for k, v in self.solver.items() if v is not None})
         return ds
+
+
+class InterfaceBalance(NamedTuple):
+    """The belt's work on the contact over a window and where it went (:meth:`Trajectory.interface_balance`).
+
+    ``belt`` = int F_c V_b, ``friction`` = int X' F_c (into the mass), ``heat`` = int (F_c V_r - dE_s/dtau),
+    ``stored`` = the change of the stored energy E_s, ``residual`` = belt - friction - heat - stored.
+    """
+
+    belt: float
+    friction: float
+    heat: float
+    stored: float
+    residual: float
 
 
 def _contact_variables(traj: Trajectory) -> dict[str, np.ndarray]:

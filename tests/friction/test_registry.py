@@ -42,7 +42,8 @@ def test_laws_declare_their_parameters_and_kernel_slots(name):
     cls = law_class(name)
     law = cls()
     names = [p.name for p in cls.parameters]
-    assert len(names) == len(set(names)) and {"fs", "stick_force"} <= set(names)
+    assert len(names) == len(set(names)) and ("fs" in names or cls.internal_names)  # Dahl has no static peak
+    assert ("stick_force" in names) != bool(cls.internal_names)  # a law with internal states holds by them
     assert all(p.owner == "law" for p in cls.parameters)
     assert set(cls.kernel_slots) <= set(names)
     assert law.kernel_params()[0] == cls.code
@@ -61,6 +62,10 @@ def _axis_values(p, law):
 @pytest.mark.parametrize("name", LAWS)
 def test_every_sweep_axis_of_the_law_changes_the_kernel_rows_and_computes(name):
     law = _law(name)
+    if law.internal_names:  # no batched kernel integrates internal states yet: refused in one line
+        with pytest.raises(ValueError, match=f"^config: sweeps cannot run friction={name} yet: solver=.+ has no batched kernel$"):
+            parse_sweep({"friction": name, "t_end": 40.0, "grid": {"zeta": [0.05, 0.06]}})
+        return
     axes = [p for p in declared().values() if p.sweepable and (p.owner != "law" or p in law.parameters)]
     for p in axes:
         values = _axis_values(p, law)

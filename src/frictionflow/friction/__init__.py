@@ -6,9 +6,12 @@ from .coulomb import Coulomb
 from .stribeck import Stribeck
 from .cubic import Cubic
 from .user import SlipLaw
+from .lugre import LuGre
+from .dahl import Dahl
+from .elastoplastic import ElastoPlastic
 from .registry import law_class, law_classes, law_names, register
 
 __all__ = [
-    "STICK_FORCES", "STICK_RULES", "Coulomb", "Cubic", "FrictionLaw", "Karnopp", "SlipLaw", "Stribeck",
+    "STICK_FORCES", "STICK_RULES", "Coulomb", "Cubic", "Dahl", "ElastoPlastic", "FrictionLaw", "Karnopp", "LuGre", "SlipLaw", "Stribeck",
     "law_class", "law_classes", "law_names", "register",
 ]

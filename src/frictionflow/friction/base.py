@@ -29,8 +29,9 @@ from ..core.friction import slip_magnitude_of
 from ..parameters import MODEL_MAX, Param, nonnegative_real, positive_real, resolve
 
 STICK_FORCES = ("resultant", "spring")
-#: what a law does at V_r = 0: Coulomb's set-valued switch, or Karnopp's velocity band |V_r| <= V_d
-STICK_RULES = ("switch", "band")
+#: what a law does at V_r = 0: Coulomb's set-valued switch, Karnopp's velocity band |V_r| <= V_d, or nothing
+#: of its own: its internal state (LuGre's bristles) holds the mass (:mod:`.stateful`)
+STICK_RULES = ("switch", "band", "state")
 
 # Parameters several laws share: declared once here, listed by each law.
 FD = nonnegative_real("fd", "F_d", "kinetic friction", "law", 0.02, upper=MODEL_MAX, sweepable=True)
@@ -63,6 +64,9 @@ class FrictionLaw:
     compiled_slip:
         The kernels' own force dispatch (:mod:`frictionflow.core.friction`, by ``code``) evaluates its
         slip force.  False for a user's function: only the adaptive kernel, rebuilt around it, runs it.
+    internal_names:
+        Names of its internal states; a law with any (:class:`~frictionflow.friction.stateful.StatefulLaw`)
+        runs only in the solvers that integrate them.
     has_tangent_kernel (derived unless a law sets it)
         Coulomb's stick rule and a compiled slip force: the tangent and flow-map kernels
         (Lyapunov exponents, forced orbits, the compiled orbit engine) run it.
@@ -76,6 +80,8 @@ class FrictionLaw:
     stick_rule: ClassVar[str] = "switch"
     compiled_slip: ClassVar[bool] = True
     has_tangent_kernel: ClassVar[bool] = True
+    #: names of its internal states (LuGre: ``("z",)``); empty for a static law F(V_r)
+    internal_names: ClassVar[tuple[str, ...]] = ()
     #: buildable by name from a config (user laws need a function)
     configurable: ClassVar[bool] = True
     #: compiled (fd, fs, a, b, c, speed) -> |F| and its slope, for smooth laws

@@ -11,9 +11,10 @@ from .adaptive import Adaptive
 from .base import Solver
 from .exact import Exact
 from .rk4 import RK4
+from .stiff import Stiff
 
 #: every solver, in the order the CLI lists them
-SOLVERS: tuple[type[Solver], ...] = (Exact, Adaptive, RK4)
+SOLVERS: tuple[type[Solver], ...] = (Exact, Adaptive, RK4, Stiff)
 for _cls in SOLVERS:
     declare(_cls.parameters)
     declare_interpolant(_cls.name, _cls.interpolant)  # Trajectory.at evaluates its runs with it
@@ -49,15 +50,23 @@ def solver_class(name: str, friction: FrictionLaw) -> type[Solver]:
 
 
 def auto_solver(friction: FrictionLaw) -> Solver:
-    """The default solver for ``friction``: :class:`Exact` for piecewise-constant laws, else :class:`Adaptive`.
+    """The default solver for ``friction``: :class:`Stiff` for laws with internal state, :class:`Exact` for
+    piecewise-constant laws, else :class:`Adaptive`.
 
     Parameters
     ----------
     friction:
         A friction law.
     """
-
+    if friction.internal_names:
+        return Stiff()
     return Exact() if friction.piecewise_constant else Adaptive()
+
+
+def unsupported(solver: str, friction: FrictionLaw) -> str:
+    """The one line refusing ``solver`` for ``friction``, naming the solvers that run it."""
+    able = solver_names_where(lambda cls: cls().supports(friction))
+    return f"solver={solver} does not support friction={friction.name}; use solver={' or '.join(('auto', *able))}"
 
 
 def build_solver(name: str, friction: FrictionLaw, values: Mapping[str, Any]) -> Solver:
@@ -65,5 +74,5 @@ def build_solver(name: str, friction: FrictionLaw, values: Mapping[str, Any]) ->
     cls = solver_class(name, friction)
     solver = cls.from_values(values)
     if not solver.supports(friction):
-        raise ValueError(f"solver={name} does not support friction={friction.name}; use solver=auto")
+        raise ValueError(unsupported(name, friction))
     return solver

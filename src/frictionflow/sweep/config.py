@@ -290,6 +290,9 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_poin
         else:
             fixed[key] = a
     run = RunConfig.from_mapping({**values, **fixed}, source=source)
+    _, law, solver = run.build()
+    if solver.batched is None:  # a law only a solver without a batched kernel runs (internal states)
+        raise ValueError(f"{source}: sweeps cannot run friction={law.name} yet: solver={solver.name} has no batched kernel")
     if not axes:
         raise ValueError(f"{source}: [grid] fixes every parameter; give at least one list or range to sweep")
     points = math.prod(len(a) for a in axes.values())

@@ -1,0 +1,423 @@
+"""The stiff engine: Rodas4, an L-stable Rosenbrock method, for laws with internal state.
+
+The state is y = (X, X', z_1 .. z_m): the mass and the law's internal states
+(LuGre's bristle deflection z).  With V_r = V_b - X' the equations are
+
+    X'  = X'
+    X'' = -X - 2 zeta X' + F(V_r, z) + f(tau)
+    z'  = r(V_r, z)
+
+and a law gives F, r, their exact derivatives in V_r and z, and the gradient
+and (diagonal) curvature of its stored energy E(z).  Rosenbrock methods need
+the exact Jacobian for their order: it is assembled here from those
+derivatives, never differenced.
+
+Rodas4 (Hairer & Wanner, Solving ODEs II, sec. IV.7; coefficients of their
+``rodas.f``) is stiffly accurate and L-stable, of order 4 with an embedded
+order-3 estimate (the last stage).  The error is controlled on the whole state
+(X, X' and every internal state, each with its own absolute scale).  The work
+integrals ride along as quadrature components: their Jacobian rows are exact
+too and their columns are zero, so each step solves the n x n block and the
+quadratures by substitution, starting from zero each step (the increments,
+not running totals, as every solver keeps them).  They are not in the error
+norm: the state's error bounds theirs.
+
+The right-hand side is Lipschitz (|V_r| has a kink, no switch), so breakaway
+and re-stick are crossed by the step-size control alone, with nothing to
+chatter; after a rejected step the step does not grow (Hairer's rule).
+
+The force record ``q`` is the kernels' record (:mod:`.layout`, with the
+external force) followed by the law's own parameters from :data:`Q_LAW`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .friction import external_force, external_force_rate
+from .layout import LAW, N_PARAMS
+
+#: codes of the laws with internal state (the stiff engine's dispatch)
+LUGRE = 100
+DAHL = 101
+ELASTOPLASTIC = 102
+#: where a stateful law's own parameters start in ``q``
+Q_LAW = N_PARAMS
+#: work channels the engine integrates: damper, friction in, friction out, interface heat, external force, belt input
+N_CHANNELS = 6
+W_BELT = 5
+#: how a run ended
+DONE, FULL, STEP_CAP, TINY_STEP = 0, 1, 2, 3
+
+# Rodas4 (Hairer & Wanner, rodas.f)
+GAMMA = 0.25
+A21 = 1.544
+A31, A32 = 0.9466785280815826, 0.2557011698983284
+A41, A42, A43 = 3.314825187068521, 2.896124015972201, 0.9986419139977817
+A51, A52, A53, A54 = 1.221224509226641, 6.019134481288629, 12.53708332932087, -0.6878860361058950
+C21 = -5.6688
+C31, C32 = -2.430093356833875, -0.2063599157091915
+C41, C42, C43 = -0.1073529058151375, -9.594562251023355, -20.47028614809616
+C51, C52, C53, C54 = 7.496443313967647, -10.24680431464352, -33.99990352819905, 11.70890893206160
+C61, C62, C63, C64, C65 = 8.083246795921522, -7.981132988064893, -31.52159432874371, 16.31930543123136, -6.058818238834054
+CC2, CC3, CC4 = 0.386, 0.21, 0.63
+D1, D2, D3, D4 = 0.25, -0.1043, 0.1035, -0.0362
+
+
+@njit(cache=True, forceinline=True)
+def lugre_stribeck(q, speed):
+    """g(|V_r|) = F_C + (F_S - F_C) exp(-(|V_r|/v_s)^delta) and dg/d|V_r|."""
+    fc, fs, vs, delta = q[Q_LAW], q[Q_LAW + 1], q[Q_LAW + 2], q[Q_LAW + 3]
+    u = speed / vs
+    up = u if delta == 2.0 else u ** (delta - 1.0)  # one power (none for the Gaussian, the usual choice)
+    e = math.exp(-up * u)
+    dg = 0.0 if speed == 0.0 else -(fs - fc) * e * delta * up / vs
+    return fc + (fs - fc) * e, dg
+
+
+#: columns of a law's derivative record ``d`` (m rows, one per internal state): its rate r, dr/dV_r, dF/dz,
+#: E's gradient and (diagonal) curvature, then dr/dz (m columns)
+D_RATE, D_RS, D_FZ, D_EZ, D_EZZ, D_RZ = range(6)
+
+
+@njit(cache=True, forceinline=True)
+def bristle_force(q, s, zz, d):
+    """F = sigma0 z + sigma1 z' + sigma2 V_r of the bristle laws (LuGre, elasto-plastic), from the rate and
+    its derivatives in ``d``; fills dF/dz and the stored energy's terms (sigma0 z^2 / 2), returns (F, dF/dV_r)."""
+    s0, s1, s2 = q[Q_LAW + 4], q[Q_LAW + 5], q[Q_LAW + 6]
+    d[0, D_FZ] = s0 + s1 * d[0, D_RZ]
+    d[0, D_EZ] = s0 * zz
+    d[0, D_EZZ] = s0
+    return s0 * zz + s1 * d[0, D_RATE] + s2 * s, s1 * d[0, D_RS] + s2
+
+
+@njit(cache=True, forceinline=True)
+def lugre(q, s, z, d):
+    """LuGre (Canudas de Wit et al. 1995) at V_r = ``s``, bristle deflection z[0]; returns (F, dF/dV_r).
+
+    z' = V_r - sigma0 |V_r| z / g(V_r), F = sigma0 z + sigma1 z' + sigma2 V_r,
+    E = sigma0 z^2 / 2.  Fills the derivative record ``d`` (:data:`D_RATE` ...).
+    """
+    s0 = q[Q_LAW + 4]
+    g, dg = lugre_stribeck(q, abs(s))
+    sgn = 1.0 if s > 0.0 else (-1.0 if s < 0.0 else 0.0)
+    zz = z[0]
+    d[0, D_RATE] = s - s0 * abs(s) * zz / g
+    d[0, D_RZ] = -s0 * abs(s) / g
+    d[0, D_RS] = 1.0 - s0 * zz * sgn * (g - abs(s) * dg) / (g * g)
+    return bristle_force(q, s, zz, d)
+
+
+@njit(cache=True, forceinline=True)
+def dahl(q, s, z, d):
+    """Dahl (1968) at V_r = ``s``, deflection z[0]; returns (F, dF/dV_r).
+
+    F = sigma0 z, z' = V_r phi(u) with u = 1 - sigma0 z sgn(V_r) / F_C and
+    phi(u) = |u|^alpha sgn(u) (alpha >= 1: a bounded Jacobian where u = 0,
+    steady sliding); E = sigma0 z^2 / 2.
+    """
+    fc, s0, alpha = q[Q_LAW], q[Q_LAW + 1], q[Q_LAW + 2]
+    sgn = 1.0 if s > 0.0 else (-1.0 if s < 0.0 else 0.0)
+    zz = z[0]
+    u = 1.0 - s0 * zz * sgn / fc
+    au = abs(u)
+    pw = 1.0 if alpha == 1.0 else au ** (alpha - 1.0)  # |u|^(alpha - 1)
+    phi = pw * u
+    d[0, D_RATE] = s * phi
+    d[0, D_RZ] = -alpha * pw * s0 * abs(s) / fc
+    d[0, D_RS] = phi  # sgn(V_r) jumps at 0, where V_r multiplies it: no term
+    d[0, D_FZ] = s0
+    d[0, D_EZ] = s0 * zz
+    d[0, D_EZZ] = s0
+    return s0 * zz, 0.0
+
+
+@njit(cache=True, forceinline=True)
+def plastic_fraction(zz, s, zss, z_ba):
+    """alpha(z, V_r) of the elasto-plastic law and its derivatives in z and in z_ss: 0 (elastic) while
+    |z| <= z_ba or z and V_r disagree in sign, 1 from |z| >= z_ss, a half sine between."""
+    az = abs(zz)
+    if zz * s <= 0.0 or az <= z_ba:
+        return 0.0, 0.0, 0.0
+    if az >= zss:
+        return 1.0, 0.0, 0.0
+    w = zss - z_ba
+    theta = math.pi * (az - 0.5 * (zss + z_ba)) / w
+    c = 0.5 * math.cos(theta)
+    return 0.5 * math.sin(theta) + 0.5, c * math.pi / w * (1.0 if zz > 0.0 else -1.0), -c * math.pi * (az - z_ba) / (w * w)
+
+
+@njit(cache=True, forceinline=True)
+def elastoplastic(q, s, z, d):
+    """The elasto-plastic law (Dupont et al. 2002) at V_r = ``s``, deflection z[0]; returns (F, dF/dV_r).
+
+    z' = V_r - alpha(z, V_r) |V_r| z / z_ss(V_r), z_ss = g(V_r) / sigma0 (LuGre's g),
+    F = sigma0 z + sigma1 z' + sigma2 V_r, E = sigma0 z^2 / 2; below the break-away
+    deflection z_ba the contact is purely elastic (alpha = 0: true stiction).
+    """
+    s0, z_ba = q[Q_LAW + 4], q[Q_LAW + 7]
+    g, dg = lugre_stribeck(q, abs(s))
+    sgn = 1.0 if s > 0.0 else (-1.0 if s < 0.0 else 0.0)
+    zss, dzss = g / s0, dg * sgn / s0  # z_ss and dz_ss/dV_r
+    zz = z[0]
+    a, da_dz, da_dzss = plastic_fraction(zz, s, zss, z_ba)
+    d[0, D_RATE] = s - a * abs(s) * zz / zss
+    d[0, D_RZ] = -abs(s) / zss * (a + zz * da_dz)
+    d[0, D_RS] = 1.0 - zz / zss * (a * sgn + abs(s) * da_dzss * dzss) + a * abs(s) * zz * dzss / (zss * zss)
+    return bristle_force(q, s, zz, d)
+
+
+@njit(cache=True, forceinline=True)
+def law_eval(q, s, z, d):
+    """The stateful law of ``q[LAW]`` (one line per law); returns (F, dF/dV_r) and fills ``d``."""
+    # every other code is refused before a kernel runs (solvers.stiff: the law's own capability)
+    if q[LAW] == DAHL:
+        return dahl(q, s, z, d)
+    if q[LAW] == ELASTOPLASTIC:
+        return elastoplastic(q, s, z, d)
+    return lugre(q, s, z, d)
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def work_of(q, zeta, vb, t, v, s, f, d, w):
+    """The work integrands at one state: 2 zeta X'^2, max(P_f, 0), max(-P_f, 0), the interface heat
+    F V_r - dE/dtau, X' f(tau) and the belt's input F V_b (P_f = X' F)."""
+    pf = v * f
+    store = 0.0
+    for i in range(d.shape[0]):
+        store += d[i, D_EZ] * d[i, D_RATE]
+    w[0] = 2.0 * zeta * v * v
+    w[1] = max(pf, 0.0)
+    w[2] = max(-pf, 0.0)
+    w[3] = f * s - store
+    w[4] = v * external_force(q, t)
+    w[5] = f * vb
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, want_jac, d):
+    """dy/dtau and the work integrands at (t, y); with ``want_jac`` also the state's Jacobian ``jac`` (n x n)
+    and the integrands' gradients ``jw`` (N_CHANNELS x n).  ``d``: room for the law's derivative record.
+    Returns F."""
+    n = len(y)
+    m = n - 2
+    x, v = y[0], y[1]
+    s = vb - v
+    f, df_ds = law_eval(q, s, y[2:], d)
+    dy[0] = v
+    dy[1] = -x - 2.0 * zeta * v + f + external_force(q, t)
+    for i in range(m):
+        dy[2 + i] = d[i, D_RATE]
+    work_of(q, zeta, vb, t, v, s, f, d, dw)
+    if want_jac:
+        _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw)
+        jw[4, 1] = external_force(q, t)
+    return f
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw):
+    """The exact Jacobian of the state and of the work integrands (d/dX' = -d/dV_r)."""
+    n = jac.shape[0]
+    m = n - 2
+    jac[:, :] = 0.0
+    jw[:, :] = 0.0
+    jac[0, 1] = 1.0
+    jac[1, 0] = -1.0
+    jac[1, 1] = -2.0 * zeta - df_ds
+    for i in range(m):
+        jac[1, 2 + i] = d[i, D_FZ]
+        jac[2 + i, 1] = -d[i, D_RS]
+        for j in range(m):
+            jac[2 + i, 2 + j] = d[i, D_RZ + j]
+    pf = v * f
+    dpf_dv = f - v * df_ds
+    jw[0, 1] = 4.0 * zeta * v
+    side = 1.0 if pf > 0.0 else 0.0
+    jw[1, 1], jw[2, 1] = side * dpf_dv, (side - 1.0) * dpf_dv
+    # heat: F V_r - sum e_i r_i
+    dstore_ds = 0.0
+    for i in range(m):
+        dstore_ds += d[i, D_EZ] * d[i, D_RS]
+    jw[3, 1] = -(df_ds * s + f - dstore_ds)
+    jw[5, 1] = -df_ds * vb
+    for j in range(m):
+        dstore = d[j, D_EZZ] * d[j, D_RATE]
+        for i in range(m):
+            dstore += d[i, D_EZ] * d[i, D_RZ + j]
+        jw[1, 2 + j], jw[2, 2 + j] = side * v * d[j, D_FZ], (side - 1.0) * v * d[j, D_FZ]
+        jw[3, 2 + j] = d[j, D_FZ] * s - dstore
+        jw[5, 2 + j] = d[j, D_FZ] * vb
+
+
+#: Rodas4 as a loop: stage i evaluates at t + C_NODE[i] h and y + sum_j A_TAB[i, j] K_j, adds
+#: sum_j C_TAB[i, j] K_j / h and h D_TAB[i] df/dtau; the new state is row 5 of A_TAB plus K_5
+C_NODE = np.array([0.0, CC2, CC3, CC4, 1.0, 1.0])
+D_TAB = np.array([D1, D2, D3, D4, 0.0, 0.0])
+A_TAB = np.array([
+    [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [A21, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [A31, A32, 0.0, 0.0, 0.0, 0.0],
+    [A41, A42, A43, 0.0, 0.0, 0.0],
+    [A51, A52, A53, A54, 0.0, 0.0],
+    [A51, A52, A53, A54, 1.0, 0.0],
+])
+C_TAB = np.array([
+    [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [C21, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [C31, C32, 0.0, 0.0, 0.0, 0.0],
+    [C41, C42, C43, 0.0, 0.0, 0.0],
+    [C51, C52, C53, C54, 0.0, 0.0],
+    [C61, C62, C63, C64, C65, 0.0],
+])
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def lu_factor(a, piv):
+    """LU with partial pivoting in place (a small dense n x n); False if singular."""
+    n = a.shape[0]
+    for k in range(n):
+        p = k
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > abs(a[p, k]):
+                p = i
+        piv[k] = p
+        if a[p, k] == 0.0:
+            return False
+        if p != k:
+            for j in range(n):
+                a[k, j], a[p, j] = a[p, j], a[k, j]
+        for i in range(k + 1, n):
+            a[i, k] /= a[k, k]
+            for j in range(k + 1, n):
+                a[i, j] -= a[i, k] * a[k, j]
+    return True
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def lu_solve(a, piv, b):
+    """Solve in place with the factors of :func:`lu_factor`."""
+    n = a.shape[0]
+    for k in range(n):
+        p = piv[k]
+        if p != k:
+            b[k], b[p] = b[p], b[k]
+    for i in range(n):
+        for j in range(i):
+            b[i] -= a[i, j] * b[j]
+    for i in range(n - 1, -1, -1):
+        for j in range(i + 1, n):
+            b[i] -= a[i, j] * b[j]
+        b[i] /= a[i, i]
+
+
+@njit(cache=True)
+def scratch(n):
+    """The arrays a step works in, allocated once per run: (dy, dw, jac, jw, LU factors, pivots, K, KW,
+    stage state, the law's derivative record)."""
+    return (np.empty(n), np.empty(N_CHANNELS), np.empty((n, n)), np.empty((N_CHANNELS, n)), np.empty((n, n)),
+            np.empty(n, dtype=np.int64), np.zeros((6, n)), np.zeros((6, N_CHANNELS)), np.empty(n),
+            np.empty((n - 2, D_RZ + n - 2)))
+
+
+@njit(cache=True)
+def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
+    """One Rodas4 step of length ``h`` from (t, y): the new state in ``ynew``, the work increments in
+    ``wnew``; returns the error norm: the rms of the last stage, component c over
+    ``tol[c] + tol[n] max(|y_c|, |ynew_c|)`` (absolute scales, then rtol); inf if the step failed.
+    ``ws``: the arrays of :func:`scratch`."""
+    n = len(y)
+    dy, dw, jac, jw, a, piv, k, kw, yi, d = ws
+    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, True, d)
+    fr = external_force_rate(q, t)
+    ft_v, ft_w = fr, y[1] * fr  # d/dtau of X'' and of X' f(tau)
+    for i in range(n):
+        for j in range(n):
+            a[i, j] = -jac[i, j]  # jac stays for the quadratures
+        a[i, i] += 1.0 / (GAMMA * h)
+    if not lu_factor(a, piv):
+        return np.inf
+    for st in range(6):
+        if st > 0:
+            for c in range(n):
+                acc = y[c]
+                for j in range(st):
+                    acc += A_TAB[st, j] * k[j, c]
+                yi[c] = acc
+            evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, False, d)
+        for c in range(n):
+            acc = dy[c]
+            for j in range(st):
+                acc += C_TAB[st, j] * k[j, c] / h
+            k[st, c] = acc
+        k[st, 1] += h * D_TAB[st] * ft_v
+        lu_solve(a, piv, k[st])
+        for c in range(N_CHANNELS):
+            acc = dw[c] + (h * D_TAB[st] * ft_w if c == 4 else 0.0)
+            for j in range(st):
+                acc += C_TAB[st, j] * kw[j, c] / h
+            for j in range(n):
+                acc += jw[c, j] * k[st, j]
+            kw[st, c] = GAMMA * h * acc
+    err = 0.0
+    for c in range(n):
+        ynew[c] = yi[c] + k[5, c]
+        e = k[5, c] / (tol[c] + tol[n] * max(abs(y[c]), abs(ynew[c])))
+        err += e * e
+    for c in range(N_CHANNELS):
+        wnew[c] = kw[4, c] + kw[5, c]
+        for j in range(4):
+            wnew[c] += A_TAB[4, j] * kw[j, c]
+    err = math.sqrt(err / n)
+    return err if err == err else np.inf
+
+
+@njit(cache=True)
+def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
+    """Integrate from (0, y0) to ``t_end``, keeping every accepted step.
+
+    ``tol``: the absolute scale of each state component, then rtol; ``steps``:
+    (first step, largest step, step cap).  Writes the times, states and work
+    increments (row 0 zero) and returns (samples, status, t reached, step):
+    status :data:`DONE`, :data:`FULL` (buffers full: call again with more room),
+    :data:`STEP_CAP` or :data:`TINY_STEP`.
+    """
+    n = len(y0)
+    cap = len(t_out)
+    h, h_max, max_steps = steps[0], steps[1], int(steps[2])
+    t = 0.0
+    y, ynew, wnew = y0.copy(), np.empty(n), np.empty(N_CHANNELS)
+    ws = scratch(n)
+    t_out[0] = 0.0
+    y_out[:, 0] = y0
+    w_out[0, :] = 0.0
+    count, taken, rejected = 1, 0, False
+    while t < t_end:
+        if taken >= max_steps:
+            return count, STEP_CAP, t, h
+        if h < 1e-14 * max(1.0, t):
+            return count, TINY_STEP, t, h
+        h = min(h, h_max)
+        last = t + h >= t_end * (1.0 - 1e-14)
+        hh = t_end - t if last else h
+        err = rodas_step(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
+        taken += 1
+        fac = 0.2 if err == np.inf else min(6.0, max(0.2, 0.9 * err ** -0.25))
+        if err > 1.0:
+            h = hh * fac
+            rejected = True
+            continue
+        if count == cap:
+            return count, FULL, t, h
+        t = t_end if last else t + hh
+        y[:] = ynew
+        t_out[count] = t
+        y_out[:, count] = y
+        w_out[count, :] = wnew
+        count += 1
+        h = hh * (min(fac, 1.0) if rejected else fac)  # no growth right after a rejection
+        rejected = False
+    return count, DONE, t, h

@@ -1,0 +1,112 @@
+"""The stiff solver: Rodas4 on the whole state (X, X', internal states), for laws with internal state."""
+
+from __future__ import annotations
+
+from typing import Any, Mapping
+
+import numpy as np
+
+from .. import _validate as check
+from .._progress import progress_bar
+from ..core import stiff as kernel
+from ..friction.base import FrictionLaw
+from ..parameters import MODEL_MAX, Param
+from ..params import BeltOscillator
+from ..trajectory import Trajectory
+from .adaptive import MAX_STEPS, StepLimitError
+from .base import DEFAULT_MAX_MEMORY, Solver, check_memory, kernel_params
+
+# below 1e-13 the error estimate is rounding; above 1e-2 breakaway is not resolved
+STIFF_RTOL = Param("stiff_rtol", "", "stiff solver's relative tolerance (whole state)", "solver", 1e-8,
+                   lower=1e-13, upper=1e-2)
+MAX_STEP = Param("max_step", "", "stiff solver's largest step", "solver", 0.5, lower=1e-9, upper=MODEL_MAX, report=False)
+
+
+class Stiff(Solver):
+    """Rodas4 (L-stable Rosenbrock, order 4(3)) with the law's exact Jacobian, for laws with internal state.
+
+    The error is controlled on X, X' and every internal state (each state's
+    absolute tolerance is ``atol`` times its scale, the size at which it
+    carries a force of F_s), the work integrals (and the belt's work) are
+    integrated with the state, and ``traj(t)`` interpolates the steps
+    (quintic Hermite in X, cubic in the internal states).  No switch is
+    located: the law's states carry stick and slip (see
+    :mod:`frictionflow.core.stiff`).
+
+    Parameters
+    ----------
+    rtol, atol:
+        Relative tolerance and absolute tolerance (on X and X'; scaled for the internal states).
+    max_steps:
+        Step cap (attempted steps); when hit the run stops with :class:`StepLimitError`.
+    max_step:
+        Largest step.
+    """
+
+    name = "stiff"
+    parameters = (STIFF_RTOL, MAX_STEPS, MAX_STEP)
+    keywords = {"stiff_rtol": "rtol"}
+    interpolant = "state_hermite"
+    steady_rtol = 1e-6
+    default_chunk = 64
+    step_cost = "adaptive_step"
+
+    def __init__(self, rtol: float = 1e-8, atol: float = 1e-10, max_steps: int = 10_000_000, max_step: float = 0.5) -> None:
+        self.rtol = STIFF_RTOL.check(rtol)
+        self.atol = check.positive("atol", atol)
+        self.max_steps = MAX_STEPS.check(max_steps)
+        self.max_step = MAX_STEP.check(max_step)
+
+    def describe(self) -> dict[str, Any]:
+        return {"name": self.name, "rtol": self.rtol, "atol": self.atol, "max_steps": self.max_steps,
+                "max_step": self.max_step}
+
+    def supports(self, friction: FrictionLaw) -> bool:
+        return len(friction.internal_names) > 0  # the static laws have their own, exact or switch-locating, solvers
+
+    @classmethod
+    def section_noise(cls, settings: Mapping[str, Any]) -> float:
+        return 10.0 * float(settings.get("rtol", 1e-8))
+
+    def sample_estimate(self, t_end: float, model: BeltOscillator | None = None) -> int:
+        """Room for the samples of a run to ``t_end`` (a first guess; the run grows it)."""
+        return int(100 * t_end) + 256
+
+    def solve(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float, t_end: float,
+              progress: bool = False, max_memory: float = DEFAULT_MAX_MEMORY) -> Trajectory:
+        if not self.supports(friction):
+            raise ValueError(f"solver={self.name} does not support friction={friction.name}")
+        q = kernel_params(model, friction)
+        y0 = np.concatenate([[float(x0), float(v0)], friction.initial_state()])
+        tol = np.concatenate([[self.atol, self.atol], self.atol * friction.internal_scale(), [self.rtol]])
+        steps = np.array([min(1e-5, self.max_step), self.max_step, float(self.max_steps)])
+        with progress_bar("stiff", 1, enabled=progress and t_end > 1e5) as advance:
+            (n, status, t_stop, h), (t, y, w) = self._run(q, model, y0, t_end, tol, steps, max_memory)
+            advance(1)
+        if status in (kernel.STEP_CAP, kernel.TINY_STEP):
+            why = f"max_steps={self.max_steps} reached" if status == kernel.STEP_CAP else "the step size vanished"
+            raise StepLimitError(f"stiff: {why} at tau={t_stop:.10g} (X={y[0, n - 1]:.6g}, X'={y[1, n - 1]:.6g}, "
+                                 f"step {h:.3g}); raise max_steps or loosen rtol/atol")
+        return self._trajectory(model, friction, t[:n].copy(), y[:, :n].copy(), w[:n].copy())
+
+    def _run(self, q, model, y0, t_end, tol, steps, max_memory):
+        """The kernel with room for the samples, four times more each time they do not fit."""
+        cap = self.sample_estimate(t_end, model)
+        while True:
+            check_memory(cap, max_memory, lambda: self.sized(t_end))  # a sample: about the size of the others' 
+            t, y, w = np.empty(cap), np.empty((len(y0), cap)), np.empty((cap, kernel.N_CHANNELS))
+            result = kernel.run(q, model.zeta, model.vb, y0, float(t_end), tol, steps, t, y, w)
+            if result[1] != kernel.FULL:
+                return result, (t, y, w)
+            cap *= 4
+
+    def _trajectory(self, model, friction, t, y, w) -> Trajectory:
+        """The run's Trajectory: the force and the mode from the law at each sample."""
+        vr = model.vb - y[1]
+        internal = y[2:]
+        return Trajectory(
+            t=t, state=y[:2].copy(), force=np.asarray(friction.force(vr, internal), dtype=float)[None, :],
+            modes=friction.mode_of(vr)[None, :], dwork=np.ascontiguousarray(w[:, :kernel.W_BELT]),
+            model=model, friction=friction, solver=self.describe(), events=None,
+            internal=internal.copy(), internal_names=friction.internal_names, dbelt=w[:, kernel.W_BELT].copy(),
+        )

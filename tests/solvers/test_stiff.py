@@ -1,0 +1,101 @@
+"""The stiff solver (Rodas4): its order, what it runs and refuses, and what its trajectories carry."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from frictionflow import BeltOscillator, simulate
+from frictionflow.cli import main
+from frictionflow.core import stiff
+from frictionflow.friction import Coulomb, LuGre
+from frictionflow.solvers import Adaptive, Exact, RK4, Stiff
+from frictionflow.solvers.base import kernel_params
+
+from ..friction.test_lugre import lugre_rhs
+
+# soft bristles: the classical order shows (with stiff ones, h sigma0 >> 1, Rosenbrock methods lose order in
+# the bristles' initial layer: their stage order is 1)
+SMOOTH = dict(fd=0.3, fs=0.5, vs=0.05, delta=2.0, sigma0=10.0, sigma1=0.5, sigma2=0.1)
+
+
+def _fixed_steps(q, zeta, vb, y0, t_end, n):
+    y, ynew, w = y0.copy(), np.empty(3), np.empty(stiff.N_CHANNELS)
+    tol = np.array([1.0, 1.0, 1.0, 0.0])
+    h = t_end / n
+    ws = stiff.scratch(3)
+    for k in range(n):
+        stiff.rodas_step(q, zeta, vb, k * h, y, h, ynew, w, tol, ws)
+        y[:] = ynew
+    return y
+
+
+def test_rodas4_converges_with_order_four_on_a_smooth_forced_problem():
+    # sliding throughout (V_r near 1 >> v_s: |V_r| is smooth there), with an external force: the
+    # non-autonomous terms of the method are exercised too
+    model = BeltOscillator(zeta=0.1, vb=1.0, fex=0.2, omega=1.3, phi=0.4)
+    law = LuGre(**SMOOTH)
+    q = kernel_params(model, law)
+    y0 = np.array([0.0, 0.0, 0.0])
+    t_end = 4.0
+    ref = solve_ivp(lugre_rhs(SMOOTH, 0.1, 1.0, 0.2, 1.3, 0.4), (0.0, t_end), y0, method="Radau",
+                    rtol=1e-13, atol=1e-15).y[:, -1]
+    errors = [np.max(np.abs(_fixed_steps(q, 0.1, 1.0, y0, t_end, n) - ref)) for n in (40, 80, 160)]
+    orders = [math.log2(errors[i] / errors[i + 1]) for i in range(2)]
+    assert all(3.7 < p < 4.6 for p in orders), (errors, orders)
+
+
+def test_the_error_falls_with_the_tolerance():
+    model = BeltOscillator(zeta=0.1, vb=1.0, fex=0.2, omega=1.3, phi=0.4)
+    law = LuGre(**SMOOTH)
+    ref = solve_ivp(lugre_rhs(SMOOTH, 0.1, 1.0, 0.2, 1.3, 0.4), (0.0, 20.0), [0.0, 0.0, 0.0], method="Radau",
+                    rtol=1e-13, atol=1e-15, dense_output=True)
+    errs = []
+    for rtol in (1e-6, 1e-8, 1e-10):
+        traj = simulate(model, law, Stiff(rtol=rtol, atol=rtol), t_end=20.0, x0=0.0, v0=0.0)
+        errs.append(np.max(np.abs(traj.x - ref.sol(traj.t)[0])))
+        assert errs[-1] < 100 * rtol
+    assert errs[0] > errs[1] > errs[2]
+
+
+def test_the_other_solvers_refuse_lugre_naming_the_stiff_one():
+    model = BeltOscillator(zeta=0.05, vb=0.02)
+    for solver in (Exact(), Adaptive(), RK4()):
+        with pytest.raises(ValueError, match=f"^solver={solver.name} does not support friction=lugre; "
+                                             "use solver=auto or stiff$"):
+            simulate(model, LuGre(), solver, t_end=1.0)
+    with pytest.raises(ValueError, match="^solver=stiff does not support friction=coulomb; use solver=auto or exact"):
+        simulate(model, Coulomb(), Stiff(), t_end=1.0)
+    assert type(simulate(model, LuGre(), t_end=1.0).solver) is dict
+    assert simulate(model, LuGre(), t_end=1.0).solver["name"] == "stiff"  # auto
+
+
+def test_trajectory_carries_and_labels_the_internal_states():
+    model = BeltOscillator(zeta=0.05, vb=0.02)
+    law = LuGre()
+    traj = simulate(model, law, t_end=30.0)
+    assert traj.internal.shape == (1, len(traj.t)) and traj.internal_names == ("z",)
+    # the force the trajectory records is the law's, from the state (formulas written here)
+    vr = model.vb - traj.v
+    z = traj.internal[0]
+    gz = law.fd + (law.fs - law.fd) * np.exp(-np.abs(vr / law.vs) ** law.delta)
+    zd = vr - law.sigma0 * np.abs(vr) * z / gz
+    np.testing.assert_allclose(traj.fc, law.sigma0 * z + law.sigma1 * zd + law.sigma2 * vr, rtol=1e-12, atol=1e-15)
+    ds = traj.to_xarray()
+    assert ds["z"].attrs["long_name"] == "internal state z of friction=lugre"
+    np.testing.assert_array_equal(ds["z"].values[ds["is_sample"].values], z)
+    np.testing.assert_allclose(ds["E_s"].values, 0.5 * law.sigma0 * ds["z"].values ** 2, rtol=1e-14)
+    raw = traj.to_xarray(dense=False)
+    assert raw["W_belt"].values[-1] == pytest.approx(traj.dbelt.sum())
+
+
+def test_the_command_line_runs_lugre_with_its_options(capsys):
+    args = ["simulate", "--friction", "lugre", "--solver", "stiff", "--sigma0", "2e4", "--sigma1", "150",
+            "--sigma2", "0.01", "--vs", "0.005", "--fs", "0.03", "--t-end", "20", "--json"]
+    assert main(args) == 0, capsys.readouterr().err
+    assert '"sigma0": 20000.0' in capsys.readouterr().out
+    assert main(["simulate", "--friction", "lugre", "--solver", "adaptive"]) == 2
+    assert "solver=adaptive does not support friction=lugre; use solver=auto or stiff" in capsys.readouterr().err
