@@ -71,6 +71,17 @@ def math_values(values: dict[str, Any], digits: int = DIGITS) -> str:
     return ", ".join(math_value(k, v, digits) for k, v in values.items())
 
 
+def pyplot(path: Any) -> Any:
+    """``matplotlib.pyplot``, on the file-only Agg backend when the figure goes to ``path`` (not shown)."""
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
 def legend_outside(ax: Any, **kw: Any) -> Any:
     """The axes' legend to the right of the axes, where it hides no data (a layout engine makes room)."""
     kw.setdefault("fontsize", 8)

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._figures import draws, equal_aspect, legend_outside, math_values, sig
+from ._figures import draws, equal_aspect, legend_outside, math_values, pyplot, sig
 from .analysis.power_flow import instantaneous_power
 from .analysis.summary import Analysis
 from .io import DEFAULT_DPI, FIGURE_FORMATS, write_figure  # noqa: F401  (FIGURE_FORMATS: re-exported)
@@ -74,11 +74,7 @@ def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "p
     dpi:
         Dots per inch of a raster file (PNG); default 150.
     """
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
 
     traj = result.trajectory.dense()  # the true curve between samples, not straight lines between switches
     ss = result.steady_state
@@ -160,11 +156,7 @@ def plot_trajectory(traj, path: str | Path | None = None, *, name: str = "path",
         Dots per inch of a raster file (PNG); default 150.
     """
 
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
 
     curve = traj.dense()
     whole = _thin(len(curve))

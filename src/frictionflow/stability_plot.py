@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from ._figures import draws, legend_outside, sig
+from ._figures import draws, legend_outside, pyplot, sig
 from .analysis.stability import KINDS, StabilityScan
 from .analysis.stability_chart import StabilityChart
 from .io import DEFAULT_DPI, write_figure
@@ -36,11 +36,7 @@ def plot_stability(scan: StabilityScan, path: str | Path | None = None, *, name:
     dpi:
         Dots per inch of a raster file (PNG).
     """
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
 
     fig, ax = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True, layout="constrained")
     lam = scan.eigenvalues
@@ -92,11 +88,7 @@ def plot_stability_chart(chart: StabilityChart, path: str | Path | None = None, 
     dpi:
         Dots per inch of a raster file (PNG).
     """
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
     from matplotlib.colors import TwoSlopeNorm
 
     fig, ax = plt.subplots(figsize=(8, 6), layout="constrained")

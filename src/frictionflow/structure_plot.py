@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from ._figures import draws, legend_outside, sig
+from ._figures import draws, legend_outside, pyplot, sig
 from .analysis.structure import StructureAnalysis, states_at
 from .io import DEFAULT_DPI, write_figure
 
@@ -66,11 +66,7 @@ def plot_structure(result: StructureAnalysis, path: str | Path | None = None, *,
     dpi:
         Dots per inch of a raster file (PNG); default 150.
     """
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
 
     motion, ss = result.motion, result.steady_state
     fig, ax = plt.subplots(2, 2, figsize=(12, 7.5), layout="constrained")

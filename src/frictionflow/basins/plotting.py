@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 import numpy as np
 
-from .._figures import draws, legend_outside, math_values, sig
+from .._figures import draws, legend_outside, math_values, pyplot, sig
 from ..io import DEFAULT_DPI, write_figure
 from ..parameters import declared
 from .study import Basins
@@ -41,11 +41,7 @@ def plot_basins(result: Basins, path: str | Path | None = None, *, name: str = "
     matplotlib.figure.Figure
     """
 
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
 
     fig, ax = plt.subplots(figsize=(7.6, 4.8) if result.vary else (7.6, 5.0), layout="constrained")
     if result.vary is None:

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._figures import draws, legend_outside, symbol
+from .._figures import draws, legend_outside, pyplot, symbol
 from ..io import DEFAULT_DPI, write_figure
 from .charting import Chart
 
@@ -32,11 +32,7 @@ def plot_chart(chart, path: str | Path | None = None, *, name: str = "path", dpi
 
     Saved to ``path`` (PNG, PDF, SVG or EPS by the suffix, ``dpi`` dots per inch) when given.
     """
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
 
     fig, ax = plt.subplots(figsize=(9.5, 5), layout="constrained")
     xp, yp = chart.x_param, chart.y_param

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._figures import equal_aspect, legend_outside, math_values
+from .._figures import equal_aspect, legend_outside, math_values, pyplot
 from ..core import forced_map as fm
 from ..io import DEFAULT_DPI, write_figure
 from ..solvers.base import kernel_params
@@ -69,11 +69,7 @@ def plot_forced_branches(branches: ForcedBranch | Sequence[ForcedBranch], path: 
     matplotlib.figure.Figure
     """
 
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
 
     if isinstance(branches, ForcedBranch):
         branches = [branches]
@@ -128,11 +124,7 @@ def plot_forced_orbit(orbit: ForcedOrbit, path: str | Path | None = None, *, nam
 
     Saved to ``path`` (PNG, PDF, SVG or EPS by the suffix, ``dpi`` dots per inch) when given.
     """
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
 
     n = 200 * orbit.m
     ts = np.linspace(0.0, orbit.period, n + 1)[1:]

@@ -14,22 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from .._figures import draws, equal_aspect, legend_outside, math_values, sig, symbol
+from .._figures import draws, equal_aspect, legend_outside, math_values, pyplot, sig, symbol
 from ..analysis.power_flow import instantaneous_power
 from ..io import DEFAULT_DPI, FIGURE_FORMATS, write_figure  # noqa: F401  (FIGURE_FORMATS: re-exported)
 from .branches import Branch, ContinuationResult
 from .shooting import PeriodicOrbit
 _MARKERS = {"hopf": "o", "fold": "s", "grazing": "D", "switching": "v", "period_blowup": "x", "branch_end": "x"}
-
-
-def _pyplot(path: str | Path | None):
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def _runs(branch: Branch) -> Iterable[tuple[bool, list[int]]]:
@@ -84,7 +74,7 @@ def plot_bifurcation(result: ContinuationResult, path: str | Path | None = None,
     dpi:
         Dots per inch of a raster file (PNG); default 150.
     """
-    plt = _pyplot(path)
+    plt = pyplot(path)
     fig, ax = plt.subplots(2, 2, figsize=(12, 8), sharex=True, layout="constrained")
     colors = {bi: f"C{bi % 10}" for bi in range(len(result.branches))}
     a = ax[0, 0]
@@ -164,7 +154,7 @@ def plot_orbit(orbit: PeriodicOrbit, path: str | Path | None = None, *, name: st
     matplotlib.figure.Figure
     """
 
-    plt = _pyplot(path)
+    plt = pyplot(path)
     traj = orbit.trajectory(dense_dt=orbit.period / 400)
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.2), layout="constrained")
     stick = traj.mode == 0

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from .._figures import legend_outside, math_value, math_values, symbol
+from .._figures import legend_outside, math_value, math_values, pyplot, symbol
 from ..io import DEFAULT_DPI, write_figure
 
 
@@ -71,11 +71,7 @@ def plot_map(ds, var: str, x: str, y: str, path: str | Path | None = None, log: 
     -------
     matplotlib.figure.Figure
     """
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
 
     da = _select(ds, var, (x, y), sel).transpose(y, x)
     if log is None:
@@ -118,11 +114,7 @@ def plot_cut(ds, var: str, x: str, path: str | Path | None = None, hue: str | No
     -------
     matplotlib.figure.Figure
     """
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot(path)
 
     keep = (x,) if hue is None else (x, hue)
     da = _select(ds, var, keep, sel)
