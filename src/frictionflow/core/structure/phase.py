@@ -61,14 +61,15 @@ def start(cb, asm, q, v, t0):
 @njit(cache=True, inline="always")
 def modal_into(cb, ph, om, tau, z):
     """z(tau) into ``z``: the modal coordinates ``tau`` after the phase's start (``om``: the forces' Omega)."""
-    for a in range(len(cb.lam)):
-        lam = cb.lam[a]
+    lams, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta  # out of the loop: no refcounts
+    for a in range(len(lams)):
+        lam = lams[a]
         e, p1, p2 = phis(lam, tau)
-        s = e * ph.z0[a] + p1 * ph.b0[a] + p2 * ph.b1[a]
+        s = e * z0[a] + p1 * b0[a] + p2 * b1[a]
         for f in range(len(om)):
             w = 1j * om[f]
-            ep = cmath.exp(1j * ph.theta[f])
-            s += 0.5 * ph.bh[a, f] * (ep * expint(lam, w, tau) + ep.conjugate() * expint(lam, -w, tau))
+            ep = cmath.exp(1j * theta[f])
+            s += 0.5 * bh[a, f] * (ep * expint(lam, w, tau) + ep.conjugate() * expint(lam, -w, tau))
         z[a] = s
 
 
