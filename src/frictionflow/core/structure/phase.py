@@ -61,7 +61,12 @@ def start(cb, asm, q, v, t0):
 @njit(cache=True, inline="always")
 def modal_into(cb, ph, om, tau, z):
     """z(tau) into ``z``: the modal coordinates ``tau`` after the phase's start (``om``: the forces' Omega)."""
-    lams, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta  # out of the loop: no refcounts
+    modal_raw(cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, om, tau, z)
+
+
+@njit(cache=True, inline="always")
+def modal_raw(lams, z0, b0, b1, bh, theta, om, tau, z):
+    """:func:`modal_into` from the arrays themselves (a loop that binds no record runs no reference counting)."""
     for a in range(len(lams)):
         lam = lams[a]
         e, p1, p2 = phis(lam, tau)
@@ -84,21 +89,27 @@ def modal_at(cb, ph, om, tau):
 @njit(cache=True, inline="always")
 def state_into(cb, ph, tau, z, q, v):
     """(q, q') at ``tau`` into ``q``, ``v`` from z = z(tau): Re(V z) through Z, plus the stuck directions' part."""
-    n, r = cb.Z.shape
+    state_raw(cb.V, cb.Z, cb.R, ph.u0, ph.bs, tau, z, q, v)
+
+
+@njit(cache=True, inline="always")
+def state_raw(vm, zm, rm, u0, bs, tau, z, q, v):
+    """:func:`state_into` from the arrays themselves (V, Z, R, u0, b_S)."""
+    n, r = zm.shape
     for i in range(n):
         q[i], v[i] = 0.0, 0.0
     for a in range(2 * r):
         x = 0.0
         for b in range(2 * r):
-            x += (cb.V[a, b] * z[b]).real
+            x += (vm[a, b] * z[b]).real
         col, out = (a, q) if a < r else (a - r, v)
         for i in range(n):
-            out[i] += cb.Z[i, col] * x
-    for s in range(len(ph.u0)):
-        u = ph.u0[s] + ph.bs[s] * tau
+            out[i] += zm[i, col] * x
+    for s in range(len(u0)):
+        u = u0[s] + bs[s] * tau
         for i in range(n):
-            q[i] += cb.R[i, s] * u
-            v[i] += cb.R[i, s] * ph.bs[s]
+            q[i] += rm[i, s] * u
+            v[i] += rm[i, s] * bs[s]
 
 
 @njit(cache=True)
