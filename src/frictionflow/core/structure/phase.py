@@ -134,11 +134,17 @@ def harmonic(dh_row, ph, om, tau, order):
 
 
 @njit(cache=True, inline="always")
-def event_value(cb, ph, om, e, tau, z):
-    """Event function ``e`` at ``tau`` (``z`` = z(tau))."""
-    s = ph.e0[e] + ph.e1[e] * tau + harmonic(cb.Dh[e], ph, om, tau, 0)
+def event_raw(e0, e1, dh, w, theta, om, e, tau, z):
+    """Event function ``e`` at ``tau`` (``z`` = z(tau)) from the phase's and the combination's arrays.
+
+    Arrays, not the records: a record passed in the walk's loops costs the reference counting of all its arrays.
+    """
+    h = 0.0
+    for f in range(len(om)):
+        h += dh[e, f] * math.cos(theta[f] + om[f] * tau)
+    s = e0[e] + e1[e] * tau + h
     for a in range(len(z)):
-        s += (cb.W[e, a] * z[a]).real
+        s += (w[e, a] * z[a]).real
     return s
 
 
@@ -225,7 +231,11 @@ def bound_of(cb, om, e, dz):
 @njit(cache=True, inline="always")
 def event_size(cb, ph, e, tau, z):
     """The sum of the magnitudes of event function ``e``'s terms at ``tau``: its rounding is a few EPS of it."""
-    s = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + np.abs(cb.Dh[e]).sum()
+    dh, w = cb.Dh, cb.W
+    sh = 0.0  # |Dh_e| summed in order, as np.abs(row).sum() would, without making that array
+    for f in range(dh.shape[1]):
+        sh += abs(dh[e, f])
+    s = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + sh
     for a in range(len(z)):
-        s += abs(cb.W[e, a] * z[a])
+        s += abs(w[e, a] * z[a])
     return s
