@@ -203,11 +203,12 @@ def bound(cb, ph, om, e, a, h, za, order):
 def mode_bounds(cb, ph, om, a, h, za, out):
     """Each mode's term of :func:`bound` of order 2 (before the weight |W[e, m]|) into ``out``: once per interval."""
     tmax = abs(a) + h
+    lams, pb0, pb1, bh = cb.lam, ph.b0, ph.b1, ph.bh
     for m in range(len(za)):
-        lam = cb.lam[m]
-        b0, b1 = abs(ph.b0[m]) + abs(ph.b1[m]) * tmax, abs(ph.b1[m])
+        lam = lams[m]
+        b0, b1 = abs(pb0[m]) + abs(pb1[m]) * tmax, abs(pb1[m])
         for f in range(len(om)):
-            c = abs(ph.bh[m, f])
+            c = abs(bh[m, f])
             b0, b1 = b0 + c, b1 + c * om[f]
         zb = math.exp(max(lam.real, 0.0) * h) * (abs(za[m]) + h * b0)
         al = abs(lam)
@@ -218,10 +219,11 @@ def mode_bounds(cb, ph, om, a, h, za, out):
 def bound_of(cb, om, e, dz):
     """:func:`bound` of order 2 from the modes' terms ``dz`` (:func:`mode_bounds`), summed in the same order."""
     s = 0.0
+    dh, wm = cb.Dh, cb.W
     for f in range(len(om)):
-        s += abs(cb.Dh[e, f]) * om[f] ** 2
+        s += abs(dh[e, f]) * om[f] ** 2
     for m in range(len(dz)):
-        w = abs(cb.W[e, m])
+        w = abs(wm[e, m])
         if w == 0.0:
             continue
         s += w * dz[m]
