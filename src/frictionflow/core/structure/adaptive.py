@@ -37,7 +37,7 @@ from ..layout import FD, FS, STICK
 from .combo import N_SLOTS, Split, split
 from .run import MAX_ZERO, Result, record_switches, switch_modes
 from .stick import acceleration, decide, hold_velocity, held, normal_load
-from .work import element_powers
+from .work import contact_powers, element_powers
 
 #: the output buffers: samples (t, state (2n, T), accel (2n, T): the acceleration after the sample and the one
 #: the next sample is reached with, force (k, T), modes (k, T), work (W, T), power (2W, T): the channels' powers
@@ -95,11 +95,10 @@ def rhs(asm, sp, t, y, n, out, f):
     for i in range(n):
         out[i] = v[i]
         out[n + i] = a[i]
-    c = element_powers(asm, q, v, t, out, 2 * n)
-    k = len(asm.belt)
-    for j in range(k):
-        out[c + j] = f[j] * asm.belt[j]
-        out[c + k + j] = 0.0 if sp.modes[j] == STICK else f[j] * (asm.belt[j] - asm.contact_dir[j] @ v)
+    powers = out[2 * n:]  # the work channels: the exact engine's powers (:mod:`.work`)
+    c = element_powers((asm.spring_k, asm.spring_dir, asm.damper_c, asm.damper_dir),
+                       (asm.force_amp, asm.force_omega, asm.force_phi, asm.force_dir), q, v, t, powers)
+    contact_powers(asm.belt, asm.contact_dir, sp.modes, f, v, c, powers)
 
 
 @njit(cache=True)

@@ -29,7 +29,8 @@ import numpy as np
 from numba import njit
 
 from ..roots import RUNNING, bracket, update
-from .phase import bound, bound_of, event_rate, event_size, event_value, modal_at, modal_into, mode_bounds
+from .phase import (bound, bound_of, event_rate, event_raw, event_size, modal_at, modal_raw,
+                    mode_bounds)
 
 EPS = 2.220446049250313e-16
 #: a function within this many EPS of the size of its terms of 0 counts as touching 0
@@ -39,9 +40,10 @@ ROUNDING = 16.0
 @njit(cache=True, inline="always")
 def values(cb, ph, om, tau, z, g):
     """Fill ``g`` with the active event functions at ``tau`` (``z`` = z(tau))."""
+    active, e0, e1, dh, w, theta = cb.active, ph.e0, ph.e1, cb.Dh, cb.W, ph.theta
     for e in range(len(g)):
-        if cb.active[e]:
-            g[e] = event_value(cb, ph, om, e, tau, z)
+        if active[e]:
+            g[e] = event_raw(e0, e1, dh, w, theta, om, e, tau, z)
 
 
 @njit(cache=True)
@@ -49,9 +51,11 @@ def locate(cb, ph, om, e, a, b, ga, gb):
     """The root of event function ``e`` in [a, b] (g(a) > 0 >= g(b)): the far end of the final bracket."""
     br = bracket(a, b, ga, gb, 0.0, 2.0 * EPS, 0.0, 200, 0.0)
     z = np.empty(len(cb.lam), dtype=np.complex128)
+    lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta  # no record passed in the loop
+    e0, e1, dh, w = ph.e0, ph.e1, cb.Dh, cb.W
     while br.status == RUNNING:
-        modal_into(cb, ph, om, br.x, z)
-        br = update(br, br.x, event_value(cb, ph, om, e, br.x, z))
+        modal_raw(lam, z0, b0, b1, bh, theta, om, br.x, z)
+        br = update(br, br.x, event_raw(e0, e1, dh, w, theta, om, e, br.x, z))
     return br.hi
 
 
@@ -140,9 +144,10 @@ def first_event(cb, ph, om, tau_end, departing, h0, floor):
     clear = np.full(len(ga), -1.0)
     zb = za.copy()
     dz = np.empty(len(za))
+    lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta
     while a < tau_end:
         b = min(a + h, tau_end)
-        modal_into(cb, ph, om, b, zb)
+        modal_raw(lam, z0, b0, b1, bh, theta, om, b, zb)
         values(cb, ph, om, b, zb, gb)
         decided, root = decide_interval(cb, ph, om, a, b - a, za, ga, gb, dep, clear, dz)
         if not decided and b - a > floor:

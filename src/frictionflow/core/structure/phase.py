@@ -61,14 +61,20 @@ def start(cb, asm, q, v, t0):
 @njit(cache=True, inline="always")
 def modal_into(cb, ph, om, tau, z):
     """z(tau) into ``z``: the modal coordinates ``tau`` after the phase's start (``om``: the forces' Omega)."""
-    for a in range(len(cb.lam)):
-        lam = cb.lam[a]
+    modal_raw(cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, om, tau, z)
+
+
+@njit(cache=True, inline="always")
+def modal_raw(lams, z0, b0, b1, bh, theta, om, tau, z):
+    """:func:`modal_into` from the arrays themselves (a loop that binds no record runs no reference counting)."""
+    for a in range(len(lams)):
+        lam = lams[a]
         e, p1, p2 = phis(lam, tau)
-        s = e * ph.z0[a] + p1 * ph.b0[a] + p2 * ph.b1[a]
+        s = e * z0[a] + p1 * b0[a] + p2 * b1[a]
         for f in range(len(om)):
             w = 1j * om[f]
-            ep = cmath.exp(1j * ph.theta[f])
-            s += 0.5 * ph.bh[a, f] * (ep * expint(lam, w, tau) + ep.conjugate() * expint(lam, -w, tau))
+            ep = cmath.exp(1j * theta[f])
+            s += 0.5 * bh[a, f] * (ep * expint(lam, w, tau) + ep.conjugate() * expint(lam, -w, tau))
         z[a] = s
 
 
@@ -83,21 +89,27 @@ def modal_at(cb, ph, om, tau):
 @njit(cache=True, inline="always")
 def state_into(cb, ph, tau, z, q, v):
     """(q, q') at ``tau`` into ``q``, ``v`` from z = z(tau): Re(V z) through Z, plus the stuck directions' part."""
-    n, r = cb.Z.shape
+    state_raw(cb.V, cb.Z, cb.R, ph.u0, ph.bs, tau, z, q, v)
+
+
+@njit(cache=True, inline="always")
+def state_raw(vm, zm, rm, u0, bs, tau, z, q, v):
+    """:func:`state_into` from the arrays themselves (V, Z, R, u0, b_S)."""
+    n, r = zm.shape
     for i in range(n):
         q[i], v[i] = 0.0, 0.0
     for a in range(2 * r):
         x = 0.0
         for b in range(2 * r):
-            x += (cb.V[a, b] * z[b]).real
+            x += (vm[a, b] * z[b]).real
         col, out = (a, q) if a < r else (a - r, v)
         for i in range(n):
-            out[i] += cb.Z[i, col] * x
-    for s in range(len(ph.u0)):
-        u = ph.u0[s] + ph.bs[s] * tau
+            out[i] += zm[i, col] * x
+    for s in range(len(u0)):
+        u = u0[s] + bs[s] * tau
         for i in range(n):
-            q[i] += cb.R[i, s] * u
-            v[i] += cb.R[i, s] * ph.bs[s]
+            q[i] += rm[i, s] * u
+            v[i] += rm[i, s] * bs[s]
 
 
 @njit(cache=True)
@@ -122,11 +134,17 @@ def harmonic(dh_row, ph, om, tau, order):
 
 
 @njit(cache=True, inline="always")
-def event_value(cb, ph, om, e, tau, z):
-    """Event function ``e`` at ``tau`` (``z`` = z(tau))."""
-    s = ph.e0[e] + ph.e1[e] * tau + harmonic(cb.Dh[e], ph, om, tau, 0)
+def event_raw(e0, e1, dh, w, theta, om, e, tau, z):
+    """Event function ``e`` at ``tau`` (``z`` = z(tau)) from the phase's and the combination's arrays.
+
+    Arrays, not the records: a record passed in the walk's loops costs the reference counting of all its arrays.
+    """
+    h = 0.0
+    for f in range(len(om)):
+        h += dh[e, f] * math.cos(theta[f] + om[f] * tau)
+    s = e0[e] + e1[e] * tau + h
     for a in range(len(z)):
-        s += (cb.W[e, a] * z[a]).real
+        s += (w[e, a] * z[a]).real
     return s
 
 
@@ -185,11 +203,12 @@ def bound(cb, ph, om, e, a, h, za, order):
 def mode_bounds(cb, ph, om, a, h, za, out):
     """Each mode's term of :func:`bound` of order 2 (before the weight |W[e, m]|) into ``out``: once per interval."""
     tmax = abs(a) + h
+    lams, pb0, pb1, bh = cb.lam, ph.b0, ph.b1, ph.bh
     for m in range(len(za)):
-        lam = cb.lam[m]
-        b0, b1 = abs(ph.b0[m]) + abs(ph.b1[m]) * tmax, abs(ph.b1[m])
+        lam = lams[m]
+        b0, b1 = abs(pb0[m]) + abs(pb1[m]) * tmax, abs(pb1[m])
         for f in range(len(om)):
-            c = abs(ph.bh[m, f])
+            c = abs(bh[m, f])
             b0, b1 = b0 + c, b1 + c * om[f]
         zb = math.exp(max(lam.real, 0.0) * h) * (abs(za[m]) + h * b0)
         al = abs(lam)
@@ -200,10 +219,11 @@ def mode_bounds(cb, ph, om, a, h, za, out):
 def bound_of(cb, om, e, dz):
     """:func:`bound` of order 2 from the modes' terms ``dz`` (:func:`mode_bounds`), summed in the same order."""
     s = 0.0
+    dh, wm = cb.Dh, cb.W
     for f in range(len(om)):
-        s += abs(cb.Dh[e, f]) * om[f] ** 2
+        s += abs(dh[e, f]) * om[f] ** 2
     for m in range(len(dz)):
-        w = abs(cb.W[e, m])
+        w = abs(wm[e, m])
         if w == 0.0:
             continue
         s += w * dz[m]
@@ -213,7 +233,11 @@ def bound_of(cb, om, e, dz):
 @njit(cache=True, inline="always")
 def event_size(cb, ph, e, tau, z):
     """The sum of the magnitudes of event function ``e``'s terms at ``tau``: its rounding is a few EPS of it."""
-    s = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + np.abs(cb.Dh[e]).sum()
+    dh, w = cb.Dh, cb.W
+    sh = 0.0  # |Dh_e| summed in order, as np.abs(row).sum() would, without making that array
+    for f in range(dh.shape[1]):
+        sh += abs(dh[e, f])
+    s = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + sh
     for a in range(len(z)):
-        s += abs(cb.W[e, a] * z[a])
+        s += abs(w[e, a] * z[a])
     return s

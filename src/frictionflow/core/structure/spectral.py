@@ -40,9 +40,24 @@ def phis(lam, tau):
     for j in range(1, N_TERMS):
         term *= z / (j + 2)
         p2 += term
-        if abs(term) <= 1e-17 * abs(p2):
+        if negligible(term, p2):
             break
     return e, tau * (1.0 + z * p2), tau * tau * p2
+
+
+@njit(cache=True, inline="always")
+def negligible(term, total):
+    """abs(term) <= 1e-17 abs(total), the same verdict, with the two moduli (hypot) only where it is close.
+
+    max(|re|, |im|) <= |x| <= |re| + |im|: outside a factor 1.01 of the threshold these bounds decide it
+    (the moduli's rounding is a few ulps), and the series is evaluated exactly as with the moduli.
+    """
+    tr, ti, sr, si = abs(term.real), abs(term.imag), abs(total.real), abs(total.imag)
+    if tr + ti <= 0.99e-17 * max(sr, si):
+        return True
+    if max(tr, ti) > 1.01e-17 * (sr + si):
+        return False
+    return abs(term) <= 1e-17 * abs(total)
 
 
 @njit(cache=True)

@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit
 
 from ..layout import FD, STICK
-from .phase import modal_into, state_into
+from .phase import modal_raw, state_raw
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
 MU_H = 2.0
@@ -39,61 +39,73 @@ def n_channels(asm) -> int:
 
 
 @njit(cache=True, inline="always")
-def friction_into(asm, cb, q, v, t, f, rest):
-    """Each contact's friction force into ``f``: +-F_d N_j slipping, the held force (dampers included) stuck.
-
-    ``rest``: room for C q' + K_eff q - f0 - forces(t), computed once for all the stuck contacts.
-    """
-    n = len(q)
-    for j in range(len(f)):
-        if cb.modes[j] != STICK:
-            nj = asm.normal[j, 0]
-            for i in range(n):
-                nj += asm.normal[j, 1 + i] * q[i]
-            f[j] = cb.modes[j] * asm.law[j, FD] * nj
-    if len(cb.stuck) == 0:
-        return
-    for i in range(n):
-        x = -cb.f0[i]
-        for b in range(n):
-            x += asm.damping[i, b] * v[b] + cb.keff[i, b] * q[b]
-        rest[i] = x
-    for g in range(len(asm.force_amp)):
-        c = asm.force_amp[g] * math.cos(asm.force_omega[g] * t + asm.force_phi[g])
-        for i in range(n):
-            rest[i] -= asm.force_dir[g, i] * c
-    for s in range(len(cb.stuck)):
-        lam = 0.0
-        for i in range(n):
-            lam += cb.HE[s, i] * rest[i]
-        f[cb.stuck[s]] = lam
+def dot_row(a, i, x):
+    """a[i] . x summed in index order, without a view of the row or a BLAS call (it runs at every node)."""
+    s = 0.0
+    for b in range(len(x)):
+        s += a[i, b] * x[b]
+    return s
 
 
 @njit(cache=True, inline="always")
-def element_powers(asm, q, v, t, out, c):
-    """The springs', dampers' and forces' powers at (q, q', t) into ``out`` from channel ``c``; the next channel."""
-    for s in range(len(asm.spring_k)):
-        out[c] = -asm.spring_k[s] * (asm.spring_dir[s] @ q) * (asm.spring_dir[s] @ v)
+def slip_forces(normal, law, modes, q, f):
+    """The slipping contacts' friction forces +-F_d N_j into ``f``."""
+    n = len(q)
+    for j in range(len(f)):
+        if modes[j] != STICK:
+            nj = normal[j, 0]
+            for i in range(n):
+                nj += normal[j, 1 + i] * q[i]
+            f[j] = modes[j] * law[j, FD] * nj
+
+
+@njit(cache=True, inline="always")
+def held_forces(damping, keff, f0, he, stuck, forcing, q, v, t, f, rest):
+    """The stuck contacts' held forces (dampers included) into ``f``; ``forcing`` = (amp, omega, phi, dir).
+
+    ``rest``: room for C q' + K_eff q - f0 - forces(t), computed once for all the stuck contacts.
+    """
+    fa, fo, fp, fdir = forcing
+    n = len(q)
+    for i in range(n):
+        x = -f0[i]
+        for b in range(n):
+            x += damping[i, b] * v[b] + keff[i, b] * q[b]
+        rest[i] = x
+    for g in range(len(fa)):
+        c = fa[g] * math.cos(fo[g] * t + fp[g])
+        for i in range(n):
+            rest[i] -= fdir[g, i] * c
+    for s in range(len(stuck)):
+        f[stuck[s]] = dot_row(he, s, rest)
+
+
+@njit(cache=True, inline="always")
+def element_powers(elastic, forcing, q, v, t, out):
+    """The springs', dampers' and forces' powers into ``out``; ``elastic`` = (k, spring dirs, c, damper dirs)."""
+    sk, sd, dcs, dd = elastic
+    fa, fo, fp, fdir = forcing
+    c = 0
+    for s in range(len(sk)):
+        out[c] = -sk[s] * dot_row(sd, s, q) * dot_row(sd, s, v)
         c += 1
-    for d in range(len(asm.damper_c)):
-        w = asm.damper_dir[d] @ v
-        out[c] = -asm.damper_c[d] * w * w
+    for d in range(len(dcs)):
+        w = dot_row(dd, d, v)
+        out[c] = -dcs[d] * w * w
         c += 1
-    for i in range(len(asm.force_amp)):
-        out[c] = asm.force_amp[i] * math.cos(asm.force_omega[i] * t + asm.force_phi[i]) * (asm.force_dir[i] @ v)
+    for i in range(len(fa)):
+        out[c] = fa[i] * math.cos(fo[i] * t + fp[i]) * dot_row(fdir, i, v)
         c += 1
     return c
 
 
 @njit(cache=True, inline="always")
-def powers(asm, cb, q, v, t, f, rest, out):
-    """The power of every channel at (q, q', t), into ``out`` (``f``, ``rest``: room, see :func:`friction_into`)."""
-    c = element_powers(asm, q, v, t, out, 0)
-    friction_into(asm, cb, q, v, t, f, rest)
-    k = len(asm.belt)
+def contact_powers(belt, cd, modes, f, v, c, out):
+    """Each contact's belt input F_j b_j and interface heat F_j V_r,j into ``out`` from channel ``c`` on."""
+    k = len(belt)
     for j in range(k):
-        out[c + j] = f[j] * asm.belt[j]
-        out[c + k + j] = 0.0 if cb.modes[j] == STICK else f[j] * (asm.belt[j] - asm.contact_dir[j] @ v)
+        out[c + j] = f[j] * belt[j]
+        out[c + k + j] = 0.0 if modes[j] == STICK else f[j] * (belt[j] - dot_row(cd, j, v))
 
 
 @njit(cache=True)
@@ -109,7 +121,11 @@ def rule(x):
 
 @njit(cache=True)
 def integrate(asm, cb, ph, om, ta, tb, acc):
-    """Add each channel's work over [ta, tb] of the phase (local times) to ``acc``."""
+    """Add each channel's work over [ta, tb] of the phase (local times) to ``acc``.
+
+    The records' arrays are taken out once here: the node loop passes arrays only (a record passed at every
+    node would cost the reference counting of all its arrays each time).
+    """
     span = tb - ta
     if span <= 0.0:
         return
@@ -119,12 +135,21 @@ def integrate(asm, cb, ph, om, ta, tb, acc):
     n = len(asm.q0)
     p, f = np.empty(len(acc)), np.empty(len(asm.belt))
     z, q, v, rest = np.empty(len(cb.lam), dtype=np.complex128), np.empty(n), np.empty(n), np.empty(n)
+    lam, vm, zm, rm, modes, stuck, keff, f0, he = cb.lam, cb.V, cb.Z, cb.R, cb.modes, cb.stuck, cb.keff, cb.f0, cb.HE
+    z0, b0, b1, bh, theta, u0, bs, t0 = ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, ph.u0, ph.bs, ph.t0
+    normal, law, damping, belt, cd = asm.normal, asm.law, asm.damping, asm.belt, asm.contact_dir
+    elastic = (asm.spring_k, asm.spring_dir, asm.damper_c, asm.damper_dir)
+    forcing = (asm.force_amp, asm.force_omega, asm.force_phi, asm.force_dir)
     for s in range(nsub):
         mid = ta + (s + 0.5) * h
         for g in range(len(nodes)):
             tau = mid + 0.5 * h * nodes[g]
-            modal_into(cb, ph, om, tau, z)
-            state_into(cb, ph, tau, z, q, v)
-            powers(asm, cb, q, v, ph.t0 + tau, f, rest, p)
+            modal_raw(lam, z0, b0, b1, bh, theta, om, tau, z)
+            state_raw(vm, zm, rm, u0, bs, tau, z, q, v)
+            c = element_powers(elastic, forcing, q, v, t0 + tau, p)
+            slip_forces(normal, law, modes, q, f)
+            if len(stuck):
+                held_forces(damping, keff, f0, he, stuck, forcing, q, v, t0 + tau, f, rest)
+            contact_powers(belt, cd, modes, f, v, c, p)
             for c in range(len(acc)):
                 acc[c] += 0.5 * h * weights[g] * p[c]
