@@ -19,6 +19,13 @@ takes them can still be cached): a kernel unpacks them once at its top.
                 contact that switched (both int64; the single mass's
                 kernels write contact 0); a run counts every switch but
                 writes only as many as fit
+``Derivatives`` the slopes at both ends of each sample's interval, for a
+                cubic Hermite interpolant between samples (the structure's
+                adaptive kernel, :mod:`.structure.adaptive`): ``accel``
+                (2n, cap) the acceleration just after each sample (rows
+                0..n-1) and the one the next sample is reached with (rows
+                n..2n-1); ``power`` (2W, cap) each work channel's power
+                likewise
 ==============  ==========================================================
 
 The run record: the settings of one run and its initial state, a float64
@@ -63,6 +70,7 @@ from .layout import N_WORK
 
 Samples = namedtuple("Samples", "t y fc mode work")
 Events = namedtuple("Events", "t mode contact")
+Derivatives = namedtuple("Derivatives", "accel power")
 
 # The run record's slots (see the table above); numba reads them as constants.
 (
@@ -94,6 +102,11 @@ def empty_samples(cap, n_state, n_contacts, n_work=N_WORK):
 def empty_events(cap):
     """Empty :data:`Events` with room for ``cap`` switches."""
     return Events(np.empty(cap), np.empty(cap, dtype=np.int64), np.empty(cap, dtype=np.int64))
+
+
+def empty_derivatives(cap, n, n_work):
+    """Empty :data:`Derivatives` for ``cap`` samples of ``n`` coordinates and ``n_work`` work channels."""
+    return Derivatives(np.empty((2 * n, cap)), np.empty((2 * n_work, cap)))
 
 
 #: :func:`empty_samples` compiled, for kernels that allocate their own (small) buffers

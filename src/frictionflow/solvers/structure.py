@@ -17,7 +17,6 @@ import numpy as np
 from ..core import codes
 from ..core.assembly import Assembly, natural_frequencies
 from ..core.layout import LAW
-from ..core.records import Events, Samples, empty_events, empty_samples
 from ..core.structure.run import run
 from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
@@ -26,6 +25,7 @@ from ..motion import Motion
 from ..system import assemble
 from . import structure_adaptive
 from .registry import solver_named, solver_names_where
+from .structure_motion import buffers, motion
 
 #: the solver's name in messages
 NAME = "exact"
@@ -122,12 +122,6 @@ def _check(assembly: Assembly, t_end: float, dense_dt: float | None, contacts: t
             raise ValueError(_law_message(solver, contacts[j], known.get(code, f"(law code {code})")))
 
 
-def _buffers(assembly: Assembly, cap: int) -> tuple[Samples, Events]:
-    """The shared records (:mod:`frictionflow.core.records`) for ``cap`` samples and switches of ``assembly``."""
-    n, k = len(assembly.q0), len(assembly.belt)
-    return empty_samples(cap, 2 * n, k, n_channels(assembly)), empty_events(cap)
-
-
 def _channels(names: dict[str, tuple[str, ...]]) -> tuple[str, ...]:
     return (*names["spring"], *names["damper"], *names["force"],
             *(f"{c}.belt" for c in names["contact"]), *(f"{c}.heat" for c in names["contact"]))
@@ -168,23 +162,14 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
     minv = np.linalg.inv(assembly.mass)
     cap = FIRST_CAP
     while True:
-        out, events = _buffers(assembly, cap)
-        res = run(assembly, minv, float(t_end), float(dense_dt or 0.0), out, events)
+        records = buffers(assembly, cap)
+        res = run(assembly, minv, float(t_end), float(dense_dt or 0.0), *records)
         if res.status != codes.FULL and res.n_switches <= cap:
             break
         cap = 2 * max(cap, res.n_samples, res.n_switches)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"solver={NAME}: the run ended with status '{codes.NAMES[res.status]}'")
-    s, w = res.n_samples, res.n_switches
-    lost = None if res.status == codes.OK else (nm["contact"][res.lost_contact], float(res.lost_time))
-    return Motion(  # Motion keeps the cumulative work, a row per channel: the records hold each sample's share
-        t=out.t[:s].copy(), state=out.y[:, :s].copy(), force=out.fc[:, :s].copy(),
-        modes=out.mode[:, :s].copy(), work=np.cumsum(out.work[:s], axis=0).T.copy(), channels=_channels(nm),
-        switches=events.t[:w].copy(), switch_contact=events.contact[:w].copy(),
-        switch_mode=events.mode[:w].astype(np.int8),
-        dof=nm["dof"], contacts=nm["contact"], status="ok" if lost is None else "contact_lost",
-        assembly=assembly, lost=lost, system=system, elements={k: v for k, v in nm.items() if k != "dof"},
-    )
+    return motion(res, records, assembly, nm, _channels(nm), system)
 
 
 #: switches per natural period per contact assumed by :func:`run_estimate`: a stick-slip cycle has two,

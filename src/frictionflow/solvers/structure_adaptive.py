@@ -16,25 +16,19 @@ import numpy as np
 
 from ..core import codes
 from ..core.assembly import Assembly, natural_frequencies
-from ..core.structure.adaptive import AOut, Opts, run as run_kernel
+from ..core.records import empty_derivatives
+from ..core.structure.adaptive import Opts, run as run_kernel
 from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
 from ..motion import Motion
 from .adaptive import Adaptive
+from .structure_motion import buffers, motion
 
 #: the longest step, as a fraction of the fastest period's 1/(2 pi) (the single mass's 0.25): the event
 #: functions are watched at the step ends only
 H_MAX = 0.25
 #: the first buffer size; doubled while the run reports FULL
 FIRST_CAP = 4096
-
-
-def _buffers(assembly: Assembly, cap: int) -> AOut:
-    n, k = len(assembly.q0), len(assembly.belt)
-    return AOut(np.empty(cap), np.empty((2 * n, cap)), np.empty((2 * n, cap)), np.empty((k, cap)),
-                np.empty((k, cap), dtype=np.int8), np.empty((n_channels(assembly), cap)),
-                np.empty((2 * n_channels(assembly), cap)), np.empty(cap),
-                np.empty(cap, dtype=np.int64), np.empty(cap, dtype=np.int8))
 
 
 def h_max(assembly: Assembly) -> float:
@@ -82,22 +76,13 @@ def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str
     minv = np.linalg.inv(assembly.mass)
     cap = FIRST_CAP
     while True:
-        out = _buffers(assembly, cap)
-        res = run_kernel(assembly, minv, opts, out)
+        records = buffers(assembly, cap)
+        der = empty_derivatives(cap, len(assembly.q0), n_channels(assembly))
+        res = run_kernel(assembly, minv, opts, *records, der)
         if res.status != codes.FULL and res.n_switches <= cap:
             break
         cap = 2 * max(cap, res.n_samples, res.n_switches)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"solver={settings.name}: the structure's run ended with status "
                            f"'{codes.NAMES[res.status]}' at sample {res.n_samples} (max_steps={settings.max_steps})")
-    s, w = res.n_samples, res.n_switches
-    lost = None if res.status == codes.OK else (elements["contact"][res.lost_contact], float(res.lost_time))
-    return Motion(
-        t=out.t[:s].copy(), state=out.state[:, :s].copy(), force=out.force[:, :s].copy(),
-        modes=out.modes[:, :s].copy(), work=out.work[:, :s].copy(), channels=channels,
-        switches=out.sw_t[:w].copy(), switch_contact=out.sw_contact[:w].copy(), switch_mode=out.sw_mode[:w].copy(),
-        dof=elements["dof"], contacts=elements["contact"], status="ok" if lost is None else "contact_lost",
-        assembly=assembly, lost=lost, system=system, elements={k: v for k, v in elements.items() if k != "dof"},
-        accel=out.accel[:, :s].copy(), power=out.power[:, :s].copy(), solver=settings.name,
-    )
-
+    return motion(res, records, assembly, elements, channels, system, der, settings.name)

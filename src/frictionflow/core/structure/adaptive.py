@@ -39,15 +39,12 @@ from .run import MAX_ZERO, Result, record_switches, switch_modes
 from .stick import acceleration, decide, hold_velocity, held, normal_load
 from .work import contact_powers, element_powers
 
-#: the output buffers: samples (t, state (2n, T), accel (2n, T): the acceleration after the sample and the one
-#: the next sample is reached with, force (k, T), modes (k, T), work (W, T), power (2W, T): the channels' powers
-#: both ways likewise) and switches (time, contact, mode)
-AOut = namedtuple("AOut", "t state accel force modes work power sw_t sw_contact sw_mode")
 #: the run's settings
 Opts = namedtuple("Opts", "t_end rtol atol h_max dense_dt max_steps")
 #: scratch: the stages K (7, m), y, y_new, a stage's input, the dense output, the contacts' forces, the
-#: event values at the step's start and end and where each slot was last seen positive (armed)
-Scratch = namedtuple("Scratch", "K y yn tmp ys f g0 g1 armed")
+#: event values at the step's start and end, where each slot was last seen positive (armed) and the
+#: cumulative work at the last sample written (the samples keep each sample's share)
+Scratch = namedtuple("Scratch", "K y yn tmp ys f g0 g1 armed w_last")
 #: an event value this close to 0 (relative to its size over the step) at a located switch is reached too
 SIMULTANEOUS = 1e-12
 
@@ -189,36 +186,38 @@ def stages(asm, sp, t, h, scr, n):
 
 
 @njit(cache=True)
-def emit(out, i, asm, sp, t, y, n, scr):
-    """Write sample ``i`` of state y at t in the modes of ``sp`` (its acceleration both ways); False when full."""
+def emit(out, der, i, asm, sp, t, y, n, scr):
+    """Write sample ``i`` of state y at t in the modes of ``sp`` into the :data:`~..records.Samples` ``out``
+    and its slopes (both ways) into the :data:`~..records.Derivatives` ``der``; False when full."""
     if i >= len(out.t):
         return False
     rhs(asm, sp, t, y, n, scr.tmp, scr.f)
     out.t[i] = t
     for r in range(2 * n):
-        out.state[r, i] = y[r]
+        out.y[r, i] = y[r]
     for r in range(n):
-        out.accel[r, i] = out.accel[n + r, i] = scr.tmp[n + r]
-    nw = out.work.shape[0]
+        der.accel[r, i] = der.accel[n + r, i] = scr.tmp[n + r]
+    nw = out.work.shape[1]
     for r in range(nw):
-        out.work[r, i] = y[2 * n + r]
-        out.power[r, i] = out.power[nw + r, i] = scr.tmp[2 * n + r]
+        out.work[i, r] = y[2 * n + r] - scr.w_last[r]
+        scr.w_last[r] = y[2 * n + r]
+        der.power[r, i] = der.power[nw + r, i] = scr.tmp[2 * n + r]
     for j in range(len(scr.f)):
-        out.force[j, i] = scr.f[j]
-        out.modes[j, i] = sp.modes[j]
+        out.fc[j, i] = scr.f[j]
+        out.mode[j, i] = sp.modes[j]
     return True
 
 
 @njit(cache=True)
-def arrive(out, i, asm, sp, t, y, n, scr):
+def arrive(der, i, asm, sp, t, y, n, scr):
     """The acceleration and powers (modes of ``sp``) sample ``i + 1`` at (t, y) is reached with, kept on sample ``i``."""
-    if 0 <= i < len(out.t):
+    if 0 <= i < der.accel.shape[1]:
         rhs(asm, sp, t, y, n, scr.tmp, scr.f)
         for r in range(n):
-            out.accel[n + r, i] = scr.tmp[n + r]
-        nw = out.work.shape[0]
+            der.accel[n + r, i] = scr.tmp[n + r]
+        nw = der.power.shape[0] // 2
         for r in range(nw):
-            out.power[nw + r, i] = scr.tmp[2 * n + r]
+            der.power[nw + r, i] = scr.tmp[2 * n + r]
 
 
 @njit(cache=True)
@@ -246,13 +245,13 @@ def start_phase(asm, sp, t, scr, n, leaving):
 
 
 @njit(cache=True)
-def dense_grid(out, i, asm, sp, t, h, theta, scr, n, grid):
+def dense_grid(out, der, i, asm, sp, t, h, theta, scr, n, grid):
     """Samples of the dense grid (``grid`` = (next time, dt)) inside the step's [t, t + theta h); (i, next, ok)."""
     nxt, dt = grid
     while dt > 0.0 and nxt < t + theta * h:
         dense(scr.y, scr.K, h, (nxt - t) / h, scr.ys, len(scr.y))
-        arrive(out, i - 1, asm, sp, nxt, scr.ys, n, scr)
-        if not emit(out, i, asm, sp, nxt, scr.ys, n, scr):
+        arrive(der, i - 1, asm, sp, nxt, scr.ys, n, scr)
+        if not emit(out, der, i, asm, sp, nxt, scr.ys, n, scr):
             return i, nxt, False
         i, nxt = i + 1, nxt + dt
     return i, nxt, True
@@ -303,11 +302,11 @@ def after_step(scr):
 
 
 @njit(cache=True)
-def scratch(asm, m):
-    """The run's :data:`Scratch` for a state of ``m`` components."""
-    k = len(asm.belt)
+def scratch(asm, n, nw):
+    """The run's :data:`Scratch` for ``n`` coordinates and ``nw`` work channels (a state of 2n + nw)."""
+    k, m = len(asm.belt), 2 * n + nw
     return Scratch(np.zeros((7, m)), np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(k),
-                   np.zeros(N_SLOTS * k), np.zeros(N_SLOTS * k), np.zeros(N_SLOTS * k, dtype=np.bool_))
+                   np.zeros(N_SLOTS * k), np.zeros(N_SLOTS * k), np.zeros(N_SLOTS * k, dtype=np.bool_), np.zeros(nw))
 
 
 @njit(cache=True)
@@ -332,15 +331,20 @@ def switch(asm, minv, sp, te, scr, n, slot):
 
 
 @njit(cache=True)
-def run(asm, minv, opts, out):
-    """Integrate the structure ``asm`` from t = 0 to ``opts.t_end`` into ``out``; the :data:`~.run.Result`."""
+def run(asm, minv, opts, out, events, der):
+    """Integrate the structure ``asm`` from t = 0 to ``opts.t_end``; the :data:`~.run.Result`.
+
+    The samples go to ``out`` (:data:`~..records.Samples`: y = (q, q'), a work column per channel), their
+    slopes to ``der`` (:data:`~..records.Derivatives`), the switches to ``events``
+    (:data:`~..records.Events`), as the exact engine (:func:`.run.run`) writes them.
+    """
     n, k = len(asm.q0), len(asm.belt)
-    scr = scratch(asm, 2 * n + out.work.shape[0])
+    scr = scratch(asm, n, out.work.shape[1])
     modes, v, lost = initial(asm, minv)
     sp = split(asm, minv, modes)
     for i in range(n):
         scr.y[i], scr.y[n + i] = asm.q0[i], v[i]
-    if not emit(out, 0, asm, sp, 0.0, scr.y, n, scr):
+    if not emit(out, der, 0, asm, sp, 0.0, scr.y, n, scr):
         return Result(codes.FULL, 0, 0, -1, np.nan)
     if lost >= 0:
         return Result(codes.CONTACT_LOST, 1, 0, lost, 0.0)
@@ -357,14 +361,14 @@ def run(asm, minv, opts, out):
             status = codes.STEP_CAP
         if status != codes.OK:
             return Result(status, i, nsw, -1, np.nan)
-        i, nxt, ok = dense_grid(out, i, asm, sp, t, hs, theta, scr, n, grid)
+        i, nxt, ok = dense_grid(out, der, i, asm, sp, t, hs, theta, scr, n, grid)
         grid = (nxt, opts.dense_dt)
         if not ok:
             return Result(codes.FULL, i, nsw, -1, np.nan)
         if slot < 0:
             t = opts.t_end if t + hs >= opts.t_end else t + hs
-            arrive(out, i - 1, asm, sp, t, scr.yn, n, scr)
-            if not emit(out, i, asm, sp, t, scr.yn, n, scr):
+            arrive(der, i - 1, asm, sp, t, scr.yn, n, scr)
+            if not emit(out, der, i, asm, sp, t, scr.yn, n, scr):
                 return Result(codes.FULL, i, nsw, -1, np.nan)
             i += 1
             if t >= opts.t_end:
@@ -373,17 +377,17 @@ def run(asm, minv, opts, out):
             continue
         dense(scr.y, scr.K, hs, theta, scr.ys, len(scr.y))
         te = t + theta * hs
-        arrive(out, i - 1, asm, sp, te, scr.ys, n, scr)
+        arrive(der, i - 1, asm, sp, te, scr.ys, n, scr)
         new, leaving, lost = switch(asm, minv, sp, te, scr, n, slot)
         if lost >= 0:
-            ok = emit(out, i, asm, sp, te, scr.ys, n, scr)
+            ok = emit(out, der, i, asm, sp, te, scr.ys, n, scr)
             return Result(codes.CONTACT_LOST if ok else codes.FULL, i + 1, nsw, lost, te)
-        nsw = record_switches(out, nsw, te, sp.modes, new)
+        nsw = record_switches(events, nsw, te, sp.modes, new)
         sp = split(asm, minv, new)
         zeros = zeros + 1 if theta * hs <= floor else 0
         if zeros > MAX_ZERO + k:
             return Result(codes.STUCK, i, nsw, -1, np.nan)
-        if not emit(out, i, asm, sp, te, scr.y, n, scr):
+        if not emit(out, der, i, asm, sp, te, scr.y, n, scr):
             return Result(codes.FULL, i, nsw, -1, np.nan)
         i, t, h = i + 1, te, hs
         start_phase(asm, sp, t, scr, n, leaving)

@@ -1,0 +1,69 @@
+"""The records every structure solver's kernel writes, and the :class:`~frictionflow.motion.Motion` read from them.
+
+Both structure engines (:mod:`frictionflow.core.structure.run`, the exact one,
+and :mod:`frictionflow.core.structure.adaptive`) write the shared
+:data:`~frictionflow.core.records.Samples` (y = (q, q'), one ``fc``/``mode``
+row per contact, each sample's work since the previous one, a column per
+channel) and :data:`~frictionflow.core.records.Events`; the adaptive one also
+writes :data:`~frictionflow.core.records.Derivatives`, the slopes its Motion
+interpolates with.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..core import codes
+from ..core.assembly import Assembly
+from ..core.records import Derivatives, Events, Samples, empty_events, empty_samples
+from ..core.structure.run import Result
+from ..core.structure.work import n_channels
+from ..motion import Motion
+
+
+def buffers(assembly: Assembly, cap: int) -> tuple[Samples, Events]:
+    """The shared records (:mod:`frictionflow.core.records`) for ``cap`` samples and switches of ``assembly``."""
+    n, k = len(assembly.q0), len(assembly.belt)
+    return empty_samples(cap, 2 * n, k, n_channels(assembly)), empty_events(cap)
+
+
+def motion(res: Result, records: tuple[Samples, Events], assembly: Assembly, names: dict[str, tuple[str, ...]],
+           channels: tuple[str, ...], system: Any = None, derivatives: Derivatives | None = None,
+           solver: str = "exact") -> Motion:
+    """The :class:`~frictionflow.motion.Motion` of the run ``res`` (status OK or CONTACT_LOST) from its records.
+
+    Parameters
+    ----------
+    res:
+        The kernel's :data:`~frictionflow.core.structure.run.Result`: the samples and switches written.
+    records:
+        The :data:`~frictionflow.core.records.Samples` and :data:`~frictionflow.core.records.Events` it wrote.
+    assembly:
+        The structure that ran.
+    names:
+        ``dof`` and per kind the element names.
+    channels:
+        The work channels' names (the order of the samples' work columns).
+    system:
+        The model object the assembly came from, kept on the result.
+    derivatives:
+        The slopes at the samples (the adaptive kernel's), or None.
+    solver:
+        The solver's name.
+    """
+    out, events = records
+    s, w = res.n_samples, res.n_switches
+    lost = None if res.status == codes.OK else (names["contact"][res.lost_contact], float(res.lost_time))
+    der = {} if derivatives is None else {"accel": derivatives.accel[:, :s].copy(),
+                                          "power": derivatives.power[:, :s].copy()}
+    return Motion(  # Motion keeps the cumulative work, a row per channel: the records hold each sample's share
+        t=out.t[:s].copy(), state=out.y[:, :s].copy(), force=out.fc[:, :s].copy(),
+        modes=out.mode[:, :s].copy(), work=np.cumsum(out.work[:s], axis=0).T.copy(), channels=channels,
+        switches=events.t[:w].copy(), switch_contact=events.contact[:w].copy(),
+        switch_mode=events.mode[:w].astype(np.int8),
+        dof=names["dof"], contacts=names["contact"], status="ok" if lost is None else "contact_lost",
+        assembly=assembly, lost=lost, system=system, elements={k: v for k, v in names.items() if k != "dof"},
+        solver=solver, **der,
+    )
