@@ -29,9 +29,9 @@ from __future__ import annotations
 import math
 import sys
 
-from numba import literal_unroll, njit
+from numba import njit
 
-from .friction import COULOMB, KARNOPP, LAW, SMOOTH_LAWS, FASTMATH, band_force, band_force_select, band_law, band_mode, external_force
+from .friction import COULOMB, CUBIC, KARNOPP, LAW, STRIBECK, FASTMATH, band_force, band_force_select, band_law, band_mode, external_force
 
 N_STATE = 7
 #: the slot of V_d in a band record (:func:`band_law`)
@@ -150,9 +150,10 @@ def run(s, span, t0, dt, zeta, vb, p, out, k):
     law = int(p[LAW])
     if law == KARNOPP or law == COULOMB:
         return _run(KARNOPP + 0, False, s, span, t0, dt, zeta, vb, p, out, k)
-    for code in literal_unroll(SMOOTH_LAWS):
-        if law == code:
-            k = _run(code + 0, False, s, span, t0, dt, zeta, vb, p, out, k)
+    if law == STRIBECK:
+        return _run(STRIBECK + 0, False, s, span, t0, dt, zeta, vb, p, out, k)
+    if law == CUBIC:
+        return _run(CUBIC + 0, False, s, span, t0, dt, zeta, vb, p, out, k)
     return k
 
 
@@ -162,7 +163,7 @@ def run_forced(s, span, t0, dt, zeta, vb, p, out, k):
     return _run(int(p[LAW]), True, s, span, t0, dt, zeta, vb, p, out, k)
 
 
-@njit(cache=True, fastmath=FASTMATH, inline="always")
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def _run(law, forced, s, span, t0, dt, zeta, vb, p, out, k):
     i0, i1, n_total, every = span
     lw = band_law(law, p)
