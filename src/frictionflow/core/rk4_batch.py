@@ -192,7 +192,8 @@ def _block(law, pts, run, out):
     for i in range(n_steps):
         # Each law's loop is compiled with its code as a constant, so that it holds
         # only that law's slip force: another law's branch (a call to exp, say)
-        # would keep every loop from vectorising.  (``+ 0``: see rk4.run.)
+        # would keep every loop from vectorising.  (``+ 0`` and the branches: see
+        # rk4.run; _lanes is inlined by LLVM, so numba types it once.)
         if law == KARNOPP or law == COULOMB:
             _lanes(KARNOPP + 0, st, w, dt, lane)
         elif law == STRIBECK:
