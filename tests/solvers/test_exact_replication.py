@@ -29,8 +29,9 @@ def assert_identical(a, b):
     assert a.extra == b.extra
 
 
-def kernel_counts(model, friction, t_end, x0=None, v0=None, dense_dt=0.0, stop_periodic=False, replicate=True):
-    """(switches, switches copied) of the kernel run that ``Exact`` makes (``replicate`` None: left out, as sweeps do)."""
+def kernel_counts(model, friction, t_end, x0=None, v0=None, dense_dt=0.0, stop_periodic=False, replicate=True,
+                  periodic_stop=False):
+    """(switches, switches copied) of the kernel run that ``Exact`` makes (sweeps: replicate False, periodic_stop True)."""
     p = kernel_params(model, friction)
     bufs = output_buffers(Exact(dense_dt=dense_dt or None).sample_estimate(t_end))
     t_mode = np.zeros(2, dtype=np.int64)
@@ -38,7 +39,7 @@ def kernel_counts(model, friction, t_end, x0=None, v0=None, dense_dt=0.0, stop_p
     v0 = model.vb if v0 is None else v0
     run = run_record((x0, v0), t_end, model.zeta, model.vb, sections.tail_start(0.0, t_end), dense_dt,
                      (0.0, 0.0, 0), (stop_periodic, False, 1e-9, 3), (0.0, 0.0))
-    args = (run, p, *bufs, t_mode) + (() if replicate is None else (replicate,))
+    args = (run, p, *bufs, t_mode, replicate, periodic_stop)
     _, ne, status, _, _ = kernel.run(*args)
     assert status == kernel.DONE
     return ne, int(t_mode[1])
@@ -97,9 +98,11 @@ def test_no_copy_where_the_stretch_cannot_repeat():
     assert copied > 0
     # a dense grid reads the absolute time; the periodic stop ends the run itself
     assert kernel_counts(model, friction, 1000.0, dense_dt=0.37)[1] == 0
-    assert kernel_counts(model, friction, 1000.0, stop_periodic=True)[1] == 0
+    assert kernel_counts(model, friction, 1000.0, stop_periodic=True, periodic_stop=True)[1] == 0
     assert kernel_counts(model, friction, 1000.0, replicate=False)[1] == 0
-    assert kernel_counts(model, friction, 1000.0, replicate=None)[1] == 0  # compiled without it (the sweeps' call)
+    assert kernel_counts(model, friction, 1000.0, replicate=False, periodic_stop=True)[1] == 0  # the sweeps' call
+    # the periodic stop looked for but not asked for by the run record: replication goes on
+    assert kernel_counts(model, friction, 1000.0, periodic_stop=True)[1] > 0
     # no sticking: the slip decays onto its equilibrium, no state repeats
     ne, copied = kernel_counts(BeltOscillator(0.05, 0.5), Coulomb(0.02, 0.04), 1000.0)
     assert copied == 0
@@ -123,8 +126,8 @@ def test_repr_shows_only_a_disabled_replication():
     assert Exact(replicate=False).describe() == Exact().describe()
 
 
-def test_periodic_stop_none_compiles_a_run_that_never_stops_early():
-    # the façade's specialization (periodic_stop=None) has no periodic-stop code; the sweeps' (left out) stops
+def test_periodic_stop_false_never_stops_early():
+    # the façade's call (periodic_stop False) never stops early; the sweeps' (True) stops
     model, friction, t_end = BeltOscillator(0.05, 0.01), Coulomb(0.02, 0.04), 1000.0
     p = kernel_params(model, friction)
 
@@ -135,5 +138,5 @@ def test_periodic_stop_none_compiles_a_run_that_never_stops_early():
                          (0.0, 0.0, 0), (True, False, 1e-9, 3), (0.0, 0.0))
         return kernel.run(run, p, *bufs, t_mode, *last)[4]
 
-    assert stop() < 0.2 * t_end  # stopped once the sections repeated
-    assert stop(False, None) == t_end
+    assert stop(False, True) < 0.2 * t_end  # stopped once the sections repeated
+    assert stop(False, False) == t_end

@@ -152,7 +152,8 @@ def _exact_points(j0, j1, todo, cap, full, points, t_end, judge, out, stop_early
         # (every argument positional and typed as from the façades: one compiled builder; no bare int constant)
         run = run_record((x0[j], v0[j]), t_end, zeta[j], vb[j], sec.tail_start(0.0, t_end), 0.0, (0.0, 0.0, np.int64(0)),
                          (stop_early, stop_early, rtol, min_periods), (0.0, 0.0))
-        k, ne, status, t_term, t_stop = exact.run(run, p[j], samples, events, t_mode)
+        # no replication, the periodic stop (np.bool_: plain booleans, typed as the façade's call, one compiled run)
+        k, ne, status, t_term, t_stop = exact.run(run, p[j], samples, events, t_mode, np.bool_(False), np.bool_(True))
         full[j] = status == exact.FULL
         if full[j]:
             continue
@@ -205,7 +206,9 @@ def _adaptive_points(j0, j1, todo, cap, full, points, t_end, ode, judge, out):
     ode_rtol, ode_atol, max_steps = ode
     rtol, min_periods = judge.rtol, judge.min_periods
     samples, events = _buffers(cap)  # each run writes from the start and is read up to its own count
-    last = -1  # the point whose certified radius r is: a basin grid shares one (the disc is the same search)
+    # the point whose certified radius r is: a basin grid shares one (the disc is the same search);
+    # not a literal, so that _same_radius compiles once
+    last = np.int64(-1)
     r = 0.0
     for j in todo[j0:j1]:
         if last < 0 or not _same_radius(p, zeta, vb, last, j):

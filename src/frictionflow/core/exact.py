@@ -73,14 +73,12 @@ it is copied (times accumulated by the same additions) instead of integrated
 again, within the limits that keep the copy identical to the integration
 (:func:`_replicate`); not with a dense grid or the periodic stop.
 
-:func:`run`'s last two arguments also choose what is compiled:
-``replicate`` None (the default) compiles a run without replication, True
-or False with it (on or off); ``periodic_stop`` None a run without the
-periodic stop (``stop_periodic``: the section values repeat to ``rtol`` for
-``min_periods`` periods; ignored then).  The façade, whose runs never stop
-early, passes (replicate, None); the batched sweeps leave both out.  (numba
-drops a branch on ``arg is None`` when the argument is None or left out, in
-inlined callees too: its callees are not even compiled.)
+:func:`run`'s last two arguments are flags (plain booleans, one compiled
+signature for every caller): ``replicate`` (on or off) and
+``periodic_stop``, whether the periodic stop (``stop_periodic``: the section
+values repeat to ``rtol`` for ``min_periods`` periods) is looked for.  The
+façade, whose runs never stop early, passes (replicate, False); the batched
+sweeps (False, True).
 """
 
 from __future__ import annotations
@@ -603,11 +601,9 @@ def _enter(s, x, v):
 @njit(cache=True, inline="always")
 def _replication(s, replicate, periodic_stop):
     """(on, rel, rp, n_rel, reach): whether :func:`run` replicates (:func:`_replicate`), the array of its stretch, no reference yet."""
-    on = False
-    if replicate is not None:
-        on = replicate and s.dense_dt == 0.0 and not (s.stop_periodic and periodic_stop is not None)
+    on = replicate and s.dense_dt == 0.0 and not (s.stop_periodic and periodic_stop)
     rel = np.zeros(REP_CAP if on else 1)
-    return on, rel, Stretch(0.0, 0.0, np.int64(0), np.int64(0), 0, 0.0, 0, -1, -1, 0.0, 0), -1, 0.0
+    return on, rel, Stretch(0.0, 0.0, np.int64(0), np.int64(0), 0, 0.0, 0, -1, -1, 0.0, 0), np.int64(-1), 0.0
 
 
 @njit(cache=True, forceinline=True)
@@ -784,7 +780,7 @@ def _replicate(rp, n_rel, reach, sw):
 
 
 @njit(cache=True)
-def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
+def run(run, p, samples, events, t_mode, replicate, periodic_stop):
     """Integrate from (x0, v0) at t = 0 to ``t_end`` switch by switch (unforced: F_ex > 0 goes to :func:`run_forced`).
 
     ``run``: the run record (:func:`.records.run_record`; its ODE slots are
@@ -807,7 +803,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
     sc = (0, 0, abs(run[X0]))
     t, x = 0.0, run[X0]
     mode, v = _enter(s, x, run[V0])
-    k, ne, zero_len, t_terminal = np.int64(0), 0, 0, -1.0  # k not a literal: emit compiles once
+    k, ne, zero_len, t_terminal = np.int64(0), np.int64(0), 0, -1.0  # k, ne not literals: emit, _replicate compile once
     rep, rel, rp, n_rel, reach = _replication(s, replicate, periodic_stop)
     while True:
         # a phase starts (the run's start, or a switch) or the run ends: a sample
@@ -817,12 +813,12 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
         k += 1
         if t >= t_end:
             break
-        if replicate is not None and rep and zero_len == 0:
+        if rep and zero_len == 0:
             rp, n_rel, reach, copy = _replicate(rp, n_rel, reach, (mode, x, v, t, k, ne))
             if copy:
                 t, k, ne, rp = _copy_while(rp, reach, rel, outs, events, s, t, k, ne)
         ph, T, which, never, xe, ve, reach_p = _phase_end(s, mode, (dyn, force, fck), x, v, t)
-        if replicate is not None and n_rel >= 0:
+        if n_rel >= 0:  # (-1 unless replicating)
             reach = max(reach, (t - rp.t) + reach_p)
         if never and t_terminal < 0.0:
             t_terminal = t
@@ -839,10 +835,10 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
             if not emit(outs, k, t + tb, xb, vb_, friction_force(fck, force, xb, vb_, zeta), ph.fmode, w):
                 return k, ne, FULL, t_terminal, t + ta
             k += 1
-            if replicate is not None and n_rel >= 0:
+            if n_rel >= 0:  # (-1 unless replicating)
                 n_rel = _push_rel(rel, n_rel, tb, True)
             ta, xa, va = tb, xb, vb_
-            if periodic_stop is None:
+            if not periodic_stop:
                 continue
             sc, stop = _sections_at(ring, sc, s, kind == 0, xb, t + tb, acc)
             if stop:
@@ -853,7 +849,7 @@ def run(run, p, samples, events, t_mode, replicate=None, periodic_stop=0):
             t = t_end  # the run ends inside the phase: its last sample, at the top of the loop
             continue
         t += T
-        if replicate is not None and n_rel >= 0:
+        if n_rel >= 0:  # (-1 unless replicating)
             n_rel = _push_rel(rel, n_rel, -T, T > 8.0 * EPS * (1.0 + t_end))  # shorter: the zero-length count reads t
         mode, v = _enter(s, x, v)  # the switch: which mode continues?
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0

@@ -756,8 +756,9 @@ def flow_map(x0, v0, flow, returns, horizon, quads, ph, sw, tot):
     x, v, t = x0, v0, 0.0
     mode = _start(run, x, v, tot)
     armed, fresh = v > 0.0, v == vb
-    nph = np.int64(0)  # (not a literal: _record_phase compiles once)
-    nsw = count = zero_run = new = 0
+    # (not literals: _record_phase, _zero_of_v and _finish compile once)
+    nph, nsw, count = np.int64(0), np.int64(0), np.int64(0)
+    zero_run = new = 0
     h = 0.0
     tph, xph, vph = t, x, v
     while True:

@@ -29,15 +29,21 @@ from __future__ import annotations
 import math
 import sys
 
-from numba import literal_unroll, njit
+from numba import njit
 
-from .friction import COULOMB, KARNOPP, LAW, SMOOTH_LAWS, FASTMATH, band_force, band_force_select, band_law, band_mode, external_force
+from .friction import COULOMB, CUBIC, KARNOPP, LAW, SMOOTH_LAWS, STRIBECK, FASTMATH, band_force, band_force_select, band_law, band_mode, external_force
 
 N_STATE = 7
 #: the slot of V_d in a band record (:func:`band_law`)
 _VD = 3
 #: a step without external force
 NO_FORCE = (0.0, 0.0, 0.0)
+#: the smooth laws :func:`run` and the batched block (:mod:`.rk4_batch`) branch on, one branch each (typing a loop
+#: over them with ``literal_unroll`` costs seconds of compiling): a law added to SMOOTH_LAWS needs its branches
+BRANCHED_LAWS = (STRIBECK, CUBIC)
+if SMOOTH_LAWS != BRANCHED_LAWS:  # pragma: no cover - caught when a law is added
+    raise ImportError(f"core.rk4.run and core.rk4_batch._block branch on the laws {BRANCHED_LAWS}, not on SMOOTH_LAWS "
+                      f"{SMOOTH_LAWS}: add the new law's branches")
 
 
 #: relative rounding of t_end / dt allowed for when counting steps (a few ulps: t_end and dt are each rounded,
@@ -143,16 +149,18 @@ def run(s, span, t0, dt, zeta, vb, p, out, k):
     :func:`run_forced` (the façade chooses, so that unforced runs compile no
     forced loop).
 
-    The codes are passed as ``code + 0``: a plain integer to numba, so that the
-    callees compile once for all laws (not once per constant), and still a
-    constant to LLVM, which folds the other laws' branches after inlining.
+    The codes are passed as ``code + 0``: a plain integer to numba, so that
+    ``_run`` is typed once for all laws (not once per constant, nor once per
+    branch: LLVM inlines it), and still a constant to LLVM, which folds the
+    other laws' branches after inlining (:data:`BRANCHED_LAWS`).
     """
     law = int(p[LAW])
     if law == KARNOPP or law == COULOMB:
         return _run(KARNOPP + 0, False, s, span, t0, dt, zeta, vb, p, out, k)
-    for code in literal_unroll(SMOOTH_LAWS):
-        if law == code:
-            k = _run(code + 0, False, s, span, t0, dt, zeta, vb, p, out, k)
+    if law == STRIBECK:
+        return _run(STRIBECK + 0, False, s, span, t0, dt, zeta, vb, p, out, k)
+    if law == CUBIC:
+        return _run(CUBIC + 0, False, s, span, t0, dt, zeta, vb, p, out, k)
     return k
 
 
@@ -162,7 +170,7 @@ def run_forced(s, span, t0, dt, zeta, vb, p, out, k):
     return _run(int(p[LAW]), True, s, span, t0, dt, zeta, vb, p, out, k)
 
 
-@njit(cache=True, fastmath=FASTMATH, inline="always")
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def _run(law, forced, s, span, t0, dt, zeta, vb, p, out, k):
     i0, i1, n_total, every = span
     lw = band_law(law, p)

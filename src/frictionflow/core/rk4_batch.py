@@ -22,18 +22,18 @@ work, the whole run's work), (L, 4) each; ``out`` = (rec, nrec, tail, fin).
 from __future__ import annotations
 
 import numpy as np
-from numba import literal_unroll, njit
+from numba import njit
 
 from . import sections as sec
 from ._vectorize import wide_vectors
-from .friction import COULOMB, FD, FS, KARNOPP, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, SMOOTH_LAWS, VD
+from .friction import COULOMB, CUBIC, FD, FS, KARNOPP, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, STRIBECK, VD
 from .rk4 import FASTMATH, NO_FORCE, step
 from .threads import over_points
 
 LANES = 64
 
 
-@njit(cache=True, fastmath=FASTMATH, inline="always")
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def _lanes(law, st, w, dt, lane):
     """One RK4 step of every lane (vectorised)."""
     x, v, xo, vo = st
@@ -192,13 +192,14 @@ def _block(law, pts, run, out):
     for i in range(n_steps):
         # Each law's loop is compiled with its code as a constant, so that it holds
         # only that law's slip force: another law's branch (a call to exp, say)
-        # would keep every loop from vectorising.  (``+ 0``: see rk4.run.)
+        # would keep every loop from vectorising.  (``+ 0`` and the branches: see
+        # rk4.run; _lanes is inlined by LLVM, so numba types it once.)
         if law == KARNOPP or law == COULOMB:
             _lanes(KARNOPP + 0, st, w, dt, lane)
-        else:
-            for code in literal_unroll(SMOOTH_LAWS):
-                if law == code:
-                    _lanes(code + 0, st, w, dt, lane)
+        elif law == STRIBECK:
+            _lanes(STRIBECK + 0, st, w, dt, lane)
+        elif law == CUBIC:
+            _lanes(CUBIC + 0, st, w, dt, lane)
         if _aggregates(dt, in_tail, st, lane, per, tl):
             _crossings(i, dt, in_tail, st, w, lane, per, sums, scratch, out)
         ti = (i + 1) * dt

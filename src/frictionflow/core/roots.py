@@ -44,6 +44,7 @@ from __future__ import annotations
 import math
 from collections import namedtuple
 
+import numpy as np
 from numba import njit
 
 #: status codes
@@ -125,7 +126,7 @@ def bracket(lo, hi, flo, fhi, xtol, rtol, ftol, maxiter, xscale=0.0):
     if not ((flo < 0.0 < fhi) or (fhi < 0.0 < flo)):
         return Bracket(lo, hi, flo, fhi, hi, 0, 0, NO_SIGN_CHANGE, 0.0, 0, xtol, rtol, ftol, maxiter, xscale)
     start = Bracket(lo, hi, flo, fhi, hi, 0, 0, RUNNING, math.inf, 0, xtol, rtol, ftol, maxiter, xscale)
-    return _next(start, lo, hi, flo, fhi, 0, 0)
+    return _next(start, lo, hi, flo, fhi, np.int64(0), np.int64(0))  # (not literals: _next compiles once)
 
 
 @njit(cache=True)

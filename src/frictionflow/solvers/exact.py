@@ -165,7 +165,7 @@ class Exact(Solver):
         def run(bufs: tuple[Samples, Events]) -> tuple:
             if model.forced:
                 return kernel.run_forced(rec, p, *bufs, t_mode)
-            return kernel.run(rec, p, *bufs, t_mode, self.replicate, None)  # None: compiled without the periodic stop
+            return kernel.run(rec, p, *bufs, t_mode, self.replicate, False)  # False: no periodic stop
 
         estimate = self.sample_estimate(t_end, model)
         if progress and t_end > 1e5:
