@@ -37,7 +37,7 @@ from .._display import Row, Summarized, num, spoken, system_row
 from .._json import jsonable
 from ..core import tangent
 from ..estimate import enforce, located_run
-from ..friction.base import FrictionLaw
+from ..friction.base import STICK_RULE_WORDS, FrictionLaw
 from ..friction.registry import tangent_law_names
 from ..params import BeltOscillator
 from ..solvers.base import DEFAULT_MAX_MEMORY, kernel_params
@@ -141,8 +141,8 @@ class LyapunovResult(Summarized):
 
 def _check_law(friction: FrictionLaw) -> None:
     if friction.stick_rule != "switch":
-        raise ValueError(f"Lyapunov exponents need a law with Coulomb's stick rule (switch); {friction.name} has a "
-                         f"velocity band ({friction.stick_rule}): use {spoken(tangent_law_names())}")
+        raise ValueError(f"Lyapunov exponents need a law with Coulomb's stick rule (switch); {friction.name} has "
+                         f"{STICK_RULE_WORDS[friction.stick_rule]}: use {spoken(tangent_law_names())}")
     if not friction.has_tangent_kernel:
         raise ValueError("Lyapunov exponents need a compiled slip law; a user-defined law's function cannot be "
                          "differentiated by the tangent kernel")

@@ -380,14 +380,17 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
     """Integrate from (0, y0) to ``t_end``, keeping every accepted step.
 
     ``tol``: the absolute scale of each state component, then rtol; ``steps``:
-    (first step, largest step, step cap).  Writes the times, states and work
+    (first step, largest step, step cap, sampling period): with a period
+    (> 0, the forcing's) a step ends on every k period, so that the
+    stroboscopic section is sampled exactly as the other solvers sample it.  Writes the times, states and work
     increments (row 0 zero) and returns (samples, status, t reached, step):
     status :data:`DONE`, :data:`FULL` (buffers full: call again with more room),
     :data:`STEP_CAP` or :data:`TINY_STEP`.
     """
     n = len(y0)
     cap = len(t_out)
-    h, h_max, max_steps = steps[0], steps[1], int(steps[2])
+    h, h_max, max_steps, period = steps[0], steps[1], int(steps[2]), steps[3]
+    k_next = 1.0
     t = 0.0
     y, ynew, wnew = y0.copy(), np.empty(n), np.empty(N_CHANNELS)
     ws = scratch(n)
@@ -401,8 +404,9 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
         if h < 1e-14 * max(1.0, t):
             return count, TINY_STEP, t, h
         h = min(h, h_max)
-        last = t + h >= t_end * (1.0 - 1e-14)
-        hh = t_end - t if last else h
+        stop = min(t_end, k_next * period) if period > 0.0 else t_end  # the next time a sample must fall on
+        last = t + h >= stop * (1.0 - 1e-14)
+        hh = stop - t if last else h
         err = rodas_step(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
         taken += 1
         fac = 0.2 if err == np.inf else min(6.0, max(0.2, 0.9 * err ** -0.25))
@@ -412,7 +416,9 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
             continue
         if count == cap:
             return count, FULL, t, h
-        t = t_end if last else t + hh
+        t = stop if last else t + hh
+        if last and period > 0.0 and stop < t_end:
+            k_next += 1.0
         y[:] = ynew
         t_out[count] = t
         y_out[:, count] = y

@@ -32,6 +32,8 @@ STICK_FORCES = ("resultant", "spring")
 #: what a law does at V_r = 0: Coulomb's set-valued switch, Karnopp's velocity band |V_r| <= V_d, or nothing
 #: of its own: its internal state (LuGre's bristles) holds the mass (:mod:`.stateful`)
 STICK_RULES = ("switch", "band", "state")
+#: how messages name each stick rule
+STICK_RULE_WORDS = {"switch": "Coulomb's stick rule", "band": "a velocity band", "state": "an internal state (no stick rule)"}
 
 # Parameters several laws share: declared once here, listed by each law.
 FD = nonnegative_real("fd", "F_d", "kinetic friction", "law", 0.02, upper=MODEL_MAX, sweepable=True)

@@ -66,7 +66,7 @@ from .._json import jsonable
 from ..core import forced_map as fm
 from ..core import tangent
 from ..estimate import Estimate, enforce, located_run
-from ..friction.base import FrictionLaw
+from ..friction.base import STICK_RULE_WORDS, FrictionLaw
 from ..friction.registry import tangent_law_names
 from ..params import FEX, OMEGA, BeltOscillator
 from ..solvers.base import kernel_params
@@ -113,7 +113,7 @@ class MapRun:
 def _check_law(friction: FrictionLaw) -> None:
     if friction.stick_rule != "switch":
         raise ValueError(f"friction: forced periodic orbits need a law with Coulomb's stick rule "
-                         f"({', '.join(tangent_law_names())}); {friction.name} has a velocity band ({friction.stick_rule})")
+                         f"({', '.join(tangent_law_names())}); {friction.name} has {STICK_RULE_WORDS[friction.stick_rule]}")
     if not friction.has_tangent_kernel:
         raise ValueError(f"friction: forced periodic orbits need a compiled slip law ({', '.join(tangent_law_names())}); "
                          f"{friction.name} has no tangent kernel")

@@ -79,7 +79,8 @@ class Stiff(Solver):
         q = kernel_params(model, friction)
         y0 = np.concatenate([[float(x0), float(v0)], friction.initial_state()])
         tol = np.concatenate([[self.atol, self.atol], self.atol * friction.internal_scale(), [self.rtol]])
-        steps = np.array([min(1e-5, self.max_step), self.max_step, float(self.max_steps)])
+        period = model.forcing_period if model.fex != 0.0 else 0.0  # forced: every k 2 pi / Omega is a sample
+        steps = np.array([min(1e-5, self.max_step), self.max_step, float(self.max_steps), period])
         with progress_bar("stiff", 1, enabled=progress and t_end > 1e5) as advance:
             (n, status, t_stop, h), (t, y, w) = self._run(q, model, y0, t_end, tol, steps, max_memory)
             advance(1)
