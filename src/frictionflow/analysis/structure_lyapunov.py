@@ -75,6 +75,10 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
                      stop: tuple = LYAPUNOV_STOP) -> tuple[float, float] | None:
     """(largest exponent, its uncertainty) of the structure's flow from the end of ``motion``; None if unavailable.
 
+    The uncertainty is the range of the running estimate over the second half
+    of the averaged blocks, at least :data:`~frictionflow.core.strobe.LYAPUNOV_SPREAD_FLOOR`.
+    None when a run of the pair loses a contact or the engine cannot go on.
+
     Parameters
     ----------
     motion:
@@ -88,10 +92,6 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
     stop:
         The single mass's early end (:data:`~frictionflow.core.strobe.LYAPUNOV_STOP`): once the running
         estimate is below -factor times its uncertainty the kind is settled as not chaotic.
-
-    The uncertainty is the range of the running estimate over the second half
-    of the averaged blocks, at least :data:`~frictionflow.core.strobe.LYAPUNOV_SPREAD_FLOOR`.
-    None when a run of the pair loses a contact or the engine cannot go on.
     """
     a, t0 = motion.assembly, float(motion.t[-1])
     n_transient, n_blocks = blocks
