@@ -407,8 +407,9 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
     ``tol``: the absolute scale of each state component, then rtol; ``steps``:
     (first step, largest step, step cap, sampling period): with a period
     (> 0, the forcing's) a step ends on every k period, so that the
-    stroboscopic section is sampled exactly as the other solvers sample it.  Writes the times, states and work
-    increments (row 0 zero) and returns (samples, status, t reached, step):
+    stroboscopic section is sampled exactly as the other solvers sample it;
+    without, each downward X' = 0 crossing is a sample (:func:`to_section`).
+    Writes the times, states and work increments (row 0 zero) and returns (samples, status, t reached, step):
     status :data:`DONE`, :data:`FULL` (buffers full: call again with more room),
     :data:`STEP_CAP` or :data:`TINY_STEP`.
     """
@@ -441,15 +442,13 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
             continue
         if count == cap:
             return count, FULL, t, h
-        adv = hh
+        adv, err = hh, 0.0  # adv: how far the sample lies; the next step still follows the full step's error
         if period == 0.0 and y[1] > 0.0 and ynew[1] <= 0.0:  # unforced: the section X' = 0 is a sample
-            hc, err_c = to_section(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
-            if err_c > 1.0:  # (a shorter step from the same state: hardly ever)
-                h = hc * (0.2 if err_c == np.inf else max(0.2, 0.9 * err_c ** -0.25))
-                rejected = True
-                continue
-            last = last and hc == hh
-            adv = hc  # the next step's length still follows the full step's error
+            adv, err = to_section(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
+            last = last and adv == hh
+        if err > 1.0:  # the shorter step from the same state failed its error test (hardly ever)
+            h, rejected = adv * max(0.2, 0.9 * err ** -0.25), True
+            continue
         t = stop if last else t + adv
         if last and period > 0.0 and stop < t_end:
             k_next += 1.0
