@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from frictionflow import BeltOscillator, simulate
+from frictionflow import BeltOscillator, analyze, simulate
 from frictionflow.cli import main
 from frictionflow.core import stiff
 from frictionflow.friction import Coulomb, LuGre
@@ -99,3 +99,28 @@ def test_the_command_line_runs_lugre_with_its_options(capsys):
     assert '"sigma0": 20000.0' in capsys.readouterr().out
     assert main(["simulate", "--friction", "lugre", "--solver", "adaptive"]) == 2
     assert "solver=adaptive does not support friction=lugre; use solver=auto or stiff" in capsys.readouterr().err
+
+
+def test_an_unforced_periodic_run_samples_the_section_and_its_window_balances():
+    # stick-slip on a Stribeck dip: a periodic orbit.  The steady-state window runs from a downward X' = 0
+    # crossing to another; with a sample on each crossing it is whole periods, and over whole periods the
+    # mass's mechanical energy returns: the friction's net input P_fin - P_df is the damper's P_dv
+    p = dict(fd=0.3, fs=0.5, vs=0.05, delta=2.0, sigma0=1e4, sigma1=100.0, sigma2=0.0)
+    model = BeltOscillator(zeta=0.02, vb=0.2)
+    solver = Stiff()
+    traj = simulate(model, LuGre(**p), solver, t_end=300.0, x0=0.0, v0=0.0)
+    v = traj.v
+    down = np.flatnonzero((v[:-1] > 0.0) & (v[1:] <= 0.0)) + 1
+    assert np.all(v[down] == 0.0)
+    # the crossings are those of an independent integrator's solution (located by its event finder)
+    ev = lambda t, y: y[1]
+    ev.direction = -1.0
+    ref = solve_ivp(lugre_rhs(p, 0.02, 0.2), (0.0, 40.0), [0.0, 0.0, 0.0], method="Radau", rtol=1e-11,
+                    atol=1e-13, events=ev).t_events[0]
+    assert len(ref) >= 3
+    np.testing.assert_allclose(traj.t[down][:len(ref)], ref, rtol=0.0, atol=1e-6)
+    result = analyze(traj)
+    t0, t1 = result.steady_state.window
+    assert result.steady_state.kind == "periodic" and t0 in traj.t[down] and t1 in traj.t[down]
+    q = result.quantities()
+    assert abs(q["P_fin"] - q["P_df"] - q["P_dv"]) <= Stiff.section_noise(solver.describe()) * q["P_fin"]

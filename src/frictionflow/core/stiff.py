@@ -39,6 +39,7 @@ from numba import njit
 
 from .friction import external_force, external_force_rate
 from .layout import LAW, N_PARAMS
+from .roots import EPS, RUNNING, bracket, update
 
 #: codes of the laws with internal state (the stiff engine's dispatch)
 LUGRE = 100
@@ -376,14 +377,39 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
 
 
 @njit(cache=True)
+def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
+    """The step from (t, y) that ends on the downward crossing X' = 0 inside the accepted step of length ``h``
+    (X' > 0 at t, ``ynew[1]`` <= 0): its length h' by Illinois on X'(t + h') of Rodas4 steps of length h',
+    to |X'| at rounding (1e-13 of the velocity scale) or the step length at rounding.  ``ynew``, ``wnew``:
+    the located step's state (X' exactly 0, as the section crossing of the other solvers) and work
+    increments; returns (h', its error norm)."""
+    ftol = 1e-13 * max(abs(vb), abs(y[1]))
+    if ynew[1] == 0.0 or -ynew[1] <= ftol:
+        ynew[1] = 0.0
+        return h, 0.0
+    b = bracket(0.0, h, y[1], ynew[1], 0.0, 4.0 * EPS, ftol, 100)
+    err = 0.0
+    x_last = h
+    while b.status == RUNNING:
+        x_last = b.x
+        err = rodas_step(q, zeta, vb, t, y, x_last, ynew, wnew, tol, ws)
+        b = update(b, x_last, ynew[1] if err < np.inf else -1.0)
+    if x_last != b.hi:  # the last point evaluated was not the end kept: the step to that end
+        err = rodas_step(q, zeta, vb, t, y, b.hi, ynew, wnew, tol, ws)
+    ynew[1] = 0.0
+    return b.hi, err
+
+
+@njit(cache=True)
 def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
     """Integrate from (0, y0) to ``t_end``, keeping every accepted step.
 
     ``tol``: the absolute scale of each state component, then rtol; ``steps``:
     (first step, largest step, step cap, sampling period): with a period
     (> 0, the forcing's) a step ends on every k period, so that the
-    stroboscopic section is sampled exactly as the other solvers sample it.  Writes the times, states and work
-    increments (row 0 zero) and returns (samples, status, t reached, step):
+    stroboscopic section is sampled exactly as the other solvers sample it;
+    without, each downward X' = 0 crossing is a sample (:func:`to_section`).
+    Writes the times, states and work increments (row 0 zero) and returns (samples, status, t reached, step):
     status :data:`DONE`, :data:`FULL` (buffers full: call again with more room),
     :data:`STEP_CAP` or :data:`TINY_STEP`.
     """
@@ -416,7 +442,14 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
             continue
         if count == cap:
             return count, FULL, t, h
-        t = stop if last else t + hh
+        adv, err = hh, 0.0  # adv: how far the sample lies; the next step still follows the full step's error
+        if period == 0.0 and y[1] > 0.0 and ynew[1] <= 0.0:  # unforced: the section X' = 0 is a sample
+            adv, err = to_section(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
+            last = last and adv == hh
+        if err > 1.0:  # the shorter step from the same state failed its error test (hardly ever)
+            h, rejected = adv * max(0.2, 0.9 * err ** -0.25), True
+            continue
+        t = stop if last else t + adv
         if last and period > 0.0 and stop < t_end:
             k_next += 1.0
         y[:] = ynew

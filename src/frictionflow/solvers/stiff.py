@@ -31,7 +31,9 @@ class Stiff(Solver):
     integrated with the state, and ``traj(t)`` interpolates the steps
     (quintic Hermite in X, cubic in the internal states).  No switch is
     located: the law's states carry stick and slip (see
-    :mod:`frictionflow.core.stiff`).
+    :mod:`frictionflow.core.stiff`).  An unforced run's downward X' = 0
+    crossings are samples (X' exactly 0 there, as the other solvers sample
+    the section), so its steady-state window is whole periods.
 
     Parameters
     ----------
