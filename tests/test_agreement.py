@@ -86,9 +86,9 @@ class Case:
         return law_class(self.law).stick_rule == "state"
 
     def batched(self) -> bool:
-        """Whether the solver declares a batched kernel for this case (sweeps and basins need one)."""
-        cls = next(c for c in solver_classes() if c.name == self.solver)
-        return (cls.batched_forced if self.forced else cls.batched) is not None
+        """Whether the solver declares a batched kernel (sweeps and basins refuse a solver without one; forced
+        points a solver has no batched forced kernel for run through simulate inside the sweep)."""
+        return next(c for c in solver_classes() if c.name == self.solver).batched is not None
 
     def model(self) -> BeltOscillator:
         return BeltOscillator(zeta=self.zeta, vb=self.vb, **(FORCING if self.forced else {}))
