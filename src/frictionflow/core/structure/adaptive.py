@@ -35,7 +35,7 @@ from ..dopri import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62,
 from ..friction import slip_magnitude_of
 from ..layout import FD, FS, STICK
 from .combo import N_SLOTS, Split, split
-from .run import MAX_ZERO, Result, record_switches, switch_modes
+from .run import MAX_ZERO, Result, record_switches, starting_modes, switch_modes
 from .stick import acceleration, decide, hold_velocity, held, normal_load
 from .work import contact_powers, element_powers
 
@@ -224,13 +224,9 @@ def arrive(der, i, asm, sp, t, y, n, scr):
 def initial(asm, minv):
     """(modes, q', contact lost or -1) at t = 0: slipping by the sign of V_r, the stick rule where it is 0."""
     q, v = asm.q0.copy(), asm.v0.copy()
-    k = len(asm.belt)
-    modes = np.zeros(k, dtype=np.int8)
-    for j in range(k):
-        if normal_load(asm, j, q) <= 0.0:
-            return modes, v, j
-        vr = asm.belt[j] - asm.contact_dir[j] @ v
-        modes[j] = 1 if vr > 0.0 else (-1 if vr < 0.0 else 0)
+    modes, lost = starting_modes(asm, q, v)
+    if lost >= 0:
+        return modes, v, lost
     decide(effective(asm, v), minv, q, v, 0.0, modes, modes == STICK)
     return modes, hold_velocity(asm, split(asm, minv, modes), v), -1
 

@@ -108,16 +108,26 @@ def record_switches(events, nsw, t, old, new):
 
 
 @njit(cache=True)
+def starting_modes(asm, q, v):
+    """(modes, contact lost or -1) at the start, before the stick rule: slipping by the sign of V_r, 0 where
+    it is 0 (every engine starts so)."""
+    k = len(asm.belt)
+    modes = np.zeros(k, dtype=np.int8)
+    for j in range(k):
+        if normal_load(asm, j, q) <= 0.0:
+            return modes, j
+        vr = asm.belt[j] - asm.contact_dir[j] @ v
+        modes[j] = 1 if vr > 0.0 else (-1 if vr < 0.0 else 0)
+    return modes, -1
+
+
+@njit(cache=True)
 def initial(asm, minv, cache):
     """(modes, q', contact lost or -1) at t = 0: slipping by the sign of V_r, the stick rule where it is 0."""
     q, v = asm.q0.copy(), asm.v0.copy()
-    k = len(asm.belt)
-    modes = np.empty(k, dtype=np.int8)
-    for j in range(k):
-        if normal_load(asm, j, q) <= 0.0:
-            return modes, v, j
-        vr = asm.belt[j] - asm.contact_dir[j] @ v
-        modes[j] = 1 if vr > 0.0 else (-1 if vr < 0.0 else 0)
+    modes, lost = starting_modes(asm, q, v)
+    if lost >= 0:
+        return modes, v, lost
     leaving = modes == STICK
     decide(asm, minv, q, v, 0.0, modes, leaving)
     return modes, hold_velocity(asm, lookup(cache, asm, minv, modes), v), -1
