@@ -436,7 +436,8 @@ def _orbit(setup: Setup, ret: Return, row: int | None, returns: int, iterations:
     """The :class:`StructureOrbit` of a converged return (``row`` None: stroboscopic); ShootingError if it is
     an equilibrium."""
     flow, T = setup.flow, ret.time
-    one = flow.run(ret.start, T)
+    # the stroboscopic map's run is exactly one period from the start; a return map's runs past it
+    one = ret.motion if row is None else flow.run(ret.start, T)
     if row is not None and float(np.max(np.ptp(flow.states(one, np.linspace(0.0, T, 65)), axis=0))) <= 1e-9 * scale:
         raise ShootingError("shooting converged onto an equilibrium: no periodic orbit near this start")
     return StructureOrbit(
