@@ -33,6 +33,12 @@ OMEGA = positive_real("omega", "Omega", "angular frequency of the external force
                       sweepable=True)
 PHI = Param("phi", "phi", "phase of the external force (rad)", "oscillator", 0.0, lower=-MODEL_MAX, upper=MODEL_MAX,
             sweepable=True)
+VB_AMPLITUDE = nonnegative_real("vb_amplitude", "A_b", "amplitude of the belt speed's variation A sin(Omega_b tau + phi_b)",
+                                "oscillator", 0.0, upper=MODEL_MAX, sweepable=True)
+VB_OMEGA = positive_real("vb_omega", "Omega_b", "angular frequency of the belt speed's variation", "oscillator", 1.0,
+                         upper=MODEL_MAX, sweepable=True)
+VB_PHI = Param("vb_phi", "phi_b", "phase of the belt speed's variation (rad)", "oscillator", 0.0, lower=-MODEL_MAX,
+               upper=MODEL_MAX, sweepable=True)
 
 
 @dataclass(frozen=True)
@@ -49,6 +55,10 @@ class BeltOscillator:
         The external force F_ex cos(Omega tau + phi): amplitude >= 0 (0, the
         default, is the paper's unforced system), angular frequency > 0 in
         units of the natural frequency, phase in radians.
+    vb_amplitude, vb_omega, vb_phi:
+        The belt speed's variation: V_b(tau) = V_b + A sin(Omega_b tau + phi_b),
+        amplitude A >= 0 (0, the default: a belt at constant speed), angular
+        frequency Omega_b > 0, phase phi_b in radians.
     """
 
     zeta: float = 0.0
@@ -56,7 +66,10 @@ class BeltOscillator:
     fex: float = 0.0
     omega: float = 1.0
     phi: float = 0.0
-    parameters: ClassVar[tuple[Param, ...]] = (ZETA, VB, FEX, OMEGA, PHI)
+    vb_amplitude: float = 0.0
+    vb_omega: float = 1.0
+    vb_phi: float = 0.0
+    parameters: ClassVar[tuple[Param, ...]] = (ZETA, VB, FEX, OMEGA, PHI, VB_AMPLITUDE, VB_OMEGA, VB_PHI)
 
     def __post_init__(self) -> None:
         for key, value in resolve(self.parameters, asdict(self)).items():
@@ -75,6 +88,8 @@ class BeltOscillator:
         out = {"zeta": self.zeta, "vb": self.vb}
         if self.forced:
             out.update(fex=self.fex, omega=self.omega, phi=self.phi)
+        if self.belt_varies:
+            out.update(vb_amplitude=self.vb_amplitude, vb_omega=self.vb_omega, vb_phi=self.vb_phi)
         return out
 
     @property
@@ -86,6 +101,15 @@ class BeltOscillator:
     def forcing_period(self) -> float:
         """2 pi / Omega (the stroboscopic section's spacing)."""
         return 2.0 * math.pi / self.omega
+
+    @property
+    def belt_varies(self) -> bool:
+        """Whether the belt's speed varies in time (A > 0)."""
+        return self.vb_amplitude > 0.0
+
+    def belt_speed(self, t: Any) -> Any:
+        """V_b(tau) = V_b + A sin(Omega_b tau + phi_b), on scalars or arrays."""
+        return self.vb + self.vb_amplitude * np.sin(self.vb_omega * np.asarray(t) + self.vb_phi)
 
     def external_force(self, t: Any) -> Any:
         """f(tau) = F_ex cos(Omega tau + phi), on scalars or arrays."""

@@ -40,7 +40,7 @@ from . import curve_cubic as cubic
 from . import curve_stribeck as stribeck
 from .layout import (  # noqa: F401  (re-exported: the kernels import the layout from here)
     COULOMB, CUBIC, FD, FEX, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, N_PARAMS, N_WORK, OMEGA, PHI, RESULTANT, SLIP_NEG,
-    SLIP_POS, SMOOTH_LAWS, STICK, STRIBECK, VD,
+    SLIP_POS, SMOOTH_LAWS, STICK, STRIBECK, VB_AMP, VB_OMEGA, VB_PHI, VD,
 )
 
 #: fused multiply-add allowed in the fixed-step kernels (the stick band and RK4): shorter
@@ -173,6 +173,25 @@ def external_force_rate(p, t):
     if fex == 0.0:
         return 0.0
     return -fex * p[OMEGA] * math.sin(p[OMEGA] * t + p[PHI])
+
+
+@njit(cache=True, inline="always")
+def belt_speed(p, vb, t):
+    """V_b(tau) = V_b + A sin(Omega_b tau + phi_b) of the force record ``p`` (``vb`` itself when A = 0,
+    without a sine: a constant belt stays bit for bit what it was)."""
+    amp = p[VB_AMP]
+    if amp == 0.0:
+        return vb
+    return vb + amp * math.sin(p[VB_OMEGA] * t + p[VB_PHI])
+
+
+@njit(cache=True, inline="always")
+def belt_accel(p, t):
+    """V_b'(tau) = A Omega_b cos(Omega_b tau + phi_b) (0.0 for a belt at constant speed)."""
+    amp = p[VB_AMP]
+    if amp == 0.0:
+        return 0.0
+    return amp * p[VB_OMEGA] * math.cos(p[VB_OMEGA] * t + p[VB_PHI])
 
 
 #: a held force this close to its limit, relative, counts as on it (the rule's tolerance with no rounding

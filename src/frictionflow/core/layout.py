@@ -11,6 +11,9 @@
 ``p[FEX]``      amplitude F_ex of the external force (0: unforced)
 ``p[OMEGA]``    its angular frequency Omega
 ``p[PHI]``      its phase phi: f(tau) = F_ex cos(Omega tau + phi)
+``p[VB_AMP]``   amplitude A of the belt's speed variation (0: a belt at constant speed)
+``p[VB_OMEGA]`` its angular frequency Omega_b
+``p[VB_PHI]``   its phase phi_b: V_b(tau) = V_b + A sin(Omega_b tau + phi_b)
 ==============  ======================================================
 
 The record holds every force on the mass besides the spring and the damper:
@@ -34,8 +37,8 @@ SMOOTH_LAWS = (STRIBECK, CUBIC)
 BAND_LAWS = (KARNOPP,)
 SWITCH_LAWS = (COULOMB, *SMOOTH_LAWS)
 
-LAW, FD, FS, VD, RESULTANT, LAW_A, LAW_B, LAW_C, FEX, OMEGA, PHI = range(11)
-N_PARAMS = 11
+LAW, FD, FS, VD, RESULTANT, LAW_A, LAW_B, LAW_C, FEX, OMEGA, PHI, VB_AMP, VB_OMEGA, VB_PHI = range(14)
+N_PARAMS = 14
 
 #: the work integrals every solver accumulates (columns of ``Trajectory.dwork``):
 #: damper, friction in, friction out, interface heat, external force

@@ -15,7 +15,7 @@ from typing import Any, Callable, ClassVar, Mapping
 
 import numpy as np
 
-from ..core.layout import FEX, N_WORK, OMEGA, PHI
+from ..core.layout import FEX, N_WORK, OMEGA, PHI, VB_AMP, VB_OMEGA, VB_PHI
 from ..core.records import N_CONTACTS, N_STATE, Events, Samples, empty_events, empty_samples
 from ..estimate import SECONDS_PER, Estimate
 from ..friction.base import FrictionLaw
@@ -35,10 +35,13 @@ DEFAULT_MAX_MEMORY = 4.0
 def kernel_params(model: BeltOscillator, friction: FrictionLaw) -> np.ndarray:
     """The kernels' force record (:mod:`frictionflow.core.layout`): the law's slots and the external force's."""
     p = friction.kernel_params()
-    if not model.forced:
+    if not (model.forced or model.belt_varies):
         return p
     p = p.copy()
-    p[FEX], p[OMEGA], p[PHI] = model.fex, model.omega, model.phi
+    if model.forced:
+        p[FEX], p[OMEGA], p[PHI] = model.fex, model.omega, model.phi
+    if model.belt_varies:
+        p[VB_AMP], p[VB_OMEGA], p[VB_PHI] = model.vb_amplitude, model.vb_omega, model.vb_phi
     return p
 
 
@@ -106,6 +109,8 @@ class Solver(ABC):
         they then run one ``simulate`` and ``analyze`` each.
     supports_forcing:
         It integrates an external force f(tau) (:meth:`forcing_problem` names the exceptions).
+    supports_belt_motion:
+        It integrates a belt whose speed varies in time, V_b(tau) (``BeltOscillator.belt_varies``).
     structure_laws:
         For linear structures with friction contacts (:func:`frictionflow.solvers.structure.simulate_system`):
         a test of a law class, true for the laws this solver runs at a structure's contacts; None: it
@@ -126,6 +131,7 @@ class Solver(ABC):
     batched: ClassVar[Callable[..., None] | None] = None
     batched_forced: ClassVar[Callable[..., np.ndarray] | None] = None
     supports_forcing: ClassVar[bool] = True
+    supports_belt_motion: ClassVar[bool] = False
     step_cost: ClassVar[str] = "adaptive_step"
     point_cost_per: ClassVar[str] = "adaptive_point_time"
     structure_laws: ClassVar[Callable[[type[FrictionLaw]], bool] | None] = None

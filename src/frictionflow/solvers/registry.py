@@ -69,6 +69,13 @@ def unsupported(solver: str, friction: FrictionLaw) -> str:
     return f"solver={solver} does not support friction={friction.name}; use solver={' or '.join(('auto', *able))}"
 
 
+def belt_motion_unsupported(solver: str) -> str:
+    """The one line refusing a varying belt speed to ``solver``, naming the solvers that run it."""
+    able = solver_names_where(lambda cls: cls.supports_belt_motion)
+    use = f"use solver={' or '.join(able)}" if able else "no solver runs it yet"
+    return f"solver={solver} does not run a belt whose speed varies (vb_amplitude > 0); {use}"
+
+
 def build_solver(name: str, friction: FrictionLaw, values: Mapping[str, Any]) -> Solver:
     """Solver ``name`` for ``friction`` with its declared parameters taken from ``values``."""
     cls = solver_class(name, friction)
