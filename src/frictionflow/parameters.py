@@ -28,6 +28,9 @@ OWNERS = ("oscillator", "law", "solver", "run")
 MODEL_MAX = 1e3
 STATE_MAX = 1e6
 KINDS = ("real", "int", "choice", "text")
+#: a parameter's physical dimension: how ``--dimensional`` input converts to it (paper Eq. 3: time by omega0 = sqrt(k/m),
+#: length by l_0, force by k l_0); "none" for a dimensionless parameter (given as is, never converted)
+DIMENSIONS = ("none", "force", "length", "velocity", "stiffness", "damping", "frequency", "angle")
 #: the smallest positive normal float: a nonzero value below it in magnitude is subnormal
 SUBNORMAL_BELOW = sys.float_info.min
 
@@ -81,10 +84,13 @@ class Param:
     subnormal_ok: bool = False
     #: for ``text``: turns the given value (text, or a TOML list/table) into the setting
     parse: Callable[[Any], Any] | None = None
+    #: one of :data:`DIMENSIONS`
+    dimension: str = "none"
 
     def __post_init__(self) -> None:
-        if self.owner not in OWNERS or self.kind not in KINDS:
-            raise ValueError(f"{self.name}: owner must be one of {OWNERS} and kind one of {KINDS}")
+        if self.owner not in OWNERS or self.kind not in KINDS or self.dimension not in DIMENSIONS:
+            raise ValueError(f"{self.name}: owner must be one of {OWNERS}, kind one of {KINDS} and dimension one of "
+                             f"{DIMENSIONS}")
 
     # -- validation ------------------------------------------------------------
     @property

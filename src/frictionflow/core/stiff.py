@@ -45,6 +45,7 @@ from .roots import EPS, RUNNING, bracket, update
 LUGRE = 100
 DAHL = 101
 ELASTOPLASTIC = 102
+RATE_STATE = 103
 #: where a stateful law's own parameters start in ``q``
 Q_LAW = N_PARAMS
 #: work channels the engine integrates: damper, friction in, friction out, interface heat, external force, belt input
@@ -172,6 +173,43 @@ def elastoplastic(q, s, z, d):
 
 
 @njit(cache=True, forceinline=True)
+def rate_state(q, s, z, d):
+    """Rate-and-state friction (Dieterich, Ruina) at V_r = ``s``, state z[0] = psi = ln(V_0 theta / D_c);
+    returns (F, dF/dV_r).
+
+    F = N a asinh(V_r / (2 V_0) e^Omega), Omega = (mu0 + b psi) / a (the regularised form: defined at
+    V_r = 0); the aging law psi' = (V_0 / D_c) e^(-psi) - |V_r| / D_c, the slip law
+    psi' = -(|V_r| / D_c)(ln(|V_r| / V_0) + psi) (theta' / theta of the usual forms: theta stays > 0).
+    No stored energy.  Above |x| = 1 the asinh is taken from ln|x| (e^Omega alone may overflow).
+    """
+    nrm, mu0, a, b, dc, v0, slip = q[Q_LAW], q[Q_LAW + 1], q[Q_LAW + 2], q[Q_LAW + 3], q[Q_LAW + 4], q[Q_LAW + 5], q[Q_LAW + 6]
+    psi = z[0]
+    sp = abs(s)
+    sgn = 1.0 if s > 0.0 else (-1.0 if s < 0.0 else 0.0)
+    om = (mu0 + b * psi) / a
+    lx = math.log(sp / (2.0 * v0)) + om if sp > 0.0 else -math.inf  # ln|x|, x = V_r e^Omega / (2 V_0)
+    if lx > 0.0:
+        w = math.exp(-lx)  # 1 / |x|
+        r1 = math.sqrt(1.0 + w * w)
+        f, df_ds, df_dpsi = sgn * nrm * a * (lx + math.log(1.0 + r1)), nrm * a / (sp * r1), sgn * nrm * b / r1
+    else:
+        kk = math.exp(om) / (2.0 * v0)
+        x = s * kk
+        r1 = math.sqrt(1.0 + x * x)
+        f, df_ds, df_dpsi = nrm * a * math.asinh(x), nrm * a * kk / r1, nrm * b * x / r1
+    if slip != 0.0:
+        lg = math.log(sp / v0) + psi if sp > 0.0 else 0.0  # |V_r| ln|V_r| -> 0: rate 0 at rest
+        d[0, D_RATE], d[0, D_RS], d[0, D_RZ] = -sp * lg / dc, (-sgn * (lg + 1.0) / dc if sp > 0.0 else 0.0), -sp / dc
+    else:
+        e = v0 * math.exp(-psi) / dc
+        d[0, D_RATE], d[0, D_RS], d[0, D_RZ] = e - sp / dc, -sgn / dc, -e
+    d[0, D_FZ] = df_dpsi
+    d[0, D_EZ] = 0.0
+    d[0, D_EZZ] = 0.0
+    return f, df_ds
+
+
+@njit(cache=True, forceinline=True)
 def law_eval(q, s, z, d):
     """The stateful law of ``q[LAW]`` (one line per law); returns (F, dF/dV_r) and fills ``d``."""
     # every other code is refused before a kernel runs (solvers.stiff: the law's own capability)
@@ -179,6 +217,8 @@ def law_eval(q, s, z, d):
         return dahl(q, s, z, d)
     if q[LAW] == ELASTOPLASTIC:
         return elastoplastic(q, s, z, d)
+    if q[LAW] == RATE_STATE:
+        return rate_state(q, s, z, d)
     return lugre(q, s, z, d)
 
 

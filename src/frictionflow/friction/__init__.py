@@ -9,9 +9,10 @@ from .user import SlipLaw
 from .lugre import LuGre
 from .dahl import Dahl
 from .elastoplastic import ElastoPlastic
+from .rate_state import RateState
 from .registry import law_class, law_classes, law_names, register
 
 __all__ = [
-    "STICK_FORCES", "STICK_RULES", "Coulomb", "Cubic", "Dahl", "ElastoPlastic", "FrictionLaw", "Karnopp", "LuGre", "SlipLaw", "Stribeck",
+    "STICK_FORCES", "STICK_RULES", "Coulomb", "Cubic", "Dahl", "ElastoPlastic", "FrictionLaw", "Karnopp", "LuGre", "RateState", "SlipLaw", "Stribeck",
     "law_class", "law_classes", "law_names", "register",
 ]

@@ -59,8 +59,9 @@ class StatefulLaw(FrictionLaw):
     def kernel_force(self) -> None:
         return None  # no static slip force: only the stiff engine runs it
 
-    def initial_state(self) -> np.ndarray:
-        """The internal states at rest (relaxed)."""
+    def initial_state(self, vb: float | None = None) -> np.ndarray:
+        """The internal states a run starts from (relaxed), given the belt speed ``vb`` (a law whose rest
+        state depends on it reads it)."""
         return np.zeros(self.n_internal)
 
     def internal_scale(self) -> np.ndarray:

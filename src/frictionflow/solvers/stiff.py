@@ -79,7 +79,7 @@ class Stiff(Solver):
         if not self.supports(friction):
             raise ValueError(f"solver={self.name} does not support friction={friction.name}")
         q = kernel_params(model, friction)
-        y0 = np.concatenate([[float(x0), float(v0)], friction.initial_state()])
+        y0 = np.concatenate([[float(x0), float(v0)], friction.initial_state(model.vb)])
         tol = np.concatenate([[self.atol, self.atol], self.atol * friction.internal_scale(), [self.rtol]])
         period = model.forcing_period if model.fex != 0.0 else 0.0  # forced: every k 2 pi / Omega is a sample
         steps = np.array([min(1e-5, self.max_step), self.max_step, float(self.max_steps), period])
