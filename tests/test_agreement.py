@@ -58,6 +58,8 @@ POINTS = {
     "dahl": [("sliding", {"fd": 0.02, "sigma0": 100.0, "alpha": 1.0}, 0.01)],
     "elastoplastic": [("stick-slip", {"fd": 0.02, "fs": 0.04, "vs": 0.01, "sigma0": 100.0, "sigma1": 5.0,
                                       "z_ba": 1e-4}, 0.01)],
+    # D_c above Rice & Ruina's critical 0.0169: steady sliding, reached by a decaying oscillation
+    "rate_state": [("sliding", {"normal": 1.0, "mu0": 0.6, "a": 0.01, "b": 0.015, "dc": 0.02, "vref": 0.01}, 0.02)],
 }
 
 
