@@ -14,15 +14,25 @@ from typing import Any, Mapping
 
 from . import _validate as check
 from .friction import FrictionLaw, law_class, law_names
-from .parameters import STATE_MAX, Param, declare, declared
-from .params import BeltOscillator, DimensionalParams
+from .parameters import STATE_MAX, Param, declare, declared, dimensional_parameters
+from .params import SCALE_KEYS, BeltOscillator, DimensionalParams
 from .solvers import Solver
 from .solvers.base import DEFAULT_MAX_MEMORY
 from .solvers.registry import build_solver, solver_names
 
-DIMENSIONAL_KEYS = ("m", "c", "k", "v_b", "f_d", "f_ms", "v_d", "l_0", "f_ex", "w_ex", "phi_ex")
-#: what a dimensional input sets (by Eq. 3)
-DIMENSIONAL_SETS = ("zeta", "vb", "fd", "fs", "vd", "fex", "omega", "phi")
+#: the keys a dimensional table must have: the scales and the belt (the law's own, f_d, when it has one)
+DIMENSIONAL_REQUIRED = ("m", "c", "k", "v_b")
+
+
+def dimensional_keys() -> tuple[str, ...]:
+    """The keys of a dimensional table: the scales, then every declared parameter with a dimension."""
+    return (*SCALE_KEYS, *dimensional_parameters())
+
+
+def set_by_dimensional(name: str) -> bool:
+    """Whether a dimensional table sets parameter ``name`` (zeta, by c, and every parameter with a dimension)."""
+    p = declared().get(name)
+    return name == "zeta" or (p is not None and p.dimensional_key is not None)
 
 
 def parse_window(value: Any) -> tuple[float, float]:
@@ -57,17 +67,60 @@ def parse_dimensional(value: Any) -> dict[str, float]:
 
 
 def _dimensional_table(table: Any) -> dict[str, float]:
+    keys = dimensional_keys()
     if not isinstance(table, Mapping):
-        raise ValueError(f"dimensional must be a table of {', '.join(DIMENSIONAL_KEYS)}")
+        raise ValueError(f"dimensional must be a table of {', '.join(keys)}")
     out = {}
     for key, val in table.items():
-        if key not in DIMENSIONAL_KEYS:
-            raise ValueError(f"dimensional: unknown key {key!r}; allowed: {', '.join(DIMENSIONAL_KEYS)}")
+        if key not in keys:
+            raise ValueError(f"dimensional: unknown key {key!r}; allowed: {', '.join(keys)}")
         out[key] = check.finite(f"dimensional {key}", val)
-    missing = [k for k in ("m", "c", "k", "v_b", "f_d") if k not in out]
+    missing = [k for k in ("m", "c", "k") if k not in out]
     if missing:
-        raise ValueError(f"dimensional: missing {', '.join(missing)} (required: m, c, k, v_b, f_d)")
+        raise ValueError(f"dimensional: missing {', '.join(missing)} (required: m, c, k, v_b, and f_d for a law with F_d)")
     return out
+
+
+def refuse_mixing(given: Mapping[str, Any], source: str) -> None:
+    """With a ``dimensional`` table in ``given``, a parameter it sets given as a non-dimensional value is refused."""
+    if "dimensional" not in given:
+        return
+    both = [k for k in given if set_by_dimensional(k)]
+    if both:
+        key = declared()[both[0]].dimensional_key or "c"
+        raise ValueError(f"{source}: give {both[0]} or dimensional, not both (with dimensional: {key}=... "
+                         "inside it)")
+
+
+def nondimensional_values(values: Mapping[str, Any], friction: str, present: tuple[str, ...] = ()) -> dict[str, Any]:
+    """``values`` with its ``dimensional`` table converted: the parameters it sets, non-dimensional.
+
+    Parameters
+    ----------
+    values:
+        Settings by name (checked), with a parsed ``dimensional`` table or without (returned as given).
+    friction:
+        The law's name: a table key that is none of its (or the oscillator's) parameters is refused.
+    present:
+        Dimensional keys given elsewhere (a sweep's axes): not missing from the table.
+    """
+    table = values.get("dimensional")
+    if table is None:
+        return dict(values)
+    law = law_class(friction)
+    own = {p.name for p in law.parameters} | {p.name for p in BeltOscillator.parameters}
+    known = dimensional_parameters()
+    foreign = [k for k in table if k in known and known[k].name not in own]
+    if foreign:
+        raise ValueError(f"dimensional: {foreign[0]} sets {known[foreign[0]].name}, not a parameter of "
+                         f"friction={friction}")
+    required = (*DIMENSIONAL_REQUIRED, *(("f_d",) if "fd" in own else ()))
+    missing = [k for k in required if k not in table and k not in present]
+    if missing:
+        raise ValueError(f"dimensional: missing {', '.join(missing)} (required for friction={friction}: "
+                         f"{', '.join(required)})")
+    nd = DimensionalParams.from_table(table).nondimensional()
+    return {**values, **{k: v for k, v in nd.items() if k in own}}
 
 
 #: the run's own parameters (the oscillator, laws and solvers declare theirs)
@@ -86,7 +139,8 @@ RUN_PARAMETERS: tuple[Param, ...] = (
                   default_text="rk4 1e-6, adaptive 1e-8, exact 1e-10"),
     Param("max_memory", "", "GiB the samples of a run may take (a longer run is refused up front)", "run",
           DEFAULT_MAX_MEMORY, lower=0.0, lower_open=True, upper=1e6, unit="GiB"),
-    Param("dimensional", "", "dimensional input instead: 'm=..,c=..,k=..,v_b=..,f_d=..[,f_ms=..,v_d=..,l_0=..]'",
+    Param("dimensional", "", "dimensional input instead: 'm=..,c=..,k=..,v_b=..,f_d=..[,f_ms=..,v_d=..,l_0=..,"
+          "sigma0=..,dc=..,...]' (every parameter with a dimension, by its key; the others as usual)",
           "run", None, kind="text", parse=parse_dimensional),
 )
 declare(RUN_PARAMETERS)
@@ -123,10 +177,7 @@ class RunConfig:
     def from_mapping(cls, values: Mapping[str, Any], *, source: str = "config") -> "RunConfig":
         """Build and validate from a mapping; unknown keys are refused by name."""
         given = cls.checked(values, source=source)
-        if "dimensional" in given:
-            both = [k for k in DIMENSIONAL_SETS if k in given]
-            if both:
-                raise ValueError(f"{source}: give {both[0]} or dimensional, not both")
+        refuse_mixing(given, source)
         cfg = cls(given)
         cfg.validate()
         return cfg
@@ -168,17 +219,15 @@ class RunConfig:
 
     def values(self) -> dict[str, Any]:
         """Every setting given, with a dimensional input converted to the model's and law's parameters."""
-        values = dict(self.given)
-        if self.dimensional is not None:
-            nd = DimensionalParams(**self.dimensional).nondimensional()
-            own = {p.name for p in law_class(self.friction).parameters} | {p.name for p in BeltOscillator.parameters}
-            values.update({k: nd[k] for k in DIMENSIONAL_SETS if k in own})
-        return values
+        return nondimensional_values(self.given, self.friction)
 
     def nondimensional(self) -> dict[str, float]:
-        """zeta, V_b, F_d, F_s, V_d and the forcing after converting ``dimensional`` if given."""
+        """The oscillator's parameters and those of the law a dimensional table can set, after converting
+        ``dimensional`` if given."""
         values = self.values()
-        return {k: values.get(k, getattr(self, k)) for k in DIMENSIONAL_SETS}
+        names = [p.name for p in (*BeltOscillator.parameters, *law_class(self.friction).parameters)
+                 if set_by_dimensional(p.name)]
+        return {k: values.get(k, getattr(self, k)) for k in names}
 
     def build(self) -> tuple[BeltOscillator, FrictionLaw, Solver]:
         """The model, friction law and solver this config describes."""

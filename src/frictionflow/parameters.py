@@ -86,6 +86,8 @@ class Param:
     parse: Callable[[Any], Any] | None = None
     #: one of :data:`DIMENSIONS`
     dimension: str = "none"
+    #: its key in a ``dimensional`` table (default: ``name``; ``v_b`` for ``vb``)
+    dimensional_name: str | None = None
 
     def __post_init__(self) -> None:
         if self.owner not in OWNERS or self.kind not in KINDS or self.dimension not in DIMENSIONS:
@@ -145,6 +147,11 @@ class Param:
 
     def _bad(self, value: Any) -> ValueError:
         return ValueError(f"{self.name} must be {self.allowed}, got {value!r}")
+
+    @property
+    def dimensional_key(self) -> str | None:
+        """Its key in a ``dimensional`` table; None for a dimensionless parameter (never converted)."""
+        return None if self.dimension == "none" else (self.dimensional_name or self.name)
 
     # -- defaults ----------------------------------------------------------------
     def default_for(self, values: Mapping[str, Any]) -> Any:
@@ -242,6 +249,11 @@ def declare(group: tuple[Param, ...]) -> None:
 def forget_declarations() -> None:
     """Drop the collected declarations (a group was declared: a law was registered)."""
     _DECLARED.clear()
+
+
+def dimensional_parameters() -> dict[str, Param]:
+    """The declared parameters with a physical dimension, by their key in a ``dimensional`` table."""
+    return {p.dimensional_key: p for p in declared().values() if p.dimensional_key is not None}
 
 
 def sweep_axes() -> tuple[str, ...]:

@@ -17,28 +17,30 @@ The friction parameters (F_d, F_s, V_d, ...) belong to the friction law
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field, fields
 from typing import Any, ClassVar, Mapping
 
 import numpy as np
 
 from . import _validate as check
-from .parameters import MODEL_MAX, Param, declare, nonnegative_real, positive_real, resolve
+from .parameters import MODEL_MAX, Param, declare, dimensional_parameters, nonnegative_real, positive_real, resolve
 
 ZETA = nonnegative_real("zeta", "zeta", "damping ratio", "oscillator", 0.0, upper=MODEL_MAX, sweepable=True)
-VB = Param("vb", "V_b", "belt speed", "oscillator", 0.01, lower=-MODEL_MAX, upper=MODEL_MAX, sweepable=True)
+VB = Param("vb", "V_b", "belt speed", "oscillator", 0.01, lower=-MODEL_MAX, upper=MODEL_MAX, sweepable=True,
+           dimension="velocity", dimensional_name="v_b")
 FEX = nonnegative_real("fex", "F_ex", "amplitude of the external force F_ex cos(Omega tau + phi)", "oscillator", 0.0,
-                       upper=MODEL_MAX, sweepable=True)
+                       upper=MODEL_MAX, sweepable=True, dimension="force", dimensional_name="f_ex")
 OMEGA = positive_real("omega", "Omega", "angular frequency of the external force", "oscillator", 1.0, upper=MODEL_MAX,
-                      sweepable=True)
+                      sweepable=True, dimension="frequency", dimensional_name="w_ex")
 PHI = Param("phi", "phi", "phase of the external force (rad)", "oscillator", 0.0, lower=-MODEL_MAX, upper=MODEL_MAX,
-            sweepable=True)
+            sweepable=True, dimension="angle", dimensional_name="phi_ex")
 VB_AMPLITUDE = nonnegative_real("vb_amplitude", "A_b", "amplitude of the belt speed's variation A sin(Omega_b tau + phi_b)",
-                                "oscillator", 0.0, upper=MODEL_MAX, sweepable=True)
+                                "oscillator", 0.0, upper=MODEL_MAX, sweepable=True, dimension="velocity",
+                                dimensional_name="v_b_amp")
 VB_OMEGA = positive_real("vb_omega", "Omega_b", "angular frequency of the belt speed's variation", "oscillator", 1.0,
-                         upper=MODEL_MAX, sweepable=True)
+                         upper=MODEL_MAX, sweepable=True, dimension="frequency", dimensional_name="w_b")
 VB_PHI = Param("vb_phi", "phi_b", "phase of the belt speed's variation (rad)", "oscillator", 0.0, lower=-MODEL_MAX,
-               upper=MODEL_MAX, sweepable=True)
+               upper=MODEL_MAX, sweepable=True, dimension="angle", dimensional_name="phi_b")
 
 
 @dataclass(frozen=True)
@@ -119,13 +121,28 @@ class BeltOscillator:
 declare(BeltOscillator.parameters)
 
 
+def unit_of(dimension: str, m: float, k: float, l_0: float) -> float:
+    """One non-dimensional unit of a quantity of ``dimension`` (:data:`~frictionflow.parameters.DIMENSIONS`) in
+    the units of m, k and l_0: length l_0, force k l_0, time 1 / omega0 (omega0 = sqrt(k / m)), so velocity
+    omega0 l_0, stiffness k, damping (force per velocity) k / omega0, frequency omega0."""
+    w0 = math.sqrt(k / m)
+    units = {"none": 1.0, "angle": 1.0, "force": k * l_0, "length": l_0, "velocity": w0 * l_0, "stiffness": k,
+             "damping": k / w0, "frequency": w0}
+    return units[dimension]
+
+
+#: the scales of a ``dimensional`` table (no parameter's value: they set the units)
+SCALE_KEYS = ("m", "c", "k", "l_0")
+
+
 @dataclass(frozen=True)
 class DimensionalParams:
     """Dimensional parameters (SI or any consistent units).
 
     :meth:`nondimensional` converts them by the paper's Eq. 3 (omega0 =
     sqrt(k/m), zeta = c / (2 m omega0), X = x / l_0, F = f / (k l_0),
-    V = v / (omega0 l_0)).
+    V = v / (omega0 l_0)), each parameter by the dimension it declares
+    (:attr:`~frictionflow.parameters.Param.dimension`, units in :meth:`unit`).
 
     Parameters
     ----------
@@ -134,7 +151,7 @@ class DimensionalParams:
     v_b:
         Belt speed.
     f_d:
-        Kinetic (dynamic) friction force.
+        Kinetic (dynamic) friction force (None: the law has none, or it keeps its default).
     f_ms:
         Maximum static friction force (default ``f_d``, the paper's choice).
     v_d:
@@ -145,60 +162,84 @@ class DimensionalParams:
     f_ex, w_ex, phi_ex:
         Amplitude, angular frequency (rad per unit time; default omega0) and
         phase of the external force f_ex cos(w_ex t + phi_ex).
+    v_b_amp, w_b, phi_b:
+        The belt speed's variation v_b_amp sin(w_b t + phi_b): amplitude (a velocity, default 0), angular
+        frequency (default omega0) and phase.
+    law:
+        Any other parameter with a dimension, by its key (``sigma0``, ``sigma1``, ``dc``, ``normal``, ...;
+        :func:`~frictionflow.parameters.dimensional_parameters`).
     """
-
 
     m: float
     c: float
     k: float
     v_b: float
-    f_d: float
+    f_d: float | None = None
     f_ms: float | None = None
     v_d: float | None = None
     l_0: float = 1.0
     f_ex: float = 0.0
     w_ex: float | None = None
     phi_ex: float = 0.0
+    v_b_amp: float = 0.0
+    w_b: float | None = None
+    phi_b: float = 0.0
+    law: Mapping[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "m", check.positive("m", self.m))
-        object.__setattr__(self, "c", check.nonnegative("c", self.c))
-        object.__setattr__(self, "k", check.positive("k", self.k))
-        object.__setattr__(self, "v_b", check.finite("v_b", self.v_b))
-        object.__setattr__(self, "f_d", check.nonnegative("f_d", self.f_d))
-        object.__setattr__(self, "l_0", check.positive("l_0", self.l_0))
-        if self.f_ms is None:
-            object.__setattr__(self, "f_ms", self.f_d)
-        object.__setattr__(self, "f_ms", check.at_least("f_ms", self.f_ms, self.f_d, "f_d"))
-        if self.v_d is None:
-            object.__setattr__(self, "v_d", 1e-3 * self.omega0 * self.l_0)
-        object.__setattr__(self, "v_d", check.positive("v_d", self.v_d))
-        object.__setattr__(self, "f_ex", check.nonnegative("f_ex", self.f_ex))
-        if self.w_ex is None:
-            object.__setattr__(self, "w_ex", self.omega0)
-        object.__setattr__(self, "w_ex", check.positive("w_ex", self.w_ex))
-        object.__setattr__(self, "phi_ex", check.finite("phi_ex", self.phi_ex))
+        for name, rule in (("m", check.positive), ("c", check.nonnegative), ("k", check.positive),
+                           ("v_b", check.finite), ("l_0", check.positive), ("f_ex", check.nonnegative),
+                           ("phi_ex", check.finite), ("v_b_amp", check.nonnegative), ("phi_b", check.finite)):
+            object.__setattr__(self, name, rule(name, getattr(self, name)))
+        if self.f_d is not None:
+            object.__setattr__(self, "f_d", check.nonnegative("f_d", self.f_d))
+            object.__setattr__(self, "f_ms", check.at_least("f_ms", self.f_d if self.f_ms is None else self.f_ms,
+                                                            self.f_d, "f_d"))
+        elif self.f_ms is not None:
+            raise ValueError(f"f_ms needs f_d (f_ms >= f_d), got f_ms={self.f_ms!r} alone")
+        object.__setattr__(self, "v_d", check.positive("v_d", 1e-3 * self.omega0 * self.l_0 if self.v_d is None
+                                                       else self.v_d))
+        for name in ("w_ex", "w_b"):  # the frequencies default to the natural one
+            object.__setattr__(self, name, check.positive(name, self.omega0 if getattr(self, name) is None
+                                                          else getattr(self, name)))
+        object.__setattr__(self, "law", self._law_values(self.law))
+
+    @staticmethod
+    def _law_values(law: Mapping[str, Any]) -> dict[str, float]:
+        known = dimensional_parameters()
+        own = {f.name for f in fields(DimensionalParams)}
+        for key in law:
+            if key not in known or key in own:
+                allowed = ", ".join(k for k in known if k not in own)
+                raise ValueError(f"dimensional: unknown law key {key!r}; allowed: {allowed}")
+        return {key: check.finite(key, value) for key, value in law.items()}
+
+    @classmethod
+    def from_table(cls, table: Mapping[str, Any]) -> "DimensionalParams":
+        """From one flat table (a config's ``dimensional``): the fields by name, every other key a law's."""
+        own = {f.name for f in fields(cls)} - {"law"}
+        return cls(**{k: v for k, v in table.items() if k in own}, law={k: v for k, v in table.items() if k not in own})
 
     @property
     def omega0(self) -> float:
         """Undamped natural frequency sqrt(k/m)."""
         return math.sqrt(self.k / self.m)
 
+    def unit(self, dimension: str) -> float:
+        """What one non-dimensional unit of a quantity of ``dimension`` is in these units (:func:`unit_of`)."""
+        return unit_of(dimension, self.m, self.k, self.l_0)
+
     def nondimensional(self) -> dict[str, float]:
-        """Eq. 3: zeta, V_b, F_d, F_s, V_d, the forcing F_ex, Omega, phi (and omega0 for the time scale tau = omega0 t)."""
-        w0 = self.omega0
-        force = self.k * self.l_0
-        return {
-            "zeta": self.c / (2.0 * self.m * w0),
-            "vb": self.v_b / (w0 * self.l_0),
-            "fd": self.f_d / force,
-            "fs": float(self.f_ms) / force,
-            "vd": float(self.v_d) / (w0 * self.l_0),
-            "fex": self.f_ex / force,
-            "omega": float(self.w_ex) / w0,
-            "phi": self.phi_ex,
-            "omega0": w0,
-        }
+        """zeta, every parameter given (V_b, F_d, F_s, V_d, the forcing F_ex, Omega, phi, the belt's variation,
+        the law's), each divided by the unit of its dimension, and omega0 for the time scale tau = omega0 t."""
+        known = dimensional_parameters()
+        given = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in (*SCALE_KEYS, "law")}
+        out = {"zeta": self.c / (2.0 * self.m * self.omega0)}
+        for key, value in {**given, **self.law}.items():
+            if value is not None:
+                p = known[key]
+                out[p.name] = float(value) / self.unit(p.dimension)
+        return out | {"omega0": self.omega0}
 
     @classmethod
     def from_nondimensional(

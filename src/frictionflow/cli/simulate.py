@@ -78,7 +78,7 @@ def simulate(
 
 
 def model_omega0(cfg: RunConfig) -> float:
-    return DimensionalParams(**cfg.dimensional).omega0  # type: ignore[arg-type]
+    return DimensionalParams.from_table(cfg.dimensional).omega0
 
 
 def _print_summary(report: dict[str, Any], caption: str) -> None:

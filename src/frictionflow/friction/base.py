@@ -36,9 +36,10 @@ STICK_RULES = ("switch", "band", "state")
 STICK_RULE_WORDS = {"switch": "Coulomb's stick rule", "band": "a velocity band", "state": "an internal state (no stick rule)"}
 
 # Parameters several laws share: declared once here, listed by each law.
-FD = nonnegative_real("fd", "F_d", "kinetic friction", "law", 0.02, upper=MODEL_MAX, sweepable=True)
+FD = nonnegative_real("fd", "F_d", "kinetic friction", "law", 0.02, upper=MODEL_MAX, sweepable=True,
+                     dimension="force", dimensional_name="f_d")
 FS = Param("fs", "F_s", "maximum static friction", "law", lambda v: v["fd"], default_text="F_d",
-           lower=0.0, upper=MODEL_MAX, sweepable=True)
+           lower=0.0, upper=MODEL_MAX, sweepable=True, dimension="force", dimensional_name="f_ms")
 STICK_FORCE = Param("stick_force", "", "force held while sticking: resultant (X+2zeta X') or spring (X, the paper's)",
                     "law", "resultant", kind="choice", choices=STICK_FORCES)
 RK4_BAND = positive_real("rk4_band", "", "stick band half width of fixed-step RK4 (other solvers ignore it)", "law", 1e-4,

@@ -9,7 +9,8 @@ from ..parameters import MODEL_MAX, positive_real
 from .base import FD, FS, STICK_FORCE, FrictionLaw
 from .registry import register
 
-VD = positive_real("vd", "V_d", "Karnopp stick-band half width", "law", 1e-3, upper=MODEL_MAX, sweepable=True)
+VD = positive_real("vd", "V_d", "Karnopp stick-band half width", "law", 1e-3, upper=MODEL_MAX, sweepable=True,
+                 dimension="velocity", dimensional_name="v_d")
 
 
 @register

@@ -10,9 +10,10 @@ from ..parameters import MODEL_MAX, nonnegative_real, positive_real
 from .base import FD, FS, RK4_BAND, STICK_FORCE, FrictionLaw
 from .registry import register
 
-VS = positive_real("vs", "V_s", "Stribeck velocity", "law", 0.01, upper=MODEL_MAX, sweepable=True)
+VS = positive_real("vs", "V_s", "Stribeck velocity", "law", 0.01, upper=MODEL_MAX, sweepable=True, dimension="velocity")
 DELTA = positive_real("delta", "delta", "Stribeck exponent", "law", 2.0, upper=100.0, sweepable=True)
-VISCOUS = nonnegative_real("viscous", "c_v", "viscous friction coefficient", "law", 0.0, upper=MODEL_MAX, sweepable=True)
+VISCOUS = nonnegative_real("viscous", "c_v", "viscous friction coefficient", "law", 0.0, upper=MODEL_MAX, sweepable=True,
+                          dimension="damping")
 
 
 @register

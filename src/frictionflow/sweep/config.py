@@ -39,10 +39,11 @@ import numpy as np
 from .. import _validate as check
 from .. import quantities as Q
 from .._ranges import parse_range
-from ..config import RunConfig
+from ..config import DIMENSIONAL_REQUIRED, RunConfig, nondimensional_values, refuse_mixing, set_by_dimensional
 from ..friction import law_class
 from ..io import read_config
-from ..parameters import declared, sweep_axes
+from ..parameters import declared, dimensional_parameters, sweep_axes
+from ..params import SCALE_KEYS, unit_of
 from ..solvers.base import CoarseStepWarning, check_memory
 
 #: what can be an axis: every sweepable declared parameter (the oscillator's, the laws', the initial state)
@@ -51,7 +52,7 @@ GRID_KEYS = sweep_axes()
 MAX_AXIS = 10**7
 MAX_POINTS = 10**10
 #: settings that make no sense in a sweep (outputs of one run)
-NOT_IN_SWEEPS = ("window", "dimensional", "record_every", "dense_dt")
+NOT_IN_SWEEPS = ("window", "record_every", "dense_dt")
 #: the grid entry (and axis) of a random sample of initial states, and what it may draw
 SAMPLE = "sample"
 SAMPLE_KEYS = ("x0", "v0")
@@ -268,6 +269,9 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_poin
     grid = values.pop("grid", None)
     if grid is None or not isinstance(grid, Mapping) or not grid:
         raise ValueError(f"{source}: a non-empty [grid] table of parameters to sweep is required")
+    dimensional = values.get("dimensional")
+    if dimensional is not None:
+        values, grid = _dimensionless(values, grid, source)
     for key in NOT_IN_SWEEPS:
         if key in values:
             raise ValueError(f"{source}: key {key!r} is not used by sweeps")
@@ -298,12 +302,52 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_poin
     points = math.prod(len(a) for a in axes.values())
     if points > MAX_POINTS:
         raise ValueError(f"{source}: the grid has {points:.3g} points; at most {MAX_POINTS:.0e}")
-    cfg = SweepConfig(run=run, axes=axes, fixed=fixed, source={"settings": values, "grid": {k: _jsonable(v) for k, v in grid.items()}},
-                      sample=sample)
+    recorded = {"settings": values, "grid": {k: _jsonable(v) for k, v in grid.items()}}
+    if dimensional is not None:
+        recorded["dimensional"] = _jsonable(dimensional)
+    cfg = SweepConfig(run=run, axes=axes, fixed=fixed, source=recorded, sample=sample)
     if check_points:
         _check_points(cfg)
         _check_size(cfg)
     return cfg
+
+
+def _dimensionless(values: Mapping[str, Any], grid: Mapping[str, Any], source: str) -> tuple[dict, dict]:
+    """A sweep with a ``dimensional`` table as the non-dimensional sweep it is: the table's parameters converted,
+    and each [grid] entry named by a dimensional key (``v_b``, ``sigma0``, ``dc``) divided by its dimension's unit
+    and named by its parameter (``vb``, ...); a parameter the table sets is refused by its non-dimensional name."""
+    given = RunConfig.checked(values, source=source)
+    refuse_mixing(given, source)
+    table = given["dimensional"]
+    known = dimensional_parameters()
+    both = [k for k in grid if k not in known and set_by_dimensional(k)]
+    if both:
+        key = declared()[both[0]].dimensional_key or "c"
+        raise ValueError(f"{source}: grid.{both[0]}: with dimensional, sweep it as grid.{key} (dimensional values)")
+    scales = [k for k in grid if k in SCALE_KEYS]
+    if scales:
+        raise ValueError(f"{source}: grid.{scales[0]}: m, c, k and l_0 set the units of dimensional, not a sweep axis")
+    axes = {k: known[k] for k in grid if k in known}
+    out = {known[k].name if k in axes else k: _scaled(f"grid.{k}", v, unit_of(axes[k].dimension, table["m"], table["k"],
+                                                                               table.get("l_0", 1.0)))
+           if k in axes else v for k, v in grid.items()}
+    friction = given.get("friction", declared()["friction"].default)
+    filled = {**table, **{k: 0.0 for k in DIMENSIONAL_REQUIRED if k in axes}}  # an axis's key: any value, dropped
+    nd = nondimensional_values({**given, "dimensional": filled}, friction, present=tuple(axes))
+    swept = {p.name for p in axes.values()}
+    return {k: v for k, v in nd.items() if k != "dimensional" and k not in swept}, out
+
+
+def _scaled(where: str, entry: Any, unit: float) -> Any:
+    """A grid entry (number, list, range table, "FROM:TO:N") with every value divided by ``unit``."""
+    if isinstance(entry, str):
+        r = parse_range(where, entry)
+        entry = {"start": r.start, "stop": r.stop, "num": r.num}
+    if isinstance(entry, Mapping):
+        return {k: check.finite(f"{where}.{k}", v) / unit if k in ("start", "stop") else v for k, v in entry.items()}
+    if isinstance(entry, list):
+        return [check.finite(f"{where}[{i}]", v) / unit for i, v in enumerate(entry)]
+    return check.finite(where, entry) / unit if isinstance(entry, (int, float)) and not isinstance(entry, bool) else entry
 
 
 def _warn_coarse_steps(cfg: SweepConfig) -> None:
