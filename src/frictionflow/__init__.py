@@ -30,7 +30,7 @@ from .analysis.stability import StabilityScan, SteadySliding, stability_scan, st
 from .analysis.stability_chart import StabilityChart, stability_chart
 from .basins import Basins
 from .basins import basins as compute_basins
-from .friction import Coulomb, Cubic, Dahl, ElastoPlastic, FrictionLaw, Karnopp, LuGre, SlipLaw, Stribeck
+from .friction import Coulomb, Cubic, Dahl, ElastoPlastic, FrictionLaw, Karnopp, LuGre, RateState, SlipLaw, Stribeck
 from .modes import SwitchMode
 from .params import BeltOscillator, DimensionalParams
 from .simulate import simulate
@@ -52,6 +52,7 @@ __all__ = [
     "FrictionLaw",
     "Karnopp",
     "LuGre",
+    "RateState",
     "LyapunovResult",
     "PowerFlow",
     "RK4",
