@@ -13,6 +13,7 @@ from scipy.signal import find_peaks
 
 from frictionflow import BeltOscillator, simulate
 from frictionflow.cli import main
+from frictionflow.core import stiff as engine
 from frictionflow.friction import RateState
 from frictionflow.solvers import Stiff
 
@@ -150,6 +151,49 @@ def test_energy_balance_closes_with_no_storage(state_law):
     # the heat is the friction's work on the relative motion, integral F V_r dtau (trapezoids on the steps)
     heat = np.trapezoid(traj.fc * (VB - traj.v), traj.t)
     assert bal.heat == pytest.approx(heat, rel=1e-4)
+
+
+@pytest.mark.parametrize("state_law", STATE_LAWS)
+def test_the_engines_derivatives_are_those_of_the_equations(state_law):
+    # the compiled law's F, dF/dV_r, dF/dpsi, psi', dpsi'/dV_r, dpsi'/dpsi against central differences of the
+    # equations written here (psi = ln(V_0 theta / D_c): psi' = theta' / theta), on both sides of |x| = 1
+    dc = 0.01
+    law = RateState(normal=N, mu0=MU0, a=A, b=B, dc=dc, vref=V0, state_law=state_law)
+    q = law.kernel_params()
+
+    def force(vr, psi):
+        return friction(vr, dc / V0 * np.exp(psi), dc)
+
+    def rate(vr, psi):
+        theta = dc / V0 * np.exp(psi)
+        s = abs(vr) * theta / dc
+        return ((1.0 - s) if state_law == "aging" else -s * np.log(s)) / theta
+
+    # |x| = |V_r| e^Omega / (2 V_0) from about 0.06 to 1e28: both of the engine's branches
+    for vr, psi in [(0.02, -0.7), (-0.003, 0.4), (1e-27, 0.0), (-3e-26, -0.2), (0.5, 1.0), (1e-29, 0.0), (-2e-28, 0.1)]:
+        d = np.zeros((1, engine.D_RZ + 1))
+        f, df_ds = engine.rate_state(q, vr, np.array([psi]), d)
+        hv, hp = 1e-6 * abs(vr), 1e-6
+        assert f == pytest.approx(force(vr, psi), rel=1e-12)
+        assert df_ds == pytest.approx((force(vr + hv, psi) - force(vr - hv, psi)) / (2 * hv), rel=1e-6)
+        assert d[0, engine.D_FZ] == pytest.approx((force(vr, psi + hp) - force(vr, psi - hp)) / (2 * hp), rel=1e-6)
+        assert d[0, engine.D_RATE] == pytest.approx(rate(vr, psi), rel=1e-12, abs=1e-12)
+        if abs(vr) > 1e-6:  # (at |V_r| ~ 1e-26, the asinh's side, a step in V_r is lost next to 1 / theta)
+            assert d[0, engine.D_RS] == pytest.approx((rate(vr + hv, psi) - rate(vr - hv, psi)) / (2 * hv), rel=1e-6)
+        assert d[0, engine.D_RZ] == pytest.approx((rate(vr, psi + hp) - rate(vr, psi - hp)) / (2 * hp), rel=1e-6)
+        assert d[0, engine.D_EZ] == d[0, engine.D_EZZ] == 0.0  # nothing stored
+    # at rest: F = 0 with the slope N a e^Omega / (2 V_0), and theta' = 1 (aging) or 0 (slip)
+    d = np.zeros((1, engine.D_RZ + 1))
+    f, df_ds = engine.rate_state(q, 0.0, np.array([0.0]), d)
+    assert f == 0.0 and df_ds == pytest.approx(N * A * np.exp(MU0 / A) / (2.0 * V0), rel=1e-12)
+    assert d[0, engine.D_RATE] == pytest.approx(V0 / dc if state_law == "aging" else 0.0, rel=1e-12)
+
+
+def test_runs_start_from_steady_sliding_at_the_belt_speed():
+    law = RateState(dc=0.02, vref=0.01)
+    assert law.theta(law.initial_state(0.04)[0]) == pytest.approx(0.02 / 0.04, rel=1e-14)
+    assert law.theta(law.initial_state(-0.04)[0]) == pytest.approx(0.02 / 0.04, rel=1e-14)
+    assert law.theta(law.initial_state(0.0)[0]) == pytest.approx(0.02 / 0.01, rel=1e-14)  # at rest: theta = D_c / V_0
 
 
 @pytest.mark.parametrize("bad, message", [
