@@ -19,6 +19,7 @@ from frictionflow.cli import main
 from frictionflow.config import RunConfig
 from frictionflow.friction import ElastoPlastic, LuGre, RateState
 from frictionflow.solvers import Stiff
+from frictionflow.sweep.compute import compute_chunk
 from frictionflow.sweep.config import parse_sweep
 
 M, C, K, L0 = 2.0, 0.4, 8.0, 0.5
@@ -156,3 +157,13 @@ def test_a_dimensional_sweep_is_the_nondimensional_sweep():
 def test_a_dimensional_sweep_refuses_mixed_axes(grid, message):
     with pytest.raises(ValueError, match=message):
         parse_sweep({"friction": "coulomb", "dimensional": {**SCALES, "v_b": 0.04, "f_d": 0.08}, "grid": grid})
+
+
+def test_a_dimensional_sweep_computes_the_nondimensional_points():
+    # w0 l_0 = 1 here: v_b = V_b; zeta = 0.05, F_d = 0.08 / 4 = 0.02, F_s = 0.04
+    dim = parse_sweep({"friction": "coulomb", "t_end": 100.0, "dimensional": {**SCALES, "f_d": 0.08, "f_ms": 0.16},
+                       "grid": {"v_b": [0.02, 0.04]}})
+    nd = parse_sweep({"friction": "coulomb", "t_end": 100.0, "zeta": ZETA, "fd": _force(0.08), "fs": _force(0.16),
+                      "grid": {"vb": [_speed(0.02), _speed(0.04)]}})
+    a, b = compute_chunk(dim.source, (0,), (2,)), compute_chunk(nd.source, (0,), (2,))
+    np.testing.assert_allclose(a, b, rtol=1e-13, equal_nan=True)
