@@ -13,7 +13,8 @@ from .lugre import BRISTLE_MAX, SIGMA0, SIGMA1, SIGMA2, LuGre
 from .registry import register
 from .stribeck import DELTA, VS
 
-Z_BA = positive_real("z_ba", "z_ba", "break-away deflection (elasto-plastic law)", "law", 1e-6, upper=BRISTLE_MAX)
+Z_BA = positive_real("z_ba", "z_ba", "break-away deflection (elasto-plastic law)", "law", 1e-6, upper=BRISTLE_MAX,
+                   sweepable=True)
 
 
 @register
