@@ -90,6 +90,7 @@ def test_stable_steady_sliding_is_an_equilibrium_with_its_states():
     result = analyze(simulate(model, law, t_end=600.0, x0=eq.x + 1e-4, v0=0.0))
     ss = result.steady_state
     assert ss.kind == "equilibrium" and ss.stability == "stable"
+    assert ss.decay_rate == pytest.approx(-max(l.real for l in eq.eigenvalues), rel=1e-12)
     assert ss.limit["x"] == pytest.approx(g(P, VB), rel=1e-6)
     assert ss.limit["z"] == pytest.approx(g(P, VB) / P["sigma0"], rel=1e-6)
     assert result.quantities()["P_belt"] == pytest.approx(g(P, VB) * VB, rel=1e-6)  # all heat
@@ -155,3 +156,19 @@ def test_every_bristle_law_rests_at_states_whose_rates_vanish(law):
     z = law.steady_internal(VB)
     assert abs(law.rate(VB, z)[0]) <= 1e-12 * VB
     assert law.force(VB, z) == pytest.approx(law.slip_force(VB), rel=1e-9)
+
+
+def test_a_forced_cycle_repeats_in_the_whole_state_on_the_stroboscopic_section():
+    model = BeltOscillator(zeta=0.3, vb=VB, fex=0.2, omega=0.7)
+    traj = simulate(model, LuGre(**P), t_end=300.0, x0=0.3, v0=0.0)
+    ss = analyze(traj).steady_state
+    assert ss.kind == "periodic" and ss.forcing_multiple == 1 and ss.n_periods >= 3
+    period = 2 * math.pi / model.omega
+    k = np.round(traj.t / period)
+    strobe_idx = np.flatnonzero((np.abs(traj.t - k * period) <= 1e-9 * period) & (traj.t >= ss.window[0]))
+    assert len(strobe_idx) == ss.n_periods + 1  # every k 2 pi / Omega is a sample
+    amp = np.ptp(traj.x[strobe_idx[0]:])
+    for coordinate in (traj.x, traj.v, P["sigma0"] * traj.internal[0]):
+        assert np.ptp(coordinate[strobe_idx]) <= 1e-5 * amp
+    drift = 1e-4 * (P["fs"] / P["sigma0"]) * traj.t  # the bristles alone drifting: the section does not repeat
+    assert analyze(dataclasses.replace(traj, internal=traj.internal + drift)).steady_state.kind == "not_settled"

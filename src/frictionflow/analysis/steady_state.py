@@ -278,10 +278,13 @@ def steady_state(
 
 
 def _with_internal(traj: Trajectory, found: SteadyState) -> SteadyState:
-    """An equilibrium of a law with internal states: where they rest too (the run's last values) in ``limit``."""
+    """An equilibrium of a law with internal states: where they rest too (the run's last values) in
+    ``limit``; resting sliding, the decay rate of the whole state's linearisation (as a certified one's)."""
     if traj.internal is None or found.kind != "equilibrium":
         return found
-    return replace(found, limit={**(found.limit or {}), **dict(zip(traj.internal_names, map(float, traj.internal[:, -1])))})
+    limit = {**(found.limit or {}), **dict(zip(traj.internal_names, map(float, traj.internal[:, -1])))}
+    rate = None if found.stick_fraction else sliding_equilibrium(traj.model, traj.friction).decay_rate
+    return replace(found, limit=limit, decay_rate=rate)
 
 
 def _forced(traj: Trajectory, rtol: float, min_periods: int) -> SteadyState:
