@@ -9,7 +9,7 @@ import xarray as xr
 
 from frictionflow import BeltOscillator, analyze, simulate
 from frictionflow import quantities as Q
-from frictionflow.friction import LuGre
+from frictionflow.friction import LuGre, law_class
 from frictionflow.sweep import parse_sweep, run_sweep
 from frictionflow.sweep import runner
 
@@ -73,3 +73,15 @@ def test_an_interrupted_sweep_resumes_to_the_uninterrupted_dataset(tmp_path, mon
 def test_a_static_law_with_the_stiff_solver_is_still_refused():
     with pytest.raises(ValueError, match="^solver=stiff does not support friction=coulomb"):
         parse_sweep({"friction": "coulomb", "solver": "stiff", "t_end": 20.0, "grid": {"zeta": [0.05, 0.06]}})
+
+
+@pytest.mark.parametrize("name", ["lugre", "dahl", "elastoplastic"])
+def test_every_parameter_of_a_stateful_law_is_an_axis(name):
+    law = law_class(name)()
+    own = [p.name for p in law.parameters]
+    assert {"sigma0"} <= set(own) and all(p.sweepable for p in law.parameters if p.kind == "real")
+    for p in law.parameters:
+        v = float(getattr(law, p.name))
+        cfg = parse_sweep({"friction": name, "t_end": 10.0, "grid": {p.name: [v, v * 1.1 + 1e-9]}})
+        assert cfg.dims == (p.name,)
+        assert cfg.point_params((np.array([1]),))[p.name][0] == v * 1.1 + 1e-9
