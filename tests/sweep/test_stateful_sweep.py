@@ -9,8 +9,10 @@ import xarray as xr
 
 from frictionflow import BeltOscillator, analyze, simulate
 from frictionflow import quantities as Q
+from frictionflow.core import stiff, stiff_points
 from frictionflow.friction import LuGre, law_class
 from frictionflow.sweep import parse_sweep, run_sweep
+from frictionflow.solvers.base import kernel_params
 from frictionflow.sweep import runner
 
 LAW = {"fd": 0.3, "fs": 0.5, "vs": 0.05, "delta": 2.0, "sigma1": 100.0}
@@ -85,3 +87,17 @@ def test_every_parameter_of_a_stateful_law_is_an_axis(name):
         cfg = parse_sweep({"friction": name, "t_end": 10.0, "grid": {p.name: [v, v * 1.1 + 1e-9]}})
         assert cfg.dims == (p.name,)
         assert cfg.point_params((np.array([1]),))[p.name][0] == v * 1.1 + 1e-9
+
+
+def test_the_released_kernel_is_the_stiff_engine_bit_for_bit():
+    model = BeltOscillator(zeta=0.02, vb=0.1, fex=0.05, omega=0.9)
+    law = LuGre(**LAW, sigma0=1e4)
+    q = kernel_params(model, law)
+    tol = np.array([1e-10, 1e-10, 1e-10 * law.fs / law.sigma0, 1e-8])
+    steps = np.array([1e-5, 0.5, 1e7, model.forcing_period])
+    runs = []
+    for run in (stiff.run, stiff_points.run_released):
+        t, y, w = np.empty(50_000), np.empty((3, 50_000)), np.empty((50_000, stiff.N_CHANNELS))
+        n = run(q, model.zeta, model.vb, np.array([0.3, 0.0, 0.0]), 60.0, tol, steps, t, y, w)[0]
+        runs.append((t[:n], y[:, :n], w[:n]))
+    assert all(np.array_equal(a, b) for a, b in zip(*runs)) and len(runs[0][0]) > 1000
