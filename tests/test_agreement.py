@@ -158,7 +158,7 @@ def via_cli(case: Case) -> dict:
 
 
 def via_sweep(case: Case) -> dict | str:
-    if not case.batched():
+    if not case.batched() and not case.stateful:  # (a law with internal states: a stiff run per point)
         return f"undefined: solver={case.solver} has no batched kernel for sweeps"
     settings = {k: v for k, v in case.options().items() if k != "zeta"}
     out = compute_chunk({"settings": {**settings, "t_end": T_END}, "grid": {"zeta": [case.zeta]}}, (0,), (1,))

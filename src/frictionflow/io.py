@@ -1,4 +1,4 @@
-"""File formats: reading TOML configs, writing trajectories (CSV, NetCDF), checking and writing output paths.
+"""File formats: reading TOML configs, writing trajectories (CSV, NetCDF, Zarr), checking and writing output paths.
 
 What a trajectory *is* as a table (its xarray form) belongs to
 :meth:`frictionflow.trajectory.Trajectory.to_xarray`; this module only
@@ -23,6 +23,7 @@ import errno
 import os
 import re
 import secrets
+import shutil
 import tomllib
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -33,7 +34,7 @@ import numpy as np
 
 from .trajectory import WORK_NAMES, Trajectory
 
-TRAJECTORY_FORMATS = (".csv", ".nc")
+TRAJECTORY_FORMATS = (".csv", ".nc", ".zarr")
 #: errors of a write that mean the path itself cannot be written (bad input); any other error of the file
 #: system (ENOSPC, EDQUOT, EIO, EFBIG, ...) is a failure under a good path
 PATH_ERRNOS = frozenset({errno.EACCES, errno.EPERM, errno.EROFS, errno.EISDIR, errno.ENOTDIR, errno.ENAMETOOLONG,
@@ -150,6 +151,8 @@ def _name_problem(p: Path) -> str | None:
 def _target_problem(p: Path) -> str | None:
     """An existing directory, or a read-only file, where the file should go."""
     if p.is_dir():
+        if p.suffix.lower() == ".zarr":
+            return f"{str(p)!r} exists (a Zarr store is a directory, not replaced: remove it or choose another name)"
         return f"{str(p)!r} is a directory"
     if p.exists() and not os.access(p, os.W_OK):
         return f"{str(p)!r} exists and is read-only"
@@ -262,6 +265,17 @@ def write_error(e: BaseException, name: str, target: str | Path, then: str = "")
 
 
 def _sync(path: Path) -> None:
+    """The file on disk; a directory (a Zarr store): every file in it, then the directories' entries."""
+    if path.is_dir():
+        for root, _, files in os.walk(path, topdown=False):
+            for name in files:
+                _sync(Path(root, name))
+            _sync_one(Path(root))
+        return
+    _sync_one(path)
+
+
+def _sync_one(path: Path) -> None:
     fd = os.open(path, os.O_RDONLY)
     try:
         os.fsync(fd)
@@ -271,7 +285,10 @@ def _sync(path: Path) -> None:
 
 def _remove(path: Path) -> None:
     try:
-        os.unlink(path)
+        if path.is_dir() and not path.is_symlink():  # a Zarr store written only in part
+            shutil.rmtree(path)
+        else:
+            os.unlink(path)
     except FileNotFoundError:
         pass
 
@@ -346,21 +363,23 @@ def write_figure(fig, path: str | Path, name: str = "path", *, close: bool = Tru
 
 def trajectory_bytes(samples: float, path: str | Path) -> float:
     """About the size of a trajectory file of ``samples`` rows (:func:`write_trajectory`): 24 characters a
-    CSV value (``%.17g``), 8 bytes a NetCDF one."""
+    CSV value (``%.17g``), 8 bytes a NetCDF or Zarr one."""
     values = 5 + len(WORK_NAMES)
-    return samples * values * (8 if Path(path).suffix.lower() == ".nc" else 24)
+    return samples * values * (24 if Path(path).suffix.lower() == ".csv" else 8)
 
 
 def write_trajectory(traj: Trajectory, path: str | Path, *, name: str = "out") -> Path:
-    """Write ``traj`` as CSV or NetCDF, chosen by the extension; ``name`` is the option named in errors.
+    """Write ``traj`` as CSV, NetCDF or Zarr, chosen by the extension; ``name`` is the option named in errors.
 
     Parameters
     ----------
     traj:
         A run, from :func:`~frictionflow.simulate`.
     path:
-        ``*.csv`` (one row per sample: tau, X, V, F_c, mode and the work integrals) or ``*.nc`` (the
-        dataset of :meth:`~frictionflow.Trajectory.to_xarray`).
+        ``*.csv`` (one row per sample: tau, X, V, F_c, mode and the work integrals; a law's internal states
+        by their names, the stored energy ``E_s`` and the belt's work ``W_belt`` where the run has them), or
+        ``*.nc`` / ``*.zarr`` (the dataset of :meth:`~frictionflow.Trajectory.to_xarray`; a Zarr store is a
+        directory).
     name:
         How error messages name ``path`` (the command line passes its option, such as ``--out``).
     """
@@ -368,6 +387,8 @@ def write_trajectory(traj: Trajectory, path: str | Path, *, name: str = "out") -
     with atomic_write(p, name) as tmp:
         if p.suffix.lower() == ".nc":
             traj.to_xarray().to_netcdf(tmp)
+        elif p.suffix.lower() == ".zarr":
+            traj.to_xarray().to_zarr(tmp, mode="w-", consolidated=False)
         else:
             _write_csv(traj, tmp)
     return p
@@ -377,8 +398,15 @@ def _write_csv(traj: Trajectory, path: Path) -> None:
     """The samples as CSV: the NetCDF file's columns (``is_sample`` and ``switch`` as 0/1), full precision."""
     is_sample = np.ones(len(traj.t), dtype=bool) if traj.recorded is None else traj.recorded
     switch = traj.switches() & is_sample  # as to_xarray: switches are marked on the solver's own samples
-    cols = np.column_stack([traj.t, traj.x, traj.v, traj.fc, traj.mode, traj.work, is_sample, switch])
-    header = ",".join(["tau", "X", "V", "F_c", "mode", *WORK_NAMES, "is_sample", "switch"])
+    extra, names = [], []
+    if traj.internal is not None:  # a law's internal states, by its names, and the energy they store
+        extra += [*traj.internal, traj.stored_energy]
+        names += [*traj.internal_names, "E_s"]
+    if traj.dbelt is not None:
+        extra.append(np.cumsum(traj.dbelt))
+        names.append("W_belt")
+    cols = np.column_stack([traj.t, traj.x, traj.v, traj.fc, traj.mode, traj.work, *extra, is_sample, switch])
+    header = ",".join(["tau", "X", "V", "F_c", "mode", *WORK_NAMES, *names, "is_sample", "switch"])
     np.savetxt(path, cols, delimiter=",", header=header, comments="", fmt="%.17g")
 
 

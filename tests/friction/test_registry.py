@@ -62,10 +62,6 @@ def _axis_values(p, law):
 @pytest.mark.parametrize("name", LAWS)
 def test_every_sweep_axis_of_the_law_changes_the_kernel_rows_and_computes(name):
     law = _law(name)
-    if law.internal_names:  # no batched kernel integrates internal states yet: refused in one line
-        with pytest.raises(ValueError, match=f"^config: sweeps cannot run friction={name} yet: solver=.+ has no batched kernel$"):
-            parse_sweep({"friction": name, "t_end": 40.0, "grid": {"zeta": [0.05, 0.06]}})
-        return
     axes = [p for p in declared().values() if p.sweepable and (p.owner != "law" or p in law.parameters)]
     for p in axes:
         values = _axis_values(p, law)

@@ -12,6 +12,14 @@ F' < 0, feeds energy in: the negative-damping mechanism of friction-induced
 vibration).  det A = 1 > 0: no eigenvalue crosses zero, so there is no fold
 of equilibria either.
 
+A law with internal states z (LuGre, ...) adds them to the state: the fixed
+point is (X*, 0, z*) with z* where the states' rates vanish at V_r = V_b and
+X* the law's force there, and its stability is that of the Jacobian of the
+whole state, assembled from the law's exact derivatives (the stiff engine's,
+:func:`frictionflow.core.stiff_points.state_jacobian`): stable when every
+eigenvalue has a negative real part.  Stiff bristles (sigma0 |V_b| >> g)
+give back the threshold 2 zeta + F'(V_b) = 0 of the static law.
+
 This is the one definition: :func:`frictionflow.analyze`, the orbit
 continuation (:mod:`frictionflow.orbits.equilibria`) and the batched sweep
 kernels all use it, the values reported at the equilibrium through
@@ -28,8 +36,10 @@ import numpy as np
 
 from .. import quantities as Q
 from ..core import sections as sec
+from ..core import stiff_points
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
+from ..solvers.base import kernel_params
 from .power_flow import PowerFlow
 from .transmissibility import amplitude_of
 
@@ -44,24 +54,34 @@ class SlidingEquilibrium:
         X* = F(V_b), the displacement at which the spring balances the slip
         force (NaN where the law holds the mass instead).
     damping:
-        The effective damping 2 zeta + F'(V_b): > 0 stable, < 0 unstable.
+        The effective damping 2 zeta + F'(V_b): > 0 stable, < 0 unstable
+        (with internal states: of the steady-sliding force; the eigenvalues decide).
     eigenvalues:
-        The two eigenvalues of the slip vector field's Jacobian at X*.
+        The eigenvalues of the slip vector field's Jacobian at X*: two, or
+        with internal states one per state (X, X', z...).
     value:
         The parameter value it was computed at along a parameter
         (continuation), NaN otherwise.
+    internal:
+        The internal states z* at the equilibrium (empty for a static law).
+    matrix:
+        The whole state's Jacobian at (X*, 0, z*) for a law with internal
+        states, else None (the 2 x 2 :attr:`jacobian` follows from ``damping``).
     """
 
     x: float
     damping: float
-    eigenvalues: tuple[complex, complex]
+    eigenvalues: tuple[complex, ...]
     value: float = math.nan
+    internal: tuple[float, ...] = ()
+    matrix: np.ndarray | None = None
 
     @property
     def stability(self) -> str:
-        if self.damping > 0:
+        growth = -self.damping if self.matrix is None else max(l.real for l in self.eigenvalues)
+        if growth < 0:
             return "stable"
-        if self.damping < 0:
+        if growth > 0:
             return "unstable"
         return "neutral"
 
@@ -72,7 +92,9 @@ class SlidingEquilibrium:
 
     @property
     def jacobian(self) -> np.ndarray:
-        """A, the slip vector field's Jacobian at X* (trace A = -damping)."""
+        """A, the slip vector field's Jacobian at X* (trace A = -damping; with internal states :attr:`matrix`)."""
+        if self.matrix is not None:
+            return self.matrix.copy()
         return np.array([[0.0, 1.0], [-1.0, -self.damping]])
 
 
@@ -99,7 +121,23 @@ def sliding_equilibrium(model: BeltOscillator, friction: FrictionLaw, value: flo
     """
 
     c = 2.0 * model.zeta + friction.slip_slope(abs(model.vb))
+    if friction.internal_names:
+        return _with_internal_states(model, friction, c, value)
     return SlidingEquilibrium(x=friction.sliding_equilibrium(model.vb), damping=c, eigenvalues=eigenvalues(c), value=value)
+
+
+def _with_internal_states(model: BeltOscillator, friction: FrictionLaw, damping: float,
+                          value: float) -> SlidingEquilibrium:
+    """The fixed point (X*, 0, z*) of a law with internal states and the eigenvalues of the whole state's
+    Jacobian there (largest real part first)."""
+    vb = float(model.vb)
+    z = friction.steady_internal(vb)
+    x = float(friction.force(vb, z))
+    a = stiff_points.state_jacobian(kernel_params(model, friction), float(model.zeta), vb, 0.0,
+                                    np.concatenate([[x, 0.0], z]))
+    lam = sorted((complex(l) for l in np.linalg.eigvals(a)), key=lambda l: (-l.real, -l.imag))
+    return SlidingEquilibrium(x=x, damping=damping, eigenvalues=tuple(lam), value=value,
+                              internal=tuple(float(v) for v in z), matrix=a)
 
 
 def equilibrium_values(

@@ -78,6 +78,28 @@ def repeat_multiple(x: np.ndarray, v: np.ndarray, tol: float, min_periods: int,
                                   float(tol), int(min_periods), int(max_multiple))
 
 
+def internal_scaled(traj: Trajectory) -> np.ndarray:
+    """The internal states in the units of X: each over its ``internal_scale`` (the size at which it carries
+    F_s) times F_s, so that a section judges them with the tolerance of X."""
+    scale = np.asarray(traj.friction.internal_scale(), dtype=float)
+    return traj.internal / scale[:, None] * traj.friction.fs
+
+
+def state_repeat_multiple(cols: np.ndarray, tol: float, min_periods: int,
+                          max_multiple: int = MAX_MULTIPLE) -> tuple[int, int]:
+    """:func:`repeat_multiple` on the whole state: ``cols`` (one row per coordinate, one column per
+    section sample) repeats after m samples when every coordinate does."""
+    n = cols.shape[1]
+    for m in range(1, max_multiple + 1):
+        if n < (min_periods + 1) * m:
+            break
+        same = ~np.any(np.abs(cols[:, m:] - cols[:, :-m]) > tol, axis=0)  # P_{i+m} = P_i, i = 0 .. n-m-1 (as strobe's)
+        run = n - m if same.all() else n - m - 1 - int(np.flatnonzero(~same)[-1])
+        if run >= min_periods * m:
+            return m, run // m
+    return 0, 0
+
+
 def revisits(x: np.ndarray, v: np.ndarray, tol: float) -> bool:
     """Whether every point of the second half lies within ``tol`` of some point of the first half
     (:func:`frictionflow.core.strobe.revisits`)."""
@@ -127,7 +149,11 @@ def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: 
     tail = idx[len(idx) // 2:]
     xs, vs = traj.x[tail], traj.v[tail]
     scale = section_scale(xs, vs, traj)
-    m, reps = repeat_multiple(xs, vs, max(rtol, noise) * scale, min_periods)
+    if traj.internal is None:
+        m, reps = repeat_multiple(xs, vs, max(rtol, noise) * scale, min_periods)
+    else:  # the internal states are part of the state the section repeats
+        m, reps = state_repeat_multiple(np.vstack([xs, vs, internal_scaled(traj)[:, tail]]),
+                                        max(rtol, noise) * scale, min_periods)
     jitter = _step_jitter(traj, tail[0]) if not m else 0.0
     if jitter:
         m = jittered_multiple(xs, vs, jitter)

@@ -43,7 +43,7 @@ from ..core import sections as sec
 from ..solvers.registry import solver_classes, solver_named
 from ..trajectory import Trajectory
 from .equilibrium import sliding_equilibrium
-from .forced import classify_forced, largest_exponent
+from .forced import classify_forced, internal_scaled, largest_exponent
 
 KINDS = Q.KINDS
 HEADINGS = {sec.HEAD_NONE: None, sec.HEAD_EQUILIBRIUM: "equilibrium", sec.HEAD_PERIODIC: "periodic", sec.HEAD_GROWING: "growing"}
@@ -196,14 +196,35 @@ def classify_trajectory(traj: Trajectory, rtol: float = 1e-6, min_periods: int =
 
     Only the last :data:`~frictionflow.core.sections.MAX_RECORDS` records
     count, as in the batched kernels, so both paths give the same answer.
+    A law's internal states are part of the state the section compares
+    (:func:`internal_sections`).
     """
     t_tail = sec.tail_start(float(traj.t[0]), float(traj.t[-1]))
     rec, tail, fin = sec.records_from_samples(traj.t, traj.x, traj.v, traj.mode, traj.dwork, traj.zeta, t_tail)
     rec = np.ascontiguousarray(rec[-sec.MAX_RECORDS :])
     scale = sec.scale_of(rec, tail, traj.vb, traj.friction.fd)
     h = float(np.max(np.diff(traj.t))) if len(traj) > 1 else 0.0
-    cls = sec.classify(rec, tail, scale, rtol, min_periods, h, _fixed_step(traj.solver), section_noise(traj.solver) * scale)
+    judge = (scale, rtol, min_periods, h, _fixed_step(traj.solver), section_noise(traj.solver) * scale)
+    if traj.internal is None:
+        cls = sec.classify(rec, tail, *judge)
+    else:
+        zs, spread = internal_sections(traj, t_tail)
+        cls = sec.classify_state(rec, np.ascontiguousarray(zs[-sec.MAX_RECORDS :]), spread, tail, *judge)
     return cls, sec.window_summary(rec, tail, fin, cls, traj.friction.fd, traj.vb)
+
+
+def internal_sections(traj: Trajectory, t_tail: float) -> tuple[np.ndarray, float]:
+    """(the scaled internal states at each downward X' = 0 crossing, one row per section record; their
+    largest range over the samples from ``t_tail`` on) -- interpolated between samples as the records'
+    crossing time is (:func:`frictionflow.core.sections.records_from_samples`)."""
+    z = internal_scaled(traj)
+    v = traj.v
+    i = np.flatnonzero((v[:-1] > 0.0) & (v[1:] <= 0.0)) + 1
+    s = v[i - 1] / (v[i - 1] - v[i])
+    zs = (z[:, i - 1] + s * (z[:, i] - z[:, i - 1])).T
+    tail = z[:, traj.t >= t_tail]
+    spread = float(np.max(np.ptp(tail, axis=1))) if tail.size else 0.0
+    return zs, spread
 
 
 def _diverged(traj: Trajectory) -> SteadyState | None:
@@ -246,7 +267,7 @@ def steady_state(
     else:
         found = _terminal(traj) or _certified(traj)
     if found is None:
-        found = from_classification(*classify_trajectory(traj, rtol, min_periods))
+        found = _with_internal(traj, from_classification(*classify_trajectory(traj, rtol, min_periods)))
         found = replace(found, stability=_stability(traj, found))
     if window is None:
         return found
@@ -254,6 +275,16 @@ def steady_state(
     if not (traj.t[0] <= t0 < t1 <= traj.t[-1]):
         raise ValueError(f"window must satisfy {traj.t[0]:g} <= T0 < T1 <= {traj.t[-1]:g}, got {t0:g}:{t1:g}")
     return replace(found, window=(t0, t1), manual_window=True, stick_fraction=stick_fraction(traj, (t0, t1)))
+
+
+def _with_internal(traj: Trajectory, found: SteadyState) -> SteadyState:
+    """An equilibrium of a law with internal states: where they rest too (the run's last values) in
+    ``limit``; resting sliding, the decay rate of the whole state's linearisation (as a certified one's)."""
+    if traj.internal is None or found.kind != "equilibrium":
+        return found
+    limit = {**(found.limit or {}), **dict(zip(traj.internal_names, map(float, traj.internal[:, -1])))}
+    rate = None if found.stick_fraction else sliding_equilibrium(traj.model, traj.friction).decay_rate
+    return replace(found, limit=limit, decay_rate=rate)
 
 
 def _forced(traj: Trajectory, rtol: float, min_periods: int) -> SteadyState:

@@ -322,9 +322,20 @@ def _aitken(a0, a1, a2):
     return a2 - (a2 - a1) ** 2 / den
 
 
+@njit(cache=True)
+def state_repeats(zs, tol):
+    """How far back every column of ``zs`` (section values of further states, oldest first) repeats its
+    last value within ``tol``: the fewest over the columns (``len(zs) - 1`` when there are none)."""
+    m = zs.shape[0] - 1
+    for c in range(zs.shape[1]):
+        m = min(m, _repeat_count(zs[:, c].copy(), tol))
+    return m
+
+
 @njit(cache=True, forceinline=True)
-def _periodic_strictly(out, rec, tol, rtol, min_periods, h, noise):
-    """Maxima, minima and periods repeat to tol (:func:`classify`): fill ``out`` and return True, else False."""
+def _periodic_strictly(out, rec, zs, tol, rtol, min_periods, h, noise):
+    """Maxima, minima, periods and the further states ``zs`` repeat to tol (:func:`classify_state`): fill
+    ``out`` and return True, else False."""
     n = rec.shape[0]
     if n < min_periods + 1:
         return False
@@ -332,7 +343,7 @@ def _periodic_strictly(out, rec, tol, rtol, min_periods, h, noise):
     amp = rec[n - 1, X] - rec[n - 1, LO]
     tol_c = max(rtol * amp, noise) if amp > 0.0 else tol
     m_x, m_p = repeat_counts(rec[:, X].copy(), rec[:, T].copy(), tol_c, rtol, h * h)
-    m = min(m_x, m_p + 1)
+    m = min(m_x, m_p + 1, state_repeats(zs, tol_c))
     if (m >= min_periods and not lo_nan and lo_max - lo_min <= tol_c
             and not _monotone_amplitude(rec, n - 1 - min_periods, 2.0 * noise)):
         out[C_KIND] = PERIODIC
@@ -453,9 +464,20 @@ def _not_settled(out, rec, tol):
 
 @njit(cache=True)
 def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
-    """Periodic / equilibrium / not settled from section records.
+    """Periodic / equilibrium / not settled from section records (:func:`classify_state` with no further states)."""
+    return classify_state(rec, np.empty((rec.shape[0], 0)), 0.0, tail, scale, rtol, min_periods, h, fixed_step, noise)
 
-    ``rec`` holds the run's records in time order.  Repetition is judged
+
+@njit(cache=True)
+def classify_state(rec, zs, z_spread, tail, scale, rtol, min_periods, h, fixed_step, noise):
+    """Periodic / equilibrium / not settled from section records and the state beyond (X, X').
+
+    ``rec`` holds the run's records in time order; ``zs`` (one row per
+    record) the further states at each crossing (a law's internal states,
+    in the units of X: scaled so that 1 carries the force 1), and
+    ``z_spread`` their largest range over the tail.  A periodic orbit
+    repeats in the whole state on the section, an equilibrium holds it all
+    still.  Repetition is judged
     relative to the oscillation's own amplitude (``rtol`` times it), never
     finer than ``noise``, the solver's error in a section value; an
     oscillation whose amplitude shrinks or grows monotonically by more than
@@ -471,16 +493,16 @@ def classify(rec, tail, scale, rtol, min_periods, h, fixed_step, noise):
     out[C_NPER] = 0.0
     out[C_HEAD] = HEAD_NONE
     tol = rtol * scale
-    # Equilibrium: nothing moves over the tail -- X and X' stay put, and X' stays at 0 (a tail too short for X
-    # to move, of a mass carried at V_b, is not one)
+    # Equilibrium: nothing moves over the tail -- X, X' and the further states stay put, and X' stays at 0 (a
+    # tail too short for X to move, of a mass carried at V_b, is not one)
     if (tail[A_XMAX] - tail[A_XMIN] <= tol and tail[A_VMAX] - tail[A_VMIN] <= tol
-            and max(abs(tail[A_VMAX]), abs(tail[A_VMIN])) <= tol):
+            and max(abs(tail[A_VMAX]), abs(tail[A_VMIN])) <= tol and z_spread <= tol):
         out[C_KIND] = EQUILIBRIUM
         out[C_START] = -1
         out[C_END] = -1
         out[C_LIMX] = 0.5 * (tail[A_XMAX] + tail[A_XMIN])
         return out
-    if _periodic_strictly(out, rec, tol, rtol, min_periods, h, noise):
+    if _periodic_strictly(out, rec, zs, tol, rtol, min_periods, h, noise):
         return out
     if fixed_step and _periodic_jitter(out, rec, min_periods):
         return out

@@ -13,7 +13,7 @@ from .lugre import SIGMA0
 from .registry import register
 from .stateful import StatefulLaw
 
-ALPHA = positive_real("alpha", "alpha", "Dahl exponent (stateful laws)", "law", 1.0, upper=100.0)
+ALPHA = positive_real("alpha", "alpha", "Dahl exponent (stateful laws)", "law", 1.0, upper=100.0, sweepable=True)
 
 
 @register

@@ -14,7 +14,7 @@ from .registry import register
 from .stribeck import DELTA, VS
 
 Z_BA = positive_real("z_ba", "z_ba", "break-away deflection (elasto-plastic law)", "law", 1e-6, upper=BRISTLE_MAX,
-                    dimension="length")
+                    dimension="length", sweepable=True)
 
 
 @register

@@ -16,11 +16,11 @@ from .stribeck import DELTA, VS
 #: the bristles' stiffness and damping reach far beyond the oscillator's scale (sigma0 ~ 1e5 k in the classic example)
 BRISTLE_MAX = 1e12
 SIGMA0 = positive_real("sigma0", "sigma_0", "bristle stiffness (stateful laws)", "law", 1e4, upper=BRISTLE_MAX,
-                     dimension="stiffness")
+                       dimension="stiffness", sweepable=True)
 SIGMA1 = nonnegative_real("sigma1", "sigma_1", "bristle damping (stateful laws)", "law", 100.0, upper=BRISTLE_MAX,
-                        dimension="damping")
+                          dimension="damping", sweepable=True)
 SIGMA2 = nonnegative_real("sigma2", "sigma_2", "viscous friction (stateful laws)", "law", 0.0, upper=MODEL_MAX,
-                        dimension="damping")
+                          dimension="damping", sweepable=True)
 
 
 @register

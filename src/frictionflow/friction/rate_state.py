@@ -15,15 +15,16 @@ STATE_LAWS = ("aging", "slip")
 #: e^(mu0 / a) must stay a float: the contact's stiffness at rest is N a e^(mu0 / a) / (2 V_0)
 EXP_MAX = 700.0
 
-NORMAL = positive_real("normal", "N", "normal load (rate-and-state law)", "law", 1.0, upper=MODEL_MAX, dimension="force")
+NORMAL = positive_real("normal", "N", "normal load (rate-and-state law)", "law", 1.0, upper=MODEL_MAX, dimension="force",
+                    sweepable=True)
 MU0 = nonnegative_real("mu0", "mu_0", "friction coefficient sliding steadily at V_0 (rate-and-state law)", "law", 0.6,
-                       upper=100.0)
-RS_A = positive_real("a", "a", "direct-effect coefficient (rate-and-state law)", "law", 0.01, upper=100.0)
-RS_B = nonnegative_real("b", "b", "evolution-effect coefficient (rate-and-state law)", "law", 0.015, upper=100.0)
+                       upper=100.0, sweepable=True)
+RS_A = positive_real("a", "a", "direct-effect coefficient (rate-and-state law)", "law", 0.01, upper=100.0, sweepable=True)
+RS_B = nonnegative_real("b", "b", "evolution-effect coefficient (rate-and-state law)", "law", 0.015, upper=100.0, sweepable=True)
 DC = positive_real("dc", "D_c", "characteristic slip distance (rate-and-state law)", "law", 0.01, upper=MODEL_MAX,
-                   dimension="length")
+                   dimension="length", sweepable=True)
 VREF = positive_real("vref", "V_0", "reference velocity (rate-and-state law)", "law", 0.01, upper=MODEL_MAX,
-                     dimension="velocity")
+                     dimension="velocity", sweepable=True)
 STATE_LAW = Param("state_law", "", "evolution of the state variable: aging (Dieterich) or slip (Ruina)", "law",
                   "aging", kind="choice", choices=STATE_LAWS)
 
@@ -152,6 +153,11 @@ class RateState(StatefulLaw):
         """Steady sliding at the belt speed: psi = ln(V_0 / |V_b|); psi = 0 (theta = D_c / V_0) for a belt at rest
         or none given."""
         return np.array([0.0 if not vb else float(self.steady_state(vb))])
+
+    def steady_internal(self, vr: float) -> np.ndarray:
+        """psi* = ln(V_0 / |V_r|) (theta* = D_c / |V_r|), where both state laws' rates vanish: the closed form
+        in place of the base class's Newton iteration."""
+        return self.initial_state(vr)
 
     def internal_scale(self) -> np.ndarray:
         """psi moves F by N b per unit (N a through the asinh at most): F_d / (N max(a, b)) carries a force of F_d."""

@@ -19,7 +19,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..core import layout
+from ..core import layout, stiff_points
 from .base import FrictionLaw
 
 #: below this fraction of the law's velocity scale (``speed_scale``) the mass counts as sticking (the mode
@@ -67,6 +67,12 @@ class StatefulLaw(FrictionLaw):
     def internal_scale(self) -> np.ndarray:
         """Each state's size when it carries a force of order F_s: the absolute scale of its error control."""
         raise NotImplementedError
+
+    def steady_internal(self, vr: float) -> np.ndarray:
+        """The internal states sliding steadily at ``vr`` (every rate zero), from the law's compiled rates
+        and their exact derivatives (Newton from the states that carry F_s in the direction of ``vr``)."""
+        guess = np.sign(float(vr)) * np.asarray(self.internal_scale(), dtype=float)
+        return stiff_points.steady_internal(self.kernel_params(), float(vr), guess)
 
     def speed_scale(self) -> float:
         """The velocity on which the law's force changes (its Stribeck velocity)."""

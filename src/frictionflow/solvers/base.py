@@ -103,7 +103,8 @@ class Solver(ABC):
         Points per sweep chunk (about 0.2 s of work on a core); see :meth:`chunk_points`.
     batched:
         The batched kernel of :mod:`frictionflow.core.batch` sweeps run unforced points through
-        (:meth:`run_points`), or None.
+        (:meth:`run_points`), or None: a sweep then takes only laws with internal states, each point
+        one ``simulate`` and ``analyze`` on numba's threads.
     batched_forced:
         The batched kernel forced sweep points run through (:meth:`run_forced_points`), or None:
         they then run one ``simulate`` and ``analyze`` each.

@@ -9,6 +9,7 @@ import numpy as np
 from .. import _validate as check
 from .._progress import progress_bar
 from ..core import stiff as kernel
+from ..core import stiff_points
 from ..friction.base import FrictionLaw
 from ..parameters import MODEL_MAX, Param
 from ..params import BeltOscillator
@@ -98,7 +99,8 @@ class Stiff(Solver):
         while True:
             check_memory(cap, max_memory, lambda: self.sized(t_end))  # a sample: about the size of the others' 
             t, y, w = np.empty(cap), np.empty((len(y0), cap)), np.empty((cap, kernel.N_CHANNELS))
-            result = kernel.run(q, model.zeta, model.vb, y0, float(t_end), tol, steps, t, y, w)
+            # the kernel with the GIL released: a sweep runs its points on threads through here
+            result = stiff_points.run_released(q, model.zeta, model.vb, y0, float(t_end), tol, steps, t, y, w)
             if result[1] != kernel.FULL:
                 return result, (t, y, w)
             cap *= 4

@@ -14,6 +14,7 @@ from .. import quantities as Q
 from ..analysis import analyze
 from ..core import batch
 from ..core import layout as kf
+from ..core.threads import over_points
 from ..friction.base import FrictionLaw
 from ..parameters import with_defaults
 from ..params import BeltOscillator
@@ -52,6 +53,8 @@ def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[
     run = cfg.run
     model, law, solver = run.build()
     shape = tuple(s.stop - s.start for s in sl)
+    if law.internal_names:
+        return _stateful_points(cfg, law, solver, pts).T.reshape((batch.NR, *shape))
     if model.forced or any(name in cfg.axes for name in FORCING):
         return _forced_points(cfg, law, solver, pts).T.reshape((batch.NR, *shape))
     p = _friction_rows(cfg, law, pts)
@@ -91,6 +94,27 @@ def _forced_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np
         out[j] = rows
         facade[j] = left
     _facade_points(cfg, law, solver, pts, np.flatnonzero(facade), out)
+    return out
+
+
+#: pieces per thread for stateful points: a few each (a point is a whole stiff run, milliseconds or more)
+STATEFUL_PIECES = 4
+
+
+def _stateful_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np.ndarray]) -> np.ndarray:
+    """Rows of the swept quantities for the points of a law with internal states, each ``analyze(simulate(...))``.
+
+    Each point is a run of the stiff engine (forced or not) and its
+    analysis; the points spread over numba's threads
+    (:func:`~frictionflow.core.threads.over_points`): the engine releases the
+    GIL (:func:`frictionflow.core.stiff_points.run_released`, the kernel
+    ``simulate`` runs), so the runs proceed at once while the Python parts
+    take turns.
+    """
+    n = len(pts["zeta"])
+    out = np.empty((n, batch.NR))
+    over_points(lambda start, stop: _facade_points(cfg, law, solver, pts, np.arange(start, stop), out), n,
+                per_thread=STATEFUL_PIECES)
     return out
 
 

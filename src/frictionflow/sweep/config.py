@@ -295,8 +295,8 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_poin
             fixed[key] = a
     run = RunConfig.from_mapping({**values, **fixed}, source=source)
     _, law, solver = run.build()
-    if solver.batched is None:  # a law only a solver without a batched kernel runs (internal states)
-        raise ValueError(f"{source}: sweeps cannot run friction={law.name} yet: solver={solver.name} has no batched kernel")
+    if solver.batched is None and not law.internal_names:  # (internal states: each point a run on the threads)
+        raise ValueError(f"{source}: sweeps cannot run friction={law.name} with solver={solver.name}: it has no batched kernel")
     if not axes:
         raise ValueError(f"{source}: [grid] fixes every parameter; give at least one list or range to sweep")
     points = math.prod(len(a) for a in axes.values())

@@ -55,15 +55,16 @@ def sweep_estimate(cfg: SweepConfig, out: str | Path | None = None, name: str = 
     its results fill.
 
     A bound: a point stops once its steady state is settled.  A forced
-    point is costed as a single run (the batched kernels and the façade
-    alike); the store holds a float per variable and point.  A model sweep
+    point, and a point of a law with internal states, is costed as a single
+    run (the batched kernels and the façade alike); the store holds a float per variable and point.  A model sweep
     is costed from a probe run (:func:`~frictionflow.sweep.model.model_sweep_estimate`).
     """
     if isinstance(cfg, ModelSweepConfig):
         return model_sweep_estimate(cfg, out, name)
     model, law, solver = cfg.run.build()
     forced = model.forced or "fex" in cfg.axes or "fex" in cfg.sample
-    point = solver.cost(model, law, cfg.run.t_end) if forced else solver.point_cost(model, law, cfg.run.t_end)
+    whole_run = forced or bool(law.internal_names)  # a law with internal states: each point a whole stiff run
+    point = solver.cost(model, law, cfg.run.t_end) if whole_run else solver.point_cost(model, law, cfg.run.t_end)
     work = Estimate(float(cfg.size), f"points of {point.work:.3g} {point.unit}", point.seconds * cfg.size,
                     cores=os.cpu_count() or 1)
     return work.writing(out, float(cfg.size) * 8 * len(VARIABLES), name)
