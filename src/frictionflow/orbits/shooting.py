@@ -29,6 +29,7 @@ from ..solvers.base import Solver
 from ..solvers.registry import auto_solver
 from ..trajectory import Trajectory
 from . import floquet
+from .errors import ShootingError
 from .flow import Flow, flow_cost, make_flow
 from .hybrid import MAX_TIME, Segment
 from .measures import OrbitMeasures, measure, one_period
@@ -38,10 +39,6 @@ H_TOL = 1e-3
 #: Newton gives up after this many step halvings, or this many damped steps in a row
 _MAX_HALVINGS = 12
 _MAX_DAMPED = 6
-
-
-class ShootingError(RuntimeError):
-    """Newton shooting did not find a periodic orbit from the given start."""
 
 
 @dataclass(frozen=True, repr=False)
