@@ -33,6 +33,7 @@ from .errors import ShootingError
 from .flow import Flow, flow_cost, make_flow
 from .hybrid import MAX_TIME, Segment
 from .measures import OrbitMeasures, measure, one_period
+from .stateful import StatefulOrbit, find_stateful_orbit
 
 #: a converged fixed point must also have |G / (x - X*)| below this (see :func:`newton`)
 H_TOL = 1e-3
@@ -323,7 +324,7 @@ def find_orbit(
     tol: float | None = None,
     max_iter: int = 40,
     solver: Solver | None = None,
-) -> PeriodicOrbit:
+) -> PeriodicOrbit | StatefulOrbit:
     """Find a periodic orbit from a start state, after an optional transient.
 
     Parameters
@@ -348,12 +349,18 @@ def find_orbit(
 
     Notes
     -----
+    A law with internal state (LuGre, Dahl, elasto-plastic, ...) is shot on
+    its whole state by :func:`~.stateful.find_stateful_orbit`, which returns a
+    :class:`~.stateful.StatefulOrbit`.
     Inside :func:`frictionflow.estimate.limited` the transient is estimated
     before it runs and the shooting once the transient has found its period
     (:func:`shooting_estimate` over :func:`section_span`), each refused
     (ValueError) above the limits; without a transient, the shooting is
     estimated before any work, each flow bounded by :data:`~.hybrid.MAX_TIME`.
     """
+    if friction.stick_rule == "state":  # internal states (LuGre, ...): Newton on the whole state
+        return find_stateful_orbit(model, friction, x0=x0, v0=v0, transient=transient, returns=returns, tol=tol,
+                                   max_iter=max_iter, solver=solver)
     x = friction.fd if x0 is None else float(x0)
     v = model.vb if v0 is None else float(v0)
     if transient < 0 or not math.isfinite(transient):

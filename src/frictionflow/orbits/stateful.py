@@ -279,3 +279,20 @@ def orbit_of(smap: ShootingMap, found: Newton, solver: Stiff) -> StatefulOrbit:
     if not smap.forced and orbit.amplitude < 1e-9 * smap.scale[0]:
         raise ShootingError(f"shooting converged onto the sliding equilibrium X={y0[0]:.10g}: no periodic orbit here")
     return orbit
+
+
+def fd_state_monodromy(orbit: StatefulOrbit, solver: Stiff | None = None, eps: float = 1e-6) -> np.ndarray:
+    """The monodromy by central differences of one-period runs of the stiff solver from the perturbed state
+    (step ``eps`` of each component's scale): a check on the variational equations."""
+    solver = solver if isinstance(solver, Stiff) else Stiff(rtol=1e-12, atol=1e-14)
+    law, model = orbit.friction, orbit.model
+    scale = np.concatenate([[max(law.fs, abs(model.vb), 1e-12)] * 2, law.internal_scale()])
+    cols = []
+    for j, size in enumerate(scale):
+        ends = []
+        for sign in (1.0, -1.0):
+            y = np.array(orbit.state, dtype=float)
+            y[j] += sign * eps * size
+            ends.append(_end_state(solver.solve_state(model, law, y, orbit.period)))
+        cols.append((ends[0] - ends[1]) / (2.0 * eps * size))
+    return np.column_stack(cols)
