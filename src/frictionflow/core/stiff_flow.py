@@ -103,13 +103,14 @@ def _phi_rhs(jac, phii, kp, st, h, dj, ky, phi, col, out):
 
 
 @njit(cache=True)
-def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tol, ptol, size, ws, vs):
+def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
     """One Rodas4 step of (y, Phi) of length ``h``; returns the error norm (rms over y and Phi; inf if it failed).
 
-    ``tol``: the state's absolute scales then rtol (as :func:`.stiff.rodas_step`); ``ptol``: Phi's absolute
-    scales (n x n); ``size``: the state's scales for the differences; ``ws``: :func:`.stiff.scratch`;
+    ``tols``: (the state's absolute scales then rtol (as :func:`.stiff.rodas_step`), Phi's absolute scales
+    (n x n), the state's scales for the differences); ``ws``: :func:`.stiff.scratch`;
     ``vs``: (Phi's stage increments (6, n, n), stage Phi, dJ/dy (n, n, n), a column, J at the start)."""
     n = len(y)
+    tol, ptol, size = tols
     dy, dw, jac, jw, a, piv, k, kw, yi, d = ws
     kp, phii, dj, col, jn = vs
     coupling(q, zeta, vb, t, y, size, ws, dj, jn)
@@ -164,7 +165,7 @@ def _finish(y, phi, yi, phii, k, kp, ynew, phinew, tol, ptol):
 
 
 @njit(cache=True)
-def to_kink(q, zeta, vb, t, y, phi, h, ynew, phinew, tol, ptol, size, ws, vs):
+def to_kink(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
     """The step from (t, y, Phi) that ends where V_r = 0 inside the accepted step of length ``h`` (V_r changes
     sign over it): its length h' by Illinois on V_r(t + h'), to the step length at rounding, on the far side
     (V_r of the new sign, or 0).  Phi' jumps there with J: a step across it would be first order.
@@ -174,10 +175,10 @@ def to_kink(q, zeta, vb, t, y, phi, h, ynew, phinew, tol, ptol, size, ws, vs):
     x_last = h
     while b.status == RUNNING:
         x_last = b.x
-        err = variational_step(q, zeta, vb, t, y, phi, x_last, ynew, phinew, tol, ptol, size, ws, vs)
+        err = variational_step(q, zeta, vb, t, y, phi, x_last, ynew, phinew, tols, ws, vs)
         b = update(b, x_last, vb - ynew[1] if err < np.inf else vb - y[1])
     if x_last != b.hi:  # the last point evaluated was not the end kept: the step to that end
-        err = variational_step(q, zeta, vb, t, y, phi, b.hi, ynew, phinew, tol, ptol, size, ws, vs)
+        err = variational_step(q, zeta, vb, t, y, phi, b.hi, ynew, phinew, tols, ws, vs)
     return b.hi, err
 
 
@@ -194,6 +195,7 @@ def flow_variational(q, zeta, vb, y0, t0, duration, tol, ptol, size, steps):
     ws = scratch(n)
     vs = (np.zeros((6, n, n)), np.empty((n, n)), np.empty((n, n, n)), np.empty(n), np.empty((n, n)))
     t, t_end = t0, t0 + duration
+    tols = (tol, ptol, size)
     taken, rejected = 0, False
     while t < t_end:
         if taken >= max_steps:
@@ -203,11 +205,11 @@ def flow_variational(q, zeta, vb, y0, t0, duration, tol, ptol, size, steps):
         h = min(h, h_max)
         last = t + h >= t_end - 1e-14 * max(1.0, abs(t_end))
         hh = t_end - t if last else h
-        err = variational_step(q, zeta, vb, t, y, phi, hh, ynew, phinew, tol, ptol, size, ws, vs)
+        err = variational_step(q, zeta, vb, t, y, phi, hh, ynew, phinew, tols, ws, vs)
         taken += 1
         adv = hh
         if err < np.inf and (vb - y[1]) * (vb - ynew[1]) < 0.0:  # V_r changes sign: J jumps there, a step ends on it
-            adv, err = to_kink(q, zeta, vb, t, y, phi, hh, ynew, phinew, tol, ptol, size, ws, vs)
+            adv, err = to_kink(q, zeta, vb, t, y, phi, hh, ynew, phinew, tols, ws, vs)
             last = last and adv == hh
         fac = 0.2 if err == np.inf else min(6.0, max(0.2, 0.9 * err ** -0.25))
         if err > 1.0:
