@@ -15,7 +15,7 @@ from scipy.optimize import brentq
 from frictionflow import BeltOscillator, simulate
 from frictionflow.cli import main
 from frictionflow.friction import Coulomb, Dahl, ElastoPlastic, LuGre
-from frictionflow.orbits import ShootingError, find_orbit
+from frictionflow.orbits import ShootingError, continuation, find_orbit
 from frictionflow.orbits.flow_stiff import StiffFlow
 from frictionflow.orbits.stateful import ShootingMap, StatefulOrbit, find_stateful_orbit, newton, orbit_of
 from frictionflow.orbits.stateful_cycles import StateCycleProblem, branch_from_hopf, branch_from_orbit
@@ -263,3 +263,28 @@ def test_api_refuses_bad_input_with_one_line():
         assert "\n" not in str(e.value)
     with pytest.raises(ShootingError, match="settled"):  # overdamped: no cycle
         find_stateful_orbit(BeltOscillator(zeta=2.0, vb=0.01), law, transient=30.0)
+
+
+def test_continuation_of_a_stateful_law_finds_the_hopf_point_and_its_branch(capsys):
+    lam_h = max(hopf_zeta(SOFT, 0.05))
+    result = continuation(SOFT_MODEL, LuGre(**SOFT), "zeta", 0.8, 1.5, n_equilibria=15, transient=150.0, max_points=40)
+    hopf = [b for b in result.bifurcations if b.type == "hopf"]
+    assert len(hopf) == 1 and hopf[0].value == pytest.approx(lam_h, rel=1e-9)
+    eq, cycles = result.branches[0], [b for b in result.branches if b.kind == "periodic"]
+    assert {p.stability for p in eq.points if p.value < lam_h - 1e-6} == {"unstable"}
+    assert {p.stability for p in eq.points if p.value > lam_h + 1e-6} == {"stable"}
+    assert "neutral" in {p.stability for p in eq.points}  # the Hopf point itself, in the branch
+    assert len(cycles) == 1 and cycles[0].seed.startswith("hopf")  # the attractor at zeta = 0.8 is on it
+    values = [p.value for p in cycles[0].points]
+    assert min(values) == pytest.approx(0.8) and max(values) < lam_h
+    assert all(p.stable and p.stick_fraction == 0.0 for p in cycles[0].points)
+    # every point's power flow: the belt's input at the vibration's average over the period
+    assert all(p.measures.averages()["P_belt"] > 0.0 for p in cycles[0].points)
+    args = ["continue", "--friction", "lugre", *[f"--{k}={v}" for k, v in SOFT.items()], "--zeta", "1", "--vb", "0.05",
+            "--vary", "zeta=0.8:1.5:15", "--t-end", "150", "--max-points", "40", "--json"]
+    assert main(args) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert [b["type"] for b in d["bifurcations"]] == ["hopf"]
+    assert main([*args[:-1], "--overlay", "3"]) == 2
+    err = capsys.readouterr().err
+    assert "sweep 0 for friction=lugre" in err and err.count("\n") == 1

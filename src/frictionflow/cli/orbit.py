@@ -215,6 +215,9 @@ def _print_stateful_orbit(report: dict[str, Any], caption: str) -> None:
         table.add_row(f"Floquet multiplier {i + 1}", f"{re:.6g}{im:+.2g}j")
     table.add_row("stick fraction", f"{report['stick_fraction']:.6g}")
     table.add_row("amplitude (X_max-X_min)/2", f"{report['amplitude']:.6g}")
+    for k, v in report["averages"].items():
+        table.add_row(k, "n/a" if v is None else f"{v:.6e}")
+    table.add_row("TR_B", _fmt(report["TR_B"]))
     for k, v in report["interface_balance"].items():
         table.add_row(f"belt work: {k}", f"{v:.6e}")
     if "fd_deviation" in report:

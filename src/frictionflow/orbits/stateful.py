@@ -33,6 +33,7 @@ from ..trajectory import Trajectory
 from . import floquet
 from .errors import ShootingError
 from .flow_stiff import StiffFlow, check_stateful
+from .measures import OrbitMeasures, measures_of
 
 #: Newton's default tolerance on the residual, relative to each component's scale
 STATE_TOL = 1e-9
@@ -106,10 +107,14 @@ class StatefulOrbit(Summarized):
         return float(0.5 * (np.max(x) - np.min(x)))
 
     @property
+    def measures(self) -> OrbitMeasures:
+        """Averages over the period, TR_B and the extremes of X and X' (of :attr:`trajectory`)."""
+        return measures_of(self.trajectory)
+
+    @property
     def stick_fraction(self) -> float:
         """The fraction of the period the law counts as stuck (``mode_of``: |V_r| below its creep speed)."""
-        t, mode = self.trajectory.t, self.trajectory.mode
-        return float(np.sum(np.diff(t)[mode[:-1] == 0]) / self.period)
+        return stick_fraction(self.trajectory)
 
     def _summary(self) -> tuple[str, list[Row]]:
         names = ("X", "X'", *self.friction.internal_names)
@@ -139,9 +144,17 @@ class StatefulOrbit(Summarized):
             "stick_fraction": self.stick_fraction,
             "amplitude": self.amplitude,
             "interface_balance": bal._asdict(),
+            "averages": self.measures.averages(),
+            "TR_B": self.measures.TR_B,
             "monodromy": self.monodromy,
             "newton": {"iterations": self.iterations, "residual": self.residual},
         })
+
+
+def stick_fraction(traj: Trajectory) -> float:
+    """The fraction of ``traj``'s time whose samples the law counts as stuck (mode 0 at a step's start)."""
+    t, mode = traj.t, traj.mode
+    return float(np.sum(np.diff(t)[mode[:-1] == 0]) / (t[-1] - t[0]))
 
 
 class Newton(NamedTuple):
