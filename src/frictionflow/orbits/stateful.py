@@ -42,7 +42,7 @@ GUESS_SPAN = 60.0
 
 
 @dataclass(frozen=True, repr=False)
-class StatefulOrbit(Summarized):
+class StatefulOrbit(floquet.MultiplierStability, Summarized):
     """A periodic orbit on the whole state (X, X', z ...), its Floquet multipliers and one period of it.
 
     Attributes
@@ -80,25 +80,6 @@ class StatefulOrbit(Summarized):
     def multipliers(self) -> np.ndarray:
         """All Floquet multipliers, largest modulus first (the trivial 1 included when unforced)."""
         return floquet.multipliers(self.monodromy)
-
-    @property
-    def nontrivial(self) -> np.ndarray:
-        """The multipliers without the trivial one (the one nearest 1) when unforced."""
-        mu = self.multipliers
-        return np.delete(mu, int(np.argmin(np.abs(mu - 1.0)))) if self.autonomous else mu
-
-    @property
-    def multiplier(self) -> complex:
-        """The nontrivial multiplier of largest modulus: it decides stability."""
-        return complex(self.nontrivial[0])
-
-    @property
-    def stability(self) -> str:
-        return floquet.classify(self.multiplier)
-
-    @property
-    def stable(self) -> bool:
-        return self.stability == "stable"
 
     @property
     def amplitude(self) -> float:

@@ -22,6 +22,7 @@ import numpy as np
 from .._lazy import lazy_module
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
+from .equilibria import equilibrium_branch
 from .flow_stiff import StiffFlow
 from .parameters import with_param
 
@@ -89,13 +90,8 @@ def state_equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = ma
 
 
 def state_equilibrium_branch(model: BeltOscillator, law: FrictionLaw, param: str, values: np.ndarray) -> list[StateEquilibrium]:
-    """The equilibrium at each value of ``param`` (values without one are skipped)."""
-    out = []
-    for lam in values:
-        eq = state_equilibrium(*with_param(model, law, param, float(lam)), float(lam))
-        if eq is not None:
-            out.append(eq)
-    return out
+    """Steady sliding at each value of ``param`` (values without it are skipped)."""
+    return equilibrium_branch(model, law, param, values, at=state_equilibrium)
 
 
 def state_hopf_points(model: BeltOscillator, law: FrictionLaw, param: str, values: np.ndarray) -> list[float]:
