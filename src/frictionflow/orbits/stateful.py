@@ -233,8 +233,23 @@ def find_stateful_orbit(model: BeltOscillator, friction: FrictionLaw, *, x0: flo
                         tol: float | None = None, max_iter: int = 30, solver: Stiff | None = None) -> StatefulOrbit:
     """A periodic orbit of a law with internal state, from a run of ``transient`` (0: straight from the start).
 
-    Parameters are those of :func:`~.shooting.find_orbit`; ``returns``: forcing periods per period (forced),
-    section crossings per period (unforced).  ``solver``: the stiff solver of the runs (its tolerances).
+    Parameters
+    ----------
+    model, friction:
+        The oscillator (unforced or forced, a constant belt) and a law with internal state.
+    x0, v0:
+        Start state (default X = F_d, X' = V_b; the internal states relaxed).
+    transient:
+        First simulate this long (> 0: towards an attractor; 0: the first section crossings of a run of
+        :data:`GUESS_SPAN` give the guess).
+    returns:
+        Section crossings per period (unforced) or forcing periods per period (forced), in [1, 64].
+    tol:
+        Newton tolerance on the return's miss, relative to each state's scale (default :data:`STATE_TOL`).
+    max_iter:
+        Newton iterations before giving up (:class:`~.errors.ShootingError`).
+    solver:
+        The stiff solver of the runs (default ``Stiff(rtol=1e-10, atol=1e-12)``); its rtol is the flow's.
     """
     check_stateful(model, friction)
     if not (isinstance(returns, int) and 1 <= returns <= 64):

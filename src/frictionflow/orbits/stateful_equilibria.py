@@ -64,7 +64,15 @@ class StateEquilibrium:
 
 
 def state_equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = math.nan) -> StateEquilibrium | None:
-    """Steady sliding of (model, law), or None where there is none (V_b = 0, forced, or the states do not rest)."""
+    """Steady sliding of (model, law), or None where there is none (V_b = 0, forced, or the states do not rest).
+
+    Parameters
+    ----------
+    model, law:
+        The oscillator and a law with internal state.
+    value:
+        The continued parameter's value, kept on the result.
+    """
     if model.vb == 0.0 or model.forced:
         return None
     flow = StiffFlow(model, law)
@@ -96,7 +104,17 @@ def state_equilibrium_branch(model: BeltOscillator, law: FrictionLaw, param: str
 
 def state_hopf_points(model: BeltOscillator, law: FrictionLaw, param: str, values: np.ndarray) -> list[float]:
     """Parameter values in the span of ``values`` where steady sliding has a Hopf point, refined by brentq on
-    :attr:`StateEquilibrium.hopf_test` (a sign change with a complex pair on the axis)."""
+    :attr:`StateEquilibrium.hopf_test` (a sign change with a complex pair on the axis).
+
+    Parameters
+    ----------
+    model, law:
+        The oscillator and a law with internal state at the other parameters' values.
+    param:
+        The parameter varied (zeta, vb or one of the law's).
+    values:
+        The grid the test is evaluated on (a Hopf point between two of its values is found).
+    """
 
     def test(lam: float) -> float:
         eq = state_equilibrium(*with_param(model, law, param, lam), lam)
