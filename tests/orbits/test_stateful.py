@@ -17,7 +17,8 @@ from frictionflow.cli import main
 from frictionflow.friction import Coulomb, Dahl, ElastoPlastic, LuGre
 from frictionflow.orbits import ShootingError, continuation, find_orbit
 from frictionflow.orbits.flow_stiff import StiffFlow
-from frictionflow.orbits.stateful import ShootingMap, StatefulOrbit, find_stateful_orbit, newton, orbit_of
+from frictionflow.orbits.stateful import (ShootingMap, StatefulOrbit, fd_state_monodromy, find_stateful_orbit, newton,
+                                          orbit_of)
 from frictionflow.orbits.stateful_cycles import StateCycleProblem, branch_from_hopf, branch_from_orbit
 from frictionflow.orbits.stateful_equilibria import state_equilibrium, state_hopf_points
 from frictionflow.orbits.tracing import StepControl
@@ -288,3 +289,17 @@ def test_continuation_of_a_stateful_law_finds_the_hopf_point_and_its_branch(caps
     assert main([*args[:-1], "--overlay", "3"]) == 2
     err = capsys.readouterr().err
     assert "sweep 0 for friction=lugre" in err and err.count("\n") == 1
+
+
+def test_the_shooting_is_generic_over_stateful_laws_elastoplastic():
+    law = ElastoPlastic(fd=0.02, fs=0.04, vs=0.01, sigma0=1e4, sigma1=100.0, z_ba=1e-6)
+    orbit = find_orbit(STICK_MODEL, law, transient=60.0)
+    assert isinstance(orbit, StatefulOrbit) and orbit.stick_fraction > 0.2
+    # the variational monodromy against central differences of one-period runs from the perturbed whole state
+    m_fd = fd_state_monodromy(orbit)
+    assert np.max(np.abs(orbit.monodromy - m_fd) / np.max(np.abs(m_fd), axis=0)) < 1e-5
+    # a run from the orbit's state for three periods comes back to it each period (Stiff.solve_state)
+    traj = Stiff(rtol=1e-11, atol=1e-13).solve_state(STICK_MODEL, law, orbit.state, 3 * orbit.period)
+    down = np.flatnonzero((traj.v[:-1] > 0) & (traj.v[1:] == 0.0)) + 1
+    assert np.allclose(np.diff(traj.t[down]), orbit.period, rtol=1e-8)
+    assert np.allclose(traj.x[down], orbit.state[0], rtol=1e-8)
