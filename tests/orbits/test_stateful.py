@@ -172,19 +172,21 @@ def test_hopf_point_in_zeta_matches_the_closed_form(p, vb):
         assert state_equilibrium(BeltOscillator(zeta=z, vb=vb), LuGre(**p)).stability == want
 
 
-def test_hopf_point_in_vb_matches_the_closed_form():
+@pytest.mark.parametrize("param, grid", [("vb", np.linspace(0.01, 0.3, 30)), ("fs", np.linspace(0.31, 1.0, 24)),
+                                         ("sigma0", np.linspace(1.0, 40.0, 40))])
+def test_hopf_point_in_other_parameters_matches_the_closed_form(param, grid):
     zeta = 0.3
 
-    def hurwitz(vb):  # a2 a1 - a0 of the closed-form characteristic polynomial
-        a, c, k = hopf_coefficients(SOFT, vb)
-        d = 2 * zeta + SOFT["sigma1"] * c + SOFT["sigma2"]
+    def hurwitz(value):  # a2 a1 - a0 of the closed-form characteristic polynomial
+        p, vb = (SOFT, value) if param == "vb" else (dict(SOFT, **{param: value}), 0.05)
+        a, c, k = hopf_coefficients(p, vb)
+        d = 2 * zeta + p["sigma1"] * c + p["sigma2"]
         return (d + a) * (d * a + k * c + 1.0) - a
 
-    grid = np.linspace(0.01, 0.3, 30)
     vals = [hurwitz(v) for v in grid]
     expected = [brentq(hurwitz, a, b, xtol=1e-15) for a, b, fa, fb in zip(grid[:-1], grid[1:], vals[:-1], vals[1:])
                 if fa * fb < 0]
-    found = state_hopf_points(BeltOscillator(zeta=zeta, vb=0.05), LuGre(**SOFT), "vb", grid)
+    found = state_hopf_points(BeltOscillator(zeta=zeta, vb=0.05), LuGre(**SOFT), param, grid)
     assert len(expected) >= 1 and found == pytest.approx(expected, rel=1e-9)
 
 
