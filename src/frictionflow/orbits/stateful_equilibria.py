@@ -76,18 +76,11 @@ def state_equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = ma
     if model.vb == 0.0 or model.forced:
         return None
     flow = StiffFlow(model, law)
-    m = flow.n - 2
-    y = np.zeros(flow.n)
-    y[2:] = math.copysign(1.0, model.vb) * law.internal_scale()  # the states loaded as at F_s, the right sign
-    for _ in range(_MAX_ITER):
-        dy, jac = flow.field(y)
-        r = dy[2:]
-        if np.all(np.abs(r) <= 1e-15 * abs(model.vb)):
+    # the states loaded as at F_s with the belt's sign (bristles), else the law's relaxed ones (positive states)
+    for start in (math.copysign(1.0, model.vb) * law.internal_scale(), law.initial_state()):
+        y = rest_states(flow, np.concatenate([[0.0, 0.0], start]), 1e-15 * abs(model.vb))
+        if y is not None:
             break
-        try:
-            y[2:] -= np.linalg.solve(jac[2:, 2:], r) if m else 0.0
-        except np.linalg.LinAlgError:
-            return None
     else:
         return None
     y[0] = 0.0
@@ -95,6 +88,23 @@ def state_equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = ma
     jac = flow.field(y)[1]
     lam = np.linalg.eigvals(jac).astype(complex)
     return StateEquilibrium(float(value), y, jac, lam[np.argsort(-lam.real, kind="stable")])
+
+
+def rest_states(flow: StiffFlow, y: np.ndarray, tol: float) -> np.ndarray | None:
+    """y with its internal states where their rates vanish at X' = 0 (Newton from y's), or None if it fails."""
+    y = y.copy()
+    for _ in range(_MAX_ITER):
+        dy, jac = flow.field(y)
+        r = dy[2:]
+        if not np.all(np.isfinite(r)):
+            return None
+        if np.all(np.abs(r) <= tol):
+            return y
+        try:
+            y[2:] -= np.linalg.solve(jac[2:, 2:], r)
+        except np.linalg.LinAlgError:
+            return None
+    return None
 
 
 def state_equilibrium_branch(model: BeltOscillator, law: FrictionLaw, param: str, values: np.ndarray) -> list[StateEquilibrium]:
