@@ -17,6 +17,7 @@ from ..orbits.floquet import fd_monodromy
 from ..orbits.monitors import MONITORS, branch_extrema
 from ..orbits.plotting import plot_bifurcation, plot_orbit
 from ..orbits.settings import ContinuationSettings
+from ..orbits.stateful import StatefulOrbit, fd_state_monodromy
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ..solvers.registry import solver_names_where
@@ -94,13 +95,17 @@ def orbit(params: dict[str, Any], opts: OrbitOptions) -> None:
     found = find_orbit(model, law, x0=cfg.x0, v0=cfg.v0, transient=0.0 if opts.guess else cfg.t_end, returns=opts.returns,
                        tol=opts.tol, solver=solv)
     report = found.to_dict()
+    stateful = isinstance(found, StatefulOrbit)
     if opts.fd_check:
-        M = fd_monodromy(model, law, found.state, found.period, solver=solv)
+        M = fd_state_monodromy(found) if stateful else fd_monodromy(model, law, found.state, found.period, solver=solv)
         report["fd_monodromy"] = M.tolist()
         report["fd_deviation"] = float(np.max(np.abs(M - found.monodromy)))
     if opts.plot is not None:
+        if stateful:
+            raise ValueError(f"--plot: the orbit figure draws orbits of the section map, not of friction={law.name} (use --out)")
         plot_orbit(found, opts.plot, name="--plot", dpi=opts.dpi)
-    _report(report, opts.out, opts.as_json, lambda: _print_orbit(report, provenance(law, solv)))
+    printer = _print_stateful_orbit if stateful else _print_orbit
+    _report(report, opts.out, opts.as_json, lambda: printer(report, provenance(law, solv)))
 
 
 def _check_outputs(out: Optional[Path], plot: Optional[Path]) -> None:
@@ -192,6 +197,29 @@ def _print_orbit(report: dict[str, Any], caption: str) -> None:
         table.add_row(k, "n/a" if v is None else f"{v:.6e}")
     table.add_row("TR_B", _fmt(report["TR_B"]))
     table.add_row("energy residual", f"{report['energy_residual']:.2e}")
+    if "fd_deviation" in report:
+        table.add_row("max |M - M_fd|", f"{report['fd_deviation']:.2e}")
+    show(Console(), table, caption)
+
+
+def _print_stateful_orbit(report: dict[str, Any], caption: str) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=f"periodic orbit on the whole state: {report['stability']}, period {report['period']:.10g}")
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    for name, value in report["state"].items():
+        table.add_row(f"state {name}", f"{value:.12g}")
+    for i, (re, im) in enumerate(report["floquet_multipliers"]):
+        table.add_row(f"Floquet multiplier {i + 1}", f"{re:.6g}{im:+.2g}j")
+    table.add_row("stick fraction", f"{report['stick_fraction']:.6g}")
+    table.add_row("amplitude (X_max-X_min)/2", f"{report['amplitude']:.6g}")
+    for k, v in report["averages"].items():
+        table.add_row(k, "n/a" if v is None else f"{v:.6e}")
+    table.add_row("TR_B", _fmt(report["TR_B"]))
+    for k, v in report["interface_balance"].items():
+        table.add_row(f"belt work: {k}", f"{v:.6e}")
     if "fd_deviation" in report:
         table.add_row("max |M - M_fd|", f"{report['fd_deviation']:.2e}")
     show(Console(), table, caption)

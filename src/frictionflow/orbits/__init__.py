@@ -18,7 +18,10 @@ parameter), :mod:`.chart` (two-parameter stability charts),
 :mod:`.brute_force` (simulations to overlay), :mod:`.plotting`; the forced
 oscillator's orbits (period fixed by the forcing): :mod:`.forced`, :mod:`.forced_plot`,
 and its monitors and (Omega, F_ex) charts: :mod:`.forced_chart`; structures with several masses and contacts:
-:mod:`.structure` (shooting, multipliers) on :mod:`.structure_flow` (return map, exact monodromy).
+:mod:`.structure` (shooting, multipliers) on :mod:`.structure_flow` (return map, exact monodromy); laws with
+internal state on their whole state: :mod:`.stateful` (shooting, multipliers) on :mod:`.flow_stiff` (the stiff
+flow with its variational equations), :mod:`.stateful_equilibria` (steady sliding, Hopf points),
+:mod:`.stateful_cycles` (cycle branches) and :mod:`.stateful_continuation`.
 """
 
 from .branches import Bifurcation, Branch, BranchPoint, ContinuationResult
@@ -31,6 +34,8 @@ from .flow import make_flow
 from .hybrid import Phase, Segment, Switch, saltation
 from .parameters import parameter_names, with_param
 from .shooting import PeriodicOrbit, ShootingError, find_orbit, shoot
+from .stateful import StatefulOrbit, find_stateful_orbit
+from .stateful_equilibria import state_equilibrium, state_hopf_points
 from .brute_force import sweep
 from .structure import StructureOrbit, fd_structure_monodromy, find_structure_orbit
 from .chart import StabilityChart, stability_chart, stability_map
@@ -55,6 +60,7 @@ __all__ = [
     "fd_structure_monodromy",
     "find_forced_orbit",
     "find_orbit",
+    "find_stateful_orbit",
     "find_structure_orbit",
     "forced_branch_extrema",
     "forced_chart",
@@ -80,6 +86,9 @@ __all__ = [
     "shoot",
     "ShootingError",
     "stability_chart",
+    "state_equilibrium",
+    "state_hopf_points",
+    "StatefulOrbit",
     "stability_map",
     "StabilityChart",
     "stick_slip_grazing",

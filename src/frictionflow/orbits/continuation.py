@@ -33,6 +33,7 @@ from .equilibria import equilibrium, equilibrium_branch, hopf_points
 from .flow import flow_cost, make_flow
 from .parameters import with_param
 from .shooting import Shooting, ShootingError, find_orbit, orbit_from_segment, shooting_estimate
+from .stateful_continuation import stateful_continuation
 from .brute_force import sweep as brute_force_sweep
 from .hybrid import MAX_TIME
 from .settings import SEEDS, ContinuationSettings, merged
@@ -84,8 +85,16 @@ def continuation(
     -------
     ContinuationResult
         The equilibrium branch, the orbit branches and the bifurcations found.
+
+    Notes
+    -----
+    A law with internal state is continued on its whole state by
+    :func:`~.stateful_continuation.stateful_continuation` (``returns`` 1, no
+    ``sweep``).
     """
     s = merged(ContinuationSettings, settings, options, "continuation")
+    if friction.stick_rule == "state":  # internal states: steady sliding and cycles on the whole state
+        return stateful_continuation(model, friction, param, start, stop, s)
     _check(model, friction, param, (start, stop), s)
     enforce(continuation_estimate(model, friction, s))  # within the limits in force, if any
     branches: list[Branch] = []

@@ -13,6 +13,7 @@ X*(lambda) and is sampled directly rather than continued.
 from __future__ import annotations
 
 import math
+from typing import Any, Callable
 
 import numpy as np
 
@@ -41,11 +42,17 @@ def equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = math.nan
     return eq if math.isfinite(eq.x) else None
 
 
-def equilibrium_branch(model: BeltOscillator, law: FrictionLaw, param: str, values: np.ndarray) -> list[SlidingEquilibrium]:
-    """The equilibrium at each value of ``param`` (values without one are skipped)."""
+def equilibrium_branch(model: BeltOscillator, law: FrictionLaw, param: str, values: np.ndarray,
+                       at: Callable[..., Any] | None = None) -> list[Any]:
+    """The equilibrium at each value of ``param`` (values without one are skipped).
+
+    ``at(model, law, value)``: the equilibrium or None (default :func:`equilibrium`; steady sliding on the
+    whole state for laws with internal state, :func:`~.stateful_equilibria.state_equilibrium`).
+    """
+    at = equilibrium if at is None else at
     out = []
     for lam in values:
-        eq = equilibrium(*with_param(model, law, param, float(lam)), float(lam))
+        eq = at(*with_param(model, law, param, float(lam)), float(lam))
         if eq is not None:
             out.append(eq)
     return out

@@ -31,6 +31,35 @@ from ..solvers.base import Solver
 NEUTRAL_TOL = 1e-7
 
 
+class MultiplierStability:
+    """Mixin of orbits with several multipliers: needs ``multipliers`` (largest modulus first) and
+    ``autonomous`` (an unforced orbit has the trivial multiplier 1, the one nearest 1, dropped)."""
+
+    __slots__ = ()
+    multipliers: np.ndarray
+    autonomous: bool
+
+    @property
+    def nontrivial(self) -> np.ndarray:
+        """The multipliers without the trivial one (the one closest to 1; none when forced), largest modulus first."""
+        mu = self.multipliers
+        return np.delete(mu, int(np.argmin(np.abs(mu - 1.0)))) if self.autonomous else mu
+
+    @property
+    def multiplier(self) -> complex:
+        """The nontrivial multiplier of largest modulus (it decides stability)."""
+        return complex(self.nontrivial[0])
+
+    @property
+    def stability(self) -> str:
+        """``stable``, ``unstable`` or ``neutral`` (:func:`classify`)."""
+        return classify(self.multiplier)
+
+    @property
+    def stable(self) -> bool:
+        return self.stability == "stable"
+
+
 def multipliers(monodromy: np.ndarray) -> np.ndarray:
     """All Floquet multipliers (eigenvalues of M), largest modulus first.
 

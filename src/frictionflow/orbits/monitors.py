@@ -159,7 +159,8 @@ def branch_extrema(result, monitor: str, model: BeltOscillator | None = None, la
     model, law:
         The system the continuation ran on (its other parameters).
     refine:
-        Refine each extremum as a root of its exact slope (False: the best branch point).
+        Refine each extremum as a root of its exact slope (False, and always for a law with internal state:
+        the best branch point).
     returns:
         Section crossings per period, as in the continuation.
     """
@@ -167,6 +168,7 @@ def branch_extrema(result, monitor: str, model: BeltOscillator | None = None, la
         return forced_branch_extrema(result, monitor, refine=refine)
     if model is None or law is None:
         raise ValueError("model and law: give the system the continuation ran on")
+    refine = refine and law.stick_rule != "state"  # the exact slopes are the section map's: internal states have none
     out = []
     for index, branch in enumerate(result.branches):
         if branch.kind != "periodic":

@@ -11,9 +11,12 @@ MODEL_PARAMS = tuple(p.name for p in BeltOscillator.parameters)
 
 
 def parameter_names(law: FrictionLaw) -> tuple[str, ...]:
-    """The parameters that can be continued for this law: the oscillator's and the law's real ones."""
+    """The parameters that can be continued for this law: the oscillator's and the law's real ones (a law with
+    internal state: all of its real ones, the bristles' sigma0, sigma1, ... too, which sweeps do not batch yet)."""
     own = law.parameters if law.configurable else ()  # a user law is rebuilt only by its author
-    return tuple(p.name for p in (*BeltOscillator.parameters, *own) if p.kind == "real" and p.sweepable)
+    stateful = law.stick_rule == "state"
+    return tuple(p.name for p in (*BeltOscillator.parameters, *own)
+                 if p.kind == "real" and (p.sweepable or (stateful and p in own)))
 
 
 def _check(name: str, law: FrictionLaw) -> None:

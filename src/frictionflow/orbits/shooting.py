@@ -29,19 +29,17 @@ from ..solvers.base import Solver
 from ..solvers.registry import auto_solver
 from ..trajectory import Trajectory
 from . import floquet
+from .errors import ShootingError
 from .flow import Flow, flow_cost, make_flow
 from .hybrid import MAX_TIME, Segment
 from .measures import OrbitMeasures, measure, one_period
+from .stateful import StatefulOrbit, find_stateful_orbit
 
 #: a converged fixed point must also have |G / (x - X*)| below this (see :func:`newton`)
 H_TOL = 1e-3
 #: Newton gives up after this many step halvings, or this many damped steps in a row
 _MAX_HALVINGS = 12
 _MAX_DAMPED = 6
-
-
-class ShootingError(RuntimeError):
-    """Newton shooting did not find a periodic orbit from the given start."""
 
 
 @dataclass(frozen=True, repr=False)
@@ -326,7 +324,7 @@ def find_orbit(
     tol: float | None = None,
     max_iter: int = 40,
     solver: Solver | None = None,
-) -> PeriodicOrbit:
+) -> PeriodicOrbit | StatefulOrbit:
     """Find a periodic orbit from a start state, after an optional transient.
 
     Parameters
@@ -351,12 +349,18 @@ def find_orbit(
 
     Notes
     -----
+    A law with internal state (LuGre, Dahl, elasto-plastic, ...) is shot on
+    its whole state by :func:`~.stateful.find_stateful_orbit`, which returns a
+    :class:`~.stateful.StatefulOrbit`.
     Inside :func:`frictionflow.estimate.limited` the transient is estimated
     before it runs and the shooting once the transient has found its period
     (:func:`shooting_estimate` over :func:`section_span`), each refused
     (ValueError) above the limits; without a transient, the shooting is
     estimated before any work, each flow bounded by :data:`~.hybrid.MAX_TIME`.
     """
+    if friction.stick_rule == "state":  # internal states (LuGre, ...): Newton on the whole state
+        return find_stateful_orbit(model, friction, x0=x0, v0=v0, transient=transient, returns=returns, tol=tol,
+                                   max_iter=max_iter, solver=solver)
     x = friction.fd if x0 is None else float(x0)
     v = model.vb if v0 is None else float(v0)
     if transient < 0 or not math.isfinite(transient):

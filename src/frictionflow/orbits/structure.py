@@ -52,7 +52,7 @@ RETURN_LIMIT = 4.0
 
 
 @dataclass(frozen=True, repr=False)
-class StructureOrbit(Summarized):
+class StructureOrbit(floquet.MultiplierStability, Summarized):
     """A periodic orbit of a structure, its Floquet multipliers and its power flow.
 
     Attributes
@@ -104,26 +104,6 @@ class StructureOrbit(Summarized):
     contacts: tuple[str, ...]
     system: Any = field(default=None)
     autonomous: bool = True
-
-    @property
-    def nontrivial(self) -> np.ndarray:
-        """The multipliers without the trivial one (the one closest to 1; none when forced), largest modulus first."""
-        mu = self.multipliers
-        return np.delete(mu, int(np.argmin(np.abs(mu - 1.0)))) if self.autonomous else mu
-
-    @property
-    def multiplier(self) -> complex:
-        """The nontrivial multiplier of largest modulus (it decides stability)."""
-        return complex(self.nontrivial[0])
-
-    @property
-    def stability(self) -> str:
-        """``stable``, ``unstable`` or ``neutral`` (:func:`frictionflow.orbits.floquet.classify`)."""
-        return floquet.classify(self.multiplier)
-
-    @property
-    def stable(self) -> bool:
-        return self.stability == "stable"
 
     def _summary(self) -> tuple[str, list[Row]]:
         n = len(self.dof)

@@ -79,8 +79,16 @@ class Stiff(Solver):
               progress: bool = False, max_memory: float = DEFAULT_MAX_MEMORY) -> Trajectory:
         if not self.supports(friction):
             raise ValueError(f"solver={self.name} does not support friction={friction.name}")
-        q = kernel_params(model, friction)
         y0 = np.concatenate([[float(x0), float(v0)], friction.initial_state(model.vb)])
+        return self.solve_state(model, friction, y0, t_end, progress, max_memory)
+
+    def solve_state(self, model: BeltOscillator, friction: FrictionLaw, y0: np.ndarray, t_end: float,
+                    progress: bool = False, max_memory: float = DEFAULT_MAX_MEMORY) -> Trajectory:
+        """As :meth:`solve`, from the whole state ``y0`` = (X, X', internal states) (an orbit's point, say)."""
+        y0 = np.asarray(y0, dtype=float)
+        if y0.shape != (2 + len(friction.internal_names),) or not np.all(np.isfinite(y0)):
+            raise ValueError(f"y0 must be {2 + len(friction.internal_names)} finite numbers (X, X', the internal states), got {y0!r}")
+        q = kernel_params(model, friction)
         tol = np.concatenate([[self.atol, self.atol], self.atol * friction.internal_scale(), [self.rtol]])
         period = model.forcing_period if model.fex != 0.0 else 0.0  # forced: every k 2 pi / Omega is a sample
         steps = np.array([min(1e-5, self.max_step), self.max_step, float(self.max_steps), period])
