@@ -16,7 +16,7 @@ A law with internal states z (LuGre, ...) adds them to the state: the fixed
 point is (X*, 0, z*) with z* where the states' rates vanish at V_r = V_b and
 X* the law's force there, and its stability is that of the Jacobian of the
 whole state, assembled from the law's exact derivatives (the stiff engine's,
-:func:`frictionflow.core.stiff_points.state_jacobian`): stable when every
+:func:`frictionflow.core.stiff_flow.field_at`): stable when every
 eigenvalue has a negative real part.  Stiff bristles (sigma0 |V_b| >> g)
 give back the threshold 2 zeta + F'(V_b) = 0 of the static law.
 
@@ -36,7 +36,7 @@ import numpy as np
 
 from .. import quantities as Q
 from ..core import sections as sec
-from ..core import stiff_points
+from ..core import stiff_flow
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..solvers.base import kernel_params
@@ -132,9 +132,12 @@ def _with_internal_states(model: BeltOscillator, friction: FrictionLaw, damping:
     Jacobian there (largest real part first)."""
     vb = float(model.vb)
     z = friction.steady_internal(vb)
+    if not np.all(np.isfinite(z)):  # the states do not rest at V_b: no steady sliding
+        nan = complex(math.nan, math.nan)
+        return SlidingEquilibrium(x=math.nan, damping=damping, eigenvalues=(nan,) * (2 + len(z)), value=value,
+                                  internal=tuple(float(v) for v in z))
     x = float(friction.force(vb, z))
-    a = stiff_points.state_jacobian(kernel_params(model, friction), float(model.zeta), vb, 0.0,
-                                    np.concatenate([[x, 0.0], z]))
+    a = stiff_flow.field_at(kernel_params(model, friction), float(model.zeta), vb, 0.0, np.concatenate([[x, 0.0], z]))[1]
     lam = sorted((complex(l) for l in np.linalg.eigvals(a)), key=lambda l: (-l.real, -l.imag))
     return SlidingEquilibrium(x=x, damping=damping, eigenvalues=tuple(lam), value=value,
                               internal=tuple(float(v) for v in z), matrix=a)

@@ -5,11 +5,10 @@ internal states, and the whole state's Jacobian there.
 ``nogil``: the sweeps run a chunk's points on numba's threads
 (:func:`frictionflow.core.threads.over_points`) and the stiff solver's
 façade runs through it too, so a swept point and ``simulate`` execute the
-same compiled run.  :func:`steady_internal` and :func:`state_jacobian`
-serve the steady-sliding equilibrium of a law with internal state
+same compiled run.  :func:`steady_internal` serves the steady-sliding equilibrium of a law with internal state
 (:func:`frictionflow.analysis.equilibrium.sliding_equilibrium`): its
-states where their rates vanish, and the linearisation from the law's exact
-derivatives (the Jacobian the Rosenbrock steps use, never differenced).
+states where their rates vanish (its linearisation is
+:func:`frictionflow.core.stiff_flow.field_at`'s exact Jacobian).
 """
 
 from __future__ import annotations
@@ -62,13 +61,3 @@ def steady_internal(q, vr, z):
         if not moved:
             break
     return z
-
-
-@njit(cache=True)
-def state_jacobian(q, zeta, vb, t, y):
-    """The Jacobian of (X', X'', z') in (X, X', z) at time ``t`` and state ``y``, from the law's exact
-    derivatives (:func:`frictionflow.core.stiff.evaluate`)."""
-    n = len(y)
-    dy, dw, jac, jw, _, _, _, _, _, d = stiff.scratch(n)
-    stiff.evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, True, d)
-    return jac.copy()

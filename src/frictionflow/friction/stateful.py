@@ -25,6 +25,8 @@ from .base import FrictionLaw
 #: below this fraction of the law's velocity scale (``speed_scale``) the mass counts as sticking (the mode
 #: samples record): the states then take up the relative motion, a slip of that size is creep
 STICK_SPEED_FRACTION = 1e-2
+#: internal states rest when their rates are below this fraction of the sliding speed (Newton's rounding)
+REST_RATE = 1e-12
 
 
 class StatefulLaw(FrictionLaw):
@@ -70,9 +72,15 @@ class StatefulLaw(FrictionLaw):
 
     def steady_internal(self, vr: float) -> np.ndarray:
         """The internal states sliding steadily at ``vr`` (every rate zero), from the law's compiled rates
-        and their exact derivatives (Newton from the states that carry F_s in the direction of ``vr``)."""
-        guess = np.sign(float(vr)) * np.asarray(self.internal_scale(), dtype=float)
-        return stiff_points.steady_internal(self.kernel_params(), float(vr), guess)
+        and their exact derivatives: Newton from the states that carry F_s in the direction of ``vr``, else
+        from the relaxed ones (laws whose states stay positive); NaN where neither rests."""
+        q = self.kernel_params()
+        for start in (np.sign(float(vr)) * np.asarray(self.internal_scale(), dtype=float), self.initial_state()):
+            z = stiff_points.steady_internal(q, float(vr), np.array(start, dtype=float))
+            rates = np.asarray(self.rate(float(vr), z), dtype=float)
+            if np.all(np.abs(rates) <= REST_RATE * max(abs(float(vr)), 1e-300)):
+                return z
+        return np.full(self.n_internal, np.nan)
 
     def speed_scale(self) -> float:
         """The velocity on which the law's force changes (its Stribeck velocity)."""

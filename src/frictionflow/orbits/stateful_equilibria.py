@@ -2,8 +2,9 @@
 
 At steady sliding X' = 0, the states rest where their rates vanish at
 V_r = V_b, r(V_b, z*) = 0 (found by Newton with the law's exact dr/dz), and
-X* = F(V_b, z*).  The Jacobian there is the stiff engine's exact one
-(:func:`frictionflow.core.stiff_flow.field_at`), n x n.  A Hopf point is where
+X* = F(V_b, z*), computed once by
+:func:`frictionflow.analysis.equilibrium.sliding_equilibrium`; the Jacobian there is the stiff
+engine's exact one, n x n.  A Hopf point is where
 a complex pair crosses the imaginary axis: there the product of all pairwise
 sums of eigenvalues, prod_{i<j} (l_i + l_j) (the determinant of the
 bialternate product, real and smooth in the parameter), changes sign; a sign
@@ -20,16 +21,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._lazy import lazy_module
+from ..analysis.equilibrium import sliding_equilibrium
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .equilibria import equilibrium_branch
-from .flow_stiff import StiffFlow
 from .parameters import with_param
 
 optimize = lazy_module("scipy.optimize")
 
-#: Newton iterations for the states at rest (linear convergence where dr/dz vanishes there, Dahl's alpha > 1)
-_MAX_ITER = 200
 
 
 @dataclass(frozen=True)
@@ -66,6 +65,9 @@ class StateEquilibrium:
 def state_equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = math.nan) -> StateEquilibrium | None:
     """Steady sliding of (model, law), or None where there is none (V_b = 0, forced, or the states do not rest).
 
+    The one computation of :func:`frictionflow.analysis.equilibrium.sliding_equilibrium` (the states at
+    rest by Newton on the law's exact rates, the whole state's Jacobian), kept with the continued value.
+
     Parameters
     ----------
     model, law:
@@ -75,36 +77,11 @@ def state_equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = ma
     """
     if model.vb == 0.0 or model.forced:
         return None
-    flow = StiffFlow(model, law)
-    # the states loaded as at F_s with the belt's sign (bristles), else the law's relaxed ones (positive states)
-    for start in (math.copysign(1.0, model.vb) * law.internal_scale(), law.initial_state()):
-        y = rest_states(flow, np.concatenate([[0.0, 0.0], start]), 1e-15 * abs(model.vb))
-        if y is not None:
-            break
-    else:
+    eq = sliding_equilibrium(model, law, value)
+    if not (math.isfinite(eq.x) and np.all(np.isfinite(eq.internal))):
         return None
-    y[0] = 0.0
-    y[0] = flow.field(y)[0][1]  # X'' = -X + F = 0 at X' = 0: X* = F(V_b, z*)
-    jac = flow.field(y)[1]
-    lam = np.linalg.eigvals(jac).astype(complex)
-    return StateEquilibrium(float(value), y, jac, lam[np.argsort(-lam.real, kind="stable")])
-
-
-def rest_states(flow: StiffFlow, y: np.ndarray, tol: float) -> np.ndarray | None:
-    """y with its internal states where their rates vanish at X' = 0 (Newton from y's), or None if it fails."""
-    y = y.copy()
-    for _ in range(_MAX_ITER):
-        dy, jac = flow.field(y)
-        r = dy[2:]
-        if not np.all(np.isfinite(r)):
-            return None
-        if np.all(np.abs(r) <= tol):
-            return y
-        try:
-            y[2:] -= np.linalg.solve(jac[2:, 2:], r)
-        except np.linalg.LinAlgError:
-            return None
-    return None
+    y = np.concatenate([[eq.x, 0.0], eq.internal])
+    return StateEquilibrium(float(value), y, eq.matrix, np.array(eq.eigenvalues, dtype=complex))
 
 
 def state_equilibrium_branch(model: BeltOscillator, law: FrictionLaw, param: str, values: np.ndarray) -> list[StateEquilibrium]:
