@@ -14,7 +14,9 @@ from scipy.signal import find_peaks
 from frictionflow import BeltOscillator, simulate
 from frictionflow.cli import main
 from frictionflow.core import stiff as engine
+from frictionflow.analysis.equilibrium import sliding_equilibrium
 from frictionflow.friction import RateState
+from frictionflow.orbits.stateful_equilibria import state_hopf_points
 from frictionflow.solvers import Stiff
 
 N, MU0, A, B, V0 = 1.0, 0.6, 0.01, 0.015, 0.01
@@ -98,6 +100,23 @@ def test_rice_ruina_threshold_against_the_eigenvalues_of_the_full_state(state_la
             assert abs(top) < 1e-7
         else:
             assert (top > 1e-4) if factor < 1.0 else (top < -1e-4)  # smaller D_c: k_cr > k, unstable
+
+
+@pytest.mark.parametrize("state_law", STATE_LAWS)
+def test_the_hopf_point_in_dc_is_rice_ruinas_critical_stiffness(state_law):
+    # the package's own steady sliding (analysis.equilibrium, the states' Newton and the engine's exact
+    # Jacobian) and its Hopf search (orbits), against the closed form above
+    law = RateState(normal=N, mu0=MU0, a=A, b=B, dc=0.02, vref=V0, state_law=state_law)
+    model = BeltOscillator(zeta=0.0, vb=VB)
+    (found,) = state_hopf_points(model, law, "dc", np.linspace(0.012, 0.03, 7))
+    assert found == pytest.approx(critical_dc(), rel=1e-9)
+    for factor, sign in ((0.95, 1.0), (1.05, -1.0)):
+        dc = factor * critical_dc()
+        eq = sliding_equilibrium(model, RateState(normal=N, mu0=MU0, a=A, b=B, dc=dc, vref=V0, state_law=state_law))
+        g, lam = N * A / VB, VB / dc
+        cubic = np.sort_complex(np.roots([1.0, g + lam, 1.0 + g * lam - N * B / dc, lam]))
+        assert np.allclose(np.sort_complex(np.array(eq.eigenvalues)), cubic, atol=1e-9)
+        assert sign * max(e.real for e in eq.eigenvalues) > 1e-4
 
 
 def _peak_rate(traj, x_star, t_from):
