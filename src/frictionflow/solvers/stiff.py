@@ -98,7 +98,7 @@ class Stiff(Solver):
         """The kernel with room for the samples: when they do not fit, four times more room and the run
         goes on where it stopped."""
         cap = self.sample_estimate(t_end, model)
-        at = np.zeros(5)
+        at = np.zeros(kernel.N_AT)
         t, y, w = np.empty(0), np.empty((len(y0), 0)), np.empty((0, kernel.N_CHANNELS))
         while True:
             check_memory(cap, max_memory, lambda: self.sized(t_end))  # a sample: about the size of the others'
