@@ -492,11 +492,11 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
             h = hh * (0.2 if err == np.inf else max(0.2, 0.9 / math.sqrt(math.sqrt(err))))
             rejected = True
             continue
-        fac = step_factor(hh, err, at[AT_HACC], at[AT_ERRACC])
-        at[AT_HACC], at[AT_ERRACC] = hh, max(1e-2, err)
         if count == cap:
             status, taken = FULL, taken - 1  # this step is taken again, the same, on the next call
             break
+        fac = step_factor(hh, err, at[AT_HACC], at[AT_ERRACC])
+        at[AT_HACC], at[AT_ERRACC] = hh, max(1e-2, err)
         adv, err = hh, 0.0  # adv: how far the sample lies; the next step still follows the full step's error
         if period == 0.0 and y[1] > 0.0 and ynew[1] <= 0.0:  # unforced: the section X' = 0 is a sample
             adv, err = to_section(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
