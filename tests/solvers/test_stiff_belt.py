@@ -73,6 +73,13 @@ def test_the_varying_belt_against_an_independent_radau_run(forced):
                         P["sigma0"] * np.max(np.abs(traj.internal[0] - y[2]))))
         grid = np.linspace(0.0, t_end, 3001)
         np.testing.assert_allclose(traj(grid)[0], ref.sol(grid)[0], rtol=0.0, atol=1000 * rtol)
+        # between the samples too: the bristles' interpolant takes their rate at V_b(tau)
+        ds = traj.to_xarray(points_per_period=2000)
+        added = ~ds["is_sample"].values
+        tau = ds["tau"].values[added]
+        assert added.sum() > 1000
+        np.testing.assert_allclose(P["sigma0"] * ds["z"].values[added], P["sigma0"] * ref.sol(tau)[2], rtol=0.0,
+                                   atol=1000 * rtol)
     assert errs[1] < 1000 * 1e-10 and errs[1] < errs[0] / 10.0, errs
     # it is a stick-slip run whose belt varies: the constant belt's differs by far more than the error
     const = simulate(BeltOscillator(zeta=0.05, vb=0.3, **force), LuGre(**P), Stiff(), t_end=t_end, x0=0.0, v0=0.0)
