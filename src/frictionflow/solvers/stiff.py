@@ -34,7 +34,10 @@ class Stiff(Solver):
     located: the law's states carry stick and slip (see
     :mod:`frictionflow.core.stiff`).  An unforced run's downward X' = 0
     crossings are samples (X' exactly 0 there, as the other solvers sample
-    the section), so its steady-state window is whole periods.
+    the section), so its steady-state window is whole periods.  A belt
+    whose speed varies, V_b(tau), enters every stage; a forced run, or one
+    on a varying belt, has a sample on every k 2 pi / Omega (with both,
+    Omega_b must equal Omega).
 
     Parameters
     ----------
