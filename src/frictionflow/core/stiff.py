@@ -428,23 +428,9 @@ def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
 
 
 #: the run's position (``at`` of :func:`run`): samples written, steps attempted, next step, next sample's
-#: period index, whether the last attempt was rejected, the last accepted step and its error (0: none yet)
-AT_COUNT, AT_TAKEN, AT_H, AT_K, AT_REJECTED, AT_HACC, AT_ERRACC = range(7)
-N_AT = 7
-
-
-@njit(cache=True, inline="always")
-def step_factor(hh, err, h_acc, err_acc):
-    """The next step over an accepted step ``hh`` with error ``err``: the classical factor
-    0.9 err^(-1/4), or Gustafsson's predictive one from the last accepted step (``h_acc`` > 0, its error
-    ``err_acc``) when that is smaller (Hairer & Wanner IV.8; rodas.f's PRED): it sees the error grow
-    before a step fails, which is most of the rejections at breakaway."""
-    e = max(err, 1e-10)
-    fac = min(6.0, max(0.2, 0.9 / math.sqrt(math.sqrt(e))))
-    if h_acc > 0.0:
-        gus = 0.9 * (hh / h_acc) * math.sqrt(math.sqrt(err_acc / (e * e)))
-        fac = min(fac, min(6.0, max(0.2, gus)))
-    return fac
+#: period index, whether the last attempt was rejected
+AT_COUNT, AT_TAKEN, AT_H, AT_K, AT_REJECTED = range(5)
+N_AT = 5
 
 
 @njit(cache=True)
@@ -469,7 +455,7 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
         y_out[:, 0] = y0
         w_out[0, :] = 0.0
         at[:] = 0.0
-        at[AT_COUNT], at[AT_H], at[AT_K] = 1.0, steps[0], 1.0  # AT_HACC 0: no accepted step yet
+        at[AT_COUNT], at[AT_H], at[AT_K] = 1.0, steps[0], 1.0
     count, taken, h, k_next, rejected = int(at[AT_COUNT]), int(at[AT_TAKEN]), at[AT_H], at[AT_K], at[AT_REJECTED] != 0.0
     t = t_out[count - 1]
     y, ynew, wnew = y_out[:, count - 1].copy(), np.empty(n), np.empty(N_CHANNELS)
@@ -488,21 +474,20 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
         hh = stop - t if last else h
         err = rodas_step(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
         taken += 1
+        fac = 0.2 if err == np.inf else min(6.0, max(0.2, 0.9 * err ** -0.25))
         if err > 1.0:
-            h = hh * (0.2 if err == np.inf else max(0.2, 0.9 / math.sqrt(math.sqrt(err))))
+            h = hh * fac
             rejected = True
             continue
         if count == cap:
             status, taken = FULL, taken - 1  # this step is taken again, the same, on the next call
             break
-        fac = step_factor(hh, err, at[AT_HACC], at[AT_ERRACC])
-        at[AT_HACC], at[AT_ERRACC] = hh, max(1e-2, err)
         adv, err = hh, 0.0  # adv: how far the sample lies; the next step still follows the full step's error
         if period == 0.0 and y[1] > 0.0 and ynew[1] <= 0.0:  # unforced: the section X' = 0 is a sample
             adv, err = to_section(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
             last = last and adv == hh
         if err > 1.0:  # the shorter step from the same state failed its error test (hardly ever)
-            h, rejected = adv * max(0.2, 0.9 / math.sqrt(math.sqrt(err))), True
+            h, rejected = adv * max(0.2, 0.9 * err ** -0.25), True
             continue
         t = stop if last else t + adv
         if last and period > 0.0 and stop < t_end:
