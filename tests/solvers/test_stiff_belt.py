@@ -158,3 +158,25 @@ def test_the_stiff_solver_runs_the_varying_belt_and_is_named_by_the_others_refus
     if not Adaptive.supports_belt_motion:  # a solver that does not run it names those that do
         with pytest.raises(ValueError, match=r"^solver=adaptive does not run a belt whose speed varies .*stiff"):
             simulate(model, Coulomb(), Adaptive(), t_end=1.0)
+
+
+def test_rodas4_keeps_order_four_with_the_belts_time_derivative():
+    # Rosenbrock methods take df/dtau at fixed y exactly for their order: the belt's acceleration enters it
+    # through V_r (X'', z' and the work).  Sliding throughout (V_r well away from 0: |V_r| smooth), soft bristles
+    # (the classical order shows), a forced belt oscillator on a varying belt
+    smooth = dict(fd=0.3, fs=0.5, vs=0.05, delta=2.0, sigma0=10.0, sigma1=0.5, sigma2=0.1)
+    model = BeltOscillator(zeta=0.1, vb=1.0, fex=0.2, omega=1.3, phi=0.4, vb_amplitude=0.3, vb_omega=1.3, vb_phi=0.2)
+    q = kernel_params(model, LuGre(**smooth))
+    t_end = 4.0
+    ref = solve_ivp(belt_rhs(smooth, 0.1, 1.0, 0.3, 1.3, 0.2, 0.2, 1.3, 0.4), (0.0, t_end), [0.0, 0.0, 0.0],
+                    method="Radau", rtol=1e-13, atol=1e-15).y[:, -1]
+    errors = []
+    for n in (40, 80, 160):
+        y, ynew, w, h = np.zeros(3), np.empty(3), np.empty(stiff.N_CHANNELS), t_end / n
+        ws = stiff.scratch(3)
+        for k in range(n):
+            stiff.rodas_step(q, 0.1, 1.0, k * h, y, h, ynew, w, np.array([1.0, 1.0, 1.0, 0.0]), ws)
+            y[:] = ynew
+        errors.append(np.max(np.abs(y - ref)))
+    orders = [math.log2(errors[i] / errors[i + 1]) for i in range(2)]
+    assert all(3.7 < p < 4.6 for p in orders), (errors, orders)
