@@ -303,7 +303,11 @@ class StateHermite(Interpolant):
         super().__init__(traj)
         tr, law = traj, traj.friction
         self.acc = tr.fc + self.model.external_force(tr.t) - tr.x - 2.0 * self.zeta * tr.v
-        self.zrate = law.rate(self.vb - tr.v, tr.internal)
+        self.zrate = law.rate(self._belt(tr.t) - tr.v, tr.internal)
+
+    def _belt(self, t):
+        """V_b at times ``t`` (the constant ``vb`` itself for a belt at constant speed)."""
+        return self.model.belt_speed(t) if self.model.belt_varies else self.vb
 
     def state(self, t):
         tr = self.traj
@@ -324,7 +328,7 @@ class StateHermite(Interpolant):
 
     def force(self, t, x, v):
         law = self.traj.friction
-        vr = self.vb - v
+        vr = self._belt(t) - v
         return law.force(vr, self.internal(t)), law.mode_of(vr)
 
 

@@ -124,3 +124,26 @@ def test_an_unforced_periodic_run_samples_the_section_and_its_window_balances():
     assert result.steady_state.kind == "periodic" and t0 in traj.t[down] and t1 in traj.t[down]
     q = result.quantities()
     assert abs(q["P_fin"] - q["P_df"] - q["P_dv"]) <= Stiff.section_noise(solver.describe()) * q["P_fin"]
+
+
+def test_a_run_whose_samples_outgrow_their_buffers_goes_on_to_the_bit():
+    # the kernel stops when its sample buffers are full; called again with larger ones and the same position
+    # record it goes on where it stopped: the same steps as one call with room for all
+    model = BeltOscillator(zeta=0.02, vb=0.2, fex=0.05, omega=0.9)
+    q = kernel_params(model, LuGre(**SMOOTH))
+    tol, steps = np.array([1e-10, 1e-10, 1e-10, 1e-8]), np.array([1e-5, 0.5, 1e7, 2.0 * math.pi / 0.9])
+
+    def run(cap):
+        at = np.zeros(stiff.N_AT)
+        t, y, w = np.empty(cap), np.empty((3, cap)), np.empty((cap, stiff.N_CHANNELS))
+        while True:
+            n, status, _, _ = stiff.run(q, 0.02, 0.2, np.zeros(3), 60.0, tol, steps, t, y, w, at)
+            if status != stiff.FULL:
+                return t[:n], y[:, :n], w[:n]
+            t, y, w = (np.concatenate([t, np.empty(cap)]), np.concatenate([y, np.empty((3, cap))], axis=1),
+                       np.concatenate([w, np.empty((cap, stiff.N_CHANNELS))]))
+
+    whole = run(100_000)
+    assert len(whole[0]) > 300
+    for a, b in zip(whole, run(37)):
+        np.testing.assert_array_equal(a, b)

@@ -22,6 +22,11 @@ quadratures by substitution, starting from zero each step (the increments,
 not running totals, as every solver keeps them).  They are not in the error
 norm: the state's error bounds theirs.
 
+The belt's speed may vary, V_b(tau) (:func:`.friction.belt_speed`): every stage
+takes V_r at its own time, and the method's time derivative (df/dtau at fixed
+y) carries the belt's acceleration through V_r: dF/dV_r V_b' in X'', dr/dV_r V_b'
+in z', and its terms in the work integrands (the belt's input F V_b(tau) too).
+
 The right-hand side is Lipschitz (|V_r| has a kink, no switch), so breakaway
 and re-stick are crossed by the step-size control alone, with nothing to
 chatter; after a rejected step the step does not grow (Hairer's rule).
@@ -37,7 +42,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .friction import external_force, external_force_rate
+from .friction import belt_accel, belt_speed, external_force, external_force_rate
 from .layout import LAW, N_PARAMS
 from .roots import EPS, RUNNING, bracket, update
 
@@ -239,24 +244,47 @@ def work_of(q, zeta, vb, t, v, s, f, d, w):
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, want_jac, d):
-    """dy/dtau and the work integrands at (t, y); with ``want_jac`` also the state's Jacobian ``jac`` (n x n)
-    and the integrands' gradients ``jw`` (N_CHANNELS x n).  ``d``: room for the law's derivative record.
-    Returns F."""
+def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, want_jac, d):
+    """dy/dtau and the work integrands at (t, y); with ``want_jac`` also the state's Jacobian ``jac``
+    (n x n), the integrands' gradients ``jw`` (N_CHANNELS x n) and the time rates at fixed y (``ft``: n,
+    then N_CHANNELS).  ``vb``: the belt's mean speed.  ``d``: room for the law's derivative record."""
     n = len(y)
     m = n - 2
     x, v = y[0], y[1]
-    s = vb - v
+    vbt = belt_speed(q, vb, t)
+    s = vbt - v
     f, df_ds = law_eval(q, s, y[2:], d)
     dy[0] = v
     dy[1] = -x - 2.0 * zeta * v + f + external_force(q, t)
     for i in range(m):
         dy[2 + i] = d[i, D_RATE]
-    work_of(q, zeta, vb, t, v, s, f, d, dw)
+    work_of(q, zeta, vbt, t, v, s, f, d, dw)
     if want_jac:
-        _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw)
+        _jacobian(zeta, vbt, v, s, f, df_ds, d, jac, jw)
         jw[4, 1] = external_force(q, t)
-    return f
+        _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft)
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft):
+    """d/dtau at fixed y of the state's rates (``ft[:n]``) and of the work integrands (``ft[n:]``): the
+    external force's rate, and the belt's acceleration V_b' through V_r (d/dV_r = -d/dX')."""
+    n = len(ft) - N_CHANNELS
+    fr = external_force_rate(q, t)
+    ft[:] = 0.0
+    ft[1] = fr
+    ft[n + 4] = v * fr
+    ab = belt_accel(q, t)
+    if ab == 0.0:  # a belt at constant speed: nothing more (and bit for bit the constant belt's step)
+        return
+    side = 1.0 if v * f > 0.0 else 0.0
+    ft[1] += df_ds * ab
+    for i in range(n - 2):
+        ft[2 + i] = d[i, D_RS] * ab
+    ft[n + 1] = side * v * df_ds * ab
+    ft[n + 2] = (side - 1.0) * v * df_ds * ab
+    ft[n + 3] = -jw[3, 1] * ab
+    ft[n + 5] = (df_ds * vbt + f) * ab
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
@@ -339,42 +367,41 @@ def lu_factor(a, piv):
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def lu_solve(a, piv, b):
-    """Solve in place with the factors of :func:`lu_factor`."""
+def lu_solve(a, piv, b, r):
+    """Solve for row ``r`` of ``b`` in place with the factors of :func:`lu_factor` (a row index, not a
+    view: a view costs two atomic reference counts in the step loop)."""
     n = a.shape[0]
     for k in range(n):
         p = piv[k]
         if p != k:
-            b[k], b[p] = b[p], b[k]
+            b[r, k], b[r, p] = b[r, p], b[r, k]
     for i in range(n):
         for j in range(i):
-            b[i] -= a[i, j] * b[j]
+            b[r, i] -= a[i, j] * b[r, j]
     for i in range(n - 1, -1, -1):
         for j in range(i + 1, n):
-            b[i] -= a[i, j] * b[j]
-        b[i] /= a[i, i]
+            b[r, i] -= a[i, j] * b[r, j]
+        b[r, i] /= a[i, i]
 
 
 @njit(cache=True)
 def scratch(n):
     """The arrays a step works in, allocated once per run: (dy, dw, jac, jw, LU factors, pivots, K, KW,
-    stage state, the law's derivative record)."""
+    stage state, the law's derivative record, the time rates)."""
     return (np.empty(n), np.empty(N_CHANNELS), np.empty((n, n)), np.empty((N_CHANNELS, n)), np.empty((n, n)),
             np.empty(n, dtype=np.int64), np.zeros((6, n)), np.zeros((6, N_CHANNELS)), np.empty(n),
-            np.empty((n - 2, D_RZ + n - 2)))
+            np.empty((n - 2, D_RZ + n - 2)), np.empty(n + N_CHANNELS))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)  # allocates nothing: without the runtime, no atomic reference counts
 def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     """One Rodas4 step of length ``h`` from (t, y): the new state in ``ynew``, the work increments in
     ``wnew``; returns the error norm: the rms of the last stage, component c over
     ``tol[c] + tol[n] max(|y_c|, |ynew_c|)`` (absolute scales, then rtol); inf if the step failed.
     ``ws``: the arrays of :func:`scratch`."""
     n = len(y)
-    dy, dw, jac, jw, a, piv, k, kw, yi, d = ws
-    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, True, d)
-    fr = external_force_rate(q, t)
-    ft_v, ft_w = fr, y[1] * fr  # d/dtau of X'' and of X' f(tau)
+    dy, dw, jac, jw, a, piv, k, kw, yi, d, ft = ws
+    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, True, d)
     for i in range(n):
         for j in range(n):
             a[i, j] = -jac[i, j]  # jac stays for the quadratures
@@ -388,16 +415,16 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
                 for j in range(st):
                     acc += A_TAB[st, j] * k[j, c]
                 yi[c] = acc
-            evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, False, d)
+            evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, ft, False, d)
+        hd = h * D_TAB[st]
         for c in range(n):
             acc = dy[c]
             for j in range(st):
                 acc += C_TAB[st, j] * k[j, c] / h
-            k[st, c] = acc
-        k[st, 1] += h * D_TAB[st] * ft_v
-        lu_solve(a, piv, k[st])
+            k[st, c] = acc + hd * ft[c]
+        lu_solve(a, piv, k, st)
         for c in range(N_CHANNELS):
-            acc = dw[c] + (h * D_TAB[st] * ft_w if c == 4 else 0.0)
+            acc = dw[c] + hd * ft[n + c]
             for j in range(st):
                 acc += C_TAB[st, j] * kw[j, c] / h
             for j in range(n):
@@ -416,7 +443,7 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     return err if err == err else np.inf
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)  # allocates nothing: no reference counting (see rodas_step)
 def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     """The step from (t, y) that ends on the downward crossing X' = 0 inside the accepted step of length ``h``
     (X' > 0 at t, ``ynew[1]`` <= 0): its length h' by Illinois on X'(t + h') of Rodas4 steps of length h',
@@ -440,35 +467,47 @@ def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     return b.hi, err
 
 
+#: the run's position (``at`` of :func:`run`): samples written, steps attempted, next step, next sample's
+#: period index, whether the last attempt was rejected
+AT_COUNT, AT_TAKEN, AT_H, AT_K, AT_REJECTED = range(5)
+N_AT = 5
+
+
 @njit(cache=True)
-def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
+def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
     """Integrate from (0, y0) to ``t_end``, keeping every accepted step.
 
     ``tol``: the absolute scale of each state component, then rtol; ``steps``:
     (first step, largest step, step cap, sampling period): with a period
-    (> 0, the forcing's) a step ends on every k period, so that the
+    (> 0, the forcing's or the belt's) a step ends on every k period, so that the
     stroboscopic section is sampled exactly as the other solvers sample it;
     without, each downward X' = 0 crossing is a sample (:func:`to_section`).
     Writes the times, states and work increments (row 0 zero) and returns (samples, status, t reached, step):
-    status :data:`DONE`, :data:`FULL` (buffers full: call again with more room),
-    :data:`STEP_CAP` or :data:`TINY_STEP`.
+    status :data:`DONE`, :data:`FULL` (buffers full: copy the samples into larger ones and call again with
+    the same ``at``, the run goes on where it stopped), :data:`STEP_CAP` or :data:`TINY_STEP`.
+    ``at``: the run's position (:data:`AT_COUNT` ...), AT_COUNT 0 to start.
     """
     n = len(y0)
     cap = len(t_out)
-    h, h_max, max_steps, period = steps[0], steps[1], int(steps[2]), steps[3]
-    k_next = 1.0
-    t = 0.0
-    y, ynew, wnew = y0.copy(), np.empty(n), np.empty(N_CHANNELS)
+    h_max, max_steps, period = steps[1], int(steps[2]), steps[3]
+    if at[AT_COUNT] == 0.0:
+        t_out[0] = 0.0
+        y_out[:, 0] = y0
+        w_out[0, :] = 0.0
+        at[:] = 0.0
+        at[AT_COUNT], at[AT_H], at[AT_K] = 1.0, steps[0], 1.0
+    count, taken, h, k_next, rejected = int(at[AT_COUNT]), int(at[AT_TAKEN]), at[AT_H], at[AT_K], at[AT_REJECTED] != 0.0
+    t = t_out[count - 1]
+    y, ynew, wnew = y_out[:, count - 1].copy(), np.empty(n), np.empty(N_CHANNELS)
     ws = scratch(n)
-    t_out[0] = 0.0
-    y_out[:, 0] = y0
-    w_out[0, :] = 0.0
-    count, taken, rejected = 1, 0, False
+    status = DONE
     while t < t_end:
         if taken >= max_steps:
-            return count, STEP_CAP, t, h
+            status = STEP_CAP
+            break
         if h < 1e-14 * max(1.0, t):
-            return count, TINY_STEP, t, h
+            status = TINY_STEP
+            break
         h = min(h, h_max)
         stop = min(t_end, k_next * period) if period > 0.0 else t_end  # the next time a sample must fall on
         last = t + h >= stop * (1.0 - 1e-14)
@@ -481,7 +520,8 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
             rejected = True
             continue
         if count == cap:
-            return count, FULL, t, h
+            status, taken = FULL, taken - 1  # this step is taken again, the same, on the next call
+            break
         adv, err = hh, 0.0  # adv: how far the sample lies; the next step still follows the full step's error
         if period == 0.0 and y[1] > 0.0 and ynew[1] <= 0.0:  # unforced: the section X' = 0 is a sample
             adv, err = to_section(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
@@ -499,4 +539,5 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
         count += 1
         h = hh * (min(fac, 1.0) if rejected else fac)  # no growth right after a rejection
         rejected = False
-    return count, DONE, t, h
+    at[AT_COUNT], at[AT_TAKEN], at[AT_H], at[AT_K], at[AT_REJECTED] = count, taken, h, k_next, 1.0 if rejected else 0.0
+    return count, status, t, h

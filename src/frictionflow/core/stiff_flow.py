@@ -43,8 +43,8 @@ def field_at(q, zeta, vb, t, y):
     """(y', J): the vector field and its exact Jacobian at (t, y)."""
     n = len(y)
     ws = scratch(n)
-    dy, dw, jac, jw, d = ws[0], ws[1], ws[2], ws[3], ws[9]
-    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, True, d)
+    dy, dw, jac, jw, d, ft = ws[0], ws[1], ws[2], ws[3], ws[9], ws[10]
+    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, True, d)
     return dy.copy(), jac.copy()
 
 
@@ -57,8 +57,8 @@ def coupling(q, zeta, vb, t, y, size, ws, dj, jn):
     that side (by linear extrapolation), not the value at V_r = 0 exactly, which neither side has.
     """
     n = len(y)
-    dy, dw, jac, jw, d = ws[0], ws[1], ws[2], ws[3], ws[9]
-    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, True, d)
+    dy, dw, jac, jw, d, ft = ws[0], ws[1], ws[2], ws[3], ws[9], ws[10]
+    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, True, d)
     jn[:, :] = jac
     yp = y.copy()
     jp = np.empty((n, n))
@@ -71,10 +71,10 @@ def coupling(q, zeta, vb, t, y, size, ws, dj, jn):
         if near:  # X' - dl, X' - 2 dl lie on V_r > 0
             lo, hi = (-2.0 * dl, -dl) if toward >= 0.0 else (dl, 2.0 * dl)
         yp[j] = y[j] + hi
-        evaluate(q, zeta, vb, t, yp, dy, dw, jac, jw, True, d)
+        evaluate(q, zeta, vb, t, yp, dy, dw, jac, jw, ft, True, d)
         jp[:, :] = jac
         yp[j] = y[j] + lo
-        evaluate(q, zeta, vb, t, yp, dy, dw, jac, jw, True, d)
+        evaluate(q, zeta, vb, t, yp, dy, dw, jac, jw, ft, True, d)
         yp[j] = y[j]
         for r in range(n):
             for c in range(n):
@@ -111,10 +111,10 @@ def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
     ``vs``: (Phi's stage increments (6, n, n), stage Phi, dJ/dy (n, n, n), a column, J at the start)."""
     n = len(y)
     tol, ptol, size = tols
-    dy, dw, jac, jw, a, piv, k, kw, yi, d = ws
+    dy, dw, jac, jw, a, piv, k, kw, yi, d, ft = ws
     kp, phii, dj, col, jn = vs
     coupling(q, zeta, vb, t, y, size, ws, dj, jn)
-    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, False, d)
+    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, False, d)
     jac[:, :] = jn
     fr = external_force_rate(q, t)
     for i in range(n):
@@ -130,18 +130,18 @@ def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
             yi += A_TAB[st, j] * k[j]
             phii += A_TAB[st, j] * kp[j]
         if st > 0:
-            evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, True, d)
+            evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, ft, True, d)
         for c in range(n):
             acc = dy[c]
             for j in range(st):
                 acc += C_TAB[st, j] * k[j, c] / h
             k[st, c] = acc
         k[st, 1] += h * D_TAB[st] * fr
-        lu_solve(a, piv, k[st])
+        lu_solve(a, piv, k, st)
         for cc in range(n):
-            _phi_rhs(jac, phii, kp, st, h, dj, k[st], phi, cc, col)
-            lu_solve(a, piv, col)
-            kp[st, :, cc] = col
+            _phi_rhs(jac, phii, kp, st, h, dj, k[st], phi, cc, col[0])
+            lu_solve(a, piv, col, 0)
+            kp[st, :, cc] = col[0]
     return _finish(y, phi, yi, phii, k, kp, ynew, phinew, tol, ptol)
 
 
@@ -193,7 +193,7 @@ def flow_variational(q, zeta, vb, y0, t0, duration, tol, ptol, size, steps):
     y, ynew = y0.copy(), np.empty(n)
     phi, phinew = np.eye(n), np.empty((n, n))
     ws = scratch(n)
-    vs = (np.zeros((6, n, n)), np.empty((n, n)), np.empty((n, n, n)), np.empty(n), np.empty((n, n)))
+    vs = (np.zeros((6, n, n)), np.empty((n, n)), np.empty((n, n, n)), np.empty((1, n)), np.empty((n, n)))
     t, t_end = t0, t0 + duration
     tols = (tol, ptol, size)
     taken, rejected = 0, False

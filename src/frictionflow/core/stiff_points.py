@@ -24,9 +24,9 @@ NEWTON_STEPS = 200
 
 
 @njit(cache=True, nogil=True)
-def run_released(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out):
+def run_released(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
     """:func:`frictionflow.core.stiff.run` with the GIL released (same arguments, same results)."""
-    return stiff.run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out)
+    return stiff.run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at)
 
 
 @njit(cache=True)
@@ -41,21 +41,21 @@ def steady_internal(q, vr, z):
     d = np.empty((m, stiff.D_RZ + m))
     a = np.empty((m, m))
     piv = np.empty(m, dtype=np.int64)
-    r = np.empty(m)
+    r = np.empty((1, m))  # the solver works on a row of a matrix
     for _ in range(NEWTON_STEPS):
         stiff.law_eval(q, vr, z, d)
         still = True
         for i in range(m):
-            r[i] = -d[i, stiff.D_RATE]
-            still = still and r[i] == 0.0
+            r[0, i] = -d[i, stiff.D_RATE]
+            still = still and r[0, i] == 0.0
             for j in range(m):
                 a[i, j] = d[i, stiff.D_RZ + j]
         if still or not stiff.lu_factor(a, piv):
             break
-        stiff.lu_solve(a, piv, r)
+        stiff.lu_solve(a, piv, r, 0)
         moved = False
         for i in range(m):
-            znew = z[i] + r[i]
+            znew = z[i] + r[0, i]
             moved = moved or znew != z[i]
             z[i] = znew
         if not moved:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any, Mapping
 
 import numpy as np
@@ -34,7 +35,10 @@ class Stiff(Solver):
     located: the law's states carry stick and slip (see
     :mod:`frictionflow.core.stiff`).  An unforced run's downward X' = 0
     crossings are samples (X' exactly 0 there, as the other solvers sample
-    the section), so its steady-state window is whole periods.
+    the section), so its steady-state window is whole periods.  A belt
+    whose speed varies, V_b(tau), enters every stage; a forced run, or one
+    on a varying belt, has a sample on every k 2 pi / Omega (with both,
+    Omega_b must equal Omega).
 
     Parameters
     ----------
@@ -50,6 +54,7 @@ class Stiff(Solver):
     parameters = (STIFF_RTOL, MAX_STEPS, MAX_STEP)
     keywords = {"stiff_rtol": "rtol"}
     interpolant = "state_hermite"
+    supports_belt_motion = True
     steady_rtol = 1e-6
     default_chunk = 64
     step_cost = "adaptive_step"
@@ -88,9 +93,9 @@ class Stiff(Solver):
         y0 = np.asarray(y0, dtype=float)
         if y0.shape != (2 + len(friction.internal_names),) or not np.all(np.isfinite(y0)):
             raise ValueError(f"y0 must be {2 + len(friction.internal_names)} finite numbers (X, X', the internal states), got {y0!r}")
+        period = sample_period(model)
         q = kernel_params(model, friction)
         tol = np.concatenate([[self.atol, self.atol], self.atol * friction.internal_scale(), [self.rtol]])
-        period = model.forcing_period if model.fex != 0.0 else 0.0  # forced: every k 2 pi / Omega is a sample
         steps = np.array([min(1e-5, self.max_step), self.max_step, float(self.max_steps), period])
         with progress_bar("stiff", 1, enabled=progress and t_end > 1e5) as advance:
             (n, status, t_stop, h), (t, y, w) = self._run(q, model, y0, t_end, tol, steps, max_memory)
@@ -102,20 +107,23 @@ class Stiff(Solver):
         return self._trajectory(model, friction, t[:n].copy(), y[:, :n].copy(), w[:n].copy())
 
     def _run(self, q, model, y0, t_end, tol, steps, max_memory):
-        """The kernel with room for the samples, four times more each time they do not fit."""
+        """The kernel with room for the samples: when they do not fit, four times more room and the run
+        goes on where it stopped."""
         cap = self.sample_estimate(t_end, model)
+        at = np.zeros(kernel.N_AT)
+        t, y, w = np.empty(0), np.empty((len(y0), 0)), np.empty((0, kernel.N_CHANNELS))
         while True:
-            check_memory(cap, max_memory, lambda: self.sized(t_end))  # a sample: about the size of the others' 
-            t, y, w = np.empty(cap), np.empty((len(y0), cap)), np.empty((cap, kernel.N_CHANNELS))
+            check_memory(cap, max_memory, lambda: self.sized(t_end))  # a sample: about the size of the others'
+            t, y, w = _grown(t, y, w, cap, int(at[kernel.AT_COUNT]))
             # the kernel with the GIL released: a sweep runs its points on threads through here
-            result = stiff_points.run_released(q, model.zeta, model.vb, y0, float(t_end), tol, steps, t, y, w)
+            result = stiff_points.run_released(q, model.zeta, model.vb, y0, float(t_end), tol, steps, t, y, w, at)
             if result[1] != kernel.FULL:
                 return result, (t, y, w)
             cap *= 4
 
     def _trajectory(self, model, friction, t, y, w) -> Trajectory:
         """The run's Trajectory: the force and the mode from the law at each sample."""
-        vr = model.vb - y[1]
+        vr = (model.belt_speed(t) if model.belt_varies else model.vb) - y[1]
         internal = y[2:]
         return Trajectory(
             t=t, state=y[:2].copy(), force=np.asarray(friction.force(vr, internal), dtype=float)[None, :],
@@ -123,3 +131,23 @@ class Stiff(Solver):
             model=model, friction=friction, solver=self.describe(), events=None,
             internal=internal.copy(), internal_names=friction.internal_names, dbelt=w[:, kernel.W_BELT].copy(),
         )
+
+
+def _grown(t, y, w, cap, count):
+    """Sample buffers with room for ``cap``, holding the first ``count`` samples of (t, y, w)."""
+    t2, y2, w2 = np.empty(cap), np.empty((y.shape[0], cap)), np.empty((cap, w.shape[1]))
+    t2[:count], y2[:, :count], w2[:count] = t[:count], y[:, :count], w[:count]
+    return t2, y2, w2
+
+
+def sample_period(model: BeltOscillator) -> float:
+    """The stroboscopic period a run samples exactly: the forcing's 2 pi / Omega, the belt's 2 pi / Omega_b,
+    their common one when both vary (Omega_b must equal Omega), 0.0 for neither (the section X' = 0)."""
+    if model.forced and model.belt_varies:
+        if model.vb_omega != model.omega:
+            raise ValueError(f"vb_omega must equal omega when the belt's speed and the external force both vary "
+                             f"(one stroboscopic period), got vb_omega={model.vb_omega:g}, omega={model.omega:g}")
+        return model.forcing_period
+    if model.belt_varies:
+        return 2.0 * math.pi / model.vb_omega
+    return model.forcing_period if model.forced else 0.0
