@@ -132,6 +132,12 @@ class BeltOscillator:
                     "belt have no common period to classify the run on; set vb_omega equal to omega")
         return None
 
+    def refuse_moving_belt(self, what: str) -> None:
+        """Raise the one line refusing a moving belt to ``what``, a path that runs a belt at constant speed only."""
+        if self.belt_varies:
+            raise ValueError(f"vb_amplitude must be 0 for {what} (a belt at constant speed), got {self.vb_amplitude:g}; "
+                             "simulate a moving belt with solver=adaptive or rk4")
+
     def belt_accel(self, t: Any) -> Any:
         """V_b'(tau) = A Omega_b cos(Omega_b tau + phi_b), on scalars or arrays."""
         return self.vb_amplitude * self.vb_omega * np.cos(self.vb_omega * np.asarray(t) + self.vb_phi)
