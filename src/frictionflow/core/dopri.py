@@ -378,8 +378,7 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
     ny = NY_FORCED if forced else NY  # a constant: the loops over the state unrolled
     ph = (zeta, vb, d)
     h = _slip_start(y, K, (t, x, v, h), ph, p, forced)
-    last = (0.0, 0.0, 0.0, 0.0)  # the phase's integrals W_dv, W_f, W_heat, W_ex (from ys) at the last sample
-    switched = False
+    last, switched = (0.0, 0.0, 0.0, 0.0), False  # the phase's integrals W_dv, W_f, W_heat, W_ex (from ys) at the last sample
     while t < s.t_end and not switched:
         steps += 1
         status = STEP_CAP if steps > s.max_steps else (TINY_STEP if h < 1e-14 * (1.0 + abs(t)) else GO)
