@@ -312,3 +312,26 @@ def test_a_sweep_over_the_belts_amplitude_runs_each_point_as_simulate_does():
         for k in ("P_fin", "R_c", "TR_B"):
             assert out[names.index(k), j] == pytest.approx(q[k], rel=1e-6), (amp, k)
     assert out[names.index("period"), 1] == pytest.approx(2.0 * math.pi / 0.8, rel=1e-12)
+
+
+def test_auto_picks_a_solver_that_runs_a_moving_belt():
+    from frictionflow.friction.karnopp import Karnopp
+    from frictionflow.solvers.registry import auto_solver
+
+    moving, constant = BeltOscillator(**BELT), BeltOscillator(zeta=0.05, vb=0.2)
+    assert auto_solver(COULOMB, moving).name == "adaptive" and auto_solver(COULOMB, constant).name == "exact"
+    assert auto_solver(Karnopp(fd=0.5, fs=0.8), moving).name == "rk4"
+    assert simulate(moving, COULOMB, t_end=5.0).solver["name"] == "adaptive"
+
+
+def test_the_trajectory_between_stick_samples_is_the_belts_motion():
+    """``traj(t)`` inside a stick phase: X' = V_b(t) and X = X0 + int V_b, not a straight line."""
+    m = BeltOscillator(**BELT)
+    traj = simulate(m, COULOMB, Adaptive(), t_end=40.0, x0=0.0, v0=float(v_belt(m, 0.0)))
+    runs = [(i, j) for i, j in _stick_runs(traj) if traj.t[j] - traj.t[i] > 1.0]
+    assert runs
+    for i, j in runs:
+        t = np.linspace(traj.t[i], traj.t[j], 41)[1:-1]
+        x, v = traj.at(t)
+        np.testing.assert_allclose(v, v_belt(m, t), rtol=0.0, atol=1e-15)
+        np.testing.assert_allclose(x, stick_x(m, traj.x[i], traj.t[i], t), rtol=0.0, atol=1e-14)
