@@ -23,6 +23,13 @@ forced and unforced runs are two specialisations of one body (:func:`_run`,
 ``forced`` a constant in each): the unforced one computes what this kernel
 computed before forcing existed, to the bit.
 
+A belt whose speed varies (``p[VB_AMP]`` > 0) runs in the forced variant too:
+every stage and event reads V_b(tau), a stick phase follows the belt
+(X = X0 + int V_b, :func:`.stick.stick_x`) and holds F_e + V_b' - f (the
+belt's acceleration is a load on the stick rule, :func:`.friction.stick_load`),
+its works by quadrature, and the section is sampled every 2 pi / Omega_b
+when there is no external force.
+
 ``slip_force(p, speed)`` is a module global: for a user-defined slip law the
 kernel is rebuilt around the user's function (see
 :func:`frictionflow.solvers.adaptive.kernel_for`).
@@ -46,8 +53,8 @@ from .layout import N_WORK
 from .records import (DENSE_DT, MAX_STEPS, MIN_PERIODS, ODE_ATOL, ODE_RTOL, R_CERT, STOP_RTOL, T_END, T_TAIL, V0, VB, X0, X_EQ,
                       ZETA)
 from .samples import emit
-from .stick import (belt_stick_work, belt_zero, exit_time as _stick_exit, friction_zero as _friction_zero,  # the forced
-                    stick_x)  # stick's walk, stated once
+# the forced stick's walk and the stick on a moving belt, stated once
+from .stick import belt_stick_work, belt_zero, exit_time as _stick_exit, friction_zero as _friction_zero, stick_x
 
 A21 = 1 / 5
 A31, A32 = 3 / 40, 9 / 40
