@@ -23,7 +23,7 @@ forced and unforced runs are two specialisations of one body (:func:`_run`,
 ``forced`` a constant in each): the unforced one computes what this kernel
 computed before forcing existed, to the bit.
 
-A belt whose speed varies (``p[VB_AMP]`` > 0) runs in the forced variant too:
+A belt whose speed varies (``p[VB_AMP]`` > 0) runs in a third specialisation of the forced one:
 every stage and event reads V_b(tau), a stick phase follows the belt
 (X = X0 + int V_b, :func:`.stick.stick_x`) and holds F_e + V_b' - f (the
 belt's acceleration is a load on the stick rule, :func:`.friction.stick_load`),
@@ -86,7 +86,10 @@ EPS = 2.220446049250313e-16
 #: runs copies of them whose ``slip_force`` is the user's (:func:`frictionflow.solvers.adaptive.kernel_for`)
 KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_at", "_gd", "_root",
                 "_first_sample", "_after_stick", "_slip_start", "_first_event", "_at_section",
-                "_slip", "_switch", "_run", "run_unforced", "run_forced")
+                "_slip", "_switch", "_run", "run_unforced", "run_forced", "run_moving")
+#: ``forced`` of the variant on a moving belt (:func:`run_moving`): true as a flag, and where the step reads the
+#: belt's speed a constant apart from True, so that the other two variants compute no belt speed there
+MOVING = 2
 
 
 # Inlined by numba (inline="always") where every step calls it (rhs and the step's sample): a call
@@ -109,11 +112,11 @@ def rhs(y, t, d, zeta, vb, p, out, forced):
     """Slip in direction d: X'' = d F(|V_r|) + f(t) - X - 2 zeta X', with the work integrands.
 
     ``forced`` (a constant where the kernel is specialised): whether f acts;
-    then ``out[5]`` is W_ex's integrand X' f.
+    then ``out[5]`` is W_ex's integrand X' f; :data:`MOVING`: the belt's speed varies too.
     """
     x = y[0]
     v = y[1]
-    vr = (belt_speed(p, vb, t) if forced else vb) - v
+    vr = (belt_speed(p, vb, t) if forced == MOVING else vb) - v
     f = d * slip_force(p, abs(vr))
     out[0] = v
     if forced:
@@ -184,7 +187,9 @@ def run(run, p, samples, events):
     ignores them (X' = 0 is no section of a time-dependent flow) and also
     samples every tau_k = k 2 pi / Omega.
     """
-    if p[FEX] != 0.0 or p[VB_AMP] != 0.0:
+    if p[VB_AMP] != 0.0:
+        return run_moving(run, p, samples, events)
+    if p[FEX] != 0.0:
         return run_forced(run, p, samples, events)
     return run_unforced(run, p, samples, events)
 
@@ -197,8 +202,14 @@ def run_unforced(run, p, samples, events):
 
 @njit(cache=True)
 def run_forced(run, p, samples, events):
-    """:func:`run` with the external force of ``p`` or its moving belt (any time-dependent drive)."""
+    """:func:`run` with the external force of ``p``."""
     return _run(True, run, p, samples, events)
+
+
+@njit(cache=True)
+def run_moving(run, p, samples, events):
+    """:func:`run` on the moving belt of ``p`` (with its external force, if any): the forced variant reading V_b(tau)."""
+    return _run(MOVING, run, p, samples, events)
 
 
 #: a run's settings, unpacked once (numba keeps a named tuple of scalars in registers); ``forced`` not a literal:
@@ -415,7 +426,7 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
             h *= max(0.2, 0.9 * err ** -0.2)
             continue
         # accepted: events on the dense output, in time order, up to the switch if the step crosses V_r = 0
-        switched = _g(np.int64(0), yn, K[6, 1], zeta, belt_speed(p, vb, t + h) if forced else vb, d) <= 0.0
+        switched = _g(np.int64(0), yn, K[6, 1], zeta, belt_speed(p, vb, t + h) if forced == MOVING else vb, d) <= 0.0
         theta_end = _root(np.int64(0), y, K, (t, h), ph, p, forced) if switched else 1.0
         th = 0.0
         # the sample events at the step's end: one dense output and X'' for all three
@@ -428,7 +439,7 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
                 best, kind = _first_event((ga, gb), y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
             best, kind, tt, cur = _next_sample(best, kind, (t, h), s, cur)
             dense(y, K, h, best, ys, ny)
-            vbt = belt_speed(p, vb, t + best * h) if forced else vb
+            vbt = belt_speed(p, vb, t + best * h) if forced == MOVING else vb
             if kind == 1 or (switched and kind == -1):
                 ys[1] = 0.0 if kind == 1 else vbt  # exactly: the section crossing is a sample; the switch
             # works since the phase began, split at the zeros of X'
@@ -449,7 +460,7 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
                 y[i] = yn[i]
                 K[0, i] = K[6, i]
             h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
-        x, v = (ys[0], belt_speed(p, vb, t) if forced else vb) if switched else (y[0], y[1])
+        x, v = (ys[0], belt_speed(p, vb, t) if forced == MOVING else vb) if switched else (y[0], y[1])
     return GO, (t, x, v, h, k, steps, n_max, n_min), switched, cur
 
 
@@ -633,7 +644,7 @@ def _gd(kind, y, K, step, theta, ph, p, ys, tmp, forced):
     zeta, vb, d = ph
     dense(y, K, h, theta, ys, np.int64(2))  # X and X' are all the event functions read
     rhs(ys, t + theta * h, d, zeta, vb, p, tmp, forced)
-    return _g(kind, ys, tmp[1], zeta, belt_speed(p, vb, t + theta * h) if forced else vb, d)
+    return _g(kind, ys, tmp[1], zeta, belt_speed(p, vb, t + theta * h) if forced == MOVING else vb, d)
 
 
 @njit(cache=True)

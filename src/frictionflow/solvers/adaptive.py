@@ -48,13 +48,14 @@ def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
 
 def _builtin_run(run, p, samples, events):
     """:func:`frictionflow.core.dopri.run`, choosing its variant here: a first unforced run compiles only the unforced one."""
-    return (dopri.run_forced if _driven(p) else dopri.run_unforced)(run, p, samples, events)
+    return _variant(p, dopri.run_unforced, dopri.run_forced, dopri.run_moving)(run, p, samples, events)
 
 
-def _driven(p: np.ndarray) -> bool:
-    """Whether the force record ``p`` drives the mass in time (an external force or a moving belt): the kernel's
-    time-dependent variant."""
-    return bool(p[FEX] != 0.0 or p[VB_AMP] != 0.0)
+def _variant(p: np.ndarray, unforced: Callable, forced: Callable, moving: Callable) -> Callable:
+    """The kernel's variant for the force record ``p``: on a moving belt, forced, or neither."""
+    if p[VB_AMP] != 0.0:
+        return moving
+    return forced if p[FEX] != 0.0 else unforced
 
 
 @lru_cache(maxsize=None)
@@ -72,11 +73,11 @@ def _python_user_kernel(func: Callable[[float], float]) -> Callable:
 
 def _rebuild(force: Callable, compiled: bool) -> Callable:
     kernels = rebind(dopri, dopri.KERNEL_FUNCS, compiled, slip_force=force)
-    unforced, forced = kernels["run_unforced"], kernels["run_forced"]
+    unforced, forced, moving = kernels["run_unforced"], kernels["run_forced"], kernels["run_moving"]
 
     def run(run, p, samples, events):
         """:func:`frictionflow.core.dopri.run` for the user's law: each variant compiled when first used."""
-        return (forced if _driven(p) else unforced)(run, p, samples, events)
+        return _variant(p, unforced, forced, moving)(run, p, samples, events)
 
     return run
 
