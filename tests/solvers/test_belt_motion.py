@@ -167,6 +167,19 @@ def test_a_stick_ended_by_the_belts_acceleration_ends_where_the_closed_form_says
     assert traj.mode[0] == 0 and traj.events["mode"][0] == np.sign(stick_force(m, stick_x(m, 0.0, 0.0, want), want))
 
 
+def test_rk4s_band_leaves_a_stick_ended_by_the_belts_acceleration_when_karnopps_band_says():
+    """RK4 steps through Karnopp's band |V_r| <= V_d: past the exit the band holds F_s while the held force H
+    grows on at H', so V_r ~ H' s^2 / 2 leaves the band sqrt(2 V_d / |H'|) after the closed form's exit."""
+    m = BeltOscillator(zeta=0.1, vb=0.2, vb_amplitude=0.5, vb_omega=3.0, vb_phi=math.pi / 2)
+    want = stick_exit(m, 0.6, 0.0, 0.0, 5.0)
+    held = lambda t: stick_force(m, stick_x(m, 0.0, 0.0, t), t)  # noqa: E731
+    rate = abs(held(want + 1e-6) - held(want - 1e-6)) / 2e-6
+    for dt, band in ((1e-4, 1e-5), (1e-5, 1e-6)):
+        traj = simulate(m, Coulomb(fd=0.3, fs=0.6, rk4_band=band), RK4(dt=dt), t_end=1.0, x0=0.0, v0=float(v_belt(m, 0.0)))
+        delay = traj.t[np.flatnonzero(traj.mode != 0)[0]] - want
+        assert delay == pytest.approx(math.sqrt(2.0 * band / rate), rel=0.03), (dt, band)
+
+
 # -- against an integration written here ---------------------------------------------------------------
 
 @pytest.mark.parametrize("law,slip", [(COULOMB, coulomb_slip), (STRIBECK, stribeck_slip)], ids=["coulomb", "stribeck"])
@@ -335,3 +348,14 @@ def test_the_trajectory_between_stick_samples_is_the_belts_motion():
         x, v = traj.at(t)
         np.testing.assert_allclose(v, v_belt(m, t), rtol=0.0, atol=1e-15)
         np.testing.assert_allclose(x, stick_x(m, traj.x[i], traj.t[i], t), rtol=0.0, atol=1e-14)
+
+
+def test_a_users_slip_law_runs_on_a_moving_belt_as_the_built_in_one():
+    """The kernel rebuilt around a user's function (its own variants) on a moving belt: Stribeck's curve given as
+    a Python function switches where the built-in Stribeck law does."""
+    from frictionflow.friction.user import SlipLaw
+
+    m = BeltOscillator(**BELT)
+    user = simulate(m, SlipLaw(stribeck_slip, fs=0.8), Adaptive(), t_end=30.0, x0=0.0, v0=0.2)
+    built_in = simulate(m, STRIBECK, Adaptive(), t_end=30.0, x0=0.0, v0=0.2)
+    np.testing.assert_allclose(user.events["t"], built_in.events["t"], rtol=0, atol=1e-9)
