@@ -248,11 +248,13 @@ def test_rk4_converges_at_its_order_on_a_moving_belt():
 
 # -- the stroboscopic section ---------------------------------------------------------------------------
 
-@pytest.mark.parametrize("forced", [False, True], ids=["belt", "belt+force"])
-def test_classification_finds_the_period_of_the_belt(forced):
+@pytest.mark.parametrize("forced,law,solver", [
+    (False, Coulomb(fd=0.02, fs=0.04), Adaptive), (True, Coulomb(fd=0.02, fs=0.04), Adaptive),
+    (True, Stribeck(fd=0.02, fs=0.04, vs=0.05, delta=1.0), RK4)], ids=["belt", "belt+force", "belt+force-rk4"])
+def test_classification_finds_the_period_of_the_belt(forced, law, solver):
     drive = {"fex": 0.01, "omega": 0.8} if forced else {}
     m = BeltOscillator(zeta=0.05, vb=0.01, vb_amplitude=0.005, vb_omega=0.8, vb_phi=0.3, **drive)
-    ss = analyze(simulate(m, Coulomb(fd=0.02, fs=0.04), Adaptive(), t_end=300.0)).steady_state
+    ss = analyze(simulate(m, law, solver(), t_end=300.0)).steady_state
     assert ss.kind == "periodic"
     assert ss.period == pytest.approx(2.0 * math.pi / 0.8, rel=1e-12)
 
