@@ -1,7 +1,9 @@
 """The cross-path agreement matrix: one physical point, every path that can compute it, one answer.
 
 For every registered law x stick rule x zeta in {0, > 0} x unforced/forced x
-each solver that declares the law, the point is run through
+each solver that declares the law -- and, on a moving belt V_b(tau) (at the
+forcing's frequency, their common period), the switch-rule and band points at
+zeta > 0 through each solver that runs one -- the point is run through
 
 * ``simulate`` + ``analyze`` (the reference),
 * ``frictionflow simulate --json`` (the CLI, in process),
@@ -45,6 +47,10 @@ from frictionflow.sweep.compute import VARIABLES, compute_chunk
 KEYS = ("kind", "period", "P_fin", "R_c", "R_f", "TR_B")
 T_END = 300.0
 FORCING = {"fex": 0.01, "omega": 0.8}
+#: a moving belt, at the forcing's frequency: V_b(tau) = V_b + 0.005 sin(0.8 tau + 0.3)
+BELT = {"vb_amplitude": 0.005, "vb_omega": 0.8, "vb_phi": 0.3}
+#: the points also run on a moving belt (law, label)
+BELT_POINTS = (("coulomb", "fs2"), ("karnopp", "fs2"), ("stribeck", "falling"))
 
 #: per law: parameter sets (name, law settings, V_b) -- stick-slip, the paper's F_s = F_d, a belt at rest
 POINTS = {
@@ -73,10 +79,12 @@ class Case:
     zeta: float
     forced: bool
     solver: str
+    belt: bool = False
 
     @property
     def id(self) -> str:
-        return f"{self.law}[{self.label}]-{self.stick_force}-z{self.zeta:g}-{'forced' if self.forced else 'free'}-{self.solver}"
+        drive = "forced" if self.forced else "free"
+        return f"{self.law}[{self.label}]-{self.stick_force}-z{self.zeta:g}-{drive}{'-belt' if self.belt else ''}-{self.solver}"
 
     def law_object(self):
         rule = {} if self.stateful else {"stick_force": self.stick_force}
@@ -93,13 +101,13 @@ class Case:
         return next(c for c in solver_classes() if c.name == self.solver).batched is not None
 
     def model(self) -> BeltOscillator:
-        return BeltOscillator(zeta=self.zeta, vb=self.vb, **(FORCING if self.forced else {}))
+        return BeltOscillator(zeta=self.zeta, vb=self.vb, **(FORCING if self.forced else {}), **(BELT if self.belt else {}))
 
     def options(self) -> dict:
         """The point as a sweep's or the CLI's settings."""
         rule = {} if self.stateful else {"stick_force": self.stick_force}
         return {"friction": self.law, **dict(self.settings), **rule, "zeta": self.zeta,
-                "vb": self.vb, "solver": self.solver, **(FORCING if self.forced else {})}
+                "vb": self.vb, "solver": self.solver, **(FORCING if self.forced else {}), **(BELT if self.belt else {})}
 
     @property
     def rtol(self) -> float:
@@ -120,7 +128,9 @@ def _cases() -> list[Case]:
                             if cls().supports(probe):  # the solver's own declaration
                                 cases.append(Case(law, label, tuple(sorted(settings.items())), vb, rule, zeta, forced,
                                                   cls.name))
-    return cases
+    belt = [replace(c, belt=True) for c in cases if (c.law, c.label) in BELT_POINTS and c.zeta > 0.0
+            and next(cls for cls in solver_classes() if cls.name == c.solver).supports_belt_motion]
+    return cases + belt
 
 
 CASES = _cases()
@@ -177,6 +187,8 @@ def via_basins(case: Case) -> dict | str:
 def via_response(case: Case) -> dict | str:
     if not case.forced:
         return "undefined: a frequency response needs a forcing"
+    if case.belt:
+        return "undefined: a frequency response sweeps Omega on a belt at constant speed (it refuses a moving one)"
     model = case.model()
     periods = int(T_END / model.forcing_period)
     ds = frequency_response(model, case.law_object(), [model.omega], solver=_solver(case), periods=periods,
@@ -189,6 +201,8 @@ def via_orbit(case: Case, ref: dict) -> dict | str:
         return "undefined: the point's steady state is not a periodic orbit"
     if case.zeta == 0.0:
         return "undefined: undamped orbits form a continuum (neutral multiplier 1): shooting has no isolated orbit"
+    if case.belt:
+        return "undefined: the orbit engines run a belt at constant speed (they refuse a moving one)"
     law = case.law_object()
     if case.forced:
         try:

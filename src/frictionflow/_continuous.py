@@ -40,6 +40,7 @@ interpolation's, dominates there.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -91,6 +92,10 @@ class Interpolant:
         self.zeta = traj.model.zeta
         self.vb = traj.model.vb
 
+    def belt(self, t: np.ndarray) -> Any:
+        """V_b at the times ``t``: the belt's speed, varying (``model.belt_varies``) or the constant V_b."""
+        return self.model.belt_speed(t) if self.model.belt_varies else self.vb
+
     def _local(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The sample interval of each time, its length, and the time's fraction of it (Hermite forms)."""
         i = self.interval(t)
@@ -115,14 +120,17 @@ class Interpolant:
         """(F_c, mode) at times ``t`` where the state is (x, v): slip by the law, stick as sampled."""
         i = self.interval(t)
         mode = self.traj.mode[i].astype(np.int8)
-        return self._slip_or(mode, x, v, x + 2.0 * self.zeta * v - self.model.external_force(t)), mode
+        stick = x + 2.0 * self.zeta * v - self.model.external_force(t)
+        if self.model.belt_varies:
+            stick = stick + self.model.belt_accel(t)  # X'' = V_b' while sticking
+        return self._slip_or(mode, t, x, v, stick), mode
 
-    def _slip_or(self, mode: np.ndarray, x: np.ndarray, v: np.ndarray, stick: np.ndarray) -> np.ndarray:
-        """The law's slip force where ``mode`` slips, ``stick`` elsewhere."""
+    def _slip_or(self, mode: np.ndarray, t: np.ndarray, x: np.ndarray, v: np.ndarray, stick: np.ndarray) -> np.ndarray:
+        """The law's slip force where ``mode`` slips (at times ``t``), ``stick`` elsewhere."""
         fc = np.array(stick, dtype=float)
         slip = mode != 0
         if np.any(slip):
-            speed = np.abs(self.vb - v[slip])
+            speed = np.abs(np.broadcast_to(self.belt(t), v.shape)[slip] - v[slip])
             fc[slip] = mode[slip] * np.asarray(self.traj.friction.slip_magnitude(speed), dtype=float)
         return fc
 
@@ -133,7 +141,7 @@ class Interpolant:
         fc_right = np.where(nxt == mode, tr.fc[1:], 0.0)
         switched = (nxt != mode) & (mode != 0)
         if np.any(switched):
-            speed = np.abs(self.vb - tr.v[1:][switched])
+            speed = np.abs(np.broadcast_to(self.belt(tr.t[1:]), switched.shape)[switched] - tr.v[1:][switched])
             fc_right[switched] = mode[switched] * np.asarray(tr.friction.slip_magnitude(speed), dtype=float)
         return fc_right + self.model.external_force(tr.t[1:]) - tr.x[1:] - 2.0 * self.zeta * tr.v[1:]
 
@@ -259,7 +267,13 @@ class QuinticHermite(Interpolant):
         h2 = h * h
         x, dx = quintic(tr.x[i], tr.x[i + 1], h * tr.v[i], h * tr.v[i + 1], h2 * self.acc[i], h2 * self.acc_right[i], s)
         v = np.divide(dx, h, out=np.array(tr.v[i], dtype=float), where=h > 0)  # a zero-length interval: its start
-        stick = tr.mode[i] == 0  # X' = V_b held: a straight line, exactly
+        stick = tr.mode[i] == 0  # X' = V_b held: a straight line, exactly (on a moving belt: int V_b, closed form)
+        if self.model.belt_varies:
+            m, ts, tt = self.model, tr.t[i][stick], t[stick]
+            x[stick] = tr.x[i][stick] + m.vb * (tt - ts) - m.vb_amplitude / m.vb_omega * (
+                np.cos(m.vb_omega * tt + m.vb_phi) - np.cos(m.vb_omega * ts + m.vb_phi))
+            v[stick] = m.belt_speed(tt)
+            return x, v
         x[stick] = tr.x[i][stick] + tr.v[i][stick] * (t[stick] - tr.t[i][stick])
         v[stick] = tr.v[i][stick]
         return x, v
@@ -288,10 +302,10 @@ class CubicHermite(Interpolant):
         band = law.band
         if band is None:
             return super().force(t, x, v)
-        vr = self.vb - v
+        vr = self.belt(t) - v
         mode = np.where(vr > band, 1, np.where(vr < -band, -1, 0)).astype(np.int8)
         held = np.clip(law.stick_force_value(x, v, self.zeta), -law.fs, law.fs)
-        return self._slip_or(mode, x, v, held), mode
+        return self._slip_or(mode, t, x, v, held), mode
 
 
 class StateHermite(Interpolant):
@@ -411,7 +425,7 @@ def _integrands(interp: Interpolant, t: np.ndarray) -> np.ndarray:
     x, v = interp.state(t)
     fc, mode = interp.force(t, x, v)
     pf = v * fc
-    heat = np.where(mode != 0, fc * (interp.vb - v), 0.0)
+    heat = np.where(mode != 0, fc * (interp.belt(t) - v), 0.0)
     return np.column_stack([2.0 * interp.zeta * v * v, np.maximum(pf, 0.0), np.maximum(-pf, 0.0), heat,
                             v * interp.model.external_force(t)])
 

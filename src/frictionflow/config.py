@@ -234,8 +234,9 @@ class RunConfig:
         values = self.values()
         model = BeltOscillator.from_values(values)
         friction = law_class(self.friction).from_values(values)
-        return model, friction, self.make_solver(friction)
+        return model, friction, self.make_solver(friction, model)
 
-    def make_solver(self, friction: FrictionLaw) -> Solver:
-        """The solver this config names (``auto``: exact for piecewise-constant laws, else adaptive)."""
-        return build_solver(self.solver, friction, self.given)
+    def make_solver(self, friction: FrictionLaw, model: BeltOscillator | None = None) -> Solver:
+        """The solver this config names (``auto``: exact for piecewise-constant laws, else adaptive; on a moving
+        belt one that runs it)."""
+        return build_solver(self.solver, friction, self.given, model)

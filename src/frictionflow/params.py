@@ -113,6 +113,37 @@ class BeltOscillator:
         """V_b(tau) = V_b + A sin(Omega_b tau + phi_b), on scalars or arrays."""
         return self.vb + self.vb_amplitude * np.sin(self.vb_omega * np.asarray(t) + self.vb_phi)
 
+    @property
+    def driven(self) -> bool:
+        """Whether the flow depends on time: an external force or a moving belt."""
+        return self.forced or self.belt_varies
+
+    @property
+    def drive_period(self) -> float:
+        """The stroboscopic section's spacing the solvers sample: 2 pi / Omega with an external force, else
+        2 pi / Omega_b (a moving belt alone)."""
+        if self.forced or not self.belt_varies:
+            return self.forcing_period
+        return 2.0 * math.pi / self.vb_omega
+
+    def section_problem(self) -> str | None:
+        """The one line refusing a stroboscopic classification without a common period (an external force and a
+        moving belt at different frequencies); None when there is one."""
+        if self.forced and self.belt_varies and self.omega != self.vb_omega:
+            return (f"vb_omega={self.vb_omega:g} differs from omega={self.omega:g}: the external force and the moving "
+                    "belt have no common period to classify the run on; set vb_omega equal to omega")
+        return None
+
+    def refuse_moving_belt(self, what: str) -> None:
+        """Raise the one line refusing a moving belt to ``what``, a path that runs a belt at constant speed only."""
+        if self.belt_varies:
+            raise ValueError(f"vb_amplitude must be 0 for {what} (a belt at constant speed), got {self.vb_amplitude:g}; "
+                             "simulate a moving belt with solver=adaptive or rk4")
+
+    def belt_accel(self, t: Any) -> Any:
+        """V_b'(tau) = A Omega_b cos(Omega_b tau + phi_b), on scalars or arrays."""
+        return self.vb_amplitude * self.vb_omega * np.cos(self.vb_omega * np.asarray(t) + self.vb_phi)
+
     def external_force(self, t: Any) -> Any:
         """f(tau) = F_ex cos(Omega tau + phi), on scalars or arrays."""
         return self.fex * np.cos(self.omega * np.asarray(t) + self.phi)

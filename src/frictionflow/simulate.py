@@ -55,7 +55,7 @@ def simulate(
                                  (("t_end", t_end), ("x0", x0), ("v0", v0), ("max_memory", max_memory)))
     x0 = friction.fd if x0 is None else x0
     v0 = model.vb if v0 is None else v0
-    solver = auto_solver(friction) if solver is None else solver
+    solver = auto_solver(friction, model) if solver is None else solver
     if not solver.supports(friction):
         raise ValueError(unsupported(solver.name, friction))
     if model.belt_varies and not solver.supports_belt_motion:

@@ -98,6 +98,6 @@ def test_the_released_kernel_is_the_stiff_engine_bit_for_bit():
     runs = []
     for run in (stiff.run, stiff_points.run_released):
         t, y, w = np.empty(50_000), np.empty((3, 50_000)), np.empty((50_000, stiff.N_CHANNELS))
-        n = run(q, model.zeta, model.vb, np.array([0.3, 0.0, 0.0]), 60.0, tol, steps, t, y, w)[0]
+        n = run(q, model.zeta, model.vb, np.array([0.3, 0.0, 0.0]), 60.0, tol, steps, t, y, w, np.zeros(stiff.N_AT))[0]
         runs.append((t[:n], y[:, :n], w[:n]))
     assert all(np.array_equal(a, b) for a, b in zip(*runs)) and len(runs[0][0]) > 1000

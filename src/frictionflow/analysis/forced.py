@@ -54,9 +54,9 @@ JITTER_REPEATS = 8
 
 
 def section_indices(traj: Trajectory) -> np.ndarray:
-    """Indices of the samples at the stroboscopic times k 2 pi / Omega (k = 0, 1, ...)
-    (:func:`frictionflow.core.strobe.section_indices`); RuntimeError where one has no sample."""
-    period = float(traj.model.forcing_period)
+    """Indices of the samples at the stroboscopic times k 2 pi / Omega (k = 0, 1, ...; a moving belt alone:
+    2 pi / Omega_b) (:func:`frictionflow.core.strobe.section_indices`); RuntimeError where one has no sample."""
+    period = float(traj.model.drive_period)
     idx = strobe.section_indices(np.ascontiguousarray(traj.t, dtype=float), len(traj.t), period)
     if len(idx) < strobe.section_count(float(traj.t[-1]), period):
         raise RuntimeError(f"solver={traj.solver.get('name')} did not sample the stroboscopic section at "
@@ -66,7 +66,7 @@ def section_indices(traj: Trajectory) -> np.ndarray:
 
 def section_scale(x: np.ndarray, v: np.ndarray, traj: Trajectory) -> float:
     """The motion's scale on the section: range of X and X', forcing amplitude, V_b, F_d."""
-    return float(max(np.ptp(x), np.ptp(v), traj.model.fex, abs(traj.vb), traj.friction.fd, 1e-300))
+    return float(max(np.ptp(x), np.ptp(v), traj.model.fex, abs(traj.vb) + traj.model.vb_amplitude, traj.friction.fd, 1e-300))
 
 
 def repeat_multiple(x: np.ndarray, v: np.ndarray, tol: float, min_periods: int,
@@ -158,7 +158,7 @@ def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: 
     if jitter:
         m = jittered_multiple(xs, vs, jitter)
         reps = JITTER_REPEATS - 1
-    period = traj.model.forcing_period
+    period = traj.model.drive_period
     out = {"multiple": None, "lyapunov": None, "n_periods": 0, "jitter": None}
     if len(tail) < 2:  # shorter than two forcing periods: no section to judge; the run itself is the window
         out.update(kind="not_settled", period=None, window=(float(traj.t[0]), float(traj.t[-1])))
@@ -208,10 +208,10 @@ def largest_exponent(traj: Trajectory) -> tuple[float, float] | None:
     and the value is that of the periods averaged.
     """
     law = traj.friction
-    if not law.has_tangent_kernel:
+    if not law.has_tangent_kernel or traj.model.belt_varies:  # (the tangent kernel runs no moving belt)
         return None
     i = section_indices(traj)[-1]
-    period = traj.model.forcing_period
+    period = traj.model.drive_period
     try:
         r = lyapunov_exponents(traj.model, law, float(traj.x[i]), float(traj.v[i]), t_transient=LYAPUNOV_TRANSIENT * period,
                                t_end=(LYAPUNOV_TRANSIENT + LYAPUNOV_PERIODS) * period, steps_per_block=LYAPUNOV_STEPS,

@@ -279,6 +279,7 @@ def lyapunov_exponents(
         cover the blocks done.  None: every block.
     """
     _check_law(friction)
+    model.refuse_moving_belt("Lyapunov exponents")
     if model.forced:
         if block is not None and not math.isclose(block, model.forcing_period, rel_tol=1e-12):
             raise ValueError(f"a forced run renormalises once per forcing period {model.forcing_period:.12g}; got block={block!r}")

@@ -172,7 +172,8 @@ def instantaneous_power(traj: Trajectory) -> dict[str, np.ndarray]:
     v, fc = traj.v, traj.fc
     p_f = v * fc
     slipping = traj.mode != 0
-    p_heat = np.where(slipping, fc * (traj.vb - v), 0.0)
+    vb = traj.model.belt_speed(traj.t) if traj.model.belt_varies else traj.vb
+    p_heat = np.where(slipping, fc * (vb - v), 0.0)
     return {
         "K_dot": v * traj.acceleration,
         "U_dot": v * traj.x,

@@ -79,6 +79,7 @@ def frequency_response(
     """
 
     omegas = _checked_omegas(omegas)
+    model.refuse_moving_belt("a frequency response")
     if not model.forced:
         raise ValueError("fex must be > 0 for a frequency response (the forcing amplitude), got 0")
     if not (isinstance(periods, (int, np.integer)) and 8 <= periods <= 10**6):

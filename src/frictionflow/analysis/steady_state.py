@@ -262,7 +262,7 @@ def steady_state(
     found = _diverged(traj)
     if found is not None:
         return found
-    if traj.model.forced:
+    if traj.model.driven:
         found = _forced(traj, rtol, min_periods)
     else:
         found = _terminal(traj) or _certified(traj)
@@ -288,7 +288,11 @@ def _with_internal(traj: Trajectory, found: SteadyState) -> SteadyState:
 
 
 def _forced(traj: Trajectory, rtol: float, min_periods: int) -> SteadyState:
-    """The forced run's steady state on the stroboscopic section (:func:`.forced.classify_forced`)."""
+    """The forced run's steady state on the stroboscopic section (:func:`.forced.classify_forced`); a moving belt's
+    on its own period's, refused (ValueError) when it and an external force have none in common."""
+    problem = traj.model.section_problem()
+    if problem is not None:
+        raise ValueError(problem)
     c = classify_forced(traj, rtol, min_periods, section_noise(traj.solver), lyapunov=largest_exponent)
     found = SteadyState(kind=c["kind"], window=c["window"], period=c["period"], n_periods=c["n_periods"],
                         stick_fraction=stick_fraction(traj, c["window"]), forcing_multiple=c["multiple"],
@@ -353,7 +357,7 @@ def _stability(traj: Trajectory, ss: SteadyState) -> str | None:
     if ss.kind == "periodic":
         if ss.stick_fraction and ss.stick_fraction > 0:
             return "stable"  # a stick phase collapses every perturbation (a zero multiplier)
-        if traj.zeta == 0.0 and traj.friction.piecewise_constant and not traj.model.forced:
+        if traj.zeta == 0.0 and traj.friction.piecewise_constant and not traj.model.driven:
             return "neutral"  # one of the family of undamped slip circles
     return None
 

@@ -23,6 +23,13 @@ forced and unforced runs are two specialisations of one body (:func:`_run`,
 ``forced`` a constant in each): the unforced one computes what this kernel
 computed before forcing existed, to the bit.
 
+A belt whose speed varies (``p[VB_AMP]`` > 0) runs in a third specialisation of the forced one:
+every stage and event reads V_b(tau), a stick phase follows the belt
+(X = X0 + int V_b, :func:`.stick.stick_x`) and holds F_e + V_b' - f (the
+belt's acceleration is a load on the stick rule, :func:`.friction.stick_load`),
+its works by quadrature, and the section is sampled every 2 pi / Omega_b
+when there is no external force.
+
 ``slip_force(p, speed)`` is a module global: for a user-defined slip law the
 kernel is rebuilt around the user's function (see
 :func:`frictionflow.solvers.adaptive.kernel_for`).
@@ -38,14 +45,16 @@ import numpy as np
 from numba import njit
 
 from . import codes
-from .friction import (FD, FEX, FS, LAW, LAW_A, LAW_B, LAW_C, OMEGA, PHI, RESULTANT, external_force, external_force_rate,
-                       rest_mode, slip_magnitude, stick_duration, stick_friction)
+from .friction import (FD, FEX, FS, LAW, LAW_A, LAW_B, LAW_C, OMEGA, PHI, RESULTANT, VB_AMP, VB_OMEGA, belt_speed,
+                       external_force, rest_mode, slip_magnitude, stick_duration, stick_friction, stick_load,
+                       stick_load_rate)
 from . import sections as sec
 from .layout import N_WORK
 from .records import (DENSE_DT, MAX_STEPS, MIN_PERIODS, ODE_ATOL, ODE_RTOL, R_CERT, STOP_RTOL, T_END, T_TAIL, V0, VB, X0, X_EQ,
                       ZETA)
 from .samples import emit
-from .stick import exit_time as _stick_exit, friction_zero as _friction_zero  # the forced stick's walk, stated once
+# the forced stick's walk and the stick on a moving belt, stated once
+from .stick import belt_stick_work, belt_zero, exit_time as _stick_exit, friction_zero as _friction_zero, stick_x
 
 A21 = 1 / 5
 A31, A32 = 3 / 40, 9 / 40
@@ -77,7 +86,10 @@ EPS = 2.220446049250313e-16
 #: runs copies of them whose ``slip_force`` is the user's (:func:`frictionflow.solvers.adaptive.kernel_for`)
 KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_at", "_gd", "_root",
                 "_first_sample", "_after_stick", "_slip_start", "_first_event", "_at_section",
-                "_slip", "_switch", "_run", "run_unforced", "run_forced")
+                "_slip", "_switch", "_run", "run_unforced", "run_forced", "run_moving")
+#: ``forced`` of the variant on a moving belt (:func:`run_moving`): true as a flag, and where the step reads the
+#: belt's speed a constant apart from True, so that the other two variants compute no belt speed there
+MOVING = 2
 
 
 # Inlined by numba (inline="always") where every step calls it (rhs and the step's sample): a call
@@ -100,11 +112,11 @@ def rhs(y, t, d, zeta, vb, p, out, forced):
     """Slip in direction d: X'' = d F(|V_r|) + f(t) - X - 2 zeta X', with the work integrands.
 
     ``forced`` (a constant where the kernel is specialised): whether f acts;
-    then ``out[5]`` is W_ex's integrand X' f.
+    then ``out[5]`` is W_ex's integrand X' f; :data:`MOVING`: the belt's speed varies too.
     """
     x = y[0]
     v = y[1]
-    vr = vb - v
+    vr = (belt_speed(p, vb, t) if forced == MOVING else vb) - v
     f = d * slip_force(p, abs(vr))
     out[0] = v
     if forced:
@@ -134,13 +146,15 @@ def dense(y0, K, h, theta, out, ny):
 
 @njit(cache=True)
 def at_rest(x, zeta, vb, fs, res, p, t):
-    """Mode at V_r = 0 at time t by Coulomb's stick rule (:func:`~frictionflow.core.friction.rest_mode`)."""
-    return rest_mode(x, zeta, vb, fs, res, slip_force_at(p, 0.0), external_force(p, t), external_force_rate(p, t))
+    """Mode at V_r = 0 at time t by Coulomb's stick rule (:func:`~frictionflow.core.friction.rest_mode`), with the belt's
+    speed at t and its acceleration in the load (:func:`~frictionflow.core.friction.stick_load`)."""
+    return rest_mode(x, zeta, belt_speed(p, vb, t), fs, res, slip_force_at(p, 0.0), stick_load(p, t),
+                     stick_load_rate(p, t, zeta, res))
 
 
 @njit(cache=True)
 def _g(kind, y, a, zeta, vb, d):
-    """Event functions: 0 the switch d (V_b - X') (> 0 inside), 1 X', 2 X'', 3 X' + 2 zeta X''."""
+    """Event functions: 0 the switch d (V_b - X') (> 0 inside; ``vb`` the belt's speed there), 1 X', 2 X'', 3 X' + 2 zeta X''."""
     if kind == 0:
         return d * (vb - y[1])
     if kind == 1:
@@ -173,6 +187,8 @@ def run(run, p, samples, events):
     ignores them (X' = 0 is no section of a time-dependent flow) and also
     samples every tau_k = k 2 pi / Omega.
     """
+    if p[VB_AMP] != 0.0:
+        return run_moving(run, p, samples, events)
     if p[FEX] != 0.0:
         return run_forced(run, p, samples, events)
     return run_unforced(run, p, samples, events)
@@ -188,6 +204,12 @@ def run_unforced(run, p, samples, events):
 def run_forced(run, p, samples, events):
     """:func:`run` with the external force of ``p``."""
     return _run(True, run, p, samples, events)
+
+
+@njit(cache=True)
+def run_moving(run, p, samples, events):
+    """:func:`run` on the moving belt of ``p`` (with its external force, if any): the forced variant reading V_b(tau)."""
+    return _run(MOVING, run, p, samples, events)
 
 
 #: a run's settings, unpacked once (numba keeps a named tuple of scalars in registers); ``forced`` not a literal:
@@ -217,9 +239,9 @@ def _run(forced, run, p, samples, events):
     """
     # the forced step cap: the same fraction of the forcing period as H_MAX is of the natural one,
     # as the event search sees signs only at step ends and f oscillates at Omega inside X''
+    h_max, period = _drive(p) if forced else (H_MAX, np.inf)
     s = Setup(run[T_END], run[ZETA], run[VB], run[ODE_RTOL], run[ODE_ATOL], int(run[MAX_STEPS]), run[DENSE_DT], run[T_TAIL],
-              run[STOP_RTOL], run[R_CERT], run[X_EQ], p[RESULTANT] != 0.0, H_MAX / max(1.0, p[OMEGA]) if forced else H_MAX,
-              2.0 * math.pi / p[OMEGA] if forced else np.inf, np.bool_(forced))
+              run[STOP_RTOL], run[R_CERT], run[X_EQ], p[RESULTANT] != 0.0, h_max, period, np.bool_(forced))
     outs, w = (samples[0], samples[1], samples[2], samples[3], samples[4]), np.zeros(N_WORK)
     scr = (np.zeros((7, NY_FORCED)), np.zeros(NY_FORCED), np.zeros(NY_FORCED), np.zeros(NY_FORCED), np.zeros(NY_FORCED))
     ring = np.full((4, int(run[MIN_PERIODS]) + 2), np.nan)  # X and times of the last maxima, then minima
@@ -248,7 +270,7 @@ def _run(forced, run, p, samples, events):
                 status, t, x, k, cur = _forced_stick(s, p, fs, (t, x, hold, k), cur, outs, w)
             else:
                 status, t, x, k, cur = _stick(s, p, fs, (t, x, k), cur, outs, w)
-            v = s.vb
+            v = belt_speed(p, s.vb, t) if forced else s.vb
             if status == GO and t < s.t_end:
                 mode, tt, fc, cur = _after_stick(s, p, fs, (t, x), cur)
                 hold = mode == 0  # on F_s but held (moving back inwards, or no consistent slip): on from here
@@ -266,15 +288,28 @@ def _run(forced, run, p, samples, events):
 
 
 @njit(cache=True)
+def _drive(p):
+    """(the step cap, the stroboscopic period) of a time-dependent run: the cap the same fraction of the fastest drive's
+    period as H_MAX is of the natural one (the event search sees signs only at step ends); the period the external
+    force's, else the moving belt's."""
+    om = p[OMEGA] if p[FEX] != 0.0 else 0.0
+    if p[VB_AMP] != 0.0:
+        om = max(om, p[VB_OMEGA])
+    period = 2.0 * math.pi / p[OMEGA] if p[FEX] != 0.0 else 2.0 * math.pi / p[VB_OMEGA]
+    return H_MAX / max(1.0, om), period
+
+
+@njit(cache=True)
 def _first_sample(s, p, start, outs, w):
     """The mode at the start ``start`` = (x, v, F_s) -- the stick rule's if V_r = 0 -- and its sample at t = 0."""
     x, v, fs = start
-    if v == s.vb:
+    vb = belt_speed(p, s.vb, 0.0)
+    if v == vb:
         mode = at_rest(x, s.zeta, s.vb, fs, s.res, p, 0.0)
     else:
-        mode = 1 if s.vb - v > 0.0 else -1
-    fc0 = stick_friction(x, s.zeta, s.vb, external_force(p, 0.0) if s.forced else 0.0)
-    emit(outs, np.int64(0), 0.0, x, v, fc0 if mode == 0 else mode * slip_force_at(p, abs(s.vb - v)), mode, w)
+        mode = 1 if vb - v > 0.0 else -1
+    fc0 = stick_friction(x, s.zeta, vb, stick_load(p, 0.0) if s.forced else 0.0)
+    emit(outs, np.int64(0), 0.0, x, v, fc0 if mode == 0 else mode * slip_force_at(p, abs(vb - v)), mode, w)
     return mode
 
 
@@ -361,8 +396,7 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
     ny = NY_FORCED if forced else NY  # a constant: the loops over the state unrolled
     ph = (zeta, vb, d)
     h = _slip_start(y, K, (t, x, v, h), ph, p, forced)
-    last = (0.0, 0.0, 0.0, 0.0)  # the phase's integrals W_dv, W_f, W_heat, W_ex (from ys) at the last sample
-    switched = False
+    last, switched = (0.0, 0.0, 0.0, 0.0), False  # the phase's integrals W_dv, W_f, W_heat, W_ex (from ys) at the last sample
     while t < s.t_end and not switched:
         steps += 1
         status = STEP_CAP if steps > s.max_steps else (TINY_STEP if h < 1e-14 * (1.0 + abs(t)) else GO)
@@ -392,7 +426,7 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
             h *= max(0.2, 0.9 * err ** -0.2)
             continue
         # accepted: events on the dense output, in time order, up to the switch if the step crosses V_r = 0
-        switched = _g(np.int64(0), yn, K[6, 1], zeta, vb, d) <= 0.0
+        switched = _g(np.int64(0), yn, K[6, 1], zeta, belt_speed(p, vb, t + h) if forced == MOVING else vb, d) <= 0.0
         theta_end = _root(np.int64(0), y, K, (t, h), ph, p, forced) if switched else 1.0
         th = 0.0
         # the sample events at the step's end: one dense output and X'' for all three
@@ -405,11 +439,12 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
                 best, kind = _first_event((ga, gb), y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
             best, kind, tt, cur = _next_sample(best, kind, (t, h), s, cur)
             dense(y, K, h, best, ys, ny)
+            vbt = belt_speed(p, vb, t + best * h) if forced == MOVING else vb
             if kind == 1 or (switched and kind == -1):
-                ys[1] = 0.0 if kind == 1 else vb  # exactly: the section crossing is a sample; the switch
+                ys[1] = 0.0 if kind == 1 else vbt  # exactly: the section crossing is a sample; the switch
             # works since the phase began, split at the zeros of X'
             last = _add_works(w, ys, last, s.forced)
-            if not emit(outs, k, tt, ys[0], ys[1], d * slip_force(p, abs(vb - ys[1])), mode, w):
+            if not emit(outs, k, tt, ys[0], ys[1], d * slip_force(p, abs(vbt - ys[1])), mode, w):
                 return FULL, (t, x, v, h, k, steps, n_max, n_min), False, cur
             k += 1
             if kind == 1 and not forced and (s.stop_rtol > 0.0 or s.r_cert > 0.0):
@@ -425,7 +460,7 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
                 y[i] = yn[i]
                 K[0, i] = K[6, i]
             h *= min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
-        x, v = (ys[0], vb) if switched else (y[0], y[1])
+        x, v = (ys[0], belt_speed(p, vb, t) if forced == MOVING else vb) if switched else (y[0], y[1])
     return GO, (t, x, v, h, k, steps, n_max, n_min), switched, cur
 
 
@@ -569,7 +604,7 @@ def _switch(s, p, fs, where):
         hold = True
     if mode != 0:
         return mode, hold, mode * slip_force_at(p, 0.0)
-    return mode, hold, stick_friction(x, s.zeta, s.vb, external_force(p, t) if s.forced else 0.0)
+    return mode, hold, stick_friction(x, s.zeta, belt_speed(p, s.vb, t), stick_load(p, t) if s.forced else 0.0)
 
 
 @njit(cache=True)
@@ -580,9 +615,9 @@ def _finish(s, p, end, cur, outs, w):
     tt, f, before = s.t_end, 0.0, s.t_end
     if s.forced:
         tt, _ = _strobe(s.t_end, cur.n_strobe, s.period)
-        f, before = external_force(p, s.t_end), s.t_end - STROBE_TOL * (1.0 + s.t_end)
+        f, before = stick_load(p, s.t_end), s.t_end - STROBE_TOL * (1.0 + s.t_end)
     if outs[0][k - 1] < before:
-        if not emit(outs, k, tt, x, v, stick_friction(x, s.zeta, s.vb, f), np.int64(0), w):
+        if not emit(outs, k, tt, x, v, stick_friction(x, s.zeta, belt_speed(p, s.vb, s.t_end), f), np.int64(0), w):
             return k, FULL
         k += 1
     return k, OK
@@ -609,7 +644,7 @@ def _gd(kind, y, K, step, theta, ph, p, ys, tmp, forced):
     zeta, vb, d = ph
     dense(y, K, h, theta, ys, np.int64(2))  # X and X' are all the event functions read
     rhs(ys, t + theta * h, d, zeta, vb, p, tmp, forced)
-    return _g(kind, ys, tmp[1], zeta, vb, d)
+    return _g(kind, ys, tmp[1], zeta, belt_speed(p, vb, t + theta * h) if forced == MOVING else vb, d)
 
 
 @njit(cache=True)
@@ -650,8 +685,18 @@ def _strobe(tt, n, period):
 def _stick_work(xs, ts, ta, tb, zeta, vb, p, w):
     """Add the works of stick over [ta, tb] (F_c of one sign there) to ``w``: closed forms.
 
-    X' = V_b, F_c = X + 2 zeta V_b - f: P_f = V_b F_c, W_ex = V_b int f, no heat.
+    X' = V_b, F_c = X + 2 zeta V_b - f: P_f = V_b F_c, W_ex = V_b int f, no heat.  On a moving belt (V_b of one
+    sign there too) by quadrature (:func:`.stick.belt_stick_work`).
     """
+    if p[VB_AMP] != 0.0:
+        dv, pf, ex = belt_stick_work(xs, ts, ta, tb, zeta, vb, p)
+        w[0] += dv
+        if pf > 0.0:
+            w[1] += pf
+        else:
+            w[2] -= pf
+        w[4] += ex
+        return
     L = tb - ta
     xa = xs + vb * (ta - ts)
     om, ph = p[OMEGA], p[PHI]
@@ -693,20 +738,24 @@ def _forced_stick(s, p, fs, at, cur, outs, w):
         if ns < tb - STROBE_TOL * (1.0 + tb):
             tb = max(ns, ta)  # (a time held on the bound may have passed it by rounding)
             tag = 3
-        z = _friction_zero(xs, ts, ta, tb, zeta, vb, s.res, p) if vb != 0.0 else np.inf  # (V_b = 0: no friction work)
+        moving = p[VB_AMP] != 0.0
+        z = _friction_zero(xs, ts, ta, tb, zeta, vb, s.res, p) if vb != 0.0 or moving else np.inf  # (V_b = 0: no work)
+        if moving:  # P_f = V_b F_c changes sign where V_b does too
+            z = min(z, belt_zero(ta, vb, p))
         if z < tb:
             tb = z
             tag = 4
         _stick_work(xs, ts, ta, tb, zeta, vb, p, w)
         ta = tb
         if tag == 0:
-            return GO, te, xs + vb * (te - ts), k, Cursor(tail_done, next_dense, n_strobe)
+            return GO, te, stick_x(xs, ts, te, vb, p), k, Cursor(tail_done, next_dense, n_strobe)
         if tag == 1:
             tail_done = True
         if tag == 2:
             next_dense += s.dense_dt
         tt, n_strobe = _strobe(tb, n_strobe, s.period)
-        xb = xs + vb * (tb - ts)
-        if not emit(outs, k, tt, xb, vb, stick_friction(xb, zeta, vb, external_force(p, tb)), stick_mode, w):
+        xb = stick_x(xs, ts, tb, vb, p)
+        vbb = belt_speed(p, vb, tb)
+        if not emit(outs, k, tt, xb, vbb, stick_friction(xb, zeta, vbb, stick_load(p, tb)), stick_mode, w):
             return FULL, ts, xs, k, Cursor(tail_done, next_dense, n_strobe)
         k += 1

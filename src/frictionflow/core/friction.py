@@ -17,7 +17,10 @@
 * :func:`band_force` / :func:`band_mode` / :func:`band_side`: Karnopp's stick
   band |V_r| <= V_d (fixed-step RK4; the exact kernel's fallback
   :func:`~.exact.region_mode`), the law's parameters as one record (:func:`band_law`).
-* :func:`external_force`: the harmonic force f(tau) = F_ex cos(Omega tau + phi).
+* :func:`external_force`: the harmonic force f(tau) = F_ex cos(Omega tau + phi);
+  :func:`belt_speed` and its rates, the belt's V_b(tau) = V_b + A sin(Omega_b tau + phi_b);
+  :func:`stick_load`: f - V_b', the external force as the stick rules see it (a belt
+  that accelerates must take the sticking mass with it).
 
 Every rule that decides sticking takes ``fext``, the external force at that
 instant: the interface holds what the spring, the damper and the external
@@ -192,6 +195,37 @@ def belt_accel(p, t):
     if amp == 0.0:
         return 0.0
     return amp * p[VB_OMEGA] * math.cos(p[VB_OMEGA] * t + p[VB_PHI])
+
+
+@njit(cache=True, inline="always")
+def belt_jerk(p, t):
+    """V_b''(tau) = -A Omega_b^2 sin(Omega_b tau + phi_b) (0.0 for a belt at constant speed)."""
+    amp = p[VB_AMP]
+    if amp == 0.0:
+        return 0.0
+    return -amp * p[VB_OMEGA] * p[VB_OMEGA] * math.sin(p[VB_OMEGA] * t + p[VB_PHI])
+
+
+@njit(cache=True, inline="always")
+def stick_load(p, t):
+    """f(tau) - V_b'(tau): what every stick rule takes as its external force.
+
+    While sticking X'' = V_b', so the interface holds F_e + V_b' - f: the
+    belt's acceleration acts on the stick rule as an external force -V_b'
+    (f itself when the belt's speed is constant, to the bit).
+    """
+    return external_force(p, t) - belt_accel(p, t)
+
+
+@njit(cache=True, inline="always")
+def stick_load_rate(p, t, zeta, resultant):
+    """The rate :func:`rest_mode` takes as f': the held force F_e + V_b' - f changes at V_b - (this) while sticking,
+    so this is f' - V_b'' less, when F_e = X + 2 zeta X' (``resultant``), the damper's 2 zeta V_b'."""
+    rate = external_force_rate(p, t)
+    if p[VB_AMP] == 0.0:
+        return rate
+    rate -= belt_jerk(p, t)
+    return rate - 2.0 * zeta * belt_accel(p, t) if resultant else rate
 
 
 #: a held force this close to its limit, relative, counts as on it (the rule's tolerance with no rounding

@@ -12,7 +12,10 @@ what accumulated since the previous one, then the sums restart):
 
 The external force enters each stage at the stage's time; a step evaluates
 it at its start, middle and end (``f1``, ``f2``, ``f4``), the last reused as
-the next step's start.  Unforced runs pass zeros and compute no cosine.
+the next step's start.  Unforced runs pass zeros and compute no cosine.  A
+belt whose speed varies is evaluated at the same three times: its speed
+V_b(tau) and the load f - V_b' the stick band holds (:func:`drive_at`);
+on a constant belt the load is f itself and the speed V_b, to the bit.
 
 ``s`` (length 7) holds ``X, X'`` and the five sums since the last sample; it is
 updated in place, so a long run can be advanced chunk by chunk (progress bars).
@@ -31,13 +34,30 @@ import sys
 
 from numba import njit
 
-from .friction import COULOMB, CUBIC, KARNOPP, LAW, SMOOTH_LAWS, STRIBECK, FASTMATH, band_force, band_force_select, band_law, band_mode, external_force
+from .friction import (COULOMB, CUBIC, KARNOPP, LAW, SMOOTH_LAWS, STRIBECK, FASTMATH, VB_AMP, band_force, band_force_select,
+                       band_law, band_mode, belt_accel, belt_speed, external_force)
 
 N_STATE = 7
 #: the slot of V_d in a band record (:func:`band_law`)
 _VD = 3
 #: a step without external force
 NO_FORCE = (0.0, 0.0, 0.0)
+
+
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
+def constant_drive(vb):
+    """A step's drive without external force on a belt at constant speed ``vb``: (f, load, V_b) at its three times."""
+    return NO_FORCE, NO_FORCE, (vb, vb, vb)
+
+
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
+def drive_at(p, vb, t):
+    """(f, f - V_b', V_b) at ``t``: the external force, the load the stick band holds and the belt's speed (on a constant
+    belt the load is f and the speed ``vb``, no sine computed)."""
+    f = external_force(p, t)
+    if p[VB_AMP] == 0.0:
+        return f, f, vb
+    return f, f - belt_accel(p, t), belt_speed(p, vb, t)
 #: the smooth laws :func:`run` and the batched block (:mod:`.rk4_batch`) branch on, one branch each (typing a loop
 #: over them with ``literal_unroll`` costs seconds of compiling): a law added to SMOOTH_LAWS needs its branches
 BRANCHED_LAWS = (STRIBECK, CUBIC)
@@ -60,18 +80,19 @@ def step_count(t_end: float, dt: float) -> int:
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
-def stage(x, v, f, zeta, vb, lw, lanes, forced):
-    """Right-hand side at one stage with external force ``f``: (X'', P_dv, P_f+, P_f-, P_heat).
+def stage(x, v, drive, zeta, lw, lanes, forced):
+    """Right-hand side at one stage with ``drive`` = (f, load, V_b) there: (X'', P_dv, P_f+, P_f-, P_heat).
 
     ``lw``: the law's band record.  ``lanes`` and ``forced`` (constants at
     each call site) pick the select form of the law for the batched kernels,
     and whether an external force acts: unforced loops then hold no trace of
-    it (``f`` is a constant 0.0).
+    it (``f`` is a constant 0.0).  The band holds the load f - V_b'.
     """
+    f, g, vb = drive
     if lanes:
-        fc = band_force_select(lw, x, v, zeta, vb, f)
+        fc = band_force_select(lw, x, v, zeta, vb, g)
     else:
-        fc = band_force(lw, x, v, zeta, vb, f)
+        fc = band_force(lw, x, v, zeta, vb, g)
     a = fc - x - 2.0 * zeta * v
     if forced:
         a += f
@@ -82,24 +103,28 @@ def stage(x, v, f, zeta, vb, lw, lanes, forced):
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
-def step(x, v, dt, zeta, vb, lw, lanes, fx, forced):
+def step(x, v, dt, zeta, lw, lanes, drive, forced):
     """One RK4 step of the augmented system; returns new X, X' and work increments (W_ex's last).
 
-    ``fx`` = (f1, f2, f4): the external force at the step's start, middle
-    and end (read only when ``forced``, a constant at each call site).
+    ``drive`` = (fx, gx, vbs), each at the step's start, middle and end: the
+    external force (read only when ``forced``, a constant at each call site),
+    the load the band holds and the belt's speed (:func:`constant_drive`,
+    :func:`drive_at`).
     """
+    fx, gx, vbs = drive
     f1, f2, f4 = fx
     h2 = 0.5 * dt
-    a1, d1, p1, n1, q1 = stage(x, v, f1, zeta, vb, lw, lanes, forced)
+    a1, d1, p1, n1, q1 = stage(x, v, (f1, gx[0], vbs[0]), zeta, lw, lanes, forced)
     x2 = x + h2 * v
     v2 = v + h2 * a1
-    a2, d2, p2, n2, q2 = stage(x2, v2, f2, zeta, vb, lw, lanes, forced)
+    mid = (f2, gx[1], vbs[1])
+    a2, d2, p2, n2, q2 = stage(x2, v2, mid, zeta, lw, lanes, forced)
     x3 = x + h2 * v2
     v3 = v + h2 * a2
-    a3, d3, p3, n3, q3 = stage(x3, v3, f2, zeta, vb, lw, lanes, forced)
+    a3, d3, p3, n3, q3 = stage(x3, v3, mid, zeta, lw, lanes, forced)
     x4 = x + dt * v3
     v4 = v + dt * a3
-    a4, d4, p4, n4, q4 = stage(x4, v4, f4, zeta, vb, lw, lanes, forced)
+    a4, d4, p4, n4, q4 = stage(x4, v4, (f4, gx[2], vbs[2]), zeta, lw, lanes, forced)
     h6 = dt / 6.0
     return (
         x + h6 * (v + 2.0 * v2 + 2.0 * v3 + v4),
@@ -113,9 +138,9 @@ def step(x, v, dt, zeta, vb, lw, lanes, fx, forced):
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
-def _sample(x, v, f, zeta, vb, lw):
-    """(F_c, friction mode) of the state (X, X') under external force ``f``: what a sample records besides it."""
-    return band_force(lw, x, v, zeta, vb, f), band_mode(v, vb, lw[_VD])
+def _sample(x, v, g, zeta, vb, lw):
+    """(F_c, friction mode) of the state (X, X') under the load ``g`` on a belt at ``vb``: what a sample records besides it."""
+    return band_force(lw, x, v, zeta, vb, g), band_mode(v, vb, lw[_VD])
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
@@ -147,7 +172,7 @@ def run(s, span, t0, dt, zeta, vb, p, out, k):
     is compiled with its code as a constant, so that it holds only that
     law's slip force.  Unforced: a force record with F_ex > 0 goes to
     :func:`run_forced` (the façade chooses, so that unforced runs compile no
-    forced loop).
+    forced loop; a moving belt goes there too).
 
     The codes are passed as ``code + 0``: a plain integer to numba, so that
     ``_run`` is typed once for all laws (not once per constant, nor once per
@@ -166,7 +191,7 @@ def run(s, span, t0, dt, zeta, vb, p, out, k):
 
 @njit(cache=True, fastmath=FASTMATH)
 def run_forced(s, span, t0, dt, zeta, vb, p, out, k):
-    """:func:`run` under the external force of ``p``: one loop for every law (the cosines dominate it anyway)."""
+    """:func:`run` under the external force or the moving belt of ``p``: one loop for every law (the cosines dominate it)."""
     return _run(int(p[LAW]), True, s, span, t0, dt, zeta, vb, p, out, k)
 
 
@@ -175,35 +200,41 @@ def _run(law, forced, s, span, t0, dt, zeta, vb, p, out, k):
     i0, i1, n_total, every = span
     lw = band_law(law, p)
     x, v, w0, w1, w2, w3, w4 = s[0], s[1], s[2], s[3], s[4], s[5], s[6]
-    f1 = f2 = f4 = 0.0
+    d1_ = d2_ = d4_ = (0.0, 0.0, vb)  # the drive (f, load, V_b) at the step's start, middle and end
     if forced:
-        f1 = external_force(p, t0 + i0 * dt)
+        d1_ = drive_at(p, vb, t0 + i0 * dt)
     # a countdown instead of i % every: an integer division per step costs more than the step
     due = (every - i0 % every) % every
     for i in range(i0, i1):
         if due == 0:
             due = every
-            _record(out, k, t0 + i * dt, x, v, _sample(x, v, f1, zeta, vb, lw), (w0, w1, w2, w3, w4))
+            _record(out, k, t0 + i * dt, x, v, _sample(x, v, d1_[1], zeta, d1_[2], lw), (w0, w1, w2, w3, w4))
             k += 1
             w0 = w1 = w2 = w3 = w4 = 0.0
         due -= 1
         if forced:
-            f2 = external_force(p, t0 + (i + 0.5) * dt)
-            f4 = external_force(p, t0 + (i + 1) * dt)
-        x, v, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, lw, False, (f1, f2, f4), forced)
+            d2_ = drive_at(p, vb, t0 + (i + 0.5) * dt)
+            d4_ = drive_at(p, vb, t0 + (i + 1) * dt)
+        x, v, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, lw, False, _tabled(d1_, d2_, d4_), forced)
         w0 += d0
         w1 += d1
         w2 += d2
         w3 += d3
         if forced:
             w4 += d4
-            f1 = f4
+            d1_ = d4_
     if i1 == n_total:
-        _record(out, k, t0 + n_total * dt, x, v, _sample(x, v, f1, zeta, vb, lw), (w0, w1, w2, w3, w4))
+        _record(out, k, t0 + n_total * dt, x, v, _sample(x, v, d1_[1], zeta, d1_[2], lw), (w0, w1, w2, w3, w4))
         k += 1
         w0 = w1 = w2 = w3 = w4 = 0.0
     s[0], s[1], s[2], s[3], s[4], s[5], s[6] = x, v, w0, w1, w2, w3, w4
     return k
+
+
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
+def _tabled(a, b, c):
+    """The drives (f, load, V_b) at a step's three times as :func:`step` takes them: (fx, gx, vbs)."""
+    return (a[0], b[0], c[0]), (a[1], b[1], c[1]), (a[2], b[2], c[2])
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
@@ -231,7 +262,7 @@ def run_thinned(s, span, t0, dt, t_tail, zeta, vb, p, out, k):
 
 @njit(cache=True, fastmath=FASTMATH)
 def run_thinned_forced(s, span, t0, dt, t_tail, zeta, vb, p, out, k):
-    """:func:`run_thinned` under the external force of ``p``."""
+    """:func:`run_thinned` under the external force or the moving belt of ``p``."""
     return _thinned(True, s, span, t0, dt, t_tail, zeta, vb, p, out, k)
 
 
@@ -244,29 +275,29 @@ def _thinned(forced, s, span, t0, dt, t_tail, zeta, vb, p, out, k):
     a, kept = s[N_STATE], s[N_STATE + 1] != 0.0
     cap = len(out.t)
     i = i0
-    f1 = f2 = f4 = 0.0
+    d1_ = d2_ = d4_ = (0.0, 0.0, vb)  # the drive (f, load, V_b) at the step's start, middle and end
     if forced:
-        f1 = external_force(p, t0 + i0 * dt)
+        d1_ = drive_at(p, vb, t0 + i0 * dt)
     while i < i1:
         if k + 3 > cap:
             break
         t = t0 + i * dt
         if i % every == 0 and not kept:
-            _record(out, k, t, x, v, _sample(x, v, f1, zeta, vb, lw), (w0, w1, w2, w3, w4))
+            _record(out, k, t, x, v, _sample(x, v, d1_[1], zeta, d1_[2], lw), (w0, w1, w2, w3, w4))
             k += 1
             w0 = w1 = w2 = w3 = w4 = 0.0
             kept = True
         if forced:
-            f2 = external_force(p, t0 + (i + 0.5) * dt)
-            f4 = external_force(p, t0 + (i + 1) * dt)
-        xn, vn, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, vb, lw, False, (f1, f2, f4), forced)
-        an = band_force(lw, xn, vn, zeta, vb, f4) - xn - 2.0 * zeta * vn
+            d2_ = drive_at(p, vb, t0 + (i + 0.5) * dt)
+            d4_ = drive_at(p, vb, t0 + (i + 1) * dt)
+        xn, vn, d0, d1, d2, d3, d4 = step(x, v, dt, zeta, lw, False, _tabled(d1_, d2_, d4_), forced)
+        an = band_force(lw, xn, vn, zeta, d4_[2], d4_[1]) - xn - 2.0 * zeta * vn
         if forced:
-            an += f4
+            an += d4_[0]
         event = (_sign(v) != _sign(vn) or _sign(a) != _sign(an) or _sign(v + 2.0 * zeta * a) != _sign(vn + 2.0 * zeta * an)
-                 or band_mode(v, vb, vd) != band_mode(vn, vb, vd) or (t < t_tail <= t + dt))
+                 or band_mode(v, d1_[2], vd) != band_mode(vn, d4_[2], vd) or (t < t_tail <= t + dt))
         if event and not kept:
-            _record(out, k, t, x, v, _sample(x, v, f1, zeta, vb, lw), (w0, w1, w2, w3, w4))
+            _record(out, k, t, x, v, _sample(x, v, d1_[1], zeta, d1_[2], lw), (w0, w1, w2, w3, w4))
             k += 1
             w0 = w1 = w2 = w3 = w4 = 0.0
         w0 += d0
@@ -276,11 +307,11 @@ def _thinned(forced, s, span, t0, dt, t_tail, zeta, vb, p, out, k):
         if forced:
             w4 += d4
         x, v, a = xn, vn, an
-        f1 = f4
+        d1_ = d4_
         kept = False
         i += 1
         if event or i == n_total:
-            _record(out, k, t0 + i * dt, x, v, _sample(x, v, f1, zeta, vb, lw), (w0, w1, w2, w3, w4))
+            _record(out, k, t0 + i * dt, x, v, _sample(x, v, d1_[1], zeta, d1_[2], lw), (w0, w1, w2, w3, w4))
             k += 1
             w0 = w1 = w2 = w3 = w4 = 0.0
             kept = True

@@ -27,7 +27,7 @@ from numba import njit
 from . import sections as sec
 from ._vectorize import wide_vectors
 from .friction import COULOMB, CUBIC, FD, FS, KARNOPP, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, STRIBECK, VD
-from .rk4 import FASTMATH, NO_FORCE, step
+from .rk4 import FASTMATH, constant_drive, step
 from .threads import over_points
 
 LANES = 64
@@ -43,7 +43,7 @@ def _lanes(law, st, w, dt, lane):
         xj = x[j]
         vj = v[j]
         lw = (law, fd[j], fs[j], vd[j], res[j], la[j], lb[j], lc[j])
-        xn, vn, d0, d1, d2, d3, _ = step(xj, vj, dt, zeta[j], vb[j], lw, True, NO_FORCE, False)
+        xn, vn, d0, d1, d2, d3, _ = step(xj, vj, dt, zeta[j], lw, True, constant_drive(vb[j]), False)
         w0[j] += d0
         w1[j] += d1
         w2[j] += d2

@@ -120,6 +120,7 @@ def _check_law(friction: FrictionLaw) -> None:
 
 
 def _check_model(model: BeltOscillator) -> None:
+    model.refuse_moving_belt("forced periodic orbits")
     if not model.forced:
         raise ValueError("fex must be > 0 for a forced periodic orbit (the forcing amplitude), got 0")
 

@@ -12,7 +12,7 @@ from .. import _validate as check
 from .._progress import progress_bar
 from ..core import batch, dopri, sections
 from ..core._rebind import rebind
-from ..core.layout import FEX
+from ..core.layout import FEX, VB_AMP
 from ..core.records import Events, Samples, run_record
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
@@ -48,7 +48,14 @@ def kernel_for(friction: FrictionLaw) -> tuple[Callable, bool]:
 
 def _builtin_run(run, p, samples, events):
     """:func:`frictionflow.core.dopri.run`, choosing its variant here: a first unforced run compiles only the unforced one."""
-    return (dopri.run_forced if p[FEX] != 0.0 else dopri.run_unforced)(run, p, samples, events)
+    return _variant(p, dopri.run_unforced, dopri.run_forced, dopri.run_moving)(run, p, samples, events)
+
+
+def _variant(p: np.ndarray, unforced: Callable, forced: Callable, moving: Callable) -> Callable:
+    """The kernel's variant for the force record ``p``: on a moving belt, forced, or neither."""
+    if p[VB_AMP] != 0.0:
+        return moving
+    return forced if p[FEX] != 0.0 else unforced
 
 
 @lru_cache(maxsize=None)
@@ -66,11 +73,11 @@ def _python_user_kernel(func: Callable[[float], float]) -> Callable:
 
 def _rebuild(force: Callable, compiled: bool) -> Callable:
     kernels = rebind(dopri, dopri.KERNEL_FUNCS, compiled, slip_force=force)
-    unforced, forced = kernels["run_unforced"], kernels["run_forced"]
+    unforced, forced, moving = kernels["run_unforced"], kernels["run_forced"], kernels["run_moving"]
 
     def run(run, p, samples, events):
         """:func:`frictionflow.core.dopri.run` for the user's law: each variant compiled when first used."""
-        return (forced if p[FEX] != 0.0 else unforced)(run, p, samples, events)
+        return _variant(p, unforced, forced, moving)(run, p, samples, events)
 
     return run
 
@@ -87,7 +94,9 @@ class Adaptive(Solver):
     time, a stick phase ends where |F_e - f(tau)| first reaches F_s (every
     excursion found), W_ex is integrated with the others, and the run also
     samples every tau_k = k 2 pi / Omega.  Steps are at most 0.25 and at most
-    0.25 / Omega.
+    0.25 / Omega.  A moving belt (``model.belt_varies``) runs the same way: V_b(tau) at each stage's
+    time, a stick phase follows the belt exactly and holds F_e + V_b' - f; the run samples every
+    2 pi / Omega_b when there is no external force.
 
     Parameters
     ----------
@@ -108,6 +117,7 @@ class Adaptive(Solver):
     steady_rtol = 1e-8  # resolves orbits to about its rtol
     default_chunk = 256
     batched = staticmethod(batch.adaptive_points)
+    supports_belt_motion = True
 
     def __init__(self, rtol: float = 1e-10, atol: float = 1e-13, max_steps: int = 10_000_000, dense_dt: float | None = None) -> None:
         self.rtol = replace(ODE_RTOL, name="rtol").check(rtol)  # the API calls it rtol, configs ode_rtol
@@ -141,6 +151,8 @@ class Adaptive(Solver):
         forced = 0
         if model is not None and model.forced:
             forced = int(t_end / model.forcing_period) + 2 + int(40 * t_end * max(model.omega - 1.0, 0.0))
+        if model is not None and model.belt_varies:
+            forced += int(t_end * model.vb_omega / (2 * np.pi)) + 2 + int(40 * t_end * max(model.vb_omega - 1.0, 0.0))
         return int(40 * t_end) + 256 + dense + forced
 
     def step_estimate(self, t_end: float, model: BeltOscillator, friction: FrictionLaw) -> float:

@@ -6,6 +6,7 @@ from typing import Any, Callable, Mapping
 
 from .._continuous import declare_interpolant
 from ..friction.base import FrictionLaw
+from ..params import BeltOscillator
 from ..parameters import declare
 from .adaptive import Adaptive
 from .base import Solver
@@ -39,28 +40,36 @@ def solver_named(name: Any) -> type[Solver] | None:
     return next((cls for cls in solver_classes() if cls.name == name), None)
 
 
-def solver_class(name: str, friction: FrictionLaw) -> type[Solver]:
-    """The class of solver ``name`` (``auto``: the default for ``friction``)."""
+def solver_class(name: str, friction: FrictionLaw, model: BeltOscillator | None = None) -> type[Solver]:
+    """The class of solver ``name`` (``auto``: the default for ``friction`` and ``model``)."""
     if name == "auto":
-        return type(auto_solver(friction))
+        return type(auto_solver(friction, model))
     cls = solver_named(name)
     if cls is not None:
         return cls
     raise ValueError(f"solver must be one of {', '.join(solver_names())}, got {name!r}")
 
 
-def auto_solver(friction: FrictionLaw) -> Solver:
+def auto_solver(friction: FrictionLaw, model: BeltOscillator | None = None) -> Solver:
     """The default solver for ``friction``: :class:`Stiff` for laws with internal state, :class:`Exact` for
-    piecewise-constant laws, else :class:`Adaptive`.
+    piecewise-constant laws, else :class:`Adaptive`; on a moving belt (``model.belt_varies``) the first of these
+    that runs one, else the first solver that runs it and the law.
 
     Parameters
     ----------
     friction:
         A friction law.
+    model:
+        The oscillator, if known (its belt may rule the default out).
     """
     if friction.internal_names:
-        return Stiff()
-    return Exact() if friction.piecewise_constant else Adaptive()
+        default: Solver = Stiff()
+    else:
+        default = Exact() if friction.piecewise_constant else Adaptive()
+    if model is None or not model.belt_varies or default.supports_belt_motion:
+        return default
+    able = (cls() for cls in solver_classes() if cls.supports_belt_motion)
+    return next((s for s in able if s.supports(friction)), default)
 
 
 def unsupported(solver: str, friction: FrictionLaw) -> str:
@@ -76,9 +85,9 @@ def belt_motion_unsupported(solver: str) -> str:
     return f"solver={solver} does not run a belt whose speed varies (vb_amplitude > 0); {use}"
 
 
-def build_solver(name: str, friction: FrictionLaw, values: Mapping[str, Any]) -> Solver:
-    """Solver ``name`` for ``friction`` with its declared parameters taken from ``values``."""
-    cls = solver_class(name, friction)
+def build_solver(name: str, friction: FrictionLaw, values: Mapping[str, Any], model: BeltOscillator | None = None) -> Solver:
+    """Solver ``name`` for ``friction`` (and ``model``, for ``auto``) with its declared parameters taken from ``values``."""
+    cls = solver_class(name, friction, model)
     solver = cls.from_values(values)
     if not solver.supports(friction):
         raise ValueError(unsupported(name, friction))

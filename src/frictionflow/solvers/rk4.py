@@ -14,7 +14,7 @@ from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, Param
 from ..core import batch, sections
-from ..core.layout import FEX, LAW, N_WORK
+from ..core.layout import FEX, LAW, N_WORK, VB_AMP
 from ..core.records import N_CONTACTS, N_STATE, Samples, empty_samples
 from ..estimate import SECONDS_PER, Estimate
 from .base import kernel_params, DEFAULT_MAX_MEMORY, CoarseStepWarning, Solver, check_memory
@@ -40,6 +40,11 @@ def _forced_amplitude(model: BeltOscillator) -> float:
     w = model.omega
     den = math.hypot(1.0 - w * w, 2.0 * model.zeta * w)
     return model.fex / den if den > 0 else (math.inf if model.fex > 0 else 0.0)
+
+
+def _driven(p: np.ndarray) -> bool:
+    """Whether the force record ``p`` drives the mass in time (an external force or a moving belt): the forced loops."""
+    return bool(p[FEX] != 0.0 or p[VB_AMP] != 0.0)
 
 
 def _divisor_at_least(n: int, k: int) -> int:
@@ -79,7 +84,9 @@ class RK4(Solver):
     The friction law is evaluated at each of the four stages, with the
     discontinuities handled by its stick band (Karnopp's |V_r| <= V_d), as in
     the paper.  The power-flow work integrals are integrated by the same
-    stages.
+    stages.  A moving belt enters each stage at its time (V_b(tau), and the
+    load f - V_b' that the band holds); the step divides 2 pi / Omega_b as
+    it does a forcing period.
 
     Parameters
     ----------
@@ -95,6 +102,7 @@ class RK4(Solver):
     parameters = (DT, RECORD_EVERY)
     steady_rtol = 1e-6  # fixed-step RK4 resolves orbits to about 1e-6 at dt = 1e-3
     fixed_step = True
+    supports_belt_motion = True
     batched = staticmethod(batch.rk4_points)
     step_cost = "rk4_step"
 
@@ -144,11 +152,12 @@ class RK4(Solver):
         # Bound on |X''| over the run: the motion stays within the energy radius
         # about the slip centre, grown by at most the static-kinetic gap and V_b.
         # An external force adds its linear steady response F_ex / sqrt((1 - W^2)^2 + (2 zeta W)^2).
-        radius = math.hypot(x0 - friction.fd, v0) + (friction.fs - friction.fd) + abs(model.vb) + _forced_amplitude(model)
-        accel = radius * (1.0 + 2.0 * z) + friction.fs + model.fex
+        belt = model.vb_amplitude if model.belt_varies else 0.0
+        radius = math.hypot(x0 - friction.fd, v0) + (friction.fs - friction.fd) + abs(model.vb) + belt + _forced_amplitude(model)
+        accel = radius * (1.0 + 2.0 * z) + friction.fs + model.fex + belt * model.vb_omega
         band_dt = friction.band / accel if accel > 0 else math.inf
         # Unforced slip about (F_d, 0) never gets faster than its start: the band is out of reach.
-        if not model.forced and abs(model.vb) - friction.band > math.hypot(x0 - friction.fd, v0):
+        if not model.driven and abs(model.vb) - friction.band > math.hypot(x0 - friction.fd, v0):
             band_dt = math.inf
         lam = z + math.sqrt(z * z - 1.0) if z > 1.0 else 1.0
         return {"band": band_dt, "stability": RK4_REAL_LIMIT / lam}
@@ -202,14 +211,15 @@ class RK4(Solver):
     def aligned_step(self, model: BeltOscillator) -> tuple[float, int]:
         """The step used and the steps per forcing period (0 unforced).
 
-        With an external force the step shrinks to the nearest whole fraction
-        of the forcing period 2 pi / Omega, so that the stroboscopic section
-        falls on steps.
+        With an external force (or a moving belt) the step shrinks to the
+        nearest whole fraction of the period 2 pi / Omega (2 pi / Omega_b), so
+        that the stroboscopic section falls on steps.
         """
-        if not model.forced:
+        if not model.driven:
             return self.dt, 0
-        per = max(1, math.ceil(model.forcing_period / self.dt - 1e-9))
-        return model.forcing_period / per, per
+        period = model.drive_period
+        per = max(1, math.ceil(period / self.dt - 1e-9))
+        return period / per, per
 
     def steps(self, t_end: float, dt: float | None = None) -> int:
         """Steps to reach ``t_end``; ValueError when that is none or more than :data:`MAX_STEPS`."""
@@ -227,7 +237,7 @@ class RK4(Solver):
         out = _arrays(n + 1)
         state = np.zeros(kernel.N_STATE)
         state[:2] = x0, v0
-        run = kernel.run_forced if args[-1][FEX] != 0.0 else kernel.run  # an unforced run compiles no forced loop
+        run = kernel.run_forced if _driven(args[-1]) else kernel.run  # an unforced run compiles no forced loop
         k = 0
         for i0 in range(0, n, CHUNK):
             i1 = min(n, i0 + CHUNK)
@@ -243,7 +253,7 @@ class RK4(Solver):
         state[:2] = x0, v0
         state[kernel.N_STATE] = np.nan
         t_tail = sections.tail_start(0.0, n * args[0])
-        thinned = kernel.run_thinned_forced if args[-1][FEX] != 0.0 else kernel.run_thinned
+        thinned = kernel.run_thinned_forced if _driven(args[-1]) else kernel.run_thinned
         k = i = 0
         while i < n:
             check_memory(len(bufs[0]), max_memory, lambda: self.sized(t_end))

@@ -26,6 +26,8 @@ VARIABLES = tuple((q.name, q.units, q.long_name) for q in Q.SWEPT)
 KIND_NAMES = Q.KINDS
 #: the external force's parameters: a sweep that sets or varies them runs the forced path
 FORCING = ("fex", "omega", "phi")
+#: the axis that makes the belt move (its frequency and phase alone leave it at constant speed)
+BELT = "vb_amplitude"
 
 
 def chunk_slices(chunk: tuple[int, ...], chunks: tuple[int, ...], shape: tuple[int, ...]) -> tuple[slice, ...]:
@@ -55,7 +57,7 @@ def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[
     shape = tuple(s.stop - s.start for s in sl)
     if law.internal_names:
         return _stateful_points(cfg, law, solver, pts).T.reshape((batch.NR, *shape))
-    if model.forced or any(name in cfg.axes for name in FORCING):
+    if model.driven or any(name in cfg.axes for name in (*FORCING, BELT)):
         return _forced_points(cfg, law, solver, pts).T.reshape((batch.NR, *shape))
     p = _friction_rows(cfg, law, pts)
     zeta, vb = pts["zeta"], pts["vb"]
@@ -76,12 +78,13 @@ def _forced_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np
     exact solver's :mod:`frictionflow.core.batch_forced`: the same run and the
     same classifier, compiled); the rest -- other solvers, points without
     forcing, and what the batched kernel leaves to it -- run one by one through
-    the façade.
+    the façade.  A point on a moving belt (``vb_amplitude`` > 0) is judged on the section of its period too,
+    through the façade (the batched kernels run a belt at constant speed).
     """
     n = len(pts["zeta"])
     out = np.empty((n, batch.NR))
     facade = np.ones(n, dtype=bool)
-    j = np.flatnonzero(pts["fex"] > 0.0)
+    j = np.flatnonzero((pts["fex"] > 0.0) & ~(pts[BELT] > 0.0))
     if len(j):
         sub = {k: v[j] for k, v in pts.items()}
         p = _friction_rows(cfg, law, sub)

@@ -45,6 +45,7 @@ from ..io import read_config
 from ..parameters import declared, dimensional_parameters, sweep_axes
 from ..params import SCALE_KEYS, unit_of
 from ..solvers.base import CoarseStepWarning, check_memory
+from ..solvers.registry import belt_motion_unsupported
 
 #: what can be an axis: every sweepable declared parameter (the oscillator's, the laws', the initial state)
 GRID_KEYS = sweep_axes()
@@ -391,6 +392,7 @@ def _check_points(cfg: SweepConfig) -> None:
             except ValueError as e:
                 raise ValueError(f"grid.{key}: {val:g} is not valid ({e})") from None
     _check_resonance(cfg)
+    _check_belt(cfg)
     # F_s >= F_d must hold across both axes together
     fd = cfg.axes.get("fd", np.array([cfg.run.fd]))
     fs = cfg.axes.get("fs")
@@ -398,13 +400,32 @@ def _check_points(cfg: SweepConfig) -> None:
         raise ValueError(f"grid.fs: every F_s must be >= every F_d (min fs {fs.min():g} < max fd {fd.max():g})")
 
 
+def _grid_values(cfg: SweepConfig, key: str) -> np.ndarray:
+    """The values ``key`` takes on the grid: its axis, its sample, or the one fixed value."""
+    found = cfg.axes.get(key, cfg.sample.get(key))
+    return np.asarray(found if found is not None else [getattr(cfg.run, key)], dtype=float)
+
+
+def _check_belt(cfg: SweepConfig) -> None:
+    """A moving belt (vb_amplitude > 0 at some point): the solver must run it, and where an external force acts too
+    the two must share the stroboscopic period (vb_omega = omega, fixed); refused before any work."""
+    if not _grid_values(cfg, "vb_amplitude").max() > 0.0:
+        return
+    solver = cfg.run.build()[2]
+    if not solver.supports_belt_motion:
+        raise ValueError(f"grid: {belt_motion_unsupported(solver.name)}")
+    om, omb = _grid_values(cfg, "omega"), _grid_values(cfg, "vb_omega")
+    if _grid_values(cfg, "fex").max() > 0.0 and (len(om) > 1 or len(omb) > 1 or om[0] != omb[0]):
+        raise ValueError("grid: points with both an external force and a moving belt need vb_omega equal to omega, "
+                         "both fixed (the period their stroboscopic classification shares)")
+
+
 def _check_resonance(cfg: SweepConfig) -> None:
     """A forced point the solver refuses (the exact solver: undamped resonance): refuse the grid before any work."""
     solver = cfg.run.build()[2]
 
     def values(key: str) -> np.ndarray:
-        found = cfg.axes.get(key, cfg.sample.get(key))
-        return np.asarray(found if found is not None else [getattr(cfg.run, key)], dtype=float)
+        return _grid_values(cfg, key)
 
     # the worst point of the grid: undamped if any point is, at omega = 1 if any point is, the largest forcing
     zeta = 0.0 if np.any(values("zeta") == 0.0) else 1.0

@@ -62,7 +62,7 @@ def sweep_estimate(cfg: SweepConfig, out: str | Path | None = None, name: str = 
     if isinstance(cfg, ModelSweepConfig):
         return model_sweep_estimate(cfg, out, name)
     model, law, solver = cfg.run.build()
-    forced = model.forced or "fex" in cfg.axes or "fex" in cfg.sample
+    forced = model.driven or "fex" in cfg.axes or "fex" in cfg.sample or "vb_amplitude" in cfg.axes
     whole_run = forced or bool(law.internal_names)  # a law with internal states: each point a whole stiff run
     point = solver.cost(model, law, cfg.run.t_end) if whole_run else solver.point_cost(model, law, cfg.run.t_end)
     work = Estimate(float(cfg.size), f"points of {point.work:.3g} {point.unit}", point.seconds * cfg.size,
