@@ -55,7 +55,8 @@ def test_laws_declare_their_parameters_and_kernel_slots(name):
 def _axis_values(p, law):
     v = getattr(law, p.name, None)
     if v is None:  # an oscillator or initial-state parameter
-        v = {"zeta": 0.05, "vb": 0.02, "x0": 0.03, "v0": 0.0, "fex": 0.01, "omega": 1.0, "phi": 0.3}[p.name]
+        v = {"zeta": 0.05, "vb": 0.02, "x0": 0.03, "v0": 0.0, "fex": 0.01, "omega": 1.0, "phi": 0.3,
+             "vb_amplitude": 0.005, "vb_omega": 0.8, "vb_phi": 0.3}[p.name]
     return [float(v), float(v) * 1.1 + (1e-3 if v == 0 else 0.0)]
 
 
@@ -69,7 +70,7 @@ def test_every_sweep_axis_of_the_law_changes_the_kernel_rows_and_computes(name):
             values = [law.fs, law.fs * 1.5]
         spec = {"friction": name, "t_end": 40.0, "solver": "rk4" if law.stick_rule == "band" else "auto",
                 "grid": {p.name: values}}
-        if p.name in ("fex", "omega", "phi"):  # forced: damped, so that no point is the undamped resonance
+        if p.name in ("fex", "omega", "phi", "vb_amplitude"):  # driven: damped, so that no point is the undamped resonance
             spec["zeta"] = 0.05
         cfg = parse_sweep(spec)
         out = compute_chunk(cfg.source, (0,), (2,))

@@ -17,6 +17,8 @@ from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
 
 from frictionflow import BeltOscillator, analyze, simulate
+from frictionflow import quantities as Q
+from frictionflow.sweep import parse_sweep, run_sweep
 from frictionflow.analysis.power_flow import instantaneous_power
 from frictionflow.friction.coulomb import Coulomb
 from frictionflow.friction.stribeck import Stribeck
@@ -361,3 +363,16 @@ def test_a_users_slip_law_runs_on_a_moving_belt_as_the_built_in_one():
     user = simulate(m, SlipLaw(stribeck_slip, fs=0.8), Adaptive(), t_end=30.0, x0=0.0, v0=0.2)
     built_in = simulate(m, STRIBECK, Adaptive(), t_end=30.0, x0=0.0, v0=0.2)
     np.testing.assert_allclose(user.events["t"], built_in.events["t"], rtol=0, atol=1e-9)
+
+
+def test_a_sweep_over_the_belts_amplitude_with_solver_auto_runs_one_solver_that_runs_it(tmp_path):
+    spec = {"friction": "coulomb", "fd": 0.02, "fs": 0.04, "zeta": 0.05, "vb": 0.01, "t_end": 60.0,
+            "grid": {"vb_amplitude": [0.0, 0.005]}}
+    assert parse_sweep(spec).run.solver == "adaptive"  # exact (auto's pick on a constant belt) cannot run A > 0
+    swept = run_sweep(spec, tmp_path / "s.zarr").load()
+    for amp in (0.0, 0.005):
+        model = BeltOscillator(zeta=0.05, vb=0.01, vb_amplitude=amp)
+        want = analyze(simulate(model, Coulomb(fd=0.02, fs=0.04), Adaptive(), t_end=60.0)).quantities()
+        row = swept.sel(vb_amplitude=amp)
+        got = np.array([float(row[q.name]) for q in Q.SWEPT])
+        np.testing.assert_array_equal(got, np.array([want[q.name] for q in Q.SWEPT], dtype=float))

@@ -31,7 +31,7 @@ import hashlib
 import json
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Mapping, NamedTuple
 
 import numpy as np
@@ -294,7 +294,7 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_poin
             axes[key] = a
         else:
             fixed[key] = a
-    run = RunConfig.from_mapping({**values, **fixed}, source=source)
+    run = _auto_on_a_moving_belt(RunConfig.from_mapping({**values, **fixed}, source=source), axes, sample, source)
     _, law, solver = run.build()
     if solver.batched is None and not law.internal_names:  # (internal states: each point a run on the threads)
         raise ValueError(f"{source}: sweeps cannot run friction={law.name} with solver={solver.name}: it has no batched kernel")
@@ -404,6 +404,18 @@ def _grid_values(cfg: SweepConfig, key: str) -> np.ndarray:
     """The values ``key`` takes on the grid: its axis, its sample, or the one fixed value."""
     found = cfg.axes.get(key, cfg.sample.get(key))
     return np.asarray(found if found is not None else [getattr(cfg.run, key)], dtype=float)
+
+
+def _auto_on_a_moving_belt(run: RunConfig, axes: Mapping[str, np.ndarray], sample: Mapping[str, np.ndarray],
+                           source: str) -> RunConfig:
+    """``solver = auto`` on a grid whose belt moves at some point: the solver auto picks for a moving belt,
+    for every point (one solver per sweep, as a moving belt's points need)."""
+    amp = axes.get("vb_amplitude", sample.get("vb_amplitude"))
+    if amp is None or not np.max(amp) > 0.0 or run.solver != "auto":
+        return run
+    model, law, _ = run.build()
+    name = run.make_solver(law, replace(model, vb_amplitude=float(np.max(amp)))).name
+    return RunConfig.from_mapping({**run.given, "solver": name}, source=source)
 
 
 def _check_belt(cfg: SweepConfig) -> None:
