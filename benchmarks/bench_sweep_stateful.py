@@ -5,8 +5,7 @@
 Each point is a whole stiff run and its analysis, the points of a chunk on
 numba's threads (the engine releases the GIL).  The grid is zeta x V_b and,
 where the law names one (:data:`LAWS`), one of its own parameters, about
-``--points`` points in all; a law not in :data:`LAWS` (``rate_state`` once it is
-registered) is swept over zeta x V_b at its defaults, ``--set`` fixing any
+``--points`` points in all; a law not in :data:`LAWS` is swept over zeta x V_b at its defaults, ``--set`` fixing any
 setting.  Prints points/s (wall clock) and the CPU seconds per point, and
 the mix of steady states found.
 """
@@ -31,6 +30,8 @@ LAWS = {
     "elastoplastic": ({"fd": 0.3, "fs": 0.5, "vs": 0.05, "delta": 2.0, "sigma1": 60.0, "z_ba": 1e-5},
                       ("sigma0", 1e3, 1e4, "log")),
     "dahl": ({"fd": 0.3}, ("sigma0", 1e3, 1e4, "log")),
+    # D_c across Rice & Ruina's critical slip distance (about 0.017 at V_b = 0.02): steady sliding and cycles
+    "rate_state": ({"normal": 1.0, "a": 0.01, "b": 0.015, "vref": 0.01}, ("dc", 0.005, 0.05, "log")),
 }
 
 

@@ -39,7 +39,8 @@ def simulate(
     t_end:
         Non-dimensional end time, > 0.
     x0, v0:
-        Initial state; defaults are the paper's X(0) = F_d, X'(0) = V_b.
+        Initial state; by default the law's start (:meth:`FrictionLaw.start`): the paper's
+        X(0) = F_d, X'(0) = V_b (rate-and-state: X'(0) = 0, sliding at the belt's speed).
     progress:
         Draw a progress bar on stderr for long runs.
     max_memory:
@@ -53,8 +54,7 @@ def simulate(
         raise TypeError(f"friction must be a FrictionLaw, got {type(friction).__name__}")
     t_end, x0, v0, max_memory = (RUN[k].check(v) if v is not None else None for k, v in
                                  (("t_end", t_end), ("x0", x0), ("v0", v0), ("max_memory", max_memory)))
-    x0 = friction.fd if x0 is None else x0
-    v0 = model.vb if v0 is None else v0
+    x0, v0 = friction.start(model.vb, x0, v0)
     solver = auto_solver(friction, model) if solver is None else solver
     if not solver.supports(friction):
         raise ValueError(unsupported(solver.name, friction))

@@ -11,7 +11,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.signal import find_peaks
 
-from frictionflow import BeltOscillator, simulate
+from frictionflow import BeltOscillator, analyze, simulate
 from frictionflow.cli import main
 from frictionflow.core import stiff as engine
 from frictionflow.analysis.equilibrium import sliding_equilibrium
@@ -233,3 +233,17 @@ def test_bad_parameters_are_refused_with_one_line(bad, message, capsys):
     assert main(args) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
+
+
+@pytest.mark.parametrize("factor, kind", [(0.9, "periodic"), (1.1, "equilibrium")])
+def test_the_default_start_slides_and_settles_on_either_side_of_the_threshold(factor, kind):
+    # X'(0) = V_b (the other laws' start) is V_r = 0 exactly, which the contact's stiffness at rest holds to
+    # rounding (the spring would be dragged along for ever): the default start slides at the belt's speed
+    # instead, off steady sliding by N mu0 - X*, and settles on a cycle (unstable side) or on steady sliding
+    dc = factor * critical_dc()
+    law = RateState(normal=N, mu0=MU0, a=A, b=B, dc=dc, vref=V0)
+    assert law.start(VB) == (law.fd, 0.0)
+    traj = simulate(BeltOscillator(zeta=0.0, vb=VB), law, t_end=3000.0)
+    assert traj.x[0] == law.fd and traj.v[0] == 0.0
+    assert np.abs(traj.x - steady(dc)[0]).max() < 0.1  # bounded: about steady sliding, never dragged along
+    assert analyze(traj).steady_state.kind == kind

@@ -135,8 +135,8 @@ def command_config(command: str, config: Optional[Path], params: dict[str, Any])
 
 
 def start_state(cfg: RunConfig, model: BeltOscillator, law: FrictionLaw) -> tuple[float, float]:
-    """(x0, v0) as given, else (F_d, V_b) -- the start of every command that takes one."""
-    return (law.fd if cfg.x0 is None else cfg.x0), (model.vb if cfg.v0 is None else cfg.v0)
+    """(x0, v0) as given, else the law's default start (:meth:`FrictionLaw.start`) -- of every command that takes one."""
+    return law.start(model.vb, cfg.x0, cfg.v0)
 
 
 CONFIG_OPTION = option("--config")

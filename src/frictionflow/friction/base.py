@@ -186,6 +186,15 @@ class FrictionLaw:
         """zeta at which steady sliding at belt speed ``vb`` changes stability: 2 zeta + F'(V_b) = 0."""
         return -0.5 * self.slip_slope(abs(vb))
 
+    def start(self, vb: float, x0: float | None = None, v0: float | None = None) -> tuple[float, float]:
+        """A run's initial state (X(0), X'(0)): the values given, else the law's :meth:`default_start`."""
+        dx, dv = self.default_start(vb)
+        return (dx if x0 is None else x0), (dv if v0 is None else v0)
+
+    def default_start(self, vb: float) -> tuple[float, float]:
+        """The start when none is given: the paper's X(0) = F_d, X'(0) = V_b (the mass moving with the belt)."""
+        return self.fd, vb
+
     def sliding_equilibrium(self, vb: float) -> float:
         """X* of steady sliding at belt speed ``vb`` (X* = F(V_b))."""
         return float(self.slip_force(vb))

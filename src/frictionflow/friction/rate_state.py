@@ -154,6 +154,13 @@ class RateState(StatefulLaw):
         or none given."""
         return np.array([0.0 if not vb else float(self.steady_state(vb))])
 
+    def default_start(self, vb: float) -> tuple[float, float]:
+        """X(0) = N mu0 (F_d), X'(0) = 0: sliding at the belt's speed with the state steady there
+        (:meth:`initial_state`), the spring off steady sliding unless V_b = V_0.  The paper's start, X'(0) = V_b,
+        is V_r = 0 exactly, where the contact's stiffness N a e^(Omega/a) / (2 V_0) (about 1e25 at the
+        defaults) holds the mass to rounding of V_b in the belt frame: the run could not leave it."""
+        return self.fd, 0.0
+
     def steady_internal(self, vr: float) -> np.ndarray:
         """psi* = ln(V_0 / |V_r|) (theta* = D_c / |V_r|), where both state laws' rates vanish: the closed form
         in place of the base class's Newton iteration."""

@@ -361,8 +361,7 @@ def find_orbit(
     if friction.stick_rule == "state":  # internal states (LuGre, ...): Newton on the whole state
         return find_stateful_orbit(model, friction, x0=x0, v0=v0, transient=transient, returns=returns, tol=tol,
                                    max_iter=max_iter, solver=solver)
-    x = friction.fd if x0 is None else float(x0)
-    v = model.vb if v0 is None else float(v0)
+    x, v = (float(u) for u in friction.start(model.vb, x0, v0))
     if transient < 0 or not math.isfinite(transient):
         raise ValueError(f"transient must be finite and >= 0, got {transient!r}")
     flow = make_flow(model, friction)  # refuses laws it cannot differentiate, before any work

@@ -257,8 +257,7 @@ def find_stateful_orbit(model: BeltOscillator, friction: FrictionLaw, *, x0: flo
     if transient < 0 or not math.isfinite(transient):
         raise ValueError(f"transient must be finite and >= 0, got {transient!r}")
     solver = solver if isinstance(solver, Stiff) else Stiff(rtol=1e-10, atol=1e-12)
-    x = friction.fd if x0 is None else float(x0)
-    v = model.vb if v0 is None else float(v0)
+    x, v = (float(u) for u in friction.start(model.vb, x0, v0))
     if model.forced:
         period = returns * model.forcing_period
         span = math.ceil(transient / period) * period

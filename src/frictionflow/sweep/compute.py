@@ -132,8 +132,7 @@ def _facade_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np
         point = {k: float(v[j]) for k, v in pts.items() if not np.isnan(v[j])}
         model = BeltOscillator.from_values({**base, **{k: point[k] for k in model_names if k in point}})
         point_law = type(law).from_values({**base, **{k: point[k] for k in law_names if k in point}})
-        x0 = point.get("x0", point_law.fd)
-        v0 = point.get("v0", model.vb)
+        x0, v0 = point_law.start(model.vb, point.get("x0"), point.get("v0"))
         traj = simulate(model, point_law, solver, t_end=run.t_end, x0=x0, v0=v0)
         values = analyze(traj, rtol=run.rtol).quantities()
         out[j] = [values[q.name] for q in Q.SWEPT]

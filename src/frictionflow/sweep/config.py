@@ -358,8 +358,7 @@ def _warn_coarse_steps(cfg: SweepConfig) -> None:
         for val in (arr.min(), arr.max()):
             run = RunConfig.from_mapping({**cfg.source["settings"], **cfg.fixed, key: float(val)}, source="grid")
             model, law, solver = run.build()
-            x0 = law.fd if run.x0 is None else run.x0
-            v0 = model.vb if run.v0 is None else run.v0
+            x0, v0 = law.start(model.vb, run.x0, run.v0)
             found += [f"grid.{key} = {val:g}: {m}" for m in solver.check_step(model, law, x0, v0)]
     for message in found[:3]:
         warnings.warn(message, CoarseStepWarning, stacklevel=3)
