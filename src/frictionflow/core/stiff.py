@@ -42,6 +42,12 @@ import math
 import numpy as np
 from numba import njit
 
+try:  # numba's switch to compile without its runtime: an underscore option, so only where this numba has it
+    from numba.core.cpu import CPUTargetOptions
+    NO_RUNTIME = {"_nrt": False} if hasattr(CPUTargetOptions, "_nrt") else {}
+except ImportError:
+    NO_RUNTIME = {}
+
 from .friction import belt_accel, belt_speed, external_force, external_force_rate
 from .layout import LAW, N_PARAMS
 from .roots import EPS, RUNNING, bracket, update
@@ -393,7 +399,7 @@ def scratch(n):
             np.empty((n - 2, D_RZ + n - 2)), np.empty(n + N_CHANNELS))
 
 
-@njit(cache=True, _nrt=False)  # allocates nothing: without the runtime, no atomic reference counts
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: without the runtime, no atomic reference counts
 def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     """One Rodas4 step of length ``h`` from (t, y): the new state in ``ynew``, the work increments in
     ``wnew``; returns the error norm: the rms of the last stage, component c over
@@ -443,7 +449,7 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     return err if err == err else np.inf
 
 
-@njit(cache=True, _nrt=False)  # allocates nothing: no reference counting (see rodas_step)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting (see rodas_step)
 def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     """The step from (t, y) that ends on the downward crossing X' = 0 inside the accepted step of length ``h``
     (X' > 0 at t, ``ynew[1]`` <= 0): its length h' by Illinois on X'(t + h') of Rodas4 steps of length h',
