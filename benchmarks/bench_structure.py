@@ -23,10 +23,11 @@ steady over the run) with masses sticking while their neighbours slip.
    (the exponent between successive n).
 
 Times are CPU times of this process (best of several), so that load from
-other processes disturbs them less.  Measured (docs/performance.md): 2 masses
-37 us per switch, 28x scipy at the same accuracy, 40x against rtol 1e-13;
-10 masses 130-139 us per switch, 5x / 6x (205 of its 278 switches enter a
-new stuck set, each an eigen-decomposition).  Both sides record no dense samples
+other processes disturbs them less (on a loaded machine set OPENBLAS_NUM_THREADS=1:
+threaded BLAS on small matrices costs the engine several times over).  Measured
+(docs/performance.md): 2 masses 35 us per switch, 27x scipy at the same accuracy,
+38x against rtol 1e-13; 10 masses 125 us per switch, 5x / 6x (213 of its 278
+switches enter a new stuck set, each an eigen-decomposition).  Both sides record no dense samples
 (only the switches and the ends).
 """
 
@@ -49,7 +50,9 @@ from frictionflow import Coulomb  # noqa: E402
 
 RTOLS = (1e-6, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13)
 T_END = {2: 400.0, 10: 100.0}
-T_SCALING = 100.0
+#: the scaling runs' end times (the 100-mass chain switches about as often as the 10-mass one per unit time, at
+#: milliseconds a switch)
+T_SCALING = {2: 100.0, 10: 100.0, 30: 100.0, 100: 10.0}
 ACCURACY = 1e-9
 
 
@@ -118,11 +121,11 @@ def compare(n: int, run_assembly) -> None:
 
 def scaling(run_assembly) -> None:
     """Part 2: the exact engine's time per switch on chains of growing n."""
-    print(f"\n## exact engine on longer chains, t_end {T_SCALING:g}")
+    print(f"\n## exact engine on longer chains, t_end {T_SCALING}")
     print(f"{'n':>5} {'switches':>9} {'CPU ms':>10} {'us/switch':>10} {'growth':>8}")
     prev = None
     for n in (2, 10, 30, 100):
-        t, switches = engine_timing(run_assembly, chain_case(n), T_SCALING)
+        t, switches = engine_timing(run_assembly, chain_case(n), T_SCALING[n])
         per = t / max(len(switches), 1)
         growth = "" if prev is None else f"n^{math.log(per / prev[1]) / math.log(n / prev[0]):.2f}"
         print(f"{n:5d} {len(switches):9d} {t * 1e3:10.2f} {per * 1e6:10.2f} {growth:>8}")

@@ -29,6 +29,7 @@ the modal coordinates (T: (y, y') -> (q, q')).
 
 from __future__ import annotations
 
+import math
 from collections import namedtuple
 
 import numpy as np
@@ -36,7 +37,7 @@ from numba import njit
 
 from ..layout import FD, FS, RESULTANT, STICK
 
-Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W")
+Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W ZT bs rb b1 bh e1")
 #: what the stick rule needs of a combination (no eigen-decomposition): its held forces and accelerations
 Split = namedtuple("Split", "modes stuck R HE keff f0")
 #: event slots per contact: the mode's own boundary (two sides while stuck) and the normal load
@@ -45,6 +46,10 @@ N_SLOTS = 3
 RANK_TOL = 1e-10
 #: the combinations kept per run (the first ones met; a chain with many contacts meets new ones at most switches)
 CACHE_SIZE = 64
+#: K_r symmetric and the modal damping diagonal to this fraction of their size: the real-mode route (:func:`classical`)
+SYM_TOL = 1e-13
+#: a mode's two roots closer than this fraction of the system's rates: (nearly) defective, the general route decides
+NEAR_DOUBLE = 1e-6
 #: an eigenvector basis this ill-conditioned is refused (a defective matrix: an undamped rigid mode)
 COND_MAX = 1e10
 
@@ -118,17 +123,73 @@ def modal(m, c, k, z):
         e = np.zeros((0, 0), dtype=np.complex128)
         return np.zeros(0, dtype=np.complex128), e, e, e
     zt = z.T.copy()
-    mri = np.linalg.inv(mm(mm(zt, m), z))
-    a = np.zeros((2 * r, 2 * r))
-    a[:r, r:] = np.eye(r)
-    a[r:, :r] = -mm(mri, mm(mm(zt, k), z))
-    a[r:, r:] = -mm(mri, mm(mm(zt, c), z))
-    lam, v = np.linalg.eig(a.astype(np.complex128))
-    vi = np.linalg.inv(v)
+    mr, kr, cr = mm(mm(zt, m), z), mm(mm(zt, k), z), mm(mm(zt, c), z)
+    mri = np.linalg.inv(mr)
+    ok, lam, v, vi = classical(mr, kr, cr)
+    if not ok:
+        a = np.zeros((2 * r, 2 * r))
+        a[:r, r:] = np.eye(r)
+        a[r:, :r] = -mm(mri, kr)
+        a[r:, r:] = -mm(mri, cr)
+        lam, v = np.linalg.eig(a.astype(np.complex128))
+        vi = np.linalg.inv(v)
     if np.sqrt(np.sum(np.abs(v) ** 2) * np.sum(np.abs(vi) ** 2)) > COND_MAX * 2 * r:
         raise ValueError("structure: a mode combination's matrix is defective (e.g. an undamped rigid mode)")
     vb = mm(np.ascontiguousarray(vi[:, r:]), mri.astype(np.complex128))
     return lam, v, vi, vb
+
+
+@njit(cache=True)
+def classical(mr, kr, cr):
+    """(ok, lam, V, V^-1) from the real modes when K_r is symmetric and C_r diagonal in them (classical damping).
+
+    M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T (symmetric), Phi = L^-T U: each mode
+    x'' + c_m x' + w^2 x = phi^T f decouples, with the pair of roots l1, l2 of l^2 + c_m l + w^2,
+    z1 + z2 = x = phi^T M_r y and l1 z1 + l2 z2 = x'.  A symmetric problem of size r instead of a
+    general one of size 2 r; ok is False (nothing else meant) when the damping couples the modes.
+    """
+    r = mr.shape[0]
+    ez = np.zeros((0, 0), dtype=np.complex128)
+    if np.abs(kr - kr.T).max() > SYM_TOL * np.abs(kr).max():
+        return False, np.zeros(0, dtype=np.complex128), ez, ez
+    li = np.linalg.inv(np.linalg.cholesky(mr))
+    sym = mm(mm(li, kr), li.T.copy())
+    w2, u = np.linalg.eigh(0.5 * (sym + sym.T))
+    phi = mm(li.T.copy(), u)
+    cm = mm(mm(phi.T.copy(), cr), phi)
+    scale, cd = np.abs(cm).max(), np.diag(cm).copy()
+    for a in range(r):
+        cm[a, a] = 0.0
+    if np.abs(cm).max() > SYM_TOL * scale:
+        return False, np.zeros(0, dtype=np.complex128), ez, ez
+    xm = mm(phi.T.copy(), mr)  # x = phi^T M_r y
+    lam = np.empty(2 * r, dtype=np.complex128)
+    v = np.zeros((2 * r, 2 * r), dtype=np.complex128)
+    vi = np.zeros((2 * r, 2 * r), dtype=np.complex128)
+    scale_l = math.sqrt(np.abs(w2).max()) + np.abs(cd).max()
+    for a in range(r):
+        l1, l2 = roots(cd[a], w2[a])
+        lam[a], lam[r + a] = l1, l2
+        d = l2 - l1
+        if abs(d) <= NEAR_DOUBLE * scale_l:  # (nearly) a double root: left to the general route's verdict
+            return False, lam, v, vi
+        for i in range(r):
+            v[i, a], v[i, r + a] = phi[i, a], phi[i, a]
+            v[r + i, a], v[r + i, r + a] = l1 * phi[i, a], l2 * phi[i, a]
+            vi[a, i], vi[a, r + i] = l2 * xm[a, i] / d, -xm[a, i] / d
+            vi[r + a, i], vi[r + a, r + i] = -l1 * xm[a, i] / d, xm[a, i] / d
+    return True, lam, v, vi
+
+
+@njit(cache=True)
+def roots(cd, w2):
+    """The roots of l^2 + cd l + w2 = 0 (complex pair, or real without cancellation)."""
+    disc = 0.25 * cd * cd - w2
+    if disc < 0.0:
+        s = math.sqrt(-disc)
+        return complex(-0.5 * cd, s), complex(-0.5 * cd, -s)
+    l1 = -(0.5 * cd + math.copysign(math.sqrt(disc), cd))
+    return complex(l1, 0.0), complex(w2 / l1 if l1 != 0.0 else -cd - l1, 0.0)
 
 
 @njit(cache=True)
@@ -168,6 +229,25 @@ def event_maps(asm, modes, stuck, he, keff, f0):
 
 
 @njit(cache=True)
+def constants(asm, stuck, z, r, keff, vb, d):
+    """(Z^T, b_S, R b_S, b1, bh, e1): the parts of every :func:`start` in one combination that the state leaves out."""
+    n, ns, nr = z.shape[0], len(stuck), z.shape[1]
+    bs = np.empty(ns)
+    for i in range(ns):
+        bs[i] = asm.belt[stuck[i]]
+    rb = r @ bs if ns else np.zeros(n)
+    zt = z.T.copy()
+    p1 = -(zt @ (keff @ rb))
+    pg = mm(zt, asm.force_dir.T.copy())
+    for f in range(pg.shape[1]):
+        pg[:, f] *= asm.force_amp[f]
+    b1 = vb @ p1.astype(np.complex128) if nr else np.zeros(0, dtype=np.complex128)
+    bh = mm(vb, pg.astype(np.complex128))
+    e1 = np.ascontiguousarray(d[:, :n]) @ rb
+    return zt, bs, rb, b1, bh, e1
+
+
+@njit(cache=True)
 def build(asm, minv, modes):
     """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact)."""
     n = minv.shape[0]
@@ -180,10 +260,12 @@ def build(asm, minv, modes):
     t = np.zeros((2 * n, 2 * nr))
     t[:n, :nr] = z
     t[n:, nr:] = z
-    w = mm(mm(d, t).astype(np.complex128), v)
+    dt = mm(d, t)  # real: two real products instead of a complex one
+    w = mm(dt, np.ascontiguousarray(v.real)) + 1j * mm(dt, np.ascontiguousarray(v.imag))
     c = np.ascontiguousarray
+    zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, r, keff, c(vb), c(d))
     return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, c(lam), c(v), c(vi), c(vb), c(d), dc, c(dh),
-                 active, c(w))
+                 active, c(w), zt, bs, rb, b1, bh, e1)
 
 
 @njit(cache=True)

@@ -34,28 +34,19 @@ Phase = namedtuple("Phase", "t0 z0 b0 b1 bh theta e0 e1 u0 bs")
 def start(cb, asm, q, v, t0):
     """The :data:`Phase` of combination ``cb`` from the state (q, q') = (``q``, ``v``) at time ``t0``."""
     n, ns, r = len(q), len(cb.stuck), cb.Z.shape[1]
-    u0, bs = np.empty(ns), np.empty(ns)
+    u0 = np.empty(ns)
     for i in range(ns):
         u0[i] = asm.contact_dir[cb.stuck[i]] @ q
-        bs[i] = asm.belt[cb.stuck[i]]
-    ru, rb = cb.R @ u0 if ns else np.zeros(n), cb.R @ bs if ns else np.zeros(n)
-    zt = cb.Z.T.copy()
-    x = np.concatenate((zt @ (q - ru), zt @ (v - rb))).astype(np.complex128)
+    ru = cb.R @ u0 if ns else np.zeros(n)
+    zt = cb.ZT
+    x = np.concatenate((zt @ (q - ru), zt @ (v - cb.rb))).astype(np.complex128)
     z0 = cb.Vi @ x if r else np.zeros(0, dtype=np.complex128)
-    p0 = zt @ (cb.f0 - asm.damping @ rb - cb.keff @ ru)
-    p1 = -(zt @ (cb.keff @ rb))
-    pg = mm(zt, asm.force_dir.T.copy())
-    for f in range(pg.shape[1]):
-        pg[:, f] *= asm.force_amp[f]
-    vb = cb.VB
-    b0 = vb @ p0.astype(np.complex128) if r else np.zeros(0, dtype=np.complex128)
-    b1 = vb @ p1.astype(np.complex128) if r else np.zeros(0, dtype=np.complex128)
-    bh = mm(vb, pg.astype(np.complex128))
+    p0 = zt @ (cb.f0 - asm.damping @ cb.rb - cb.keff @ ru)
+    b0 = cb.VB @ p0.astype(np.complex128) if r else np.zeros(0, dtype=np.complex128)
     theta = asm.force_omega * t0 + asm.force_phi
-    tv = np.concatenate((ru, rb))
+    tv = np.concatenate((ru, cb.rb))
     e0 = cb.D @ tv + cb.dc
-    e1 = np.ascontiguousarray(cb.D[:, :n]) @ rb
-    return Phase(t0, z0, b0, b1, bh, theta, e0, e1, u0, bs)
+    return Phase(t0, z0, b0, cb.b1, cb.bh, theta, e0, cb.e1, u0, cb.bs)
 
 
 @njit(cache=True, inline="always")

@@ -38,11 +38,18 @@ def phis(lam, tau):
     term = 0.5 + 0.0j
     p2 = term
     for j in range(1, N_TERMS):
-        term *= z / (j + 2)
+        term *= over(z, j + 2)
         p2 += term
         if negligible(term, p2):
             break
     return e, tau * (1.0 + z * p2), tau * tau * p2
+
+
+@njit(cache=True, inline="always")
+def over(z, k):
+    """z / k for an integer k > 0, part by part: what complex division by k + 0i gives (its ratio
+    term is 0), without the general division's branches and products."""
+    return complex(z.real / k, z.imag / k)
 
 
 @njit(cache=True, inline="always")
@@ -68,7 +75,7 @@ def phi_series(d, first):
         term /= j
     s = term
     for j in range(1, N_TERMS):
-        term *= d / (j + first)
+        term *= over(d, j + first)
         s += term
     return s
 

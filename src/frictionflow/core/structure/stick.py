@@ -107,11 +107,14 @@ def held_rates(asm, cb, q, v, t):
 
 @njit(cache=True)
 def release_over_limit(asm, minv, q, v, t, modes, released):
-    """The active-set loop: release the stuck contact most over F_s N_j until none is (``released`` marks them)."""
+    """The active-set loop: release the stuck contact most over F_s N_j until none is (``released`` marks them).
+
+    Returns the :data:`Split` of the final modes (None when the loop ran out first).
+    """
     for _ in range(len(modes) + 1):
         cb = split(asm, minv, modes)
         if len(cb.stuck) == 0:
-            return
+            return cb
         rule, _ = held(asm, cb, q, v, t)
         worst, wr = -1, -1.0
         rates = np.zeros(0)
@@ -130,17 +133,21 @@ def release_over_limit(asm, minv, q, v, t, modes, released):
             if ratio >= wr:
                 worst, wr = i, ratio
         if worst < 0:
-            return
+            return cb
         j = cb.stuck[worst]
         modes[j] = 1 if rule[worst] > 0.0 else -1
         released[j] = True
+    return None
 
 
 @njit(cache=True)
-def check_directions(asm, minv, q, v, t, modes, leaving):
-    """Each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it (``leaving``: those)."""
+def check_directions(asm, minv, q, v, t, modes, leaving, first):
+    """Each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it (``leaving``: those).
+
+    ``first``: the :data:`Split` of ``modes`` as they come (None: made here).
+    """
     for attempt in range(2):
-        cb = split(asm, minv, modes)
+        cb = first if attempt == 0 and first is not None else split(asm, minv, modes)
         acc = acceleration(asm, cb, q, v, t)
         tol = RATE_TOL * (np.abs(acc).max() + np.abs(minv).max() * np.abs(cb.f0).max() + 1e-300)
         changed = False
@@ -159,8 +166,7 @@ def decide(asm, minv, q, v, t, modes, leaving):
     ``modes`` holds 0 for every contact at V_r = 0 that may stick and the
     forced direction of those released (their held force reached F_s N).
     """
-    release_over_limit(asm, minv, q, v, t, modes, leaving)
-    check_directions(asm, minv, q, v, t, modes, leaving)
+    check_directions(asm, minv, q, v, t, modes, leaving, release_over_limit(asm, minv, q, v, t, modes, leaving))
 
 
 @njit(cache=True)
