@@ -179,7 +179,7 @@ def via_sweep(case: Case) -> dict | str:
 def via_basins(case: Case) -> dict | str:
     if not case.batched():
         return f"undefined: solver={case.solver} has no batched kernel (a basin is a sweep over initial states)"
-    x0, v0 = case.law_object().fd, case.vb  # simulate's default start, as a one-point basin grid
+    x0, v0 = case.law_object().start(case.vb)  # simulate's default start, as a one-point basin grid
     ds = basins_study({**case.options(), "t_end": T_END}, x0=(x0, x0, 1), v0=(v0, v0, 1)).dataset
     return {k: float(ds[k].values.ravel()[0]) for k in KEYS}
 
@@ -191,8 +191,9 @@ def via_response(case: Case) -> dict | str:
         return "undefined: a frequency response sweeps Omega on a belt at constant speed (it refuses a moving one)"
     model = case.model()
     periods = int(T_END / model.forcing_period)
+    x0, v0 = case.law_object().start(case.vb)  # simulate's default start
     ds = frequency_response(model, case.law_object(), [model.omega], solver=_solver(case), periods=periods,
-                            directions=("up",), x0=case.law_object().fd, v0=case.vb)
+                            directions=("up",), x0=x0, v0=v0)
     return {k: float(ds[k].values.ravel()[0]) for k in KEYS}
 
 

@@ -54,6 +54,8 @@ def test_laws_declare_their_parameters_and_kernel_slots(name):
 
 def _axis_values(p, law):
     v = getattr(law, p.name, None)
+    if p.name == "x0":  # held just below kinetic friction: a start every law resolves (rate-and-state: V_r
+        return [0.9 * law.fd, 0.95 * law.fd]  # far below it is out of the belt frame's reach, docs/guide/friction.md)
     if v is None:  # an oscillator or initial-state parameter
         v = {"zeta": 0.05, "vb": 0.02, "x0": 0.03, "v0": 0.0, "fex": 0.01, "omega": 1.0, "phi": 0.3,
              "vb_amplitude": 0.005, "vb_omega": 0.8, "vb_phi": 0.3}[p.name]
