@@ -247,3 +247,14 @@ def test_the_default_start_slides_and_settles_on_either_side_of_the_threshold(fa
     assert traj.x[0] == law.fd and traj.v[0] == 0.0
     assert np.abs(traj.x - steady(dc)[0]).max() < 0.1  # bounded: about steady sliding, never dragged along
     assert analyze(traj).steady_state.kind == kind
+
+
+def test_a_run_held_at_v_r_zero_is_refused_not_dragged_along():
+    # from X'(0) = V_b exactly the Rosenbrock steps extrapolate the force from V_r = 0 with the stiffness at
+    # rest (~1e25) and cannot move V_r off it: X would follow the belt for ever at a "friction" the law never
+    # gives (F(V_r) = X needs V_r ~ V_0 e^((X - mu0 N) / a)); the solver says so instead
+    from frictionflow.solvers.stiff import ResolutionError
+
+    law = RateState(normal=N, mu0=MU0, a=A, b=B, dc=0.03, vref=V0)
+    with pytest.raises(ResolutionError, match="V_r = V_b - X' reached the rounding of V_b"):
+        simulate(BeltOscillator(zeta=0.1, vb=VB), law, t_end=200.0, v0=VB)

@@ -104,6 +104,7 @@ class Stiff(Solver):
             why = f"max_steps={self.max_steps} reached" if status == kernel.STEP_CAP else "the step size vanished"
             raise StepLimitError(f"stiff: {why} at tau={t_stop:.10g} (X={y[0, n - 1]:.6g}, X'={y[1, n - 1]:.6g}, "
                                  f"step {h:.3g}); raise max_steps or loosen rtol/atol")
+        check_resolved(model, friction, t[:n], y[:, :n])
         return self._trajectory(model, friction, t[:n].copy(), y[:, :n].copy(), w[:n].copy())
 
     def _run(self, q, model, y0, t_end, tol, steps, max_memory):
@@ -131,6 +132,35 @@ class Stiff(Solver):
             model=model, friction=friction, solver=self.describe(), events=None,
             internal=internal.copy(), internal_names=friction.internal_names, dbelt=w[:, kernel.W_BELT].copy(),
         )
+
+
+class ResolutionError(StepLimitError):
+    """The run reached states its variables cannot resolve (V_r = V_b - X' within rounding of V_b where
+    the law's force moves by more than its tolerance): its steps there are not the law's motion."""
+
+
+#: a law whose force moves by more than this fraction of F_s across the rounding of V_r is unresolved there
+RESOLVED_FORCE = 1e-6
+
+
+def check_resolved(model: BeltOscillator, friction: FrictionLaw, t: np.ndarray, y: np.ndarray) -> None:
+    """Refuse a run whose V_r = V_b(tau) - X' fell within rounding of V_b where the law's force moves by more
+    than :data:`RESOLVED_FORCE` F_s across that rounding (rate-and-state at rest: N a e^(mu0/a) / (2 V_0)
+    per unit of V_r).  The belt frame holds X', so V_r is known to rounding of V_b only; a Rosenbrock step
+    there extrapolates the force linearly from a V_r it cannot move off, and every check passes."""
+    vbt = model.belt_speed(t) if model.belt_varies else np.full(len(t), model.vb)
+    res = 4.0 * np.finfo(float).eps * np.maximum(np.abs(vbt), np.abs(y[1]))
+    near = np.flatnonzero(np.abs(vbt - y[1]) <= res)
+    if not len(near):
+        return
+    z = y[2:, near]
+    jump = np.abs(np.asarray(friction.force(res[near], z)) - np.asarray(friction.force(np.zeros(len(near)), z)))
+    worst = int(np.argmax(jump))
+    if jump[worst] > RESOLVED_FORCE * max(abs(float(friction.fs)), np.finfo(float).tiny):
+        raise ResolutionError(
+            f"stiff: V_r = V_b - X' reached the rounding of V_b at tau={t[near[worst]]:.6g}, where friction="
+            f"{friction.name}'s force moves by {jump[worst]:.3g} across it: the run is not resolved there; "
+            f"start it off V_r = 0 (the law's stiffness at rest is beyond the belt frame's reach)")
 
 
 def _grown(t, y, w, cap, count):
