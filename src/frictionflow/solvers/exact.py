@@ -102,6 +102,10 @@ class Exact(Solver):
         return super().__repr__()[:-1] + ("" if self.replicate else ", replicate=False") + ")"
 
     supports_belt_motion = True  # Coulomb's switch (core.exact_belt); Karnopp's band on a moving belt is refused
+    batched_belt_motion = False  # the batched sweep kernels run a belt at constant speed
+
+    def runs_belt_motion(self, friction: FrictionLaw, batched: bool = True) -> bool:
+        return super().runs_belt_motion(friction, batched) and friction.stick_rule == "switch"
 
     def supports(self, friction: FrictionLaw) -> bool:
         return friction.piecewise_constant
@@ -160,7 +164,7 @@ class Exact(Solver):
             raise ValueError(problem)
         if model.belt_varies and friction.stick_rule != "switch":
             raise ValueError(f"solver=exact runs a belt whose speed varies (vb_amplitude > 0) with Coulomb's switch only, "
-                             f"not friction={friction.name}'s band; use solver=adaptive")
+                             f"not friction={friction.name}'s band; use solver=rk4")
         p = kernel_params(model, friction)
         dense = self.dense_dt or 0.0
         t_tail = sections.tail_start(0.0, t_end)
