@@ -14,7 +14,7 @@ Stick phases are the ones the adaptive kernel runs on a moving belt, shared, not
 the held force's exit by :func:`.stick.exit_time` (proven steps, :func:`.stick.belt_turn`), the works by
 Gauss-Legendre (:func:`.stick.belt_stick_work`), and Coulomb's stick rule with the belt's acceleration as a
 load (:func:`.dopri.at_rest`): :func:`.dopri._forced_stick`, :func:`.dopri._after_stick`,
-:func:`.dopri._switch`.  So are the samples' clock (the tail, the dense grid, the stroboscopic times of the
+:func:`.dopri._slip_end`.  So are the samples' clock (the tail, the dense grid, the stroboscopic times of the
 force, else of the belt: :func:`.dopri._drive`) and the run's end.  Karnopp's band on a moving belt is not
 run here (the façade refuses it).
 """
@@ -29,7 +29,7 @@ from numba import njit
 from . import closed_form as cf
 from .codes import FULL
 from .dopri import (GO, Cursor, Setup, _after_stick, _drive, _finish, _first_sample, _forced_stick,
-                    _record_switch, _strobe, _switch)
+                    _record_switch, _slip_end, _strobe)
 from .exact import (FC_CONST, ForcedPiece, _bound_consts, _crossed, _event, _forced_piece_work, _next_root,
                     _sample_functions, parabola_step)
 from .friction import FD, FEX, FS, OMEGA, PHI, RESULTANT, VB_AMP, VB_OMEGA, belt_accel, belt_speed
@@ -225,10 +225,7 @@ def run_moving(run, p, samples, events):
             t_phase = t
             status, (t, x, v, k), switched, cur = _slip(s, p, fo, (t, x, v, mode, k), cur, outs, w)
             if switched:
-                mode, hold, fc = _switch(s, p, fs, (t, t_phase, x))
-                ne = _record_switch(events, ne, t, mode)
-                outs[3][0, k - 1] = mode  # the phase's last sample is the switch's
-                outs[2][0, k - 1] = fc
+                mode, hold, ne = _slip_end(s, p, fs, (t, t_phase, x, k), events, ne, outs)
         else:
             status, t, x, k, cur = _forced_stick(s, p, fs, (t, x, hold, k), cur, outs, w)
             v = belt_speed(p, s.vb, t)
