@@ -403,10 +403,11 @@ def test_auto_picks_a_solver_that_runs_a_moving_belt():
     assert simulate(moving, COULOMB, t_end=5.0).solver["name"] == "adaptive"
 
 
-def test_the_trajectory_between_stick_samples_is_the_belts_motion():
+@pytest.mark.parametrize("solver", [Adaptive, Exact])
+def test_the_trajectory_between_stick_samples_is_the_belts_motion(solver):
     """``traj(t)`` inside a stick phase: X' = V_b(t) and X = X0 + int V_b, not a straight line."""
     m = BeltOscillator(**BELT)
-    traj = simulate(m, COULOMB, Adaptive(), t_end=40.0, x0=0.0, v0=float(v_belt(m, 0.0)))
+    traj = simulate(m, COULOMB, solver(), t_end=40.0, x0=0.0, v0=float(v_belt(m, 0.0)))
     runs = [(i, j) for i, j in _stick_runs(traj) if traj.t[j] - traj.t[i] > 1.0]
     assert runs
     for i, j in runs:
@@ -414,6 +415,20 @@ def test_the_trajectory_between_stick_samples_is_the_belts_motion():
         x, v = traj.at(t)
         np.testing.assert_allclose(v, v_belt(m, t), rtol=0.0, atol=1e-15)
         np.testing.assert_allclose(x, stick_x(m, traj.x[i], traj.t[i], t), rtol=0.0, atol=1e-14)
+
+
+def test_the_exact_trajectory_between_slip_samples_is_the_closed_form():
+    """``traj(t)`` inside a slip on the moving belt: against the hybrid integration written here, run to t."""
+    m = BeltOscillator(**BELT, fex=0.2, omega=0.9)
+    v0 = float(v_belt(m, 0.0))
+    traj = simulate(m, COULOMB, Exact(), t_end=20.0, x0=0.0, v0=v0)
+    slips = np.flatnonzero((traj.mode[:-1] != 0) & (np.diff(traj.t) > 0.3))
+    assert len(slips) >= 3
+    for i in slips[:3]:
+        t = 0.5 * (traj.t[i] + traj.t[i + 1])
+        _, x, v, _ = reference(m, coulomb_slip, COULOMB.fs, 0.0, v0, t)
+        got = traj.at(np.array([t]))
+        assert got[0][0] == pytest.approx(x, abs=1e-8) and got[1][0] == pytest.approx(v, abs=1e-8)
 
 
 def test_a_users_slip_law_runs_on_a_moving_belt_as_the_built_in_one():
