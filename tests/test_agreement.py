@@ -133,7 +133,7 @@ def _cases() -> list[Case]:
                                 cases.append(Case(law, label, tuple(sorted(settings.items())), vb, rule, zeta, forced,
                                                   cls.name))
     belt = [replace(c, belt=True) for c in cases if (c.law, c.label) in BELT_POINTS and c.zeta > 0.0
-            and _solver(c).runs_belt_motion(c.law_object(), batched=False)]
+            and _solver(c).runs_belt_motion(c.law_object())]
     return cases + belt
 
 
@@ -167,16 +167,7 @@ def via_cli(case: Case) -> dict:
             "R_f": av["R_f"], "TR_B": d["TR_B"]}
 
 
-def _belt_unbatched(case: Case) -> str | None:
-    """Why a sweep or basin does not run the moving-belt ``case`` (its solver runs one in simulate only), or None."""
-    if case.belt and not _solver(case).runs_belt_motion(case.law_object()):
-        return f"undefined: solver={case.solver} runs a moving belt in simulate only (its batched kernels: a constant belt)"
-    return None
-
-
 def via_sweep(case: Case) -> dict | str:
-    if _belt_unbatched(case):
-        return _belt_unbatched(case)
     if not case.batched() and not case.stateful:  # (a law with internal states: a stiff run per point)
         return f"undefined: solver={case.solver} has no batched kernel for sweeps"
     settings = {k: v for k, v in case.options().items() if k != "zeta"}
@@ -186,8 +177,6 @@ def via_sweep(case: Case) -> dict | str:
 
 
 def via_basins(case: Case) -> dict | str:
-    if _belt_unbatched(case):
-        return _belt_unbatched(case)
     if not case.batched():
         return f"undefined: solver={case.solver} has no batched kernel (a basin is a sweep over initial states)"
     x0, v0 = case.law_object().fd, case.vb  # simulate's default start, as a one-point basin grid

@@ -370,8 +370,9 @@ def test_sweeps_refuse_a_moving_belt_they_cannot_run():
     from frictionflow.sweep.config import parse_sweep
 
     base = {"friction": "coulomb", "fd": 0.02, "fs": 0.04, "t_end": 50.0}
-    with pytest.raises(ValueError, match=r"^grid: solver=exact does not run a belt whose speed varies"):
-        parse_sweep({**base, "solver": "exact", "grid": {"vb_amplitude": [0.0, 0.005]}})
+    with pytest.raises(ValueError, match=r"^grid: solver=exact does not run a belt whose speed varies with "
+                                         r"friction=karnopp; use solver=auto$"):
+        parse_sweep({**base, "friction": "karnopp", "solver": "exact", "grid": {"vb_amplitude": [0.0, 0.005]}})
     with pytest.raises(ValueError, match=r"^grid: points with both an external force and a moving belt need vb_omega"):
         parse_sweep({**base, "solver": "adaptive", "fex": 0.01, "omega": 0.8, "grid": {"vb_amplitude": [0.0, 0.005]}})
 

@@ -102,10 +102,13 @@ class Exact(Solver):
         return super().__repr__()[:-1] + ("" if self.replicate else ", replicate=False") + ")"
 
     supports_belt_motion = True  # Coulomb's switch (core.exact_belt); Karnopp's band on a moving belt is refused
-    batched_belt_motion = False  # the batched sweep kernels run a belt at constant speed
+    # On a moving belt the stroboscopic section converges geometrically (no stick phase resets it), so a run of
+    # a few hundred time units is often still above this solver's steady tolerance (1e-10, rounding) where the
+    # adaptive solver's (1e-6) classifies it: auto keeps the adaptive solver there.
+    auto_belt_motion = False
 
-    def runs_belt_motion(self, friction: FrictionLaw, batched: bool = True) -> bool:
-        return super().runs_belt_motion(friction, batched) and friction.stick_rule == "switch"
+    def runs_belt_motion(self, friction: FrictionLaw) -> bool:
+        return super().runs_belt_motion(friction) and friction.stick_rule == "switch"
 
     def supports(self, friction: FrictionLaw) -> bool:
         return friction.piecewise_constant

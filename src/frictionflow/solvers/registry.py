@@ -66,10 +66,9 @@ def auto_solver(friction: FrictionLaw, model: BeltOscillator | None = None) -> S
         default: Solver = Stiff()
     else:
         default = Exact() if friction.piecewise_constant else Adaptive()
-    # on a moving belt one that runs it in sweeps too, so that a sweep's auto and simulate's agree
-    if model is None or not model.belt_varies or default.runs_belt_motion(friction):
+    if model is None or not model.belt_varies or (default.auto_belt_motion and default.runs_belt_motion(friction)):
         return default
-    able = (cls() for cls in solver_classes() if cls.supports_belt_motion)
+    able = (cls() for cls in solver_classes() if cls.supports_belt_motion and cls.auto_belt_motion)
     return next((s for s in able if s.supports(friction) and s.runs_belt_motion(friction)), default)
 
 
@@ -79,12 +78,11 @@ def unsupported(solver: str, friction: FrictionLaw) -> str:
     return f"solver={solver} does not support friction={friction.name}; use solver={' or '.join(('auto', *able))}"
 
 
-def belt_motion_unsupported(solver: str, batched: bool = False) -> str:
-    """The one line refusing a varying belt speed to ``solver`` (``batched``: in a sweep), naming the solvers that run it."""
-    able = solver_names_where(lambda cls: cls.supports_belt_motion and (cls.batched_belt_motion or not batched))
+def belt_motion_unsupported(solver: str) -> str:
+    """The one line refusing a varying belt speed to ``solver``, naming the solvers that run it."""
+    able = solver_names_where(lambda cls: cls.supports_belt_motion)
     use = f"use solver={' or '.join(able)}" if able else "no solver runs it yet"
-    where = " in a sweep" if batched else ""
-    return f"solver={solver} does not run a belt whose speed varies (vb_amplitude > 0){where}; {use}"
+    return f"solver={solver} does not run a belt whose speed varies (vb_amplitude > 0); {use}"
 
 
 def build_solver(name: str, friction: FrictionLaw, values: Mapping[str, Any], model: BeltOscillator | None = None) -> Solver:

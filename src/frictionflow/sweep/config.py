@@ -424,8 +424,11 @@ def _check_belt(cfg: SweepConfig) -> None:
     if not _grid_values(cfg, "vb_amplitude").max() > 0.0:
         return
     _, law, solver = cfg.run.build()
+    if not solver.supports_belt_motion:
+        raise ValueError(f"grid: {belt_motion_unsupported(solver.name)}")
     if not solver.runs_belt_motion(law):
-        raise ValueError(f"grid: {belt_motion_unsupported(solver.name, batched=True)}")
+        raise ValueError(f"grid: solver={solver.name} does not run a belt whose speed varies with friction={law.name}; "
+                         "use solver=auto")
     om, omb = _grid_values(cfg, "omega"), _grid_values(cfg, "vb_omega")
     if _grid_values(cfg, "fex").max() > 0.0 and (len(om) > 1 or len(omb) > 1 or om[0] != omb[0]):
         raise ValueError("grid: points with both an external force and a moving belt need vb_omega equal to omega, "
