@@ -273,7 +273,8 @@ def _residual(traj) -> float:
 def test_the_energy_balance_closes_on_a_moving_belt(solver):
     m = BeltOscillator(**BELT, fex=0.2, omega=0.9)
     traj = simulate(m, COULOMB, solver(), t_end=40.0, x0=0.0, v0=float(v_belt(m, 0.0)))
-    assert abs(_residual(traj)) < 1e-9
+    # the exact engine's works are closed forms and Gauss-Legendre to rounding: its balance closes to rounding
+    assert abs(_residual(traj)) < (1e-13 if solver is Exact else 1e-9)
     p = instantaneous_power(traj)
     slip = traj.mode != 0
     np.testing.assert_allclose(p["P_belt"][slip], traj.fc[slip] * v_belt(m, traj.t[slip]), rtol=1e-12, atol=1e-15)
