@@ -53,9 +53,10 @@ def _vr(ph, p, vb, d, t0, u):
 
 @njit(cache=True)
 def _refine_vr(ph, p, vb, d, t0, lo, hi, st_hi):
-    """The first u in (lo, hi] with d V_r <= 0, given d V_r <= 0 at hi (``st_hi``: the motion there) and
-    monotone between: Newton kept inside the bracket (else bisection); once its step is below rounding
-    an iterate on the outside is the answer, one on the inside probes a few ulps on.  (u, the motion there)."""
+    """A time u in (lo, hi] where d V_r reaches 0, given d V_r > 0 at lo (or on it within the graze level) and
+    <= 0 at hi (``st_hi``: the motion there); :func:`belt_return`'s last step, where V_r is monotone, holds
+    the crossing.  Newton kept inside the bracket (else bisection); once its step is below rounding an
+    iterate on the outside is the answer, one on the inside probes a few ulps on.  (u, the motion there)."""
     u = 0.5 * (lo + hi)
     for _ in range(200):
         g, dg, st = _vr(ph, p, vb, d, t0, u)
