@@ -80,6 +80,8 @@ def interpolant(traj) -> "Interpolant":
     form = form_of(traj.solver)
     if form == "closed_form" and traj.events is None:
         form = "cubic_hermite"  # the closed forms read the phases from the switch record
+    if form == "closed_form" and traj.model.belt_varies:
+        return BeltClosedForm(traj)
     return FORMS[form](traj)
 
 
@@ -95,6 +97,13 @@ class Interpolant:
     def belt(self, t: np.ndarray) -> Any:
         """V_b at the times ``t``: the belt's speed, varying (``model.belt_varies``) or the constant V_b."""
         return self.model.belt_speed(t) if self.model.belt_varies else self.vb
+
+    def on_belt(self, x0: np.ndarray, t0: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(X, X') at ``t`` in stick phases from (t0, x0) on a moving belt: X = x0 + int V_b (closed form), X' = V_b."""
+        m = self.model
+        x = x0 + m.vb * (t - t0) - m.vb_amplitude / m.vb_omega * (np.cos(m.vb_omega * t + m.vb_phi)
+                                                                   - np.cos(m.vb_omega * t0 + m.vb_phi))
+        return x, m.belt_speed(t)
 
     def _local(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The sample interval of each time, its length, and the time's fraction of it (Hermite forms)."""
@@ -242,6 +251,24 @@ class ClosedForm(Interpolant):
         return fc, self.traj.mode[i].astype(np.int8)
 
 
+class BeltClosedForm(ClosedForm):
+    """The exact solver on a moving belt (Coulomb's switch, :mod:`.core.exact_belt`): each sample's friction mode is
+    the phase after it -- slip in closed form about d F_d (OSC), stick on the belt (:meth:`Interpolant.on_belt`)."""
+
+    def _phases(self) -> tuple[np.ndarray, np.ndarray]:
+        mode = self.traj.mode.astype(float)
+        return np.full(len(mode), OSC, dtype=np.int8), mode * self.traj.friction.fd
+
+    def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        x, v = super().state(t)
+        i = self.interval(t)
+        stick = self.traj.mode[i] == 0
+        x[stick], v[stick] = self.on_belt(self.traj.x[i][stick], self.traj.t[i][stick], t[stick])
+        return x, v
+
+    force = Interpolant.force  # slip: the law's d F_d; stick: X + 2 zeta V_b + V_b' - f
+
+
 # -- the adaptive solver and RK4: Hermite interpolation -----------------------------------------------
 
 class QuinticHermite(Interpolant):
@@ -269,10 +296,7 @@ class QuinticHermite(Interpolant):
         v = np.divide(dx, h, out=np.array(tr.v[i], dtype=float), where=h > 0)  # a zero-length interval: its start
         stick = tr.mode[i] == 0  # X' = V_b held: a straight line, exactly (on a moving belt: int V_b, closed form)
         if self.model.belt_varies:
-            m, ts, tt = self.model, tr.t[i][stick], t[stick]
-            x[stick] = tr.x[i][stick] + m.vb * (tt - ts) - m.vb_amplitude / m.vb_omega * (
-                np.cos(m.vb_omega * tt + m.vb_phi) - np.cos(m.vb_omega * ts + m.vb_phi))
-            v[stick] = m.belt_speed(tt)
+            x[stick], v[stick] = self.on_belt(tr.x[i][stick], tr.t[i][stick], t[stick])
             return x, v
         x[stick] = tr.x[i][stick] + tr.v[i][stick] * (t[stick] - tr.t[i][stick])
         v[stick] = tr.v[i][stick]

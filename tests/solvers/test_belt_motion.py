@@ -144,9 +144,10 @@ def test_zero_amplitude_is_todays_run_bit_for_bit(solver, forced):
 
 # -- the stick phase -----------------------------------------------------------------------------------
 
-def test_a_stick_phase_follows_the_belt_exactly():
+@pytest.mark.parametrize("solver", [Adaptive, Exact])
+def test_a_stick_phase_follows_the_belt_exactly(solver):
     m = BeltOscillator(**BELT)
-    traj = simulate(m, COULOMB, Adaptive(dense_dt=0.05), t_end=40.0, x0=0.0, v0=float(v_belt(m, 0.0)))
+    traj = simulate(m, COULOMB, solver(dense_dt=0.05), t_end=40.0, x0=0.0, v0=float(v_belt(m, 0.0)))
     runs = _stick_runs(traj)
     assert len(runs) >= 4 and sum(j - i for i, j in runs) > 100
     for i, j in runs:
@@ -156,7 +157,7 @@ def test_a_stick_phase_follows_the_belt_exactly():
         assert np.allclose(traj.x[i:j + 1], x, rtol=0.0, atol=1e-14)
 
 
-@pytest.mark.parametrize("solver", [Adaptive])
+@pytest.mark.parametrize("solver", [Adaptive, Exact])
 def test_a_stick_ended_by_the_belts_acceleration_ends_where_the_closed_form_says(solver):
     """A fast belt (Omega_b = 3): its acceleration A Omega_b cos(...) takes the held force to F_s within a second,
     where a belt at constant speed would hold for 2.8 (X + 2 zeta V_b rising at V_b = 0.2 from 0.14 to 0.6)."""
@@ -199,6 +200,66 @@ def test_adaptive_agrees_with_solve_ivp(law, slip, forced):
     assert w[1] - w[2] + w[3] == pytest.approx(w_belt, rel=1e-8)  # P_belt = F_c V_b(tau): friction work + heat
 
 
+def test_exact_agrees_with_solve_ivp():
+    """The exact engine's closed-form slips, their return to the moving belt and its stick phases against the
+    hybrid integration written here, free and forced."""
+    for drive in ({}, {"fex": 0.2, "omega": 0.9}):
+        m = BeltOscillator(**BELT, **drive)
+        v0 = float(v_belt(m, 0.0))
+        switches, x, v, w_belt = reference(m, coulomb_slip, COULOMB.fs, 0.0, v0, 40.0)
+        traj = simulate(m, COULOMB, Exact(), t_end=40.0, x0=0.0, v0=v0)
+        assert len(switches) >= 6
+        np.testing.assert_allclose(traj.events["t"], switches, rtol=0, atol=1e-8)
+        assert traj.x[-1] == pytest.approx(x, abs=1e-8) and traj.v[-1] == pytest.approx(v, abs=1e-8)
+        w = traj.dwork.sum(axis=0)
+        assert w[1] - w[2] + w[3] == pytest.approx(w_belt, rel=1e-8)  # P_belt = F_c V_b(tau): friction work + heat
+
+
+@pytest.mark.parametrize("forced", [False, True], ids=["free", "forced"])
+def test_exact_agrees_with_adaptive_at_tight_tolerance(forced):
+    """Two engines sharing the stick phase but not the slip (closed form against Dormand-Prince at 1e-12):
+    the switches, the state, and every work integral, over 60 time units of stick-slip on the moving belt."""
+    m = BeltOscillator(**BELT, **({"fex": 0.2, "omega": 0.9} if forced else {}))
+    v0 = float(v_belt(m, 0.0))
+    e = simulate(m, COULOMB, Exact(), t_end=60.0, x0=0.0, v0=v0)
+    a = simulate(m, COULOMB, Adaptive(rtol=1e-12, atol=1e-14), t_end=60.0, x0=0.0, v0=v0)
+    assert len(e.events["t"]) == len(a.events["t"]) >= 8
+    np.testing.assert_allclose(e.events["t"], a.events["t"], rtol=0, atol=1e-9)
+    assert np.array_equal(e.events["mode"], a.events["mode"])
+    assert e.x[-1] == pytest.approx(a.x[-1], abs=1e-10) and e.v[-1] == pytest.approx(a.v[-1], abs=1e-10)
+    np.testing.assert_allclose(e.dwork.sum(axis=0), a.dwork.sum(axis=0), rtol=1e-9, atol=1e-12)
+
+
+def test_an_exact_slip_returns_to_a_belt_that_catches_up_briefly():
+    """A fast belt (Omega_b = 20) whose speed overtakes the sliding mass for under 0.01 time units, a sliver of
+    the natural period, near X''s minimum: V_r = V_b(tau) - X' is positive only in that short excursion.  The
+    return to the belt is found where brentq on the slip's closed form (written here, scanned finely) puts it."""
+    m = BeltOscillator(zeta=0.05, vb=-1.0, vb_amplitude=0.3, vb_omega=20.0, vb_phi=1.5 * math.pi)
+    law = Coulomb(fd=0.1, fs=0.2)
+    x0, v0 = 0.66, 0.0  # X' > V_b: V_r < 0, friction -F_d
+    traj = simulate(m, law, Exact(), t_end=3.0, x0=x0, v0=v0)
+    wd = math.sqrt(1.0 - m.zeta**2)
+    c1, c2 = x0 + law.fd, (v0 + m.zeta * (x0 + law.fd)) / wd  # Y = X + F_d = e^{-zeta t}(c1 cos + c2 sin)(wd t)
+
+    def vr(t):
+        dy = np.exp(-m.zeta * t) * ((c2 * wd - m.zeta * c1) * np.cos(wd * t) - (c1 * wd + m.zeta * c2) * np.sin(wd * t))
+        return v_belt(m, t) - dy
+
+    grid = np.arange(0.0, 3.0, 1e-5)
+    inside = np.flatnonzero(vr(grid) >= 0.0)
+    assert len(inside) and 0 < inside[-1] - inside[0] < 1000  # one excursion, shorter than 0.01
+    want = brentq(vr, grid[inside[0] - 1], grid[inside[0]], xtol=1e-15, rtol=1e-15)
+    assert traj.events["t"][0] == pytest.approx(want, rel=1e-12, abs=1e-13)
+
+
+def test_exact_refuses_karnopps_band_on_a_moving_belt_with_one_line():
+    from frictionflow.friction.karnopp import Karnopp
+
+    with pytest.raises(ValueError, match=r"^solver=exact runs a belt whose speed varies .* Coulomb's switch only") as e:
+        simulate(BeltOscillator(**BELT), Karnopp(fd=0.5, fs=0.8), Exact(), t_end=5.0)
+    assert "\n" not in str(e.value)
+
+
 # -- energy ------------------------------------------------------------------------------------------
 
 def _residual(traj) -> float:
@@ -208,10 +269,12 @@ def _residual(traj) -> float:
     return float(e[-1] - e[0] - (w[1] - w[2] + w[4] - w[0]))
 
 
-def test_the_energy_balance_closes_on_a_moving_belt():
+@pytest.mark.parametrize("solver", [Adaptive, Exact])
+def test_the_energy_balance_closes_on_a_moving_belt(solver):
     m = BeltOscillator(**BELT, fex=0.2, omega=0.9)
-    traj = simulate(m, COULOMB, Adaptive(), t_end=40.0, x0=0.0, v0=float(v_belt(m, 0.0)))
-    assert abs(_residual(traj)) < 1e-9
+    traj = simulate(m, COULOMB, solver(), t_end=40.0, x0=0.0, v0=float(v_belt(m, 0.0)))
+    # the exact engine's works are closed forms and Gauss-Legendre to rounding: its balance closes to rounding
+    assert abs(_residual(traj)) < (1e-13 if solver is Exact else 1e-9)
     p = instantaneous_power(traj)
     slip = traj.mode != 0
     np.testing.assert_allclose(p["P_belt"][slip], traj.fc[slip] * v_belt(m, traj.t[slip]), rtol=1e-12, atol=1e-15)
@@ -308,8 +371,9 @@ def test_sweeps_refuse_a_moving_belt_they_cannot_run():
     from frictionflow.sweep.config import parse_sweep
 
     base = {"friction": "coulomb", "fd": 0.02, "fs": 0.04, "t_end": 50.0}
-    with pytest.raises(ValueError, match=r"^grid: solver=exact does not run a belt whose speed varies"):
-        parse_sweep({**base, "solver": "exact", "grid": {"vb_amplitude": [0.0, 0.005]}})
+    with pytest.raises(ValueError, match=r"^grid: solver=exact does not run a belt whose speed varies with "
+                                         r"friction=karnopp; use solver=auto$"):
+        parse_sweep({**base, "friction": "karnopp", "solver": "exact", "grid": {"vb_amplitude": [0.0, 0.005]}})
     with pytest.raises(ValueError, match=r"^grid: points with both an external force and a moving belt need vb_omega"):
         parse_sweep({**base, "solver": "adaptive", "fex": 0.01, "omega": 0.8, "grid": {"vb_amplitude": [0.0, 0.005]}})
 
@@ -341,10 +405,11 @@ def test_auto_picks_a_solver_that_runs_a_moving_belt():
     assert simulate(moving, COULOMB, t_end=5.0).solver["name"] == "adaptive"
 
 
-def test_the_trajectory_between_stick_samples_is_the_belts_motion():
+@pytest.mark.parametrize("solver", [Adaptive, Exact])
+def test_the_trajectory_between_stick_samples_is_the_belts_motion(solver):
     """``traj(t)`` inside a stick phase: X' = V_b(t) and X = X0 + int V_b, not a straight line."""
     m = BeltOscillator(**BELT)
-    traj = simulate(m, COULOMB, Adaptive(), t_end=40.0, x0=0.0, v0=float(v_belt(m, 0.0)))
+    traj = simulate(m, COULOMB, solver(), t_end=40.0, x0=0.0, v0=float(v_belt(m, 0.0)))
     runs = [(i, j) for i, j in _stick_runs(traj) if traj.t[j] - traj.t[i] > 1.0]
     assert runs
     for i, j in runs:
@@ -352,6 +417,20 @@ def test_the_trajectory_between_stick_samples_is_the_belts_motion():
         x, v = traj.at(t)
         np.testing.assert_allclose(v, v_belt(m, t), rtol=0.0, atol=1e-15)
         np.testing.assert_allclose(x, stick_x(m, traj.x[i], traj.t[i], t), rtol=0.0, atol=1e-14)
+
+
+def test_the_exact_trajectory_between_slip_samples_is_the_closed_form():
+    """``traj(t)`` inside a slip on the moving belt: against the hybrid integration written here, run to t."""
+    m = BeltOscillator(**BELT, fex=0.2, omega=0.9)
+    v0 = float(v_belt(m, 0.0))
+    traj = simulate(m, COULOMB, Exact(), t_end=20.0, x0=0.0, v0=v0)
+    slips = np.flatnonzero((traj.mode[:-1] != 0) & (np.diff(traj.t) > 0.3))
+    assert len(slips) >= 3
+    for i in slips[:3]:
+        t = 0.5 * (traj.t[i] + traj.t[i + 1])
+        _, x, v, _ = reference(m, coulomb_slip, COULOMB.fs, 0.0, v0, t)
+        got = traj.at(np.array([t]))
+        assert got[0][0] == pytest.approx(x, abs=1e-8) and got[1][0] == pytest.approx(v, abs=1e-8)
 
 
 def test_a_users_slip_law_runs_on_a_moving_belt_as_the_built_in_one():

@@ -86,7 +86,7 @@ EPS = 2.220446049250313e-16
 #: runs copies of them whose ``slip_force`` is the user's (:func:`frictionflow.solvers.adaptive.kernel_for`)
 KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_at", "_gd", "_root",
                 "_first_sample", "_after_stick", "_slip_start", "_first_event", "_at_section",
-                "_slip", "_switch", "_run", "run_unforced", "run_forced", "run_moving")
+                "_slip", "_switch", "_slip_end", "_run", "run_unforced", "run_forced", "run_moving")
 #: ``forced`` of the variant on a moving belt (:func:`run_moving`): true as a flag, and where the step reads the
 #: belt's speed a constant apart from True, so that the other two variants compute no belt speed there
 MOVING = 2
@@ -261,10 +261,7 @@ def _run(forced, run, p, samples, events):
             status, at, switched, cur = _slip(forced, s, p, (t, x, v, mode, h, k, steps, n_max, n_min), cur, scr, ring, outs, w)
             t, x, v, h, k, steps, n_max, n_min = at
             if switched:
-                mode, hold, fc = _switch(s, p, fs, (t, t_phase, x))
-                ne = _record_switch(events, ne, t, mode)
-                outs[3][0, k - 1] = mode  # the phase's last sample is the switch's
-                outs[2][0, k - 1] = fc
+                mode, hold, ne = _slip_end(s, p, fs, (t, t_phase, x, k), events, ne, outs)
         else:
             if forced:
                 status, t, x, k, cur = _forced_stick(s, p, fs, (t, x, hold, k), cur, outs, w)
@@ -605,6 +602,19 @@ def _switch(s, p, fs, where):
     if mode != 0:
         return mode, hold, mode * slip_force_at(p, 0.0)
     return mode, hold, stick_friction(x, s.zeta, belt_speed(p, s.vb, t), stick_load(p, t) if s.forced else 0.0)
+
+
+@njit(cache=True)
+def _slip_end(s, p, fs, where, events, ne, outs):
+    """A slip phase from t_phase ended on V_r = 0 at ``where`` = (t, t_phase, x, k): the mode that continues and
+    hold (:func:`_switch`), the switch recorded (its count after it returned), and the phase's last sample
+    (k - 1), the switch's, given its mode and friction force."""
+    t, t_phase, x, k = where
+    mode, hold, fc = _switch(s, p, fs, (t, t_phase, x))
+    ne = _record_switch(events, ne, t, mode)
+    outs[3][0, k - 1] = mode
+    outs[2][0, k - 1] = fc
+    return mode, hold, ne
 
 
 @njit(cache=True)

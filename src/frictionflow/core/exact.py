@@ -986,13 +986,19 @@ def _reach(ev, s, last, live, ph, t, st):
     ahead = sg + ev[EGRAZE]
     if ahead <= 0.0:
         return 0.0, True, last
-    m2 = cf.bound_at(co, dyn, ev[EK1], ev[EK2], ev[EKP], t, e1, e2)
+    return parabola_step(ahead, sdg, cf.bound_at(co, dyn, ev[EK1], ev[EK2], ev[EKP], t, e1, e2)), False, last
+
+
+@njit(cache=True, forceinline=True)
+def parabola_step(ahead, sdg, m2):
+    """The walk's step (:func:`_next_root`): how far an event function with s G + graze = ``ahead`` > 0,
+    s G' = ``sdg`` and |G''| <= ``m2`` from here on is known not to reach -graze (its parabola bounds)."""
     if sdg < 0.0:
         disc = sdg * sdg - 2.0 * m2 * ahead
         if disc >= 0.0:
-            return 2.0 * ahead / (-sdg + math.sqrt(disc)), False, last
-        return 2.0 * ahead / (-sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead)), False, last
-    return (sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead)) / m2, False, last
+            return 2.0 * ahead / (-sdg + math.sqrt(disc))
+        return 2.0 * ahead / (-sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead))
+    return (sdg + math.sqrt(sdg * sdg + 2.0 * m2 * ahead)) / m2
 
 
 @njit(cache=True, forceinline=True)

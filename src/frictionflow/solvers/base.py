@@ -112,6 +112,8 @@ class Solver(ABC):
         It integrates an external force f(tau) (:meth:`forcing_problem` names the exceptions).
     supports_belt_motion:
         It integrates a belt whose speed varies in time, V_b(tau) (``BeltOscillator.belt_varies``).
+    auto_belt_motion:
+        ``solver=auto`` may pick it for such a belt.
     structure_laws:
         For linear structures with friction contacts (:func:`frictionflow.solvers.structure.simulate_system`):
         a test of a law class, true for the laws this solver runs at a structure's contacts; None: it
@@ -133,9 +135,14 @@ class Solver(ABC):
     batched_forced: ClassVar[Callable[..., np.ndarray] | None] = None
     supports_forcing: ClassVar[bool] = True
     supports_belt_motion: ClassVar[bool] = False
+    auto_belt_motion: ClassVar[bool] = True
     step_cost: ClassVar[str] = "adaptive_step"
     point_cost_per: ClassVar[str] = "adaptive_point_time"
     structure_laws: ClassVar[Callable[[type[FrictionLaw]], bool] | None] = None
+
+    def runs_belt_motion(self, friction: FrictionLaw) -> bool:
+        """Whether it runs a belt whose speed varies under ``friction`` (``supports_belt_motion``, and the law's)."""
+        return self.supports_belt_motion
 
     @classmethod
     def from_values(cls, values: Mapping[str, Any]) -> "Solver":

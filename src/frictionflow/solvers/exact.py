@@ -10,6 +10,7 @@ import numpy as np
 from .._progress import progress_bar
 from ..core import batch, batch_forced
 from ..core import exact as kernel
+from ..core import exact_belt
 from ..core import sections
 from ..core.records import Events, Samples, run_record
 from ..friction.base import FrictionLaw
@@ -17,7 +18,7 @@ from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, SUBNORMAL_BELOW, Param
 from .base import kernel_params, DEFAULT_MAX_MEMORY, Solver, run_growing, trajectory_from
-from .events import EXACT_EVENT_MODES
+from .events import ADAPTIVE_EVENT_MODES, EXACT_EVENT_MODES
 
 #: the dense grid's step: from 1e-9 up, as RK4's step (finer ones make the sample count of any run beyond memory,
 #: and a subnormal one made it inf)
@@ -100,6 +101,15 @@ class Exact(Solver):
     def __repr__(self) -> str:
         return super().__repr__()[:-1] + ("" if self.replicate else ", replicate=False") + ")"
 
+    supports_belt_motion = True  # Coulomb's switch (core.exact_belt); Karnopp's band on a moving belt is refused
+    # On a moving belt the stroboscopic section converges geometrically (no stick phase resets it), so a run of
+    # a few hundred time units is often still above this solver's steady tolerance (1e-10, rounding) where the
+    # adaptive solver's (1e-6) classifies it: auto keeps the adaptive solver there.
+    auto_belt_motion = False
+
+    def runs_belt_motion(self, friction: FrictionLaw) -> bool:
+        return super().runs_belt_motion(friction) and friction.stick_rule == "switch"
+
     def supports(self, friction: FrictionLaw) -> bool:
         return friction.piecewise_constant
 
@@ -132,6 +142,8 @@ class Exact(Solver):
         forced = 0
         if model is not None and model.forced:
             forced = int(t_end / model.forcing_period) + int(8 * model.omega * t_end / math.pi)
+        if model is not None and model.belt_varies:  # the belt's stroboscopic samples, extremes at its frequency
+            forced += int(t_end * model.vb_omega / math.pi) + int(8 * model.vb_omega * t_end / math.pi)
         return int(16 * t_end / (2 * math.pi)) + 64 + dense + forced
 
     @staticmethod
@@ -153,6 +165,9 @@ class Exact(Solver):
         problem = self.forcing_problem(model.zeta, model.omega, model.fex)
         if problem:
             raise ValueError(problem)
+        if model.belt_varies and friction.stick_rule != "switch":
+            raise ValueError(f"solver=exact runs a belt whose speed varies (vb_amplitude > 0) with Coulomb's switch only, "
+                             f"not friction={friction.name}'s band; use solver=rk4")
         p = kernel_params(model, friction)
         dense = self.dense_dt or 0.0
         t_tail = sections.tail_start(0.0, t_end)
@@ -163,6 +178,8 @@ class Exact(Solver):
                          (False, False, 0.0, 3), (0.0, 0.0))
 
         def run(bufs: tuple[Samples, Events]) -> tuple:
+            if model.belt_varies:
+                return exact_belt.run_moving(rec, p, *bufs)
             if model.forced:
                 return kernel.run_forced(rec, p, *bufs, t_mode)
             return kernel.run(rec, p, *bufs, t_mode, self.replicate, False)  # False: no periodic stop
@@ -179,4 +196,6 @@ class Exact(Solver):
             raise RuntimeError(f"exact: repeated zero-length phases at tau={t[n - 1]:.17g}, X={x[n - 1]:.17g}, "
                                f"X'={v[n - 1]:.17g}" + _sliding_hint(model, friction, t[n - 1], x[n - 1], v[n - 1]))
         extra = {"t_terminal": None if t_term < 0 else float(t_term), "terminal_mode": int(t_mode[0])}
-        return trajectory_from(bufs, n, ne, model, friction, self.describe(), extra, event_modes=EXACT_EVENT_MODES)
+        return trajectory_from(bufs, n, ne, model, friction, self.describe(), extra,
+                               # on a moving belt the switches are coded as the adaptive kernel's (its stick rule)
+                               event_modes=ADAPTIVE_EVENT_MODES if model.belt_varies else EXACT_EVENT_MODES)

@@ -66,10 +66,10 @@ def auto_solver(friction: FrictionLaw, model: BeltOscillator | None = None) -> S
         default: Solver = Stiff()
     else:
         default = Exact() if friction.piecewise_constant else Adaptive()
-    if model is None or not model.belt_varies or default.supports_belt_motion:
+    if model is None or not model.belt_varies or (default.auto_belt_motion and default.runs_belt_motion(friction)):
         return default
-    able = (cls() for cls in solver_classes() if cls.supports_belt_motion)
-    return next((s for s in able if s.supports(friction)), default)
+    able = (cls() for cls in solver_classes() if cls.supports_belt_motion and cls.auto_belt_motion)
+    return next((s for s in able if s.supports(friction) and s.runs_belt_motion(friction)), default)
 
 
 def unsupported(solver: str, friction: FrictionLaw) -> str:

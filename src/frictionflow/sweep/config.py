@@ -422,9 +422,12 @@ def _check_belt(cfg: SweepConfig) -> None:
     the two must share the stroboscopic period (vb_omega = omega, fixed); refused before any work."""
     if not _grid_values(cfg, "vb_amplitude").max() > 0.0:
         return
-    solver = cfg.run.build()[2]
+    _, law, solver = cfg.run.build()
     if not solver.supports_belt_motion:
         raise ValueError(f"grid: {belt_motion_unsupported(solver.name)}")
+    if not solver.runs_belt_motion(law):
+        raise ValueError(f"grid: solver={solver.name} does not run a belt whose speed varies with friction={law.name}; "
+                         "use solver=auto")
     om, omb = _grid_values(cfg, "omega"), _grid_values(cfg, "vb_omega")
     if _grid_values(cfg, "fex").max() > 0.0 and (len(om) > 1 or len(omb) > 1 or om[0] != omb[0]):
         raise ValueError("grid: points with both an external force and a moving belt need vb_omega equal to omega, "
