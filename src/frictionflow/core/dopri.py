@@ -85,8 +85,8 @@ EPS = 2.220446049250313e-16
 #: the functions that read the slip force, themselves or through a callee here, callees first: a user's law
 #: runs copies of them whose ``slip_force`` is the user's (:func:`frictionflow.solvers.adaptive.kernel_for`)
 KERNEL_FUNCS = ("slip_force_at", "rhs", "at_rest", "_g", "dense", "_events_at", "_gd", "_root",
-                "_first_sample", "_after_stick", "_slip_start", "_first_event", "_at_section",
-                "_slip", "_switch", "_slip_end", "_run", "run_unforced", "run_forced", "run_moving")
+                "first_sample", "after_stick", "_slip_start", "_first_event", "_at_section",
+                "_slip", "_switch", "slip_end", "_run", "run_unforced", "run_forced", "run_moving")
 #: ``forced`` of the variant on a moving belt (:func:`run_moving`): true as a flag, and where the step reads the
 #: belt's speed a constant apart from True, so that the other two variants compute no belt speed there
 MOVING = 2
@@ -225,9 +225,9 @@ GO = -1
 def _run(forced, run, p, samples, events):
     """:func:`run`'s body; ``forced`` is a constant at each of its two call sites (two specialisations).
 
-    A loop over phases -- stick (:func:`_stick`, :func:`_forced_stick`), slip (:func:`_slip`) -- each a compiled
+    A loop over phases -- stick (:func:`_stick`, :func:`forced_stick`), slip (:func:`_slip`) -- each a compiled
     function called once per phase that returns where it ended; the switches are written here (the stick
-    rule: :func:`_after_stick`, :func:`_switch`).  The run's arrays are made here once, and are passed on
+    rule: :func:`after_stick`, :func:`_switch`).  The run's arrays are made here once, and are passed on
     to as few calls as can be (each passing costs reference counting): the samples ``outs``, the works since
     the last sample ``w`` (W_dv, W_fin, W_fout, W_heat, W_ex), the step's scratch, the ring of the last maxima
     and minima.
@@ -239,7 +239,7 @@ def _run(forced, run, p, samples, events):
     """
     # the forced step cap: the same fraction of the forcing period as H_MAX is of the natural one,
     # as the event search sees signs only at step ends and f oscillates at Omega inside X''
-    h_max, period = _drive(p) if forced else (H_MAX, np.inf)
+    h_max, period = drive_limits(p) if forced else (H_MAX, np.inf)
     s = Setup(run[T_END], run[ZETA], run[VB], run[ODE_RTOL], run[ODE_ATOL], int(run[MAX_STEPS]), run[DENSE_DT], run[T_TAIL],
               run[STOP_RTOL], run[R_CERT], run[X_EQ], p[RESULTANT] != 0.0, h_max, period, np.bool_(forced))
     outs, w = (samples[0], samples[1], samples[2], samples[3], samples[4]), np.zeros(N_WORK)
@@ -253,7 +253,7 @@ def _run(forced, run, p, samples, events):
     cur = Cursor(s.t_tail <= 0.0, s.dense_dt if s.dense_dt > 0.0 else np.inf, np.int64(1))  # (k = 0 is the first sample)
     if len(samples[0]) < 2:
         return 0, 0, FULL, t, h
-    mode = _first_sample(s, p, (x, v, fs), outs, w)
+    mode = first_sample(s, p, (x, v, fs), outs, w)
     k += 1
     while t < s.t_end:
         if mode != 0:
@@ -261,31 +261,31 @@ def _run(forced, run, p, samples, events):
             status, at, switched, cur = _slip(forced, s, p, (t, x, v, mode, h, k, steps, n_max, n_min), cur, scr, ring, outs, w)
             t, x, v, h, k, steps, n_max, n_min = at
             if switched:
-                mode, hold, ne = _slip_end(s, p, fs, (t, t_phase, x, k), events, ne, outs)
+                mode, hold, ne = slip_end(s, p, fs, (t, t_phase, x, k), events, ne, outs)
         else:
             if forced:
-                status, t, x, k, cur = _forced_stick(s, p, fs, (t, x, hold, k), cur, outs, w)
+                status, t, x, k, cur = forced_stick(s, p, fs, (t, x, hold, k), cur, outs, w)
             else:
                 status, t, x, k, cur = _stick(s, p, fs, (t, x, k), cur, outs, w)
             v = belt_speed(p, s.vb, t) if forced else s.vb
             if status == GO and t < s.t_end:
-                mode, tt, fc, cur = _after_stick(s, p, fs, (t, x), cur)
+                mode, tt, fc, cur = after_stick(s, p, fs, (t, x), cur)
                 hold = mode == 0  # on F_s but held (moving back inwards, or no consistent slip): on from here
                 if mode == 0 and not forced:
                     fs = np.inf  # (possible with F_e = X when zeta V_b is large): the interface holds for good
                 elif mode != 0:
-                    ne = _record_switch(events, ne, t, mode)
+                    ne = record_switch(events, ne, t, mode)
                     if not emit(outs, k, tt, x, v, fc, mode, w):
                         return k, ne, FULL, t, h
                     k += 1
         if status != GO:
             return k, ne, status, t, h
-    k, status = _finish(s, p, (t, x, v, k), cur, outs, w)
+    k, status = finish_run(s, p, (t, x, v, k), cur, outs, w)
     return k, ne, status, t, h
 
 
 @njit(cache=True)
-def _drive(p):
+def drive_limits(p):
     """(the step cap, the stroboscopic period) of a time-dependent run: the cap the same fraction of the fastest drive's
     period as H_MAX is of the natural one (the event search sees signs only at step ends); the period the external
     force's, else the moving belt's."""
@@ -297,7 +297,7 @@ def _drive(p):
 
 
 @njit(cache=True)
-def _first_sample(s, p, start, outs, w):
+def first_sample(s, p, start, outs, w):
     """The mode at the start ``start`` = (x, v, F_s) -- the stick rule's if V_r = 0 -- and its sample at t = 0."""
     x, v, fs = start
     vb = belt_speed(p, s.vb, 0.0)
@@ -311,7 +311,7 @@ def _first_sample(s, p, start, outs, w):
 
 
 @njit(cache=True)
-def _record_switch(events, ne, t, mode):
+def record_switch(events, ne, t, mode):
     """Switch ``ne`` (to ``mode`` at t) into ``events`` if it fits; the count after it (all are counted)."""
     ev_t, ev_mode, ev_contact = events
     if ne < len(ev_t):
@@ -322,7 +322,7 @@ def _record_switch(events, ne, t, mode):
 
 
 @njit(cache=True)
-def _after_stick(s, p, fs, where, cur):
+def after_stick(s, p, fs, where, cur):
     """A stick phase reached |F_e| = F_s at ``where`` = (t, x): the mode the stick rule selects (0: no slip direction
     is consistent) and, if it slips, its sample's time (forced: on the stroboscopic time if within rounding) and
     friction.  Returns (mode, time, friction, cur)."""
@@ -330,7 +330,7 @@ def _after_stick(s, p, fs, where, cur):
     mode = at_rest(x, s.zeta, s.vb, fs, s.res, p, t)
     if mode == 0 or not s.forced:
         return mode, t, mode * slip_force_at(p, 0.0), cur
-    tt, n_strobe = _strobe(t, cur.n_strobe, s.period)
+    tt, n_strobe = strobe_sample(t, cur.n_strobe, s.period)
     return mode, tt, mode * slip_force_at(p, 0.0), Cursor(cur.tail_done, cur.next_dense, n_strobe)
 
 
@@ -538,7 +538,7 @@ def _next_sample(best, kind, step, s, cur):
     the grid's next point before it -- the tail's start (4), the dense grid (5), a stroboscopic time (6).
 
     Returns (theta, kind, its time, the :data:`Cursor` past it); forced, a time within rounding of a stroboscopic
-    one is put on it (:func:`_strobe`).
+    one is put on it (:func:`strobe_sample`).
     """
     t, h = step
     tt = t + best * h
@@ -556,7 +556,7 @@ def _next_sample(best, kind, step, s, cur):
             tt = n_strobe * s.period
             best = (tt - t) / h
             kind = 6
-        tt, n_strobe = _strobe(tt, n_strobe, s.period)
+        tt, n_strobe = strobe_sample(tt, n_strobe, s.period)
     return best, kind, tt, Cursor(cur.tail_done or kind == 4, cur.next_dense + s.dense_dt if kind == 5 else cur.next_dense,
                                   n_strobe)
 
@@ -605,26 +605,26 @@ def _switch(s, p, fs, where):
 
 
 @njit(cache=True)
-def _slip_end(s, p, fs, where, events, ne, outs):
+def slip_end(s, p, fs, where, events, ne, outs):
     """A slip phase from t_phase ended on V_r = 0 at ``where`` = (t, t_phase, x, k): the mode that continues and
     hold (:func:`_switch`), the switch recorded (its count after it returned), and the phase's last sample
     (k - 1), the switch's, given its mode and friction force."""
     t, t_phase, x, k = where
     mode, hold, fc = _switch(s, p, fs, (t, t_phase, x))
-    ne = _record_switch(events, ne, t, mode)
+    ne = record_switch(events, ne, t, mode)
     outs[3][0, k - 1] = mode
     outs[2][0, k - 1] = fc
     return mode, hold, ne
 
 
 @njit(cache=True)
-def _finish(s, p, end, cur, outs, w):
+def finish_run(s, p, end, cur, outs, w):
     """The run's end at ``end`` = (t, x, v, k): a run that ends sticking gets its last sample at t_end (forced: unless
     one is there within rounding, the stroboscopic one).  Returns (k, status)."""
     t, x, v, k = end
     tt, f, before = s.t_end, 0.0, s.t_end
     if s.forced:
-        tt, _ = _strobe(s.t_end, cur.n_strobe, s.period)
+        tt, _ = strobe_sample(s.t_end, cur.n_strobe, s.period)
         f, before = stick_load(p, s.t_end), s.t_end - STROBE_TOL * (1.0 + s.t_end)
     if outs[0][k - 1] < before:
         if not emit(outs, k, tt, x, v, stick_friction(x, s.zeta, belt_speed(p, s.vb, s.t_end), f), np.int64(0), w):
@@ -677,7 +677,7 @@ def _root(kind, y, K, step, ph, p, forced):
 # -- the stroboscopic samples and the forced stick phase -----------------------------------------------
 
 @njit(cache=True, forceinline=True)
-def _strobe(tt, n, period):
+def strobe_sample(tt, n, period):
     """A sample at ``tt``: (its time, the next stroboscopic index).
 
     A sample within rounding of the next stroboscopic time n 2 pi / Omega is
@@ -722,7 +722,7 @@ def _stick_work(xs, ts, ta, tb, zeta, vb, p, w):
 
 
 @njit(cache=True)
-def _forced_stick(s, p, fs, at, cur, outs, w):
+def forced_stick(s, p, fs, at, cur, outs, w):
     """A forced stick phase from ``at`` = (t, x, hold, k): the held force F_e - f(tau) varies; to where it leaves
     the static bound (:func:`_stick_exit`) or t_end.  Returns (status, t, x, k, cur) at its end.
 
@@ -763,7 +763,7 @@ def _forced_stick(s, p, fs, at, cur, outs, w):
             tail_done = True
         if tag == 2:
             next_dense += s.dense_dt
-        tt, n_strobe = _strobe(tb, n_strobe, s.period)
+        tt, n_strobe = strobe_sample(tb, n_strobe, s.period)
         xb = stick_x(xs, ts, tb, vb, p)
         vbb = belt_speed(p, vb, tb)
         if not emit(outs, k, tt, xb, vbb, stick_friction(xb, zeta, vbb, stick_load(p, tb)), stick_mode, w):

@@ -872,7 +872,7 @@ def run(run, p, samples, events, t_mode, replicate, periodic_stop):
 
 @njit(cache=True, inline="always")
 def _d2g(dyn, zeta, om, fn, acc, jerk, f):
-    """G'' of the event function ``fn`` (:func:`_next_root`) from X'', X''' and f.
+    """G'' of the event function ``fn`` (:func:`next_root`) from X'', X''' and f.
 
     X'''' from the equation of motion: OSC X'' = F + f - X - 2 zeta X', so
     X'''' = f'' - X'' - 2 zeta X'''; EXP X'''' = -2 zeta X'''; LIN 0 (X''' = 0).
@@ -884,7 +884,7 @@ def _d2g(dyn, zeta, om, fn, acc, jerk, f):
 
 @njit(cache=True)
 def _gf(ph, fn, t):
-    """G, G' and G'' at t of the event function ``fn`` (:func:`_next_root`) with (X, X') there."""
+    """G, G' and G'' at t of the event function ``fn`` (:func:`next_root`) with (X, X') there."""
     co, dyn, zeta, force, pz, fz, om = ph
     a, b, d, e, c = fn
     st = cf.forced_eval(co, dyn, zeta, force, pz, fz, om, t)
@@ -945,8 +945,8 @@ NO_EVENT = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @njit(cache=True)
-def _bound_consts(ph, x, v, fn):
-    """(K1, K2, Kp, graze) of the event function ``fn`` = (a, b, d, e, c) in a phase starting at (x, v) (:func:`_next_root`)."""
+def bound_consts(ph, x, v, fn):
+    """(K1, K2, Kp, graze) of the event function ``fn`` = (a, b, d, e, c) in a phase starting at (x, v) (:func:`next_root`)."""
     co, dyn, zeta, force, pz, fz, om = ph
     a, b, d, e, c = fn
     K1, K2 = cf.free_bound(co, dyn, zeta, a, b, d)
@@ -991,7 +991,7 @@ def _reach(ev, s, last, live, ph, t, st):
 
 @njit(cache=True, forceinline=True)
 def parabola_step(ahead, sdg, m2):
-    """The walk's step (:func:`_next_root`): how far an event function with s G + graze = ``ahead`` > 0,
+    """The walk's step (:func:`next_root`): how far an event function with s G + graze = ``ahead`` > 0,
     s G' = ``sdg`` and |G''| <= ``m2`` from here on is known not to reach -graze (its parabola bounds)."""
     if sdg < 0.0:
         disc = sdg * sdg - 2.0 * m2 * ahead
@@ -1067,7 +1067,7 @@ def _crossing(tab, sides, lasts, n, nb, ph, t, st):
 
 
 @njit(cache=True, forceinline=True)
-def _next_root(ph, table, t0, st0, t1):
+def next_root(ph, table, t0, st0, t1):
     """The first crossing of any of the event functions in (t0, t1]: (index or -1, time, the motion there, sides).
 
     ``table`` = (tab, sides, n, nb) (:func:`_event_table`): function i is
@@ -1142,7 +1142,7 @@ def _piece_work(pc, xa, va, xb, vb_, L, v2, w_ex):
 
 
 @njit(cache=True, forceinline=True)
-def _forced_piece_work(pc, wr, a, b, L, theta):
+def forced_piece_work(pc, wr, a, b, L, theta):
     """The work integrals (N_WORK) of the piece of length L from ``a`` to ``b`` = (motion, X, X').
 
     ``wr`` = (from_start, rep): rebuilt per piece (:func:`_forced_piece`, at
@@ -1161,7 +1161,7 @@ def _forced_piece_work(pc, wr, a, b, L, theta):
 
 
 @njit(cache=True)
-def _sample_functions(dyn, fck, zeta):
+def sample_functions(dyn, fck, zeta):
     """(m, fns): the first m of ``fns`` are the functions whose roots are samples in a phase.
 
     X', X'', X' + 2 zeta X'' (OSC; the last if zeta > 0), or the held F_c.
@@ -1175,7 +1175,7 @@ def _sample_functions(dyn, fck, zeta):
 
 
 @njit(cache=True, forceinline=True)
-def _event(ph, x, v, fns, i):
+def event_row(ph, x, v, fns, i):
     """Row ``i`` of a forced phase's event table (:func:`_event_table`) from its functions ``fns`` = (n, nb, bs, sf)."""
     n, nb, bs, sf = fns
     if i >= n:
@@ -1185,7 +1185,7 @@ def _event(ph, x, v, fns, i):
         fn = (ba, bb, 0.0, ba, bc)
     else:
         fn = sf[i - nb]
-    K1, K2, Kp, graze = _bound_consts(ph, x, v, fn)
+    K1, K2, Kp, graze = bound_consts(ph, x, v, fn)
     return (fn[0], fn[1], fn[2], fn[3], fn[4], K1, K2, Kp, graze)
 
 
@@ -1194,14 +1194,14 @@ def _event_table(ph, s, mode, fck, x, v):
     """A forced phase's event functions: (tab, sides, n, nb), ``n`` of them, the first ``nb`` the boundaries.
 
     The mode's boundaries a (X - f) + b X' - c, with their sides, then the
-    sample functions (:func:`_sample_functions`: side 0, decided by the walk).
+    sample functions (:func:`sample_functions`: side 0, decided by the walk).
     """
     dyn, zeta = ph[1], ph[2]
     nb, bs = mode_boundaries(mode, s.law, zeta, s.vb, s.fd, s.fs, s.vd, s.res)
-    m, sf = _sample_functions(dyn, fck, zeta)
+    m, sf = sample_functions(dyn, fck, zeta)
     fns = (nb + m, nb, bs, sf)
-    tab = (_event(ph, x, v, fns, 0), _event(ph, x, v, fns, 1), _event(ph, x, v, fns, 2),
-           _event(ph, x, v, fns, 3), _event(ph, x, v, fns, 4), _event(ph, x, v, fns, 5))
+    tab = (event_row(ph, x, v, fns, 0), event_row(ph, x, v, fns, 1), event_row(ph, x, v, fns, 2),
+           event_row(ph, x, v, fns, 3), event_row(ph, x, v, fns, 4), event_row(ph, x, v, fns, 5))
     sides = (bs[0][3] if nb > 0 else 0.0, bs[1][3] if nb > 1 else 0.0, bs[2][3] if nb > 2 else 0.0,
              bs[3][3] if nb > 3 else 0.0, 0.0, 0.0)
     return tab, sides, nb + m, nb
@@ -1240,8 +1240,8 @@ def _tick(ck, tb, ts, t, s, period):
 
 @njit(cache=True, forceinline=True)
 def _forced_start(ph, s, t, strobe, period):
-    """(wr, sta, clock) of a forced phase ``ph`` (:func:`_next_root`) starting at t: how its work integrals are
-    computed (:func:`_forced_piece_work`), the motion at its start, its known sample times (:func:`_clock`)."""
+    """(wr, sta, clock) of a forced phase ``ph`` (:func:`next_root`) starting at t: how its work integrals are
+    computed (:func:`forced_piece_work`), the motion at its start, its known sample times (:func:`_clock`)."""
     co, dyn, zeta, force, pz, fz, om = ph
     # the work integrals from this representation (OSC critically or over-damped: rebuilt per piece)
     wr = (dyn != cf.OSC or co[0] == cf.UNDER, cf.work_rep(co, dyn, zeta, pz, fz, om))
@@ -1249,7 +1249,7 @@ def _forced_start(ph, s, t, strobe, period):
 
 
 @njit(cache=True, forceinline=True)
-def _crossed(table, i, v):
+def crossed_sample(table, i, v):
     """(the table with sample function ``i`` on its other side now, X'): X' (``v``) is exactly 0 at a zero of X'."""
     tab, sd, n, nb = table
     sides = (-sd[0] if i == 0 else sd[0], -sd[1] if i == 1 else sd[1], -sd[2] if i == 2 else sd[2],
@@ -1313,14 +1313,14 @@ def run_forced(run, p, samples, events, t_mode):
         while True:
             ts = ck.strobe * fo.period - t
             tk = min(min(ck.tt, ck.td), min(ts, ck.tw))
-            i, tb, stb, sides = _next_root(ph, table, ta, sta, min(tk, horizon))
+            i, tb, stb, sides = next_root(ph, table, ta, sta, min(tk, horizon))
             table = (table[0], sides, table[2], table[3])
             xb, vb_ = stb[0], stb[1]
             if i >= 0 and i < table[3]:
                 break  # a boundary: the phase ends
             t_abs = t + tb
             if i >= 0:
-                table, vb_ = _crossed(table, i, vb_)
+                table, vb_ = crossed_sample(table, i, vb_)
             else:
                 if tk >= horizon:
                     tb = horizon  # the run ends inside the phase
@@ -1329,7 +1329,7 @@ def run_forced(run, p, samples, events, t_mode):
                 ck, t_abs = _tick(ck, tb, ts, t, s, fo.period)
                 if tb <= ta:
                     continue  # the same time from another source
-            dw = _forced_piece_work(pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
+            dw = forced_piece_work(pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
             for q in range(N_WORK):
                 w[q] += dw[q]
             fb = fex * math.cos(om * t_abs + phi) if fck != FC_CONST else 0.0
@@ -1337,7 +1337,7 @@ def run_forced(run, p, samples, events, t_mode):
                 return k, ne, FULL, -1.0, t + ta
             k += 1
             ta, xa, va, sta = tb, xb, vb_, stb
-        dw = _forced_piece_work(pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
+        dw = forced_piece_work(pc, wr, (sta, xa, va), (stb, xb, vb_), tb - ta, om * (t + ta) + phi)
         for q in range(N_WORK):
             w[q] += dw[q]
         which, T, ste, strobe = i, tb, stb, ck.strobe

@@ -6,16 +6,16 @@ V_r = V_b(tau) - X'(tau) = 0, now a difference of the closed form and the belt's
 walked as the forced engine walks its event functions (:func:`.exact.parabola_step`), with the bound on
 |V_r''| <= |X'''| + A Omega_b^2 (:func:`.closed_form.bound_at` for X''', the belt's |V_b''| <= A Omega_b^2
 added): no crossing, however short, is stepped over.  The zeros of X', X'' and X' + 2 zeta X'' inside a
-slip are the forced engine's sample functions (:func:`.exact._next_root`); the slip's works are the forced
+slip are the forced engine's sample functions (:func:`.exact.next_root`); the slip's works are the forced
 engine's closed forms except the heat, F_c V_r = F_c (V_b(tau) - X'), whose belt part d F_d int V_b is
 closed too (:func:`.stick.stick_x`).
 
 Stick phases are the ones the adaptive kernel runs on a moving belt, shared, not copied: X = X0 + int V_b,
 the held force's exit by :func:`.stick.exit_time` (proven steps, :func:`.stick.belt_turn`), the works by
 Gauss-Legendre (:func:`.stick.belt_stick_work`), and Coulomb's stick rule with the belt's acceleration as a
-load (:func:`.dopri.at_rest`): :func:`.dopri._forced_stick`, :func:`.dopri._after_stick`,
-:func:`.dopri._slip_end`.  So are the samples' clock (the tail, the dense grid, the stroboscopic times of the
-force, else of the belt: :func:`.dopri._drive`) and the run's end.  Karnopp's band on a moving belt is not
+load (:func:`.dopri.at_rest`): :func:`.dopri.forced_stick`, :func:`.dopri.after_stick`,
+:func:`.dopri.slip_end`.  So are the samples' clock (the tail, the dense grid, the stroboscopic times of the
+force, else of the belt: :func:`.dopri.drive_limits`) and the run's end.  Karnopp's band on a moving belt is not
 run here (the façade refuses it).
 """
 
@@ -28,10 +28,10 @@ from numba import njit
 
 from . import closed_form as cf
 from .codes import FULL
-from .dopri import (GO, Cursor, Setup, _after_stick, _drive, _finish, _first_sample, _forced_stick,
-                    _record_switch, _slip_end, _strobe)
-from .exact import (FC_CONST, ForcedPiece, _bound_consts, _crossed, _event, _forced_piece_work, _next_root,
-                    _sample_functions, parabola_step)
+from .dopri import (GO, Cursor, Setup, after_stick, drive_limits, finish_run, first_sample, forced_stick,
+                    record_switch, slip_end, strobe_sample)
+from .exact import (FC_CONST, ForcedPiece, bound_consts, crossed_sample, event_row, forced_piece_work, next_root,
+                    sample_functions, parabola_step)
 from .friction import FD, FEX, FS, OMEGA, PHI, RESULTANT, VB_AMP, VB_OMEGA, belt_accel, belt_speed
 from .layout import N_WORK
 from .records import DENSE_DT, T_END, T_TAIL, V0, VB, X0, ZETA
@@ -88,7 +88,7 @@ def belt_return(ph, p, vb, d, t0, horizon):
     """
     co, dyn, zeta, force, pz, fz, om = ph
     st = cf.forced_eval(co, dyn, zeta, force, pz, fz, om, 0.0)
-    K1, K2, Kp, graze = _bound_consts(ph, st[0], st[1], (0.0, 1.0, 0.0, 0.0, 0.0))
+    K1, K2, Kp, graze = bound_consts(ph, st[0], st[1], (0.0, 1.0, 0.0, 0.0, 0.0))
     amp, omb = p[VB_AMP], p[VB_OMEGA]
     graze += 1e-12 * (abs(vb) + amp)
     belt2 = amp * omb * omb  # |V_b''|
@@ -125,28 +125,28 @@ def _known(s, cur, t):
 @njit(cache=True)
 def _advance(s, cur, tag, tt):
     """The cursor past a sample at ``tt`` (``tag``: the known time it stands for, :func:`_known`; 0 none) and
-    the sample's time: on the stroboscopic time if within rounding of it (:func:`.dopri._strobe`)."""
-    tt, n_strobe = _strobe(tt, cur.n_strobe, s.period)
+    the sample's time: on the stroboscopic time if within rounding of it (:func:`.dopri.strobe_sample`)."""
+    tt, n_strobe = strobe_sample(tt, cur.n_strobe, s.period)
     return Cursor(cur.tail_done or tag == 1, cur.next_dense + s.dense_dt if tag == 2 else cur.next_dense, n_strobe), tt
 
 
 @njit(cache=True)
 def _sample_table(ph, x, v):
-    """The event table (:func:`.exact._next_root`) of a slip's sample functions: zeros of X', X'', X' + 2 zeta X''."""
-    m, sf = _sample_functions(ph[1], FC_CONST, ph[2])
+    """The event table (:func:`.exact.next_root`) of a slip's sample functions: zeros of X', X'', X' + 2 zeta X''."""
+    m, sf = sample_functions(ph[1], FC_CONST, ph[2])
     fns = (m, 0, NO_BOUNDS, sf)
-    tab = (_event(ph, x, v, fns, 0), _event(ph, x, v, fns, 1), _event(ph, x, v, fns, 2),
-           _event(ph, x, v, fns, 3), _event(ph, x, v, fns, 4), _event(ph, x, v, fns, 5))
+    tab = (event_row(ph, x, v, fns, 0), event_row(ph, x, v, fns, 1), event_row(ph, x, v, fns, 2),
+           event_row(ph, x, v, fns, 3), event_row(ph, x, v, fns, 4), event_row(ph, x, v, fns, 5))
     return tab, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), m, 0
 
 
 @njit(cache=True)
 def _slip_work(pc, wr, a, b, span, p, vb):
     """The works of the slip piece from ``a`` to ``b`` = (motion, X, X') over ``span`` = (ta, tb) (absolute):
-    the forced engine's closed forms (:func:`.exact._forced_piece_work`, with the belt at rest), the heat
+    the forced engine's closed forms (:func:`.exact.forced_piece_work`, with the belt at rest), the heat
     F_c V_r with the belt's part F_c int V_b added in closed form."""
     ta, tb = span
-    dw = _forced_piece_work(pc, wr, a, b, tb - ta, pc.om * ta + p[PHI])
+    dw = forced_piece_work(pc, wr, a, b, tb - ta, pc.om * ta + p[PHI])
     return dw[0], dw[1], dw[2], dw[3] + pc.force * (stick_x(0.0, ta, tb, vb, p)), dw[4]
 
 
@@ -170,11 +170,11 @@ def _slip(s, p, fo, at, cur, outs, w):
     ta, xa, va, sta = 0.0, x, v, cf.forced_eval(co, cf.OSC, s.zeta, force, pz, fz, om, 0.0)
     while True:
         tk, tag = _known(s, cur, t)
-        i, tb, stb, sides = _next_root(ph, table, ta, sta, min(tk, T))
+        i, tb, stb, sides = next_root(ph, table, ta, sta, min(tk, T))
         table = (table[0], sides, table[2], table[3])
         xb, vb_ = stb[0], stb[1]
         if i >= 0:
-            table, vb_ = _crossed(table, i, vb_)
+            table, vb_ = crossed_sample(table, i, vb_)
             tag = 0
         elif tk >= T:
             break
@@ -208,7 +208,7 @@ def run_moving(run, p, samples, events):
     the numbers of samples and switches, the status (FULL: an output array was too short), no final phase
     certified (the belt drives for ever), where it stopped.
     """
-    h_max, period = _drive(p)
+    h_max, period = drive_limits(p)
     s = Setup(run[T_END], run[ZETA], run[VB], 0.0, 0.0, np.int64(0), run[DENSE_DT], run[T_TAIL], 0.0, 0.0, 0.0,
               p[RESULTANT] != 0.0, h_max, period, np.bool_(True))
     # without an external force any frequency off resonance gives the particular solution 0
@@ -219,26 +219,26 @@ def run_moving(run, p, samples, events):
     cur = Cursor(s.t_tail <= 0.0, s.dense_dt if s.dense_dt > 0.0 else np.inf, np.int64(1))
     if len(samples[0]) < 2:
         return 0, 0, FULL, -1.0, t
-    mode = _first_sample(s, p, (x, v, fs), outs, w)
+    mode = first_sample(s, p, (x, v, fs), outs, w)
     k += 1
     while t < s.t_end:
         if mode != 0:
             t_phase = t
             status, (t, x, v, k), switched, cur = _slip(s, p, fo, (t, x, v, mode, k), cur, outs, w)
             if switched:
-                mode, hold, ne = _slip_end(s, p, fs, (t, t_phase, x, k), events, ne, outs)
+                mode, hold, ne = slip_end(s, p, fs, (t, t_phase, x, k), events, ne, outs)
         else:
-            status, t, x, k, cur = _forced_stick(s, p, fs, (t, x, hold, k), cur, outs, w)
+            status, t, x, k, cur = forced_stick(s, p, fs, (t, x, hold, k), cur, outs, w)
             v = belt_speed(p, s.vb, t)
             if status == GO and t < s.t_end:
-                mode, tt, fc, cur = _after_stick(s, p, fs, (t, x), cur)
+                mode, tt, fc, cur = after_stick(s, p, fs, (t, x), cur)
                 hold = mode == 0  # on F_s but held: on from here
                 if mode != 0:
-                    ne = _record_switch(events, ne, t, mode)
+                    ne = record_switch(events, ne, t, mode)
                     if not emit(outs, k, tt, x, v, fc, mode, w):
                         return k, ne, FULL, -1.0, t
                     k += 1
         if status != GO:
             return k, ne, status, -1.0, t
-    k, status = _finish(s, p, (t, x, v, k), cur, outs, w)
+    k, status = finish_run(s, p, (t, x, v, k), cur, outs, w)
     return k, ne, status, -1.0, t
