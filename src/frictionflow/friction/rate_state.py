@@ -76,6 +76,7 @@ class RateState(StatefulLaw):
     parameters = (NORMAL, MU0, RS_A, RS_B, DC, VREF, STATE_LAW)
     record_names = ("normal", "mu0", "a", "b", "dc", "vref", "state_law_code")
     internal_names = ("psi",)
+    stiff_at_rest = True  # N a e^(Omega / a) / (2 V_0) at V_r = 0: about 1e25 at the defaults
 
     def __init__(self, normal: float = 1.0, mu0: float = 0.6, a: float = 0.01, b: float = 0.015, dc: float = 0.01,
                  vref: float = 0.01, state_law: str = "aging") -> None:

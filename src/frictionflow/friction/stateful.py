@@ -38,6 +38,9 @@ class StatefulLaw(FrictionLaw):
         Its states' names (the rows of ``Trajectory.internal``).
     record_names:
         Its parameters in the order of its record's slots after the kernels' force record.
+    stiff_at_rest:
+        Whether its force can move by more than its tolerance across the rounding of V_r at V_r = 0
+        (rate-and-state): :func:`frictionflow.solvers.stiff.check_resolved` then checks each run.
     """
 
     stick_rule = "state"
@@ -45,6 +48,9 @@ class StatefulLaw(FrictionLaw):
     compiled_slip = False
     internal_names: ClassVar[tuple[str, ...]] = ()
     record_names: ClassVar[tuple[str, ...]] = ()
+    #: its force moves by more than its tolerance across the rounding of V_r = V_b - X' near V_r = 0 (a
+    #: stiffness at rest beyond the belt frame's reach): the stiff solver then checks that a run stays resolved
+    stiff_at_rest: ClassVar[bool] = False
 
     @property
     def n_internal(self) -> int:

@@ -147,7 +147,10 @@ def check_resolved(model: BeltOscillator, friction: FrictionLaw, t: np.ndarray, 
     """Refuse a run whose V_r = V_b(tau) - X' fell within rounding of V_b where the law's force moves by more
     than :data:`RESOLVED_FORCE` F_s across that rounding (rate-and-state at rest: N a e^(mu0/a) / (2 V_0)
     per unit of V_r).  The belt frame holds X', so V_r is known to rounding of V_b only; a Rosenbrock step
-    there extrapolates the force linearly from a V_r it cannot move off, and every check passes."""
+    there extrapolates the force linearly from a V_r it cannot move off, and every check passes.  Only laws
+    that declare it (``stiff_at_rest``) can get there."""
+    if not friction.stiff_at_rest:
+        return
     vbt = model.belt_speed(t) if model.belt_varies else np.full(len(t), model.vb)
     res = 4.0 * np.finfo(float).eps * np.maximum(np.abs(vbt), np.abs(y[1]))
     near = np.flatnonzero(np.abs(vbt - y[1]) <= res)
