@@ -6,9 +6,13 @@ here, not from the package that imports them.
 
 from __future__ import annotations
 
-import click
+from typing import TYPE_CHECKING
+
 import typer
 import typer.core
+
+if TYPE_CHECKING:  # annotations only: recent typer vendors click and no longer installs it
+    import click
 
 from .._version import __version__
 from .vocabulary import PANELS
