@@ -126,13 +126,13 @@ def nondimensional_values(values: Mapping[str, Any], friction: str, present: tup
 #: the run's own parameters (the oscillator, laws and solvers declare theirs)
 RUN_PARAMETERS: tuple[Param, ...] = (
     Param("t_end", "tau_end", "end time", "run", 500.0, lower=0.0, lower_open=True, upper=1e12),
-    Param("x0", "X(0)", "initial displacement", "run", None, default_text="F_d", lower=-STATE_MAX, upper=STATE_MAX,
-          sweepable=True, subnormal_ok=True),
-    Param("v0", "X'(0)", "initial velocity", "run", None, default_text="V_b", lower=-STATE_MAX, upper=STATE_MAX,
-          sweepable=True, subnormal_ok=True),
+    Param("x0", "X(0)", "initial displacement", "run", None, default_text="the law's start, F_d for most",
+          lower=-STATE_MAX, upper=STATE_MAX, sweepable=True, subnormal_ok=True),
+    Param("v0", "X'(0)", "initial velocity", "run", None, default_text="the law's start, V_b for most",
+          lower=-STATE_MAX, upper=STATE_MAX, sweepable=True, subnormal_ok=True),
     Param("friction", "", "friction law", "run", "karnopp", kind="choice", choices=law_names()),
-    Param("solver", "", "solver (auto: exact for piecewise-constant laws, else adaptive)", "run", "auto",
-          kind="choice", choices=solver_names()),
+    Param("solver", "", "solver (auto: exact for piecewise-constant laws, stiff for laws with internal states, "
+          "else adaptive; on a moving belt one that runs it)", "run", "auto", kind="choice", choices=solver_names()),
     Param("window", "", "average over T0:T1 instead of the detected steady-state window", "run", None,
           kind="text", parse=parse_window),
     Param("rtol", "", "steady-state convergence tolerance", "run", None, lower=1e-15, upper=1.0,

@@ -8,7 +8,7 @@ from .friction.base import FrictionLaw
 from .params import BeltOscillator
 from .solvers.base import DEFAULT_MAX_MEMORY, Solver
 from .solvers.auto import auto_solver
-from .solvers.registry import belt_motion_unsupported, unsupported
+from .solvers.registry import belt_motion_refusal, unsupported
 from .trajectory import Trajectory
 
 RUN = {p.name: p for p in RUN_PARAMETERS}
@@ -58,7 +58,8 @@ def simulate(
     solver = auto_solver(friction, model) if solver is None else solver
     if not solver.supports(friction):
         raise ValueError(unsupported(solver.name, friction))
-    if model.belt_varies and not solver.supports_belt_motion:
-        raise ValueError(belt_motion_unsupported(solver.name))
+    refusal = belt_motion_refusal(solver, friction) if model.belt_varies else None
+    if refusal:
+        raise ValueError(refusal)
     enforce(lambda: solver.cost(model, friction, t_end))  # within the limits in force (frictionflow.estimate.limited)
     return solver.solve(model, friction, x0, v0, t_end, progress=progress, max_memory=max_memory)

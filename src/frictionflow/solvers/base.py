@@ -111,7 +111,8 @@ class Solver(ABC):
     supports_forcing:
         It integrates an external force f(tau) (:meth:`forcing_problem` names the exceptions).
     supports_belt_motion:
-        It integrates a belt whose speed varies in time, V_b(tau) (``BeltOscillator.belt_varies``).
+        It integrates a belt whose speed varies in time, V_b(tau) (``BeltOscillator.belt_varies``);
+        :meth:`belt_motion_problem` names the laws it still refuses there.
     auto_belt_motion:
         ``solver=auto`` may pick it for such a belt.
     structure_laws:
@@ -140,9 +141,15 @@ class Solver(ABC):
     point_cost_per: ClassVar[str] = "adaptive_point_time"
     structure_laws: ClassVar[Callable[[type[FrictionLaw]], bool] | None] = None
 
+    def belt_motion_problem(self, friction: FrictionLaw) -> str | None:
+        """Why it cannot run a belt whose speed varies under ``friction``, or None (the one line of every refusal)."""
+        if not self.supports_belt_motion:
+            return f"solver={self.name} does not run a belt whose speed varies (vb_amplitude > 0)"
+        return None
+
     def runs_belt_motion(self, friction: FrictionLaw) -> bool:
-        """Whether it runs a belt whose speed varies under ``friction`` (``supports_belt_motion``, and the law's)."""
-        return self.supports_belt_motion
+        """Whether it runs a belt whose speed varies under ``friction`` (:meth:`belt_motion_problem` has none)."""
+        return self.belt_motion_problem(friction) is None
 
     @classmethod
     def from_values(cls, values: Mapping[str, Any]) -> "Solver":

@@ -107,8 +107,11 @@ class Exact(Solver):
     # adaptive solver's (1e-6) classifies it: auto keeps the adaptive solver there.
     auto_belt_motion = False
 
-    def runs_belt_motion(self, friction: FrictionLaw) -> bool:
-        return super().runs_belt_motion(friction) and friction.stick_rule == "switch"
+    def belt_motion_problem(self, friction: FrictionLaw) -> str | None:
+        if friction.stick_rule != "switch":  # core.exact_belt locates Coulomb's switch; a band has no closed form
+            return (f"solver=exact runs a belt whose speed varies (vb_amplitude > 0) with Coulomb's switch only, "
+                    f"not friction={friction.name}'s band")
+        return super().belt_motion_problem(friction)
 
     def supports(self, friction: FrictionLaw) -> bool:
         return friction.piecewise_constant
@@ -165,9 +168,9 @@ class Exact(Solver):
         problem = self.forcing_problem(model.zeta, model.omega, model.fex)
         if problem:
             raise ValueError(problem)
-        if model.belt_varies and friction.stick_rule != "switch":
-            raise ValueError(f"solver=exact runs a belt whose speed varies (vb_amplitude > 0) with Coulomb's switch only, "
-                             f"not friction={friction.name}'s band; use solver=rk4")
+        problem = self.belt_motion_problem(friction) if model.belt_varies else None
+        if problem:
+            raise ValueError(problem)
         p = kernel_params(model, friction)
         dense = self.dense_dt or 0.0
         t_tail = sections.tail_start(0.0, t_end)

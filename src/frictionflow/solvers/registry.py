@@ -78,11 +78,14 @@ def unsupported(solver: str, friction: FrictionLaw) -> str:
     return f"solver={solver} does not support friction={friction.name}; use solver={' or '.join(('auto', *able))}"
 
 
-def belt_motion_unsupported(solver: str) -> str:
-    """The one line refusing a varying belt speed to ``solver``, naming the solvers that run it."""
-    able = solver_names_where(lambda cls: cls.supports_belt_motion)
-    use = f"use solver={' or '.join(able)}" if able else "no solver runs it yet"
-    return f"solver={solver} does not run a belt whose speed varies (vb_amplitude > 0); {use}"
+def belt_motion_refusal(solver: Solver, friction: FrictionLaw) -> str | None:
+    """The one line refusing a varying belt speed to ``solver`` under ``friction`` (its
+    :meth:`~.base.Solver.belt_motion_problem`), naming the solvers that run it; None when it runs it."""
+    problem = solver.belt_motion_problem(friction)
+    if problem is None:
+        return None
+    able = tuple(cls.name for cls in solver_classes() if cls().supports(friction) and cls().runs_belt_motion(friction))
+    return f"{problem}; " + (f"use solver={' or '.join(('auto', *able))}" if able else "no solver runs it yet")
 
 
 def build_solver(name: str, friction: FrictionLaw, values: Mapping[str, Any], model: BeltOscillator | None = None) -> Solver:

@@ -45,7 +45,7 @@ from ..io import read_config
 from ..parameters import declared, dimensional_parameters, sweep_axes
 from ..params import SCALE_KEYS, unit_of
 from ..solvers.base import CoarseStepWarning, check_memory
-from ..solvers.registry import belt_motion_unsupported
+from ..solvers.registry import belt_motion_refusal
 
 #: what can be an axis: every sweepable declared parameter (the oscillator's, the laws', the initial state)
 GRID_KEYS = sweep_axes()
@@ -423,11 +423,9 @@ def _check_belt(cfg: SweepConfig) -> None:
     if not _grid_values(cfg, "vb_amplitude").max() > 0.0:
         return
     _, law, solver = cfg.run.build()
-    if not solver.supports_belt_motion:
-        raise ValueError(f"grid: {belt_motion_unsupported(solver.name)}")
-    if not solver.runs_belt_motion(law):
-        raise ValueError(f"grid: solver={solver.name} does not run a belt whose speed varies with friction={law.name}; "
-                         "use solver=auto")
+    refusal = belt_motion_refusal(solver, law)
+    if refusal:
+        raise ValueError(f"grid: {refusal}")
     om, omb = _grid_values(cfg, "omega"), _grid_values(cfg, "vb_omega")
     if _grid_values(cfg, "fex").max() > 0.0 and (len(om) > 1 or len(omb) > 1 or om[0] != omb[0]):
         raise ValueError("grid: points with both an external force and a moving belt need vb_omega equal to omega, "
