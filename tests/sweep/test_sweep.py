@@ -17,6 +17,9 @@ import zarr
 
 from frictionflow import BeltOscillator, Coulomb, Karnopp, RK4, Stribeck, analyze, simulate
 from frictionflow.sweep import VARIABLES, parse_sweep, plot_cut, plot_map, run_sweep
+from frictionflow.core import layout as kf
+from frictionflow.friction.registry import law_classes
+from frictionflow.sweep.compute import _starts
 
 COULOMB = {
     "friction": "coulomb",
@@ -187,3 +190,16 @@ def test_plot_helpers(tmp_path, coulomb_sweep):
     assert (tmp_path / "map.png").stat().st_size > 1000 and (tmp_path / "cut.png").stat().st_size > 1000
     with pytest.raises(ValueError, match="varies along fd"):
         plot_map(ds, "R_c", "zeta", "vb")
+
+
+@pytest.mark.parametrize("cls", [c for c in law_classes() if c.compiled_slip], ids=lambda c: c.name)
+def test_a_batched_points_default_start_is_the_laws_own(cls):
+    # the batched kernels (laws with a compiled slip force) take (X(0), X'(0)) as columns: where none is given
+    # they must be law.start's, per point
+    law = cls.from_values({})
+    vb = np.array([0.01, 0.2])
+    p = np.tile(law.kernel_params(), (2, 1))
+    x0, v0 = _starts(p, {"x0": np.array([np.nan, 0.3]), "v0": np.array([np.nan, -0.1]), "vb": vb})
+    assert (x0[0], v0[0]) == law.start(float(vb[0]))
+    assert (x0[1], v0[1]) == (0.3, -0.1)
+    assert p[0, kf.FD] == x0[0]

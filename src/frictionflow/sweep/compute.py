@@ -45,6 +45,12 @@ def _friction_rows(cfg: SweepConfig, law: FrictionLaw, pts: dict[str, np.ndarray
     return rows
 
 
+def _starts(p: np.ndarray, pts: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """(X(0), X'(0)) per point of a batched kernel: the given values, else the static laws' start (F_d, V_b),
+    :meth:`FrictionLaw.default_start` per point (laws with internal states, whose start differs, run the façade)."""
+    return (np.where(np.isnan(pts["x0"]), p[:, kf.FD], pts["x0"]), np.where(np.isnan(pts["v0"]), pts["vb"], pts["v0"]))
+
+
 def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[int, ...]) -> np.ndarray:
     """Results (len(VARIABLES), *chunk_shape) for one chunk of the sweep described by ``source``."""
     cfg = parse_sweep({**source["settings"], "grid": source["grid"]}, check_points=False)  # checked by the runner
@@ -61,8 +67,7 @@ def compute_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[
         return _forced_points(cfg, law, solver, pts).T.reshape((batch.NR, *shape))
     p = _friction_rows(cfg, law, pts)
     zeta, vb = pts["zeta"], pts["vb"]
-    x0 = np.where(np.isnan(pts["x0"]), p[:, kf.FD], pts["x0"])
-    v0 = np.where(np.isnan(pts["v0"]), vb, pts["v0"])
+    x0, v0 = _starts(p, pts)
     rtol = run.rtol if run.rtol is not None else solver.steady_rtol
     out = np.empty((len(zeta), batch.NR))
     solver.run_points(p, zeta, vb, x0, v0, run.t_end, rtol, 3, out)  # its batched kernel, with its settings
@@ -89,8 +94,7 @@ def _forced_points(cfg: SweepConfig, law: FrictionLaw, solver, pts: dict[str, np
         sub = {k: v[j] for k, v in pts.items()}
         p = _friction_rows(cfg, law, sub)
         p[:, kf.FEX], p[:, kf.OMEGA], p[:, kf.PHI] = sub["fex"], sub["omega"], sub["phi"]
-        x0 = np.where(np.isnan(sub["x0"]), p[:, kf.FD], sub["x0"])
-        v0 = np.where(np.isnan(sub["v0"]), sub["vb"], sub["v0"])
+        x0, v0 = _starts(p, sub)
         rtol = cfg.run.rtol if cfg.run.rtol is not None else solver.steady_rtol
         rows = np.empty((len(j), batch.NR))
         left = solver.run_forced_points(p, sub["zeta"], sub["vb"], x0, v0, cfg.run.t_end, rtol, law, rows)
