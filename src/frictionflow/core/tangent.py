@@ -99,12 +99,12 @@ from numba import njit
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from . import codes
-from .friction import (FS, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of,
-                       slip_slope_of)
+from .friction import (FS, RESULTANT, belt_accel, belt_speed, external_force, rest_mode, slip_magnitude_of,
+                       slip_slope_of, stick_load, stick_load_rate)
 from .hermite import hermite_min
 from .layout import N_PARAMS
 from .roots import RUNNING, bracket, update
-from .stick import exit_time
+from .stick import exit_time, stick_x
 
 #: the 6-vector integrated in slip: X, X', then the tangent vectors u1 = (y2, y3), u2 = (y4, y5)
 NY = 6
@@ -141,13 +141,13 @@ def slip_slope(p, s):
 
 @njit(cache=True)
 def accel(d, x, v, t, zeta, vb, p):
-    """X'' while slipping in direction d."""
-    return accel_with(d, x, v, external_force(p, t), zeta, vb, p)
+    """X'' while slipping in direction d (``vb``: the record's V_b; the belt's speed at t is read from ``p``)."""
+    return accel_with(d, x, v, external_force(p, t), zeta, belt_speed(p, vb, t), p)
 
 
 @njit(cache=True, forceinline=True)
 def accel_with(d, x, v, f, zeta, vb, p):
-    """:func:`accel` given the external force f."""
+    """:func:`accel` given the external force f and the belt's speed ``vb`` there."""
     return d * slip_force(p, d * (vb - v)) + f - x - 2.0 * zeta * v
 
 
@@ -157,13 +157,15 @@ def accel_with(d, x, v, f, zeta, vb, p):
 # :func:`slip_until` and :func:`rk4_step` keep their array form for callers outside the kernel.
 @njit(cache=True, forceinline=True)
 def _rhs(y, t, d, zeta, vb, p):
-    """The slip field of the state and of both tangent vectors (``y``: the 6-vector as a tuple)."""
-    return _rhs_f(y, external_force(p, t), d, zeta, vb, p)
+    """The slip field of the state and of both tangent vectors (``y``: the 6-vector as a tuple; ``vb``: the
+    record's V_b, the belt's speed at t read from ``p``)."""
+    return _rhs_f(y, external_force(p, t), d, zeta, belt_speed(p, vb, t), p)
 
 
 @njit(cache=True, forceinline=True)
 def _rhs_f(y, f, d, zeta, vb, p):
-    """:func:`_rhs` given the external force f there (RK4's two middle stages share it)."""
+    """:func:`_rhs` given the external force f and the belt's speed ``vb`` there (RK4's two middle stages share
+    them)."""
     x = y[0]
     v = y[1]
     acc = accel_with(d, x, v, f, zeta, vb, p)
@@ -187,8 +189,9 @@ def _rk4(y, t, h, d, zeta, vb, p):
 def _rk4_from(y, t, h, d, zeta, vb, p, k1):
     """:func:`_rk4` given its first stage ``k1`` (the field at (y, t))."""
     f_mid = external_force(p, t + 0.5 * h)
-    k2 = _rhs_f(_axpy(y, 0.5 * h, k1), f_mid, d, zeta, vb, p)
-    k3 = _rhs_f(_axpy(y, 0.5 * h, k2), f_mid, d, zeta, vb, p)
+    vb_mid = belt_speed(p, vb, t + 0.5 * h)
+    k2 = _rhs_f(_axpy(y, 0.5 * h, k1), f_mid, d, zeta, vb_mid, p)
+    k3 = _rhs_f(_axpy(y, 0.5 * h, k2), f_mid, d, zeta, vb_mid, p)
     k4 = _rhs(_axpy(y, h, k3), t + h, d, zeta, vb, p)
     c = h / 6.0
     return (y[0] + c * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]), y[1] + c * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]),
@@ -213,7 +216,7 @@ def rk4_step(y, t, h, d, zeta, vb, p, sc):
 def _g_step(y, t, theta, d, zeta, vb, p):
     """(the switch function d (V_b - X'), the state) after an RK4 step of length theta."""
     out = _rk4(y, t, theta, d, zeta, vb, p)
-    return d * (vb - out[1]), out
+    return d * (belt_speed(p, vb, t + theta) - out[1]), out
 
 
 @njit(cache=True)
@@ -251,20 +254,21 @@ def _slip_step(y, t, h, d, zeta, vb, p, fresh):
 
     ``fresh``: the phase began at t (g(0) = 0; the left end of a bracket is then looked for inside).
     """
-    g0 = d * (vb - y[1])
+    vb0 = belt_speed(p, vb, t)
+    g0 = d * (vb0 - y[1])
     k1 = _rhs(y, t, d, zeta, vb, p)
     end = _rk4_from(y, t, h, d, zeta, vb, p, k1)
-    g1 = d * (vb - end[1])
+    g1 = d * (belt_speed(p, vb, t + h) - end[1])
     a0 = k1[1]  # X'' at the start: the first stage's
-    noise = rounding_noise(y[1], vb)
+    noise = rounding_noise(y[1], vb0)
     if fresh and abs(g1) <= noise:
         # leaving tangentially (Stribeck's a+ = 0), or a step too short to show it: the
         # stick rule chose a direction that leaves, so V_r = 0 is no switch yet
         return h, False, end
     if g1 > 0.0:
-        # two crossings inside the step?  The Hermite cubic of g (g' = -d X'') dips below 0
+        # two crossings inside the step?  The Hermite cubic of g (g' = -d (X'' - V_b')) dips below 0
         a1 = accel(d, end[0], end[1], t + h, zeta, vb, p)
-        s, val = hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
+        s, val = hermite_min(g0, g1, -d * (a0 - belt_accel(p, t)) * h, -d * (a1 - belt_accel(p, t + h)) * h)
         if s < 0.0 or val >= -noise:
             return h, False, end
         gm = _g_step(y, t, s * h, d, zeta, vb, p)[0]
@@ -304,23 +308,30 @@ def stick_phase(x_s, t_s, t_end, zeta, vb, p):
 
 @njit(cache=True)
 def surface_mode(x, t, zeta, vb, p):
-    """The mode the stick rule gives on V_r = 0 (X' = V_b) at (x, t): 0 sticking, else the slip direction."""
-    return rest_mode(x, zeta, vb, p[FS], p[RESULTANT] != 0.0, slip_force(p, 0.0), external_force(p, t),
-                     external_force_rate(p, t))
+    """The mode the stick rule gives on V_r = 0 (X' = V_b(t)) at (x, t): 0 sticking, else the slip direction.
+
+    The belt's acceleration is a load on the rule (:func:`~.friction.stick_load`, its rate
+    :func:`~.friction.stick_load_rate`): the external force and its rate themselves on a constant belt.
+    """
+    res = p[RESULTANT] != 0.0
+    return rest_mode(x, zeta, belt_speed(p, vb, t), p[FS], res, slip_force(p, 0.0), stick_load(p, t),
+                     stick_load_rate(p, t, zeta, res))
 
 
 @njit(cache=True)
 def start_mode(x, v, t, zeta, vb, p):
     """The mode at (x, v, t): the slip direction sgn(V_r), or the stick rule on V_r = 0."""
-    if v != vb:
-        return 1 if vb - v > 0.0 else -1
+    vbt = belt_speed(p, vb, t)
+    if v != vbt:
+        return 1 if vbt - v > 0.0 else -1
     return surface_mode(x, t, zeta, vb, p)
 
 
 @njit(cache=True)
 def _a_rest(d, x, t, zeta, vb, p):
-    """X'' at X' = V_b slipping in direction d (the field on either side of a switch)."""
-    return d * slip_force(p, 0.0) + external_force(p, t) - x - 2.0 * zeta * vb
+    """X'' - V_b' at X' = V_b(t) slipping in direction d (the relative field on either side of a switch; X''
+    itself on a constant belt)."""
+    return d * slip_force(p, 0.0) + stick_load(p, t) - x - 2.0 * zeta * belt_speed(p, vb, t)
 
 
 @njit(cache=True, inline="always")
@@ -332,15 +343,17 @@ def saltation_stick(y):
 
 @njit(cache=True, inline="always")
 def saltation_slip(y, new, t, zeta, vb, p):
-    """Slip onset into direction ``new``, S = [[1, 0], [a+ / (V_b - f'), 1]], on both tangent vectors."""
-    c = _a_rest(float(new), y[0], t, zeta, vb, p) / (vb - external_force_rate(p, t))
+    """Slip onset into direction ``new``, S = [[1, 0], [(a+ - V_b') / (the held force's rate), 1]], on both
+    tangent vectors (V_b - f' on a constant belt)."""
+    rate = belt_speed(p, vb, t) - stick_load_rate(p, t, zeta, p[RESULTANT] != 0.0)
+    c = _a_rest(float(new), y[0], t, zeta, vb, p) / rate
     y[3] += c * y[2]
     y[5] += c * y[4]
 
 
 @njit(cache=True, inline="always")
 def saltation_reversal(y, d, new, t, zeta, vb, p):
-    """Slip reversal d -> ``new`` through V_r = 0, S = diag(1, a+ / a-), on both tangent vectors."""
+    """Slip reversal d -> ``new`` through V_r = 0, S = diag(1, (a+ - V_b') / (a- - V_b')), on both tangent vectors."""
     ratio = _a_rest(float(new), y[0], t, zeta, vb, p) / _a_rest(d, y[0], t, zeta, vb, p)
     y[3] *= ratio
     y[5] *= ratio
@@ -363,7 +376,7 @@ def _start(x0, v0, zeta, vb, p):
     y[2], y[3], y[4], y[5] = 1.0, 0.0, 0.0, 1.0
     mode = start_mode(x0, v0, 0.0, zeta, vb, p)
     if mode == 0:
-        y[1] = vb
+        y[1] = belt_speed(p, vb, 0.0)
         saltation_stick(y)
     return y, mode
 
@@ -379,9 +392,11 @@ def _stick_on(y, t, target, phase, t_end, zeta, vb, p, counts):
     """
     x_s, t_s, te = phase
     if te > target or te >= t_end:
-        y[0] = x_s + vb * (target - t_s)
+        y[0] = stick_x(x_s, t_s, target, vb, p)
+        y[1] = belt_speed(p, vb, target)
         return target, 0, phase
-    y[0] = x_s + vb * (te - t_s)
+    y[0] = stick_x(x_s, t_s, te, vb, p)
+    y[1] = belt_speed(p, vb, te)
     new = surface_mode(y[0], te, zeta, vb, p)
     if new == 0:
         counts[C_HELD] += 1
@@ -397,7 +412,7 @@ def _slip_end(y, t, d, zeta, vb, p, counts):
 
     The same direction again is a grazing touch, no switch.
     """
-    y[1] = vb  # exactly on the switch
+    y[1] = belt_speed(p, vb, t)  # exactly on the switch
     new = surface_mode(y[0], t, zeta, vb, p)
     if new == 0:
         saltation_stick(y)
@@ -488,7 +503,7 @@ def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, coun
         counts[i] = 0
     y, mode = _start(x0, v0, zeta, vb, p)
     t = 0.0
-    fresh = v0 == vb
+    fresh = v0 == belt_speed(p, vb, 0.0)
     n_transient, n_blocks = blocks
     t_end = _grid_time((n_transient + n_blocks) * n_sub, n_sub, block, h)
     phase = stick_phase(y[0], t, t_end, zeta, vb, p) if mode == 0 else (y[0], t, t_end)
@@ -513,7 +528,8 @@ def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, coun
                     t = target
                     zero_run = 0
                     # a phase that has not yet left V_r = 0 by more than rounding is still starting
-                    fresh = fresh and not d * (vb - y[1]) > rounding_noise(y[1], vb)
+                    vbt = belt_speed(p, vb, t)
+                    fresh = fresh and not d * (vbt - y[1]) > rounding_noise(y[1], vbt)
                     continue
                 if theta > 0.0:
                     y[0], y[1], y[2], y[3], y[4], y[5] = out
