@@ -108,6 +108,8 @@ from .stick import exit_time, stick_x
 
 #: the 6-vector integrated in slip: X, X', then the tangent vectors u1 = (y2, y3), u2 = (y4, y5)
 NY = 6
+#: columns of a ``strobe`` row that also takes the tangent vectors (X, X', mode, u1, u2; else 3)
+N_FRAME = 7
 #: counts the kernel returns: stick onsets, slip onsets, slip reversals, held at F_s, grazing touches
 N_COUNTS = 5
 C_STICK, C_SLIP, C_REVERSAL, C_HELD, C_GRAZE = range(N_COUNTS)
@@ -241,7 +243,7 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, sc):
     The state at its end in ``sc.out`` (``sc``: a :class:`Scratch`).  The
     array form of :func:`_slip_step`.
     """
-    theta, switched, end = _slip_step((y[0], y[1], y[2], y[3], y[4], y[5]), t, h, d, zeta, vb, p, fresh)
+    theta, switched, end, _ = _slip_step((y[0], y[1], y[2], y[3], y[4], y[5]), t, h, d, zeta, vb, p, fresh)
     out = sc.out
     out[0], out[1], out[2], out[3], out[4], out[5] = end
     return theta, switched
@@ -250,7 +252,8 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, sc):
 @njit(cache=True)
 def _slip_step(y, t, h, d, zeta, vb, p, fresh):
     """One slip step of at most h from the 6-vector ``y`` (a tuple); returns (theta, switched, the state at
-    its end): the step taken and whether it ends on V_r = 0.
+    its end, away): the step taken, whether it ends on V_r = 0, and (a whole step) whether its end is off
+    V_r = 0 by more than rounding.
 
     ``fresh``: the phase began at t (g(0) = 0; the left end of a bracket is then looked for inside).
     """
@@ -258,22 +261,23 @@ def _slip_step(y, t, h, d, zeta, vb, p, fresh):
     g0 = d * (vb0 - y[1])
     k1 = _rhs(y, t, d, zeta, vb, p)
     end = _rk4_from(y, t, h, d, zeta, vb, p, k1)
-    g1 = d * (belt_speed(p, vb, t + h) - end[1])
+    vb1 = belt_speed(p, vb, t + h)
+    g1 = d * (vb1 - end[1])
     a0 = k1[1]  # X'' at the start: the first stage's
     noise = rounding_noise(y[1], vb0)
     if fresh and abs(g1) <= noise:
         # leaving tangentially (Stribeck's a+ = 0), or a step too short to show it: the
         # stick rule chose a direction that leaves, so V_r = 0 is no switch yet
-        return h, False, end
+        return h, False, end, g1 > rounding_noise(end[1], vb1)
     if g1 > 0.0:
         # two crossings inside the step?  The Hermite cubic of g (g' = -d (X'' - V_b')) dips below 0
         a1 = accel(d, end[0], end[1], t + h, zeta, vb, p)
         s, val = hermite_min(g0, g1, -d * (a0 - belt_accel(p, t)) * h, -d * (a1 - belt_accel(p, t + h)) * h)
         if s < 0.0 or val >= -noise:
-            return h, False, end
+            return h, False, end, g1 > rounding_noise(end[1], vb1)
         gm = _g_step(y, t, s * h, d, zeta, vb, p)[0]
         if gm > 0.0:  # the scheme's own solution stays off the surface: a near miss
-            return h, False, end
+            return h, False, end, g1 > rounding_noise(end[1], vb1)
         hi, ghi = s * h, gm
     else:
         hi, ghi = h, g1
@@ -288,9 +292,9 @@ def _slip_step(y, t, h, d, zeta, vb, p, fresh):
             if glo > 0.0:
                 break
         if not glo > 0.0:
-            return 0.0, True, end  # leaves the surface the wrong way at once: a zero-length phase
+            return 0.0, True, end, False  # leaves the surface the wrong way at once: a zero-length phase
     theta, end = _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p)
-    return theta, True, end
+    return theta, True, end, False
 
 
 @njit(cache=True)
@@ -429,13 +433,16 @@ def _slip_end(y, t, d, zeta, vb, p, counts):
 def _block_end(y, mode, row):
     """The block end: the stroboscopic sample (X, X', mode) into ``row``, the QR of the tangent vectors; returns (r11, r22).
 
-    A block that starts sticking then gets the stick onset's projection: the
-    frame's dv components belong to no sticking motion (a perturbed X' slips
-    back onto the belt at once).
+    A row of :data:`N_FRAME` columns also gets both tangent vectors before
+    the QR (u1, then u2).  A block that starts sticking then gets the stick
+    onset's projection: the frame's dv components belong to no sticking
+    motion (a perturbed X' slips back onto the belt at once).
     """
     row[0] = y[0]
     row[1] = y[1]
     row[2] = mode
+    if len(row) >= N_FRAME:
+        row[3], row[4], row[5], row[6] = y[2], y[3], y[4], y[5]
     r11, r22 = _qr(y)
     if mode == 0:
         saltation_stick(y)
@@ -461,7 +468,9 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
     """Integrate n_transient + n_blocks blocks with the two tangent vectors; returns (status, sum log r11, sum log|r22|).
 
     Fills ``strobe`` (n_transient + n_blocks, 3: X, X', mode at each block
-    end), ``est`` (n_blocks, 2: the running exponent estimates after each
+    end; with :data:`N_FRAME` columns, also the tangent vectors there before
+    their renormalisation: over a single block from the identity, the
+    columns of the flow's derivative d(X, X')/d(x0, v0)), ``est`` (n_blocks, 2: the running exponent estimates after each
     averaged block) and ``counts`` (:data:`N_COUNTS`, over the whole run).
     """
     never = (n_blocks + 1, n_blocks + 1, 0.0, 0.0)  # (from the arguments: int64, not a literal type per constant)
@@ -522,14 +531,13 @@ def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, coun
                     fresh = True  # read once slipping: a slip phase entered here starts on V_r = 0
                     continue
                 d = float(mode)
-                theta, switched, out = _slip_step((y[0], y[1], y[2], y[3], y[4], y[5]), t, target - t, d, zeta, vb, p, fresh)
+                theta, switched, out, away = _slip_step((y[0], y[1], y[2], y[3], y[4], y[5]), t, target - t, d, zeta, vb, p, fresh)
                 if not switched:
                     y[0], y[1], y[2], y[3], y[4], y[5] = out
                     t = target
                     zero_run = 0
                     # a phase that has not yet left V_r = 0 by more than rounding is still starting
-                    vbt = belt_speed(p, vb, t)
-                    fresh = fresh and not d * (vbt - y[1]) > rounding_noise(y[1], vbt)
+                    fresh = fresh and not away
                     continue
                 if theta > 0.0:
                     y[0], y[1], y[2], y[3], y[4], y[5] = out
