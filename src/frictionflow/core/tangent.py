@@ -8,6 +8,13 @@ the kernel integrates every phase on its own and *locates* every switch
 (no smoothed sign function), then carries two tangent vectors across it with
 the saltation matrix.
 
+On a belt whose speed varies (``p[VB_AMP]`` > 0), V_b is V_b(tau) =
+V_b + A sin(Omega_b tau + phi_b) wherever it appears below (read from the
+force record at each stage's and switch's time: :func:`~.friction.belt_speed`),
+a stick phase follows the belt, and the surfaces move with it: see
+"On a moving belt" at the end.  A belt at constant speed computes what it
+computed before, to the bit (every belt term is V_b itself or 0 there).
+
 Inside the phases
 -----------------
 *Slip in direction d* (d = sgn V_r = +-1, so |V_r| = d (V_b - X')):
@@ -79,6 +86,29 @@ piece).  The mode after every switch is :func:`~.friction.rest_mode`
 with the external force and its rate at that instant; where it holds the
 interface at F_s (no slip direction is consistent) the stick goes on as a
 new phase past the monotone piece it holds on.
+
+On a moving belt
+----------------
+*Stick*: X' = V_b(tau), X = X_s + int V_b in closed form
+(:func:`.stick.stick_x`): the field (V_b(tau), V_b'(tau)) does not depend on
+the state, its Jacobian is 0, the tangent vectors do not change.  While
+sticking X'' = V_b', so the interface holds F_e + V_b' - f
+(:func:`~.friction.stick_load`), with the rate
+V_b + [2 zeta V_b'] + V_b'' - f' (:func:`~.friction.stick_load_rate`; the
+bracket when F_e = X + 2 zeta X').  With a = X'' of a field at the switch:
+
+1. *Stick onset*: h = V_b(tau) - X', h_tau = V_b', f+ = (V_b, V_b'):
+   n.f- + h_tau = V_b' - a-, (f+ - f-) n^T = [[0, 0], [0, a- - V_b']]:
+   S = diag(1, 0) still.
+2. *Slip onset*: h = s (F_e + V_b' - f) - F_s on the stick manifold; n.f- +
+   h_tau = s (the held force's rate):
+   S = [[1, 0], [(a+ - V_b') / (the held force's rate), 1]].
+3. *Slip reversal*: h = V_b(tau) - X', h_tau = V_b':
+   S = diag(1, (a+ - V_b') / (a- - V_b')).
+
+The relative accelerations a - V_b' are :func:`_a_rest`'s (the belt's
+acceleration enters as the stick rule's load); on a constant belt they are
+the accelerations themselves.
 
 Exponents
 ---------
