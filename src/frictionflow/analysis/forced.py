@@ -197,7 +197,7 @@ def largest_exponent(traj: Trajectory) -> tuple[float, float] | None:
 
     Computed by :func:`frictionflow.analysis.lyapunov.lyapunov_exponents`
     (saltation matrices at every switch) from the state at the last
-    stroboscopic time, which has the forcing phase of tau = 0.  Laws without
+    stroboscopic time, which has the drive's phase of tau = 0 (the forcing's, or a moving belt's).  Laws without
     Coulomb's stick rule (Karnopp's band) and user-defined laws have no
     tangent kernel: None, and the run stays ``not_settled``.  The uncertainty
     is the spread of the running estimate over the second half of the
@@ -208,7 +208,7 @@ def largest_exponent(traj: Trajectory) -> tuple[float, float] | None:
     and the value is that of the periods averaged.
     """
     law = traj.friction
-    if not law.has_tangent_kernel or traj.model.belt_varies:  # (the tangent kernel runs no moving belt)
+    if not law.has_tangent_kernel:
         return None
     i = section_indices(traj)[-1]
     period = traj.model.drive_period

@@ -1,4 +1,4 @@
-"""Lyapunov exponents of the non-smooth (stick-slip) flow, forced or not.
+"""Lyapunov exponents of the non-smooth (stick-slip) flow, forced or not, on a belt at constant or varying speed.
 
 >>> from frictionflow import BeltOscillator, Coulomb
 >>> from frictionflow.analysis.lyapunov import lyapunov_exponents
@@ -9,12 +9,14 @@
 Two tangent vectors ride along the trajectory (:mod:`frictionflow.core.tangent`:
 RK4 inside the phases, switches located, saltation matrices across them) and
 are renormalised by QR at the end of every block -- every forcing period
-when forced, every ``block`` time units when not.  After ``t_transient``
-the mean logarithmic growth of the frame gives both exponents of the
-(X, X') part:
+when forced, every period 2 pi / Omega_b of the belt's speed on a moving belt
+(V_b(tau) = V_b + A sin(Omega_b tau + phi_b); with an external force too the
+two periods are one), every ``block`` time units otherwise.  After
+``t_transient`` the mean logarithmic growth of the frame gives both exponents
+of the (X, X') part:
 
-* forced: the trivial zero exponent of the time (phase) direction of the
-  extended phase space is not among them;
+* forced or on a moving belt: the trivial zero exponent of the time (phase)
+  direction of the extended phase space is not among them;
 * unforced: one of the two belongs to the flow direction (about 0 on a limit
   cycle, decaying like 1 / t to it).
 
@@ -129,6 +131,8 @@ class LyapunovResult(Summarized):
         rows = [
             system_row(self.model, self.friction),
             ("forcing", f"F_ex={num(self.model.fex, 4)}, Omega={num(self.model.omega, 4)}" if self.model.forced else "none"),
+            *([("belt", f"V_b + A sin(Omega_b tau + phi_b), A={num(self.model.vb_amplitude, 4)}, "
+                        f"Omega_b={num(self.model.vb_omega, 4)}")] if self.model.belt_varies else []),
             ("lambda_1", f"{num(l1, 8)} (spread {num(self.spread[0], 2)})"),
             ("lambda_2", "-inf (stick onsets collapse the tangent map)" if self.collapsed
              else f"{num(l2, 8)} (spread {num(self.spread[1], 2)})"),
@@ -214,6 +218,23 @@ def _check_stable(zeta: float, block: float, steps_per_block: int) -> None:
                          f"use at least {need} steps per block (--steps-per-period)")
 
 
+def _block(model: BeltOscillator, block: float | None) -> float:
+    """The renormalisation interval: the drive's period when the flow depends on time (the forcing period, or
+    the belt's 2 pi / Omega_b on a moving belt alone; ``block`` must then be it or None), else ``block`` or
+    :data:`DEFAULT_UNFORCED_BLOCK`."""
+    problem = model.section_problem()
+    if problem is not None:
+        raise ValueError(problem)
+    if not model.driven:
+        return DEFAULT_UNFORCED_BLOCK if block is None else _positive("block", block)
+    period = model.drive_period
+    if block is not None and not math.isclose(block, period, rel_tol=1e-12):
+        what = "forcing period" if model.forced else "period of the belt's speed"
+        raise ValueError(f"a {'forced' if model.forced else 'moving-belt'} run renormalises once per {what} "
+                         f"{period:.12g}; got block={block!r}")
+    return period
+
+
 def _tangent_run(model: BeltOscillator, friction: FrictionLaw, start: tuple[float, float, float, int],
                  blocks: tuple[int, int], stop: tuple[int, int, float, float] | None) -> tuple:
     """The tangent kernel's run from ``start`` = (x0, v0, block, steps per block) over ``blocks`` = (transient,
@@ -254,8 +275,9 @@ def lyapunov_exponents(
     Parameters
     ----------
     model, friction:
-        The oscillator (forced or not) and a law with Coulomb's stick rule
-        (Coulomb, Stribeck, cubic; Karnopp's band law is refused).
+        The oscillator (forced or not, its belt at constant speed or
+        moving, with one common period when both) and a law with Coulomb's
+        stick rule (Coulomb, Stribeck, cubic; Karnopp's band law is refused).
     x0, v0:
         Start state at tau = 0.
     t_transient, t_end:
@@ -265,8 +287,9 @@ def lyapunov_exponents(
         RK4 steps per block (the slip phases' accuracy; switches are located
         whatever it is).
     block:
-        Renormalisation interval: the forcing period 2 pi / Omega when forced
-        (and then it must be), 2 pi unforced unless given.
+        Renormalisation interval: the forcing period 2 pi / Omega when forced,
+        the belt's 2 pi / Omega_b on a moving belt alone (and then it must
+        be), 2 pi otherwise unless given.
     max_memory:
         GiB the per-block record (the section and the running estimates) may
         take; a longer run is refused before any work, with its size and
@@ -279,13 +302,7 @@ def lyapunov_exponents(
         cover the blocks done.  None: every block.
     """
     _check_law(friction)
-    model.refuse_moving_belt("Lyapunov exponents")
-    if model.forced:
-        if block is not None and not math.isclose(block, model.forcing_period, rel_tol=1e-12):
-            raise ValueError(f"a forced run renormalises once per forcing period {model.forcing_period:.12g}; got block={block!r}")
-        block = model.forcing_period
-    else:
-        block = DEFAULT_UNFORCED_BLOCK if block is None else _positive("block", block)
+    block = _block(model, block)
     _check_run(x0, v0, t_transient, t_end, steps_per_block)
     _check_stop(stop)
     _check_stable(float(model.zeta), block, int(steps_per_block))
@@ -293,7 +310,8 @@ def lyapunov_exponents(
     n_blocks = max(1, math.ceil((t_end - n_transient * block) / block - 1e-9))
     _check_size(n_transient, n_blocks, int(steps_per_block), t_end, max_memory)
     blocks = n_transient + n_blocks
-    run = located_run(float(blocks) * steps_per_block, blocks * block, "tangent_step", model.omega if model.forced else 1.0)
+    run = located_run(float(blocks) * steps_per_block, blocks * block, "tangent_step",
+                      2.0 * math.pi / block if model.driven else 1.0)
     enforce(replace(run, memory=blocks * _BYTES_PER_BLOCK))  # within the limits in force (frictionflow.estimate.limited)
     start = (float(x0), float(v0), float(block), int(steps_per_block))
     s1, s2, n_done, strobe, est, counts = _tangent_run(model, friction, start, (n_transient, n_blocks), stop)

@@ -8,6 +8,13 @@ the kernel integrates every phase on its own and *locates* every switch
 (no smoothed sign function), then carries two tangent vectors across it with
 the saltation matrix.
 
+On a belt whose speed varies (``p[VB_AMP]`` > 0), V_b is V_b(tau) =
+V_b + A sin(Omega_b tau + phi_b) wherever it appears below (read from the
+force record at each stage's and switch's time: :func:`~.friction.belt_speed`),
+a stick phase follows the belt, and the surfaces move with it: see
+"On a moving belt" at the end.  A belt at constant speed computes what it
+computed before, to the bit (every belt term is V_b itself or 0 there).
+
 Inside the phases
 -----------------
 *Slip in direction d* (d = sgn V_r = +-1, so |V_r| = d (V_b - X')):
@@ -80,6 +87,29 @@ with the external force and its rate at that instant; where it holds the
 interface at F_s (no slip direction is consistent) the stick goes on as a
 new phase past the monotone piece it holds on.
 
+On a moving belt
+----------------
+*Stick*: X' = V_b(tau), X = X_s + int V_b in closed form
+(:func:`.stick.stick_x`): the field (V_b(tau), V_b'(tau)) does not depend on
+the state, its Jacobian is 0, the tangent vectors do not change.  While
+sticking X'' = V_b', so the interface holds F_e + V_b' - f
+(:func:`~.friction.stick_load`), with the rate
+V_b + [2 zeta V_b'] + V_b'' - f' (:func:`~.friction.stick_load_rate`; the
+bracket when F_e = X + 2 zeta X').  With a = X'' of a field at the switch:
+
+1. *Stick onset*: h = V_b(tau) - X', h_tau = V_b', f+ = (V_b, V_b'):
+   n.f- + h_tau = V_b' - a-, (f+ - f-) n^T = [[0, 0], [0, a- - V_b']]:
+   S = diag(1, 0) still.
+2. *Slip onset*: h = s (F_e + V_b' - f) - F_s on the stick manifold; n.f- +
+   h_tau = s (the held force's rate):
+   S = [[1, 0], [(a+ - V_b') / (the held force's rate), 1]].
+3. *Slip reversal*: h = V_b(tau) - X', h_tau = V_b':
+   S = diag(1, (a+ - V_b') / (a- - V_b')).
+
+The relative accelerations a - V_b' are :func:`_a_rest`'s (the belt's
+acceleration enters as the stick rule's load); on a constant belt they are
+the accelerations themselves.
+
 Exponents
 ---------
 Every block (from tau = 0, of length ``block``) ends with a QR (Gram-Schmidt)
@@ -99,15 +129,17 @@ from numba import njit
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from . import codes
-from .friction import (FS, RESULTANT, external_force, external_force_rate, rest_mode, slip_magnitude_of,
-                       slip_slope_of)
+from .friction import (FS, RESULTANT, belt_accel, belt_speed, external_force, rest_mode, slip_magnitude_of,
+                       slip_slope_of, stick_load, stick_load_rate)
 from .hermite import hermite_min
 from .layout import N_PARAMS
 from .roots import RUNNING, bracket, update
-from .stick import exit_time
+from .stick import exit_time, stick_x
 
 #: the 6-vector integrated in slip: X, X', then the tangent vectors u1 = (y2, y3), u2 = (y4, y5)
 NY = 6
+#: columns of a ``strobe`` row that also takes the tangent vectors (X, X', mode, u1, u2; else 3)
+N_FRAME = 7
 #: counts the kernel returns: stick onsets, slip onsets, slip reversals, held at F_s, grazing touches
 N_COUNTS = 5
 C_STICK, C_SLIP, C_REVERSAL, C_HELD, C_GRAZE = range(N_COUNTS)
@@ -141,13 +173,13 @@ def slip_slope(p, s):
 
 @njit(cache=True)
 def accel(d, x, v, t, zeta, vb, p):
-    """X'' while slipping in direction d."""
-    return accel_with(d, x, v, external_force(p, t), zeta, vb, p)
+    """X'' while slipping in direction d (``vb``: the record's V_b; the belt's speed at t is read from ``p``)."""
+    return accel_with(d, x, v, external_force(p, t), zeta, belt_speed(p, vb, t), p)
 
 
 @njit(cache=True, forceinline=True)
 def accel_with(d, x, v, f, zeta, vb, p):
-    """:func:`accel` given the external force f."""
+    """:func:`accel` given the external force f and the belt's speed ``vb`` there."""
     return d * slip_force(p, d * (vb - v)) + f - x - 2.0 * zeta * v
 
 
@@ -157,13 +189,15 @@ def accel_with(d, x, v, f, zeta, vb, p):
 # :func:`slip_until` and :func:`rk4_step` keep their array form for callers outside the kernel.
 @njit(cache=True, forceinline=True)
 def _rhs(y, t, d, zeta, vb, p):
-    """The slip field of the state and of both tangent vectors (``y``: the 6-vector as a tuple)."""
-    return _rhs_f(y, external_force(p, t), d, zeta, vb, p)
+    """The slip field of the state and of both tangent vectors (``y``: the 6-vector as a tuple; ``vb``: the
+    record's V_b, the belt's speed at t read from ``p``)."""
+    return _rhs_f(y, external_force(p, t), d, zeta, belt_speed(p, vb, t), p)
 
 
 @njit(cache=True, forceinline=True)
 def _rhs_f(y, f, d, zeta, vb, p):
-    """:func:`_rhs` given the external force f there (RK4's two middle stages share it)."""
+    """:func:`_rhs` given the external force f and the belt's speed ``vb`` there (RK4's two middle stages share
+    them)."""
     x = y[0]
     v = y[1]
     acc = accel_with(d, x, v, f, zeta, vb, p)
@@ -187,8 +221,9 @@ def _rk4(y, t, h, d, zeta, vb, p):
 def _rk4_from(y, t, h, d, zeta, vb, p, k1):
     """:func:`_rk4` given its first stage ``k1`` (the field at (y, t))."""
     f_mid = external_force(p, t + 0.5 * h)
-    k2 = _rhs_f(_axpy(y, 0.5 * h, k1), f_mid, d, zeta, vb, p)
-    k3 = _rhs_f(_axpy(y, 0.5 * h, k2), f_mid, d, zeta, vb, p)
+    vb_mid = belt_speed(p, vb, t + 0.5 * h)
+    k2 = _rhs_f(_axpy(y, 0.5 * h, k1), f_mid, d, zeta, vb_mid, p)
+    k3 = _rhs_f(_axpy(y, 0.5 * h, k2), f_mid, d, zeta, vb_mid, p)
     k4 = _rhs(_axpy(y, h, k3), t + h, d, zeta, vb, p)
     c = h / 6.0
     return (y[0] + c * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]), y[1] + c * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]),
@@ -213,7 +248,7 @@ def rk4_step(y, t, h, d, zeta, vb, p, sc):
 def _g_step(y, t, theta, d, zeta, vb, p):
     """(the switch function d (V_b - X'), the state) after an RK4 step of length theta."""
     out = _rk4(y, t, theta, d, zeta, vb, p)
-    return d * (vb - out[1]), out
+    return d * (belt_speed(p, vb, t + theta) - out[1]), out
 
 
 @njit(cache=True)
@@ -238,7 +273,7 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, sc):
     The state at its end in ``sc.out`` (``sc``: a :class:`Scratch`).  The
     array form of :func:`_slip_step`.
     """
-    theta, switched, end = _slip_step((y[0], y[1], y[2], y[3], y[4], y[5]), t, h, d, zeta, vb, p, fresh)
+    theta, switched, end, _ = _slip_step((y[0], y[1], y[2], y[3], y[4], y[5]), t, h, d, zeta, vb, p, fresh)
     out = sc.out
     out[0], out[1], out[2], out[3], out[4], out[5] = end
     return theta, switched
@@ -247,29 +282,32 @@ def slip_until(y, t, h, d, zeta, vb, p, fresh, sc):
 @njit(cache=True)
 def _slip_step(y, t, h, d, zeta, vb, p, fresh):
     """One slip step of at most h from the 6-vector ``y`` (a tuple); returns (theta, switched, the state at
-    its end): the step taken and whether it ends on V_r = 0.
+    its end, away): the step taken, whether it ends on V_r = 0, and (a whole step) whether its end is off
+    V_r = 0 by more than rounding.
 
     ``fresh``: the phase began at t (g(0) = 0; the left end of a bracket is then looked for inside).
     """
-    g0 = d * (vb - y[1])
+    vb0 = belt_speed(p, vb, t)
+    g0 = d * (vb0 - y[1])
     k1 = _rhs(y, t, d, zeta, vb, p)
     end = _rk4_from(y, t, h, d, zeta, vb, p, k1)
-    g1 = d * (vb - end[1])
+    vb1 = belt_speed(p, vb, t + h)
+    g1 = d * (vb1 - end[1])
     a0 = k1[1]  # X'' at the start: the first stage's
-    noise = rounding_noise(y[1], vb)
+    noise = rounding_noise(y[1], vb0)
     if fresh and abs(g1) <= noise:
         # leaving tangentially (Stribeck's a+ = 0), or a step too short to show it: the
         # stick rule chose a direction that leaves, so V_r = 0 is no switch yet
-        return h, False, end
+        return h, False, end, g1 > rounding_noise(end[1], vb1)
     if g1 > 0.0:
-        # two crossings inside the step?  The Hermite cubic of g (g' = -d X'') dips below 0
+        # two crossings inside the step?  The Hermite cubic of g (g' = -d (X'' - V_b')) dips below 0
         a1 = accel(d, end[0], end[1], t + h, zeta, vb, p)
-        s, val = hermite_min(g0, g1, -d * a0 * h, -d * a1 * h)
+        s, val = hermite_min(g0, g1, -d * (a0 - belt_accel(p, t)) * h, -d * (a1 - belt_accel(p, t + h)) * h)
         if s < 0.0 or val >= -noise:
-            return h, False, end
+            return h, False, end, g1 > rounding_noise(end[1], vb1)
         gm = _g_step(y, t, s * h, d, zeta, vb, p)[0]
         if gm > 0.0:  # the scheme's own solution stays off the surface: a near miss
-            return h, False, end
+            return h, False, end, g1 > rounding_noise(end[1], vb1)
         hi, ghi = s * h, gm
     else:
         hi, ghi = h, g1
@@ -284,9 +322,9 @@ def _slip_step(y, t, h, d, zeta, vb, p, fresh):
             if glo > 0.0:
                 break
         if not glo > 0.0:
-            return 0.0, True, end  # leaves the surface the wrong way at once: a zero-length phase
+            return 0.0, True, end, False  # leaves the surface the wrong way at once: a zero-length phase
     theta, end = _refine(y, t, lo, hi, glo, ghi, d, zeta, vb, p)
-    return theta, True, end
+    return theta, True, end, False
 
 
 @njit(cache=True)
@@ -304,23 +342,30 @@ def stick_phase(x_s, t_s, t_end, zeta, vb, p):
 
 @njit(cache=True)
 def surface_mode(x, t, zeta, vb, p):
-    """The mode the stick rule gives on V_r = 0 (X' = V_b) at (x, t): 0 sticking, else the slip direction."""
-    return rest_mode(x, zeta, vb, p[FS], p[RESULTANT] != 0.0, slip_force(p, 0.0), external_force(p, t),
-                     external_force_rate(p, t))
+    """The mode the stick rule gives on V_r = 0 (X' = V_b(t)) at (x, t): 0 sticking, else the slip direction.
+
+    The belt's acceleration is a load on the rule (:func:`~.friction.stick_load`, its rate
+    :func:`~.friction.stick_load_rate`): the external force and its rate themselves on a constant belt.
+    """
+    res = p[RESULTANT] != 0.0
+    return rest_mode(x, zeta, belt_speed(p, vb, t), p[FS], res, slip_force(p, 0.0), stick_load(p, t),
+                     stick_load_rate(p, t, zeta, res))
 
 
 @njit(cache=True)
 def start_mode(x, v, t, zeta, vb, p):
     """The mode at (x, v, t): the slip direction sgn(V_r), or the stick rule on V_r = 0."""
-    if v != vb:
-        return 1 if vb - v > 0.0 else -1
+    vbt = belt_speed(p, vb, t)
+    if v != vbt:
+        return 1 if vbt - v > 0.0 else -1
     return surface_mode(x, t, zeta, vb, p)
 
 
 @njit(cache=True)
 def _a_rest(d, x, t, zeta, vb, p):
-    """X'' at X' = V_b slipping in direction d (the field on either side of a switch)."""
-    return d * slip_force(p, 0.0) + external_force(p, t) - x - 2.0 * zeta * vb
+    """X'' - V_b' at X' = V_b(t) slipping in direction d (the relative field on either side of a switch; X''
+    itself on a constant belt)."""
+    return d * slip_force(p, 0.0) + stick_load(p, t) - x - 2.0 * zeta * belt_speed(p, vb, t)
 
 
 @njit(cache=True, inline="always")
@@ -332,15 +377,17 @@ def saltation_stick(y):
 
 @njit(cache=True, inline="always")
 def saltation_slip(y, new, t, zeta, vb, p):
-    """Slip onset into direction ``new``, S = [[1, 0], [a+ / (V_b - f'), 1]], on both tangent vectors."""
-    c = _a_rest(float(new), y[0], t, zeta, vb, p) / (vb - external_force_rate(p, t))
+    """Slip onset into direction ``new``, S = [[1, 0], [(a+ - V_b') / (the held force's rate), 1]], on both
+    tangent vectors (V_b - f' on a constant belt)."""
+    rate = belt_speed(p, vb, t) - stick_load_rate(p, t, zeta, p[RESULTANT] != 0.0)
+    c = _a_rest(float(new), y[0], t, zeta, vb, p) / rate
     y[3] += c * y[2]
     y[5] += c * y[4]
 
 
 @njit(cache=True, inline="always")
 def saltation_reversal(y, d, new, t, zeta, vb, p):
-    """Slip reversal d -> ``new`` through V_r = 0, S = diag(1, a+ / a-), on both tangent vectors."""
+    """Slip reversal d -> ``new`` through V_r = 0, S = diag(1, (a+ - V_b') / (a- - V_b')), on both tangent vectors."""
     ratio = _a_rest(float(new), y[0], t, zeta, vb, p) / _a_rest(d, y[0], t, zeta, vb, p)
     y[3] *= ratio
     y[5] *= ratio
@@ -363,7 +410,7 @@ def _start(x0, v0, zeta, vb, p):
     y[2], y[3], y[4], y[5] = 1.0, 0.0, 0.0, 1.0
     mode = start_mode(x0, v0, 0.0, zeta, vb, p)
     if mode == 0:
-        y[1] = vb
+        y[1] = belt_speed(p, vb, 0.0)
         saltation_stick(y)
     return y, mode
 
@@ -379,9 +426,11 @@ def _stick_on(y, t, target, phase, t_end, zeta, vb, p, counts):
     """
     x_s, t_s, te = phase
     if te > target or te >= t_end:
-        y[0] = x_s + vb * (target - t_s)
+        y[0] = stick_x(x_s, t_s, target, vb, p)
+        y[1] = belt_speed(p, vb, target)
         return target, 0, phase
-    y[0] = x_s + vb * (te - t_s)
+    y[0] = stick_x(x_s, t_s, te, vb, p)
+    y[1] = belt_speed(p, vb, te)
     new = surface_mode(y[0], te, zeta, vb, p)
     if new == 0:
         counts[C_HELD] += 1
@@ -397,7 +446,7 @@ def _slip_end(y, t, d, zeta, vb, p, counts):
 
     The same direction again is a grazing touch, no switch.
     """
-    y[1] = vb  # exactly on the switch
+    y[1] = belt_speed(p, vb, t)  # exactly on the switch
     new = surface_mode(y[0], t, zeta, vb, p)
     if new == 0:
         saltation_stick(y)
@@ -414,13 +463,16 @@ def _slip_end(y, t, d, zeta, vb, p, counts):
 def _block_end(y, mode, row):
     """The block end: the stroboscopic sample (X, X', mode) into ``row``, the QR of the tangent vectors; returns (r11, r22).
 
-    A block that starts sticking then gets the stick onset's projection: the
-    frame's dv components belong to no sticking motion (a perturbed X' slips
-    back onto the belt at once).
+    A row of :data:`N_FRAME` columns also gets both tangent vectors before
+    the QR (u1, then u2).  A block that starts sticking then gets the stick
+    onset's projection: the frame's dv components belong to no sticking
+    motion (a perturbed X' slips back onto the belt at once).
     """
     row[0] = y[0]
     row[1] = y[1]
     row[2] = mode
+    if len(row) >= N_FRAME:
+        row[3], row[4], row[5], row[6] = y[2], y[3], y[4], y[5]
     r11, r22 = _qr(y)
     if mode == 0:
         saltation_stick(y)
@@ -446,7 +498,9 @@ def run(x0, v0, zeta, vb, p, block, n_sub, n_transient, n_blocks, strobe, est, c
     """Integrate n_transient + n_blocks blocks with the two tangent vectors; returns (status, sum log r11, sum log|r22|).
 
     Fills ``strobe`` (n_transient + n_blocks, 3: X, X', mode at each block
-    end), ``est`` (n_blocks, 2: the running exponent estimates after each
+    end; with :data:`N_FRAME` columns, also the tangent vectors there before
+    their renormalisation: over a single block from the identity, the
+    columns of the flow's derivative d(X, X')/d(x0, v0)), ``est`` (n_blocks, 2: the running exponent estimates after each
     averaged block) and ``counts`` (:data:`N_COUNTS`, over the whole run).
     """
     never = (n_blocks + 1, n_blocks + 1, 0.0, 0.0)  # (from the arguments: int64, not a literal type per constant)
@@ -488,7 +542,7 @@ def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, coun
         counts[i] = 0
     y, mode = _start(x0, v0, zeta, vb, p)
     t = 0.0
-    fresh = v0 == vb
+    fresh = v0 == belt_speed(p, vb, 0.0)
     n_transient, n_blocks = blocks
     t_end = _grid_time((n_transient + n_blocks) * n_sub, n_sub, block, h)
     phase = stick_phase(y[0], t, t_end, zeta, vb, p) if mode == 0 else (y[0], t, t_end)
@@ -507,13 +561,13 @@ def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, coun
                     fresh = True  # read once slipping: a slip phase entered here starts on V_r = 0
                     continue
                 d = float(mode)
-                theta, switched, out = _slip_step((y[0], y[1], y[2], y[3], y[4], y[5]), t, target - t, d, zeta, vb, p, fresh)
+                theta, switched, out, away = _slip_step((y[0], y[1], y[2], y[3], y[4], y[5]), t, target - t, d, zeta, vb, p, fresh)
                 if not switched:
                     y[0], y[1], y[2], y[3], y[4], y[5] = out
                     t = target
                     zero_run = 0
                     # a phase that has not yet left V_r = 0 by more than rounding is still starting
-                    fresh = fresh and not d * (vb - y[1]) > rounding_noise(y[1], vb)
+                    fresh = fresh and not away
                     continue
                 if theta > 0.0:
                     y[0], y[1], y[2], y[3], y[4], y[5] = out
