@@ -131,14 +131,15 @@ class BeltOscillator:
         moving belt at different frequencies); None when there is one."""
         if self.forced and self.belt_varies and self.omega != self.vb_omega:
             return (f"vb_omega={self.vb_omega:g} differs from omega={self.omega:g}: the external force and the moving "
-                    "belt have no common period to classify the run on; set vb_omega equal to omega")
+                    "belt have no common period (the stroboscopic section's and the Lyapunov blocks'); "
+                    "set vb_omega equal to omega")
         return None
 
     def refuse_moving_belt(self, what: str) -> None:
         """Raise the one line refusing a moving belt to ``what``, a path that runs a belt at constant speed only."""
         if self.belt_varies:
             raise ValueError(f"vb_amplitude must be 0 for {what} (a belt at constant speed), got {self.vb_amplitude:g}; "
-                             "simulate a moving belt with solver=adaptive or rk4")
+                             "simulate a moving belt with solver=auto")
 
     def belt_accel(self, t: Any) -> Any:
         """V_b'(tau) = A Omega_b cos(Omega_b tau + phi_b), on scalars or arrays."""
