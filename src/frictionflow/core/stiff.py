@@ -234,12 +234,12 @@ def law_eval(q, s, z, d):
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def work_of(q, zeta, vb, t, v, s, f, d, w):
+def work_of(q, zeta, vb, t, v, s, f, d, w, m):
     """The work integrands at one state: 2 zeta X'^2, max(P_f, 0), max(-P_f, 0), the interface heat
-    F V_r - dE/dtau, X' f(tau) and the belt's input F V_b (P_f = X' F)."""
+    F V_r - dE/dtau, X' f(tau) and the belt's input F V_b (P_f = X' F); ``m`` internal states."""
     pf = v * f
     store = 0.0
-    for i in range(d.shape[0]):
+    for i in range(m):
         store += d[i, D_EZ] * d[i, D_RATE]
     w[0] = 2.0 * zeta * v * v
     w[1] = max(pf, 0.0)
@@ -254,7 +254,12 @@ def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, want_jac, d):
     """dy/dtau and the work integrands at (t, y); with ``want_jac`` also the state's Jacobian ``jac``
     (n x n), the integrands' gradients ``jw`` (N_CHANNELS x n) and the time rates at fixed y (``ft``: n,
     then N_CHANNELS).  ``vb``: the belt's mean speed.  ``d``: room for the law's derivative record."""
-    n = len(y)
+    evaluate_n(q, zeta, vb, t, y, dy, dw, jac, jw, ft, want_jac, d, len(y))
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def evaluate_n(q, zeta, vb, t, y, dy, dw, jac, jw, ft, want_jac, d, n):
+    """:func:`evaluate` for a state of ``n`` components (a constant where the caller specialises on it)."""
     m = n - 2
     x, v = y[0], y[1]
     vbt = belt_speed(q, vb, t)
@@ -264,20 +269,20 @@ def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, want_jac, d):
     dy[1] = -x - 2.0 * zeta * v + f + external_force(q, t)
     for i in range(m):
         dy[2 + i] = d[i, D_RATE]
-    work_of(q, zeta, vbt, t, v, s, f, d, dw)
+    work_of(q, zeta, vbt, t, v, s, f, d, dw, m)
     if want_jac:
-        _jacobian(zeta, vbt, v, s, f, df_ds, d, jac, jw)
+        _jacobian(zeta, vbt, v, s, f, df_ds, d, jac, jw, n)
         jw[4, 1] = external_force(q, t)
-        _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft)
+        _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft, n)
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft):
+def _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft, n):
     """d/dtau at fixed y of the state's rates (``ft[:n]``) and of the work integrands (``ft[n:]``): the
     external force's rate, and the belt's acceleration V_b' through V_r (d/dV_r = -d/dX')."""
-    n = len(ft) - N_CHANNELS
     fr = external_force_rate(q, t)
-    ft[:] = 0.0
+    for i in range(n + N_CHANNELS):
+        ft[i] = 0.0
     ft[1] = fr
     ft[n + 4] = v * fr
     ab = belt_accel(q, t)
@@ -294,12 +299,14 @@ def _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft):
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw):
-    """The exact Jacobian of the state and of the work integrands (d/dX' = -d/dV_r)."""
-    n = jac.shape[0]
+def _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw, n):
+    """The exact Jacobian of the state and of the work integrands (d/dX' = -d/dV_r), ``n`` components."""
     m = n - 2
-    jac[:, :] = 0.0
-    jw[:, :] = 0.0
+    for i in range(n):
+        for j in range(n):
+            jac[i, j] = 0.0
+        for c in range(N_CHANNELS):
+            jw[c, i] = 0.0
     jac[0, 1] = 1.0
     jac[1, 0] = -1.0
     jac[1, 1] = -2.0 * zeta - df_ds
@@ -353,7 +360,12 @@ C_TAB = np.array([
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
 def lu_factor(a, piv):
     """LU with partial pivoting in place (a small dense n x n); False if singular."""
-    n = a.shape[0]
+    return lu_factor_n(a, piv, a.shape[0])
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def lu_factor_n(a, piv, n):
+    """:func:`lu_factor` of the leading ``n`` x ``n`` block (a constant where the caller specialises on it)."""
     for k in range(n):
         p = k
         for i in range(k + 1, n):
@@ -376,7 +388,12 @@ def lu_factor(a, piv):
 def lu_solve(a, piv, b, r):
     """Solve for row ``r`` of ``b`` in place with the factors of :func:`lu_factor` (a row index, not a
     view: a view costs two atomic reference counts in the step loop)."""
-    n = a.shape[0]
+    lu_solve_n(a, piv, b, r, a.shape[0])
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def lu_solve_n(a, piv, b, r, n):
+    """:func:`lu_solve` with the leading ``n`` x ``n`` factors (a constant where the caller specialises on it)."""
     for k in range(n):
         p = piv[k]
         if p != k:
@@ -405,14 +422,21 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     ``wnew``; returns the error norm: the rms of the last stage, component c over
     ``tol[c] + tol[n] max(|y_c|, |ynew_c|)`` (absolute scales, then rtol); inf if the step failed.
     ``ws``: the arrays of :func:`scratch`."""
-    n = len(y)
+    if len(y) == 3:  # one internal state (every law today): loops of known length, which the compiler unrolls
+        return _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, 3)
+    return _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, len(y))
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, n):
+    """:func:`rodas_step` for a state of ``n`` components."""
     dy, dw, jac, jw, a, piv, k, kw, yi, d, ft = ws
-    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, True, d)
+    evaluate_n(q, zeta, vb, t, y, dy, dw, jac, jw, ft, True, d, n)
     for i in range(n):
         for j in range(n):
             a[i, j] = -jac[i, j]  # jac stays for the quadratures
         a[i, i] += 1.0 / (GAMMA * h)
-    if not lu_factor(a, piv):
+    if not lu_factor_n(a, piv, n):
         return np.inf
     for st in range(6):
         if st > 0:
@@ -421,14 +445,14 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
                 for j in range(st):
                     acc += A_TAB[st, j] * k[j, c]
                 yi[c] = acc
-            evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, ft, False, d)
+            evaluate_n(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, ft, False, d, n)
         hd = h * D_TAB[st]
         for c in range(n):
             acc = dy[c]
             for j in range(st):
                 acc += C_TAB[st, j] * k[j, c] / h
             k[st, c] = acc + hd * ft[c]
-        lu_solve(a, piv, k, st)
+        lu_solve_n(a, piv, k, st, n)
         for c in range(N_CHANNELS):
             acc = dw[c] + hd * ft[n + c]
             for j in range(st):
