@@ -410,10 +410,10 @@ def lu_solve_n(a, piv, b, r, n):
 @njit(cache=True)
 def scratch(n):
     """The arrays a step works in, allocated once per run: (dy, dw, jac, jw, LU factors, pivots, K, KW,
-    stage state, the law's derivative record, the time rates)."""
+    stage state, the law's derivative record, the time rates, then dy and dw at the step's start)."""
     return (np.empty(n), np.empty(N_CHANNELS), np.empty((n, n)), np.empty((N_CHANNELS, n)), np.empty((n, n)),
             np.empty(n, dtype=np.int64), np.zeros((6, n)), np.zeros((6, N_CHANNELS)), np.empty(n),
-            np.empty((n - 2, D_RZ + n - 2)), np.empty(n + N_CHANNELS))
+            np.empty((n - 2, D_RZ + n - 2)), np.empty(n + N_CHANNELS), np.empty(n), np.empty(N_CHANNELS))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: without the runtime, no atomic reference counts
@@ -422,16 +422,29 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     ``wnew``; returns the error norm: the rms of the last stage, component c over
     ``tol[c] + tol[n] max(|y_c|, |ynew_c|)`` (absolute scales, then rtol); inf if the step failed.
     ``ws``: the arrays of :func:`scratch`."""
+    return step_from(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, True)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: without the runtime, no atomic reference counts
+def step_from(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, fresh):
+    """:func:`rodas_step`; with ``fresh`` False the step starts where the last one in ``ws`` started (a
+    retry after a rejection, the section search): the field, the Jacobian and the time rates there are
+    kept, only the factors of W = I / (gamma h) - J are new (the same numbers as evaluating them again)."""
     if len(y) == 3:  # one internal state (every law today): loops of known length, which the compiler unrolls
-        return _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, 3)
-    return _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, len(y))
+        return _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, 3, fresh)
+    return _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, len(y), fresh)
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, n):
-    """:func:`rodas_step` for a state of ``n`` components."""
-    dy, dw, jac, jw, a, piv, k, kw, yi, d, ft = ws
-    evaluate_n(q, zeta, vb, t, y, dy, dw, jac, jw, ft, True, d, n)
+def _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, n, fresh):
+    """:func:`step_from` for a state of ``n`` components."""
+    dy, dw, jac, jw, a, piv, k, kw, yi, d, ft, dy0, dw0 = ws
+    if fresh:  # the later stages leave jac, jw and ft as the first one set them
+        evaluate_n(q, zeta, vb, t, y, dy0, dw0, jac, jw, ft, True, d, n)
+    for i in range(n):
+        dy[i] = dy0[i]
+    for c in range(N_CHANNELS):
+        dw[c] = dw0[c]
     for i in range(n):
         for j in range(n):
             a[i, j] = -jac[i, j]  # jac stays for the quadratures
@@ -479,7 +492,8 @@ def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     (X' > 0 at t, ``ynew[1]`` <= 0): its length h' by Illinois on X'(t + h') of Rodas4 steps of length h',
     to |X'| at rounding (1e-13 of the velocity scale) or the step length at rounding.  ``ynew``, ``wnew``:
     the located step's state (X' exactly 0, as the section crossing of the other solvers) and work
-    increments; returns (h', its error norm)."""
+    increments; returns (h', its error norm).  ``ws`` holds the step of length ``h`` from (t, y): its
+    start's field and Jacobian serve every trial step (:func:`step_from`)."""
     ftol = 1e-13 * max(abs(vb), abs(y[1]))
     if ynew[1] == 0.0 or -ynew[1] <= ftol:
         ynew[1] = 0.0
@@ -489,10 +503,10 @@ def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     x_last = h
     while b.status == RUNNING:
         x_last = b.x
-        err = rodas_step(q, zeta, vb, t, y, x_last, ynew, wnew, tol, ws)
+        err = step_from(q, zeta, vb, t, y, x_last, ynew, wnew, tol, ws, False)
         b = update(b, x_last, ynew[1] if err < np.inf else -1.0)
     if x_last != b.hi:  # the last point evaluated was not the end kept: the step to that end
-        err = rodas_step(q, zeta, vb, t, y, b.hi, ynew, wnew, tol, ws)
+        err = step_from(q, zeta, vb, t, y, b.hi, ynew, wnew, tol, ws, False)
     ynew[1] = 0.0
     return b.hi, err
 
@@ -530,7 +544,7 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
     t = t_out[count - 1]
     y, ynew, wnew = y_out[:, count - 1].copy(), np.empty(n), np.empty(N_CHANNELS)
     ws = scratch(n)
-    status = DONE
+    status, again = DONE, False
     while t < t_end:
         if taken >= max_steps:
             status = STEP_CAP
@@ -542,7 +556,8 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
         stop = min(t_end, k_next * period) if period > 0.0 else t_end  # the next time a sample must fall on
         last = t + h >= stop * (1.0 - 1e-14)
         hh = stop - t if last else h
-        err = rodas_step(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
+        err = step_from(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws, not again)
+        again = True  # until the state moves on, the next attempt starts from the same (t, y)
         taken += 1
         fac = 0.2 if err == np.inf else min(6.0, max(0.2, 0.9 * err ** -0.25))
         if err > 1.0:
@@ -563,6 +578,7 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
         if last and period > 0.0 and stop < t_end:
             k_next += 1.0
         y[:] = ynew
+        again = False
         t_out[count] = t
         y_out[:, count] = y
         w_out[count, :] = wnew
