@@ -254,12 +254,14 @@ def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, want_jac, d):
     """dy/dtau and the work integrands at (t, y); with ``want_jac`` also the state's Jacobian ``jac``
     (n x n), the integrands' gradients ``jw`` (N_CHANNELS x n) and the time rates at fixed y (``ft``: n,
     then N_CHANNELS).  ``vb``: the belt's mean speed.  ``d``: room for the law's derivative record."""
-    evaluate_n(q, zeta, vb, t, y, dy, dw, jac, jw, ft, want_jac, d, len(y))
+    evaluate_n(q, zeta, vb, t, y, dy, dw, (jac, jw, ft, d), want_jac, len(y))
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def evaluate_n(q, zeta, vb, t, y, dy, dw, jac, jw, ft, want_jac, d, n):
-    """:func:`evaluate` for a state of ``n`` components (a constant where the caller specialises on it)."""
+def evaluate_n(q, zeta, vb, t, y, dy, dw, jd, want_jac, n):
+    """:func:`evaluate` for a state of ``n`` components (a constant where the caller specialises on it);
+    ``jd``: (jac, jw, ft, d)."""
+    jac, jw, ft, d = jd
     m = n - 2
     x, v = y[0], y[1]
     vbt = belt_speed(q, vb, t)
@@ -440,7 +442,7 @@ def _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, n, fresh):
     """:func:`step_from` for a state of ``n`` components."""
     dy, dw, jac, jw, a, piv, k, kw, yi, d, ft, dy0, dw0 = ws
     if fresh:  # the later stages leave jac, jw and ft as the first one set them
-        evaluate_n(q, zeta, vb, t, y, dy0, dw0, jac, jw, ft, True, d, n)
+        evaluate_n(q, zeta, vb, t, y, dy0, dw0, (jac, jw, ft, d), True, n)
     for i in range(n):
         dy[i] = dy0[i]
     for c in range(N_CHANNELS):
@@ -458,7 +460,7 @@ def _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, n, fresh):
                 for j in range(st):
                     acc += A_TAB[st, j] * k[j, c]
                 yi[c] = acc
-            evaluate_n(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, ft, False, d, n)
+            evaluate_n(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, (jac, jw, ft, d), False, n)
         hd = h * D_TAB[st]
         for c in range(n):
             acc = dy[c]
