@@ -234,12 +234,12 @@ def law_eval(q, s, z, d):
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def work_of(q, zeta, vb, t, v, s, f, d, w):
+def work_of(q, zeta, vb, t, v, s, f, d, w, m):
     """The work integrands at one state: 2 zeta X'^2, max(P_f, 0), max(-P_f, 0), the interface heat
-    F V_r - dE/dtau, X' f(tau) and the belt's input F V_b (P_f = X' F)."""
+    F V_r - dE/dtau, X' f(tau) and the belt's input F V_b (P_f = X' F); ``m`` internal states."""
     pf = v * f
     store = 0.0
-    for i in range(d.shape[0]):
+    for i in range(m):
         store += d[i, D_EZ] * d[i, D_RATE]
     w[0] = 2.0 * zeta * v * v
     w[1] = max(pf, 0.0)
@@ -254,7 +254,14 @@ def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, want_jac, d):
     """dy/dtau and the work integrands at (t, y); with ``want_jac`` also the state's Jacobian ``jac``
     (n x n), the integrands' gradients ``jw`` (N_CHANNELS x n) and the time rates at fixed y (``ft``: n,
     then N_CHANNELS).  ``vb``: the belt's mean speed.  ``d``: room for the law's derivative record."""
-    n = len(y)
+    evaluate_n(q, zeta, vb, t, y, dy, dw, (jac, jw, ft, d), want_jac, len(y))
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def evaluate_n(q, zeta, vb, t, y, dy, dw, jd, want_jac, n):
+    """:func:`evaluate` for a state of ``n`` components (a constant where the caller specialises on it);
+    ``jd``: (jac, jw, ft, d)."""
+    jac, jw, ft, d = jd
     m = n - 2
     x, v = y[0], y[1]
     vbt = belt_speed(q, vb, t)
@@ -264,20 +271,20 @@ def evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, want_jac, d):
     dy[1] = -x - 2.0 * zeta * v + f + external_force(q, t)
     for i in range(m):
         dy[2 + i] = d[i, D_RATE]
-    work_of(q, zeta, vbt, t, v, s, f, d, dw)
+    work_of(q, zeta, vbt, t, v, s, f, d, dw, m)
     if want_jac:
-        _jacobian(zeta, vbt, v, s, f, df_ds, d, jac, jw)
+        _jacobian(zeta, vbt, v, s, f, df_ds, d, jac, jw, n)
         jw[4, 1] = external_force(q, t)
-        _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft)
+        _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft, n)
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft):
+def _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft, n):
     """d/dtau at fixed y of the state's rates (``ft[:n]``) and of the work integrands (``ft[n:]``): the
     external force's rate, and the belt's acceleration V_b' through V_r (d/dV_r = -d/dX')."""
-    n = len(ft) - N_CHANNELS
     fr = external_force_rate(q, t)
-    ft[:] = 0.0
+    for i in range(n + N_CHANNELS):
+        ft[i] = 0.0
     ft[1] = fr
     ft[n + 4] = v * fr
     ab = belt_accel(q, t)
@@ -294,12 +301,14 @@ def _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft):
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw):
-    """The exact Jacobian of the state and of the work integrands (d/dX' = -d/dV_r)."""
-    n = jac.shape[0]
+def _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw, n):
+    """The exact Jacobian of the state and of the work integrands (d/dX' = -d/dV_r), ``n`` components."""
     m = n - 2
-    jac[:, :] = 0.0
-    jw[:, :] = 0.0
+    for i in range(n):
+        for j in range(n):
+            jac[i, j] = 0.0
+        for c in range(N_CHANNELS):
+            jw[c, i] = 0.0
     jac[0, 1] = 1.0
     jac[1, 0] = -1.0
     jac[1, 1] = -2.0 * zeta - df_ds
@@ -353,7 +362,12 @@ C_TAB = np.array([
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
 def lu_factor(a, piv):
     """LU with partial pivoting in place (a small dense n x n); False if singular."""
-    n = a.shape[0]
+    return lu_factor_n(a, piv, a.shape[0])
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def lu_factor_n(a, piv, n):
+    """:func:`lu_factor` of the leading ``n`` x ``n`` block (a constant where the caller specialises on it)."""
     for k in range(n):
         p = k
         for i in range(k + 1, n):
@@ -376,7 +390,12 @@ def lu_factor(a, piv):
 def lu_solve(a, piv, b, r):
     """Solve for row ``r`` of ``b`` in place with the factors of :func:`lu_factor` (a row index, not a
     view: a view costs two atomic reference counts in the step loop)."""
-    n = a.shape[0]
+    lu_solve_n(a, piv, b, r, a.shape[0])
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def lu_solve_n(a, piv, b, r, n):
+    """:func:`lu_solve` with the leading ``n`` x ``n`` factors (a constant where the caller specialises on it)."""
     for k in range(n):
         p = piv[k]
         if p != k:
@@ -393,10 +412,10 @@ def lu_solve(a, piv, b, r):
 @njit(cache=True)
 def scratch(n):
     """The arrays a step works in, allocated once per run: (dy, dw, jac, jw, LU factors, pivots, K, KW,
-    stage state, the law's derivative record, the time rates)."""
+    stage state, the law's derivative record, the time rates, then dy and dw at the step's start)."""
     return (np.empty(n), np.empty(N_CHANNELS), np.empty((n, n)), np.empty((N_CHANNELS, n)), np.empty((n, n)),
             np.empty(n, dtype=np.int64), np.zeros((6, n)), np.zeros((6, N_CHANNELS)), np.empty(n),
-            np.empty((n - 2, D_RZ + n - 2)), np.empty(n + N_CHANNELS))
+            np.empty((n - 2, D_RZ + n - 2)), np.empty(n + N_CHANNELS), np.empty(n), np.empty(N_CHANNELS))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: without the runtime, no atomic reference counts
@@ -405,14 +424,34 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     ``wnew``; returns the error norm: the rms of the last stage, component c over
     ``tol[c] + tol[n] max(|y_c|, |ynew_c|)`` (absolute scales, then rtol); inf if the step failed.
     ``ws``: the arrays of :func:`scratch`."""
-    n = len(y)
-    dy, dw, jac, jw, a, piv, k, kw, yi, d, ft = ws
-    evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, True, d)
+    return step_from(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, True)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: without the runtime, no atomic reference counts
+def step_from(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, fresh):
+    """:func:`rodas_step`; with ``fresh`` False the step starts where the last one in ``ws`` started (a
+    retry after a rejection, the section search): the field, the Jacobian and the time rates there are
+    kept, only the factors of W = I / (gamma h) - J are new (the same numbers as evaluating them again)."""
+    if len(y) == 3:  # one internal state (every law today): loops of known length, which the compiler unrolls
+        return _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, 3, fresh)
+    return _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, len(y), fresh)
+
+
+@njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
+def _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, n, fresh):
+    """:func:`step_from` for a state of ``n`` components."""
+    dy, dw, jac, jw, a, piv, k, kw, yi, d, ft, dy0, dw0 = ws
+    if fresh:  # the later stages leave jac, jw and ft as the first one set them
+        evaluate_n(q, zeta, vb, t, y, dy0, dw0, (jac, jw, ft, d), True, n)
+    for i in range(n):
+        dy[i] = dy0[i]
+    for c in range(N_CHANNELS):
+        dw[c] = dw0[c]
     for i in range(n):
         for j in range(n):
             a[i, j] = -jac[i, j]  # jac stays for the quadratures
         a[i, i] += 1.0 / (GAMMA * h)
-    if not lu_factor(a, piv):
+    if not lu_factor_n(a, piv, n):
         return np.inf
     for st in range(6):
         if st > 0:
@@ -421,14 +460,14 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
                 for j in range(st):
                     acc += A_TAB[st, j] * k[j, c]
                 yi[c] = acc
-            evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, ft, False, d)
+            evaluate_n(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, (jac, jw, ft, d), False, n)
         hd = h * D_TAB[st]
         for c in range(n):
             acc = dy[c]
             for j in range(st):
                 acc += C_TAB[st, j] * k[j, c] / h
             k[st, c] = acc + hd * ft[c]
-        lu_solve(a, piv, k, st)
+        lu_solve_n(a, piv, k, st, n)
         for c in range(N_CHANNELS):
             acc = dw[c] + hd * ft[n + c]
             for j in range(st):
@@ -455,7 +494,8 @@ def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     (X' > 0 at t, ``ynew[1]`` <= 0): its length h' by Illinois on X'(t + h') of Rodas4 steps of length h',
     to |X'| at rounding (1e-13 of the velocity scale) or the step length at rounding.  ``ynew``, ``wnew``:
     the located step's state (X' exactly 0, as the section crossing of the other solvers) and work
-    increments; returns (h', its error norm)."""
+    increments; returns (h', its error norm).  ``ws`` holds the step of length ``h`` from (t, y): its
+    start's field and Jacobian serve every trial step (:func:`step_from`)."""
     ftol = 1e-13 * max(abs(vb), abs(y[1]))
     if ynew[1] == 0.0 or -ynew[1] <= ftol:
         ynew[1] = 0.0
@@ -465,10 +505,10 @@ def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     x_last = h
     while b.status == RUNNING:
         x_last = b.x
-        err = rodas_step(q, zeta, vb, t, y, x_last, ynew, wnew, tol, ws)
+        err = step_from(q, zeta, vb, t, y, x_last, ynew, wnew, tol, ws, False)
         b = update(b, x_last, ynew[1] if err < np.inf else -1.0)
     if x_last != b.hi:  # the last point evaluated was not the end kept: the step to that end
-        err = rodas_step(q, zeta, vb, t, y, b.hi, ynew, wnew, tol, ws)
+        err = step_from(q, zeta, vb, t, y, b.hi, ynew, wnew, tol, ws, False)
     ynew[1] = 0.0
     return b.hi, err
 
@@ -506,7 +546,7 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
     t = t_out[count - 1]
     y, ynew, wnew = y_out[:, count - 1].copy(), np.empty(n), np.empty(N_CHANNELS)
     ws = scratch(n)
-    status = DONE
+    status, again = DONE, False
     while t < t_end:
         if taken >= max_steps:
             status = STEP_CAP
@@ -518,7 +558,8 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
         stop = min(t_end, k_next * period) if period > 0.0 else t_end  # the next time a sample must fall on
         last = t + h >= stop * (1.0 - 1e-14)
         hh = stop - t if last else h
-        err = rodas_step(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
+        err = step_from(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws, not again)
+        again = True  # until the state moves on, the next attempt starts from the same (t, y)
         taken += 1
         fac = 0.2 if err == np.inf else min(6.0, max(0.2, 0.9 * err ** -0.25))
         if err > 1.0:
@@ -539,6 +580,7 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
         if last and period > 0.0 and stop < t_end:
             k_next += 1.0
         y[:] = ynew
+        again = False
         t_out[count] = t
         y_out[:, count] = y
         w_out[count, :] = wnew

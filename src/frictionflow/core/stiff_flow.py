@@ -111,7 +111,7 @@ def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
     ``vs``: (Phi's stage increments (6, n, n), stage Phi, dJ/dy (n, n, n), a column, J at the start)."""
     n = len(y)
     tol, ptol, size = tols
-    dy, dw, jac, jw, a, piv, k, kw, yi, d, ft = ws
+    dy, dw, jac, jw, a, piv, k, kw, yi, d, ft = ws[:11]
     kp, phii, dj, col, jn = vs
     coupling(q, zeta, vb, t, y, size, ws, dj, jn)
     evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, False, d)

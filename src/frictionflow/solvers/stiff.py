@@ -105,7 +105,7 @@ class Stiff(Solver):
             raise StepLimitError(f"stiff: {why} at tau={t_stop:.10g} (X={y[0, n - 1]:.6g}, X'={y[1, n - 1]:.6g}, "
                                  f"step {h:.3g}); raise max_steps or loosen rtol/atol")
         check_resolved(model, friction, t[:n], y[:, :n])
-        return self._trajectory(model, friction, t[:n].copy(), y[:, :n].copy(), w[:n].copy())
+        return self._trajectory(model, friction, t[:n].copy(), y[:, :n], w[:n])
 
     def _run(self, q, model, y0, t_end, tol, steps, max_memory):
         """The kernel with room for the samples: when they do not fit, four times more room and the run
@@ -123,14 +123,15 @@ class Stiff(Solver):
             cap *= 4
 
     def _trajectory(self, model, friction, t, y, w) -> Trajectory:
-        """The run's Trajectory: the force and the mode from the law at each sample."""
+        """The run's Trajectory: the force and the mode from the law at each sample.  ``y``, ``w``: views
+        of the run's buffers (each block is copied once, out of them)."""
         vr = (model.belt_speed(t) if model.belt_varies else model.vb) - y[1]
-        internal = y[2:]
+        internal = y[2:].copy()
         return Trajectory(
             t=t, state=y[:2].copy(), force=np.asarray(friction.force(vr, internal), dtype=float)[None, :],
             modes=friction.mode_of(vr)[None, :], dwork=np.ascontiguousarray(w[:, :kernel.W_BELT]),
             model=model, friction=friction, solver=self.describe(), events=None,
-            internal=internal.copy(), internal_names=friction.internal_names, dbelt=w[:, kernel.W_BELT].copy(),
+            internal=internal, internal_names=friction.internal_names, dbelt=w[:, kernel.W_BELT].copy(),
         )
 
 
