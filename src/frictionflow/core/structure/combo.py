@@ -44,8 +44,13 @@ Split = namedtuple("Split", "modes stuck R HE keff f0")
 N_SLOTS = 3
 #: a stuck set whose directions are this close to dependent is refused (its held forces are not defined)
 RANK_TOL = 1e-10
-#: the combinations kept per run (the first ones met; a chain with many contacts meets new ones at most switches)
-CACHE_SIZE = 64
+#: the combinations kept per run, and the memory they may take: the first ones met (a chain with many contacts
+#: meets new ones at most switches; on ten masses a third of the switches return to one met before)
+CACHE_SIZE = 1024
+CACHE_BYTES = 32_000_000
+#: a run's combinations: the records (a list), their modes as the rows of ``keys`` (scanned instead of the records:
+#: reading a record from the list counts references to each of its arrays) and ``used`` = [count, bytes]
+Cache = namedtuple("Cache", "combos keys used")
 #: K_r symmetric and the modal damping diagonal to this fraction of their size: the real-mode route (:func:`classical`)
 SYM_TOL = 1e-13
 #: a mode's two roots closer than this fraction of the system's rates: (nearly) defective, the general route decides
@@ -166,17 +171,15 @@ def selected(z):
     """(ok, rows): ok when Z only selects coordinates (one 1 per column, zeros elsewhere): column c is e_rows[c]."""
     n, r = z.shape
     rows = np.full(r, -1, dtype=np.int64)
-    for c in range(r):
-        for i in range(n):
+    for i in range(n):  # row by row (row-major)
+        for c in range(r):
             x = z[i, c]
             if x == 0.0:
                 continue
             if x != 1.0 or rows[c] >= 0:
                 return False, rows
             rows[c] = i
-        if rows[c] < 0:
-            return False, rows
-    return True, rows
+    return rows.min() >= 0 if r else True, rows
 
 
 @njit(cache=True)
@@ -225,9 +228,19 @@ def decompose(m, c, k, z):
         lam, v = np.linalg.eig(a.astype(np.complex128))
         vi = np.linalg.inv(v)
         vb = mm(np.ascontiguousarray(vi[:, r:]), mri.astype(np.complex128))
-    if np.sqrt(np.sum(np.abs(v) ** 2) * np.sum(np.abs(vi) ** 2)) > COND_MAX * 2 * r:
+    if math.sqrt(frob2(v) * frob2(vi)) > COND_MAX * 2 * r:
         raise ValueError("structure: a mode combination's matrix is defective (e.g. an undamped rigid mode)")
     return lam, v, vi, vb, ok
+
+
+@njit(cache=True)
+def frob2(a):
+    """The sum of |a_ij|^2 (no temporary arrays)."""
+    s = 0.0
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            s += a[i, j].real ** 2 + a[i, j].imag ** 2
+    return s
 
 
 @njit(cache=True)
@@ -235,6 +248,58 @@ def modal(m, c, k, z):
     """(lam, V, V^-1, V^-1 B) of the reduced first-order matrix (B = [0; M_r^-1])."""
     lam, v, vi, vb, _ = decompose(m, c, k, z)
     return lam, v, vi, vb
+
+
+@njit(cache=True)
+def blocks(a):
+    """(label, count): the connected blocks of a symmetric matrix's nonzero pattern, numbered by first index."""
+    r = a.shape[0]
+    label, stack = np.full(r, -1, dtype=np.int64), np.empty(r, dtype=np.int64)
+    count = 0
+    for s in range(r):
+        if label[s] >= 0:
+            continue
+        label[s], stack[0], top = count, s, 1
+        while top:
+            top -= 1
+            i = stack[top]
+            for j in range(r):
+                if label[j] < 0 and a[i, j] != 0.0:
+                    label[j], stack[top] = count, j
+                    top += 1
+        count += 1
+    return label, count
+
+
+@njit(cache=True)
+def block_eigh(sym):
+    """eigh of a symmetric matrix block by block (its entries outside the blocks are exact zeros).
+
+    Stuck coordinates cut a chain into pieces that do not couple: several small problems instead of one.
+    """
+    label, count = blocks(sym)
+    if count == 1:
+        return np.linalg.eigh(sym)
+    r = sym.shape[0]
+    w2, u = np.empty(r), np.zeros((r, r))
+    col = 0
+    for b in range(count):
+        idx = np.nonzero(label == b)[0]
+        if len(idx) == 1:
+            w2[col], u[idx[0], col] = sym[idx[0], idx[0]], 1.0
+            col += 1
+            continue
+        sub = np.empty((len(idx), len(idx)))
+        for i in range(len(idx)):
+            for j in range(len(idx)):
+                sub[i, j] = sym[idx[i], idx[j]]
+        wb, ub = np.linalg.eigh(sub)
+        for c in range(len(idx)):
+            w2[col + c] = wb[c]
+            for i in range(len(idx)):
+                u[idx[i], col + c] = ub[i, c]
+        col += len(idx)
+    return w2, u
 
 
 @njit(cache=True)
@@ -259,7 +324,7 @@ def mass_modes(mr, kr):
     for a in range(r):
         for b in range(r):
             sym[a, b] = 0.5 * (s[a] * kr[a, b] * s[b] + s[b] * kr[b, a] * s[a])
-    w2, u = np.linalg.eigh(sym)
+    w2, u = block_eigh(sym)
     phi, xm = np.empty((r, r)), np.empty((r, r))
     for i in range(r):
         for a in range(r):
@@ -314,17 +379,21 @@ def classical(mr, kr, cr):
     vb = np.empty((2 * r, r), dtype=np.complex128)
     scale_l = math.sqrt(np.abs(w2).max()) + np.abs(cd).max()
     for a in range(r):
-        l1, l2 = roots(cd[a], w2[a])
-        lam[a], lam[r + a] = l1, l2
-        d = l2 - l1
-        if abs(d) <= NEAR_DOUBLE * scale_l:  # (nearly) a double root: left to the general route's verdict
+        lam[a], lam[r + a] = roots(cd[a], w2[a])
+        if abs(lam[r + a] - lam[a]) <= NEAR_DOUBLE * scale_l:  # (nearly) a double root: the general route decides
             return False, lam, v, vi, vb
-        for i in range(r):
+    for i in range(r):  # row by row (row-major arrays)
+        for a in range(r):
             v[i, a], v[i, r + a] = phi[i, a], phi[i, a]
-            v[r + i, a], v[r + i, r + a] = l1 * phi[i, a], l2 * phi[i, a]
-            vi[a, i], vi[a, r + i] = l2 * xm[a, i] / d, -xm[a, i] / d
-            vi[r + a, i], vi[r + a, r + i] = -l1 * xm[a, i] / d, xm[a, i] / d
-            vb[a, i], vb[r + a, i] = -phi[i, a] / d, phi[i, a] / d
+            v[r + i, a], v[r + i, r + a] = lam[a] * phi[i, a], lam[r + a] * phi[i, a]
+    for a in range(r):
+        l1, l2 = lam[a], lam[r + a]
+        di = 1.0 / (l2 - l1)
+        for i in range(r):
+            x = xm[a, i] * di
+            vi[a, i], vi[a, r + i] = l2 * x, -x
+            vi[r + a, i], vi[r + a, r + i] = -l1 * x, x
+            vb[a, i], vb[r + a, i] = -phi[i, a] * di, phi[i, a] * di
     return True, lam, v, vi, vb
 
 
@@ -395,6 +464,25 @@ def constants(asm, stuck, z, r, keff, vb, d):
 
 
 @njit(cache=True)
+def sparse_mm(a, b):
+    """a @ b, skipping b's zeros when most of its entries are (the real modes of a chain cut into pieces)."""
+    nz = 0
+    for i in range(b.shape[0]):
+        for j in range(b.shape[1]):
+            nz += b[i, j] != 0.0
+    if 4 * nz > b.size:
+        return mm(a, b)
+    at, out = a.T.copy(), np.zeros((b.shape[1], a.shape[0]))  # transposed: rows are contiguous
+    for i in range(b.shape[0]):
+        for j in range(b.shape[1]):
+            x = b[i, j]
+            if x != 0.0:
+                for e in range(at.shape[1]):
+                    out[j, e] += x * at[i, e]
+    return out.T.copy()
+
+
+@njit(cache=True)
 def event_modes(d, active, z, lam, v, real):
     """W = D T V on the active slots (zero rows elsewhere); T: (y, y') -> (q, q').
 
@@ -413,7 +501,7 @@ def event_modes(d, active, z, lam, v, real):
     dzq, dzv = columns(dq, z, sel, rows), columns(dv, z, sel, rows)
     if real:
         phi = np.ascontiguousarray(v[:r, :r].real)
-        p, q = mm(dzq, phi), mm(dzv, phi)
+        p, q = sparse_mm(dzq, phi), sparse_mm(dzv, phi)
         for e in range(len(slots)):
             for a in range(r):
                 w[slots[e], a] = p[e, a] + lam[a] * q[e, a]
@@ -451,12 +539,33 @@ def same(a, b):
 
 
 @njit(cache=True)
+def combo_bytes(cb):
+    """About the memory a combination holds (its largest arrays)."""
+    return 16 * (cb.V.size + cb.Vi.size + cb.VB.size + cb.W.size) + 8 * (cb.D.size + cb.Z.size + cb.keff.size)
+
+
+@njit(cache=True)
+def new_cache(asm, minv):
+    """A run's :data:`Cache`, holding the combination with every contact slipping."""
+    k = len(asm.belt)
+    cb = build(asm, minv, np.zeros(k, dtype=np.int8))
+    cache = Cache([cb], np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64))
+    cache.keys[0] = cb.modes
+    cache.used[0], cache.used[1] = 1, combo_bytes(cb)
+    return cache
+
+
+@njit(cache=True)
 def lookup(cache, asm, minv, modes):
-    """The combination of ``modes`` from ``cache`` (a list), built (and kept while there is room) when missing."""
-    for i in range(len(cache)):
-        if same(cache[i].modes, modes):
-            return cache[i]
+    """The combination of ``modes`` from the :data:`Cache` ``cache``, built (and kept while there is room) when missing."""
+    keys, used = cache.keys, cache.used
+    for i in range(used[0]):
+        if same(keys[i], modes):
+            return cache.combos[i]
     cb = build(asm, minv, modes)
-    if len(cache) < CACHE_SIZE:  # (no eviction: popping records of arrays from a compiled list corrupts memory)
-        cache.append(cb)
+    size = combo_bytes(cb)
+    if used[0] < len(keys) and used[1] + size <= CACHE_BYTES:  # (no eviction: popping records of arrays from a
+        cache.combos.append(cb)  # compiled list corrupts memory)
+        keys[used[0]] = modes
+        used[0], used[1] = used[0] + 1, used[1] + size
     return cb
