@@ -34,6 +34,7 @@ from collections import namedtuple
 
 import numpy as np
 from numba import njit
+from numba.typed import List
 
 from ..layout import FD, FS, RESULTANT, STICK
 
@@ -48,7 +49,7 @@ RANK_TOL = 1e-10
 #: meets new ones at most switches; on ten masses a third of the switches return to one met before)
 CACHE_SIZE = 1024
 CACHE_BYTES = 32_000_000
-#: a run's combinations: the records (a list), their modes as the rows of ``keys`` (scanned instead of the records:
+#: a run's combinations: the records (a typed list), their modes as the rows of ``keys`` (scanned instead of the records:
 #: reading a record from the list counts references to each of its arrays) and ``used`` = [count, bytes]
 Cache = namedtuple("Cache", "combos keys used")
 #: K_r symmetric and the modal damping diagonal to this fraction of their size: the real-mode route (:func:`classical`)
@@ -549,7 +550,9 @@ def new_cache(asm, minv):
     """A run's :data:`Cache`, holding the combination with every contact slipping."""
     k = len(asm.belt)
     cb = build(asm, minv, np.zeros(k, dtype=np.int8))
-    cache = Cache([cb], np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64))
+    combos = List()  # a typed list: appended to in place from compiled code and from Python alike
+    combos.append(cb)
+    cache = Cache(combos, np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64))
     cache.keys[0] = cb.modes
     cache.used[0], cache.used[1] = 1, combo_bytes(cb)
     return cache
