@@ -9,8 +9,8 @@ Prints the best of 3 wall times of ``run_assembly`` (compiled first, not
 timed), the switches, and the time per switch.  Every switch with stuck
 contacts in new combinations builds and eigen-decomposes its reduced
 matrix (O(n^3)); the walk to the next event costs O(n k) per point.  On
-bench_structure.py's chains (CPU time): 37 us per switch at n = 2, 130 us at
-n = 10, 15 ms at n = 100 (the decompositions).
+bench_structure.py's chains (CPU time): 38 us per switch at n = 2, 84 us at
+n = 10, 1.8 ms at n = 100 (docs/performance.md).
 On a shared machine run it with ``OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1``:
 threaded BLAS under load made a 100 x 100 complex eig take seconds.
 """

@@ -34,6 +34,7 @@ from collections import namedtuple
 
 import numpy as np
 from numba import njit
+from numba.typed import List
 
 from ..layout import FD, FS, RESULTANT, STICK
 
@@ -44,8 +45,13 @@ Split = namedtuple("Split", "modes stuck R HE keff f0")
 N_SLOTS = 3
 #: a stuck set whose directions are this close to dependent is refused (its held forces are not defined)
 RANK_TOL = 1e-10
-#: the combinations kept per run (the first ones met; a chain with many contacts meets new ones at most switches)
-CACHE_SIZE = 64
+#: the combinations kept per run, and the memory they may take: the first ones met (a chain with many contacts
+#: meets new ones at most switches; on ten masses a third of the switches return to one met before)
+CACHE_SIZE = 1024
+CACHE_BYTES = 32_000_000
+#: a run's combinations: the records (a typed list), their modes as the rows of ``keys`` (scanned instead of the records:
+#: reading a record from the list counts references to each of its arrays) and ``used`` = [count, bytes]
+Cache = namedtuple("Cache", "combos keys used")
 #: K_r symmetric and the modal damping diagonal to this fraction of their size: the real-mode route (:func:`classical`)
 SYM_TOL = 1e-13
 #: a mode's two roots closer than this fraction of the system's rates: (nearly) defective, the general route decides
@@ -74,9 +80,52 @@ def slip_terms(asm, modes):
         fd = modes[j] * asm.law[j, FD]
         for a in range(n):
             f0[a] += fd * asm.normal[j, 0] * asm.contact_dir[j, a]
+        if not np.any(asm.normal[j, 1:] != 0.0):  # a constant normal load leaves K as it is
+            continue
+        for a in range(n):
             for b in range(n):
                 keff[a, b] -= fd * asm.contact_dir[j, a] * asm.normal[j, 1 + b]
     return keff, f0
+
+
+@njit(cache=True)
+def axes_of(asm, stuck):
+    """(ok, axis, scale): ok when every stuck direction is scale * a unit coordinate vector, all axes distinct."""
+    n, ns = asm.contact_dir.shape[1], len(stuck)
+    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
+    seen = np.zeros(n, dtype=np.bool_)
+    for i in range(ns):
+        row = asm.contact_dir[stuck[i]]
+        for a in range(n):
+            if row[a] != 0.0:
+                if axis[i] >= 0:
+                    return False, axis, scale
+                axis[i] = a
+        if axis[i] < 0 or seen[axis[i]]:  # a zero or a repeated direction: the general route refuses it
+            return False, axis, scale
+        seen[axis[i]] = True
+        scale[i] = row[axis[i]]
+    return True, axis, scale
+
+
+@njit(cache=True)
+def axes_split(minv, axis, scale):
+    """(Z, R, HE) of stuck directions along coordinate axes: Z selects the free coordinates, E_S picks entries."""
+    n, ns = minv.shape[0], len(axis)
+    mie = np.empty((n, ns))  # M^-1 E_S^T
+    for i in range(ns):
+        mie[:, i] = minv[:, axis[i]] * scale[i]
+    gi = np.empty((ns, ns))  # E_S M^-1 E_S^T
+    for i in range(ns):
+        gi[i] = scale[i] * mie[axis[i]]
+    r = mm(mie, np.linalg.inv(gi))
+    free = np.ones(n, dtype=np.bool_)
+    free[axis] = False
+    idx = np.nonzero(free)[0]
+    z = np.zeros((n, len(idx)))
+    for c in range(len(idx)):
+        z[idx[c], c] = 1.0
+    return z, r, r.T.copy()
 
 
 @njit(cache=True)
@@ -85,6 +134,9 @@ def constraint_split(asm, minv, stuck):
     n, ns = minv.shape[0], len(stuck)
     if ns == 0:
         return np.eye(n), np.zeros((n, 0)), np.zeros((0, n))
+    ok, axis, scale = axes_of(asm, stuck)
+    if ok:  # no SVD: the null space is spanned by the other axes
+        return axes_split(minv, axis, scale)
     es = np.empty((ns, n))
     for i in range(ns):
         es[i] = asm.contact_dir[stuck[i]]
@@ -116,69 +168,234 @@ def split(asm, minv, modes):
 
 
 @njit(cache=True)
-def modal(m, c, k, z):
-    """(lam, V, V^-1, V^-1 B) of the reduced first-order matrix (B = [0; M_r^-1])."""
+def selected(z):
+    """(ok, rows): ok when Z only selects coordinates (one 1 per column, zeros elsewhere): column c is e_rows[c]."""
+    n, r = z.shape
+    rows = np.full(r, -1, dtype=np.int64)
+    for i in range(n):  # row by row (row-major)
+        for c in range(r):
+            x = z[i, c]
+            if x == 0.0:
+                continue
+            if x != 1.0 or rows[c] >= 0:
+                return False, rows
+            rows[c] = i
+    return rows.min() >= 0 if r else True, rows
+
+
+@njit(cache=True)
+def project(a, z, sel, rows):
+    """Z^T A Z (entries picked out when Z is a selection: the same numbers without the products)."""
+    if not sel:
+        return mm(mm(z.T.copy(), a), z)
+    r = len(rows)
+    out = np.empty((r, r))
+    for c in range(r):
+        for d in range(r):
+            out[c, d] = a[rows[c], rows[d]]
+    return out
+
+
+@njit(cache=True)
+def columns(a, z, sel, rows):
+    """A Z (columns picked out when Z is a selection)."""
+    if not sel:
+        return mm(a, z)
+    out = np.empty((a.shape[0], len(rows)))
+    for c in range(len(rows)):
+        out[:, c] = a[:, rows[c]]
+    return out
+
+
+@njit(cache=True)
+def decompose(m, c, k, z):
+    """(lam, V, V^-1, V^-1 B, real) of the reduced first-order matrix (B = [0; M_r^-1]); real: the real-mode route.
+
+    On the real-mode route V's upper left block is the real modes Phi (:func:`classical`).
+    """
     r = z.shape[1]
     if r == 0:
         e = np.zeros((0, 0), dtype=np.complex128)
-        return np.zeros(0, dtype=np.complex128), e, e, e
-    zt = z.T.copy()
-    mr, kr, cr = mm(mm(zt, m), z), mm(mm(zt, k), z), mm(mm(zt, c), z)
-    mri = np.linalg.inv(mr)
-    ok, lam, v, vi = classical(mr, kr, cr)
+        return np.zeros(0, dtype=np.complex128), e, e, e, True
+    sel, rows = selected(z)
+    mr, kr, cr = project(m, z, sel, rows), project(k, z, sel, rows), project(c, z, sel, rows)
+    ok, lam, v, vi, vb = classical(mr, kr, cr)
     if not ok:
+        mri = np.linalg.inv(mr)
         a = np.zeros((2 * r, 2 * r))
         a[:r, r:] = np.eye(r)
         a[r:, :r] = -mm(mri, kr)
         a[r:, r:] = -mm(mri, cr)
         lam, v = np.linalg.eig(a.astype(np.complex128))
         vi = np.linalg.inv(v)
-    if np.sqrt(np.sum(np.abs(v) ** 2) * np.sum(np.abs(vi) ** 2)) > COND_MAX * 2 * r:
+        vb = mm(np.ascontiguousarray(vi[:, r:]), mri.astype(np.complex128))
+    if math.sqrt(frob2(v) * frob2(vi)) > COND_MAX * 2 * r:
         raise ValueError("structure: a mode combination's matrix is defective (e.g. an undamped rigid mode)")
-    vb = mm(np.ascontiguousarray(vi[:, r:]), mri.astype(np.complex128))
+    return lam, v, vi, vb, ok
+
+
+@njit(cache=True)
+def frob2(a):
+    """The sum of |a_ij|^2 (no temporary arrays)."""
+    s = 0.0
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            s += a[i, j].real ** 2 + a[i, j].imag ** 2
+    return s
+
+
+@njit(cache=True)
+def modal(m, c, k, z):
+    """(lam, V, V^-1, V^-1 B) of the reduced first-order matrix (B = [0; M_r^-1])."""
+    lam, v, vi, vb, _ = decompose(m, c, k, z)
     return lam, v, vi, vb
 
 
 @njit(cache=True)
-def classical(mr, kr, cr):
-    """(ok, lam, V, V^-1) from the real modes when K_r is symmetric and C_r diagonal in them (classical damping).
+def blocks(a):
+    """(label, count): the connected blocks of a symmetric matrix's nonzero pattern, numbered by first index."""
+    r = a.shape[0]
+    label, stack = np.full(r, -1, dtype=np.int64), np.empty(r, dtype=np.int64)
+    count = 0
+    for s in range(r):
+        if label[s] >= 0:
+            continue
+        label[s], stack[0], top = count, s, 1
+        while top:
+            top -= 1
+            i = stack[top]
+            for j in range(r):
+                if label[j] < 0 and a[i, j] != 0.0:
+                    label[j], stack[top] = count, j
+                    top += 1
+        count += 1
+    return label, count
 
-    M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T (symmetric), Phi = L^-T U: each mode
-    x'' + c_m x' + w^2 x = phi^T f decouples, with the pair of roots l1, l2 of l^2 + c_m l + w^2,
-    z1 + z2 = x = phi^T M_r y and l1 z1 + l2 z2 = x'.  A symmetric problem of size r instead of a
-    general one of size 2 r; ok is False (nothing else meant) when the damping couples the modes.
+
+@njit(cache=True)
+def block_eigh(sym):
+    """eigh of a symmetric matrix block by block (its entries outside the blocks are exact zeros).
+
+    Stuck coordinates cut a chain into pieces that do not couple: several small problems instead of one.
+    """
+    label, count = blocks(sym)
+    if count == 1:
+        return np.linalg.eigh(sym)
+    r = sym.shape[0]
+    w2, u = np.empty(r), np.zeros((r, r))
+    col = 0
+    for b in range(count):
+        idx = np.nonzero(label == b)[0]
+        if len(idx) == 1:
+            w2[col], u[idx[0], col] = sym[idx[0], idx[0]], 1.0
+            col += 1
+            continue
+        sub = np.empty((len(idx), len(idx)))
+        for i in range(len(idx)):
+            for j in range(len(idx)):
+                sub[i, j] = sym[idx[i], idx[j]]
+        wb, ub = np.linalg.eigh(sub)
+        for c in range(len(idx)):
+            w2[col + c] = wb[c]
+            for i in range(len(idx)):
+                u[idx[i], col + c] = ub[i, c]
+        col += len(idx)
+    return w2, u
+
+
+@njit(cache=True)
+def mass_modes(mr, kr):
+    """(w^2, Phi, Phi^T M_r): M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T, Phi = L^-T U (a diagonal M_r: L = sqrt)."""
+    r = mr.shape[0]
+    diagonal = True
+    for a in range(r):
+        for b in range(r):
+            if a != b and mr[a, b] != 0.0:
+                diagonal = False
+    if not diagonal:
+        li = np.linalg.inv(np.linalg.cholesky(mr))
+        sym = mm(mm(li, kr), li.T.copy())
+        w2, u = np.linalg.eigh(0.5 * (sym + sym.T))
+        phi = mm(li.T.copy(), u)
+        return w2, phi, mm(phi.T.copy(), mr)
+    s = np.empty(r)
+    for a in range(r):
+        s[a] = 1.0 / math.sqrt(mr[a, a])
+    sym = np.empty((r, r))
+    for a in range(r):
+        for b in range(r):
+            sym[a, b] = 0.5 * (s[a] * kr[a, b] * s[b] + s[b] * kr[b, a] * s[a])
+    w2, u = block_eigh(sym)
+    phi, xm = np.empty((r, r)), np.empty((r, r))
+    for i in range(r):
+        for a in range(r):
+            phi[i, a] = s[i] * u[i, a]
+            xm[a, i] = phi[i, a] * mr[i, i]
+    return w2, phi, xm
+
+
+@njit(cache=True)
+def modal_damping(mr, cr, phi):
+    """(ok, c_m): the modal damping Phi^T C_r Phi when diagonal (ok), c_m its diagonal.
+
+    C_r = alpha M_r exactly: alpha on the diagonal (the modes are M_r-orthonormal), no products.
     """
     r = mr.shape[0]
-    ez = np.zeros((0, 0), dtype=np.complex128)
-    if np.abs(kr - kr.T).max() > SYM_TOL * np.abs(kr).max():
-        return False, np.zeros(0, dtype=np.complex128), ez, ez
-    li = np.linalg.inv(np.linalg.cholesky(mr))
-    sym = mm(mm(li, kr), li.T.copy())
-    w2, u = np.linalg.eigh(0.5 * (sym + sym.T))
-    phi = mm(li.T.copy(), u)
+    alpha = cr[0, 0] / mr[0, 0]
+    proportional = True
+    for a in range(r):
+        for b in range(r):
+            if cr[a, b] != alpha * mr[a, b]:
+                proportional = False
+    if proportional:
+        return True, np.full(r, alpha)
     cm = mm(mm(phi.T.copy(), cr), phi)
     scale, cd = np.abs(cm).max(), np.diag(cm).copy()
     for a in range(r):
         cm[a, a] = 0.0
-    if np.abs(cm).max() > SYM_TOL * scale:
-        return False, np.zeros(0, dtype=np.complex128), ez, ez
-    xm = mm(phi.T.copy(), mr)  # x = phi^T M_r y
+    return np.abs(cm).max() <= SYM_TOL * scale, cd
+
+
+@njit(cache=True)
+def classical(mr, kr, cr):
+    """(ok, lam, V, V^-1, V^-1 B) from the real modes when K_r is symmetric and C_r diagonal in them (classical damping).
+
+    M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T (symmetric), Phi = L^-T U: each mode
+    x'' + c_m x' + w^2 x = phi^T f decouples, with the pair of roots l1, l2 of l^2 + c_m l + w^2,
+    z1 + z2 = x = phi^T M_r y and l1 z1 + l2 z2 = x'.  A symmetric problem of size r instead of a
+    general one of size 2 r; V^-1 needs no inverse, and V^-1 B = [-Phi^T; Phi^T] / (l2 - l1) no M_r^-1
+    (Phi^T M_r M_r^-1).  ok is False (nothing else meant) when the damping couples the modes.
+    """
+    r = mr.shape[0]
+    ez = np.zeros((0, 0), dtype=np.complex128)
+    if np.abs(kr - kr.T).max() > SYM_TOL * np.abs(kr).max():
+        return False, np.zeros(0, dtype=np.complex128), ez, ez, ez
+    w2, phi, xm = mass_modes(mr, kr)
+    ok, cd = modal_damping(mr, cr, phi)
+    if not ok:
+        return False, np.zeros(0, dtype=np.complex128), ez, ez, ez
     lam = np.empty(2 * r, dtype=np.complex128)
     v = np.zeros((2 * r, 2 * r), dtype=np.complex128)
     vi = np.zeros((2 * r, 2 * r), dtype=np.complex128)
+    vb = np.empty((2 * r, r), dtype=np.complex128)
     scale_l = math.sqrt(np.abs(w2).max()) + np.abs(cd).max()
     for a in range(r):
-        l1, l2 = roots(cd[a], w2[a])
-        lam[a], lam[r + a] = l1, l2
-        d = l2 - l1
-        if abs(d) <= NEAR_DOUBLE * scale_l:  # (nearly) a double root: left to the general route's verdict
-            return False, lam, v, vi
-        for i in range(r):
+        lam[a], lam[r + a] = roots(cd[a], w2[a])
+        if abs(lam[r + a] - lam[a]) <= NEAR_DOUBLE * scale_l:  # (nearly) a double root: the general route decides
+            return False, lam, v, vi, vb
+    for i in range(r):  # row by row (row-major arrays)
+        for a in range(r):
             v[i, a], v[i, r + a] = phi[i, a], phi[i, a]
-            v[r + i, a], v[r + i, r + a] = l1 * phi[i, a], l2 * phi[i, a]
-            vi[a, i], vi[a, r + i] = l2 * xm[a, i] / d, -xm[a, i] / d
-            vi[r + a, i], vi[r + a, r + i] = -l1 * xm[a, i] / d, xm[a, i] / d
-    return True, lam, v, vi
+            v[r + i, a], v[r + i, r + a] = lam[a] * phi[i, a], lam[r + a] * phi[i, a]
+    for a in range(r):
+        l1, l2 = lam[a], lam[r + a]
+        di = 1.0 / (l2 - l1)
+        for i in range(r):
+            x = xm[a, i] * di
+            vi[a, i], vi[a, r + i] = l2 * x, -x
+            vi[r + a, i], vi[r + a, r + i] = -l1 * x, x
+            vb[a, i], vb[r + a, i] = -phi[i, a] * di, phi[i, a] * di
+    return True, lam, v, vi, vb
 
 
 @njit(cache=True)
@@ -248,20 +465,65 @@ def constants(asm, stuck, z, r, keff, vb, d):
 
 
 @njit(cache=True)
+def sparse_mm(a, b):
+    """a @ b, skipping b's zeros when most of its entries are (the real modes of a chain cut into pieces)."""
+    nz = 0
+    for i in range(b.shape[0]):
+        for j in range(b.shape[1]):
+            nz += b[i, j] != 0.0
+    if 4 * nz > b.size:
+        return mm(a, b)
+    at, out = a.T.copy(), np.zeros((b.shape[1], a.shape[0]))  # transposed: rows are contiguous
+    for i in range(b.shape[0]):
+        for j in range(b.shape[1]):
+            x = b[i, j]
+            if x != 0.0:
+                for e in range(at.shape[1]):
+                    out[j, e] += x * at[i, e]
+    return out.T.copy()
+
+
+@njit(cache=True)
+def event_modes(d, active, z, lam, v, real):
+    """W = D T V on the active slots (zero rows elsewhere); T: (y, y') -> (q, q').
+
+    On the real-mode route V = [[Phi, Phi], [l1 Phi, l2 Phi]]: W = [P + Q l1, P + Q l2] with the real
+    P = D_q Z Phi and Q = D_q' Z Phi, a product of size r instead of 2 r, and no complex one.
+    """
+    n, r = z.shape[0], z.shape[1]
+    slots = np.nonzero(active)[0]
+    w = np.zeros((d.shape[0], 2 * r), dtype=np.complex128)
+    if r == 0 or len(slots) == 0:
+        return w
+    dq, dv = np.empty((len(slots), n)), np.empty((len(slots), n))
+    for e in range(len(slots)):
+        dq[e], dv[e] = d[slots[e], :n], d[slots[e], n:]
+    sel, rows = selected(z)
+    dzq, dzv = columns(dq, z, sel, rows), columns(dv, z, sel, rows)
+    if real:
+        phi = np.ascontiguousarray(v[:r, :r].real)
+        p, q = sparse_mm(dzq, phi), sparse_mm(dzv, phi)
+        for e in range(len(slots)):
+            for a in range(r):
+                w[slots[e], a] = p[e, a] + lam[a] * q[e, a]
+                w[slots[e], r + a] = p[e, a] + lam[r + a] * q[e, a]
+        return w
+    dt = np.hstack((dzq, dzv))
+    wr, wi = mm(dt, np.ascontiguousarray(v.real)), mm(dt, np.ascontiguousarray(v.imag))
+    for e in range(len(slots)):
+        w[slots[e]] = wr[e] + 1j * wi[e]
+    return w
+
+
+@njit(cache=True)
 def build(asm, minv, modes):
     """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact)."""
-    n = minv.shape[0]
     stuck = np.nonzero(modes == STICK)[0]
     keff, f0 = slip_terms(asm, modes)
     z, r, he = constraint_split(asm, minv, stuck)
-    lam, v, vi, vb = modal(asm.mass, asm.damping, keff, z)
+    lam, v, vi, vb, real = decompose(asm.mass, asm.damping, keff, z)
     d, dc, dh, active = event_maps(asm, modes, stuck, he, keff, f0)
-    nr = z.shape[1]
-    t = np.zeros((2 * n, 2 * nr))
-    t[:n, :nr] = z
-    t[n:, nr:] = z
-    dt = mm(d, t)  # real: two real products instead of a complex one
-    w = mm(dt, np.ascontiguousarray(v.real)) + 1j * mm(dt, np.ascontiguousarray(v.imag))
+    w = event_modes(d, active, z, lam, v, real)
     c = np.ascontiguousarray
     zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, r, keff, c(vb), c(d))
     return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, c(lam), c(v), c(vi), c(vb), c(d), dc, c(dh),
@@ -278,12 +540,35 @@ def same(a, b):
 
 
 @njit(cache=True)
+def combo_bytes(cb):
+    """About the memory a combination holds (its largest arrays)."""
+    return 16 * (cb.V.size + cb.Vi.size + cb.VB.size + cb.W.size) + 8 * (cb.D.size + cb.Z.size + cb.keff.size)
+
+
+@njit(cache=True)
+def new_cache(asm, minv):
+    """A run's :data:`Cache`, holding the combination with every contact slipping."""
+    k = len(asm.belt)
+    cb = build(asm, minv, np.zeros(k, dtype=np.int8))
+    combos = List()  # a typed list: appended to in place from compiled code and from Python alike
+    combos.append(cb)
+    cache = Cache(combos, np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64))
+    cache.keys[0] = cb.modes
+    cache.used[0], cache.used[1] = 1, combo_bytes(cb)
+    return cache
+
+
+@njit(cache=True)
 def lookup(cache, asm, minv, modes):
-    """The combination of ``modes`` from ``cache`` (a list), built (and kept while there is room) when missing."""
-    for i in range(len(cache)):
-        if same(cache[i].modes, modes):
-            return cache[i]
+    """The combination of ``modes`` from the :data:`Cache` ``cache``, built (and kept while there is room) when missing."""
+    keys, used = cache.keys, cache.used
+    for i in range(used[0]):
+        if same(keys[i], modes):
+            return cache.combos[i]
     cb = build(asm, minv, modes)
-    if len(cache) < CACHE_SIZE:  # (no eviction: popping records of arrays from a compiled list corrupts memory)
-        cache.append(cb)
+    size = combo_bytes(cb)
+    if used[0] < len(keys) and used[1] + size <= CACHE_BYTES:  # (no eviction: popping records of arrays from a
+        cache.combos.append(cb)  # compiled list corrupts memory)
+        keys[used[0]] = modes
+        used[0], used[1] = used[0] + 1, used[1] + size
     return cb

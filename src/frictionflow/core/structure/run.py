@@ -18,7 +18,7 @@ from numba import njit
 
 from .. import codes
 from ..layout import STICK
-from .combo import N_SLOTS, build, lookup
+from .combo import N_SLOTS, build, lookup, new_cache
 from .events import first_event, values
 from .phase import modal_at, start, state_at
 from .stick import decide, friction_forces, hold_velocity, normal_load
@@ -151,7 +151,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
     """Integrate the structure ``asm`` from t = 0 to ``t_end`` into the records ``out`` (:data:`~..records.Samples`)
     and ``events`` (:data:`~..records.Events`); the :data:`Result`."""
     k, om = len(asm.belt), asm.force_omega
-    cache = [build(asm, minv, np.zeros(k, dtype=np.int8))]
+    cache = new_cache(asm, minv)
     acc = np.zeros(out.work.shape[1])
     modes, v, lost = initial(asm, minv, cache)
     q, t = asm.q0.copy(), 0.0
