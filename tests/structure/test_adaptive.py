@@ -16,7 +16,7 @@ from frictionflow.core.structure.combo import N_SLOTS
 from frictionflow.solvers.structure import simulate_system, structure_solvers, supported_laws
 from frictionflow.system import System, load_system
 
-from ..cli.processes import cli, one_line
+from ..cli.processes import in_process, one_line
 
 RTOL, ATOL = 1e-10, 1e-12
 EXAMPLES = "examples/models"
@@ -257,10 +257,10 @@ v = { x = 0.01 }
 def test_cli_model_with_a_stribeck_law_runs_adaptive_and_agrees_with_the_single_mass(tmp_path):
     path = tmp_path / "one.toml"
     path.write_text(ONE_DOF_STRIBECK)
-    code, out, err, _ = cli("simulate", "--model", str(path), "--t-end", "300", "--json")
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--t-end", "300", "--json")
     assert code == 0, err
     model = json.loads(out)
-    code, out, err, _ = cli("simulate", "--friction", "stribeck", "--fd", "0.02", "--fs", "0.04", "--vs", "0.05",
+    code, out, err, _ = in_process("simulate", "--friction", "stribeck", "--fd", "0.02", "--fs", "0.04", "--vs", "0.05",
                             "--vb", "0.01", "--zeta", "0.05", "--x0", "0.02", "--v0", "0.01", "--t-end", "300",
                             "--solver", "adaptive", "--json")
     assert code == 0, err
@@ -272,15 +272,15 @@ def test_cli_model_with_a_stribeck_law_runs_adaptive_and_agrees_with_the_single_
     assert contact["P_heat"] == pytest.approx(av["P_heat"], rel=1e-6)
     assert -model["elements"]["damper.0"]["P"] == pytest.approx(av["P_dv"], rel=1e-6)
     assert model["energy_residual"] < 1e-8
-    code, out, err, _ = cli("simulate", "--model", str(path), "--solver", "exact", "--t-end", "30", "--json")
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--solver", "exact", "--t-end", "30", "--json")
     assert code == 2 and out == ""
     one_line(err, "solver=exact", "contact.0", "friction=stribeck", "solver=adaptive")
     coulomb = tmp_path / "coulomb.toml"
     coulomb.write_text(ONE_DOF_STRIBECK.replace('"stribeck"', '"coulomb"').replace("vs = 0.05\n", ""))
-    code, out, err, _ = cli("simulate", "--model", str(coulomb), "--ode-rtol", "1e-8", "--t-end", "30", "--json")
+    code, out, err, _ = in_process("simulate", "--model", str(coulomb), "--ode-rtol", "1e-8", "--t-end", "30", "--json")
     assert code == 2 and out == ""  # auto runs Coulomb contacts exactly: the adaptive tolerance would go unused
     one_line(err, "--ode-rtol", "solver=exact")
-    code, out, err, _ = cli("orbit", "--model", str(coulomb), "--solver", "adaptive", "--json")
+    code, out, err, _ = in_process("orbit", "--model", str(coulomb), "--solver", "adaptive", "--json")
     assert code == 2 and out == ""
     one_line(err, "--solver", "--model")
 

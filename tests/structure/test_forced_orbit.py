@@ -20,7 +20,7 @@ from frictionflow.orbits.forced import find_forced_orbit
 from frictionflow.orbits.structure import fd_structure_monodromy, find_structure_orbit
 from frictionflow.solvers.structure import run_assembly
 from frictionflow.system import load_system
-from tests.cli.processes import cli
+from tests.cli.processes import in_process
 
 from .builders import chain, single_mass
 
@@ -139,7 +139,7 @@ q = { x2 = 0.3 }
 def test_cli_orbit_of_a_forced_model_is_the_apis(tmp_path):
     path = tmp_path / "forced.toml"
     path.write_text(FORCED_MODEL, encoding="utf-8")
-    code, out, err, _ = cli("orbit", "--model", str(path), "--json", "--fd-check")
+    code, out, err, _ = in_process("orbit", "--model", str(path), "--json", "--fd-check")
     assert code == 0, err
     report = json.loads(out)
     api = find_structure_orbit(load_system(path), t_transient=300.0)

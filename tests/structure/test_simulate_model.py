@@ -19,7 +19,7 @@ from frictionflow.solvers.structure import simulate_system
 from frictionflow.structure_plot import energy_budget
 from frictionflow.system import load_system
 
-from ..cli.processes import cli, one_line
+from ..cli.processes import cli, in_process, one_line
 
 ONE_DOF = """
 dof = ["x"]
@@ -50,10 +50,10 @@ def test_one_dof_model_agrees_with_simulate(tmp_path, case):
     zeta, vb, stick = CASES[case]
     path = tmp_path / "one.toml"
     path.write_text(ONE_DOF.format(c=2 * zeta, vb=vb, stick=stick))
-    code, out, err, _ = cli("simulate", "--model", str(path), "--t-end", "300", "--json")
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--t-end", "300", "--json")
     assert code == 0, err
     model = json.loads(out)
-    code, out, err, _ = cli("simulate", "--friction", "coulomb", "--fd", "0.02", "--fs", "0.04", "--vb", str(vb),
+    code, out, err, _ = in_process("simulate", "--friction", "coulomb", "--fd", "0.02", "--fs", "0.04", "--vb", str(vb),
                             "--zeta", str(zeta), "--stick-force", stick, "--x0", "0.02", "--v0", str(vb), "--t-end", "300",
                             "--json")
     assert code == 0, err
@@ -75,13 +75,13 @@ def test_one_dof_model_agrees_with_simulate(tmp_path, case):
 def test_model_refuses_single_mass_options(tmp_path):
     path = tmp_path / "one.toml"
     path.write_text(ONE_DOF.format(c=0.1, vb=0.01, stick="resultant"))
-    code, out, err, _ = cli("simulate", "--model", str(path), "--fd", "0.3", "--json")
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--fd", "0.3", "--json")
     assert code == 2 and out == ""
     one_line(err, "--fd", "--model")
 
 
 def test_model_file_missing_is_one_line(tmp_path):
-    code, out, err, _ = cli("simulate", "--model", str(tmp_path / "none.toml"), "--json")
+    code, out, err, _ = in_process("simulate", "--model", str(tmp_path / "none.toml"), "--json")
     assert code == 2 and out == ""
     one_line(err, "--model")
 
@@ -142,7 +142,7 @@ def test_model_figure_and_netcdf(tmp_path):
     path = tmp_path / "one.toml"
     path.write_text(ONE_DOF.format(c=0.1, vb=0.01, stick="resultant"))
     png, nc = tmp_path / "run.png", tmp_path / "run.nc"
-    code, out, err, _ = cli("simulate", "--model", str(path), "--t-end", "100", "--plot", str(png), "--dpi", "80",
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--t-end", "100", "--plot", str(png), "--dpi", "80",
                             "--out", str(nc))
     assert code == 0, err
     with Image.open(png) as im:

@@ -21,7 +21,7 @@ from frictionflow.orbits.shooting import ShootingError
 from frictionflow.orbits.structure import find_structure_orbit
 from frictionflow.solvers.structure import run_assembly
 from frictionflow.system import System, load_system
-from tests.cli.processes import cli, one_line
+from tests.cli.processes import cli, in_process, one_line
 from tests.golden.cases import ORBIT
 
 from .builders import assembly, chain, single_mass
@@ -245,7 +245,7 @@ q = { x2 = 0.5 }
 def test_cli_orbit_model_json(tmp_path):
     path = tmp_path / "chain.toml"
     path.write_text(MODEL, encoding="utf-8")
-    code, out, err, _ = cli("orbit", "--model", str(path), "--json", "--tol", "1e-11")
+    code, out, err, _ = in_process("orbit", "--model", str(path), "--json", "--tol", "1e-11")
     assert code == 0, err
     report = json.loads(out)
     api = find_structure_orbit(_chain("both_stick")[0], tol=1e-11)
@@ -261,10 +261,10 @@ def test_cli_orbit_model_json(tmp_path):
 def test_cli_orbit_model_refuses_single_mass_options(tmp_path):
     path = tmp_path / "chain.toml"
     path.write_text(MODEL, encoding="utf-8")
-    code, out, err, _ = cli("orbit", "--model", str(path), "--zeta", "0.1")
+    code, out, err, _ = in_process("orbit", "--model", str(path), "--zeta", "0.1")
     assert code == 2 and out == ""
     one_line(err, "--zeta", "--model")
-    code, out, err, _ = cli("orbit", "--model", str(path), "--plot", str(tmp_path / "o.png"))
+    code, out, err, _ = in_process("orbit", "--model", str(path), "--plot", str(tmp_path / "o.png"))
     assert code == 2 and not (tmp_path / "o.png").exists()
     one_line(err, "--plot")
 

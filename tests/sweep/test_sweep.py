@@ -156,6 +156,11 @@ def test_sigkill_and_resume_gives_the_uninterrupted_dataset(tmp_path):
     assert int((resumed["kind"] < 0).sum()) == 0
 
 
+# slow: tests/cli/test_faults_io.py covers both claims on its one cluster -- a dask sweep equal to the local one
+# (test_what_dask_recovers_from_by_itself_is_not_printed) and every worker SIGKILLed mid-sweep, deterministically
+# after the first committed chunk, still giving the identical result
+# (test_a_sweep_whose_workers_are_killed_completes_with_the_same_result)
+@pytest.mark.slow
 def test_dask_cluster_with_a_worker_killed_gives_identical_results(tmp_path):
     distributed = pytest.importorskip("distributed")
     cfg = parse_sweep({**COULOMB, "grid": {"zeta": {"start": 0.0, "stop": 0.12, "num": 24}, "vb": [0.005, 0.02], "fd": [0.01, 0.02]}})
