@@ -15,8 +15,12 @@ function g, decides one of
 * one root: g(a) > 0 >= g(b) and g' < 0 throughout (-g'(a) > M2 h);
 * undecided: the interval is halved.
 
-When every function is decided, the earliest root (Illinois, :mod:`..roots`)
-is the event.  An interval that reaches ``floor`` undecided is a touch: a
+When every function is decided, the earliest root is the event: located in
+its proven bracket (g(a) > 0 >= g(b), g' < 0 throughout) by Newton's steps
+from g' = Re(W (lam z + beta)) + ..., which z(tau) gives at little cost
+(:func:`.phase.event_rate`), kept inside the bracket and closing it from
+both sides, with Illinois' point as the safeguard (:func:`..roots.update_newton`),
+to 2 EPS of the root's size.  An interval that reaches ``floor`` undecided is a touch: a
 function within rounding (or M2 floor^2 / 8, ~1e-25 of its size) of 0
 that need not cross; it is reported as an event at the end nearer 0 (``graze``), and the
 stick rule decides what follows (a slipping contact whose V_r touches 0
@@ -30,7 +34,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..roots import RUNNING, bracket, update
+from ..roots import RUNNING, bracket, update_newton
 from ..stiff import NO_RUNTIME
 from .phase import (bound, bound_of, event_rate, event_raw, event_size, modal_at, modal_raw,
                     mode_bounds)
@@ -59,8 +63,9 @@ def locate(cb, ph, om, e, a, b, ga, gb, z):
     lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta  # no record passed in the loop
     e0, e1, dh, w = ph.e0, ph.e1, cb.Dh, cb.W
     while br.status == RUNNING:
-        modal_raw(lam, z0, b0, b1, bh, theta, om, br.x, z)
-        br = update(br, br.x, event_raw(e0, e1, dh, w, theta, om, e, br.x, z))
+        x = br.x
+        modal_raw(lam, z0, b0, b1, bh, theta, om, x, z)
+        br = update_newton(br, x, event_raw(e0, e1, dh, w, theta, om, e, x, z), event_rate(cb, ph, om, e, x, z, 1))
     return br.hi
 
 
