@@ -141,11 +141,22 @@ def release_over_limit(asm, minv, q, v, t, modes, released):
 
 
 @njit(cache=True)
+def any_slipping(modes, leaving):
+    """Some contact leaving V_r = 0 slips."""
+    for j in range(len(modes)):
+        if leaving[j] and modes[j] != STICK:
+            return True
+    return False
+
+
+@njit(cache=True)
 def check_directions(asm, minv, q, v, t, modes, leaving, first):
     """Each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it (``leaving``: those).
 
     ``first``: the :data:`Split` of ``modes`` as they come (None: made here).
     """
+    if not any_slipping(modes, leaving):  # no direction to check: no acceleration to compute
+        return
     for attempt in range(2):
         cb = first if attempt == 0 and first is not None else split(asm, minv, modes)
         acc = acceleration(asm, cb, q, v, t)
