@@ -47,11 +47,15 @@ def rest(asm, cb, q, v, t, damped):
 def held(asm, cb, q, v, t):
     """(rule, friction): each stuck contact's held force as its stick rule reads it, and its friction force."""
     fr = -(cb.HE @ rest(asm, cb, q, v, t, True))
-    fs = -(cb.HE @ rest(asm, cb, q, v, t, False))
     rule = fr.copy()
+    spring = False  # the spring rule's force only where some stuck contact reads it
     for i in range(len(cb.stuck)):
-        if asm.law[cb.stuck[i], RESULTANT] == 0.0:
-            rule[i] = fs[i]
+        spring = spring or asm.law[cb.stuck[i], RESULTANT] == 0.0
+    if spring:
+        fs = -(cb.HE @ rest(asm, cb, q, v, t, False))
+        for i in range(len(cb.stuck)):
+            if asm.law[cb.stuck[i], RESULTANT] == 0.0:
+                rule[i] = fs[i]
     return rule, fr
 
 
