@@ -167,10 +167,7 @@ def update_newton(b, x, fx, dfx):
     the bracket's far end where it was.  So the next point is the Newton
     estimate r = x - fx / dfx moved a quarter of the tolerance beyond r, away
     from x: once r is that close to the root the point falls on its other
-    side and the bracket closes from both sides.  (A bound on r's error,
-    k fx^2 / |dfx| with k >= |f''| / (2 min|f'|^2), would place the point
-    beyond the root at every step; on the structure engine's events it took
-    more points than this, its bounds being loose.)  Illinois' point stays
+    side and the bracket closes from both sides.  Illinois' point stays
     where the point is not strictly inside the bracket, where dfx is 0 or not
     finite, and after :data:`STALL` points that did not halve the bracket
     (its bisection), so the bracket still halves at least every ``STALL + 1``

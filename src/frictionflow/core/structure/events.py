@@ -154,7 +154,7 @@ def first_event(cb, ph, om, tau_end, departing, h0, floor):
     """(tau, slot, graze): the phase's first event in (0, tau_end]; slot -1: none (tau = tau_end)."""
     za = modal_at(cb, ph, om, 0.0)
     k = len(ph.e0)
-    room = Room(za, za.copy(), np.empty(k), np.empty(k), np.empty(len(za)), np.full(k, -1.0), departing.copy(),
+    room = Room(za, za.copy(), ph.e0.copy(), np.empty(k), np.empty(len(za)), np.full(k, -1.0), departing.copy(),
                 za.copy())
     return walk(cb, ph, om, tau_end, h0, floor, room)
 
