@@ -25,8 +25,8 @@ steady over the run) with masses sticking while their neighbours slip.
 Times are CPU times of this process (best of several), so that load from
 other processes disturbs them less (on a loaded machine set OPENBLAS_NUM_THREADS=1:
 threaded BLAS on small matrices costs the engine several times over).  Measured
-(docs/performance.md): 2 masses 38 us per switch, 28x scipy at the same accuracy,
-40x against rtol 1e-13; 10 masses 84-88 us per switch, 8x / 9x (213 of its 278
+(docs/performance.md): 2 masses 19 us per switch, 54x scipy at the same accuracy,
+77x against rtol 1e-13; 10 masses 69 us per switch, 10x / 11x (213 of its 278
 switches enter a new stuck set, each a new combination, 12 us); 30 masses 236-252 us;
 100 masses 1.8-1.9 ms, most of it the walk to the next event.  Both sides record no dense samples
 (only the switches and the ends).

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import random
 
 import pytest
 from hypothesis import given, settings
@@ -163,4 +164,65 @@ def test_random_cubics_with_a_bracketed_simple_root(roots, scale, u, w):
     tol = 1e-14 + RTOL * abs(ref)
     assert status == R.CONVERGED
     assert abs(root - r2) <= tol and abs(root - ref) <= 2 * tol
+    assert n <= _bound(lo, hi, tol)
+
+
+def _newton_root(f, df, lo, hi, xtol=0.0, rtol=RTOL, maxiter=1000):
+    """(root, status, points, every bracket) of the search with f' known (update_newton)."""
+    b = R.bracket(lo, hi, f(lo), f(hi), xtol, rtol, 0.0, maxiter)
+    seen = [b]
+    while b.status == R.RUNNING:
+        x = b.x
+        b = R.update_newton(b, x, f(x), df(x))
+        seen.append(b)
+    return b.hi, b.status, b.n, seen
+
+
+#: name: (f, f', lo, hi): monotone on the bracket, as the structure engine's certified brackets are
+MONOTONE = {
+    "convex": (lambda x: math.expm1(10.0 * (x - 0.3)), lambda x: 10.0 * math.exp(10.0 * (x - 0.3)), -1.0, 3.0),
+    "concave": (lambda x: -math.expm1(10.0 * (x - 0.3)), lambda x: -10.0 * math.exp(10.0 * (x - 0.3)), -1.0, 3.0),
+    "kepler": (lambda x: x - 0.9 * math.sin(x) - 0.1, lambda x: 1.0 - 0.9 * math.cos(x), 0.0, 3.0),
+    "cos_minus_x": (lambda x: math.cos(x) - x, lambda x: -math.sin(x) - 1.0, 0.0, 1.0),
+    "steep_tanh": (lambda x: math.tanh(1e6 * (x - 0.3)), lambda x: 1e6 * (1.0 - math.tanh(1e6 * (x - 0.3)) ** 2),
+                   -1.0, 2.0),
+    "far_from_0": (lambda x: math.log(x / 1234.5), lambda x: 1.0 / x, 1000.0, 2000.0),
+    "cubic": (lambda x: (x - 0.2) ** 3 + 0.5 * (x - 0.4), lambda x: 3.0 * (x - 0.2) ** 2 + 0.5, -0.6, 1.0),
+}
+
+
+@pytest.mark.parametrize("name", MONOTONE)
+def test_newton_in_the_bracket_agrees_with_brentq_and_closes_it(name):
+    f, df, lo, hi = MONOTONE[name]
+    root, status, n, seen = _newton_root(f, df, lo, hi)
+    ref = _brent(f, lo, hi, 0.0)
+    tol = RTOL * abs(ref)
+    assert status == R.CONVERGED
+    last = seen[-1]
+    # the bracket itself closed to the tolerance (not only the points converged), its ends of their signs
+    assert abs(last.hi - last.lo) <= R.tolerance(last, last.hi) or f(last.hi) == 0.0
+    assert f(last.hi) * f(hi) > 0.0 or f(last.hi) == 0.0
+    assert abs(root - ref) <= 2 * tol
+    assert n <= _bound(lo, hi, tol)
+    for b in seen:  # every point evaluated strictly inside the bracket of its time
+        assert b.status != R.RUNNING or min(b.lo, b.hi) < b.x < max(b.lo, b.hi)
+
+
+@pytest.mark.parametrize("name", ["convex", "concave", "kepler", "cos_minus_x", "far_from_0", "cubic"])
+def test_newton_in_the_bracket_takes_fewer_points_than_illinois(name):
+    f, df, lo, hi = MONOTONE[name]
+    n_newton = _newton_root(f, df, lo, hi)[2]
+    n_illinois = R.find_root(f, lo, hi, rtol=RTOL)[2]
+    assert n_newton < n_illinois
+
+
+@settings(max_examples=100, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_a_wrong_derivative_still_converges_within_the_safeguards_bound(seed):
+    rng = random.Random(seed)
+    f = lambda x: math.expm1(10.0 * (x - 0.3))  # noqa: E731
+    lo, hi = -1.0, 3.0
+    root, status, n, _ = _newton_root(f, lambda x: rng.uniform(-100.0, 100.0), lo, hi)
+    tol = RTOL * 0.3
+    assert status == R.CONVERGED and abs(root - 0.3) <= 2 * tol
     assert n <= _bound(lo, hi, tol)

@@ -18,7 +18,7 @@ solutions, to a few rounding units) stay what they were -- bit for bit
 except where the stall safeguard now cuts a slow run short (a few 1e-14 of
 a forced continuation's event parameter) -- its state is a handful of
 numbers, and a caller's own better guess (a Newton step, see :func:`steer`)
-slots in as the next point.
+slots in as the next point (:func:`update_newton` does so where f' is cheap).
 
 Reverse communication: f is evaluated by the caller, which keeps whatever f
 needs (the kernels' step buffers, a continuation's solutions) and whatever it
@@ -157,6 +157,28 @@ def steer(b, guess):
         return Bracket(b.lo, b.hi, b.flo, b.fhi, float(guess), b.side, b.n, b.status, b.width, b.stall,
                        b.xtol, b.rtol, b.ftol, b.maxiter, b.xscale)
     return b
+
+
+@njit(cache=True)
+def update_newton(b, x, fx, dfx):
+    """:func:`update` with f'(x) = dfx known: the next point from Newton's step where it is safe.
+
+    A Newton iteration alone converges to the root from one side and leaves
+    the bracket's far end where it was.  So the next point is the Newton
+    estimate r = x - fx / dfx moved a quarter of the tolerance beyond r, away
+    from x: once r is that close to the root the point falls on its other
+    side and the bracket closes from both sides.  Illinois' point stays
+    where the point is not strictly inside the bracket, where dfx is 0 or not
+    finite, and after :data:`STALL` points that did not halve the bracket
+    (its bisection), so the bracket still halves at least every ``STALL + 1``
+    points whatever f and dfx.
+    """
+    b = update(b, x, fx)
+    if b.status != RUNNING or b.stall >= STALL or not (dfx != 0.0 and math.isfinite(dfx)):
+        return b
+    r = x - fx / dfx
+    d = 0.25 * tolerance(b, r)
+    return steer(b, r + d if r > x else r - d)
 
 
 @njit(cache=True)

@@ -15,8 +15,12 @@ function g, decides one of
 * one root: g(a) > 0 >= g(b) and g' < 0 throughout (-g'(a) > M2 h);
 * undecided: the interval is halved.
 
-When every function is decided, the earliest root (Illinois, :mod:`..roots`)
-is the event.  An interval that reaches ``floor`` undecided is a touch: a
+When every function is decided, the earliest root is the event: located in
+its proven bracket (g(a) > 0 >= g(b), g' < 0 throughout) by Newton's steps
+from g' = Re(W (lam z + beta)) + ..., which z(tau) gives at little cost
+(:func:`.phase.event_rate`), kept inside the bracket and closing it from
+both sides, with Illinois' point as the safeguard (:func:`..roots.update_newton`),
+to 2 EPS of the root's size.  An interval that reaches ``floor`` undecided is a touch: a
 function within rounding (or M2 floor^2 / 8, ~1e-25 of its size) of 0
 that need not cross; it is reported as an event at the end nearer 0 (``graze``), and the
 stick rule decides what follows (a slipping contact whose V_r touches 0
@@ -25,10 +29,13 @@ tangentially may stick there).
 
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numpy as np
 from numba import njit
 
-from ..roots import RUNNING, bracket, update
+from ..roots import RUNNING, bracket, update_newton
+from ..stiff import NO_RUNTIME
 from .phase import (bound, bound_of, event_rate, event_raw, event_size, modal_at, modal_raw,
                     mode_bounds)
 
@@ -46,16 +53,19 @@ def values(cb, ph, om, tau, z, g):
             g[e] = event_raw(e0, e1, dh, w, theta, om, e, tau, z)
 
 
-@njit(cache=True)
-def locate(cb, ph, om, e, a, b, ga, gb):
-    """The root of event function ``e`` in [a, b] (g(a) > 0 >= g(b)): the far end of the final bracket."""
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting of the records' arrays
+def locate(cb, ph, om, e, a, b, ga, gb, z):
+    """The root of event function ``e`` in [a, b] (g(a) > 0 >= g(b)): the far end of the final bracket.
+
+    ``z``: room for the modal coordinates.
+    """
     br = bracket(a, b, ga, gb, 0.0, 2.0 * EPS, 0.0, 200, 0.0)
-    z = np.empty(len(cb.lam), dtype=np.complex128)
     lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta  # no record passed in the loop
     e0, e1, dh, w = ph.e0, ph.e1, cb.Dh, cb.W
     while br.status == RUNNING:
-        modal_raw(lam, z0, b0, b1, bh, theta, om, br.x, z)
-        br = update(br, br.x, event_raw(e0, e1, dh, w, theta, om, e, br.x, z))
+        x = br.x
+        modal_raw(lam, z0, b0, b1, bh, theta, om, x, z)
+        br = update_newton(br, x, event_raw(e0, e1, dh, w, theta, om, e, x, z), event_rate(cb, ph, om, e, x, z, 1))
     return br.hi
 
 
@@ -101,19 +111,19 @@ def decide_interval(cb, ph, om, a, h, za, ga, gb, departing, clear, dz):
     return decided, root
 
 
-@njit(cache=True)
-def earliest(cb, ph, om, a, b, ga, gb):
-    """(tau, slot) of the earliest root among the functions that are <= 0 at b."""
+@njit(cache=True, **NO_RUNTIME)
+def earliest(cb, ph, om, a, b, ga, gb, z):
+    """(tau, slot) of the earliest root among the functions that are <= 0 at b (``z``: room, :func:`locate`)."""
     best, slot = b, -1
     for e in range(len(ga)):
         if cb.active[e] and gb[e] <= 0.0:
-            t = locate(cb, ph, om, e, a, b, ga[e], gb[e]) if ga[e] > 0.0 else b
+            t = locate(cb, ph, om, e, a, b, ga[e], gb[e], z) if ga[e] > 0.0 else b
             if slot < 0 or t < best:
                 best, slot = t, e
     return best, slot
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)
 def nearest_zero(cb, ph, om, a, b, za, ga, gb, dep):
     """(tau, slot): among the undecided functions (not departing at the start), the end of [a, b] nearest 0."""
     best, tau, slot = 1.0e300, b, -1
@@ -127,23 +137,40 @@ def nearest_zero(cb, ph, om, a, b, za, ga, gb, dep):
     return tau, slot
 
 
+@njit(cache=True, inline="always")
+def copy(src, dst):
+    """dst[:] = src element by element (a slice is a view, which needs numba's runtime)."""
+    for i in range(len(src)):
+        dst[i] = src[i]
+
+
+#: the walk's room: z at both ends, the functions at both ends, the modes' bound terms, how far each function
+#: is proven clear, the departing flags, and z for the root finder
+Room = namedtuple("Room", "za zb ga gb dz clear dep zr")
+
+
 @njit(cache=True)
 def first_event(cb, ph, om, tau_end, departing, h0, floor):
     """(tau, slot, graze): the phase's first event in (0, tau_end]; slot -1: none (tau = tau_end)."""
     za = modal_at(cb, ph, om, 0.0)
-    ga = ph.e0.copy()
+    k = len(ph.e0)
+    room = Room(za, za.copy(), ph.e0.copy(), np.empty(k), np.empty(len(za)), np.full(k, -1.0), departing.copy(),
+                za.copy())
+    return walk(cb, ph, om, tau_end, h0, floor, room)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted in the loop
+def walk(cb, ph, om, tau_end, h0, floor, room):
+    """:func:`first_event` in the room ``room`` (:data:`Room`, ``za`` = z(0), ``dep`` the departing flags)."""
+    za, zb, ga, gb, dz, clear, dep = room.za, room.zb, room.ga, room.gb, room.dz, room.clear, room.dep
     values(cb, ph, om, 0.0, za, ga)
-    dep = departing.copy()
     for e in range(len(ga)):
         if cb.active[e] and ga[e] <= ROUNDING * EPS * event_size(cb, ph, e, 0.0, za):
             dep[e] = True
         if dep[e]:
             ga[e] = 0.0
     a, h = 0.0, h0
-    gb = ga.copy()
-    clear = np.full(len(ga), -1.0)
-    zb = za.copy()
-    dz = np.empty(len(za))
+    copy(ga, gb)
     lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta
     while a < tau_end:
         b = min(a + h, tau_end)
@@ -154,12 +181,13 @@ def first_event(cb, ph, om, tau_end, departing, h0, floor):
             h = 0.5 * (b - a)
             continue
         if root:
-            tau, slot = earliest(cb, ph, om, a, b, ga, gb)
+            tau, slot = earliest(cb, ph, om, a, b, ga, gb, room.zr)
             return tau, slot, False
         if not decided:
             tau, slot = nearest_zero(cb, ph, om, a, b, za, ga, gb, dep)
             if slot >= 0:
                 return tau, slot, True
         a, h = b, min(2.0 * h, h0)
-        za[:], ga[:] = zb, gb
+        copy(zb, za)
+        copy(gb, ga)
     return tau_end, -1, False

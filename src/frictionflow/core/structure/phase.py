@@ -24,6 +24,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ..stiff import NO_RUNTIME
 from .combo import mm
 from .spectral import expint, phis
 
@@ -73,8 +74,14 @@ def modal_raw(lams, z0, b0, b1, bh, theta, om, tau, z):
 def modal_at(cb, ph, om, tau):
     """z(tau), a new array (:func:`modal_into`)."""
     z = np.empty(len(cb.lam), dtype=np.complex128)
-    modal_into(cb, ph, om, tau, z)
+    modal_fill(cb, ph, om, tau, z)
     return z
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def modal_fill(cb, ph, om, tau, z):
+    """:func:`modal_into`, compiled on its own."""
+    modal_into(cb, ph, om, tau, z)
 
 
 @njit(cache=True, inline="always")
@@ -108,8 +115,15 @@ def state_at(cb, ph, om, tau):
     """(q, q') at ``tau`` after the phase's start, new arrays."""
     n = cb.Z.shape[0]
     q, v = np.empty(n), np.empty(n)
-    state_into(cb, ph, tau, modal_at(cb, ph, om, tau), q, v)
+    state_fill(cb, ph, om, tau, np.empty(len(cb.lam), dtype=np.complex128), q, v)
     return q, v
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def state_fill(cb, ph, om, tau, z, q, v):
+    """(q, q') at ``tau`` into ``q``, ``v`` (``z``: room for z(tau))."""
+    modal_into(cb, ph, om, tau, z)
+    state_into(cb, ph, tau, z, q, v)
 
 
 @njit(cache=True, inline="always")

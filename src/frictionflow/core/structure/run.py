@@ -20,7 +20,8 @@ from .. import codes
 from ..layout import STICK
 from .combo import N_SLOTS, build, lookup, new_cache
 from .events import first_event, values
-from .phase import modal_at, start, state_at
+from ..stiff import NO_RUNTIME
+from .phase import modal_into, start, state_at
 from .stick import decide, friction_forces, hold_velocity, normal_load
 from .work import integrate
 
@@ -61,18 +62,27 @@ def first_step(cb, om, span):
 @njit(cache=True)
 def reached(cb, ph, om, tau, slot):
     """The event slots reached at ``tau``: the located one and any other within rounding of 0 or past it."""
-    z = modal_at(cb, ph, om, tau)
     g = ph.e0.copy()
-    values(cb, ph, om, tau, z, g)
     out = np.zeros(len(g), dtype=np.bool_)
+    mark_reached(cb, ph, om, tau, slot, np.empty(len(cb.lam), dtype=np.complex128), g, out)
+    return out
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def mark_reached(cb, ph, om, tau, slot, z, g, out):
+    """:func:`reached` into ``out`` (``z``, ``g``: room for z(tau) and the event functions)."""
+    modal_into(cb, ph, om, tau, z)
+    values(cb, ph, om, tau, z, g)
     for e in range(len(g)):
         if not cb.active[e]:
             continue
-        scale = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + np.abs(cb.Dh[e]).sum()
+        sh = 0.0  # |Dh_e| summed in order, as np.abs(row).sum()
+        for f in range(cb.Dh.shape[1]):
+            sh += abs(cb.Dh[e, f])
+        scale = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + sh
         for a in range(len(z)):
             scale += abs(cb.W[e, a] * z[a])
         out[e] = e == slot or g[e] <= SIMULTANEOUS * scale
-    return out
 
 
 @njit(cache=True)

@@ -47,11 +47,15 @@ def rest(asm, cb, q, v, t, damped):
 def held(asm, cb, q, v, t):
     """(rule, friction): each stuck contact's held force as its stick rule reads it, and its friction force."""
     fr = -(cb.HE @ rest(asm, cb, q, v, t, True))
-    fs = -(cb.HE @ rest(asm, cb, q, v, t, False))
     rule = fr.copy()
+    spring = False  # the spring rule's force only where some stuck contact reads it
     for i in range(len(cb.stuck)):
-        if asm.law[cb.stuck[i], RESULTANT] == 0.0:
-            rule[i] = fs[i]
+        spring = spring or asm.law[cb.stuck[i], RESULTANT] == 0.0
+    if spring:
+        fs = -(cb.HE @ rest(asm, cb, q, v, t, False))
+        for i in range(len(cb.stuck)):
+            if asm.law[cb.stuck[i], RESULTANT] == 0.0:
+                rule[i] = fs[i]
     return rule, fr
 
 
@@ -141,11 +145,22 @@ def release_over_limit(asm, minv, q, v, t, modes, released):
 
 
 @njit(cache=True)
+def any_slipping(modes, leaving):
+    """Some contact leaving V_r = 0 slips."""
+    for j in range(len(modes)):
+        if leaving[j] and modes[j] != STICK:
+            return True
+    return False
+
+
+@njit(cache=True)
 def check_directions(asm, minv, q, v, t, modes, leaving, first):
     """Each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it (``leaving``: those).
 
     ``first``: the :data:`Split` of ``modes`` as they come (None: made here).
     """
+    if not any_slipping(modes, leaving):  # no direction to check: no acceleration to compute
+        return
     for attempt in range(2):
         cb = first if attempt == 0 and first is not None else split(asm, minv, modes)
         acc = acceleration(asm, cb, q, v, t)

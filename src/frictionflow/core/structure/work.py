@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit
 
 from ..layout import FD, STICK
+from ..stiff import NO_RUNTIME
 from .phase import modal_raw, state_raw
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
@@ -121,20 +122,23 @@ def rule(x):
 
 @njit(cache=True)
 def integrate(asm, cb, ph, om, ta, tb, acc):
-    """Add each channel's work over [ta, tb] of the phase (local times) to ``acc``.
-
-    The records' arrays are taken out once here: the node loop passes arrays only (a record passed at every
-    node would cost the reference counting of all its arrays each time).
-    """
-    span = tb - ta
-    if span <= 0.0:
+    """Add each channel's work over [ta, tb] of the phase (local times) to ``acc``."""
+    if tb - ta <= 0.0:
         return
-    mu = 2.0 * (np.abs(cb.lam).max() if len(cb.lam) else 0.0) + 2.0 * (om.max() if len(om) else 0.0)
+    n = len(asm.q0)
+    room = (np.empty(len(acc)), np.empty(len(asm.belt)), np.empty(len(cb.lam), dtype=np.complex128), np.empty(n),
+            np.empty(n), np.empty(n))
+    accumulate(asm, cb, ph, om, ta, tb, acc, room)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted at the nodes
+def accumulate(asm, cb, ph, om, ta, tb, acc, room):
+    """:func:`integrate` in ``room`` = (powers, contact forces, z, q, q', room for the held forces)."""
+    span = tb - ta
+    mu = 2.0 * max_abs(cb.lam) + 2.0 * (largest(om) if len(om) else 0.0)
     nodes, weights, nsub = rule(span * mu)
     h = span / nsub
-    n = len(asm.q0)
-    p, f = np.empty(len(acc)), np.empty(len(asm.belt))
-    z, q, v, rest = np.empty(len(cb.lam), dtype=np.complex128), np.empty(n), np.empty(n), np.empty(n)
+    p, f, z, q, v, rest = room
     lam, vm, zm, rm, modes, stuck, keff, f0, he = cb.lam, cb.V, cb.Z, cb.R, cb.modes, cb.stuck, cb.keff, cb.f0, cb.HE
     z0, b0, b1, bh, theta, u0, bs, t0 = ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, ph.u0, ph.bs, ph.t0
     normal, law, damping, belt, cd = asm.normal, asm.law, asm.damping, asm.belt, asm.contact_dir
@@ -153,3 +157,21 @@ def integrate(asm, cb, ph, om, ta, tb, acc):
             contact_powers(belt, cd, modes, f, v, c, p)
             for c in range(len(acc)):
                 acc[c] += 0.5 * h * weights[g] * p[c]
+
+
+@njit(cache=True, inline="always")
+def largest(x):
+    """x.max() for a non-empty x, without numba's runtime."""
+    m = x[0]
+    for i in range(1, len(x)):
+        m = max(m, x[i])
+    return m
+
+
+@njit(cache=True, inline="always")
+def max_abs(x):
+    """max |x_i| (0 for no entries), as np.abs(x).max() gives it, without the array that makes."""
+    m = 0.0
+    for i in range(len(x)):
+        m = max(m, abs(x[i]))
+    return m
