@@ -42,14 +42,9 @@ import math
 import numpy as np
 from numba import njit
 
-try:  # numba's switch to compile without its runtime: an underscore option, so only where this numba has it
-    from numba.core.cpu import CPUTargetOptions
-    NO_RUNTIME = {"_nrt": False} if hasattr(CPUTargetOptions, "_nrt") else {}
-except ImportError:
-    NO_RUNTIME = {}
-
 from .friction import belt_accel, belt_speed, external_force, external_force_rate
 from .layout import LAW, N_PARAMS
+from .options import NO_RUNTIME
 from .roots import EPS, RUNNING, bracket, update
 
 #: codes of the laws with internal state (the stiff engine's dispatch)

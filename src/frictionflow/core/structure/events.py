@@ -35,7 +35,7 @@ import numpy as np
 from numba import njit
 
 from ..roots import RUNNING, bracket, update_newton
-from ..stiff import NO_RUNTIME
+from ..options import NO_RUNTIME
 from .phase import (bound, bound_of, event_rate, event_raw, event_size, modal_at, modal_raw,
                     mode_bounds)
 

@@ -24,8 +24,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..stiff import NO_RUNTIME
-from .combo import mm
+from ..options import NO_RUNTIME
 from .spectral import expint, phis
 
 Phase = namedtuple("Phase", "t0 z0 b0 b1 bh theta e0 e1 u0 bs")

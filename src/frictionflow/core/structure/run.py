@@ -20,7 +20,7 @@ from .. import codes
 from ..layout import STICK
 from .combo import N_SLOTS, build, lookup, new_cache
 from .events import first_event, values
-from ..stiff import NO_RUNTIME
+from ..options import NO_RUNTIME
 from .phase import modal_into, start, state_at
 from .stick import decide, friction_forces, hold_velocity, normal_load
 from .work import integrate

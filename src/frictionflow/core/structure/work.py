@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit
 
 from ..layout import FD, STICK
-from ..stiff import NO_RUNTIME
+from ..options import NO_RUNTIME
 from .phase import modal_raw, state_raw
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
