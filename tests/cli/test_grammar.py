@@ -149,10 +149,11 @@ def test_a_command_that_cannot_use_a_law_says_so_in_one_line(command, capsys):
     assert len(err) == 1 and f"{command} cannot use karnopp" in err[0] and "coulomb" in err[0], err
 
 
-def test_the_start_defaults_to_fd_and_vb_on_every_command():
+def test_the_start_defaults_to_the_laws_on_every_command():
     for command, opt in every_option():
         if opt.opts[0] in ("--x0", "--v0"):
-            assert ("[F_d]" if opt.opts[0] == "--x0" else "[V_b]") in opt.help, f"{command}: {opt.help}"
+            want = "[the law's start, F_d for most]" if opt.opts[0] == "--x0" else "[the law's start, V_b for most]"
+            assert want in " ".join(opt.help.split()), f"{command}: {opt.help}"
 
 
 FORCED = ["--friction", "coulomb", "--zeta", "0.05", "--vb", "0.1", "--fex", "0.5", "--omega", "1.0", "--fd", "0.5",
