@@ -208,16 +208,16 @@ def columns(a, z, sel, rows):
 
 
 @njit(cache=True)
-def decompose(m, c, k, z):
+def decompose(m, c, k, z, sel, rows):
     """(lam, V, V^-1, V^-1 B, real) of the reduced first-order matrix (B = [0; M_r^-1]); real: the real-mode route.
 
-    On the real-mode route V's upper left block is the real modes Phi (:func:`classical`).
+    On the real-mode route V's upper left block is the real modes Phi (:func:`classical`).  ``sel``, ``rows``:
+    :func:`selected` of Z.
     """
     r = z.shape[1]
     if r == 0:
         e = np.zeros((0, 0), dtype=np.complex128)
         return np.zeros(0, dtype=np.complex128), e, e, e, True
-    sel, rows = selected(z)
     mr, kr, cr = project(m, z, sel, rows), project(k, z, sel, rows), project(c, z, sel, rows)
     ok, lam, v, vi, vb = classical(mr, kr, cr)
     if not ok:
@@ -247,7 +247,8 @@ def frob2(a):
 @njit(cache=True)
 def modal(m, c, k, z):
     """(lam, V, V^-1, V^-1 B) of the reduced first-order matrix (B = [0; M_r^-1])."""
-    lam, v, vi, vb, _ = decompose(m, c, k, z)
+    sel, rows = selected(z)
+    lam, v, vi, vb, _ = decompose(m, c, k, z, sel, rows)
     return lam, v, vi, vb
 
 
@@ -484,8 +485,9 @@ def sparse_mm(a, b):
 
 
 @njit(cache=True)
-def event_modes(d, active, z, lam, v, real):
-    """W = D T V on the active slots (zero rows elsewhere); T: (y, y') -> (q, q').
+def event_modes(d, active, z, sel, rows, lam, v, real):
+    """W = D T V on the active slots (zero rows elsewhere); T: (y, y') -> (q, q') (``sel``, ``rows``: :func:`selected`
+    of Z).
 
     On the real-mode route V = [[Phi, Phi], [l1 Phi, l2 Phi]]: W = [P + Q l1, P + Q l2] with the real
     P = D_q Z Phi and Q = D_q' Z Phi, a product of size r instead of 2 r, and no complex one.
@@ -498,7 +500,6 @@ def event_modes(d, active, z, lam, v, real):
     dq, dv = np.empty((len(slots), n)), np.empty((len(slots), n))
     for e in range(len(slots)):
         dq[e], dv[e] = d[slots[e], :n], d[slots[e], n:]
-    sel, rows = selected(z)
     dzq, dzv = columns(dq, z, sel, rows), columns(dv, z, sel, rows)
     if real:
         phi = np.ascontiguousarray(v[:r, :r].real)
@@ -521,9 +522,10 @@ def build(asm, minv, modes):
     stuck = np.nonzero(modes == STICK)[0]
     keff, f0 = slip_terms(asm, modes)
     z, r, he = constraint_split(asm, minv, stuck)
-    lam, v, vi, vb, real = decompose(asm.mass, asm.damping, keff, z)
+    sel, rows = selected(z)  # Z a selection of coordinates (stuck directions along axes): products become picks
+    lam, v, vi, vb, real = decompose(asm.mass, asm.damping, keff, z, sel, rows)
     d, dc, dh, active = event_maps(asm, modes, stuck, he, keff, f0)
-    w = event_modes(d, active, z, lam, v, real)
+    w = event_modes(d, active, z, sel, rows, lam, v, real)
     c = np.ascontiguousarray
     zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, r, keff, c(vb), c(d))
     return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, c(lam), c(v), c(vi), c(vb), c(d), dc, c(dh),

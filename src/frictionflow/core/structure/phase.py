@@ -245,3 +245,18 @@ def event_size(cb, ph, e, tau, z):
     for a in range(len(z)):
         s += abs(w[e, a] * z[a])
     return s
+
+
+@njit(cache=True, inline="always")
+def fastest_rate(lam, om):
+    """max |lam| + max Omega (0 for none of either): the phase's fastest time scale's rate, without numba's
+    runtime (the walk's longest interval and the work quadrature's node count both follow it)."""
+    m = 0.0
+    for i in range(len(lam)):
+        m = max(m, abs(lam[i]))
+    if len(om) == 0:
+        return m + 0.0
+    w = om[0]
+    for i in range(1, len(om)):
+        w = max(w, om[i])
+    return m + w

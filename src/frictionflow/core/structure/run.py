@@ -21,7 +21,7 @@ from ..layout import STICK
 from .combo import N_SLOTS, build, lookup, new_cache
 from .events import first_event, values
 from ..options import NO_RUNTIME
-from .phase import modal_into, start, state_at
+from .phase import event_size, fastest_rate, modal_into, start, state_at
 from .stick import decide, friction_forces, hold_velocity, normal_load
 from .work import integrate
 
@@ -55,7 +55,7 @@ def emit(out, i, asm, cb, q, v, t, acc):
 @njit(cache=True)
 def first_step(cb, om, span):
     """The walk's longest interval: a fraction of the fastest time scale (the whole span without one)."""
-    rate = (np.abs(cb.lam).max() if len(cb.lam) else 0.0) + (om.max() if len(om) else 0.0)
+    rate = fastest_rate(cb.lam, om)
     return span if rate == 0.0 else min(span, 1.0 / rate)
 
 
@@ -74,15 +74,8 @@ def mark_reached(cb, ph, om, tau, slot, z, g, out):
     modal_into(cb, ph, om, tau, z)
     values(cb, ph, om, tau, z, g)
     for e in range(len(g)):
-        if not cb.active[e]:
-            continue
-        sh = 0.0  # |Dh_e| summed in order, as np.abs(row).sum()
-        for f in range(cb.Dh.shape[1]):
-            sh += abs(cb.Dh[e, f])
-        scale = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + sh
-        for a in range(len(z)):
-            scale += abs(cb.W[e, a] * z[a])
-        out[e] = e == slot or g[e] <= SIMULTANEOUS * scale
+        if cb.active[e]:
+            out[e] = e == slot or g[e] <= SIMULTANEOUS * event_size(cb, ph, e, tau, z)
 
 
 @njit(cache=True)

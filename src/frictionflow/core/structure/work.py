@@ -23,7 +23,7 @@ from numba import njit
 
 from ..layout import FD, STICK
 from ..options import NO_RUNTIME
-from .phase import modal_raw, state_raw
+from .phase import fastest_rate, modal_raw, state_raw
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
 MU_H = 2.0
@@ -135,7 +135,7 @@ def integrate(asm, cb, ph, om, ta, tb, acc):
 def accumulate(asm, cb, ph, om, ta, tb, acc, room):
     """:func:`integrate` in ``room`` = (powers, contact forces, z, q, q', room for the held forces)."""
     span = tb - ta
-    mu = 2.0 * max_abs(cb.lam) + 2.0 * (largest(om) if len(om) else 0.0)
+    mu = 2.0 * fastest_rate(cb.lam, om)
     nodes, weights, nsub = rule(span * mu)
     h = span / nsub
     p, f, z, q, v, rest = room
@@ -158,20 +158,3 @@ def accumulate(asm, cb, ph, om, ta, tb, acc, room):
             for c in range(len(acc)):
                 acc[c] += 0.5 * h * weights[g] * p[c]
 
-
-@njit(cache=True, inline="always")
-def largest(x):
-    """x.max() for a non-empty x, without numba's runtime."""
-    m = x[0]
-    for i in range(1, len(x)):
-        m = max(m, x[i])
-    return m
-
-
-@njit(cache=True, inline="always")
-def max_abs(x):
-    """max |x_i| (0 for no entries), as np.abs(x).max() gives it, without the array that makes."""
-    m = 0.0
-    for i in range(len(x)):
-        m = max(m, abs(x[i]))
-    return m
