@@ -18,6 +18,11 @@ steady over the run) with masses sticking while their neighbours slip.
    switch times agree with the engine's to 1e-9 (all switches found, none
    added), and at rtol 1e-13, the reference's best (switch times to ~1e-11,
    the nearest scipy comes to the exact engine's accuracy: a lower bound).  Goal >= 100x, moonshot 1000x.
+   The same with the outputs the engine always gives: the reference also
+   integrates each element's work (``work=True``: springs, dampers, forces, belt input and heat per contact,
+   what ``simulate`` reports as power flow); its accuracy is then the switch times to 1e-9 and every
+   channel's final work to 1e-9 of the largest.  Both comparisons are printed: the first is the
+   issue's headline (switch times only), the second says what a scipy user pays for the same answers.
 2. The exact engine on chains of n = 2, 10, 30, 100 masses over the same
    time: switches, CPU time, time per switch and how it grows with n
    (the exponent between successive n).
@@ -85,39 +90,57 @@ def switch_error(ref_switches: np.ndarray, switches: np.ndarray) -> float:
     return float(np.max(np.abs(ref_switches - switches))) if len(switches) else 0.0
 
 
-def engine_timing(run_assembly, asm, t_end: float) -> tuple[float, np.ndarray]:
-    """CPU time of the exact engine on ``asm`` and its switch times (after a compiling run)."""
+def engine_timing(run_assembly, asm, t_end: float) -> tuple[float, np.ndarray, np.ndarray]:
+    """CPU time of the exact engine on ``asm``, its switch times and its works at ``t_end`` (after a compiling run)."""
     motion = run_assembly(asm, t_end)
     once = cpu_best_of(lambda: run_assembly(asm, t_end), 1)
     t = cpu_best_of(lambda: run_assembly(asm, t_end), repeats(once))
     sw = motion.switches
-    return t, np.asarray(sw["t"] if isinstance(sw, dict) else sw, dtype=float)
+    return t, np.asarray(sw["t"] if isinstance(sw, dict) else sw, dtype=float), motion.work[:, -1]
 
 
-def compare(n: int, run_assembly) -> None:
-    """Part 1 for the chain of ``n`` masses."""
-    asm, t_end = chain_case(n), T_END[n]
-    if run_assembly is not None:
-        t_exact, switches = engine_timing(run_assembly, asm, t_end)
-    else:  # no engine yet: the reference at its tightest stands in as the target, and no ratio
-        t_exact, switches = math.nan, reference.integrate(asm, t_end, rtol=3e-14, atol=1e-16).switches
-    print(f"\n## {n}-mass chain, t_end {t_end:g}: {len(switches)} switches")
-    print(f"exact engine {t_exact * 1e3:10.3f} ms  ({t_exact / max(len(switches), 1) * 1e6:.2f} us per switch)")
-    print(f"{'rtol':>8} {'switches':>9} {'switch err':>11} {'CPU ms':>10} {'ratio':>9}")
-    rows = []
-    for rtol in RTOLS:
-        ref = reference.integrate(asm, t_end, rtol=rtol, atol=rtol * 1e-2)
-        t_ref = cpu_best_of(lambda: reference.integrate(asm, t_end, rtol=rtol, atol=rtol * 1e-2), 3)
-        err = switch_error(ref.switches, switches)
-        rows.append((rtol, err, t_ref))
-        print(f"{rtol:8.0e} {len(ref.switches):9d} {err:11.2e} {t_ref * 1e3:10.1f} {t_ref / t_exact:9.0f}x")
+def work_error(ref_work: np.ndarray, work: np.ndarray) -> float:
+    """Largest difference of the channels' final works, relative to the largest of them."""
+    return float(np.max(np.abs(ref_work - work)) / max(np.max(np.abs(work)), 1e-300))
+
+
+def headline(rows, label: str) -> None:
+    """The ratio at the loosest rtol whose answers reach ACCURACY, and at the tightest rtol."""
     reached = [r for r in rows if r[1] <= ACCURACY]
     if reached:
         rtol, err, t_ref = reached[0]
-        print(f"same accuracy (switch times to {ACCURACY:g}): scipy rtol {rtol:g} (error {err:.1e}), "
-              f"exact {t_ref / t_exact:.0f}x faster (goal >= 100x, moonshot 1000x)")
+        print(f"{label}: same accuracy ({ACCURACY:g}) at scipy rtol {rtol:g} (error {err:.1e}): "
+              f"exact {t_ref:.0f}x faster (goal >= 100x, moonshot 1000x)")
     rtol, err, t_ref = rows[-1]
-    print(f"scipy at its best (rtol {rtol:g}, switch error vs exact {err:.1e}): exact {t_ref / t_exact:.0f}x faster")
+    print(f"{label}: scipy at its best (rtol {rtol:g}, error {err:.1e}): exact {t_ref:.0f}x faster")
+
+
+def compare(n: int, run_assembly) -> None:
+    """Part 1 for the chain of ``n`` masses: switch times only, then with every element's work."""
+    asm, t_end = chain_case(n), T_END[n]
+    if run_assembly is not None:
+        t_exact, switches, works = engine_timing(run_assembly, asm, t_end)
+    else:  # no engine yet: the reference at its tightest stands in as the target, and no ratio
+        best = reference.integrate(asm, t_end, rtol=3e-14, atol=1e-16, work=True)
+        t_exact, switches, works = math.nan, best.switches, best.work[:, -1]
+    print(f"\n## {n}-mass chain, t_end {t_end:g}: {len(switches)} switches")
+    print(f"exact engine {t_exact * 1e3:10.3f} ms  ({t_exact / max(len(switches), 1) * 1e6:.2f} us per switch)")
+    print(f"{'rtol':>8} {'switches':>9} {'switch err':>11} {'CPU ms':>10} {'ratio':>9}"
+          f" | with works: {'error':>9} {'CPU ms':>10} {'ratio':>9}")
+    plain, full = [], []
+    for rtol in RTOLS:
+        run = lambda work: reference.integrate(asm, t_end, rtol=rtol, atol=rtol * 1e-2, work=work)  # noqa: E731
+        ref, ref_w = run(False), run(True)
+        t_ref = cpu_best_of(lambda: run(False), 3)
+        t_ref_w = cpu_best_of(lambda: run(True), 3)
+        err = switch_error(ref.switches, switches)
+        err_w = max(switch_error(ref_w.switches, switches), work_error(ref_w.work[:, -1], works))
+        plain.append((rtol, err, t_ref / t_exact))
+        full.append((rtol, err_w, t_ref_w / t_exact))
+        print(f"{rtol:8.0e} {len(ref.switches):9d} {err:11.2e} {t_ref * 1e3:10.1f} {t_ref / t_exact:9.0f}x"
+              f" | {err_w:20.2e} {t_ref_w * 1e3:10.1f} {t_ref_w / t_exact:9.0f}x")
+    headline(plain, "switch times")
+    headline(full, "with every element's work")
 
 
 def scaling(run_assembly) -> None:
@@ -126,7 +149,7 @@ def scaling(run_assembly) -> None:
     print(f"{'n':>5} {'switches':>9} {'CPU ms':>10} {'us/switch':>10} {'growth':>8}")
     prev = None
     for n in (2, 10, 30, 100):
-        t, switches = engine_timing(run_assembly, chain_case(n), T_SCALING[n])
+        t, switches, _ = engine_timing(run_assembly, chain_case(n), T_SCALING[n])
         per = t / max(len(switches), 1)
         growth = "" if prev is None else f"n^{math.log(per / prev[1]) / math.log(n / prev[0]):.2f}"
         print(f"{n:5d} {len(switches):9d} {t * 1e3:10.2f} {per * 1e6:10.2f} {growth:>8}")
