@@ -28,6 +28,9 @@ from ..options import NO_RUNTIME
 from .spectral import expint, phis
 
 Phase = namedtuple("Phase", "t0 z0 b0 b1 bh theta e0 e1 u0 bs")
+#: the moduli the walk's bounds take, as real arrays: |z(a)| at the current interval's start (rewritten per
+#: interval) and the phase's |b0|, |b1|, |bh|, |lam| (complex moduli are hypot calls: not in the loops)
+Mags = namedtuple("Mags", "z b0 b1 bh lam")
 
 
 @njit(cache=True)
@@ -97,7 +100,7 @@ def state_raw(vm, zm, rm, u0, bs, tau, z, q, v):
         q[i], v[i] = 0.0, 0.0
     for a in range(2 * r):
         x = 0.0
-        for b in range(2 * r):
+        for b in range(len(z)):  # V's columns: one per root kept (:mod:`.combo`: a conjugate pair's once)
             x += (vm[a, b] * z[b]).real
         col, out = (a, q) if a < r else (a - r, v)
         for i in range(n):
@@ -179,43 +182,63 @@ def event_rate(cb, ph, om, e, tau, z, order):
     return s
 
 
+@njit(cache=True)
+def magnitudes(cb, ph):
+    """The phase's :data:`Mags`, room for |z| (filled by the walk at each interval's start)."""
+    return Mags(np.empty(len(cb.lam)), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam))
+
+
 @njit(cache=True, inline="always")
-def bound(cb, ph, om, e, a, h, za, order):
-    """A bound on |g_e^(order)| over [a, a + h] (order 2 or 3) from the modal amplitudes |z(a)|."""
+def abs_into(z, out):
+    """|z| elementwise into ``out``."""
+    for i in range(len(z)):
+        out[i] = abs(z[i])
+
+
+@njit(cache=True, inline="always")
+def growth(rate, h):
+    """e^{max(rate, 0) h} (1 for a decaying mode, without the exponential)."""
+    return math.exp(rate * h) if rate > 0.0 else 1.0
+
+
+@njit(cache=True, inline="always")
+def beta_bounds(mg, om, m, tmax):
+    """(|beta_m|, |beta_m'|, |beta_m''|) bounded over [0, tmax] from the phase's magnitudes ``mg``."""
+    b0, b1, b2 = mg.b0[m] + mg.b1[m] * tmax, mg.b1[m], 0.0
+    for f in range(len(om)):
+        c = mg.bh[m, f]
+        b0, b1, b2 = b0 + c, b1 + c * om[f], b2 + c * om[f] ** 2
+    return b0, b1, b2
+
+
+@njit(cache=True, inline="always")
+def bound(cb, om, e, a, h, mg, order):
+    """A bound on |g_e^(order)| over [a, a + h] (order 2 or 3) from the modal amplitudes ``mg.z`` = |z(a)|."""
     tmax = abs(a) + h
     s = 0.0
     for f in range(len(om)):
         s += abs(cb.Dh[e, f]) * om[f] ** order
-    for m in range(len(za)):
-        w = abs(cb.W[e, m])
+    for m in range(len(mg.z)):
+        w = cb.WA[e, m]
         if w == 0.0:
             continue
-        lam = cb.lam[m]
-        # bounds on |beta|, |beta'|, |beta''| over the interval
-        b0, b1, b2 = abs(ph.b0[m]) + abs(ph.b1[m]) * tmax, abs(ph.b1[m]), 0.0
-        for f in range(len(om)):
-            c = abs(ph.bh[m, f])
-            b0, b1, b2 = b0 + c, b1 + c * om[f], b2 + c * om[f] ** 2
-        zb = math.exp(max(lam.real, 0.0) * h) * (abs(za[m]) + h * b0)
-        al = abs(lam)
+        b0, b1, b2 = beta_bounds(mg, om, m, tmax)
+        zb = growth(cb.lam[m].real, h) * (mg.z[m] + h * b0)
+        al = mg.lam[m]
         dz = al * al * zb + al * b0 + b1 if order == 2 else al ** 3 * zb + al * al * b0 + al * b1 + b2
         s += w * dz
     return s
 
 
 @njit(cache=True, inline="always")
-def mode_bounds(cb, ph, om, a, h, za, out):
+def mode_bounds(cb, om, a, h, mg, out):
     """Each mode's term of :func:`bound` of order 2 (before the weight |W[e, m]|) into ``out``: once per interval."""
     tmax = abs(a) + h
-    lams, pb0, pb1, bh = cb.lam, ph.b0, ph.b1, ph.bh
-    for m in range(len(za)):
-        lam = lams[m]
-        b0, b1 = abs(pb0[m]) + abs(pb1[m]) * tmax, abs(pb1[m])
-        for f in range(len(om)):
-            c = abs(bh[m, f])
-            b0, b1 = b0 + c, b1 + c * om[f]
-        zb = math.exp(max(lam.real, 0.0) * h) * (abs(za[m]) + h * b0)
-        al = abs(lam)
+    lams = cb.lam
+    for m in range(len(out)):
+        b0, b1, _ = beta_bounds(mg, om, m, tmax)
+        zb = growth(lams[m].real, h) * (mg.z[m] + h * b0)
+        al = mg.lam[m]
         out[m] = al * al * zb + al * b0 + b1
 
 
@@ -223,11 +246,11 @@ def mode_bounds(cb, ph, om, a, h, za, out):
 def bound_of(cb, om, e, dz):
     """:func:`bound` of order 2 from the modes' terms ``dz`` (:func:`mode_bounds`), summed in the same order."""
     s = 0.0
-    dh, wm = cb.Dh, cb.W
+    dh, wa = cb.Dh, cb.WA
     for f in range(len(om)):
         s += abs(dh[e, f]) * om[f] ** 2
     for m in range(len(dz)):
-        w = abs(wm[e, m])
+        w = wa[e, m]
         if w == 0.0:
             continue
         s += w * dz[m]
@@ -235,15 +258,30 @@ def bound_of(cb, om, e, dz):
 
 
 @njit(cache=True, inline="always")
-def event_size(cb, ph, e, tau, z):
-    """The sum of the magnitudes of event function ``e``'s terms at ``tau``: its rounding is a few EPS of it."""
-    dh, w = cb.Dh, cb.W
+def fixed_size(cb, ph, e, tau):
+    """|e0| + |e1 tau| + sum |Dh|: the terms of event function ``e`` that are not modal."""
+    dh = cb.Dh
     sh = 0.0  # |Dh_e| summed in order, as np.abs(row).sum() would, without making that array
     for f in range(dh.shape[1]):
         sh += abs(dh[e, f])
-    s = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + sh
+    return abs(ph.e0[e]) + abs(ph.e1[e] * tau) + sh
+
+
+@njit(cache=True, inline="always")
+def event_size(cb, ph, e, tau, z):
+    """The sum of the magnitudes of event function ``e``'s terms at ``tau``: its rounding is a few EPS of it."""
+    s, wa = fixed_size(cb, ph, e, tau), cb.WA
     for a in range(len(z)):
-        s += abs(w[e, a] * z[a])
+        s += wa[e, a] * abs(z[a])
+    return s
+
+
+@njit(cache=True, inline="always")
+def size_of(cb, ph, e, tau, az):
+    """:func:`event_size` from the moduli ``az`` = |z| (computed once for all functions)."""
+    s, wa = fixed_size(cb, ph, e, tau), cb.WA
+    for a in range(len(az)):
+        s += wa[e, a] * az[a]
     return s
 
 
