@@ -17,7 +17,7 @@ from frictionflow import Coulomb
 from frictionflow.core.layout import FD, STICK
 from frictionflow.core.structure.combo import build
 from frictionflow.core.structure.events import values
-from frictionflow.core.structure.phase import bound, magnitudes, modal_at, start, state_at
+from frictionflow.core.structure.phase import Mags, bound, modal_at, start, state_at
 
 from .builders import assembly
 
@@ -123,8 +123,7 @@ def test_paired_second_derivative_bound_holds():
     q0, v0 = start_state(asm, modes, 5)
     ph = start(cb, asm, q0, v0, T0)
     om, a, h, d = asm.force_omega, 0.4, 0.5, 1e-3
-    mg = magnitudes(cb, ph)
-    mg.z[:] = np.abs(modal_at(cb, ph, om, a))
+    mg = Mags(np.abs(modal_at(cb, ph, om, a)), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam))
     taus = np.arange(a + d, a + h - d / 2, d)
     grid = reference_states(asm, modes, q0, v0, np.concatenate((taus - d, taus, taus + d)))
     g = np.array([cb.D @ np.concatenate(s) + cb.dc for s in grid])

@@ -36,7 +36,7 @@ from numba import njit
 
 from ..roots import RUNNING, bracket, update_newton
 from ..options import NO_RUNTIME
-from .phase import (abs_into, bound, bound_of, event_rate, event_raw, magnitudes, modal_at, modal_raw,
+from .phase import (Mags, abs_into, bound, bound_of, event_rate, event_raw, magnitudes_into, modal_raw,
                     mode_bounds, size_of)
 
 EPS = 2.220446049250313e-16
@@ -78,7 +78,9 @@ def verdict(cb, ph, om, e, a, h, room, start, m2):
     """
     za, ga, gb = room.za, room.ga[e], room.gb[e]
     if gb > 0.0:
-        if ga > 0.0 and min(ga, gb) > m2 * h * h / 8.0 + ROUNDING * EPS * size_of(cb, ph, e, a + h, room.mg.z):
+        curve = m2 * h * h / 8.0  # (size_of >= 0: below the curvature term alone the test fails, no sum needed)
+        if ga > 0.0 and min(ga, gb) > curve and min(ga, gb) > curve + ROUNDING * EPS * size_of(cb, ph, e, a + h,
+                                                                                              room.mg.z):
             return 1
         if start:
             g1 = event_rate(cb, ph, om, e, a, za, 1)
@@ -156,17 +158,30 @@ Room = namedtuple("Room", "za zb ga gb dz clear dep zr mg")
 @njit(cache=True)
 def first_event(cb, ph, om, tau_end, departing, h0, floor):
     """(tau, slot, graze): the phase's first event in (0, tau_end]; slot -1: none (tau = tau_end)."""
-    za = modal_at(cb, ph, om, 0.0)
-    k = len(ph.e0)
-    room = Room(za, za.copy(), ph.e0.copy(), np.empty(k), np.empty(len(za)), np.full(k, -1.0), departing.copy(),
-                za.copy(), magnitudes(cb, ph))
+    room = new_room(len(cb.lam), len(ph.e0), len(om), departing)
     return walk(cb, ph, om, tau_end, h0, floor, room)
 
 
-@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted in the loop
-def walk(cb, ph, om, tau_end, h0, floor, room):
-    """:func:`first_event` in the room ``room`` (:data:`Room`, ``za`` = z(0), ``dep`` the departing flags)."""
-    za, zb, ga, gb, dep, az = room.za, room.zb, room.ga, room.gb, room.dep, room.mg.z
+@njit(cache=True)
+def new_room(m, k, nf, departing):
+    """A :data:`Room` for ``m`` modes, ``k`` event slots and ``nf`` forces, its arrays views of three
+    allocations (a record taken here would be reference-counted: the records' parts are filled by :func:`walk`)."""
+    zs, xs, bh = np.empty(3 * m, dtype=np.complex128), np.empty(3 * k + 5 * m), np.empty((m, nf))
+    g = 3 * k
+    mg = Mags(xs[g + m:g + 2 * m], xs[g + 2 * m:g + 3 * m], xs[g + 3 * m:g + 4 * m], bh, xs[g + 4 * m:])
+    return Room(zs[:m], zs[m:2 * m], xs[:k], xs[k:2 * k], xs[g:g + m], xs[2 * k:g], departing.copy(), zs[2 * m:], mg)
+
+
+@njit(cache=True, inline="always")
+def prepare(cb, ph, om, room):
+    """Fill ``room`` at tau = 0: z(0), |z(0)|, the phase's moduli, the functions (0 where departing: a function
+    within rounding of 0 departs too), no function proven clear yet."""
+    za, ga, dep, az = room.za, room.ga, room.dep, room.mg.z
+    modal_raw(cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, om, 0.0, za)
+    magnitudes_into(cb, ph, room.mg)
+    copy(ph.e0, ga)
+    for e in range(len(ga)):
+        room.clear[e] = -1.0
     values(cb, ph, om, 0.0, za, ga)
     abs_into(za, az)
     for e in range(len(ga)):
@@ -174,6 +189,13 @@ def walk(cb, ph, om, tau_end, h0, floor, room):
             dep[e] = True
         if dep[e]:
             ga[e] = 0.0
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted in the loop
+def walk(cb, ph, om, tau_end, h0, floor, room):
+    """:func:`first_event` in the room ``room`` (:data:`Room`: its departing flags set, the rest filled here)."""
+    za, zb, ga, gb, az = room.za, room.zb, room.ga, room.gb, room.mg.z
+    prepare(cb, ph, om, room)
     a, h = 0.0, h0
     copy(ga, gb)
     lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta

@@ -182,10 +182,15 @@ def event_rate(cb, ph, om, e, tau, z, order):
     return s
 
 
-@njit(cache=True)
-def magnitudes(cb, ph):
-    """The phase's :data:`Mags`, room for |z| (filled by the walk at each interval's start)."""
-    return Mags(np.empty(len(cb.lam)), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam))
+@njit(cache=True, inline="always")
+def magnitudes_into(cb, ph, mg):
+    """The phase's moduli into the :data:`Mags` ``mg`` (all but ``mg.z``, which the walk fills per interval)."""
+    abs_into(ph.b0, mg.b0)
+    abs_into(ph.b1, mg.b1)
+    abs_into(cb.lam, mg.lam)
+    for m in range(ph.bh.shape[0]):
+        for f in range(ph.bh.shape[1]):
+            mg.bh[m, f] = abs(ph.bh[m, f])
 
 
 @njit(cache=True, inline="always")
