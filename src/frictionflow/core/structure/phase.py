@@ -8,7 +8,10 @@ z_m' = lam_m z_m + beta_m(tau), beta = b0 + b1 tau + sum_i bh_i cos(theta_i + Om
                + sum_i bh_mi (e^{i theta} expint(lam, i Omega, tau) + e^{-i theta} expint(lam, -i Omega, tau)) / 2
 
 (:mod:`.spectral`).  Every event function is g(tau) = Re(W z(tau)) + e0 + e1 tau
-+ sum_i Dh_i cos(theta_i + Omega_i tau).
++ sum_i Dh_i cos(theta_i + Omega_i tau), and the state Re(V z(tau)) through Z.
+The modes m are the combination's kept roots: one of each conjugate pair on
+the real-mode route, its columns of V and W doubled (:mod:`.combo`), so that
+these real parts and the bounds below, sums of |W_m| |z_m|, count the pair.
 
 :func:`bound` bounds |g^(p)| (p = 2, 3) on [a, a + h] from the modal amplitudes:
 |z_m(s)| <= e^{max(Re lam, 0) h} (|z_m(a)| + h max|beta_m|), and
