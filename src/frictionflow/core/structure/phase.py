@@ -38,21 +38,48 @@ Mags = namedtuple("Mags", "z b0 b1 bh lam")
 
 @njit(cache=True)
 def start(cb, asm, q, v, t0):
-    """The :data:`Phase` of combination ``cb`` from the state (q, q') = (``q``, ``v``) at time ``t0``."""
-    n, ns, r = len(q), len(cb.stuck), cb.Z.shape[1]
-    u0 = np.empty(ns)
+    """The :data:`Phase` of combination ``cb`` from the state (q, q') = (``q``, ``v``) at time ``t0``.
+
+    Products by loops into the phase's own arrays: no temporaries (a start is made at every switch).
+    """
+    n, ns, nr, m = len(q), len(cb.stuck), cb.Z.shape[1], len(cb.lam)
+    u0, ru, f = np.empty(ns), np.zeros(n), cb.f0.copy()
     for i in range(ns):
-        u0[i] = asm.contact_dir[cb.stuck[i]] @ q
-    ru = cb.R @ u0 if ns else np.zeros(n)
-    zt = cb.ZT
-    x = np.concatenate((zt @ (q - ru), zt @ (v - cb.rb))).astype(np.complex128)
-    z0 = cb.Vi @ x if r else np.zeros(0, dtype=np.complex128)
-    p0 = zt @ (cb.f0 - asm.damping @ cb.rb - cb.keff @ ru)
-    b0 = cb.VB @ p0.astype(np.complex128) if r else np.zeros(0, dtype=np.complex128)
-    theta = asm.force_omega * t0 + asm.force_phi
-    tv = np.concatenate((ru, cb.rb))
-    e0 = cb.D @ tv + cb.dc
+        u0[i] = 0.0
+        for a in range(n):
+            u0[i] += asm.contact_dir[cb.stuck[i], a] * q[a]
+    add_product(cb.R, u0, 1.0, ru)
+    add_product(asm.damping, cb.rb, -1.0, f)  # the force f0 - C R b_S - K_eff R u0, projected on Z below
+    add_product(cb.keff, ru, -1.0, f)
+    x, p0, zt, rb = np.zeros(2 * nr), np.zeros(nr), cb.ZT, cb.rb
+    for c in range(nr):
+        for a in range(n):
+            x[c] += zt[c, a] * (q[a] - ru[a])
+            x[nr + c] += zt[c, a] * (v[a] - rb[a])
+    add_product(zt, f, 1.0, p0)
+    z0, b0 = np.zeros(m, dtype=np.complex128), np.zeros(m, dtype=np.complex128)
+    add_product(cb.Vi, x, 1.0, z0)
+    add_product(cb.VB, p0, 1.0, b0)
+    theta = np.empty(len(asm.force_omega))
+    for i in range(len(theta)):
+        theta[i] = asm.force_omega[i] * t0 + asm.force_phi[i]
+    e0, d = cb.dc.copy(), cb.D
+    for e in range(len(e0)):
+        s = 0.0
+        for a in range(n):  # D (R u0, R b_S)
+            s += d[e, a] * ru[a] + d[e, n + a] * rb[a]
+        e0[e] += s
     return Phase(t0, z0, b0, cb.b1, cb.bh, theta, e0, cb.e1, u0, cb.bs)
+
+
+@njit(cache=True, inline="always")
+def add_product(a, x, sign, out):
+    """out += sign a x, row by row (``sign`` +-1)."""
+    for i in range(a.shape[0]):
+        s = 0.0
+        for j in range(a.shape[1]):
+            s += a[i, j] * x[j]
+        out[i] += sign * s
 
 
 @njit(cache=True, inline="always")
