@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.linalg import expm
 
 from frictionflow import Coulomb
 from frictionflow.core.structure.combo import block_eigh, build, constraint_split, lookup, new_cache
@@ -63,16 +64,21 @@ def test_block_eigh_matches_numpy_on_a_permuted_block_matrix():
 
 @pytest.mark.parametrize("modes", [[0, 1, 0, -1, 0, 0, 1], [1, 1, -1, 1, -1, 1, 1], [0, 0, 0, 0, 0, 0, 1]])
 def test_event_maps_are_d_t_v(modes):
-    """W = D T V (T: (y, y') -> (q, q')) on the active slots, and V diag(lam) V^-1 the reduced first-order matrix."""
+    """W = D T V (T: (y, y') -> (q, q')) on the active slots, and Re(V diag(e^{lam t}) V^-1 x) = e^{A t} x for
+    real x (A the reduced first-order matrix; one root of each conjugate pair kept, its column of V doubled)."""
     asm = chain(7, Coulomb(0.2, 0.4), 0.1, c=0.04)
     cb = build(asm, np.linalg.inv(asm.mass), np.array(modes, dtype=np.int8))
     z, r = cb.Z, cb.Z.shape[1]
     t = np.block([[z, np.zeros_like(z)], [np.zeros_like(z), z]])
     w = cb.D @ t @ cb.V
     assert cb.W[cb.active] == pytest.approx(w[cb.active], abs=1e-13)
+    assert cb.WA == pytest.approx(np.abs(cb.W), rel=1e-15, abs=0)  # (numba's hypot and numpy's: an ulp apart)
     mr, kr, cr = z.T @ asm.mass @ z, z.T @ cb.keff @ z, z.T @ asm.damping @ z
     a = np.block([[np.zeros((r, r)), np.eye(r)], [-np.linalg.solve(mr, kr), -np.linalg.solve(mr, cr)]])
-    assert cb.V @ np.diag(cb.lam) @ cb.Vi == pytest.approx(a, abs=1e-12)
+    x = np.random.default_rng(1).normal(size=(2 * r, 3))
+    for tau in (0.0, 0.4, 3.0):
+        flow = (cb.V @ np.diag(np.exp(cb.lam * tau)) @ cb.Vi @ x).real
+        assert flow == pytest.approx(expm(a * tau) @ x, abs=1e-12)
     assert cb.VB == pytest.approx(cb.Vi[:, r:] @ np.linalg.inv(mr), abs=1e-13)
 
 

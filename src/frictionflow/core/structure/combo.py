@@ -25,6 +25,20 @@ stuck, F_s,j N_j + lambda_j; slot 3j+2: N_j (when it depends on q).  Each is
 an affine map of (q, q') (rows of ``D``, constant ``dc``) plus harmonic
 terms (``Dh``: coefficient of cos(Omega_i t + phi_i)); ``W`` = D T V maps
 the modal coordinates (T: (y, y') -> (q, q')).
+
+Conjugate pairs.  On the real-mode route (:func:`classical`) an underdamped
+mode a has the roots lam_a and conj(lam_a), with conjugate columns of V and
+rows of V^-1 and V^-1 B: from real start data its two modal coordinates stay
+conjugate, and the engine only takes Re(sum_m row_m z_m) or bounds
+sum_m |row_m| |z_m|, in which the pair counts twice its representative.  So
+a :data:`Combo` keeps one root of each such pair (:func:`paired`): ``lam``
+holds each underdamped mode's root with Im > 0 and both real roots of each
+overdamped one; ``Vi``, ``VB`` (and ``b1``, ``bh``) their rows; ``V``
+(2 r rows) and ``W`` their columns, the representatives' doubled.  Then
+Re(V z) and Re(W z) are the full sums, and |2 W_a| |z_a| the pair's two
+terms.  V diag(lam) V^-1 is no longer the first-order matrix there: V, Vi
+are not square.  The general route (np.linalg.eig) keeps every root.
+``WA`` = |W| elementwise (the walk's bounds take it at every interval).
 """
 
 from __future__ import annotations
@@ -38,7 +52,7 @@ from numba.typed import List
 
 from ..layout import FD, FS, RESULTANT, STICK
 
-Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W ZT bs rb b1 bh e1")
+Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W ZT bs rb b1 bh e1 WA")
 #: what the stick rule needs of a combination (no eigen-decomposition): its held forces and accelerations
 Split = namedtuple("Split", "modes stuck R HE keff f0")
 #: event slots per contact: the mode's own boundary (two sides while stuck) and the normal load
@@ -528,8 +542,42 @@ def build(asm, minv, modes):
     w = event_modes(d, active, z, sel, rows, lam, v, real)
     c = np.ascontiguousarray
     zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, r, keff, c(vb), c(d))
-    return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, c(lam), c(v), c(vi), c(vb), c(d), dc, c(dh),
-                 active, c(w), zt, bs, rb, b1, bh, e1)
+    lam, v, vi, vb, w, b1, bh = paired(real, c(lam), c(v), c(vi), c(vb), c(w), c(b1), c(bh))
+    return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
+                 active, w, zt, bs, rb, b1, bh, e1, np.abs(w))
+
+
+@njit(cache=True)
+def paired(real, lam, v, vi, vb, w, b1, bh):
+    """(lam, V, Vi, VB, W, b1, bh) with one root of each conjugate pair (the module's docstring); unchanged
+    off the real-mode route.
+
+    On that route root r + a pairs with root a exactly when lam_a is not real (:func:`roots`); the
+    representative a keeps its rows, and its columns of V and W are doubled.
+    """
+    if not real:
+        return lam, v, vi, vb, w, b1, bh
+    r = len(lam) // 2
+    keep, factor = np.empty(2 * r, dtype=np.int64), np.empty(2 * r)
+    m = 0
+    for a in range(2 * r):
+        if a >= r and lam[a - r].imag != 0.0:
+            continue  # the partner of a pair
+        keep[m], factor[m] = a, 2.0 if a < r and lam[a].imag != 0.0 else 1.0
+        m += 1
+    keep, factor = keep[:m], factor[:m]
+    return (lam[keep], scaled_columns(v, keep, factor), vi[keep], vb[keep], scaled_columns(w, keep, factor), b1[keep],
+            bh[keep])
+
+
+@njit(cache=True)
+def scaled_columns(a, keep, factor):
+    """a[:, keep] * factor, row by row (row-major arrays)."""
+    out = np.empty((a.shape[0], len(keep)), dtype=a.dtype)
+    for i in range(a.shape[0]):
+        for c in range(len(keep)):
+            out[i, c] = a[i, keep[c]] * factor[c]
+    return out
 
 
 @njit(cache=True)
@@ -544,7 +592,8 @@ def same(a, b):
 @njit(cache=True)
 def combo_bytes(cb):
     """About the memory a combination holds (its largest arrays)."""
-    return 16 * (cb.V.size + cb.Vi.size + cb.VB.size + cb.W.size) + 8 * (cb.D.size + cb.Z.size + cb.keff.size)
+    return 16 * (cb.V.size + cb.Vi.size + cb.VB.size + cb.W.size) + 8 * (cb.D.size + cb.Z.size + cb.keff.size
+                                                                         + cb.WA.size)
 
 
 @njit(cache=True)

@@ -36,8 +36,8 @@ from numba import njit
 
 from ..roots import RUNNING, bracket, update_newton
 from ..options import NO_RUNTIME
-from .phase import (bound, bound_of, event_rate, event_raw, event_size, modal_at, modal_raw,
-                    mode_bounds)
+from .phase import (Mags, abs_into, bound, bound_of, event_rate, event_raw, magnitudes_into, modal_raw,
+                    mode_bounds, size_of)
 
 EPS = 2.220446049250313e-16
 #: a function within this many EPS of the size of its terms of 0 counts as touching 0
@@ -70,19 +70,23 @@ def locate(cb, ph, om, e, a, b, ga, gb, z):
 
 
 @njit(cache=True, inline="always")
-def verdict(cb, ph, om, e, a, h, za, ga, gb, start, m2):
+def verdict(cb, ph, om, e, a, h, room, start, m2):
     """1: root-free on [a, a + h]; 2: exactly one root there; 0: undecided (``start``: g(a) = 0 departing).
 
-    ``m2``: the bound on |g_e''| over the interval (:func:`.phase.bound`).
+    ``room``: the walk's :data:`Room` (z(a), |z(a)|, g at both ends); ``m2``: the bound on |g_e''| over the
+    interval (:func:`.phase.bound`).
     """
+    za, ga, gb = room.za, room.ga[e], room.gb[e]
     if gb > 0.0:
-        if ga > 0.0 and min(ga, gb) > m2 * h * h / 8.0 + ROUNDING * EPS * event_size(cb, ph, e, a + h, za):
+        curve = m2 * h * h / 8.0  # (size_of >= 0: below the curvature term alone the test fails, no sum needed)
+        if ga > 0.0 and min(ga, gb) > curve and min(ga, gb) > curve + ROUNDING * EPS * size_of(cb, ph, e, a + h,
+                                                                                              room.mg.z):
             return 1
         if start:
             g1 = event_rate(cb, ph, om, e, a, za, 1)
             if g1 > m2 * h / 2.0:
                 return 1
-            if g1 >= 0.0 and event_rate(cb, ph, om, e, a, za, 2) > bound(cb, ph, om, e, a, h, za, 3) * h / 3.0:
+            if g1 >= 0.0 and event_rate(cb, ph, om, e, a, za, 2) > bound(cb, om, e, a, h, room.mg, 3) * h / 3.0:
                 return 1
         return 0
     if ga > 0.0 and -event_rate(cb, ph, om, e, a, za, 1) > m2 * h:
@@ -91,19 +95,20 @@ def verdict(cb, ph, om, e, a, h, za, ga, gb, start, m2):
 
 
 @njit(cache=True, inline="always")
-def decide_interval(cb, ph, om, a, h, za, ga, gb, departing, clear, dz):
-    """(all decided, any root) over the active functions on [a, a + h].
+def decide_interval(cb, ph, om, a, h, room):
+    """(all decided, any root) over the active functions on [a, a + h] (``room``: the walk's :data:`Room`).
 
-    ``clear[e]``: function e is proven root-free up to there (an interval
+    ``room.clear[e]``: function e is proven root-free up to there (an interval
     that was halved for another function's sake needs no second proof);
-    ``dz``: room for the modes' terms of the bounds, shared by all functions.
+    ``room.dz``: room for the modes' terms of the bounds, shared by all functions.
     """
     decided, root = True, False
-    mode_bounds(cb, ph, om, a, h, za, dz)
-    for e in range(len(ga)):
+    gb, departing, clear, dz = room.gb, room.dep, room.clear, room.dz
+    mode_bounds(cb, om, a, h, room.mg, dz)
+    for e in range(len(gb)):
         if not cb.active[e] or clear[e] >= a + h:
             continue
-        v = verdict(cb, ph, om, e, a, h, za, ga[e], gb[e], departing[e] and a == 0.0, bound_of(cb, om, e, dz))
+        v = verdict(cb, ph, om, e, a, h, room, departing[e] and a == 0.0, bound_of(cb, om, e, dz))
         if v == 1:
             clear[e] = a + h
         decided = decided and v != 0
@@ -124,13 +129,14 @@ def earliest(cb, ph, om, a, b, ga, gb, z):
 
 
 @njit(cache=True, **NO_RUNTIME)
-def nearest_zero(cb, ph, om, a, b, za, ga, gb, dep):
+def nearest_zero(cb, ph, om, a, b, room):
     """(tau, slot): among the undecided functions (not departing at the start), the end of [a, b] nearest 0."""
     best, tau, slot = 1.0e300, b, -1
+    ga, gb, dep = room.ga, room.gb, room.dep
     for e in range(len(ga)):
         start = dep[e] and a == 0.0
-        m2 = bound(cb, ph, om, e, a, b - a, za, 2) if cb.active[e] and not start else 0.0
-        if cb.active[e] and not start and verdict(cb, ph, om, e, a, b - a, za, ga[e], gb[e], False, m2) == 0:
+        m2 = bound(cb, om, e, a, b - a, room.mg, 2) if cb.active[e] and not start else 0.0
+        if cb.active[e] and not start and verdict(cb, ph, om, e, a, b - a, room, False, m2) == 0:
             for t, g in ((a, ga[e]), (b, gb[e])):
                 if t > 0.0 and g < best:
                     best, tau, slot = g, t, e
@@ -145,30 +151,51 @@ def copy(src, dst):
 
 
 #: the walk's room: z at both ends, the functions at both ends, the modes' bound terms, how far each function
-#: is proven clear, the departing flags, and z for the root finder
-Room = namedtuple("Room", "za zb ga gb dz clear dep zr")
+#: is proven clear, the departing flags, z for the root finder, and the moduli (:data:`.phase.Mags`)
+Room = namedtuple("Room", "za zb ga gb dz clear dep zr mg")
 
 
 @njit(cache=True)
 def first_event(cb, ph, om, tau_end, departing, h0, floor):
     """(tau, slot, graze): the phase's first event in (0, tau_end]; slot -1: none (tau = tau_end)."""
-    za = modal_at(cb, ph, om, 0.0)
-    k = len(ph.e0)
-    room = Room(za, za.copy(), ph.e0.copy(), np.empty(k), np.empty(len(za)), np.full(k, -1.0), departing.copy(),
-                za.copy())
+    room = new_room(len(cb.lam), len(ph.e0), len(om), departing)
     return walk(cb, ph, om, tau_end, h0, floor, room)
+
+
+@njit(cache=True)
+def new_room(m, k, nf, departing):
+    """A :data:`Room` for ``m`` modes, ``k`` event slots and ``nf`` forces, its arrays views of three
+    allocations (a record taken here would be reference-counted: the records' parts are filled by :func:`walk`)."""
+    zs, xs, bh = np.empty(3 * m, dtype=np.complex128), np.empty(3 * k + 5 * m), np.empty((m, nf))
+    g = 3 * k
+    mg = Mags(xs[g + m:g + 2 * m], xs[g + 2 * m:g + 3 * m], xs[g + 3 * m:g + 4 * m], bh, xs[g + 4 * m:])
+    return Room(zs[:m], zs[m:2 * m], xs[:k], xs[k:2 * k], xs[g:g + m], xs[2 * k:g], departing.copy(), zs[2 * m:], mg)
+
+
+@njit(cache=True, inline="always")
+def prepare(cb, ph, om, room):
+    """Fill ``room`` at tau = 0: z(0), |z(0)|, the phase's moduli, the functions (0 where departing: a function
+    within rounding of 0 departs too), no function proven clear yet."""
+    za, ga, dep, az = room.za, room.ga, room.dep, room.mg.z
+    modal_raw(cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, om, 0.0, za)
+    magnitudes_into(cb, ph, room.mg)
+    copy(ph.e0, ga)
+    for e in range(len(ga)):
+        room.clear[e] = -1.0
+    values(cb, ph, om, 0.0, za, ga)
+    abs_into(za, az)
+    for e in range(len(ga)):
+        if cb.active[e] and ga[e] <= ROUNDING * EPS * size_of(cb, ph, e, 0.0, az):
+            dep[e] = True
+        if dep[e]:
+            ga[e] = 0.0
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted in the loop
 def walk(cb, ph, om, tau_end, h0, floor, room):
-    """:func:`first_event` in the room ``room`` (:data:`Room`, ``za`` = z(0), ``dep`` the departing flags)."""
-    za, zb, ga, gb, dz, clear, dep = room.za, room.zb, room.ga, room.gb, room.dz, room.clear, room.dep
-    values(cb, ph, om, 0.0, za, ga)
-    for e in range(len(ga)):
-        if cb.active[e] and ga[e] <= ROUNDING * EPS * event_size(cb, ph, e, 0.0, za):
-            dep[e] = True
-        if dep[e]:
-            ga[e] = 0.0
+    """:func:`first_event` in the room ``room`` (:data:`Room`: its departing flags set, the rest filled here)."""
+    za, zb, ga, gb, az = room.za, room.zb, room.ga, room.gb, room.mg.z
+    prepare(cb, ph, om, room)
     a, h = 0.0, h0
     copy(ga, gb)
     lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta
@@ -176,7 +203,7 @@ def walk(cb, ph, om, tau_end, h0, floor, room):
         b = min(a + h, tau_end)
         modal_raw(lam, z0, b0, b1, bh, theta, om, b, zb)
         values(cb, ph, om, b, zb, gb)
-        decided, root = decide_interval(cb, ph, om, a, b - a, za, ga, gb, dep, clear, dz)
+        decided, root = decide_interval(cb, ph, om, a, b - a, room)
         if not decided and b - a > floor:
             h = 0.5 * (b - a)
             continue
@@ -184,10 +211,11 @@ def walk(cb, ph, om, tau_end, h0, floor, room):
             tau, slot = earliest(cb, ph, om, a, b, ga, gb, room.zr)
             return tau, slot, False
         if not decided:
-            tau, slot = nearest_zero(cb, ph, om, a, b, za, ga, gb, dep)
+            tau, slot = nearest_zero(cb, ph, om, a, b, room)
             if slot >= 0:
                 return tau, slot, True
         a, h = b, min(2.0 * h, h0)
         copy(zb, za)
+        abs_into(za, az)
         copy(gb, ga)
     return tau_end, -1, False

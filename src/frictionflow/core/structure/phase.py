@@ -8,7 +8,10 @@ z_m' = lam_m z_m + beta_m(tau), beta = b0 + b1 tau + sum_i bh_i cos(theta_i + Om
                + sum_i bh_mi (e^{i theta} expint(lam, i Omega, tau) + e^{-i theta} expint(lam, -i Omega, tau)) / 2
 
 (:mod:`.spectral`).  Every event function is g(tau) = Re(W z(tau)) + e0 + e1 tau
-+ sum_i Dh_i cos(theta_i + Omega_i tau).
++ sum_i Dh_i cos(theta_i + Omega_i tau), and the state Re(V z(tau)) through Z.
+The modes m are the combination's kept roots: one of each conjugate pair on
+the real-mode route, its columns of V and W doubled (:mod:`.combo`), so that
+these real parts and the bounds below, sums of |W_m| |z_m|, count the pair.
 
 :func:`bound` bounds |g^(p)| (p = 2, 3) on [a, a + h] from the modal amplitudes:
 |z_m(s)| <= e^{max(Re lam, 0) h} (|z_m(a)| + h max|beta_m|), and
@@ -28,25 +31,55 @@ from ..options import NO_RUNTIME
 from .spectral import expint, phis
 
 Phase = namedtuple("Phase", "t0 z0 b0 b1 bh theta e0 e1 u0 bs")
+#: the moduli the walk's bounds take, as real arrays: |z(a)| at the current interval's start (rewritten per
+#: interval) and the phase's |b0|, |b1|, |bh|, |lam| (complex moduli are hypot calls: not in the loops)
+Mags = namedtuple("Mags", "z b0 b1 bh lam")
 
 
 @njit(cache=True)
 def start(cb, asm, q, v, t0):
-    """The :data:`Phase` of combination ``cb`` from the state (q, q') = (``q``, ``v``) at time ``t0``."""
-    n, ns, r = len(q), len(cb.stuck), cb.Z.shape[1]
-    u0 = np.empty(ns)
+    """The :data:`Phase` of combination ``cb`` from the state (q, q') = (``q``, ``v``) at time ``t0``.
+
+    Products by loops into the phase's own arrays: no temporaries (a start is made at every switch).
+    """
+    n, ns, nr, m = len(q), len(cb.stuck), cb.Z.shape[1], len(cb.lam)
+    u0, ru, f = np.empty(ns), np.zeros(n), cb.f0.copy()
     for i in range(ns):
-        u0[i] = asm.contact_dir[cb.stuck[i]] @ q
-    ru = cb.R @ u0 if ns else np.zeros(n)
-    zt = cb.ZT
-    x = np.concatenate((zt @ (q - ru), zt @ (v - cb.rb))).astype(np.complex128)
-    z0 = cb.Vi @ x if r else np.zeros(0, dtype=np.complex128)
-    p0 = zt @ (cb.f0 - asm.damping @ cb.rb - cb.keff @ ru)
-    b0 = cb.VB @ p0.astype(np.complex128) if r else np.zeros(0, dtype=np.complex128)
-    theta = asm.force_omega * t0 + asm.force_phi
-    tv = np.concatenate((ru, cb.rb))
-    e0 = cb.D @ tv + cb.dc
+        u0[i] = 0.0
+        for a in range(n):
+            u0[i] += asm.contact_dir[cb.stuck[i], a] * q[a]
+    add_product(cb.R, u0, 1.0, ru)
+    add_product(asm.damping, cb.rb, -1.0, f)  # the force f0 - C R b_S - K_eff R u0, projected on Z below
+    add_product(cb.keff, ru, -1.0, f)
+    x, p0, zt, rb = np.zeros(2 * nr), np.zeros(nr), cb.ZT, cb.rb
+    for c in range(nr):
+        for a in range(n):
+            x[c] += zt[c, a] * (q[a] - ru[a])
+            x[nr + c] += zt[c, a] * (v[a] - rb[a])
+    add_product(zt, f, 1.0, p0)
+    z0, b0 = np.zeros(m, dtype=np.complex128), np.zeros(m, dtype=np.complex128)
+    add_product(cb.Vi, x, 1.0, z0)
+    add_product(cb.VB, p0, 1.0, b0)
+    theta = np.empty(len(asm.force_omega))
+    for i in range(len(theta)):
+        theta[i] = asm.force_omega[i] * t0 + asm.force_phi[i]
+    e0, d = cb.dc.copy(), cb.D
+    for e in range(len(e0)):
+        s = 0.0
+        for a in range(n):  # D (R u0, R b_S)
+            s += d[e, a] * ru[a] + d[e, n + a] * rb[a]
+        e0[e] += s
     return Phase(t0, z0, b0, cb.b1, cb.bh, theta, e0, cb.e1, u0, cb.bs)
+
+
+@njit(cache=True, inline="always")
+def add_product(a, x, sign, out):
+    """out += sign a x, row by row (``sign`` +-1)."""
+    for i in range(a.shape[0]):
+        s = 0.0
+        for j in range(a.shape[1]):
+            s += a[i, j] * x[j]
+        out[i] += sign * s
 
 
 @njit(cache=True, inline="always")
@@ -97,7 +130,7 @@ def state_raw(vm, zm, rm, u0, bs, tau, z, q, v):
         q[i], v[i] = 0.0, 0.0
     for a in range(2 * r):
         x = 0.0
-        for b in range(2 * r):
+        for b in range(len(z)):  # V's columns: one per root kept (:mod:`.combo`: a conjugate pair's once)
             x += (vm[a, b] * z[b]).real
         col, out = (a, q) if a < r else (a - r, v)
         for i in range(n):
@@ -180,42 +213,67 @@ def event_rate(cb, ph, om, e, tau, z, order):
 
 
 @njit(cache=True, inline="always")
-def bound(cb, ph, om, e, a, h, za, order):
-    """A bound on |g_e^(order)| over [a, a + h] (order 2 or 3) from the modal amplitudes |z(a)|."""
+def magnitudes_into(cb, ph, mg):
+    """The phase's moduli into the :data:`Mags` ``mg`` (all but ``mg.z``, which the walk fills per interval)."""
+    abs_into(ph.b0, mg.b0)
+    abs_into(ph.b1, mg.b1)
+    abs_into(cb.lam, mg.lam)
+    for m in range(ph.bh.shape[0]):
+        for f in range(ph.bh.shape[1]):
+            mg.bh[m, f] = abs(ph.bh[m, f])
+
+
+@njit(cache=True, inline="always")
+def abs_into(z, out):
+    """|z| elementwise into ``out``."""
+    for i in range(len(z)):
+        out[i] = abs(z[i])
+
+
+@njit(cache=True, inline="always")
+def growth(rate, h):
+    """e^{max(rate, 0) h} (1 for a decaying mode, without the exponential)."""
+    return math.exp(rate * h) if rate > 0.0 else 1.0
+
+
+@njit(cache=True, inline="always")
+def beta_bounds(mg, om, m, tmax):
+    """(|beta_m|, |beta_m'|, |beta_m''|) bounded over [0, tmax] from the phase's magnitudes ``mg``."""
+    b0, b1, b2 = mg.b0[m] + mg.b1[m] * tmax, mg.b1[m], 0.0
+    for f in range(len(om)):
+        c = mg.bh[m, f]
+        b0, b1, b2 = b0 + c, b1 + c * om[f], b2 + c * om[f] ** 2
+    return b0, b1, b2
+
+
+@njit(cache=True, inline="always")
+def bound(cb, om, e, a, h, mg, order):
+    """A bound on |g_e^(order)| over [a, a + h] (order 2 or 3) from the modal amplitudes ``mg.z`` = |z(a)|."""
     tmax = abs(a) + h
     s = 0.0
     for f in range(len(om)):
         s += abs(cb.Dh[e, f]) * om[f] ** order
-    for m in range(len(za)):
-        w = abs(cb.W[e, m])
+    for m in range(len(mg.z)):
+        w = cb.WA[e, m]
         if w == 0.0:
             continue
-        lam = cb.lam[m]
-        # bounds on |beta|, |beta'|, |beta''| over the interval
-        b0, b1, b2 = abs(ph.b0[m]) + abs(ph.b1[m]) * tmax, abs(ph.b1[m]), 0.0
-        for f in range(len(om)):
-            c = abs(ph.bh[m, f])
-            b0, b1, b2 = b0 + c, b1 + c * om[f], b2 + c * om[f] ** 2
-        zb = math.exp(max(lam.real, 0.0) * h) * (abs(za[m]) + h * b0)
-        al = abs(lam)
+        b0, b1, b2 = beta_bounds(mg, om, m, tmax)
+        zb = growth(cb.lam[m].real, h) * (mg.z[m] + h * b0)
+        al = mg.lam[m]
         dz = al * al * zb + al * b0 + b1 if order == 2 else al ** 3 * zb + al * al * b0 + al * b1 + b2
         s += w * dz
     return s
 
 
 @njit(cache=True, inline="always")
-def mode_bounds(cb, ph, om, a, h, za, out):
+def mode_bounds(cb, om, a, h, mg, out):
     """Each mode's term of :func:`bound` of order 2 (before the weight |W[e, m]|) into ``out``: once per interval."""
     tmax = abs(a) + h
-    lams, pb0, pb1, bh = cb.lam, ph.b0, ph.b1, ph.bh
-    for m in range(len(za)):
-        lam = lams[m]
-        b0, b1 = abs(pb0[m]) + abs(pb1[m]) * tmax, abs(pb1[m])
-        for f in range(len(om)):
-            c = abs(bh[m, f])
-            b0, b1 = b0 + c, b1 + c * om[f]
-        zb = math.exp(max(lam.real, 0.0) * h) * (abs(za[m]) + h * b0)
-        al = abs(lam)
+    lams = cb.lam
+    for m in range(len(out)):
+        b0, b1, _ = beta_bounds(mg, om, m, tmax)
+        zb = growth(lams[m].real, h) * (mg.z[m] + h * b0)
+        al = mg.lam[m]
         out[m] = al * al * zb + al * b0 + b1
 
 
@@ -223,11 +281,11 @@ def mode_bounds(cb, ph, om, a, h, za, out):
 def bound_of(cb, om, e, dz):
     """:func:`bound` of order 2 from the modes' terms ``dz`` (:func:`mode_bounds`), summed in the same order."""
     s = 0.0
-    dh, wm = cb.Dh, cb.W
+    dh, wa = cb.Dh, cb.WA
     for f in range(len(om)):
         s += abs(dh[e, f]) * om[f] ** 2
     for m in range(len(dz)):
-        w = abs(wm[e, m])
+        w = wa[e, m]
         if w == 0.0:
             continue
         s += w * dz[m]
@@ -235,15 +293,30 @@ def bound_of(cb, om, e, dz):
 
 
 @njit(cache=True, inline="always")
-def event_size(cb, ph, e, tau, z):
-    """The sum of the magnitudes of event function ``e``'s terms at ``tau``: its rounding is a few EPS of it."""
-    dh, w = cb.Dh, cb.W
+def fixed_size(cb, ph, e, tau):
+    """|e0| + |e1 tau| + sum |Dh|: the terms of event function ``e`` that are not modal."""
+    dh = cb.Dh
     sh = 0.0  # |Dh_e| summed in order, as np.abs(row).sum() would, without making that array
     for f in range(dh.shape[1]):
         sh += abs(dh[e, f])
-    s = abs(ph.e0[e]) + abs(ph.e1[e] * tau) + sh
+    return abs(ph.e0[e]) + abs(ph.e1[e] * tau) + sh
+
+
+@njit(cache=True, inline="always")
+def event_size(cb, ph, e, tau, z):
+    """The sum of the magnitudes of event function ``e``'s terms at ``tau``: its rounding is a few EPS of it."""
+    s, wa = fixed_size(cb, ph, e, tau), cb.WA
     for a in range(len(z)):
-        s += abs(w[e, a] * z[a])
+        s += wa[e, a] * abs(z[a])
+    return s
+
+
+@njit(cache=True, inline="always")
+def size_of(cb, ph, e, tau, az):
+    """:func:`event_size` from the moduli ``az`` = |z| (computed once for all functions)."""
+    s, wa = fixed_size(cb, ph, e, tau), cb.WA
+    for a in range(len(az)):
+        s += wa[e, a] * az[a]
     return s
 
 
