@@ -72,39 +72,50 @@ def mm(a, b):
 def slip_terms(asm, modes):
     """(K_eff, f0): the stiffness and the constant force of the slipping contacts' friction."""
     keff = asm.stiffness.copy()
+    law, normal, cdir = asm.law, asm.normal, asm.contact_dir  # once: a record's field read in a loop counts references
     n = keff.shape[0]
     f0 = np.zeros(n)
     for j in range(len(modes)):
         if modes[j] == STICK:
             continue
-        fd = modes[j] * asm.law[j, FD]
+        fd = modes[j] * law[j, FD]
         for a in range(n):
-            f0[a] += fd * asm.normal[j, 0] * asm.contact_dir[j, a]
-        if not np.any(asm.normal[j, 1:] != 0.0):  # a constant normal load leaves K as it is
+            f0[a] += fd * normal[j, 0] * cdir[j, a]
+        if not depends(normal, j):  # a constant normal load leaves K as it is
             continue
         for a in range(n):
             for b in range(n):
-                keff[a, b] -= fd * asm.contact_dir[j, a] * asm.normal[j, 1 + b]
+                keff[a, b] -= fd * cdir[j, a] * normal[j, 1 + b]
     return keff, f0
+
+
+@njit(cache=True)
+def depends(normal, j):
+    """True when contact ``j``'s normal load depends on q (a nonzero of ``normal[j, 1:]``)."""
+    for b in range(1, normal.shape[1]):
+        if normal[j, b] != 0.0:
+            return True
+    return False
 
 
 @njit(cache=True)
 def axes_of(asm, stuck):
     """(ok, axis, scale): ok when every stuck direction is scale * a unit coordinate vector, all axes distinct."""
-    n, ns = asm.contact_dir.shape[1], len(stuck)
+    cdir = asm.contact_dir
+    n, ns = cdir.shape[1], len(stuck)
     axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
     seen = np.zeros(n, dtype=np.bool_)
     for i in range(ns):
-        row = asm.contact_dir[stuck[i]]
+        j = stuck[i]
         for a in range(n):
-            if row[a] != 0.0:
+            if cdir[j, a] != 0.0:
                 if axis[i] >= 0:
                     return False, axis, scale
                 axis[i] = a
         if axis[i] < 0 or seen[axis[i]]:  # a zero or a repeated direction: the general route refuses it
             return False, axis, scale
         seen[axis[i]] = True
-        scale[i] = row[axis[i]]
+        scale[i] = cdir[j, axis[i]]
     return True, axis, scale
 
 
@@ -413,37 +424,63 @@ def roots(cd, w2):
 @njit(cache=True)
 def event_maps(asm, modes, stuck, he, keff, f0):
     """(D, dc, Dh, active): each event slot as D (q, q') + dc + sum_i Dh_i cos(Omega_i t + phi_i)."""
-    k, n = asm.contact_dir.shape
-    m = len(asm.force_amp)
+    cdir, normal, law, belt, amp = asm.contact_dir, asm.normal, asm.law, asm.belt, asm.force_amp
+    k, n = cdir.shape
     d = np.zeros((N_SLOTS * k, 2 * n))
     dc = np.zeros(N_SLOTS * k)
-    dh = np.zeros((N_SLOTS * k, m))
+    dh = np.zeros((N_SLOTS * k, len(amp)))
     active = np.zeros(N_SLOTS * k, dtype=np.bool_)
     for j in range(k):
-        nj = asm.normal[j, 1:]
-        if np.any(nj != 0.0):
+        if depends(normal, j):
             active[N_SLOTS * j + 2] = True
-            d[N_SLOTS * j + 2, :n] = nj
-            dc[N_SLOTS * j + 2] = asm.normal[j, 0]
+            d[N_SLOTS * j + 2, :n] = normal[j, 1:]
+            dc[N_SLOTS * j + 2] = normal[j, 0]
         if modes[j] != STICK:
             active[N_SLOTS * j] = True
-            d[N_SLOTS * j, n:] = -modes[j] * asm.contact_dir[j]
-            dc[N_SLOTS * j] = modes[j] * asm.belt[j]
-    hk, hc, hf = mm(he, keff), mm(he, asm.damping), he @ f0 if len(stuck) else np.zeros(0)
-    hg = mm(he, asm.force_dir.T.copy())
+            for a in range(n):
+                d[N_SLOTS * j, n + a] = -modes[j] * cdir[j, a]
+            dc[N_SLOTS * j] = modes[j] * belt[j]
+    held_rows(asm, stuck, he, keff, f0, d, dc, dh, active)
+    return d, dc, dh, active
+
+
+@njit(cache=True)
+def held_rows(asm, stuck, he, keff, f0, d, dc, dh, active):
+    """The stuck contacts' two slots F_s N -+ lambda into ``d``, ``dc``, ``dh``, ``active``.
+
+    lambda_i = HE_i (C q' + K_eff q - f0 - forces): HE's row times K_eff, C, f0 and the forces' directions,
+    skipping its zeros (one entry per row when the stuck directions are axes of a diagonal M).
+    """
+    normal, law, cdir, damping, fdir, amp = asm.normal, asm.law, asm.contact_dir, asm.damping, asm.force_dir, asm.force_amp
+    n, m = cdir.shape[1], len(amp)
+    hk, hg = np.empty(2 * n), np.empty(m)  # HE_i [K_eff, C] and HE_i G
     for i in range(len(stuck)):
         j = stuck[i]
-        fs = asm.law[j, FS]
+        hk[:] = 0.0
+        hg[:] = 0.0
+        hf = 0.0
+        for c in range(n):
+            x = he[i, c]
+            if x == 0.0:
+                continue
+            for b in range(n):
+                hk[b] += x * keff[c, b]
+                hk[n + b] += x * damping[c, b]
+            hf += x * f0[c]
+            for f in range(m):
+                hg[f] += x * fdir[f, c]
+        fs = law[j, FS]
         for side in range(2):
             sl, sg = N_SLOTS * j + side, 1.0 if side else -1.0  # F_s N -+ lambda
             active[sl] = True
-            d[sl, :n] = fs * asm.normal[j, 1:] + sg * hk[i]
-            if asm.law[j, RESULTANT] != 0.0:
-                d[sl, n:] = sg * hc[i]
-            dc[sl] = fs * asm.normal[j, 0] - sg * hf[i]
+            for b in range(n):
+                d[sl, b] = fs * normal[j, 1 + b] + sg * hk[b]
+            if law[j, RESULTANT] != 0.0:
+                for b in range(n):
+                    d[sl, n + b] = sg * hk[n + b]
+            dc[sl] = fs * normal[j, 0] - sg * hf
             for f in range(m):
-                dh[sl, f] = -sg * hg[i, f] * asm.force_amp[f]
-    return d, dc, dh, active
+                dh[sl, f] = -sg * hg[f] * amp[f]
 
 
 @njit(cache=True)
