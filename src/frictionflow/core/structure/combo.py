@@ -37,6 +37,7 @@ from numba import njit
 from numba.typed import List
 
 from ..layout import FD, FS, RESULTANT, STICK
+from ..options import NO_RUNTIME
 
 Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W ZT bs rb b1 bh e1")
 #: what the stick rule needs of a combination (no eigen-decomposition): its held forces and accelerations
@@ -68,13 +69,20 @@ def mm(a, b):
     return np.ascontiguousarray(a) @ np.ascontiguousarray(b)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
 def slip_terms(asm, modes):
     """(K_eff, f0): the stiffness and the constant force of the slipping contacts' friction."""
     keff = asm.stiffness.copy()
-    law, normal, cdir = asm.law, asm.normal, asm.contact_dir  # once: a record's field read in a loop counts references
+    f0 = np.zeros(keff.shape[0])
+    slip_into(asm, modes, keff, f0)
+    return keff, f0
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def slip_into(asm, modes, keff, f0):
+    """:func:`slip_terms` into ``keff`` (holding K) and ``f0`` (zeros)."""
+    law, normal, cdir = asm.law, asm.normal, asm.contact_dir
     n = keff.shape[0]
-    f0 = np.zeros(n)
     for j in range(len(modes)):
         if modes[j] == STICK:
             continue
@@ -86,10 +94,9 @@ def slip_terms(asm, modes):
         for a in range(n):
             for b in range(n):
                 keff[a, b] -= fd * cdir[j, a] * normal[j, 1 + b]
-    return keff, f0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def depends(normal, j):
     """True when contact ``j``'s normal load depends on q (a nonzero of ``normal[j, 1:]``)."""
     for b in range(1, normal.shape[1]):
@@ -98,25 +105,24 @@ def depends(normal, j):
     return False
 
 
-@njit(cache=True)
-def axes_of(asm, stuck):
-    """(ok, axis, scale): ok when every stuck direction is scale * a unit coordinate vector, all axes distinct."""
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def axes_of(asm, stuck, axis, scale, seen):
+    """True when every stuck direction is scale * a unit coordinate vector, all axes distinct: ``axis`` (-1s),
+    ``scale`` and ``seen`` (False per coordinate) filled in."""
     cdir = asm.contact_dir
-    n, ns = cdir.shape[1], len(stuck)
-    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
-    seen = np.zeros(n, dtype=np.bool_)
-    for i in range(ns):
+    n = cdir.shape[1]
+    for i in range(len(stuck)):
         j = stuck[i]
         for a in range(n):
             if cdir[j, a] != 0.0:
                 if axis[i] >= 0:
-                    return False, axis, scale
+                    return False
                 axis[i] = a
         if axis[i] < 0 or seen[axis[i]]:  # a zero or a repeated direction: the general route refuses it
-            return False, axis, scale
+            return False
         seen[axis[i]] = True
         scale[i] = cdir[j, axis[i]]
-    return True, axis, scale
+    return True
 
 
 @njit(cache=True)
@@ -129,7 +135,7 @@ def axes_split(minv, axis, scale):
     gi = np.empty((ns, ns))  # E_S M^-1 E_S^T
     for i in range(ns):
         gi[i] = scale[i] * mie[axis[i]]
-    r = mm(mie, np.linalg.inv(gi))
+    r = mie_times_g(mie, gi)
     free = np.ones(n, dtype=np.bool_)
     free[axis] = False
     idx = np.nonzero(free)[0]
@@ -140,13 +146,29 @@ def axes_split(minv, axis, scale):
 
 
 @njit(cache=True)
+def mie_times_g(mie, gi):
+    """R = M^-1 E_S^T G, G = gi^-1: a diagonal gi (a diagonal M) divides columns (G's entries are 1 / gi_ii)."""
+    ns = gi.shape[0]
+    for i in range(ns):
+        for c in range(ns):
+            if i != c and gi[i, c] != 0.0:
+                return mm(mie, np.linalg.inv(gi))
+    r = np.empty_like(mie)
+    for c in range(ns):
+        g = 1.0 / gi[c, c]
+        for a in range(mie.shape[0]):
+            r[a, c] = mie[a, c] * g
+    return r
+
+
+@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
 def constraint_split(asm, minv, stuck):
     """(Z, R, HE) of the stuck set (HE = G E_S M^-1: held forces from the forces on the structure)."""
     n, ns = minv.shape[0], len(stuck)
     if ns == 0:
         return np.eye(n), np.zeros((n, 0)), np.zeros((0, n))
-    ok, axis, scale = axes_of(asm, stuck)
-    if ok:  # no SVD: the null space is spanned by the other axes
+    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
+    if axes_of(asm, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # no SVD: the other axes span the null space
         return axes_split(minv, axis, scale)
     es = np.empty((ns, n))
     for i in range(ns):
@@ -170,6 +192,10 @@ def split(asm, minv, modes):
     ns = len(stuck)
     if ns == 0:
         return Split(modes.copy(), stuck, np.zeros((n, 0)), np.zeros((0, n)), keff, f0)
+    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
+    if axes_of(asm, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # the same numbers with entries picked out
+        _, r, he = axes_split(minv, axis, scale)
+        return Split(modes.copy(), stuck, r, he, keff, f0)
     es = np.empty((ns, n))
     for i in range(ns):
         es[i] = asm.contact_dir[stuck[i]]
@@ -421,66 +447,72 @@ def roots(cd, w2):
     return complex(l1, 0.0), complex(w2 / l1 if l1 != 0.0 else -cd - l1, 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
 def event_maps(asm, modes, stuck, he, keff, f0):
     """(D, dc, Dh, active): each event slot as D (q, q') + dc + sum_i Dh_i cos(Omega_i t + phi_i)."""
-    cdir, normal, law, belt, amp = asm.contact_dir, asm.normal, asm.law, asm.belt, asm.force_amp
-    k, n = cdir.shape
+    k, n = asm.contact_dir.shape
+    m = len(asm.force_amp)
     d = np.zeros((N_SLOTS * k, 2 * n))
     dc = np.zeros(N_SLOTS * k)
-    dh = np.zeros((N_SLOTS * k, len(amp)))
+    dh = np.zeros((N_SLOTS * k, m))
     active = np.zeros(N_SLOTS * k, dtype=np.bool_)
+    maps_into(asm, modes, stuck, he, keff, f0, d, dc, dh, active, np.empty(2 * n + m))
+    return d, dc, dh, active
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def maps_into(asm, modes, stuck, he, keff, f0, d, dc, dh, active, room):
+    """:func:`event_maps` into ``d``, ``dc``, ``dh``, ``active`` (zeros); ``room``: 2 n + (forces) numbers.
+
+    lambda_i = HE_i (C q' + K_eff q - f0 - forces): HE's row times K_eff, C, f0 and the forces' directions,
+    skipping its zeros (one entry per row when the stuck directions are axes of a diagonal M).
+    """
+    cdir, normal, law, belt, amp, fdir = asm.contact_dir, asm.normal, asm.law, asm.belt, asm.force_amp, asm.force_dir
+    k, n = cdir.shape
     for j in range(k):
         if depends(normal, j):
             active[N_SLOTS * j + 2] = True
-            d[N_SLOTS * j + 2, :n] = normal[j, 1:]
+            for b in range(n):
+                d[N_SLOTS * j + 2, b] = normal[j, 1 + b]
             dc[N_SLOTS * j + 2] = normal[j, 0]
         if modes[j] != STICK:
             active[N_SLOTS * j] = True
             for a in range(n):
                 d[N_SLOTS * j, n + a] = -modes[j] * cdir[j, a]
             dc[N_SLOTS * j] = modes[j] * belt[j]
-    held_rows(asm, stuck, he, keff, f0, d, dc, dh, active)
-    return d, dc, dh, active
-
-
-@njit(cache=True)
-def held_rows(asm, stuck, he, keff, f0, d, dc, dh, active):
-    """The stuck contacts' two slots F_s N -+ lambda into ``d``, ``dc``, ``dh``, ``active``.
-
-    lambda_i = HE_i (C q' + K_eff q - f0 - forces): HE's row times K_eff, C, f0 and the forces' directions,
-    skipping its zeros (one entry per row when the stuck directions are axes of a diagonal M).
-    """
-    normal, law, cdir, damping, fdir, amp = asm.normal, asm.law, asm.contact_dir, asm.damping, asm.force_dir, asm.force_amp
-    n, m = cdir.shape[1], len(amp)
-    hk, hg = np.empty(2 * n), np.empty(m)  # HE_i [K_eff, C] and HE_i G
     for i in range(len(stuck)):
-        j = stuck[i]
-        hk[:] = 0.0
-        hg[:] = 0.0
-        hf = 0.0
-        for c in range(n):
-            x = he[i, c]
-            if x == 0.0:
-                continue
-            for b in range(n):
-                hk[b] += x * keff[c, b]
-                hk[n + b] += x * damping[c, b]
-            hf += x * f0[c]
-            for f in range(m):
-                hg[f] += x * fdir[f, c]
+        j, hf = stuck[i], held_row(asm.damping, fdir, he[i], keff, f0, room)  # room: HE_i [K_eff, C], HE_i G
         fs = law[j, FS]
         for side in range(2):
             sl, sg = N_SLOTS * j + side, 1.0 if side else -1.0  # F_s N -+ lambda
             active[sl] = True
             for b in range(n):
-                d[sl, b] = fs * normal[j, 1 + b] + sg * hk[b]
+                d[sl, b] = fs * normal[j, 1 + b] + sg * room[b]
             if law[j, RESULTANT] != 0.0:
                 for b in range(n):
-                    d[sl, n + b] = sg * hk[n + b]
+                    d[sl, n + b] = sg * room[n + b]
             dc[sl] = fs * normal[j, 0] - sg * hf
-            for f in range(m):
-                dh[sl, f] = -sg * hg[f] * amp[f]
+            for f in range(len(amp)):
+                dh[sl, f] = -sg * room[2 * n + f] * amp[f]
+
+
+@njit(cache=True, inline="always")
+def held_row(damping, fdir, he_i, keff, f0, room):
+    """HE_i f0; ``room`` = [HE_i K_eff, HE_i C, HE_i G] (the sums skip HE_i's zeros)."""
+    n = len(he_i)
+    room[:] = 0.0
+    hf = 0.0
+    for c in range(n):
+        x = he_i[c]
+        if x == 0.0:
+            continue
+        for b in range(n):
+            room[b] += x * keff[c, b]
+            room[n + b] += x * damping[c, b]
+        hf += x * f0[c]
+        for f in range(fdir.shape[0]):
+            room[2 * n + f] += x * fdir[f, c]
+    return hf
 
 
 @njit(cache=True)
