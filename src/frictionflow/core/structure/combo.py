@@ -129,12 +129,13 @@ def axes_of(asm, stuck, axis, scale, seen):
 def axes_split(minv, axis, scale):
     """(Z, R, HE) of stuck directions along coordinate axes: Z selects the free coordinates, E_S picks entries."""
     n, ns = minv.shape[0], len(axis)
-    mie = np.empty((n, ns))  # M^-1 E_S^T
+    mie, gi = np.empty((n, ns)), np.empty((ns, ns))  # M^-1 E_S^T, E_S M^-1 E_S^T
+    for a in range(n):
+        for i in range(ns):
+            mie[a, i] = minv[a, axis[i]] * scale[i]
     for i in range(ns):
-        mie[:, i] = minv[:, axis[i]] * scale[i]
-    gi = np.empty((ns, ns))  # E_S M^-1 E_S^T
-    for i in range(ns):
-        gi[i] = scale[i] * mie[axis[i]]
+        for c in range(ns):
+            gi[i, c] = scale[i] * mie[axis[i], c]
     r = mie_times_g(mie, gi)
     free = np.ones(n, dtype=np.bool_)
     free[axis] = False
@@ -239,8 +240,9 @@ def columns(a, z, sel, rows):
     if not sel:
         return mm(a, z)
     out = np.empty((a.shape[0], len(rows)))
-    for c in range(len(rows)):
-        out[:, c] = a[:, rows[c]]
+    for i in range(a.shape[0]):
+        for c in range(len(rows)):
+            out[i, c] = a[i, rows[c]]
     return out
 
 
@@ -515,23 +517,35 @@ def held_row(damping, fdir, he_i, keff, f0, room):
     return hf
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
 def constants(asm, stuck, z, r, keff, vb, d):
     """(Z^T, b_S, R b_S, b1, bh, e1): the parts of every :func:`start` in one combination that the state leaves out."""
+    belt, fdir, amp = asm.belt, asm.force_dir, asm.force_amp
     n, ns, nr = z.shape[0], len(stuck), z.shape[1]
     bs = np.empty(ns)
     for i in range(ns):
-        bs[i] = asm.belt[stuck[i]]
+        bs[i] = belt[stuck[i]]
     rb = r @ bs if ns else np.zeros(n)
     zt = z.T.copy()
-    p1 = -(zt @ (keff @ rb))
-    pg = mm(zt, asm.force_dir.T.copy())
-    for f in range(pg.shape[1]):
-        pg[:, f] *= asm.force_amp[f]
+    sel, rows = selected(z)
+    p1, pg = (picked(keff @ rb, fdir, amp, rows) if sel else
+              (-(zt @ (keff @ rb)), mm(zt, fdir.T.copy()) * amp))
     b1 = vb @ p1.astype(np.complex128) if nr else np.zeros(0, dtype=np.complex128)
     bh = mm(vb, pg.astype(np.complex128))
     e1 = np.ascontiguousarray(d[:, :n]) @ rb
     return zt, bs, rb, b1, bh, e1
+
+
+@njit(cache=True)
+def picked(krb, fdir, amp, rows):
+    """(-Z^T K_eff R b_S, Z^T G diag(amplitudes)) when Z selects the coordinates ``rows`` (entries picked out)."""
+    nr, m = len(rows), len(amp)
+    p1, pg = np.empty(nr), np.empty((nr, m))
+    for c in range(nr):
+        p1[c] = -krb[rows[c]]
+        for f in range(m):
+            pg[c, f] = fdir[f, rows[c]] * amp[f]
+    return p1, pg
 
 
 @njit(cache=True)
@@ -566,9 +580,13 @@ def event_modes(d, active, z, sel, rows, lam, v, real):
     w = np.zeros((d.shape[0], 2 * r), dtype=np.complex128)
     if r == 0 or len(slots) == 0:
         return w
+    if real and sel and 4 * real_nonzeros(v, r) <= r * r:  # Phi of a chain cut into pieces: mostly zeros
+        picked_modes(d, slots, rows, lam, v, np.zeros((2, r, len(slots))), w)
+        return w
     dq, dv = np.empty((len(slots), n)), np.empty((len(slots), n))
     for e in range(len(slots)):
-        dq[e], dv[e] = d[slots[e], :n], d[slots[e], n:]
+        for a in range(n):
+            dq[e, a], dv[e, a] = d[slots[e], a], d[slots[e], n + a]
     dzq, dzv = columns(dq, z, sel, rows), columns(dv, z, sel, rows)
     if real:
         phi = np.ascontiguousarray(v[:r, :r].real)
@@ -583,6 +601,35 @@ def event_modes(d, active, z, sel, rows, lam, v, real):
     for e in range(len(slots)):
         w[slots[e]] = wr[e] + 1j * wi[e]
     return w
+
+
+@njit(cache=True, inline="always")
+def real_nonzeros(v, r):
+    """The nonzeros of Phi, V's real upper left block of size ``r``."""
+    nz = 0
+    for i in range(r):
+        for a in range(r):
+            nz += v[i, a].real != 0.0
+    return nz
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def picked_modes(d, slots, rows, lam, v, pq, w):
+    """W's active rows when Z selects ``rows`` and Phi (V's upper left block) is mostly zeros: D's columns
+    picked out, Phi's zeros skipped (``pq``: zeros for P^T and Q^T)."""
+    n, r = d.shape[1] // 2, len(rows)
+    for i in range(r):
+        for a in range(r):
+            x = v[i, a].real
+            if x != 0.0:
+                for e in range(len(slots)):
+                    pq[0, a, e] += x * d[slots[e], rows[i]]
+                    pq[1, a, e] += x * d[slots[e], n + rows[i]]
+    for e in range(len(slots)):
+        for a in range(r):
+            p, q = pq[0, a, e], pq[1, a, e]
+            w[slots[e], a] = p + lam[a] * q
+            w[slots[e], r + a] = p + lam[r + a] * q
 
 
 @njit(cache=True)
