@@ -11,7 +11,8 @@ import pytest
 from scipy.linalg import expm
 
 from frictionflow import Coulomb
-from frictionflow.core.structure.combo import block_eigh, build, constraint_split, lookup, new_cache
+from frictionflow.core.layout import FD, FS, RESULTANT
+from frictionflow.core.structure.combo import N_SLOTS, block_eigh, build, constraint_split, lookup, new_cache, split
 
 from .builders import assembly, chain
 
@@ -94,3 +95,47 @@ def test_the_cache_returns_the_combination_asked_for():
         assert np.array_equal(cb.modes, modes)
         assert np.array_equal(cb.W, fresh.W) and np.array_equal(cb.Vi, fresh.Vi)
     assert cache.used[0] == len({tuple(m) for m in asked} | {(0,) * 5})
+
+
+def _loaded_structure(mass):
+    """Four masses on scaled, signed axis contacts, two with q-dependent normal loads, two harmonic forces."""
+    eye = np.eye(4)
+    dirs = [2.0 * eye[0], -eye[1], 0.5 * eye[2], eye[3]]
+    normals = [[1.5, 0.2, 0.0, 0.0, 0.0], None, [0.8, 0.0, -0.1, 0.3, 0.0], None]
+    p = Coulomb(0.2, 0.4).kernel_params()
+    springs = [(e, 1.0 + i) for i, e in enumerate(eye)] + [(eye[i] - eye[i + 1], 0.5) for i in range(3)]
+    dampers = [(e, 0.03 * (i + 1)) for i, e in enumerate(eye)] + [(eye[0] - eye[1], 0.02)]
+    forces = [(np.array([1.0, 0.0, -0.5, 0.0]), 0.3, 1.1, 0.2), (eye[3], -0.7, 0.6, 0.0)]
+    contacts = [(d, 0.1 * (i + 1), p, nl) for i, (d, nl) in enumerate(zip(dirs, normals))]
+    return assembly(mass, springs=springs, dampers=dampers, contacts=contacts, forces=forces)
+
+
+@pytest.mark.parametrize("full_mass", [False, True])
+@pytest.mark.parametrize("modes", [[0, 1, 0, -1], [1, 0, -1, 0], [0, 0, 0, 1]])
+def test_split_and_held_rows_like_the_definitions(full_mass, modes):
+    """K_eff, f0, R, HE of the stick rule's split and the stuck contacts' event rows F_s N -+ lambda,
+    lambda = HE (C q' + K_eff q - f0 - forces), against numpy on the hand-assembled matrices."""
+    rng = np.random.default_rng(5)
+    a = rng.normal(size=(4, 4))
+    asm = _loaded_structure(a @ a.T + 4 * np.eye(4) if full_mass else [1.0, 2.0, 0.5, 1.5])
+    modes = np.array(modes, dtype=np.int8)
+    stuck = np.nonzero(modes == 0)[0]
+    keff, f0 = asm.stiffness.copy(), np.zeros(4)
+    for j in np.nonzero(modes != 0)[0]:
+        fd = modes[j] * asm.law[j, FD]
+        keff -= fd * np.outer(asm.contact_dir[j], asm.normal[j, 1:])
+        f0 += fd * asm.normal[j, 0] * asm.contact_dir[j]
+    r, he = _general_split(asm, stuck)
+    sp = split(asm, np.linalg.inv(asm.mass), modes)
+    assert sp.keff == pytest.approx(keff, abs=1e-14) and sp.f0 == pytest.approx(f0, abs=1e-14)
+    assert sp.R == pytest.approx(r, abs=1e-13) and sp.HE == pytest.approx(he, abs=1e-13)
+    cb = build(asm, np.linalg.inv(asm.mass), modes)
+    for i, j in enumerate(stuck):
+        fs, damped = asm.law[j, FS], asm.law[j, RESULTANT] != 0.0
+        for side, sg in ((0, -1.0), (1, 1.0)):
+            e = N_SLOTS * j + side
+            assert cb.active[e]
+            assert cb.D[e, :4] == pytest.approx(fs * asm.normal[j, 1:] + sg * he[i] @ keff, abs=1e-13)
+            assert cb.D[e, 4:] == pytest.approx(sg * he[i] @ asm.damping if damped else np.zeros(4), abs=1e-13)
+            assert cb.dc[e] == pytest.approx(fs * asm.normal[j, 0] - sg * he[i] @ f0, abs=1e-13)
+            assert cb.Dh[e] == pytest.approx(-sg * (asm.force_dir @ he[i]) * asm.force_amp, abs=1e-13)

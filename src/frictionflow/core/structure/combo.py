@@ -51,6 +51,7 @@ from numba import njit
 from numba.typed import List
 
 from ..layout import FD, FS, RESULTANT, STICK
+from ..options import NO_RUNTIME
 
 Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W ZT bs rb b1 bh e1 WA")
 #: what the stick rule needs of a combination (no eigen-decomposition): its held forces and accelerations
@@ -82,57 +83,74 @@ def mm(a, b):
     return np.ascontiguousarray(a) @ np.ascontiguousarray(b)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
 def slip_terms(asm, modes):
     """(K_eff, f0): the stiffness and the constant force of the slipping contacts' friction."""
     keff = asm.stiffness.copy()
-    n = keff.shape[0]
-    f0 = np.zeros(n)
-    for j in range(len(modes)):
-        if modes[j] == STICK:
-            continue
-        fd = modes[j] * asm.law[j, FD]
-        for a in range(n):
-            f0[a] += fd * asm.normal[j, 0] * asm.contact_dir[j, a]
-        if not np.any(asm.normal[j, 1:] != 0.0):  # a constant normal load leaves K as it is
-            continue
-        for a in range(n):
-            for b in range(n):
-                keff[a, b] -= fd * asm.contact_dir[j, a] * asm.normal[j, 1 + b]
+    f0 = np.zeros(keff.shape[0])
+    slip_into(asm, modes, keff, f0)
     return keff, f0
 
 
-@njit(cache=True)
-def axes_of(asm, stuck):
-    """(ok, axis, scale): ok when every stuck direction is scale * a unit coordinate vector, all axes distinct."""
-    n, ns = asm.contact_dir.shape[1], len(stuck)
-    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
-    seen = np.zeros(n, dtype=np.bool_)
-    for i in range(ns):
-        row = asm.contact_dir[stuck[i]]
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def slip_into(asm, modes, keff, f0):
+    """:func:`slip_terms` into ``keff`` (holding K) and ``f0`` (zeros)."""
+    law, normal, cdir = asm.law, asm.normal, asm.contact_dir
+    n = keff.shape[0]
+    for j in range(len(modes)):
+        if modes[j] == STICK:
+            continue
+        fd = modes[j] * law[j, FD]
         for a in range(n):
-            if row[a] != 0.0:
+            f0[a] += fd * normal[j, 0] * cdir[j, a]
+        if not depends(normal, j):  # a constant normal load leaves K as it is
+            continue
+        for a in range(n):
+            for b in range(n):
+                keff[a, b] -= fd * cdir[j, a] * normal[j, 1 + b]
+
+
+@njit(cache=True, inline="always")
+def depends(normal, j):
+    """True when contact ``j``'s normal load depends on q (a nonzero of ``normal[j, 1:]``)."""
+    for b in range(1, normal.shape[1]):
+        if normal[j, b] != 0.0:
+            return True
+    return False
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def axes_of(asm, stuck, axis, scale, seen):
+    """True when every stuck direction is scale * a unit coordinate vector, all axes distinct: ``axis`` (-1s),
+    ``scale`` and ``seen`` (False per coordinate) filled in."""
+    cdir = asm.contact_dir
+    n = cdir.shape[1]
+    for i in range(len(stuck)):
+        j = stuck[i]
+        for a in range(n):
+            if cdir[j, a] != 0.0:
                 if axis[i] >= 0:
-                    return False, axis, scale
+                    return False
                 axis[i] = a
         if axis[i] < 0 or seen[axis[i]]:  # a zero or a repeated direction: the general route refuses it
-            return False, axis, scale
+            return False
         seen[axis[i]] = True
-        scale[i] = row[axis[i]]
-    return True, axis, scale
+        scale[i] = cdir[j, axis[i]]
+    return True
 
 
 @njit(cache=True)
 def axes_split(minv, axis, scale):
     """(Z, R, HE) of stuck directions along coordinate axes: Z selects the free coordinates, E_S picks entries."""
     n, ns = minv.shape[0], len(axis)
-    mie = np.empty((n, ns))  # M^-1 E_S^T
+    mie, gi = np.empty((n, ns)), np.empty((ns, ns))  # M^-1 E_S^T, E_S M^-1 E_S^T
+    for a in range(n):
+        for i in range(ns):
+            mie[a, i] = minv[a, axis[i]] * scale[i]
     for i in range(ns):
-        mie[:, i] = minv[:, axis[i]] * scale[i]
-    gi = np.empty((ns, ns))  # E_S M^-1 E_S^T
-    for i in range(ns):
-        gi[i] = scale[i] * mie[axis[i]]
-    r = mm(mie, np.linalg.inv(gi))
+        for c in range(ns):
+            gi[i, c] = scale[i] * mie[axis[i], c]
+    r = mie_times_g(mie, gi)
     free = np.ones(n, dtype=np.bool_)
     free[axis] = False
     idx = np.nonzero(free)[0]
@@ -143,13 +161,29 @@ def axes_split(minv, axis, scale):
 
 
 @njit(cache=True)
+def mie_times_g(mie, gi):
+    """R = M^-1 E_S^T G, G = gi^-1: a diagonal gi (a diagonal M) divides columns (G's entries are 1 / gi_ii)."""
+    ns = gi.shape[0]
+    for i in range(ns):
+        for c in range(ns):
+            if i != c and gi[i, c] != 0.0:
+                return mm(mie, np.linalg.inv(gi))
+    r = np.empty_like(mie)
+    for c in range(ns):
+        g = 1.0 / gi[c, c]
+        for a in range(mie.shape[0]):
+            r[a, c] = mie[a, c] * g
+    return r
+
+
+@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
 def constraint_split(asm, minv, stuck):
     """(Z, R, HE) of the stuck set (HE = G E_S M^-1: held forces from the forces on the structure)."""
     n, ns = minv.shape[0], len(stuck)
     if ns == 0:
         return np.eye(n), np.zeros((n, 0)), np.zeros((0, n))
-    ok, axis, scale = axes_of(asm, stuck)
-    if ok:  # no SVD: the null space is spanned by the other axes
+    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
+    if axes_of(asm, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # no SVD: the other axes span the null space
         return axes_split(minv, axis, scale)
     es = np.empty((ns, n))
     for i in range(ns):
@@ -173,6 +207,10 @@ def split(asm, minv, modes):
     ns = len(stuck)
     if ns == 0:
         return Split(modes.copy(), stuck, np.zeros((n, 0)), np.zeros((0, n)), keff, f0)
+    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
+    if axes_of(asm, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # the same numbers with entries picked out
+        _, r, he = axes_split(minv, axis, scale)
+        return Split(modes.copy(), stuck, r, he, keff, f0)
     es = np.empty((ns, n))
     for i in range(ns):
         es[i] = asm.contact_dir[stuck[i]]
@@ -216,8 +254,9 @@ def columns(a, z, sel, rows):
     if not sel:
         return mm(a, z)
     out = np.empty((a.shape[0], len(rows)))
-    for c in range(len(rows)):
-        out[:, c] = a[:, rows[c]]
+    for i in range(a.shape[0]):
+        for c in range(len(rows)):
+            out[i, c] = a[i, rows[c]]
     return out
 
 
@@ -424,7 +463,7 @@ def roots(cd, w2):
     return complex(l1, 0.0), complex(w2 / l1 if l1 != 0.0 else -cd - l1, 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
 def event_maps(asm, modes, stuck, he, keff, f0):
     """(D, dc, Dh, active): each event slot as D (q, q') + dc + sum_i Dh_i cos(Omega_i t + phi_i)."""
     k, n = asm.contact_dir.shape
@@ -433,50 +472,94 @@ def event_maps(asm, modes, stuck, he, keff, f0):
     dc = np.zeros(N_SLOTS * k)
     dh = np.zeros((N_SLOTS * k, m))
     active = np.zeros(N_SLOTS * k, dtype=np.bool_)
-    for j in range(k):
-        nj = asm.normal[j, 1:]
-        if np.any(nj != 0.0):
-            active[N_SLOTS * j + 2] = True
-            d[N_SLOTS * j + 2, :n] = nj
-            dc[N_SLOTS * j + 2] = asm.normal[j, 0]
-        if modes[j] != STICK:
-            active[N_SLOTS * j] = True
-            d[N_SLOTS * j, n:] = -modes[j] * asm.contact_dir[j]
-            dc[N_SLOTS * j] = modes[j] * asm.belt[j]
-    hk, hc, hf = mm(he, keff), mm(he, asm.damping), he @ f0 if len(stuck) else np.zeros(0)
-    hg = mm(he, asm.force_dir.T.copy())
-    for i in range(len(stuck)):
-        j = stuck[i]
-        fs = asm.law[j, FS]
-        for side in range(2):
-            sl, sg = N_SLOTS * j + side, 1.0 if side else -1.0  # F_s N -+ lambda
-            active[sl] = True
-            d[sl, :n] = fs * asm.normal[j, 1:] + sg * hk[i]
-            if asm.law[j, RESULTANT] != 0.0:
-                d[sl, n:] = sg * hc[i]
-            dc[sl] = fs * asm.normal[j, 0] - sg * hf[i]
-            for f in range(m):
-                dh[sl, f] = -sg * hg[i, f] * asm.force_amp[f]
+    maps_into(asm, modes, stuck, he, keff, f0, d, dc, dh, active, np.empty(2 * n + m))
     return d, dc, dh, active
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def maps_into(asm, modes, stuck, he, keff, f0, d, dc, dh, active, room):
+    """:func:`event_maps` into ``d``, ``dc``, ``dh``, ``active`` (zeros); ``room``: 2 n + (forces) numbers.
+
+    lambda_i = HE_i (C q' + K_eff q - f0 - forces): HE's row times K_eff, C, f0 and the forces' directions,
+    skipping its zeros (one entry per row when the stuck directions are axes of a diagonal M).
+    """
+    cdir, normal, law, belt, amp, fdir = asm.contact_dir, asm.normal, asm.law, asm.belt, asm.force_amp, asm.force_dir
+    k, n = cdir.shape
+    for j in range(k):
+        if depends(normal, j):
+            active[N_SLOTS * j + 2] = True
+            for b in range(n):
+                d[N_SLOTS * j + 2, b] = normal[j, 1 + b]
+            dc[N_SLOTS * j + 2] = normal[j, 0]
+        if modes[j] != STICK:
+            active[N_SLOTS * j] = True
+            for a in range(n):
+                d[N_SLOTS * j, n + a] = -modes[j] * cdir[j, a]
+            dc[N_SLOTS * j] = modes[j] * belt[j]
+    for i in range(len(stuck)):
+        j, hf = stuck[i], held_row(asm.damping, fdir, he[i], keff, f0, room)  # room: HE_i [K_eff, C], HE_i G
+        fs = law[j, FS]
+        for side in range(2):
+            sl, sg = N_SLOTS * j + side, 1.0 if side else -1.0  # F_s N -+ lambda
+            active[sl] = True
+            for b in range(n):
+                d[sl, b] = fs * normal[j, 1 + b] + sg * room[b]
+            if law[j, RESULTANT] != 0.0:
+                for b in range(n):
+                    d[sl, n + b] = sg * room[n + b]
+            dc[sl] = fs * normal[j, 0] - sg * hf
+            for f in range(len(amp)):
+                dh[sl, f] = -sg * room[2 * n + f] * amp[f]
+
+
+@njit(cache=True, inline="always")
+def held_row(damping, fdir, he_i, keff, f0, room):
+    """HE_i f0; ``room`` = [HE_i K_eff, HE_i C, HE_i G] (the sums skip HE_i's zeros)."""
+    n = len(he_i)
+    room[:] = 0.0
+    hf = 0.0
+    for c in range(n):
+        x = he_i[c]
+        if x == 0.0:
+            continue
+        for b in range(n):
+            room[b] += x * keff[c, b]
+            room[n + b] += x * damping[c, b]
+        hf += x * f0[c]
+        for f in range(fdir.shape[0]):
+            room[2 * n + f] += x * fdir[f, c]
+    return hf
+
+
+@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
 def constants(asm, stuck, z, r, keff, vb, d):
     """(Z^T, b_S, R b_S, b1, bh, e1): the parts of every :func:`start` in one combination that the state leaves out."""
+    belt, fdir, amp = asm.belt, asm.force_dir, asm.force_amp
     n, ns, nr = z.shape[0], len(stuck), z.shape[1]
     bs = np.empty(ns)
     for i in range(ns):
-        bs[i] = asm.belt[stuck[i]]
+        bs[i] = belt[stuck[i]]
     rb = r @ bs if ns else np.zeros(n)
     zt = z.T.copy()
-    p1 = -(zt @ (keff @ rb))
-    pg = mm(zt, asm.force_dir.T.copy())
-    for f in range(pg.shape[1]):
-        pg[:, f] *= asm.force_amp[f]
+    sel, rows = selected(z)
+    p1, pg = (picked(keff @ rb, fdir, amp, rows) if sel else
+              (-(zt @ (keff @ rb)), mm(zt, fdir.T.copy()) * amp))
     b1 = vb @ p1.astype(np.complex128) if nr else np.zeros(0, dtype=np.complex128)
     bh = mm(vb, pg.astype(np.complex128))
     e1 = np.ascontiguousarray(d[:, :n]) @ rb
     return zt, bs, rb, b1, bh, e1
+
+
+@njit(cache=True)
+def picked(krb, fdir, amp, rows):
+    """(-Z^T K_eff R b_S, Z^T G diag(amplitudes)) when Z selects the coordinates ``rows`` (entries picked out)."""
+    nr, m = len(rows), len(amp)
+    p1, pg = np.empty(nr), np.empty((nr, m))
+    for c in range(nr):
+        p1[c] = -krb[rows[c]]
+        for f in range(m):
+            pg[c, f] = fdir[f, rows[c]] * amp[f]
+    return p1, pg
 
 
 @njit(cache=True)
@@ -511,9 +594,13 @@ def event_modes(d, active, z, sel, rows, lam, v, real):
     w = np.zeros((d.shape[0], 2 * r), dtype=np.complex128)
     if r == 0 or len(slots) == 0:
         return w
+    if real and sel and 4 * real_nonzeros(v, r) <= r * r:  # Phi of a chain cut into pieces: mostly zeros
+        picked_modes(d, slots, rows, lam, v, np.zeros((2, r, len(slots))), w)
+        return w
     dq, dv = np.empty((len(slots), n)), np.empty((len(slots), n))
     for e in range(len(slots)):
-        dq[e], dv[e] = d[slots[e], :n], d[slots[e], n:]
+        for a in range(n):
+            dq[e, a], dv[e, a] = d[slots[e], a], d[slots[e], n + a]
     dzq, dzv = columns(dq, z, sel, rows), columns(dv, z, sel, rows)
     if real:
         phi = np.ascontiguousarray(v[:r, :r].real)
@@ -528,6 +615,35 @@ def event_modes(d, active, z, sel, rows, lam, v, real):
     for e in range(len(slots)):
         w[slots[e]] = wr[e] + 1j * wi[e]
     return w
+
+
+@njit(cache=True, inline="always")
+def real_nonzeros(v, r):
+    """The nonzeros of Phi, V's real upper left block of size ``r``."""
+    nz = 0
+    for i in range(r):
+        for a in range(r):
+            nz += v[i, a].real != 0.0
+    return nz
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def picked_modes(d, slots, rows, lam, v, pq, w):
+    """W's active rows when Z selects ``rows`` and Phi (V's upper left block) is mostly zeros: D's columns
+    picked out, Phi's zeros skipped (``pq``: zeros for P^T and Q^T)."""
+    n, r = d.shape[1] // 2, len(rows)
+    for i in range(r):
+        for a in range(r):
+            x = v[i, a].real
+            if x != 0.0:
+                for e in range(len(slots)):
+                    pq[0, a, e] += x * d[slots[e], rows[i]]
+                    pq[1, a, e] += x * d[slots[e], n + rows[i]]
+    for e in range(len(slots)):
+        for a in range(r):
+            p, q = pq[0, a, e], pq[1, a, e]
+            w[slots[e], a] = p + lam[a] * q
+            w[slots[e], r + a] = p + lam[r + a] * q
 
 
 @njit(cache=True)
