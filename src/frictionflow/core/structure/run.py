@@ -53,7 +53,7 @@ def scratch(asm, n_work):
                    new_room(n, k))
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def emit(out, i, asm, cb, q, v, t, acc, room):
     """Write sample ``i`` into the :data:`~..records.Samples` ``out``; False when they are full.
 
@@ -200,7 +200,7 @@ def initial(asm, minv, cache, scr):
     return modes, -1
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def dense_samples(out, i, asm, cb, ph, om, tau, tau_last, next_t, dense_dt, acc, scr):
     """Emit the dense grid's points before ``tau``; (samples written, local time reached, next grid time, ok)."""
     while dense_dt > 0.0 and next_t < ph.t0 + tau:

@@ -27,6 +27,7 @@ from numba import njit
 
 from ..friction import ON_LIMIT, holds, limit_ratio
 from ..layout import FD, FS, RESULTANT, STICK
+from ..blas import gemv
 from ..options import NO_RUNTIME
 from .combo import Split, slip_terms, split
 
@@ -36,7 +37,7 @@ RATE_TOL = 1e-12
 
 #: the stick rule's room, made once per run (:func:`new_room`): the forces on the structure, a product, the forces'
 #: rate and q'' (n each); per stuck contact its held force as its rule reads it, its friction force, the "spring"
-#: rule's rate and the rates (k each: views of the stuck count)
+#: rule's rate and the rates (k each: the first entries, one per stuck contact)
 Room = namedtuple("Room", "f tmp d acc rule fr spring rates")
 
 
@@ -47,14 +48,14 @@ def new_room(n, k):
                 np.empty(k))
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def rest_into(asm, cb, q, v, t, damped, f, tmp):
     """:func:`rest` into ``f`` (``tmp``: room for a product; the products are ``@``'s own BLAS calls)."""
-    np.dot(cb.keff, q, tmp)
+    gemv(cb.keff, q, tmp)
     for a in range(len(f)):
         f[a] = cb.f0[a] - tmp[a]
     if damped:
-        np.dot(asm.damping, v, tmp)
+        gemv(asm.damping, v, tmp)
         for a in range(len(f)):
             f[a] -= tmp[a]
     for i in range(len(asm.force_amp)):
@@ -71,44 +72,45 @@ def rest(asm, cb, q, v, t, damped):
     return f
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def held_into(asm, cb, q, v, t, room):
-    """:func:`held` in the :data:`Room` ``room`` (the two results are views of it)."""
+    """:func:`held` into the first entries of ``room.rule`` and ``room.fr`` (``room``: a :data:`Room`)."""
     ns = len(cb.stuck)
     rule, fr = room.rule[:ns], room.fr[:ns]
     rest_into(asm, cb, q, v, t, True, room.f, room.tmp)
-    np.dot(cb.HE, room.f, fr)
+    gemv(cb.HE, room.f, fr)
     spring = False  # the spring rule's force only where some stuck contact reads it
     for i in range(ns):
         fr[i] = -fr[i]
         spring = spring or asm.law[cb.stuck[i], RESULTANT] == 0.0
     if spring:
         rest_into(asm, cb, q, v, t, False, room.f, room.tmp)
-        np.dot(cb.HE, room.f, rule)
+        gemv(cb.HE, room.f, rule)
     for i in range(ns):
         rule[i] = -rule[i] if spring and asm.law[cb.stuck[i], RESULTANT] == 0.0 else fr[i]
-    return rule, fr
 
 
 @njit(cache=True)
 def held(asm, cb, q, v, t):
     """(rule, friction): each stuck contact's held force as its stick rule reads it, and its friction force."""
-    return held_into(asm, cb, q, v, t, new_room(len(q), len(cb.stuck)))
+    room = new_room(len(q), len(cb.stuck))
+    held_into(asm, cb, q, v, t, room)
+    return room.rule, room.fr
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def normal_load(asm, j, q):
     """N_j = P_j + n_j . q."""
     return asm.normal[j, 0] + asm.normal[j, 1:] @ q
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def friction_forces_into(asm, cb, q, v, t, out, room):
     """:func:`friction_forces` into ``out`` (``room``: a :data:`Room`)."""
     if len(cb.stuck):
-        _, fr = held_into(asm, cb, q, v, t, room)
+        held_into(asm, cb, q, v, t, room)
         for i in range(len(cb.stuck)):
-            out[cb.stuck[i]] = fr[i]
+            out[cb.stuck[i]] = room.fr[i]
     for j in range(len(cb.modes)):
         if cb.modes[j] != STICK:
             out[j] = cb.modes[j] * asm.law[j, FD] * normal_load(asm, j, q)
@@ -122,34 +124,35 @@ def friction_forces(asm, cb, q, v, t):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
 def constrained(asm, cb, a0):
     """``a0`` (M^-1 times the forces) less its part along the stuck directions, in place: q'' in ``cb``."""
     for i in range(len(cb.stuck)):
         s = asm.contact_dir[cb.stuck[i]] @ a0
         for a in range(len(a0)):
             a0[a] -= cb.R[a, i] * s
-    return a0
 
 
 @njit(cache=True)
 def acceleration(asm, cb, q, v, t):
     """q'' in the combination ``cb``: M^-1 rest minus its part along the stuck directions."""
-    return constrained(asm, cb, np.linalg.solve(asm.mass, rest(asm, cb, q, v, t, True)))
+    a0 = np.linalg.solve(asm.mass, rest(asm, cb, q, v, t, True))
+    constrained(asm, cb, a0)
+    return a0
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def acceleration_into(asm, cb, minv, q, v, t, room):
     """:func:`acceleration` into ``room.acc`` with M^-1 given (``minv``): a product instead of a solve."""
     rest_into(asm, cb, q, v, t, True, room.f, room.tmp)
-    np.dot(minv, room.f, room.acc)
-    return constrained(asm, cb, room.acc)
+    gemv(minv, room.f, room.acc)
+    constrained(asm, cb, room.acc)
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def held_rates(asm, cb, minv, q, v, t, room):
-    """d/dt of each stuck contact's held force as its stick rule reads it (:func:`held`), with q'' of ``cb``
-    (a view of ``room``, a :data:`Room`).
+    """d/dt of each stuck contact's held force as its stick rule reads it (:func:`held`), with q'' of ``cb``,
+    into the first entries of ``room.rates`` (``room``: a :data:`Room`).
 
     lambda_S = G E_S M^-1 (C q' + K_eff q - f0 - forces(t)) with G E_S M^-1
     and K_eff constant in the combination: lambda_S' = G E_S M^-1 (C q'' +
@@ -157,22 +160,21 @@ def held_rates(asm, cb, minv, q, v, t, room):
     """
     ns = len(cb.stuck)
     d, spring, rate = room.d, room.spring[:ns], room.rates[:ns]
-    np.dot(cb.keff, v, d)
+    gemv(cb.keff, v, d)
     for i in range(len(asm.force_amp)):
         w = asm.force_omega[i] * t + asm.force_phi[i]
         c = asm.force_amp[i] * asm.force_omega[i] * math.sin(w)
         for a in range(len(d)):
             d[a] += asm.force_dir[i, a] * c
-    np.dot(cb.HE, d, spring)
-    acc = acceleration_into(asm, cb, minv, q, v, t, room)
-    np.dot(asm.damping, acc, room.tmp)
+    gemv(cb.HE, d, spring)
+    acceleration_into(asm, cb, minv, q, v, t, room)
+    gemv(asm.damping, room.acc, room.tmp)
     for a in range(len(d)):
         room.f[a] = d[a] + room.tmp[a]
-    np.dot(cb.HE, room.f, rate)
+    gemv(cb.HE, room.f, rate)
     for i in range(ns):
         if asm.law[cb.stuck[i], RESULTANT] == 0.0:
             rate[i] = spring[i]
-    return rate
 
 
 @njit(cache=True)
@@ -226,37 +228,46 @@ def release_in(asm, minv, q, v, t, modes, released, cache, room):
         cb = candidate(asm, minv, modes, cache)
         if len(cb.stuck) == 0:
             return cb
-        rule, _ = held_into(asm, cb, q, v, t, room)
-        worst, wr = -1, -1.0
-        rates, have_rates = room.rates, False
-        for i in range(len(cb.stuck)):
-            j = cb.stuck[i]
-            lim = asm.law[j, FS] * normal_load(asm, j, q)
-            rate = 0.0
-            if lim > 0.0 and abs(rule[i]) >= lim * (1.0 - ON_LIMIT):  # on the limit: its rate decides
-                if not have_rates:
-                    rates, have_rates = held_rates(asm, cb, minv, q, v, t, room), True
-                # relative to the limit F_s N_j(q), which moves at F_s n_j . q'
-                rate = rates[i] - math.copysign(asm.law[j, FS] * (asm.normal[j, 1:] @ v), rule[i])
-            if holds(rule[i], lim, rate):
-                continue
-            ratio = limit_ratio(rule[i], lim)
-            if ratio >= wr:
-                worst, wr = i, ratio
+        worst = most_over(asm, cb, minv, q, v, t, room)
         if worst < 0:
             return cb
         j = cb.stuck[worst]
-        modes[j] = 1 if rule[worst] > 0.0 else -1
+        modes[j] = 1 if room.rule[worst] > 0.0 else -1
         released[j] = True
     return None
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def most_over(asm, cb, minv, q, v, t, room):
+    """The stuck contact (its index in ``cb.stuck``) most over F_s N_j, -1 when each holds; its held forces stay in
+    ``room.rule``."""
+    held_into(asm, cb, q, v, t, room)
+    rule, rates = room.rule, room.rates
+    worst, wr, have_rates = -1, -1.0, False
+    for i in range(len(cb.stuck)):
+        j = cb.stuck[i]
+        lim = asm.law[j, FS] * normal_load(asm, j, q)
+        rate = 0.0
+        if lim > 0.0 and abs(rule[i]) >= lim * (1.0 - ON_LIMIT):  # on the limit: its rate decides
+            if not have_rates:
+                held_rates(asm, cb, minv, q, v, t, room)
+                have_rates = True
+            # relative to the limit F_s N_j(q), which moves at F_s n_j . q'
+            rate = rates[i] - math.copysign(asm.law[j, FS] * (asm.normal[j, 1:] @ v), rule[i])
+        if holds(rule[i], lim, rate):
+            continue
+        ratio = limit_ratio(rule[i], lim)
+        if ratio >= wr:
+            worst, wr = i, ratio
+    return worst
+
+
+@njit(cache=True, inline="always")
 def abs_max(a):
-    """max |a_i| over all entries (no temporary array)."""
+    """max |a_i| over a vector's entries (no temporary array)."""
     m = 0.0
-    for x in a.flat:
-        m = max(m, abs(x))
+    for i in range(len(a)):
+        m = max(m, abs(a[i]))
     return m
 
 
@@ -279,15 +290,25 @@ def check_directions(asm, minv, q, v, t, modes, leaving, first, cache, room):
         return
     for attempt in range(2):
         cb = first if attempt == 0 and first is not None else candidate(asm, minv, modes, cache)
-        acc = acceleration_into(asm, cb, minv, q, v, t, room)
-        tol = RATE_TOL * (abs_max(acc) + abs_max(minv) * abs_max(cb.f0) + 1e-300)
-        changed = False
-        for j in range(len(modes)):
-            if leaving[j] and modes[j] != STICK and -modes[j] * (asm.contact_dir[j] @ acc) < -tol:
-                modes[j] = -modes[j] if attempt == 0 else STICK
-                changed = True
-        if not changed:
+        if not flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
             return
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
+    """One pass of :func:`check_directions` with q'' of ``cb``: flip (``attempt`` 0) or stick (1) each contact
+    leaving V_r = 0 the wrong way; whether one was."""
+    acceleration_into(asm, cb, minv, q, v, t, room)
+    acc, mi = room.acc, 0.0
+    for a in range(minv.shape[0]):
+        mi = max(mi, abs_max(minv[a]))
+    tol = RATE_TOL * (abs_max(acc) + mi * abs_max(cb.f0) + 1e-300)
+    changed = False
+    for j in range(len(modes)):
+        if leaving[j] and modes[j] != STICK and -modes[j] * (asm.contact_dir[j] @ acc) < -tol:
+            modes[j] = -modes[j] if attempt == 0 else STICK
+            changed = True
+    return changed
 
 
 @njit(cache=True)
