@@ -16,12 +16,12 @@ from numba.np.linalg import call_xxgemv, ensure_blas
 
 @intrinsic
 def gemv(typingctx, a, x, out):
-    """``out[:] = a @ x`` (``a`` a C-contiguous float64 matrix, ``x`` and ``out`` contiguous vectors), nothing
-    allocated; an empty ``a`` gives zeros, as ``@`` does."""
-    ok = (isinstance(a, types.Array) and a.ndim == 2 and a.layout == "C" and a.dtype == types.float64
-          and isinstance(x, types.Array) and x.ndim == 1 and x.layout == "C" and x.dtype == types.float64
-          and isinstance(out, types.Array) and out.ndim == 1 and out.layout == "C" and out.dtype == types.float64)
-    if not ok:
+    """``out[:] = a @ x`` (``a`` a C-contiguous matrix, ``x`` and ``out`` contiguous vectors of its length and
+    height, all float64 or all complex128), nothing allocated; an empty ``a`` gives zeros, as ``@`` does."""
+    arrays = (a, x, out)
+    if not (all(isinstance(y, types.Array) and y.layout == "C" for y in arrays)
+            and (a.ndim, x.ndim, out.ndim) == (2, 1, 1)
+            and a.dtype in (types.float64, types.complex128) and x.dtype == a.dtype and out.dtype == a.dtype):
         return None
 
     def codegen(context, builder, sig, args):

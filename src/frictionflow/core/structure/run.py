@@ -21,7 +21,7 @@ from ..layout import STICK
 from .combo import N_SLOTS, build, lookup, new_cache
 from .events import Room, values, walk
 from ..options import NO_RUNTIME
-from .phase import event_size, fastest_rate, modal_into, start, state_at, state_fill
+from .phase import StartRoom, event_size, fastest_rate, modal_into, start, start_in, state_at, state_fill
 from .stick import decide_in, friction_forces_into, hold_velocity_into, new_room, normal_load
 from .work import accumulate, integrate
 
@@ -35,8 +35,9 @@ MAX_ZERO = 8
 
 #: the run's room, made once (:func:`scratch`): the state (q, q'), the modes an event leads to, the contacts leaving
 #: V_r = 0, the slots reached, z(tau) (2n: a phase's length is a view), the walk's :data:`~.events.Room` (full
-#: length), the work quadrature's (:func:`.work.accumulate`) and the stick rule's (:data:`.stick.Room`)
-Scratch = namedtuple("Scratch", "q v new leaving hit z walk work rule")
+#: length), the work quadrature's (:func:`.work.accumulate`), the stick rule's (:data:`.stick.Room`) and the phase
+#: start's (:data:`.phase.StartRoom`)
+Scratch = namedtuple("Scratch", "q v new leaving hit z walk work rule start")
 
 
 @njit(cache=True)
@@ -48,9 +49,12 @@ def scratch(asm, n_work):
                      np.zeros(m), np.zeros(ns), np.zeros(ns, dtype=np.bool_), np.zeros(m, dtype=np.complex128))
     work_room = (np.zeros(n_work), np.zeros(k), np.zeros(m, dtype=np.complex128), np.zeros(n), np.zeros(n),
                  np.zeros(n))
+    c = np.complex128
+    start_room = StartRoom(np.zeros(m, dtype=c), np.zeros(m, dtype=c), np.zeros(len(asm.force_amp)), np.zeros(ns),
+                           np.zeros(k), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(m), np.zeros(m, dtype=c))
     return Scratch(asm.q0.copy(), asm.v0.copy(), np.zeros(k, dtype=np.int8), np.zeros(k, dtype=np.bool_),
-                   np.zeros(ns, dtype=np.bool_), np.zeros(m, dtype=np.complex128), walk_room, work_room,
-                   new_room(n, k))
+                   np.zeros(ns, dtype=np.bool_), np.zeros(m, dtype=c), walk_room, work_room, new_room(n, k),
+                   start_room)
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
@@ -231,7 +235,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
     i, nsw, zeros, next_t = 1, 0, 0, dense_dt
     floor = 1e-13 * max(1.0, t_end)
     while True:
-        ph = start(cb, asm, q, v, t)
+        ph = start_in(cb, asm, q, v, t, scr.start)
         room = phase_room(scr.walk, len(cb.lam))
         tau, slot = next_event(cb, ph, om, t_end - t, floor, leaving, room)
         tau_last, ok = 0.0, True
