@@ -92,7 +92,7 @@ def next_event(cb, ph, om, span, floor, leaving, room):
     return tau, slot
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def phase_room(walk_room, m):
     """The walk's :data:`~.events.Room` for a phase of ``m`` modal coordinates: views of the run's."""
     w = walk_room

@@ -177,7 +177,7 @@ def held_rates(asm, cb, minv, q, v, t, room):
             rate[i] = spring[i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def cached(cache, modes):
     """(i, same modes): a combination of the :data:`~.combo.Cache` ``cache`` with the stuck set of ``modes``
     (the one of the same modes first; -1: none)."""
@@ -196,7 +196,7 @@ def cached(cache, modes):
     return found, False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def candidate(asm, minv, modes, cache):
     """The :data:`~.combo.Split` of ``modes``: from a combination of the run's :data:`~.combo.Cache` ``cache`` (or
     None) with the same stuck set when there is one (its R and HE are the split's numbers, and its K_eff and f0
@@ -221,7 +221,7 @@ def release_over_limit(asm, minv, q, v, t, modes, released):
     return release_in(asm, minv, q, v, t, modes, released, None, new_room(len(q), len(modes)))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def release_in(asm, minv, q, v, t, modes, released, cache, room):
     """:func:`release_over_limit` with the run's :data:`~.combo.Cache` ``cache`` (or None) and a :data:`Room`."""
     for _ in range(len(modes) + 1):
@@ -280,7 +280,7 @@ def any_slipping(modes, leaving):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def check_directions(asm, minv, q, v, t, modes, leaving, first, cache, room):
     """Each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it (``leaving``: those).
 
