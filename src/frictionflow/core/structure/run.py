@@ -99,18 +99,10 @@ def phase_room(walk_room, m):
     return Room(w.za[:m], w.zb[:m], w.ga, w.gb, w.dz[:m], w.clear, w.dep, w.zr[:m])
 
 
-@njit(cache=True)
-def reached(cb, ph, om, tau, slot):
-    """The event slots reached at ``tau``: the located one and any other within rounding of 0 or past it."""
-    g = ph.e0.copy()
-    out = np.zeros(len(g), dtype=np.bool_)
-    mark_reached(cb, ph, om, tau, slot, np.empty(len(cb.lam), dtype=np.complex128), g, out)
-    return out
-
-
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def mark_reached(cb, ph, om, tau, slot, z, g, out):
-    """:func:`reached` into ``out`` (``z``, ``g``: room for z(tau) and the event functions)."""
+    """Mark in ``out`` the event slots reached at ``tau``: the located one and any other within rounding of 0 or
+    past it (``z``, ``g``: room for z(tau) and the event functions)."""
     modal_into(cb, ph, om, tau, z)
     values(cb, ph, om, tau, z, g)
     for e in range(len(g)):
