@@ -27,6 +27,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ..blas import gemv
 from ..options import NO_RUNTIME
 from .spectral import expint, phis
 
@@ -333,3 +334,49 @@ def fastest_rate(lam, om):
     for i in range(1, len(om)):
         w = max(w, om[i])
     return m + w
+
+
+#: room for :func:`start_in`, made once per run: the phase's z0, b0 (2n), theta (one per force), e0 (one per event
+#: slot), u0 (one per contact), and the products on the way (n, n, n, 2n; complex 2n)
+StartRoom = namedtuple("StartRoom", "z0 b0 theta e0 u0 ru w y tv xc")
+
+
+@njit(cache=True, inline="always")
+def start_in(cb, asm, q, v, t0, room):
+    """:func:`start` in the :data:`StartRoom` ``room``: the same numbers, its arrays views of the room's."""
+    start_fill(cb, asm, q, v, t0, room)
+    m, ns = len(cb.lam), len(cb.stuck)
+    return Phase(t0, room.z0[:m], room.b0[:m], cb.b1, cb.bh, room.theta, room.e0, cb.e1, room.u0[:ns], cb.bs)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def start_fill(cb, asm, q, v, t0, room):
+    """:func:`start`'s arrays into ``room`` (z0, b0: the first 2 r entries, u0: the first n_S), each product the
+    BLAS call of ``@`` in :func:`start` (:func:`..blas.gemv`)."""
+    n, ns, r = len(q), len(cb.stuck), cb.Z.shape[1]
+    u0, ru, w, y, xc = room.u0[:ns], room.ru, room.w, room.y, room.xc
+    for i in range(ns):
+        u0[i] = asm.contact_dir[cb.stuck[i]] @ q
+    gemv(cb.R, u0, ru)  # an empty R (no stuck contact) gives zeros
+    for half in range(2):  # x = (Z^T (q - R u0), Z^T (q' - R b_S))
+        for a in range(n):
+            w[a] = q[a] - ru[a] if half == 0 else v[a] - cb.rb[a]
+        gemv(cb.ZT, w, y[:r])
+        for a in range(r):
+            xc[half * r + a] = y[a]
+    gemv(cb.Vi, xc[:2 * r], room.z0[:2 * r])
+    gemv(asm.damping, cb.rb, w)
+    gemv(cb.keff, ru, y)
+    for a in range(n):
+        w[a] = cb.f0[a] - w[a] - y[a]
+    gemv(cb.ZT, w, y[:r])
+    for a in range(r):
+        xc[a] = y[a]
+    gemv(cb.VB, xc[:r], room.b0[:2 * r])
+    for f in range(len(room.theta)):
+        room.theta[f] = asm.force_omega[f] * t0 + asm.force_phi[f]
+    for a in range(n):
+        room.tv[a], room.tv[n + a] = ru[a], cb.rb[a]
+    gemv(cb.D, room.tv, room.e0)
+    for e in range(len(room.e0)):
+        room.e0[e] += cb.dc[e]

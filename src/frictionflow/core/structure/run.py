@@ -19,11 +19,11 @@ from numba import njit
 from .. import codes
 from ..layout import STICK
 from .combo import N_SLOTS, build, lookup, new_cache
-from .events import first_event, values
+from .events import Room, values, walk
 from ..options import NO_RUNTIME
-from .phase import event_size, fastest_rate, modal_into, start, state_at
-from .stick import decide, friction_forces, hold_velocity, normal_load
-from .work import integrate
+from .phase import StartRoom, event_size, fastest_rate, modal_into, start, start_in, state_at, state_fill
+from .stick import decide_in, friction_forces_into, hold_velocity_into, new_room, normal_load
+from .work import accumulate, integrate
 
 #: what a run ends with: status, samples written, switches counted, the lost contact and when (-1, nan)
 Result = namedtuple("Result", "status n_samples n_switches lost_contact lost_time")
@@ -33,44 +33,76 @@ SIMULTANEOUS = 1e-13
 MAX_ZERO = 8
 
 
+#: the run's room, made once (:func:`scratch`): the state (q, q'), the modes an event leads to, the contacts leaving
+#: V_r = 0, the slots reached, z(tau) (2n: a phase's length is a view), the walk's :data:`~.events.Room` (full
+#: length), the work quadrature's (:func:`.work.accumulate`), the stick rule's (:data:`.stick.Room`) and the phase
+#: start's (:data:`.phase.StartRoom`)
+Scratch = namedtuple("Scratch", "q v new leaving hit z walk work rule start")
+
+
 @njit(cache=True)
-def emit(out, i, asm, cb, q, v, t, acc):
+def scratch(asm, n_work):
+    """The run's :data:`Scratch` (``n_work``: the work channels)."""
+    n, k = len(asm.q0), len(asm.belt)
+    ns, m = N_SLOTS * k, 2 * n
+    walk_room = Room(np.zeros(m, dtype=np.complex128), np.zeros(m, dtype=np.complex128), np.zeros(ns), np.zeros(ns),
+                     np.zeros(m), np.zeros(ns), np.zeros(ns, dtype=np.bool_), np.zeros(m, dtype=np.complex128))
+    work_room = (np.zeros(n_work), np.zeros(k), np.zeros(m, dtype=np.complex128), np.zeros(n), np.zeros(n),
+                 np.zeros(n))
+    c = np.complex128
+    start_room = StartRoom(np.zeros(m, dtype=c), np.zeros(m, dtype=c), np.zeros(len(asm.force_amp)), np.zeros(ns),
+                           np.zeros(k), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(m), np.zeros(m, dtype=c))
+    return Scratch(asm.q0.copy(), asm.v0.copy(), np.zeros(k, dtype=np.int8), np.zeros(k, dtype=np.bool_),
+                   np.zeros(ns, dtype=np.bool_), np.zeros(m, dtype=c), walk_room, work_room, new_room(n, k),
+                   start_room)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def emit(out, i, asm, cb, q, v, t, acc, room):
     """Write sample ``i`` into the :data:`~..records.Samples` ``out``; False when they are full.
 
-    ``acc`` holds the work since the previous sample; it is written and restarts from zero.
+    ``acc`` holds the work since the previous sample; it is written and restarts from zero (``room``: a
+    :data:`.stick.Room`).
     """
     if i >= len(out.t):
         return False
     n = len(q)
     out.t[i] = t
-    out.y[:n, i] = q
-    out.y[n:, i] = v
-    out.fc[:, i] = friction_forces(asm, cb, q, v, t)
-    out.mode[:, i] = cb.modes
-    out.work[i, :] = acc
-    acc[:] = 0.0
+    for a in range(n):
+        out.y[a, i], out.y[n + a, i] = q[a], v[a]
+    friction_forces_into(asm, cb, q, v, t, out.fc[:, i], room)
+    for j in range(len(cb.modes)):
+        out.mode[j, i] = cb.modes[j]
+    for c in range(len(acc)):
+        out.work[i, c], acc[c] = acc[c], 0.0
     return True
 
 
-@njit(cache=True)
-def first_step(cb, om, span):
-    """The walk's longest interval: a fraction of the fastest time scale (the whole span without one)."""
-    rate = fastest_rate(cb.lam, om)
-    return span if rate == 0.0 else min(span, 1.0 / rate)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def next_event(cb, ph, om, span, floor, leaving, room):
+    """(tau, slot): the phase's first event in (0, ``span``] (:func:`.events.walk` in ``room``, views of the phase's
+    length); slot -1: none."""
+    modal_into(cb, ph, om, 0.0, room.za)
+    for e in range(len(room.ga)):
+        room.ga[e], room.clear[e], room.dep[e] = ph.e0[e], -1.0, False
+    for j in range(len(leaving)):  # a contact that left V_r = 0 and slips: its V_r starts from 0
+        room.dep[N_SLOTS * j] = leaving[j] and cb.modes[j] != STICK
+    rate = fastest_rate(cb.lam, om)  # the walk's longest interval: a fraction of the fastest time scale
+    tau, slot, _ = walk(cb, ph, om, span, span if rate == 0.0 else min(span, 1.0 / rate), floor, room)
+    return tau, slot
 
 
-@njit(cache=True)
-def reached(cb, ph, om, tau, slot):
-    """The event slots reached at ``tau``: the located one and any other within rounding of 0 or past it."""
-    g = ph.e0.copy()
-    out = np.zeros(len(g), dtype=np.bool_)
-    mark_reached(cb, ph, om, tau, slot, np.empty(len(cb.lam), dtype=np.complex128), g, out)
-    return out
+@njit(cache=True, inline="always")
+def phase_room(walk_room, m):
+    """The walk's :data:`~.events.Room` for a phase of ``m`` modal coordinates: views of the run's."""
+    w = walk_room
+    return Room(w.za[:m], w.zb[:m], w.ga, w.gb, w.dz[:m], w.clear, w.dep, w.zr[:m])
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def mark_reached(cb, ph, om, tau, slot, z, g, out):
-    """:func:`reached` into ``out`` (``z``, ``g``: room for z(tau) and the event functions)."""
+    """Mark in ``out`` the event slots reached at ``tau``: the located one and any other within rounding of 0 or
+    past it (``z``, ``g``: room for z(tau) and the event functions)."""
     modal_into(cb, ph, om, tau, z)
     values(cb, ph, om, tau, z, g)
     for e in range(len(g)):
@@ -78,27 +110,54 @@ def mark_reached(cb, ph, om, tau, slot, z, g, out):
             out[e] = e == slot or g[e] <= SIMULTANEOUS * event_size(cb, ph, e, tau, z)
 
 
-@njit(cache=True)
-def switch_modes(asm, modes, hit):
-    """(new modes before the stick rule, the contacts leaving V_r = 0, the contact whose load is lost or -1)."""
-    k = len(modes)
-    new = modes.copy()
-    leaving = np.zeros(k, dtype=np.bool_)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def finish(asm, cb, ph, om, ta, tb, acc, scr):
+    """Add the work over [ta, tb] of the phase (local times) to ``acc``; (q, q') at ``tb`` into ``scr.q``, ``scr.v``."""
+    if tb - ta > 0.0:
+        accumulate(asm, cb, ph, om, ta, tb, acc, scr.work)
+    state_fill(cb, ph, om, tb, scr.z, scr.q, scr.v)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def switch_into(cb, ph, om, tau, slot, scr, room):
+    """:func:`switch_modes` of the slots reached at ``tau`` into ``scr.new``, ``scr.leaving``; the contact whose load
+    is lost or -1 (``room``: the phase's walk room, free after the walk)."""
+    hit, g = scr.hit, room.gb
+    for e in range(len(hit)):
+        hit[e], g[e] = False, ph.e0[e]
+    mark_reached(cb, ph, om, tau, slot, room.zb, g, hit)
+    return modes_into(cb.modes, hit, scr.new, scr.leaving)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def modes_into(modes, hit, new, leaving):
+    """:func:`switch_modes` into ``new`` and ``leaving``; the contact whose load is lost or -1."""
+    for j in range(len(modes)):
+        new[j], leaving[j] = modes[j], False
     for e in range(len(hit)):
         if not hit[e]:
             continue
         j, kind = e // N_SLOTS, e % N_SLOTS
         if kind == 2:
-            return new, leaving, j
+            return j
         leaving[j] = True
         if modes[j] == STICK:
             new[j] = 1 if kind == 0 else -1  # F_s N - lambda = 0: lambda = +F_s N
         else:
             new[j] = STICK
-    return new, leaving, -1
+    return -1
 
 
 @njit(cache=True)
+def switch_modes(asm, modes, hit):
+    """(new modes before the stick rule, the contacts leaving V_r = 0, the contact whose load is lost or -1)."""
+    k = len(modes)
+    new, leaving = np.empty(k, dtype=np.int8), np.empty(k, dtype=np.bool_)
+    lost = modes_into(modes, hit, new, leaving)
+    return new, leaving, lost
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
 def record_switches(events, nsw, t, old, new):
     """Count (and write into the :data:`~..records.Events` while there is room) each contact whose mode changed;
     the new count."""
@@ -125,25 +184,25 @@ def starting_modes(asm, q, v):
 
 
 @njit(cache=True)
-def initial(asm, minv, cache):
-    """(modes, q', contact lost or -1) at t = 0: slipping by the sign of V_r, the stick rule where it is 0."""
-    q, v = asm.q0.copy(), asm.v0.copy()
+def initial(asm, minv, cache, scr):
+    """(modes, contact lost or -1) at t = 0, q' into ``scr.v``: slipping by the sign of V_r, the stick rule where
+    it is 0."""
+    q, v = scr.q, scr.v
     modes, lost = starting_modes(asm, q, v)
     if lost >= 0:
-        return modes, v, lost
-    leaving = modes == STICK
-    decide(asm, minv, q, v, 0.0, modes, leaving)
-    return modes, hold_velocity(asm, lookup(cache, asm, minv, modes), v), -1
+        return modes, lost
+    decide_in(asm, minv, q, v, 0.0, modes, modes == STICK, cache, scr.rule)
+    hold_velocity_into(asm, lookup(cache, asm, minv, modes), v, scr.rule.rule)
+    return modes, -1
 
 
-@njit(cache=True)
-def dense_samples(out, i, asm, cb, ph, om, tau, tau_last, next_t, dense_dt, acc):
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def dense_samples(out, i, asm, cb, ph, om, tau, tau_last, next_t, dense_dt, acc, scr):
     """Emit the dense grid's points before ``tau``; (samples written, local time reached, next grid time, ok)."""
     while dense_dt > 0.0 and next_t < ph.t0 + tau:
         tl = next_t - ph.t0
-        integrate(asm, cb, ph, om, tau_last, tl, acc)
-        q, v = state_at(cb, ph, om, tl)
-        if not emit(out, i, asm, cb, q, v, next_t, acc):
+        finish(asm, cb, ph, om, tau_last, tl, acc, scr)
+        if not emit(out, i, asm, cb, scr.q, scr.v, next_t, acc, scr.rule):
             return i, tl, next_t, False
         i, tau_last, next_t = i + 1, tl, next_t + dense_dt
     return i, tau_last, next_t, True
@@ -156,44 +215,44 @@ def run(asm, minv, t_end, dense_dt, out, events):
     k, om = len(asm.belt), asm.force_omega
     cache = new_cache(asm, minv)
     acc = np.zeros(out.work.shape[1])
-    modes, v, lost = initial(asm, minv, cache)
-    q, t = asm.q0.copy(), 0.0
+    scr = scratch(asm, len(acc))
+    q, v, new, leaving, sr = scr.q, scr.v, scr.new, scr.leaving, scr.rule
+    modes, lost = initial(asm, minv, cache, scr)
+    t = 0.0
     cb = lookup(cache, asm, minv, modes if lost < 0 else np.zeros(k, dtype=np.int8))
-    if not emit(out, 0, asm, cb, q, v, t, acc):
+    if not emit(out, 0, asm, cb, q, v, t, acc, sr):
         return Result(codes.FULL, 0, 0, -1, np.nan)
     if lost >= 0:
         return Result(codes.CONTACT_LOST, 1, 0, lost, 0.0)
     i, nsw, zeros, next_t = 1, 0, 0, dense_dt
-    leaving = np.zeros(k, dtype=np.bool_)
     floor = 1e-13 * max(1.0, t_end)
     while True:
-        ph = start(cb, asm, q, v, t)
-        dep = np.zeros(N_SLOTS * k, dtype=np.bool_)
-        for j in range(k):  # a contact that left V_r = 0 and slips: its V_r starts from 0
-            dep[N_SLOTS * j] = leaving[j] and cb.modes[j] != STICK
-        tau, slot, _ = first_event(cb, ph, om, t_end - t, dep, first_step(cb, om, t_end - t), floor)
-        i, tau_last, next_t, ok = dense_samples(out, i, asm, cb, ph, om, tau, 0.0, next_t, dense_dt, acc)
+        ph = start_in(cb, asm, q, v, t, scr.start)
+        room = phase_room(scr.walk, len(cb.lam))
+        tau, slot = next_event(cb, ph, om, t_end - t, floor, leaving, room)
+        tau_last, ok = 0.0, True
+        if dense_dt > 0.0:
+            i, tau_last, next_t, ok = dense_samples(out, i, asm, cb, ph, om, tau, 0.0, next_t, dense_dt, acc, scr)
         if not ok:
             return Result(codes.FULL, i, nsw, -1, np.nan)
-        integrate(asm, cb, ph, om, tau_last, tau, acc)
-        q, v = state_at(cb, ph, om, tau)
+        finish(asm, cb, ph, om, tau_last, tau, acc, scr)
         t = t_end if slot < 0 else t + tau
         if slot < 0:
-            if not emit(out, i, asm, cb, q, v, t, acc):
+            if not emit(out, i, asm, cb, q, v, t, acc, sr):
                 return Result(codes.FULL, i, nsw, -1, np.nan)
             return Result(codes.OK, i + 1, nsw, -1, np.nan)
-        new, leaving, lost = switch_modes(asm, cb.modes, reached(cb, ph, om, tau, slot))
+        lost = switch_into(cb, ph, om, tau, slot, scr, room)
         if lost >= 0:
-            ok = emit(out, i, asm, cb, q, v, t, acc)
+            ok = emit(out, i, asm, cb, q, v, t, acc, sr)
             return Result(codes.CONTACT_LOST if ok else codes.FULL, i + 1, nsw, lost, t)
-        decide(asm, minv, q, v, t, new, leaving)
+        decide_in(asm, minv, q, v, t, new, leaving, cache, sr)
         nsw = record_switches(events, nsw, t, cb.modes, new)
         cb = lookup(cache, asm, minv, new)
-        v = hold_velocity(asm, cb, v)
+        hold_velocity_into(asm, cb, v, sr.rule)
         zeros = zeros + 1 if tau <= floor else 0
         if zeros > MAX_ZERO + k:
             return Result(codes.STUCK, i, nsw, -1, np.nan)
-        if not emit(out, i, asm, cb, q, v, t, acc):
+        if not emit(out, i, asm, cb, q, v, t, acc, sr):
             return Result(codes.FULL, i, nsw, -1, np.nan)
         i += 1
 

@@ -20,93 +20,196 @@ as for the single mass; it is computed only then.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
 from ..friction import ON_LIMIT, holds, limit_ratio
 from ..layout import FD, FS, RESULTANT, STICK
-from .combo import split
+from ..blas import gemv
+from ..options import NO_RUNTIME
+from .combo import Split, slip_terms, split
 
 #: a relative rate this close to 0 counts as 0
 RATE_TOL = 1e-12
 
 
+#: the stick rule's room, made once per run (:func:`new_room`): the forces on the structure, a product, the forces'
+#: rate and q'' (n each); per stuck contact its held force as its rule reads it, its friction force, the "spring"
+#: rule's rate and the rates (k each: the first entries, one per stuck contact)
+Room = namedtuple("Room", "f tmp d acc rule fr spring rates")
+
+
+@njit(cache=True)
+def new_room(n, k):
+    """A :data:`Room` for ``n`` coordinates and ``k`` contacts."""
+    return Room(np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(k), np.empty(k), np.empty(k),
+                np.empty(k))
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def rest_into(asm, cb, q, v, t, damped, f, tmp):
+    """:func:`rest` into ``f`` (``tmp``: room for a product; the products are ``@``'s own BLAS calls)."""
+    gemv(cb.keff, q, tmp)
+    for a in range(len(f)):
+        f[a] = cb.f0[a] - tmp[a]
+    if damped:
+        gemv(asm.damping, v, tmp)
+        for a in range(len(f)):
+            f[a] -= tmp[a]
+    for i in range(len(asm.force_amp)):
+        c = asm.force_amp[i] * math.cos(asm.force_omega[i] * t + asm.force_phi[i])
+        for a in range(len(f)):
+            f[a] += asm.force_dir[i, a] * c
+
+
 @njit(cache=True)
 def rest(asm, cb, q, v, t, damped):
     """All forces on the structure but the stuck contacts' (``damped``: with the dampers' term)."""
-    f = cb.f0 - cb.keff @ q
-    if damped:
-        f -= asm.damping @ v
-    for i in range(len(asm.force_amp)):
-        f += asm.force_dir[i] * (asm.force_amp[i] * math.cos(asm.force_omega[i] * t + asm.force_phi[i]))
+    f = np.empty(len(q))
+    rest_into(asm, cb, q, v, t, damped, f, np.empty(len(q)))
     return f
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def held_into(asm, cb, q, v, t, room):
+    """:func:`held` into the first entries of ``room.rule`` and ``room.fr`` (``room``: a :data:`Room`)."""
+    ns = len(cb.stuck)
+    rule, fr = room.rule[:ns], room.fr[:ns]
+    rest_into(asm, cb, q, v, t, True, room.f, room.tmp)
+    gemv(cb.HE, room.f, fr)
+    spring = False  # the spring rule's force only where some stuck contact reads it
+    for i in range(ns):
+        fr[i] = -fr[i]
+        spring = spring or asm.law[cb.stuck[i], RESULTANT] == 0.0
+    if spring:
+        rest_into(asm, cb, q, v, t, False, room.f, room.tmp)
+        gemv(cb.HE, room.f, rule)
+    for i in range(ns):
+        rule[i] = -rule[i] if spring and asm.law[cb.stuck[i], RESULTANT] == 0.0 else fr[i]
 
 
 @njit(cache=True)
 def held(asm, cb, q, v, t):
     """(rule, friction): each stuck contact's held force as its stick rule reads it, and its friction force."""
-    fr = -(cb.HE @ rest(asm, cb, q, v, t, True))
-    rule = fr.copy()
-    spring = False  # the spring rule's force only where some stuck contact reads it
-    for i in range(len(cb.stuck)):
-        spring = spring or asm.law[cb.stuck[i], RESULTANT] == 0.0
-    if spring:
-        fs = -(cb.HE @ rest(asm, cb, q, v, t, False))
-        for i in range(len(cb.stuck)):
-            if asm.law[cb.stuck[i], RESULTANT] == 0.0:
-                rule[i] = fs[i]
-    return rule, fr
+    room = new_room(len(q), len(cb.stuck))
+    held_into(asm, cb, q, v, t, room)
+    return room.rule, room.fr
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def normal_load(asm, j, q):
     """N_j = P_j + n_j . q."""
     return asm.normal[j, 0] + asm.normal[j, 1:] @ q
 
 
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def friction_forces_into(asm, cb, q, v, t, out, room):
+    """:func:`friction_forces` into ``out`` (``room``: a :data:`Room`)."""
+    if len(cb.stuck):
+        held_into(asm, cb, q, v, t, room)
+        for i in range(len(cb.stuck)):
+            out[cb.stuck[i]] = room.fr[i]
+    for j in range(len(cb.modes)):
+        if cb.modes[j] != STICK:
+            out[j] = cb.modes[j] * asm.law[j, FD] * normal_load(asm, j, q)
+
+
 @njit(cache=True)
 def friction_forces(asm, cb, q, v, t):
     """The friction force of every contact on the structure: +-F_d N_j slipping, the held force stuck."""
-    k = len(cb.modes)
-    out = np.empty(k)
-    _, fr = held(asm, cb, q, v, t) if len(cb.stuck) else (np.zeros(0), np.zeros(0))
-    for j in range(k):
-        if cb.modes[j] != STICK:
-            out[j] = cb.modes[j] * asm.law[j, FD] * normal_load(asm, j, q)
-    for i in range(len(cb.stuck)):
-        out[cb.stuck[i]] = fr[i]
+    out = np.empty(len(cb.modes))
+    friction_forces_into(asm, cb, q, v, t, out, new_room(len(q), len(cb.stuck)))
     return out
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def constrained(asm, cb, a0):
+    """``a0`` (M^-1 times the forces) less its part along the stuck directions, in place: q'' in ``cb``."""
+    for i in range(len(cb.stuck)):
+        s = asm.contact_dir[cb.stuck[i]] @ a0
+        for a in range(len(a0)):
+            a0[a] -= cb.R[a, i] * s
 
 
 @njit(cache=True)
 def acceleration(asm, cb, q, v, t):
     """q'' in the combination ``cb``: M^-1 rest minus its part along the stuck directions."""
     a0 = np.linalg.solve(asm.mass, rest(asm, cb, q, v, t, True))
-    for i in range(len(cb.stuck)):
-        s = asm.contact_dir[cb.stuck[i]] @ a0
-        a0 -= cb.R[:, i] * s
+    constrained(asm, cb, a0)
     return a0
 
 
-@njit(cache=True)
-def held_rates(asm, cb, q, v, t):
-    """d/dt of each stuck contact's held force as its stick rule reads it (:func:`held`), with q'' of ``cb``.
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def acceleration_into(asm, cb, minv, q, v, t, room):
+    """:func:`acceleration` into ``room.acc`` with M^-1 given (``minv``): a product instead of a solve."""
+    rest_into(asm, cb, q, v, t, True, room.f, room.tmp)
+    gemv(minv, room.f, room.acc)
+    constrained(asm, cb, room.acc)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def held_rates(asm, cb, minv, q, v, t, room):
+    """d/dt of each stuck contact's held force as its stick rule reads it (:func:`held`), with q'' of ``cb``,
+    into the first entries of ``room.rates`` (``room``: a :data:`Room`).
 
     lambda_S = G E_S M^-1 (C q' + K_eff q - f0 - forces(t)) with G E_S M^-1
     and K_eff constant in the combination: lambda_S' = G E_S M^-1 (C q'' +
     K_eff q' - forces'(t)); the "spring" rule leaves C q'' out.
     """
-    d = cb.keff @ v
+    ns = len(cb.stuck)
+    d, spring, rate = room.d, room.spring[:ns], room.rates[:ns]
+    gemv(cb.keff, v, d)
     for i in range(len(asm.force_amp)):
         w = asm.force_omega[i] * t + asm.force_phi[i]
-        d += asm.force_dir[i] * (asm.force_amp[i] * asm.force_omega[i] * math.sin(w))
-    spring = cb.HE @ d
-    rate = cb.HE @ (d + asm.damping @ acceleration(asm, cb, q, v, t))
-    for i in range(len(cb.stuck)):
+        c = asm.force_amp[i] * asm.force_omega[i] * math.sin(w)
+        for a in range(len(d)):
+            d[a] += asm.force_dir[i, a] * c
+    gemv(cb.HE, d, spring)
+    acceleration_into(asm, cb, minv, q, v, t, room)
+    gemv(asm.damping, room.acc, room.tmp)
+    for a in range(len(d)):
+        room.f[a] = d[a] + room.tmp[a]
+    gemv(cb.HE, room.f, rate)
+    for i in range(ns):
         if asm.law[cb.stuck[i], RESULTANT] == 0.0:
             rate[i] = spring[i]
-    return rate
+
+
+@njit(cache=True, inline="always")
+def cached(cache, modes):
+    """(i, same modes): a combination of the :data:`~.combo.Cache` ``cache`` with the stuck set of ``modes``
+    (the one of the same modes first; -1: none)."""
+    keys, found = cache.keys, -1
+    for i in range(cache.used[0]):
+        key, stuck_same, modes_same = keys[i], True, True
+        for j in range(len(modes)):
+            if (key[j] == STICK) != (modes[j] == STICK):
+                stuck_same = False
+                break
+            modes_same = modes_same and key[j] == modes[j]
+        if stuck_same and modes_same:
+            return i, True
+        if stuck_same and found < 0:
+            found = i
+    return found, False
+
+
+@njit(cache=True, inline="always")
+def candidate(asm, minv, modes, cache):
+    """The :data:`~.combo.Split` of ``modes``: from a combination of the run's :data:`~.combo.Cache` ``cache`` (or
+    None) with the same stuck set when there is one (its R and HE are the split's numbers, and its K_eff and f0
+    with the same modes), else made (:func:`~.combo.split`)."""
+    if cache is not None:
+        i, same_modes = cached(cache, modes)
+        if i >= 0:
+            cb = cache.combos[i]
+            if same_modes:
+                return Split(cb.modes, cb.stuck, cb.R, cb.HE, cb.keff, cb.f0)
+            keff, f0 = slip_terms(asm, modes)
+            return Split(modes.copy(), cb.stuck, cb.R, cb.HE, keff, f0)
+    return split(asm, minv, modes)
 
 
 @njit(cache=True)
@@ -115,33 +218,57 @@ def release_over_limit(asm, minv, q, v, t, modes, released):
 
     Returns the :data:`Split` of the final modes (None when the loop ran out first).
     """
+    return release_in(asm, minv, q, v, t, modes, released, None, new_room(len(q), len(modes)))
+
+
+@njit(cache=True, inline="always")
+def release_in(asm, minv, q, v, t, modes, released, cache, room):
+    """:func:`release_over_limit` with the run's :data:`~.combo.Cache` ``cache`` (or None) and a :data:`Room`."""
     for _ in range(len(modes) + 1):
-        cb = split(asm, minv, modes)
+        cb = candidate(asm, minv, modes, cache)
         if len(cb.stuck) == 0:
             return cb
-        rule, _ = held(asm, cb, q, v, t)
-        worst, wr = -1, -1.0
-        rates = np.zeros(0)
-        for i in range(len(cb.stuck)):
-            j = cb.stuck[i]
-            lim = asm.law[j, FS] * normal_load(asm, j, q)
-            rate = 0.0
-            if lim > 0.0 and abs(rule[i]) >= lim * (1.0 - ON_LIMIT):  # on the limit: its rate decides
-                if len(rates) == 0:
-                    rates = held_rates(asm, cb, q, v, t)
-                # relative to the limit F_s N_j(q), which moves at F_s n_j . q'
-                rate = rates[i] - math.copysign(asm.law[j, FS] * (asm.normal[j, 1:] @ v), rule[i])
-            if holds(rule[i], lim, rate):
-                continue
-            ratio = limit_ratio(rule[i], lim)
-            if ratio >= wr:
-                worst, wr = i, ratio
+        worst = most_over(asm, cb, minv, q, v, t, room)
         if worst < 0:
             return cb
         j = cb.stuck[worst]
-        modes[j] = 1 if rule[worst] > 0.0 else -1
+        modes[j] = 1 if room.rule[worst] > 0.0 else -1
         released[j] = True
     return None
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def most_over(asm, cb, minv, q, v, t, room):
+    """The stuck contact (its index in ``cb.stuck``) most over F_s N_j, -1 when each holds; its held forces stay in
+    ``room.rule``."""
+    held_into(asm, cb, q, v, t, room)
+    rule, rates = room.rule, room.rates
+    worst, wr, have_rates = -1, -1.0, False
+    for i in range(len(cb.stuck)):
+        j = cb.stuck[i]
+        lim = asm.law[j, FS] * normal_load(asm, j, q)
+        rate = 0.0
+        if lim > 0.0 and abs(rule[i]) >= lim * (1.0 - ON_LIMIT):  # on the limit: its rate decides
+            if not have_rates:
+                held_rates(asm, cb, minv, q, v, t, room)
+                have_rates = True
+            # relative to the limit F_s N_j(q), which moves at F_s n_j . q'
+            rate = rates[i] - math.copysign(asm.law[j, FS] * (asm.normal[j, 1:] @ v), rule[i])
+        if holds(rule[i], lim, rate):
+            continue
+        ratio = limit_ratio(rule[i], lim)
+        if ratio >= wr:
+            worst, wr = i, ratio
+    return worst
+
+
+@njit(cache=True, inline="always")
+def abs_max(a):
+    """max |a_i| over a vector's entries (no temporary array)."""
+    m = 0.0
+    for i in range(len(a)):
+        m = max(m, abs(a[i]))
+    return m
 
 
 @njit(cache=True)
@@ -153,25 +280,42 @@ def any_slipping(modes, leaving):
     return False
 
 
-@njit(cache=True)
-def check_directions(asm, minv, q, v, t, modes, leaving, first):
+@njit(cache=True, inline="always")
+def check_directions(asm, minv, q, v, t, modes, leaving, first, cache, room):
     """Each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it (``leaving``: those).
 
-    ``first``: the :data:`Split` of ``modes`` as they come (None: made here).
+    ``first``: the :data:`Split` of ``modes`` as they come (None: made here); ``cache``, ``room``: :func:`decide_in`.
     """
     if not any_slipping(modes, leaving):  # no direction to check: no acceleration to compute
         return
     for attempt in range(2):
-        cb = first if attempt == 0 and first is not None else split(asm, minv, modes)
-        acc = acceleration(asm, cb, q, v, t)
-        tol = RATE_TOL * (np.abs(acc).max() + np.abs(minv).max() * np.abs(cb.f0).max() + 1e-300)
-        changed = False
-        for j in range(len(modes)):
-            if leaving[j] and modes[j] != STICK and -modes[j] * (asm.contact_dir[j] @ acc) < -tol:
-                modes[j] = -modes[j] if attempt == 0 else STICK
-                changed = True
-        if not changed:
+        cb = first if attempt == 0 and first is not None else candidate(asm, minv, modes, cache)
+        if not flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
             return
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
+    """One pass of :func:`check_directions` with q'' of ``cb``: flip (``attempt`` 0) or stick (1) each contact
+    leaving V_r = 0 the wrong way; whether one was."""
+    acceleration_into(asm, cb, minv, q, v, t, room)
+    acc, mi = room.acc, 0.0
+    for a in range(minv.shape[0]):
+        mi = max(mi, abs_max(minv[a]))
+    tol = RATE_TOL * (abs_max(acc) + mi * abs_max(cb.f0) + 1e-300)
+    changed = False
+    for j in range(len(modes)):
+        if leaving[j] and modes[j] != STICK and -modes[j] * (asm.contact_dir[j] @ acc) < -tol:
+            modes[j] = -modes[j] if attempt == 0 else STICK
+            changed = True
+    return changed
+
+
+@njit(cache=True)
+def decide_in(asm, minv, q, v, t, modes, leaving, cache, room):
+    """:func:`decide` with the run's :data:`~.combo.Cache` ``cache`` (or None: every split made) and a :data:`Room`."""
+    first = release_in(asm, minv, q, v, t, modes, leaving, cache, room)
+    check_directions(asm, minv, q, v, t, modes, leaving, first, cache, room)
 
 
 @njit(cache=True)
@@ -181,15 +325,23 @@ def decide(asm, minv, q, v, t, modes, leaving):
     ``modes`` holds 0 for every contact at V_r = 0 that may stick and the
     forced direction of those released (their held force reached F_s N).
     """
-    check_directions(asm, minv, q, v, t, modes, leaving, release_over_limit(asm, minv, q, v, t, modes, leaving))
+    decide_in(asm, minv, q, v, t, modes, leaving, None, new_room(len(q), len(modes)))
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def hold_velocity_into(asm, cb, v, s):
+    """:func:`hold_velocity` in place (``s``: room for the stuck contacts' corrections)."""
+    for i in range(len(cb.stuck)):
+        j = cb.stuck[i]
+        s[i] = asm.belt[j] - asm.contact_dir[j] @ v
+    for i in range(len(cb.stuck)):
+        for a in range(len(v)):
+            v[a] += cb.R[a, i] * s[i]
 
 
 @njit(cache=True)
 def hold_velocity(asm, cb, v):
     """q' with every stuck contact's e_j . q' = b_j exactly (the M-orthogonal correction)."""
     out = v.copy()
-    for i in range(len(cb.stuck)):
-        j = cb.stuck[i]
-        s = asm.belt[j] - asm.contact_dir[j] @ v
-        out += cb.R[:, i] * s
+    hold_velocity_into(asm, cb, out, np.empty(len(cb.stuck)))
     return out
