@@ -27,7 +27,6 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..blas import gemv
 from ..options import NO_RUNTIME
 from .spectral import expint, phis
 
@@ -39,38 +38,9 @@ Mags = namedtuple("Mags", "z b0 b1 bh lam")
 
 @njit(cache=True)
 def start(cb, asm, q, v, t0):
-    """The :data:`Phase` of combination ``cb`` from the state (q, q') = (``q``, ``v``) at time ``t0``.
-
-    Products by loops into the phase's own arrays: no temporaries (a start is made at every switch).
-    """
-    n, ns, nr, m = len(q), len(cb.stuck), cb.Z.shape[1], len(cb.lam)
-    u0, ru, f = np.empty(ns), np.zeros(n), cb.f0.copy()
-    for i in range(ns):
-        u0[i] = 0.0
-        for a in range(n):
-            u0[i] += asm.contact_dir[cb.stuck[i], a] * q[a]
-    add_product(cb.R, u0, 1.0, ru)
-    add_product(asm.damping, cb.rb, -1.0, f)  # the force f0 - C R b_S - K_eff R u0, projected on Z below
-    add_product(cb.keff, ru, -1.0, f)
-    x, p0, zt, rb = np.zeros(2 * nr), np.zeros(nr), cb.ZT, cb.rb
-    for c in range(nr):
-        for a in range(n):
-            x[c] += zt[c, a] * (q[a] - ru[a])
-            x[nr + c] += zt[c, a] * (v[a] - rb[a])
-    add_product(zt, f, 1.0, p0)
-    z0, b0 = np.zeros(m, dtype=np.complex128), np.zeros(m, dtype=np.complex128)
-    add_product(cb.Vi, x, 1.0, z0)
-    add_product(cb.VB, p0, 1.0, b0)
-    theta = np.empty(len(asm.force_omega))
-    for i in range(len(theta)):
-        theta[i] = asm.force_omega[i] * t0 + asm.force_phi[i]
-    e0, d = cb.dc.copy(), cb.D
-    for e in range(len(e0)):
-        s = 0.0
-        for a in range(n):  # D (R u0, R b_S)
-            s += d[e, a] * ru[a] + d[e, n + a] * rb[a]
-        e0[e] += s
-    return Phase(t0, z0, b0, cb.b1, cb.bh, theta, e0, cb.e1, u0, cb.bs)
+    """The :data:`Phase` of combination ``cb`` from the state (q, q') = (``q``, ``v``) at time ``t0``, in new arrays
+    (:func:`start_in` in a room of its own)."""
+    return start_in(cb, asm, q, v, t0, start_room(len(q), len(asm.belt), len(asm.force_omega)))
 
 
 @njit(cache=True, inline="always")
@@ -131,7 +101,7 @@ def state_raw(vm, zm, rm, u0, bs, tau, z, q, v):
         q[i], v[i] = 0.0, 0.0
     for a in range(2 * r):
         x = 0.0
-        for b in range(len(z)):  # V's columns: one per root kept (:mod:`.combo`: a conjugate pair's once)
+        for b in range(vm.shape[1]):  # V's columns: one per root kept (:mod:`.combo`: a conjugate pair's once)
             x += (vm[a, b] * z[b]).real
         col, out = (a, q) if a < r else (a - r, v)
         for i in range(n):
@@ -336,14 +306,24 @@ def fastest_rate(lam, om):
     return m + w
 
 
-#: room for :func:`start_in`, made once per run: the phase's z0, b0 (2n), theta (one per force), e0 (one per event
-#: slot), u0 (one per contact), and the products on the way (n, n, n, 2n; complex 2n)
-StartRoom = namedtuple("StartRoom", "z0 b0 theta e0 u0 ru w y tv xc")
+#: room for :func:`start_in`, made once per run (:func:`start_room`): the phase's z0, b0 (room for 2n modes),
+#: theta (one per force), e0 (one per event slot), u0 (one per contact), and R u0, the projected force and x for the
+#: products
+StartRoom = namedtuple("StartRoom", "z0 b0 theta e0 u0 ru f x p0")
+
+
+@njit(cache=True)
+def start_room(n, k, nf):
+    """A :data:`StartRoom` for ``n`` coordinates, ``k`` contacts (three event slots each) and ``nf`` forces."""
+    c = np.complex128
+    return StartRoom(np.zeros(2 * n, dtype=c), np.zeros(2 * n, dtype=c), np.zeros(nf), np.zeros(3 * k), np.zeros(k),
+                     np.zeros(n), np.zeros(n), np.zeros(2 * n), np.zeros(n))
 
 
 @njit(cache=True, inline="always")
 def start_in(cb, asm, q, v, t0, room):
-    """:func:`start` in the :data:`StartRoom` ``room``: the same numbers, its arrays views of the room's."""
+    """:func:`start` in the :data:`StartRoom` ``room``: its arrays are views of the room's (the next start
+    overwrites them)."""
     start_fill(cb, asm, q, v, t0, room)
     m, ns = len(cb.lam), len(cb.stuck)
     return Phase(t0, room.z0[:m], room.b0[:m], cb.b1, cb.bh, room.theta, room.e0, cb.e1, room.u0[:ns], cb.bs)
@@ -351,32 +331,33 @@ def start_in(cb, asm, q, v, t0, room):
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def start_fill(cb, asm, q, v, t0, room):
-    """:func:`start`'s arrays into ``room`` (z0, b0: the first 2 r entries, u0: the first n_S), each product the
-    BLAS call of ``@`` in :func:`start` (:func:`..blas.gemv`)."""
-    n, ns, r = len(q), len(cb.stuck), cb.Z.shape[1]
-    u0, ru, w, y, xc = room.u0[:ns], room.ru, room.w, room.y, room.xc
+    """:func:`start`'s arrays into ``room``: products by loops (no temporaries; a start is made at every switch)."""
+    n, ns, nr, m = len(q), len(cb.stuck), cb.Z.shape[1], len(cb.lam)
+    u0, ru, f, x, p0, zt, rb = room.u0, room.ru, room.f, room.x, room.p0, cb.ZT, cb.rb
     for i in range(ns):
-        u0[i] = asm.contact_dir[cb.stuck[i]] @ q
-    gemv(cb.R, u0, ru)  # an empty R (no stuck contact) gives zeros
-    for half in range(2):  # x = (Z^T (q - R u0), Z^T (q' - R b_S))
+        u0[i] = 0.0
         for a in range(n):
-            w[a] = q[a] - ru[a] if half == 0 else v[a] - cb.rb[a]
-        gemv(cb.ZT, w, y[:r])
-        for a in range(r):
-            xc[half * r + a] = y[a]
-    gemv(cb.Vi, xc[:2 * r], room.z0[:2 * r])
-    gemv(asm.damping, cb.rb, w)
-    gemv(cb.keff, ru, y)
+            u0[i] += asm.contact_dir[cb.stuck[i], a] * q[a]
     for a in range(n):
-        w[a] = cb.f0[a] - w[a] - y[a]
-    gemv(cb.ZT, w, y[:r])
-    for a in range(r):
-        xc[a] = y[a]
-    gemv(cb.VB, xc[:r], room.b0[:2 * r])
-    for f in range(len(room.theta)):
-        room.theta[f] = asm.force_omega[f] * t0 + asm.force_phi[f]
-    for a in range(n):
-        room.tv[a], room.tv[n + a] = ru[a], cb.rb[a]
-    gemv(cb.D, room.tv, room.e0)
-    for e in range(len(room.e0)):
-        room.e0[e] += cb.dc[e]
+        ru[a], f[a] = 0.0, cb.f0[a]
+    add_product(cb.R, u0, 1.0, ru)
+    add_product(asm.damping, rb, -1.0, f)  # the force f0 - C R b_S - K_eff R u0, projected on Z below
+    add_product(cb.keff, ru, -1.0, f)
+    for c in range(nr):
+        x[c], x[nr + c], p0[c] = 0.0, 0.0, 0.0
+        for a in range(n):
+            x[c] += zt[c, a] * (q[a] - ru[a])
+            x[nr + c] += zt[c, a] * (v[a] - rb[a])
+    add_product(zt, f, 1.0, p0)
+    for a in range(m):
+        room.z0[a], room.b0[a] = 0.0, 0.0
+    add_product(cb.Vi, x, 1.0, room.z0)
+    add_product(cb.VB, p0, 1.0, room.b0)
+    for i in range(len(room.theta)):
+        room.theta[i] = asm.force_omega[i] * t0 + asm.force_phi[i]
+    e0, d = room.e0, cb.D
+    for e in range(len(e0)):
+        s = 0.0
+        for a in range(n):  # D (R u0, R b_S)
+            s += d[e, a] * ru[a] + d[e, n + a] * rb[a]
+        e0[e] = cb.dc[e] + s

@@ -19,9 +19,9 @@ from numba import njit
 from .. import codes
 from ..layout import STICK
 from .combo import N_SLOTS, build, lookup, new_cache
-from .events import Room, values, walk
+from .events import Room, new_room as new_walk_room, values, walk
 from ..options import NO_RUNTIME
-from .phase import StartRoom, event_size, fastest_rate, modal_into, start, start_in, state_at, state_fill
+from .phase import Mags, event_size, fastest_rate, modal_into, start, start_in, start_room, state_at, state_fill
 from .stick import decide_in, friction_forces_into, hold_velocity_into, new_room, normal_load
 from .work import accumulate, integrate
 
@@ -43,18 +43,14 @@ Scratch = namedtuple("Scratch", "q v new leaving hit z walk work rule start")
 @njit(cache=True)
 def scratch(asm, n_work):
     """The run's :data:`Scratch` (``n_work``: the work channels)."""
-    n, k = len(asm.q0), len(asm.belt)
+    n, k, nf = len(asm.q0), len(asm.belt), len(asm.force_amp)
     ns, m = N_SLOTS * k, 2 * n
-    walk_room = Room(np.zeros(m, dtype=np.complex128), np.zeros(m, dtype=np.complex128), np.zeros(ns), np.zeros(ns),
-                     np.zeros(m), np.zeros(ns), np.zeros(ns, dtype=np.bool_), np.zeros(m, dtype=np.complex128))
     work_room = (np.zeros(n_work), np.zeros(k), np.zeros(m, dtype=np.complex128), np.zeros(n), np.zeros(n),
                  np.zeros(n))
-    c = np.complex128
-    start_room = StartRoom(np.zeros(m, dtype=c), np.zeros(m, dtype=c), np.zeros(len(asm.force_amp)), np.zeros(ns),
-                           np.zeros(k), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(m), np.zeros(m, dtype=c))
     return Scratch(asm.q0.copy(), asm.v0.copy(), np.zeros(k, dtype=np.int8), np.zeros(k, dtype=np.bool_),
-                   np.zeros(ns, dtype=np.bool_), np.zeros(m, dtype=c), walk_room, work_room, new_room(n, k),
-                   start_room)
+                   np.zeros(ns, dtype=np.bool_), np.zeros(m, dtype=np.complex128),
+                   new_walk_room(m, ns, nf, np.zeros(ns, dtype=np.bool_)), work_room, new_room(n, k),
+                   start_room(n, k, nf))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
@@ -82,9 +78,8 @@ def emit(out, i, asm, cb, q, v, t, acc, room):
 def next_event(cb, ph, om, span, floor, leaving, room):
     """(tau, slot): the phase's first event in (0, ``span``] (:func:`.events.walk` in ``room``, views of the phase's
     length); slot -1: none."""
-    modal_into(cb, ph, om, 0.0, room.za)
-    for e in range(len(room.ga)):
-        room.ga[e], room.clear[e], room.dep[e] = ph.e0[e], -1.0, False
+    for e in range(len(room.dep)):
+        room.dep[e] = False
     for j in range(len(leaving)):  # a contact that left V_r = 0 and slips: its V_r starts from 0
         room.dep[N_SLOTS * j] = leaving[j] and cb.modes[j] != STICK
     rate = fastest_rate(cb.lam, om)  # the walk's longest interval: a fraction of the fastest time scale
@@ -95,8 +90,9 @@ def next_event(cb, ph, om, span, floor, leaving, room):
 @njit(cache=True, inline="always")
 def phase_room(walk_room, m):
     """The walk's :data:`~.events.Room` for a phase of ``m`` modal coordinates: views of the run's."""
-    w = walk_room
-    return Room(w.za[:m], w.zb[:m], w.ga, w.gb, w.dz[:m], w.clear, w.dep, w.zr[:m])
+    w, g = walk_room, walk_room.mg
+    return Room(w.za[:m], w.zb[:m], w.ga, w.gb, w.dz[:m], w.clear, w.dep, w.zr[:m],
+                Mags(g.z[:m], g.b0[:m], g.b1[:m], g.bh[:m], g.lam[:m]))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
