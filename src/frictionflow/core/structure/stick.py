@@ -27,7 +27,7 @@ from numba import njit
 
 from ..friction import ON_LIMIT, holds, limit_ratio
 from ..layout import FD, FS, RESULTANT, STICK
-from ..blas import gemv
+from ..products import matvec
 from ..options import NO_RUNTIME
 from .combo import Split, slip_terms, split
 
@@ -50,12 +50,12 @@ def new_room(n, k):
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def rest_into(asm, cb, q, v, t, damped, f, tmp):
-    """:func:`rest` into ``f`` (``tmp``: room for a product; the products are ``@``'s own BLAS calls)."""
-    gemv(cb.keff, q, tmp)
+    """:func:`rest` into ``f`` (``tmp``: room for a product)."""
+    matvec(cb.keff, q, tmp)
     for a in range(len(f)):
         f[a] = cb.f0[a] - tmp[a]
     if damped:
-        gemv(asm.damping, v, tmp)
+        matvec(asm.damping, v, tmp)
         for a in range(len(f)):
             f[a] -= tmp[a]
     for i in range(len(asm.force_amp)):
@@ -78,14 +78,14 @@ def held_into(asm, cb, q, v, t, room):
     ns = len(cb.stuck)
     rule, fr = room.rule[:ns], room.fr[:ns]
     rest_into(asm, cb, q, v, t, True, room.f, room.tmp)
-    gemv(cb.HE, room.f, fr)
+    matvec(cb.HE, room.f, fr)
     spring = False  # the spring rule's force only where some stuck contact reads it
     for i in range(ns):
         fr[i] = -fr[i]
         spring = spring or asm.law[cb.stuck[i], RESULTANT] == 0.0
     if spring:
         rest_into(asm, cb, q, v, t, False, room.f, room.tmp)
-        gemv(cb.HE, room.f, rule)
+        matvec(cb.HE, room.f, rule)
     for i in range(ns):
         rule[i] = -rule[i] if spring and asm.law[cb.stuck[i], RESULTANT] == 0.0 else fr[i]
 
@@ -145,7 +145,7 @@ def acceleration(asm, cb, q, v, t):
 def acceleration_into(asm, cb, minv, q, v, t, room):
     """:func:`acceleration` into ``room.acc`` with M^-1 given (``minv``): a product instead of a solve."""
     rest_into(asm, cb, q, v, t, True, room.f, room.tmp)
-    gemv(minv, room.f, room.acc)
+    matvec(minv, room.f, room.acc)
     constrained(asm, cb, room.acc)
 
 
@@ -160,18 +160,18 @@ def held_rates(asm, cb, minv, q, v, t, room):
     """
     ns = len(cb.stuck)
     d, spring, rate = room.d, room.spring[:ns], room.rates[:ns]
-    gemv(cb.keff, v, d)
+    matvec(cb.keff, v, d)
     for i in range(len(asm.force_amp)):
         w = asm.force_omega[i] * t + asm.force_phi[i]
         c = asm.force_amp[i] * asm.force_omega[i] * math.sin(w)
         for a in range(len(d)):
             d[a] += asm.force_dir[i, a] * c
-    gemv(cb.HE, d, spring)
+    matvec(cb.HE, d, spring)
     acceleration_into(asm, cb, minv, q, v, t, room)
-    gemv(asm.damping, room.acc, room.tmp)
+    matvec(asm.damping, room.acc, room.tmp)
     for a in range(len(d)):
         room.f[a] = d[a] + room.tmp[a]
-    gemv(cb.HE, room.f, rate)
+    matvec(cb.HE, room.f, rate)
     for i in range(ns):
         if asm.law[cb.stuck[i], RESULTANT] == 0.0:
             rate[i] = spring[i]
