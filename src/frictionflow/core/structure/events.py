@@ -156,13 +156,6 @@ Room = namedtuple("Room", "za zb ga gb dz clear dep zr mg")
 
 
 @njit(cache=True)
-def first_event(cb, ph, om, tau_end, departing, h0, floor):
-    """(tau, slot, graze): the phase's first event in (0, tau_end]; slot -1: none (tau = tau_end)."""
-    room = new_room(len(cb.lam), len(ph.e0), len(om), departing)
-    return walk(cb, ph, om, tau_end, h0, floor, room)
-
-
-@njit(cache=True)
 def new_room(m, k, nf, departing):
     """A :data:`Room` for ``m`` modes, ``k`` event slots and ``nf`` forces, its arrays views of three
     allocations (a record taken here would be reference-counted: the records' parts are filled by :func:`walk`)."""
@@ -193,7 +186,11 @@ def prepare(cb, ph, om, room):
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted in the loop
 def walk(cb, ph, om, tau_end, h0, floor, room):
-    """:func:`first_event` in the room ``room`` (:data:`Room`: its departing flags set, the rest filled here)."""
+    """(tau, slot, graze): the phase's first event in (0, tau_end]; slot -1: none (tau = tau_end).
+
+    ``room``: a :data:`Room` (:func:`new_room`) with the departing flags set, the rest filled here; ``h0`` the
+    longest interval, ``floor`` the shortest.
+    """
     za, zb, ga, gb, az = room.za, room.zb, room.ga, room.gb, room.mg.z
     prepare(cb, ph, om, room)
     a, h = 0.0, h0

@@ -116,14 +116,6 @@ def friction_forces_into(asm, cb, q, v, t, out, room):
             out[j] = cb.modes[j] * asm.law[j, FD] * normal_load(asm, j, q)
 
 
-@njit(cache=True)
-def friction_forces(asm, cb, q, v, t):
-    """The friction force of every contact on the structure: +-F_d N_j slipping, the held force stuck."""
-    out = np.empty(len(cb.modes))
-    friction_forces_into(asm, cb, q, v, t, out, new_room(len(q), len(cb.stuck)))
-    return out
-
-
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing
 def constrained(asm, cb, a0):
     """``a0`` (M^-1 times the forces) less its part along the stuck directions, in place: q'' in ``cb``."""
