@@ -7,7 +7,7 @@ function g, decides one of
 * root-free: g(a), g(b) > 0 and min(g(a), g(b)) > M2 h^2 / 8 + r, M2 a bound
   on |g''| over the interval (:func:`.phase.bound`): the chord through the
   ends is above min(g(a), g(b)) and g differs from it by at most M2 h^2 / 8;
-  r = ROUNDING times the size of g's terms (:func:`.phase.event_size`): a
+  r = ROUNDING times the size of g's terms (:func:`.phase.size_of`): a
   function that comes within rounding of 0 is not certified clear of it;
   at a phase start where g(0) = 0 (a contact that just began to slip:
   ``departing``), g(s) >= g'(0) s - M2 s^2 / 2 > 0 when g'(0) > M2 h / 2, or

@@ -274,17 +274,9 @@ def fixed_size(cb, ph, e, tau):
 
 
 @njit(cache=True, inline="always")
-def event_size(cb, ph, e, tau, z):
-    """The sum of the magnitudes of event function ``e``'s terms at ``tau``: its rounding is a few EPS of it."""
-    s, wa = fixed_size(cb, ph, e, tau), cb.WA
-    for a in range(len(z)):
-        s += wa[e, a] * abs(z[a])
-    return s
-
-
-@njit(cache=True, inline="always")
 def size_of(cb, ph, e, tau, az):
-    """:func:`event_size` from the moduli ``az`` = |z| (computed once for all functions)."""
+    """The sum of the magnitudes of event function ``e``'s terms at ``tau``, its rounding a few EPS of it, from the
+    moduli ``az`` = |z(tau)| (computed once for all functions: no complex moduli per function)."""
     s, wa = fixed_size(cb, ph, e, tau), cb.WA
     for a in range(len(az)):
         s += wa[e, a] * az[a]

@@ -21,7 +21,8 @@ from ..layout import STICK
 from .combo import N_SLOTS, build, lookup, new_cache
 from .events import Room, new_room as new_walk_room, values, walk
 from ..options import NO_RUNTIME
-from .phase import Mags, event_size, fastest_rate, modal_into, start, start_in, start_room, state_at, state_fill
+from .phase import (Mags, abs_into, fastest_rate, modal_into, size_of, start, start_in, start_room, state_at,
+                    state_fill)
 from .stick import decide_in, friction_forces_into, hold_velocity_into, new_room, normal_load
 from .work import accumulate, integrate
 
@@ -96,14 +97,16 @@ def phase_room(walk_room, m):
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
-def mark_reached(cb, ph, om, tau, slot, z, g, out):
+def mark_reached(cb, ph, om, tau, slot, room, out):
     """Mark in ``out`` the event slots reached at ``tau``: the located one and any other within rounding of 0 or
-    past it (``z``, ``g``: room for z(tau) and the event functions)."""
+    past it (``room``: the phase's walk room, free after the walk: z(tau), |z(tau)| and the functions there)."""
+    z, g, az = room.zb, room.gb, room.mg.z
     modal_into(cb, ph, om, tau, z)
     values(cb, ph, om, tau, z, g)
+    abs_into(z, az)
     for e in range(len(g)):
         if cb.active[e]:
-            out[e] = e == slot or g[e] <= SIMULTANEOUS * event_size(cb, ph, e, tau, z)
+            out[e] = e == slot or g[e] <= SIMULTANEOUS * size_of(cb, ph, e, tau, az)
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
@@ -121,7 +124,7 @@ def switch_into(cb, ph, om, tau, slot, scr, room):
     hit, g = scr.hit, room.gb
     for e in range(len(hit)):
         hit[e], g[e] = False, ph.e0[e]
-    mark_reached(cb, ph, om, tau, slot, room.zb, g, hit)
+    mark_reached(cb, ph, om, tau, slot, room, hit)
     return modes_into(cb.modes, hit, scr.new, scr.leaving)
 
 
