@@ -106,7 +106,8 @@ def normal_load(asm, j, q):
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def friction_forces_into(asm, cb, q, v, t, out, room):
-    """:func:`friction_forces` into ``out`` (``room``: a :data:`Room`)."""
+    """The friction force of every contact on the structure into ``out``: +-F_d N_j slipping, the held force stuck
+    (``room``: a :data:`Room`)."""
     if len(cb.stuck):
         held_into(asm, cb, q, v, t, room)
         for i in range(len(cb.stuck)):
