@@ -11,10 +11,18 @@ from numba import njit
 
 
 @njit(cache=True, inline="always")
-def matvec(a, x, out):
-    """``out[:] = a @ x`` for float64 arrays, by rows, summed in index order (an empty ``a`` gives zeros)."""
+def add_product(a, x, sign, out):
+    """``out += sign a @ x`` by rows, each row's sum in index order (``sign`` +-1; an empty ``a`` adds nothing)."""
     for i in range(a.shape[0]):
         s = 0.0
         for j in range(a.shape[1]):
             s += a[i, j] * x[j]
-        out[i] = s
+        out[i] += sign * s
+
+
+@njit(cache=True, inline="always")
+def matvec(a, x, out):
+    """``out[:] = a @ x`` (:func:`add_product` into zeros)."""
+    for i in range(a.shape[0]):
+        out[i] = 0.0
+    add_product(a, x, 1.0, out)

@@ -185,22 +185,35 @@ def constraint_split(asm, minv, stuck):
     axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
     if axes_of(asm, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # no SVD: the other axes span the null space
         return axes_split(minv, axis, scale)
-    es = np.empty((ns, n))
-    for i in range(ns):
-        es[i] = asm.contact_dir[stuck[i]]
-    mie = mm(minv, es.T.copy())
-    g = np.linalg.inv(mm(es, mie))
-    r = mm(mie, g)
+    es = stuck_rows(asm, stuck)
+    r, he = general_split(minv, es)
     _, s, vt = np.linalg.svd(es, full_matrices=True)
     if s.min() <= RANK_TOL * s.max():
         raise ValueError("structure: the stuck contacts' directions are dependent (their held forces are not defined)")
-    z = vt[ns:].T.copy()
-    return z, r, r.T.copy()
+    return vt[ns:].T.copy(), r, he
+
+
+@njit(cache=True)
+def stuck_rows(asm, stuck):
+    """E_S: the stuck contacts' directions, one per row."""
+    es = np.empty((len(stuck), asm.contact_dir.shape[1]))
+    for i in range(len(stuck)):
+        es[i] = asm.contact_dir[stuck[i]]
+    return es
+
+
+@njit(cache=True)
+def general_split(minv, es):
+    """(R, HE) for any stuck directions E_S: R = M^-1 E_S^T G, G = (E_S M^-1 E_S^T)^-1, HE = R^T."""
+    mie = mm(minv, es.T.copy())
+    r = np.ascontiguousarray(mm(mie, np.linalg.inv(mm(es, mie))))
+    return r, r.T.copy()
 
 
 @njit(cache=True)
 def split(asm, minv, modes):
-    """The :data:`Split` of ``modes``: the stuck set's R and HE and the slipping contacts' K_eff and f0."""
+    """The :data:`Split` of ``modes``: the stuck set's R and HE and the slipping contacts' K_eff and f0 (without Z,
+    which :func:`constraint_split` makes by an SVD in general)."""
     n = minv.shape[0]
     stuck = np.nonzero(modes == STICK)[0]
     keff, f0 = slip_terms(asm, modes)
@@ -211,12 +224,8 @@ def split(asm, minv, modes):
     if axes_of(asm, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # the same numbers with entries picked out
         _, r, he = axes_split(minv, axis, scale)
         return Split(modes.copy(), stuck, r, he, keff, f0)
-    es = np.empty((ns, n))
-    for i in range(ns):
-        es[i] = asm.contact_dir[stuck[i]]
-    mie = mm(minv, es.T.copy())
-    r = mm(mie, np.linalg.inv(mm(es, mie)))
-    return Split(modes.copy(), stuck, np.ascontiguousarray(r), r.T.copy(), keff, f0)
+    r, he = general_split(minv, stuck_rows(asm, stuck))
+    return Split(modes.copy(), stuck, r, he, keff, f0)
 
 
 @njit(cache=True)
@@ -532,8 +541,9 @@ def held_row(damping, fdir, he_i, keff, f0, room):
 
 
 @njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
-def constants(asm, stuck, z, r, keff, vb, d):
-    """(Z^T, b_S, R b_S, b1, bh, e1): the parts of every :func:`start` in one combination that the state leaves out."""
+def constants(asm, stuck, z, sel, rows, r, keff, vb, d):
+    """(Z^T, b_S, R b_S, b1, bh, e1): the parts of every :func:`start` in one combination that the state leaves out
+    (``sel``, ``rows``: :func:`selected` of Z)."""
     belt, fdir, amp = asm.belt, asm.force_dir, asm.force_amp
     n, ns, nr = z.shape[0], len(stuck), z.shape[1]
     bs = np.empty(ns)
@@ -541,7 +551,6 @@ def constants(asm, stuck, z, r, keff, vb, d):
         bs[i] = belt[stuck[i]]
     rb = r @ bs if ns else np.zeros(n)
     zt = z.T.copy()
-    sel, rows = selected(z)
     p1, pg = (picked(keff @ rb, fdir, amp, rows) if sel else
               (-(zt @ (keff @ rb)), mm(zt, fdir.T.copy()) * amp))
     b1 = vb @ p1.astype(np.complex128) if nr else np.zeros(0, dtype=np.complex128)
@@ -657,7 +666,7 @@ def build(asm, minv, modes):
     d, dc, dh, active = event_maps(asm, modes, stuck, he, keff, f0)
     w = event_modes(d, active, z, sel, rows, lam, v, real)
     c = np.ascontiguousarray
-    zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, r, keff, c(vb), c(d))
+    zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, sel, rows, r, keff, c(vb), c(d))
     lam, v, vi, vb, w, b1, bh = paired(real, c(lam), c(v), c(vi), c(vb), c(w), c(b1), c(bh))
     return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
                  active, w, zt, bs, rb, b1, bh, e1, np.abs(w))

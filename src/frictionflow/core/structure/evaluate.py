@@ -8,7 +8,6 @@ up once however many times fall after it.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 from .combo import build

@@ -28,6 +28,7 @@ import numpy as np
 from numba import njit
 
 from ..options import NO_RUNTIME
+from ..products import add_product
 from .spectral import expint, phis
 
 Phase = namedtuple("Phase", "t0 z0 b0 b1 bh theta e0 e1 u0 bs")
@@ -41,16 +42,6 @@ def start(cb, asm, q, v, t0):
     """The :data:`Phase` of combination ``cb`` from the state (q, q') = (``q``, ``v``) at time ``t0``, in new arrays
     (:func:`start_in` in a room of its own)."""
     return start_in(cb, asm, q, v, t0, start_room(len(q), len(asm.belt), len(asm.force_omega)))
-
-
-@njit(cache=True, inline="always")
-def add_product(a, x, sign, out):
-    """out += sign a x, row by row (``sign`` +-1)."""
-    for i in range(a.shape[0]):
-        s = 0.0
-        for j in range(a.shape[1]):
-            s += a[i, j] * x[j]
-        out[i] += sign * s
 
 
 @njit(cache=True, inline="always")

@@ -24,7 +24,7 @@ from ..options import NO_RUNTIME
 from .phase import (Mags, abs_into, fastest_rate, modal_into, size_of, start, start_in, start_room, state_at,
                     state_fill)
 from .stick import decide_in, friction_forces_into, hold_velocity_into, new_room, normal_load
-from .work import accumulate, integrate
+from .work import accumulate, integrate, new_room as new_work_room
 
 #: what a run ends with: status, samples written, switches counted, the lost contact and when (-1, nan)
 Result = namedtuple("Result", "status n_samples n_switches lost_contact lost_time")
@@ -46,8 +46,7 @@ def scratch(asm, n_work):
     """The run's :data:`Scratch` (``n_work``: the work channels)."""
     n, k, nf = len(asm.q0), len(asm.belt), len(asm.force_amp)
     ns, m = N_SLOTS * k, 2 * n
-    work_room = (np.zeros(n_work), np.zeros(k), np.zeros(m, dtype=np.complex128), np.zeros(n), np.zeros(n),
-                 np.zeros(n))
+    work_room = new_work_room(n_work, k, m, n)
     return Scratch(asm.q0.copy(), asm.v0.copy(), np.zeros(k, dtype=np.int8), np.zeros(k, dtype=np.bool_),
                    np.zeros(ns, dtype=np.bool_), np.zeros(m, dtype=np.complex128),
                    new_walk_room(m, ns, nf, np.zeros(ns, dtype=np.bool_)), work_room, new_room(n, k),

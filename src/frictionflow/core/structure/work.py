@@ -135,10 +135,14 @@ def integrate(asm, cb, ph, om, ta, tb, acc):
     """Add each channel's work over [ta, tb] of the phase (local times) to ``acc``."""
     if tb - ta <= 0.0:
         return
-    n = len(asm.q0)
-    room = (np.empty(len(acc)), np.empty(len(asm.belt)), np.empty(len(cb.lam), dtype=np.complex128), np.empty(n),
-            np.empty(n), np.empty(n))
-    accumulate(asm, cb, ph, om, ta, tb, acc, room)
+    accumulate(asm, cb, ph, om, ta, tb, acc, new_room(len(acc), len(asm.belt), len(cb.lam), len(asm.q0)))
+
+
+@njit(cache=True)
+def new_room(n_work, k, m, n):
+    """Room for :func:`accumulate`: the ``n_work`` channels' powers, ``k`` contact forces, ``m`` modal coordinates,
+    q, q' and the held forces' sums (``n`` each)."""
+    return (np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128), np.empty(n), np.empty(n), np.empty(n))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted at the nodes
