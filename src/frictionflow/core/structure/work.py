@@ -19,6 +19,7 @@ fastest period, and most of its phases need fewer than 8 nodes.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -38,6 +39,15 @@ NODES6, WEIGHTS6 = (a.copy() for a in np.polynomial.legendre.leggauss(6))
 NODES, WEIGHTS = (a.copy() for a in np.polynomial.legendre.leggauss(8))
 NODES16, WEIGHTS16 = (a.copy() for a in np.polynomial.legendre.leggauss(16))
 NODES32, WEIGHTS32 = (a.copy() for a in np.polynomial.legendre.leggauss(32))
+
+#: the nonzeros of a set of rows: ``count[i]`` of row i, at the columns ``cols[i, :count[i]]`` in index order.
+#: A sum over them adds the dense sum's terms in its order less its exact zeros (0 x finite): the same bits
+Pattern = namedtuple("Pattern", "count cols")
+#: :func:`accumulate`'s room: the channels' powers, the contact forces, z, q, q' and the held forces' sums;
+#: ``ready`` [0] once the Assembly's patterns are filled (at the first use): the elements' direction rows
+#: (row = channel), the normal loads' q rows, the contacts' directions, C and K_eff's columns per row (``held``);
+#: per combination HE's rows and the columns they use (``need``: one row)
+Room = namedtuple("Room", "p f z q v rest ready elements normal contact held he need")
 
 
 def n_channels(asm) -> int:
@@ -139,20 +149,161 @@ def integrate(asm, cb, ph, om, ta, tb, acc):
 
 
 @njit(cache=True)
+def new_pattern(rows, n):
+    """An empty :data:`Pattern` of ``rows`` rows of up to ``n`` nonzeros."""
+    return Pattern(np.zeros(rows, dtype=np.int32), np.zeros((rows, n), dtype=np.int32))
+
+
+@njit(cache=True)
 def new_room(n_work, k, m, n):
-    """Room for :func:`accumulate`: the ``n_work`` channels' powers, ``k`` contact forces, ``m`` modal coordinates,
-    q, q' and the held forces' sums (``n`` each)."""
-    return (np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128), np.empty(n), np.empty(n), np.empty(n))
+    """The :data:`Room` of :func:`accumulate` for ``n_work`` channels, ``k`` contacts, ``m`` modal coordinates and
+    ``n`` coordinates; its patterns are filled at its first use (a room serves one Assembly)."""
+    return Room(np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128), np.empty(n), np.empty(n),
+                np.empty(n), np.zeros(1, dtype=np.int8), new_pattern(n_work, n), new_pattern(k, n),
+                new_pattern(k, n), new_pattern(n, n), new_pattern(k, n), new_pattern(1, n))
+
+
+@njit(cache=True, inline="always")
+def fill_rows(a, first, offset, pat):
+    """Pattern rows ``first``, ... of the rows of ``a`` (their nonzeros from column ``offset`` on, as offsets)."""
+    for i in range(a.shape[0]):
+        c = 0
+        for b in range(a.shape[1] - offset):
+            if a[i, offset + b] != 0.0:
+                pat.cols[first + i, c] = b
+                c += 1
+        pat.count[first + i] = c
+
+
+@njit(cache=True, inline="always")
+def fill_held(asm, pat):
+    """Row i of ``pat``: the columns where C or K_eff can be nonzero.  K_eff = K - sum_j sigma_j F_d,j e_j n_j^T
+    (:mod:`.combo`): outside K's nonzeros and the e_j n_j^T of the loads that depend on q it is an exact 0."""
+    cd, normal = asm.contact_dir, asm.normal
+    n = len(asm.q0)
+    for i in range(n):
+        c = 0
+        for b in range(n):
+            hit = asm.damping[i, b] != 0.0 or asm.stiffness[i, b] != 0.0
+            for j in range(len(asm.belt)):
+                hit = hit or (cd[j, i] != 0.0 and normal[j, 1 + b] != 0.0)
+            if hit:
+                pat.cols[i, c] = b
+                c += 1
+        pat.count[i] = c
+
+
+@njit(cache=True, inline="always")
+def fill_assembly(asm, room):
+    """The Assembly's patterns into ``room``: the elements' direction rows (springs, dampers, forces: row = channel),
+    the normal loads' q rows, the contacts' directions and C, K_eff's columns per row."""
+    ns, nd = len(asm.spring_k), len(asm.damper_c)
+    fill_rows(asm.spring_dir, 0, 0, room.elements)
+    fill_rows(asm.damper_dir, ns, 0, room.elements)
+    fill_rows(asm.force_dir, ns + nd, 0, room.elements)
+    fill_rows(asm.normal, 0, 1, room.normal)
+    fill_rows(asm.contact_dir, 0, 0, room.contact)
+    fill_held(asm, room.held)
+    room.ready[0] = 1
+
+
+@njit(cache=True, inline="always")
+def fill_combination(he, room):
+    """HE's rows into ``room.he``; the columns any of them uses (the held forces' sums needed) into ``room.need``."""
+    fill_rows(he, 0, 0, room.he)
+    need = room.need
+    c = 0
+    for b in range(he.shape[1]):
+        for s in range(he.shape[0]):
+            if he[s, b] != 0.0:
+                need.cols[0, c] = b
+                c += 1
+                break
+    need.count[0] = c
+
+
+@njit(cache=True, inline="always")
+def sparse_dot(a, i, pat, r, x):
+    """a[i] . x over pattern row ``r`` (a[i]'s nonzeros, in index order): :func:`dot_row` without its exact zeros."""
+    s = 0.0
+    for p in range(pat.count[r]):
+        b = pat.cols[r, p]
+        s += a[i, b] * x[b]
+    return s
+
+
+@njit(cache=True, inline="always")
+def sparse_element_powers(elastic, forcing, pat, q, v, t, out):
+    """:func:`element_powers` over the elements' pattern (row = channel)."""
+    sk, sd, dcs, dd = elastic
+    fa, fo, fp, fdir = forcing
+    c = 0
+    for s in range(len(sk)):
+        out[c] = -sk[s] * sparse_dot(sd, s, pat, c, q) * sparse_dot(sd, s, pat, c, v)
+        c += 1
+    for d in range(len(dcs)):
+        w = sparse_dot(dd, d, pat, c, v)
+        out[c] = -dcs[d] * w * w
+        c += 1
+    for i in range(len(fa)):
+        out[c] = fa[i] * math.cos(fo[i] * t + fp[i]) * sparse_dot(fdir, i, pat, c, v)
+        c += 1
+    return c
+
+
+@njit(cache=True, inline="always")
+def sparse_slip_forces(normal, law, modes, pat, q, f):
+    """:func:`slip_forces` over the normal loads' pattern."""
+    for j in range(len(f)):
+        if modes[j] != STICK:
+            nj = normal[j, 0]
+            for p in range(pat.count[j]):
+                b = pat.cols[j, p]
+                nj += normal[j, 1 + b] * q[b]
+            f[j] = modes[j] * law[j, FD] * nj
+
+
+@njit(cache=True, inline="always")
+def sparse_held_forces(damping, keff, f0, he, stuck, forcing, room, q, v, t):
+    """:func:`held_forces` over the patterns: C q' + K_eff q - f0 - forces(t) only where HE uses it."""
+    fa, fo, fp, fdir = forcing
+    rest, need, held = room.rest, room.need, room.held
+    for p in range(need.count[0]):
+        i = need.cols[0, p]
+        x = -f0[i]
+        for a in range(held.count[i]):
+            b = held.cols[i, a]
+            x += damping[i, b] * v[b] + keff[i, b] * q[b]
+        rest[i] = x
+    for g in range(len(fa)):
+        c = fa[g] * math.cos(fo[g] * t + fp[g])
+        for p in range(need.count[0]):
+            i = need.cols[0, p]
+            rest[i] -= fdir[g, i] * c
+    for s in range(len(stuck)):
+        room.f[stuck[s]] = sparse_dot(he, s, room.he, s, rest)
+
+
+@njit(cache=True, inline="always")
+def sparse_contact_powers(belt, cd, modes, pat, f, v, c, out):
+    """:func:`contact_powers` over the contacts' pattern."""
+    k = len(belt)
+    for j in range(k):
+        out[c + j] = f[j] * belt[j]
+        out[c + k + j] = 0.0 if modes[j] == STICK else f[j] * (belt[j] - sparse_dot(cd, j, pat, j, v))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted at the nodes
 def accumulate(asm, cb, ph, om, ta, tb, acc, room):
-    """:func:`integrate` in ``room`` = (powers, contact forces, z, q, q', room for the held forces)."""
+    """:func:`integrate` in the :data:`Room` ``room``."""
+    if room.ready[0] == 0:
+        fill_assembly(asm, room)
+    fill_combination(cb.HE, room)
     span = tb - ta
     mu = 2.0 * fastest_rate(cb.lam, om)
     nodes, weights, nsub = rule(span * mu)
     h = span / nsub
-    p, f, z, q, v, rest = room
+    p, f, z, q, v = room.p, room.f, room.z, room.q, room.v
     lam, vm, zm, rm, modes, stuck, keff, f0, he = cb.lam, cb.V, cb.Z, cb.R, cb.modes, cb.stuck, cb.keff, cb.f0, cb.HE
     z0, b0, b1, bh, theta, u0, bs, t0 = ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, ph.u0, ph.bs, ph.t0
     normal, law, damping, belt, cd = asm.normal, asm.law, asm.damping, asm.belt, asm.contact_dir
@@ -164,11 +315,10 @@ def accumulate(asm, cb, ph, om, ta, tb, acc, room):
             tau = mid + 0.5 * h * nodes[g]
             modal_raw(lam, z0, b0, b1, bh, theta, om, tau, z)
             state_raw(vm, zm, rm, u0, bs, tau, z, q, v)
-            c = element_powers(elastic, forcing, q, v, t0 + tau, p)
-            slip_forces(normal, law, modes, q, f)
+            c = sparse_element_powers(elastic, forcing, room.elements, q, v, t0 + tau, p)
+            sparse_slip_forces(normal, law, modes, room.normal, q, f)
             if len(stuck):
-                held_forces(damping, keff, f0, he, stuck, forcing, q, v, t0 + tau, f, rest)
-            contact_powers(belt, cd, modes, f, v, c, p)
+                sparse_held_forces(damping, keff, f0, he, stuck, forcing, room, q, v, t0 + tau)
+            sparse_contact_powers(belt, cd, modes, room.contact, f, v, c, p)
             for c in range(len(acc)):
                 acc[c] += 0.5 * h * weights[g] * p[c]
-
