@@ -26,7 +26,7 @@ from numba import njit
 
 from ..layout import FD, STICK
 from ..options import NO_RUNTIME
-from .phase import fastest_rate, modal_raw, state_raw
+from .phase import fastest_rate, modal_raw
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
 MU_H4 = 0.1
@@ -46,8 +46,8 @@ Pattern = namedtuple("Pattern", "count cols")
 #: :func:`accumulate`'s room: the channels' powers, the contact forces, z, q, q' and the held forces' sums;
 #: ``ready`` [0] once the Assembly's patterns are filled (at the first use): the elements' direction rows
 #: (row = channel), the normal loads' q rows, the contacts' directions, C and K_eff's columns per row (``held``);
-#: per combination HE's rows and the columns they use (``need``: one row)
-Room = namedtuple("Room", "p f z q v rest ready elements normal contact held he need")
+#: per combination HE's rows, the columns they use (``need``: one row) and the columns of Z and R (``zc``, ``rc``)
+Room = namedtuple("Room", "p f z q v rest ready elements normal contact held he need zc rc")
 
 
 def n_channels(asm) -> int:
@@ -160,7 +160,8 @@ def new_room(n_work, k, m, n):
     ``n`` coordinates; its patterns are filled at its first use (a room serves one Assembly)."""
     return Room(np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128), np.empty(n), np.empty(n),
                 np.empty(n), np.zeros(1, dtype=np.int8), new_pattern(n_work, n), new_pattern(k, n),
-                new_pattern(k, n), new_pattern(n, n), new_pattern(k, n), new_pattern(1, n))
+                new_pattern(k, n), new_pattern(n, n), new_pattern(k, n), new_pattern(1, n), new_pattern(n, n),
+                new_pattern(k, n))
 
 
 @njit(cache=True, inline="always")
@@ -173,6 +174,18 @@ def fill_rows(a, first, offset, pat):
                 pat.cols[first + i, c] = b
                 c += 1
         pat.count[first + i] = c
+
+
+@njit(cache=True, inline="always")
+def fill_columns(a, pat):
+    """Pattern row i: the rows where column i of ``a`` is nonzero."""
+    for i in range(a.shape[1]):
+        c = 0
+        for b in range(a.shape[0]):
+            if a[b, i] != 0.0:
+                pat.cols[i, c] = b
+                c += 1
+        pat.count[i] = c
 
 
 @njit(cache=True, inline="always")
@@ -208,9 +221,13 @@ def fill_assembly(asm, room):
 
 
 @njit(cache=True, inline="always")
-def fill_combination(he, room):
-    """HE's rows into ``room.he``; the columns any of them uses (the held forces' sums needed) into ``room.need``."""
+def fill_combination(cb, room):
+    """HE's rows into ``room.he``, the columns any of them uses (the held forces' sums needed) into ``room.need``,
+    Z's and R's columns into ``room.zc``, ``room.rc``."""
+    he = cb.HE
     fill_rows(he, 0, 0, room.he)
+    fill_columns(cb.Z, room.zc)
+    fill_columns(cb.R, room.rc)
     need = room.need
     c = 0
     for b in range(he.shape[1]):
@@ -230,6 +247,29 @@ def sparse_dot(a, i, pat, r, x):
         b = pat.cols[r, p]
         s += a[i, b] * x[b]
     return s
+
+
+@njit(cache=True, inline="always")
+def sparse_state(vm, zm, rm, u0, bs, tau, z, room):
+    """:func:`.phase.state_raw` into ``room.q``, ``room.v`` over Z's and R's column patterns."""
+    q, v, zc, rc = room.q, room.v, room.zc, room.rc
+    r = zm.shape[1]
+    for i in range(len(q)):
+        q[i], v[i] = 0.0, 0.0
+    for a in range(2 * r):
+        x = 0.0
+        for b in range(vm.shape[1]):
+            x += (vm[a, b] * z[b]).real
+        col, out = (a, q) if a < r else (a - r, v)
+        for p in range(zc.count[col]):
+            i = zc.cols[col, p]
+            out[i] += zm[i, col] * x
+    for s in range(len(u0)):
+        u = u0[s] + bs[s] * tau
+        for p in range(rc.count[s]):
+            i = rc.cols[s, p]
+            q[i] += rm[i, s] * u
+            v[i] += rm[i, s] * bs[s]
 
 
 @njit(cache=True, inline="always")
@@ -298,7 +338,7 @@ def accumulate(asm, cb, ph, om, ta, tb, acc, room):
     """:func:`integrate` in the :data:`Room` ``room``."""
     if room.ready[0] == 0:
         fill_assembly(asm, room)
-    fill_combination(cb.HE, room)
+    fill_combination(cb, room)
     span = tb - ta
     mu = 2.0 * fastest_rate(cb.lam, om)
     nodes, weights, nsub = rule(span * mu)
@@ -314,7 +354,7 @@ def accumulate(asm, cb, ph, om, ta, tb, acc, room):
         for g in range(len(nodes)):
             tau = mid + 0.5 * h * nodes[g]
             modal_raw(lam, z0, b0, b1, bh, theta, om, tau, z)
-            state_raw(vm, zm, rm, u0, bs, tau, z, q, v)
+            sparse_state(vm, zm, rm, u0, bs, tau, z, room)
             c = sparse_element_powers(elastic, forcing, room.elements, q, v, t0 + tau, p)
             sparse_slip_forces(normal, law, modes, room.normal, q, f)
             if len(stuck):
