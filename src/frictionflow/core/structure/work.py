@@ -27,6 +27,7 @@ from numba import njit
 from ..layout import FD, STICK
 from ..options import NO_RUNTIME
 from .phase import fastest_rate, modal_raw
+from .spectral import SERIES, phi2_pair, phis
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
 MU_H4 = 0.1
@@ -43,11 +44,12 @@ NODES32, WEIGHTS32 = (a.copy() for a in np.polynomial.legendre.leggauss(32))
 #: the nonzeros of a set of rows: ``count[i]`` of row i, at the columns ``cols[i, :count[i]]`` in index order.
 #: A sum over them adds the dense sum's terms in its order less its exact zeros (0 x finite): the same bits
 Pattern = namedtuple("Pattern", "count cols")
-#: :func:`accumulate`'s room: the channels' powers, the contact forces, z, q, q' and the held forces' sums;
+#: :func:`accumulate`'s room: the channels' powers, the contact forces, z, z at each node of a subinterval, q, q'
+#: and the held forces' sums;
 #: ``ready`` [0] once the Assembly's patterns are filled (at the first use): the elements' direction rows
 #: (row = channel), the normal loads' q rows, the contacts' directions, C and K_eff's columns per row (``held``);
 #: per combination HE's rows, the columns they use (``need``: one row) and the columns of Z and R (``zc``, ``rc``)
-Room = namedtuple("Room", "p f z q v rest ready elements normal contact held he need zc rc")
+Room = namedtuple("Room", "p f z zg q v rest ready elements normal contact held he need zc rc")
 
 
 def n_channels(asm) -> int:
@@ -158,7 +160,8 @@ def new_pattern(rows, n):
 def new_room(n_work, k, m, n):
     """The :data:`Room` of :func:`accumulate` for ``n_work`` channels, ``k`` contacts, ``m`` modal coordinates and
     ``n`` coordinates; its patterns are filled at its first use (a room serves one Assembly)."""
-    return Room(np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128), np.empty(n), np.empty(n),
+    return Room(np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128),
+                np.empty((len(NODES32), m), dtype=np.complex128), np.empty(n), np.empty(n),
                 np.empty(n), np.zeros(1, dtype=np.int8), new_pattern(n_work, n), new_pattern(k, n),
                 new_pattern(k, n), new_pattern(n, n), new_pattern(k, n), new_pattern(1, n), new_pattern(n, n),
                 new_pattern(k, n))
@@ -250,8 +253,8 @@ def sparse_dot(a, i, pat, r, x):
 
 
 @njit(cache=True, inline="always")
-def sparse_state(vm, zm, rm, u0, bs, tau, z, room):
-    """:func:`.phase.state_raw` into ``room.q``, ``room.v`` over Z's and R's column patterns."""
+def sparse_state(vm, zm, rm, u0, bs, tau, zg, g, room):
+    """:func:`.phase.state_raw` from z = ``zg[g]`` into ``room.q``, ``room.v`` over Z's and R's column patterns."""
     q, v, zc, rc = room.q, room.v, room.zc, room.rc
     r = zm.shape[1]
     for i in range(len(q)):
@@ -259,7 +262,7 @@ def sparse_state(vm, zm, rm, u0, bs, tau, z, room):
     for a in range(2 * r):
         x = 0.0
         for b in range(vm.shape[1]):
-            x += (vm[a, b] * z[b]).real
+            x += (vm[a, b] * zg[g, b]).real
         col, out = (a, q) if a < r else (a - r, v)
         for p in range(zc.count[col]):
             i = zc.cols[col, p]
@@ -333,6 +336,66 @@ def sparse_contact_powers(belt, cd, modes, pat, f, v, c, out):
         out[c + k + j] = 0.0 if modes[j] == STICK else f[j] * (belt[j] - sparse_dot(cd, j, pat, j, v))
 
 
+@njit(cache=True, inline="always")
+def exact_value(lam, tau, z0, b0, b1):
+    """One modal coordinate z(tau) = e^{lam tau} z0 + tau phi1 b0 + tau^2 phi2 b1 (:func:`.phase.modal_raw`)."""
+    e, p1, p2 = phis(lam, tau)
+    return e * z0 + p1 * b0 + p2 * b1
+
+
+@njit(cache=True, inline="always")
+def modal_nodes(lam, ph, mid, half, nodes, zg):
+    """z at the nodes mid + half x_g into ``zg[g]`` (a phase without harmonic terms).
+
+    z' = lam z + b0 + b1 tau gives z''' = lam z'', so about the midpoint z(mid + s) = z + s z' + s^2 z''
+    phi2(lam s) (z, z', z'' at mid): one exponential per subinterval and one series per pair of nodes
+    (:func:`.spectral.phi2_pair`: s and -s) instead of an exponential and a series per node.  Where
+    |lam s| >= SERIES the nodes take :func:`exact_value`.  The nodes are symmetric (numpy's leggauss).
+    """
+    z0, b0, b1 = ph.z0, ph.b0, ph.b1
+    m = len(nodes)
+    for a in range(len(lam)):
+        la = lam[a]
+        za = exact_value(la, mid, z0[a], b0[a], b1[a])
+        d1 = la * za + (b0[a] + b1[a] * mid)
+        d2 = la * d1 + b1[a]
+        if m % 2:
+            zg[m // 2, a] = za
+        for g in range(m // 2):
+            s = half * nodes[m - 1 - g]
+            w = la * s
+            if w.real * w.real + w.imag * w.imag < SERIES * SERIES:
+                pa, pb = phi2_pair(w)
+                zg[m - 1 - g, a] = za + s * d1 + s * s * d2 * pa
+                zg[g, a] = za - s * d1 + s * s * d2 * pb
+            else:
+                zg[m - 1 - g, a] = exact_value(la, mid + half * nodes[m - 1 - g], z0[a], b0[a], b1[a])
+                zg[g, a] = exact_value(la, mid + half * nodes[g], z0[a], b0[a], b1[a])
+
+
+@njit(cache=True, inline="always")
+def harmonic_nodes(lam, ph, om, mid, half, nodes, z, zg):
+    """z at the nodes into ``zg[g]`` with harmonic terms (:func:`.phase.modal_raw` at each; ``z``: room)."""
+    for g in range(len(nodes)):
+        modal_raw(lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, om, mid + half * nodes[g], z)
+        for a in range(len(z)):
+            zg[g, a] = z[a]
+
+
+@njit(cache=True, inline="always")
+def node_powers(asm, cb, ph, tau, g, room):
+    """Every channel's power at the node ``tau`` (z in ``room.zg[g]``) into ``room.p``."""
+    p, f = room.p, room.f
+    forcing = (asm.force_amp, asm.force_omega, asm.force_phi, asm.force_dir)
+    sparse_state(cb.V, cb.Z, cb.R, ph.u0, ph.bs, tau, room.zg, g, room)
+    c = sparse_element_powers((asm.spring_k, asm.spring_dir, asm.damper_c, asm.damper_dir), forcing, room.elements,
+                              room.q, room.v, ph.t0 + tau, p)
+    sparse_slip_forces(asm.normal, asm.law, cb.modes, room.normal, room.q, f)
+    if len(cb.stuck):
+        sparse_held_forces(asm.damping, cb.keff, cb.f0, cb.HE, cb.stuck, forcing, room, room.q, room.v, ph.t0 + tau)
+    sparse_contact_powers(asm.belt, asm.contact_dir, cb.modes, room.contact, f, room.v, c, p)
+
+
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted at the nodes
 def accumulate(asm, cb, ph, om, ta, tb, acc, room):
     """:func:`integrate` in the :data:`Room` ``room``."""
@@ -343,22 +406,14 @@ def accumulate(asm, cb, ph, om, ta, tb, acc, room):
     mu = 2.0 * fastest_rate(cb.lam, om)
     nodes, weights, nsub = rule(span * mu)
     h = span / nsub
-    p, f, z, q, v = room.p, room.f, room.z, room.q, room.v
-    lam, vm, zm, rm, modes, stuck, keff, f0, he = cb.lam, cb.V, cb.Z, cb.R, cb.modes, cb.stuck, cb.keff, cb.f0, cb.HE
-    z0, b0, b1, bh, theta, u0, bs, t0 = ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, ph.u0, ph.bs, ph.t0
-    normal, law, damping, belt, cd = asm.normal, asm.law, asm.damping, asm.belt, asm.contact_dir
-    elastic = (asm.spring_k, asm.spring_dir, asm.damper_c, asm.damper_dir)
-    forcing = (asm.force_amp, asm.force_omega, asm.force_phi, asm.force_dir)
+    p, zg = room.p, room.zg
     for s in range(nsub):
         mid = ta + (s + 0.5) * h
+        if ph.bh.shape[1]:
+            harmonic_nodes(cb.lam, ph, om, mid, 0.5 * h, nodes, room.z, zg)
+        else:
+            modal_nodes(cb.lam, ph, mid, 0.5 * h, nodes, zg)
         for g in range(len(nodes)):
-            tau = mid + 0.5 * h * nodes[g]
-            modal_raw(lam, z0, b0, b1, bh, theta, om, tau, z)
-            sparse_state(vm, zm, rm, u0, bs, tau, z, room)
-            c = sparse_element_powers(elastic, forcing, room.elements, q, v, t0 + tau, p)
-            sparse_slip_forces(normal, law, modes, room.normal, q, f)
-            if len(stuck):
-                sparse_held_forces(damping, keff, f0, he, stuck, forcing, room, q, v, t0 + tau)
-            sparse_contact_powers(belt, cd, modes, room.contact, f, v, c, p)
+            node_powers(asm, cb, ph, mid + 0.5 * h * nodes[g], g, room)
             for c in range(len(acc)):
                 acc[c] += 0.5 * h * weights[g] * p[c]
