@@ -54,16 +54,40 @@ def loaded_chain():
 
 
 @njit
+def dense_forces(asm, cb, q, v, t):
+    """The contacts' forces by plain loops over every coordinate (slipping: +-F_d N_j; stuck: HE (C q' + K_eff q -
+    f0 - forces(t)))."""
+    n, f = len(q), np.zeros(len(asm.belt))
+    rest = np.empty(n)
+    for i in range(n):
+        x = -cb.f0[i]
+        for b in range(n):
+            x += asm.damping[i, b] * v[b] + cb.keff[i, b] * q[b]
+        rest[i] = x
+    for g in range(len(asm.force_amp)):
+        c = asm.force_amp[g] * np.cos(asm.force_omega[g] * t + asm.force_phi[g])
+        for i in range(n):
+            rest[i] -= asm.force_dir[g, i] * c
+    for j in range(len(f)):
+        if cb.modes[j] != 0:
+            nj = asm.normal[j, 0]
+            for i in range(n):
+                nj += asm.normal[j, 1 + i] * q[i]
+            f[j] = cb.modes[j] * asm.law[j, FD] * nj
+    for s in range(len(cb.stuck)):
+        f[cb.stuck[s]] = work.dot_row(cb.HE, s, rest)
+    return f
+
+
+@njit
 def both(asm, cb, q, v, t, room, dense, sparse):
-    """Every channel's power and every contact's force at (q, q', t) by the dense kernels and the sparse ones."""
+    """Every channel's power and every contact's force at (q, q', t) by the dense loops and the sparse ones."""
     elastic = (asm.spring_k, asm.spring_dir, asm.damper_c, asm.damper_dir)
     forcing = (asm.force_amp, asm.force_omega, asm.force_phi, asm.force_dir)
     work.fill_assembly(asm, room)
     work.fill_combination(cb, room)
-    f = np.zeros(len(asm.belt))
+    f = dense_forces(asm, cb, q, v, t)
     c = work.element_powers(elastic, forcing, q, v, t, dense)
-    work.slip_forces(asm.normal, asm.law, cb.modes, q, f)
-    work.held_forces(asm.damping, cb.keff, cb.f0, cb.HE, cb.stuck, forcing, q, v, t, f, np.empty(len(q)))
     work.contact_powers(asm.belt, asm.contact_dir, cb.modes, f, v, c, dense)
     room.q[:], room.v[:] = q, v
     c = work.sparse_element_powers(elastic, forcing, room.elements, q, v, t, sparse)

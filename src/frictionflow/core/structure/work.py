@@ -14,6 +14,12 @@ subintervals of mu h <= 0.1, 0.7, 2, 10 and 30 (m = 4, 6, 8, 16, 32) leave it be
 uses the rule with the fewest nodes in all (a short stretch the 4-node one, a long
 one the 32-node one): a chain of ten masses switches every few tenths of its
 fastest period, and most of its phases need fewer than 8 nodes.
+
+At the nodes: z from a Taylor form about each subinterval's midpoint (one
+exponential per subinterval, one series per pair of symmetric nodes:
+:func:`modal_nodes`), and every sum over the nonzeros of its row only
+(:data:`Pattern`: a chain's spring touches one or two coordinates, its
+dampers, contacts and stuck directions one), which leaves the dense sums' bits.
 """
 
 from __future__ import annotations
@@ -64,39 +70,6 @@ def dot_row(a, i, x):
     for b in range(len(x)):
         s += a[i, b] * x[b]
     return s
-
-
-@njit(cache=True, inline="always")
-def slip_forces(normal, law, modes, q, f):
-    """The slipping contacts' friction forces +-F_d N_j into ``f``."""
-    n = len(q)
-    for j in range(len(f)):
-        if modes[j] != STICK:
-            nj = normal[j, 0]
-            for i in range(n):
-                nj += normal[j, 1 + i] * q[i]
-            f[j] = modes[j] * law[j, FD] * nj
-
-
-@njit(cache=True, inline="always")
-def held_forces(damping, keff, f0, he, stuck, forcing, q, v, t, f, rest):
-    """The stuck contacts' held forces (dampers included) into ``f``; ``forcing`` = (amp, omega, phi, dir).
-
-    ``rest``: room for C q' + K_eff q - f0 - forces(t), computed once for all the stuck contacts.
-    """
-    fa, fo, fp, fdir = forcing
-    n = len(q)
-    for i in range(n):
-        x = -f0[i]
-        for b in range(n):
-            x += damping[i, b] * v[b] + keff[i, b] * q[b]
-        rest[i] = x
-    for g in range(len(fa)):
-        c = fa[g] * math.cos(fo[g] * t + fp[g])
-        for i in range(n):
-            rest[i] -= fdir[g, i] * c
-    for s in range(len(stuck)):
-        f[stuck[s]] = dot_row(he, s, rest)
 
 
 @njit(cache=True, inline="always")
@@ -296,7 +269,7 @@ def sparse_element_powers(elastic, forcing, pat, q, v, t, out):
 
 @njit(cache=True, inline="always")
 def sparse_slip_forces(normal, law, modes, pat, q, f):
-    """:func:`slip_forces` over the normal loads' pattern."""
+    """The slipping contacts' friction forces +-F_d N_j into ``f`` (N_j over the normal loads' pattern)."""
     for j in range(len(f)):
         if modes[j] != STICK:
             nj = normal[j, 0]
@@ -308,7 +281,8 @@ def sparse_slip_forces(normal, law, modes, pat, q, f):
 
 @njit(cache=True, inline="always")
 def sparse_held_forces(damping, keff, f0, he, stuck, forcing, room, q, v, t):
-    """:func:`held_forces` over the patterns: C q' + K_eff q - f0 - forces(t) only where HE uses it."""
+    """The stuck contacts' held forces HE (C q' + K_eff q - f0 - forces(t)) into ``room.f`` (``forcing`` = (amp,
+    omega, phi, dir)): the sums over the patterns, and ``room.rest`` = C q' + ... only in the rows HE uses."""
     fa, fo, fp, fdir = forcing
     rest, need, held = room.rest, room.need, room.held
     for p in range(need.count[0]):
