@@ -53,6 +53,20 @@ def loaded_chain():
     return asm._replace(normal=normal, contact_dir=cdir)
 
 
+def unforced(asm):
+    """``asm`` without its forces (a phase without harmonic terms: z at the nodes from the Taylor form)."""
+    n = len(asm.q0)
+    return asm._replace(force_amp=np.zeros(0), force_omega=np.zeros(0), force_phi=np.zeros(0), force_dir=np.zeros((0, n)))
+
+
+def unforced_full():
+    return unforced(full_model())
+
+
+def unforced_chain():
+    return unforced(chain_model())
+
+
 @njit
 def dense_forces(asm, cb, q, v, t):
     """The contacts' forces by plain loops over every coordinate (slipping: +-F_d N_j; stuck: HE (C q' + K_eff q -
@@ -162,8 +176,7 @@ def nodes_z(cb, ph, om, mid, half, nodes, zg):
 def test_node_values_match_the_closed_form(make, modes, half):
     """z at the nodes mid + half x_g against the phase's closed form there (short and long stretches: the
     Taylor form, and the closed form where |lam s| >= 1), for every rule."""
-    asm = make()._replace(force_amp=np.zeros(0), force_omega=np.zeros(0), force_phi=np.zeros(0),
-                          force_dir=np.zeros((0, len(make().q0))))
+    asm = unforced(make())
     cb = build(asm, np.linalg.inv(asm.mass), np.array(modes, dtype=np.int8))
     ph = start(cb, asm, asm.q0, np.full(len(asm.q0), 0.05), 1.5)
     om, mid = asm.force_omega, 0.7 + half
@@ -178,10 +191,13 @@ def test_node_values_match_the_closed_form(make, modes, half):
 
 @pytest.mark.parametrize("make, modes, span", [(full_model, [1, 0], 0.4), (full_model, [-1, 1], 9.0),
                                                (chain_model, [1, 0, -1, 0], 0.2), (chain_model, [0, 0, 1, 1], 30.0),
-                                               (chain_model, [1, -1, 1, 1], 7.0)])
+                                               (chain_model, [1, -1, 1, 1], 7.0), (unforced_full, [1, 0], 0.4),
+                                               (unforced_full, [-1, 1], 9.0), (unforced_chain, [1, 0, -1, 0], 0.2),
+                                               (unforced_chain, [0, 0, 1, 1], 30.0), (unforced_chain, [1, 1, 1, 1], 3.0)])
 def test_phase_works_match_closed_forms(make, modes, span):
     """One phase's works: each spring's is -k/2 [(e.q)^2] between the ends, and the kinetic energy's change is the
-    sum of the work on the structure (springs, dampers, forces, belt input less heat)."""
+    sum of the work on the structure (springs, dampers, forces, belt input less heat); with forces (z at each node
+    from the closed form) and without (the Taylor form about each subinterval's midpoint)."""
     asm = make()
     n, ns, k = len(asm.q0), len(asm.spring_k), len(asm.belt)
     cb = build(asm, np.linalg.inv(asm.mass), np.array(modes, dtype=np.int8))
