@@ -15,7 +15,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from frictionflow.core.structure.spectral import phis
+from frictionflow.core.structure.spectral import phi2_pair, phis
 
 
 def exact_series(z: complex, first: int) -> complex:
@@ -48,3 +48,12 @@ def test_phis_below_the_series_limit_match_the_exact_series(tau):
         assert abs(e - exp) <= 4e-16 * abs(exp)
         assert abs(p2 - tau * tau * phi2) <= 4e-16 * abs(tau * tau * phi2)
         assert abs(p1 - tau * phi1) <= 4e-16 * abs(tau * phi1)
+
+
+def test_phi2_pair_matches_the_exact_series_at_both_signs():
+    """phi2(w) and phi2(-w) from one series in w^2 (the work quadrature's node pairs) against the exact series."""
+    for w in arguments():
+        plus, minus = phi2_pair(w)
+        for got, z in ((plus, w), (minus, -w)):
+            exact = exact_series(z, 2)
+            assert abs(got - exact) <= 4e-16 * abs(exact)

@@ -46,15 +46,42 @@ def phis(lam, tau):
     if z.real * z.real + z.imag * z.imag >= SERIES * SERIES:  # |z| >= SERIES, without hypot (one per call)
         e = cmath.exp(z)
         return e, (e - 1.0) / lam, (e - 1.0 - z) / (lam * lam)
-    reach = abs(z.real) + abs(z.imag)
-    n = 1
-    while n < N_TERMS and reach > PHI2_REACH[n - 1]:
-        n += 1
+    n = phi2_terms(z)
     p2 = complex(PHI2_COEF[n - 1], 0.0)
     for j in range(n - 2, -1, -1):
         p2 = p2 * z + PHI2_COEF[j]
     p1 = 1.0 + z * p2
     return 1.0 + z * p1, tau * p1, tau * tau * p2
+
+
+@njit(cache=True, inline="always")
+def phi2_terms(z):
+    """How many terms of phi2's series |z| < :data:`SERIES` needs (:data:`PHI2_REACH`)."""
+    reach = abs(z.real) + abs(z.imag)
+    n = 1
+    while n < N_TERMS and reach > PHI2_REACH[n - 1]:
+        n += 1
+    return n
+
+
+@njit(cache=True, inline="always")
+def horner(coef, first, count, u):
+    """sum_{i < count} coef[first + 2 i] u^i by Horner's rule (every other coefficient)."""
+    p = complex(coef[first + 2 * (count - 1)], 0.0)
+    for i in range(count - 2, -1, -1):
+        p = p * u + coef[first + 2 * i]
+    return p
+
+
+@njit(cache=True)
+def phi2_pair(w):
+    """(phi2(w), phi2(-w)) for |w| < :data:`SERIES` from one series: phi2(+-w) = E(w^2) +- w O(w^2), E and O
+    phi2's even and odd terms (the terms j < n that :func:`phis` sums for w, so the same truncation)."""
+    n = phi2_terms(w)
+    u = w * w
+    even = horner(PHI2_COEF, 0, (n + 1) // 2, u)
+    wodd = w * horner(PHI2_COEF, 1, n // 2, u) if n > 1 else 0.0j
+    return even + wodd, even - wodd
 
 
 @njit(cache=True, inline="always")

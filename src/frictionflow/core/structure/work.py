@@ -14,18 +14,26 @@ subintervals of mu h <= 0.1, 0.7, 2, 10 and 30 (m = 4, 6, 8, 16, 32) leave it be
 uses the rule with the fewest nodes in all (a short stretch the 4-node one, a long
 one the 32-node one): a chain of ten masses switches every few tenths of its
 fastest period, and most of its phases need fewer than 8 nodes.
+
+At the nodes: z from a Taylor form about each subinterval's midpoint (one
+exponential per subinterval, one series per pair of symmetric nodes:
+:func:`modal_nodes`), and every sum over the nonzeros of its row only
+(:data:`Pattern`: a chain's spring touches one or two coordinates, its
+dampers, contacts and stuck directions one), which leaves the dense sums' bits.
 """
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
 from ..layout import FD, STICK
 from ..options import NO_RUNTIME
-from .phase import fastest_rate, modal_raw, state_raw
+from .phase import fastest_rate, modal_raw
+from .spectral import SERIES, phi2_pair, phis
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
 MU_H4 = 0.1
@@ -38,6 +46,16 @@ NODES6, WEIGHTS6 = (a.copy() for a in np.polynomial.legendre.leggauss(6))
 NODES, WEIGHTS = (a.copy() for a in np.polynomial.legendre.leggauss(8))
 NODES16, WEIGHTS16 = (a.copy() for a in np.polynomial.legendre.leggauss(16))
 NODES32, WEIGHTS32 = (a.copy() for a in np.polynomial.legendre.leggauss(32))
+
+#: the nonzeros of a set of rows: ``count[i]`` of row i, at the columns ``cols[i, :count[i]]`` in index order.
+#: A sum over them adds the dense sum's terms in its order less its exact zeros (0 x finite): the same bits
+Pattern = namedtuple("Pattern", "count cols")
+#: :func:`accumulate`'s room: the channels' powers, the contact forces, z, z at each node of a subinterval, q, q'
+#: and the held forces' sums;
+#: ``ready`` [0] once the Assembly's patterns are filled (at the first use): the elements' direction rows
+#: (row = channel), the normal loads' q rows, the contacts' directions, C and K_eff's columns per row (``held``);
+#: per combination HE's rows, the columns they use (``need``: one row) and the columns of Z and R (``zc``, ``rc``)
+Room = namedtuple("Room", "p f z zg q v rest ready elements normal contact held he need zc rc")
 
 
 def n_channels(asm) -> int:
@@ -52,39 +70,6 @@ def dot_row(a, i, x):
     for b in range(len(x)):
         s += a[i, b] * x[b]
     return s
-
-
-@njit(cache=True, inline="always")
-def slip_forces(normal, law, modes, q, f):
-    """The slipping contacts' friction forces +-F_d N_j into ``f``."""
-    n = len(q)
-    for j in range(len(f)):
-        if modes[j] != STICK:
-            nj = normal[j, 0]
-            for i in range(n):
-                nj += normal[j, 1 + i] * q[i]
-            f[j] = modes[j] * law[j, FD] * nj
-
-
-@njit(cache=True, inline="always")
-def held_forces(damping, keff, f0, he, stuck, forcing, q, v, t, f, rest):
-    """The stuck contacts' held forces (dampers included) into ``f``; ``forcing`` = (amp, omega, phi, dir).
-
-    ``rest``: room for C q' + K_eff q - f0 - forces(t), computed once for all the stuck contacts.
-    """
-    fa, fo, fp, fdir = forcing
-    n = len(q)
-    for i in range(n):
-        x = -f0[i]
-        for b in range(n):
-            x += damping[i, b] * v[b] + keff[i, b] * q[b]
-        rest[i] = x
-    for g in range(len(fa)):
-        c = fa[g] * math.cos(fo[g] * t + fp[g])
-        for i in range(n):
-            rest[i] -= fdir[g, i] * c
-    for s in range(len(stuck)):
-        f[stuck[s]] = dot_row(he, s, rest)
 
 
 @njit(cache=True, inline="always")
@@ -139,36 +124,270 @@ def integrate(asm, cb, ph, om, ta, tb, acc):
 
 
 @njit(cache=True)
+def new_pattern(rows, n):
+    """An empty :data:`Pattern` of ``rows`` rows of up to ``n`` nonzeros."""
+    return Pattern(np.zeros(rows, dtype=np.int32), np.zeros((rows, n), dtype=np.int32))
+
+
+@njit(cache=True)
 def new_room(n_work, k, m, n):
-    """Room for :func:`accumulate`: the ``n_work`` channels' powers, ``k`` contact forces, ``m`` modal coordinates,
-    q, q' and the held forces' sums (``n`` each)."""
-    return (np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128), np.empty(n), np.empty(n), np.empty(n))
+    """The :data:`Room` of :func:`accumulate` for ``n_work`` channels, ``k`` contacts, ``m`` modal coordinates and
+    ``n`` coordinates; its patterns are filled at its first use (a room serves one Assembly)."""
+    return Room(np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128),
+                np.empty((len(NODES32), m), dtype=np.complex128), np.empty(n), np.empty(n),
+                np.empty(n), np.zeros(1, dtype=np.int8), new_pattern(n_work, n), new_pattern(k, n),
+                new_pattern(k, n), new_pattern(n, n), new_pattern(k, n), new_pattern(1, n), new_pattern(n, n),
+                new_pattern(k, n))
+
+
+@njit(cache=True, inline="always")
+def fill_rows(a, first, offset, pat):
+    """Pattern rows ``first``, ... of the rows of ``a`` (their nonzeros from column ``offset`` on, as offsets)."""
+    for i in range(a.shape[0]):
+        c = 0
+        for b in range(a.shape[1] - offset):
+            if a[i, offset + b] != 0.0:
+                pat.cols[first + i, c] = b
+                c += 1
+        pat.count[first + i] = c
+
+
+@njit(cache=True, inline="always")
+def fill_columns(a, pat):
+    """Pattern row i: the rows where column i of ``a`` is nonzero."""
+    for i in range(a.shape[1]):
+        c = 0
+        for b in range(a.shape[0]):
+            if a[b, i] != 0.0:
+                pat.cols[i, c] = b
+                c += 1
+        pat.count[i] = c
+
+
+@njit(cache=True, inline="always")
+def fill_held(asm, pat):
+    """Row i of ``pat``: the columns where C or K_eff can be nonzero.  K_eff = K - sum_j sigma_j F_d,j e_j n_j^T
+    (:mod:`.combo`): outside K's nonzeros and the e_j n_j^T of the loads that depend on q it is an exact 0."""
+    cd, normal = asm.contact_dir, asm.normal
+    n = len(asm.q0)
+    for i in range(n):
+        c = 0
+        for b in range(n):
+            hit = asm.damping[i, b] != 0.0 or asm.stiffness[i, b] != 0.0
+            for j in range(len(asm.belt)):
+                hit = hit or (cd[j, i] != 0.0 and normal[j, 1 + b] != 0.0)
+            if hit:
+                pat.cols[i, c] = b
+                c += 1
+        pat.count[i] = c
+
+
+@njit(cache=True, inline="always")
+def fill_assembly(asm, room):
+    """The Assembly's patterns into ``room``: the elements' direction rows (springs, dampers, forces: row = channel),
+    the normal loads' q rows, the contacts' directions and C, K_eff's columns per row."""
+    ns, nd = len(asm.spring_k), len(asm.damper_c)
+    fill_rows(asm.spring_dir, 0, 0, room.elements)
+    fill_rows(asm.damper_dir, ns, 0, room.elements)
+    fill_rows(asm.force_dir, ns + nd, 0, room.elements)
+    fill_rows(asm.normal, 0, 1, room.normal)
+    fill_rows(asm.contact_dir, 0, 0, room.contact)
+    fill_held(asm, room.held)
+    room.ready[0] = 1
+
+
+@njit(cache=True, inline="always")
+def fill_combination(cb, room):
+    """HE's rows into ``room.he``, the columns any of them uses (the held forces' sums needed) into ``room.need``,
+    Z's and R's columns into ``room.zc``, ``room.rc``."""
+    he = cb.HE
+    fill_rows(he, 0, 0, room.he)
+    fill_columns(cb.Z, room.zc)
+    fill_columns(cb.R, room.rc)
+    need = room.need
+    c = 0
+    for b in range(he.shape[1]):
+        for s in range(he.shape[0]):
+            if he[s, b] != 0.0:
+                need.cols[0, c] = b
+                c += 1
+                break
+    need.count[0] = c
+
+
+@njit(cache=True, inline="always")
+def sparse_dot(a, i, pat, r, x):
+    """a[i] . x over pattern row ``r`` (a[i]'s nonzeros, in index order): :func:`dot_row` without its exact zeros."""
+    s = 0.0
+    for p in range(pat.count[r]):
+        b = pat.cols[r, p]
+        s += a[i, b] * x[b]
+    return s
+
+
+@njit(cache=True, inline="always")
+def sparse_state(vm, zm, rm, u0, bs, tau, zg, g, room):
+    """:func:`.phase.state_raw` from z = ``zg[g]`` into ``room.q``, ``room.v`` over Z's and R's column patterns."""
+    q, v, zc, rc = room.q, room.v, room.zc, room.rc
+    r = zm.shape[1]
+    for i in range(len(q)):
+        q[i], v[i] = 0.0, 0.0
+    for a in range(2 * r):
+        x = 0.0
+        for b in range(vm.shape[1]):
+            x += (vm[a, b] * zg[g, b]).real
+        col, out = (a, q) if a < r else (a - r, v)
+        for p in range(zc.count[col]):
+            i = zc.cols[col, p]
+            out[i] += zm[i, col] * x
+    for s in range(len(u0)):
+        u = u0[s] + bs[s] * tau
+        for p in range(rc.count[s]):
+            i = rc.cols[s, p]
+            q[i] += rm[i, s] * u
+            v[i] += rm[i, s] * bs[s]
+
+
+@njit(cache=True, inline="always")
+def sparse_element_powers(elastic, forcing, pat, q, v, t, out):
+    """:func:`element_powers` over the elements' pattern (row = channel)."""
+    sk, sd, dcs, dd = elastic
+    fa, fo, fp, fdir = forcing
+    c = 0
+    for s in range(len(sk)):
+        out[c] = -sk[s] * sparse_dot(sd, s, pat, c, q) * sparse_dot(sd, s, pat, c, v)
+        c += 1
+    for d in range(len(dcs)):
+        w = sparse_dot(dd, d, pat, c, v)
+        out[c] = -dcs[d] * w * w
+        c += 1
+    for i in range(len(fa)):
+        out[c] = fa[i] * math.cos(fo[i] * t + fp[i]) * sparse_dot(fdir, i, pat, c, v)
+        c += 1
+    return c
+
+
+@njit(cache=True, inline="always")
+def sparse_slip_forces(normal, law, modes, pat, q, f):
+    """The slipping contacts' friction forces +-F_d N_j into ``f`` (N_j over the normal loads' pattern)."""
+    for j in range(len(f)):
+        if modes[j] != STICK:
+            nj = normal[j, 0]
+            for p in range(pat.count[j]):
+                b = pat.cols[j, p]
+                nj += normal[j, 1 + b] * q[b]
+            f[j] = modes[j] * law[j, FD] * nj
+
+
+@njit(cache=True, inline="always")
+def sparse_held_forces(damping, keff, f0, he, stuck, forcing, room, q, v, t):
+    """The stuck contacts' held forces HE (C q' + K_eff q - f0 - forces(t)) into ``room.f`` (``forcing`` = (amp,
+    omega, phi, dir)): the sums over the patterns, and ``room.rest`` = C q' + ... only in the rows HE uses."""
+    fa, fo, fp, fdir = forcing
+    rest, need, held = room.rest, room.need, room.held
+    for p in range(need.count[0]):
+        i = need.cols[0, p]
+        x = -f0[i]
+        for a in range(held.count[i]):
+            b = held.cols[i, a]
+            x += damping[i, b] * v[b] + keff[i, b] * q[b]
+        rest[i] = x
+    for g in range(len(fa)):
+        c = fa[g] * math.cos(fo[g] * t + fp[g])
+        for p in range(need.count[0]):
+            i = need.cols[0, p]
+            rest[i] -= fdir[g, i] * c
+    for s in range(len(stuck)):
+        room.f[stuck[s]] = sparse_dot(he, s, room.he, s, rest)
+
+
+@njit(cache=True, inline="always")
+def sparse_contact_powers(belt, cd, modes, pat, f, v, c, out):
+    """:func:`contact_powers` over the contacts' pattern."""
+    k = len(belt)
+    for j in range(k):
+        out[c + j] = f[j] * belt[j]
+        out[c + k + j] = 0.0 if modes[j] == STICK else f[j] * (belt[j] - sparse_dot(cd, j, pat, j, v))
+
+
+@njit(cache=True, inline="always")
+def exact_value(lam, tau, z0, b0, b1):
+    """One modal coordinate z(tau) = e^{lam tau} z0 + tau phi1 b0 + tau^2 phi2 b1 (:func:`.phase.modal_raw`)."""
+    e, p1, p2 = phis(lam, tau)
+    return e * z0 + p1 * b0 + p2 * b1
+
+
+@njit(cache=True, inline="always")
+def modal_nodes(lam, ph, mid, half, nodes, zg):
+    """z at the nodes mid + half x_g into ``zg[g]`` (a phase without harmonic terms).
+
+    z' = lam z + b0 + b1 tau gives z''' = lam z'', so about the midpoint z(mid + s) = z + s z' + s^2 z''
+    phi2(lam s) (z, z', z'' at mid): one exponential per subinterval and one series per pair of nodes
+    (:func:`.spectral.phi2_pair`: s and -s) instead of an exponential and a series per node.  Where
+    |lam s| >= SERIES the nodes take :func:`exact_value`.  The nodes are symmetric (numpy's leggauss).
+    """
+    z0, b0, b1 = ph.z0, ph.b0, ph.b1
+    m = len(nodes)
+    for a in range(len(lam)):
+        la = lam[a]
+        za = exact_value(la, mid, z0[a], b0[a], b1[a])
+        d1 = la * za + (b0[a] + b1[a] * mid)
+        d2 = la * d1 + b1[a]
+        if m % 2:
+            zg[m // 2, a] = za
+        for g in range(m // 2):
+            s = half * nodes[m - 1 - g]
+            w = la * s
+            if w.real * w.real + w.imag * w.imag < SERIES * SERIES:
+                pa, pb = phi2_pair(w)
+                zg[m - 1 - g, a] = za + s * d1 + s * s * d2 * pa
+                zg[g, a] = za - s * d1 + s * s * d2 * pb
+            else:
+                zg[m - 1 - g, a] = exact_value(la, mid + half * nodes[m - 1 - g], z0[a], b0[a], b1[a])
+                zg[g, a] = exact_value(la, mid + half * nodes[g], z0[a], b0[a], b1[a])
+
+
+@njit(cache=True, inline="always")
+def harmonic_nodes(lam, ph, om, mid, half, nodes, z, zg):
+    """z at the nodes into ``zg[g]`` with harmonic terms (:func:`.phase.modal_raw` at each; ``z``: room)."""
+    for g in range(len(nodes)):
+        modal_raw(lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, om, mid + half * nodes[g], z)
+        for a in range(len(z)):
+            zg[g, a] = z[a]
+
+
+@njit(cache=True, inline="always")
+def node_powers(asm, cb, ph, tau, g, room):
+    """Every channel's power at the node ``tau`` (z in ``room.zg[g]``) into ``room.p``."""
+    p, f = room.p, room.f
+    forcing = (asm.force_amp, asm.force_omega, asm.force_phi, asm.force_dir)
+    sparse_state(cb.V, cb.Z, cb.R, ph.u0, ph.bs, tau, room.zg, g, room)
+    c = sparse_element_powers((asm.spring_k, asm.spring_dir, asm.damper_c, asm.damper_dir), forcing, room.elements,
+                              room.q, room.v, ph.t0 + tau, p)
+    sparse_slip_forces(asm.normal, asm.law, cb.modes, room.normal, room.q, f)
+    if len(cb.stuck):
+        sparse_held_forces(asm.damping, cb.keff, cb.f0, cb.HE, cb.stuck, forcing, room, room.q, room.v, ph.t0 + tau)
+    sparse_contact_powers(asm.belt, asm.contact_dir, cb.modes, room.contact, f, room.v, c, p)
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted at the nodes
 def accumulate(asm, cb, ph, om, ta, tb, acc, room):
-    """:func:`integrate` in ``room`` = (powers, contact forces, z, q, q', room for the held forces)."""
+    """:func:`integrate` in the :data:`Room` ``room``."""
+    if room.ready[0] == 0:
+        fill_assembly(asm, room)
+    fill_combination(cb, room)
     span = tb - ta
     mu = 2.0 * fastest_rate(cb.lam, om)
     nodes, weights, nsub = rule(span * mu)
     h = span / nsub
-    p, f, z, q, v, rest = room
-    lam, vm, zm, rm, modes, stuck, keff, f0, he = cb.lam, cb.V, cb.Z, cb.R, cb.modes, cb.stuck, cb.keff, cb.f0, cb.HE
-    z0, b0, b1, bh, theta, u0, bs, t0 = ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, ph.u0, ph.bs, ph.t0
-    normal, law, damping, belt, cd = asm.normal, asm.law, asm.damping, asm.belt, asm.contact_dir
-    elastic = (asm.spring_k, asm.spring_dir, asm.damper_c, asm.damper_dir)
-    forcing = (asm.force_amp, asm.force_omega, asm.force_phi, asm.force_dir)
+    p, zg = room.p, room.zg
     for s in range(nsub):
         mid = ta + (s + 0.5) * h
+        if ph.bh.shape[1]:
+            harmonic_nodes(cb.lam, ph, om, mid, 0.5 * h, nodes, room.z, zg)
+        else:
+            modal_nodes(cb.lam, ph, mid, 0.5 * h, nodes, zg)
         for g in range(len(nodes)):
-            tau = mid + 0.5 * h * nodes[g]
-            modal_raw(lam, z0, b0, b1, bh, theta, om, tau, z)
-            state_raw(vm, zm, rm, u0, bs, tau, z, q, v)
-            c = element_powers(elastic, forcing, q, v, t0 + tau, p)
-            slip_forces(normal, law, modes, q, f)
-            if len(stuck):
-                held_forces(damping, keff, f0, he, stuck, forcing, q, v, t0 + tau, f, rest)
-            contact_powers(belt, cd, modes, f, v, c, p)
+            node_powers(asm, cb, ph, mid + 0.5 * h * nodes[g], g, room)
             for c in range(len(acc)):
                 acc[c] += 0.5 * h * weights[g] * p[c]
-
