@@ -337,6 +337,22 @@ def blocks(a):
 
 
 @njit(cache=True)
+def block_order(label, count):
+    """(order, first): the indices block by block, ascending in each; block b's are order[first[b]:first[b + 1]] (views:
+    no array per block)."""
+    first = np.zeros(count + 1, dtype=np.int64)
+    for i in range(len(label)):
+        first[label[i] + 1] += 1
+    for b in range(count):
+        first[b + 1] += first[b]
+    order, fill = np.empty(len(label), dtype=np.int64), first.copy()
+    for i in range(len(label)):
+        order[fill[label[i]]] = i
+        fill[label[i]] += 1
+    return order, first
+
+
+@njit(cache=True)
 def block_eigh(sym):
     """eigh of a symmetric matrix block by block (its entries outside the blocks are exact zeros).
 
@@ -347,9 +363,10 @@ def block_eigh(sym):
         return np.linalg.eigh(sym)
     r = sym.shape[0]
     w2, u = np.empty(r), np.zeros((r, r))
+    order, first = block_order(label, count)
     col = 0
     for b in range(count):
-        idx = np.nonzero(label == b)[0]
+        idx = order[first[b]:first[b + 1]]
         if len(idx) == 1:
             w2[col], u[idx[0], col] = sym[idx[0], idx[0]], 1.0
             col += 1
@@ -431,18 +448,18 @@ def classical(mr, kr, cr):
     (Phi^T M_r M_r^-1).  ok is False (nothing else meant) when the damping couples the modes.
     """
     r = mr.shape[0]
-    ez = np.zeros((0, 0), dtype=np.complex128)
-    if np.abs(kr - kr.T).max() > SYM_TOL * np.abs(kr).max():
-        return False, np.zeros(0, dtype=np.complex128), ez, ez, ez
+    asym, size = asymmetry(kr)
+    if asym > SYM_TOL * size:
+        return refused()
     w2, phi, xm = mass_modes(mr, kr)
     ok, cd = modal_damping(mr, cr, phi)
     if not ok:
-        return False, np.zeros(0, dtype=np.complex128), ez, ez, ez
+        return refused()
     lam = np.empty(2 * r, dtype=np.complex128)
     v = np.zeros((2 * r, 2 * r), dtype=np.complex128)
     vi = np.zeros((2 * r, 2 * r), dtype=np.complex128)
     vb = np.empty((2 * r, r), dtype=np.complex128)
-    scale_l = math.sqrt(np.abs(w2).max()) + np.abs(cd).max()
+    scale_l = math.sqrt(abs_max(w2)) + abs_max(cd)
     for a in range(r):
         lam[a], lam[r + a] = roots(cd[a], w2[a])
         if abs(lam[r + a] - lam[a]) <= NEAR_DOUBLE * scale_l:  # (nearly) a double root: the general route decides
@@ -460,6 +477,33 @@ def classical(mr, kr, cr):
             vi[r + a, i], vi[r + a, r + i] = -l1 * x, x
             vb[a, i], vb[r + a, i] = -phi[i, a] * di, phi[i, a] * di
     return True, lam, v, vi, vb
+
+
+@njit(cache=True)
+def refused():
+    """:func:`classical`'s answer off its route (empty arrays, made only then)."""
+    ez = np.zeros((0, 0), dtype=np.complex128)
+    return False, np.zeros(0, dtype=np.complex128), ez, ez, ez
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def abs_max(a):
+    """max |a_i| over a vector's entries (np.abs(a).max() without that temporary array)."""
+    m = abs(a[0])
+    for i in range(1, len(a)):
+        m = max(m, abs(a[i]))
+    return m
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def asymmetry(a):
+    """(max |a - a^T|, max |a|) over a square matrix's entries (without the temporaries of np.abs(a - a.T).max()
+    and np.abs(a).max())."""
+    m, s = 0.0, 0.0
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            m, s = max(m, abs(a[i, j] - a[j, i])), max(s, abs(a[i, j]))
+    return m, s
 
 
 @njit(cache=True)
@@ -740,14 +784,18 @@ def new_cache(asm, minv):
 @njit(cache=True)
 def lookup(cache, asm, minv, modes):
     """The combination of ``modes`` from the :data:`Cache` ``cache``, built (and kept while there is room) when missing."""
-    keys, used = cache.keys, cache.used
-    i = find(keys, used, modes)
+    i = find(cache.keys, cache.used, modes)
     if i >= 0:
         return cache.combos[i]
-    cb = build(asm, minv, modes)
-    size = combo_bytes(cb)
+    return keep(cache, build(asm, minv, modes))
+
+
+@njit(cache=True)
+def keep(cache, cb):
+    """The combination ``cb``, kept in the :data:`Cache` ``cache`` while there is room."""
+    keys, used, size = cache.keys, cache.used, combo_bytes(cb)
     if used[0] < len(keys) and used[1] + size <= CACHE_BYTES:  # (no eviction: popping records of arrays from a
         cache.combos.append(cb)  # compiled list corrupts memory)
-        keys[used[0]] = modes
+        keys[used[0]] = cb.modes
         used[0], used[1] = used[0] + 1, used[1] + size
     return cb

@@ -208,9 +208,10 @@ def dense_samples(out, i, asm, cb, ph, om, tau, tau_last, next_t, dense_dt, acc,
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the phase's records are views of the run's rooms
 def to_event(asm, cb, t, span, floor, dense_dt, next_t, out, i, acc, scr):
-    """One phase of ``cb`` from (``scr.q``, ``scr.v``) at ``t`` to its first event in (0, ``span``] (:func:`next_event`):
-    the dense grid's samples before it (from ``next_t``), its work into ``acc``, (q, q') there into ``scr.q``,
-    ``scr.v`` and, at an event, the modes it leads to into ``scr.new``, ``scr.leaving`` (:func:`switch_into`).
+    """One phase of ``cb`` from (``scr.q``, ``scr.v``) at ``t`` to its first event in (0, ``span``]
+    (:func:`next_event`): the dense grid's samples before it (from ``next_t``), its work into ``acc``, (q, q') there
+    into ``scr.q``, ``scr.v`` and, at an event, the modes it leads to into ``scr.new``, ``scr.leaving``
+    (:func:`switch_into`).
 
     Returns (tau, slot or -1 at ``span``, the contact whose load is lost or -1, samples written, next grid time, ok:
     False when the samples are full).  The run's whole per-phase work in one kernel without numba's runtime: the
@@ -262,7 +263,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
             return Result(codes.CONTACT_LOST if ok else codes.FULL, i + 1, nsw, lost, t)
         decide_in(asm, minv, q, v, t, new, leaving, cache, sr, True)
         nsw = record_switches(events, nsw, t, cb.modes, new)
-        j = find(cache.keys, cache.used, new)  # a combination met before: no call that takes the records
+        j = find(cache.keys, cache.used, new)  # met before: no call taking the records (each of their arrays counted)
         cb = cache.combos[j] if j >= 0 else lookup(cache, asm, minv, new)
         hold_velocity_into(asm, cb, v, sr.rule)
         zeros = zeros + 1 if tau <= floor else 0
