@@ -784,18 +784,14 @@ def new_cache(asm, minv):
 @njit(cache=True)
 def lookup(cache, asm, minv, modes):
     """The combination of ``modes`` from the :data:`Cache` ``cache``, built (and kept while there is room) when missing."""
-    i = find(cache.keys, cache.used, modes)
+    keys, used = cache.keys, cache.used
+    i = find(keys, used, modes)
     if i >= 0:
         return cache.combos[i]
-    return keep(cache, build(asm, minv, modes))
-
-
-@njit(cache=True)
-def keep(cache, cb):
-    """The combination ``cb``, kept in the :data:`Cache` ``cache`` while there is room."""
-    keys, used, size = cache.keys, cache.used, combo_bytes(cb)
+    cb = build(asm, minv, modes)
+    size = combo_bytes(cb)
     if used[0] < len(keys) and used[1] + size <= CACHE_BYTES:  # (no eviction: popping records of arrays from a
         cache.combos.append(cb)  # compiled list corrupts memory)
-        keys[used[0]] = cb.modes
+        keys[used[0]] = modes
         used[0], used[1] = used[0] + 1, used[1] + size
     return cb
