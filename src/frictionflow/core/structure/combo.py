@@ -83,18 +83,10 @@ def mm(a, b):
     return np.ascontiguousarray(a) @ np.ascontiguousarray(b)
 
 
-@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
-def slip_terms(asm, modes):
-    """(K_eff, f0): the stiffness and the constant force of the slipping contacts' friction."""
-    keff = asm.stiffness.copy()
-    f0 = np.zeros(keff.shape[0])
-    slip_into(asm, modes, keff, f0)
-    return keff, f0
-
-
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
 def slip_into(asm, modes, keff, f0):
-    """:func:`slip_terms` into ``keff`` (holding K) and ``f0`` (zeros)."""
+    """(K_eff, f0), the stiffness and the constant force of the slipping contacts' friction, into ``keff`` (holding K)
+    and ``f0`` (zeros)."""
     law, normal, cdir = asm.law, asm.normal, asm.contact_dir
     n = keff.shape[0]
     for j in range(len(modes)):
@@ -120,10 +112,9 @@ def depends(normal, j):
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
-def axes_of(asm, stuck, axis, scale, seen):
+def axes_of(cdir, stuck, axis, scale, seen):
     """True when every stuck direction is scale * a unit coordinate vector, all axes distinct: ``axis`` (-1s),
-    ``scale`` and ``seen`` (False per coordinate) filled in."""
-    cdir = asm.contact_dir
+    ``scale`` and ``seen`` (False per coordinate) filled in (``cdir``: the contacts' directions, a row each)."""
     n = cdir.shape[1]
     for i in range(len(stuck)):
         j = stuck[i]
@@ -142,6 +133,20 @@ def axes_of(asm, stuck, axis, scale, seen):
 @njit(cache=True)
 def axes_split(minv, axis, scale):
     """(Z, R, HE) of stuck directions along coordinate axes: Z selects the free coordinates, E_S picks entries."""
+    n = minv.shape[0]
+    r, he = axes_held(minv, axis, scale)
+    free = np.ones(n, dtype=np.bool_)
+    free[axis] = False
+    idx = np.nonzero(free)[0]
+    z = np.zeros((n, len(idx)))
+    for c in range(len(idx)):
+        z[idx[c], c] = 1.0
+    return z, r, he
+
+
+@njit(cache=True)
+def axes_held(minv, axis, scale):
+    """(R, HE) of stuck directions along coordinate axes (the stick rule's part of :func:`axes_split`, without Z)."""
     n, ns = minv.shape[0], len(axis)
     mie, gi = np.empty((n, ns)), np.empty((ns, ns))  # M^-1 E_S^T, E_S M^-1 E_S^T
     for a in range(n):
@@ -151,13 +156,7 @@ def axes_split(minv, axis, scale):
         for c in range(ns):
             gi[i, c] = scale[i] * mie[axis[i], c]
     r = mie_times_g(mie, gi)
-    free = np.ones(n, dtype=np.bool_)
-    free[axis] = False
-    idx = np.nonzero(free)[0]
-    z = np.zeros((n, len(idx)))
-    for c in range(len(idx)):
-        z[idx[c], c] = 1.0
-    return z, r, r.T.copy()
+    return r, r.T.copy()
 
 
 @njit(cache=True)
@@ -176,16 +175,17 @@ def mie_times_g(mie, gi):
     return r
 
 
-@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
-def constraint_split(asm, minv, stuck):
-    """(Z, R, HE) of the stuck set (HE = G E_S M^-1: held forces from the forces on the structure)."""
+@njit(cache=True)
+def constraint_split(cdir, minv, stuck):
+    """(Z, R, HE) of the stuck set (HE = G E_S M^-1: held forces from the forces on the structure; ``cdir``: the
+    contacts' directions, a row each)."""
     n, ns = minv.shape[0], len(stuck)
     if ns == 0:
         return np.eye(n), np.zeros((n, 0)), np.zeros((0, n))
     axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
-    if axes_of(asm, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # no SVD: the other axes span the null space
+    if axes_of(cdir, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # no SVD: the other axes span the null space
         return axes_split(minv, axis, scale)
-    es = stuck_rows(asm, stuck)
+    es = stuck_rows(cdir, stuck)
     r, he = general_split(minv, es)
     _, s, vt = np.linalg.svd(es, full_matrices=True)
     if s.min() <= RANK_TOL * s.max():
@@ -194,11 +194,11 @@ def constraint_split(asm, minv, stuck):
 
 
 @njit(cache=True)
-def stuck_rows(asm, stuck):
-    """E_S: the stuck contacts' directions, one per row."""
-    es = np.empty((len(stuck), asm.contact_dir.shape[1]))
+def stuck_rows(cdir, stuck):
+    """E_S: the stuck contacts' directions (rows of ``cdir``), one per row."""
+    es = np.empty((len(stuck), cdir.shape[1]))
     for i in range(len(stuck)):
-        es[i] = asm.contact_dir[stuck[i]]
+        es[i] = cdir[stuck[i]]
     return es
 
 
@@ -214,17 +214,18 @@ def general_split(minv, es):
 def split(asm, minv, modes):
     """The :data:`Split` of ``modes``: the stuck set's R and HE and the slipping contacts' K_eff and f0 (without Z,
     which :func:`constraint_split` makes by an SVD in general)."""
-    n = minv.shape[0]
+    n, cdir = minv.shape[0], asm.contact_dir
     stuck = np.nonzero(modes == STICK)[0]
-    keff, f0 = slip_terms(asm, modes)
+    keff, f0 = asm.stiffness.copy(), np.zeros(n)
+    slip_into(asm, modes, keff, f0)  # a kernel without numba's runtime: the record passed costs no reference counts
     ns = len(stuck)
     if ns == 0:
         return Split(modes.copy(), stuck, np.zeros((n, 0)), np.zeros((0, n)), keff, f0)
     axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
-    if axes_of(asm, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # the same numbers with entries picked out
-        _, r, he = axes_split(minv, axis, scale)
+    if axes_of(cdir, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # the same numbers with entries picked out
+        r, he = axes_held(minv, axis, scale)
         return Split(modes.copy(), stuck, r, he, keff, f0)
-    r, he = general_split(minv, stuck_rows(asm, stuck))
+    r, he = general_split(minv, stuck_rows(cdir, stuck))
     return Split(modes.copy(), stuck, r, he, keff, f0)
 
 
@@ -336,6 +337,22 @@ def blocks(a):
 
 
 @njit(cache=True)
+def block_order(label, count):
+    """(order, first): the indices block by block, ascending in each; block b's are order[first[b]:first[b + 1]] (views:
+    no array per block)."""
+    first = np.zeros(count + 1, dtype=np.int64)
+    for i in range(len(label)):
+        first[label[i] + 1] += 1
+    for b in range(count):
+        first[b + 1] += first[b]
+    order, fill = np.empty(len(label), dtype=np.int64), first.copy()
+    for i in range(len(label)):
+        order[fill[label[i]]] = i
+        fill[label[i]] += 1
+    return order, first
+
+
+@njit(cache=True)
 def block_eigh(sym):
     """eigh of a symmetric matrix block by block (its entries outside the blocks are exact zeros).
 
@@ -346,9 +363,10 @@ def block_eigh(sym):
         return np.linalg.eigh(sym)
     r = sym.shape[0]
     w2, u = np.empty(r), np.zeros((r, r))
+    order, first = block_order(label, count)
     col = 0
     for b in range(count):
-        idx = np.nonzero(label == b)[0]
+        idx = order[first[b]:first[b + 1]]
         if len(idx) == 1:
             w2[col], u[idx[0], col] = sym[idx[0], idx[0]], 1.0
             col += 1
@@ -430,18 +448,18 @@ def classical(mr, kr, cr):
     (Phi^T M_r M_r^-1).  ok is False (nothing else meant) when the damping couples the modes.
     """
     r = mr.shape[0]
-    ez = np.zeros((0, 0), dtype=np.complex128)
-    if np.abs(kr - kr.T).max() > SYM_TOL * np.abs(kr).max():
-        return False, np.zeros(0, dtype=np.complex128), ez, ez, ez
+    asym, size = asymmetry(kr)
+    if asym > SYM_TOL * size:
+        return refused()
     w2, phi, xm = mass_modes(mr, kr)
     ok, cd = modal_damping(mr, cr, phi)
     if not ok:
-        return False, np.zeros(0, dtype=np.complex128), ez, ez, ez
+        return refused()
     lam = np.empty(2 * r, dtype=np.complex128)
     v = np.zeros((2 * r, 2 * r), dtype=np.complex128)
     vi = np.zeros((2 * r, 2 * r), dtype=np.complex128)
     vb = np.empty((2 * r, r), dtype=np.complex128)
-    scale_l = math.sqrt(np.abs(w2).max()) + np.abs(cd).max()
+    scale_l = math.sqrt(abs_max(w2)) + abs_max(cd)
     for a in range(r):
         lam[a], lam[r + a] = roots(cd[a], w2[a])
         if abs(lam[r + a] - lam[a]) <= NEAR_DOUBLE * scale_l:  # (nearly) a double root: the general route decides
@@ -462,6 +480,33 @@ def classical(mr, kr, cr):
 
 
 @njit(cache=True)
+def refused():
+    """:func:`classical`'s answer off its route (empty arrays, made only then)."""
+    ez = np.zeros((0, 0), dtype=np.complex128)
+    return False, np.zeros(0, dtype=np.complex128), ez, ez, ez
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def abs_max(a):
+    """max |a_i| over a vector's entries (np.abs(a).max() without that temporary array)."""
+    m = abs(a[0])
+    for i in range(1, len(a)):
+        m = max(m, abs(a[i]))
+    return m
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def asymmetry(a):
+    """(max |a - a^T|, max |a|) over a square matrix's entries (without the temporaries of np.abs(a - a.T).max()
+    and np.abs(a).max())."""
+    m, s = 0.0, 0.0
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            m, s = max(m, abs(a[i, j] - a[j, i])), max(s, abs(a[i, j]))
+    return m, s
+
+
+@njit(cache=True)
 def roots(cd, w2):
     """The roots of l^2 + cd l + w2 = 0 (complex pair, or real without cancellation)."""
     disc = 0.25 * cd * cd - w2
@@ -472,22 +517,18 @@ def roots(cd, w2):
     return complex(l1, 0.0), complex(w2 / l1 if l1 != 0.0 else -cd - l1, 0.0)
 
 
-@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
-def event_maps(asm, modes, stuck, he, keff, f0):
-    """(D, dc, Dh, active): each event slot as D (q, q') + dc + sum_i Dh_i cos(Omega_i t + phi_i)."""
-    k, n = asm.contact_dir.shape
-    m = len(asm.force_amp)
-    d = np.zeros((N_SLOTS * k, 2 * n))
-    dc = np.zeros(N_SLOTS * k)
-    dh = np.zeros((N_SLOTS * k, m))
-    active = np.zeros(N_SLOTS * k, dtype=np.bool_)
-    maps_into(asm, modes, stuck, he, keff, f0, d, dc, dh, active, np.empty(2 * n + m))
-    return d, dc, dh, active
+@njit(cache=True)
+def maps_room(k, n, m):
+    """Room for :func:`maps_into` of ``k`` contacts, ``n`` coordinates and ``m`` forces: (D, dc, Dh, active) zeros and
+    its work room."""
+    return (np.zeros((N_SLOTS * k, 2 * n)), np.zeros(N_SLOTS * k), np.zeros((N_SLOTS * k, m)),
+            np.zeros(N_SLOTS * k, dtype=np.bool_), np.empty(2 * n + m))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
 def maps_into(asm, modes, stuck, he, keff, f0, d, dc, dh, active, room):
-    """:func:`event_maps` into ``d``, ``dc``, ``dh``, ``active`` (zeros); ``room``: 2 n + (forces) numbers.
+    """(D, dc, Dh, active) into ``d``, ``dc``, ``dh``, ``active`` (zeros; :func:`maps_room`): each event slot as
+    D (q, q') + dc + sum_i Dh_i cos(Omega_i t + phi_i); ``room``: 2 n + (forces) numbers.
 
     lambda_i = HE_i (C q' + K_eff q - f0 - forces): HE's row times K_eff, C, f0 and the forces' directions,
     skipping its zeros (one entry per row when the stuck directions are axes of a diagonal M).
@@ -540,7 +581,7 @@ def held_row(damping, fdir, he_i, keff, f0, room):
     return hf
 
 
-@njit(cache=True, inline="always")  # inlined: the caller's Assembly record is passed on without reference counts
+@njit(cache=True)
 def constants(asm, stuck, z, sel, rows, r, keff, vb, d):
     """(Z^T, b_S, R b_S, b1, bh, e1): the parts of every :func:`start` in one combination that the state leaves out
     (``sel``, ``rows``: :func:`selected` of Z)."""
@@ -658,12 +699,14 @@ def picked_modes(d, slots, rows, lam, v, pq, w):
 @njit(cache=True)
 def build(asm, minv, modes):
     """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact)."""
-    stuck = np.nonzero(modes == STICK)[0]
-    keff, f0 = slip_terms(asm, modes)
-    z, r, he = constraint_split(asm, minv, stuck)
+    n, stuck = minv.shape[0], np.nonzero(modes == STICK)[0]
+    keff, f0 = asm.stiffness.copy(), np.zeros(n)
+    slip_into(asm, modes, keff, f0)  # kernels without numba's runtime: the record passed costs no reference counts
+    z, r, he = constraint_split(asm.contact_dir, minv, stuck)
     sel, rows = selected(z)  # Z a selection of coordinates (stuck directions along axes): products become picks
     lam, v, vi, vb, real = decompose(asm.mass, asm.damping, keff, z, sel, rows)
-    d, dc, dh, active = event_maps(asm, modes, stuck, he, keff, f0)
+    d, dc, dh, active, room = maps_room(len(modes), n, len(asm.force_amp))
+    maps_into(asm, modes, stuck, he, keff, f0, d, dc, dh, active, room)
     w = event_modes(d, active, z, sel, rows, lam, v, real)
     c = np.ascontiguousarray
     zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, sel, rows, r, keff, c(vb), c(d))
@@ -705,13 +748,17 @@ def scaled_columns(a, keep, factor):
     return out
 
 
-@njit(cache=True)
-def same(a, b):
-    """a == b elementwise (no temporary array: the scan runs at every switch)."""
-    for i in range(len(a)):
-        if a[i] != b[i]:
-            return False
-    return True
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def find(keys, used, modes):
+    """The row of ``keys`` among the first ``used[0]`` that holds ``modes``; -1: none (entries compared in place: a
+    row taken as a view would be reference-counted at every row of the scan)."""
+    for i in range(used[0]):
+        j = 0
+        while j < len(modes) and keys[i, j] == modes[j]:
+            j += 1
+        if j == len(modes):
+            return i
+    return -1
 
 
 @njit(cache=True)
@@ -738,9 +785,9 @@ def new_cache(asm, minv):
 def lookup(cache, asm, minv, modes):
     """The combination of ``modes`` from the :data:`Cache` ``cache``, built (and kept while there is room) when missing."""
     keys, used = cache.keys, cache.used
-    for i in range(used[0]):
-        if same(keys[i], modes):
-            return cache.combos[i]
+    i = find(keys, used, modes)
+    if i >= 0:
+        return cache.combos[i]
     cb = build(asm, minv, modes)
     size = combo_bytes(cb)
     if used[0] < len(keys) and used[1] + size <= CACHE_BYTES:  # (no eviction: popping records of arrays from a

@@ -18,7 +18,7 @@ from numba import njit
 
 from .. import codes
 from ..layout import STICK
-from .combo import N_SLOTS, build, lookup, new_cache
+from .combo import N_SLOTS, build, find, lookup, new_cache
 from .events import Room, new_room as new_walk_room, values, walk
 from ..options import NO_RUNTIME
 from .phase import (Mags, abs_into, fastest_rate, modal_into, size_of, start, start_in, start_room, state_at,
@@ -189,7 +189,7 @@ def initial(asm, minv, cache, scr):
     modes, lost = starting_modes(asm, q, v)
     if lost >= 0:
         return modes, lost
-    decide_in(asm, minv, q, v, 0.0, modes, modes == STICK, cache, scr.rule)
+    decide_in(asm, minv, q, v, 0.0, modes, modes == STICK, cache, scr.rule, True)
     hold_velocity_into(asm, lookup(cache, asm, minv, modes), v, scr.rule.rule)
     return modes, -1
 
@@ -206,11 +206,36 @@ def dense_samples(out, i, asm, cb, ph, om, tau, tau_last, next_t, dense_dt, acc,
     return i, tau_last, next_t, True
 
 
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the phase's records are views of the run's rooms
+def to_event(asm, cb, t, span, floor, dense_dt, next_t, out, i, acc, scr):
+    """One phase of ``cb`` from (``scr.q``, ``scr.v``) at ``t`` to its first event in (0, ``span``]
+    (:func:`next_event`): the dense grid's samples before it (from ``next_t``), its work into ``acc``, (q, q') there
+    into ``scr.q``, ``scr.v`` and, at an event, the modes it leads to into ``scr.new``, ``scr.leaving``
+    (:func:`switch_into`).
+
+    Returns (tau, slot or -1 at ``span``, the contact whose load is lost or -1, samples written, next grid time, ok:
+    False when the samples are full).  The run's whole per-phase work in one kernel without numba's runtime: the
+    records it makes and reads cost no reference counts here.
+    """
+    om = asm.force_omega
+    ph = start_in(cb, asm, scr.q, scr.v, t, scr.start)
+    room = phase_room(scr.walk, len(cb.lam))
+    tau, slot = next_event(cb, ph, om, span, floor, scr.leaving, room)
+    tau_last, ok = 0.0, True
+    if dense_dt > 0.0:
+        i, tau_last, next_t, ok = dense_samples(out, i, asm, cb, ph, om, tau, 0.0, next_t, dense_dt, acc, scr)
+    if not ok:
+        return tau, slot, -1, i, next_t, False
+    finish(asm, cb, ph, om, tau_last, tau, acc, scr)
+    lost = switch_into(cb, ph, om, tau, slot, scr, room) if slot >= 0 else -1
+    return tau, slot, lost, i, next_t, True
+
+
 @njit(cache=True, nogil=True)  # a model sweep runs several points at once on threads
 def run(asm, minv, t_end, dense_dt, out, events):
     """Integrate the structure ``asm`` from t = 0 to ``t_end`` into the records ``out`` (:data:`~..records.Samples`)
     and ``events`` (:data:`~..records.Events`); the :data:`Result`."""
-    k, om = len(asm.belt), asm.force_omega
+    k = len(asm.belt)
     cache = new_cache(asm, minv)
     acc = np.zeros(out.work.shape[1])
     scr = scratch(asm, len(acc))
@@ -225,27 +250,21 @@ def run(asm, minv, t_end, dense_dt, out, events):
     i, nsw, zeros, next_t = 1, 0, 0, dense_dt
     floor = 1e-13 * max(1.0, t_end)
     while True:
-        ph = start_in(cb, asm, q, v, t, scr.start)
-        room = phase_room(scr.walk, len(cb.lam))
-        tau, slot = next_event(cb, ph, om, t_end - t, floor, leaving, room)
-        tau_last, ok = 0.0, True
-        if dense_dt > 0.0:
-            i, tau_last, next_t, ok = dense_samples(out, i, asm, cb, ph, om, tau, 0.0, next_t, dense_dt, acc, scr)
+        tau, slot, lost, i, next_t, ok = to_event(asm, cb, t, t_end - t, floor, dense_dt, next_t, out, i, acc, scr)
         if not ok:
             return Result(codes.FULL, i, nsw, -1, np.nan)
-        finish(asm, cb, ph, om, tau_last, tau, acc, scr)
         t = t_end if slot < 0 else t + tau
         if slot < 0:
             if not emit(out, i, asm, cb, q, v, t, acc, sr):
                 return Result(codes.FULL, i, nsw, -1, np.nan)
             return Result(codes.OK, i + 1, nsw, -1, np.nan)
-        lost = switch_into(cb, ph, om, tau, slot, scr, room)
         if lost >= 0:
             ok = emit(out, i, asm, cb, q, v, t, acc, sr)
             return Result(codes.CONTACT_LOST if ok else codes.FULL, i + 1, nsw, lost, t)
-        decide_in(asm, minv, q, v, t, new, leaving, cache, sr)
+        decide_in(asm, minv, q, v, t, new, leaving, cache, sr, True)
         nsw = record_switches(events, nsw, t, cb.modes, new)
-        cb = lookup(cache, asm, minv, new)
+        j = find(cache.keys, cache.used, new)  # met before: no call taking the records (each of their arrays counted)
+        cb = cache.combos[j] if j >= 0 else lookup(cache, asm, minv, new)
         hold_velocity_into(asm, cb, v, sr.rule)
         zeros = zeros + 1 if tau <= floor else 0
         if zeros > MAX_ZERO + k:

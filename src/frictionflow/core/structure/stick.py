@@ -29,7 +29,7 @@ from ..friction import ON_LIMIT, holds, limit_ratio
 from ..layout import FD, FS, RESULTANT, STICK
 from ..products import matvec
 from ..options import NO_RUNTIME
-from .combo import Split, slip_terms, split
+from .combo import Split, slip_into, split
 
 #: a relative rate this close to 0 counts as 0
 RATE_TOL = 1e-12
@@ -170,18 +170,19 @@ def held_rates(asm, cb, minv, q, v, t, room):
             rate[i] = spring[i]
 
 
-@njit(cache=True, inline="always")
-def cached(cache, modes):
-    """(i, same modes): a combination of the :data:`~.combo.Cache` ``cache`` with the stuck set of ``modes``
-    (the one of the same modes first; -1: none)."""
-    keys, found = cache.keys, -1
-    for i in range(cache.used[0]):
-        key, stuck_same, modes_same = keys[i], True, True
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def cached(keys, used, modes):
+    """(i, same modes): the row of ``keys`` (a :data:`~.combo.Cache`'s, the first ``used[0]``) with the stuck set of
+    ``modes``, the one of the same modes first (-1: none).  Entries compared in place: a row taken as a view would
+    be reference-counted at every row of the scan."""
+    found = -1
+    for i in range(used[0]):
+        stuck_same, modes_same = True, True
         for j in range(len(modes)):
-            if (key[j] == STICK) != (modes[j] == STICK):
+            if (keys[i, j] == STICK) != (modes[j] == STICK):
                 stuck_same = False
                 break
-            modes_same = modes_same and key[j] == modes[j]
+            modes_same = modes_same and keys[i, j] == modes[j]
         if stuck_same and modes_same:
             return i, True
         if stuck_same and found < 0:
@@ -189,18 +190,19 @@ def cached(cache, modes):
     return found, False
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def candidate(asm, minv, modes, cache):
     """The :data:`~.combo.Split` of ``modes``: from a combination of the run's :data:`~.combo.Cache` ``cache`` (or
     None) with the same stuck set when there is one (its R and HE are the split's numbers, and its K_eff and f0
     with the same modes), else made (:func:`~.combo.split`)."""
     if cache is not None:
-        i, same_modes = cached(cache, modes)
+        i, same_modes = cached(cache.keys, cache.used, modes)
         if i >= 0:
             cb = cache.combos[i]
             if same_modes:
                 return Split(cb.modes, cb.stuck, cb.R, cb.HE, cb.keff, cb.f0)
-            keff, f0 = slip_terms(asm, modes)
+            keff, f0 = asm.stiffness.copy(), np.zeros(minv.shape[0])
+            slip_into(asm, modes, keff, f0)
             return Split(modes.copy(), cb.stuck, cb.R, cb.HE, keff, f0)
     return split(asm, minv, modes)
 
@@ -211,23 +213,21 @@ def release_over_limit(asm, minv, q, v, t, modes, released):
 
     Returns the :data:`Split` of the final modes (None when the loop ran out first).
     """
-    return release_in(asm, minv, q, v, t, modes, released, None, new_room(len(q), len(modes)))
+    return decide_in(asm, minv, q, v, t, modes, released, None, new_room(len(q), len(modes)), False)
 
 
-@njit(cache=True, inline="always")
-def release_in(asm, minv, q, v, t, modes, released, cache, room):
-    """:func:`release_over_limit` with the run's :data:`~.combo.Cache` ``cache`` (or None) and a :data:`Room`."""
-    for _ in range(len(modes) + 1):
-        cb = candidate(asm, minv, modes, cache)
-        if len(cb.stuck) == 0:
-            return cb
-        worst = most_over(asm, cb, minv, q, v, t, room)
-        if worst < 0:
-            return cb
-        j = cb.stuck[worst]
-        modes[j] = 1 if room.rule[worst] > 0.0 else -1
-        released[j] = True
-    return None
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def released_one(asm, cb, minv, q, v, t, modes, released, room):
+    """One pass of the active-set loop (:func:`decide_in`) with the :data:`Split` ``cb`` of ``modes``: the stuck
+    contact most over F_s N_j released in ``modes`` (slipping along its held force) and marked in ``released``;
+    whether there was one."""
+    worst = most_over(asm, cb, minv, q, v, t, room)
+    if worst < 0:
+        return False
+    j = cb.stuck[worst]
+    modes[j] = 1 if room.rule[worst] > 0.0 else -1
+    released[j] = True
+    return True
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
@@ -264,7 +264,7 @@ def abs_max(a):
     return m
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
 def any_slipping(modes, leaving):
     """Some contact leaving V_r = 0 slips."""
     for j in range(len(modes)):
@@ -273,24 +273,10 @@ def any_slipping(modes, leaving):
     return False
 
 
-@njit(cache=True, inline="always")
-def check_directions(asm, minv, q, v, t, modes, leaving, first, cache, room):
-    """Each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it (``leaving``: those).
-
-    ``first``: the :data:`Split` of ``modes`` as they come (None: made here); ``cache``, ``room``: :func:`decide_in`.
-    """
-    if not any_slipping(modes, leaving):  # no direction to check: no acceleration to compute
-        return
-    for attempt in range(2):
-        cb = first if attempt == 0 and first is not None else candidate(asm, minv, modes, cache)
-        if not flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
-            return
-
-
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
-    """One pass of :func:`check_directions` with q'' of ``cb``: flip (``attempt`` 0) or stick (1) each contact
-    leaving V_r = 0 the wrong way; whether one was."""
+    """One pass of :func:`decide_in`'s direction check with q'' of ``cb``: flip (``attempt`` 0) or stick (1) each
+    contact leaving V_r = 0 the wrong way; whether one was."""
     acceleration_into(asm, cb, minv, q, v, t, room)
     acc, mi = room.acc, 0.0
     for a in range(minv.shape[0]):
@@ -305,10 +291,28 @@ def flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
 
 
 @njit(cache=True)
-def decide_in(asm, minv, q, v, t, modes, leaving, cache, room):
-    """:func:`decide` with the run's :data:`~.combo.Cache` ``cache`` (or None: every split made) and a :data:`Room`."""
-    first = release_in(asm, minv, q, v, t, modes, leaving, cache, room)
-    check_directions(asm, minv, q, v, t, modes, leaving, first, cache, room)
+def decide_in(asm, minv, q, v, t, modes, leaving, cache, room, directions):
+    """:func:`decide` with the run's :data:`~.combo.Cache` ``cache`` (or None: every split made) and a :data:`Room`;
+    the active-set loop alone (:func:`release_over_limit`) when not ``directions``.  Returns the :data:`Split` of the
+    modes the loop ends with (None when it ran out first).
+
+    After that loop each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it.  Both loops
+    are written here and run their passes in kernels without numba's runtime: each call of a function with the
+    runtime (or inlined in one) counts references to every array of the records it takes.
+    """
+    first = None
+    for _ in range(len(modes) + 1):
+        cb = candidate(asm, minv, modes, cache)
+        if len(cb.stuck) == 0 or not released_one(asm, cb, minv, q, v, t, modes, leaving, room):
+            first = cb
+            break
+    if not directions or not any_slipping(modes, leaving):  # no direction to check: no acceleration to compute
+        return first
+    for attempt in range(2):
+        cb = first if attempt == 0 and first is not None else candidate(asm, minv, modes, cache)
+        if not flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
+            break
+    return first
 
 
 @njit(cache=True)
@@ -318,7 +322,7 @@ def decide(asm, minv, q, v, t, modes, leaving):
     ``modes`` holds 0 for every contact at V_r = 0 that may stick and the
     forced direction of those released (their held force reached F_s N).
     """
-    decide_in(asm, minv, q, v, t, modes, leaving, None, new_room(len(q), len(modes)))
+    decide_in(asm, minv, q, v, t, modes, leaving, None, new_room(len(q), len(modes)), True)
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
