@@ -10,17 +10,24 @@ or two roots closer than any interval the walk takes; a too optimistic certifica
 
 from __future__ import annotations
 
-from collections import namedtuple
-
 import numpy as np
 import pytest
 
+import frictionflow as ff
+from frictionflow.core.structure.combo import build
 from frictionflow.core.structure.events import EPS, chord_low, new_room, walk
 from frictionflow.core.structure.phase import Mags, Phase, bound
 
-#: the parts of a combination the walk reads
-Modes = namedtuple("Modes", "lam active Dh W WA")
+from .builders import single_mass
+
 T_END = 6.0
+
+
+def engine_combo():
+    """A combination built by the engine (its record type, so the walk runs as compiled for the engine); the parts
+    the walk reads are replaced in :func:`phase_of`."""
+    asm = single_mass(0.0, 1.0, ff.Coulomb(0.2, 0.4), 0.0, 0.0)
+    return build(asm, np.linalg.inv(asm.mass), np.zeros(1, dtype=np.int8))
 
 
 def trig_sum(amp, w, p, tau):
@@ -40,7 +47,8 @@ def phase_of(rows, slope=0.0):
     for e, (_, amp, _, _) in enumerate(rows):
         wm[e, start:start + len(amp)] = 1.0
         start += len(amp)
-    cb = Modes(np.array(lam), np.ones(k, dtype=np.bool_), np.zeros((k, 0)), wm, np.abs(wm))
+    cb = engine_combo()._replace(lam=np.array(lam), active=np.ones(k, dtype=np.bool_), Dh=np.zeros((k, 0)), W=wm,
+                       WA=np.abs(wm))
     zeros = np.zeros(m, dtype=np.complex128)
     ph = Phase(0.0, np.array(z0), zeros, zeros.copy(), np.zeros((m, 0), dtype=np.complex128), np.zeros(0),
                np.array([c for c, *_ in rows], dtype=float), np.full(k, slope), np.zeros(0), np.zeros(0))

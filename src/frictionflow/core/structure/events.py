@@ -101,7 +101,7 @@ def chord_low(ga, gb, h, m2):
 
 
 @njit(cache=True, inline="always")
-def tests(cb, ph, om, e, a, h, room, start, m2):
+def certify(cb, ph, om, e, a, h, room, start, m2):
     """1: root-free on [a, a + h]; 2: exactly one root there; 0: undecided: :func:`verdict`'s tests with ``m2``
     bounding |g_e''| over the interval."""
     za, ga, gb = room.za, room.ga[e], room.gb[e]
@@ -141,11 +141,11 @@ def verdict(cb, ph, om, e, a, h, room, start, m2):
     |g_e''| over the interval (:func:`.phase.bound`).  Where that decides nothing the tests run again with
     :func:`sharper_m2` when it is smaller.
     """
-    v = tests(cb, ph, om, e, a, h, room, start, m2)
+    v = certify(cb, ph, om, e, a, h, room, start, m2)
     if v != 0:
         return v
     m2s = sharper_m2(cb, ph, om, e, a, h, room, m2)
-    return tests(cb, ph, om, e, a, h, room, start, m2s) if m2s < m2 else 0
+    return certify(cb, ph, om, e, a, h, room, start, m2s) if m2s < m2 else 0
 
 
 @njit(cache=True, inline="always")
@@ -253,10 +253,11 @@ def new_room(m, k, nf, departing):
 
 @njit(cache=True, inline="always")
 def prepare(cb, ph, om, room):
-    """Fill ``room`` at tau = 0: z(0), |z(0)|, the phase's moduli, the functions (0 where departing: a function
-    within rounding of 0 departs too), no function proven clear yet."""
+    """Fill ``room`` at tau = 0: z(0) (the phase's z0: the closed form at 0 is z0 exactly), |z(0)|, the phase's
+    moduli, the functions (0 where departing: a function within rounding of 0 departs too), no function proven
+    clear yet."""
     za, ga, dep, az = room.za, room.ga, room.dep, room.mg.z
-    modal_raw(cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, om, 0.0, za)
+    copy(ph.z0, za)
     magnitudes_into(cb, ph, room.mg)
     copy(ph.e0, ga)
     for e in range(len(ga)):
