@@ -50,12 +50,13 @@ tangentially may stick there).
 
 from __future__ import annotations
 
+import math
 from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
-from ..roots import RUNNING, bracket, update_newton
+from ..roots import RUNNING, STALL, bracket, steer, tolerance, update
 from ..options import NO_RUNTIME
 from .phase import (Mags, abs_into, bound, bound_of, event_rate, event_raw, magnitudes_into, modal_raw,
                     mode_bounds, size_of)
@@ -74,19 +75,49 @@ def values(cb, ph, om, tau, z, g):
             g[e] = event_raw(e0, e1, dh, w, theta, om, e, tau, z)
 
 
-@njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting of the records' arrays
-def locate(cb, ph, om, e, a, b, ga, gb, z):
-    """The root of event function ``e`` in [a, b] (g(a) > 0 >= g(b)): the far end of the final bracket.
+@njit(cache=True, inline="always")
+def halley(br, x, fx, d1, d2, spare):
+    """(record, spare) after g(x) = ``fx``, g'(x) = ``d1``, g''(x) = ``d2``: :func:`..roots.update` and the next
+    point from Halley's step, moved a quarter of the tolerance beyond as :func:`..roots.update_newton` moves
+    Newton's (so that the bracket closes from both sides).
 
-    ``z``: room for the modal coordinates.
+    A step that converges from one side does not halve the bracket, and after :data:`..roots.STALL` such points
+    the record bisects.  Once, while ``spare``, a step shorter than the tolerance is taken all the same: its point
+    lies within rounding of the root and closes the bracket; the bisection's bound on the points still holds
+    after it.  Illinois' point stays where the step is not finite or not inside the bracket.
     """
-    br = bracket(a, b, ga, gb, 0.0, 2.0 * EPS, 0.0, 200, 0.0)
+    br = update(br, x, fx)
+    den = 2.0 * d1 * d1 - fx * d2
+    if br.status != RUNNING or not (den != 0.0 and math.isfinite(den)):
+        return br, spare
+    r = x - 2.0 * fx * d1 / den
+    tol = tolerance(br, r)
+    short = abs(r - x) <= tol
+    if br.stall >= STALL and not (spare and short):
+        return br, spare
+    d = 0.25 * tol
+    return steer(br, r + d if r > x else r - d), spare and not (br.stall >= STALL and short)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting of the records' arrays
+def locate(cb, ph, om, e, a, b, ga, gb, room):
+    """The root of event function ``e`` in [a, b] (g(a) > 0 >= g(b)): the far end of the final bracket, by
+    :func:`halley`'s points (g', g'' from z at little cost), or a point where g is within rounding of 0
+    (ROUNDING EPS of the size of its terms at a: there the root is known as well as g allows).
+
+    ``room``: the walk's :data:`Room` (|z(a)| in its moduli, its ``zr`` room for z).
+    """
+    ftol = ROUNDING * EPS * size_of(cb, ph, e, a, room.mg.z)
+    br = bracket(a, b, ga, gb, 0.0, 2.0 * EPS, ftol, 200, 0.0)
+    z = room.zr
     lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta  # no record passed in the loop
     e0, e1, dh, w = ph.e0, ph.e1, cb.Dh, cb.W
+    spare = True
     while br.status == RUNNING:
         x = br.x
         modal_raw(lam, z0, b0, b1, bh, theta, om, x, z)
-        br = update_newton(br, x, event_raw(e0, e1, dh, w, theta, om, e, x, z), event_rate(cb, ph, om, e, x, z, 1))
+        fx = event_raw(e0, e1, dh, w, theta, om, e, x, z)
+        br, spare = halley(br, x, fx, event_rate(cb, ph, om, e, x, z, 1), event_rate(cb, ph, om, e, x, z, 2), spare)
     return br.hi
 
 
@@ -185,8 +216,8 @@ def first_crossing(cb, ga, gb):
 @njit(cache=True, **NO_RUNTIME)
 def earliest(cb, ph, om, a, b, room):
     """(tau, slot) of the earliest root among the functions that are <= 0 at b (each with one root in [a, b]
-    where it is > 0 at a), ``room`` the walk's :data:`Room`: its ``zr`` room for :func:`locate`, its ``zb``
-    then z at the earliest root so far.
+    where it is > 0 at a), ``room`` the walk's :data:`Room` (:func:`locate`), its ``zb`` then z at the earliest
+    root so far.
 
     The function whose chord crosses first is located first; another is located only where it is <= 0 at
     that root (the module's docstring), in [a, root].
@@ -195,7 +226,7 @@ def earliest(cb, ph, om, a, b, room):
     first = first_crossing(cb, ga, gb)
     best, slot, fresh = b, -1, False
     if first >= 0:
-        best, slot = locate(cb, ph, om, first, a, b, ga[first], gb[first], room.zr), first
+        best, slot = locate(cb, ph, om, first, a, b, ga[first], gb[first], room), first
     for e in range(len(ga)):
         if not cb.active[e] or gb[e] > 0.0 or e == first:
             continue
@@ -208,7 +239,7 @@ def earliest(cb, ph, om, a, b, room):
             fresh = True
         gt = event_raw(ph.e0, ph.e1, cb.Dh, cb.W, ph.theta, om, e, best, zt)
         if gt <= 0.0:
-            t = locate(cb, ph, om, e, a, best, ga[e], gt, room.zr)
+            t = locate(cb, ph, om, e, a, best, ga[e], gt, room)
             if t < best:
                 best, slot, fresh = t, e, False
     return best, slot
