@@ -35,11 +35,13 @@ below it and fewer intervals are halved.
 
 When every function is decided, the earliest root is the event.  The
 candidate whose chord crosses 0 first is located in its proven bracket
-(g(a) > 0 >= g(b), g' < 0 throughout) by Newton's steps from
-g' = Re(W (lam z + beta)) + ..., which z(tau) gives at little cost
+(g(a) > 0 >= g(b), g' < 0 throughout) by Halley's steps from
+g' = Re(W (lam z + beta)) + ... and g'', which z(tau) gives at little cost
 (:func:`.phase.event_rate`), kept inside the bracket and closing it from
-both sides, with Illinois' point as the safeguard (:func:`..roots.update_newton`),
-to 2 EPS of the root's size.  Another candidate, with g(a) > 0 and one root
+both sides, with Illinois' point as the safeguard (:func:`halley`), to
+2 EPS of the root's size or to a point where g is within rounding of 0
+(ROUNDING EPS of its terms' size: the root is known no better than that
+from g; the run counts such a function as reached).  Another candidate, with g(a) > 0 and one root
 in [a, b], has that root after the located t when g(t) > 0; it is located
 (in [a, t]) only where g(t) <= 0.  An interval that reaches ``floor`` undecided is a touch: a
 function within rounding (or M2 floor^2 / 8, ~1e-25 of its size) of 0
