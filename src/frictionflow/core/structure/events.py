@@ -1,26 +1,49 @@
 """The first event of a phase, with no root skipped between the points evaluated (a proof, not a step size).
 
 Every event function is positive inside its mode's region (:mod:`.combo`).
-The walk covers (0, tau_end] with intervals [a, b] and, for every active
-function g, decides one of
+The walk covers (0, tau_end] with intervals [a, b], h = b - a, and, for every
+active function g, decides one of
 
-* root-free: g(a), g(b) > 0 and min(g(a), g(b)) > M2 h^2 / 8 + r, M2 a bound
-  on |g''| over the interval (:func:`.phase.bound`): the chord through the
-  ends is above min(g(a), g(b)) and g differs from it by at most M2 h^2 / 8;
+* root-free: g(a), g(b) > r and the chord's bound is above r.  With M2 a
+  bound on |g''| over the interval, g(a + t) >= c(t) = l(t) - M2 t (h - t) / 2
+  (l the chord through the ends: the error of linear interpolation is
+  g''(xi) t (t - h) / 2).  c is a convex quadratic; where its vertex lies
+  outside [0, h] (|g(b) - g(a)| >= M2 h^2 / 2) its least value there is
+  min(g(a), g(b)), else (g(a) + g(b)) / 2 - M2 h^2 / 8 - (g(b) - g(a))^2 / (2 M2 h^2)
+  (:func:`chord_low`; never below the cruder min(g(a), g(b)) - M2 h^2 / 8).
   r = ROUNDING times the size of g's terms (:func:`.phase.size_of`): a
-  function that comes within rounding of 0 is not certified clear of it;
-  at a phase start where g(0) = 0 (a contact that just began to slip:
+  function that comes within rounding of 0 is not certified clear of it.
+  At a phase start where g(0) = 0 (a contact that just began to slip:
   ``departing``), g(s) >= g'(0) s - M2 s^2 / 2 > 0 when g'(0) > M2 h / 2, or
   with g'(0) >= 0, g(s) >= g''(0) s^2 / 2 - M3 s^3 / 6 > 0 when g''(0) > M3 h / 3;
-* one root: g(a) > 0 >= g(b) and g' < 0 throughout (-g'(a) > M2 h);
-* undecided: the interval is halved.
+* one root: g(a) > 0 >= g(b) and g' < 0 throughout.  g'(s) <= g'(a) + M2 (s - a)
+  and g'(s) <= g'(b) + M2 (b - s), and the smaller of two numbers is at most
+  their mean, so g'(s) <= (g'(a) + g'(b) + M2 h) / 2 on [a, b]: -g'(a) > M2 h
+  (the first bound alone) or -(g'(a) + g'(b)) > M2 h suffices;
+* undecided: the tests are tried again with a sharper M2 (below), then the
+  interval is halved.
 
-When every function is decided, the earliest root is the event: located in
-its proven bracket (g(a) > 0 >= g(b), g' < 0 throughout) by Newton's steps
-from g' = Re(W (lam z + beta)) + ..., which z(tau) gives at little cost
+The sharper M2 (:func:`sharper_m2`): with M3 a bound on |g'''| over [a, b]
+(:func:`.phase.bound`), |g''(s)| <= |g''(a)| + M3 (s - a) and
+|g''(s)| <= |g''(b)| + M3 (b - s), so by the same mean
+|g''| <= (|g''(a)| + |g''(b)| + M3 h) / 2 throughout.  g'' at the ends is
+computed from z there; its rounding is less than ROUNDING EPS of the sum of
+its terms' moduli, which M2 bounds, so that much of M2 is added.  The crude
+M2 sums the modes' moduli; g''(a) and g''(b) keep their cancellations, so on
+an interval short beside the modes' time scales the sharper bound is far
+below it and fewer intervals are halved.
+
+When every function is decided, the earliest root is the event.  The
+candidate whose chord crosses 0 first is located in its proven bracket
+(g(a) > 0 >= g(b), g' < 0 throughout) by Halley's steps from
+g' = Re(W (lam z + beta)) + ... and g'', which z(tau) gives at little cost
 (:func:`.phase.event_rate`), kept inside the bracket and closing it from
-both sides, with Illinois' point as the safeguard (:func:`..roots.update_newton`),
-to 2 EPS of the root's size.  An interval that reaches ``floor`` undecided is a touch: a
+both sides, with Illinois' point as the safeguard (:func:`halley`), to
+2 EPS of the root's size or to a point where g is within rounding of 0
+(ROUNDING EPS of its terms' size: the root is known no better than that
+from g; the run counts such a function as reached).  Another candidate, with g(a) > 0 and one root
+in [a, b], has that root after the located t when g(t) > 0; it is located
+(in [a, t]) only where g(t) <= 0.  An interval that reaches ``floor`` undecided is a touch: a
 function within rounding (or M2 floor^2 / 8, ~1e-25 of its size) of 0
 that need not cross; it is reported as an event at the end nearer 0 (``graze``), and the
 stick rule decides what follows (a slipping contact whose V_r touches 0
@@ -29,12 +52,13 @@ tangentially may stick there).
 
 from __future__ import annotations
 
+import math
 from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
-from ..roots import RUNNING, bracket, update_newton
+from ..roots import RUNNING, STALL, bracket, steer, tolerance, update
 from ..options import NO_RUNTIME
 from .phase import (Mags, abs_into, bound, bound_of, event_rate, event_raw, magnitudes_into, modal_raw,
                     mode_bounds, size_of)
@@ -53,34 +77,70 @@ def values(cb, ph, om, tau, z, g):
             g[e] = event_raw(e0, e1, dh, w, theta, om, e, tau, z)
 
 
-@njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting of the records' arrays
-def locate(cb, ph, om, e, a, b, ga, gb, z):
-    """The root of event function ``e`` in [a, b] (g(a) > 0 >= g(b)): the far end of the final bracket.
+@njit(cache=True, inline="always")
+def halley(br, x, fx, d1, d2, spare):
+    """(record, spare) after g(x) = ``fx``, g'(x) = ``d1``, g''(x) = ``d2``: :func:`..roots.update` and the next
+    point from Halley's step, moved a quarter of the tolerance beyond as :func:`..roots.update_newton` moves
+    Newton's (so that the bracket closes from both sides).
 
-    ``z``: room for the modal coordinates.
+    A step that converges from one side does not halve the bracket, and after :data:`..roots.STALL` such points
+    the record bisects.  Once, while ``spare``, a step shorter than the tolerance is taken all the same: its point
+    lies within rounding of the root and closes the bracket; the bisection's bound on the points still holds
+    after it.  Illinois' point stays where the step is not finite or not inside the bracket.
     """
-    br = bracket(a, b, ga, gb, 0.0, 2.0 * EPS, 0.0, 200, 0.0)
+    br = update(br, x, fx)
+    den = 2.0 * d1 * d1 - fx * d2
+    if br.status != RUNNING or not (den != 0.0 and math.isfinite(den)):
+        return br, spare
+    r = x - 2.0 * fx * d1 / den
+    tol = tolerance(br, r)
+    short = abs(r - x) <= tol
+    if br.stall >= STALL and not (spare and short):
+        return br, spare
+    d = 0.25 * tol
+    return steer(br, r + d if r > x else r - d), spare and not (br.stall >= STALL and short)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting of the records' arrays
+def locate(cb, ph, om, e, a, b, ga, gb, room):
+    """The root of event function ``e`` in [a, b] (g(a) > 0 >= g(b)): the far end of the final bracket, by
+    :func:`halley`'s points (g', g'' from z at little cost), or a point where g is within rounding of 0
+    (ROUNDING EPS of the size of its terms at a: there the root is known as well as g allows).
+
+    ``room``: the walk's :data:`Room` (|z(a)| in its moduli, its ``zr`` room for z).
+    """
+    ftol = ROUNDING * EPS * size_of(cb, ph, e, a, room.mg.z)
+    br = bracket(a, b, ga, gb, 0.0, 2.0 * EPS, ftol, 200, 0.0)
+    z = room.zr
     lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta  # no record passed in the loop
     e0, e1, dh, w = ph.e0, ph.e1, cb.Dh, cb.W
+    spare = True
     while br.status == RUNNING:
         x = br.x
         modal_raw(lam, z0, b0, b1, bh, theta, om, x, z)
-        br = update_newton(br, x, event_raw(e0, e1, dh, w, theta, om, e, x, z), event_rate(cb, ph, om, e, x, z, 1))
+        fx = event_raw(e0, e1, dh, w, theta, om, e, x, z)
+        br, spare = halley(br, x, fx, event_rate(cb, ph, om, e, x, z, 1), event_rate(cb, ph, om, e, x, z, 2), spare)
     return br.hi
 
 
 @njit(cache=True, inline="always")
-def verdict(cb, ph, om, e, a, h, room, start, m2):
-    """1: root-free on [a, a + h]; 2: exactly one root there; 0: undecided (``start``: g(a) = 0 departing).
+def chord_low(ga, gb, h, m2):
+    """The least value over [a, a + h] of the chord through (a, ``ga``), (a + h, ``gb``) less m2 t (h - t) / 2
+    (the module's docstring): a lower bound on g there when ``m2`` bounds |g''|."""
+    d, c = gb - ga, m2 * h * h
+    if 2.0 * abs(d) >= c:  # the vertex is outside [a, a + h] (or m2 h^2 = 0): the least value is at an end
+        return min(ga, gb)
+    return 0.5 * (ga + gb) - c / 8.0 - d * d / (2.0 * c)
 
-    ``room``: the walk's :data:`Room` (z(a), |z(a)|, g at both ends); ``m2``: the bound on |g_e''| over the
-    interval (:func:`.phase.bound`).
-    """
+
+@njit(cache=True, inline="always")
+def certify(cb, ph, om, e, a, h, room, start, m2):
+    """1: root-free on [a, a + h]; 2: exactly one root there; 0: undecided: :func:`verdict`'s tests with ``m2``
+    bounding |g_e''| over the interval."""
     za, ga, gb = room.za, room.ga[e], room.gb[e]
     if gb > 0.0:
-        curve = m2 * h * h / 8.0  # (size_of >= 0: below the curvature term alone the test fails, no sum needed)
-        if ga > 0.0 and min(ga, gb) > curve and min(ga, gb) > curve + ROUNDING * EPS * size_of(cb, ph, e, a + h,
-                                                                                              room.mg.z):
+        low = chord_low(ga, gb, h, m2)  # (size_of >= 0: at or below 0 the test fails, no size needed)
+        if ga > 0.0 and low > 0.0 and low > ROUNDING * EPS * size_of(cb, ph, e, a + h, room.mg.z):
             return 1
         if start:
             g1 = event_rate(cb, ph, om, e, a, za, 1)
@@ -89,9 +149,36 @@ def verdict(cb, ph, om, e, a, h, room, start, m2):
             if g1 >= 0.0 and event_rate(cb, ph, om, e, a, za, 2) > bound(cb, om, e, a, h, room.mg, 3) * h / 3.0:
                 return 1
         return 0
-    if ga > 0.0 and -event_rate(cb, ph, om, e, a, za, 1) > m2 * h:
-        return 2
+    if ga > 0.0:
+        g1 = event_rate(cb, ph, om, e, a, za, 1)
+        if -g1 > m2 * h or -(g1 + event_rate(cb, ph, om, e, a + h, room.zb, 1)) > m2 * h:
+            return 2
     return 0
+
+
+@njit(cache=True, inline="always")
+def sharper_m2(cb, ph, om, e, a, h, room, m2):
+    """(|g''(a)| + |g''(b)| + M3 h) / 2 + ROUNDING EPS ``m2``: a bound on |g_e''| over [a, b = a + h] from g'' at
+    its ends (the module's docstring; ``m2``: the crude bound)."""
+    m3 = bound(cb, om, e, a, h, room.mg, 3)
+    d2a = event_rate(cb, ph, om, e, a, room.za, 2)
+    d2b = event_rate(cb, ph, om, e, a + h, room.zb, 2)
+    return 0.5 * (abs(d2a) + abs(d2b) + m3 * h) + ROUNDING * EPS * m2
+
+
+@njit(cache=True, inline="always")
+def verdict(cb, ph, om, e, a, h, room, start, m2):
+    """1: root-free on [a, a + h]; 2: exactly one root there; 0: undecided (``start``: g(a) = 0 departing).
+
+    ``room``: the walk's :data:`Room` (z and |z| at a, z at a + h, g at both ends); ``m2``: the bound on
+    |g_e''| over the interval (:func:`.phase.bound`).  Where that decides nothing the tests run again with
+    :func:`sharper_m2` when it is smaller.
+    """
+    v = certify(cb, ph, om, e, a, h, room, start, m2)
+    if v != 0:
+        return v
+    m2s = sharper_m2(cb, ph, om, e, a, h, room, m2)
+    return certify(cb, ph, om, e, a, h, room, start, m2s) if m2s < m2 else 0
 
 
 @njit(cache=True, inline="always")
@@ -116,15 +203,47 @@ def decide_interval(cb, ph, om, a, h, room):
     return decided, root
 
 
-@njit(cache=True, **NO_RUNTIME)
-def earliest(cb, ph, om, a, b, ga, gb, z):
-    """(tau, slot) of the earliest root among the functions that are <= 0 at b (``z``: room, :func:`locate`)."""
-    best, slot = b, -1
+@njit(cache=True, inline="always")
+def first_crossing(cb, ga, gb):
+    """The slot, among the active functions with g(a) > 0 >= g(b), whose chord crosses 0 first; -1: none."""
+    best, slot = 2.0, -1
     for e in range(len(ga)):
-        if cb.active[e] and gb[e] <= 0.0:
-            t = locate(cb, ph, om, e, a, b, ga[e], gb[e], z) if ga[e] > 0.0 else b
-            if slot < 0 or t < best:
-                best, slot = t, e
+        if cb.active[e] and gb[e] <= 0.0 < ga[e]:
+            x = ga[e] / (ga[e] - gb[e])
+            if x < best:
+                best, slot = x, e
+    return slot
+
+
+@njit(cache=True, **NO_RUNTIME)
+def earliest(cb, ph, om, a, b, room):
+    """(tau, slot) of the earliest root among the functions that are <= 0 at b (each with one root in [a, b]
+    where it is > 0 at a), ``room`` the walk's :data:`Room` (:func:`locate`), its ``zb`` then z at the earliest
+    root so far.
+
+    The function whose chord crosses first is located first; another is located only where it is <= 0 at
+    that root (the module's docstring), in [a, root].
+    """
+    ga, gb, zt = room.ga, room.gb, room.zb
+    first = first_crossing(cb, ga, gb)
+    best, slot, fresh = b, -1, False
+    if first >= 0:
+        best, slot = locate(cb, ph, om, first, a, b, ga[first], gb[first], room), first
+    for e in range(len(ga)):
+        if not cb.active[e] or gb[e] > 0.0 or e == first:
+            continue
+        if ga[e] <= 0.0:  # (a departing function at or below 0 at b: the event is at b)
+            if slot < 0:
+                best, slot = b, e
+            continue
+        if not fresh:
+            modal_raw(cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, om, best, zt)
+            fresh = True
+        gt = event_raw(ph.e0, ph.e1, cb.Dh, cb.W, ph.theta, om, e, best, zt)
+        if gt <= 0.0:
+            t = locate(cb, ph, om, e, a, best, ga[e], gt, room)
+            if t < best:
+                best, slot, fresh = t, e, False
     return best, slot
 
 
@@ -167,10 +286,11 @@ def new_room(m, k, nf, departing):
 
 @njit(cache=True, inline="always")
 def prepare(cb, ph, om, room):
-    """Fill ``room`` at tau = 0: z(0), |z(0)|, the phase's moduli, the functions (0 where departing: a function
-    within rounding of 0 departs too), no function proven clear yet."""
+    """Fill ``room`` at tau = 0: z(0) (the phase's z0: the closed form at 0 is z0 exactly), |z(0)|, the phase's
+    moduli, the functions (0 where departing: a function within rounding of 0 departs too), no function proven
+    clear yet."""
     za, ga, dep, az = room.za, room.ga, room.dep, room.mg.z
-    modal_raw(cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, om, 0.0, za)
+    copy(ph.z0, za)
     magnitudes_into(cb, ph, room.mg)
     copy(ph.e0, ga)
     for e in range(len(ga)):
@@ -205,7 +325,7 @@ def walk(cb, ph, om, tau_end, h0, floor, room):
             h = 0.5 * (b - a)
             continue
         if root:
-            tau, slot = earliest(cb, ph, om, a, b, ga, gb, room.zr)
+            tau, slot = earliest(cb, ph, om, a, b, room)
             return tau, slot, False
         if not decided:
             tau, slot = nearest_zero(cb, ph, om, a, b, room)
