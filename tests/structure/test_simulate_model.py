@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import pytest
 import xarray as xr
@@ -84,6 +85,25 @@ def test_model_file_missing_is_one_line(tmp_path):
     code, out, err, _ = in_process("simulate", "--model", str(tmp_path / "none.toml"), "--json")
     assert code == 2 and out == ""
     one_line(err, "--model")
+
+
+def _strict(text):
+    """``text`` parsed as strict JSON: NaN or Infinity (which Python's json would read) fail."""
+    def refuse(name):
+        raise AssertionError(f"{name} in the JSON report")
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_contact_lost_json_report():
+    """A run ending in contact loss (Hoffmann's 2-dof flutter model, the example) reports it as strict JSON:
+    what did not settle (the period, the stick fraction) is null, the exit code 0."""
+    path = Path(__file__).parents[2] / "examples" / "models" / "hoffmann_2dof.toml"
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--t-end", "200", "--json")
+    assert code == 0, err
+    report = _strict(out)
+    assert report["status"] == "contact_lost" and report["steady_state"]["kind"] == "contact_lost"
+    assert report["steady_state"]["period"] is None
+    assert report["steady_state"]["stick_fraction"] == [None]
 
 
 def test_two_masses_budget_closes(tmp_path):

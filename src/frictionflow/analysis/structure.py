@@ -38,6 +38,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .. import quantities as Q
+from .._json import jsonable
 from .._display import Row, Summarized, num
 from ..core.assembly import natural_frequencies
 from ..core.layout import LAW
@@ -90,9 +91,10 @@ class StructureSteadyState(Summarized):
         return "StructureSteadyState", rows
 
     def to_dict(self) -> dict[str, Any]:
-        return {"kind": self.kind, "period": None if math.isnan(self.period) else self.period,
-                "window": list(self.window), "stick_fraction": list(self.stick_fraction), "periods": self.periods,
-                "lyapunov": _finite(self.lyapunov)}
+        """JSON-ready: an undefined value (a period or stick fraction where none settled) is None."""
+        return jsonable({"kind": self.kind, "period": self.period, "window": list(self.window),
+                         "stick_fraction": list(self.stick_fraction), "periods": self.periods,
+                         "lyapunov": self.lyapunov})
 
 
 @dataclass(frozen=True, repr=False)
@@ -129,14 +131,10 @@ class StructureAnalysis(Summarized):
         return "StructureAnalysis", rows
 
     def to_dict(self) -> dict[str, Any]:
-        """The ``simulate --model --json`` report."""
-        return {"steady_state": self.steady_state.to_dict(), "amplitude": self.amplitude,
-                "elements": self.elements, "energy_residual": _finite(self.energy_residual),
-                "status": self.motion.status, "switches": int(len(self.motion.switches))}
-
-
-def _finite(x: float) -> float | None:
-    return None if not math.isfinite(x) else float(x)
+        """The ``simulate --model --json`` report, JSON-ready (undefined values None)."""
+        return jsonable({"steady_state": self.steady_state.to_dict(), "amplitude": self.amplitude,
+                         "elements": self.elements, "energy_residual": self.energy_residual,
+                         "status": self.motion.status, "switches": len(self.motion.switches)})
 
 
 def analyze_structure(motion: Any, rtol: float = 1e-6, min_periods: int = 3,

@@ -98,11 +98,6 @@ def simulate_model(path: Path, params: dict[str, Any], as_json: bool, outputs: d
         plot_structure(result, outputs["plot"], name="--plot", dpi=outputs.get("dpi", 150.0))
     report = report_model(result, system, path, params)
     if as_json:
-        print(json.dumps(report, allow_nan=False, default=_jsonable))
+        print(json.dumps(report, allow_nan=False))
     else:
         print_summary(result, f"model {path}, solver {result.motion.solver} ({HOW[result.motion.solver]})")
-
-
-def _jsonable(x: Any) -> Any:
-    f = float(x)
-    return None if not math.isfinite(f) else f
