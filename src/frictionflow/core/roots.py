@@ -18,7 +18,7 @@ solutions, to a few rounding units) stay what they were -- bit for bit
 except where the stall safeguard now cuts a slow run short (a few 1e-14 of
 a forced continuation's event parameter) -- its state is a handful of
 numbers, and a caller's own better guess (a Newton step, see :func:`steer`)
-slots in as the next point (:func:`update_newton` does so where f' is cheap).
+slots in as the next point (:func:`update_newton` and :func:`update_halley` do so where f', f'' are cheap).
 
 Reverse communication: f is evaluated by the caller, which keeps whatever f
 needs (the kernels' step buffers, a continuation's solutions) and whatever it
@@ -176,9 +176,36 @@ def update_newton(b, x, fx, dfx):
     b = update(b, x, fx)
     if b.status != RUNNING or b.stall >= STALL or not (dfx != 0.0 and math.isfinite(dfx)):
         return b
-    r = x - fx / dfx
+    return steer_past(b, x, x - fx / dfx)
+
+
+@njit(cache=True, inline="always")
+def steer_past(b, x, r):
+    """The record steered to the estimate ``r`` moved a quarter of the tolerance beyond it, away from ``x``: near
+    the root the point falls on its other side and the bracket closes from both sides."""
     d = 0.25 * tolerance(b, r)
     return steer(b, r + d if r > x else r - d)
+
+
+@njit(cache=True)
+def update_halley(b, x, fx, dfx, d2fx, spare):
+    """(record, spare): :func:`update` with f'(x) = dfx and f''(x) = d2fx known, the next point from Halley's
+    step moved past it as :func:`update_newton` moves Newton's.
+
+    A step that converges from one side does not halve the bracket, and after :data:`STALL` such points the
+    record bisects.  Once, while ``spare``, a step shorter than the tolerance is taken all the same: its point
+    lies within rounding of the root and closes the bracket; the bisection's bound on the points still holds
+    after it.  Illinois' point stays where the step is not finite or not inside the bracket.
+    """
+    b = update(b, x, fx)
+    den = 2.0 * dfx * dfx - fx * d2fx
+    if b.status != RUNNING or not (den != 0.0 and math.isfinite(den)):
+        return b, spare
+    r = x - 2.0 * fx * dfx / den
+    short = abs(r - x) <= tolerance(b, r)
+    if b.stall >= STALL and not (spare and short):
+        return b, spare
+    return steer_past(b, x, r), spare and not (b.stall >= STALL and short)
 
 
 @njit(cache=True)

@@ -38,7 +38,7 @@ candidate whose chord crosses 0 first is located in its proven bracket
 (g(a) > 0 >= g(b), g' < 0 throughout) by Halley's steps from
 g' = Re(W (lam z + beta)) + ... and g'', which z(tau) gives at little cost
 (:func:`.phase.event_rate`), kept inside the bracket and closing it from
-both sides, with Illinois' point as the safeguard (:func:`halley`), to
+both sides, with Illinois' point as the safeguard (:func:`..roots.update_halley`), to
 2 EPS of the root's size or to a point where g is within rounding of 0
 (ROUNDING EPS of its terms' size: the root is known no better than that
 from g; the run counts such a function as reached).  Another candidate, with g(a) > 0 and one root
@@ -52,13 +52,12 @@ tangentially may stick there).
 
 from __future__ import annotations
 
-import math
 from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
-from ..roots import RUNNING, STALL, bracket, steer, tolerance, update
+from ..roots import RUNNING, bracket, update_halley
 from ..options import NO_RUNTIME
 from .phase import (Mags, abs_into, bound, bound_of, event_rate, event_raw, magnitudes_into, modal_raw,
                     mode_bounds, size_of)
@@ -77,34 +76,10 @@ def values(cb, ph, om, tau, z, g):
             g[e] = event_raw(e0, e1, dh, w, theta, om, e, tau, z)
 
 
-@njit(cache=True, inline="always")
-def halley(br, x, fx, d1, d2, spare):
-    """(record, spare) after g(x) = ``fx``, g'(x) = ``d1``, g''(x) = ``d2``: :func:`..roots.update` and the next
-    point from Halley's step, moved a quarter of the tolerance beyond as :func:`..roots.update_newton` moves
-    Newton's (so that the bracket closes from both sides).
-
-    A step that converges from one side does not halve the bracket, and after :data:`..roots.STALL` such points
-    the record bisects.  Once, while ``spare``, a step shorter than the tolerance is taken all the same: its point
-    lies within rounding of the root and closes the bracket; the bisection's bound on the points still holds
-    after it.  Illinois' point stays where the step is not finite or not inside the bracket.
-    """
-    br = update(br, x, fx)
-    den = 2.0 * d1 * d1 - fx * d2
-    if br.status != RUNNING or not (den != 0.0 and math.isfinite(den)):
-        return br, spare
-    r = x - 2.0 * fx * d1 / den
-    tol = tolerance(br, r)
-    short = abs(r - x) <= tol
-    if br.stall >= STALL and not (spare and short):
-        return br, spare
-    d = 0.25 * tol
-    return steer(br, r + d if r > x else r - d), spare and not (br.stall >= STALL and short)
-
-
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting of the records' arrays
 def locate(cb, ph, om, e, a, b, ga, gb, room):
     """The root of event function ``e`` in [a, b] (g(a) > 0 >= g(b)): the far end of the final bracket, by
-    :func:`halley`'s points (g', g'' from z at little cost), or a point where g is within rounding of 0
+    :func:`..roots.update_halley`'s points (g', g'' from z at little cost), or a point where g is within rounding of 0
     (ROUNDING EPS of the size of its terms at a: there the root is known as well as g allows).
 
     ``room``: the walk's :data:`Room` (|z(a)| in its moduli, its ``zr`` room for z).
@@ -119,7 +94,8 @@ def locate(cb, ph, om, e, a, b, ga, gb, room):
         x = br.x
         modal_raw(lam, z0, b0, b1, bh, theta, om, x, z)
         fx = event_raw(e0, e1, dh, w, theta, om, e, x, z)
-        br, spare = halley(br, x, fx, event_rate(cb, ph, om, e, x, z, 1), event_rate(cb, ph, om, e, x, z, 2), spare)
+        d1, d2 = event_rate(cb, ph, om, e, x, z, 1), event_rate(cb, ph, om, e, x, z, 2)
+        br, spare = update_halley(br, x, fx, d1, d2, spare)
     return br.hi
 
 

@@ -55,13 +55,19 @@ def modal_raw(lams, z0, b0, b1, bh, theta, om, tau, z):
     """:func:`modal_into` from the arrays themselves (a loop that binds no record runs no reference counting)."""
     for a in range(len(lams)):
         lam = lams[a]
-        e, p1, p2 = phis(lam, tau)
-        s = e * z0[a] + p1 * b0[a] + p2 * b1[a]
+        s = free_value(lam, tau, z0[a], b0[a], b1[a])
         for f in range(len(om)):
             w = 1j * om[f]
             ep = cmath.exp(1j * theta[f])
             s += 0.5 * bh[a, f] * (ep * expint(lam, w, tau) + ep.conjugate() * expint(lam, -w, tau))
         z[a] = s
+
+
+@njit(cache=True, inline="always")
+def free_value(lam, tau, z0, b0, b1):
+    """One modal coordinate without harmonic terms: e^{lam tau} z0 + tau phi1 b0 + tau^2 phi2 b1."""
+    e, p1, p2 = phis(lam, tau)
+    return e * z0 + p1 * b0 + p2 * b1
 
 
 @njit(cache=True)

@@ -32,8 +32,8 @@ from numba import njit
 
 from ..layout import FD, STICK
 from ..options import NO_RUNTIME
-from .phase import fastest_rate, modal_raw
-from .spectral import SERIES, phi2_pair, phis
+from .phase import fastest_rate, free_value, modal_raw
+from .spectral import SERIES, phi2_pair
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
 MU_H4 = 0.1
@@ -311,26 +311,19 @@ def sparse_contact_powers(belt, cd, modes, pat, f, v, c, out):
 
 
 @njit(cache=True, inline="always")
-def exact_value(lam, tau, z0, b0, b1):
-    """One modal coordinate z(tau) = e^{lam tau} z0 + tau phi1 b0 + tau^2 phi2 b1 (:func:`.phase.modal_raw`)."""
-    e, p1, p2 = phis(lam, tau)
-    return e * z0 + p1 * b0 + p2 * b1
-
-
-@njit(cache=True, inline="always")
 def modal_nodes(lam, ph, mid, half, nodes, zg):
     """z at the nodes mid + half x_g into ``zg[g]`` (a phase without harmonic terms).
 
     z' = lam z + b0 + b1 tau gives z''' = lam z'', so about the midpoint z(mid + s) = z + s z' + s^2 z''
     phi2(lam s) (z, z', z'' at mid): one exponential per subinterval and one series per pair of nodes
     (:func:`.spectral.phi2_pair`: s and -s) instead of an exponential and a series per node.  Where
-    |lam s| >= SERIES the nodes take :func:`exact_value`.  The nodes are symmetric (numpy's leggauss).
+    |lam s| >= SERIES the nodes take :func:`free_value`.  The nodes are symmetric (numpy's leggauss).
     """
     z0, b0, b1 = ph.z0, ph.b0, ph.b1
     m = len(nodes)
     for a in range(len(lam)):
         la = lam[a]
-        za = exact_value(la, mid, z0[a], b0[a], b1[a])
+        za = free_value(la, mid, z0[a], b0[a], b1[a])
         d1 = la * za + (b0[a] + b1[a] * mid)
         d2 = la * d1 + b1[a]
         if m % 2:
@@ -343,8 +336,8 @@ def modal_nodes(lam, ph, mid, half, nodes, zg):
                 zg[m - 1 - g, a] = za + s * d1 + s * s * d2 * pa
                 zg[g, a] = za - s * d1 + s * s * d2 * pb
             else:
-                zg[m - 1 - g, a] = exact_value(la, mid + half * nodes[m - 1 - g], z0[a], b0[a], b1[a])
-                zg[g, a] = exact_value(la, mid + half * nodes[g], z0[a], b0[a], b1[a])
+                zg[m - 1 - g, a] = free_value(la, mid + half * nodes[m - 1 - g], z0[a], b0[a], b1[a])
+                zg[g, a] = free_value(la, mid + half * nodes[g], z0[a], b0[a], b1[a])
 
 
 @njit(cache=True, inline="always")
