@@ -52,8 +52,9 @@ from numba.typed import List
 
 from ..layout import FD, FS, RESULTANT, STICK
 from ..options import NO_RUNTIME
+from .sparsity import combo_pattern
 
-Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W ZT bs rb b1 bh e1 WA")
+Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W ZT bs rb b1 bh e1 WA nz")
 #: what the stick rule needs of a combination (no eigen-decomposition): its held forces and accelerations
 Split = namedtuple("Split", "modes stuck R HE keff f0")
 #: event slots per contact: the mode's own boundary (two sides while stuck) and the normal load
@@ -712,7 +713,8 @@ def build(asm, minv, modes):
     zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, sel, rows, r, keff, c(vb), c(d))
     lam, v, vi, vb, w, b1, bh = paired(real, c(lam), c(v), c(vi), c(vb), c(w), c(b1), c(bh))
     return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
-                 active, w, zt, bs, rb, b1, bh, e1, np.abs(w))
+                 active, w, zt, bs, rb, b1, bh, e1, np.abs(w),
+                 combo_pattern(asm, stuck, w, vi, vb, zt, v, z, r, he, d, keff))
 
 
 @njit(cache=True)

@@ -28,7 +28,7 @@ import numpy as np
 from numba import njit
 
 from ..options import NO_RUNTIME
-from ..products import add_product
+from . import sparsity as sp
 from .spectral import expint, phis
 
 Phase = namedtuple("Phase", "t0 z0 b0 b1 bh theta e0 e1 u0 bs")
@@ -87,25 +87,30 @@ def modal_fill(cb, ph, om, tau, z):
 @njit(cache=True, inline="always")
 def state_into(cb, ph, tau, z, q, v):
     """(q, q') at ``tau`` into ``q``, ``v`` from z = z(tau): Re(V z) through Z, plus the stuck directions' part."""
-    state_raw(cb.V, cb.Z, cb.R, ph.u0, ph.bs, tau, z, q, v)
+    state_raw(cb.V, cb.Z, cb.R, cb.nz, ph.u0, ph.bs, tau, z, q, v)
 
 
 @njit(cache=True, inline="always")
-def state_raw(vm, zm, rm, u0, bs, tau, z, q, v):
-    """:func:`state_into` from the arrays themselves (V, Z, R, u0, b_S)."""
+def state_raw(vm, zm, rm, nz, u0, bs, tau, z, q, v):
+    """:func:`state_into` from the arrays themselves (V, Z, R, their pattern ``nz``, u0, b_S): the sums over
+    V's rows' and Z's and R's columns' nonzeros (:mod:`.sparsity`)."""
     n, r = zm.shape
     for i in range(n):
         q[i], v[i] = 0.0, 0.0
+    rv, zc, rc = nz[0, sp.V], nz[0, sp.ZC], nz[0, sp.RC]
     for a in range(2 * r):
         x = 0.0
-        for b in range(vm.shape[1]):  # V's columns: one per root kept (:mod:`.combo`: a conjugate pair's once)
+        for p in range(nz[rv + a, 0]):  # V's columns: one per root kept (:mod:`.combo`: a conjugate pair's once)
+            b = nz[rv + a, 1 + p]
             x += (vm[a, b] * z[b]).real
         col, out = (a, q) if a < r else (a - r, v)
-        for i in range(n):
+        for p in range(nz[zc + col, 0]):
+            i = nz[zc + col, 1 + p]
             out[i] += zm[i, col] * x
     for s in range(len(u0)):
         u = u0[s] + bs[s] * tau
-        for i in range(n):
+        for p in range(nz[rc + s, 0]):
+            i = nz[rc + s, 1 + p]
             q[i] += rm[i, s] * u
             v[i] += rm[i, s] * bs[s]
 
@@ -139,8 +144,9 @@ def harmonic(dh_row, ph, om, tau, order):
 
 
 @njit(cache=True, inline="always")
-def event_raw(e0, e1, dh, w, theta, om, e, tau, z):
-    """Event function ``e`` at ``tau`` (``z`` = z(tau)) from the phase's and the combination's arrays.
+def event_raw(e0, e1, dh, w, nz, theta, om, e, tau, z):
+    """Event function ``e`` at ``tau`` (``z`` = z(tau)) from the phase's and the combination's arrays (``nz``: the
+    combination's pattern: the sum over W's row's nonzeros).
 
     Arrays, not the records: a record passed in the walk's loops costs the reference counting of all its arrays.
     """
@@ -148,7 +154,9 @@ def event_raw(e0, e1, dh, w, theta, om, e, tau, z):
     for f in range(len(om)):
         h += dh[e, f] * math.cos(theta[f] + om[f] * tau)
     s = e0[e] + e1[e] * tau + h
-    for a in range(len(z)):
+    r = nz[0, sp.W] + e
+    for p in range(nz[r, 0]):
+        a = nz[r, 1 + p]
         s += (w[e, a] * z[a]).real
     return s
 
@@ -168,9 +176,10 @@ def beta_mode(ph, om, m, tau):
 def event_rate(cb, ph, om, e, tau, z, order):
     """d^order g_e / dtau^order at ``tau`` (order 1 or 2; ``z`` = z(tau))."""
     s = harmonic(cb.Dh[e], ph, om, tau, order) + (ph.e1[e] if order == 1 else 0.0)
-    for a in range(len(z)):
-        if cb.W[e, a] == 0.0:
-            continue
+    nz = cb.nz
+    r = nz[0, sp.W] + e
+    for p in range(nz[r, 0]):
+        a = nz[r, 1 + p]
         lam = cb.lam[a]
         b, db = beta_mode(ph, om, a, tau)
         d = lam * z[a] + b
@@ -221,10 +230,11 @@ def bound(cb, om, e, a, h, mg, order):
     s = 0.0
     for f in range(len(om)):
         s += abs(cb.Dh[e, f]) * om[f] ** order
-    for m in range(len(mg.z)):
+    nz = cb.nz
+    r = nz[0, sp.W] + e
+    for p in range(nz[r, 0]):
+        m = nz[r, 1 + p]
         w = cb.WA[e, m]
-        if w == 0.0:
-            continue
         b0, b1, b2 = beta_bounds(mg, om, m, tmax)
         zb = growth(cb.lam[m].real, h) * (mg.z[m] + h * b0)
         al = mg.lam[m]
@@ -249,15 +259,10 @@ def mode_bounds(cb, om, a, h, mg, out):
 def bound_of(cb, om, e, dz):
     """:func:`bound` of order 2 from the modes' terms ``dz`` (:func:`mode_bounds`), summed in the same order."""
     s = 0.0
-    dh, wa = cb.Dh, cb.WA
+    dh, wa, nz = cb.Dh, cb.WA, cb.nz
     for f in range(len(om)):
         s += abs(dh[e, f]) * om[f] ** 2
-    for m in range(len(dz)):
-        w = wa[e, m]
-        if w == 0.0:
-            continue
-        s += w * dz[m]
-    return s
+    return sp.add_dot(s, wa, e, nz, nz[0, sp.W] + e, dz)
 
 
 @njit(cache=True, inline="always")
@@ -274,10 +279,8 @@ def fixed_size(cb, ph, e, tau):
 def size_of(cb, ph, e, tau, az):
     """The sum of the magnitudes of event function ``e``'s terms at ``tau``, its rounding a few EPS of it, from the
     moduli ``az`` = |z(tau)| (computed once for all functions: no complex moduli per function)."""
-    s, wa = fixed_size(cb, ph, e, tau), cb.WA
-    for a in range(len(az)):
-        s += wa[e, a] * az[a]
-    return s
+    nz = cb.nz
+    return sp.add_dot(fixed_size(cb, ph, e, tau), cb.WA, e, nz, nz[0, sp.W] + e, az)
 
 
 @njit(cache=True, inline="always")
@@ -320,33 +323,36 @@ def start_in(cb, asm, q, v, t0, room):
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def start_fill(cb, asm, q, v, t0, room):
-    """:func:`start`'s arrays into ``room``: products by loops (no temporaries; a start is made at every switch)."""
-    n, ns, nr, m = len(q), len(cb.stuck), cb.Z.shape[1], len(cb.lam)
+    """:func:`start`'s arrays into ``room``: products by loops over the combination's nonzeros (:mod:`.sparsity`; no
+    temporaries: a start is made at every switch)."""
+    n, ns, nr, m, nz = len(q), len(cb.stuck), cb.Z.shape[1], len(cb.lam), cb.nz
     u0, ru, f, x, p0, zt, rb = room.u0, room.ru, room.f, room.x, room.p0, cb.ZT, cb.rb
     for i in range(ns):
-        u0[i] = 0.0
-        for a in range(n):
-            u0[i] += asm.contact_dir[cb.stuck[i], a] * q[a]
+        u0[i] = sp.sparse_dot(asm.contact_dir, cb.stuck[i], nz, nz[0, sp.ES] + i, q)
     for a in range(n):
         ru[a], f[a] = 0.0, cb.f0[a]
-    add_product(cb.R, u0, 1.0, ru)
-    add_product(asm.damping, rb, -1.0, f)  # the force f0 - C R b_S - K_eff R u0, projected on Z below
-    add_product(cb.keff, ru, -1.0, f)
+    sp.add_rows(cb.R, nz, nz[0, sp.RR], u0, 1.0, ru)
+    held = nz[0, sp.HELD]
+    sp.add_rows(asm.damping, nz, held, rb, -1.0, f)  # the force f0 - C R b_S - K_eff R u0, projected on Z below
+    sp.add_rows(cb.keff, nz, held, ru, -1.0, f)
+    rz = nz[0, sp.ZT]
     for c in range(nr):
         x[c], x[nr + c], p0[c] = 0.0, 0.0, 0.0
-        for a in range(n):
+        for p in range(nz[rz + c, 0]):
+            a = nz[rz + c, 1 + p]
             x[c] += zt[c, a] * (q[a] - ru[a])
             x[nr + c] += zt[c, a] * (v[a] - rb[a])
-    add_product(zt, f, 1.0, p0)
+    sp.add_rows(zt, nz, rz, f, 1.0, p0)
     for a in range(m):
         room.z0[a], room.b0[a] = 0.0, 0.0
-    add_product(cb.Vi, x, 1.0, room.z0)
-    add_product(cb.VB, p0, 1.0, room.b0)
+    sp.add_rows(cb.Vi, nz, nz[0, sp.VI], x, 1.0, room.z0)
+    sp.add_rows(cb.VB, nz, nz[0, sp.VB], p0, 1.0, room.b0)
     for i in range(len(room.theta)):
         room.theta[i] = asm.force_omega[i] * t0 + asm.force_phi[i]
-    e0, d = room.e0, cb.D
+    e0, d, rd = room.e0, cb.D, nz[0, sp.D]
     for e in range(len(e0)):
         s = 0.0
-        for a in range(n):  # D (R u0, R b_S)
+        for p in range(nz[rd + e, 0]):  # D (R u0, R b_S)
+            a = nz[rd + e, 1 + p]
             s += d[e, a] * ru[a] + d[e, n + a] * rb[a]
         e0[e] = cb.dc[e] + s
