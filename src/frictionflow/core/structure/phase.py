@@ -28,6 +28,7 @@ import numpy as np
 from numba import njit
 
 from ..options import NO_RUNTIME
+from ..products import add_product
 from . import sparsity as sp
 from .spectral import expint, phis
 
@@ -323,36 +324,39 @@ def start_in(cb, asm, q, v, t0, room):
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def start_fill(cb, asm, q, v, t0, room):
-    """:func:`start`'s arrays into ``room``: products by loops over the combination's nonzeros (:mod:`.sparsity`; no
-    temporaries: a start is made at every switch)."""
+    """:func:`start`'s arrays into ``room``: products by loops (no temporaries; a start is made at every switch), Z^T
+    and R over Z's and R's column patterns (:mod:`.sparsity`: R u0 by columns adds each row's terms in their order)."""
     n, ns, nr, m, nz = len(q), len(cb.stuck), cb.Z.shape[1], len(cb.lam), cb.nz
-    u0, ru, f, x, p0, zt, rb = room.u0, room.ru, room.f, room.x, room.p0, cb.ZT, cb.rb
+    u0, ru, f, x, p0, zt, rb, rm = room.u0, room.ru, room.f, room.x, room.p0, cb.ZT, cb.rb, cb.R
     for i in range(ns):
-        u0[i] = sp.sparse_dot(asm.contact_dir, cb.stuck[i], nz, nz[0, sp.ES] + i, q)
+        u0[i] = 0.0
+        for a in range(n):
+            u0[i] += asm.contact_dir[cb.stuck[i], a] * q[a]
     for a in range(n):
         ru[a], f[a] = 0.0, cb.f0[a]
-    sp.add_rows(cb.R, nz, nz[0, sp.RR], u0, 1.0, ru)
-    held = nz[0, sp.HELD]
-    sp.add_rows(asm.damping, nz, held, rb, -1.0, f)  # the force f0 - C R b_S - K_eff R u0, projected on Z below
-    sp.add_rows(cb.keff, nz, held, ru, -1.0, f)
-    rz = nz[0, sp.ZT]
+    rc, zc = nz[0, sp.RC], nz[0, sp.ZC]
+    for s in range(ns):
+        for p in range(nz[rc + s, 0]):
+            i = nz[rc + s, 1 + p]
+            ru[i] += rm[i, s] * u0[s]
+    add_product(asm.damping, rb, -1.0, f)  # the force f0 - C R b_S - K_eff R u0, projected on Z below
+    add_product(cb.keff, ru, -1.0, f)
     for c in range(nr):
         x[c], x[nr + c], p0[c] = 0.0, 0.0, 0.0
-        for p in range(nz[rz + c, 0]):
-            a = nz[rz + c, 1 + p]
+        for p in range(nz[zc + c, 0]):  # Z^T's row c: Z's column c
+            a = nz[zc + c, 1 + p]
             x[c] += zt[c, a] * (q[a] - ru[a])
             x[nr + c] += zt[c, a] * (v[a] - rb[a])
-    sp.add_rows(zt, nz, rz, f, 1.0, p0)
+            p0[c] += zt[c, a] * f[a]
     for a in range(m):
         room.z0[a], room.b0[a] = 0.0, 0.0
-    sp.add_rows(cb.Vi, nz, nz[0, sp.VI], x, 1.0, room.z0)
-    sp.add_rows(cb.VB, nz, nz[0, sp.VB], p0, 1.0, room.b0)
+    add_product(cb.Vi, x, 1.0, room.z0)
+    add_product(cb.VB, p0, 1.0, room.b0)
     for i in range(len(room.theta)):
         room.theta[i] = asm.force_omega[i] * t0 + asm.force_phi[i]
-    e0, d, rd = room.e0, cb.D, nz[0, sp.D]
+    e0, d = room.e0, cb.D
     for e in range(len(e0)):
         s = 0.0
-        for p in range(nz[rd + e, 0]):  # D (R u0, R b_S)
-            a = nz[rd + e, 1 + p]
+        for a in range(n):  # D (R u0, R b_S)
             s += d[e, a] * ru[a] + d[e, n + a] * rb[a]
         e0[e] = cb.dc[e] + s

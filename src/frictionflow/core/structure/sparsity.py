@@ -17,42 +17,41 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-#: blocks of a combination's pattern: W's rows (one per event slot), V^-1's and V^-1 B's rows (one per mode),
-#: Z^T's rows, V's rows, Z's columns (the coordinates each uses), R's rows and columns, HE's rows, the columns any
-#: row of HE uses (one row), D's rows (column a when D[e, a] or D[e, n + a] is nonzero), the rows of C and K_eff
-#: together and the stuck contacts' directions
-W, VI, VB, ZT, V, ZC, RR, RC, HE, NEED, D, HELD, ES = range(13)
-N_BLOCKS = 13
+#: blocks of a combination's pattern: W's rows (one per event slot; none for an inactive slot: its function is
+#: never evaluated), V's rows, Z's columns (the coordinates each uses), R's columns, HE's rows and the columns any
+#: row of HE uses (one row).  (V^-1, V^-1 B and D are used once per phase, about as often as a combination is
+#: built: a pattern of them costs as much as it saves.)
+W, V, ZC, RC, HE, NEED = range(6)
+N_BLOCKS = 6
 
 
 @njit(cache=True, inline="always")
-def union_rows(a, b, a0, b0, ncols, pat, first):
-    """Rows ``first``, ... of ``pat``: the columns c < ``ncols`` where a[i, a0 + c] or b[i, b0 + c] is nonzero."""
-    for i in range(a.shape[0]):
-        c = 0
-        for x in range(ncols):
-            if a[i, a0 + x] != 0 or b[i, b0 + x] != 0:
-                c += 1
-                pat[first + i, c] = x
-        pat[first + i, 0] = c
+def rows_from(a, a0, pat, first, start, stop):
+    """Rows ``first`` + i of ``pat``, ``start`` <= i < ``stop``: the columns c where a[i, a0 + c] is nonzero (without
+    branches: the column is written at every step and kept by the count)."""
+    for i in range(start, stop):
+        r, c = first + i, 0
+        for x in range(a.shape[1] - a0):
+            pat[r, 1 + c] = x
+            c += a[i, a0 + x] != 0
+        pat[r, 0] = c
 
 
 @njit(cache=True, inline="always")
 def rows_into(a, pat, first):
     """Rows ``first``, ... of ``pat``: the nonzero columns of each row of ``a``."""
-    union_rows(a, a, 0, 0, a.shape[1], pat, first)
+    rows_from(a, 0, pat, first, 0, a.shape[0])
 
 
 @njit(cache=True, inline="always")
 def columns_into(a, pat, first):
-    """Rows ``first``, ... of ``pat``: the rows where each column of ``a`` is nonzero."""
+    """Rows ``first``, ... of ``pat``: the rows where each column of ``a`` is nonzero (as :func:`rows_from`)."""
     for x in range(a.shape[1]):
-        c = 0
+        r, c = first + x, 0
         for i in range(a.shape[0]):
-            if a[i, x] != 0:
-                c += 1
-                pat[first + x, c] = i
-        pat[first + x, 0] = c
+            pat[r, 1 + c] = i
+            c += a[i, x] != 0
+        pat[r, 0] = c
 
 
 @njit(cache=True, inline="always")
@@ -89,37 +88,21 @@ def add_dot(s, a, i, pat, r, x):
     return s
 
 
-@njit(cache=True, inline="always")
-def add_rows(a, pat, first, x, sign, out):
-    """``out += sign a @ x`` over the pattern rows ``first``, ... of ``a`` (:func:`..products.add_product`'s bits)."""
-    for i in range(a.shape[0]):
-        out[i] += sign * sparse_dot(a, i, pat, first + i, x)
-
-
 @njit(cache=True)
-def combo_pattern(asm, stuck, w, vi, vb, zt, v, z, r, he, d, keff):
-    """A combination's pattern (the module's docstring) from its matrices and the Assembly ``asm``."""
-    n, ns, nr, m, k = z.shape[0], len(stuck), z.shape[1], vi.shape[0], w.shape[0]
-    sizes = (k, m, m, nr, v.shape[0], nr, n, ns, ns, 1, d.shape[0], n, ns)
-    width = max(N_BLOCKS, w.shape[1], vi.shape[1], vb.shape[1], n, v.shape[1], ns)
-    starts = np.empty(N_BLOCKS, dtype=np.int32)
-    row = 1
+def combo_pattern(active, w, v, z, r, he):
+    """A combination's pattern (the module's docstring) from its active event slots and matrices."""
+    k, nr, ns = w.shape[0], z.shape[1], r.shape[1]
+    first = (1, 1 + k, 1 + k + v.shape[0], 1 + k + v.shape[0] + nr, 1 + k + v.shape[0] + nr + ns,
+             1 + k + v.shape[0] + nr + 2 * ns)
+    pat = new_pattern(first[NEED] + 1, max(N_BLOCKS, w.shape[1], v.shape[1], z.shape[0]))
     for b in range(N_BLOCKS):
-        starts[b] = row
-        row += sizes[b]
-    pat = new_pattern(row, width)
-    pat[0, :N_BLOCKS] = starts
-    rows_into(w, pat, starts[W])
-    rows_into(vi, pat, starts[VI])
-    rows_into(vb, pat, starts[VB])
-    rows_into(zt, pat, starts[ZT])
-    rows_into(v, pat, starts[V])
-    columns_into(z, pat, starts[ZC])
-    rows_into(r, pat, starts[RR])
-    columns_into(r, pat, starts[RC])
-    rows_into(he, pat, starts[HE])
-    used_columns(he, pat, starts[NEED])
-    union_rows(d, d, 0, n, n, pat, starts[D])
-    union_rows(asm.damping, keff, 0, 0, n, pat, starts[HELD])
-    rows_into(asm.contact_dir[stuck], pat, starts[ES])
+        pat[0, b] = first[b]
+    for e in range(k):
+        if active[e]:
+            rows_from(w, 0, pat, first[W], e, e + 1)
+    rows_into(v, pat, first[V])
+    columns_into(z, pat, first[ZC])
+    columns_into(r, pat, first[RC])
+    rows_into(he, pat, first[HE])
+    used_columns(he, pat, first[NEED])
     return pat

@@ -33,7 +33,7 @@ from numba import njit
 from ..layout import FD, STICK
 from ..options import NO_RUNTIME
 from .phase import fastest_rate, free_value, modal_raw, state_raw
-from .sparsity import HE, HELD, NEED, new_pattern, rows_into, sparse_dot, union_rows
+from .sparsity import HE, NEED, new_pattern, rows_from, rows_into, sparse_dot
 from .spectral import SERIES, phi2_pair
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
@@ -51,9 +51,9 @@ NODES32, WEIGHTS32 = (a.copy() for a in np.polynomial.legendre.leggauss(32))
 #: :func:`accumulate`'s room: the channels' powers, the contact forces, z, z at each node of a subinterval, q, q'
 #: and the held forces' sums;
 #: ``ready`` [0] once the Assembly's patterns (:mod:`.sparsity`) are filled (at the first use): the elements'
-#: direction rows (row = channel), the normal loads' q rows and the contacts' directions (a combination's own
-#: patterns are its ``nz``)
-Room = namedtuple("Room", "p f z zg q v rest ready elements normal contact")
+#: direction rows (row = channel), the normal loads' q rows, the contacts' directions and C and K_eff's columns per
+#: row (``held``: any combination's; a combination's own patterns are its ``nz``)
+Room = namedtuple("Room", "p f z zg q v rest ready elements normal contact held")
 
 
 def n_channels(asm) -> int:
@@ -128,7 +128,7 @@ def new_room(n_work, k, m, n):
     return Room(np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128),
                 np.empty((len(NODES32), m), dtype=np.complex128), np.empty(n), np.empty(n),
                 np.empty(n), np.zeros(1, dtype=np.int8), new_pattern(n_work, n), new_pattern(k, n),
-                new_pattern(k, n))
+                new_pattern(k, n), new_pattern(n, n))
 
 
 @njit(cache=True, inline="always")
@@ -139,10 +139,28 @@ def fill_assembly(asm, room):
     rows_into(asm.spring_dir, room.elements, 0)
     rows_into(asm.damper_dir, room.elements, ns)
     rows_into(asm.force_dir, room.elements, ns + nd)
-    nq = asm.normal.shape[1] - 1
-    union_rows(asm.normal, asm.normal, 1, 1, nq, room.normal, 0)
+    rows_from(asm.normal, 1, room.normal, 0, 0, len(asm.belt))
     rows_into(asm.contact_dir, room.contact, 0)
+    fill_held(asm, room.held)
     room.ready[0] = 1
+
+
+@njit(cache=True, inline="always")
+def fill_held(asm, pat):
+    """Row i of ``pat``: the columns where C or K_eff can be nonzero.  K_eff = K - sum_j sigma_j F_d,j e_j n_j^T
+    (:mod:`.combo`): outside K's nonzeros and the e_j n_j^T of the loads that depend on q it is an exact 0."""
+    cd, normal = asm.contact_dir, asm.normal
+    n = len(asm.q0)
+    for i in range(n):
+        c = 0
+        for b in range(n):
+            hit = asm.damping[i, b] != 0.0 or asm.stiffness[i, b] != 0.0
+            for j in range(len(asm.belt)):
+                hit = hit or (cd[j, i] != 0.0 and normal[j, 1 + b] != 0.0)
+            if hit:
+                c += 1
+                pat[i, c] = b
+        pat[i, 0] = c
 
 
 @njit(cache=True, inline="always")
@@ -179,15 +197,15 @@ def sparse_slip_forces(normal, law, modes, pat, q, f):
 @njit(cache=True, inline="always")
 def sparse_held_forces(damping, keff, f0, he, nz, stuck, forcing, room, q, v, t):
     """The stuck contacts' held forces HE (C q' + K_eff q - f0 - forces(t)) into ``room.f`` (``forcing`` = (amp,
-    omega, phi, dir)): the sums over the combination's pattern ``nz``, and ``room.rest`` = C q' + ... only in the
-    rows HE uses."""
+    omega, phi, dir)): the sums over the patterns (``nz``: the combination's), and ``room.rest`` = C q' + ... only
+    in the rows HE uses."""
     fa, fo, fp, fdir = forcing
-    rest, need, held = room.rest, nz[0, NEED], nz[0, HELD]
+    rest, need, held = room.rest, nz[0, NEED], room.held
     for p in range(nz[need, 0]):
         i = nz[need, 1 + p]
         x = -f0[i]
-        for a in range(nz[held + i, 0]):
-            b = nz[held + i, 1 + a]
+        for a in range(held[i, 0]):
+            b = held[i, 1 + a]
             x += damping[i, b] * v[b] + keff[i, b] * q[b]
         rest[i] = x
     for g in range(len(fa)):
