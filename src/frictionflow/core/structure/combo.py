@@ -714,7 +714,7 @@ def build(asm, minv, modes):
     lam, v, vi, vb, w, b1, bh = paired(real, c(lam), c(v), c(vi), c(vb), c(w), c(b1), c(bh))
     return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
                  active, w, zt, bs, rb, b1, bh, e1, np.abs(w),
-                 combo_pattern(active, w, v, z, r, he))
+                 combo_pattern(z, r))
 
 
 @njit(cache=True)

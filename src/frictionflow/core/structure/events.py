@@ -70,10 +70,10 @@ ROUNDING = 16.0
 @njit(cache=True, inline="always")
 def values(cb, ph, om, tau, z, g):
     """Fill ``g`` with the active event functions at ``tau`` (``z`` = z(tau))."""
-    active, e0, e1, dh, w, nz, theta = cb.active, ph.e0, ph.e1, cb.Dh, cb.W, cb.nz, ph.theta
+    active, e0, e1, dh, w, theta = cb.active, ph.e0, ph.e1, cb.Dh, cb.W, ph.theta
     for e in range(len(g)):
         if active[e]:
-            g[e] = event_raw(e0, e1, dh, w, nz, theta, om, e, tau, z)
+            g[e] = event_raw(e0, e1, dh, w, theta, om, e, tau, z)
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting of the records' arrays
@@ -88,12 +88,12 @@ def locate(cb, ph, om, e, a, b, ga, gb, room):
     br = bracket(a, b, ga, gb, 0.0, 2.0 * EPS, ftol, 200, 0.0)
     z = room.zr
     lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta  # no record passed in the loop
-    e0, e1, dh, w, nz = ph.e0, ph.e1, cb.Dh, cb.W, cb.nz
+    e0, e1, dh, w = ph.e0, ph.e1, cb.Dh, cb.W
     spare = True
     while br.status == RUNNING:
         x = br.x
         modal_raw(lam, z0, b0, b1, bh, theta, om, x, z)
-        fx = event_raw(e0, e1, dh, w, nz, theta, om, e, x, z)
+        fx = event_raw(e0, e1, dh, w, theta, om, e, x, z)
         d1, d2 = event_rate(cb, ph, om, e, x, z, 1), event_rate(cb, ph, om, e, x, z, 2)
         br, spare = update_halley(br, x, fx, d1, d2, spare)
     return br.hi
@@ -215,7 +215,7 @@ def earliest(cb, ph, om, a, b, room):
         if not fresh:
             modal_raw(cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta, om, best, zt)
             fresh = True
-        gt = event_raw(ph.e0, ph.e1, cb.Dh, cb.W, cb.nz, ph.theta, om, e, best, zt)
+        gt = event_raw(ph.e0, ph.e1, cb.Dh, cb.W, ph.theta, om, e, best, zt)
         if gt <= 0.0:
             t = locate(cb, ph, om, e, a, best, ga[e], gt, room)
             if t < best:

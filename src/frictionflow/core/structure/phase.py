@@ -93,16 +93,15 @@ def state_into(cb, ph, tau, z, q, v):
 
 @njit(cache=True, inline="always")
 def state_raw(vm, zm, rm, nz, u0, bs, tau, z, q, v):
-    """:func:`state_into` from the arrays themselves (V, Z, R, their pattern ``nz``, u0, b_S): the sums over
-    V's rows' and Z's and R's columns' nonzeros (:mod:`.sparsity`)."""
+    """:func:`state_into` from the arrays themselves (V, Z, R, the combination's pattern ``nz``, u0, b_S): the
+    sums through Z and R over their columns' nonzeros (:mod:`.sparsity`)."""
     n, r = zm.shape
     for i in range(n):
         q[i], v[i] = 0.0, 0.0
-    rv, zc, rc = nz[0, sp.V], nz[0, sp.ZC], nz[0, sp.RC]
+    zc, rc = nz[0, sp.ZC], nz[0, sp.RC]
     for a in range(2 * r):
         x = 0.0
-        for p in range(nz[rv + a, 0]):  # V's columns: one per root kept (:mod:`.combo`: a conjugate pair's once)
-            b = nz[rv + a, 1 + p]
+        for b in range(vm.shape[1]):  # V's columns: one per root kept (:mod:`.combo`: a conjugate pair's once)
             x += (vm[a, b] * z[b]).real
         col, out = (a, q) if a < r else (a - r, v)
         for p in range(nz[zc + col, 0]):
@@ -145,9 +144,8 @@ def harmonic(dh_row, ph, om, tau, order):
 
 
 @njit(cache=True, inline="always")
-def event_raw(e0, e1, dh, w, nz, theta, om, e, tau, z):
-    """Event function ``e`` at ``tau`` (``z`` = z(tau)) from the phase's and the combination's arrays (``nz``: the
-    combination's pattern: the sum over W's row's nonzeros).
+def event_raw(e0, e1, dh, w, theta, om, e, tau, z):
+    """Event function ``e`` at ``tau`` (``z`` = z(tau)) from the phase's and the combination's arrays.
 
     Arrays, not the records: a record passed in the walk's loops costs the reference counting of all its arrays.
     """
@@ -155,9 +153,7 @@ def event_raw(e0, e1, dh, w, nz, theta, om, e, tau, z):
     for f in range(len(om)):
         h += dh[e, f] * math.cos(theta[f] + om[f] * tau)
     s = e0[e] + e1[e] * tau + h
-    r = nz[0, sp.W] + e
-    for p in range(nz[r, 0]):
-        a = nz[r, 1 + p]
+    for a in range(len(z)):
         s += (w[e, a] * z[a]).real
     return s
 
@@ -177,10 +173,9 @@ def beta_mode(ph, om, m, tau):
 def event_rate(cb, ph, om, e, tau, z, order):
     """d^order g_e / dtau^order at ``tau`` (order 1 or 2; ``z`` = z(tau))."""
     s = harmonic(cb.Dh[e], ph, om, tau, order) + (ph.e1[e] if order == 1 else 0.0)
-    nz = cb.nz
-    r = nz[0, sp.W] + e
-    for p in range(nz[r, 0]):
-        a = nz[r, 1 + p]
+    for a in range(len(z)):
+        if cb.W[e, a] == 0.0:
+            continue
         lam = cb.lam[a]
         b, db = beta_mode(ph, om, a, tau)
         d = lam * z[a] + b
@@ -231,11 +226,10 @@ def bound(cb, om, e, a, h, mg, order):
     s = 0.0
     for f in range(len(om)):
         s += abs(cb.Dh[e, f]) * om[f] ** order
-    nz = cb.nz
-    r = nz[0, sp.W] + e
-    for p in range(nz[r, 0]):
-        m = nz[r, 1 + p]
+    for m in range(len(mg.z)):
         w = cb.WA[e, m]
+        if w == 0.0:
+            continue
         b0, b1, b2 = beta_bounds(mg, om, m, tmax)
         zb = growth(cb.lam[m].real, h) * (mg.z[m] + h * b0)
         al = mg.lam[m]
@@ -260,10 +254,15 @@ def mode_bounds(cb, om, a, h, mg, out):
 def bound_of(cb, om, e, dz):
     """:func:`bound` of order 2 from the modes' terms ``dz`` (:func:`mode_bounds`), summed in the same order."""
     s = 0.0
-    dh, wa, nz = cb.Dh, cb.WA, cb.nz
+    dh, wa = cb.Dh, cb.WA
     for f in range(len(om)):
         s += abs(dh[e, f]) * om[f] ** 2
-    return sp.add_dot(s, wa, e, nz, nz[0, sp.W] + e, dz)
+    for m in range(len(dz)):
+        w = wa[e, m]
+        if w == 0.0:
+            continue
+        s += w * dz[m]
+    return s
 
 
 @njit(cache=True, inline="always")
@@ -280,8 +279,10 @@ def fixed_size(cb, ph, e, tau):
 def size_of(cb, ph, e, tau, az):
     """The sum of the magnitudes of event function ``e``'s terms at ``tau``, its rounding a few EPS of it, from the
     moduli ``az`` = |z(tau)| (computed once for all functions: no complex moduli per function)."""
-    nz = cb.nz
-    return sp.add_dot(fixed_size(cb, ph, e, tau), cb.WA, e, nz, nz[0, sp.W] + e, az)
+    s, wa = fixed_size(cb, ph, e, tau), cb.WA
+    for a in range(len(az)):
+        s += wa[e, a] * az[a]
+    return s
 
 
 @njit(cache=True, inline="always")
@@ -324,8 +325,9 @@ def start_in(cb, asm, q, v, t0, room):
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def start_fill(cb, asm, q, v, t0, room):
-    """:func:`start`'s arrays into ``room``: products by loops (no temporaries; a start is made at every switch), Z^T
-    and R over Z's and R's column patterns (:mod:`.sparsity`: R u0 by columns adds each row's terms in their order)."""
+    """:func:`start`'s arrays into ``room``: products by loops (no temporaries; a start is made at every switch) over
+    the combination's patterns (:mod:`.sparsity`) where it has them: Z^T over Z's columns, R u0 by R's columns (each
+    row's terms in their order), and the products with R u0 and R b_S over R's nonzero rows (0 elsewhere)."""
     n, ns, nr, m, nz = len(q), len(cb.stuck), cb.Z.shape[1], len(cb.lam), cb.nz
     u0, ru, f, x, p0, zt, rb, rm = room.u0, room.ru, room.f, room.x, room.p0, cb.ZT, cb.rb, cb.R
     for i in range(ns):
@@ -334,13 +336,15 @@ def start_fill(cb, asm, q, v, t0, room):
             u0[i] += asm.contact_dir[cb.stuck[i], a] * q[a]
     for a in range(n):
         ru[a], f[a] = 0.0, cb.f0[a]
-    rc, zc = nz[0, sp.RC], nz[0, sp.ZC]
+    rc, zc, used = nz[0, sp.RC], nz[0, sp.ZC], nz[0, sp.RU]
     for s in range(ns):
         for p in range(nz[rc + s, 0]):
             i = nz[rc + s, 1 + p]
             ru[i] += rm[i, s] * u0[s]
-    add_product(asm.damping, rb, -1.0, f)  # the force f0 - C R b_S - K_eff R u0, projected on Z below
-    add_product(cb.keff, ru, -1.0, f)
+    for i in range(n):  # the force f0 - C R b_S - K_eff R u0, projected on Z below
+        f[i] -= sp.sparse_dot(asm.damping, i, nz, used, rb)
+    for i in range(n):
+        f[i] -= sp.sparse_dot(cb.keff, i, nz, used, ru)
     for c in range(nr):
         x[c], x[nr + c], p0[c] = 0.0, 0.0, 0.0
         for p in range(nz[zc + c, 0]):  # Z^T's row c: Z's column c
@@ -357,6 +361,7 @@ def start_fill(cb, asm, q, v, t0, room):
     e0, d = room.e0, cb.D
     for e in range(len(e0)):
         s = 0.0
-        for a in range(n):  # D (R u0, R b_S)
+        for p in range(nz[used, 0]):  # D (R u0, R b_S)
+            a = nz[used, 1 + p]
             s += d[e, a] * ru[a] + d[e, n + a] * rb[a]
         e0[e] = cb.dc[e] + s

@@ -18,7 +18,7 @@ fastest period, and most of its phases need fewer than 8 nodes.
 At the nodes: z from a Taylor form about each subinterval's midpoint (one
 exponential per subinterval, one series per pair of symmetric nodes:
 :func:`modal_nodes`), and every sum over the nonzeros of its row only
-(:mod:`.sparsity`: a chain's spring touches one or two coordinates, its
+(:data:`Pattern`: a chain's spring touches one or two coordinates, its
 dampers, contacts and stuck directions one), which leaves the dense sums' bits.
 """
 
@@ -32,8 +32,7 @@ from numba import njit
 
 from ..layout import FD, STICK
 from ..options import NO_RUNTIME
-from .phase import fastest_rate, free_value, modal_raw, state_raw
-from .sparsity import HE, NEED, new_pattern, rows_from, rows_into, sparse_dot
+from .phase import fastest_rate, free_value, modal_raw
 from .spectral import SERIES, phi2_pair
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
@@ -48,12 +47,15 @@ NODES, WEIGHTS = (a.copy() for a in np.polynomial.legendre.leggauss(8))
 NODES16, WEIGHTS16 = (a.copy() for a in np.polynomial.legendre.leggauss(16))
 NODES32, WEIGHTS32 = (a.copy() for a in np.polynomial.legendre.leggauss(32))
 
+#: the nonzeros of a set of rows: ``count[i]`` of row i, at the columns ``cols[i, :count[i]]`` in index order.
+#: A sum over them adds the dense sum's terms in its order less its exact zeros (0 x finite): the same bits
+Pattern = namedtuple("Pattern", "count cols")
 #: :func:`accumulate`'s room: the channels' powers, the contact forces, z, z at each node of a subinterval, q, q'
 #: and the held forces' sums;
-#: ``ready`` [0] once the Assembly's patterns (:mod:`.sparsity`) are filled (at the first use): the elements'
-#: direction rows (row = channel), the normal loads' q rows, the contacts' directions and C and K_eff's columns per
-#: row (``held``: any combination's; a combination's own patterns are its ``nz``)
-Room = namedtuple("Room", "p f z zg q v rest ready elements normal contact held")
+#: ``ready`` [0] once the Assembly's patterns are filled (at the first use): the elements' direction rows
+#: (row = channel), the normal loads' q rows, the contacts' directions, C and K_eff's columns per row (``held``);
+#: per combination HE's rows, the columns they use (``need``: one row) and the columns of Z and R (``zc``, ``rc``)
+Room = namedtuple("Room", "p f z zg q v rest ready elements normal contact held he need zc rc")
 
 
 def n_channels(asm) -> int:
@@ -122,27 +124,44 @@ def integrate(asm, cb, ph, om, ta, tb, acc):
 
 
 @njit(cache=True)
+def new_pattern(rows, n):
+    """An empty :data:`Pattern` of ``rows`` rows of up to ``n`` nonzeros."""
+    return Pattern(np.zeros(rows, dtype=np.int32), np.zeros((rows, n), dtype=np.int32))
+
+
+@njit(cache=True)
 def new_room(n_work, k, m, n):
     """The :data:`Room` of :func:`accumulate` for ``n_work`` channels, ``k`` contacts, ``m`` modal coordinates and
     ``n`` coordinates; its patterns are filled at its first use (a room serves one Assembly)."""
     return Room(np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128),
                 np.empty((len(NODES32), m), dtype=np.complex128), np.empty(n), np.empty(n),
                 np.empty(n), np.zeros(1, dtype=np.int8), new_pattern(n_work, n), new_pattern(k, n),
-                new_pattern(k, n), new_pattern(n, n))
+                new_pattern(k, n), new_pattern(n, n), new_pattern(k, n), new_pattern(1, n), new_pattern(n, n),
+                new_pattern(k, n))
 
 
 @njit(cache=True, inline="always")
-def fill_assembly(asm, room):
-    """The Assembly's patterns into ``room``: the elements' direction rows (springs, dampers, forces: row = channel),
-    the normal loads' q rows and the contacts' directions."""
-    ns, nd = len(asm.spring_k), len(asm.damper_c)
-    rows_into(asm.spring_dir, room.elements, 0)
-    rows_into(asm.damper_dir, room.elements, ns)
-    rows_into(asm.force_dir, room.elements, ns + nd)
-    rows_from(asm.normal, 1, room.normal, 0, 0, len(asm.belt))
-    rows_into(asm.contact_dir, room.contact, 0)
-    fill_held(asm, room.held)
-    room.ready[0] = 1
+def fill_rows(a, first, offset, pat):
+    """Pattern rows ``first``, ... of the rows of ``a`` (their nonzeros from column ``offset`` on, as offsets)."""
+    for i in range(a.shape[0]):
+        c = 0
+        for b in range(a.shape[1] - offset):
+            if a[i, offset + b] != 0.0:
+                pat.cols[first + i, c] = b
+                c += 1
+        pat.count[first + i] = c
+
+
+@njit(cache=True, inline="always")
+def fill_columns(a, pat):
+    """Pattern row i: the rows where column i of ``a`` is nonzero."""
+    for i in range(a.shape[1]):
+        c = 0
+        for b in range(a.shape[0]):
+            if a[b, i] != 0.0:
+                pat.cols[i, c] = b
+                c += 1
+        pat.count[i] = c
 
 
 @njit(cache=True, inline="always")
@@ -158,9 +177,75 @@ def fill_held(asm, pat):
             for j in range(len(asm.belt)):
                 hit = hit or (cd[j, i] != 0.0 and normal[j, 1 + b] != 0.0)
             if hit:
+                pat.cols[i, c] = b
                 c += 1
-                pat[i, c] = b
-        pat[i, 0] = c
+        pat.count[i] = c
+
+
+@njit(cache=True, inline="always")
+def fill_assembly(asm, room):
+    """The Assembly's patterns into ``room``: the elements' direction rows (springs, dampers, forces: row = channel),
+    the normal loads' q rows, the contacts' directions and C, K_eff's columns per row."""
+    ns, nd = len(asm.spring_k), len(asm.damper_c)
+    fill_rows(asm.spring_dir, 0, 0, room.elements)
+    fill_rows(asm.damper_dir, ns, 0, room.elements)
+    fill_rows(asm.force_dir, ns + nd, 0, room.elements)
+    fill_rows(asm.normal, 0, 1, room.normal)
+    fill_rows(asm.contact_dir, 0, 0, room.contact)
+    fill_held(asm, room.held)
+    room.ready[0] = 1
+
+
+@njit(cache=True, inline="always")
+def fill_combination(cb, room):
+    """HE's rows into ``room.he``, the columns any of them uses (the held forces' sums needed) into ``room.need``,
+    Z's and R's columns into ``room.zc``, ``room.rc``."""
+    he = cb.HE
+    fill_rows(he, 0, 0, room.he)
+    fill_columns(cb.Z, room.zc)
+    fill_columns(cb.R, room.rc)
+    need = room.need
+    c = 0
+    for b in range(he.shape[1]):
+        for s in range(he.shape[0]):
+            if he[s, b] != 0.0:
+                need.cols[0, c] = b
+                c += 1
+                break
+    need.count[0] = c
+
+
+@njit(cache=True, inline="always")
+def sparse_dot(a, i, pat, r, x):
+    """a[i] . x over pattern row ``r`` (a[i]'s nonzeros, in index order): :func:`dot_row` without its exact zeros."""
+    s = 0.0
+    for p in range(pat.count[r]):
+        b = pat.cols[r, p]
+        s += a[i, b] * x[b]
+    return s
+
+
+@njit(cache=True, inline="always")
+def sparse_state(vm, zm, rm, u0, bs, tau, zg, g, room):
+    """:func:`.phase.state_raw` from z = ``zg[g]`` into ``room.q``, ``room.v`` over Z's and R's column patterns."""
+    q, v, zc, rc = room.q, room.v, room.zc, room.rc
+    r = zm.shape[1]
+    for i in range(len(q)):
+        q[i], v[i] = 0.0, 0.0
+    for a in range(2 * r):
+        x = 0.0
+        for b in range(vm.shape[1]):
+            x += (vm[a, b] * zg[g, b]).real
+        col, out = (a, q) if a < r else (a - r, v)
+        for p in range(zc.count[col]):
+            i = zc.cols[col, p]
+            out[i] += zm[i, col] * x
+    for s in range(len(u0)):
+        u = u0[s] + bs[s] * tau
+        for p in range(rc.count[s]):
+            i = rc.cols[s, p]
+            q[i] += rm[i, s] * u
+            v[i] += rm[i, s] * bs[s]
 
 
 @njit(cache=True, inline="always")
@@ -188,33 +273,32 @@ def sparse_slip_forces(normal, law, modes, pat, q, f):
     for j in range(len(f)):
         if modes[j] != STICK:
             nj = normal[j, 0]
-            for p in range(pat[j, 0]):
-                b = pat[j, 1 + p]
+            for p in range(pat.count[j]):
+                b = pat.cols[j, p]
                 nj += normal[j, 1 + b] * q[b]
             f[j] = modes[j] * law[j, FD] * nj
 
 
 @njit(cache=True, inline="always")
-def sparse_held_forces(damping, keff, f0, he, nz, stuck, forcing, room, q, v, t):
+def sparse_held_forces(damping, keff, f0, he, stuck, forcing, room, q, v, t):
     """The stuck contacts' held forces HE (C q' + K_eff q - f0 - forces(t)) into ``room.f`` (``forcing`` = (amp,
-    omega, phi, dir)): the sums over the patterns (``nz``: the combination's), and ``room.rest`` = C q' + ... only
-    in the rows HE uses."""
+    omega, phi, dir)): the sums over the patterns, and ``room.rest`` = C q' + ... only in the rows HE uses."""
     fa, fo, fp, fdir = forcing
-    rest, need, held = room.rest, nz[0, NEED], room.held
-    for p in range(nz[need, 0]):
-        i = nz[need, 1 + p]
+    rest, need, held = room.rest, room.need, room.held
+    for p in range(need.count[0]):
+        i = need.cols[0, p]
         x = -f0[i]
-        for a in range(held[i, 0]):
-            b = held[i, 1 + a]
+        for a in range(held.count[i]):
+            b = held.cols[i, a]
             x += damping[i, b] * v[b] + keff[i, b] * q[b]
         rest[i] = x
     for g in range(len(fa)):
         c = fa[g] * math.cos(fo[g] * t + fp[g])
-        for p in range(nz[need, 0]):
-            i = nz[need, 1 + p]
+        for p in range(need.count[0]):
+            i = need.cols[0, p]
             rest[i] -= fdir[g, i] * c
     for s in range(len(stuck)):
-        room.f[stuck[s]] = sparse_dot(he, s, nz, nz[0, HE] + s, rest)
+        room.f[stuck[s]] = sparse_dot(he, s, room.he, s, rest)
 
 
 @njit(cache=True, inline="always")
@@ -270,16 +354,12 @@ def node_powers(asm, cb, ph, tau, g, room):
     """Every channel's power at the node ``tau`` (z in ``room.zg[g]``) into ``room.p``."""
     p, f = room.p, room.f
     forcing = (asm.force_amp, asm.force_omega, asm.force_phi, asm.force_dir)
-    z, zg = room.z, room.zg
-    for a in range(len(cb.lam)):  # (z in a row of its own: the state's sums take a vector)
-        z[a] = zg[g, a]
-    state_raw(cb.V, cb.Z, cb.R, cb.nz, ph.u0, ph.bs, tau, z, room.q, room.v)
+    sparse_state(cb.V, cb.Z, cb.R, ph.u0, ph.bs, tau, room.zg, g, room)
     c = sparse_element_powers((asm.spring_k, asm.spring_dir, asm.damper_c, asm.damper_dir), forcing, room.elements,
                               room.q, room.v, ph.t0 + tau, p)
     sparse_slip_forces(asm.normal, asm.law, cb.modes, room.normal, room.q, f)
     if len(cb.stuck):
-        sparse_held_forces(asm.damping, cb.keff, cb.f0, cb.HE, cb.nz, cb.stuck, forcing, room, room.q, room.v,
-                           ph.t0 + tau)
+        sparse_held_forces(asm.damping, cb.keff, cb.f0, cb.HE, cb.stuck, forcing, room, room.q, room.v, ph.t0 + tau)
     sparse_contact_powers(asm.belt, asm.contact_dir, cb.modes, room.contact, f, room.v, c, p)
 
 
@@ -288,6 +368,7 @@ def accumulate(asm, cb, ph, om, ta, tb, acc, room):
     """:func:`integrate` in the :data:`Room` ``room``."""
     if room.ready[0] == 0:
         fill_assembly(asm, room)
+    fill_combination(cb, room)
     span = tb - ta
     mu = 2.0 * fastest_rate(cb.lam, om)
     nodes, weights, nsub = rule(span * mu)
