@@ -12,6 +12,8 @@ are particular solutions.  The modules:
               (phi-functions, stable at resonance and at lambda = 0)
 ``combo``     one mode combination: the reduced (null-space) equations,
               their eigen-decomposition and the event functions' maps
+``sparsity``  the nonzeros of a combination's Z and R (the phase's sums
+              through them follow the nonzeros)
 ``phase``     a phase: its modal coordinates, the state and the event
               functions at any time of it, bounds on their derivatives
 ``events``    the certified walk to the first event of a phase
