@@ -33,6 +33,7 @@ from numba import njit
 from ..layout import FD, STICK
 from ..options import NO_RUNTIME
 from .phase import fastest_rate, free_value, modal_raw
+from .sparsity import RC, ZC
 from .spectral import SERIES, phi2_pair
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
@@ -54,8 +55,8 @@ Pattern = namedtuple("Pattern", "count cols")
 #: and the held forces' sums;
 #: ``ready`` [0] once the Assembly's patterns are filled (at the first use): the elements' direction rows
 #: (row = channel), the normal loads' q rows, the contacts' directions, C and K_eff's columns per row (``held``);
-#: per combination HE's rows, the columns they use (``need``: one row) and the columns of Z and R (``zc``, ``rc``)
-Room = namedtuple("Room", "p f z zg q v rest ready elements normal contact held he need zc rc")
+#: per combination HE's rows and the columns they use (``need``: one row)
+Room = namedtuple("Room", "p f z zg q v rest ready elements normal contact held he need")
 
 
 def n_channels(asm) -> int:
@@ -136,8 +137,7 @@ def new_room(n_work, k, m, n):
     return Room(np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128),
                 np.empty((len(NODES32), m), dtype=np.complex128), np.empty(n), np.empty(n),
                 np.empty(n), np.zeros(1, dtype=np.int8), new_pattern(n_work, n), new_pattern(k, n),
-                new_pattern(k, n), new_pattern(n, n), new_pattern(k, n), new_pattern(1, n), new_pattern(n, n),
-                new_pattern(k, n))
+                new_pattern(k, n), new_pattern(n, n), new_pattern(k, n), new_pattern(1, n))
 
 
 @njit(cache=True, inline="always")
@@ -150,18 +150,6 @@ def fill_rows(a, first, offset, pat):
                 pat.cols[first + i, c] = b
                 c += 1
         pat.count[first + i] = c
-
-
-@njit(cache=True, inline="always")
-def fill_columns(a, pat):
-    """Pattern row i: the rows where column i of ``a`` is nonzero."""
-    for i in range(a.shape[1]):
-        c = 0
-        for b in range(a.shape[0]):
-            if a[b, i] != 0.0:
-                pat.cols[i, c] = b
-                c += 1
-        pat.count[i] = c
 
 
 @njit(cache=True, inline="always")
@@ -198,12 +186,10 @@ def fill_assembly(asm, room):
 
 @njit(cache=True, inline="always")
 def fill_combination(cb, room):
-    """HE's rows into ``room.he``, the columns any of them uses (the held forces' sums needed) into ``room.need``,
-    Z's and R's columns into ``room.zc``, ``room.rc``."""
+    """HE's rows into ``room.he`` and the columns any of them uses (the held forces' sums needed) into
+    ``room.need`` (Z's and R's columns are the combination's own pattern, :mod:`.sparsity`)."""
     he = cb.HE
     fill_rows(he, 0, 0, room.he)
-    fill_columns(cb.Z, room.zc)
-    fill_columns(cb.R, room.rc)
     need = room.need
     c = 0
     for b in range(he.shape[1]):
@@ -226,9 +212,10 @@ def sparse_dot(a, i, pat, r, x):
 
 
 @njit(cache=True, inline="always")
-def sparse_state(vm, zm, rm, u0, bs, tau, zg, g, room):
-    """:func:`.phase.state_raw` from z = ``zg[g]`` into ``room.q``, ``room.v`` over Z's and R's column patterns."""
-    q, v, zc, rc = room.q, room.v, room.zc, room.rc
+def sparse_state(vm, zm, rm, nz, u0, bs, tau, zg, g, room):
+    """:func:`.phase.state_raw` from z = ``zg[g]`` into ``room.q``, ``room.v`` over Z's and R's column patterns
+    (``nz``: the combination's, :mod:`.sparsity`)."""
+    q, v, zc, rc = room.q, room.v, nz[0, ZC], nz[0, RC]
     r = zm.shape[1]
     for i in range(len(q)):
         q[i], v[i] = 0.0, 0.0
@@ -237,13 +224,13 @@ def sparse_state(vm, zm, rm, u0, bs, tau, zg, g, room):
         for b in range(vm.shape[1]):
             x += (vm[a, b] * zg[g, b]).real
         col, out = (a, q) if a < r else (a - r, v)
-        for p in range(zc.count[col]):
-            i = zc.cols[col, p]
+        for p in range(nz[zc + col, 0]):
+            i = nz[zc + col, 1 + p]
             out[i] += zm[i, col] * x
     for s in range(len(u0)):
         u = u0[s] + bs[s] * tau
-        for p in range(rc.count[s]):
-            i = rc.cols[s, p]
+        for p in range(nz[rc + s, 0]):
+            i = nz[rc + s, 1 + p]
             q[i] += rm[i, s] * u
             v[i] += rm[i, s] * bs[s]
 
@@ -354,7 +341,7 @@ def node_powers(asm, cb, ph, tau, g, room):
     """Every channel's power at the node ``tau`` (z in ``room.zg[g]``) into ``room.p``."""
     p, f = room.p, room.f
     forcing = (asm.force_amp, asm.force_omega, asm.force_phi, asm.force_dir)
-    sparse_state(cb.V, cb.Z, cb.R, ph.u0, ph.bs, tau, room.zg, g, room)
+    sparse_state(cb.V, cb.Z, cb.R, cb.nz, ph.u0, ph.bs, tau, room.zg, g, room)
     c = sparse_element_powers((asm.spring_k, asm.spring_dir, asm.damper_c, asm.damper_dir), forcing, room.elements,
                               room.q, room.v, ph.t0 + tau, p)
     sparse_slip_forces(asm.normal, asm.law, cb.modes, room.normal, room.q, f)
