@@ -64,9 +64,11 @@ RANK_TOL = 1e-10
 #: meets new ones at most switches; on ten masses a third of the switches return to one met before)
 CACHE_SIZE = 1024
 CACHE_BYTES = 32_000_000
-#: a run's combinations: the records (a typed list), their modes as the rows of ``keys`` (scanned instead of the records:
-#: reading a record from the list counts references to each of its arrays) and ``used`` = [count, bytes]
-Cache = namedtuple("Cache", "combos keys used")
+#: a run's combinations: the records (a typed list), their :data:`Split` parts (a typed list of the same records' arrays:
+#: the stick rule reads 6 arrays instead of 23, each counted at every read), their modes as the rows of ``keys`` (scanned
+#: instead of the records: reading a record from the list counts references to each of its arrays) and ``used`` =
+#: [count, bytes]
+Cache = namedtuple("Cache", "combos splits keys used")
 #: K_r symmetric and the modal damping diagonal to this fraction of their size: the real-mode route (:func:`classical`)
 SYM_TOL = 1e-13
 #: a mode's two roots closer than this fraction of the system's rates: (nearly) defective, the general route decides
@@ -131,22 +133,22 @@ def axes_of(cdir, stuck, axis, scale, seen):
 
 
 @njit(cache=True)
-def axes_split(minv, axis, scale):
-    """(Z, R, HE) of stuck directions along coordinate axes: Z selects the free coordinates, E_S picks entries."""
-    n = minv.shape[0]
-    r, he = axes_held(minv, axis, scale)
+def axes_basis(n, axis):
+    """Z of stuck directions along the coordinate axes ``axis``: it selects the other coordinates, in order."""
     free = np.ones(n, dtype=np.bool_)
     free[axis] = False
-    idx = np.nonzero(free)[0]
-    z = np.zeros((n, len(idx)))
-    for c in range(len(idx)):
-        z[idx[c], c] = 1.0
-    return z, r, he
+    z = np.zeros((n, n - len(axis)))
+    c = 0
+    for a in range(n):
+        if free[a]:
+            z[a, c] = 1.0
+            c += 1
+    return z
 
 
 @njit(cache=True)
 def axes_held(minv, axis, scale):
-    """(R, HE) of stuck directions along coordinate axes (the stick rule's part of :func:`axes_split`, without Z)."""
+    """(R, HE) of stuck directions along coordinate axes (:func:`held_split`'s numbers on that route)."""
     n, ns = minv.shape[0], len(axis)
     mie, gi = np.empty((n, ns)), np.empty((ns, ns))  # M^-1 E_S^T, E_S M^-1 E_S^T
     for a in range(n):
@@ -179,18 +181,35 @@ def mie_times_g(mie, gi):
 def constraint_split(cdir, minv, stuck):
     """(Z, R, HE) of the stuck set (HE = G E_S M^-1: held forces from the forces on the structure; ``cdir``: the
     contacts' directions, a row each)."""
-    n, ns = minv.shape[0], len(stuck)
+    r, he = held_split(cdir, minv, stuck)
+    return null_basis(cdir, stuck), r, he
+
+
+@njit(cache=True)
+def null_basis(cdir, stuck):
+    """Z: an orthonormal basis of the stuck directions' null space (``cdir``: the contacts' directions, a row each)."""
+    n, ns = cdir.shape[1], len(stuck)
     if ns == 0:
-        return np.eye(n), np.zeros((n, 0)), np.zeros((0, n))
+        return np.eye(n)
     axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
     if axes_of(cdir, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # no SVD: the other axes span the null space
-        return axes_split(minv, axis, scale)
-    es = stuck_rows(cdir, stuck)
-    r, he = general_split(minv, es)
-    _, s, vt = np.linalg.svd(es, full_matrices=True)
+        return axes_basis(n, axis)
+    _, s, vt = np.linalg.svd(stuck_rows(cdir, stuck), full_matrices=True)
     if s.min() <= RANK_TOL * s.max():
         raise ValueError("structure: the stuck contacts' directions are dependent (their held forces are not defined)")
-    return vt[ns:].T.copy(), r, he
+    return vt[ns:].T.copy()
+
+
+@njit(cache=True)
+def held_split(cdir, minv, stuck):
+    """(R, HE) of the stuck set (entries picked out when its directions are axes)."""
+    n, ns = minv.shape[0], len(stuck)
+    if ns == 0:
+        return np.zeros((n, 0)), np.zeros((0, n))
+    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
+    if axes_of(cdir, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # the same numbers with entries picked out
+        return axes_held(minv, axis, scale)
+    return general_split(minv, stuck_rows(cdir, stuck))
 
 
 @njit(cache=True)
@@ -213,19 +232,11 @@ def general_split(minv, es):
 @njit(cache=True)
 def split(asm, minv, modes):
     """The :data:`Split` of ``modes``: the stuck set's R and HE and the slipping contacts' K_eff and f0 (without Z,
-    which :func:`constraint_split` makes by an SVD in general)."""
-    n, cdir = minv.shape[0], asm.contact_dir
+    which :func:`null_basis` makes by an SVD in general)."""
     stuck = np.nonzero(modes == STICK)[0]
-    keff, f0 = asm.stiffness.copy(), np.zeros(n)
+    keff, f0 = asm.stiffness.copy(), np.zeros(minv.shape[0])
     slip_into(asm, modes, keff, f0)  # a kernel without numba's runtime: the record passed costs no reference counts
-    ns = len(stuck)
-    if ns == 0:
-        return Split(modes.copy(), stuck, np.zeros((n, 0)), np.zeros((0, n)), keff, f0)
-    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
-    if axes_of(cdir, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # the same numbers with entries picked out
-        r, he = axes_held(minv, axis, scale)
-        return Split(modes.copy(), stuck, r, he, keff, f0)
-    r, he = general_split(minv, stuck_rows(cdir, stuck))
+    r, he = held_split(asm.contact_dir, minv, stuck)
     return Split(modes.copy(), stuck, r, he, keff, f0)
 
 
@@ -699,10 +710,15 @@ def picked_modes(d, slots, rows, lam, v, pq, w):
 @njit(cache=True)
 def build(asm, minv, modes):
     """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact)."""
-    n, stuck = minv.shape[0], np.nonzero(modes == STICK)[0]
-    keff, f0 = asm.stiffness.copy(), np.zeros(n)
-    slip_into(asm, modes, keff, f0)  # kernels without numba's runtime: the record passed costs no reference counts
-    z, r, he = constraint_split(asm.contact_dir, minv, stuck)
+    return build_from(asm, minv, split(asm, minv, modes))
+
+
+@njit(cache=True)
+def build_from(asm, minv, sp):
+    """The :data:`Combo` of the :data:`Split` ``sp`` (its arrays taken, not copied: a combination's are never written)."""
+    modes, stuck, r, he, keff, f0 = sp
+    n = minv.shape[0]
+    z = null_basis(asm.contact_dir, stuck)
     sel, rows = selected(z)  # Z a selection of coordinates (stuck directions along axes): products become picks
     lam, v, vi, vb, real = decompose(asm.mass, asm.damping, keff, z, sel, rows)
     d, dc, dh, active, room = maps_room(len(modes), n, len(asm.force_amp))
@@ -711,7 +727,7 @@ def build(asm, minv, modes):
     c = np.ascontiguousarray
     zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, sel, rows, r, keff, c(vb), c(d))
     lam, v, vi, vb, w, b1, bh = paired(real, c(lam), c(v), c(vi), c(vb), c(w), c(b1), c(bh))
-    return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
+    return Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
                  active, w, zt, bs, rb, b1, bh, e1, np.abs(w))
 
 
@@ -768,14 +784,21 @@ def combo_bytes(cb):
                                                                          + cb.WA.size)
 
 
+@njit(cache=True, inline="always")
+def split_of(cb):
+    """The :data:`Split` part of the :data:`Combo` ``cb`` (its arrays, not copies)."""
+    return Split(cb.modes, cb.stuck, cb.R, cb.HE, cb.keff, cb.f0)
+
+
 @njit(cache=True)
 def new_cache(asm, minv):
     """A run's :data:`Cache`, holding the combination with every contact slipping."""
     k = len(asm.belt)
     cb = build(asm, minv, np.zeros(k, dtype=np.int8))
-    combos = List()  # a typed list: appended to in place from compiled code and from Python alike
+    combos, splits = List(), List()  # typed lists: appended to in place from compiled code and from Python alike
     combos.append(cb)
-    cache = Cache(combos, np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64))
+    splits.append(split_of(cb))
+    cache = Cache(combos, splits, np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64))
     cache.keys[0] = cb.modes
     cache.used[0], cache.used[1] = 1, combo_bytes(cb)
     return cache
@@ -784,14 +807,39 @@ def new_cache(asm, minv):
 @njit(cache=True)
 def lookup(cache, asm, minv, modes):
     """The combination of ``modes`` from the :data:`Cache` ``cache``, built (and kept while there is room) when missing."""
-    keys, used = cache.keys, cache.used
-    i = find(keys, used, modes)
+    i = find(cache.keys, cache.used, modes)
     if i >= 0:
         return cache.combos[i]
-    cb = build(asm, minv, modes)
+    return kept(cache, build(asm, minv, modes))
+
+
+@njit(cache=True)
+def fresh(cache, asm, minv, modes, sp):
+    """The combination of ``modes``, not in the :data:`Cache` ``cache``: built (from the :data:`Split` ``sp`` when it
+    holds these modes, or None) and kept while there is room."""
+    if sp is None or not same_modes(sp.modes, modes):
+        return kept(cache, build(asm, minv, modes))
+    return kept(cache, build_from(asm, minv, sp))
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def same_modes(a, b):
+    """The two modes arrays hold the same entries."""
+    for j in range(len(a)):
+        if a[j] != b[j]:
+            return False
+    return True
+
+
+@njit(cache=True)
+def kept(cache, cb):
+    """``cb``, kept in the :data:`Cache` ``cache`` while there is room (no eviction: popping records of arrays from a
+    compiled list corrupts memory)."""
+    keys, used = cache.keys, cache.used
     size = combo_bytes(cb)
-    if used[0] < len(keys) and used[1] + size <= CACHE_BYTES:  # (no eviction: popping records of arrays from a
-        cache.combos.append(cb)  # compiled list corrupts memory)
-        keys[used[0]] = modes
+    if used[0] < len(keys) and used[1] + size <= CACHE_BYTES:
+        cache.combos.append(cb)
+        cache.splits.append(split_of(cb))
+        keys[used[0]] = cb.modes
         used[0], used[1] = used[0] + 1, used[1] + size
     return cb

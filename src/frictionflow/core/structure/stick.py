@@ -198,9 +198,9 @@ def candidate(asm, minv, modes, cache):
     if cache is not None:
         i, same_modes = cached(cache.keys, cache.used, modes)
         if i >= 0:
-            cb = cache.combos[i]
+            cb = cache.splits[i]
             if same_modes:
-                return Split(cb.modes, cb.stuck, cb.R, cb.HE, cb.keff, cb.f0)
+                return cb
             keff, f0 = asm.stiffness.copy(), np.zeros(minv.shape[0])
             slip_into(asm, modes, keff, f0)
             return Split(modes.copy(), cb.stuck, cb.R, cb.HE, keff, f0)
