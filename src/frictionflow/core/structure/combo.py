@@ -56,6 +56,9 @@ from ..options import NO_RUNTIME
 Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W ZT bs rb b1 bh e1 WA")
 #: what the stick rule needs of a combination (no eigen-decomposition): its held forces and accelerations
 Split = namedtuple("Split", "modes stuck R HE keff f0")
+#: the parts of an Assembly a :data:`Split` is made of (a function with numba's runtime that takes a record counts
+#: references to each of its arrays on entry and exit: 4 here, 17 for the Assembly)
+Contacts = namedtuple("Contacts", "stiffness law normal contact_dir")
 #: event slots per contact: the mode's own boundary (two sides while stuck) and the normal load
 N_SLOTS = 3
 #: a stuck set whose directions are this close to dependent is refused (its held forces are not defined)
@@ -67,8 +70,15 @@ CACHE_BYTES = 32_000_000
 #: a run's combinations: the records (a typed list), their :data:`Split` parts (a typed list of the same records' arrays:
 #: the stick rule reads 6 arrays instead of 23, each counted at every read), their modes as the rows of ``keys`` (scanned
 #: instead of the records: reading a record from the list counts references to each of its arrays) and ``used`` =
-#: [count, bytes]
-Cache = namedtuple("Cache", "combos splits keys used")
+#: [count, bytes], and its :data:`Eigs`
+Cache = namedtuple("Cache", "combos splits keys used eigs")
+#: a run's eigen-decompositions of the symmetric blocks :func:`block_eigh` met (a chain cut into pieces by its stuck
+#: masses meets the same pieces in many combinations): ``index`` rows [offset, size] into ``store``, which holds at each
+#: offset the block's entries (the key: the same numbers give LAPACK the same call, so a hit is exact), its eigenvalues
+#: and its eigenvectors (row-major); ``used`` = [entries, numbers]
+Eigs = namedtuple("Eigs", "index store used")
+EIG_ENTRIES = 4096
+EIG_NUMBERS = 1 << 19
 #: K_r symmetric and the modal damping diagonal to this fraction of their size: the real-mode route (:func:`classical`)
 SYM_TOL = 1e-13
 #: a mode's two roots closer than this fraction of the system's rates: (nearly) defective, the general route decides
@@ -229,10 +239,16 @@ def general_split(minv, es):
     return r, r.T.copy()
 
 
+@njit(cache=True, inline="always")
+def contacts_of(asm):
+    """The :data:`Contacts` of the Assembly ``asm`` (its arrays, not copies)."""
+    return Contacts(asm.stiffness, asm.law, asm.normal, asm.contact_dir)
+
+
 @njit(cache=True)
 def split(asm, minv, modes):
     """The :data:`Split` of ``modes``: the stuck set's R and HE and the slipping contacts' K_eff and f0 (without Z,
-    which :func:`null_basis` makes by an SVD in general)."""
+    which :func:`null_basis` makes by an SVD in general; ``asm``: an Assembly or its :data:`Contacts`)."""
     stuck = np.nonzero(modes == STICK)[0]
     keff, f0 = asm.stiffness.copy(), np.zeros(minv.shape[0])
     slip_into(asm, modes, keff, f0)  # a kernel without numba's runtime: the record passed costs no reference counts
@@ -282,18 +298,18 @@ def columns(a, z, sel, rows):
 
 
 @njit(cache=True)
-def decompose(m, c, k, z, sel, rows):
+def decompose(m, c, k, z, sel, rows, eigs=None):
     """(lam, V, V^-1, V^-1 B, real) of the reduced first-order matrix (B = [0; M_r^-1]); real: the real-mode route.
 
     On the real-mode route V's upper left block is the real modes Phi (:func:`classical`).  ``sel``, ``rows``:
-    :func:`selected` of Z.
+    :func:`selected` of Z; ``eigs``: the run's :data:`Eigs` (or None).
     """
     r = z.shape[1]
     if r == 0:
         e = np.zeros((0, 0), dtype=np.complex128)
         return np.zeros(0, dtype=np.complex128), e, e, e, True
     mr, kr, cr = project(m, z, sel, rows), project(k, z, sel, rows), project(c, z, sel, rows)
-    ok, lam, v, vi, vb = classical(mr, kr, cr)
+    ok, lam, v, vi, vb = classical(mr, kr, cr, eigs)
     if not ok:
         mri = np.linalg.inv(mr)
         a = np.zeros((2 * r, 2 * r))
@@ -364,13 +380,14 @@ def block_order(label, count):
 
 
 @njit(cache=True)
-def block_eigh(sym):
-    """eigh of a symmetric matrix block by block (its entries outside the blocks are exact zeros).
+def block_eigh(sym, eigs=None):
+    """eigh of a symmetric matrix block by block (its entries outside the blocks are exact zeros); ``eigs``: the run's
+    :data:`Eigs` (blocks met before taken from it) or None.
 
     Stuck coordinates cut a chain into pieces that do not couple: several small problems instead of one.
     """
     label, count = blocks(sym)
-    if count == 1:
+    if count == 1 and eigs is None:
         return np.linalg.eigh(sym)
     r = sym.shape[0]
     w2, u = np.empty(r), np.zeros((r, r))
@@ -380,24 +397,85 @@ def block_eigh(sym):
         idx = order[first[b]:first[b + 1]]
         if len(idx) == 1:
             w2[col], u[idx[0], col] = sym[idx[0], idx[0]], 1.0
-            col += 1
-            continue
-        sub = np.empty((len(idx), len(idx)))
-        for i in range(len(idx)):
-            for j in range(len(idx)):
-                sub[i, j] = sym[idx[i], idx[j]]
-        wb, ub = np.linalg.eigh(sub)
-        for c in range(len(idx)):
-            w2[col + c] = wb[c]
+        elif eigs is None or not eigs_into(eigs, sym, idx, col, w2, u):
+            sub = np.empty((len(idx), len(idx)))
             for i in range(len(idx)):
-                u[idx[i], col + c] = ub[i, c]
+                for j in range(len(idx)):
+                    sub[i, j] = sym[idx[i], idx[j]]
+            wb, ub = np.linalg.eigh(sub)
+            for c in range(len(idx)):
+                w2[col + c] = wb[c]
+                for i in range(len(idx)):
+                    u[idx[i], col + c] = ub[i, c]
+            if eigs is not None:
+                eigs_keep(eigs, sub, wb, ub)
         col += len(idx)
     return w2, u
 
 
 @njit(cache=True)
-def mass_modes(mr, kr):
-    """(w^2, Phi, Phi^T M_r): M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T, Phi = L^-T U (a diagonal M_r: L = sqrt)."""
+def new_eigs():
+    """An empty :data:`Eigs` (its store is only written as blocks are met)."""
+    return Eigs(np.empty((EIG_ENTRIES, 2), dtype=np.int64), np.empty(EIG_NUMBERS), np.zeros(2, dtype=np.int64))
+
+
+@njit(cache=True, inline="always")
+def same_number(a, b):
+    """a and b the same float64 (0.0 and -0.0 told apart: LAPACK is only known to repeat itself on the same bits)."""
+    return a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def eigs_into(eigs, sym, idx, col, w2, u):
+    """When ``eigs`` holds the block ``sym[idx][:, idx]`` (entry for entry): its eigenvalues into ``w2[col:]``, its
+    eigenvectors into ``u[idx, col:]``, True; else False."""
+    s, index, store = len(idx), eigs.index, eigs.store
+    for e in range(eigs.used[0]):
+        off = index[e, 0]
+        if index[e, 1] != s or not block_equal(store, off, sym, idx):
+            continue
+        off += s * s
+        for c in range(s):
+            w2[col + c] = store[off + c]
+        off += s
+        for i in range(s):
+            for c in range(s):
+                u[idx[i], col + c] = store[off + i * s + c]
+        return True
+    return False
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def block_equal(store, off, sym, idx):
+    """``store[off:]`` holds ``sym[idx][:, idx]`` row by row, the same bits."""
+    s = len(idx)
+    for i in range(s):
+        for j in range(s):
+            if not same_number(store[off + i * s + j], sym[idx[i], idx[j]]):
+                return False
+    return True
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def eigs_keep(eigs, sub, wb, ub):
+    """Keep the block ``sub``'s eigenvalues ``wb`` and eigenvectors ``ub`` in ``eigs`` while there is room."""
+    s, used, store = sub.shape[0], eigs.used, eigs.store
+    off = used[1]
+    if used[0] >= eigs.index.shape[0] or off + 2 * s * s + s > len(store):
+        return
+    for i in range(s):
+        for j in range(s):
+            store[off + i * s + j] = sub[i, j]
+            store[off + s * s + s + i * s + j] = ub[i, j]
+        store[off + s * s + i] = wb[i]
+    eigs.index[used[0], 0], eigs.index[used[0], 1] = off, s
+    used[0], used[1] = used[0] + 1, off + 2 * s * s + s
+
+
+@njit(cache=True)
+def mass_modes(mr, kr, eigs=None):
+    """(w^2, Phi, Phi^T M_r): M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T, Phi = L^-T U (a diagonal M_r: L = sqrt;
+    ``eigs``: the run's :data:`Eigs` or None)."""
     r = mr.shape[0]
     diagonal = True
     for a in range(r):
@@ -417,7 +495,7 @@ def mass_modes(mr, kr):
     for a in range(r):
         for b in range(r):
             sym[a, b] = 0.5 * (s[a] * kr[a, b] * s[b] + s[b] * kr[b, a] * s[a])
-    w2, u = block_eigh(sym)
+    w2, u = block_eigh(sym, eigs)
     phi, xm = np.empty((r, r)), np.empty((r, r))
     for i in range(r):
         for a in range(r):
@@ -449,8 +527,9 @@ def modal_damping(mr, cr, phi):
 
 
 @njit(cache=True)
-def classical(mr, kr, cr):
-    """(ok, lam, V, V^-1, V^-1 B) from the real modes when K_r is symmetric and C_r diagonal in them (classical damping).
+def classical(mr, kr, cr, eigs=None):
+    """(ok, lam, V, V^-1, V^-1 B) from the real modes when K_r is symmetric and C_r diagonal in them (classical damping;
+    ``eigs``: the run's :data:`Eigs` or None).
 
     M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T (symmetric), Phi = L^-T U: each mode
     x'' + c_m x' + w^2 x = phi^T f decouples, with the pair of roots l1, l2 of l^2 + c_m l + w^2,
@@ -462,7 +541,7 @@ def classical(mr, kr, cr):
     asym, size = asymmetry(kr)
     if asym > SYM_TOL * size:
         return refused()
-    w2, phi, xm = mass_modes(mr, kr)
+    w2, phi, xm = mass_modes(mr, kr, eigs)
     ok, cd = modal_damping(mr, cr, phi)
     if not ok:
         return refused()
@@ -593,10 +672,10 @@ def held_row(damping, fdir, he_i, keff, f0, room):
 
 
 @njit(cache=True)
-def constants(asm, stuck, z, sel, rows, r, keff, vb, d):
+def constants(belt, fdir, amp, stuck, z, sel, rows, r, keff, vb, d):
     """(Z^T, b_S, R b_S, b1, bh, e1): the parts of every :func:`start` in one combination that the state leaves out
-    (``sel``, ``rows``: :func:`selected` of Z)."""
-    belt, fdir, amp = asm.belt, asm.force_dir, asm.force_amp
+    (``belt``, ``fdir``, ``amp``: the Assembly's belt speeds, forces' directions and amplitudes; ``sel``, ``rows``:
+    :func:`selected` of Z)."""
     n, ns, nr = z.shape[0], len(stuck), z.shape[1]
     bs = np.empty(ns)
     for i in range(ns):
@@ -708,24 +787,26 @@ def picked_modes(d, slots, rows, lam, v, pq, w):
 
 
 @njit(cache=True)
-def build(asm, minv, modes):
-    """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact)."""
-    return build_from(asm, minv, split(asm, minv, modes))
+def build(asm, minv, modes, eigs=None):
+    """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact; ``eigs``: the run's :data:`Eigs`
+    or None)."""
+    return build_from(asm, minv, split(asm, minv, modes), eigs)
 
 
 @njit(cache=True)
-def build_from(asm, minv, sp):
-    """The :data:`Combo` of the :data:`Split` ``sp`` (its arrays taken, not copied: a combination's are never written)."""
+def build_from(asm, minv, sp, eigs=None):
+    """The :data:`Combo` of the :data:`Split` ``sp`` (its arrays taken, not copied: a combination's are never written;
+    ``eigs``: the run's :data:`Eigs` or None)."""
     modes, stuck, r, he, keff, f0 = sp
     n = minv.shape[0]
     z = null_basis(asm.contact_dir, stuck)
     sel, rows = selected(z)  # Z a selection of coordinates (stuck directions along axes): products become picks
-    lam, v, vi, vb, real = decompose(asm.mass, asm.damping, keff, z, sel, rows)
+    lam, v, vi, vb, real = decompose(asm.mass, asm.damping, keff, z, sel, rows, eigs)
     d, dc, dh, active, room = maps_room(len(modes), n, len(asm.force_amp))
     maps_into(asm, modes, stuck, he, keff, f0, d, dc, dh, active, room)
     w = event_modes(d, active, z, sel, rows, lam, v, real)
     c = np.ascontiguousarray
-    zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, sel, rows, r, keff, c(vb), c(d))
+    zt, bs, rb, b1, bh, e1 = constants(asm.belt, asm.force_dir, asm.force_amp, stuck, z, sel, rows, r, keff, c(vb), c(d))
     lam, v, vi, vb, w, b1, bh = paired(real, c(lam), c(v), c(vi), c(vb), c(w), c(b1), c(bh))
     return Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
                  active, w, zt, bs, rb, b1, bh, e1, np.abs(w))
@@ -792,13 +873,13 @@ def split_of(cb):
 
 @njit(cache=True)
 def new_cache(asm, minv):
-    """A run's :data:`Cache`, holding the combination with every contact slipping."""
-    k = len(asm.belt)
-    cb = build(asm, minv, np.zeros(k, dtype=np.int8))
+    """A run's :data:`Cache`, holding the combination with every contact stuck."""
+    k, eigs = len(asm.belt), new_eigs()
+    cb = build(asm, minv, np.zeros(k, dtype=np.int8), eigs)
     combos, splits = List(), List()  # typed lists: appended to in place from compiled code and from Python alike
     combos.append(cb)
     splits.append(split_of(cb))
-    cache = Cache(combos, splits, np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64))
+    cache = Cache(combos, splits, np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64), eigs)
     cache.keys[0] = cb.modes
     cache.used[0], cache.used[1] = 1, combo_bytes(cb)
     return cache
@@ -810,16 +891,7 @@ def lookup(cache, asm, minv, modes):
     i = find(cache.keys, cache.used, modes)
     if i >= 0:
         return cache.combos[i]
-    return kept(cache, build(asm, minv, modes))
-
-
-@njit(cache=True)
-def fresh(cache, asm, minv, modes, sp):
-    """The combination of ``modes``, not in the :data:`Cache` ``cache``: built (from the :data:`Split` ``sp`` when it
-    holds these modes, or None) and kept while there is room."""
-    if sp is None or not same_modes(sp.modes, modes):
-        return kept(cache, build(asm, minv, modes))
-    return kept(cache, build_from(asm, minv, sp))
+    return kept(cache, build(asm, minv, modes, cache.eigs))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing
