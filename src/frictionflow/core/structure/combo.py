@@ -232,6 +232,20 @@ def stuck_rows(cdir, stuck):
 
 
 @njit(cache=True)
+def where_equal(x, value):
+    """The indices of ``x``'s entries equal to ``value`` (np.nonzero(x == value)[0] without the mask's array)."""
+    count = 0
+    for i in range(len(x)):
+        count += x[i] == value
+    out, m = np.empty(count, dtype=np.int64), 0
+    for i in range(len(x)):
+        if x[i] == value:
+            out[m] = i
+            m += 1
+    return out
+
+
+@njit(cache=True)
 def general_split(minv, es):
     """(R, HE) for any stuck directions E_S: R = M^-1 E_S^T G, G = (E_S M^-1 E_S^T)^-1, HE = R^T."""
     mie = mm(minv, es.T.copy())
@@ -249,7 +263,7 @@ def contacts_of(asm):
 def split(asm, minv, modes):
     """The :data:`Split` of ``modes``: the stuck set's R and HE and the slipping contacts' K_eff and f0 (without Z,
     which :func:`null_basis` makes by an SVD in general; ``asm``: an Assembly or its :data:`Contacts`)."""
-    stuck = np.nonzero(modes == STICK)[0]
+    stuck = where_equal(modes, STICK)
     keff, f0 = asm.stiffness.copy(), np.zeros(minv.shape[0])
     slip_into(asm, modes, keff, f0)  # a kernel without numba's runtime: the record passed costs no reference counts
     r, he = held_split(asm.contact_dir, minv, stuck)
@@ -610,9 +624,12 @@ def roots(cd, w2):
 @njit(cache=True)
 def maps_room(k, n, m):
     """Room for :func:`maps_into` of ``k`` contacts, ``n`` coordinates and ``m`` forces: (D, dc, Dh, active) zeros and
-    its work room."""
-    return (np.zeros((N_SLOTS * k, 2 * n)), np.zeros(N_SLOTS * k), np.zeros((N_SLOTS * k, m)),
-            np.zeros(N_SLOTS * k, dtype=np.bool_), np.empty(2 * n + m))
+    its work room (the numbers views of one allocation)."""
+    ns = N_SLOTS * k
+    buf = np.zeros(ns * (2 * n + 1 + m) + 2 * n + m)
+    d, dc = buf[:ns * 2 * n].reshape((ns, 2 * n)), buf[ns * 2 * n:ns * (2 * n + 1)]
+    dh = buf[ns * (2 * n + 1):ns * (2 * n + 1 + m)].reshape((ns, m))
+    return d, dc, dh, np.zeros(ns, dtype=np.bool_), buf[ns * (2 * n + 1 + m):]
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
@@ -730,7 +747,7 @@ def event_modes(d, active, z, sel, rows, lam, v, real):
     P = D_q Z Phi and Q = D_q' Z Phi, a product of size r instead of 2 r, and no complex one.
     """
     n, r = z.shape[0], z.shape[1]
-    slots = np.nonzero(active)[0]
+    slots = where_equal(active, True)
     w = np.zeros((d.shape[0], 2 * r), dtype=np.complex128)
     if r == 0 or len(slots) == 0:
         return w
@@ -794,9 +811,12 @@ def build(asm, minv, modes, eigs=None):
 
 
 @njit(cache=True)
-def build_from(asm, minv, sp, eigs=None):
+def build_from(asm, minv, sp, eigs=None, cache=None):
     """The :data:`Combo` of the :data:`Split` ``sp`` (its arrays taken, not copied: a combination's are never written;
-    ``eigs``: the run's :data:`Eigs` or None)."""
+    ``eigs``: the run's :data:`Eigs` or None), kept in the :data:`Cache` ``cache`` (or None) while there is room.
+
+    Kept here, not by a function taking the new record: that would count references to its 23 arrays.
+    """
     modes, stuck, r, he, keff, f0 = sp
     n = minv.shape[0]
     z = null_basis(asm.contact_dir, stuck)
@@ -808,8 +828,17 @@ def build_from(asm, minv, sp, eigs=None):
     c = np.ascontiguousarray
     zt, bs, rb, b1, bh, e1 = constants(asm.belt, asm.force_dir, asm.force_amp, stuck, z, sel, rows, r, keff, c(vb), c(d))
     lam, v, vi, vb, w, b1, bh = paired(real, c(lam), c(v), c(vi), c(vb), c(w), c(b1), c(bh))
-    return Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
-                 active, w, zt, bs, rb, b1, bh, e1, np.abs(w))
+    cb = Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
+               active, w, zt, bs, rb, b1, bh, e1, np.abs(w))
+    if cache is None:
+        return cb
+    used, size = cache.used, combo_bytes(cb)
+    if used[0] < len(cache.keys) and used[1] + size <= CACHE_BYTES:
+        cache.combos.append(cb)  # (no eviction: popping records of arrays from a compiled list corrupts memory)
+        cache.splits.append(split_of(cb))
+        cache.keys[used[0]] = modes
+        used[0], used[1] = used[0] + 1, used[1] + size
+    return cb
 
 
 @njit(cache=True)
@@ -823,25 +852,27 @@ def paired(real, lam, v, vi, vb, w, b1, bh):
     if not real:
         return lam, v, vi, vb, w, b1, bh
     r = len(lam) // 2
-    keep, factor = np.empty(2 * r, dtype=np.int64), np.empty(2 * r)
+    keep = np.empty(2 * r, dtype=np.int64)
     m = 0
     for a in range(2 * r):
         if a >= r and lam[a - r].imag != 0.0:
             continue  # the partner of a pair
-        keep[m], factor[m] = a, 2.0 if a < r and lam[a].imag != 0.0 else 1.0
+        keep[m] = a
         m += 1
-    keep, factor = keep[:m], factor[:m]
-    return (lam[keep], scaled_columns(v, keep, factor), vi[keep], vb[keep], scaled_columns(w, keep, factor), b1[keep],
+    keep = keep[:m]
+    return (lam[keep], scaled_columns(v, keep, lam), vi[keep], vb[keep], scaled_columns(w, keep, lam), b1[keep],
             bh[keep])
 
 
 @njit(cache=True)
-def scaled_columns(a, keep, factor):
-    """a[:, keep] * factor, row by row (row-major arrays)."""
+def scaled_columns(a, keep, lam):
+    """a[:, keep], the columns of a pair's representative (a root of ``lam``'s first half with Im != 0) doubled, row by
+    row (row-major arrays)."""
+    r = len(lam) // 2
     out = np.empty((a.shape[0], len(keep)), dtype=a.dtype)
     for i in range(a.shape[0]):
         for c in range(len(keep)):
-            out[i, c] = a[i, keep[c]] * factor[c]
+            out[i, c] = a[i, keep[c]] * (2.0 if keep[c] < r and lam[keep[c]].imag != 0.0 else 1.0)
     return out
 
 
@@ -858,7 +889,7 @@ def find(keys, used, modes):
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
 def combo_bytes(cb):
     """About the memory a combination holds (its largest arrays)."""
     return 16 * (cb.V.size + cb.Vi.size + cb.VB.size + cb.W.size) + 8 * (cb.D.size + cb.Z.size + cb.keff.size
@@ -891,7 +922,7 @@ def lookup(cache, asm, minv, modes):
     i = find(cache.keys, cache.used, modes)
     if i >= 0:
         return cache.combos[i]
-    return kept(cache, build(asm, minv, modes, cache.eigs))
+    return build_from(asm, minv, split(asm, minv, modes), cache.eigs, cache)
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing
@@ -901,17 +932,3 @@ def same_modes(a, b):
         if a[j] != b[j]:
             return False
     return True
-
-
-@njit(cache=True)
-def kept(cache, cb):
-    """``cb``, kept in the :data:`Cache` ``cache`` while there is room (no eviction: popping records of arrays from a
-    compiled list corrupts memory)."""
-    keys, used = cache.keys, cache.used
-    size = combo_bytes(cb)
-    if used[0] < len(keys) and used[1] + size <= CACHE_BYTES:
-        cache.combos.append(cb)
-        cache.splits.append(split_of(cb))
-        keys[used[0]] = cb.modes
-        used[0], used[1] = used[0] + 1, used[1] + size
-    return cb

@@ -18,7 +18,7 @@ from numba import njit
 
 from .. import codes
 from ..layout import STICK
-from .combo import N_SLOTS, build, build_from, find, kept, lookup, new_cache, same_modes
+from .combo import N_SLOTS, build, build_from, find, lookup, new_cache, same_modes
 from .events import Room, new_room as new_walk_room, values, walk
 from ..options import NO_RUNTIME
 from .phase import (Mags, abs_into, fastest_rate, modal_into, size_of, start, start_in, start_room, state_at,
@@ -267,7 +267,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
         if j >= 0:
             cb = cache.combos[j]
         elif sp is not None and same_modes(sp.modes, new):  # new: built from the stick rule's split
-            cb = kept(cache, build_from(asm, minv, sp, cache.eigs))
+            cb = build_from(asm, minv, sp, cache.eigs, cache)
         else:
             cb = lookup(cache, asm, minv, new)
         hold_velocity_into(asm, cb, v, sr.rule)
