@@ -57,6 +57,9 @@ from .sparsity import combo_pattern
 Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W ZT bs rb b1 bh e1 WA nz")
 #: what the stick rule needs of a combination (no eigen-decomposition): its held forces and accelerations
 Split = namedtuple("Split", "modes stuck R HE keff f0")
+#: the parts of an Assembly a :data:`Split` is made of (a function with numba's runtime that takes a record counts
+#: references to each of its arrays on entry and exit: 4 here, 17 for the Assembly)
+Contacts = namedtuple("Contacts", "stiffness law normal contact_dir")
 #: event slots per contact: the mode's own boundary (two sides while stuck) and the normal load
 N_SLOTS = 3
 #: a stuck set whose directions are this close to dependent is refused (its held forces are not defined)
@@ -65,9 +68,18 @@ RANK_TOL = 1e-10
 #: meets new ones at most switches; on ten masses a third of the switches return to one met before)
 CACHE_SIZE = 1024
 CACHE_BYTES = 32_000_000
-#: a run's combinations: the records (a typed list), their modes as the rows of ``keys`` (scanned instead of the records:
-#: reading a record from the list counts references to each of its arrays) and ``used`` = [count, bytes]
-Cache = namedtuple("Cache", "combos keys used")
+#: a run's combinations: the records (a typed list), their :data:`Split` parts (a typed list of the same records' arrays:
+#: the stick rule reads 6 arrays instead of 23, each counted at every read), their modes as the rows of ``keys`` (scanned
+#: instead of the records: reading a record from the list counts references to each of its arrays) and ``used`` =
+#: [count, bytes], and its :data:`Eigs`
+Cache = namedtuple("Cache", "combos splits keys used eigs")
+#: a run's eigen-decompositions of the symmetric blocks :func:`block_eigh` met (a chain cut into pieces by its stuck
+#: masses meets the same pieces in many combinations): ``index`` rows [offset, size] into ``store``, which holds at each
+#: offset the block's entries (the key: the same numbers give LAPACK the same call, so a hit is exact), its eigenvalues
+#: and its eigenvectors (row-major); ``used`` = [entries, numbers]
+Eigs = namedtuple("Eigs", "index store used")
+EIG_ENTRIES = 4096
+EIG_NUMBERS = 1 << 19
 #: K_r symmetric and the modal damping diagonal to this fraction of their size: the real-mode route (:func:`classical`)
 SYM_TOL = 1e-13
 #: a mode's two roots closer than this fraction of the system's rates: (nearly) defective, the general route decides
@@ -132,22 +144,22 @@ def axes_of(cdir, stuck, axis, scale, seen):
 
 
 @njit(cache=True)
-def axes_split(minv, axis, scale):
-    """(Z, R, HE) of stuck directions along coordinate axes: Z selects the free coordinates, E_S picks entries."""
-    n = minv.shape[0]
-    r, he = axes_held(minv, axis, scale)
+def axes_basis(n, axis):
+    """Z of stuck directions along the coordinate axes ``axis``: it selects the other coordinates, in order."""
     free = np.ones(n, dtype=np.bool_)
     free[axis] = False
-    idx = np.nonzero(free)[0]
-    z = np.zeros((n, len(idx)))
-    for c in range(len(idx)):
-        z[idx[c], c] = 1.0
-    return z, r, he
+    z = np.zeros((n, n - len(axis)))
+    c = 0
+    for a in range(n):
+        if free[a]:
+            z[a, c] = 1.0
+            c += 1
+    return z
 
 
 @njit(cache=True)
 def axes_held(minv, axis, scale):
-    """(R, HE) of stuck directions along coordinate axes (the stick rule's part of :func:`axes_split`, without Z)."""
+    """(R, HE) of stuck directions along coordinate axes (:func:`held_split`'s numbers on that route)."""
     n, ns = minv.shape[0], len(axis)
     mie, gi = np.empty((n, ns)), np.empty((ns, ns))  # M^-1 E_S^T, E_S M^-1 E_S^T
     for a in range(n):
@@ -180,18 +192,35 @@ def mie_times_g(mie, gi):
 def constraint_split(cdir, minv, stuck):
     """(Z, R, HE) of the stuck set (HE = G E_S M^-1: held forces from the forces on the structure; ``cdir``: the
     contacts' directions, a row each)."""
-    n, ns = minv.shape[0], len(stuck)
+    r, he = held_split(cdir, minv, stuck)
+    return null_basis(cdir, stuck), r, he
+
+
+@njit(cache=True)
+def null_basis(cdir, stuck):
+    """Z: an orthonormal basis of the stuck directions' null space (``cdir``: the contacts' directions, a row each)."""
+    n, ns = cdir.shape[1], len(stuck)
     if ns == 0:
-        return np.eye(n), np.zeros((n, 0)), np.zeros((0, n))
+        return np.eye(n)
     axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
     if axes_of(cdir, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # no SVD: the other axes span the null space
-        return axes_split(minv, axis, scale)
-    es = stuck_rows(cdir, stuck)
-    r, he = general_split(minv, es)
-    _, s, vt = np.linalg.svd(es, full_matrices=True)
+        return axes_basis(n, axis)
+    _, s, vt = np.linalg.svd(stuck_rows(cdir, stuck), full_matrices=True)
     if s.min() <= RANK_TOL * s.max():
         raise ValueError("structure: the stuck contacts' directions are dependent (their held forces are not defined)")
-    return vt[ns:].T.copy(), r, he
+    return vt[ns:].T.copy()
+
+
+@njit(cache=True)
+def held_split(cdir, minv, stuck):
+    """(R, HE) of the stuck set (entries picked out when its directions are axes)."""
+    n, ns = minv.shape[0], len(stuck)
+    if ns == 0:
+        return np.zeros((n, 0)), np.zeros((0, n))
+    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
+    if axes_of(cdir, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # the same numbers with entries picked out
+        return axes_held(minv, axis, scale)
+    return general_split(minv, stuck_rows(cdir, stuck))
 
 
 @njit(cache=True)
@@ -204,6 +233,20 @@ def stuck_rows(cdir, stuck):
 
 
 @njit(cache=True)
+def where_equal(x, value):
+    """The indices of ``x``'s entries equal to ``value`` (np.nonzero(x == value)[0] without the mask's array)."""
+    count = 0
+    for i in range(len(x)):
+        count += x[i] == value
+    out, m = np.empty(count, dtype=np.int64), 0
+    for i in range(len(x)):
+        if x[i] == value:
+            out[m] = i
+            m += 1
+    return out
+
+
+@njit(cache=True)
 def general_split(minv, es):
     """(R, HE) for any stuck directions E_S: R = M^-1 E_S^T G, G = (E_S M^-1 E_S^T)^-1, HE = R^T."""
     mie = mm(minv, es.T.copy())
@@ -211,22 +254,20 @@ def general_split(minv, es):
     return r, r.T.copy()
 
 
+@njit(cache=True, inline="always")
+def contacts_of(asm):
+    """The :data:`Contacts` of the Assembly ``asm`` (its arrays, not copies)."""
+    return Contacts(asm.stiffness, asm.law, asm.normal, asm.contact_dir)
+
+
 @njit(cache=True)
 def split(asm, minv, modes):
     """The :data:`Split` of ``modes``: the stuck set's R and HE and the slipping contacts' K_eff and f0 (without Z,
-    which :func:`constraint_split` makes by an SVD in general)."""
-    n, cdir = minv.shape[0], asm.contact_dir
-    stuck = np.nonzero(modes == STICK)[0]
-    keff, f0 = asm.stiffness.copy(), np.zeros(n)
+    which :func:`null_basis` makes by an SVD in general; ``asm``: an Assembly or its :data:`Contacts`)."""
+    stuck = where_equal(modes, STICK)
+    keff, f0 = asm.stiffness.copy(), np.zeros(minv.shape[0])
     slip_into(asm, modes, keff, f0)  # a kernel without numba's runtime: the record passed costs no reference counts
-    ns = len(stuck)
-    if ns == 0:
-        return Split(modes.copy(), stuck, np.zeros((n, 0)), np.zeros((0, n)), keff, f0)
-    axis, scale = np.full(ns, -1, dtype=np.int64), np.zeros(ns)
-    if axes_of(cdir, stuck, axis, scale, np.zeros(n, dtype=np.bool_)):  # the same numbers with entries picked out
-        r, he = axes_held(minv, axis, scale)
-        return Split(modes.copy(), stuck, r, he, keff, f0)
-    r, he = general_split(minv, stuck_rows(cdir, stuck))
+    r, he = held_split(asm.contact_dir, minv, stuck)
     return Split(modes.copy(), stuck, r, he, keff, f0)
 
 
@@ -272,18 +313,18 @@ def columns(a, z, sel, rows):
 
 
 @njit(cache=True)
-def decompose(m, c, k, z, sel, rows):
+def decompose(m, c, k, z, sel, rows, eigs=None):
     """(lam, V, V^-1, V^-1 B, real) of the reduced first-order matrix (B = [0; M_r^-1]); real: the real-mode route.
 
     On the real-mode route V's upper left block is the real modes Phi (:func:`classical`).  ``sel``, ``rows``:
-    :func:`selected` of Z.
+    :func:`selected` of Z; ``eigs``: the run's :data:`Eigs` (or None).
     """
     r = z.shape[1]
     if r == 0:
         e = np.zeros((0, 0), dtype=np.complex128)
         return np.zeros(0, dtype=np.complex128), e, e, e, True
     mr, kr, cr = project(m, z, sel, rows), project(k, z, sel, rows), project(c, z, sel, rows)
-    ok, lam, v, vi, vb = classical(mr, kr, cr)
+    ok, lam, v, vi, vb = classical(mr, kr, cr, eigs)
     if not ok:
         mri = np.linalg.inv(mr)
         a = np.zeros((2 * r, 2 * r))
@@ -354,13 +395,14 @@ def block_order(label, count):
 
 
 @njit(cache=True)
-def block_eigh(sym):
-    """eigh of a symmetric matrix block by block (its entries outside the blocks are exact zeros).
+def block_eigh(sym, eigs=None):
+    """eigh of a symmetric matrix block by block (its entries outside the blocks are exact zeros); ``eigs``: the run's
+    :data:`Eigs` (blocks met before taken from it) or None.
 
     Stuck coordinates cut a chain into pieces that do not couple: several small problems instead of one.
     """
     label, count = blocks(sym)
-    if count == 1:
+    if count == 1 and eigs is None:
         return np.linalg.eigh(sym)
     r = sym.shape[0]
     w2, u = np.empty(r), np.zeros((r, r))
@@ -370,24 +412,85 @@ def block_eigh(sym):
         idx = order[first[b]:first[b + 1]]
         if len(idx) == 1:
             w2[col], u[idx[0], col] = sym[idx[0], idx[0]], 1.0
-            col += 1
-            continue
-        sub = np.empty((len(idx), len(idx)))
-        for i in range(len(idx)):
-            for j in range(len(idx)):
-                sub[i, j] = sym[idx[i], idx[j]]
-        wb, ub = np.linalg.eigh(sub)
-        for c in range(len(idx)):
-            w2[col + c] = wb[c]
+        elif eigs is None or not eigs_into(eigs, sym, idx, col, w2, u):
+            sub = np.empty((len(idx), len(idx)))
             for i in range(len(idx)):
-                u[idx[i], col + c] = ub[i, c]
+                for j in range(len(idx)):
+                    sub[i, j] = sym[idx[i], idx[j]]
+            wb, ub = np.linalg.eigh(sub)
+            for c in range(len(idx)):
+                w2[col + c] = wb[c]
+                for i in range(len(idx)):
+                    u[idx[i], col + c] = ub[i, c]
+            if eigs is not None:
+                eigs_keep(eigs, sub, wb, ub)
         col += len(idx)
     return w2, u
 
 
 @njit(cache=True)
-def mass_modes(mr, kr):
-    """(w^2, Phi, Phi^T M_r): M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T, Phi = L^-T U (a diagonal M_r: L = sqrt)."""
+def new_eigs():
+    """An empty :data:`Eigs` (its store is only written as blocks are met)."""
+    return Eigs(np.empty((EIG_ENTRIES, 2), dtype=np.int64), np.empty(EIG_NUMBERS), np.zeros(2, dtype=np.int64))
+
+
+@njit(cache=True, inline="always")
+def same_number(a, b):
+    """a and b the same float64 (0.0 and -0.0 told apart: LAPACK is only known to repeat itself on the same bits)."""
+    return a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def eigs_into(eigs, sym, idx, col, w2, u):
+    """When ``eigs`` holds the block ``sym[idx][:, idx]`` (entry for entry): its eigenvalues into ``w2[col:]``, its
+    eigenvectors into ``u[idx, col:]``, True; else False."""
+    s, index, store = len(idx), eigs.index, eigs.store
+    for e in range(eigs.used[0]):
+        off = index[e, 0]
+        if index[e, 1] != s or not block_equal(store, off, sym, idx):
+            continue
+        off += s * s
+        for c in range(s):
+            w2[col + c] = store[off + c]
+        off += s
+        for i in range(s):
+            for c in range(s):
+                u[idx[i], col + c] = store[off + i * s + c]
+        return True
+    return False
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def block_equal(store, off, sym, idx):
+    """``store[off:]`` holds ``sym[idx][:, idx]`` row by row, the same bits."""
+    s = len(idx)
+    for i in range(s):
+        for j in range(s):
+            if not same_number(store[off + i * s + j], sym[idx[i], idx[j]]):
+                return False
+    return True
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def eigs_keep(eigs, sub, wb, ub):
+    """Keep the block ``sub``'s eigenvalues ``wb`` and eigenvectors ``ub`` in ``eigs`` while there is room."""
+    s, used, store = sub.shape[0], eigs.used, eigs.store
+    off = used[1]
+    if used[0] >= eigs.index.shape[0] or off + 2 * s * s + s > len(store):
+        return
+    for i in range(s):
+        for j in range(s):
+            store[off + i * s + j] = sub[i, j]
+            store[off + s * s + s + i * s + j] = ub[i, j]
+        store[off + s * s + i] = wb[i]
+    eigs.index[used[0], 0], eigs.index[used[0], 1] = off, s
+    used[0], used[1] = used[0] + 1, off + 2 * s * s + s
+
+
+@njit(cache=True)
+def mass_modes(mr, kr, eigs=None):
+    """(w^2, Phi, Phi^T M_r): M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T, Phi = L^-T U (a diagonal M_r: L = sqrt;
+    ``eigs``: the run's :data:`Eigs` or None)."""
     r = mr.shape[0]
     diagonal = True
     for a in range(r):
@@ -407,7 +510,7 @@ def mass_modes(mr, kr):
     for a in range(r):
         for b in range(r):
             sym[a, b] = 0.5 * (s[a] * kr[a, b] * s[b] + s[b] * kr[b, a] * s[a])
-    w2, u = block_eigh(sym)
+    w2, u = block_eigh(sym, eigs)
     phi, xm = np.empty((r, r)), np.empty((r, r))
     for i in range(r):
         for a in range(r):
@@ -439,8 +542,9 @@ def modal_damping(mr, cr, phi):
 
 
 @njit(cache=True)
-def classical(mr, kr, cr):
-    """(ok, lam, V, V^-1, V^-1 B) from the real modes when K_r is symmetric and C_r diagonal in them (classical damping).
+def classical(mr, kr, cr, eigs=None):
+    """(ok, lam, V, V^-1, V^-1 B) from the real modes when K_r is symmetric and C_r diagonal in them (classical damping;
+    ``eigs``: the run's :data:`Eigs` or None).
 
     M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T (symmetric), Phi = L^-T U: each mode
     x'' + c_m x' + w^2 x = phi^T f decouples, with the pair of roots l1, l2 of l^2 + c_m l + w^2,
@@ -452,7 +556,7 @@ def classical(mr, kr, cr):
     asym, size = asymmetry(kr)
     if asym > SYM_TOL * size:
         return refused()
-    w2, phi, xm = mass_modes(mr, kr)
+    w2, phi, xm = mass_modes(mr, kr, eigs)
     ok, cd = modal_damping(mr, cr, phi)
     if not ok:
         return refused()
@@ -521,9 +625,12 @@ def roots(cd, w2):
 @njit(cache=True)
 def maps_room(k, n, m):
     """Room for :func:`maps_into` of ``k`` contacts, ``n`` coordinates and ``m`` forces: (D, dc, Dh, active) zeros and
-    its work room."""
-    return (np.zeros((N_SLOTS * k, 2 * n)), np.zeros(N_SLOTS * k), np.zeros((N_SLOTS * k, m)),
-            np.zeros(N_SLOTS * k, dtype=np.bool_), np.empty(2 * n + m))
+    its work room (the numbers views of one allocation)."""
+    ns = N_SLOTS * k
+    buf = np.zeros(ns * (2 * n + 1 + m) + 2 * n + m)
+    d, dc = buf[:ns * 2 * n].reshape((ns, 2 * n)), buf[ns * 2 * n:ns * (2 * n + 1)]
+    dh = buf[ns * (2 * n + 1):ns * (2 * n + 1 + m)].reshape((ns, m))
+    return d, dc, dh, np.zeros(ns, dtype=np.bool_), buf[ns * (2 * n + 1 + m):]
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
@@ -583,10 +690,10 @@ def held_row(damping, fdir, he_i, keff, f0, room):
 
 
 @njit(cache=True)
-def constants(asm, stuck, z, sel, rows, r, keff, vb, d):
+def constants(belt, fdir, amp, stuck, z, sel, rows, r, keff, vb, d):
     """(Z^T, b_S, R b_S, b1, bh, e1): the parts of every :func:`start` in one combination that the state leaves out
-    (``sel``, ``rows``: :func:`selected` of Z)."""
-    belt, fdir, amp = asm.belt, asm.force_dir, asm.force_amp
+    (``belt``, ``fdir``, ``amp``: the Assembly's belt speeds, forces' directions and amplitudes; ``sel``, ``rows``:
+    :func:`selected` of Z)."""
     n, ns, nr = z.shape[0], len(stuck), z.shape[1]
     bs = np.empty(ns)
     for i in range(ns):
@@ -641,7 +748,7 @@ def event_modes(d, active, z, sel, rows, lam, v, real):
     P = D_q Z Phi and Q = D_q' Z Phi, a product of size r instead of 2 r, and no complex one.
     """
     n, r = z.shape[0], z.shape[1]
-    slots = np.nonzero(active)[0]
+    slots = where_equal(active, True)
     w = np.zeros((d.shape[0], 2 * r), dtype=np.complex128)
     if r == 0 or len(slots) == 0:
         return w
@@ -698,23 +805,41 @@ def picked_modes(d, slots, rows, lam, v, pq, w):
 
 
 @njit(cache=True)
-def build(asm, minv, modes):
-    """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact)."""
-    n, stuck = minv.shape[0], np.nonzero(modes == STICK)[0]
-    keff, f0 = asm.stiffness.copy(), np.zeros(n)
-    slip_into(asm, modes, keff, f0)  # kernels without numba's runtime: the record passed costs no reference counts
-    z, r, he = constraint_split(asm.contact_dir, minv, stuck)
+def build(asm, minv, modes, eigs=None):
+    """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact; ``eigs``: the run's :data:`Eigs`
+    or None)."""
+    return build_from(asm, minv, split(asm, minv, modes), eigs)
+
+
+@njit(cache=True)
+def build_from(asm, minv, sp, eigs=None, cache=None):
+    """The :data:`Combo` of the :data:`Split` ``sp`` (its arrays taken, not copied: a combination's are never written;
+    ``eigs``: the run's :data:`Eigs` or None), kept in the :data:`Cache` ``cache`` (or None) while there is room.
+
+    Kept here, not by a function taking the new record: that would count references to its 23 arrays.
+    """
+    modes, stuck, r, he, keff, f0 = sp
+    n = minv.shape[0]
+    z = null_basis(asm.contact_dir, stuck)
     sel, rows = selected(z)  # Z a selection of coordinates (stuck directions along axes): products become picks
-    lam, v, vi, vb, real = decompose(asm.mass, asm.damping, keff, z, sel, rows)
+    lam, v, vi, vb, real = decompose(asm.mass, asm.damping, keff, z, sel, rows, eigs)
     d, dc, dh, active, room = maps_room(len(modes), n, len(asm.force_amp))
     maps_into(asm, modes, stuck, he, keff, f0, d, dc, dh, active, room)
     w = event_modes(d, active, z, sel, rows, lam, v, real)
     c = np.ascontiguousarray
-    zt, bs, rb, b1, bh, e1 = constants(asm, stuck, z, sel, rows, r, keff, c(vb), c(d))
+    zt, bs, rb, b1, bh, e1 = constants(asm.belt, asm.force_dir, asm.force_amp, stuck, z, sel, rows, r, keff, c(vb), c(d))
     lam, v, vi, vb, w, b1, bh = paired(real, c(lam), c(v), c(vi), c(vb), c(w), c(b1), c(bh))
-    return Combo(modes.copy(), c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
-                 active, w, zt, bs, rb, b1, bh, e1, np.abs(w),
-                 combo_pattern(z, r))
+    cb = Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
+               active, w, zt, bs, rb, b1, bh, e1, np.abs(w), combo_pattern(z, r))
+    if cache is None:
+        return cb
+    used, size = cache.used, combo_bytes(cb)
+    if used[0] < len(cache.keys) and used[1] + size <= CACHE_BYTES:
+        cache.combos.append(cb)  # (no eviction: popping records of arrays from a compiled list corrupts memory)
+        cache.splits.append(split_of(cb))
+        cache.keys[used[0]] = modes
+        used[0], used[1] = used[0] + 1, used[1] + size
+    return cb
 
 
 @njit(cache=True)
@@ -728,25 +853,27 @@ def paired(real, lam, v, vi, vb, w, b1, bh):
     if not real:
         return lam, v, vi, vb, w, b1, bh
     r = len(lam) // 2
-    keep, factor = np.empty(2 * r, dtype=np.int64), np.empty(2 * r)
+    keep = np.empty(2 * r, dtype=np.int64)
     m = 0
     for a in range(2 * r):
         if a >= r and lam[a - r].imag != 0.0:
             continue  # the partner of a pair
-        keep[m], factor[m] = a, 2.0 if a < r and lam[a].imag != 0.0 else 1.0
+        keep[m] = a
         m += 1
-    keep, factor = keep[:m], factor[:m]
-    return (lam[keep], scaled_columns(v, keep, factor), vi[keep], vb[keep], scaled_columns(w, keep, factor), b1[keep],
+    keep = keep[:m]
+    return (lam[keep], scaled_columns(v, keep, lam), vi[keep], vb[keep], scaled_columns(w, keep, lam), b1[keep],
             bh[keep])
 
 
 @njit(cache=True)
-def scaled_columns(a, keep, factor):
-    """a[:, keep] * factor, row by row (row-major arrays)."""
+def scaled_columns(a, keep, lam):
+    """a[:, keep], the columns of a pair's representative (a root of ``lam``'s first half with Im != 0) doubled, row by
+    row (row-major arrays)."""
+    r = len(lam) // 2
     out = np.empty((a.shape[0], len(keep)), dtype=a.dtype)
     for i in range(a.shape[0]):
         for c in range(len(keep)):
-            out[i, c] = a[i, keep[c]] * factor[c]
+            out[i, c] = a[i, keep[c]] * (2.0 if keep[c] < r and lam[keep[c]].imag != 0.0 else 1.0)
     return out
 
 
@@ -763,21 +890,28 @@ def find(keys, used, modes):
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
 def combo_bytes(cb):
     """About the memory a combination holds (its largest arrays)."""
     return 16 * (cb.V.size + cb.Vi.size + cb.VB.size + cb.W.size) + 8 * (cb.D.size + cb.Z.size + cb.keff.size
                                                                          + cb.WA.size)
 
 
+@njit(cache=True, inline="always")
+def split_of(cb):
+    """The :data:`Split` part of the :data:`Combo` ``cb`` (its arrays, not copies)."""
+    return Split(cb.modes, cb.stuck, cb.R, cb.HE, cb.keff, cb.f0)
+
+
 @njit(cache=True)
 def new_cache(asm, minv):
-    """A run's :data:`Cache`, holding the combination with every contact slipping."""
-    k = len(asm.belt)
-    cb = build(asm, minv, np.zeros(k, dtype=np.int8))
-    combos = List()  # a typed list: appended to in place from compiled code and from Python alike
+    """A run's :data:`Cache`, holding the combination with every contact stuck."""
+    k, eigs = len(asm.belt), new_eigs()
+    cb = build(asm, minv, np.zeros(k, dtype=np.int8), eigs)
+    combos, splits = List(), List()  # typed lists: appended to in place from compiled code and from Python alike
     combos.append(cb)
-    cache = Cache(combos, np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64))
+    splits.append(split_of(cb))
+    cache = Cache(combos, splits, np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64), eigs)
     cache.keys[0] = cb.modes
     cache.used[0], cache.used[1] = 1, combo_bytes(cb)
     return cache
@@ -786,14 +920,16 @@ def new_cache(asm, minv):
 @njit(cache=True)
 def lookup(cache, asm, minv, modes):
     """The combination of ``modes`` from the :data:`Cache` ``cache``, built (and kept while there is room) when missing."""
-    keys, used = cache.keys, cache.used
-    i = find(keys, used, modes)
+    i = find(cache.keys, cache.used, modes)
     if i >= 0:
         return cache.combos[i]
-    cb = build(asm, minv, modes)
-    size = combo_bytes(cb)
-    if used[0] < len(keys) and used[1] + size <= CACHE_BYTES:  # (no eviction: popping records of arrays from a
-        cache.combos.append(cb)  # compiled list corrupts memory)
-        keys[used[0]] = modes
-        used[0], used[1] = used[0] + 1, used[1] + size
-    return cb
+    return build_from(asm, minv, split(asm, minv, modes), cache.eigs, cache)
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def same_modes(a, b):
+    """The two modes arrays hold the same entries."""
+    for j in range(len(a)):
+        if a[j] != b[j]:
+            return False
+    return True

@@ -18,7 +18,7 @@ from numba import njit
 
 from .. import codes
 from ..layout import STICK
-from .combo import N_SLOTS, build, find, lookup, new_cache
+from .combo import N_SLOTS, build, build_from, find, lookup, new_cache, same_modes
 from .events import Room, new_room as new_walk_room, values, walk
 from ..options import NO_RUNTIME
 from .phase import (Mags, abs_into, fastest_rate, modal_into, size_of, start, start_in, start_room, state_at,
@@ -261,10 +261,15 @@ def run(asm, minv, t_end, dense_dt, out, events):
         if lost >= 0:
             ok = emit(out, i, asm, cb, q, v, t, acc, sr)
             return Result(codes.CONTACT_LOST if ok else codes.FULL, i + 1, nsw, lost, t)
-        decide_in(asm, minv, q, v, t, new, leaving, cache, sr, True)
+        sp = decide_in(asm, minv, q, v, t, new, leaving, cache, sr, True)
         nsw = record_switches(events, nsw, t, cb.modes, new)
         j = find(cache.keys, cache.used, new)  # met before: no call taking the records (each of their arrays counted)
-        cb = cache.combos[j] if j >= 0 else lookup(cache, asm, minv, new)
+        if j >= 0:
+            cb = cache.combos[j]
+        elif sp is not None and same_modes(sp.modes, new):  # new: built from the stick rule's split
+            cb = build_from(asm, minv, sp, cache.eigs, cache)
+        else:
+            cb = lookup(cache, asm, minv, new)
         hold_velocity_into(asm, cb, v, sr.rule)
         zeros = zeros + 1 if tau <= floor else 0
         if zeros > MAX_ZERO + k:

@@ -29,7 +29,7 @@ from ..friction import ON_LIMIT, holds, limit_ratio
 from ..layout import FD, FS, RESULTANT, STICK
 from ..products import matvec
 from ..options import NO_RUNTIME
-from .combo import Split, slip_into, split
+from .combo import Split, contacts_of, slip_into, split
 
 #: a relative rate this close to 0 counts as 0
 RATE_TOL = 1e-12
@@ -191,20 +191,20 @@ def cached(keys, used, modes):
 
 
 @njit(cache=True)
-def candidate(asm, minv, modes, cache):
+def candidate(ct, minv, modes, cache):
     """The :data:`~.combo.Split` of ``modes``: from a combination of the run's :data:`~.combo.Cache` ``cache`` (or
     None) with the same stuck set when there is one (its R and HE are the split's numbers, and its K_eff and f0
-    with the same modes), else made (:func:`~.combo.split`)."""
+    with the same modes), else made (:func:`~.combo.split`; ``ct``: the :data:`~.combo.Contacts`)."""
     if cache is not None:
         i, same_modes = cached(cache.keys, cache.used, modes)
         if i >= 0:
-            cb = cache.combos[i]
+            cb = cache.splits[i]
             if same_modes:
-                return Split(cb.modes, cb.stuck, cb.R, cb.HE, cb.keff, cb.f0)
-            keff, f0 = asm.stiffness.copy(), np.zeros(minv.shape[0])
-            slip_into(asm, modes, keff, f0)
+                return cb
+            keff, f0 = ct.stiffness.copy(), np.zeros(minv.shape[0])
+            slip_into(ct, modes, keff, f0)
             return Split(modes.copy(), cb.stuck, cb.R, cb.HE, keff, f0)
-    return split(asm, minv, modes)
+    return split(ct, minv, modes)
 
 
 @njit(cache=True)
@@ -300,16 +300,16 @@ def decide_in(asm, minv, q, v, t, modes, leaving, cache, room, directions):
     are written here and run their passes in kernels without numba's runtime: each call of a function with the
     runtime (or inlined in one) counts references to every array of the records it takes.
     """
-    first = None
+    first, ct = None, contacts_of(asm)  # candidate takes 4 of the Assembly's arrays, not its 17
     for _ in range(len(modes) + 1):
-        cb = candidate(asm, minv, modes, cache)
+        cb = candidate(ct, minv, modes, cache)
         if len(cb.stuck) == 0 or not released_one(asm, cb, minv, q, v, t, modes, leaving, room):
             first = cb
             break
     if not directions or not any_slipping(modes, leaving):  # no direction to check: no acceleration to compute
         return first
     for attempt in range(2):
-        cb = first if attempt == 0 and first is not None else candidate(asm, minv, modes, cache)
+        cb = first if attempt == 0 and first is not None else candidate(ct, minv, modes, cache)
         if not flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
             break
     return first
