@@ -143,16 +143,55 @@ def compare(n: int, run_assembly) -> None:
     headline(full, "with every element's work")
 
 
+def pieces(modes: np.ndarray) -> list[list[int]]:
+    """The chain's pieces in one combination: the runs of masses whose contacts slip (``modes``: one per mass)."""
+    out, run = [], []
+    for i, mode in enumerate(modes):
+        if mode == 0:
+            out, run = (out + [run] if run else out), []
+        else:
+            run.append(i)
+    return out + [run] if run else out
+
+
+def piece_cost(piece: list[int], modes: np.ndarray) -> int:
+    """Event functions x modal coordinates of one piece: its slipping contacts' functions, the two of each
+    stuck contact bordering it, times its masses."""
+    borders = {i for i in (piece[0] - 1, piece[-1] + 1) if 0 <= i < len(modes)}
+    return (len(piece) + 2 * len(borders)) * len(piece)
+
+
+def locality(modes: np.ndarray) -> tuple[float, float]:
+    """(pieces per phase, the share of a phase's event-function work in the pieces a switch touches).
+
+    A stuck mass cuts the chain into pieces that move independently; a walk per piece would restart only
+    the pieces next to the contacts that switched.  The share compares their functions x coordinates with
+    the whole chain's (what the walk evaluates today): it bounds what per-piece phases could save there.
+    ``modes``: the run's modes at its samples (contacts x samples; the benchmark's chain, contact i on mass i).
+    """
+    counts, local, whole = [], 0, 0
+    for s in range(1, modes.shape[1]):
+        after, changed = modes[:, s], np.flatnonzero(modes[:, s - 1] != modes[:, s])
+        if not len(changed):
+            continue
+        cut = pieces(after)
+        counts.append(len(cut))
+        whole += sum(1 if m else 2 for m in after) * sum(len(p) for p in cut)
+        local += sum(piece_cost(p, after) for p in cut if any(abs(i - j) <= 1 for i in p for j in changed))
+    return float(np.mean(counts)), local / max(whole, 1)
+
+
 def scaling(run_assembly) -> None:
-    """Part 2: the exact engine's time per switch on chains of growing n."""
+    """Part 2: the exact engine's time per switch on chains of growing n, and how local its switches are."""
     print(f"\n## exact engine on longer chains, t_end {T_SCALING}")
-    print(f"{'n':>5} {'switches':>9} {'CPU ms':>10} {'us/switch':>10} {'growth':>8}")
+    print(f"{'n':>5} {'switches':>9} {'CPU ms':>10} {'us/switch':>10} {'growth':>8} {'pieces':>7} {'touched':>8}")
     prev = None
     for n in (2, 10, 30, 100):
         t, switches, _ = engine_timing(run_assembly, chain_case(n), T_SCALING[n])
         per = t / max(len(switches), 1)
         growth = "" if prev is None else f"n^{math.log(per / prev[1]) / math.log(n / prev[0]):.2f}"
-        print(f"{n:5d} {len(switches):9d} {t * 1e3:10.2f} {per * 1e6:10.2f} {growth:>8}")
+        count, share = locality(np.asarray(run_assembly(chain_case(n), T_SCALING[n]).modes))
+        print(f"{n:5d} {len(switches):9d} {t * 1e3:10.2f} {per * 1e6:10.2f} {growth:>8} {count:7.1f} {share:8.0%}")
         prev = (n, per)
 
 
