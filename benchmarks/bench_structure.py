@@ -30,10 +30,12 @@ steady over the run) with masses sticking while their neighbours slip.
 Times are CPU times of this process (best of several), so that load from
 other processes disturbs them less (on a loaded machine set OPENBLAS_NUM_THREADS=1:
 threaded BLAS on small matrices costs the engine several times over).  Measured
-(docs/performance.md, session 9): 2 masses 7.1 us per switch, 152x scipy at the same accuracy
-(switch times), 215x against rtol 1e-13, 417x with every element's work; 10 masses 27 us per
-switch, 26x / 31x, 58x with the works (213 of its 278 switches enter a new stuck set);
-30 masses 83 us; 100 masses 0.60 ms.  Both sides record no dense samples
+(docs/performance.md, session 10): 2 masses 6.8 us per switch, 154x scipy at the same accuracy
+(switch times), 223x against rtol 1e-13, 431x with every element's work; 10 masses 24 us per
+switch, 29x / 36x, 64x with the works (213 of its 278 switches enter a new stuck set);
+30 masses 73 us; 100 masses 0.50 ms.  The scaling table's last columns: the chain's pieces per
+phase (runs of slipping masses between stuck ones) and the share of a phase's event functions x
+modes in the pieces next to the contacts that switched (what per-piece phases could save).  Both sides record no dense samples
 (only the switches and the ends).
 """
 
