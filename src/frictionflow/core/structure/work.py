@@ -32,8 +32,7 @@ from numba import njit
 
 from ..layout import FD, STICK
 from ..options import NO_RUNTIME
-from .phase import fastest_rate, free_value, modal_raw
-from .sparsity import RC, ZC
+from .phase import fastest_rate, free_value, modal_raw, state_raw
 from .spectral import SERIES, phi2_pair
 
 #: mu h per subinterval of each rule: C_m (mu h)^(2m) e^{mu h} <= 1e-17 of the integral
@@ -212,27 +211,13 @@ def sparse_dot(a, i, pat, r, x):
 
 
 @njit(cache=True, inline="always")
-def sparse_state(vm, zm, rm, nz, u0, bs, tau, zg, g, room):
-    """:func:`.phase.state_raw` from z = ``zg[g]`` into ``room.q``, ``room.v`` over Z's and R's column patterns
-    (``nz``: the combination's, :mod:`.sparsity`)."""
-    q, v, zc, rc = room.q, room.v, nz[0, ZC], nz[0, RC]
-    r = zm.shape[1]
-    for i in range(len(q)):
-        q[i], v[i] = 0.0, 0.0
-    for a in range(2 * r):
-        x = 0.0
-        for b in range(vm.shape[1]):
-            x += (vm[a, b] * zg[g, b]).real
-        col, out = (a, q) if a < r else (a - r, v)
-        for p in range(nz[zc + col, 0]):
-            i = nz[zc + col, 1 + p]
-            out[i] += zm[i, col] * x
-    for s in range(len(u0)):
-        u = u0[s] + bs[s] * tau
-        for p in range(nz[rc + s, 0]):
-            i = nz[rc + s, 1 + p]
-            q[i] += rm[i, s] * u
-            v[i] += rm[i, s] * bs[s]
+def node_state(vm, zm, rm, nz, u0, bs, tau, zg, g, room):
+    """(q, q') at a node into ``room.q``, ``room.v`` from z = ``zg[g]`` (:func:`.phase.state_raw` on a copy of that
+    row in ``room.z``: a row taken as a view would need numba's runtime here)."""
+    z = room.z
+    for a in range(vm.shape[1]):
+        z[a] = zg[g, a]
+    state_raw(vm, zm, rm, nz, u0, bs, tau, z, room.q, room.v)
 
 
 @njit(cache=True, inline="always")
@@ -341,7 +326,7 @@ def node_powers(asm, cb, ph, tau, g, room):
     """Every channel's power at the node ``tau`` (z in ``room.zg[g]``) into ``room.p``."""
     p, f = room.p, room.f
     forcing = (asm.force_amp, asm.force_omega, asm.force_phi, asm.force_dir)
-    sparse_state(cb.V, cb.Z, cb.R, cb.nz, ph.u0, ph.bs, tau, room.zg, g, room)
+    node_state(cb.V, cb.Z, cb.R, cb.nz, ph.u0, ph.bs, tau, room.zg, g, room)
     c = sparse_element_powers((asm.spring_k, asm.spring_dir, asm.damper_c, asm.damper_dir), forcing, room.elements,
                               room.q, room.v, ph.t0 + tau, p)
     sparse_slip_forces(asm.normal, asm.law, cb.modes, room.normal, room.q, f)
