@@ -96,7 +96,8 @@ def _strict(text):
 
 def test_contact_lost_json_report():
     """A run ending in contact loss (Hoffmann's 2-dof flutter model, the example) reports it as strict JSON:
-    what did not settle (the period, the stick fraction) is null, the exit code 0."""
+    what did not settle (the period, the stick fraction) is null, nothing is averaged, the energy balance up to
+    the loss is given (closed to rounding), the exit code 0."""
     path = Path(__file__).parents[2] / "examples" / "models" / "hoffmann_2dof.toml"
     code, out, err, _ = in_process("simulate", "--model", str(path), "--t-end", "200", "--json")
     assert code == 0, err
@@ -104,6 +105,8 @@ def test_contact_lost_json_report():
     assert report["status"] == "contact_lost" and report["steady_state"]["kind"] == "contact_lost"
     assert report["steady_state"]["period"] is None
     assert report["steady_state"]["stick_fraction"] == [None]
+    assert report["elements"] == {} and report["amplitude"] == {}
+    assert 0.0 <= report["energy_residual"] < 1e-12
 
 
 def test_two_masses_budget_closes(tmp_path):

@@ -259,7 +259,8 @@ def test_estimate_before_any_work(two_dof, tmp_path):
 
 
 def test_a_lost_contact_is_its_own_kind(tmp_path):
-    """N = 1 - c x reaches zero for the larger c: that point is ``contact_lost``, with nothing averaged."""
+    """N = 1 - c x reaches zero for the larger c: that point is ``contact_lost``, with nothing averaged but the
+    energy balance of the run up to the loss checked, the same number as the direct run's."""
     system = System.from_dict({
         "dof": ["x"], "mass": [1.0], "spring": [{"on": {"x": 1.0}, "k": 1.0}], "damper": [{"on": {"x": 1.0}, "c": 0.1}],
         "contact": [{"on": {"x": 1.0}, "belt": 0.5, "friction": "coulomb", "fd": 0.3, "fs": 0.4,
@@ -270,8 +271,12 @@ def test_a_lost_contact_is_its_own_kind(tmp_path):
     assert STRUCTURE_KINDS[int(lost["kind"])] == "contact_lost"
     motion = simulate_system(system, 50.0)
     assert motion.status == "contact_lost"  # (the engine's own report, independent of the sweep)
-    for name in ("period", "stick_fraction", "P", "P_belt", "P_heat", "X_max", "X_min", "energy_residual"):
+    for name in ("period", "stick_fraction", "P", "P_belt", "P_heat", "X_max", "X_min"):
         assert np.all(np.isnan(lost[name].values)), name
+    assert motion.lost[1] > 1.0 and motion.energy_residual < 1e-12  # the run's balance at every sample up to the loss
+    direct = analyze_structure(simulate_system(system.with_entry("contact.0.normal.x", -5.0), 50.0))
+    assert direct.steady_state.kind == "contact_lost" and direct.steady_state.window[1] == motion.lost[1]
+    assert float(lost["energy_residual"]) == direct.energy_residual < 1e-12
     kept = ds.isel({"contact.0.normal.x": 1})
     want = point_values(system.with_entry("contact.0.normal.x", -0.5), 50.0)
     assert int(kept["kind"]) == want["kind"] and STRUCTURE_KINDS[want["kind"]] != "contact_lost"

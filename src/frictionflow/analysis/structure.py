@@ -21,7 +21,9 @@ located to rounding on the exact solution (:meth:`Motion.at`).
 ``not_settled``
     None of these; the window is the tail.
 ``contact_lost``
-    A normal load reached zero: the run ended there (nothing is averaged).
+    A normal load reached zero: the run ended there.  Nothing is averaged (the
+    run is a transient), but the energy residual is given over the whole run up
+    to the loss (0 when the load is lost at the start).
 
 The averages are each element's powers over the window
 (:meth:`Motion.element_power`), the amplitudes each coordinate's extremes
@@ -163,8 +165,9 @@ def analyze_structure(motion: Any, rtol: float = 1e-6, min_periods: int = 3,
             raise ValueError(f"window must lie in [{motion.t[0]:g}, {motion.t[-1]:g}] with t0 < t1, got {window!r}")
         ss = StructureSteadyState(ss.kind, ss.period, (t0, t1), stick_fractions(motion, (t0, t1)), ss.periods,
                                   ss.lyapunov)
-    if ss.kind == "contact_lost":
-        return StructureAnalysis(motion, ss)
+    if ss.kind == "contact_lost":  # a transient: nothing averaged, but the run up to the loss is still checked
+        t0, t1 = ss.window
+        return StructureAnalysis(motion, ss, energy_residual=window_residual(motion, ss.window) if t1 > t0 else 0.0)
     if ss.kind == "equilibrium" and window is None and _certified(motion):
         return _at_sliding_equilibrium(motion, ss)
     t0, t1 = ss.window
