@@ -26,6 +26,12 @@ steady over the run) with masses sticking while their neighbours slip.
 2. The exact engine on chains of n = 2, 10, 30, 100 masses over the same
    time: switches, CPU time, time per switch and how it grows with n
    (the exponent between successive n).
+3. The 10-mass chain over t_end = 100, 400, 1000: the time per switch of
+   longer runs.  A run that outgrows its records runs again from the start
+   with larger ones; they are sized from an estimate of the switches and then
+   from the full run's pace, so this row shows what a rerun would cost
+   (doubling from 1,024 rows cost about twice the time per switch at t_end
+   400 and 1000, docs/performance.md).
 
 Times are CPU times of this process (best of several), so that load from
 other processes disturbs them less (on a loaded machine set OPENBLAS_NUM_THREADS=1:
@@ -197,6 +203,16 @@ def scaling(run_assembly) -> None:
         prev = (n, per)
 
 
+def horizons(run_assembly) -> None:
+    """Part 3: the 10-mass chain's time per switch over longer runs (a run that outgrows its first records is run
+    again: the records are sized from an estimate, then from the pace of the run that filled them)."""
+    print("\n## exact engine, 10 masses, longer runs")
+    print(f"{'t_end':>7} {'switches':>9} {'CPU ms':>10} {'us/switch':>10}")
+    for t_end in (100.0, 400.0, 1000.0):
+        t, switches, _ = engine_timing(run_assembly, chain_case(10), t_end)
+        print(f"{t_end:7g} {len(switches):9d} {t * 1e3:10.2f} {t / max(len(switches), 1) * 1e6:10.2f}")
+
+
 def main() -> None:
     header("multi-DOF exact engine vs scipy DOP853 with events (Coulomb chains)")
     try:
@@ -208,6 +224,7 @@ def main() -> None:
         compare(n, run_assembly)
     if run_assembly is not None:
         scaling(run_assembly)
+        horizons(run_assembly)
 
 
 if __name__ == "__main__":

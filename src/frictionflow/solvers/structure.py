@@ -18,20 +18,19 @@ from ..core import codes
 from ..core.assembly import Assembly, natural_frequencies
 from ..core.layout import LAW
 from ..core.structure.run import run
-from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
 from ..friction.registry import law_classes
 from ..motion import Motion
 from ..system import assemble
 from . import structure_adaptive
 from .registry import solver_named, solver_names_where
-from .structure_motion import buffers, motion
+from .structure_motion import buffers, first_capacity, motion, regrow, row_bytes
 
 #: the solver's name in messages
 NAME = "exact"
 #: how each structure solver integrates (the CLI summary's heading)
 HOW = {NAME: "located switches, closed-form phases", "adaptive": "located switches, Dormand-Prince 5(4) phases"}
-#: the first buffer size (samples and switches); doubled while the run reports FULL
+#: the smallest first buffer size (samples and switches); :func:`.structure_motion.regrow` sizes a rerun
 FIRST_CAP = 1024
 
 
@@ -160,13 +159,13 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
     if settings:
         raise ValueError(f"solver={NAME} takes no settings, got {', '.join(sorted(settings))}")
     minv = np.linalg.inv(assembly.mass)
-    cap = FIRST_CAP
+    cap = first_capacity(assembly, samples_bound(assembly, t_end, dense_dt, fastest_bound(assembly, minv)), FIRST_CAP)
     while True:
         records = buffers(assembly, cap)
         res = run(assembly, minv, float(t_end), float(dense_dt or 0.0), *records)
         if res.status != codes.FULL and res.n_switches <= cap:
             break
-        cap = 2 * max(cap, res.n_samples, res.n_switches)
+        cap = regrow(res, records, float(t_end), cap)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"solver={NAME}: the run ended with status '{codes.NAMES[res.status]}'")
     return motion(res, records, assembly, nm, _channels(nm), system)
@@ -175,6 +174,22 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
 #: switches per natural period per contact assumed by :func:`run_estimate`: a stick-slip cycle has two,
 #: chattering near a grazing a few more (a bound for the estimate, not a count: the motion decides)
 SWITCHES_PER_PERIOD = 4.0
+
+
+def switch_bound(assembly: Assembly, t_end: float, omega: float) -> float:
+    """:data:`SWITCHES_PER_PERIOD` switches per contact per period of ``omega`` (the fastest mode's) up to ``t_end``."""
+    return SWITCHES_PER_PERIOD * max(len(assembly.belt), 1) * (t_end * max(omega, 1e-6) / (2.0 * math.pi) + 1.0)
+
+
+def samples_bound(assembly: Assembly, t_end: float, dense_dt: float | None, omega: float) -> float:
+    """The samples a run writes by :func:`switch_bound`, with its dense grid's."""
+    return switch_bound(assembly, t_end, omega) + (0.0 if not dense_dt else t_end / dense_dt)
+
+
+def fastest_bound(assembly: Assembly, minv: np.ndarray) -> float:
+    """sqrt(||M^-1 K||_inf) >= the fastest undamped natural frequency, without an eigenvalue solve (the first
+    records' size takes it: an eigenvalue solve costs a 100-mass chain's short run several per cent)."""
+    return math.sqrt(float(np.abs(minv @ assembly.stiffness).sum(axis=1).max(initial=0.0)))
 
 
 def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None, solver: str = NAME) -> Estimate:
@@ -187,13 +202,11 @@ def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None
     """
     if solver != NAME:
         return structure_adaptive.step_estimate(assembly, t_end, dense_dt)
-    n, k = assembly.mass.shape[0], len(assembly.belt)
-    omega = max(float(natural_frequencies(assembly).max(initial=0.0)), 1e-6)
-    switches = SWITCHES_PER_PERIOD * max(k, 1) * (t_end * omega / (2.0 * math.pi) + 1.0)
-    samples = switches + (0.0 if not dense_dt else t_end / dense_dt)
+    n = assembly.mass.shape[0]
+    omega = float(natural_frequencies(assembly).max(initial=0.0))
+    switches, samples = switch_bound(assembly, t_end, omega), samples_bound(assembly, t_end, dense_dt, omega)
     each = SECONDS_PER["structure_switch"] + SECONDS_PER["structure_switch_cube"] * float(n) ** 3
-    row = 8.0 * (2 * n + 2 * k + n_channels(assembly))
-    return Estimate(switches, f"switches of a {n}-dof structure", switches * each, memory=samples * row)
+    return Estimate(switches, f"switches of a {n}-dof structure", switches * each, memory=samples * row_bytes(assembly))
 
 
 def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None, solver: str = NAME,

@@ -22,7 +22,7 @@ from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
 from ..motion import Motion
 from .adaptive import Adaptive
-from .structure_motion import buffers, motion
+from .structure_motion import buffers, motion, regrow
 
 #: the longest step, as a fraction of the fastest period's 1/(2 pi) (the single mass's 0.25): the event
 #: functions are watched at the step ends only
@@ -81,7 +81,7 @@ def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str
         res = run_kernel(assembly, minv, opts, *records, der)
         if res.status != codes.FULL and res.n_switches <= cap:
             break
-        cap = 2 * max(cap, res.n_samples, res.n_switches)
+        cap = regrow(res, records, float(t_end), cap)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"solver={settings.name}: the structure's run ended with status "
                            f"'{codes.NAMES[res.status]}' at sample {res.n_samples} (max_steps={settings.max_steps})")

@@ -7,10 +7,16 @@ row per contact, each sample's work since the previous one, a column per
 channel) and :data:`~frictionflow.core.records.Events`; the adaptive one also
 writes :data:`~frictionflow.core.records.Derivatives`, the slopes its Motion
 interpolates with.
+
+A run that fills its records is run again from the start with larger ones
+(the kernels keep no state between calls, so the second run is the first
+one's bits): :func:`first_capacity` sizes the first attempt from an estimate
+of the samples, :func:`regrow` the next from the pace the full one kept.
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -21,6 +27,39 @@ from ..core.records import Derivatives, Events, Samples, empty_events, empty_sam
 from ..core.structure.run import Result
 from ..core.structure.work import n_channels
 from ..motion import Motion
+
+
+#: bytes the records of a first attempt may take; a run that needs more grows them from its own pace
+FIRST_BYTES = 32_000_000
+#: the margin on a full run's pace carried to its end
+PACE_MARGIN = 1.25
+
+
+def row_bytes(assembly: Assembly) -> int:
+    """Bytes of one sample and one switch in :func:`buffers`."""
+    n, k = len(assembly.q0), len(assembly.belt)
+    return 8 * (1 + 2 * n + k + n_channels(assembly)) + k + 8 + 8 + 1
+
+
+def first_capacity(assembly: Assembly, expected: float, floor: int) -> int:
+    """Rows of the first attempt's records: ``expected`` (an estimate of the samples), at least ``floor``, at most
+    what :data:`FIRST_BYTES` holds."""
+    most = max(floor, FIRST_BYTES // row_bytes(assembly))
+    return int(min(max(float(expected), floor), most))
+
+
+def regrow(res: Result, records: tuple[Samples, Events], t_end: float, cap: int) -> int:
+    """Rows for running again a run ``res`` that outgrew records of ``cap`` rows.
+
+    The samples' pace up to the last one written, carried to ``t_end`` with
+    :data:`PACE_MARGIN` to spare (a run that filled its records early needs
+    one more attempt, not several doublings), at least twice ``cap`` and
+    the switches counted.
+    """
+    s = res.n_samples
+    reached = float(records[0].t[s - 1]) if s else 0.0
+    pace = s * t_end / reached if reached > 0.0 else 0.0
+    return int(max(2 * cap, res.n_switches + 1, math.ceil(PACE_MARGIN * pace)))
 
 
 def buffers(assembly: Assembly, cap: int) -> tuple[Samples, Events]:
