@@ -24,7 +24,7 @@ from ..motion import Motion
 from ..system import assemble
 from . import structure_adaptive
 from .registry import solver_named, solver_names_where
-from .structure_motion import buffers, first_capacity, motion, regrow, row_bytes
+from .structure_motion import buffers, first_capacity, motion, row_bytes, run_growing
 
 #: the solver's name in messages
 NAME = "exact"
@@ -159,13 +159,13 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
     if settings:
         raise ValueError(f"solver={NAME} takes no settings, got {', '.join(sorted(settings))}")
     minv = np.linalg.inv(assembly.mass)
-    cap = first_capacity(assembly, samples_bound(assembly, t_end, dense_dt, fastest_bound(assembly, minv)), FIRST_CAP)
-    while True:
+
+    def attempt(cap: int) -> tuple:
         records = buffers(assembly, cap)
-        res = run(assembly, minv, float(t_end), float(dense_dt or 0.0), *records)
-        if res.status != codes.FULL and res.n_switches <= cap:
-            break
-        cap = regrow(res, records, float(t_end), cap)
+        return run(assembly, minv, float(t_end), float(dense_dt or 0.0), *records), *records
+
+    first = first_capacity(assembly, samples_bound(assembly, t_end, dense_dt, fastest_bound(assembly, minv)), FIRST_CAP)
+    res, *records = run_growing(float(t_end), first, attempt)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"solver={NAME}: the run ended with status '{codes.NAMES[res.status]}'")
     return motion(res, records, assembly, nm, _channels(nm), system)

@@ -22,7 +22,7 @@ from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
 from ..motion import Motion
 from .adaptive import Adaptive
-from .structure_motion import buffers, motion, regrow
+from .structure_motion import buffers, motion, run_growing
 
 #: the longest step, as a fraction of the fastest period's 1/(2 pi) (the single mass's 0.25): the event
 #: functions are watched at the step ends only
@@ -74,14 +74,13 @@ def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str
     opts = Opts(float(t_end), float(settings.rtol), float(settings.atol), h_max(assembly),
                 float(settings.dense_dt or 0.0), int(settings.max_steps))
     minv = np.linalg.inv(assembly.mass)
-    cap = FIRST_CAP
-    while True:
+
+    def attempt(cap: int) -> tuple:
         records = buffers(assembly, cap)
         der = empty_derivatives(cap, len(assembly.q0), n_channels(assembly))
-        res = run_kernel(assembly, minv, opts, *records, der)
-        if res.status != codes.FULL and res.n_switches <= cap:
-            break
-        cap = regrow(res, records, float(t_end), cap)
+        return run_kernel(assembly, minv, opts, *records, der), *records, der
+
+    res, *records, der = run_growing(float(t_end), FIRST_CAP, attempt)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"solver={settings.name}: the structure's run ended with status "
                            f"'{codes.NAMES[res.status]}' at sample {res.n_samples} (max_steps={settings.max_steps})")

@@ -17,7 +17,7 @@ of the samples, :func:`regrow` the next from the pace the full one kept.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -36,9 +36,8 @@ PACE_MARGIN = 1.25
 
 
 def row_bytes(assembly: Assembly) -> int:
-    """Bytes of one sample and one switch in :func:`buffers`."""
-    n, k = len(assembly.q0), len(assembly.belt)
-    return 8 * (1 + 2 * n + k + n_channels(assembly)) + k + 8 + 8 + 1
+    """Bytes of one sample and one switch in :func:`buffers` (read off records of one row)."""
+    return sum(part.nbytes for record in buffers(assembly, 1) for part in record)
 
 
 def first_capacity(assembly: Assembly, expected: float, floor: int) -> int:
@@ -60,6 +59,20 @@ def regrow(res: Result, records: tuple[Samples, Events], t_end: float, cap: int)
     reached = float(records[0].t[s - 1]) if s else 0.0
     pace = s * t_end / reached if reached > 0.0 else 0.0
     return int(max(2 * cap, res.n_switches + 1, math.ceil(PACE_MARGIN * pace)))
+
+
+def run_growing(t_end: float, cap: int, attempt: Callable[[int], tuple]) -> tuple:
+    """``attempt(cap)``'s answer once its records hold the whole run, :func:`regrow` between attempts.
+
+    ``attempt`` runs a kernel from the start on new records of ``cap`` rows
+    and returns (its Result, the Samples, the Events, any further records).
+    """
+    while True:
+        out = attempt(cap)
+        res = out[0]
+        if res.status != codes.FULL and res.n_switches <= cap:
+            return out
+        cap = regrow(res, out[1:3], t_end, cap)
 
 
 def buffers(assembly: Assembly, cap: int) -> tuple[Samples, Events]:
