@@ -31,7 +31,7 @@ mode a has the roots lam_a and conj(lam_a), with conjugate columns of V and
 rows of V^-1 and V^-1 B: from real start data its two modal coordinates stay
 conjugate, and the engine only takes Re(sum_m row_m z_m) or bounds
 sum_m |row_m| |z_m|, in which the pair counts twice its representative.  So
-a :data:`Combo` keeps one root of each such pair (:func:`paired`): ``lam``
+a :data:`Combo` keeps one root of each such pair (:func:`classical`): ``lam``
 holds each underdamped mode's root with Im > 0 and both real roots of each
 overdamped one; ``Vi``, ``VB`` (and ``b1``, ``bh``) their rows; ``V``
 (2 r rows) and ``W`` their columns, the representatives' doubled.  Then
@@ -55,6 +55,11 @@ from ..options import NO_RUNTIME
 from .sparsity import combo_pattern
 
 Combo = namedtuple("Combo", "modes stuck Z R HE keff f0 lam V Vi VB D dc Dh active W ZT bs rb b1 bh e1 WA nz")
+#: a reduced first-order matrix's eigen-decomposition (:func:`decompose`): the roots kept, V's columns, V^-1's and
+#: V^-1 B's rows for them, whether it is the real-mode route's (:func:`classical`: one root of each conjugate pair), its
+#: real modes Phi (r x r; empty off that route) and each kept root's index among both roots of every mode (l1 of mode
+#: a at a, l2 at r + a; every root's index off that route)
+Modes = namedtuple("Modes", "lam V Vi VB real phi orig")
 #: what the stick rule needs of a combination (no eigen-decomposition): its held forces and accelerations
 Split = namedtuple("Split", "modes stuck R HE keff f0")
 #: the parts of an Assembly a :data:`Split` is made of (a function with numba's runtime that takes a record counts
@@ -314,18 +319,18 @@ def columns(a, z, sel, rows):
 
 @njit(cache=True)
 def decompose(m, c, k, z, sel, rows, eigs=None):
-    """(lam, V, V^-1, V^-1 B, real) of the reduced first-order matrix (B = [0; M_r^-1]); real: the real-mode route.
+    """:data:`Modes` of the reduced first-order matrix (B = [0; M_r^-1]): one root of each conjugate pair on the
+    real-mode route (the module's docstring), every root on the general one.
 
-    On the real-mode route V's upper left block is the real modes Phi (:func:`classical`).  ``sel``, ``rows``:
-    :func:`selected` of Z; ``eigs``: the run's :data:`Eigs` (or None).
+    ``sel``, ``rows``: :func:`selected` of Z; ``eigs``: the run's :data:`Eigs` (or None).
     """
     r = z.shape[1]
     if r == 0:
         e = np.zeros((0, 0), dtype=np.complex128)
-        return np.zeros(0, dtype=np.complex128), e, e, e, True
+        return Modes(np.zeros(0, dtype=np.complex128), e, e, e, True, np.zeros((0, 0)), np.zeros(0, dtype=np.int64))
     mr, kr, cr = project(m, z, sel, rows), project(k, z, sel, rows), project(c, z, sel, rows)
-    ok, lam, v, vi, vb = classical(mr, kr, cr, eigs)
-    if not ok:
+    md = classical(mr, kr, cr, eigs)
+    if not md.real:
         mri = np.linalg.inv(mr)
         a = np.zeros((2 * r, 2 * r))
         a[:r, r:] = np.eye(r)
@@ -334,26 +339,62 @@ def decompose(m, c, k, z, sel, rows, eigs=None):
         lam, v = np.linalg.eig(a.astype(np.complex128))
         vi = np.linalg.inv(v)
         vb = mm(np.ascontiguousarray(vi[:, r:]), mri.astype(np.complex128))
-    if math.sqrt(frob2(v) * frob2(vi)) > COND_MAX * 2 * r:
+        c_ = np.ascontiguousarray
+        md = Modes(c_(lam), c_(v), c_(vi), c_(vb), False, np.zeros((0, 0)), np.arange(2 * r))
+    fv, fvi = full_norms(md)
+    if math.sqrt(fv * fvi) > COND_MAX * 2 * r:
         raise ValueError("structure: a mode combination's matrix is defective (e.g. an undamped rigid mode)")
-    return lam, v, vi, vb, ok
+    return md
 
 
-@njit(cache=True)
-def frob2(a):
-    """The sum of |a_ij|^2 (no temporary arrays)."""
-    s = 0.0
-    for i in range(a.shape[0]):
-        for j in range(a.shape[1]):
-            s += a[i, j].real ** 2 + a[i, j].imag ** 2
-    return s
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
+def full_norms(md):
+    """(sum |V_ij|^2, sum |V^-1_ij|^2) of the full first-order decomposition (every root's column and row) from
+    :data:`Modes` that keep one root of a pair: its partner's column and row are the conjugates, and the kept column
+    of V is doubled."""
+    fv, fvi = 0.0, 0.0
+    v, vi = md.V, md.Vi
+    for c in range(len(md.lam)):
+        pair = md.real and md.lam[c].imag != 0.0
+        sv, svi = 0.0, 0.0
+        for i in range(v.shape[0]):
+            sv += v[i, c].real ** 2 + v[i, c].imag ** 2
+        for i in range(vi.shape[1]):
+            svi += vi[c, i].real ** 2 + vi[c, i].imag ** 2
+        fv += 0.5 * sv if pair else sv
+        fvi += 2.0 * svi if pair else svi
+    return fv, fvi
 
 
 @njit(cache=True)
 def modal(m, c, k, z):
-    """(lam, V, V^-1, V^-1 B) of the reduced first-order matrix (B = [0; M_r^-1])."""
+    """(lam, V, V^-1, V^-1 B) of the reduced first-order matrix (B = [0; M_r^-1]), every root's (pairs expanded:
+    :func:`expanded`)."""
     sel, rows = selected(z)
-    lam, v, vi, vb, _ = decompose(m, c, k, z, sel, rows)
+    return expanded(decompose(m, c, k, z, sel, rows))
+
+
+@njit(cache=True)
+def expanded(md):
+    """(lam, V, V^-1, V^-1 B) with every root of :data:`Modes` that keep one of each conjugate pair: the partner's
+    root, row and column are the conjugates, the kept column of V halved."""
+    if not md.real:
+        return md.lam, md.V, md.Vi, md.VB
+    m, n2 = len(md.lam), md.V.shape[0]
+    pairs = 0
+    for c in range(m):
+        pairs += md.lam[c].imag != 0.0
+    lam = np.empty(m + pairs, dtype=np.complex128)
+    v, vi = np.empty((n2, m + pairs), dtype=np.complex128), np.empty((m + pairs, n2), dtype=np.complex128)
+    vb = np.empty((m + pairs, md.VB.shape[1]), dtype=np.complex128)
+    x = m
+    for c in range(m):
+        lam[c], v[:, c], vi[c], vb[c] = md.lam[c], md.V[:, c], md.Vi[c], md.VB[c]
+        if md.lam[c].imag != 0.0:
+            v[:, c] = 0.5 * md.V[:, c]
+            lam[x], v[:, x] = md.lam[c].conjugate(), np.conj(v[:, c])
+            vi[x], vb[x] = np.conj(md.Vi[c]), np.conj(md.VB[c])
+            x += 1
     return lam, v, vi, vb
 
 
@@ -543,14 +584,14 @@ def modal_damping(mr, cr, phi):
 
 @njit(cache=True)
 def classical(mr, kr, cr, eigs=None):
-    """(ok, lam, V, V^-1, V^-1 B) from the real modes when K_r is symmetric and C_r diagonal in them (classical damping;
-    ``eigs``: the run's :data:`Eigs` or None).
+    """:data:`Modes` from the real modes when K_r is symmetric and C_r diagonal in them (classical damping;
+    ``eigs``: the run's :data:`Eigs` or None), one root of each conjugate pair (the module's docstring).
 
     M_r = L L^T, L^-1 K_r L^-T = U diag(w^2) U^T (symmetric), Phi = L^-T U: each mode
     x'' + c_m x' + w^2 x = phi^T f decouples, with the pair of roots l1, l2 of l^2 + c_m l + w^2,
     z1 + z2 = x = phi^T M_r y and l1 z1 + l2 z2 = x'.  A symmetric problem of size r instead of a
     general one of size 2 r; V^-1 needs no inverse, and V^-1 B = [-Phi^T; Phi^T] / (l2 - l1) no M_r^-1
-    (Phi^T M_r M_r^-1).  ok is False (nothing else meant) when the damping couples the modes.
+    (Phi^T M_r M_r^-1).  ``real`` is False (nothing else meant) when the damping couples the modes.
     """
     r = mr.shape[0]
     asym, size = asymmetry(kr)
@@ -560,35 +601,83 @@ def classical(mr, kr, cr, eigs=None):
     ok, cd = modal_damping(mr, cr, phi)
     if not ok:
         return refused()
-    lam = np.empty(2 * r, dtype=np.complex128)
-    v = np.zeros((2 * r, 2 * r), dtype=np.complex128)
-    vi = np.zeros((2 * r, 2 * r), dtype=np.complex128)
-    vb = np.empty((2 * r, r), dtype=np.complex128)
+    lam2 = np.empty(2 * r, dtype=np.complex128)  # both roots of each mode: l1 at a, l2 at r + a
     scale_l = math.sqrt(abs_max(w2)) + abs_max(cd)
+    pairs = 0
     for a in range(r):
-        lam[a], lam[r + a] = roots(cd[a], w2[a])
-        if abs(lam[r + a] - lam[a]) <= NEAR_DOUBLE * scale_l:  # (nearly) a double root: the general route decides
-            return False, lam, v, vi, vb
+        lam2[a], lam2[r + a] = roots(cd[a], w2[a])
+        if abs(lam2[r + a] - lam2[a]) <= NEAR_DOUBLE * scale_l:  # (nearly) a double root: the general route decides
+            return refused()
+        pairs += lam2[a].imag != 0.0
+    orig = kept_roots(lam2, pairs)
+    lam = np.empty(len(orig), dtype=np.complex128)
+    for c in range(len(orig)):
+        lam[c] = lam2[orig[c]]
+    v, vi, vb = np.empty((2 * r, len(orig)), dtype=np.complex128), np.empty((len(orig), 2 * r), dtype=np.complex128), \
+        np.empty((len(orig), r), dtype=np.complex128)
+    real_columns(phi, lam2, orig, v)
+    real_rows(phi, xm, lam2, orig, vi, vb)
+    return Modes(lam, v, vi, vb, True, phi, orig)
+
+
+@njit(cache=True)
+def kept_roots(lam2, pairs):
+    """The roots kept of both roots of each mode (``lam2``: l1 at a, l2 at r + a): every l1, and l2 where it is real
+    (an underdamped mode's l2 is l1's conjugate); ``pairs`` of them are underdamped."""
+    r = len(lam2) // 2
+    orig = np.empty(2 * r - pairs, dtype=np.int64)
+    c = 0
+    for a in range(2 * r):
+        if a >= r and lam2[a - r].imag != 0.0:
+            continue  # the partner of a pair
+        orig[c] = a
+        c += 1
+    return orig
+
+
+@njit(cache=True, inline="always")
+def pair_scale(lam2, a):
+    """2 for a kept root that stands for its pair (its column of V and W counts the conjugate's), else 1."""
+    r = len(lam2) // 2
+    return 2.0 if a < r and lam2[a].imag != 0.0 else 1.0
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def real_columns(phi, lam2, orig, v):
+    """V's kept columns into ``v``: V = [[Phi, Phi], [l1 Phi, l2 Phi]], a pair's representative's doubled."""
+    r = phi.shape[0]
     for i in range(r):  # row by row (row-major arrays)
-        for a in range(r):
-            v[i, a], v[i, r + a] = phi[i, a], phi[i, a]
-            v[r + i, a], v[r + i, r + a] = lam[a] * phi[i, a], lam[r + a] * phi[i, a]
-    for a in range(r):
-        l1, l2 = lam[a], lam[r + a]
+        for c in range(len(orig)):
+            a = orig[c]
+            col = a if a < r else a - r
+            x, y = phi[i, col] + 0.0j, lam2[a] * phi[i, col]
+            s = pair_scale(lam2, a)
+            v[i, c], v[r + i, c] = x * s, y * s
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def real_rows(phi, xm, lam2, orig, vi, vb):
+    """V^-1's and V^-1 B's kept rows into ``vi``, ``vb``: [l2 X, -X] and -Phi^T / (l2 - l1) for l1's row,
+    [-l1 X, X] and Phi^T / (l2 - l1) for l2's (X = Phi^T M_r / (l2 - l1))."""
+    r = phi.shape[0]
+    for c in range(len(orig)):
+        a = orig[c]
+        b = a if a < r else a - r
+        l1, l2 = lam2[b], lam2[r + b]
         di = 1.0 / (l2 - l1)
         for i in range(r):
-            x = xm[a, i] * di
-            vi[a, i], vi[a, r + i] = l2 * x, -x
-            vi[r + a, i], vi[r + a, r + i] = -l1 * x, x
-            vb[a, i], vb[r + a, i] = -phi[i, a] * di, phi[i, a] * di
-    return True, lam, v, vi, vb
+            x = xm[b, i] * di
+            if a < r:
+                vi[c, i], vi[c, r + i], vb[c, i] = l2 * x, -x, -phi[i, b] * di
+            else:
+                vi[c, i], vi[c, r + i], vb[c, i] = -l1 * x, x, phi[i, b] * di
 
 
 @njit(cache=True)
 def refused():
     """:func:`classical`'s answer off its route (empty arrays, made only then)."""
     ez = np.zeros((0, 0), dtype=np.complex128)
-    return False, np.zeros(0, dtype=np.complex128), ez, ez, ez
+    return Modes(np.zeros(0, dtype=np.complex128), ez, ez, ez, False, np.zeros((0, 0)), np.zeros(0, dtype=np.int64))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing
@@ -740,68 +829,74 @@ def sparse_mm(a, b):
 
 
 @njit(cache=True)
-def event_modes(d, active, z, sel, rows, lam, v, real):
-    """W = D T V on the active slots (zero rows elsewhere); T: (y, y') -> (q, q') (``sel``, ``rows``: :func:`selected`
-    of Z).
+def event_modes(d, active, z, sel, rows, md):
+    """W = D T V on the active slots (zero rows elsewhere), V's columns those of the :data:`Modes` ``md``;
+    T: (y, y') -> (q, q') (``sel``, ``rows``: :func:`selected` of Z).
 
     On the real-mode route V = [[Phi, Phi], [l1 Phi, l2 Phi]]: W = [P + Q l1, P + Q l2] with the real
-    P = D_q Z Phi and Q = D_q' Z Phi, a product of size r instead of 2 r, and no complex one.
+    P = D_q Z Phi and Q = D_q' Z Phi, a product of size r instead of 2 r, and no complex one (a pair's
+    representative's column doubled, as V's).
     """
-    n, r = z.shape[0], z.shape[1]
+    n, r, lam = z.shape[0], z.shape[1], md.lam
     slots = where_equal(active, True)
-    w = np.zeros((d.shape[0], 2 * r), dtype=np.complex128)
+    w = np.zeros((d.shape[0], len(lam)), dtype=np.complex128)
     if r == 0 or len(slots) == 0:
         return w
-    if real and sel and 4 * real_nonzeros(v, r) <= r * r:  # Phi of a chain cut into pieces: mostly zeros
-        picked_modes(d, slots, rows, lam, v, np.zeros((2, r, len(slots))), w)
+    if md.real and sel and 4 * nonzeros(md.phi) <= r * r:  # Phi of a chain cut into pieces: mostly zeros
+        pq = np.zeros((2, len(slots), r))
+        picked_modes(d, slots, rows, md.phi, pq)
+        real_events(pq[0], pq[1], slots, md, w)
         return w
     dq, dv = np.empty((len(slots), n)), np.empty((len(slots), n))
     for e in range(len(slots)):
         for a in range(n):
             dq[e, a], dv[e, a] = d[slots[e], a], d[slots[e], n + a]
     dzq, dzv = columns(dq, z, sel, rows), columns(dv, z, sel, rows)
-    if real:
-        phi = np.ascontiguousarray(v[:r, :r].real)
-        p, q = sparse_mm(dzq, phi), sparse_mm(dzv, phi)
-        for e in range(len(slots)):
-            for a in range(r):
-                w[slots[e], a] = p[e, a] + lam[a] * q[e, a]
-                w[slots[e], r + a] = p[e, a] + lam[r + a] * q[e, a]
+    if md.real:
+        real_events(sparse_mm(dzq, md.phi), sparse_mm(dzv, md.phi), slots, md, w)
         return w
     dt = np.hstack((dzq, dzv))
-    wr, wi = mm(dt, np.ascontiguousarray(v.real)), mm(dt, np.ascontiguousarray(v.imag))
+    wr, wi = mm(dt, np.ascontiguousarray(md.V.real)), mm(dt, np.ascontiguousarray(md.V.imag))
     for e in range(len(slots)):
         w[slots[e]] = wr[e] + 1j * wi[e]
     return w
 
 
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing
+def real_events(p, q, slots, md, w):
+    """W's active rows on the real-mode route from P = D_q Z Phi and Q = D_q' Z Phi (a row per active slot):
+    P + l Q for each kept root l, doubled for a pair's representative."""
+    r, lam, orig = p.shape[1], md.lam, md.orig
+    for e in range(len(slots)):
+        for c in range(len(lam)):
+            a = orig[c]
+            col = a if a < r else a - r
+            x = p[e, col] + lam[c] * q[e, col]
+            w[slots[e], c] = x * (2.0 if a < r and lam[c].imag != 0.0 else 1.0)
+
+
 @njit(cache=True, inline="always")
-def real_nonzeros(v, r):
-    """The nonzeros of Phi, V's real upper left block of size ``r``."""
+def nonzeros(a):
+    """The nonzeros of a real matrix."""
     nz = 0
-    for i in range(r):
-        for a in range(r):
-            nz += v[i, a].real != 0.0
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            nz += a[i, j] != 0.0
     return nz
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing
-def picked_modes(d, slots, rows, lam, v, pq, w):
-    """W's active rows when Z selects ``rows`` and Phi (V's upper left block) is mostly zeros: D's columns
-    picked out, Phi's zeros skipped (``pq``: zeros for P^T and Q^T)."""
+def picked_modes(d, slots, rows, phi, pq):
+    """P and Q into ``pq`` (zeros) when Z selects ``rows`` and Phi is mostly zeros: D's columns picked out,
+    Phi's zeros skipped."""
     n, r = d.shape[1] // 2, len(rows)
     for i in range(r):
         for a in range(r):
-            x = v[i, a].real
+            x = phi[i, a]
             if x != 0.0:
                 for e in range(len(slots)):
-                    pq[0, a, e] += x * d[slots[e], rows[i]]
-                    pq[1, a, e] += x * d[slots[e], n + rows[i]]
-    for e in range(len(slots)):
-        for a in range(r):
-            p, q = pq[0, a, e], pq[1, a, e]
-            w[slots[e], a] = p + lam[a] * q
-            w[slots[e], r + a] = p + lam[r + a] * q
+                    pq[0, e, a] += x * d[slots[e], rows[i]]
+                    pq[1, e, a] += x * d[slots[e], n + rows[i]]
 
 
 @njit(cache=True)
@@ -822,14 +917,14 @@ def build_from(asm, minv, sp, eigs=None, cache=None):
     n = minv.shape[0]
     z = null_basis(asm.contact_dir, stuck)
     sel, rows = selected(z)  # Z a selection of coordinates (stuck directions along axes): products become picks
-    lam, v, vi, vb, real = decompose(asm.mass, asm.damping, keff, z, sel, rows, eigs)
+    md = decompose(asm.mass, asm.damping, keff, z, sel, rows, eigs)
     d, dc, dh, active, room = maps_room(len(modes), n, len(asm.force_amp))
     maps_into(asm, modes, stuck, he, keff, f0, d, dc, dh, active, room)
-    w = event_modes(d, active, z, sel, rows, lam, v, real)
+    w = event_modes(d, active, z, sel, rows, md)
     c = np.ascontiguousarray
-    zt, bs, rb, b1, bh, e1 = constants(asm.belt, asm.force_dir, asm.force_amp, stuck, z, sel, rows, r, keff, c(vb), c(d))
-    lam, v, vi, vb, w, b1, bh = paired(real, c(lam), c(v), c(vi), c(vb), c(w), c(b1), c(bh))
-    cb = Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, lam, v, vi, vb, c(d), dc, c(dh),
+    zt, bs, rb, b1, bh, e1 = constants(asm.belt, asm.force_dir, asm.force_amp, stuck, z, sel, rows, r, keff,
+                                       c(md.VB), c(d))
+    cb = Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, md.lam, c(md.V), c(md.Vi), c(md.VB), c(d), dc, c(dh),
                active, w, zt, bs, rb, b1, bh, e1, np.abs(w), combo_pattern(z, r))
     if cache is None:
         return cb
@@ -840,41 +935,6 @@ def build_from(asm, minv, sp, eigs=None, cache=None):
         cache.keys[used[0]] = modes
         used[0], used[1] = used[0] + 1, used[1] + size
     return cb
-
-
-@njit(cache=True)
-def paired(real, lam, v, vi, vb, w, b1, bh):
-    """(lam, V, Vi, VB, W, b1, bh) with one root of each conjugate pair (the module's docstring); unchanged
-    off the real-mode route.
-
-    On that route root r + a pairs with root a exactly when lam_a is not real (:func:`roots`); the
-    representative a keeps its rows, and its columns of V and W are doubled.
-    """
-    if not real:
-        return lam, v, vi, vb, w, b1, bh
-    r = len(lam) // 2
-    keep = np.empty(2 * r, dtype=np.int64)
-    m = 0
-    for a in range(2 * r):
-        if a >= r and lam[a - r].imag != 0.0:
-            continue  # the partner of a pair
-        keep[m] = a
-        m += 1
-    keep = keep[:m]
-    return (lam[keep], scaled_columns(v, keep, lam), vi[keep], vb[keep], scaled_columns(w, keep, lam), b1[keep],
-            bh[keep])
-
-
-@njit(cache=True)
-def scaled_columns(a, keep, lam):
-    """a[:, keep], the columns of a pair's representative (a root of ``lam``'s first half with Im != 0) doubled, row by
-    row (row-major arrays)."""
-    r = len(lam) // 2
-    out = np.empty((a.shape[0], len(keep)), dtype=a.dtype)
-    for i in range(a.shape[0]):
-        for c in range(len(keep)):
-            out[i, c] = a[i, keep[c]] * (2.0 if keep[c] < r and lam[keep[c]].imag != 0.0 else 1.0)
-    return out
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing
