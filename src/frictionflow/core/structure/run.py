@@ -247,7 +247,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
         return Result(codes.FULL, 0, 0, -1, np.nan)
     if lost >= 0:
         return Result(codes.CONTACT_LOST, 1, 0, lost, 0.0)
-    i, nsw, zeros, next_t = 1, 0, 0, dense_dt
+    i, nsw, zeros, next_t = np.int64(1), 0, 0, dense_dt  # (a literal 1 would compile to_event twice)
     floor = 1e-13 * max(1.0, t_end)
     while True:
         tau, slot, lost, i, next_t, ok = to_event(asm, cb, t, t_end - t, floor, dense_dt, next_t, out, i, acc, scr)
@@ -266,7 +266,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
         j = find(cache.keys, cache.used, new)  # met before: no call taking the records (each of their arrays counted)
         if j >= 0:
             cb = cache.combos[j]
-        elif sp is not None and same_modes(sp.modes, new):  # new: built from the stick rule's split
+        elif same_modes(sp.modes, new):  # new: built from the stick rule's split
             cb = build_from(asm, minv, sp, cache.eigs, cache)
         else:
             cb = lookup(cache, asm, minv, new)

@@ -211,7 +211,7 @@ def candidate(ct, minv, modes, cache):
 def release_over_limit(asm, minv, q, v, t, modes, released):
     """The active-set loop: release the stuck contact most over F_s N_j until none is (``released`` marks them).
 
-    Returns the :data:`Split` of the final modes (None when the loop ran out first).
+    Returns the :data:`Split` of the modes it ends with (:func:`decide_in`).
     """
     return decide_in(asm, minv, q, v, t, modes, released, None, new_room(len(q), len(modes)), False)
 
@@ -294,22 +294,25 @@ def flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
 def decide_in(asm, minv, q, v, t, modes, leaving, cache, room, directions):
     """:func:`decide` with the run's :data:`~.combo.Cache` ``cache`` (or None: every split made) and a :data:`Room`;
     the active-set loop alone (:func:`release_over_limit`) when not ``directions``.  Returns the :data:`Split` of the
-    modes the loop ends with (None when it ran out first).
+    modes the loop ends with; when it ran out first, the split of the modes it reached (never None: a split that may
+    be None would compile every function it is passed to once more).  The directions may change the modes after it:
+    a caller compares its modes with theirs.
 
     After that loop each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it.  Both loops
     are written here and run their passes in kernels without numba's runtime: each call of a function with the
     runtime (or inlined in one) counts references to every array of the records it takes.
     """
-    first, ct = None, contacts_of(asm)  # candidate takes 4 of the Assembly's arrays, not its 17
+    ct, held = contacts_of(asm), False  # candidate takes 4 of the Assembly's arrays, not its 17
+    first = candidate(ct, minv, modes, cache)
     for _ in range(len(modes) + 1):
-        cb = candidate(ct, minv, modes, cache)
-        if len(cb.stuck) == 0 or not released_one(asm, cb, minv, q, v, t, modes, leaving, room):
-            first = cb
+        if len(first.stuck) == 0 or not released_one(asm, first, minv, q, v, t, modes, leaving, room):
+            held = True
             break
+        first = candidate(ct, minv, modes, cache)
     if not directions or not any_slipping(modes, leaving):  # no direction to check: no acceleration to compute
         return first
     for attempt in range(2):
-        cb = first if attempt == 0 and first is not None else candidate(ct, minv, modes, cache)
+        cb = first if attempt == 0 and held else candidate(ct, minv, modes, cache)
         if not flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
             break
     return first
