@@ -355,14 +355,14 @@ def full_norms(md):
     fv, fvi = 0.0, 0.0
     v, vi = md.V, md.Vi
     for c in range(len(md.lam)):
-        pair = md.real and md.lam[c].imag != 0.0
+        s = pair_scale(md.lam[c]) if md.real else 1.0
         sv, svi = 0.0, 0.0
         for i in range(v.shape[0]):
             sv += v[i, c].real ** 2 + v[i, c].imag ** 2
         for i in range(vi.shape[1]):
             svi += vi[c, i].real ** 2 + vi[c, i].imag ** 2
-        fv += 0.5 * sv if pair else sv
-        fvi += 2.0 * svi if pair else svi
+        fv += sv / s
+        fvi += svi * s
     return fv, fvi
 
 
@@ -636,10 +636,10 @@ def kept_roots(lam2, pairs):
 
 
 @njit(cache=True, inline="always")
-def pair_scale(lam2, a):
-    """2 for a kept root that stands for its pair (its column of V and W counts the conjugate's), else 1."""
-    r = len(lam2) // 2
-    return 2.0 if a < r and lam2[a].imag != 0.0 else 1.0
+def pair_scale(root):
+    """2 for a root kept on the real-mode route that stands for its pair (not real: its column of V and W counts the
+    conjugate's; an overdamped mode's roots are real and both kept), else 1."""
+    return 2.0 if root.imag != 0.0 else 1.0
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing
@@ -651,7 +651,7 @@ def real_columns(phi, lam2, orig, v):
             a = orig[c]
             col = a if a < r else a - r
             x, y = phi[i, col] + 0.0j, lam2[a] * phi[i, col]
-            s = pair_scale(lam2, a)
+            s = pair_scale(lam2[a])
             v[i, c], v[r + i, c] = x * s, y * s
 
 
@@ -872,7 +872,7 @@ def real_events(p, q, slots, md, w):
             a = orig[c]
             col = a if a < r else a - r
             x = p[e, col] + lam[c] * q[e, col]
-            w[slots[e], c] = x * (2.0 if a < r and lam[c].imag != 0.0 else 1.0)
+            w[slots[e], c] = x * pair_scale(lam[c])
 
 
 @njit(cache=True, inline="always")
@@ -923,8 +923,8 @@ def build_from(asm, minv, sp, eigs=None, cache=None):
     w = event_modes(d, active, z, sel, rows, md)
     c = np.ascontiguousarray
     zt, bs, rb, b1, bh, e1 = constants(asm.belt, asm.force_dir, asm.force_amp, stuck, z, sel, rows, r, keff,
-                                       c(md.VB), c(d))
-    cb = Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, md.lam, c(md.V), c(md.Vi), c(md.VB), c(d), dc, c(dh),
+                                       md.VB, c(d))
+    cb = Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, md.lam, md.V, md.Vi, md.VB, c(d), dc, c(dh),
                active, w, zt, bs, rb, b1, bh, e1, np.abs(w), combo_pattern(z, r))
     if cache is None:
         return cb

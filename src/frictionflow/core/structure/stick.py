@@ -302,17 +302,16 @@ def decide_in(asm, minv, q, v, t, modes, leaving, cache, room, directions):
     are written here and run their passes in kernels without numba's runtime: each call of a function with the
     runtime (or inlined in one) counts references to every array of the records it takes.
     """
-    ct, held = contacts_of(asm), False  # candidate takes 4 of the Assembly's arrays, not its 17
-    first = candidate(ct, minv, modes, cache)
+    ct = contacts_of(asm)  # candidate takes 4 of the Assembly's arrays, not its 17
+    first = candidate(ct, minv, modes, cache)  # always the split of the current modes
     for _ in range(len(modes) + 1):
         if len(first.stuck) == 0 or not released_one(asm, first, minv, q, v, t, modes, leaving, room):
-            held = True
             break
         first = candidate(ct, minv, modes, cache)
     if not directions or not any_slipping(modes, leaving):  # no direction to check: no acceleration to compute
         return first
     for attempt in range(2):
-        cb = first if attempt == 0 and held else candidate(ct, minv, modes, cache)
+        cb = first if attempt == 0 else candidate(ct, minv, modes, cache)
         if not flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
             break
     return first
