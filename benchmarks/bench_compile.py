@@ -1,6 +1,6 @@
 """Compile time of the numba kernels: the first run of each command on an empty cache.
 
-    python benchmarks/bench_compile.py [--repeat 3] [--only a|b] [--top 15]
+    python benchmarks/bench_compile.py [--repeat 3] [--only a|b|c] [--top 15]
 
 Every measurement is a fresh process running the command line (this script's
 ``--child`` mode calls ``frictionflow.cli.main`` as ``python -m frictionflow``
@@ -22,6 +22,13 @@ time, imports included), as a user meets it after installing or upgrading:
     is not compiling).  The sum of the compile times logged in the processes
     is printed too; it counts the forked workers' compilations, in parallel,
     in full.
+
+(c) ``frictionflow simulate --model examples/models/two_mass_chain.toml
+    --json``: the structure engine's first run (exact solver, analysis
+    included).  No goal is set; it is printed so that its compile time is
+    seen (minutes on an empty cache: the engine's kernels take records of
+    up to 24 arrays, and each compiled function re-optimises the whole tree
+    it calls in its own library).  Run once unless ``--only c --repeat N``.
 
 Each is repeated (minimum and spread printed) and then run again on the warm
 cache, which leaves import + loading from the cache + the run itself.  The
@@ -61,6 +68,10 @@ SWEEPS = {
 ORBIT = ["orbit", "--friction", "coulomb", "--fd", "0.02", "--fs", "0.04", "--vb", "0.01", "--zeta", "0.05", "--t-end", "100", "--json"]
 CONTINUE = ["continue", "--param", "vb", "--from", "0.005", "--to", "0.025", "--friction", "stribeck", "--delta", "1",
             "--viscous", "0.05", "--zeta", "0.1", "--points", "5", "--seeds", "hopf", "--t-end", "100", "--json"]
+
+#: the structure engine's first run: a 2-mass chain model file (exact solver, analysis included)
+STRUCTURE = ["simulate", "--model", str(Path(__file__).resolve().parents[1] / "examples" / "models" / "two_mass_chain.toml"),
+             "--json"]
 
 #: where the child processes append one JSON line per compilation
 LOG_ENV = "FRICTIONFLOW_COMPILE_LOG"
@@ -158,22 +169,33 @@ def spread(times: list[float]) -> str:
     return f"min {min(times):6.1f} s  (max {max(times):.1f}, median {statistics.median(times):.1f}; {len(times)} runs)"
 
 
-def part_a(tmp: Path, repeat: int, top: int) -> None:
-    print(f"\n(a) first `frictionflow {' '.join(SIMULATE)}` on an empty cache (goal <= {GOAL_A:g} s)")
+def cold_command(tmp: Path, tag: str, argv: list[str], repeat: int, top: int, goal: float | None) -> None:
+    """First runs of ``frictionflow argv`` on empty caches (the least disturbed one broken down), then warm runs."""
     walls, logs = [], []
     for i in range(repeat):
-        cache, log = tmp / f"a{i}" / "cache", tmp / f"a{i}" / "log"
-        walls.append(run(SIMULATE, cache, log))
+        cache, log = tmp / f"{tag}{i}" / "cache", tmp / f"{tag}{i}" / "log"
+        walls.append(run(argv, cache, log))
         logs.append(log)
     best = walls.index(min(walls))
     main_t = json.loads((logs[best] / "main.json").read_text())
-    print(f"  cold: {spread(walls)}  -> goal {'met' if min(walls) <= GOAL_A else 'NOT met'}")
+    verdict = "" if goal is None else f"  -> goal {'met' if min(walls) <= goal else 'NOT met'}"
+    print(f"  cold: {spread(walls)}{verdict}")
     print(f"  fastest cold run: import {main_t['import']:.1f} s, command {main_t['main']:.1f} s")
     breakdown(compilations(logs[best]), top)
-    warm = [run(SIMULATE, tmp / f"a{best}" / "cache", tmp / f"a{best}" / f"warm{i}") for i in range(3)]
-    main_w = json.loads((tmp / f"a{best}" / "warm0" / "main.json").read_text())
+    warm = [run(argv, tmp / f"{tag}{best}" / "cache", tmp / f"{tag}{best}" / f"warm{i}") for i in range(3)]
+    main_w = json.loads((tmp / f"{tag}{best}" / "warm0" / "main.json").read_text())
     print(f"  warm: {spread(warm)}; e.g. import {main_w['import']:.2f} s, command {main_w['main']:.2f} s, "
-          f"{len(compilations(tmp / f'a{best}' / 'warm0'))} compilations")
+          f"{len(compilations(tmp / f'{tag}{best}' / 'warm0'))} compilations")
+
+
+def part_a(tmp: Path, repeat: int, top: int) -> None:
+    print(f"\n(a) first `frictionflow {' '.join(SIMULATE)}` on an empty cache (goal <= {GOAL_A:g} s)")
+    cold_command(tmp, "a", SIMULATE, repeat, top, GOAL_A)
+
+
+def part_c(tmp: Path, repeat: int, top: int) -> None:
+    print(f"\n(c) first `frictionflow {' '.join(STRUCTURE)}` on an empty cache (the structure engine; no goal set)")
+    cold_command(tmp, "c", STRUCTURE, repeat, top, None)
 
 
 def commands_b(tmp: Path) -> dict[str, list[str]]:
@@ -220,7 +242,7 @@ def part_b(tmp: Path, repeat: int, top: int) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--only", choices=("a", "b"))
+    ap.add_argument("--only", choices=("a", "b", "c"))
     ap.add_argument("--top", type=int, default=15, help="functions listed in the breakdown")
     args = ap.parse_args()
     header("numba compile time: first runs on an empty cache, fresh processes")
@@ -230,6 +252,8 @@ def main() -> None:
             part_a(Path(tmp), args.repeat, args.top)
         if args.only in (None, "b"):
             part_b(Path(tmp), max(1, args.repeat - 1), args.top)
+        if args.only in (None, "c"):  # minutes a run: once unless asked for more (--only c --repeat N)
+            part_c(Path(tmp), args.repeat if args.only == "c" else 1, args.top)
     print(f"# load average at end: {os.getloadavg()[0]:.2f}")
 
 

@@ -900,18 +900,19 @@ def picked_modes(d, slots, rows, phi, pq):
 
 
 @njit(cache=True)
-def build(asm, minv, modes, eigs=None):
-    """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact; ``eigs``: the run's :data:`Eigs`
-    or None)."""
-    return build_from(asm, minv, split(asm, minv, modes), eigs)
+def build(asm, minv, modes):
+    """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact) on its own (a combination of a
+    run comes from :func:`build_from` with the run's :data:`Eigs`)."""
+    return build_from(asm, minv, split(asm, minv, modes), new_eigs())
 
 
 @njit(cache=True)
-def build_from(asm, minv, sp, eigs=None, cache=None):
+def build_from(asm, minv, sp, eigs):
     """The :data:`Combo` of the :data:`Split` ``sp`` (its arrays taken, not copied: a combination's are never written;
-    ``eigs``: the run's :data:`Eigs` or None), kept in the :data:`Cache` ``cache`` (or None) while there is room.
+    ``eigs``: the :data:`Eigs` its symmetric blocks are looked up in and kept in).
 
-    Kept here, not by a function taking the new record: that would count references to its 23 arrays.
+    Every caller passes an :data:`Eigs` (one signature): each compiled caller re-optimises this function's whole
+    tree in its own library, so the engine calls it from as few compiled functions as it can (the run loop).
     """
     modes, stuck, r, he, keff, f0 = sp
     n = minv.shape[0]
@@ -924,15 +925,18 @@ def build_from(asm, minv, sp, eigs=None, cache=None):
     c = np.ascontiguousarray
     zt, bs, rb, b1, bh, e1 = constants(asm.belt, asm.force_dir, asm.force_amp, stuck, z, sel, rows, r, keff,
                                        md.VB, c(d))
-    cb = Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, md.lam, md.V, md.Vi, md.VB, c(d), dc, c(dh),
-               active, w, zt, bs, rb, b1, bh, e1, np.abs(w), combo_pattern(z, r))
-    if cache is None:
-        return cb
+    return Combo(modes, c(stuck), c(z), c(r), c(he), c(keff), f0, md.lam, md.V, md.Vi, md.VB, c(d), dc, c(dh),
+                 active, w, zt, bs, rb, b1, bh, e1, np.abs(w), combo_pattern(z, r))
+
+
+@njit(cache=True, inline="always")  # inlined: a compiled function taking the record counts references to its 23 arrays
+def keep(cache, cb):
+    """Keep the combination ``cb`` in the :data:`Cache` ``cache`` while there is room; ``cb``."""
     used, size = cache.used, combo_bytes(cb)
     if used[0] < len(cache.keys) and used[1] + size <= CACHE_BYTES:
         cache.combos.append(cb)  # (no eviction: popping records of arrays from a compiled list corrupts memory)
         cache.splits.append(split_of(cb))
-        cache.keys[used[0]] = modes
+        cache.keys[used[0]] = cb.modes
         used[0], used[1] = used[0] + 1, used[1] + size
     return cb
 
@@ -963,27 +967,34 @@ def split_of(cb):
     return Split(cb.modes, cb.stuck, cb.R, cb.HE, cb.keff, cb.f0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: a compiled caller would link build_from's tree once more
 def new_cache(asm, minv):
     """A run's :data:`Cache`, holding the combination with every contact stuck."""
-    k, eigs = len(asm.belt), new_eigs()
-    cb = build(asm, minv, np.zeros(k, dtype=np.int8), eigs)
+    eigs = new_eigs()
+    return cache_of(build_from(asm, minv, split(asm, minv, np.zeros(len(asm.belt), dtype=np.int8)), eigs), eigs)
+
+
+@njit(cache=True)
+def cache_of(cb, eigs):
+    """A :data:`Cache` holding the combination ``cb`` (the typed lists take their type from it) and the :data:`Eigs`
+    ``eigs`` it was built with."""
     combos, splits = List(), List()  # typed lists: appended to in place from compiled code and from Python alike
     combos.append(cb)
     splits.append(split_of(cb))
-    cache = Cache(combos, splits, np.zeros((CACHE_SIZE, k), dtype=np.int8), np.zeros(2, dtype=np.int64), eigs)
+    cache = Cache(combos, splits, np.zeros((CACHE_SIZE, len(cb.modes)), dtype=np.int8), np.zeros(2, dtype=np.int64),
+                  eigs)
     cache.keys[0] = cb.modes
     cache.used[0], cache.used[1] = 1, combo_bytes(cb)
     return cache
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: a compiled caller would link build_from's tree once more
 def lookup(cache, asm, minv, modes):
     """The combination of ``modes`` from the :data:`Cache` ``cache``, built (and kept while there is room) when missing."""
     i = find(cache.keys, cache.used, modes)
     if i >= 0:
         return cache.combos[i]
-    return build_from(asm, minv, split(asm, minv, modes), cache.eigs, cache)
+    return keep(cache, build_from(asm, minv, split(asm, minv, modes), cache.eigs))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing

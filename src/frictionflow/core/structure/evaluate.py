@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from .combo import build
+from .combo import build_from, new_eigs, split
 from .phase import start, state_at
 
 
@@ -22,8 +22,8 @@ def states(asm, minv, t, state, modes, times, out):
     number of times filled (fewer when one lies outside the run).
     """
     n = asm.mass.shape[0]
-    i = 0
-    cb = build(asm, minv, modes[:, 0].copy())
+    i, eigs = 0, new_eigs()  # the samples' combinations share their symmetric blocks' decompositions
+    cb = build_from(asm, minv, split(asm, minv, modes[:, 0].copy()), eigs)
     ph = start(cb, asm, state[:n, 0].copy(), state[n:, 0].copy(), t[0])
     for m in range(len(times)):
         tm = times[m]
@@ -34,7 +34,7 @@ def states(asm, minv, t, state, modes, times, out):
             j += 1
         if j != i or m == 0:
             i = j
-            cb = build(asm, minv, modes[:, i].copy())
+            cb = build_from(asm, minv, split(asm, minv, modes[:, i].copy()), eigs)
             ph = start(cb, asm, state[:n, i].copy(), state[n:, i].copy(), t[i])
         if tm == t[i]:
             out[:, m] = state[:, i]

@@ -167,17 +167,20 @@ def decide_interval(cb, ph, om, a, h, room):
 
     ``room.clear[e]``: function e is proven root-free up to there (an interval
     that was halved for another function's sake needs no second proof);
-    ``room.dz``: room for the modes' terms of the bounds, shared by all functions.
+    ``room.dz``: room for the modes' terms of the bounds, shared by all functions;
+    ``room.open[e]``: set where function e is left undecided (what :func:`nearest_zero` reads).
     """
     decided, root = True, False
-    gb, departing, clear, dz = room.gb, room.dep, room.clear, room.dz
+    gb, departing, clear, dz, open_ = room.gb, room.dep, room.clear, room.dz, room.open
     mode_bounds(cb, om, a, h, room.mg, dz)
     for e in range(len(gb)):
+        open_[e] = False
         if not cb.active[e] or clear[e] >= a + h:
             continue
         v = verdict(cb, ph, om, e, a, h, room, departing[e] and a == 0.0, bound_of(cb, om, e, dz))
         if v == 1:
             clear[e] = a + h
+        open_[e] = v == 0
         decided = decided and v != 0
         root = root or gb[e] <= 0.0
     return decided, root
@@ -228,14 +231,13 @@ def earliest(cb, ph, om, a, b, room):
 
 
 @njit(cache=True, **NO_RUNTIME)
-def nearest_zero(cb, ph, om, a, b, room):
-    """(tau, slot): among the undecided functions (not departing at the start), the end of [a, b] nearest 0."""
+def nearest_zero(a, b, room):
+    """(tau, slot): among the functions :func:`decide_interval` left undecided on [a, b] (``room.open``; not
+    departing at the start), the end of [a, b] nearest 0."""
     best, tau, slot = 1.0e300, b, -1
     ga, gb, dep = room.ga, room.gb, room.dep
     for e in range(len(ga)):
-        start = dep[e] and a == 0.0
-        m2 = bound(cb, om, e, a, b - a, room.mg, 2) if cb.active[e] and not start else 0.0
-        if cb.active[e] and not start and verdict(cb, ph, om, e, a, b - a, room, False, m2) == 0:
+        if room.open[e] and not (dep[e] and a == 0.0):
             for t, g in ((a, ga[e]), (b, gb[e])):
                 if t > 0.0 and g < best:
                     best, tau, slot = g, t, e
@@ -250,8 +252,9 @@ def copy(src, dst):
 
 
 #: the walk's room: z at both ends, the functions at both ends, the modes' bound terms, how far each function
-#: is proven clear, the departing flags, z for the root finder, and the moduli (:data:`.phase.Mags`)
-Room = namedtuple("Room", "za zb ga gb dz clear dep zr mg")
+#: is proven clear, the departing flags, z for the root finder, the moduli (:data:`.phase.Mags`) and the functions
+#: the last interval left undecided
+Room = namedtuple("Room", "za zb ga gb dz clear dep zr mg open")
 
 
 @njit(cache=True)
@@ -261,7 +264,8 @@ def new_room(m, k, nf, departing):
     zs, xs, bh = np.empty(3 * m, dtype=np.complex128), np.empty(3 * k + 5 * m), np.empty((m, nf))
     g = 3 * k
     mg = Mags(xs[g + m:g + 2 * m], xs[g + 2 * m:g + 3 * m], xs[g + 3 * m:g + 4 * m], bh, xs[g + 4 * m:])
-    return Room(zs[:m], zs[m:2 * m], xs[:k], xs[k:2 * k], xs[g:g + m], xs[2 * k:g], departing.copy(), zs[2 * m:], mg)
+    return Room(zs[:m], zs[m:2 * m], xs[:k], xs[k:2 * k], xs[g:g + m], xs[2 * k:g], departing.copy(), zs[2 * m:], mg,
+                np.zeros(k, dtype=np.bool_))
 
 
 @njit(cache=True, inline="always")
@@ -308,7 +312,7 @@ def walk(cb, ph, om, tau_end, h0, floor, room):
             tau, slot = earliest(cb, ph, om, a, b, room)
             return tau, slot, False
         if not decided:
-            tau, slot = nearest_zero(cb, ph, om, a, b, room)
+            tau, slot = nearest_zero(a, b, room)
             if slot >= 0:
                 return tau, slot, True
         a, h = b, min(2.0 * h, h0)

@@ -18,7 +18,7 @@ from numba import njit
 
 from .. import codes
 from ..layout import STICK
-from .combo import N_SLOTS, build, build_from, find, lookup, new_cache, same_modes
+from .combo import N_SLOTS, build, build_from, find, keep, lookup, new_cache, same_modes
 from .events import Room, new_room as new_walk_room, values, walk
 from ..options import NO_RUNTIME
 from .phase import (Mags, abs_into, fastest_rate, modal_into, size_of, start, start_in, start_room, state_at,
@@ -92,7 +92,7 @@ def phase_room(walk_room, m):
     """The walk's :data:`~.events.Room` for a phase of ``m`` modal coordinates: views of the run's."""
     w, g = walk_room, walk_room.mg
     return Room(w.za[:m], w.zb[:m], w.ga, w.gb, w.dz[:m], w.clear, w.dep, w.zr[:m],
-                Mags(g.z[:m], g.b0[:m], g.b1[:m], g.bh[:m], g.lam[:m]))
+                Mags(g.z[:m], g.b0[:m], g.b1[:m], g.bh[:m], g.lam[:m]), w.open)
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
@@ -183,14 +183,13 @@ def starting_modes(asm, q, v):
 
 @njit(cache=True)
 def initial(asm, minv, cache, scr):
-    """(modes, contact lost or -1) at t = 0, q' into ``scr.v``: slipping by the sign of V_r, the stick rule where
-    it is 0."""
+    """(modes, contact lost or -1) at t = 0: slipping by the sign of V_r, the stick rule where it is 0 (the run then
+    holds the stuck contacts' velocities)."""
     q, v = scr.q, scr.v
     modes, lost = starting_modes(asm, q, v)
     if lost >= 0:
         return modes, lost
     decide_in(asm, minv, q, v, 0.0, modes, modes == STICK, cache, scr.rule, True)
-    hold_velocity_into(asm, lookup(cache, asm, minv, modes), v, scr.rule.rule)
     return modes, -1
 
 
@@ -215,7 +214,8 @@ def to_event(asm, cb, t, span, floor, dense_dt, next_t, out, i, acc, scr):
 
     Returns (tau, slot or -1 at ``span``, the contact whose load is lost or -1, samples written, next grid time, ok:
     False when the samples are full).  The run's whole per-phase work in one kernel without numba's runtime: the
-    records it makes and reads cost no reference counts here.
+    records it makes and reads cost no reference counts here.  (Its steps are compiled apart on purpose: inlined
+    here, the walk and the work quadrature compile about twice as long.)
     """
     om = asm.force_omega
     ph = start_in(cb, asm, scr.q, scr.v, t, scr.start)
@@ -243,6 +243,8 @@ def run(asm, minv, t_end, dense_dt, out, events):
     modes, lost = initial(asm, minv, cache, scr)
     t = 0.0
     cb = lookup(cache, asm, minv, modes if lost < 0 else np.zeros(k, dtype=np.int8))
+    if lost < 0:
+        hold_velocity_into(asm, cb, v, sr.rule)
     if not emit(out, 0, asm, cb, q, v, t, acc, sr):
         return Result(codes.FULL, 0, 0, -1, np.nan)
     if lost >= 0:
@@ -267,7 +269,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
         if j >= 0:
             cb = cache.combos[j]
         elif same_modes(sp.modes, new):  # new: built from the stick rule's split
-            cb = build_from(asm, minv, sp, cache.eigs, cache)
+            cb = keep(cache, build_from(asm, minv, sp, cache.eigs))
         else:
             cb = lookup(cache, asm, minv, new)
         hold_velocity_into(asm, cb, v, sr.rule)
