@@ -89,6 +89,16 @@ def random_row(rng, dip):
     return c, amp, w, p
 
 
+def test_a_touch_is_reported_as_a_graze_of_the_undecided_function():
+    """1 + cos(tau) touches 0 at pi without crossing: no interval decides it, so the walk reports a graze there,
+    of that function and not of 3 + cos(tau), which is proven clear on the same intervals."""
+    one = (np.array([1.0]), np.array([1.0]), np.array([0.0]))
+    for rows, slot_expected in (([(1.0, *one), (3.0, *one)], 0), ([(3.0, *one), (1.0, *one)], 1)):
+        tau, slot, graze = first_event(rows)
+        assert graze and slot == slot_expected
+        assert 1.0 + np.cos(tau) <= 1e-13 and tau == pytest.approx(np.pi, abs=1e-6)
+
+
 @pytest.mark.parametrize("dip", [-1e-7, 1e-7, -1e-9, 3e-9])
 def test_near_double_roots_are_found_or_rightly_missed(dip):
     """Random multi-mode functions dipping 1e-7 or 1e-9 below 0 (two roots ~1e-3 or ~1e-4 apart) or just above."""
