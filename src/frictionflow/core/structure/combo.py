@@ -899,7 +899,7 @@ def picked_modes(d, slots, rows, phi, pq):
                     pq[1, e, a] += x * d[slots[e], n + rows[i]]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: a compiled caller would link build_from's tree once more
 def build(asm, minv, modes):
     """The :data:`Combo` of the contact modes ``modes`` (int8: -1, 0, +1 per contact) on its own (a combination of a
     run comes from :func:`build_from` with the run's :data:`Eigs`)."""

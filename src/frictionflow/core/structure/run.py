@@ -18,7 +18,7 @@ from numba import njit
 
 from .. import codes
 from ..layout import STICK
-from .combo import N_SLOTS, build_from, find, keep, lookup, new_cache, new_eigs, same_modes, split
+from .combo import N_SLOTS, build, build_from, find, keep, lookup, new_cache, same_modes
 from .events import Room, new_room as new_walk_room, values, walk
 from ..options import NO_RUNTIME
 from .phase import (Mags, abs_into, fastest_rate, modal_into, size_of, start, start_in, start_room, state_at,
@@ -284,7 +284,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
 @njit(cache=True)
 def advance(asm, minv, modes, q, v, t0, tau, n_work):
     """(q, q', work over the stretch) ``tau`` after (q, q') at ``t0`` in the modes ``modes`` (no switch between)."""
-    cb = build_from(asm, minv, split(asm, minv, modes), new_eigs())  # (not build: one library less to compile)
+    cb = build(asm, minv, modes)
     ph = start(cb, asm, q, v, t0)
     acc = np.zeros(n_work)
     integrate(asm, cb, ph, asm.force_omega, 0.0, tau, acc)
