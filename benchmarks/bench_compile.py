@@ -28,7 +28,10 @@ time, imports included), as a user meets it after installing or upgrading:
     included).  No goal is set; it is printed so that its compile time is
     seen (minutes on an empty cache: the engine's kernels take records of
     up to 24 arrays, and each compiled function re-optimises the whole tree
-    it calls in its own library).  Run once unless ``--only c --repeat N``.
+    it calls in its own library).  On a cold cache the command compiles the
+    engine's later kernels in a second process
+    (:mod:`frictionflow.solvers.structure_precompile`): as in (a), the wall
+    time counts it, the breakdown does not.  Run once unless ``--only c --repeat N``.
 
 Each is repeated (minimum and spread printed) and then run again on the warm
 cache, which leaves import + loading from the cache + the run itself.  The

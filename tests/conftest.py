@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
+import subprocess
 
 import numpy as np
 import pytest
 
 from frictionflow import BeltOscillator, Karnopp, RK4, simulate
+from frictionflow.core import options
 
 
 def slip_solution(t, x0, v0, force, zeta):
@@ -26,3 +28,33 @@ def slip_solution(t, x0, v0, force, zeta):
 def case1_run():
     """Paper Case I (zeta = 0, F_d = 0.02, V_b = 0.01), RK4 dt = 1e-3, 200 time units."""
     return simulate(BeltOscillator(zeta=0.0, vb=0.01), Karnopp(0.02, stick_force="spring"), RK4(dt=1e-3), t_end=200.0)
+
+
+class Spawned:
+    """The second processes :func:`frictionflow.core.options.compile_ahead` started: their argv and the children
+    (running ``command`` instead when set); ``forbid()`` makes any start fail the test."""
+
+    def __init__(self) -> None:
+        self.argv: list[list[str]] = []
+        self.children: list[subprocess.Popen] = []
+        self.command: list[str] | None = None
+        self.forbidden = False
+
+    def forbid(self) -> None:
+        self.forbidden = True
+
+
+@pytest.fixture
+def spawned(monkeypatch):
+    """A :class:`Spawned` log of the processes compiled ahead, on a machine of two cores."""
+    log, real = Spawned(), subprocess.Popen
+
+    def popen(argv, **kwargs):
+        assert not log.forbidden, f"started {argv}"
+        log.argv.append(argv)
+        log.children.append(real(log.command or argv, **kwargs))
+        return log.children[-1]
+
+    monkeypatch.setattr(options.subprocess, "Popen", popen)
+    monkeypatch.setattr(options.os, "cpu_count", lambda: 2)
+    return log

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -12,7 +13,7 @@ import frictionflow as ff
 from frictionflow.analysis.structure import STRUCTURE_KINDS, analyze_structure
 from frictionflow.solvers.structure import simulate_system
 from frictionflow.sweep import repair_sweep, run_sweep, verify_sweep
-from frictionflow.sweep import runner
+from frictionflow.sweep import model as model_module, runner
 from frictionflow.sweep.model import load_model_sweep, parse_model_sweep
 from frictionflow.system import System, load_system
 
@@ -256,6 +257,27 @@ def test_estimate_before_any_work(two_dof, tmp_path):
         run_sweep(cfg, tmp_path / "r.zarr")
     assert "\n" not in str(e.value)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_estimate_leaves_out_a_first_use_compile(two_dof, monkeypatch):
+    """The probe runs twice and the cheaper run counts: on an empty numba cache the first one compiles for minutes
+    (stood in for here by a second of CPU in its analysis), which the points will not."""
+    cfg = load_model_sweep(two_dof / "sweep.toml")
+    calls, real = [], model_module.analyze_structure
+
+    def first_compiles(motion, **kwargs):
+        if not calls:
+            end = time.process_time() + 1.0
+            while time.process_time() < end:
+                pass
+        calls.append(motion.t[-1])
+        return real(motion, **kwargs)
+
+    monkeypatch.setattr(model_module, "analyze_structure", first_compiles)
+    est = model_module.model_sweep_estimate(cfg)
+    probe_t = min(cfg.t_end, model_module.PROBE_T)
+    assert calls == [probe_t, probe_t]
+    assert est.seconds / est.work < 1.0 * cfg.t_end / probe_t / 3  # the burnt second scaled to t_end is not in it
 
 
 def test_a_lost_contact_is_its_own_kind(tmp_path):

@@ -10,15 +10,14 @@ on a single core; if the second process fails, the run compiles them itself.
 
 from __future__ import annotations
 
-import os
 import subprocess
-import sys
 from typing import Callable
 
 import numpy as np
 
 from ..core import certificate, sections
 from ..core.layout import N_WORK
+from ..core.options import compile_ahead, is_cached
 from ..friction import Coulomb
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -29,11 +28,8 @@ TIMEOUT = 300.0
 
 
 def _cached() -> bool:
-    """The classifier's cache index exists (what the others are compiled with)."""
-    try:
-        return os.path.exists(sections.classify._cache._cache_file._index_path)
-    except AttributeError:  # a numba without these internals: do nothing
-        return True
+    """The classifier is cached (what the others are compiled with)."""
+    return is_cached(sections.classify)
 
 
 def in_background() -> Callable[[], None]:
@@ -41,10 +37,9 @@ def in_background() -> Callable[[], None]:
 
     Call ``wait()`` before analysing: the kernels are then loaded from the cache.
     """
-    if (os.cpu_count() or 1) < 2 or _cached():
+    child = compile_ahead(__name__, _cached())
+    if child is None:
         return lambda: None
-    child = subprocess.Popen([sys.executable, "-m", __name__], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                             stderr=subprocess.DEVNULL)
 
     def wait() -> None:
         try:

@@ -16,8 +16,9 @@ from ..analysis.structure import StructureAnalysis, analyze_structure
 from ..io import atomic_write, check_input_path, check_output_path
 from ..plotting import FIGURE_FORMATS
 from ..estimate import enforce
-from ..solvers.structure import (HOW, run_estimate, simulate_system, solver_settings, structure_parameters,
-                                 structure_solver_for)
+from ..solvers import structure_precompile
+from ..solvers.structure import (HOW, NAME as EXACT, run_estimate, simulate_system, solver_settings,
+                                 structure_parameters, structure_solver_for)
 from ..structure_plot import plot_structure
 from ..system import System, assemble, load_system
 from .output import print_summary
@@ -55,10 +56,15 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     _refuse_others(solver, params)
     dense_dt = params.get("dense_dt")
     enforce(run_estimate(assemble(system), t_end, dense_dt, solver=solver))
-    motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=solver, **settings)
     window = _window(params.get("window"))
     rtol = 1e-6 if params.get("rtol") is None else float(params["rtol"])
-    return analyze_structure(motion, rtol=rtol, window=window)
+    stop = structure_precompile.first_use() if solver == EXACT else (lambda: None)
+    try:
+        motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=solver, **settings)
+        return analyze_structure(motion, rtol=rtol, window=window)
+    finally:
+        stop()
+
 
 
 def _refuse_others(solver: str, params: dict[str, Any]) -> None:

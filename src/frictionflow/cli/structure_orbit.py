@@ -15,6 +15,7 @@ import numpy as np
 
 from ..io import check_input_path, check_output_path
 from ..orbits.structure import StructureOrbit, fd_structure_monodromy, find_structure_orbit
+from ..solvers.structure_precompile import first_use
 from ..system import load_system
 from .output import print_summary, write_json
 from .structure import refuse_single_mass
@@ -64,8 +65,12 @@ def orbit_model(path: Path, params: dict[str, Any], opts: ModelOrbitOptions, con
     if opts.out is not None:
         check_output_path(opts.out, (".json",), "--out")
     transient = 0.0 if opts.guess else float(params.get("t_end") or DEFAULT_TRANSIENT)
-    found = find_structure_orbit(system, t_transient=transient, tol=opts.tol, returns=opts.returns)
-    report = orbit_report(found, path, transient, opts.fd_check)
+    stop = first_use()  # an empty cache: part of the engine compiles on another core meanwhile
+    try:
+        found = find_structure_orbit(system, t_transient=transient, tol=opts.tol, returns=opts.returns)
+        report = orbit_report(found, path, transient, opts.fd_check)
+    finally:
+        stop()
     if opts.out is not None:
         write_json(opts.out, report)
     if opts.as_json:

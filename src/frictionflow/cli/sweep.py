@@ -19,8 +19,9 @@ from typing import Iterator, Optional
 import numpy as np
 import typer
 
+from ..solvers.structure_precompile import first_use
 from ..sweep import repair_sweep, run_sweep
-from ..sweep.model import load_any_sweep
+from ..sweep.model import ModelSweepConfig, load_any_sweep
 from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import verify_sweep
 from ._app import app
@@ -68,12 +69,16 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
     if not (timeout > 0 and np.isfinite(timeout)):
         raise ValueError(f"--scheduler-timeout must be a number of seconds > 0, got {timeout}")
     t0 = time.perf_counter()
+    # a local model sweep compiles the structure engine here on a first use (a cluster's workers compile their own)
+    stop = first_use() if isinstance(cfg, ModelSweepConfig) and scheduler is None else (lambda: None)
     with _sigterm_as_interrupt():
         try:
             ds = run_sweep(cfg, out, restart=restart, scheduler=scheduler, chunk_size=chunk_size, progress=sys.stderr.isatty(), scheduler_timeout=timeout)
         except KeyboardInterrupt:  # the lock is released by now; the command ends as "aborted" (exit code 1)
             print(f"interrupted: {out} keeps the chunks finished so far; run the same command to resume", file=sys.stderr)
             raise
+        finally:
+            stop()
     elapsed = time.perf_counter() - t0
     kinds = np.asarray(ds["kind"].values)
     names = str(ds["kind"].attrs["flag_meanings"]).split()  # the single mass's kinds, or a structure's
