@@ -30,8 +30,9 @@ time, imports included), as a user meets it after installing or upgrading:
     up to 24 arrays, and each compiled function re-optimises the whole tree
     it calls in its own library).  On a cold cache the command compiles the
     engine's later kernels in a second process
-    (:mod:`frictionflow.solvers.structure_precompile`): as in (a), the wall
-    time counts it, the breakdown does not.  Run once unless ``--only c --repeat N``.
+    (:mod:`frictionflow.solvers.structure_precompile`): the breakdown lists
+    this process's compilations only; unlike (a), the command does not wait
+    for that process (it ends it when done), so the wall time is the command's.  Run once unless ``--only c --repeat N``.
 
 Each is repeated (minimum and spread printed) and then run again on the warm
 cache, which leaves import + loading from the cache + the run itself.  The

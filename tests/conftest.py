@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from frictionflow import BeltOscillator, Karnopp, RK4, simulate
-from frictionflow.core import options
+from frictionflow import _compile_ahead
 
 
 def slip_solution(t, x0, v0, force, zeta):
@@ -30,8 +30,17 @@ def case1_run():
     return simulate(BeltOscillator(zeta=0.0, vb=0.01), Karnopp(0.02, stick_force="spring"), RK4(dt=1e-3), t_end=200.0)
 
 
+@pytest.fixture(scope="session", autouse=True)
+def no_compile_ahead():
+    """No test starts a second compiling process by the way (a first CLI run on an empty cache would): the workers
+    have the cores.  The tests of that process use :func:`spawned`."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv(_compile_ahead.ENV, "0")
+        yield
+
+
 class Spawned:
-    """The second processes :func:`frictionflow.core.options.compile_ahead` started: their argv and the children
+    """The second processes :func:`frictionflow._compile_ahead.compile_ahead` started: their argv and the children
     (running ``command`` instead when set); ``forbid()`` makes any start fail the test."""
 
     def __init__(self) -> None:
@@ -46,7 +55,8 @@ class Spawned:
 
 @pytest.fixture
 def spawned(monkeypatch):
-    """A :class:`Spawned` log of the processes compiled ahead, on a machine of two cores."""
+    """A :class:`Spawned` log of the processes compiled ahead, with compiling ahead turned on and two usable cores
+    (``subprocess.Popen`` and ``usable_cores`` replaced where ``compile_ahead`` reads them)."""
     log, real = Spawned(), subprocess.Popen
 
     def popen(argv, **kwargs):
@@ -55,6 +65,7 @@ def spawned(monkeypatch):
         log.children.append(real(log.command or argv, **kwargs))
         return log.children[-1]
 
-    monkeypatch.setattr(options.subprocess, "Popen", popen)
-    monkeypatch.setattr(options.os, "cpu_count", lambda: 2)
+    monkeypatch.delenv(_compile_ahead.ENV)
+    monkeypatch.setattr(_compile_ahead.subprocess, "Popen", popen)
+    monkeypatch.setattr(_compile_ahead, "usable_cores", lambda: 2)
     return log

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from frictionflow.analysis import precompile
-from frictionflow.core import options
+from frictionflow import _compile_ahead
 
 
 def test_compile_analysis_runs_the_analysis_on_a_made_up_trajectory():
@@ -21,12 +21,12 @@ def test_the_second_process_compiles_and_exits_cleanly(monkeypatch, spawned):
     monkeypatch.setattr(precompile, "_cached", lambda: False)
     wait = precompile.in_background()
     wait()
-    assert spawned.argv[0][1:] == ["-m", precompile.__name__]
+    assert spawned.argv[0][-2:] == ["-m", precompile.__name__]
     assert len(spawned.children) == 1 and spawned.children[0].returncode == 0
 
 
 def test_one_core_starts_nothing(monkeypatch, spawned):
     monkeypatch.setattr(precompile, "_cached", lambda: False)
-    monkeypatch.setattr(options.os, "cpu_count", lambda: 1)
+    monkeypatch.setattr(_compile_ahead, "usable_cores", lambda: 1)
     spawned.forbid()
     precompile.in_background()()

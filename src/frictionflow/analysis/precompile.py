@@ -15,9 +15,9 @@ from typing import Callable
 
 import numpy as np
 
+from .._compile_ahead import compile_ahead, is_cached
 from ..core import certificate, sections
 from ..core.layout import N_WORK
-from ..core.options import compile_ahead, is_cached
 from ..friction import Coulomb
 from ..params import BeltOscillator
 from ..trajectory import Trajectory

@@ -66,7 +66,6 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
         stop()
 
 
-
 def _refuse_others(solver: str, params: dict[str, Any]) -> None:
     """One line if another structure solver's setting is given beside ``--model`` (it would go unused)."""
     own = structure_parameters(solver)

@@ -10,11 +10,12 @@ every compiled kernel in a file, so a second process compiles the kernels
 needed last, first, on another core: the run then finds them in the cache
 when it gets to them.  Their arguments are made here with the types the run
 gives them (a :data:`~frictionflow.core.structure.combo.Combo` of empty
-arrays: nothing is built, so nothing of the builder's is compiled twice).
+arrays: ``to_event`` is compiled without building a combination; ``states``
+and ``advance`` call the builder, which the run has cached by then).
 
-Nothing starts when the run loop is cached already or on a single core; a
-kernel the second process has not finished is compiled by the run itself,
-as without it.  The caller stops the second process when its own work is
+Nothing starts when the run loop is cached already, on a single usable core or
+when turned off (:mod:`frictionflow._compile_ahead`); a kernel the second
+process has not finished is compiled by the run itself, as without it.  The caller stops the second process when its own work is
 done (:func:`in_background`).
 """
 
@@ -26,7 +27,7 @@ from typing import Callable
 import numba
 import numpy as np
 
-from ..core.options import compile_ahead, is_cached
+from .._compile_ahead import compile_ahead, is_cached
 from ..core.structure import evaluate, run
 from ..core.structure.combo import Combo
 from ..core.structure.work import n_channels
@@ -35,7 +36,7 @@ from ..system import System, assemble
 from .structure_motion import buffers
 
 #: each :data:`~frictionflow.core.structure.combo.Combo` field's (dtype, ndim): what a run's combinations hold
-#: (C-contiguous; ``tests/solvers/test_structure_precompile.py`` checks it against a built one)
+#: (C-contiguous; ``tests/structure/test_precompile.py`` checks it against built ones)
 COMBO_FIELDS: dict[str, tuple[type, int]] = {
     "modes": (np.int8, 1), "stuck": (np.int64, 1), "Z": (np.float64, 2), "R": (np.float64, 2),
     "HE": (np.float64, 2), "keff": (np.float64, 2), "f0": (np.float64, 1), "lam": (np.complex128, 1),
@@ -102,7 +103,7 @@ def in_background() -> Callable[[], None]:
 def first_use() -> Callable[[], None]:
     """On an empty numba cache: say so in one line (on a terminal) and :func:`in_background`; returns its ``stop()``."""
     if not cached() and sys.stderr.isatty():
-        print("frictionflow: compiling the structure engine for this machine (once; a few minutes, then cached)",
+        print("frictionflow: compiling the structure engine (once per machine and version: a minute or two)",
               file=sys.stderr, flush=True)
     return in_background()
 

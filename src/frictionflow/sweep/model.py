@@ -41,6 +41,7 @@ from ..analysis.structure import STRUCTURE_KINDS, analyze_structure
 from ..core.threads import over_points
 from ..estimate import Estimate
 from ..io import read_config
+from ..solvers import structure_precompile
 from ..solvers.structure import simulate_system
 from ..system import System, load_system
 from .compute import chunk_slices
@@ -354,7 +355,7 @@ def compute_model_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: 
 def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, name: str = "out") -> Estimate:
     """The sweep's cost from a probe: the grid's first point run to min(t_end, PROBE_T), scaled to t_end.
 
-    The probe runs twice and the cheaper run counts: on an empty numba cache the first one also compiles.
+    On an empty numba cache the probe runs twice and the cheaper run counts: the first one also compiles.
 
     A bound in the sense of the single-mass sweep's (the points run to
     t_end), counted on one core: a chunk's points share the cores, but their Python parts take turns.
@@ -362,7 +363,7 @@ def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, n
     probe_t = min(cfg.t_end, PROBE_T)
     system = cfg.point_system((0,) * len(cfg.axes))
     seconds = []
-    for _ in range(2):  # the first run of a first use also compiles (minutes): the second is the point's cost
+    for _ in range(1 if structure_precompile.cached() else 2):  # a first use's first run also compiles (minutes)
         start = time.process_time()
         analyze_structure(simulate_system(system, probe_t), rtol=cfg.rtol)
         seconds.append(time.process_time() - start)
