@@ -94,7 +94,8 @@ def test_a_first_run_on_a_terminal_says_it_compiles(monkeypatch, is_cached, tty,
     err.isatty = lambda: tty
     monkeypatch.setattr(sys, "stderr", err)
     monkeypatch.setattr(pre, "cached", lambda: is_cached)
-    monkeypatch.setattr(pre, "in_background", lambda: lambda: None)
-    pre.first_use()()
+    monkeypatch.setattr(pre, "in_background", lambda ready: lambda: None)
+    with pre.first_use():
+        pass
     assert ("compiling the structure engine" in err.getvalue()) is says
     assert err.getvalue().count("\n") == int(says)  # one line or nothing

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+from contextlib import nullcontext
 from pathlib import Path
 from typing import Any, Optional
 
@@ -58,12 +59,9 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     enforce(run_estimate(assemble(system), t_end, dense_dt, solver=solver))
     window = _window(params.get("window"))
     rtol = 1e-6 if params.get("rtol") is None else float(params["rtol"])
-    stop = structure_precompile.first_use() if solver == EXACT else (lambda: None)
-    try:
+    with structure_precompile.first_use() if solver == EXACT else nullcontext():
         motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=solver, **settings)
         return analyze_structure(motion, rtol=rtol, window=window)
-    finally:
-        stop()
 
 
 def _refuse_others(solver: str, params: dict[str, Any]) -> None:

@@ -65,12 +65,9 @@ def orbit_model(path: Path, params: dict[str, Any], opts: ModelOrbitOptions, con
     if opts.out is not None:
         check_output_path(opts.out, (".json",), "--out")
     transient = 0.0 if opts.guess else float(params.get("t_end") or DEFAULT_TRANSIENT)
-    stop = first_use()  # an empty cache: part of the engine compiles on another core meanwhile
-    try:
+    with first_use():  # an empty cache: part of the engine compiles on another core meanwhile
         found = find_structure_orbit(system, t_transient=transient, tol=opts.tol, returns=opts.returns)
         report = orbit_report(found, path, transient, opts.fd_check)
-    finally:
-        stop()
     if opts.out is not None:
         write_json(opts.out, report)
     if opts.as_json:

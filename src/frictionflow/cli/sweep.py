@@ -12,7 +12,7 @@ import json
 import signal
 import sys
 import time
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from pathlib import Path
 from typing import Iterator, Optional
 
@@ -70,15 +70,13 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
         raise ValueError(f"--scheduler-timeout must be a number of seconds > 0, got {timeout}")
     t0 = time.perf_counter()
     # a local model sweep compiles the structure engine here on a first use (a cluster's workers compile their own)
-    stop = first_use() if isinstance(cfg, ModelSweepConfig) and scheduler is None else (lambda: None)
-    with _sigterm_as_interrupt():
+    ahead = first_use() if isinstance(cfg, ModelSweepConfig) and scheduler is None else nullcontext()
+    with _sigterm_as_interrupt(), ahead:
         try:
             ds = run_sweep(cfg, out, restart=restart, scheduler=scheduler, chunk_size=chunk_size, progress=sys.stderr.isatty(), scheduler_timeout=timeout)
         except KeyboardInterrupt:  # the lock is released by now; the command ends as "aborted" (exit code 1)
             print(f"interrupted: {out} keeps the chunks finished so far; run the same command to resume", file=sys.stderr)
             raise
-        finally:
-            stop()
     elapsed = time.perf_counter() - t0
     kinds = np.asarray(ds["kind"].values)
     names = str(ds["kind"].attrs["flag_meanings"]).split()  # the single mass's kinds, or a structure's

@@ -15,14 +15,15 @@ and ``advance`` call the builder, which the run has cached by then).
 
 Nothing starts when the run loop is cached already, on a single usable core or
 when turned off (:mod:`frictionflow._compile_ahead`); a kernel the second
-process has not finished is compiled by the run itself, as without it.  The caller stops the second process when its own work is
-done (:func:`in_background`).
+process has not finished is compiled by the run itself, as without it.  The
+second process is stopped when the caller's work is done (:func:`first_use`).
 """
 
 from __future__ import annotations
 
 import sys
-from typing import Callable
+from contextlib import contextmanager
+from typing import Callable, Iterator
 
 import numba
 import numpy as np
@@ -82,13 +83,14 @@ def compile_kernels() -> None:
         kernel.compile(signature)
 
 
-def in_background() -> Callable[[], None]:
-    """Start compiling the later kernels in a child process unless the run loop is cached; returns ``stop()``.
+def in_background(ready: bool | None = None) -> Callable[[], None]:
+    """Start compiling the later kernels in a child process unless the run loop is cached (``ready``: that answer,
+    if known already); returns ``stop()``.
 
     Call ``stop()`` once the run and its analysis are done: a child still compiling is ended (what it has
     finished stays in the cache; numba writes each entry whole).
     """
-    child = compile_ahead(__name__, cached())
+    child = compile_ahead(__name__, cached() if ready is None else ready)
     if child is None:
         return lambda: None
 
@@ -100,12 +102,19 @@ def in_background() -> Callable[[], None]:
     return stop
 
 
-def first_use() -> Callable[[], None]:
-    """On an empty numba cache: say so in one line (on a terminal) and :func:`in_background`; returns its ``stop()``."""
-    if not cached() and sys.stderr.isatty():
+@contextmanager
+def first_use() -> Iterator[None]:
+    """Around a first structure run on an empty numba cache: say so in one line (on a terminal) and compile the later
+    kernels :func:`in_background`, stopped on leaving."""
+    ready = cached()
+    if not ready and sys.stderr.isatty():
         print("frictionflow: compiling the structure engine (once per machine and version: a minute or two)",
               file=sys.stderr, flush=True)
-    return in_background()
+    stop = in_background(ready)
+    try:
+        yield
+    finally:
+        stop()
 
 
 if __name__ == "__main__":
