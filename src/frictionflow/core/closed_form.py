@@ -172,34 +172,7 @@ def integral_v2(dyn, zeta, force, x0, v0, T):
     if dyn == EXP:
         c = 2.0 * zeta
         return v0 * v0 * (-math.expm1(-2.0 * c * T)) / (2.0 * c)
-    reg, r1, r2, p, q = coefficients(dyn, zeta, force, x0, v0)
-    if reg == UNDER:
-        C = r2 * q - r1 * p
-        D = -(r2 * p + r1 * q)
-        s = 0.5 * (C * C + D * D)
-        dc = 0.5 * (C * C - D * D)
-        ds = C * D
-        al = -2.0 * r1
-        be = 2.0 * r2
-        i0 = -math.expm1(al * T) / (-al) if al != 0.0 else T
-        e = math.exp(al * T)
-        cb = math.cos(be * T)
-        sb = math.sin(be * T)
-        den = al * al + be * be
-        ic = (e * (al * cb + be * sb) - al) / den
-        is_ = (e * (al * sb - be * cb) + be) / den
-        return s * i0 + dc * ic + ds * is_
-    if reg == CRIT:
-        C = q - p
-        D = -q
-        e = math.exp(-2.0 * T)
-        i0 = -math.expm1(-2.0 * T) / 2.0
-        i1 = (1.0 - e * (1.0 + 2.0 * T)) / 4.0
-        i2 = (1.0 - e * (1.0 + 2.0 * T + 2.0 * T * T)) / 4.0
-        return C * C * i0 + 2.0 * C * D * i1 + D * D * i2
-    P = r1 * p
-    Q = r2 * q
-    return P * P * math.expm1(2 * r1 * T) / (2 * r1) + 2 * P * Q * math.expm1((r1 + r2) * T) / (r1 + r2) + Q * Q * math.expm1(2 * r2 * T) / (2 * r2)
+    return integral_v2_with(coefficients(dyn, zeta, force, x0, v0), T)
 
 
 @njit(cache=True)

@@ -51,7 +51,7 @@ from .friction import (FD, FEX, FS, LAW, LAW_A, LAW_B, LAW_C, OMEGA, PHI, RESULT
 from . import sections as sec
 from .layout import N_WORK
 from .records import (DENSE_DT, MAX_STEPS, MIN_PERIODS, ODE_ATOL, ODE_RTOL, R_CERT, STOP_RTOL, T_END, T_TAIL, V0, VB, X0, X_EQ,
-                      ZETA)
+                      ZETA, record_switch)
 from .samples import emit
 # the forced stick's walk and the stick on a moving belt, stated once
 from .stick import belt_stick_work, belt_zero, exit_time as _stick_exit, friction_zero as _friction_zero, stick_x
@@ -308,17 +308,6 @@ def first_sample(s, p, start, outs, w):
     fc0 = stick_friction(x, s.zeta, vb, stick_load(p, 0.0) if s.forced else 0.0)
     emit(outs, np.int64(0), 0.0, x, v, fc0 if mode == 0 else mode * slip_force_at(p, abs(vb - v)), mode, w)
     return mode
-
-
-@njit(cache=True)
-def record_switch(events, ne, t, mode):
-    """Switch ``ne`` (to ``mode`` at t) into ``events`` if it fits; the count after it (all are counted)."""
-    ev_t, ev_mode, ev_contact = events
-    if ne < len(ev_t):
-        ev_t[ne] = t
-        ev_mode[ne] = mode
-        ev_contact[ne] = 0  # the single mass's one contact
-    return ne + 1
 
 
 @njit(cache=True)

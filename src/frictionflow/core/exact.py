@@ -95,7 +95,8 @@ from . import sections as sec
 from .friction import (COULOMB, FD, FEX, FS, KARNOPP, LAW, OMEGA, PHI, RESULTANT, VD, band_mode, band_side, held_force,
                        holds_within, stick_friction)
 from .layout import N_WORK
-from .records import DENSE_DT, MIN_PERIODS, STOP_PERIODIC, STOP_RTOL, STOP_TERMINAL, T_END, T_TAIL, V0, VB, X0, ZETA
+from .records import (DENSE_DT, MIN_PERIODS, STOP_PERIODIC, STOP_RTOL, STOP_TERMINAL, T_END, T_TAIL, V0, VB, X0, ZETA,
+                      record_switch)
 from .samples import emit
 
 SLIP_POS, SLIP_NEG, HOLD, SAT_POS, SAT_NEG, EDGE_LO, EDGE_HI, STICK = range(1, 9)
@@ -625,17 +626,6 @@ def _phase_end(s, mode, dfk, x, v, t):
 
 
 @njit(cache=True, inline="always")
-def _record_event(events, ne, t, mode):
-    """Count the switch at ``t`` into ``mode``, writing it if it fits; returns the new count."""
-    ev_t, ev_mode, ev_contact = events
-    if ne < len(ev_t):
-        ev_t[ne] = t
-        ev_mode[ne] = mode
-        ev_contact[ne] = 0  # the single mass's one contact
-    return ne + 1
-
-
-@njit(cache=True, inline="always")
 def _add_piece(w, ph, xa, va, xb, vb_, L):
     """Add the work integrals of one piece of the phase ``ph`` (:func:`_piece`) to ``w``."""
     d0, d1, d2, d3 = _piece(ph.dyn, ph.fck, ph.zeta, ph.vb, ph.force, ph.fmode != 0, xa, va, xb, vb_, L)
@@ -855,7 +845,7 @@ def run(run, p, samples, events, t_mode, replicate, periodic_stop):
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
         if zero_len > 8:
             return k, ne, STUCK, t_terminal, t
-        ne = _record_event(events, ne, t, mode)
+        ne = record_switch(events, ne, t, mode)
     if len(t_mode) > 1:
         t_mode[1] = rp.copied
     return k, ne, DONE, t_terminal, t_end
@@ -1350,7 +1340,7 @@ def run_forced(run, p, samples, events, t_mode):
         zero_len = zero_len + 1 if T <= 4.0 * EPS * (1.0 + t) else 0
         if zero_len > 8:
             return k, ne, STUCK, -1.0, t
-        if ne < len(events.t):  # written here, not by _record_event: see the event table's comment
+        if ne < len(events.t):  # written here, not by record_switch: see the event table's comment
             events.t[ne], events.mode[ne], events.contact[ne] = t, mode, 0
         ne += 1
     return k, ne, DONE, -1.0, t_end

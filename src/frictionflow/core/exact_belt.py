@@ -21,20 +21,18 @@ run here (the façade refuses it).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
 from . import closed_form as cf
 from .codes import FULL
 from .dopri import (GO, Cursor, Setup, after_stick, drive_limits, finish_run, first_sample, forced_stick,
-                    record_switch, slip_end, strobe_sample)
+                    slip_end, strobe_sample)
 from .exact import (FC_CONST, ForcedPiece, bound_consts, crossed_sample, event_row, forced_piece_work, next_root,
                     sample_functions, parabola_step)
 from .friction import FD, FEX, FS, OMEGA, PHI, RESULTANT, VB_AMP, VB_OMEGA, belt_accel, belt_speed
 from .layout import N_WORK
-from .records import DENSE_DT, T_END, T_TAIL, V0, VB, X0, ZETA
+from .records import DENSE_DT, T_END, T_TAIL, V0, VB, X0, ZETA, record_switch
 from .samples import emit
 from .stick import stick_x
 

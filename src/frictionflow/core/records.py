@@ -109,6 +109,18 @@ def empty_derivatives(cap, n, n_work):
     return Derivatives(np.empty((2 * n, cap)), np.empty((2 * n_work, cap)))
 
 
+@njit(cache=True, inline="always")
+def record_switch(events, ne, t, mode):
+    """Count the single mass's switch at ``t`` into ``mode``, writing it into the :data:`Events` ``events`` while it
+    fits (contact 0: its one contact); the count after it (a run counts every switch)."""
+    ev_t, ev_mode, ev_contact = events
+    if ne < len(ev_t):
+        ev_t[ne] = t
+        ev_mode[ne] = mode
+        ev_contact[ne] = 0
+    return ne + 1
+
+
 #: :func:`empty_samples` compiled, for kernels that allocate their own (small) buffers
 new_samples = njit(cache=True)(empty_samples)
 #: :func:`empty_events` compiled
