@@ -419,14 +419,17 @@ def rodas_step(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     ``wnew``; returns the error norm: the rms of the last stage, component c over
     ``tol[c] + tol[n] max(|y_c|, |ynew_c|)`` (absolute scales, then rtol); inf if the step failed.
     ``ws``: the arrays of :func:`scratch`."""
-    return step_from(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, True)
+    return step_from(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, np.bool_(True))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: without the runtime, no atomic reference counts
 def step_from(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, fresh):
     """:func:`rodas_step`; with ``fresh`` False the step starts where the last one in ``ws`` started (a
     retry after a rejection, the section search): the field, the Jacobian and the time rates there are
-    kept, only the factors of W = I / (gamma h) - J are new (the same numbers as evaluating them again)."""
+    kept, only the factors of W = I / (gamma h) - J are new (the same numbers as evaluating them again).
+
+    Callers pass ``fresh`` as a bool value (``np.bool_(True)``, not ``True``): a literal compiles this step once
+    more for each literal, about 20 s each on a first run."""
     if len(y) == 3:  # one internal state (every law today): loops of known length, which the compiler unrolls
         return _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, 3, fresh)
     return _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, len(y), fresh)
@@ -500,10 +503,10 @@ def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
     x_last = h
     while b.status == RUNNING:
         x_last = b.x
-        err = step_from(q, zeta, vb, t, y, x_last, ynew, wnew, tol, ws, False)
+        err = step_from(q, zeta, vb, t, y, x_last, ynew, wnew, tol, ws, np.bool_(False))
         b = update(b, x_last, ynew[1] if err < np.inf else -1.0)
     if x_last != b.hi:  # the last point evaluated was not the end kept: the step to that end
-        err = step_from(q, zeta, vb, t, y, b.hi, ynew, wnew, tol, ws, False)
+        err = step_from(q, zeta, vb, t, y, b.hi, ynew, wnew, tol, ws, np.bool_(False))
     ynew[1] = 0.0
     return b.hi, err
 

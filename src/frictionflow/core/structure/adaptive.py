@@ -340,7 +340,7 @@ def run(asm, minv, opts, out, events, der):
     sp = split(asm, minv, modes)
     for i in range(n):
         scr.y[i], scr.y[n + i] = asm.q0[i], v[i]
-    if not emit(out, der, 0, asm, sp, 0.0, scr.y, n, scr):
+    if not emit(out, der, np.int64(0), asm, sp, 0.0, scr.y, n, scr):  # a literal 0 would compile emit once more
         return Result(codes.FULL, 0, 0, -1, np.nan)
     if lost >= 0:
         return Result(codes.CONTACT_LOST, 1, 0, lost, 0.0)

@@ -245,7 +245,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
     cb = lookup(cache, asm, minv, modes if lost < 0 else np.zeros(k, dtype=np.int8))
     if lost < 0:
         hold_velocity_into(asm, cb, v, sr.rule)
-    if not emit(out, 0, asm, cb, q, v, t, acc, sr):
+    if not emit(out, np.int64(0), asm, cb, q, v, t, acc, sr):  # (a literal 0 would compile emit twice)
         return Result(codes.FULL, 0, 0, -1, np.nan)
     if lost >= 0:
         return Result(codes.CONTACT_LOST, 1, 0, lost, 0.0)

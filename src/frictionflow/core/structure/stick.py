@@ -213,7 +213,7 @@ def release_over_limit(asm, minv, q, v, t, modes, released):
 
     Returns the :data:`Split` of the modes it ends with (:func:`decide_in`).
     """
-    return decide_in(asm, minv, q, v, t, modes, released, None, new_room(len(q), len(modes)), False)
+    return decide_in(asm, minv, q, v, t, modes, released, None, new_room(len(q), len(modes)), np.bool_(False))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
@@ -324,7 +324,8 @@ def decide(asm, minv, q, v, t, modes, leaving):
     ``modes`` holds 0 for every contact at V_r = 0 that may stick and the
     forced direction of those released (their held force reached F_s N).
     """
-    decide_in(asm, minv, q, v, t, modes, leaving, None, new_room(len(q), len(modes)), True)
+    # np.bool_: as release_over_limit's, so that both compile one decide_in (a literal is a type of its own)
+    decide_in(asm, minv, q, v, t, modes, leaving, None, new_room(len(q), len(modes)), np.bool_(True))
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
