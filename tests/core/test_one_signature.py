@@ -29,6 +29,7 @@ VALUE_ARGUMENTS = [(stiff, "step_from", 10), (stick, "decide_in", 9), (adaptive,
 
 
 def calls(module, callee: str) -> list[ast.Call]:
+    """The calls of ``callee`` by its bare name in ``module``'s source."""
     tree = ast.parse(Path(module.__file__).read_text(encoding="utf-8"))
     return [node for node in ast.walk(tree)
             if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == callee]
