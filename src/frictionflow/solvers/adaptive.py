@@ -18,7 +18,7 @@ from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from ..parameters import Param
-from .base import kernel_params, DEFAULT_MAX_MEMORY, Solver, run_growing, trajectory_from
+from .base import kernel_params, Solver, run_growing, trajectory_from
 from .events import ADAPTIVE_EVENT_MODES
 from .exact import DENSE_DT
 
@@ -172,18 +172,8 @@ class Adaptive(Solver):
     def _full(result: tuple, bufs: tuple[Samples, Events]) -> bool:
         return result[2] == dopri.FULL or result[1] > len(bufs[1].t)
 
-    def solve(
-        self,
-        model: BeltOscillator,
-        friction: FrictionLaw,
-        x0: float,
-        v0: float,
-        t_end: float,
-        progress: bool = False,
-        max_memory: float = DEFAULT_MAX_MEMORY,
-    ) -> Trajectory:
-        if not self.supports(friction):
-            raise ValueError(f"solver=adaptive does not support friction={friction.name}")
+    def _solve(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float, t_end: float,
+               progress: bool, max_memory: float) -> Trajectory:
         run, _ = kernel_for(friction)
         p = kernel_params(model, friction)
         dense_dt = self.dense_dt or 0.0

@@ -91,6 +91,8 @@ class Solver(ABC):
     ------------------------------
     name:
         Registry name (``--solver NAME``).
+    refusal_reason:
+        Why it refuses the laws it does not support, appended to :meth:`solve`'s one line ("" for none).
     interpolant:
         How :meth:`Trajectory.at <frictionflow.trajectory.Trajectory.at>` evaluates its runs between
         samples: a key of :data:`frictionflow._continuous.FORMS` (the closed form, quintic or cubic Hermite).
@@ -125,6 +127,7 @@ class Solver(ABC):
     """
 
     name: str = "abstract"
+    refusal_reason: ClassVar[str] = ""
     #: its settings, declared once (CLI options, config keys); ``keywords`` maps them to ``__init__``
     parameters: ClassVar[tuple[Param, ...]] = ()
     keywords: ClassVar[dict[str, str]] = {}
@@ -157,18 +160,21 @@ class Solver(ABC):
         resolved = resolve(cls.parameters, values)
         return cls(**{cls.keywords.get(k, k): v for k, v in resolved.items()})
 
+    def solve(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float, t_end: float,
+              progress: bool = False, max_memory: float = DEFAULT_MAX_MEMORY) -> Trajectory:
+        """Integrate from (x0, v0) at tau = 0 to ``t_end``, keeping at most ``max_memory`` GiB of samples.
+
+        Every solver's: the law is refused here, in one line, when the solver does not declare it
+        (:meth:`supports`); :meth:`_solve` integrates.
+        """
+        if not self.supports(friction):
+            raise ValueError(f"solver={self.name} does not support friction={friction.name}{self.refusal_reason}")
+        return self._solve(model, friction, x0, v0, t_end, progress, max_memory)
+
     @abstractmethod
-    def solve(
-        self,
-        model: BeltOscillator,
-        friction: FrictionLaw,
-        x0: float,
-        v0: float,
-        t_end: float,
-        progress: bool = False,
-        max_memory: float = DEFAULT_MAX_MEMORY,
-    ) -> Trajectory:
-        """Integrate from (x0, v0) at tau = 0 to ``t_end``, keeping at most ``max_memory`` GiB of samples."""
+    def _solve(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float, t_end: float,
+               progress: bool, max_memory: float) -> Trajectory:
+        """:meth:`solve` for a law the solver supports."""
 
     def supports(self, friction: FrictionLaw) -> bool:
         """Whether this solver can integrate ``friction`` (from the law's declared capabilities)."""

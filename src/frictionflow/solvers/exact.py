@@ -17,7 +17,7 @@ from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, SUBNORMAL_BELOW, Param
-from .base import kernel_params, DEFAULT_MAX_MEMORY, Solver, run_growing, trajectory_from
+from .base import kernel_params, Solver, run_growing, trajectory_from
 from .events import ADAPTIVE_EVENT_MODES, EXACT_EVENT_MODES
 
 #: the dense grid's step: from 1e-9 up, as RK4's step (finer ones make the sample count of any run beyond memory,
@@ -81,6 +81,7 @@ class Exact(Solver):
     """
 
     name = "exact"
+    refusal_reason = " (its slip force is not constant)"
     parameters = (DENSE_DT,)
     interpolant = "closed_form"
     #: in a structure: the laws whose phases are linear (piecewise-constant slip force, stuck a constraint)
@@ -153,18 +154,8 @@ class Exact(Solver):
     def _full(result: tuple, bufs: tuple[Samples, Events]) -> bool:
         return result[2] == kernel.FULL or result[1] > len(bufs[1].t)
 
-    def solve(
-        self,
-        model: BeltOscillator,
-        friction: FrictionLaw,
-        x0: float,
-        v0: float,
-        t_end: float,
-        progress: bool = False,
-        max_memory: float = DEFAULT_MAX_MEMORY,
-    ) -> Trajectory:
-        if not self.supports(friction):
-            raise ValueError(f"solver=exact does not support friction={friction.name} (its slip force is not constant)")
+    def _solve(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float, t_end: float,
+               progress: bool, max_memory: float) -> Trajectory:
         problem = self.forcing_problem(model.zeta, model.omega, model.fex)
         if problem:
             raise ValueError(problem)

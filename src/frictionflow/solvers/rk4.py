@@ -14,10 +14,10 @@ from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, Param
 from ..core import batch, sections
-from ..core.layout import FEX, LAW, N_WORK, VB_AMP
+from ..core.layout import FEX, LAW, VB_AMP
 from ..core.records import N_CONTACTS, N_STATE, Samples, empty_samples
 from ..estimate import SECONDS_PER, Estimate
-from .base import kernel_params, DEFAULT_MAX_MEMORY, CoarseStepWarning, Solver, check_memory
+from .base import kernel_params, CoarseStepWarning, Solver, check_memory
 
 # (a step below 1e-9 or more steps than MAX_STEPS would run for days: refused up front)
 DT = Param("dt", "", "RK4 step", "solver", 1e-3, lower=1e-9, upper=MODEL_MAX)
@@ -175,18 +175,8 @@ class RK4(Solver):
             out.append(f"dt={self.dt:g} is beyond RK4's stability limit for zeta={model.zeta:g}; use dt <= {lim['stability']:.3g}")
         return out
 
-    def solve(
-        self,
-        model: BeltOscillator,
-        friction: FrictionLaw,
-        x0: float,
-        v0: float,
-        t_end: float,
-        progress: bool = False,
-        max_memory: float = DEFAULT_MAX_MEMORY,
-    ) -> Trajectory:
-        if not self.supports(friction):
-            raise ValueError(f"solver=rk4 does not support friction={friction.name}")
+    def _solve(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float, t_end: float,
+               progress: bool, max_memory: float) -> Trajectory:
         dt, per_period = self.aligned_step(model)
         n = self.steps(t_end, dt)
         for msg in self.check_step(model, friction, x0, v0):

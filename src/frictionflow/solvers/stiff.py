@@ -80,10 +80,8 @@ class Stiff(Solver):
         """Room for the samples of a run to ``t_end`` (a first guess; the run grows it)."""
         return int(100 * t_end) + 256
 
-    def solve(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float, t_end: float,
-              progress: bool = False, max_memory: float = DEFAULT_MAX_MEMORY) -> Trajectory:
-        if not self.supports(friction):
-            raise ValueError(f"solver={self.name} does not support friction={friction.name}")
+    def _solve(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float, t_end: float,
+               progress: bool, max_memory: float) -> Trajectory:
         y0 = np.concatenate([[float(x0), float(v0)], friction.initial_state(model.vb)])
         return self.solve_state(model, friction, y0, t_end, progress, max_memory)
 
