@@ -10,16 +10,18 @@ the engine from the orbit's state returning to it.
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from frictionflow import BeltOscillator, Coulomb
 from frictionflow.core.layout import FD
+from frictionflow.analysis.structure import analyze_structure, section_times
 from frictionflow.orbits import find_orbit
 from frictionflow.orbits.shooting import ShootingError
 from frictionflow.orbits.structure import find_structure_orbit
-from frictionflow.solvers.structure import run_assembly
+from frictionflow.solvers.structure import run_assembly, simulate_system
 from frictionflow.system import System, load_system
 from tests.cli.processes import cli, in_process, one_line
 from tests.golden.cases import ORBIT
@@ -206,6 +208,18 @@ def test_a_settled_equilibrium_is_no_orbit():
     asm = chain(2, Coulomb(fd=0.1, fs=0.1), [0.5, 0.5], c=0.5, q0=[0.1, 0.1])  # fast belt: steady sliding
     with pytest.raises(ShootingError, match="equilibrium"):
         find_structure_orbit(asm, t_transient=200.0)
+
+
+def test_a_slow_spiral_into_steady_sliding_is_no_orbit_as_simulate_finds():
+    # the shipped two-mass chain: light damping (c = 0.04), so after the transient the motion still crosses the
+    # section, ever smaller; Newton used to chase the shrinking spiral and stall ("Newton stalled at residual
+    # 3e-11").  The run's end is certified to slide into the equilibrium, the same proof simulate's analysis uses
+    system = load_system(Path(__file__).parents[2] / "examples" / "models" / "two_mass_chain.toml")
+    motion = simulate_system(system, 300.0)
+    assert analyze_structure(motion).steady_state.kind == "equilibrium"
+    assert len(section_times(motion)) > 10  # still crossing: the old route went on to Newton
+    with pytest.raises(ShootingError, match="^the motion settles on the steady-sliding equilibrium .* t=300 "):
+        find_structure_orbit(system, t_transient=300.0)
 
 
 MODEL = """dof = ["x1", "x2"]

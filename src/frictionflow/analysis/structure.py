@@ -168,7 +168,7 @@ def analyze_structure(motion: Any, rtol: float = 1e-6, min_periods: int = 3,
     if ss.kind == "contact_lost":  # a transient: nothing averaged, but the run up to the loss is still checked
         t0, t1 = ss.window
         return StructureAnalysis(motion, ss, energy_residual=window_residual(motion, ss.window) if t1 > t0 else 0.0)
-    if ss.kind == "equilibrium" and window is None and _certified(motion):
+    if ss.kind == "equilibrium" and window is None and certified_sliding(motion):
         return _at_sliding_equilibrium(motion, ss)
     t0, t1 = ss.window
     return StructureAnalysis(motion, ss, motion.element_power(t0, t1), amplitudes(motion, ss.window),
@@ -184,7 +184,7 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
     grid = np.linspace(tail[0], t_end, _grid_size(motion, tail))
     states = states_at(motion, (grid))
     scale = float(np.max(np.abs(states))) + 1e-300
-    if np.all(np.ptp(states, axis=1) <= rtol * scale) or _certified(motion):
+    if np.all(np.ptp(states, axis=1) <= rtol * scale) or certified_sliding(motion):
         return StructureSteadyState("equilibrium", math.nan, tail, stick_fractions(motion, tail))
     found = _periodic(motion, rtol, min_periods)
     if found is not None:
@@ -213,7 +213,7 @@ def _not_periodic(motion: Any) -> tuple[str, float]:
     return kind, math.nan if lam is None else lam
 
 
-def _certified(motion: Any) -> bool:
+def certified_sliding(motion: Any) -> bool:
     """Is the run's end proven to slide into the steady-sliding equilibrium without another switch?
 
     With every contact slipping the way its belt drives it and no force, the

@@ -33,7 +33,7 @@ import numpy as np
 
 from .._display import Row, Summarized, num
 from .._json import jsonable
-from ..analysis.structure import stick_fractions
+from ..analysis.structure import certified_sliding, stick_fractions
 from ..core.assembly import Assembly
 from ..core.layout import STICK
 from ..estimate import enforce, enforce_stage
@@ -288,6 +288,9 @@ def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any, re
     motion = flow.run(guess, length)
     if motion.status != "ok":
         raise ShootingError(f"{motion.lost[0]} lost its normal load at t={motion.lost[1]:.6g} in the transient")
+    if t_transient > 0 and certified_sliding(motion):  # proven: no switch after it, a spiral into steady sliding
+        raise ShootingError(f"the motion settles on the steady-sliding equilibrium (certified from t={length:.6g} on, "
+                            "as simulate --model finds it): no periodic orbit to shoot for from this start")
     row = _row(flow, motion, section, setup.dof)
     times = crossings(flow, motion, row, 0.5 * length if t_transient > 0 else 0.0)
     if len(times) == 0:
