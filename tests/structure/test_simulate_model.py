@@ -11,6 +11,7 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 import xarray as xr
 from PIL import Image
@@ -107,6 +108,22 @@ def test_contact_lost_json_report():
     assert report["steady_state"]["stick_fraction"] == [None]
     assert report["elements"] == {} and report["amplitude"] == {}
     assert 0.0 <= report["energy_residual"] < 1e-12
+    # which contact and when: there the load N = P - kH x2 (the file's preload and x2 row, read here) is 0 to
+    # rounding, and positive on a grid before it
+    system = load_system(path)
+    motion = simulate_system(system, 200.0)
+    t_lost = report["lost"]["t"]
+    assert report["lost"]["contact"] == "contact.0" and 0.0 < t_lost < 200.0
+    normal = system.contacts[0].normal
+    row = np.array([dict(normal.on).get(d, 0.0) for d in system.dof])
+
+    def load(times):
+        return normal.preload + row @ motion.states(times)[:len(row)]  # states: (2n, len(times))
+
+    assert abs(load([t_lost])[0]) < 1e-12
+    assert np.all(load(np.linspace(0.0, t_lost, 2001)[:-1]) > 0.0)
+    table = in_process("simulate", "--model", str(path), "--t-end", "200")[1]
+    assert "contact.0 at t = " in table
 
 
 def test_two_masses_budget_closes(tmp_path):

@@ -128,15 +128,20 @@ class StructureAnalysis(Summarized):
     def _summary(self) -> tuple[str, list[Row]]:
         rows = [("steady state", self.steady_state.kind), ("period", num(self.steady_state.period)),
                 ("energy residual", num(self.energy_residual, 3))]
+        if self.motion.lost is not None:  # where the run stopped: the contact whose normal load reached 0, and when
+            rows.insert(1, ("contact lost", f"{self.motion.lost[0]} at t = {num(self.motion.lost[1])}"))
         rows += [(name, ", ".join(f"{k} {num(v, 4)}" for k, v in powers.items()))
                  for name, powers in self.elements.items()]
         return "StructureAnalysis", rows
 
     def to_dict(self) -> dict[str, Any]:
-        """The ``simulate --model --json`` report, JSON-ready (undefined values None)."""
+        """The ``simulate --model --json`` report, JSON-ready (undefined values None); ``lost``: the contact whose
+        normal load reached 0 and when ({"contact", "t"}), or None."""
+        lost = self.motion.lost
         return jsonable({"steady_state": self.steady_state.to_dict(), "amplitude": self.amplitude,
                          "elements": self.elements, "energy_residual": self.energy_residual,
-                         "status": self.motion.status, "switches": len(self.motion.switches)})
+                         "status": self.motion.status, "switches": len(self.motion.switches),
+                         "lost": None if lost is None else {"contact": lost[0], "t": lost[1]}})
 
 
 def analyze_structure(motion: Any, rtol: float = 1e-6, min_periods: int = 3,
