@@ -206,6 +206,18 @@ def test_bad_grids_refused_in_one_line_with_nothing_written(two_dof, tmp_path, g
     assert list(tmp_path.iterdir()) == [sweep]
 
 
+def test_a_range_table_with_a_wrong_key_is_named_as_the_single_mass_sweep_names_it(two_dof, tmp_path):
+    """``{ from = ..., to = ..., n = ... }`` under an entry: the entry's range key is wrong, not the entry (TOML's
+    nested tables once made it "unknown grid key 'contact.0.belt.from': not an entry of the model")."""
+    sweep = tmp_path / "bad.toml"
+    sweep.write_text(f'model = "{two_dof / "two.toml"}"\nt_end = 50.0\n[grid]\n'
+                     '"contact.0.belt" = {{ from = 0.02, to = 0.2, n = 8 }}\n'.replace("{{", "{").replace("}}", "}"))
+    with pytest.raises(ValueError, match=r"^.*bad.toml: grid.contact.0.belt: unknown key 'from'; allowed: num, scale, "
+                                         r"start, stop$"):
+        run_sweep(sweep, tmp_path / "r.zarr")
+    assert list(tmp_path.iterdir()) == [sweep]
+
+
 def test_dotted_keys_unquoted_are_the_same_grid(two_dof, tmp_path):
     """TOML reads ``contact.0.belt = ...`` (unquoted) as nested tables: joined back into the address."""
     (tmp_path / "s.toml").write_text(SWEEP.replace('"contact.0.belt"', "contact.0.belt").replace('"spring.2.k"', "spring.2.k")

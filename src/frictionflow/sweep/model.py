@@ -140,8 +140,13 @@ def flat_grid(grid: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
 
 
 def _unknown_entry(source: str, key: str, system: System) -> ValueError:
-    """One line: the unknown address and a few valid ones (the closest first)."""
+    """One line: the unknown address and a few valid ones (the closest first); a valid entry followed by a key
+    (a range table with a misspelt key, which :func:`flat_grid` took for a level) is named as the single mass's
+    sweep names it."""
     valid = system.entries()
+    entry, _, last = key.rpartition(".")
+    if entry in valid:
+        return ValueError(f"{source}: grid.{entry}: unknown key {last!r}; allowed: num, scale, start, stop")
     near = difflib.get_close_matches(key, valid, n=4, cutoff=0.5)
     shown = list(dict.fromkeys([*near, *valid]))[:6]
     return ValueError(f"{source}: unknown grid key {key!r}: not an entry of the model; its entries include "
