@@ -96,13 +96,27 @@ def _shown(ss: Any) -> tuple[float, float]:
     return t0, t1
 
 
+def mode_steps(motion: Any, span: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """(times, modes (k, len(times))): each contact's mode over ``span`` as a step curve: the mode in force at its
+    start (the last sample at or before it), each sample inside, held to its end.
+
+    A run samples at its switches, so a window without one (a settled equilibrium) holds no sample but its end.
+    """
+    t, modes = np.asarray(motion.t), np.asarray(motion.modes)
+    first = max(int(np.searchsorted(t, span[0], side="right")) - 1, 0)
+    inside = np.flatnonzero((t > span[0]) & (t < span[1]))
+    last = inside[-1] if len(inside) else first
+    return (np.concatenate(([span[0]], t[inside], [span[1]])),
+            modes[:, np.concatenate(([first], inside, [last]))])
+
+
 def _modes_panel(ax: Any, motion: Any, span: tuple[float, float]) -> None:
     """Each contact's mode (-1 slip-, 0 stick, +1 slip+) as a step curve, offset per contact."""
-    t = np.asarray(motion.t)
-    keep = (t >= span[0]) & (t <= span[1])
+    times, modes = mode_steps(motion, span)
     for j, contact in enumerate(motion.contacts):
-        ax.step(t[keep], np.asarray(motion.modes)[j][keep] + 3 * j, where="post", lw=0.8, label=contact)
-    ax.set(xlabel=r"$\tau$", title="contact modes (-1 slip-, 0 stick, +1 slip+; offset 3 per contact)")
+        ax.step(times, modes[j] + 3 * j, where="post", lw=0.8, label=contact)
+    ax.set(xlabel=r"$\tau$", xlim=span, ylim=(-1.5, 3 * len(motion.contacts) - 1.5),
+           title="contact modes (-1 slip-, 0 stick, +1 slip+; offset 3 per contact)")
     legend_outside(ax)
 
 

@@ -18,7 +18,7 @@ from PIL import Image
 
 from frictionflow.analysis.structure import analyze_structure
 from frictionflow.solvers.structure import simulate_system
-from frictionflow.structure_plot import energy_budget
+from frictionflow.structure_plot import energy_budget, mode_steps
 from frictionflow.system import load_system
 
 from ..cli.processes import cli, in_process, one_line
@@ -191,3 +191,25 @@ def test_model_figure_and_netcdf(tmp_path):
     assert list(ds["dof"].values) == ["x"] and list(ds["contact"].values) == ["contact.0"]
     assert "contact.0.heat" in list(ds["channel"].values)
     assert float(ds["time"][-1]) == 100.0
+    # a file gets the curve, not only the switches: at most 2 pi / 200 of the one mode's period between samples
+    # (k = m = 1: omega 1), each sample the engine's exact state there
+    gaps = np.diff(ds["time"].values)
+    assert len(gaps) > 3000 and gaps.max() <= 2 * math.pi / 200 * (1 + 1e-12)
+    motion = simulate_system(load_system(path), 100.0)
+    picked = ds["time"].values[::97]
+    assert np.allclose(ds["q"].sel(time=picked).values[:, 0], motion.states(picked)[0], rtol=0, atol=1e-12)
+
+
+def test_mode_steps_hold_each_mode_until_the_next_sample():
+    """The figure's mode curve at any time of the window is the mode of the last sample at or before it (found
+    here by a scan), from the window's start to its end, with or without a switch inside."""
+    system = load_system(Path(__file__).parents[2] / "examples" / "models" / "two_mass_chain.toml")
+    motion = simulate_system(system, 60.0)
+    t, modes = np.asarray(motion.t), np.asarray(motion.modes)
+    for span in ((0.3, 6.0), (2.0, 9.0), (20.0, 60.0), (0.0, 60.0)):
+        times, steps = mode_steps(motion, span)
+        assert times[0] == span[0] and times[-1] == span[1] and np.all(np.diff(times) >= 0)
+        for s in np.linspace(span[0], span[1], 157)[:-1]:
+            last = max(i for i in range(len(t)) if t[i] <= s)
+            shown = steps[:, np.searchsorted(times, s, side="right") - 1]  # where="post": the value from its time on
+            assert np.array_equal(shown, modes[:, last]), (span, s)

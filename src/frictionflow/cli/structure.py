@@ -18,7 +18,7 @@ from ..io import atomic_write, check_input_path, check_output_path
 from ..plotting import FIGURE_FORMATS
 from ..estimate import enforce
 from ..solvers import structure_precompile
-from ..solvers.structure import (HOW, NAME as EXACT, run_estimate, simulate_system, solver_settings,
+from ..solvers.structure import (HOW, NAME as EXACT, file_dense_dt, run_estimate, simulate_system, solver_settings,
                                  structure_parameters, structure_solver_for)
 from ..structure_plot import plot_structure
 from ..system import System, assemble, load_system
@@ -56,6 +56,8 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     settings = solver_settings(solver, params)
     _refuse_others(solver, params)
     dense_dt = params.get("dense_dt")
+    if dense_dt is None and outputs.get("out") is not None:  # a file wants the curve, not just its switches
+        dense_dt = file_dense_dt(assemble(system))
     enforce(run_estimate(assemble(system), t_end, dense_dt, solver=solver))
     window = _window(params.get("window"))
     rtol = 1e-6 if params.get("rtol") is None else float(params["rtol"])

@@ -192,6 +192,17 @@ def fastest_bound(assembly: Assembly, minv: np.ndarray) -> float:
     return math.sqrt(float(np.abs(minv @ assembly.stiffness).sum(axis=1).max(initial=0.0)))
 
 
+#: samples per period of the fastest mode when a file wants the curve (:func:`file_dense_dt`)
+FILE_SAMPLES_PER_PERIOD = 200
+
+
+def file_dense_dt(assembly: Assembly) -> float:
+    """The dense grid's step when a run is written to a file and none was asked for: 200 samples per period of
+    the fastest mode (bounded by :func:`fastest_bound`; 2 pi / 200 without springs), as the single mass's 2 pi / 200."""
+    omega = fastest_bound(assembly, np.linalg.inv(assembly.mass))
+    return 2.0 * math.pi / (FILE_SAMPLES_PER_PERIOD * (omega if omega > 0.0 else 1.0))
+
+
 def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None, solver: str = NAME) -> Estimate:
     """What a run of ``assembly`` to ``t_end`` costs, before it starts: switches (steps), CPU seconds and memory.
 
