@@ -14,7 +14,7 @@ from frictionflow import quantities as Q
 from frictionflow.analysis.structure import MAX_CROSSINGS, STRUCTURE_KINDS, structure_steady_state
 from frictionflow.analysis.structure_lyapunov import revisits
 from frictionflow.core import strobe
-from frictionflow.solvers import RK4, Exact
+from frictionflow.solvers import RK4, Adaptive, Exact
 from frictionflow.solvers.structure import simulate_system
 from frictionflow.system import System
 
@@ -28,9 +28,9 @@ def test_the_kinds_are_the_shared_ones():
     assert STRUCTURE_KINDS[:4] == ("periodic", "equilibrium", "not_settled", "contact_lost")  # stored codes kept
 
 
-def _cycle_period(zeta: float, law, vb: float) -> float:
-    """The single mass's stick-slip cycle from rest (the single-mass exact solver and analysis)."""
-    tr = ff.simulate(ff.BeltOscillator(zeta=zeta, vb=vb), law, Exact(), t_end=800.0, x0=0.0, v0=0.0)
+def _cycle_period(zeta: float, law, vb: float, solver=None) -> float:
+    """The single mass's stick-slip cycle from rest (the single-mass solver, exact by default, and analysis)."""
+    tr = ff.simulate(ff.BeltOscillator(zeta=zeta, vb=vb), law, solver or Exact(), t_end=800.0, x0=0.0, v0=0.0)
     ss = ff.analyze(tr).steady_state
     assert ss.kind == "periodic"
     return ss.period
@@ -54,6 +54,28 @@ def test_two_uncoupled_stick_slip_cycles_are_quasi_periodic():
              "damper": [{"on": {"x1": 1.0}, "c": c}, {"on": {"x2": 1.0}, "c": c}],
              "contact": [{"on": {d: 1.0}, "belt": VB, "friction": "coulomb", "fd": FD, "fs": FS} for d in ("x1", "x2")]}
     ss = structure_steady_state(simulate_system(System.from_dict(model, source=None), 3000.0))
+    assert ss.kind == "quasi_periodic"
+    assert abs(ss.lyapunov) < 1e-3
+
+
+def test_two_uncoupled_stribeck_cycles_are_quasi_periodic_through_the_adaptive_solver():
+    """As above with Stribeck's smooth slip curve, which only the adaptive structure solver runs: the exponent's
+    runs are the motion's own solver's (they were the exact solver's, which refused the law: the analysis of any
+    such run that did not repeat failed).  Mass 2's equivalent single mass also has v_s / sqrt 2 (V_r scales as
+    the time does)."""
+    c, w, vs = 2.0 * ZETA, math.sqrt(2.0), 0.012
+    t1 = _cycle_period(ZETA, ff.Stribeck(fd=FD, fs=FS, vs=vs), VB, Adaptive())
+    t2 = _cycle_period(c / (2.0 * w), ff.Stribeck(fd=FD / 2.0, fs=FS / 2.0, vs=vs / w), VB / w, Adaptive()) / w
+    ratio = t1 / t2
+    near = Fraction(ratio).limit_denominator(MAX_CROSSINGS)
+    assert abs(ratio - float(near)) > 1e-3 * ratio
+    model = {"dof": ["x1", "x2"], "mass": [1.0, 1.0],
+             "spring": [{"on": {"x1": 1.0}, "k": 1.0}, {"on": {"x2": 1.0}, "k": 2.0}],
+             "damper": [{"on": {"x1": 1.0}, "c": c}, {"on": {"x2": 1.0}, "c": c}],
+             "contact": [{"on": {d: 1.0}, "belt": VB, "friction": "stribeck", "fd": FD, "fs": FS, "vs": vs}
+                         for d in ("x1", "x2")]}
+    motion = simulate_system(System.from_dict(model, source=None), 3000.0, solver="adaptive")
+    ss = structure_steady_state(motion)
     assert ss.kind == "quasi_periodic"
     assert abs(ss.lyapunov) < 1e-3
 

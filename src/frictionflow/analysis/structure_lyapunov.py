@@ -97,7 +97,7 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
     n_transient, n_blocks = blocks
     try:
         reference = run_assembly(restart(a, motion.state[:, -1], t0), (n_transient + n_blocks) * block,
-                                 dense_dt=block)
+                                 dense_dt=block, solver=motion.solver)  # the run's own solver: its laws
     except RuntimeError:
         return None
     size = float(np.max(np.abs(motion.state[:, -1]))) + float(np.max(np.abs(a.belt), initial=0.0))
@@ -127,7 +127,7 @@ def _one_block(reference: Any, a: Any, start: np.ndarray, t: float, d: np.ndarra
                end: np.ndarray, autonomous: bool, b: int) -> tuple[np.ndarray, float] | None:
     """(the separation's new direction, its growth over the block) for the pair started ``d`` apart at ``t``."""
     try:
-        other = run_assembly(restart(a, start + d, t), block)
+        other = run_assembly(restart(a, start + d, t), block, solver=reference.solver)
     except RuntimeError:
         return None
     if other.status != "ok":
