@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import time
 
@@ -16,6 +17,8 @@ from frictionflow.sweep import repair_sweep, run_sweep, verify_sweep
 from frictionflow.sweep import model as model_module, runner
 from frictionflow.sweep.model import load_model_sweep, parse_model_sweep
 from frictionflow.system import System, load_system
+
+from ..cli.processes import in_process
 
 ZETA, FD, FS, T_END = 0.1, 0.02, 0.04, 200.0
 #: two stick-slip cycles and two sliding equilibria (from X = 0 at rest)
@@ -140,6 +143,27 @@ def test_each_point_equals_its_own_run_on_every_path(two_dof):
             for name, value in want.items():
                 np.testing.assert_array_equal(got[name].values, value, err_msg=f"{name} at {vb}, {k}")
     assert set(STRUCTURE_KINDS[k] for k in zarr_one["kind"].values.ravel()) <= {"periodic", "not_settled"}
+
+
+def test_a_stribeck_model_sweeps_on_simulate_s_solver(tmp_path):
+    """A law only the adaptive solver runs (Stribeck's): the sweep runs it as ``simulate --model`` does (it refused
+    it with the exact solver's message), each point the command's own report at that point."""
+    model = TWO.replace('friction = "coulomb"', 'friction = "stribeck"\nvs = 0.005')
+    (tmp_path / "two.toml").write_text(model)
+    (tmp_path / "s.toml").write_text('model = "two.toml"\nt_end = 60.0\n[grid]\n"contact.0.belt" = [0.005, 0.03]\n')
+    ds = run_sweep(tmp_path / "s.toml", tmp_path / "r.nc", chunk_size=1).load()
+    assert ds.attrs["solver"] == "adaptive"
+    for vb in (0.005, 0.03):
+        (tmp_path / "p.toml").write_text(model.replace("belt = 0.01", f"belt = {vb}", 1))
+        code, out, err, _ = in_process("simulate", "--model", str(tmp_path / "p.toml"), "--t-end", "60", "--json")
+        assert code == 0, err
+        report, got = json.loads(out), ds.sel({"contact.0.belt": vb})
+        assert STRUCTURE_KINDS[int(got["kind"])] == report["steady_state"]["kind"]
+        for j, c in enumerate(("contact.0", "contact.1")):
+            assert float(got["P_belt"][j]) == report["elements"][c]["P_belt"]
+            assert float(got["P_heat"][j]) == report["elements"][c]["P_heat"]
+        assert [float(x) for x in got["X_max"]] == list(report["amplitude"]["X_max"].values())
+        assert float(got["energy_residual"]) == report["energy_residual"]
 
 
 def test_dask_path_agrees(two_dof):

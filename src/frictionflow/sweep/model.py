@@ -11,7 +11,7 @@
     "spring.1.k" = [0.5, 1.0]
     "damper.0.c" = 0.05                  # a number: fixed, not an axis
 
-Each point is ``simulate_system(system.with_entry(...)..., t_end)`` and
+Each point is ``simulate_system(system.with_entry(...)..., t_end)`` (on ``simulate --model``'s solver) and
 :func:`~frictionflow.analysis.structure.analyze_structure`; a chunk's points run on
 numba's threads at once (:func:`compute_model_chunk`).
 The dataset's dims are the axes (named by their addresses); its variables
@@ -42,7 +42,7 @@ from ..core.threads import over_points
 from ..estimate import Estimate
 from ..io import read_config
 from ..solvers import structure_precompile
-from ..solvers.structure import simulate_system
+from ..solvers.structure import simulate_system, structure_solver_for
 from ..system import System, load_system
 from .compute import chunk_slices
 from .config import MAX_POINTS, Grid, Variable, _axis, parse_sweep
@@ -79,6 +79,12 @@ class ModelSweepConfig(Grid):
     sample: dict[str, np.ndarray] = field(default_factory=dict)  #: (no sampled axes in a model sweep)
 
     @property
+    def solver(self) -> str:
+        """The structure solver every point runs on: ``simulate --model``'s choice (``auto``: the first that runs
+        every contact's law; the grid's entries are numbers, so it is the same at every point)."""
+        return structure_solver_for(self.system)
+
+    @property
     def labels(self) -> dict[str, tuple[str, ...]]:
         """The labels of the variables' dims beyond the grid's (a dim without labels is left out)."""
         s = self.system
@@ -110,7 +116,7 @@ class ModelSweepConfig(Grid):
     def attributes(self) -> dict[str, Any]:
         """The dataset's attributes beyond the provenance."""
         attrs: dict[str, Any] = {f"fixed_{k}": float(v) for k, v in self.fixed.items()}
-        attrs.update({"model": json.dumps(self.source["model"], sort_keys=True, default=str), "solver": "exact",
+        attrs.update({"model": json.dumps(self.source["model"], sort_keys=True, default=str), "solver": self.solver,
                       "t_end": self.t_end, "rtol": self.rtol})
         if self.model_file is not None:
             attrs["model_file"] = self.model_file
@@ -307,7 +313,7 @@ def config_from_source(source: Mapping[str, Any], name: str = "config"):
 
 def point_rows(cfg: ModelSweepConfig, system: System) -> list[np.ndarray]:
     """One point's values, one array per variable of ``cfg.variables`` (over its extra dims)."""
-    result = analyze_structure(simulate_system(system, cfg.t_end), rtol=cfg.rtol)
+    result = analyze_structure(simulate_system(system, cfg.t_end, solver=cfg.solver), rtol=cfg.rtol)
     ss = result.steady_state
     labels = cfg.labels
     elements = result.elements
@@ -370,7 +376,7 @@ def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, n
     seconds = []
     for _ in range(1 if structure_precompile.cached() else 2):  # a first use's first run also compiles (minutes)
         start = time.process_time()
-        analyze_structure(simulate_system(system, probe_t), rtol=cfg.rtol)
+        analyze_structure(simulate_system(system, probe_t, solver=cfg.solver), rtol=cfg.rtol)
         seconds.append(time.process_time() - start)
     per_point = min(seconds) * cfg.t_end / probe_t
     work = Estimate(float(cfg.size), f"model points of t_end {cfg.t_end:g} (probe: {probe_t:g})",
