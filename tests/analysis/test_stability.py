@@ -170,6 +170,23 @@ def test_a_falling_slip_curve_destabilises_one_mass_below_the_closed_form_belt_s
     assert np.array_equal(scan.stable, values > v_star)
 
 
+def test_a_pair_that_is_two_real_roots_at_the_unstable_end_crosses_once():
+    # a steeper curve: at the slowest belt 2 zeta + slope < -2, the pair is two real roots lambda > 0 (both
+    # "upper half plane"); it turns into one complex pair and crosses once, where 2 zeta + slope = 0 (it was
+    # reported twice: once per root)
+    law = Stribeck(fd=0.02, fs=0.08, vs=0.01, delta=1.0)
+    v_star = law.vs * math.log((law.fs - law.fd) / (2.0 * ZETA * law.vs))
+    values = np.linspace(0.001, 0.119, 3)  # the first step holds both: the roots meeting (v = 0.0105) and the crossing
+    slope = -(law.fs - law.fd) / law.vs * math.exp(-values[0] / law.vs)
+    assert (2.0 * ZETA + slope) ** 2 > 4.0  # overdamped (two real roots) at the first value
+    scan = stability_scan(lambda vb: single_mass(vb, law), values, param="contact.0.belt")
+    assert len(scan.critical) == 1
+    crit = scan.critical[0]
+    assert crit.kind == "negative_damping" and not crit.unstable_above
+    assert crit.value == pytest.approx(v_star, rel=1e-12)
+    assert crit.frequency == pytest.approx(1.0, rel=1e-12)
+
+
 def test_the_law_objects_give_the_slip_curve_where_the_kernel_rows_cannot():
     # a user's slip function (its kernel row cannot hold it): the curve of STRIBECK, its slope given; the
     # assemblies' rows are Coulomb's (flat, no instability): the laws given decide

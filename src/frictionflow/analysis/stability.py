@@ -453,12 +453,19 @@ def _critical_points(values: np.ndarray, lam: np.ndarray, spectrum: _Spectrum) -
     found = []
     for i in range(len(values) - 1):
         t = max(tol[i], tol[i + 1])
-        for k in np.flatnonzero(unstable[i] != unstable[i + 1]):
+        flips = np.flatnonzero(unstable[i] != unstable[i + 1])
+        for k in flips:
             s, u = (i, i + 1) if unstable[i + 1, k] else (i + 1, i)
-            if lam[u, k].imag < -t:
-                continue  # the conjugate of a mode of the upper half plane: counted there
+            if lam[u, k].imag < -t or (lam[s, k].imag < -t and _conjugate_flips(lam[s], k, flips)):
+                continue  # the conjugate of a mode of the upper half plane: counted there (also where the pair is
+                # two real roots at the unstable end, as steep negative damping makes it: it crosses once)
             found.append(_locate(_Bracket(values[s], values[u], lam[s], lam[u], int(k), t), spectrum))
     return found
+
+
+def _conjugate_flips(lam: np.ndarray, k: int, flips: np.ndarray) -> bool:
+    """Whether the conjugate of ``lam[k]`` (the tracked eigenvalue nearest it) also changes stability (``flips``)."""
+    return int(np.argmin(np.abs(lam - np.conj(lam[k])))) in set(flips.tolist()) - {k}
 
 
 def _partner(b: _Bracket) -> int | None:
