@@ -9,7 +9,9 @@ rest -- the chains of ``bench_structure.py``):
 
 * ``chain2``: 2 masses over ``contact.0.belt`` (8 values) x ``spring.1.k``
   (the coupling spring, 4 values), t_end 200: 32 points;
-* ``chain10``: 10 masses over ``contact.0.belt`` (8 values), t_end 100.
+* ``chain10``: 10 masses over ``contact.0.belt`` (8 values), t_end 100;
+* ``stribeck2``: ``chain2`` with Stribeck contacts (v_s 0.05): the adaptive
+  solver's points (``--cases stribeck2`` runs it alone).
 
 Each side runs in its own process (``PYTHONPATH`` = its ``src``), the
 kernels compiled first on a warm-up chunk, then every chunk of the grid
@@ -41,8 +43,9 @@ from _common import header
 HERE = Path(__file__).resolve().parents[1] / "src"
 
 
-def chain_model(n: int) -> dict:
-    """The model mapping of a chain of ``n`` masses (spring.1 couples the first two)."""
+def chain_model(n: int, law: dict | None = None) -> dict:
+    """The model mapping of a chain of ``n`` masses (spring.1 couples the first two); ``law``: the contacts'
+    friction and its own parameters beyond fd, fs (default Coulomb's)."""
     dof = [f"x{i + 1}" for i in range(n)]
     springs = [{"on": {dof[0]: 1.0}, "k": 1.0}]
     for i in range(n - 1):
@@ -51,7 +54,7 @@ def chain_model(n: int) -> dict:
     laws = [(0.2, 0.4) if i % 2 == 0 else (0.1, 0.35) for i in range(n)]
     return {"dof": dof, "mass": [1.0] * n, "spring": springs,
             "damper": [{"on": {d: 1.0}, "c": 0.04} for d in dof],
-            "contact": [{"on": {d: 1.0}, "belt": 0.1, "friction": "coulomb", "fd": fd, "fs": fs}
+            "contact": [{"on": {d: 1.0}, "belt": 0.1, "friction": "coulomb", "fd": fd, "fs": fs, **(law or {})}
                         for d, (fd, fs) in zip(dof, laws)],
             "initial": {"q": {d: 0.5 * math.sin(i + 1) for i, d in enumerate(dof)}}}
 
@@ -60,6 +63,9 @@ CASES = {
     "chain2": (2, 200.0, {"contact.0.belt": {"start": 0.05, "stop": 0.3, "num": 8},
                           "spring.1.k": {"start": 0.2, "stop": 1.0, "num": 4}}),
     "chain10": (10, 100.0, {"contact.0.belt": {"start": 0.05, "stop": 0.3, "num": 8}}),
+    # Stribeck contacts: the adaptive structure solver's points (simulate --model's choice for the law)
+    "stribeck2": (2, 200.0, {"contact.0.belt": {"start": 0.05, "stop": 0.3, "num": 8},
+                             "spring.1.k": {"start": 0.2, "stop": 1.0, "num": 4}}, {"friction": "stribeck", "vs": 0.05}),
 }
 
 
@@ -82,8 +88,8 @@ def child(case: str, plain: bool = False) -> dict:
         from frictionflow.analysis import structure
 
         structure._not_periodic = lambda motion: ("not_settled", math.nan)
-    n, t_end, grid = CASES[case]
-    cfg = parse_model_sweep({"t_end": t_end, "grid": grid}, System.from_dict(chain_model(n), source=None))
+    n, t_end, grid, *law = CASES[case]
+    cfg = parse_model_sweep({"t_end": t_end, "grid": grid}, System.from_dict(chain_model(n, *law), source=None))
     size = default_model_chunk(cfg)
     chunks = tuple(min(size, s) if i == len(cfg.shape) - 1 else 1 for i, s in enumerate(cfg.shape))
     todo = list(itertools.product(*(range(math.ceil(s / c)) for s, c in zip(cfg.shape, chunks))))
@@ -109,13 +115,14 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--child")
     parser.add_argument("--plain", action="store_true")
+    parser.add_argument("--cases", nargs="+", choices=sorted(CASES), default=list(CASES))
     args = parser.parse_args()
     if args.child:
         print(json.dumps(child(args.child, args.plain)))
         return
     header("model sweeps: this checkout (A) vs " + args.against + " (B)")
     print(f"# load average at start: {os.getloadavg()[0]:.2f}")
-    for case in CASES:
+    for case in args.cases:
         sides = {"A": (str(HERE), False), "A plain": (str(HERE), True), "B": (args.against, False)}
         best = {side: None for side in sides}
         for _ in range(args.repeat):

@@ -37,9 +37,9 @@ def test_the_grid_holds_a_stick_slip_chain_and_forced_points(cfg):
     assert cfg.point_system((0, 1)).entry("force.0.amplitude") > 0.0
 
 
-def alone(system: System) -> dict:
+def alone(system: System, solver: str = "exact") -> dict:
     """One point run and analysed on its own: the sweep's variables by name."""
-    a = analyze_structure(simulate_system(system, T_END))
+    a = analyze_structure(simulate_system(system, T_END, solver=solver))
     ss = a.steady_state
     elements = (*system.spring_names, *system.damper_names, *system.force_names)
     return {"kind": STRUCTURE_KINDS.index(ss.kind), "period": ss.period, "stick_fraction": list(ss.stick_fraction),
@@ -62,3 +62,19 @@ def test_a_threaded_chunk_equals_each_point_run_alone(cfg, monkeypatch, n_thread
         want = alone(cfg.point_system(index))
         for name, arr in zip(names, got):
             np.testing.assert_array_equal(arr[index], want[name], err_msg=f"{name} at {index}")
+
+
+def test_a_threaded_chunk_of_a_stribeck_model_equals_each_point_run_alone(monkeypatch):
+    """The adaptive solver's points (a Stribeck contact) on three threads, bitwise as each run alone (its kernel
+    releases the GIL as the exact one's does)."""
+    stribeck = FORCED.replace('friction = "coulomb"', 'friction = "stribeck"\nvs = 0.005')
+    system = System.from_dict(tomllib.loads(stribeck), source=None)
+    cfg = parse_model_sweep({"t_end": T_END, "grid": {"contact.0.belt": BELTS, "force.0.amplitude": AMPLITUDES}},
+                            system)
+    assert cfg.solver == "adaptive"
+    monkeypatch.setattr(threads.numba, "get_num_threads", lambda: 3)
+    got = compute_model_chunk(cfg.source, (0, 0), cfg.shape)
+    for index in np.ndindex(*cfg.shape):
+        want = alone(cfg.point_system(index), "adaptive")
+        for v, arr in zip(cfg.variables, got):
+            np.testing.assert_array_equal(arr[index], want[v.name], err_msg=f"{v.name} at {index}")

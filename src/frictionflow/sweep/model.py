@@ -342,9 +342,9 @@ def compute_model_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: 
     A pure function of its arguments (a Dask task): each point is
     ``analyze_structure(simulate_system(system at the point, t_end))``, the
     points spread over numba's threads (:func:`~frictionflow.core.threads.over_points`):
-    the engine and the grid evaluations release the GIL (``nogil`` kernels:
-    :func:`frictionflow.core.structure.run.run`, :func:`~frictionflow.core.structure.evaluate.states`), so
-    their compiled parts run at once.
+    the engines and the grid evaluations release the GIL (``nogil`` kernels:
+    :func:`frictionflow.core.structure.run.run`, :func:`frictionflow.core.structure.adaptive.run`,
+    :func:`~frictionflow.core.structure.evaluate.states`), so their compiled parts run at once.
     """
     cfg = config_from_source(source)
     sl = chunk_slices(chunk, chunks, cfg.shape)

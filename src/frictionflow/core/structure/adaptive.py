@@ -326,7 +326,7 @@ def switch(asm, minv, sp, te, scr, n, slot):
     return new, leaving, -1
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # a model sweep runs several points at once on threads
 def run(asm, minv, opts, out, events, der):
     """Integrate the structure ``asm`` from t = 0 to ``opts.t_end``; the :data:`~.run.Result`.
 
