@@ -72,6 +72,9 @@ class Motion:
         sample is reached with, from which :meth:`work_at` interpolates the works.
     solver:
         The name of the solver that made the run.
+    settings:
+        That solver's own settings by keyword (the adaptive one's ``rtol``, ``atol``, ``max_steps``; none for
+        the exact one): what a further run of the same structure passes on to agree with this one.
     """
 
     t: np.ndarray
@@ -93,6 +96,7 @@ class Motion:
     accel: np.ndarray | None = None
     power: np.ndarray | None = None
     solver: str = "exact"
+    settings: dict[str, Any] = field(default_factory=dict)
 
     def __repr__(self) -> str:
         return (f"Motion(n={len(self.dof)}, contacts={len(self.contacts)}, samples={len(self.t)}, "

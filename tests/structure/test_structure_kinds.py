@@ -12,6 +12,7 @@ import pytest
 import frictionflow as ff
 from frictionflow import quantities as Q
 from frictionflow.analysis.structure import MAX_CROSSINGS, STRUCTURE_KINDS, structure_steady_state
+from frictionflow.analysis import structure_lyapunov
 from frictionflow.analysis.structure_lyapunov import revisits
 from frictionflow.core import strobe
 from frictionflow.solvers import RK4, Adaptive, Exact
@@ -78,6 +79,29 @@ def test_two_uncoupled_stribeck_cycles_are_quasi_periodic_through_the_adaptive_s
     ss = structure_steady_state(motion)
     assert ss.kind == "quasi_periodic"
     assert abs(ss.lyapunov) < 1e-3
+
+
+def test_the_exponent_s_runs_take_the_motion_s_solver_and_tolerances(monkeypatch):
+    """Every run the exponent makes is on the solver and with the tolerances of the run it measures (a user's
+    ``--ode-rtol`` included), so that the pair of runs is the same flow as the motion."""
+    model = {"dof": ["x1", "x2"], "mass": [1.0, 1.0],
+             "spring": [{"on": {"x1": 1.0}, "k": 1.0}, {"on": {"x2": 1.0}, "k": 2.0}],
+             "damper": [{"on": {"x1": 1.0}, "c": 0.1}, {"on": {"x2": 1.0}, "c": 0.1}],
+             "contact": [{"on": {d: 1.0}, "belt": VB, "friction": "stribeck", "fd": FD, "fs": FS, "vs": 0.012}
+                         for d in ("x1", "x2")]}
+    motion = simulate_system(System.from_dict(model, source=None), 400.0, solver="adaptive", rtol=1e-9)
+    assert motion.settings == {"rtol": 1e-9, "atol": 1e-13, "max_steps": 10_000_000}
+    calls, real = [], structure_lyapunov.run_assembly
+
+    def spy(*args, **kwargs):
+        calls.append((kwargs.get("solver"), kwargs.get("settings")))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(structure_lyapunov, "run_assembly", spy)
+    ss = structure_steady_state(motion)
+    assert ss.kind != "periodic" and math.isfinite(ss.lyapunov)  # the exponent was measured
+    assert calls and set(c[0] for c in calls) == {"adaptive"}
+    assert all(c[1] == motion.settings for c in calls)
 
 
 def test_a_one_dof_model_at_the_single_mass_chaotic_point_is_chaotic():

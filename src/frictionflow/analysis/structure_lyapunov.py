@@ -97,7 +97,8 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
     n_transient, n_blocks = blocks
     try:
         reference = run_assembly(restart(a, motion.state[:, -1], t0), (n_transient + n_blocks) * block,
-                                 dense_dt=block, solver=motion.solver)  # the run's own solver: its laws
+                                 dense_dt=block, solver=motion.solver, settings=motion.settings or None)
+        # (the run's own solver and tolerances: its laws, its accuracy)
     except RuntimeError:
         return None
     size = float(np.max(np.abs(motion.state[:, -1]))) + float(np.max(np.abs(a.belt), initial=0.0))
@@ -127,7 +128,8 @@ def _one_block(reference: Any, a: Any, start: np.ndarray, t: float, d: np.ndarra
                end: np.ndarray, autonomous: bool, b: int) -> tuple[np.ndarray, float] | None:
     """(the separation's new direction, its growth over the block) for the pair started ``d`` apart at ``t``."""
     try:
-        other = run_assembly(restart(a, start + d, t), block, solver=reference.solver)
+        other = run_assembly(restart(a, start + d, t), block, solver=reference.solver,
+                             settings=reference.settings or None)
     except RuntimeError:
         return None
     if other.status != "ok":

@@ -84,4 +84,5 @@ def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"solver={settings.name}: the structure's run ended with status "
                            f"'{codes.NAMES[res.status]}' at sample {res.n_samples} (max_steps={settings.max_steps})")
-    return motion(res, records, assembly, elements, channels, system, der, settings.name)
+    own = {"rtol": settings.rtol, "atol": settings.atol, "max_steps": settings.max_steps}
+    return motion(res, records, assembly, elements, channels, system, der, settings.name, own)

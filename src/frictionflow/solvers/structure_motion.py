@@ -83,7 +83,7 @@ def buffers(assembly: Assembly, cap: int) -> tuple[Samples, Events]:
 
 def motion(res: Result, records: tuple[Samples, Events], assembly: Assembly, names: dict[str, tuple[str, ...]],
            channels: tuple[str, ...], system: Any = None, derivatives: Derivatives | None = None,
-           solver: str = "exact") -> Motion:
+           solver: str = "exact", settings: dict[str, Any] | None = None) -> Motion:
     """The :class:`~frictionflow.motion.Motion` of the run ``res`` (status OK or CONTACT_LOST) from its records.
 
     Parameters
@@ -104,6 +104,8 @@ def motion(res: Result, records: tuple[Samples, Events], assembly: Assembly, nam
         The slopes at the samples (the adaptive kernel's), or None.
     solver:
         The solver's name.
+    settings:
+        The solver's own settings by keyword (:attr:`~frictionflow.motion.Motion.settings`).
     """
     out, events = records
     s, w = res.n_samples, res.n_switches
@@ -117,5 +119,5 @@ def motion(res: Result, records: tuple[Samples, Events], assembly: Assembly, nam
         switch_mode=events.mode[:w].astype(np.int8),
         dof=names["dof"], contacts=names["contact"], status="ok" if lost is None else "contact_lost",
         assembly=assembly, lost=lost, system=system, elements={k: v for k, v in names.items() if k != "dof"},
-        solver=solver, **der,
+        solver=solver, settings=dict(settings or {}), **der,
     )
