@@ -465,7 +465,8 @@ def _critical_points(values: np.ndarray, lam: np.ndarray, spectrum: _Spectrum) -
 
 def _conjugate_flips(lam: np.ndarray, k: int, flips: np.ndarray) -> bool:
     """Whether the conjugate of ``lam[k]`` (the tracked eigenvalue nearest it) also changes stability (``flips``)."""
-    return int(np.argmin(np.abs(lam - np.conj(lam[k])))) in set(flips.tolist()) - {k}
+    j = int(np.argmin(np.abs(lam - np.conj(lam[k]))))
+    return j != k and j in flips
 
 
 def _partner(b: _Bracket) -> int | None:

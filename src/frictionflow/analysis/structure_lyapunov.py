@@ -95,10 +95,9 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
     """
     a, t0 = motion.assembly, float(motion.t[-1])
     n_transient, n_blocks = blocks
-    try:
+    try:  # the run's own solver and tolerances: its laws, its accuracy
         reference = run_assembly(restart(a, motion.state[:, -1], t0), (n_transient + n_blocks) * block,
-                                 dense_dt=block, solver=motion.solver, settings=motion.settings or None)
-        # (the run's own solver and tolerances: its laws, its accuracy)
+                                 dense_dt=block, solver=motion.solver, settings=motion.settings)
     except RuntimeError:
         return None
     size = float(np.max(np.abs(motion.state[:, -1]))) + float(np.max(np.abs(a.belt), initial=0.0))
@@ -128,8 +127,7 @@ def _one_block(reference: Any, a: Any, start: np.ndarray, t: float, d: np.ndarra
                end: np.ndarray, autonomous: bool, b: int) -> tuple[np.ndarray, float] | None:
     """(the separation's new direction, its growth over the block) for the pair started ``d`` apart at ``t``."""
     try:
-        other = run_assembly(restart(a, start + d, t), block, solver=reference.solver,
-                             settings=reference.settings or None)
+        other = run_assembly(restart(a, start + d, t), block, solver=reference.solver, settings=reference.settings)
     except RuntimeError:
         return None
     if other.status != "ok":

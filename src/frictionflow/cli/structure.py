@@ -55,10 +55,11 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     solver = structure_solver_for(system, params.get("solver") or "auto")
     settings = solver_settings(solver, params)
     _refuse_others(solver, params)
+    asm = assemble(system)
     dense_dt = params.get("dense_dt")
     if dense_dt is None and outputs.get("out") is not None:  # a file wants the curve, not just its switches
-        dense_dt = file_dense_dt(assemble(system))
-    enforce(run_estimate(assemble(system), t_end, dense_dt, solver=solver))
+        dense_dt = file_dense_dt(asm)
+    enforce(run_estimate(asm, t_end, dense_dt, solver=solver))
     window = _window(params.get("window"))
     rtol = 1e-6 if params.get("rtol") is None else float(params["rtol"])
     with structure_precompile.first_use() if solver == EXACT else nullcontext():
