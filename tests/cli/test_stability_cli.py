@@ -186,6 +186,17 @@ def test_a_chart_line_equals_the_scan_of_that_line(models, capsys):
     assert chart["growth"][0] == top
 
 
+def test_a_chart_over_entries_that_bound_each_other_sets_both_at_once(models, capsys):
+    """F_s from 0.2 is below the file's F_d = 0.3, but every point's F_d (at most 0.15) is below its F_s: each point
+    is a valid contact (it was refused when F_s was set before F_d).  Steady sliding knows F_d only: every line of
+    the chart is the scan of F_d."""
+    model = str(models / "hoffmann.toml")
+    chart, err = run_json(capsys, "--model", model, "--x", "contact.0.fd=0.05:0.15:5", "--y", "contact.0.fs=0.2:0.25:2")
+    scan, _ = run_json(capsys, "--model", model, "--vary", "contact.0.fd=0.05:0.15:5")
+    top = [max(z["re"] for z in row) for row in scan["eigenvalues"]]
+    assert err == "" and chart["growth"] == [top, top]
+
+
 def test_the_chart_writes_its_json_and_figure(models, capsys):
     args = ["--model", str(models / "hoffmann.toml"), "--x", "contact.0.fd=0.1:0.8:8", "--y", "spring.1.k=1.5:2.5:3"]
     printed, _ = run_json(capsys, *args)

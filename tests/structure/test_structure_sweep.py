@@ -230,6 +230,49 @@ def test_bad_grids_refused_in_one_line_with_nothing_written(two_dof, tmp_path, g
     assert list(tmp_path.iterdir()) == [sweep]
 
 
+def test_entries_that_bound_each_other_are_swept_together(two_dof, tmp_path):
+    """F_d up to 0.05 and F_s from 0.06: every point is a valid contact though F_d = 0.05 exceeds the file's
+    F_s = 0.04 (each value was once checked against the file alone, and a point set F_d before F_s); each point
+    is its own run with both entries set."""
+    sweep = tmp_path / "s.toml"
+    sweep.write_text(f'model = "{two_dof / "two.toml"}"\nt_end = 60.0\n[grid]\n'
+                     '"contact.0.fd" = [0.02, 0.05]\n"contact.0.fs" = [0.06, 0.08]\n"contact.1.fs" = 0.07\n'
+                     '"contact.1.fd" = 0.06\n')
+    ds = run_sweep(sweep, tmp_path / "r.nc").load()
+    base = load_system(two_dof / "two.toml").with_entries({"contact.1.fs": 0.07, "contact.1.fd": 0.06})
+    assert base.entry("contact.1.fd") == 0.06
+    for fd in (0.02, 0.05):
+        for fs in (0.06, 0.08):
+            want = point_values(base.with_entries({"contact.0.fd": fd, "contact.0.fs": fs}), 60.0)
+            got = ds.sel({"contact.0.fd": fd, "contact.0.fs": fs})
+            for name, value in want.items():
+                np.testing.assert_array_equal(got[name].values, value, err_msg=f"{name} at {fd}, {fs}")
+
+
+@pytest.mark.parametrize("grid, words", [
+    # the corner (F_d 0.07, F_s 0.06) is no contact: named as a whole point
+    ('"contact.0.fd" = [0.02, 0.07]\n"contact.0.fs" = [0.06, 0.08]', ["grid point (contact.0.fd = 0.07, contact.0.fs = 0.06)",
+                                                                     "fs must be >= fd"]),
+    # F_d 0.09 is above every F_s of the grid: the value itself is named
+    ('"contact.0.fd" = [0.02, 0.09]\n"contact.0.fs" = [0.06, 0.08]', ["grid.contact.0.fd[1] = 0.09"]),
+    # fixed entries are set together; the model's message names the one at fault
+    ('"contact.0.belt" = [0.01, 0.02]\n"spring.0.k" = -1.0', ["fixed entries (spring.0.k = -1)",
+                                                              "spring.0.k must be >= 0"]),
+    ('"contact.0.belt" = [0.01, 0.02]\n"contact.0.fd" = 0.05\n"contact.0.fs" = 0.045',
+     ["fixed entries (contact.0.fd = 0.05, contact.0.fs = 0.045)", "fs must be >= fd"]),
+])
+def test_grids_whose_entries_do_not_fit_together_are_refused_in_one_line(two_dof, tmp_path, grid, words):
+    sweep = tmp_path / "bad.toml"
+    sweep.write_text(f'model = "{two_dof / "two.toml"}"\nt_end = 50.0\n[grid]\n{grid}\n')
+    with pytest.raises(ValueError) as e:
+        run_sweep(sweep, tmp_path / "r.zarr")
+    message = str(e.value)
+    assert "\n" not in message
+    for w in words:
+        assert w in message, message
+    assert list(tmp_path.iterdir()) == [sweep]
+
+
 def test_a_range_table_with_a_wrong_key_is_named_as_the_single_mass_sweep_names_it(two_dof, tmp_path):
     """``{ from = ..., to = ..., n = ... }`` under an entry: the entry's range key is wrong, not the entry (TOML's
     nested tables once made it "unknown grid key 'contact.0.belt.from': not an entry of the model")."""

@@ -12,7 +12,10 @@ located to rounding on the exact solution (:meth:`Motion.at`).
     The window is those whole periods.
 ``equilibrium``
     Every state component has stopped moving over the tail (the last tenth of
-    the run, at least 4 pi of the slowest natural period's scale).
+    the run, at least 4 pi of the slowest natural period's scale) and every
+    velocity is zero, to ``rtol`` of the motion's scale (the ranges of its
+    states and the belt speeds); or the run's end is certified to slide into
+    the steady-sliding equilibrium (:func:`certified_sliding`).
 ``chaotic``, ``quasi_periodic``
     The section does not repeat, and the largest Lyapunov exponent (two
     nearby exact runs) and the section's revisits tell these apart as the
@@ -45,7 +48,7 @@ from .._display import Row, Summarized, num
 from ..core.assembly import natural_frequencies
 from ..core.layout import LAW
 from ..friction.registry import law_classes
-from .stability import steady_sliding
+from .stability import ZERO_REAL, steady_sliding
 from .structure_lyapunov import beyond_periodic
 
 #: the kinds a structure's run is given: the shared ones (:data:`frictionflow.quantities.KINDS`) but
@@ -188,8 +191,7 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
     tail = (max(t_start, t_end - max(0.1 * (t_end - t_start), 4.0 * math.pi)), t_end)
     grid = np.linspace(tail[0], t_end, _grid_size(motion, tail))
     states = states_at(motion, (grid))
-    scale = float(np.max(np.abs(states))) + 1e-300
-    if np.all(np.ptp(states, axis=1) <= rtol * scale) or certified_sliding(motion):
+    if _at_rest(motion, tail, states, rtol) or certified_sliding(motion):
         return StructureSteadyState("equilibrium", math.nan, tail, stick_fractions(motion, tail))
     found = _periodic(motion, rtol, min_periods)
     if found is not None:
@@ -197,6 +199,21 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
         return StructureSteadyState("periodic", period, window, stick_fractions(motion, window), min_periods)
     kind, lam = _not_periodic(motion)
     return StructureSteadyState(kind, math.nan, tail, stick_fractions(motion, tail), lyapunov=lam)
+
+
+def _at_rest(motion: Any, span: tuple[float, float], tail: np.ndarray, rtol: float) -> bool:
+    """Nothing moves over the tail (``span``; ``tail``: its states on a grid) and every velocity is zero, to ``rtol``
+    of the motion's scale: the ranges of the run's states and the belt speeds (the single mass's test,
+    :func:`frictionflow.core.sections.classify_state`).  A tail shorter than the fastest natural period has its
+    changes stretched to that period: an unbalanced force moves a short run's velocities a little, but not nothing."""
+    omega = max(float(natural_frequencies(motion.assembly).max(initial=0.0)), 1e-3)
+    stretch = max(1.0, 2.0 * math.pi / omega / max(span[1] - span[0], 1e-300))
+    n = _n(motion)
+    recorded = np.asarray(motion.state)
+    scale = max(float(np.max(np.ptp(recorded, axis=1), initial=0.0)), float(np.max(np.ptp(tail, axis=1))),
+                float(np.max(np.abs(motion.assembly.belt), initial=0.0)), 1e-300)
+    tol = rtol * scale
+    return bool(np.all(stretch * np.ptp(tail, axis=1) <= tol) and np.all(np.abs(tail[n:]) <= tol))
 
 
 def _not_periodic(motion: Any) -> tuple[str, float]:
@@ -223,7 +240,8 @@ def certified_sliding(motion: Any) -> bool:
 
     With every contact slipping the way its belt drives it and no force, the
     motion is the linearisation's: x(t) = x* + sum_i c_i v_i e^{lambda_i t}.
-    If every Re lambda_i < 0, each contact's relative velocity stays within
+    If every Re lambda_i < 0 (beyond rounding: :data:`~.stability.ZERO_REAL` of the
+    spectrum's size), each contact's relative velocity stays within
     sum_i |(e_j . v_i) c_i| of b_j (and each normal load within the same bound
     of its equilibrium value) for all later times; below |b_j| (and N_j*) no
     switch can come.  The single mass's certificate
@@ -242,7 +260,8 @@ def certified_sliding(motion: Any) -> bool:
         eq = steady_sliding(a)
     except ValueError:
         return False
-    if not np.all(eq.eigenvalues.real < 0.0):
+    lam = eq.eigenvalues
+    if not np.all(lam.real < -ZERO_REAL * np.abs(lam).max(initial=0.0)):  # an undamped mode circles for ever
         return False
     n = len(eq.q)
     c = np.linalg.solve(eq.eigenvectors, np.asarray(motion.state)[:, -1] - np.concatenate((eq.q, np.zeros(n))))

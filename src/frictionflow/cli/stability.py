@@ -96,8 +96,8 @@ def _chart(system: System, x: str, y: str) -> StabilityChart:
     if xe == ye:
         raise ValueError(f"--x and --y name the same entry {xe}: give two different ones")
     enforce(chart_estimate(system.n, len(xs), len(ys)))
-    rows = functools.lru_cache(maxsize=2)(lambda value: system.with_entry(ye, value))
-    return stability_chart(lambda a, b: assemble(rows(b).with_entry(xe, a)), xs, ys, x=xe, y=ye,
+    # both entries set at once: they may bound each other (a contact's fd and fs)
+    return stability_chart(lambda a, b: assemble(system.with_entries({xe: a, ye: b})), xs, ys, x=xe, y=ye,
                            progress=sys.stderr.isatty())
 
 

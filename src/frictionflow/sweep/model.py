@@ -124,10 +124,7 @@ class ModelSweepConfig(Grid):
 
     def point_system(self, index: tuple[int, ...]) -> System:
         """The system at grid index ``index`` (one integer per axis)."""
-        system = self.system
-        for (address, values), i in zip(self.axes.items(), index):
-            system = system.with_entry(address, float(values[i]))
-        return system
+        return self.system.with_entries({a: float(values[i]) for (a, values), i in zip(self.axes.items(), index)})
 
 
 def flat_grid(grid: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
@@ -159,16 +156,13 @@ def _unknown_entry(source: str, key: str, system: System) -> ValueError:
                       f"{', '.join(shown)} ({len(valid)} in all: System.entries())")
 
 
-def _entry_checker(system: System, source: str):
-    """``number(key, where, value)`` for :func:`~frictionflow.sweep.config._axis`: a number the model accepts there."""
+def _number(source: str):
+    """``number(key, where, value)`` for :func:`~frictionflow.sweep.config._axis`: a finite number (the model's own
+    checks follow, on whole systems: :func:`_check_values`, :func:`_check_corners`)."""
 
     def number(key: str, where: str, value: Any) -> float:
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             raise ValueError(f"{source}: {where} must be a finite number, got {value!r}")
-        try:
-            system.with_entry(key, float(value))
-        except (ValueError, TypeError) as e:
-            raise ValueError(f"{source}: {where} = {value!r}: {e}") from None
         return float(value)
 
     return number
@@ -215,11 +209,11 @@ def parse_model_sweep(values: Mapping[str, Any], system: System, source: str = "
     unknown = [k for k in grid if k not in valid]
     if unknown:
         raise _unknown_entry(source, unknown[0], system)
-    number = _entry_checker(system, source) if check_points else (lambda key, where, value: float(value))
+    number = _number(source) if check_points else (lambda key, where, value: float(value))
     axes: dict[str, np.ndarray] = {}
     fixed: dict[str, float] = {}
     for key, val in grid.items():
-        a = _axis(key, val, number if not isinstance(val, list) or len(val) <= CHECK_EACH else _plain)
+        a = _axis(key, val, number)
         if isinstance(a, np.ndarray):
             axes[key] = a
         else:
@@ -229,21 +223,55 @@ def parse_model_sweep(values: Mapping[str, Any], system: System, source: str = "
     points = math.prod(len(a) for a in axes.values())
     if points > MAX_POINTS:
         raise ValueError(f"{source}: the grid has {points:.3g} points; at most {MAX_POINTS:.0e}")
-    base = system
-    for key, v in fixed.items():
-        base = base.with_entry(key, v)
+    base = _with_fixed(system, fixed, source) if check_points else system.with_entries(fixed)
     cfg = ModelSweepConfig(base, axes, t_end, rtol, fixed, {"model": system.to_dict(), "settings": values, "grid": dict(grid)},
                            model_file)
     if check_points:
+        for key, val in grid.items():
+            if key in axes:
+                _check_values(cfg, key, _checked_places(key, val, axes[key]), source)
         _check_corners(cfg, source)
     return cfg
 
 
-def _plain(key: str, where: str, value: Any) -> float:
-    """A value of a long list: its type here, the model's checks on the extremes (:func:`_check_corners`)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ValueError(f"{where} must be a finite number, got {value!r}")
-    return float(value)
+def _with_fixed(system: System, fixed: Mapping[str, float], source: str) -> System:
+    """``system`` with the grid's fixed entries set together (the model's message names the entry at fault)."""
+    try:
+        return system.with_entries(fixed)
+    except (ValueError, TypeError) as e:
+        at = ", ".join(f"{k} = {v:g}" for k, v in fixed.items())
+        raise ValueError(f"{source}: the grid's fixed entries ({at}) are not a valid model: {e}") from None
+
+
+def _checked_places(key: str, given: Any, values: np.ndarray) -> list[tuple[str, float]]:
+    """(where, value) of an axis's values checked one by one: a list's each (its extremes only beyond CHECK_EACH
+    values: the corners check those), a range's ends."""
+    where = f"grid.{key}"
+    if isinstance(given, list):
+        if len(values) > CHECK_EACH:
+            return []
+        return [(f"{where}[{i}]", float(v)) for i, v in enumerate(values)]
+    return [(f"{where}.start", float(values[0])), (f"{where}.stop", float(values[-1]))]
+
+
+def _check_values(cfg: ModelSweepConfig, key: str, places: list[tuple[str, float]], source: str) -> None:
+    """Each value a valid entry of the model: with the other entries as given, or else at some corner of the other
+    axes (entries that bound each other, such as ``fd`` and ``fs``, are judged together: :func:`_check_corners`)."""
+    others = {k: sorted({float(a.min()), float(a.max())}) for k, a in cfg.axes.items() if k != key}
+    for where, v in places:
+        try:
+            cfg.system.with_entry(key, v)
+            continue
+        except (ValueError, TypeError) as e:
+            first = e
+        for corner in itertools.product(*others.values()):
+            try:
+                cfg.system.with_entries({key: v, **dict(zip(others, corner))})
+                break
+            except (ValueError, TypeError):
+                continue
+        else:
+            raise ValueError(f"{source}: {where} = {v!r}: {first}") from None
 
 
 def _check_corners(cfg: ModelSweepConfig, source: str) -> None:
@@ -252,11 +280,9 @@ def _check_corners(cfg: ModelSweepConfig, source: str) -> None:
     combos = itertools.product(*ends.values()) if len(ends) <= CHECK_CORNERS else \
         ([*(v[0] for v in ends.values())], [*(v[-1] for v in ends.values())])
     for corner in combos:
-        system = cfg.system
         try:
-            for key, v in zip(ends, corner):
-                system = system.with_entry(key, v)
-        except ValueError as e:
+            cfg.system.with_entries(dict(zip(ends, corner)))
+        except (ValueError, TypeError) as e:
             at = ", ".join(f"{k} = {v:g}" for k, v in zip(ends, corner))
             raise ValueError(f"{source}: grid point ({at}) is not a valid model: {e}") from None
 

@@ -13,7 +13,7 @@ goes through the same checks as a file's.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Mapping
 
 from .parse import KINDS
 
@@ -76,10 +76,25 @@ def replaced(system: Any, address: str, new: Any) -> dict[str, Any]:
     new:
         Its new value.
     """
+    return replaced_all(system, {address: new})
+
+
+def replaced_all(system: Any, new: Mapping[str, Any]) -> dict[str, Any]:
+    """``system.to_dict()`` with every entry of ``new`` (address -> value) set at once: checked together when the
+    system is rebuilt, so that entries that limit each other (``fd`` and ``fs``) can move together.
+
+    Parameters
+    ----------
+    system:
+        A :class:`~frictionflow.system.System`.
+    new:
+        The addresses and their new values.
+    """
     data = system.to_dict()
-    places, _ = _slot(system, data, address)
-    for container, key in places:
-        container[key] = new
+    for address, value in new.items():
+        places, _ = _slot(system, data, address)
+        for container, key in places:
+            container[key] = value
     return data
 
 

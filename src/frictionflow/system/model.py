@@ -237,8 +237,19 @@ class System:
         value:
             The new value.
         """
+        return self.with_entries({address: value})
+
+    def with_entries(self, values: Mapping[str, Any]) -> "System":
+        """A new system with each entry of ``values`` (address -> value) set, validated together like a file's
+        (entries that bound each other, such as a contact's ``fd`` and ``fs``, move at once).
+
+        Parameters
+        ----------
+        values:
+            Addresses as for :meth:`entry`, and their new values.
+        """
         with labelled(self.label):
-            data = entries.replaced(self, address, value)
+            data = entries.replaced_all(self, values)
         return type(self).from_dict(data, source=self.source)
 
 
