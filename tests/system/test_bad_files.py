@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import pytest
 
+from frictionflow import LuGre
 from frictionflow.friction import law_names
-from frictionflow.system import load_system
+from frictionflow.friction.registry import law_class
+from frictionflow.system import System, load_system
 
 GOOD = {
     "dof": 'dof = ["x1", "x2"]',
@@ -139,10 +141,32 @@ def test_a_zero_length_direction(tmp_path, on):
             "force.0.on must have a nonzero entry over the dof (x1, x2)")
 
 
+STATEFUL = [name for name in law_names() if law_class(name).internal_names]
+STATELESS = [name for name in law_names() if name not in STATEFUL]
+
+
 def test_an_unknown_friction_law_lists_the_registered_ones(tmp_path):
     contact = GOOD["contact"].replace('"coulomb"', '"columb"')
-    refused(tmp_path, model_text(contact=contact), f"contact.0.friction must be one of {', '.join(law_names())}",
+    refused(tmp_path, model_text(contact=contact), f"contact.0.friction must be one of {', '.join(STATELESS)}",
             "got 'columb'")
+
+
+@pytest.mark.parametrize("name", STATEFUL)
+def test_a_law_with_an_internal_state_is_refused_by_name(tmp_path, name):
+    """A structure's state is q and q' alone: LuGre's z, rate and state's psi have no place in it (they reached the
+    assembly and failed there with numpy's broadcast error; rate_state's own ``normal`` clashed with the contact's)."""
+    assert {"lugre", "dahl", "elastoplastic", "rate_state"} <= set(STATEFUL) and "coulomb" in STATELESS
+    contact = f'[[contact]]\non = {{ x1 = 1.0 }}\nbelt = 0.1\nfriction = "{name}"'
+    state = ", ".join(law_class(name).internal_names)
+    refused(tmp_path, model_text(contact=contact), f"contact.0.friction: {name} has an internal state ({state})",
+            ", ".join(STATELESS))
+
+
+def test_a_law_object_with_an_internal_state_is_refused_through_the_api():
+    data = {"dof": ["x"], "mass": [1.0], "spring": [{"on": {"x": 1.0}, "k": 1.0}],
+            "contact": [{"on": {"x": 1.0}, "belt": 0.1, "friction": LuGre()}]}
+    with pytest.raises(ValueError, match=r"contact.0.friction: lugre has an internal state \(z\)"):
+        System.from_dict(data, source=None)
 
 
 @pytest.mark.parametrize(("old", "new", "fragment"), [

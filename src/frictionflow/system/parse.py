@@ -96,17 +96,22 @@ def _contact(address: str, t: Mapping[str, Any]) -> Contact:
 
 
 def _law_class(address: str, friction: Any) -> type[FrictionLaw]:
-    """The law's class from its registry name (or from a law object given through the API)."""
+    """The law's class from its registry name (or from a law object given through the API): one without an internal
+    state (a structure's state is its coordinates and velocities only)."""
+    cls = None
     if isinstance(friction, FrictionLaw):
-        return type(friction)
-    if friction is None:
+        cls = type(friction)
+    elif friction is None:
         raise ValueError(f"{address}: missing friction (required: {', '.join(CONTACT_KEYS[:3])})")
-    if isinstance(friction, str):
-        try:
-            return law_class(friction)
-        except ValueError:
-            pass
-    raise ValueError(f"{address}.friction must be one of {', '.join(law_names())}, got {friction!r}")
+    elif isinstance(friction, str) and friction in law_names():
+        cls = law_class(friction)
+    stateless = law_names(where=lambda c: not c.internal_names)
+    if cls is None:
+        raise ValueError(f"{address}.friction must be one of {', '.join(stateless)}, got {friction!r}")
+    if cls.internal_names:
+        raise ValueError(f"{address}.friction: {cls.name} has an internal state ({', '.join(cls.internal_names)}); "
+                         f"a structure's contacts take the laws without one: {', '.join(stateless)}")
+    return cls
 
 
 def _law(address: str, cls: type[FrictionLaw], given: Mapping[str, Any]) -> FrictionLaw:
