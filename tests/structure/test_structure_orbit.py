@@ -290,3 +290,18 @@ def test_cli_orbit_model_estimated_before_work(tmp_path):
     code, out, err, seconds = cli("orbit", "--model", str(path), "--t-end", "1e9", "--json")
     assert code == 2 and out == ""
     one_line(err, "switches", "--no-limit")
+
+
+def test_a_contact_the_exact_engine_does_not_run_is_refused_without_advice_that_cannot_be_followed(tmp_path):
+    """Shooting and its monodromy are the exact engine's: a Stribeck contact is refused in one line that names it
+    and no --solver (the command takes none with --model; it once said "use solver=adaptive")."""
+    model = tmp_path / "s.toml"
+    model.write_text('dof = ["x"]\nmass = [1.0]\n[[spring]]\non = { x = 1.0 }\nk = 1.0\n[[damper]]\non = { x = 1.0 }\n'
+                     'c = 0.1\n[[contact]]\non = { x = 1.0 }\nbelt = 0.01\nfriction = "stribeck"\nvs = 0.01\nfd = 0.02\n'
+                     'fs = 0.04\n')
+    with pytest.raises(ValueError, match=r"exact engine, which runs contacts with the laws coulomb; contact.0 has "
+                                         r"friction=stribeck"):
+        find_structure_orbit(load_system(model))
+    code, out, err, _ = in_process("orbit", "--model", str(model))
+    assert code == 2 and out == ""
+    assert "solver=" not in one_line(err, "contact.0 has friction=stribeck")

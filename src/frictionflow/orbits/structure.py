@@ -35,9 +35,10 @@ from .._display import Row, Summarized, num
 from .._json import jsonable
 from ..analysis.structure import certified_sliding, stick_fractions
 from ..core.assembly import Assembly
-from ..core.layout import STICK
+from ..core.layout import LAW, STICK
 from ..estimate import enforce, enforce_stage
-from ..solvers.structure import run_estimate
+from ..friction.registry import law_classes
+from ..solvers.structure import run_estimate, supported_laws
 from ..system import assemble
 from . import floquet
 from .shooting import ShootingError
@@ -166,7 +167,19 @@ def _setup(system_or_assembly: Any) -> Setup:
                         f"got {type(system_or_assembly).__name__}")
     if len(asm.belt) == 0:
         raise ValueError("find_structure_orbit: the model has no contact (a linear structure has no isolated orbit)")
+    _check_laws(asm, contacts)
     return Setup(Flow(asm, {"dof": dof}), dof, contacts, system)
+
+
+def _check_laws(asm: Assembly, contacts: tuple[str, ...]) -> None:
+    """One line when a contact's law is not the exact engine's: the shooting and its monodromy are that engine's."""
+    runs = supported_laws()
+    names = {cls.code: cls.name for cls in sorted(law_classes(), key=lambda cls: cls.configurable)}  # a built-in's name
+    for contact, code in zip(contacts, np.asarray(asm.law)[:, LAW]):
+        if int(code) not in runs:
+            raise ValueError(f"a structure's periodic orbits are shot with the exact engine, which runs contacts with "
+                             f"the laws {', '.join(runs.values())}; {contact} has friction={names[int(code)]} "
+                             "(simulate runs it on the adaptive solver)")
 
 
 def _row(flow: Flow, motion: Any, section: Any, dof: tuple[str, ...]) -> int:
