@@ -6,7 +6,9 @@ here, not from the package that imports them.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import signal
+from contextlib import contextmanager
+from typing import TYPE_CHECKING, Any, Iterator
 
 import typer
 import typer.core
@@ -18,11 +20,41 @@ from .._version import __version__
 from .vocabulary import PANELS
 
 
+class Interrupted(RuntimeError):
+    """Ctrl-C or SIGTERM during a command: exit code 1 with one ``error:`` line (what was kept, where it matters)."""
+
+
+@contextmanager
+def sigterm_as_interrupt() -> Iterator[None]:
+    """SIGTERM handled like Ctrl-C, so that ``kill`` ends a command as Ctrl-C does (a sweep's lock released too)."""
+
+    def interrupt(signum, frame):  # noqa: ANN001
+        raise KeyboardInterrupt
+
+    try:
+        previous = signal.signal(signal.SIGTERM, interrupt)
+    except ValueError:  # not the main thread: leave signals alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 class PanelledCommand(typer.core.TyperCommand):
-    """A command whose --help lists its options in panels (``rich_help_panel``) as plain text sections.
+    """A command whose --help lists its options in panels (``rich_help_panel``) as plain text sections, and that
+    ends on Ctrl-C or SIGTERM with :class:`Interrupted` (typer would return exit code 130 and print nothing).
 
     Plain text, not rich boxes: help texts keep their ``[default]`` brackets and read the same in any terminal.
     """
+
+    def invoke(self, ctx: click.Context) -> Any:
+        with sigterm_as_interrupt():
+            try:
+                return super().invoke(ctx)
+            except KeyboardInterrupt:
+                raise Interrupted("interrupted (Ctrl-C or SIGTERM)") from None
 
     def format_options(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
         groups: dict[str, list[tuple[str, str]]] = {}

@@ -20,12 +20,11 @@ from ..plotting import FIGURE_FORMATS
 from ..sweep.config import NOT_IN_SWEEPS
 from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import check_out
-from ._app import app
+from ._app import Interrupted, app
 from .._ranges import parse_range as _parse_range
 from .options import CONFIG_OPTION, command_config, parameter_names, with_options, with_parameters
 from .output import provenance, show
 from .vocabulary import option, parameter_help
-from .sweep import _sigterm_as_interrupt
 
 #: the model's options, as a sweep takes them; the initial state is a range here (--x0, --v0), not a value
 MODEL = tuple(n for n in parameter_names(("oscillator", "law", "solver"), run=("t_end", "friction", "solver", "rtol", "max_memory"))
@@ -71,13 +70,12 @@ def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
     _check_outputs(opts.out, opts.plot)
     run = SweepOptions(store=opts.store, restart=opts.restart, chunk_size=opts.chunk_size, scheduler=opts.scheduler,
                        progress=sys.stderr.isatty())
-    with _sigterm_as_interrupt():
-        try:
-            result = run_basins(settings, x0=x, v0=v, sample=opts.sample, seed=opts.seed, vary=parse_vary(opts.vary), out=opts.out,
-                                plot=opts.plot, dpi=opts.dpi, tolerances=tolerances, sweep_options=run)
-        except KeyboardInterrupt:
-            print("interrupted: the sweep's store keeps the chunks finished so far; run the same command to resume", file=sys.stderr)
-            raise
+    try:
+        result = run_basins(settings, x0=x, v0=v, sample=opts.sample, seed=opts.seed, vary=parse_vary(opts.vary), out=opts.out,
+                            plot=opts.plot, dpi=opts.dpi, tolerances=tolerances, sweep_options=run)
+    except KeyboardInterrupt:
+        raise Interrupted("interrupted: the sweep's store keeps the chunks finished so far; run the same command to "
+                          "resume") from None
     if opts.as_json:
         print(json.dumps(result.to_dict(), allow_nan=False))
     else:

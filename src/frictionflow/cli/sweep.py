@@ -9,12 +9,11 @@ not answer, a damaged output (``--verify``: any damage), an interruption;
 from __future__ import annotations
 
 import json
-import signal
 import sys
 import time
-from contextlib import contextmanager, nullcontext
+from contextlib import nullcontext
 from pathlib import Path
-from typing import Iterator, Optional
+from typing import Optional
 
 import numpy as np
 import typer
@@ -24,7 +23,7 @@ from ..sweep import repair_sweep, run_sweep
 from ..sweep.model import ModelSweepConfig, load_any_sweep
 from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import verify_sweep
-from ._app import app
+from ._app import Interrupted, app
 from .options import bounded
 from .vocabulary import option
 
@@ -71,12 +70,12 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
     t0 = time.perf_counter()
     # a local model sweep compiles the structure engine here on a first use (a cluster's workers compile their own)
     ahead = first_use() if isinstance(cfg, ModelSweepConfig) and scheduler is None else nullcontext()
-    with _sigterm_as_interrupt(), ahead:
+    with ahead:
         try:
             ds = run_sweep(cfg, out, restart=restart, scheduler=scheduler, chunk_size=chunk_size, progress=sys.stderr.isatty(), scheduler_timeout=timeout)
-        except KeyboardInterrupt:  # the lock is released by now; the command ends as "aborted" (exit code 1)
-            print(f"interrupted: {out} keeps the chunks finished so far; run the same command to resume", file=sys.stderr)
-            raise
+        except KeyboardInterrupt:  # the lock is released by now; the command ends with exit code 1
+            raise Interrupted(f"interrupted: {out} keeps the chunks finished so far; run the same command to "
+                              "resume") from None
     elapsed = time.perf_counter() - t0
     kinds = np.asarray(ds["kind"].values)
     names = str(ds["kind"].attrs["flag_meanings"]).split()  # the single mass's kinds, or a structure's
@@ -118,21 +117,3 @@ def _repair(path: str, config: Optional[Path], as_json: bool) -> None:
         print(json.dumps(found.as_dict()))
     else:
         print(found.repair_line())
-
-
-@contextmanager
-def _sigterm_as_interrupt() -> Iterator[None]:
-    """SIGTERM handled like Ctrl-C, so that the output's lock is released on ``kill`` too."""
-
-    def interrupt(signum, frame):  # noqa: ANN001
-        raise KeyboardInterrupt
-
-    try:
-        previous = signal.signal(signal.SIGTERM, interrupt)
-    except ValueError:  # not the main thread: leave signals alone
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)

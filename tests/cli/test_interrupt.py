@@ -1,0 +1,67 @@
+"""Ctrl-C or SIGTERM during any command: exit code 1 and one ``error:`` line (the README's exit codes).
+
+typer ends a command interrupted by Ctrl-C with code 130 and prints nothing, and ``frictionflow.cli.main`` passed
+that on as 0 (a script took the interrupted run for a success); SIGTERM killed every command but the sweeps
+silently with 143.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from frictionflow.cli import simulate as simulate_cli, sweep as sweep_cli
+
+from .processes import SRC, in_process, one_line
+
+SIMULATE = ("simulate", "--friction", "coulomb", "--fd", "0.02", "--fs", "0.04", "--zeta", "0.05", "--t-end", "50")
+
+
+def _interrupt_by(how: str):
+    def stop(*args, **kwargs):
+        if how == "sigterm":
+            signal.raise_signal(signal.SIGTERM)  # the handler the command installed turns it into Ctrl-C
+        raise KeyboardInterrupt
+    return stop
+
+
+@pytest.mark.parametrize("how", ["ctrl-c", "sigterm"])
+def test_an_interrupted_simulate_exits_1_with_one_line_and_prints_no_result(monkeypatch, how):
+    before = signal.getsignal(signal.SIGTERM)
+    monkeypatch.setattr(simulate_cli, "run_simulation", _interrupt_by(how))
+    code, out, err, _ = in_process(*SIMULATE, "--json")
+    assert code == 1 and out == ""
+    one_line(err, "interrupted (Ctrl-C or SIGTERM)")
+    assert signal.getsignal(signal.SIGTERM) == before  # restored once the command ends
+
+
+def test_an_interrupted_sweep_says_what_its_store_keeps(monkeypatch, tmp_path):
+    config = tmp_path / "s.toml"
+    config.write_text('friction = "coulomb"\nfd = 0.02\nfs = 0.04\nt_end = 50.0\n[grid]\nvb = [0.01, 0.02]\n')
+    monkeypatch.setattr(sweep_cli, "run_sweep", _interrupt_by("ctrl-c"))
+    code, out, err, _ = in_process("sweep", str(config), "--out", str(tmp_path / "r.zarr"))
+    assert code == 1 and out == ""
+    one_line(err, "interrupted:", "r.zarr keeps the chunks finished so far; run the same command to resume")
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_to_a_running_command_ends_it_with_exit_code_1(sig):
+    """A real signal to a long fixed-step run, once the command has started (its first words on stderr: the
+    coarse-step warning)."""
+    env = dict(os.environ, PYTHONPATH=str(SRC))
+    argv = [sys.executable, "-m", "frictionflow", "simulate", "--solver", "rk4", "--dt", "0.002", "--friction",
+            "karnopp", "--fd", "0.02", "--t-end", "1e5", "--json"]
+    p = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    first = p.stderr.readline()  # the run has begun: the warning is written just before it
+    assert "warning" in first, first
+    time.sleep(0.5)
+    p.send_signal(sig)
+    out, err = p.communicate(timeout=120)
+    assert p.returncode == 1 and out == ""
+    one_line(err, "interrupted (Ctrl-C or SIGTERM)")
