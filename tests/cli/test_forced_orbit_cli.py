@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import json
 
 import pytest
@@ -87,3 +88,36 @@ def test_forced_continue_refuses_a_value_of_the_parameter_it_varies(tmp_path, ca
     lines = captured.err.strip().splitlines()
     assert captured.out == "" and len(lines) == 1 and lines[0].startswith("error: "), captured.err
     assert all(w in lines[0] for w in words), lines[0]
+
+
+@pytest.mark.parametrize("given", ["option", "config"])
+@pytest.mark.parametrize("command, flag, args", [
+    ("continue", "--vary", ["--friction", "stribeck", "--vb", "0.016", "--vary", "zeta=0.2:0.4"]),
+    ("map", "--y", ["--friction", "stribeck", "--x", "vb=0.01:0.03", "--y", "zeta=0.0:0.5"]),
+    ("map", "--x", ["--friction", "stribeck", "--x", "zeta=0.0:0.5", "--y", "vb=0.01:0.03"]),
+    ("map", "--y", ["--friction", "coulomb", "--x", "omega=0.5:1.5", "--y", "fex=0.01:0.1"]),
+])
+def test_continue_and_map_refuse_a_value_of_a_parameter_they_vary(tmp_path, capsys, monkeypatch, given, command, flag,
+                                                                  args):
+    """As forced-continue: ``continue --vary zeta=... --zeta 0.3`` and ``map --y zeta=... --zeta 0.5`` echoed the
+    fixed value in their params while the branch or the chart set it (the result was the run without it)."""
+    for name in ("continuation", "stability_map", "forced_map"):
+        for module in ("orbit", "map"):
+            if hasattr(cli_module(module), name):
+                monkeypatch.setattr(cli_module(module), name, lambda *a, **k: pytest.fail("computed despite the conflict"))
+    varied = args[args.index(flag) + 1].split("=")[0]
+    value = "0.3"
+    if given == "option":
+        extra, words = [f"--{varied}", value], [f"--{varied} {value} conflicts with {flag} {varied}=FROM:TO"]
+    else:
+        (tmp_path / "c.toml").write_text(f"{varied} = {value}\n")
+        extra, words = ["--config", str(tmp_path / "c.toml")], [f"--config: {varied} = {value} conflicts with {flag}"]
+    assert main([command, *args, *extra, "--json"]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert captured.out == "" and len(lines) == 1 and lines[0].startswith("error: "), captured.err
+    assert all(w in lines[0] for w in words), lines[0]
+
+
+def cli_module(name: str):
+    return importlib.import_module(f"frictionflow.cli.{name}")

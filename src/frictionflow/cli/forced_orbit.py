@@ -14,7 +14,7 @@ import numpy as np
 
 from .._json import jsonable
 from .._ranges import parse_named_range
-from ..io import check_output_path, read_config
+from ..io import check_output_path
 from ..estimate import Estimate, enforce
 from ..orbits.forced import (DEFAULT_TRANSIENT, PARAMETERS, branch_estimate, check_parameter, continue_forced, find_forced_orbit,
                              stroboscopic_estimate, stroboscopic_sweep, switch_period_doubling)
@@ -23,7 +23,8 @@ from ..orbits.forced_plot import plot_forced_branches, plot_forced_orbit
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ._app import app
-from .options import CONFIG_OPTION, command_config, parameter_names, start_state, with_options, with_parameters
+from .options import (CONFIG_OPTION, command_config, parameter_names, refuse_fixed, start_state, with_options,
+                      with_parameters)
 from .output import FLOW_MAP, print_summary, provenance, write_json
 from .vocabulary import option, overlay_count, parameter_help
 
@@ -124,17 +125,6 @@ def _job(model, parameter: str, interval: tuple[float, float], m: int, opts: "Fo
     return job
 
 
-def _check_not_fixed(parameter: str, config: Optional[Path], params: dict[str, Any]) -> None:
-    """Refuse a value of the varied ``parameter`` given besides ``--vary`` (on the command line or in the config):
-    the branch sets it from FROM to TO, so the value would be silently ignored."""
-    if params.get(parameter) is not None:
-        raise ValueError(f"--{parameter} {params[parameter]:g} conflicts with --vary {parameter}=FROM:TO, which sets "
-                         f"{parameter} along the branch: give one of them")
-    if config is not None and parameter in (values := read_config(config, "--config")):
-        raise ValueError(f"--config: {parameter} = {values[parameter]!r} conflicts with --vary {parameter}=FROM:TO, "
-                         f"which sets {parameter} along the branch: remove it from {str(config)!r}")
-
-
 @dataclass(frozen=True)
 class ForcedContinueOptions:
     """The forced-continue command's own options (the model's come as ``params``)."""
@@ -170,7 +160,7 @@ def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None
     _check(steps_per_period=opts.steps_per_period, max_points=opts.max_points, overlay=overlay)
     _check_outputs(opts.out, opts.plot)
     cfg, model, law = _build("forced-continue", opts.config, params)
-    _check_not_fixed(parameter, opts.config, params)
+    refuse_fixed(parameter, "--vary", "along the branch", opts.config, params)
     x0, v0 = start_state(cfg, model, law)
     enforce(_job(model, parameter, (start, stop), m, opts, overlay))  # the whole command, before its first run
     # the first orbit as forced-orbit finds it: DEFAULT_TRANSIENT forcing periods from the start, then Newton

@@ -19,7 +19,7 @@ from ..orbits.forced_chart import FORCED_CURVES, forced_map
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ._app import app
-from .options import CONFIG_OPTION, command_config, parameter_names, with_options, with_parameters
+from .options import CONFIG_OPTION, command_config, parameter_names, refuse_fixed, with_options, with_parameters
 from .output import FLOW_MAP, print_summary, provenance, write_json
 from .vocabulary import option, overlay_shape, parameter_help
 
@@ -88,6 +88,8 @@ def map_(params: dict[str, Any], opts: MapOptions) -> None:
     the grazing curve of the stick-slip cycle, fold curves of cycles and where a fold meets the grazing.  With
     --x/--y among omega and fex: the forced system's fold, period-doubling, Neimark-Sacker and grazing curves."""
     plane = Plane.of(opts)
+    for flag, name in (("--x", plane.x), ("--y", plane.y)):
+        refuse_fixed(name, flag, "across the chart", opts.config, params)
     COMMAND_PARAMETERS["fold_every"].check(opts.fold_every)
     nx = _count("x_points", plane.xs.num)
     if plane.forced:

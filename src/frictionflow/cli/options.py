@@ -142,3 +142,15 @@ def start_state(cfg: RunConfig, model: BeltOscillator, law: FrictionLaw) -> tupl
 CONFIG_OPTION = option("--config")
 #: every command that writes a figure takes this one --dpi
 DPI_OPTION = option("--dpi")
+
+
+def refuse_fixed(parameter: str, flag: str, where: str, config: Optional[Path], params: dict[str, Any]) -> None:
+    """Refuse a value of ``parameter`` given besides ``flag`` that varies it (on the command line or in the config):
+    the study sets it ``where`` ("along the branch"), so the value would be silently ignored."""
+    option_name = f"--{parameter.replace('_', '-')}"
+    if params.get(parameter) is not None:
+        raise ValueError(f"{option_name} {params[parameter]:g} conflicts with {flag} {parameter}=FROM:TO, which sets "
+                         f"{parameter} {where}: give one of them")
+    if config is not None and parameter in (values := read_config(config, "--config")):
+        raise ValueError(f"--config: {parameter} = {values[parameter]!r} conflicts with {flag} {parameter}=FROM:TO, "
+                         f"which sets {parameter} {where}: remove it from {str(config)!r}")

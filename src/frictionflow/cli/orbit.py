@@ -23,7 +23,7 @@ from ..plotting import FIGURE_FORMATS
 from ..solvers.registry import solver_names_where
 from .._ranges import parse_named_range
 from ._app import app
-from .options import CONFIG_OPTION, command_config, parameter_names, with_options, with_parameters
+from .options import CONFIG_OPTION, command_config, parameter_names, refuse_fixed, with_options, with_parameters
 from .output import provenance, show, write_json
 from .structure_orbit import ModelOrbitOptions, orbit_model
 from .vocabulary import option, overlay_count, parameter_help
@@ -156,6 +156,7 @@ def continue_(params: dict[str, Any], opts: ContinueOptions) -> None:
         if m not in MONITORS:
             raise ValueError(f"--monitor must be among {', '.join(MONITORS)}, got {m!r}")
     param, span = parse_named_range("--vary", opts.vary, "optional")
+    refuse_fixed(param, "--vary", "along the branch", opts.config, params)
     overlay = overlay_count(opts.overlay)
     cfg = _config("continue", opts.config, params)
     seed_list = tuple(s.strip() for s in opts.seeds.split(",") if s.strip())
