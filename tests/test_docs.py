@@ -42,6 +42,8 @@ from sphinx.ext.napoleon import Config, NumpyDocstring  # noqa: E402
 from sphinx.pycode import ModuleAnalyzer  # noqa: E402
 
 from frictionflow.cli import COMMAND_MODULES, app, load_commands  # noqa: E402
+from frictionflow import quantities as Q  # noqa: E402
+from frictionflow.analysis.structure import STRUCTURE_KINDS  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
@@ -279,3 +281,15 @@ def test_the_citation_file_is_complete_and_names_this_version():
     assert all(a.get("name") or a.get("family-names") for a in cff["authors"])
     project = re.search(r'^version = "([^"]+)"', (ROOT / "pyproject.toml").read_text(), re.M).group(1)
     assert str(cff["version"]) == project
+
+
+def test_the_sweep_guide_lists_every_kind_code_a_dataset_holds():
+    """The codes of ``kind`` as docs/guide/sweeps.md lists them, for the single mass and for a model sweep, are the
+    datasets' own (``flag_meanings``: the kinds in code order)."""
+    text = " ".join((Path(__file__).parents[1] / "docs" / "guide" / "sweeps.md").read_text().split())
+    listed = [re.findall(r"(\d) ([a-z-]+(?: [a-z]+)?)", m) for m in re.findall(r"`kind` \(([^)]*)\)", text)]
+    assert len(listed) == 2, listed
+    for pairs, kinds in zip(listed, (Q.KINDS, STRUCTURE_KINDS)):
+        names = [name.replace(" ", "_").replace("-", "_") for _, name in pairs]
+        assert [int(code) for code, _ in pairs] == list(range(len(kinds)))
+        assert names == list(kinds), (names, kinds)

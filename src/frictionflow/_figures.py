@@ -83,7 +83,10 @@ def pyplot(path: Any) -> Any:
 
 
 def legend_outside(ax: Any, **kw: Any) -> Any:
-    """The axes' legend to the right of the axes, where it hides no data (a layout engine makes room)."""
+    """The axes' legend to the right of the axes, where it hides no data (a layout engine makes room); None when no
+    artist has a label (an empty panel: matplotlib would warn)."""
+    if not ax.get_legend_handles_labels()[1] and "handles" not in kw:
+        return None
     kw.setdefault("fontsize", 8)
     return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, frameon=False, **kw)
 

@@ -33,8 +33,9 @@ def syntax(count: str) -> str:
     return {"required": "FROM:TO:N", "optional": "FROM:TO[:N]", "none": "FROM:TO"}[count]
 
 
-def parse_range(name: str, text: str, count: str = "required") -> Range:
-    """``FROM:TO:N`` -> :class:`Range`; ValueError naming ``name`` (the option or key) and the syntax otherwise."""
+def parse_range(name: str, text: str, count: str = "required", least: int = 1) -> Range:
+    """``FROM:TO:N`` -> :class:`Range` (N >= ``least``); ValueError naming ``name`` (the option or key) and the syntax
+    otherwise."""
     if count not in COUNTS:
         raise ValueError(f"count must be one of {', '.join(COUNTS)}, got {count!r}")
     want = syntax(count)
@@ -49,15 +50,16 @@ def parse_range(name: str, text: str, count: str = "required") -> Range:
         raise ValueError(f"{name} must be {want} with numbers (N an integer), got {text!r}") from None
     if not (math.isfinite(start) and math.isfinite(stop)):
         raise ValueError(f"{name} must be {want} with finite FROM and TO, got {text!r}")
-    if num is not None and num < 1:
-        raise ValueError(f"{name}: N must be >= 1, got {text!r}")
+    if num is not None and num < least:
+        raise ValueError(f"{name}: N must be >= {least}, got {text!r}")
     return Range(start, stop, num)
 
 
-def parse_named_range(name: str, text: str, count: str = "required") -> tuple[str, Range]:
-    """``NAME=FROM:TO:N`` -> (NAME with underscores, :class:`Range`); ValueError naming ``name`` otherwise."""
+def parse_named_range(name: str, text: str, count: str = "required", least: int = 1) -> tuple[str, Range]:
+    """``NAME=FROM:TO:N`` -> (NAME with underscores, :class:`Range` with N >= ``least``); ValueError naming ``name``
+    otherwise."""
     key, sep, rest = str(text).partition("=")
     key = key.strip().replace("-", "_")
     if not sep or not key:
         raise ValueError(f"{name} must be NAME={syntax(count)} (e.g. vb=0.01:0.03{':21' if count != 'none' else ''}), got {text!r}")
-    return key, parse_range(f"{name} {key}", rest.strip(), count)
+    return key, parse_range(f"{name} {key}", rest.strip(), count, least)

@@ -123,6 +123,9 @@ def _modes_panel(ax: Any, motion: Any, span: tuple[float, float]) -> None:
 def _budget_panel(ax: Any, result: StructureAnalysis) -> None:
     """Two stacked bars: the average power coming in and where it goes."""
     inputs, outputs = energy_budget(result.elements)
+    if not inputs and not outputs:  # a run that lost a contact: a transient, nothing averaged
+        ax.text(0.5, 0.5, f"nothing averaged ({result.steady_state.kind.replace('_', ' ')})", ha="center",
+                va="center", transform=ax.transAxes)
     for x, parts in ((0, inputs), (1, outputs)):
         bottom = 0.0
         for label, value in parts:

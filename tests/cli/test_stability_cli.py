@@ -117,7 +117,8 @@ def test_out_writes_what_json_prints_and_plot_draws(models, capsys):
 
 @pytest.mark.parametrize("args, words", [
     (["--vary", "spring.7.k=0:1"], "spring.7"),
-    (["--vary", "contact.0.fd=0.1:0.8:1"], "N must be"),
+    (["--vary", "contact.0.fd=0.1:0.8:1"], "--vary contact.0.fd: N must be >= 2"),
+    (["--vary", "contact.0.fd=0.1:0.8:0"], "--vary contact.0.fd: N must be >= 2"),  # one bound, not ">= 1" here
     (["--vary", "contact.0.fd=0.3:0.3"], "FROM and TO must differ"),
     (["--vary", "contact.0.belt=-0.5:0.5:3"], "contact.0.belt = 0: contact.0.belt must be nonzero"),
     (["--vary", "contact.0.fd=0.1:0.8", "--param", "contact.0.fd", "--from", "0.1", "--to", "0.2"], "not both"),
@@ -214,7 +215,7 @@ def test_the_chart_writes_its_json_and_figure(models, capsys):
     ([], "needs --vary, or --x with --y"),
     (["--x", "contact.0.fd=0.1:0.8", "--y", "contact.0.fd=0.2:0.3"], "the same entry"),
     (["--x", "contact.0.fd=0.1:0.8", "--y", "spring.9.k=1:2"], "spring.9"),
-    (["--x", "contact.0.fd=0.1:0.8", "--y", "spring.1.k=1:2:1"], "--y spring.1.k: N must be"),
+    (["--x", "contact.0.fd=0.1:0.8", "--y", "spring.1.k=1:2:1"], "--y spring.1.k: N must be >= 2"),
 ])
 def test_bad_chart_input_is_refused_in_one_line_with_nothing_written(models, capsys, args, words):
     argv = ["stability", "--model", str(models / "hoffmann.toml"), *args, "--out", str(models / "written.json")]

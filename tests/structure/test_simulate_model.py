@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +19,7 @@ from PIL import Image
 
 from frictionflow.analysis.structure import analyze_structure
 from frictionflow.solvers.structure import simulate_system
-from frictionflow.structure_plot import energy_budget, mode_steps
+from frictionflow.structure_plot import energy_budget, mode_steps, plot_structure
 from frictionflow.system import load_system
 
 from ..cli.processes import cli, in_process, one_line
@@ -213,3 +214,28 @@ def test_mode_steps_hold_each_mode_until_the_next_sample():
             last = max(i for i in range(len(t)) if t[i] <= s)
             shown = steps[:, np.searchsorted(times, s, side="right") - 1]  # where="post": the value from its time on
             assert np.array_equal(shown, modes[:, last]), (span, s)
+
+
+def test_a_lost_contact_run_reports_the_end_time_asked_for():
+    """The run stops at the loss (``lost.t``); ``params.t_end`` is what was asked for: the default 300 without
+    --t-end (it was the loss time), the option's value with it."""
+    path = Path(__file__).parents[2] / "examples" / "models" / "hoffmann_2dof.toml"
+    for extra, asked in (((), 300.0), (("--t-end", "250"), 250.0)):
+        code, out, err, _ = in_process("simulate", "--model", str(path), *extra, "--json")
+        report = _strict(out)
+        assert code == 0 and report["params"]["t_end"] == asked, err
+        assert report["lost"]["t"] < asked and report["steady_state"]["window"][1] == report["lost"]["t"]
+
+
+def test_the_figure_of_a_lost_contact_run_warns_of_nothing_and_says_nothing_is_averaged():
+    """Its energy-budget panel has no bars (nothing is averaged over a transient): no legend of nothing (matplotlib
+    warned "No artists with labels found" on stderr), a note instead."""
+    path = Path(__file__).parents[2] / "examples" / "models" / "hoffmann_2dof.toml"
+    result = analyze_structure(simulate_system(load_system(path), 200.0))
+    assert result.steady_state.kind == "contact_lost"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fig = plot_structure(result)
+    assert not caught, [str(w.message) for w in caught]
+    budget = fig.axes[3]
+    assert budget.get_legend() is None and [t.get_text() for t in budget.texts] == ["nothing averaged (contact lost)"]

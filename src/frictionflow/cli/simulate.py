@@ -30,7 +30,7 @@ NAMES = parameter_names(("oscillator", "law", "solver", "run"))
 def simulate(
     params: dict[str, Any],
     as_json: bool = option("--json"),
-    out: Optional[Path] = option("--out", "Here: the trajectory, .csv, .nc or .zarr."),
+    out: Optional[Path] = option("--out", "Here: the trajectory, .csv, .nc or .zarr (with --model: .nc)."),
     plot: Optional[Path] = option("--plot", "Here: time history, phase portrait and power flow."),
     dpi: float = option("--dpi"),
     config: Optional[Path] = CONFIG_OPTION,

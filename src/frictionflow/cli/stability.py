@@ -104,11 +104,11 @@ def _chart(system: System, x: str, y: str) -> StabilityChart:
 def entry_values(system: System, text: str, flag: str = "--vary",
                  default_points: int = DEFAULT_POINTS) -> tuple[str, np.ndarray]:
     """``ENTRY=FROM:TO[:N]`` -> (ENTRY, its N values); one line if the entry is not the model's or the range is bad."""
-    key, rng = parse_named_range(flag, text, "optional")
+    key, rng = parse_named_range(flag, text, "optional", least=2)
     entry = text.partition("=")[0].strip()  # the address as written (parse_named_range spells names with _)
     system.entry(entry)  # an unknown address: the model's own one-line error
     num = default_points if rng.num is None else rng.num
-    if not 2 <= num <= MAX_POINTS:
+    if num > MAX_POINTS:
         raise ValueError(f"{flag} {key}: N must be in [2, {MAX_POINTS}], got {num}")
     if rng.start == rng.stop:
         raise ValueError(f"{flag} {key}: FROM and TO must differ, got {rng.start:g} twice")

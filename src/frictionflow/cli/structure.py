@@ -26,6 +26,8 @@ from .output import print_summary
 
 #: the single-mass options that still mean something beside a model file
 MODEL_KEEPS = ("t_end", "window", "rtol")
+#: the run's end time when --t-end is not given
+T_END = 300.0
 #: ... and beside ``simulate --model``: the solver and the structure solvers' own settings too
 SIMULATE_KEEPS = (*MODEL_KEEPS, "solver", *structure_parameters())
 MODEL_FORMATS = (".nc",)
@@ -49,7 +51,7 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
         check_output_path(outputs["out"], MODEL_FORMATS, "--out")
     if outputs.get("plot") is not None:
         check_output_path(outputs["plot"], FIGURE_FORMATS, "--plot")
-    t_end = 300.0 if params.get("t_end") is None else float(params["t_end"])
+    t_end = requested_t_end(params)
     if not (math.isfinite(t_end) and t_end > 0.0):
         raise ValueError(f"--t-end must be a finite time > 0, got {t_end!r}")
     solver = structure_solver_for(system, params.get("solver") or "auto")
@@ -89,8 +91,13 @@ def report_model(result: StructureAnalysis, system: System, path: Path, params: 
     """The ``--json`` object: the analysis, the model file and the run's settings."""
     out = result.to_dict()
     out["model"] = {"file": str(path), "dof": list(system.dof), "elements": list(system.element_names)}
-    out["params"] = {"t_end": float(result.motion.t[-1]) if params.get("t_end") is None else float(params["t_end"])}
+    out["params"] = {"t_end": requested_t_end(params)}  # a run that lost a contact ends before it (``lost``)
     return out
+
+
+def requested_t_end(params: dict[str, Any]) -> float:
+    """The run's end time asked for: --t-end, or :data:`T_END`."""
+    return T_END if params.get("t_end") is None else float(params["t_end"])
 
 
 def simulate_model(path: Path, params: dict[str, Any], as_json: bool, outputs: dict[str, Any]) -> None:
