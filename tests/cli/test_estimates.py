@@ -180,7 +180,7 @@ README = [
     "continue --param zeta --from 0.2 --to 0.4 --friction stribeck --vb 0.016 --sweep 11 --json",
     "map --friction stribeck --fd 0.02 --fs 0.04 --vs 0.01 --x vb --x-from 0.004 --x-to 0.03 --x-points 27 --y zeta "
     "--y-from 0 --y-to 1 --sweep 27x26 --t-end 300 --heat R_c",
-    "map --friction coulomb --fd 0.5 --fs 1.0 --zeta 0.05 --vb 0.1 --fex 0.5 --x omega --x-from 1.5 --x-to 2.2 --y fex "
+    "map --friction coulomb --fd 0.5 --fs 1.0 --zeta 0.05 --vb 0.1 --x omega --x-from 1.5 --x-to 2.2 --y fex "
     "--y-from 0.4 --y-to 0.5 --y-points 5 --m 1,2 --sweep 8x5 --heat TR_B",
     "forced-orbit --fex 0.5 --omega 0.8 --json",
     "forced-continue --fex 0.01 --from 0.8 --to 1.2 --json",

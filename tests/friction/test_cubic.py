@@ -103,7 +103,8 @@ def test_cli_simulate_orbit_continue_and_sweep_run_the_cubic_law(capsys, tmp_pat
     assert d["params"]["friction"] == "cubic" and d["params"]["k1"] == 0.3 and d["steady_state"]["kind"] == "periodic"
     assert main(["orbit", *args, "--t-end", "300", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["stable"] is True
-    assert main(["continue", *args, "--param", "k1", "--from", "0.3", "--to", "0.2", "--points", "5",
+    fixed = [a for i, a in enumerate(args) if "--k1" not in args[max(i - 1, 0):i + 1]]  # continue sets k1 itself
+    assert main(["continue", *fixed, "--param", "k1", "--from", "0.3", "--to", "0.2", "--points", "5",
                  "--seeds", "start", "--max-points", "20", "--t-end", "200", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["branches"]
     cfg = tmp_path / "s.toml"
