@@ -141,6 +141,13 @@ class BeltOscillator:
             raise ValueError(f"vb_amplitude must be 0 for {what} (a belt at constant speed), got {self.vb_amplitude:g}; "
                              "simulate a moving belt with solver=auto")
 
+    def refuse_forcing(self, what: str) -> None:
+        """Raise the one line refusing an external force to ``what``, a path of the autonomous system (its section
+        X' = 0 and its equilibria are not the forced system's)."""
+        if self.forced:
+            raise ValueError(f"fex must be 0 for {what} (the autonomous system), got {self.fex:g}; a forced system's "
+                             "orbits: forced-orbit and forced-continue (find_forced_orbit, continue_forced)")
+
     def belt_accel(self, t: Any) -> Any:
         """V_b'(tau) = A Omega_b cos(Omega_b tau + phi_b), on scalars or arrays."""
         return self.vb_amplitude * self.vb_omega * np.cos(self.vb_omega * np.asarray(t) + self.vb_phi)

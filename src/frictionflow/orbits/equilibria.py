@@ -37,6 +37,7 @@ def slope_at_belt_speed(model: BeltOscillator, law: FrictionLaw) -> float:
 def equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = math.nan) -> SlidingEquilibrium | None:
     """The sliding equilibrium, or None where there is none (V_b = 0, or inside Karnopp's band)."""
     model.refuse_moving_belt("the sliding equilibrium")
+    model.refuse_forcing("the sliding equilibrium")
     if model.vb == 0.0:
         return None
     eq = sliding_equilibrium(model, law, value)

@@ -35,6 +35,7 @@ def make_flow(model: BeltOscillator, law: FrictionLaw, *, rtol: float = 1e-11, e
     if engine != "auto" and engine not in ENGINES:
         raise ValueError(f"engine must be {spoken(('auto', *ENGINES))}, got {engine!r}")
     model.refuse_moving_belt("periodic orbits")
+    model.refuse_forcing("periodic orbits on the section X' = 0")
     return ENGINES[auto_engine(model, law) if engine == "auto" else engine](model, law, rtol, param)
 
 
