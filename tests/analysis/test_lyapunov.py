@@ -215,14 +215,15 @@ def test_kernel_strobes_follow_the_reference_integrator():
     for case in (PERIODIC_STICK, PERIODIC_SLIP):
         model, law = system(*case)
         ref = reference_strobe(case, 0.0, 0.0, 40)
-        r = lyapunov_exponents(model, law, t_transient=0.0, t_end=40 * model.forcing_period, steps_per_block=512)
+        r = lyapunov_exponents(model, law, 0.0, 0.0, t_transient=0.0, t_end=40 * model.forcing_period,
+                               steps_per_block=512)
         assert np.abs(r.sections[:, :2] - ref).max() < 1e-7
 
 
 def test_forced_chaotic_stick_slip_has_a_positive_exponent_confirmed_by_divergence():
     model, law = system(*CHAOTIC)
     T = model.forcing_period
-    r = lyapunov_exponents(model, law, t_transient=200 * T, t_end=2200 * T, steps_per_block=256)
+    r = lyapunov_exponents(model, law, 0.0, 0.0, t_transient=200 * T, t_end=2200 * T, steps_per_block=256)
     assert r.chaotic and r.exponents[0] > 0.05
     assert r.exponents[1] == -math.inf  # it sticks about once a period
     assert r.switches["stick_onsets"] > 1500

@@ -233,7 +233,7 @@ def test_a_chaotic_moving_belt_point_has_the_positive_exponent_of_diverging_runs
     belt, law = CHAOTIC
     m = BeltOscillator(**belt)
     T = m.drive_period
-    r = lyapunov_exponents(m, law, t_transient=100 * T, t_end=1100 * T, steps_per_block=256)
+    r = lyapunov_exponents(m, law, 0.0, 0.0, t_transient=100 * T, t_end=1100 * T, steps_per_block=256)
     assert r.chaotic and r.exponents[0] > 0.02 and r.exponents[1] == -math.inf
     seq = reference(m, law, 0.0, 0.0, T * np.arange(1, 121))[0]
     # over 10 periods from a point of the attractor, the kernel's growth of a perturbation is the reference's

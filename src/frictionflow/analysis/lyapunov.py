@@ -260,8 +260,8 @@ def _tangent_run(model: BeltOscillator, friction: FrictionLaw, start: tuple[floa
 def lyapunov_exponents(
     model: BeltOscillator,
     friction: FrictionLaw,
-    x0: float = 0.0,
-    v0: float = 0.0,
+    x0: float | None = None,
+    v0: float | None = None,
     t_transient: float = 1000.0,
     t_end: float = 6000.0,
     *,
@@ -279,7 +279,8 @@ def lyapunov_exponents(
         moving, with one common period when both) and a law with Coulomb's
         stick rule (Coulomb, Stribeck, cubic; Karnopp's band law is refused).
     x0, v0:
-        Start state at tau = 0.
+        Start state at tau = 0; by default the law's start (:meth:`FrictionLaw.start`, as :func:`simulate` and
+        every command: the paper's X(0) = F_d, X'(0) = V_b).
     t_transient, t_end:
         The frame is renormalised but not averaged before ``t_transient``;
         both are rounded up to whole blocks.
@@ -303,7 +304,8 @@ def lyapunov_exponents(
     """
     _check_law(friction)
     block = _block(model, block)
-    _check_run(x0, v0, t_transient, t_end, steps_per_block)
+    _check_run(0.0 if x0 is None else x0, 0.0 if v0 is None else v0, t_transient, t_end, steps_per_block)
+    x0, v0 = friction.start(model.vb, x0, v0)
     _check_stop(stop)
     _check_stable(float(model.zeta), block, int(steps_per_block))
     n_transient = math.ceil(t_transient / block - 1e-9)

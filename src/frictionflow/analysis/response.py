@@ -48,8 +48,8 @@ def frequency_response(
     solver: Solver | None = None,
     periods: int = 300,
     directions: Sequence[str] = DIRECTIONS,
-    x0: float = 0.0,
-    v0: float = 0.0,
+    x0: float | None = None,
+    v0: float | None = None,
     rtol: float | None = None,
     progress: bool = False,
 ):
@@ -70,8 +70,9 @@ def frequency_response(
     directions:
         ``"up"`` (increasing Omega), ``"down"``, or both (default): each sweep starts from (x0, v0).
     x0, v0:
-        The state each sweep starts from, at its first frequency; every later frequency starts from the
-        state the previous one ended in.
+        The state each sweep starts from, at its first frequency (default: the law's start,
+        :meth:`FrictionLaw.start`, as the command's); every later frequency starts from the state the previous
+        one ended in.
     rtol:
         Steady-state tolerance (default: the solver's, as :func:`~frictionflow.analysis.analyze`).
     progress:
