@@ -106,6 +106,18 @@ def test_cli_dimensional_lugre_equals_the_nondimensional_options(capsys):
         assert dim["averages"][key] == pytest.approx(nd["averages"][key], rel=1e-9), key
 
 
+@pytest.mark.parametrize("law", ["karnopp", "coulomb", "stribeck", "lugre"])
+def test_an_unset_static_force_is_the_law_s_own_default_as_without_dimensions(capsys, law):
+    """Without f_ms the law's default F_s: F_d for Karnopp and Coulomb, 2 F_d for Stribeck (f_ms once defaulted to
+    f_d for every law, so a dimensional Stribeck run had F_s = F_d and settled where the same point ran periodic)."""
+    text = ",".join(f"{k}={v!r}" for k, v in {**SCALES, "v_b": 0.04, "f_d": 0.08}.items())
+    dim = _cli_json(capsys, ["--friction", law, "--t-end", "50", "--dimensional", text])
+    nd = _cli_json(capsys, ["--friction", law, "--t-end", "50", "--zeta", repr(ZETA), "--vb", repr(_speed(0.04)),
+                            "--fd", repr(_force(0.08))])
+    assert dim["params"]["fs"] == pytest.approx(nd["params"]["fs"], rel=1e-15)
+    assert dim["params"]["fs"] == pytest.approx((2.0 if law == "stribeck" else 1.0) * dim["params"]["fd"], rel=1e-15)
+
+
 @pytest.mark.parametrize("args, message", [
     (["--friction", "lugre", "--sigma0", "100"], "give sigma0 or dimensional, not both"),
     (["--friction", "lugre", "--vb", "0.01"], "give vb or dimensional, not both"),

@@ -192,7 +192,8 @@ class DimensionalParams:
     f_d:
         Kinetic (dynamic) friction force (None: the law has none, or it keeps its default).
     f_ms:
-        Maximum static friction force (default ``f_d``, the paper's choice).
+        Maximum static friction force (default: the law's own, ``f_d`` for Coulomb and Karnopp, the paper's
+        choice; ``2 f_d`` for Stribeck).
     v_d:
         Karnopp's dead-zone half width (default: the paper's V_d = 1e-3 in
         non-dimensional units).
@@ -232,8 +233,8 @@ class DimensionalParams:
             object.__setattr__(self, name, rule(name, getattr(self, name)))
         if self.f_d is not None:
             object.__setattr__(self, "f_d", check.nonnegative("f_d", self.f_d))
-            object.__setattr__(self, "f_ms", check.at_least("f_ms", self.f_d if self.f_ms is None else self.f_ms,
-                                                            self.f_d, "f_d"))
+            if self.f_ms is not None:  # unset: the law's own default (F_d for Coulomb and Karnopp, 2 F_d for Stribeck)
+                object.__setattr__(self, "f_ms", check.at_least("f_ms", self.f_ms, self.f_d, "f_d"))
         elif self.f_ms is not None:
             raise ValueError(f"f_ms needs f_d (f_ms >= f_d), got f_ms={self.f_ms!r} alone")
         object.__setattr__(self, "v_d", check.positive("v_d", 1e-3 * self.omega0 * self.l_0 if self.v_d is None
