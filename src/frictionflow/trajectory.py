@@ -324,6 +324,18 @@ class Trajectory(Summarized):
             return len(self.t) - 1
         return i if self.t[i] - t < t - self.t[i - 1] else i - 1
 
+    def checked_window(self, window: Any) -> tuple[float, float]:
+        """``window`` as two floats inside the run's span, start before end; ValueError otherwise (every function
+        that takes a window of a run checks it here)."""
+        try:
+            t0, t1 = (float(w) for w in window)
+        except (TypeError, ValueError):
+            raise ValueError(f"window must be (start, end), two times, got {window!r}") from None
+        lo, hi = float(self.t[0]), float(self.t[-1])
+        if not (lo <= t0 < t1 <= hi):
+            raise ValueError(f"window must satisfy {lo:g} <= start < end <= {hi:g} (the run's span), got {window!r}")
+        return t0, t1
+
     def to_xarray(self, dense: bool = True, points_per_period: int = cont.POINTS_PER_PERIOD):
         """The motion as an :class:`xarray.Dataset` over ``tau`` with units and long names.
 

@@ -129,7 +129,7 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
         (t0, t1), or None for the whole run.
     """
 
-    t0, t1 = (float(traj.t[0]), float(traj.t[-1])) if window is None else _checked_window(traj, window)
+    t0, t1 = (float(traj.t[0]), float(traj.t[-1])) if window is None else traj.checked_window(window)
     # the first sample at t0 and the last at t1 (a switch can leave two samples at one time)
     i0, i1 = int(np.searchsorted(traj.t, t0)), int(np.searchsorted(traj.t, t1, side="right")) - 1
     if traj.t[i0] == t0 and traj.t[i1] == t1:  # on samples: the solver's own integrals
@@ -140,18 +140,6 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
     dw = cont.dwork_at(traj, interp, ends)[1]
     e = 0.5 * (x * x + v * v)
     return PowerFlow.from_row((t0, t1), sec.averages(*dw, e[0], e[1], t1 - t0))
-
-
-def _checked_window(traj: Trajectory, window: tuple[float, float]) -> tuple[float, float]:
-    """``window`` as two floats inside the run's span, start before end; ValueError otherwise."""
-    try:
-        t0, t1 = (float(w) for w in window)
-    except (TypeError, ValueError):
-        raise ValueError(f"window must be (start, end), two times, got {window!r}") from None
-    lo, hi = float(traj.t[0]), float(traj.t[-1])
-    if not (lo <= t0 < t1 <= hi):
-        raise ValueError(f"window must satisfy {lo:g} <= start < end <= {hi:g} (the run's span), got {window!r}")
-    return t0, t1
 
 
 def instantaneous_power(traj: Trajectory) -> dict[str, np.ndarray]:

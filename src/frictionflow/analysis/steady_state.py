@@ -259,6 +259,14 @@ def steady_state(
         ``(t0, t1)`` to average over instead of the detected window; the kind
         is still the detected one.
     """
+    if not isinstance(traj, Trajectory):
+        raise TypeError(f"steady_state: traj must be a Trajectory (from simulate), got {type(traj).__name__}")
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 0.0 < rtol < 1.0:
+        raise ValueError(f"rtol must be a number in (0, 1), got {rtol!r}")
+    if isinstance(min_periods, bool) or int(min_periods) != min_periods or min_periods < 1:
+        raise ValueError(f"min_periods must be an integer >= 1, got {min_periods!r}")
+    if window is not None:
+        window = traj.checked_window(window)
     found = _diverged(traj)
     if found is not None:
         return found
@@ -271,9 +279,7 @@ def steady_state(
         found = replace(found, stability=_stability(traj, found))
     if window is None:
         return found
-    t0, t1 = float(window[0]), float(window[1])
-    if not (traj.t[0] <= t0 < t1 <= traj.t[-1]):
-        raise ValueError(f"window must satisfy {traj.t[0]:g} <= T0 < T1 <= {traj.t[-1]:g}, got {t0:g}:{t1:g}")
+    t0, t1 = window
     return replace(found, window=(t0, t1), manual_window=True, stick_fraction=stick_fraction(traj, (t0, t1)))
 
 

@@ -11,7 +11,8 @@ from ..trajectory import Trajectory
 def _slice(traj: Trajectory, window: tuple[float, float] | None) -> slice:
     if window is None:
         return slice(0, len(traj))
-    return slice(traj.index(window[0]), traj.index(window[1]) + 1)
+    t0, t1 = traj.checked_window(window)
+    return slice(traj.index(t0), traj.index(t1) + 1)
 
 
 def excitation_level(traj: Trajectory) -> float:

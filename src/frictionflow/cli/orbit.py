@@ -16,7 +16,7 @@ from ..orbits import continuation, find_orbit
 from ..orbits.floquet import fd_monodromy
 from ..orbits.monitors import MONITORS, branch_extrema
 from ..orbits.plotting import plot_bifurcation, plot_orbit
-from ..orbits.settings import ContinuationSettings
+from ..orbits.settings import CONTINUATION_RANGES, ContinuationSettings
 from ..orbits.stateful import StatefulOrbit, fd_state_monodromy
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
@@ -36,15 +36,14 @@ OUT_FORMATS = (".json",)
 
 
 #: the orbit commands' own settings, with their ranges (bounded: each point costs a shooting or a simulation)
-COMMAND_PARAMETERS = {p.name: p for p in (
-    Param("returns", "", "crossings of the section per period", "run", 1, kind="int", lower=1, upper=64),
-    Param("tol", "", "Newton tolerance", "run", None, lower=0.0, lower_open=True, upper=1e-3),
-    Param("points", "", "N of --vary: grid points of the equilibrium branch", "run", 101, kind="int", lower=2, upper=100_000),
-    Param("max_points", "", "points per orbit branch", "run", 400, kind="int", lower=2, upper=100_000),
-    Param("sweep", "", "brute-force simulations", "run", 0, kind="int", lower=0, upper=10_000),
-    Param("max_period", "", "period at which a branch ends", "run", 500.0, lower=0.0, lower_open=True, upper=1e6),
-    Param("step", "", "first arclength step", "run", 0.02, lower=0.0, lower_open=True, upper=1.0),
-)}
+COMMAND_PARAMETERS = {
+    **{name: CONTINUATION_RANGES[name] for name in ("returns", "tol", "sweep", "max_period", "step")},
+    **{p.name: p for p in (
+        Param("points", "", "N of --vary: grid points of the equilibrium branch", "run", 101, kind="int", lower=2,
+              upper=100_000),
+        Param("max_points", "", "points per orbit branch", "run", 400, kind="int", lower=2, upper=100_000),
+    )},
+}
 
 
 def _check(**values: Any) -> None:

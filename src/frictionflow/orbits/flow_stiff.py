@@ -33,7 +33,6 @@ def check_stateful(model: BeltOscillator, law: FrictionLaw) -> None:
         raise ValueError(f"friction={law.name} has no internal state: its orbits are shot on the section map (find_orbit)")
     if model.belt_varies:
         raise ValueError("vb_amplitude must be 0 for orbits of friction with internal state (a varying belt is not run yet)")
-    model.refuse_forcing("orbits of friction with internal state")
 
 
 class StiffFlow:

@@ -18,10 +18,24 @@ from __future__ import annotations
 from dataclasses import dataclass, fields, replace
 from typing import Any, Mapping, TypeVar
 
+from ..parameters import Param
 from ..solvers.base import Solver
 
 #: where orbit branches of :func:`~frictionflow.orbits.continuation` can start
 SEEDS = ("hopf", "start", "stop")
+#: the ranges of :class:`ContinuationSettings`' numbers (the command line's options check the same ranges)
+CONTINUATION_RANGES = {p.name: p for p in (
+    Param("transient", "", "seed and sweep simulations' length", "run", 500.0, lower=0.0, upper=1e9),
+    Param("n_equilibria", "", "grid points of the equilibrium branch", "run", 101, kind="int", lower=2,
+          upper=100_000),
+    Param("max_points", "", "points per orbit branch", "run", 300, kind="int", lower=2, upper=100_000),
+    Param("max_period", "", "period at which a branch ends", "run", 500.0, lower=0.0, lower_open=True, upper=1e6),
+    Param("step", "", "first arclength step", "run", 0.02, lower=0.0, lower_open=True, upper=1.0),
+    Param("max_step", "", "largest arclength step", "run", 0.1, lower=0.0, lower_open=True, upper=1.0),
+    Param("returns", "", "crossings of the section per period", "run", 1, kind="int", lower=1, upper=64),
+    Param("sweep", "", "brute-force simulations", "run", 0, kind="int", lower=0, upper=10_000),
+    Param("tol", "", "Newton tolerance", "run", None, lower=0.0, lower_open=True, upper=1e-3),
+)}
 #: RK4 grid steps per forcing period unless told
 DEFAULT_STEPS = 512
 
@@ -77,6 +91,11 @@ class ContinuationSettings:
     x0: float | None = None
     v0: float | None = None
     tol: float | None = None
+
+    def __post_init__(self) -> None:
+        for name, param in CONTINUATION_RANGES.items():  # one line naming the setting, before any work
+            if getattr(self, name) is not None:
+                param.check(getattr(self, name))
 
 
 @dataclass(frozen=True)

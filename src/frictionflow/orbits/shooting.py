@@ -274,8 +274,7 @@ def shoot(
     solver: Solver | None = None,
 ) -> PeriodicOrbit:
     """The periodic orbit through (X, 0) near ``x_guess`` on the section."""
-    if returns < 1:
-        raise ValueError(f"returns must be an integer >= 1, got {returns!r}")
+    check_shooting(0.0, tol, returns, max_iter)
     flow = make_flow(model, friction) if flow is None else flow
     scale = _scale(model, friction)
     tol_abs = (default_tol(friction) if tol is None else tol) * scale
@@ -311,6 +310,19 @@ def orbit_from_segment(
         iterations=iterations,
         measures=measure(model, friction, state, seg.duration, solver=solver),
     )
+
+
+def check_shooting(transient: float, tol: float | None, returns: int, max_iter: int, name: str = "transient") -> None:
+    """One line for a shooting setting out of range (every shooting function's, single mass or structure)."""
+    if isinstance(transient, bool) or not (isinstance(transient, (int, float)) and math.isfinite(transient)
+                                           and transient >= 0):
+        raise ValueError(f"{name} must be a finite number >= 0, got {transient!r}")
+    if tol is not None and (isinstance(tol, bool) or not (isinstance(tol, (int, float)) and 0.0 < tol <= 1e-3)):
+        raise ValueError(f"tol must be in (0, 1e-3], got {tol!r}")
+    if isinstance(returns, bool) or not isinstance(returns, (int, np.integer)) or not 1 <= returns <= 64:
+        raise ValueError(f"returns must be an integer in [1, 64], got {returns!r}")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
+        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
 
 
 def find_orbit(
@@ -358,12 +370,11 @@ def find_orbit(
     (ValueError) above the limits; without a transient, the shooting is
     estimated before any work, each flow bounded by :data:`~.hybrid.MAX_TIME`.
     """
+    check_shooting(transient, tol, returns, max_iter)
     if friction.stick_rule == "state":  # internal states (LuGre, ...): Newton on the whole state
         return find_stateful_orbit(model, friction, x0=x0, v0=v0, transient=transient, returns=returns, tol=tol,
                                    max_iter=max_iter, solver=solver)
     x, v = (float(u) for u in friction.start(model.vb, x0, v0))
-    if transient < 0 or not math.isfinite(transient):
-        raise ValueError(f"transient must be finite and >= 0, got {transient!r}")
     flow = make_flow(model, friction)  # refuses laws it cannot differentiate, before any work
     shooting = Shooting(model, friction, returns, max_iter, solver)
     if transient > 0:  # the shooting's period is the transient's to find: estimated once it has

@@ -41,7 +41,7 @@ from ..friction.registry import law_classes
 from ..solvers.structure import run_estimate, supported_laws
 from ..system import assemble
 from . import floquet
-from .shooting import ShootingError
+from .shooting import ShootingError, check_shooting
 from .structure_flow import Flow, Return, crossings, return_map
 
 #: Newton's default tolerance on |P(s) - s|, relative to the orbit's scale
@@ -282,17 +282,6 @@ def _newton(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarra
                         f"(residual {float(np.max(np.abs(_residual(ret)))):.3g})")
 
 
-def _check(t_transient: float, tol: float | None, returns: int, max_iter: int) -> None:
-    if not (isinstance(t_transient, (int, float)) and math.isfinite(t_transient) and t_transient >= 0):
-        raise ValueError(f"t_transient must be a finite number >= 0, got {t_transient!r}")
-    if tol is not None and not (isinstance(tol, (int, float)) and 0.0 < tol <= 1e-3):
-        raise ValueError(f"tol must be in (0, 1e-3], got {tol!r}")
-    if isinstance(returns, bool) or not isinstance(returns, (int, np.integer)) or not 1 <= returns <= 64:
-        raise ValueError(f"returns must be an integer in [1, 64], got {returns!r}")
-    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
-        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
-
-
 def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any, returns: int) -> tuple[Return, int]:
     """The first return map: from the transient's last section crossing (or the guess's first), and the row."""
     flow = setup.flow
@@ -359,7 +348,7 @@ def find_structure_orbit(
     max_iter:
         Newton iterations before :class:`~frictionflow.orbits.shooting.ShootingError`.
     """
-    _check(t_transient, tol, returns, max_iter)
+    check_shooting(t_transient, tol, returns, max_iter, "t_transient")
     setup = _setup(system_or_assembly)
     flow, n = setup.flow, setup.flow.n
     asm = flow.assembly

@@ -1,0 +1,65 @@
+"""Out-of-range settings of the API's analysis and orbit functions are refused in one line naming them, as the command
+line refuses the same values (they once ran: ``steady_state(rtol=2)`` called a stick-slip cycle an equilibrium,
+``continuation(step=-1)`` ended its branch early, ``find_orbit(tol=-1)`` said no orbit exists,
+``transmissibility`` of a reversed window failed inside numpy)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from frictionflow import BeltOscillator, Coulomb, Stribeck, analyze, simulate
+from frictionflow.analysis import power_flow, steady_state, transmissibility
+from frictionflow.orbits import continuation, find_orbit
+from frictionflow.orbits.settings import ContinuationSettings
+
+MODEL, LAW = BeltOscillator(zeta=0.05, vb=0.01), Coulomb(0.02, 0.04)
+
+
+@pytest.fixture(scope="module")
+def run():
+    return simulate(MODEL, LAW, t_end=300.0)
+
+
+@pytest.mark.parametrize("rtol", [math.nan, 2.0, -1.0, 0.0, "1e-6", True])
+def test_a_classification_tolerance_out_of_range_is_refused(run, rtol):
+    with pytest.raises(ValueError, match=r"^rtol must be a number in \(0, 1\), got"):
+        steady_state(run, rtol=rtol)
+    with pytest.raises(ValueError, match=r"^rtol must be"):
+        analyze(run, rtol=rtol)
+
+
+def test_the_same_run_with_a_good_tolerance_is_the_cycle(run):
+    assert steady_state(run, rtol=1e-6).kind == "periodic" and steady_state(run, min_periods=3).kind == "periodic"
+    with pytest.raises(ValueError, match=r"^min_periods must be an integer >= 1"):
+        steady_state(run, min_periods=0)
+
+
+@pytest.mark.parametrize("window", [(200.0, 100.0), (math.nan, 1.0), (0.0, 1000.0), ("a", "b"), (1.0,)])
+def test_every_function_taking_a_window_checks_it_alike(run, window):
+    for fn in (transmissibility, power_flow, lambda r, w: steady_state(r, window=w)):
+        with pytest.raises(ValueError, match=r"^window must"):
+            fn(run, window)
+
+
+def test_a_window_inside_the_run_gives_the_averages_there(run):
+    assert transmissibility(run, (100.0, 300.0)) == pytest.approx(analyze(run, window=(100.0, 300.0)).TR_B, rel=1e-15)
+
+
+@pytest.mark.parametrize("kw, name", [({"tol": -1.0}, "tol"), ({"tol": math.nan}, "tol"), ({"returns": 1.5}, "returns"),
+                                      ({"returns": 0}, "returns"), ({"max_iter": 0}, "max_iter"),
+                                      ({"transient": -1.0}, "transient")])
+def test_find_orbit_refuses_shooting_settings_out_of_range(kw, name):
+    with pytest.raises(ValueError, match=f"^{name} must be"):
+        find_orbit(MODEL, LAW, **kw)
+
+
+@pytest.mark.parametrize("kw", [{"step": -1.0}, {"max_step": 0.0}, {"max_period": -1.0}, {"n_equilibria": -1},
+                                {"n_equilibria": 2.5}, {"transient": math.nan}, {"sweep": -3}, {"max_points": 1}])
+def test_continuation_refuses_settings_out_of_range_as_the_command_does(kw):
+    [(name, _)] = kw.items()
+    with pytest.raises(ValueError, match=f"^{name} must be"):
+        continuation(MODEL, Stribeck(0.02, 0.04, vs=0.01), "zeta", 0.2, 0.4, **kw)
+    with pytest.raises(ValueError, match=f"^{name} must be"):
+        ContinuationSettings(**kw)
