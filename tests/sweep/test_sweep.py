@@ -195,6 +195,14 @@ def test_plot_helpers(tmp_path, coulomb_sweep):
     assert (tmp_path / "map.png").stat().st_size > 1000 and (tmp_path / "cut.png").stat().st_size > 1000
     with pytest.raises(ValueError, match="varies along fd"):
         plot_map(ds, "R_c", "zeta", "vb")
+    # a name the dataset does not have is named (it once read "still varies along vb" or a raw KeyError)
+    for call, words in ((lambda: plot_map(ds, "R_c", "zeta", "bogus", fd=0.02), "'bogus' is not a dimension of R_c"),
+                        (lambda: plot_map(ds, "R_c", "zeta", "zeta", fd=0.02), "the plotted dimensions must differ"),
+                        (lambda: plot_cut(ds, "TR_B", "zeta", hue="bogus", fd=0.02), "'bogus' is not a dimension"),
+                        (lambda: plot_cut(ds, "TR_B", "zeta", bogus=1.0), "'bogus' is not a dimension"),
+                        (lambda: plot_map(ds, "nope", "zeta", "vb", fd=0.02), "var must be one of the dataset's")):
+        with pytest.raises(ValueError, match=words):
+            call()
 
 
 @pytest.mark.parametrize("cls", [c for c in law_classes() if c.compiled_slip], ids=lambda c: c.name)

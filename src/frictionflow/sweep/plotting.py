@@ -12,6 +12,17 @@ from ..io import DEFAULT_DPI, write_figure
 
 
 def _select(ds, var: str, keep: tuple[str, ...], sel: dict[str, Any]):
+    """``var`` with ``sel`` picked, varying along ``keep`` only; one line naming a variable or dimension the dataset
+    does not have, or a dimension given twice."""
+    if var not in ds.data_vars:
+        raise ValueError(f"var must be one of the dataset's variables ({', '.join(map(str, ds.data_vars))}), "
+                         f"got {var!r}")
+    dims = tuple(map(str, ds[var].dims))
+    for d in (*keep, *sel):
+        if d not in dims:
+            raise ValueError(f"{d!r} is not a dimension of {var} (its dimensions: {', '.join(dims)})")
+    if len(set(keep)) != len(keep):
+        raise ValueError(f"the plotted dimensions must differ, got {', '.join(keep)}")
     da = ds[var]
     if sel:
         da = da.sel(sel, method="nearest")
