@@ -8,7 +8,7 @@ from .friction.base import FrictionLaw
 from .params import BeltOscillator
 from .solvers.base import DEFAULT_MAX_MEMORY, Solver
 from .solvers.auto import auto_solver
-from .solvers.registry import belt_motion_refusal, unsupported
+from .solvers.registry import belt_motion_refusal, solver_class, unsupported
 from .trajectory import Trajectory
 
 RUN = {p.name: p for p in RUN_PARAMETERS}
@@ -32,7 +32,8 @@ def simulate(
     model, friction:
         The oscillator (zeta, V_b) and the friction law (F_d, F_s, ...).
     solver:
-        A solver object; default: :class:`~frictionflow.solvers.Exact` for
+        A solver object, or a solver's name (``"auto"``, ``"exact"``, ... with its default settings); default
+        (None or ``"auto"``): :class:`~frictionflow.solvers.Exact` for
         piecewise-constant laws (Karnopp, Coulomb), else
         :class:`~frictionflow.solvers.Adaptive`; for laws with internal state (LuGre)
         :class:`~frictionflow.solvers.Stiff`.
@@ -55,7 +56,7 @@ def simulate(
     t_end, x0, v0, max_memory = (RUN[k].check(v) if v is not None else None for k, v in
                                  (("t_end", t_end), ("x0", x0), ("v0", v0), ("max_memory", max_memory)))
     x0, v0 = friction.start(model.vb, x0, v0)
-    solver = auto_solver(friction, model) if solver is None else solver
+    solver = resolved_solver(solver, friction, model)
     if not solver.supports(friction):
         raise ValueError(unsupported(solver.name, friction))
     refusal = belt_motion_refusal(solver, friction) if model.belt_varies else None
@@ -63,3 +64,16 @@ def simulate(
         raise ValueError(refusal)
     enforce(lambda: solver.cost(model, friction, t_end))  # within the limits in force (frictionflow.estimate.limited)
     return solver.solve(model, friction, x0, v0, t_end, progress=progress, max_memory=max_memory)
+
+
+def resolved_solver(solver: Solver | str | None, friction: FrictionLaw, model: BeltOscillator) -> Solver:
+    """``solver`` as a solver object: None and ``"auto"`` the default for the law and model, another name its
+    solver with default settings; anything else refused (TypeError naming the argument)."""
+    if solver is None or solver == "auto":
+        return auto_solver(friction, model)
+    if isinstance(solver, str):
+        return solver_class(solver, friction, model)()
+    if not isinstance(solver, Solver):
+        raise TypeError(f"solver must be a Solver (frictionflow.solvers: Exact(), Adaptive(), RK4(), ...) or a "
+                        f"solver's name, got {type(solver).__name__}")
+    return solver

@@ -9,7 +9,7 @@ import math
 
 import pytest
 
-from frictionflow import BeltOscillator, Coulomb, Stribeck, analyze, simulate
+from frictionflow import BeltOscillator, Coulomb, Exact, Stribeck, analyze, simulate
 from frictionflow.analysis import power_flow, steady_state, transmissibility
 from frictionflow.orbits import continuation, find_orbit
 from frictionflow.orbits.settings import ContinuationSettings
@@ -63,3 +63,17 @@ def test_continuation_refuses_settings_out_of_range_as_the_command_does(kw):
         continuation(MODEL, Stribeck(0.02, 0.04, vs=0.01), "zeta", 0.2, 0.4, **kw)
     with pytest.raises(ValueError, match=f"^{name} must be"):
         ContinuationSettings(**kw)
+
+
+def test_simulate_takes_a_solver_by_name_as_the_solvers_guide_writes_it():
+    """``solver="auto"`` (the guide's words) is the default solver, ``"exact"`` the exact one with its defaults; a
+    wrong name or type is one line naming the argument (``"auto"`` failed with "'str' object has no attribute
+    'supports'")."""
+    want = simulate(MODEL, LAW, Exact(), t_end=50.0)
+    for name in ("auto", "exact"):
+        got = simulate(MODEL, LAW, name, t_end=50.0)
+        assert got.solver["name"] == "exact" and (got.x == want.x).all() and (got.t == want.t).all()
+    with pytest.raises(ValueError, match=r"^solver must be one of auto, exact"):
+        simulate(MODEL, LAW, "exakt", t_end=50.0)
+    with pytest.raises(TypeError, match=r"^solver must be a Solver"):
+        simulate(MODEL, LAW, 3, t_end=50.0)
