@@ -63,3 +63,10 @@ def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
     if value not in allowed:
         raise ValueError(f"{name} must be one of {', '.join(allowed)}, got {value!r}")
     return value
+
+
+def instance(name: str, value: object, kind: type, what: str) -> None:
+    """Refuse ``value`` unless it is a ``kind``: a TypeError naming the argument and what it must be (``what``, e.g.
+    "a Trajectory (from simulate)"), not an AttributeError from deep inside."""
+    if not isinstance(value, kind):
+        raise TypeError(f"{name} must be {what}, got {type(value).__name__}")

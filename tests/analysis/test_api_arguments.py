@@ -10,9 +10,13 @@ import math
 import pytest
 
 from frictionflow import BeltOscillator, Coulomb, Exact, Stribeck, analyze, simulate
-from frictionflow.analysis import power_flow, steady_state, transmissibility
+from frictionflow import instantaneous_power, sliding_equilibrium
+from frictionflow.analysis import lyapunov_exponents, power_flow, steady_state, transmissibility
+from frictionflow.analysis.stability import steady_sliding
+from frictionflow.analysis.structure import analyze_structure
 from frictionflow.orbits import continuation, find_orbit
 from frictionflow.orbits.settings import ContinuationSettings
+from frictionflow.solvers.structure import simulate_system
 
 MODEL, LAW = BeltOscillator(zeta=0.05, vb=0.01), Coulomb(0.02, 0.04)
 
@@ -77,3 +81,17 @@ def test_simulate_takes_a_solver_by_name_as_the_solvers_guide_writes_it():
         simulate(MODEL, LAW, "exakt", t_end=50.0)
     with pytest.raises(TypeError, match=r"^solver must be a Solver"):
         simulate(MODEL, LAW, 3, t_end=50.0)
+
+
+def test_a_wrong_object_is_a_type_error_naming_the_argument():
+    """What the functions are given by mistake (a string for a run, a model or a system) is refused where they are
+    called, naming the argument; these raised AttributeError from inside ('str' object has no attribute ...)."""
+    calls = [(lambda: power_flow("x"), "traj"), (lambda: transmissibility("x"), "traj"),
+             (lambda: steady_state("x"), "traj"), (lambda: instantaneous_power("x"), "traj"),
+             (lambda: sliding_equilibrium("x", LAW), "model"), (lambda: sliding_equilibrium(MODEL, "x"), "friction"),
+             (lambda: find_orbit("x", LAW), "model"), (lambda: lyapunov_exponents("x", LAW), "model"),
+             (lambda: simulate_system("x", 10.0), "system"), (lambda: analyze_structure("x"), "motion"),
+             (lambda: steady_sliding("x"), "assembly")]
+    for call, name in calls:
+        with pytest.raises(TypeError, match=f"^(steady_state: )?{name} must be"):
+            call()

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _validate as check
 from .. import quantities as Q
 from ..core import sections as sec
 from ..core import stiff_flow
@@ -119,6 +120,8 @@ def sliding_equilibrium(model: BeltOscillator, friction: FrictionLaw, value: flo
         A parameter value to record with the result (continuation); NaN
         by default.
     """
+    check.instance("model", model, BeltOscillator, "a BeltOscillator")
+    check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
 
     c = 2.0 * model.zeta + friction.slip_slope(abs(model.vb))
     if friction.internal_names:

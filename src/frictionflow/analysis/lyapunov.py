@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import _validate as check
 from .._display import Row, Summarized, num, spoken, system_row
 from .._json import jsonable
 from ..core import tangent
@@ -302,6 +303,8 @@ def lyapunov_exponents(
         classifier's rule).  ``running``, ``sections`` and the settings then
         cover the blocks done.  None: every block.
     """
+    check.instance("model", model, BeltOscillator, "a BeltOscillator")
+    check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
     _check_law(friction)
     block = _block(model, block)
     _check_run(0.0 if x0 is None else x0, 0.0 if v0 is None else v0, t_transient, t_end, steps_per_block)

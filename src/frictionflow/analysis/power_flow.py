@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import _validate as check
 from .. import quantities as Q
 from .._display import Row, Summarized, num, pairs
 from .. import _continuous as cont
@@ -128,6 +129,7 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
     window:
         (t0, t1), or None for the whole run.
     """
+    check.instance("traj", traj, Trajectory, "a Trajectory (from simulate)")
 
     t0, t1 = (float(traj.t[0]), float(traj.t[-1])) if window is None else traj.checked_window(window)
     # the first sample at t0 and the last at t1 (a switch can leave two samples at one time)
@@ -156,6 +158,7 @@ def instantaneous_power(traj: Trajectory) -> dict[str, np.ndarray]:
         ``K_dot``, ``U_dot``, ``P_dv``, ``P_f``, ``P_belt``, ``P_heat``,
         ``P_ex``: arrays over the samples ``traj.t``.
     """
+    check.instance("traj", traj, Trajectory, "a Trajectory (from simulate)")
 
     v, fc = traj.v, traj.fc
     p_f = v * fc

@@ -40,6 +40,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
+from .. import _validate as check
 from .._display import Row, Summarized, num
 from .._figures import draw
 from .._lazy import lazy_module
@@ -196,6 +197,7 @@ def steady_sliding(assembly: Assembly, laws: Sequence[FrictionLaw] | None = None
         One line: a belt at rest, a belt inside a stick band, K_eff singular (no isolated
         equilibrium) or a normal load <= 0 at the equilibrium (the contact is lost).
     """
+    check.instance("assembly", assembly, Assembly, "an Assembly (frictionflow.system.assemble(system))")
     mass = np.asarray(assembly.mass, dtype=float)
     e, preload, coef = _contacts(assembly)
     mu, slope = contact_slip(assembly, laws)

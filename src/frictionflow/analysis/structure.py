@@ -42,6 +42,8 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
+from ..motion import Motion
+from .. import _validate as check
 from .. import quantities as Q
 from .._json import jsonable
 from .._display import Row, Summarized, num
@@ -162,6 +164,7 @@ def analyze_structure(motion: Any, rtol: float = 1e-6, min_periods: int = 3,
     window:
         (t0, t1) to average over instead of the steady state's own window.
     """
+    check.instance("motion", motion, Motion, "a Motion (from simulate_system)")
     if not 0.0 < rtol < 1.0:
         raise ValueError(f"rtol must be in (0, 1), got {rtol!r}")
     if int(min_periods) != min_periods or min_periods < 1:

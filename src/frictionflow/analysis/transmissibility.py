@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _validate as check
 from .. import quantities as Q
 from ..trajectory import Trajectory
 
@@ -36,6 +37,7 @@ def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None
     window:
         (t0, t1), or None for the whole run.
     """
+    check.instance("traj", traj, Trajectory, "a Trajectory (from simulate)")
     ref = excitation_level(traj)
     if ref <= 0:
         return float("nan")

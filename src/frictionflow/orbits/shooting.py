@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import _validate as check
 from .._display import Row, Summarized, num, pairs, system_row
 from .._figures import draw
 from .._json import jsonable
@@ -370,6 +371,8 @@ def find_orbit(
     (ValueError) above the limits; without a transient, the shooting is
     estimated before any work, each flow bounded by :data:`~.hybrid.MAX_TIME`.
     """
+    check.instance("model", model, BeltOscillator, "a BeltOscillator")
+    check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
     check_shooting(transient, tol, returns, max_iter)
     if friction.stick_rule == "state":  # internal states (LuGre, ...): Newton on the whole state
         return find_stateful_orbit(model, friction, x0=x0, v0=v0, transient=transient, returns=returns, tol=tol,

@@ -14,6 +14,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from .. import _validate as check
 from ..core import codes
 from ..core.assembly import Assembly, natural_frequencies
 from ..core.layout import LAW
@@ -21,7 +22,7 @@ from ..core.structure.run import run
 from ..estimate import SECONDS_PER, Estimate
 from ..friction.registry import law_classes
 from ..motion import Motion
-from ..system import assemble
+from ..system import System, assemble
 from . import structure_adaptive
 from .registry import solver_named, solver_names_where
 from .structure_motion import buffers, first_capacity, motion, row_bytes, run_growing
@@ -239,6 +240,7 @@ def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None,
     settings:
         The solver's settings, e.g. ``rtol=1e-10, atol=1e-13`` for the adaptive solver.
     """
+    check.instance("system", system, System, "a frictionflow.system.System (load_system, System.from_dict)")
     test = _structure_solver(solver).structure_laws
     for contact, name in zip(system.contacts, system.contact_names):
         if not test(type(contact.law)):
