@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import pytest
 
+from frictionflow.cli.options import command_config
+
 from .processes import in_process, one_line
 
 CASES = [
@@ -35,3 +37,12 @@ def test_a_config_of_the_command_s_own_keys_runs_as_the_options_do(tmp_path):
     by_options = in_process("orbit", "--friction", "coulomb", "--fd", "0.02", "--fs", "0.04", "--zeta", "0.05", "--vb",
                             "0.01", "--json")
     assert by_file[0] == 0 and by_file[1] == by_options[1]
+
+
+def test_the_settings_a_command_reads_from_a_config_alone_are_kept(tmp_path):
+    """lyapunov's max_memory and response's rtol have no option but are read from a config: they stay allowed."""
+    config = tmp_path / "c.toml"
+    config.write_text("max_memory = 100.0\nrtol = 1e-7\n")
+    assert command_config("lyapunov", config, {"friction": None}, config_only=("max_memory", "rtol")).max_memory == 100.0
+    with pytest.raises(ValueError, match=r"key 'rtol' is not used by lyapunov"):
+        command_config("lyapunov", config, {"friction": None}, config_only=("max_memory",))

@@ -45,7 +45,7 @@ def lyapunov(
             COMMAND_PARAMETERS[name].check(value)
     if out is not None:
         check_output_path(out, OUT_FORMATS, "--out")
-    cfg = command_config("lyapunov", config, params)
+    cfg = command_config("lyapunov", config, params, config_only=("max_memory",))
     model, law, _ = cfg.build()
     x0, v0 = start_state(cfg, model, law)
     t_end = cfg.given.get("t_end", PARAMETER_DEFAULTS["lyapunov", "t_end"][0])

@@ -119,14 +119,17 @@ def merged_config(config: Optional[Path], options: dict[str, Any]) -> RunConfig:
     return RunConfig.from_mapping(values, source=str(config) if config else "options")
 
 
-def command_config(command: str, config: Optional[Path], params: dict[str, Any]) -> RunConfig:
+def command_config(command: str, config: Optional[Path], params: dict[str, Any],
+                   config_only: tuple[str, ...] = ()) -> RunConfig:
     """The run's settings on ``command``: the config file's, overridden by the options given, with the command's
-    default law (:func:`~.vocabulary.default_law`) unless one is chosen; a law it cannot use refused in one line."""
+    default law (:func:`~.vocabulary.default_law`) unless one is chosen; a law it cannot use refused in one line.
+    A config key is one of ``params`` (the command's options) or of ``config_only`` (the settings the command reads
+    from a config without an option); any other is refused."""
     file_values: dict[str, Any] = {}
     if config is not None:
         check_input_path(config, "--config")  # before reading it, naming the option
         file_values = read_config(config)
-        unused = [key for key in file_values if key not in params]
+        unused = [key for key in file_values if key not in params and key not in config_only]
         if unused:  # a key this command takes no option for would be ignored without a word
             raise ValueError(f"--config: key {unused[0]!r} is not used by {command} (a config takes the keys of the "
                              f"command's options: frictionflow {command} --help)")

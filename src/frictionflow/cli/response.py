@@ -51,7 +51,7 @@ def response(
         check_output_path(out, DATASET_FORMATS, "--out")
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "--plot")
-    cfg = command_config("response", config, params)
+    cfg = command_config("response", config, params, config_only=("rtol",))
     model, law, solver = cfg.build()
     x0, v0 = start_state(cfg, model, law)
     omegas, directions = np.linspace(w0, w1, n) if n > 1 else np.array([w0]), DIRECTIONS if direction == "both" else (direction,)
