@@ -57,7 +57,10 @@ def test_a_signal_to_a_running_command_ends_it_with_exit_code_1(sig):
     env = dict(os.environ, PYTHONPATH=str(SRC))
     argv = [sys.executable, "-m", "frictionflow", "simulate", "--solver", "rk4", "--dt", "0.002", "--friction",
             "karnopp", "--fd", "0.02", "--t-end", "1e5", "--json"]
-    p = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    # Ctrl-C's default action in the child: a test worker may ignore SIGINT, and an ignored signal stays ignored across
+    # exec (Python then installs no KeyboardInterrupt for it, as a shell's background job does not get one)
+    p = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     first = p.stderr.readline()  # the run has begun: the warning is written just before it
     assert "warning" in first, first
     time.sleep(0.5)
