@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from . import _validate as check
 from .config import RUN_PARAMETERS
 from .estimate import enforce
 from .friction.base import FrictionLaw
@@ -49,10 +50,8 @@ def simulate(
         Inside :func:`frictionflow.estimate.limited`, a run estimated above
         its limits (an hour of computing) is refused before it starts too.
     """
-    if not isinstance(model, BeltOscillator):
-        raise TypeError(f"model must be a BeltOscillator, got {type(model).__name__}")
-    if not isinstance(friction, FrictionLaw):
-        raise TypeError(f"friction must be a FrictionLaw, got {type(friction).__name__}")
+    check.instance("model", model, BeltOscillator, "a BeltOscillator")
+    check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
     t_end, x0, v0, max_memory = (RUN[k].check(v) if v is not None else None for k, v in
                                  (("t_end", t_end), ("x0", x0), ("v0", v0), ("max_memory", max_memory)))
     x0, v0 = friction.start(model.vb, x0, v0)

@@ -41,6 +41,7 @@ from .._display import Row, Summarized, num, pairs
 from ..core import certificate
 from ..core import sections as sec
 from ..solvers.registry import solver_classes, solver_named
+from .. import _validate as check
 from ..trajectory import Trajectory
 from .equilibrium import sliding_equilibrium
 from .forced import classify_forced, internal_scaled, largest_exponent
@@ -259,8 +260,7 @@ def steady_state(
         ``(t0, t1)`` to average over instead of the detected window; the kind
         is still the detected one.
     """
-    if not isinstance(traj, Trajectory):
-        raise TypeError(f"steady_state: traj must be a Trajectory (from simulate), got {type(traj).__name__}")
+    check.instance("traj", traj, Trajectory, "a Trajectory (from simulate)")
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 0.0 < rtol < 1.0:
         raise ValueError(f"rtol must be a number in (0, 1), got {rtol!r}")
     if isinstance(min_periods, bool) or int(min_periods) != min_periods or min_periods < 1:

@@ -209,8 +209,7 @@ def _at_rest(motion: Any, span: tuple[float, float], tail: np.ndarray, rtol: flo
     of the motion's scale: the ranges of the run's states and the belt speeds (the single mass's test,
     :func:`frictionflow.core.sections.classify_state`).  A tail shorter than the fastest natural period has its
     changes stretched to that period: an unbalanced force moves a short run's velocities a little, but not nothing."""
-    omega = max(float(natural_frequencies(motion.assembly).max(initial=0.0)), 1e-3)
-    stretch = max(1.0, 2.0 * math.pi / omega / max(span[1] - span[0], 1e-300))
+    stretch = max(1.0, 2.0 * math.pi / _fastest(motion) / max(span[1] - span[0], 1e-300))
     n = _n(motion)
     recorded = np.asarray(motion.state)
     scale = max(float(np.max(np.ptp(recorded, axis=1), initial=0.0)), float(np.max(np.ptp(tail, axis=1))),
@@ -308,9 +307,14 @@ def _n(motion: Any) -> int:
     return int(np.asarray(motion.state).shape[0]) // 2
 
 
+def _fastest(motion: Any) -> float:
+    """The fastest natural frequency of the structure (at least 1e-3: a structure without springs has none)."""
+    return max(float(natural_frequencies(motion.assembly).max(initial=0.0)), 1e-3)
+
+
 def _grid_size(motion: Any, span: tuple[float, float]) -> int:
     """Grid points over ``span`` resolving the fastest natural period (GRID_PER_PERIOD each)."""
-    omega = max(float(natural_frequencies(motion.assembly).max(initial=0.0)), 1e-3)
+    omega = _fastest(motion)
     return max(64, int(math.ceil((span[1] - span[0]) * omega / (2.0 * math.pi) * GRID_PER_PERIOD)) + 1)
 
 
