@@ -21,6 +21,7 @@ from frictionflow.cli._app import app
 from frictionflow.cli.vocabulary import (DEPRECATED, LAW_NEEDS, PANELS, PARAMETER_DEFAULTS, TERMS, default_law,
                                          panel_of, rewrite)
 from frictionflow.friction.registry import law_class, law_names
+from frictionflow.orbits import settings as records
 from frictionflow.parameters import declared
 
 load_commands()
@@ -274,3 +275,17 @@ def test_a_missing_option_error_names_every_missing_one(capsys):
     assert capsys.readouterr().err.strip() == "error: missing options --x, --y"
     assert main(["map", "--x", "vb=0.01:0.02"]) == 2
     assert "'--y'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command, settings, pairs", [
+    ("continue", "ContinuationSettings", {"--max-points": "max_points", "--max-period": "max_period",
+                                          "--step": "step"}),
+    ("forced-continue", "ForcedContinuationSettings", {"--max-points": "max_points",
+                                                       "--steps-per-period": "steps"}),
+])
+def test_a_continuation_traces_the_same_branch_from_the_command_line_as_from_the_api(command, settings, pairs):
+    """Each continuation option's default is the API record's (``continue`` stopped at 400 points, the API at 300)."""
+    record = getattr(records, settings)()
+    defaults = {opt.opts[0]: opt.default for opt in options(COMMANDS[command])}
+    for flag, field in pairs.items():
+        assert defaults[flag] == getattr(record, field), f"{command} {flag}: {defaults[flag]} against {field}"

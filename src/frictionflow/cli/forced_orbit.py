@@ -18,7 +18,7 @@ from ..io import check_output_path
 from ..estimate import Estimate, enforce
 from ..orbits.forced import (DEFAULT_TRANSIENT, PARAMETERS, branch_estimate, check_parameter, continue_forced, find_forced_orbit,
                              stroboscopic_estimate, stroboscopic_sweep, switch_period_doubling)
-from ..orbits.settings import ForcedContinuationSettings
+from ..orbits.settings import CONTINUATION_RANGES, DEFAULT_STEPS, ForcedContinuationSettings
 from ..orbits.forced_plot import plot_forced_branches, plot_forced_orbit
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
@@ -29,13 +29,13 @@ from .output import FLOW_MAP, print_summary, provenance, write_json
 from .vocabulary import option, overlay_count, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "friction", "dimensional"))
-COMMAND_PARAMETERS = {p.name: p for p in (
+COMMAND_PARAMETERS = {"max_points": CONTINUATION_RANGES["max_points"], **{p.name: p for p in (
     Param("m", "", "period in forcing periods", "run", 1, kind="int", lower=1, upper=1000),
-    Param("steps_per_period", "", "RK4 steps per forcing period", "run", 512, kind="int", lower=4, upper=1_000_000),
+    Param("steps_per_period", "", "RK4 steps per forcing period", "run", DEFAULT_STEPS, kind="int", lower=4,
+          upper=1_000_000),
     Param("transient_periods", "", "forcing periods before shooting", "run", 200, kind="int", lower=0, upper=10_000_000),
-    Param("max_points", "", "points of the branch", "run", 400, kind="int", lower=2, upper=100_000),
     Param("overlay", "", "brute-force parameter values", "run", 0, kind="int", lower=0, upper=10_000),
-)}
+)}}
 SHORT_HELP_ORBIT = "Periodic orbit of the forced oscillator and its Floquet multipliers."
 SHORT_HELP_CONTINUE = "Continue forced periodic orbits in Omega or F_ex, with bifurcations."
 OUT_FORMATS = (".json",)

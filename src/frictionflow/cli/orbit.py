@@ -37,11 +37,10 @@ OUT_FORMATS = (".json",)
 
 #: the orbit commands' own settings, with their ranges (bounded: each point costs a shooting or a simulation)
 COMMAND_PARAMETERS = {
-    **{name: CONTINUATION_RANGES[name] for name in ("returns", "tol", "sweep", "max_period", "step")},
+    **{name: CONTINUATION_RANGES[name] for name in ("returns", "tol", "sweep", "max_period", "step", "max_points")},
     **{p.name: p for p in (
         Param("points", "", "N of --vary: grid points of the equilibrium branch", "run", 101, kind="int", lower=2,
               upper=100_000),
-        Param("max_points", "", "points per orbit branch", "run", 400, kind="int", lower=2, upper=100_000),
     )},
 }
 

@@ -24,6 +24,7 @@ import typer
 from .._display import spoken
 from ..friction.registry import law_class, law_names
 from ..io import DEFAULT_DPI, DPI_RANGE, FIGURE_FORMATS
+from ..orbits.settings import DEFAULT_STEPS, MAX_POINTS
 from ..parameters import Param, declared
 
 #: the help panels, in the order --help shows them (options without one come last, under "Options")
@@ -134,7 +135,7 @@ TERMS: dict[str, Term] = _terms(
     Term("--transient-periods", "Forcing periods run from (x0, v0) before shooting (0: shoot from them).", int, 200,
          "Window"),
     Term("--steps-per-period", "RK4 steps per forcing period (per block when unforced); switches are located "
-         "whatever it is.", int, 512, "Solver"),
+         "whatever it is.", int, DEFAULT_STEPS, "Solver"),
     Term("--block", "Renormalisation interval when unforced [2 pi]; forced: the forcing period.", Optional[float], None,
          "Window"),
     Term("--guess", "Shoot from the start state itself, without a transient (to reach unstable orbits).", bool, False),
@@ -143,7 +144,7 @@ TERMS: dict[str, Term] = _terms(
     Term("--m", "Period of the orbit(s) in forcing periods (1 harmonic, > 1 subharmonic); comma-separated where a "
          "command follows several (map).", str, "1", "Study", "M[,M..]"),
     Term("--seeds", "Where orbit branches start: hopf, start, stop (comma-separated).", str, "hopf,start,stop"),
-    Term("--max-points", "Points per orbit branch at most.", int, 400),
+    Term("--max-points", "Points per orbit branch at most.", int, MAX_POINTS),
     Term("--max-period", "A branch ends (period_blowup) once its period exceeds this.", float, 500.0),
     Term("--step", "First arclength step, relative to the interval.", float, 0.02),
     Term("--switch-pd", "Also continue the 2m branch born at the first period doubling.", bool, False),

@@ -72,7 +72,7 @@ def continuation(
         at that end) [all three]; ``transient``: length of the seed and sweep
         simulations [500]; ``n_equilibria``: grid points of the equilibrium
         branch [101]; ``max_points``, ``max_period``: a branch ends after this
-        many points [300] or once its period exceeds this [500]; ``step``,
+        many points [400] or once its period exceeds this [500]; ``step``,
         ``max_step``: first and largest arclength step, relative to the
         interval [0.02, 0.1]; ``returns``: section crossings per period [1];
         ``sweep``: brute-force simulations across the interval [0: none];

@@ -72,7 +72,7 @@ from ..params import FEX, OMEGA, BeltOscillator
 from ..solvers.base import kernel_params
 from ..analysis.steady_state import stick_fraction
 from .measures import measures_of, one_period
-from .settings import DEFAULT_STEPS, ForcedContinuationSettings, merged
+from .settings import DEFAULT_STEPS, MAX_POINTS, ForcedContinuationSettings, merged
 from .tracing import ContinuationProblem, Corrector, Crossing, StepControl, Step, Stop, Tracer
 
 #: forcing periods of the transient that gives the first guess
@@ -988,7 +988,7 @@ def switch_period_doubling(branch: ForcedBranch, event: BranchEvent | None = Non
     lo, hi = min(st["start"], st["stop"]), max(st["start"], st["stop"])
     pb = _Problem(branch.model, branch.friction, branch.parameter, m2, steps=st["steps_per_period"], scales=(sx, sl),
                   interval=(lo, hi), tol=st["tol"])
-    tracer = Tracer(pb, _steps(st["h0"], st["h_max"], st["h_min"], max_points or st.get("max_points", 400), detect))
+    tracer = Tracer(pb, _steps(st["h0"], st["h_max"], st["h_min"], max_points or st.get("max_points", MAX_POINTS), detect))
     w, vecs = np.linalg.eig(event.monodromy)
     e = np.real(vecs[:, int(np.argmin(np.abs(w + 1.0)))])
     t0 = np.array([e[0] / sx, e[1] / sx, 0.0])

@@ -23,12 +23,14 @@ from ..solvers.base import Solver
 
 #: where orbit branches of :func:`~frictionflow.orbits.continuation` can start
 SEEDS = ("hopf", "start", "stop")
+#: the points an orbit branch takes at most unless told: every continuation's, in the API and on the command line
+MAX_POINTS = 400
 #: the ranges of :class:`ContinuationSettings`' numbers (the command line's options check the same ranges)
 CONTINUATION_RANGES = {p.name: p for p in (
     Param("transient", "", "seed and sweep simulations' length", "run", 500.0, lower=0.0, upper=1e9),
     Param("n_equilibria", "", "grid points of the equilibrium branch", "run", 101, kind="int", lower=2,
           upper=100_000),
-    Param("max_points", "", "points per orbit branch", "run", 300, kind="int", lower=2, upper=100_000),
+    Param("max_points", "", "points per orbit branch", "run", MAX_POINTS, kind="int", lower=2, upper=100_000),
     Param("max_period", "", "period at which a branch ends", "run", 500.0, lower=0.0, lower_open=True, upper=1e6),
     Param("step", "", "first arclength step", "run", 0.02, lower=0.0, lower_open=True, upper=1.0),
     Param("max_step", "", "largest arclength step", "run", 0.1, lower=0.0, lower_open=True, upper=1.0),
@@ -81,7 +83,7 @@ class ContinuationSettings:
     seeds: tuple[str, ...] = SEEDS
     transient: float = 500.0
     n_equilibria: int = 101
-    max_points: int = 300
+    max_points: int = MAX_POINTS
     max_period: float = 500.0
     step: float = 0.02
     max_step: float = 0.1
@@ -123,7 +125,7 @@ class ForcedContinuationSettings:
     h0: float = 0.01
     h_max: float = 0.04
     h_min: float = 1e-6
-    max_points: int = 400
+    max_points: int = MAX_POINTS
     detect: bool = True
     tol: float = 1e-11
 
