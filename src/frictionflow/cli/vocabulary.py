@@ -225,10 +225,12 @@ CAPABILITIES: dict[str, tuple[str, Callable[[type], bool]]] = {
     "switch": ("Coulomb's stick rule", lambda law: law.stick_rule == "switch"),
     "tangent": ("a tangent kernel", lambda law: law.has_tangent_kernel),
     "falling": ("a falling slip curve", lambda law: not law.piecewise_constant),
+    "static": ("no internal state", lambda law: not law.internal_names),
 }
 #: what each command needs of a law (it refuses a law without them); commands not named take every law
 LAW_NEEDS: dict[str, tuple[str, ...]] = {
     "forced-orbit": ("switch", "tangent"), "forced-continue": ("switch", "tangent"), "lyapunov": ("switch", "tangent"),
+    "map": ("static",),
 }
 #: what a command's default law should also have to give all its results (map: a chart with every curve)
 LAW_WANTS: dict[str, tuple[str, ...]] = {"map": ("switch", "falling")}

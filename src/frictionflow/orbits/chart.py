@@ -396,6 +396,7 @@ def stability_chart(
     for c in curves:
         if c not in CURVES:
             raise ValueError(f"curves must be among {', '.join(CURVES)}, got {c!r}")
+    refuse_internal_state(law)
     get_param(model, law, x_param)
     get_param(model, law, y_param)
     if x_param == y_param:
@@ -415,6 +416,14 @@ def stability_chart(
     out_curves, codim = trace(sources, xs)
     return StabilityChart(x_param, y_param, xs, (lo, hi), {**model.report(), **law.as_dict()}, out_curves, codim,
                           sweep=sweep, heat=heat if sweep is not None else "")
+
+
+def refuse_internal_state(law: FrictionLaw) -> None:
+    """One line (ValueError) for a law with an internal state: the chart's curves follow the slip curve of the
+    state (X, X') alone, which such a law does not have (its Hopf points are the whole state's)."""
+    if law.internal_names:
+        raise ValueError(f"friction: stability charts take laws without an internal state; {law.name} has "
+                         f"{', '.join(law.internal_names)} (continue finds its Hopf points and orbits on the whole state)")
 
 
 def chart_estimate(law: FrictionLaw, n_x: int, n_scan: int, curves: tuple[str, ...], fold_every: int) -> Estimate:
@@ -461,6 +470,7 @@ def stability_map(
     **kw:
         Passed on to :func:`stability_chart`.
     """
+    refuse_internal_state(law)  # before the sweep under the curves runs
     heat_map, x_range = HeatMap(sweep_shape, sweep_out, t_end, heat), (x_values[0], x_values[-1])
     curves = chart_estimate(law, len(x_values), kw.get("n_scan", 201), kw.get("curves", CURVES), kw.get("fold_every", 2))
     sweep_cost = heat_map.estimate(model, law, x_param, x_range, y_param, y_range)
