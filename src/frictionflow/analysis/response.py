@@ -22,6 +22,7 @@ from typing import Sequence
 
 import numpy as np
 
+from .. import _validate as check
 from .. import quantities as Q
 from .._progress import progress_bar
 from ..estimate import Estimate, enforce
@@ -79,6 +80,8 @@ def frequency_response(
         Draw a progress bar on stderr.
     """
 
+    check.instance("model", model, BeltOscillator, "a BeltOscillator")
+    check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
     omegas = _checked_omegas(omegas)
     model.refuse_moving_belt("a frequency response")
     if not model.forced:

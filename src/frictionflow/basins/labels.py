@@ -51,6 +51,14 @@ OUTCOMES = {NOT_SETTLED: "not_settled", DIVERGED: "diverged"}
 _KIND = {name: code for code, name in enumerate(Q.KINDS)}
 
 
+def check_tolerance(name: str, value: object) -> float:
+    """``value`` if it is a tolerance :class:`Tolerances` takes (a number in [0, 1)); ValueError starting with
+    ``name`` otherwise -- the field, or the command-line option that sets it (``--attractor-tol``)."""
+    if not (isinstance(value, (int, float)) and np.isfinite(value) and 0 <= value < 1):
+        raise ValueError(f"{name} must be a number in [0, 1), got {value!r}")
+    return float(value)
+
+
 @dataclass(frozen=True)
 class Tolerances:
     """How close two points' steady states must be to count as one attractor (see the module docstring)."""
@@ -62,8 +70,7 @@ class Tolerances:
 
     def __post_init__(self) -> None:
         for name, value in asdict(self).items():
-            if not (isinstance(value, (int, float)) and np.isfinite(value) and 0 <= value < 1):
-                raise ValueError(f"tolerance {name} must be a number in [0, 1), got {value!r}")
+            check_tolerance(f"tolerance {name}", value)
 
     def as_dict(self) -> dict[str, float]:
         return asdict(self)

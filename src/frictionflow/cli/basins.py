@@ -14,6 +14,7 @@ from typing import Any, Optional
 
 from .._display import num
 from ..basins import Tolerances, basins as run_basins
+from ..basins.labels import check_tolerance
 from ..basins.study import DATASET_FORMATS, SweepOptions
 from ..io import check_output_path
 from ..plotting import FIGURE_FORMATS
@@ -62,6 +63,8 @@ def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
     cfg = command_config("basins", opts.config, params)
     settings, (_, law, solver) = cfg.given, cfg.build()
     tol = opts.attractor_tol
+    if tol is not None:  # checked under the option's name: Tolerances would name its field (period), not the option
+        check_tolerance("--attractor-tol", tol)
     tolerances = Tolerances() if tol is None else Tolerances(period=tol, amplitude=tol, stick=tol)
     if opts.chunk_size is not None:
         CHUNK_SIZE.check(opts.chunk_size)

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import _validate as check
 from ..estimate import Estimate, enforce
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
@@ -92,6 +93,8 @@ def continuation(
     :func:`~.stateful_continuation.stateful_continuation` (``returns`` 1, no
     ``sweep``).
     """
+    check.instance("model", model, BeltOscillator, "a BeltOscillator")
+    check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
     s = merged(ContinuationSettings, settings, options, "continuation")
     if friction.stick_rule == "state":  # internal states: steady sliding and cycles on the whole state
         return stateful_continuation(model, friction, param, start, stop, s)

@@ -60,6 +60,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from .. import _validate as check
 from .. import quantities as Q
 from .._display import Row, Summarized, num, pairs, system_row
 from .._json import jsonable
@@ -69,6 +70,7 @@ from ..estimate import Estimate, enforce, located_run
 from ..friction.base import STICK_RULE_WORDS, FrictionLaw
 from ..friction.registry import tangent_law_names
 from ..params import FEX, OMEGA, BeltOscillator
+from ..solvers.auto import auto_solver
 from ..solvers.base import kernel_params
 from ..analysis.steady_state import stick_fraction
 from .measures import measures_of, one_period
@@ -111,6 +113,7 @@ class MapRun:
 
 
 def _check_law(friction: FrictionLaw) -> None:
+    check.instance("friction", friction, FrictionLaw, "a FrictionLaw")  # a TypeError naming it, not an AttributeError
     if friction.stick_rule != "switch":
         raise ValueError(f"friction: forced periodic orbits need a law with Coulomb's stick rule "
                          f"({', '.join(tangent_law_names())}); {friction.name} has {STICK_RULE_WORDS[friction.stick_rule]}")
@@ -120,9 +123,22 @@ def _check_law(friction: FrictionLaw) -> None:
 
 
 def _check_model(model: BeltOscillator) -> None:
+    check.instance("model", model, BeltOscillator, "a BeltOscillator")  # a TypeError naming it, not an AttributeError
     model.refuse_moving_belt("forced periodic orbits")
     if not model.forced:
         raise ValueError("fex must be > 0 for a forced periodic orbit (the forcing amplitude), got 0")
+
+
+def _check_measurable(model: BeltOscillator, friction: FrictionLaw) -> None:
+    """Refuse, before any run, a forcing that the solver measuring the orbit (simulate's, over one period:
+    :func:`.measures.one_period`) cannot run, with its reason (the exact solver: undamped resonance).
+
+    Found only after the transient, it came out as that solver's refusal of the grown state as an x0 the caller
+    never gave.
+    """
+    problem = auto_solver(friction, model).forcing_problem(model.zeta, model.omega, model.fex)
+    if problem:
+        raise ValueError(problem)
 
 
 def _check_int(name: str, value: Any, lo: int, hi: int) -> int:
@@ -442,6 +458,7 @@ def find_forced_orbit(
     """
     _check_model(model)
     _check_law(friction)
+    _check_measurable(model, friction)
     m = _check_int("m", m, 1, 1000)
     steps = _check_int("steps", steps, 4, 10**6)
     for name, value in (("x0", x0), ("v0", v0)):
@@ -914,6 +931,7 @@ def continue_forced(
     if not (0 < s.h_min <= s.h0 <= s.h_max):
         raise ValueError(f"steps must satisfy 0 < h_min <= h0 <= h_max, got {s.h_min!r}, {s.h0!r}, {s.h_max!r}")
     base = replace(model, **{parameter: start})
+    _check_measurable(base, friction)  # a given orbit skips find_forced_orbit's check, and its points are measured too
     enforce(branch_estimate(base, parameter, (start, stop), m, s, orbit is None))  # within the limits in force
     if orbit is None:
         orbit = find_forced_orbit(base, friction, m, x0, v0, steps=s.steps, tol=s.tol)
