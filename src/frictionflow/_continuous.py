@@ -47,7 +47,7 @@ import numpy as np
 from .core import closed_form as cf
 from .core.event_modes import EXACT_CODES, exact_motion, held_modes
 from .core.hermite import hermite, quintic
-from .core.layout import N_WORK
+from .core.layout import W_HEAT
 from .modes import SwitchMode
 
 #: dense sampling of figures and datasets: at least this many points per natural period 2 pi
@@ -401,7 +401,7 @@ def dense_times(t: np.ndarray, points_per_period: int = POINTS_PER_PERIOD) -> tu
 
 
 def dwork_on_grid(traj, interp: Interpolant, grid: np.ndarray, is_sample: np.ndarray) -> np.ndarray:
-    """Work increments (n, 4) over each step of ``grid``, a time grid holding every sample of ``traj``.
+    """Work increments (n, 5) over each step of ``grid``, a time grid holding every sample of ``traj``.
 
     A step ending at an added point: an 8-point Gauss-Legendre quadrature of
     the interpolated integrands over it (the grid's steps are short: see
@@ -409,49 +409,98 @@ def dwork_on_grid(traj, interp: Interpolant, grid: np.ndarray, is_sample: np.nda
     increment since the previous sample less the added steps before it, so
     that every sample interval sums to the solver's exact integrals and each
     increment stays accurate to rounding of its own size.
+
+    A law with internal state: the solver integrates the heat F_c V_r -
+    dE_s/dtau at every instant (no stick rule), so an added step's heat is
+    the quadrature of F_c V_r less the change of the stored energy E_s of the
+    interpolated states over the step.
     """
-    inc = np.zeros((len(grid), N_WORK))
+    if traj.internal is None:
+        return _on_grid(traj.dwork, _integrands, interp, grid, is_sample)
+    offset = np.zeros((len(grid), traj.dwork.shape[1]))
+    energy = np.asarray(traj.friction.stored_energy(interp.internal(grid)), dtype=float)
+    offset[1:, W_HEAT] = -np.diff(energy)
+    return _on_grid(traj.dwork, _integrands, interp, grid, is_sample, offset)
+
+
+def dbelt_on_grid(traj, interp: Interpolant, grid: np.ndarray, is_sample: np.ndarray) -> np.ndarray:
+    """The belt's work on the contact (n,) over each step of ``grid``, as :func:`dwork_on_grid` (``traj.dbelt``
+    at the samples, the quadrature of F_c V_b between them)."""
+    return _on_grid(traj.dbelt[:, None], _belt_integrand, interp, grid, is_sample)[:, 0]
+
+
+def _on_grid(own: np.ndarray, integrands, interp: Interpolant, grid: np.ndarray, is_sample: np.ndarray,
+             offset: np.ndarray | None = None) -> np.ndarray:
+    """Increments (n, c) over each step of ``grid`` of the channels whose solver increments are ``own``
+    (len(samples), c) and whose integrands ``integrands(interp, t)`` gives (len(t), c); ``offset`` (n, c):
+    a part of each step's increment known in closed form, added to its quadrature."""
+    channels = own.shape[1]
+    inc = np.zeros((len(grid), channels))
     added = np.flatnonzero(~is_sample)
     if len(added):
         a, b = grid[added - 1], grid[added]
         nodes = a[:, None] + (b - a)[:, None] * _GL_X[None, :]
-        f = _integrands(interp, nodes.ravel()).reshape(len(added), len(_GL_X), N_WORK)
+        f = integrands(interp, nodes.ravel()).reshape(len(added), len(_GL_X), channels)
         inc[added] = (b - a)[:, None] * np.einsum("k,nkj->nj", _GL_W, f)
+        if offset is not None:
+            inc[added] += offset[added]
+    samples = len(own)
     sample_no = np.cumsum(is_sample) - 1  # the sample at or before each row
-    before = np.zeros((len(traj.t), N_WORK))  # the added steps inside each sample interval, by the sample ending it
-    for col in range(N_WORK):
-        before[:, col] = np.bincount(sample_no[added] + 1, weights=inc[added, col], minlength=len(traj.t) + 1)[:len(traj.t)]
-    inc[is_sample] = traj.dwork - before
+    before = np.zeros((samples, channels))  # the added steps inside each sample interval, by the sample ending it
+    for col in range(channels):
+        before[:, col] = np.bincount(sample_no[added] + 1, weights=inc[added, col], minlength=samples + 1)[:samples]
+    inc[is_sample] = own - before
     return inc
 
 
 def dwork_at(traj, interp: Interpolant, times: np.ndarray) -> np.ndarray:
-    """Work increments (n, 4) between consecutive ``times`` (ascending, in the span); row 0 is zero."""
+    """Work increments (n, 5) between consecutive ``times`` (ascending, in the span); row 0 is zero."""
+    return _at(traj, interp, times, dwork_on_grid)
+
+
+def dbelt_at(traj, interp: Interpolant, times: np.ndarray) -> np.ndarray:
+    """The belt's work on the contact (n,) between consecutive ``times``, as :func:`dwork_at`; row 0 is zero."""
+    return _at(traj, interp, times, lambda *grid: dbelt_on_grid(*grid)[:, None])[:, 0]
+
+
+def _at(traj, interp: Interpolant, times: np.ndarray, on_grid) -> np.ndarray:
+    """Increments (n, c) between consecutive ``times`` of the channels ``on_grid(traj, interp, grid, is_sample)``
+    gives on a grid holding every sample."""
     grid, is_sample = dense_times(traj.t)
     extra = np.setdiff1d(times, grid)
     merged = np.concatenate([grid, extra])
     order = np.argsort(merged, kind="stable")  # samples before an added point at the same time
     merged, flags = merged[order], np.concatenate([is_sample, np.zeros(len(extra), dtype=bool)])[order]
-    inc = dwork_on_grid(traj, interp, merged, flags)
+    inc = on_grid(traj, interp, merged, flags)
     rows = np.searchsorted(merged, times, side="right") - 1  # the last row at each time
     # each step's increments summed (short sums: no difference of large running totals)
     start, end = rows[:-1] + 1, rows[1:] + 1
-    total = np.zeros((len(times), N_WORK))
+    total = np.zeros((len(times), inc.shape[1]))
     if len(times) > 1:
-        padded = np.vstack([inc[: end[-1]], np.zeros((1, N_WORK))])  # reduceat needs every start in range
+        padded = np.vstack([inc[: end[-1]], np.zeros((1, inc.shape[1]))])  # reduceat needs every start in range
         sums = np.add.reduceat(padded, np.minimum(start, end[-1]), axis=0)
         total[1:] = np.where((end > start)[:, None], sums, 0.0)  # reduceat gives a row, not 0, for an empty step
     return total
 
 
 def _integrands(interp: Interpolant, t: np.ndarray) -> np.ndarray:
-    """2 zeta X'^2, max(P_f, 0), max(-P_f, 0), the slip heat F_c V_r and X' f(tau) at times ``t``."""
+    """2 zeta X'^2, max(P_f, 0), max(-P_f, 0), the heat F_c V_r (over slip for a static law, always for a law
+    with internal state: see :func:`dwork_on_grid`) and X' f(tau) at times ``t``."""
     x, v = interp.state(t)
     fc, mode = interp.force(t, x, v)
     pf = v * fc
-    heat = np.where(mode != 0, fc * (interp.belt(t) - v), 0.0)
+    heat = fc * (interp.belt(t) - v)
+    if interp.traj.internal is None:  # a static law sticks with no heat: V_r = 0 there up to the kernel's band
+        heat = np.where(mode != 0, heat, 0.0)
     return np.column_stack([2.0 * interp.zeta * v * v, np.maximum(pf, 0.0), np.maximum(-pf, 0.0), heat,
                             v * interp.model.external_force(t)])
+
+
+def _belt_integrand(interp: Interpolant, t: np.ndarray) -> np.ndarray:
+    """The belt's power on the contact F_c V_b at times ``t``, as one column."""
+    x, v = interp.state(t)
+    fc, _ = interp.force(t, x, v)
+    return (fc * interp.belt(t))[:, None]
 
 
 def switch_flags(traj) -> np.ndarray:

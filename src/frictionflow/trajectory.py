@@ -113,7 +113,8 @@ class Trajectory(Summarized):
     dbelt:
         Increments of the belt's work on the contact int F_c V_b over
         (t[i-1], t[i]] (row 0 zero), where the solver integrates it (the
-        stiff solver); None otherwise.  See :meth:`interface_balance`.
+        stiff solver); None otherwise.  :meth:`dense` and :meth:`sample` carry
+        it as the other work integrals.  See :meth:`interface_balance`.
     """
 
     t: np.ndarray
@@ -234,7 +235,8 @@ class Trajectory(Summarized):
         if is_sample.all():
             return self
         interp = cont.interpolant(self)
-        out = self._at_times(times, is_sample, interp, cont.dwork_on_grid(self, interp, times, is_sample))
+        dbelt = None if self.dbelt is None else cont.dbelt_on_grid(self, interp, times, is_sample)
+        out = self._at_times(times, is_sample, interp, cont.dwork_on_grid(self, interp, times, is_sample), dbelt)
         keep = np.flatnonzero(is_sample)
         for block in ("state", "force", "modes", "internal"):  # the samples as recorded, not re-evaluated
             if getattr(self, block) is not None:
@@ -243,16 +245,21 @@ class Trajectory(Summarized):
             out.recorded[keep] = self.recorded
         return out
 
-    def _at_times(self, times: np.ndarray, recorded: np.ndarray, interp=None, dwork=None) -> "Trajectory":
-        """A Trajectory evaluated at ``times`` (ascending, in the span)."""
+    def _at_times(self, times: np.ndarray, recorded: np.ndarray, interp=None, dwork=None, dbelt=None) -> "Trajectory":
+        """A Trajectory evaluated at ``times`` (ascending, in the span); ``dwork``, ``dbelt``: the work
+        increments between them, when the caller has them (else integrated here)."""
         interp = interp or cont.interpolant(self)
         x, v = interp.state(times)
         fc, mode = interp.force(times, x, v)
         dwork = cont.dwork_at(self, interp, times) if dwork is None else dwork
+        # the belt's work goes the way of the other work channels: the solver's own over whole sample intervals
+        if self.dbelt is not None and dbelt is None:
+            dbelt = cont.dbelt_at(self, interp, times)
         internal = None if self.internal is None else interp.internal(times)
         return Trajectory.single_mass(times, x, v, fc, mode, dwork, model=self.model, friction=self.friction,
                                       solver=dict(self.solver), events=self.events, extra=dict(self.extra),
-                                      recorded=recorded, internal=internal, internal_names=self.internal_names)
+                                      recorded=recorded, internal=internal, internal_names=self.internal_names,
+                                      dbelt=dbelt)
 
     def switches(self) -> np.ndarray:
         """True at the points where the friction mode switches (the located switches, or a mode change for RK4)."""
