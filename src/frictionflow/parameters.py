@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Mapping
 
 OWNERS = ("oscillator", "law", "solver", "run")
@@ -88,6 +88,9 @@ class Param:
     dimension: str = "none"
     #: its key in a ``dimensional`` table (default: ``name``; ``v_b`` for ``vb``)
     dimensional_name: str | None = None
+    #: the other ranges declared under this name, (range, owners), that the help states beside this one
+    #: (:func:`declared` fills it; not part of the parameter's identity)
+    variants: tuple[tuple[str, tuple[str, ...]], ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:
         if self.owner not in OWNERS or self.kind not in KINDS or self.dimension not in DIMENSIONS:
@@ -172,12 +175,31 @@ class Param:
         """xarray attributes of a variable or coordinate holding this parameter."""
         return {"units": self.unit, "long_name": self.long_name}
 
+    @property
+    def range_text(self) -> str | None:
+        """The allowed range as the help says it (``in (0, 100]``, ``>= 0``); None for an unbounded number or
+        a choice or text."""
+        if self.kind not in ("real", "int") or self.allowed in ("a finite real number", "an integer"):
+            return None
+        return self.allowed.removeprefix("finite and ").removeprefix("an integer and ")
+
+    def narrowed(self, **bounds: Any) -> "Param":
+        """The same parameter with a narrower range (``lower``, ``upper``, ``lower_open``, ``upper_open``) for
+        an owner that refuses part of the shared one (LuGre's delta >= 1); ValueError if it is not narrower."""
+        out = replace(self, **bounds)
+        # the shared declaration must stay the widest: it checks a value before the law is known
+        if not (_within(out.lower, out.lower_open, self.lower, self.lower_open, 1.0)
+                and _within(out.upper, out.upper_open, self.upper, self.upper_open, -1.0)):
+            raise ValueError(f"{self.name}: {out.range_text} is not inside {self.range_text}")
+        return out
+
     def help(self) -> str:
-        """One line for ``--help``: meaning, symbol, range and default."""
+        """One line for ``--help``: meaning, symbol, range (and the narrower ranges of some owners) and default."""
         shown = self.default_text if self.default_text is not None else (None if self.default is None else f"{self.default:g}" if isinstance(self.default, float) else str(self.default))
         text = f"{self.meaning[0].upper()}{self.meaning[1:]} {self.symbol}".rstrip()
-        if self.kind in ("real", "int") and self.allowed not in ("a finite real number", "an integer"):
-            text += ", " + self.allowed.removeprefix("finite and ").removeprefix("an integer and ")
+        if self.range_text is not None:
+            text += ", " + self.range_text
+            text += "".join(f"; {rng} for {', '.join(owners)}" for rng, owners in self.variants)
         if self.kind == "choice":
             text += ": " + ", ".join(self.choices)
         return text + (f" [{shown}]." if shown is not None else ".")
@@ -214,26 +236,35 @@ def declared() -> dict[str, Param]:
 
     Collected from the groups the owners :func:`declare` (on import of their
     modules, which ``import frictionflow`` runs) in the order of ``OWNERS``;
-    built once, and again after a law registers.
+    built once, and again after a law registers.  A name several owners
+    declare (the laws' fd, delta, ...) is the first declaration, the widest
+    (:meth:`Param.narrowed`): what a config or an option may hold before the
+    law is known.  The narrower ranges of the others are its ``variants``, so
+    that its help states the range each law enforces.
     """
     if not _DECLARED:
         missing = [owner for owner in OWNERS if not _GROUPS[owner]]
         if missing:  # an owner's module not imported yet: a partial table would be cached
             raise RuntimeError(f"parameters of {', '.join(missing)} not declared yet: import frictionflow first")
+        variants: dict[str, dict[str, list[str]]] = {}
         for owner in OWNERS:
-            for group in _GROUPS[owner]:
+            for by, group in _GROUPS[owner]:
                 for p in group:
-                    _DECLARED.setdefault(p.name, p)  # shared law parameters (fd, fs, ...) are one declaration
+                    first = _DECLARED.setdefault(p.name, p)  # shared law parameters (fd, fs, ...) are one declaration
+                    if p.range_text != first.range_text:
+                        variants.setdefault(p.name, {}).setdefault(p.range_text, []).append(by or owner)
+        for name, ranges in variants.items():
+            _DECLARED[name] = replace(_DECLARED[name], variants=tuple((r, tuple(b)) for r, b in ranges.items()))
     return _DECLARED
 
 
-#: the declared groups by owner, in the order they were declared
-_GROUPS: dict[str, list[tuple[Param, ...]]] = {owner: [] for owner in OWNERS}
+#: the declared groups by owner, (who declared it, the group), in the order they were declared
+_GROUPS: dict[str, list[tuple[str | None, tuple[Param, ...]]]] = {owner: [] for owner in OWNERS}
 _DECLARED: dict[str, Param] = {}
 
 
-def declare(group: tuple[Param, ...]) -> None:
-    """Add an owner's parameters to :func:`declared`.
+def declare(group: tuple[Param, ...], by: str | None = None) -> None:
+    """Add an owner's parameters to :func:`declared`; ``by`` names the owner in help texts (a law's name).
 
     The owners call it -- the oscillator and the run in their modules, the law
     and solver registries for each class -- so that this module, the lowest
@@ -242,7 +273,7 @@ def declare(group: tuple[Param, ...]) -> None:
     owners = {p.owner for p in group}
     if len(owners) != 1:
         raise ValueError(f"a declared group has one owner, got {sorted(owners)}")
-    _GROUPS[owners.pop()].append(group)
+    _GROUPS[owners.pop()].append((by, group))
     forget_declarations()
 
 
@@ -259,6 +290,16 @@ def dimensional_parameters() -> dict[str, Param]:
 def sweep_axes() -> tuple[str, ...]:
     """Names that can be sweep axes: the real parameters of the oscillator, the laws and the initial state."""
     return tuple(name for name, p in declared().items() if p.sweepable)
+
+
+def _within(bound: float | None, is_open: bool, outer: float | None, outer_open: bool, inward: float) -> bool:
+    """Whether a range's end (``bound``, open or not) is no wider than ``outer``'s; ``inward``: +1 for lower
+    ends, -1 for upper ends (None: unbounded)."""
+    if outer is None:
+        return True
+    if bound is None:
+        return False
+    return inward * (bound - outer) > 0 or (bound == outer and (is_open or not outer_open))
 
 
 def positive_real(name: str, symbol: str, meaning: str, owner: str, default: Any, **kw: Any) -> Param:

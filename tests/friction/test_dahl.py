@@ -69,9 +69,9 @@ def test_from_rest_the_force_rises_with_the_rest_stiffness():
 
 
 @pytest.mark.parametrize("bad, message", [
-    (dict(fd=0.0), r"^fd must be > 0 for friction=dahl"),
+    (dict(fd=0.0), r"^fd must be finite and in \(0, 1000\], got 0"),
     (dict(sigma0=-1.0), r"^sigma0 must be finite and in \(0, 1e\+12\], got -1"),
-    (dict(alpha=0.5), r"^alpha must be in \[1, 100\] for friction=dahl"),
+    (dict(alpha=0.5), r"^alpha must be finite and in \[1, 100\], got 0.5"),
 ])
 def test_bad_parameters_are_refused_with_one_line(bad, message, capsys):
     with pytest.raises(ValueError, match=message):

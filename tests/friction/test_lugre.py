@@ -118,8 +118,8 @@ def test_energy_balance_with_storage_closes_to_the_tolerance():
     (dict(sigma0=0.0), r"^sigma0 must be finite and in \(0, 1e\+12\], got 0"),
     (dict(sigma1=-1.0), r"^sigma1 must be finite and in \[0, 1e\+12\], got -1"),
     (dict(sigma2=-1.0), r"^sigma2 must be"),
-    (dict(delta=0.5), r"^delta must be in \[1, 100\] for friction=lugre"),
-    (dict(fd=0.0), r"^fd must be > 0 for friction=lugre"),
+    (dict(delta=0.5), r"^delta must be finite and in \[1, 100\], got 0.5"),
+    (dict(fd=0.0), r"^fd must be finite and in \(0, 1000\], got 0"),
     (dict(vs=0.0), r"^vs must be"),
     (dict(fd=0.03, fs=0.02), r"^fs must be >= fd"),
 ])

@@ -7,13 +7,13 @@ from typing import Any
 import numpy as np
 
 from ..core import stiff
-from ..parameters import positive_real
-from .base import FD
-from .lugre import SIGMA0
+from ..parameters import Param
+from .lugre import BRISTLE_FD, SIGMA0
 from .registry import register
 from .stateful import StatefulLaw
 
-ALPHA = positive_real("alpha", "alpha", "Dahl exponent (stateful laws)", "law", 1.0, upper=100.0, sweepable=True)
+#: alpha >= 1 keeps the Jacobian bounded where the force saturates (u -> 0); F_C > 0 divides the deflection's rate
+ALPHA = Param("alpha", "alpha", "Dahl exponent (stateful laws)", "law", 1.0, lower=1.0, upper=100.0, sweepable=True)
 
 
 @register
@@ -40,7 +40,7 @@ class Dahl(StatefulLaw):
 
     name = "dahl"
     code = stiff.DAHL
-    parameters = (FD, SIGMA0, ALPHA)
+    parameters = (BRISTLE_FD, SIGMA0, ALPHA)
     record_names = ("fd", "sigma0", "alpha")
     internal_names = ("z",)
 
@@ -51,13 +51,6 @@ class Dahl(StatefulLaw):
     def fs(self) -> float:
         """The static level: Dahl's force never exceeds F_C."""
         return self.fd
-
-    def _check_values(self) -> None:
-        if not self.fd > 0.0:
-            raise ValueError(f"fd must be > 0 for friction={self.name} (F_C divides the deflection's rate), got {self.fd!r}")
-        if not self.alpha >= 1.0:
-            raise ValueError(f"alpha must be in [1, 100] for friction={self.name} (bounded Jacobian at saturation), "
-                             f"got {self.alpha!r}")
 
     def slip_magnitude(self, speed: Any) -> np.ndarray:
         return np.full_like(np.asarray(speed, dtype=float), self.fd)

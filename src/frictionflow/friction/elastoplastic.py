@@ -8,10 +8,9 @@ import numpy as np
 
 from ..core import stiff
 from ..parameters import positive_real
-from .base import FD, FS
-from .lugre import BRISTLE_MAX, SIGMA0, SIGMA1, SIGMA2, LuGre
+from .lugre import BRISTLE_DELTA, BRISTLE_FD, BRISTLE_FS, BRISTLE_MAX, SIGMA0, SIGMA1, SIGMA2, LuGre
 from .registry import register
-from .stribeck import DELTA, VS
+from .stribeck import VS
 
 Z_BA = positive_real("z_ba", "z_ba", "break-away deflection (elasto-plastic law)", "law", 1e-6, upper=BRISTLE_MAX,
                     dimension="length", sweepable=True)
@@ -41,7 +40,7 @@ class ElastoPlastic(LuGre):
 
     name = "elastoplastic"
     code = stiff.ELASTOPLASTIC
-    parameters = (FD, FS, VS, DELTA, SIGMA0, SIGMA1, SIGMA2, Z_BA)
+    parameters = (BRISTLE_FD, BRISTLE_FS, VS, BRISTLE_DELTA, SIGMA0, SIGMA1, SIGMA2, Z_BA)
     record_names = ("fd", "fs", "vs", "delta", "sigma0", "sigma1", "sigma2", "z_ba")
 
     def __init__(self, fd: float = 0.02, fs: float | None = None, vs: float = 0.01, delta: float = 2.0,

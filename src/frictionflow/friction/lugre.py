@@ -21,6 +21,11 @@ SIGMA1 = nonnegative_real("sigma1", "sigma_1", "bristle damping (stateful laws)"
                           dimension="damping", sweepable=True)
 SIGMA2 = nonnegative_real("sigma2", "sigma_2", "viscous friction (stateful laws)", "law", 0.0, upper=MODEL_MAX,
                           dimension="damping", sweepable=True)
+#: the laws with bristles divide by g(V_r) >= F_C (their rate), and their Jacobian at V_r = 0 holds |V_r|^(delta - 1):
+#: F_C > 0 (so F_S >= F_C > 0 too) and delta >= 1, declared so that the options' help and the checks say the same
+BRISTLE_FD = FD.narrowed(lower_open=True)
+BRISTLE_FS = FS.narrowed(lower_open=True)
+BRISTLE_DELTA = DELTA.narrowed(lower=1.0, lower_open=False)
 
 
 @register
@@ -56,20 +61,13 @@ class LuGre(StatefulLaw):
 
     name = "lugre"
     code = stiff.LUGRE
-    parameters = (FD, FS, VS, DELTA, SIGMA0, SIGMA1, SIGMA2)
+    parameters = (BRISTLE_FD, BRISTLE_FS, VS, BRISTLE_DELTA, SIGMA0, SIGMA1, SIGMA2)
     record_names = ("fd", "fs", "vs", "delta", "sigma0", "sigma1", "sigma2")
     internal_names = ("z",)
 
     def __init__(self, fd: float = 0.02, fs: float | None = None, vs: float = 0.01, delta: float = 2.0,
                  sigma0: float = 1e4, sigma1: float = 100.0, sigma2: float = 0.0) -> None:
         self._assign(fd=fd, fs=fs, vs=vs, delta=delta, sigma0=sigma0, sigma1=sigma1, sigma2=sigma2)
-
-    def _check_values(self) -> None:
-        super()._check_values()
-        if not self.fd > 0.0:
-            raise ValueError(f"fd must be > 0 for friction={self.name} (g(V_r) >= F_C divides the bristle rate), got {self.fd!r}")
-        if not self.delta >= 1.0:
-            raise ValueError(f"delta must be in [1, 100] for friction={self.name} (bounded Jacobian at V_r = 0), got {self.delta!r}")
 
     def stribeck(self, speed: Any) -> np.ndarray:
         """g(|V_r|) = F_C + (F_S - F_C) exp(-(|V_r| / v_s)^delta)."""

@@ -28,7 +28,7 @@ def register(cls: type["FrictionLaw"]) -> type["FrictionLaw"]:
     if cls.name in _LAWS and _LAWS[cls.name] is not cls:
         raise ValueError(f"a friction law named {cls.name!r} is registered already")
     if cls.name not in _LAWS:
-        declare(cls.parameters)  # its parameters join the declared ones
+        declare(cls.parameters, cls.name)  # its parameters join the declared ones (its name: in their help)
     _LAWS[cls.name] = cls
     return cls
 
