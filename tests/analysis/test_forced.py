@@ -10,7 +10,8 @@ import pytest
 from frictionflow import BeltOscillator, analyze, simulate
 from frictionflow.analysis.forced import repeat_multiple, revisits, section_indices
 from frictionflow.friction import Coulomb, Karnopp
-from frictionflow.solvers import RK4
+from frictionflow.orbits import find_forced_orbit
+from frictionflow.solvers import RK4, Exact
 
 # a linear oscillator (no friction): its steady response is known in closed form
 ZETA, OMEGA, FEX = 0.1, 0.8, 0.5
@@ -42,6 +43,29 @@ def test_repeat_multiple_rejects_an_incommensurate_rotation():
     theta = 2 * math.pi * k * (math.sqrt(5) - 1) / 2  # golden rotation: never repeats
     assert repeat_multiple(np.cos(theta), np.sin(theta), 1e-6, 3) == (0, 0)
     assert revisits(np.cos(theta), np.sin(theta), 0.05)
+
+
+def _spiral(mu: complex, n: int, end: float, cycle: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Section points P_k = P* + c mu^k (a focus with multiplier ``mu``), |c mu^(n-1)| = ``end``, around a fixed
+    point or, with ``cycle``, around the points of an m-cycle (one multiplier per point, as a cycle's m-th map has)."""
+    k = np.arange(n)
+    z = end * mu ** (k - (n - 1))
+    base = np.zeros(n, dtype=complex) if cycle is None else cycle[k % len(cycle)]
+    return (base + z).real.copy(), (base + z).imag.copy()
+
+
+def test_a_harmonic_still_converging_is_no_subharmonic():
+    """A focus with mu = 0.94i: P_{k+4} - P_k shrinks as |mu^4 - 1| = 0.22, P_{k+1} - P_k as |mu - 1| = 1.37.  With the
+    last points 1.2 tolerances from the fixed point the 4-step differences pass the tolerance and the 1-step ones do
+    not: the run was reported a 4-cycle (the QA case: Coulomb at Omega 2.3, a 2-cycle reported as 4 at t_end 600)."""
+    tol = 1e-9
+    x, v = _spiral(0.94j, 60, 1.2 * tol)
+    assert np.all(np.maximum(np.abs(x[-16:] - x[-20:-4]), np.abs(v[-16:] - v[-20:-4])) <= tol)  # as the old test saw
+    assert np.max(np.abs(x[-2:] - x[-3:-1])) > tol
+    assert repeat_multiple(x, v, tol, 3) == (0, 0)
+    # the same approach to a true 4-cycle (points 0.1 apart) is one
+    x4, v4 = _spiral(0.94j, 60, 1.2 * tol, np.array([0.1, 0.2 + 0.1j, -0.1, 0.05j]))
+    assert repeat_multiple(x4, v4, tol, 3)[0] == 4
 
 
 def test_a_drift_does_not_revisit():
@@ -144,6 +168,22 @@ def test_karnopp_runs_that_do_not_repeat_stay_not_settled():
     tr = simulate(model, Karnopp(fd=0.5, fs=1.0, vd=1e-4), RK4(dt=1e-3), t_end=60 * model.forcing_period, x0=0.0, v0=0.0)
     ss = analyze(tr).steady_state
     assert ss.kind == "not_settled" and ss.lyapunov is None
+
+
+def test_a_two_cycle_still_converging_is_not_reported_as_a_four_cycle():
+    """The QA case: Coulomb stick-slip at Omega = 2.3 locks onto a 2-cycle (shooting: stable, multiplier -0.821).
+    At t_end 600 its section passed the 4-period test before the 2-period one and the run was 'periodic, multiple 4';
+    it is not settled there, and from t_end 640 on it is the 2-cycle, the shot orbit's points."""
+    model, law = BeltOscillator(zeta=0.05, vb=0.1, fex=0.45, omega=2.3), Coulomb(0.5, 1.0)
+    early = analyze(simulate(model, law, Exact(), t_end=600.0)).steady_state
+    assert early.kind == "not_settled"
+    tr = simulate(model, law, Exact(), t_end=640.0)
+    ss = analyze(tr).steady_state
+    assert ss.kind == "periodic" and ss.forcing_multiple == 2
+    orbit = find_forced_orbit(model, law, m=2)
+    assert orbit.stability == "stable"
+    idx = section_indices(tr)[-2:]
+    assert min(abs(tr.x[i] - orbit.state[0]) + abs(tr.v[i] - orbit.state[1]) for i in idx) < 1e-7
 
 
 def test_a_subharmonic_is_periodic_with_its_multiple_and_matches_the_shot_orbit():

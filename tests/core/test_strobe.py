@@ -29,6 +29,10 @@ def _repeat_multiple_numpy(x, v, tol, min_periods, max_multiple=strobe.MAX_MULTI
         bad = np.flatnonzero(d > tol)
         run = len(d) - (bad[-1] + 1 if len(bad) else 0)
         if run >= min_periods * m:
+            last = np.column_stack([x, v])[n - m:]  # a shorter cycle still converging is no m-cycle
+            loose = strobe.SUBCYCLE_SPREAD * tol
+            if any(np.all(np.abs(last[k:] - last[:-k]) <= loose) for k in range(1, m) if m % k == 0):
+                return 0, 0
             return m, run // m
     return 0, 0
 
@@ -53,6 +57,10 @@ def test_repeat_multiple_and_revisits_agree_with_numpy_statements():
         x, v = np.ascontiguousarray(seq[:, 0]), np.ascontiguousarray(seq[:, 1])
         tol = 10.0 ** rng.uniform(-12, -7)
         assert strobe.repeat_multiple(x, v, tol, 3) == _repeat_multiple_numpy(x, v, tol, 3)
+        if m_true > 1:  # a cycle whose points lie 1 to 1000 tolerances apart: a shorter cycle converging or not
+            near = base[0] + (base[np.arange(n) % m_true] - base[0]) * tol * 10.0 ** rng.uniform(0, 3)
+            xn, vn = np.ascontiguousarray(near[:, 0]), np.ascontiguousarray(near[:, 1])
+            assert strobe.repeat_multiple(xn, vn, tol, 3) == _repeat_multiple_numpy(xn, vn, tol, 3)
         assert strobe.revisits(x, v, 0.3) == _revisits_numpy(x, v, 0.3)
         assert forced.repeat_multiple(x, v, tol, 3) == _repeat_multiple_numpy(x, v, tol, 3)  # the analysis uses it
 

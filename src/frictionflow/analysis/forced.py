@@ -10,7 +10,10 @@ forced.  The kinds:
     ``rtol`` of the motion's scale for the last ``min_periods`` whole
     repetitions, with the smallest such m <= :data:`MAX_MULTIPLE` (m = 1: a
     harmonic response, m > 1: subharmonic of order m).  The period is
-    m 2 pi / Omega.
+    m 2 pi / Omega.  An m whose last repetition repeats after a divisor d of
+    m to a hundred times ``rtol`` is a d-cycle still converging (a multiplier
+    near a root of unity: P_{k+m} - P_k shrinks below ``rtol`` first), not
+    an m-cycle: ``not_settled`` then.
 ``chaotic``
     No repetition, and the largest Lyapunov exponent of the non-smooth flow
     (saltation matrices at every switch: :mod:`frictionflow.analysis.lyapunov`)
@@ -45,7 +48,7 @@ from ..core.sections import _stationary
 # the test's constants, shared with its compiled port (the batched forced sweep)
 from ..core import strobe
 from ..core.strobe import (LYAPUNOV_PERIODS, LYAPUNOV_SPREAD_FLOOR, LYAPUNOV_STEPS, LYAPUNOV_STOP, LYAPUNOV_TRANSIENT,
-                           MAX_MULTIPLE, REVISIT_SHARE)
+                           MAX_MULTIPLE, REVISIT_SHARE, SUBCYCLE_SPREAD)
 from ..trajectory import Trajectory
 from .lyapunov import lyapunov_exponents
 
@@ -96,8 +99,14 @@ def state_repeat_multiple(cols: np.ndarray, tol: float, min_periods: int,
         same = ~np.any(np.abs(cols[:, m:] - cols[:, :-m]) > tol, axis=0)  # P_{i+m} = P_i, i = 0 .. n-m-1 (as strobe's)
         run = n - m if same.all() else n - m - 1 - int(np.flatnonzero(~same)[-1])
         if run >= min_periods * m:
-            return m, run // m
+            return (0, 0) if _state_subcycle(cols, m, SUBCYCLE_SPREAD * tol) else (m, run // m)
     return 0, 0
+
+
+def _state_subcycle(cols: np.ndarray, m: int, tol: float) -> bool:
+    """:func:`frictionflow.core.strobe.converging_subcycle` on the whole state."""
+    last = cols[:, cols.shape[1] - m:]
+    return any(not np.any(np.abs(last[:, d:] - last[:, :-d]) > tol) for d in range(1, m) if m % d == 0)
 
 
 def revisits(x: np.ndarray, v: np.ndarray, tol: float) -> bool:

@@ -32,6 +32,10 @@ from .layout import N_WORK
 
 #: the longest subharmonic looked for (in forcing periods)
 MAX_MULTIPLE = 16
+#: an m-cycle whose last repetition is d-periodic to this many tolerances, for a divisor d < m of m, is a d-cycle
+#: still converging: a multiplier mu near a root of unity shrinks P_{k+m} - P_k (as mu^m - 1) below the tolerance
+#: before P_{k+d} - P_k (mu^d - 1; mu = 0.94i: 6 to 8 times), where a true m-cycle's points stay apart by its size
+SUBCYCLE_SPREAD = 100.0
 #: how far from tau_k a sample may be and still be the section's (relative to the forcing period)
 SECTION_MATCH = 1e-9
 #: forcing periods the Lyapunov exponent is averaged over, after a short transient, when the section does not repeat
@@ -103,7 +107,8 @@ def _mismatch(x, v, i, m, tol):
 @njit(cache=True)
 def repeat_multiple(x, v, tol, min_periods, max_multiple=MAX_MULTIPLE):
     """(m, repetitions): the smallest m <= ``max_multiple`` whose last ``min_periods`` repetitions match to
-    ``tol``; (0, 0) if none."""
+    ``tol``; (0, 0) if none, or if that m's last repetition is a shorter cycle still converging
+    (:data:`SUBCYCLE_SPREAD`)."""
     n = len(x)
     for m in range(1, max_multiple + 1):
         if n < (min_periods + 1) * m:
@@ -114,8 +119,27 @@ def repeat_multiple(x, v, tol, min_periods, max_multiple=MAX_MULTIPLE):
                 break
             run += 1
         if run >= min_periods * m:
+            if converging_subcycle(x, v, m, SUBCYCLE_SPREAD * tol):
+                return 0, 0
             return m, run // m
     return 0, 0
+
+
+@njit(cache=True)
+def converging_subcycle(x, v, m, tol):
+    """Whether the last m section points repeat after a proper divisor d of m to ``tol``: P_{i+d} = P_i there."""
+    n = len(x)
+    for d in range(1, m):
+        if m % d:
+            continue
+        same = True
+        for i in range(n - m, n - d):
+            if _mismatch(x, v, i, d, tol):
+                same = False
+                break
+        if same:
+            return True
+    return False
 
 
 @njit(cache=True)
