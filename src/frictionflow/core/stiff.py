@@ -57,6 +57,8 @@ Q_LAW = N_PARAMS
 #: work channels the engine integrates: damper, friction in, friction out, interface heat, external force, belt input
 N_CHANNELS = 6
 W_BELT = 5
+#: a friction power this small against the step end's is taken to start on the kink the last step ended on
+KINK_FLOOR = 1e-9
 #: how a run ended
 DONE, FULL, STEP_CAP, TINY_STEP = 0, 1, 2, 3
 
@@ -268,15 +270,29 @@ def evaluate_n(q, zeta, vb, t, y, dy, dw, jd, want_jac, n):
         dy[2 + i] = d[i, D_RATE]
     work_of(q, zeta, vbt, t, v, s, f, d, dw, m)
     if want_jac:
-        _jacobian(zeta, vbt, v, s, f, df_ds, d, jac, jw, n)
+        side = input_side(v, f, dy[1])
+        _jacobian(zeta, vbt, v, s, (f, df_ds, side), d, jac, jw, n)
         jw[4, 1] = external_force(q, t)
-        _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft, n)
+        _time_rates(q, t, v, vbt, (f, df_ds, side), d, jw, ft, n)
+
+
+@njit(cache=True, inline="always")
+def input_side(v, f, acc):
+    """1 where the friction power P_f = X' F feeds the mass (the integrand max(P_f, 0) is P_f there), else 0; on
+    P_f = 0 -- a step that starts on a turn of X', where the run sets X' to 0 -- the side the step goes into,
+    by P_f' = X'' F (``acc`` = X''): the stages' linearisation must be that side's."""
+    pf = v * f
+    if pf != 0.0:
+        return 1.0 if pf > 0.0 else 0.0
+    return 1.0 if acc * f > 0.0 else 0.0
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft, n):
+def _time_rates(q, t, v, vbt, force, d, jw, ft, n):
     """d/dtau at fixed y of the state's rates (``ft[:n]``) and of the work integrands (``ft[n:]``): the
-    external force's rate, and the belt's acceleration V_b' through V_r (d/dV_r = -d/dX')."""
+    external force's rate, and the belt's acceleration V_b' through V_r (d/dV_r = -d/dX'); ``force``: (F,
+    dF/dV_r, :func:`input_side`)."""
+    f, df_ds, side = force
     fr = external_force_rate(q, t)
     for i in range(n + N_CHANNELS):
         ft[i] = 0.0
@@ -285,7 +301,6 @@ def _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft, n):
     ab = belt_accel(q, t)
     if ab == 0.0:  # a belt at constant speed: nothing more (and bit for bit the constant belt's step)
         return
-    side = 1.0 if v * f > 0.0 else 0.0
     ft[1] += df_ds * ab
     for i in range(n - 2):
         ft[2 + i] = d[i, D_RS] * ab
@@ -296,8 +311,10 @@ def _time_rates(q, t, v, vbt, f, df_ds, d, jw, ft, n):
 
 
 @njit(cache=True, inline="always")  # takes arrays in the step loop: numba inlines it (no reference counting)
-def _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw, n):
-    """The exact Jacobian of the state and of the work integrands (d/dX' = -d/dV_r), ``n`` components."""
+def _jacobian(zeta, vb, v, s, force, d, jac, jw, n):
+    """The exact Jacobian of the state and of the work integrands (d/dX' = -d/dV_r), ``n`` components;
+    ``force``: (F, dF/dV_r, :func:`input_side`)."""
+    f, df_ds, side = force
     m = n - 2
     for i in range(n):
         for j in range(n):
@@ -312,10 +329,8 @@ def _jacobian(zeta, vb, v, s, f, df_ds, d, jac, jw, n):
         jac[2 + i, 1] = -d[i, D_RS]
         for j in range(m):
             jac[2 + i, 2 + j] = d[i, D_RZ + j]
-    pf = v * f
     dpf_dv = f - v * df_ds
     jw[0, 1] = 4.0 * zeta * v
-    side = 1.0 if pf > 0.0 else 0.0
     jw[1, 1], jw[2, 1] = side * dpf_dv, (side - 1.0) * dpf_dv
     # heat: F V_r - sum e_i r_i
     dstore_ds = 0.0
@@ -486,28 +501,59 @@ def _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, n, fresh):
     return err if err == err else np.inf
 
 
+@njit(cache=True, inline="always")  # takes arrays in the search loop: inlined (no reference counting)
+def kink_value(q, zeta, vb, t, y, ws, which):
+    """X' (``which`` 0) or the friction power P_f = X' F (1) at (t, y), whose sign splits the friction work into
+    input and output (P_f from the integrands, max(P_f, 0) - max(-P_f, 0); the stage arrays of ``ws`` hold them)."""
+    if which == 0:
+        return y[1]
+    dy, dw, jac, jw, _, _, _, _, _, d, ft, _, _ = ws
+    evaluate_n(q, zeta, vb, t, y, dy, dw, (jac, jw, ft, d), False, len(y))
+    return dw[1] - dw[2]
+
+
+@njit(cache=True, inline="always")
+def kink_in(q, zeta, vb, t, y, h, ynew, ws):
+    """Which sign change the accepted step of length ``h`` from (t, y) to ``ynew`` holds: 0, X' (a turn of X:
+    the section when downward, an extreme either way); 1, P_f without X' (the friction force's zero); -1: none.
+    Across either, max(P_f, 0) has a kink that the step's quadrature would smear (a relative error ~1e-7 a step)."""
+    if y[1] * ynew[1] < 0.0 or (y[1] != 0.0 and ynew[1] == 0.0):
+        return 0
+    dw0 = ws[12]
+    pa = dw0[1] - dw0[2]  # P_f at the step's start: its field was evaluated there
+    pb = kink_value(q, zeta, vb, t + h, ynew, ws, 1)
+    # a start within KINK_FLOOR of 0 is the kink the last step ended on (located to rounding): no new one
+    return 1 if pa * pb < 0.0 and abs(pa) > KINK_FLOOR * abs(pb) else -1
+
+
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting (see rodas_step)
-def to_section(q, zeta, vb, t, y, h, ynew, wnew, tol, ws):
-    """The step from (t, y) that ends on the downward crossing X' = 0 inside the accepted step of length ``h``
-    (X' > 0 at t, ``ynew[1]`` <= 0): its length h' by Illinois on X'(t + h') of Rodas4 steps of length h',
-    to |X'| at rounding (1e-13 of the velocity scale) or the step length at rounding.  ``ynew``, ``wnew``:
-    the located step's state (X' exactly 0, as the section crossing of the other solvers) and work
-    increments; returns (h', its error norm).  ``ws`` holds the step of length ``h`` from (t, y): its
+def to_kink(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, which):
+    """The step from (t, y) that ends on the sign change :func:`kink_in` found inside the accepted step of length
+    ``h``: its length h' by Illinois on X' (``which`` 0) or P_f (1) at t + h' of Rodas4 steps of length h', to
+    rounding of that function (1e-13 of its scale) or the step length at rounding.  ``ynew``, ``wnew``: the
+    located step's state and work increments (an X' crossing ends with X' exactly 0: downwards, the section
+    crossing of the other solvers); returns (h', its error norm).  ``ws`` holds the step of length ``h`` from (t, y): its
     start's field and Jacobian serve every trial step (:func:`step_from`)."""
-    ftol = 1e-13 * max(abs(vb), abs(y[1]))
-    if ynew[1] == 0.0 or -ynew[1] <= ftol:
-        ynew[1] = 0.0
+    dw0 = ws[12]
+    fa = y[1] if which == 0 else dw0[1] - dw0[2]
+    fb = kink_value(q, zeta, vb, t + h, ynew, ws, which)
+    ftol = 1e-13 * (max(abs(vb), abs(y[1])) if which == 0 else max(abs(fa), abs(fb)))
+    if fb == 0.0 or abs(fb) <= ftol:
+        if which == 0:
+            ynew[1] = 0.0
         return h, 0.0
-    b = bracket(0.0, h, y[1], ynew[1], 0.0, 4.0 * EPS, ftol, 100)
+    b = bracket(0.0, h, fa, fb, 0.0, 4.0 * EPS, ftol, 100)
     err = 0.0
     x_last = h
     while b.status == RUNNING:
         x_last = b.x
         err = step_from(q, zeta, vb, t, y, x_last, ynew, wnew, tol, ws, np.bool_(False))
-        b = update(b, x_last, ynew[1] if err < np.inf else -1.0)
+        fx = kink_value(q, zeta, vb, t + x_last, ynew, ws, which) if err < np.inf else math.nan
+        b = update(b, x_last, fx if fx == fx else (-1.0 if fa > 0.0 else 1.0))
     if x_last != b.hi:  # the last point evaluated was not the end kept: the step to that end
         err = step_from(q, zeta, vb, t, y, b.hi, ynew, wnew, tol, ws, np.bool_(False))
-    ynew[1] = 0.0
+    if which == 0:  # X' exactly 0 there, either way: the next step starts on the turn, not across it
+        ynew[1] = 0.0
     return b.hi, err
 
 
@@ -525,7 +571,8 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
     (first step, largest step, step cap, sampling period): with a period
     (> 0, the forcing's or the belt's) a step ends on every k period, so that the
     stroboscopic section is sampled exactly as the other solvers sample it;
-    without, each downward X' = 0 crossing is a sample (:func:`to_section`).
+    without, each downward X' = 0 crossing is a sample (:func:`to_kink`, which also ends a step on the other kinks of
+    the friction work: X' = 0 upwards and P_f = 0).
     Writes the times, states and work increments (row 0 zero) and returns (samples, status, t reached, step):
     status :data:`DONE`, :data:`FULL` (buffers full: copy the samples into larger ones and call again with
     the same ``at``, the run goes on where it stopped), :data:`STEP_CAP` or :data:`TINY_STEP`.
@@ -568,8 +615,9 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
             status, taken = FULL, taken - 1  # this step is taken again, the same, on the next call
             break
         adv, err = hh, 0.0  # adv: how far the sample lies; the next step still follows the full step's error
-        if period == 0.0 and y[1] > 0.0 and ynew[1] <= 0.0:  # unforced: the section X' = 0 is a sample
-            adv, err = to_section(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws)
+        which = kink_in(q, zeta, vb, t, y, hh, ynew, ws)
+        if which >= 0:  # X' = 0 (the section when downward) or P_f = 0 ends the step: a sample on the kink
+            adv, err = to_kink(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws, which)
             last = last and adv == hh
         if err > 1.0:  # the shorter step from the same state failed its error test (hardly ever)
             h, rejected = adv * max(0.2, 0.9 * err ** -0.25), True
