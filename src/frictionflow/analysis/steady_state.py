@@ -260,6 +260,17 @@ def steady_state(
         ``(t0, t1)`` to average over instead of the detected window; the kind
         is still the detected one.
     """
+    return classified_steady_state(traj, rtol=rtol, min_periods=min_periods, window=window)[0]
+
+
+def classified_steady_state(traj: Trajectory, *, rtol: float = 1e-6, min_periods: int = 3,
+                            window: tuple[float, float] | None = None) -> tuple[SteadyState, np.ndarray | None]:
+    """:func:`steady_state`, and the window summary of the section records where they decided it (unforced, the
+    window not given: :func:`~frictionflow.core.sections.window_summary`, the table layout), else None.
+
+    The summary's extremes of X are the records' (cubic Hermite at the turns of X, between samples): what the
+    batched sweeps report, whose lanes keep no samples.
+    """
     check.instance("traj", traj, Trajectory, "a Trajectory (from simulate)")
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 0.0 < rtol < 1.0:
         raise ValueError(f"rtol must be a number in (0, 1), got {rtol!r}")
@@ -267,20 +278,21 @@ def steady_state(
         raise ValueError(f"min_periods must be an integer >= 1, got {min_periods!r}")
     if window is not None:
         window = traj.checked_window(window)
-    found = _diverged(traj)
+    found, summary = _diverged(traj), None
     if found is not None:
-        return found
+        return found, None
     if traj.model.driven:
         found = _forced(traj, rtol, min_periods)
     else:
         found = _terminal(traj) or _certified(traj)
     if found is None:
-        found = _with_internal(traj, from_classification(*classify_trajectory(traj, rtol, min_periods)))
+        cls, summary = classify_trajectory(traj, rtol, min_periods)
+        found = _with_internal(traj, from_classification(cls, summary))
         found = replace(found, stability=_stability(traj, found))
     if window is None:
-        return found
+        return found, summary
     t0, t1 = window
-    return replace(found, window=(t0, t1), manual_window=True, stick_fraction=stick_fraction(traj, (t0, t1)))
+    return replace(found, window=(t0, t1), manual_window=True, stick_fraction=stick_fraction(traj, (t0, t1))), None
 
 
 def _with_internal(traj: Trajectory, found: SteadyState) -> SteadyState:

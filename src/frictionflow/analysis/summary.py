@@ -12,8 +12,8 @@ from .._figures import draw
 from ..trajectory import Trajectory
 from .equilibrium import equilibrium_values
 from .power_flow import PowerFlow, power_flow
-from .steady_state import DEFAULT_RTOL, SteadyState, default_rtol, steady_state
-from .transmissibility import amplitude, transmissibility
+from .steady_state import DEFAULT_RTOL, SteadyState, classified_steady_state, default_rtol
+from .transmissibility import amplitude, amplitude_of, transmissibility
 
 
 @dataclass(frozen=True, repr=False)
@@ -156,7 +156,7 @@ def analyze(
                         f"got {type(traj).__name__}")
     if rtol is None:
         rtol = default_rtol(traj.solver)
-    ss = steady_state(traj, rtol=rtol, min_periods=min_periods, window=window)
+    ss, summary = classified_steady_state(traj, rtol=rtol, min_periods=min_periods, window=window)
     if ss.kind == "equilibrium" and not ss.manual_window:
         return _at_equilibrium(traj, ss)
     if ss.kind == "diverged":  # nothing about the motion is meaningful: every number is NaN
@@ -169,7 +169,8 @@ def analyze(
         steady_state=ss,
         power=power_flow(traj, ss.window),
         TR_B=transmissibility(traj, ss.window),
-        amplitude=amplitude(traj, ss.window),
+        # the records' extremes where they decided the window: between samples at the turns, as a sweep has them
+        amplitude=amplitude(traj, ss.window) if summary is None else amplitude_of(summary),
     )
 
 
