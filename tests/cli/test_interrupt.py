@@ -43,7 +43,13 @@ def test_an_interrupted_simulate_exits_1_with_one_line_and_prints_no_result(monk
 def test_an_interrupted_sweep_says_what_its_store_keeps(monkeypatch, tmp_path):
     config = tmp_path / "s.toml"
     config.write_text('friction = "coulomb"\nfd = 0.02\nfs = 0.04\nt_end = 50.0\n[grid]\nvb = [0.01, 0.02]\n')
-    monkeypatch.setattr(sweep_cli, "run_sweep", _interrupt_by("ctrl-c"))
+    interrupt = _interrupt_by("ctrl-c")
+
+    def stop(*args, **kwargs):  # once the store exists (before it, the line names no store)
+        (tmp_path / "r.zarr").mkdir()
+        interrupt()
+
+    monkeypatch.setattr(sweep_cli, "run_sweep", stop)
     code, out, err, _ = in_process("sweep", str(config), "--out", str(tmp_path / "r.zarr"))
     assert code == 1 and out == ""
     one_line(err, "interrupted:", "r.zarr keeps the chunks finished so far; run the same command to resume")

@@ -144,7 +144,7 @@ def test_a_chunk_size_beyond_the_declared_range_is_refused(tmp_path):
     (tmp_path / "s.toml").write_text(SWEEP_TOML)
     code, out, err, _ = cli("sweep", "s.toml", "--out", "r.zarr", "--chunk-size", "99999999999999999999", cwd=tmp_path)
     assert code == 2 and out == ""
-    one_line(err, "chunk_size must be an integer and in [1, 1e+07], got 99999999999999999999")
+    one_line(err, "--chunk-size must be an integer and in [1, 1e+07], got 99999999999999999999")
     assert not (tmp_path / "r.zarr").exists()
     with pytest.raises(ValueError, match=r"^chunk_size must be an integer and in \[1, 1e\+07\], got 0$"):
         run_sweep(str(tmp_path / "s.toml"), tmp_path / "r.zarr", chunk_size=0)

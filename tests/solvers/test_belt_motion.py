@@ -449,8 +449,12 @@ def test_a_users_slip_law_runs_on_a_moving_belt_as_the_built_in_one():
 
 def test_a_sweep_over_the_belts_amplitude_with_solver_auto_runs_one_solver_that_runs_it(tmp_path):
     spec = {"friction": "coulomb", "fd": 0.02, "fs": 0.04, "zeta": 0.05, "vb": 0.01, "t_end": 60.0,
-            "grid": {"vb_amplitude": [0.0, 0.005]}}
+            "grid": {"vb_amplitude": [0.005, 0.01]}}
     assert parse_sweep(spec).run.solver == "adaptive"  # exact (auto's pick on a constant belt) cannot run A > 0
+    # a still belt too: auto would pick exact there, a sweep runs one solver (simulate's pick at every point or none)
+    with pytest.raises(ValueError, match=r"solver = auto picks exact where grid.vb_amplitude = 0 and adaptive where"):
+        parse_sweep({**spec, "grid": {"vb_amplitude": [0.0, 0.005]}})
+    spec = {**spec, "solver": "adaptive", "grid": {"vb_amplitude": [0.0, 0.005]}}
     swept = run_sweep(spec, tmp_path / "s.zarr").load()
     for amp in (0.0, 0.005):
         model = BeltOscillator(zeta=0.05, vb=0.01, vb_amplitude=amp)

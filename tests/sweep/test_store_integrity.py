@@ -278,8 +278,10 @@ def _foreign_netcdf(p):
 def test_an_output_that_is_not_a_sweep_is_named_as_such(tmp_path, config_file, capsys, name, make, says):
     target = tmp_path / name
     make(target)
-    for argv in (["sweep", str(config_file), "--out", str(target)], ["sweep", "--verify", str(target)]):
+    for argv, name, advice in ((["sweep", str(config_file), "--out", str(target)], "out", "use --restart to replace it"),
+                               (["sweep", "--verify", str(target)], "--verify",  # (--verify takes no --restart)
+                                "nothing to verify: give the .zarr or .nc a sweep wrote")):
         assert main(argv) == 2
         err = capsys.readouterr().err.strip().splitlines()
-        assert err == [f"error: out: {str(target)!r} {says}; use --restart to replace it"], err
+        assert err == [f"error: {name}: {str(target)!r} {says}; {advice}"], err
     assert target.exists() and not lock_path(target).exists()

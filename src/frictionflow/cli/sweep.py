@@ -22,7 +22,7 @@ from ..solvers.structure_precompile import first_use
 from ..sweep import repair_sweep, run_sweep
 from ..sweep.model import ModelSweepConfig, load_any_sweep
 from ..sweep.runner import CHUNK_SIZE
-from ..sweep.store import verify_sweep
+from ..sweep.store import journal_path, verify_sweep
 from ._app import Interrupted, app
 from .options import bounded
 from .vocabulary import option
@@ -64,7 +64,7 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
     """Compute (or resume) the sweep and print its summary."""
     cfg = load_any_sweep(str(config))
     if chunk_size is not None:
-        CHUNK_SIZE.check(chunk_size)
+        _check_chunk_size(chunk_size)
     if not (timeout > 0 and np.isfinite(timeout)):
         raise ValueError(f"--scheduler-timeout must be a number of seconds > 0, got {timeout}")
     t0 = time.perf_counter()
@@ -74,8 +74,7 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
         try:
             ds = run_sweep(cfg, out, restart=restart, scheduler=scheduler, chunk_size=chunk_size, progress=sys.stderr.isatty(), scheduler_timeout=timeout)
         except KeyboardInterrupt:  # the lock is released by now; the command ends with exit code 1
-            raise Interrupted(f"interrupted: {out} keeps the chunks finished so far; run the same command to "
-                              "resume") from None
+            raise _interrupted(out) from None
     elapsed = time.perf_counter() - t0
     kinds = np.asarray(ds["kind"].values)
     names = str(ds["kind"].attrs["flag_meanings"]).split()  # the single mass's kinds, or a structure's
@@ -96,9 +95,26 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
         print(f"{summary['points']} points ({dims}) -> {out}: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
 
 
+def _check_chunk_size(chunk_size: int) -> None:
+    """The declared range of chunk_size, in a line naming the option (not the API's argument)."""
+    try:
+        CHUNK_SIZE.check(chunk_size)
+    except ValueError:
+        raise ValueError(f"--chunk-size must be {CHUNK_SIZE.allowed}, got {chunk_size}") from None
+
+
+def _interrupted(out: Path) -> Interrupted:
+    """The line for a sweep stopped by Ctrl-C: what its store keeps, if it got as far as making one (a model
+    sweep's start-up, its probe run, comes before)."""
+    target = Path(out)
+    if target.exists() or journal_path(target).exists():
+        return Interrupted(f"interrupted: {out} keeps the chunks finished so far; run the same command to resume")
+    return Interrupted(f"interrupted (Ctrl-C or SIGTERM) before anything was written to {out}")
+
+
 def _verify(path: str, as_json: bool) -> None:
     """Check an output: one line per bad chunk and a summary line; exit code 1 when damaged."""
-    found = verify_sweep(path)
+    found = verify_sweep(path, name="--verify")
     if as_json:
         print(json.dumps(found.as_dict()))
     else:
@@ -112,7 +128,7 @@ def _verify(path: str, as_json: bool) -> None:
 
 def _repair(path: str, config: Optional[Path], as_json: bool) -> None:
     """Rebuild an output's damaged metadata and verify its chunks, computing nothing: one line (or JSON)."""
-    found = repair_sweep(path, None if config is None else load_any_sweep(str(config)))
+    found = repair_sweep(path, None if config is None else load_any_sweep(str(config)), name="--verify")
     if as_json:
         print(json.dumps(found.as_dict()))
     else:

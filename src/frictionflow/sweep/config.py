@@ -356,7 +356,9 @@ def _warn_coarse_steps(cfg: SweepConfig) -> None:
     found: list[str] = []
     for key, arr in _ranges(cfg):
         for val in (arr.min(), arr.max()):
-            run = RunConfig.from_mapping({**cfg.source["settings"], **cfg.fixed, key: float(val)}, source="grid")
+            # the sweep's solver, not the settings' (auto, which would pick exact where this point's belt stands still)
+            run = RunConfig.from_mapping({**cfg.source["settings"], **cfg.fixed, "solver": cfg.run.solver,
+                                          key: float(val)}, source="grid")
             model, law, solver = run.build()
             x0, v0 = law.start(model.vb, run.x0, run.v0)
             found += [f"grid.{key} = {val:g}: {m}" for m in solver.check_step(model, law, x0, v0)]
@@ -408,12 +410,21 @@ def _grid_values(cfg: SweepConfig, key: str) -> np.ndarray:
 def _auto_on_a_moving_belt(run: RunConfig, axes: Mapping[str, np.ndarray], sample: Mapping[str, np.ndarray],
                            source: str) -> RunConfig:
     """``solver = auto`` on a grid whose belt moves at some point: the solver auto picks for a moving belt,
-    for every point (one solver per sweep, as a moving belt's points need)."""
+    for every point (one solver per sweep, as a moving belt's points need).
+
+    A grid whose belt also stands still somewhere, where auto picks another solver, is refused: a sweep runs one
+    solver, and its still points would not be what ``simulate`` (auto) gives there (Karnopp: exact there, RK4 on
+    the moving belt, periods 0.5% apart).
+    """
     amp = axes.get("vb_amplitude", sample.get("vb_amplitude"))
     if amp is None or not np.max(amp) > 0.0 or run.solver != "auto":
         return run
     model, law, _ = run.build()
     name = run.make_solver(law, replace(model, vb_amplitude=float(np.max(amp)))).name
+    still = run.make_solver(law, replace(model, vb_amplitude=0.0)).name
+    if np.min(amp) == 0.0 and still != name:
+        raise ValueError(f"{source}: solver = auto picks {still} where grid.vb_amplitude = 0 and {name} where it is "
+                         f"> 0, and a sweep runs one solver; set solver explicitly (solver = \"{name}\" runs every point)")
     return RunConfig.from_mapping({**run.given, "solver": name}, source=source)
 
 

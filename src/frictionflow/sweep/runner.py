@@ -10,14 +10,15 @@ one line and leaves the store as resumable as an interrupted one.
 from __future__ import annotations
 
 import logging
-import math
 import os
+import sys
 import warnings
 from concurrent.futures import CancelledError
 from contextlib import contextmanager, suppress
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping
 
+from .. import _validate as check
 from .._progress import progress_bar
 from ..estimate import Estimate, enforce
 from .compute import VARIABLES, compute_chunk
@@ -25,7 +26,8 @@ from ..parameters import Param
 from .config import MAX_AXIS, SweepConfig, chunk_shape, parse_sweep
 from .model import ModelSweepConfig, compute_model_chunk, default_model_chunk, load_any_sweep, model_sweep_estimate
 from .lock import STALE_AFTER, SweepLock
-from .store import KEPT, RepairWarning, SweepStore, Verification, _short, check_out, journal_path, stored_config, verify_sweep, writing
+from .store import (KEPT, PATH, RepairWarning, SweepStore, Verification, _short, check_out, journal_path, stored_config,
+                    verify_sweep, writing)
 
 __all__ = ["CHUNK_SIZE", "SCHEDULER_TIMEOUT", "default_chunk_size", "repair_sweep", "run_sweep", "sweep_estimate",
            "verify_sweep"]
@@ -87,6 +89,8 @@ def run_sweep(
     Raises :class:`~frictionflow.sweep.lock.OutputInUseError` at once when
     another run holds ``out``.  An existing output is checked before it is
     resumed: damaged chunks are recomputed, with a warning saying which.
+    An argument of the wrong type or range is refused (TypeError or
+    ValueError naming it) before anything is written.
 
     Parameters
     ----------
@@ -110,10 +114,11 @@ def run_sweep(
         Draw a progress bar on stderr.
     """
 
+    _check_run_arguments(out, restart, client, scheduler, progress)
+    _seconds("scheduler_timeout", scheduler_timeout)
+    _seconds("lock_stale_after", lock_stale_after)
     cfg = _as_config(config)
     size = default_chunk_size(cfg) if chunk_size is None else CHUNK_SIZE.check(chunk_size)
-    if not (isinstance(scheduler_timeout, (int, float)) and math.isfinite(scheduler_timeout) and scheduler_timeout > 0):
-        raise ValueError(f"scheduler_timeout must be a number of seconds > 0, got {scheduler_timeout!r}")
     target = check_out(out)
     # within the limits in force (frictionflow.estimate.limited); a model sweep's probe runs only when they are
     enforce((lambda: sweep_estimate(cfg, out)) if isinstance(cfg, ModelSweepConfig) else sweep_estimate(cfg, out))
@@ -137,6 +142,7 @@ def repair_sweep(
     config: SweepConfig | dict[str, Any] | str | Path | None = None,
     *,
     lock_stale_after: float = STALE_AFTER,
+    name: str = "out",
 ) -> Verification:
     """Repair a sweep output without computing (``frictionflow sweep --verify OUT --repair``).
 
@@ -161,11 +167,15 @@ def repair_sweep(
         file), or None to use those the output records.
     lock_stale_after:
         Seconds after which another host's untouched lock on ``out`` counts as stale.
+    name:
+        How messages name ``out`` (the command line's ``--verify``).
     """
 
-    target = check_out(out)
+    check.instance(name, out, (str, os.PathLike), PATH)
+    _seconds("lock_stale_after", lock_stale_after)
+    target = check_out(out, name)
     if not (target.exists() or journal_path(target).exists()):
-        raise ValueError(f"out: {str(target)!r} does not exist")
+        raise ValueError(f"{name}: {str(target)!r} does not exist")
     cfg = stored_config(target) if config is None else _as_config(config)
     with SweepLock(target, stale_after=lock_stale_after), writing(target):  # a full disk: the sweep's own line
         store = SweepStore(target, cfg, cfg.shape)  # (a resumed store keeps the chunks it was started with)
@@ -176,13 +186,37 @@ def repair_sweep(
 
 
 def _as_config(config: SweepConfig | ModelSweepConfig | dict[str, Any] | str | Path) -> SweepConfig | ModelSweepConfig:
-    if isinstance(config, (str, Path)):
-        return load_any_sweep(str(config))
+    if isinstance(config, (str, os.PathLike)):
+        return load_any_sweep(os.fspath(config))
     if isinstance(config, (SweepConfig, ModelSweepConfig)):
         return config
+    check.instance("config", config, Mapping, "a SweepConfig, a mapping as in a sweep's TOML file, or a path to one")
     if "model" in config:
         raise ValueError("a model sweep is given as its file or a ModelSweepConfig (its model path is relative to the file)")
     return parse_sweep(config)
+
+
+def _check_run_arguments(out: Any, restart: Any, client: Any, scheduler: Any, progress: Any) -> None:
+    """run_sweep's arguments of the wrong type, as one TypeError naming the argument, before anything is created.
+
+    Flags must be booleans: a string is truthy, and restart="no" would discard an existing output.
+    """
+    check.instance("out", out, (str, os.PathLike), PATH)
+    check.instance("restart", restart, bool, "True or False")
+    check.instance("progress", progress, bool, "True or False")
+    check.instance("scheduler", scheduler, (str, type(None)), "a Dask scheduler's address (str) or None")
+    # a Client exists only once distributed is imported: importing it here would cost every sweep its start-up
+    client_class = getattr(sys.modules.get("distributed"), "Client", type(None))
+    check.instance("client", client, (client_class, type(None)), "a dask.distributed Client or None")
+
+
+def _seconds(name: str, value: Any) -> float:
+    """A duration argument: a number of seconds > 0 (not a boolean or text), else ValueError naming it."""
+    allowed = "a number of seconds > 0"
+    x = check.number(name, value, allowed)
+    if not x > 0:
+        raise ValueError(f"{name} must be {allowed}, got {value!r}")
+    return x
 
 
 def chunk_function(cfg: SweepConfig | ModelSweepConfig):

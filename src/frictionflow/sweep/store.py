@@ -50,6 +50,7 @@ from typing import Iterator, NamedTuple, Sequence
 
 import numpy as np
 
+from .. import _validate as check
 from .._version import __version__
 from ..io import _directory_problem, atomic_write, stale_temporaries, temporary_path, write_error
 from .compute import chunk_slices
@@ -58,6 +59,11 @@ from .model import config_from_source
 
 #: the sweep's bookkeeping group (not part of the dataset: xarray reads only the root's arrays)
 BOOK = "_sweep"
+#: what a message advises for an output that is not a sweep's: a run replaces it, a check has nothing to check
+REPLACE = "use --restart to replace it"
+NOT_TO_CHECK = "nothing to verify: give the .zarr or .nc a sweep wrote"
+#: what a path argument must be (a sweep's output, or the one to check)
+PATH = "a path (str or os.PathLike) ending in .zarr or .nc"
 #: per chunk: 0 while not done, then its checksum
 DONE = f"{BOOK}/chunks_done"
 #: the 0/1 flags of stores written before checksums were recorded
@@ -120,14 +126,21 @@ def writing(target: Path) -> Iterator[None]:
         raise write_error(e, "out", target, KEPT) from None
 
 
-def check_out(path: str | Path) -> Path:
-    """Refuse, before any work, an output that cannot be a sweep's: its extension, its directory."""
-    p = Path(path)
-    if p.suffix.lower() not in (".zarr", ".nc"):
-        raise ValueError(f"out must end in .zarr or .nc, got {str(path)!r}")
+def check_out(path: str | Path, name: str = "out") -> Path:
+    """Refuse, before any work, an output that cannot be a sweep's: its extension, its directory (messages naming
+    it ``name``)."""
+    p = _sweep_path(path, name)
     problem = _directory_problem(p.parent)
     if problem is not None:
-        raise ValueError(f"out: {problem}")
+        raise ValueError(f"{name}: {problem}")
+    return p
+
+
+def _sweep_path(path: str | Path, name: str) -> Path:
+    """``path`` as a Path if it ends in .zarr or .nc, else ValueError naming it ``name``."""
+    p = Path(path)
+    if p.suffix.lower() not in (".zarr", ".nc"):
+        raise ValueError(f"{name} must end in .zarr or .nc, got {str(path)!r}")
     return p
 
 
@@ -253,12 +266,11 @@ class SweepStore:
             self.root = self._create_whole()
 
     @classmethod
-    def existing(cls, path: str | Path) -> "SweepStore":
-        """An existing output opened read-only, to be checked: no config needed."""
+    def existing(cls, path: str | Path, name: str = "out") -> "SweepStore":
+        """An existing output opened read-only, to be checked: no config needed (messages naming it ``name``)."""
         self = cls.__new__(cls)
-        self._locate(Path(path))
-        if self.target.suffix.lower() not in (".zarr", ".nc"):
-            raise ValueError(f"out must end in .zarr or .nc, got {str(path)!r}")
+        self._locate(_sweep_path(path, name))
+        self.name, self.advice = name, NOT_TO_CHECK  # --restart (a run's) is no advice to a check
         self.cfg = None
         self.resumed = True
         self.table = _stored_table(self.path) if self.path.is_dir() else None
@@ -267,11 +279,12 @@ class SweepStore:
         elif self.target.exists():
             self._open_nc()
         else:
-            raise ValueError(f"out: {str(self.target)!r} does not exist")
+            raise ValueError(f"{name}: {str(self.target)!r} does not exist")
         return self
 
     def _locate(self, target: Path) -> None:
         self.target = target
+        self.name, self.advice = "out", REPLACE  # how messages name the output, and what they advise for a foreign one
         self.netcdf = target.suffix.lower() == ".nc"
         self.path = journal_path(target)
         self.complete = False
@@ -287,15 +300,15 @@ class SweepStore:
 
         shown = str(self.target)
         if not self.path.is_dir():
-            raise ValueError(f"out: {shown!r} exists and is not a Zarr store (it is a file); use --restart to replace it")
+            raise ValueError(f"{self.name}: {shown!r} exists and is not a Zarr store (it is a file); {self.advice}")
         try:
             # the files themselves, not the consolidated snapshot: the bookkeeping may have changed or be damaged since
             root = zarr.open_group(str(self.path), mode=mode, use_consolidated=False)
             attrs = dict(root.attrs)
         except Exception:
-            raise ValueError(f"out: {shown!r} exists and is not a Zarr store; use --restart to replace it") from None
+            raise ValueError(f"{self.name}: {shown!r} exists and is not a Zarr store; {self.advice}") from None
         if "config_sha256" not in attrs or "chunk_shape" not in attrs:
-            raise ValueError(f"out: {shown!r} is a Zarr store but not a frictionflow sweep; use --restart to replace it")
+            raise ValueError(f"{self.name}: {shown!r} is a Zarr store but not a frictionflow sweep; {self.advice}")
         self.root = root
         self.chunks = tuple(int(c) for c in attrs["chunk_shape"])  # resume with the chunks it was started with
         self._layout_from(lambda name: self.root[name])
@@ -306,19 +319,19 @@ class SweepStore:
 
         shown = str(self.target)
         if self.target.is_dir():
-            raise ValueError(f"out: {shown!r} is a directory, not a NetCDF file; use --restart to replace it")
+            raise ValueError(f"{self.name}: {shown!r} is a directory, not a NetCDF file; {self.advice}")
         try:
             self._nc = xr.open_dataset(self.target, mask_and_scale=False, decode_times=False, cache=False)
         except Exception as e:
             if _nc_magic(self.target):  # ours or not, it claims to be NetCDF: damaged
                 raise DamagedStoreError(self.target, f"a NetCDF file that cannot be opened ({_short(e)})") from None
-            raise ValueError(f"out: {shown!r} exists and is not a NetCDF file; use --restart to replace it") from None
+            raise ValueError(f"{self.name}: {shown!r} exists and is not a NetCDF file; {self.advice}") from None
         attrs = self._nc.attrs
         if self.table is None:
             self.table = _table_of(attrs.get("config"))
         if "config_sha256" not in attrs or "chunk_shape" not in attrs or self.table[0].name not in self._nc:
             self._nc.close()
-            raise ValueError(f"out: {shown!r} is a NetCDF file but not a frictionflow sweep; use --restart to replace it")
+            raise ValueError(f"{self.name}: {shown!r} is a NetCDF file but not a frictionflow sweep; {self.advice}")
         self.complete = True
         self.chunks = tuple(int(c) for c in np.atleast_1d(attrs["chunk_shape"]))
         self._layout_from(lambda name: self._nc[name])
@@ -754,7 +767,7 @@ def iter_chunks(grid: tuple[int, ...]) -> Iterator[tuple[int, ...]]:
         yield tuple(int(i) for i in np.unravel_index(f, grid))
 
 
-def verify_sweep(path: str | Path) -> Verification:
+def verify_sweep(path: str | Path, *, name: str = "path") -> Verification:
     """Check a sweep output (``.zarr``, ``.nc``, or a ``.nc`` still in its journal) without computing.
 
     Every committed chunk is read back and compared with its checksum.  The
@@ -767,16 +780,19 @@ def verify_sweep(path: str | Path) -> Verification:
     ----------
     path:
         The sweep's output (``*.zarr`` or ``*.nc``).
+    name:
+        How messages name ``path`` (the command line's ``--verify``).
     """
 
-    target = Path(path)
+    check.instance(name, path, (str, os.PathLike), PATH)
+    target = _sweep_path(path, name)
     journal = journal_path(target)
     broken = _broken_docs(journal) if journal.is_dir() else []
     if broken and _stored_identity(journal) is not None:
         problem = f"its metadata is unreadable (zarr.json of {', '.join(broken)}); --verify OUT --repair rebuilds it from the sweep's settings"
         return Verification(target, 0, problems=[problem])
     try:
-        store = SweepStore.existing(target)
+        store = SweepStore.existing(target, name)
     except DamagedStoreError as e:
         return Verification(target, 0, problems=[e.problem], repairable=False)
     try:
