@@ -318,6 +318,8 @@ def test_cli_vary_prints_a_table(capsys):
     (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--plot", "b.gif"], "--plot must end in"),
     (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--attractor-tol", "2"],
      "--attractor-tol must be a number in [0, 1), got 2.0"),  # the option, not Tolerances' field (period)
+    (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--chunk-size", "0"],
+     "--chunk-size must be an integer and in [1, 1e+07], got 0"),  # the option, not the API's chunk_size
     (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--zeta", "-1"], "zeta must be"),
 ])
 def test_cli_bad_input_exits_2_with_one_line(args, words, capsys, tmp_path, monkeypatch):

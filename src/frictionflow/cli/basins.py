@@ -23,7 +23,7 @@ from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import check_out
 from ._app import Interrupted, app
 from .._ranges import parse_range as _parse_range
-from .options import CONFIG_OPTION, command_config, parameter_names, with_options, with_parameters
+from .options import CONFIG_OPTION, check_option, command_config, parameter_names, with_options, with_parameters
 from .output import provenance, show
 from .vocabulary import option, parameter_help
 
@@ -67,7 +67,7 @@ def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
         check_tolerance("--attractor-tol", tol)
     tolerances = Tolerances() if tol is None else Tolerances(period=tol, amplitude=tol, stick=tol)
     if opts.chunk_size is not None:
-        CHUNK_SIZE.check(opts.chunk_size)
+        check_option("--chunk-size", CHUNK_SIZE, opts.chunk_size)
     grid = opts.sample is None
     x, v = parse_range("--x0-range", opts.x0_range, grid), parse_range("--v0-range", opts.v0_range, grid)
     _check_outputs(opts.out, opts.plot)

@@ -161,3 +161,8 @@ def refuse_fixed(parameter: str, flag: str, where: str, config: Optional[Path], 
     if config is not None and parameter in (values := read_config(config, "--config")):
         raise ValueError(f"--config: {parameter} = {values[parameter]!r} conflicts with {flag} {parameter}=FROM:TO, "
                          f"which sets {parameter} {where}: remove it from {str(config)!r}")
+
+
+def check_option(flag: str, param: Param, value: Any) -> Any:
+    """``param.check(value)`` in a line naming the command-line option ``flag`` (not the API's argument)."""
+    return dataclasses.replace(param, name=flag).check(value)

@@ -24,7 +24,7 @@ from ..sweep.model import ModelSweepConfig, load_any_sweep
 from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import journal_path, verify_sweep
 from ._app import Interrupted, app
-from .options import bounded
+from .options import bounded, check_option
 from .vocabulary import option
 
 
@@ -64,7 +64,7 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
     """Compute (or resume) the sweep and print its summary."""
     cfg = load_any_sweep(str(config))
     if chunk_size is not None:
-        _check_chunk_size(chunk_size)
+        check_option("--chunk-size", CHUNK_SIZE, chunk_size)
     if not (timeout > 0 and np.isfinite(timeout)):
         raise ValueError(f"--scheduler-timeout must be a number of seconds > 0, got {timeout}")
     t0 = time.perf_counter()
@@ -93,14 +93,6 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
     else:
         dims = " x ".join(f"{d}={n}" for d, n in summary["dims"].items())
         print(f"{summary['points']} points ({dims}) -> {out}: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
-
-
-def _check_chunk_size(chunk_size: int) -> None:
-    """The declared range of chunk_size, in a line naming the option (not the API's argument)."""
-    try:
-        CHUNK_SIZE.check(chunk_size)
-    except ValueError:
-        raise ValueError(f"--chunk-size must be {CHUNK_SIZE.allowed}, got {chunk_size}") from None
 
 
 def _interrupted(out: Path) -> Interrupted:
