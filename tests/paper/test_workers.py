@@ -11,6 +11,7 @@ import time
 
 import pytest
 
+from frictionflow.cli._app import sigterm_as_interrupt
 from frictionflow.paper import Settings, pipeline
 from tests.cli.processes import SRC
 
@@ -55,3 +56,20 @@ def test_a_killed_worker_ends_reproduce_in_one_line_with_exit_1(tmp_path):
     lines = err.strip().splitlines()
     assert run.returncode == 1 and len(lines) == 1 and lines[0].startswith("error: "), err
     assert "Traceback" not in err and out == ""
+
+
+def _takes_sigterm_by_default() -> bool:
+    return signal.getsignal(signal.SIGTERM) == signal.SIG_DFL
+
+
+def test_a_pool_process_takes_sigterm_by_its_default_action():
+    """A forked pool process inherited the command's SIGTERM handler (SIGTERM as Ctrl-C): when one worker was killed
+    and the pool terminated the others, the handler raised KeyboardInterrupt inside them, and their tracebacks joined
+    the one error line on the shared stderr (the killed-worker test above failed so, now and then)."""
+    with sigterm_as_interrupt():
+        assert signal.getsignal(signal.SIGTERM) != signal.SIG_DFL
+        pool = pipeline._executor(2)
+        try:
+            assert pool.submit(_takes_sigterm_by_default).result(timeout=60)
+        finally:
+            pool.shutdown()

@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import multiprocessing
 import os
+import signal
 import time
 from collections.abc import Callable
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
@@ -226,7 +227,14 @@ def _executor(workers: int) -> Executor:
     # fork: the workers inherit the imported modules and loaded kernels instead of importing them again
     methods = multiprocessing.get_all_start_methods()
     ctx = multiprocessing.get_context("fork" if "fork" in methods else None)
-    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_signals)
+
+
+def _worker_signals() -> None:
+    """SIGTERM's default action in a pool process: a forked one inherits the command's handler, which raised
+    KeyboardInterrupt wherever the pool's shutdown found it (a traceback on the shared stderr, beside the one
+    error line, when one worker was killed and the pool terminated the others)."""
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def check_out_dir(out_dir: str | Path) -> Path:
