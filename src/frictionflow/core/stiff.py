@@ -57,8 +57,12 @@ Q_LAW = N_PARAMS
 #: work channels the engine integrates: damper, friction in, friction out, interface heat, external force, belt input
 N_CHANNELS = 6
 W_BELT = 5
-#: a friction power this small against the step end's is taken to start on the kink the last step ended on
-KINK_FLOOR = 1e-9
+#: the functions whose zeros end a step, a sample there (:func:`marks_of`): X' (the turns of X; downwards, the
+#: section), P_f = X' F (the kinks of max(P_f, 0), the friction work's split into input and output), X'' (the turns
+#: of X') and X' + 2 zeta X'' (of the transmitted force: TR_B), as the adaptive solver samples the extremes
+N_MARKS = 4
+#: a function this small against its value at the step's end starts on the zero the last step ended on
+MARK_FLOOR = 1e-9
 #: how a run ended
 DONE, FULL, STEP_CAP, TINY_STEP = 0, 1, 2, 3
 
@@ -501,60 +505,80 @@ def _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, n, fresh):
     return err if err == err else np.inf
 
 
+@njit(cache=True, inline="always")
+def marks_of(y, dy, dw, zeta, out):
+    """The functions whose zeros end a step (:data:`N_MARKS`) into ``out``, from the state ``y``, its rates ``dy``
+    and the work integrands ``dw`` there: X', P_f = X' F (max(P_f, 0) - max(-P_f, 0)), X'', X' + 2 zeta X''."""
+    out[0] = y[1]
+    out[1] = dw[1] - dw[2]
+    out[2] = dy[1]
+    out[3] = y[1] + 2.0 * zeta * dy[1]
+
+
 @njit(cache=True, inline="always")  # takes arrays in the search loop: inlined (no reference counting)
-def kink_value(q, zeta, vb, t, y, ws, which):
-    """X' (``which`` 0) or the friction power P_f = X' F (1) at (t, y), whose sign splits the friction work into
-    input and output (P_f from the integrands, max(P_f, 0) - max(-P_f, 0); the stage arrays of ``ws`` hold them)."""
-    if which == 0:
-        return y[1]
+def marks_at(q, zeta, vb, t, y, ws, out):
+    """:func:`marks_of` at (t, y), its rates and integrands evaluated into the stage arrays of ``ws``."""
     dy, dw, jac, jw, _, _, _, _, _, d, ft, _, _ = ws
     evaluate_n(q, zeta, vb, t, y, dy, dw, (jac, jw, ft, d), False, len(y))
-    return dw[1] - dw[2]
+    marks_of(y, dy, dw, zeta, out)
 
 
 @njit(cache=True, inline="always")
-def kink_in(q, zeta, vb, t, y, h, ynew, ws):
-    """Which sign change the accepted step of length ``h`` from (t, y) to ``ynew`` holds: 0, X' (a turn of X:
-    the section when downward, an extreme either way); 1, P_f without X' (the friction force's zero); -1: none.
-    Across either, max(P_f, 0) has a kink that the step's quadrature would smear (a relative error ~1e-7 a step)."""
-    if y[1] * ynew[1] < 0.0 or (y[1] != 0.0 and ynew[1] == 0.0):
-        return 0
-    dw0 = ws[12]
-    pa = dw0[1] - dw0[2]  # P_f at the step's start: its field was evaluated there
-    pb = kink_value(q, zeta, vb, t + h, ynew, ws, 1)
-    # a start within KINK_FLOOR of 0 is the kink the last step ended on (located to rounding): no new one
-    return 1 if pa * pb < 0.0 and abs(pa) > KINK_FLOOR * abs(pb) else -1
+def earliest_mark(fa, fb, skip):
+    """The function (not ``skip``) whose sign changes between ``fa`` and ``fb`` with the earliest chord root; -1:
+    none.  A start within :data:`MARK_FLOOR` of 0 is the zero the last step ended on, not a new one (X' needs no
+    floor: a located zero of it is set to 0 exactly)."""
+    best, which = 2.0, -1
+    for i in range(N_MARKS):
+        if i != skip and fa[i] * fb[i] < 0.0 and (i == 0 or abs(fa[i]) > MARK_FLOOR * abs(fb[i])):
+            x = fa[i] / (fa[i] - fb[i])
+            if x < best:
+                best, which = x, i
+    return which
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting (see rodas_step)
-def to_kink(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, which):
-    """The step from (t, y) that ends on the sign change :func:`kink_in` found inside the accepted step of length
-    ``h``: its length h' by Illinois on X' (``which`` 0) or P_f (1) at t + h' of Rodas4 steps of length h', to
-    rounding of that function (1e-13 of its scale) or the step length at rounding.  ``ynew``, ``wnew``: the
-    located step's state and work increments (an X' crossing ends with X' exactly 0: downwards, the section
-    crossing of the other solvers); returns (h', its error norm).  ``ws`` holds the step of length ``h`` from (t, y): its
-    start's field and Jacobian serve every trial step (:func:`step_from`)."""
-    dw0 = ws[12]
-    fa = y[1] if which == 0 else dw0[1] - dw0[2]
-    fb = kink_value(q, zeta, vb, t + h, ynew, ws, which)
-    ftol = 1e-13 * (max(abs(vb), abs(y[1])) if which == 0 else max(abs(fa), abs(fb)))
-    if fb == 0.0 or abs(fb) <= ftol:
-        if which == 0:
-            ynew[1] = 0.0
-        return h, 0.0
-    b = bracket(0.0, h, fa, fb, 0.0, 4.0 * EPS, ftol, 100)
-    err = 0.0
-    x_last = h
+def to_mark(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, which, marks):
+    """The step from (t, y) that ends on the zero of function ``which`` (:func:`marks_of`) inside the step of
+    length ``h`` (its state in ``ynew``, its functions in ``marks[1]``, the start's in ``marks[0]``): its length h'
+    by Illinois on that function at t + h' of Rodas4 steps of length h', to rounding of it (1e-13 of its scale) or
+    the step length at rounding.  ``ynew``, ``wnew``, ``marks[1]``: the located step's state, work increments and
+    functions (a zero of X' ends with X' exactly 0: downwards, the section crossing of the other solvers); returns
+    (h', its error norm).  ``ws`` holds a step from (t, y): its start's field and Jacobian serve every trial step
+    (:func:`step_from`)."""
+    fa, fb, trial = marks[0, which], marks[1, which], marks[2]
+    scale = max(abs(vb), abs(y[1])) if which == 0 else max(abs(fa), abs(fb))
+    b = bracket(0.0, h, fa, fb, 0.0, 4.0 * EPS, 1e-13 * scale, 100)
+    err, x_last = 0.0, h
     while b.status == RUNNING:
         x_last = b.x
         err = step_from(q, zeta, vb, t, y, x_last, ynew, wnew, tol, ws, np.bool_(False))
-        fx = kink_value(q, zeta, vb, t + x_last, ynew, ws, which) if err < np.inf else math.nan
-        b = update(b, x_last, fx if fx == fx else (-1.0 if fa > 0.0 else 1.0))
+        if err < np.inf:
+            marks_at(q, zeta, vb, t + x_last, ynew, ws, trial)
+        b = update(b, x_last, trial[which] if err < np.inf else -fa)
     if x_last != b.hi:  # the last point evaluated was not the end kept: the step to that end
         err = step_from(q, zeta, vb, t, y, b.hi, ynew, wnew, tol, ws, np.bool_(False))
     if which == 0:  # X' exactly 0 there, either way: the next step starts on the turn, not across it
         ynew[1] = 0.0
+    marks_at(q, zeta, vb, t + b.hi, ynew, ws, marks[1])
     return b.hi, err
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting (see rodas_step)
+def to_first_mark(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, marks):
+    """The accepted step of length ``h`` from (t, y) to ``ynew`` shortened to the first zero inside it of the
+    functions of :func:`marks_of` (the start's in ``marks[0]``, from the step's own evaluation there): (h', error
+    norm), (``h``, 0) when there is none.  Each located zero may hide an earlier one of another function: the
+    shortened step is looked at again."""
+    marks_at(q, zeta, vb, t + h, ynew, ws, marks[1])
+    adv, err, skip = h, 0.0, -1
+    for _ in range(N_MARKS):
+        which = earliest_mark(marks[0], marks[1], skip)
+        if which < 0:
+            break
+        adv, err = to_mark(q, zeta, vb, t, y, adv, ynew, wnew, tol, ws, which, marks)
+        skip = which
+    return adv, err
 
 
 #: the run's position (``at`` of :func:`run`): samples written, steps attempted, next step, next sample's
@@ -571,8 +595,8 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
     (first step, largest step, step cap, sampling period): with a period
     (> 0, the forcing's or the belt's) a step ends on every k period, so that the
     stroboscopic section is sampled exactly as the other solvers sample it;
-    without, each downward X' = 0 crossing is a sample (:func:`to_kink`, which also ends a step on the other kinks of
-    the friction work: X' = 0 upwards and P_f = 0).
+    without, each downward X' = 0 crossing is a sample; a step also ends on every zero of the functions of
+    :func:`marks_of` (:func:`to_first_mark`).
     Writes the times, states and work increments (row 0 zero) and returns (samples, status, t reached, step):
     status :data:`DONE`, :data:`FULL` (buffers full: copy the samples into larger ones and call again with
     the same ``at``, the run goes on where it stopped), :data:`STEP_CAP` or :data:`TINY_STEP`.
@@ -590,7 +614,7 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
     count, taken, h, k_next, rejected = int(at[AT_COUNT]), int(at[AT_TAKEN]), at[AT_H], at[AT_K], at[AT_REJECTED] != 0.0
     t = t_out[count - 1]
     y, ynew, wnew = y_out[:, count - 1].copy(), np.empty(n), np.empty(N_CHANNELS)
-    ws = scratch(n)
+    ws, marks = scratch(n), np.empty((3, N_MARKS))  # marks: the functions at a step's start, end and a trial point
     status, again = DONE, False
     while t < t_end:
         if taken >= max_steps:
@@ -614,11 +638,10 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
         if count == cap:
             status, taken = FULL, taken - 1  # this step is taken again, the same, on the next call
             break
-        adv, err = hh, 0.0  # adv: how far the sample lies; the next step still follows the full step's error
-        which = kink_in(q, zeta, vb, t, y, hh, ynew, ws)
-        if which >= 0:  # X' = 0 (the section when downward) or P_f = 0 ends the step: a sample on the kink
-            adv, err = to_kink(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws, which)
-            last = last and adv == hh
+        # adv: how far the sample lies (the first zero of a marked function); the next step follows the full one's error
+        marks_of(y, ws[11], ws[12], zeta, marks[0])  # the step's start: its field was evaluated there
+        adv, err = to_first_mark(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws, marks)
+        last = last and adv == hh
         if err > 1.0:  # the shorter step from the same state failed its error test (hardly ever)
             h, rejected = adv * max(0.2, 0.9 * err ** -0.25), True
             continue
