@@ -135,3 +135,16 @@ def test_a_chart_refuses_a_law_with_an_internal_state_before_any_work(name, tmp_
             call()
     assert not store.exists()
     assert main(["map", "--friction", name, "--x", "vb=0.04:0.05:2", "--y", "zeta=0:2", "--json"]) == 2
+
+
+def test_a_fold_curve_followed_in_x_does_not_land_on_the_hopf_point():
+    """At a Hopf point the vanishing cycle solves the fold's equations (P = X, P' = 1) too: the fold curve followed
+    from V_b = 0.016 to 0.018 landed there (zeta 0.14099, X = X*), beside the real fold (0.28439).  A fold whose cycle
+    has no amplitude is refused, and the chart's folds are each a cycle's."""
+    chart = stability_chart(MODEL, LAW, "vb", [0.014, 0.016, 0.018], "zeta", (0.0, 1.0))
+    curves = {c.kind: c.points for c in chart.curves}
+    hopf = {p.x: p.y for p in curves["hopf"]}
+    assert len(curves["fold"]) == 3 and sorted({p.x for p in curves["fold"]}) == [0.014, 0.016, 0.018]
+    for p in curves["fold"]:
+        assert p.y > hopf[p.x] + 0.01  # beyond the Hopf point, where the subcritical family turns
+    assert not curves["fold_at_grazing"]

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
-from frictionflow import BeltOscillator, Coulomb, Cubic, Stribeck, simulate
+from frictionflow import BeltOscillator, Coulomb, Cubic, Stribeck, analyze, simulate
 from frictionflow.cli import main
 from frictionflow.orbits import ShootingError, continuation, find_orbit, shoot
 from frictionflow.orbits.settings import ContinuationSettings
@@ -218,3 +218,23 @@ def test_continuation_takes_its_settings_as_a_record_or_as_keywords():
         continuation(model, law, "vb", 0.2, 0.8, n_equilibrium=11)
     with pytest.raises(TypeError, match="settings must be a ContinuationSettings"):
         continuation(model, law, "vb", 0.2, 0.8, settings={"seeds": ()})
+
+
+def test_a_grazing_and_a_smooth_fold_close_together_are_told_apart():
+    """Stribeck at V_b = 0.017 in zeta: the stick-slip cycle grazes at 0.30427 and goes on slip-only, stable, to a
+    smooth fold at 0.31020.  The branch seeded by the simulation at zeta = 0 stepped over both at once and reported a
+    non-smooth fold at the grazing (which the map then drew); the Hopf branch found the smooth fold.  Both branches now
+    give the grazing and the smooth fold, and a simulation between them settles on the branch's slip-only cycle."""
+    model, law = BeltOscillator(zeta=0.0, vb=0.017), Stribeck(0.02, 0.04, vs=0.01)
+    res = continuation(model, law, "zeta", 0.0, 1.0)
+    folds = [b for b in res.bifurcations if b.type == "fold"]
+    assert folds and all(b.detail["smooth"] for b in folds)
+    assert all(b.value == pytest.approx(0.3101954526, abs=1e-8) for b in folds)
+    seeded = [b for b in res.bifurcations if b.type == "grazing"]
+    assert {b.branch for b in seeded} == {b.branch for b in folds}  # each periodic branch: the grazing, then the fold
+    # independently: between them a stable slip-only cycle, larger than the fold's (no fold at the grazing)
+    run = analyze(simulate(BeltOscillator(zeta=0.3075, vb=0.017), law, t_end=800.0, x0=0.044, v0=0.0))
+    assert run.steady_state.kind == "periodic" and run.steady_state.stick_fraction == 0.0
+    fold_cycle = max((p for br in res.branches for p in br.points if p.kind == "periodic" and p.stable
+                      and p.stick_fraction == 0.0), key=lambda p: p.value)
+    assert 0.3101 < fold_cycle.value < 0.31020 and run.amplitude["X_max"] > fold_cycle.x

@@ -111,11 +111,28 @@ def locate_fold(model: BeltOscillator, law: FrictionLaw, param: str, x: float, l
         x += float(step[0])
         lam += float(step[1])
         if abs(step[1]) <= tol * max(abs(lam), 1e-12) and abs(step[0]) <= 1e-12 * sx:
-            return x, lam
+            return _a_cycle(model, law, param, (x, lam), returns, virtual)
         best = min(best, abs(step[1]) / max(abs(lam), 1e-12))
     if best <= 1e-10:  # steps stalled at the noise of the differenced second derivatives
-        return x, lam
+        return _a_cycle(model, law, param, (x, lam), returns, virtual)
     raise RuntimeError(f"the fold did not converge near {param}={lam:.10g}")
+
+
+#: a "fold" whose cycle is smaller than this, relative to max(F_s, |V_b|), is the Hopf point's vanishing cycle
+VANISHING = 1e-6
+
+
+def _a_cycle(model: BeltOscillator, law: FrictionLaw, param: str, fold: tuple[float, float], returns: int,
+             virtual: bool) -> tuple[float, float]:
+    """``fold`` = (X, lambda) if its cycle has an amplitude; RuntimeError at a Hopf point, where the vanishing cycle
+    solves P = X, P' = 1 too (a fold curve followed in a second parameter landed there: a map drew the Hopf point
+    as a fold)."""
+    x, lam = fold
+    m, lw = with_param(model, law, param, lam)
+    seg = _segment(m, lw, param, x, returns, virtual)
+    if 0.5 * (x - seg.x_min) <= VANISHING * max(law.fs, abs(model.vb), 1e-12):
+        raise RuntimeError(f"the fold near {param}={lam:.10g} is the vanishing cycle of a Hopf point")
+    return x, lam
 
 
 # -- grazing -----------------------------------------------------------------------------------

@@ -107,7 +107,8 @@ class StepControl:
 
     A step is halved where the corrector fails, where the tangent turns by
     more than arccos(``min_cos``) (unless the step is already within
-    ``turn_guard`` h_min, or the problem says a corner is expected), or where
+    ``turn_guard`` h_min, or the problem says a corner is expected: there,
+    where the parameter's direction turns back), or where
     the corrected point lies farther than ``jump`` h from the last (another
     branch).  After ``fast`` Newton iterations or fewer the step grows by
     ``grow``, else shrinks by ``shrink``.
@@ -389,7 +390,12 @@ class Tracer:
         c = self.steps
         if float(np.linalg.norm(self.w(s) - self.w(a))) > c.jump * h:
             return True
-        return float(t_new @ t) < c.min_cos and h > c.turn_guard * c.h_min and not self.p.corner(a, s)
+        if h <= c.turn_guard * c.h_min:
+            return False
+        if self.p.corner(a, s):  # a corner may turn the branch sharply, but lambda's direction turning there is
+            # resolved with short steps: a grazing and a smooth fold within one step read as a fold at the grazing
+            return float(t_new[-1] * t[-1]) < 0.0
+        return float(t_new @ t) < c.min_cos
 
     def _at_boundary(self, a: Any, s: Any) -> Any | None:
         """The solution at the interval's end between a (inside) and s (outside), from the chord's guess."""
