@@ -63,6 +63,9 @@ W_BELT = 5
 N_MARKS = 4
 #: a function this small against its value at the step's end starts on the zero the last step ended on
 MARK_FLOOR = 1e-9
+#: the zero of a marked function other than X' is located to this fraction of its values at the step's ends (well
+#: below MARK_FLOOR: the next step starts on it)
+MARK_TOL = 1e-11
 #: how a run ended
 DONE, FULL, STEP_CAP, TINY_STEP = 0, 1, 2, 3
 
@@ -547,8 +550,10 @@ def to_mark(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, which, marks):
     (h', its error norm).  ``ws`` holds a step from (t, y): its start's field and Jacobian serve every trial step
     (:func:`step_from`)."""
     fa, fb, trial = marks[0, which], marks[1, which], marks[2]
-    scale = max(abs(vb), abs(y[1])) if which == 0 else max(abs(fa), abs(fb))
-    b = bracket(0.0, h, fa, fb, 0.0, 4.0 * EPS, 1e-13 * scale, 100)
+    # X' to 1e-13 of its scale: it is then set to 0, a change of the state.  The others to MARK_TOL: an error
+    # delta in the time moves an extreme's value, or the work across a kink, by only ~f' delta^2
+    tol_f = 1e-13 * max(abs(vb), abs(y[1])) if which == 0 else MARK_TOL * max(abs(fa), abs(fb))
+    b = bracket(0.0, h, fa, fb, 0.0, 4.0 * EPS, tol_f, 100)
     err, x_last = 0.0, h
     while b.status == RUNNING:
         x_last = b.x
