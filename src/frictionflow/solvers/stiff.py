@@ -33,9 +33,12 @@ class Stiff(Solver):
     integrated with the state, and ``traj(t)`` interpolates the steps
     (quintic Hermite in X, cubic in the internal states).  No switch is
     located: the law's states carry stick and slip (see
-    :mod:`frictionflow.core.stiff`).  An unforced run's downward X' = 0
-    crossings are samples (X' exactly 0 there, as the other solvers sample
-    the section), so its steady-state window is whole periods.  A belt
+    :mod:`frictionflow.core.stiff`).  A step ends on every zero of X' (X'
+    exactly 0 there: the downward ones are the section the other solvers
+    sample, so an unforced steady-state window is whole periods), of X''
+    and X' + 2 zeta X'' (the extremes of X' and of the transmitted force)
+    and of the friction power X' F (the kink of its split into input and
+    output).  A belt
     whose speed varies, V_b(tau), enters every stage; a forced run, or one
     on a varying belt, has a sample on every k 2 pi / Omega (with both,
     Omega_b must equal Omega).
