@@ -52,8 +52,8 @@ def test_below_vd_the_band_holds_the_mass_while_it_moves_against_the_belt(data):
     vb = float(hist.attrs["vb_half"])
     for model in ("karnopp_rk4", "karnopp_exact"):
         c = hist.sel(model=model)
-        in_band = float((c.mode_half == 0).mean())
-        backwards = float((c.V_half < 0).mean())
-        assert in_band > 0.95, model  # Karnopp calls nearly all of it stick ...
-        assert backwards > 0.3, model  # ... while the mass moves against the belt a large part of the time
+        assert float(c.band_share_half) > 0.95, model  # Karnopp calls nearly all of it stick ...
+        # ... while the mass moves against the belt half the time: inside the band X'' = F_c(X) - X is odd in X, so
+        # over whole shuttles X' < 0 exactly half of each (over the 2.4 of the plotted window, 58 %)
+        assert float(c.backward_share_half) == pytest.approx(0.5, abs=2e-3), model
         assert float(c.V_half.min()) == pytest.approx(-vb, rel=1e-6), model  # at the belt's speed, backwards

@@ -90,8 +90,9 @@ TERMS: dict[str, Term] = _terms(
     Term("--json", "Print one JSON object with the results to stdout instead of the table.", bool, False, "Output"),
     Term("--out", "Write the results (the format by the suffix).", OPT_PATH, None, "Output", PATH_METAVAR, True),
     Term("--plot", f"Draw the results ({', '.join(FIGURE_FORMATS)}).", OPT_PATH, None, "Output", PATH_METAVAR, True),
-    Term("--dpi", f"Resolution of the figures in dots per inch, in [{DPI_RANGE[0]:g}, {DPI_RANGE[1]:g}]; the --plot file's "
-         "suffix sets the format.", float, DEFAULT_DPI, "Output", "<float>", bounds=DPI_RANGE),
+    # (the range is click's, from bounds; the format is the figure file's suffix, which --plot's help names)
+    Term("--dpi", "Resolution of the figures in dots per inch.", float, DEFAULT_DPI, "Output", "<float>",
+         bounds=DPI_RANGE),
     Term("--store", "Keep the sweep's resumable store here.", OPT_PATH, None, "Output", "PATH.zarr", True),
     Term("--config", "TOML file with any of the model's options (names with underscores).", OPT_PATH, None, "Model",
          PATH_METAVAR, True),

@@ -66,6 +66,8 @@ LONG_NAMES: dict[str, str] = {
     "initial_K": "initial kinetic energy V_b^2 / 2 (X(0) = F_d is the sliding equilibrium)",
     "V_half": "velocity X' at V_b = V_d / 2",
     "mode_half": "friction mode at V_b = V_d / 2: 1 slip+, 0 band ('stick'), -1 slip-",
+    "band_share_half": "share of the time in the band ('stick') at V_b = V_d / 2, over whole shuttles",
+    "backward_share_half": "share of the time moving against the belt (X' < 0) at V_b = V_d / 2, over whole shuttles",
     "tau_half": "non-dimensional time tau (the V_b = V_d / 2 run)",
     "tau_short": "non-dimensional time tau (the first turns)",
     "tau_long": "non-dimensional time tau (the whole long run)",

@@ -101,7 +101,7 @@ def _differs(data: dict[str, xr.Dataset], out: Path, settings: Settings) -> str:
     h, sw = data["band_history"], data["band_sweep"]
     creep = ", ".join(f"{g(float(v), 2)} (dt = {float(d):g})" for d, v in zip(h.dt.values, h.creep_speed.values))
     half = h.sel(model="karnopp_exact")
-    inside, backwards = 100 * float((half.mode_half == 0).mean()), 100 * float((half.V_half < 0).mean())
+    inside, backwards = 100 * float(half.band_share_half), 100 * float(half.backward_share_half)
     vb01 = sw.sel(vb=0.01) if 0.01 in sw.vb.values else None
     shrink = ""
     if vb01 is not None:
