@@ -187,18 +187,17 @@ def test_the_friction_input_splits_at_every_kink_of_max_p_f():
     assert traj.work[-1, WORK_NAMES.index("W_fin")] == pytest.approx(ref, rel=1e-9)
 
 
-def test_the_extremes_of_x_x_prime_and_the_transmitted_force_are_samples():
-    """A step ends on every zero of X', X'' and X' + 2 zeta X'' (as the adaptive solver samples them): the largest
-    and smallest X, X' and X + 2 zeta X' over the samples are those of an independent Radau run at its events (TR_B
-    was 1.4e-5 low on the stiff steps, a QA report)."""
+def test_the_extremes_of_x_are_samples():
+    """A step ends on every zero of X', upwards too: the largest and smallest X over the samples are those of an
+    independent Radau run at its events (X_min was the steps', 5e-6 off in a QA report)."""
     zeta, vb, t_end = 0.8, 0.05, 60.0
     traj = simulate(BeltOscillator(zeta=zeta, vb=vb), LuGre(**SMOOTH), Stiff(rtol=1e-11, atol=1e-13), t_end=t_end,
                     x0=0.0, v0=0.0)
     rhs = lugre_rhs(SMOOTH, zeta, vb)
-    events = [lambda t, y: y[1], lambda t, y: rhs(t, y)[1], lambda t, y: y[1] + 2.0 * zeta * rhs(t, y)[1]]
-    ref = solve_ivp(rhs, (0.0, t_end), [0.0, 0.0, 0.0], method="Radau", rtol=1e-12, atol=1e-15, events=events)
-    points = np.column_stack([ref.y[:, [0, -1]], *[y.T for y in ref.y_events if len(y)]])
-    assert sum(len(y) for y in ref.y_events) > 20  # a few cycles' turns of each
-    for got, want in ((traj.x, points[0]), (traj.v, points[1]), (traj.transmitted_force, points[0] + 2 * zeta * points[1])):
-        assert got.max() == pytest.approx(want.max(), rel=1e-9)
-        assert got.min() == pytest.approx(want.min(), rel=1e-9, abs=1e-12)
+    ref = solve_ivp(rhs, (0.0, t_end), [0.0, 0.0, 0.0], method="Radau", rtol=1e-12, atol=1e-15,
+                    events=lambda t, y: y[1])
+    x = np.concatenate([ref.y[0, [0, -1]], ref.y_events[0][:, 0]])
+    assert len(ref.y_events[0]) > 10  # a few cycles' turns
+    assert traj.x.max() == pytest.approx(x.max(), rel=1e-9)
+    assert traj.x.min() == pytest.approx(x.min(), rel=1e-9, abs=1e-12)
+    assert np.sum(traj.v == 0.0) >= len(ref.y_events[0])  # every turn a sample, X' = 0 there

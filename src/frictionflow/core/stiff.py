@@ -58,13 +58,14 @@ Q_LAW = N_PARAMS
 N_CHANNELS = 6
 W_BELT = 5
 #: the functions whose zeros end a step, a sample there (:func:`marks_of`): X' (the turns of X; downwards, the
-#: section), P_f = X' F (the kinks of max(P_f, 0), the friction work's split into input and output), X'' (the turns
-#: of X') and X' + 2 zeta X'' (of the transmitted force: TR_B), as the adaptive solver samples the extremes
-N_MARKS = 4
+#: section) and P_f = X' F (the kinks of max(P_f, 0), the friction work's split into input and output).  (The turns
+#: of X' and of the transmitted force, which the adaptive solver samples, measured 1.25x the run's time at
+#: Canudas' rtol 1e-6: the extremes of X' and TR_B are the steps'.)
+N_MARKS = 2
 #: a function this small against its value at the step's end starts on the zero the last step ended on
 MARK_FLOOR = 1e-9
-#: the zero of a marked function other than X' is located to this fraction of its values at the step's ends (well
-#: below MARK_FLOOR: the next step starts on it)
+#: P_f's zero is located to this fraction of its values at the step's ends (well below MARK_FLOOR: the next step
+#: starts on it; an error delta in its time moves the work across the kink by only ~P_f' delta^2)
 MARK_TOL = 1e-11
 #: how a run ended
 DONE, FULL, STEP_CAP, TINY_STEP = 0, 1, 2, 3
@@ -509,13 +510,11 @@ def _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, n, fresh):
 
 
 @njit(cache=True, inline="always")
-def marks_of(y, dy, dw, zeta, out):
-    """The functions whose zeros end a step (:data:`N_MARKS`) into ``out``, from the state ``y``, its rates ``dy``
-    and the work integrands ``dw`` there: X', P_f = X' F (max(P_f, 0) - max(-P_f, 0)), X'', X' + 2 zeta X''."""
+def marks_of(y, dw, out):
+    """The functions whose zeros end a step (:data:`N_MARKS`) into ``out``, from the state ``y`` and the work
+    integrands ``dw`` there: X' and P_f = X' F (max(P_f, 0) - max(-P_f, 0))."""
     out[0] = y[1]
     out[1] = dw[1] - dw[2]
-    out[2] = dy[1]
-    out[3] = y[1] + 2.0 * zeta * dy[1]
 
 
 @njit(cache=True, inline="always")  # takes arrays in the search loop: inlined (no reference counting)
@@ -523,7 +522,7 @@ def marks_at(q, zeta, vb, t, y, ws, out):
     """:func:`marks_of` at (t, y), its rates and integrands evaluated into the stage arrays of ``ws``."""
     dy, dw, jac, jw, _, _, _, _, _, d, ft, _, _ = ws
     evaluate_n(q, zeta, vb, t, y, dy, dw, (jac, jw, ft, d), False, len(y))
-    marks_of(y, dy, dw, zeta, out)
+    marks_of(y, dw, out)
 
 
 @njit(cache=True, inline="always")
@@ -550,8 +549,7 @@ def to_mark(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, which, marks):
     (h', its error norm).  ``ws`` holds a step from (t, y): its start's field and Jacobian serve every trial step
     (:func:`step_from`)."""
     fa, fb, trial = marks[0, which], marks[1, which], marks[2]
-    # X' to 1e-13 of its scale: it is then set to 0, a change of the state.  The others to MARK_TOL: an error
-    # delta in the time moves an extreme's value, or the work across a kink, by only ~f' delta^2
+    # X' to 1e-13 of its scale: it is then set to 0, a change of the state
     tol_f = 1e-13 * max(abs(vb), abs(y[1])) if which == 0 else MARK_TOL * max(abs(fa), abs(fb))
     b = bracket(0.0, h, fa, fb, 0.0, 4.0 * EPS, tol_f, 100)
     err, x_last = 0.0, h
@@ -571,11 +569,10 @@ def to_mark(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, which, marks):
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: no reference counting (see rodas_step)
 def to_first_mark(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, marks):
-    """The accepted step of length ``h`` from (t, y) to ``ynew`` shortened to the first zero inside it of the
-    functions of :func:`marks_of` (the start's in ``marks[0]``, from the step's own evaluation there): (h', error
-    norm), (``h``, 0) when there is none.  Each located zero may hide an earlier one of another function: the
-    shortened step is looked at again."""
-    marks_at(q, zeta, vb, t + h, ynew, ws, marks[1])
+    """The accepted step of length ``h`` from (t, y) to ``ynew``, with a zero inside it of a function of
+    :func:`marks_of` (their values at its ends in ``marks[0]`` and ``marks[1]``), shortened to the first such zero:
+    (h', error norm).  Each located zero may hide an earlier one of another function: the shortened step is looked
+    at again."""
     adv, err, skip = h, 0.0, -1
     for _ in range(N_MARKS):
         which = earliest_mark(marks[0], marks[1], skip)
@@ -644,9 +641,14 @@ def run(q, zeta, vb, y0, t_end, tol, steps, t_out, y_out, w_out, at):
             status, taken = FULL, taken - 1  # this step is taken again, the same, on the next call
             break
         # adv: how far the sample lies (the first zero of a marked function); the next step follows the full one's error
-        marks_of(y, ws[11], ws[12], zeta, marks[0])  # the step's start: its field was evaluated there
-        adv, err = to_first_mark(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws, marks)
-        last = last and adv == hh
+        adv, err = hh, 0.0
+        marks_of(y, ws[12], marks[0])  # the step's start: its field was evaluated there
+        # the end: P_f from the last stage's integrands (at t + h, within the step's error of ynew), no evaluation;
+        # a zero that error hides lies as near the end, where its kink costs ~nothing
+        marks_of(ynew, ws[1], marks[1])
+        if earliest_mark(marks[0], marks[1], -1) >= 0:  # the step ends on the first zero inside it (a sample)
+            adv, err = to_first_mark(q, zeta, vb, t, y, hh, ynew, wnew, tol, ws, marks)
+            last = last and adv == hh
         if err > 1.0:  # the shorter step from the same state failed its error test (hardly ever)
             h, rejected = adv * max(0.2, 0.9 * err ** -0.25), True
             continue

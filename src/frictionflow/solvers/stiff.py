@@ -35,10 +35,9 @@ class Stiff(Solver):
     located: the law's states carry stick and slip (see
     :mod:`frictionflow.core.stiff`).  A step ends on every zero of X' (X'
     exactly 0 there: the downward ones are the section the other solvers
-    sample, so an unforced steady-state window is whole periods), of X''
-    and X' + 2 zeta X'' (the extremes of X' and of the transmitted force)
-    and of the friction power X' F (the kink of its split into input and
-    output).  A belt
+    sample, so an unforced steady-state window is whole periods) and of the
+    friction power X' F (the kink of its split into input and output).  The
+    extremes of X' and of the transmitted force (TR_B) are the steps'.  A belt
     whose speed varies, V_b(tau), enters every stage; a forced run, or one
     on a varying belt, has a sample on every k 2 pi / Omega (with both,
     Omega_b must equal Omega).
