@@ -243,7 +243,7 @@ def test_no_steady_sliding_is_refused_in_one_line(build, words):
 
 
 def test_a_scan_names_the_value_it_fails_at_and_refuses_bad_values():
-    with pytest.raises(ValueError, match=r"^contact\.0\.belt = 0: contact\.0\.belt must be nonzero"):
+    with pytest.raises(ValueError, match=r"^contact\.0\.belt = 0\.0: contact\.0\.belt must be nonzero"):
         stability_scan(single_mass, [-0.01, 0.0, 0.01], param="contact.0.belt")
     with pytest.raises(ValueError, match="strictly increasing or strictly decreasing"):
         stability_scan(single_mass, [0.01, 0.03, 0.02])

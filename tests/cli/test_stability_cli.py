@@ -120,7 +120,9 @@ def test_out_writes_what_json_prints_and_plot_draws(models, capsys):
     (["--vary", "contact.0.fd=0.1:0.8:1"], "--vary contact.0.fd: N must be >= 2"),
     (["--vary", "contact.0.fd=0.1:0.8:0"], "--vary contact.0.fd: N must be >= 2"),  # one bound, not ">= 1" here
     (["--vary", "contact.0.fd=0.3:0.3"], "FROM and TO must differ"),
-    (["--vary", "contact.0.belt=-0.5:0.5:3"], "contact.0.belt = 0: contact.0.belt must be nonzero"),
+    (["--vary", "contact.0.belt=-0.5:0.5:3"], "contact.0.belt = 0.0: contact.0.belt must be nonzero"),
+    # the value refused with every digit, as the check names it (it said "fd = 2.1" beside "fd = 2.0999999999999996")
+    (["--vary", "contact.0.fd=0.1:3.9:20"], "contact.0.fd = 2.0999999999999996: "),
     (["--vary", "contact.0.fd=0.1:0.8", "--param", "contact.0.fd", "--from", "0.1", "--to", "0.2"], "not both"),
     (["--param", "contact.0.fd", "--from", "0.1"], "--param, --from and --to go together"),
     (["--vary", "contact.0.fd=0.1:0.8", "--out", "{dir}/s.txt"], "--out must end in"),

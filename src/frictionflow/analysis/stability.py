@@ -330,7 +330,7 @@ class _Spectrum:
             laws = None if self.laws_at is None else self.laws_at(value)
             return steady_sliding(self.assembly_at(value), laws)
         except ValueError as e:
-            raise ValueError(f"{self.param} = {value:g}: {e}") from None
+            raise ValueError(f"{self.param} = {float(value)!r}: {e}") from None  # the value checked, every digit
 
     def __call__(self, value: float) -> np.ndarray:
         return self.sliding(value).eigenvalues
