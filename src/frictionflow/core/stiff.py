@@ -543,8 +543,8 @@ def earliest_mark(fa, fb, skip):
 def to_mark(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, which, marks):
     """The step from (t, y) that ends on the zero of function ``which`` (:func:`marks_of`) inside the step of
     length ``h`` (its state in ``ynew``, its functions in ``marks[1]``, the start's in ``marks[0]``): its length h'
-    by Illinois on that function at t + h' of Rodas4 steps of length h', to rounding of it (1e-13 of its scale) or
-    the step length at rounding.  ``ynew``, ``wnew``, ``marks[1]``: the located step's state, work increments and
+    by Illinois on that function at t + h' of Rodas4 steps of length h', to 1e-13 of X''s scale (X' is then set to
+    0) or :data:`MARK_TOL` of P_f's, or the step length at rounding.  ``ynew``, ``wnew``, ``marks[1]``: the located step's state, work increments and
     functions (a zero of X' ends with X' exactly 0: downwards, the section crossing of the other solvers); returns
     (h', its error norm).  ``ws`` holds a step from (t, y): its start's field and Jacobian serve every trial step
     (:func:`step_from`)."""

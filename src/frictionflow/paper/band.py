@@ -114,11 +114,12 @@ def history_dataset(settings: Settings) -> xr.Dataset:
         x_short[i] = np.interp(short, fine.t, fine.x)
         coarse = _trajectory(model, vb, settings, settings.band_history_t_end, samples_per_unit=1.0)
         x_long[i] = np.interp(long, coarse.t, coarse.x)
-        shuttle = _trajectory(model, 0.5 * vb, settings, SHUTTLE_T_END, samples_per_unit=20.0)
+        # one run: the plotted first shuttles, and the shares over the steady state's whole ones
+        shuttle = _trajectory(model, 0.5 * vb, settings, SHARES_T_END, samples_per_unit=20.0)
         v_half[i] = np.interp(half, shuttle.t, shuttle.v)
         # the mode of the sample at or before each grid time
         mode_half[i] = shuttle.mode[np.clip(np.searchsorted(shuttle.t, half, side="right") - 1, 0, len(shuttle) - 1)]
-        shares[i] = _shares(_trajectory(model, 0.5 * vb, settings, SHARES_T_END, samples_per_unit=20.0))
+        shares[i] = _shares(shuttle)
     creep = []
     for dt in CREEP_DT:
         tr = simulate(BeltOscillator(zeta=0.0, vb=vb), paper_law(FD, settings), RK4(dt=dt, record_every=1000),
