@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import tempfile
 
 import numpy as np
 import pytest
@@ -148,3 +149,13 @@ def test_a_fold_curve_followed_in_x_does_not_land_on_the_hopf_point():
     for p in curves["fold"]:
         assert p.y > hopf[p.x] + 0.01  # beyond the Hopf point, where the subcritical family turns
     assert not curves["fold_at_grazing"]
+
+
+def test_a_map_without_a_sweep_store_leaves_no_temporary_files(tmp_path, monkeypatch):
+    """Without sweep_out the sweep under the map went to a fresh ff_map_* directory that nothing removed: one
+    sweep.nc left in the temporary directory per map.  The store now lives only as long as the run."""
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    chart = stability_map(BeltOscillator(zeta=0.1, vb=0.1), Coulomb(0.3, 0.4), "vb", [0.1, 0.2], "zeta", (0.0, 0.2),
+                          sweep_shape=(2, 2), t_end=40.0)
+    assert chart.heat == "R_c" and chart.sweep["R_c"].shape == (2, 2) and np.isfinite(chart.sweep["R_c"].values).any()
+    assert list(tmp_path.iterdir()) == []

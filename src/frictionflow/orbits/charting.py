@@ -283,5 +283,10 @@ class HeatMap:
         if self.heat not in names:  # before the sweep and the chart: a bad name costs nothing
             raise ValueError(f"heat must be a sweep variable ({', '.join(names)}), got {self.heat!r}")
         cfg = sweep_config(model, law, x_param, x_range, y_param, y_range, self.shape, self.t_end)
-        out = self.out if self.out is not None else Path(tempfile.mkdtemp(prefix="ff_map_")) / "sweep.nc"
-        return run_sweep(cfg, out).load()
+        if self.out is not None:
+            return run_sweep(cfg, self.out).load()
+        with tempfile.TemporaryDirectory(prefix="ff_map_") as tmp:  # the store is the caller's only with out
+            ds = run_sweep(cfg, Path(tmp) / "sweep.nc")
+            loaded = ds.load()
+            ds.close()
+        return loaded
