@@ -44,7 +44,11 @@ from frictionflow.quantities import KINDS
 from frictionflow.solvers.registry import solver_classes
 from frictionflow.sweep.compute import VARIABLES, compute_chunk
 
-KEYS = ("kind", "period", "P_fin", "R_c", "R_f", "TR_B")
+#: every quantity a point has through every path: the steady state, its power flow, transmissibility and extremes
+KEYS = ("kind", "period", "P_fin", "R_c", "R_f", "P_belt", "P_heat", "TR_B", "X_max", "X_min", "V_max", "V_min",
+        "stick_fraction")
+POWER = ("P_fin", "R_c", "R_f", "P_belt", "P_heat")
+EXTREMES = ("X_max", "X_min", "V_max", "V_min")
 T_END = 300.0
 FORCING = {"fex": 0.01, "omega": 0.8}
 #: a moving belt, at the forcing's frequency: V_b(tau) = V_b + 0.005 sin(0.8 tau + 0.3)
@@ -163,8 +167,8 @@ def via_cli(case: Case) -> dict:
         assert cli_main(args) == 0
     d = json.loads(buf.getvalue())
     ss, av = d["steady_state"], d["averages"]
-    return {"kind": KINDS.index(ss["kind"]), "period": ss["period"], "P_fin": av["P_fin"], "R_c": av["R_c"],
-            "R_f": av["R_f"], "TR_B": d["TR_B"]}
+    return {"kind": KINDS.index(ss["kind"]), "period": ss["period"], **{k: av[k] for k in POWER},
+            "TR_B": d["TR_B"], **d["amplitude"], "stick_fraction": ss["stick_fraction"]}
 
 
 def via_sweep(case: Case) -> dict | str:
@@ -211,15 +215,15 @@ def via_orbit(case: Case, ref: dict) -> dict | str:
         except (ValueError, RuntimeError) as e:
             return f"undefined: {e}"
         av = orbit.averages
-        return {"kind": 0, "period": orbit.period, "P_fin": av["P_fin"], "R_c": av["R_c"], "R_f": av["R_f"],
-                "TR_B": orbit.TR_B}
+        return {"kind": 0, "period": orbit.period, **{k: av[k] for k in POWER}, "TR_B": orbit.TR_B,
+                **{k: getattr(orbit, k) for k in EXTREMES}, "stick_fraction": orbit.stick_fraction}
     try:
         orbit = find_orbit(case.model(), law, tol=1e-13)
     except (ValueError, RuntimeError) as e:
         return f"undefined: {e}"
-    av = orbit.measures.averages()
-    return {"kind": 0, "period": orbit.period, "P_fin": av["P_fin"], "R_c": av["R_c"], "R_f": av["R_f"],
-            "TR_B": orbit.measures.TR_B}
+    m = orbit.measures
+    return {"kind": 0, "period": orbit.period, **{k: getattr(m.power, k) for k in POWER}, "TR_B": m.TR_B,
+            **m.extremes, "stick_fraction": orbit.stick_fraction}
 
 
 def disagreements(want: dict, got: dict, rtol: float) -> list:

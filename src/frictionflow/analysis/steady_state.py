@@ -43,6 +43,7 @@ from ..core import sections as sec
 from ..solvers.registry import solver_classes, solver_named
 from .. import _validate as check
 from ..trajectory import Trajectory
+from .between_samples import refines, stick_share
 from .equilibrium import sliding_equilibrium
 from .forced import classify_forced, internal_scaled, largest_exponent
 
@@ -287,7 +288,10 @@ def classified_steady_state(traj: Trajectory, *, rtol: float = 1e-6, min_periods
         found = _terminal(traj) or _certified(traj)
     if found is None:
         cls, summary = classify_trajectory(traj, rtol, min_periods)
-        found = _with_internal(traj, from_classification(cls, summary))
+        found = from_classification(cls, summary)
+        if _threshold_stick(traj) and found.stick_fraction is not None:
+            found = replace(found, stick_fraction=stick_fraction(traj, found.window))
+        found = _with_internal(traj, found)
         found = replace(found, stability=_stability(traj, found))
     if window is None:
         return found, summary
@@ -380,9 +384,18 @@ def _stability(traj: Trajectory, ss: SteadyState) -> str | None:
     return None
 
 
+def _threshold_stick(traj: Trajectory) -> bool:
+    """Is the run's stick a threshold on |V_r| whose crossings its samples need not hold?"""
+    return traj.friction.stick_speed() > 0.0 and refines(traj)
+
+
 def stick_fraction(traj: Trajectory, window: tuple[float, float]) -> float:
-    """Share of the window spent in the stick mode (time-weighted over samples)."""
+    """Share of the window spent in the stick mode (time-weighted over samples); a threshold stick's (a law with
+    internal states: |V_r| below its stick speed) with its crossings between samples where the solver leaves
+    them there (:func:`.between_samples.refines`)."""
     i0, i1 = traj.index(window[0]), traj.index(window[1])
+    if _threshold_stick(traj):
+        return stick_share(traj, slice(i0, i1 + 1))
     if i1 <= i0:
         return float(traj.mode[i0] == 0)
     dt = np.diff(traj.t[i0 : i1 + 1])

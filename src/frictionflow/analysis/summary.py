@@ -6,10 +6,13 @@ import math
 from dataclasses import dataclass, fields
 from typing import Any
 
+import numpy as np
+
 from .. import quantities as Q
 from .._display import Row, Summarized, num, pairs, system_row
 from .._figures import draw
 from ..trajectory import Trajectory
+from .between_samples import refines
 from .equilibrium import equilibrium_values
 from .power_flow import PowerFlow, power_flow
 from .steady_state import DEFAULT_RTOL, SteadyState, classified_steady_state, default_rtol
@@ -169,9 +172,20 @@ def analyze(
         steady_state=ss,
         power=power_flow(traj, ss.window),
         TR_B=transmissibility(traj, ss.window),
-        # the records' extremes where they decided the window: between samples at the turns, as a sweep has them
-        amplitude=amplitude(traj, ss.window) if summary is None else amplitude_of(summary),
+        amplitude=_amplitude(traj, ss.window, summary),
     )
+
+
+def _amplitude(traj: Trajectory, window: tuple[float, float], summary: np.ndarray | None) -> dict[str, float]:
+    """The records' extremes where they decided the window (between samples at the turns of X, as a sweep has
+    them), X''s located between samples where the solver leaves them there; else the samples'."""
+    if summary is None:
+        return amplitude(traj, window)
+    found = amplitude_of(summary)
+    if refines(traj):
+        sampled = amplitude(traj, window)
+        found.update(V_min=sampled["V_min"], V_max=sampled["V_max"])
+    return found
 
 
 def _at_equilibrium(traj: Trajectory, ss: SteadyState) -> Analysis:

@@ -7,6 +7,7 @@ import numpy as np
 from .. import _validate as check
 from .. import quantities as Q
 from ..trajectory import Trajectory
+from .between_samples import force_peak, refines, velocity_extremes
 
 
 def _slice(traj: Trajectory, window: tuple[float, float] | None) -> slice:
@@ -28,7 +29,8 @@ def excitation_level(traj: Trajectory) -> float:
 def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None) -> float:
     """TR_B = max |F_tB| / F_ex over the window, F_tB = X + 2 zeta X' (Eq. 6; F_ex = F_d unforced).
 
-    NaN when the reference force is 0 (no excitation level to refer to).
+    NaN when the reference force is 0 (no excitation level to refer to).  The peak between samples too where
+    the run's solver leaves it there (:func:`.between_samples.refines`).
 
     Parameters
     ----------
@@ -42,11 +44,13 @@ def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None
     if ref <= 0:
         return float("nan")
     s = _slice(traj, window)
-    return float(np.max(np.abs(traj.transmitted_force[s])) / ref)
+    peak = force_peak(traj, s) if refines(traj) else np.max(np.abs(traj.transmitted_force[s]))
+    return float(peak / ref)
 
 
 def amplitude(traj: Trajectory, window: tuple[float, float] | None = None) -> dict[str, float]:
-    """Extremes of X and X' over the window (the table's ``amplitude`` quantities, in its order).
+    """Extremes of X and X' over the window (the table's ``amplitude`` quantities, in its order); X''s between
+    samples too where the run's solver leaves them there (:func:`.between_samples.refines`).
 
     Parameters
     ----------
@@ -58,7 +62,8 @@ def amplitude(traj: Trajectory, window: tuple[float, float] | None = None) -> di
 
     s = _slice(traj, window)
     x, v = traj.x[s], traj.v[s]
-    found = {"X_min": x.min(), "X_max": x.max(), "V_min": v.min(), "V_max": v.max()}
+    vmin, vmax = velocity_extremes(traj, s) if refines(traj) else (v.min(), v.max())
+    found = {"X_min": x.min(), "X_max": x.max(), "V_min": vmin, "V_max": vmax}
     return {n: float(found[n]) for n in Q.AMPLITUDE}
 
 

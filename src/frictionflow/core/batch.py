@@ -160,16 +160,18 @@ def _exact_points(j0, j1, todo, cap, full, points, t_end, judge, out, stop_early
         fd = p[j, FD]
         if status == exact.STUCK:
             _not_settled(out[j])
-        elif t_term >= 0.0 and t_mode[0] != 0 and zeta[j] > 0.0:
-            # a final slip phase: it decays onto X* = F(V_b), sliding (the residual is the run's)
+        elif t_term >= 0.0 and zeta[j] > 0.0:
+            # a final phase: a slip decays onto X* = F(V_b), sliding; a stick rests where it holds, stuck for
+            # good (the stick fraction simulate's window gives it); the residual is the run's
             tot = np.zeros(N_WORK)
             for i in range(k):  # (a loop: sum(axis=0) compiles its own implementation)
                 for q in range(N_WORK):
                     tot[q] += work[i, q]
             a = sec.averages(tot[0], tot[1], tot[2], tot[3], 0.0, 0.5 * (x0[j] ** 2 + v0[j] ** 2),
                              0.5 * (y[0, k - 1] ** 2 + y[1, k - 1] ** 2), max(t[k - 1], 1e-300))
-            x_eq = t_mode[0] * slip_magnitude_of(p[j], abs(vb[j]))
-            sec.put(out[j], sec.equilibrium_row(x_eq, vb[j], fd, 0.0, a[sec.RESID]))
+            stuck = t_mode[0] == 0
+            x_eq = y[0, k - 1] if stuck else t_mode[0] * slip_magnitude_of(p[j], abs(vb[j]))
+            sec.put(out[j], sec.equilibrium_row(x_eq, vb[j], fd, 1.0 if stuck else 0.0, a[sec.RESID]))
         else:
             _classify_samples(samples, k, p[j], zeta[j], vb[j], judge, out[j])
 

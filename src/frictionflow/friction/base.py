@@ -195,6 +195,11 @@ class FrictionLaw:
         """The start when none is given: the paper's X(0) = F_d, X'(0) = V_b (the mass moving with the belt)."""
         return self.fd, vb
 
+    def stick_speed(self) -> float:
+        """|V_r| below which a sample counts as stuck; 0: the law's stick is a mode of its own (V_r = 0 held by
+        the stick rule), not a threshold on a continuous motion."""
+        return 0.0
+
     def sliding_equilibrium(self, vb: float) -> float:
         """X* of steady sliding at belt speed ``vb`` (X* = F(V_b))."""
         return float(self.slip_force(vb))

@@ -104,10 +104,14 @@ class StatefulLaw(FrictionLaw):
         """Energy held in the contact at states ``z`` (m, ...)."""
         raise NotImplementedError
 
+    def stick_speed(self) -> float:
+        """|V_r| below which the contact counts as stuck: ``STICK_SPEED_FRACTION`` of the speed scale."""
+        return STICK_SPEED_FRACTION * self.speed_scale()
+
     def mode_of(self, vr: Any) -> np.ndarray:
-        """Friction mode per sample: stick (0) while |V_r| is below ``STICK_SPEED_FRACTION`` of the speed scale."""
+        """Friction mode per sample: stick (0) while |V_r| is below :meth:`stick_speed`."""
         vr = np.asarray(vr, dtype=float)
-        slip = np.abs(vr) > STICK_SPEED_FRACTION * self.speed_scale()
+        slip = np.abs(vr) > self.stick_speed()
         return np.where(slip, np.sign(vr), 0.0).astype(np.int8)
 
     def stick_force_value(self, x: Any, v: Any, zeta: float) -> np.ndarray:

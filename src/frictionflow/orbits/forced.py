@@ -221,6 +221,8 @@ def measures(model: BeltOscillator, friction: FrictionLaw, run: MapRun) -> dict[
         "amplitude": m.amplitude,
         "X_min": m.extremes["X_min"],
         "X_max": m.extremes["X_max"],
+        "V_min": m.extremes["V_min"],
+        "V_max": m.extremes["V_max"],
         "TR_B": m.TR_B,
         "stick_fraction": stick_fraction(traj, (traj.t[0], traj.t[-1])),
         "averages": {n: getattr(m.power, n) for n in Q.FORCED_AVERAGES},
@@ -258,6 +260,8 @@ class ForcedOrbit(Summarized):
         Newton iterations taken.
     amplitude, X_min, X_max:
         (X_max - X_min) / 2 and the extremes of X over one period.
+    V_min, V_max:
+        The extremes of X' over one period.
     TR_B:
         The force transmissibility over one period (relative to F_ex).
     stick_fraction:
@@ -296,6 +300,8 @@ class ForcedOrbit(Summarized):
     amplitude: float
     X_min: float
     X_max: float
+    V_min: float
+    V_max: float
     TR_B: float
     stick_fraction: float
     averages: dict[str, float]
@@ -333,7 +339,7 @@ class ForcedOrbit(Summarized):
             "residual": self.residual, "iterations": self.iterations,
             "multipliers": [complex(z) for z in self.multipliers], "moduli": np.abs(self.multipliers),
             "stability": self.stability, "amplitude": self.amplitude, "X_min": self.X_min, "X_max": self.X_max,
-            "TR_B": self.TR_B, "stick_fraction": self.stick_fraction, "stick_phases": self.stick_phases,
+            "V_min": self.V_min, "V_max": self.V_max, "TR_B": self.TR_B, "stick_fraction": self.stick_fraction, "stick_phases": self.stick_phases,
             "shortest_stick": self.shortest_stick, "min_gap": self.min_gap, "hold_margin": self.hold_margin,
             "averages": self.averages,
             "energy_residual": self.energy_residual, "switches": self.switches, "settings": self.settings,
@@ -489,6 +495,8 @@ class BranchPoint(Summarized):
     amplitude: float
     X_min: float
     X_max: float
+    V_min: float
+    V_max: float
     TR_B: float
     stick_fraction: float
     averages: dict[str, float]
@@ -512,8 +520,8 @@ class BranchPoint(Summarized):
     def as_dict(self) -> dict[str, Any]:
         return jsonable({"lambda": self.lam, "X": self.state[0], "V": self.state[1],
                          "multipliers": [complex(z) for z in self.multipliers], "stability": self.stability,
-                         "amplitude": self.amplitude, "X_min": self.X_min, "X_max": self.X_max, "TR_B": self.TR_B,
-                         "stick_fraction": self.stick_fraction, "stick_phases": self.stick_phases,
+                         "amplitude": self.amplitude, "X_min": self.X_min, "X_max": self.X_max,
+                         "V_min": self.V_min, "V_max": self.V_max, "TR_B": self.TR_B, "stick_fraction": self.stick_fraction, "stick_phases": self.stick_phases,
                          "averages": self.averages, "energy_residual": self.energy_residual, "residual": self.residual})
 
     def _summary(self) -> tuple[str, list[Row]]:
@@ -845,7 +853,8 @@ def _point(pb: _Problem, s: _Sol) -> BranchPoint:
     return BranchPoint(lam=s.lam, state=s.P.copy(), multipliers=multipliers(s.run.monodromy),
                        residual=float(np.max(np.abs(s.run.residual))), signature=signature(s.run),
                        monodromy=s.run.monodromy.copy(),
-                       **{k: meas[k] for k in ("amplitude", "X_min", "X_max", "TR_B", "stick_fraction", "averages",
+                       **{k: meas[k] for k in ("amplitude", "X_min", "X_max", "V_min", "V_max", "TR_B", "stick_fraction",
+                                               "averages",
                                                "energy_residual", "stick_phases", "shortest_stick", "min_gap",
                                                "hold_margin")})
 

@@ -26,6 +26,7 @@ import numpy as np
 from .._display import Row, Summarized, num, system_row
 from .._json import jsonable
 from ..friction.base import FrictionLaw
+from ..analysis.steady_state import stick_fraction as window_stick_fraction
 from ..params import BeltOscillator
 from ..simulate import simulate
 from ..solvers.stiff import Stiff
@@ -133,9 +134,8 @@ class StatefulOrbit(floquet.MultiplierStability, Summarized):
 
 
 def stick_fraction(traj: Trajectory) -> float:
-    """The fraction of ``traj``'s time whose samples the law counts as stuck (mode 0 at a step's start)."""
-    t, mode = traj.t, traj.mode
-    return float(np.sum(np.diff(t)[mode[:-1] == 0]) / (t[-1] - t[0]))
+    """The fraction of ``traj``'s time the law counts as stuck, as simulate's analysis measures a window."""
+    return window_stick_fraction(traj, (float(traj.t[0]), float(traj.t[-1])))
 
 
 class Newton(NamedTuple):

@@ -101,6 +101,10 @@ class Solver(ABC):
     fixed_step:
         It steps at a fixed dt through a stick band: it does not locate switches, its sample
         count follows t_end / dt, and its section values jitter from cycle to cycle.
+    refine_between_samples:
+        Its samples need not hold the turns of X', of the transmitted force or a threshold stick's boundaries
+        (its laws are smooth): the analysis finds V's extremes, TR_B and the stick share between them on the
+        cubic Hermite interpolant (:mod:`frictionflow.analysis.between_samples`).
     default_chunk:
         Points per sweep chunk (about 0.2 s of work on a core); see :meth:`chunk_points`.
     batched:
@@ -134,6 +138,7 @@ class Solver(ABC):
     interpolant: ClassVar[str] = "cubic_hermite"
     steady_rtol: ClassVar[float] = 1e-6
     fixed_step: ClassVar[bool] = False
+    refine_between_samples: ClassVar[bool] = False
     default_chunk: ClassVar[int] = 256
     batched: ClassVar[Callable[..., None] | None] = None
     batched_forced: ClassVar[Callable[..., np.ndarray] | None] = None

@@ -37,7 +37,9 @@ class Stiff(Solver):
     exactly 0 there: the downward ones are the section the other solvers
     sample, so an unforced steady-state window is whole periods) and of the
     friction power X' F (the kink of its split into input and output).  The
-    extremes of X' and of the transmitted force (TR_B) are the steps'.  A belt
+    extremes of X' and of the transmitted force (TR_B) and the stick share
+    are found between the steps by the analysis (``refine_between_samples``:
+    on the cubic Hermite interpolant of the samples and their rates).  A belt
     whose speed varies, V_b(tau), enters every stage; a forced run, or one
     on a varying belt, has a sample on every k 2 pi / Omega (with both,
     Omega_b must equal Omega).
@@ -56,6 +58,7 @@ class Stiff(Solver):
     parameters = (STIFF_RTOL, MAX_STEPS, MAX_STEP)
     keywords = {"stiff_rtol": "rtol"}
     interpolant = "state_hermite"
+    refine_between_samples = True  # its steps end on the zeros of X' and P_f, not of X'' or F_T'
     supports_belt_motion = True
     steady_rtol = 1e-6
     default_chunk = 64
