@@ -294,9 +294,10 @@ def test_cli_json_figure_and_dataset(tmp_path, capsys):
     assert code == 0
     report = json.loads(capsys.readouterr().out)
     names = [o["name"] for o in report["outcomes"]]
-    assert names == ["equilibrium", "stick_slip_cycle", "not_settled", "diverged"]
+    assert names == ["equilibrium", "stick_slip_cycle", "not_settled", "diverged", "quasi_periodic", "chaotic"]
     assert sum(o["count"] for o in report["outcomes"]) == 36 and report["design"]["kind"] == "grid"
-    assert report["labels"] == {"0": "equilibrium", "1": "stick_slip_cycle", "-1": "not_settled", "-2": "diverged"}
+    assert report["labels"] == {"0": "equilibrium", "1": "stick_slip_cycle", "-1": "not_settled", "-2": "diverged",
+                                "-3": "quasi_periodic", "-4": "chaotic"}
     assert out.exists() and fig.read_bytes()[:4] == b"\x89PNG"
     with xr.open_dataset(out) as ds:
         assert ds["label"].shape == (6, 6)
@@ -311,13 +312,13 @@ def test_cli_vary_prints_a_table(capsys):
 @pytest.mark.parametrize("args, words", [
     (["--vb", "0.12", "--x0-range", "abc", "--v0-range=-0.3:0.3:5"], "--x0-range must be FROM:TO:N"),
     (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--sample", "10"], "--x0-range (with --sample, N is --sample's) must be FROM:TO"),
-    (["--vb", "0.12", "--x0-range=0.3:-0.3:5", "--v0-range=-0.3:0.3:5"], "x0: low 0.3 > high -0.3"),
+    (["--vb", "0.12", "--x0-range=0.3:-0.3:5", "--v0-range=-0.3:0.3:5"], "--x0-range: low 0.3 > high -0.3"),
     (["--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--vary", "x0=0.1,0.2"], "'x0' cannot be varied"),
     (["--vb", "0.1", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--vary", "vb=0.1,0.2"], "vb is also given"),
     (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--out", "b.csv"], "--out must end in"),
     (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--plot", "b.gif"], "--plot must end in"),
     (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--attractor-tol", "2"],
-     "--attractor-tol must be a number in [0, 1), got 2.0"),  # the option, not Tolerances' field (period)
+     "--attractor-tol must be a number in (0, 1), got 2.0"),  # the option, not Tolerances' field (period)
     (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--chunk-size", "0"],
      "--chunk-size must be an integer and in [1, 1e+07], got 0"),  # the option, not the API's chunk_size
     (["--vb", "0.12", "--x0-range=-0.3:0.3:5", "--v0-range=-0.3:0.3:5", "--zeta", "-1"], "zeta must be"),

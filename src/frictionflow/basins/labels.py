@@ -13,8 +13,11 @@ What counts as one attractor
   sticks (s > ``Tolerances.stick``) is a ``stick_slip_cycle``, else a
   ``slip_cycle``; several of one sort are numbered by amplitude
   (``stick_slip_cycle``, ``stick_slip_cycle_2``, ...);
-* ``not_settled`` and ``diverged`` are outcomes, not attractors, and keep
-  their own codes (-1, -2).
+* the other kinds are outcomes, not attractors, each with its own negative
+  code (:data:`OUTCOMES`): ``not_settled`` -1 (also a periodic point or an
+  equilibrium without finite values), ``diverged`` -2, ``quasi_periodic`` -3
+  and ``chaotic`` -4 (forced runs).  Every point has exactly one outcome, so
+  the basin stabilities add up to 1.
 
 Points go together when, along every feature, the sorted values have no gap
 wider than the tolerance (single linkage, feature by feature, until no gap is
@@ -34,6 +37,27 @@ bifurcation (a fold, a grazing) come closer than 1e-3, and those are what a
 basin study should not split hairs over.  1e-3 sits orders of magnitude from
 both: relative for T and A (with an absolute floor ``floor`` for amplitudes
 and positions near 0), absolute for s (a share of time).
+
+No tolerance finer than the runs resolve (:func:`resolution`)
+--------------------------------------------------------------
+Whatever tolerance is asked for, points are never split finer than
+``Tolerances.resolution``, which :func:`~frictionflow.basins.basins` sets
+from the solver (:func:`resolution`): :data:`RESOLUTION_FACTOR` (10) times
+
+* the steady-state tolerance the runs were classified with (``rtol``, else
+  the solver's ``steady_rtol``): one orbit's points agree to about it;
+* and, for a fixed-step solver, its step ``dt`` (in units of 1 / omega_n,
+  the natural period being 2 pi).  Such a run locates a switch only to
+  within a step and is accepted as periodic while its cycles jitter (see
+  :mod:`frictionflow.analysis.steady_state`), so one orbit's points differ
+  by a few dt, not by rtol: RK4 at dt = 1e-3 through a Karnopp band spreads
+  period, amplitude and stick fraction by 1e-3 to 3e-3 relative (2.6e-3
+  over 36 points of one stick-slip cycle; 1.7e-3 at dt = 5e-4, 3.2e-3 at
+  dt = 2e-3).  Ten steps -- 1e-2 at the default dt -- keeps such an orbit
+  one attractor, and still parts attractors that differ by more than 1 %.
+
+The resolution is capped at :data:`MAX_RESOLUTION` (a run that cannot tell
+50 % apart tells nothing apart).
 """
 
 from __future__ import annotations
@@ -45,18 +69,45 @@ import numpy as np
 
 from .. import quantities as Q
 
-#: the codes of the outcomes that are not attractors
-NOT_SETTLED, DIVERGED = -1, -2
-OUTCOMES = {NOT_SETTLED: "not_settled", DIVERGED: "diverged"}
+#: the codes of the outcomes that are not attractors: every steady-state kind but periodic and equilibrium
+NOT_SETTLED, DIVERGED, QUASI_PERIODIC, CHAOTIC = -1, -2, -3, -4
+OUTCOMES = {NOT_SETTLED: "not_settled", DIVERGED: "diverged", QUASI_PERIODIC: "quasi_periodic", CHAOTIC: "chaotic"}
 _KIND = {name: code for code, name in enumerate(Q.KINDS)}
+#: the resolution of a run (:func:`resolution`) in multiples of its steady-state rtol and of a fixed step dt
+RESOLUTION_FACTOR = 10.0
+#: the coarsest resolution (a run that cannot tell 50 % apart tells nothing apart)
+MAX_RESOLUTION = 0.5
 
 
-def check_tolerance(name: str, value: object) -> float:
-    """``value`` if it is a tolerance :class:`Tolerances` takes (a number in [0, 1)); ValueError starting with
-    ``name`` otherwise -- the field, or the command-line option that sets it (``--attractor-tol``)."""
-    if not (isinstance(value, (int, float)) and np.isfinite(value) and 0 <= value < 1):
-        raise ValueError(f"{name} must be a number in [0, 1), got {value!r}")
+def check_tolerance(name: str, value: object, zero: bool = False) -> float:
+    """``value`` if it is a tolerance :class:`Tolerances` takes (a number in (0, 1), or [0, 1) with ``zero``);
+    ValueError starting with ``name`` otherwise -- the field, or the command-line option that sets it
+    (``--attractor-tol``)."""
+    low_ok = (lambda v: v >= 0) if zero else (lambda v: v > 0)
+    if isinstance(value, bool) or not (isinstance(value, (int, float)) and np.isfinite(value) and low_ok(value) and value < 1):
+        raise ValueError(f"{name} must be a number in {'[0, 1)' if zero else '(0, 1)'}, got {value!r}")
     return float(value)
+
+
+def resolution(solver: Any, rtol: float | None = None) -> float:
+    """The finest difference between attractors that runs of ``solver`` resolve (see the module docstring).
+
+    :data:`RESOLUTION_FACTOR` times the steady-state tolerance of the runs
+    (``rtol``, else the solver's declared ``steady_rtol``) and, for a solver
+    that declares ``fixed_step``, times its step ``dt``; at most
+    :data:`MAX_RESOLUTION`.
+
+    Parameters
+    ----------
+    solver:
+        The solver the points were run with (a :class:`~frictionflow.solvers.base.Solver`).
+    rtol:
+        The steady-state tolerance they were classified with, or None for the solver's default.
+    """
+    finest = RESOLUTION_FACTOR * float(solver.steady_rtol if rtol is None else rtol)
+    if solver.fixed_step:
+        finest = max(finest, RESOLUTION_FACTOR * float(solver.describe()["dt"]))
+    return min(finest, MAX_RESOLUTION)
 
 
 @dataclass(frozen=True)
@@ -67,10 +118,17 @@ class Tolerances:
     amplitude: float = 1e-3  #: relative, on the amplitude X_max - X_min and on the equilibrium's X*
     stick: float = 1e-3  #: absolute, on the stick fraction (and the least stick fraction of a stick-slip cycle)
     floor: float = 1e-9  #: absolute floor of the amplitude and position comparisons (solver noise)
+    #: what the runs resolve (:func:`resolution`, set by :func:`~frictionflow.basins.basins`): period, amplitude
+    #: and stick are never finer
+    resolution: float = 0.0
 
     def __post_init__(self) -> None:
         for name, value in asdict(self).items():
-            check_tolerance(f"tolerance {name}", value)
+            check_tolerance(f"tolerance {name}", value, zero=name in ("floor", "resolution"))
+
+    def used(self, name: str) -> float:
+        """The tolerance ``name`` (period, amplitude or stick) as applied: never finer than :attr:`resolution`."""
+        return max(float(getattr(self, name)), self.resolution)
 
     def as_dict(self) -> dict[str, float]:
         return asdict(self)
@@ -129,13 +187,14 @@ def find_attractors(q: dict[str, np.ndarray], tol: Tolerances) -> list[Attractor
     found: list[Attractor] = []
     # (a point without finite values cannot be told apart: it stays unlabelled, i.e. not settled)
     eq = np.nonzero((kind == _KIND["equilibrium"]) & np.isfinite(mid))[0]
-    for members in sorted(clusters(eq, [mid], [_relative(tol.amplitude, tol.floor)]), key=lambda m: np.median(mid[m])):
+    amplitude = _relative(tol.used("amplitude"), tol.floor)
+    for members in sorted(clusters(eq, [mid], [amplitude]), key=lambda m: np.median(mid[m])):
         found.append(_attractor("equilibrium", "equilibrium", members, q, amp, mid))
     per = np.nonzero((kind == _KIND["periodic"]) & np.isfinite(amp + q["period"] + q["stick_fraction"]))[0]
-    gaps = [_relative(tol.amplitude, tol.floor), _relative(tol.period, 0.0), _absolute(tol.stick)]
+    gaps = [amplitude, _relative(tol.used("period"), 0.0), _absolute(tol.used("stick"))]
     cycles = [_attractor("", "periodic", m, q, amp, mid) for m in clusters(per, [amp, q["period"], q["stick_fraction"]], gaps)]
     for sort in ("slip_cycle", "stick_slip_cycle"):
-        mine = sorted((c for c in cycles if (c.stick_fraction > tol.stick) == (sort == "stick_slip_cycle")),
+        mine = sorted((c for c in cycles if (c.stick_fraction > tol.used("stick")) == (sort == "stick_slip_cycle")),
                       key=lambda c: (c.amplitude, c.period))
         for i, c in enumerate(mine):
             c.name = sort if i == 0 else f"{sort}_{i + 1}"
@@ -161,8 +220,8 @@ def _attractor(name: str, kind: str, members: np.ndarray, q: dict[str, np.ndarra
 def codes(groups: list[list[Attractor]]) -> dict[str, int]:
     """One code per attractor name over all groups: 0, 1, ... by amplitude (averaged where it exists), then name.
 
-    The equilibrium (amplitude 0) comes first; ``not_settled`` and
-    ``diverged`` are -1 and -2 (:data:`OUTCOMES`).
+    The equilibrium (amplitude 0) comes first; the outcomes that are not
+    attractors have their negative codes (:data:`OUTCOMES`).
     """
     amps: dict[str, list[float]] = {}
     for found in groups:
@@ -173,16 +232,18 @@ def codes(groups: list[list[Attractor]]) -> dict[str, int]:
 
 
 def labels_of(kind: np.ndarray, found: list[Attractor], code: dict[str, int]) -> np.ndarray:
-    """Per point (flat): the code of its attractor, -1 not settled, -2 diverged."""
+    """Per point (flat): the code of its attractor, else of its outcome (:data:`OUTCOMES`); a periodic point or an
+    equilibrium that no attractor holds (without finite values) is not settled."""
     out = np.full(kind.shape, NOT_SETTLED, dtype=np.int8)
-    out[kind == _KIND["diverged"]] = DIVERGED
+    for code_, name in OUTCOMES.items():
+        out[kind == _KIND[name]] = code_
     for a in found:
         out[a.members] = code[a.name]
     return out
 
 
 def meanings(code: dict[str, int]) -> tuple[list[int], str]:
-    """CF ``flag_values`` and ``flag_meanings`` of the labels: the attractors, then not_settled and diverged."""
+    """CF ``flag_values`` and ``flag_meanings`` of the labels: the attractors, then the other outcomes (-1, -2, ...)."""
     pairs = sorted(code.items(), key=lambda kv: kv[1]) + [(n, c) for c, n in OUTCOMES.items()]
     return [c for _, c in pairs], " ".join(n for n, _ in pairs)
 
@@ -192,8 +253,8 @@ def describe(tol: Tolerances) -> dict[str, Any]:
     return {
         "labels": "attractors found over the whole dataset after the sweep; periodic orbits told apart by period "
         "(relative tolerance label_tol_period), amplitude X_max - X_min (relative, label_tol_amplitude, floor label_tol_floor) "
-        "and stick fraction (absolute, label_tol_stick); equilibria by position; codes 0.. ordered by amplitude, "
-        "-1 not settled, -2 diverged",
+        "and stick fraction (absolute, label_tol_stick), none finer than the runs resolve (label_tol_resolution); "
+        "equilibria by position; codes 0.. ordered by amplitude, -1 not settled, -2 diverged, -3 quasi-periodic, -4 chaotic",
         **{f"label_tol_{k}": float(v) for k, v in tol.as_dict().items()},
     }
 
@@ -217,7 +278,9 @@ def label_attractors(ds, along: str | None = None, tolerances: Tolerances | None
     swept parameter, when given: a basin-stability study against it) and
     share one set of codes.  Adds ``label`` (the sweep's dims), an
     ``outcome`` dimension (the codes: attractors 0.., -1 not settled, -2
-    diverged) and the :data:`TABLES` over ([``along``,] ``outcome``).
+    diverged, -3 quasi-periodic, -4 chaotic) and the :data:`TABLES` over
+    ([``along``,] ``outcome``); every point has one outcome, so each group's
+    ``basin_stability`` adds up to 1.
     Returns the new dataset and, per group, the attractors found.
 
     Parameters
@@ -247,9 +310,10 @@ def label_attractors(ds, along: str | None = None, tolerances: Tolerances | None
     flat = [{n: v[g].ravel() if along else v.ravel() for n, v in q.items()} for g in range(n_groups)]
     found = [find_attractors(f, tol) for f in flat]
     code = codes(found)
-    label = np.stack([labels_of(f["kind"], a, code) for f, a in zip(flat, found)]).reshape(q["kind"].shape)
+    labels = [labels_of(f["kind"], a, code) for f, a in zip(flat, found)]
+    label = np.stack(labels).reshape(q["kind"].shape)
     values, names = meanings(code)
-    tables = _tables(flat, found, values, names.split())
+    tables = _tables(labels, found, values, names.split())
     lead = (along,) if along else ()
     out = ds.assign(label=(order, label)).transpose(*dims, ...)
     out["label"].attrs.update(long_name="attractor the initial state ends on", flag_values=values, flag_meanings=names)
@@ -261,22 +325,18 @@ def label_attractors(ds, along: str | None = None, tolerances: Tolerances | None
     return out, found
 
 
-def _tables(flat: list[dict[str, np.ndarray]], found: list[list[Attractor]], values: list[int], names: list[str]) -> list[np.ndarray]:
-    """The :data:`TABLES` as arrays (group, outcome)."""
-    shape = (len(flat), len(values))
-    count = np.zeros(shape, dtype=np.int64)
+def _tables(labels: list[np.ndarray], found: list[list[Attractor]], values: list[int], names: list[str]) -> list[np.ndarray]:
+    """The :data:`TABLES` as arrays (group, outcome), counted from the labels: every point in exactly one outcome."""
+    shape = (len(labels), len(values))
+    count = np.array([[np.count_nonzero(label == v) for v in values] for label in labels], dtype=np.int64).reshape(shape)
     props = [np.full(shape, np.nan) for _ in range(4)]
-    for g, (f, attractors) in enumerate(zip(flat, found)):
+    for g, attractors in enumerate(found):
         by_name = {a.name: a for a in attractors}
-        kind = f["kind"]
         for j, name in enumerate(names):
             a = by_name.get(name)
             if a is not None:
-                count[g, j] = len(a.members)
                 for p, v in zip(props, (a.period, a.amplitude, a.stick_fraction, a.x_mid)):
                     p[g, j] = v
-            elif name in OUTCOMES.values():
-                count[g, j] = int(np.count_nonzero(kind == _KIND[name]))
-    n = np.array([len(f["kind"]) for f in flat])[:, None]
+    n = np.array([len(label) for label in labels])[:, None]
     p = count / n
     return [count, p, np.sqrt(p * (1.0 - p) / n), *props]

@@ -12,7 +12,7 @@ from .study import Basins
 
 #: one colour per outcome name, the same in every figure
 _COLOURS = {"equilibrium": "tab:blue", "slip_cycle": "tab:orange", "stick_slip_cycle": "tab:red",
-            "not_settled": "0.75", "diverged": "black"}
+            "not_settled": "0.75", "diverged": "black", "quasi_periodic": "gold", "chaotic": "darkviolet"}
 _MORE = ("tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan")
 
 
@@ -69,12 +69,11 @@ def _map(ax, result: Basins) -> None:
     from matplotlib.patches import Patch
 
     ds = result.dataset
-    shown = _present(result)
-    codes = [int(ds["outcome"][j]) for j, _ in shown]
-    index = np.full(int(max(codes) - min(codes) + 1), -1)
-    for k, c in enumerate(codes):
-        index[c - min(codes)] = k  # code -> colour slot
-    slot = index[np.asarray(ds["label"].values) - min(codes)]
+    shown = _present(result)  # (every point has an outcome: never empty)
+    labels = np.asarray(ds["label"].values)
+    slot = np.full(labels.shape, np.nan)  # code -> colour slot
+    for k, (j, _) in enumerate(shown):
+        slot[labels == int(ds["outcome"][j])] = k
     cmap = ListedColormap([colour(n, j) for j, n in shown])
     if "sample" in ds.dims:
         ax.scatter(ds["x0"].values, ds["v0"].values, c=slot, cmap=cmap, vmin=-0.5, vmax=len(shown) - 0.5, s=6, linewidths=0)

@@ -24,14 +24,15 @@ import numpy as np
 
 from .. import _validate as check
 from .._display import Summarized, num
-from .._figures import draw
-from ..io import DEFAULT_DPI, FIGURE_FORMATS, atomic_write, check_dpi, check_output_path, temporary_path, write_error
+from .._figures import draw, pyplot
+from ..io import (DEFAULT_DPI, FIGURE_FORMATS, atomic_write, check_dpi, check_output_path, temporary_path, write_error,
+                  write_figure)
 from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS, SweepConfig, parse_sweep
 from ..estimate import Estimate, enforce
 from ..sweep.compute import VARIABLES
 from ..sweep.runner import run_sweep, sweep_estimate
-from ..sweep.store import check_out
-from .labels import OUTCOMES, Attractor, Tolerances, label_attractors
+from ..sweep.store import check_out, zarr_problem
+from .labels import OUTCOMES, Attractor, Tolerances, label_attractors, resolution
 
 #: what an output dataset can be
 DATASET_FORMATS = (".nc", ".zarr")
@@ -54,10 +55,11 @@ class Basins(Summarized):
     attractors:
         Per value of the varied parameter, the :class:`Attractor` s found.
     codes:
-        The code of every outcome by name (attractors 0, 1, ...,
-        ``not_settled`` -1, ``diverged`` -2).
+        The code of every attractor by name (0, 1, ...; the other outcomes
+        have the negative codes of :data:`~frictionflow.basins.labels.OUTCOMES`).
     tolerances:
-        The :class:`Tolerances` the labels were given with.
+        The :class:`Tolerances` the labels were given with, its ``resolution``
+        the solver's (:func:`~frictionflow.basins.labels.resolution`).
     design:
         How the initial states were chosen: the grid or the random sample
         (ranges, number, seed).
@@ -80,7 +82,8 @@ class Basins(Summarized):
 
     @property
     def names(self) -> list[str]:
-        """Every outcome by code: the attractors (0, 1, ...), then ``not_settled`` and ``diverged``."""
+        """Every outcome by code: the attractors (0, 1, ...), then ``not_settled``, ``diverged``, ``quasi_periodic``
+        and ``chaotic``."""
         return str(self.dataset["outcome"].attrs["flag_meanings"]).split()
 
     @property
@@ -155,11 +158,14 @@ class SweepOptions:
     Attributes
     ----------
     store:
-        The sweep's own store (``.zarr``, resumable, kept).  Default: beside
-        ``out`` (``OUT.sweep.zarr``), removed once ``out`` is written, so that
-        an interrupted run resumes; a temporary directory without ``out``.
+        The sweep's own store (``.zarr``, resumable, kept; not ``out``).
+        Default: beside ``out`` (``OUT.sweep.zarr``), removed once ``out`` is
+        written, so that an interrupted run resumes; a temporary directory
+        (removed, not resumable) without ``out``.
     restart, chunk_size, client, scheduler, progress:
         As for :func:`~frictionflow.sweep.run_sweep`.
+    store_name:
+        How error messages name ``store`` (the command line passes ``--store``).
     """
 
     store: str | Path | None = None
@@ -168,6 +174,7 @@ class SweepOptions:
     client: Any = None
     scheduler: str | None = None
     progress: bool = False
+    store_name: str = "store"
 
 
 def basins(
@@ -208,14 +215,16 @@ def basins(
     plot:
         The basin map, or with ``vary`` the basin-stability curves (.png, .pdf, .svg, .eps).
     tolerances:
-        How close steady states must be to be one attractor (:class:`Tolerances`).
+        How close steady states must be to be one attractor (:class:`Tolerances`);
+        never finer than the solver resolves (its ``resolution`` is raised to
+        :func:`~frictionflow.basins.labels.resolution` of the run's solver).
     dpi:
         Resolution of ``plot`` in dots per inch.
     sweep_options:
         How the sweep runs and where its store lives (:class:`SweepOptions`).
         Its fields are also taken as keywords among ``params``, replacing the
-        record's: ``store`` (the sweep's resumable ``.zarr`` store; default
-        beside ``out``, removed once ``out`` is written), ``restart``,
+        record's: ``store`` (the sweep's resumable ``.zarr`` store, not
+        ``out``; default beside ``out``, removed once ``out`` is written), ``restart``,
         ``chunk_size``, ``client``, ``scheduler`` and ``progress`` (as for
         :func:`~frictionflow.sweep.run_sweep`).
 
@@ -232,7 +241,8 @@ def basins(
     grid, design = _design(x0, v0, sample, seed)
     along, grid = _vary(vary, values, grid)
     cfg = parse_sweep({**values, "grid": grid}, source="basins")
-    _check_outputs(out, plot, dpi)
+    _check_outputs(out, plot, dpi, run)
+    tol = replace(tol, resolution=max(tol.resolution, resolution(cfg.run.build()[2], cfg.run.rtol)))
     design["points"] = int(cfg.size // (len(cfg.axes[along]) if along else 1))
     enforce(_estimate(cfg, run, out))  # within the limits in force (frictionflow.estimate.limited)
     t0 = time.perf_counter()
@@ -240,23 +250,84 @@ def basins(
         labelled, found = label_attractors(_swept(cfg, path, run), along, tol)
         labelled.attrs.update(_design_attrs(design, along))
         result = Basins(labelled, found, _codes(labelled), tol, design, along, time.perf_counter() - t0)
-        if out is not None:
-            write_dataset(labelled, out)
-            result.files["out"] = str(out)
-    if plot is not None:
-        result.plot(plot, name="plot", dpi=dpi)
-        result.files["plot"] = str(plot)
+        _write(result, out, plot, dpi)
     return result
 
 
-def _check_outputs(out: str | Path | None, plot: str | Path | None, dpi: float) -> None:
-    """Refuse, before any work, an ``out`` that is not .nc or .zarr in a writable directory and a ``plot`` of an
-    unknown format or resolution."""
+def _write(result: Basins, out: str | Path | None, plot: str | Path | None, dpi: float) -> None:
+    """The figure drawn first (a figure that cannot be drawn leaves nothing written), then ``out``, then the figure
+    saved."""
+    fig = None
+    if plot is not None:
+        plt = pyplot(plot)  # the file-only backend
+        fig = result.plot(None, name="plot", dpi=dpi)
     if out is not None:
-        check_out(out)
+        try:
+            write_dataset(result.dataset, out)
+        except BaseException:
+            if fig is not None:
+                plt.close(fig)
+            raise
+        result.files["out"] = str(out)
+    if fig is not None:
+        write_figure(fig, plot, "plot", dpi=dpi)
+        result.files["plot"] = str(plot)
+
+
+def _check_outputs(out: str | Path | None, plot: str | Path | None, dpi: float, run: SweepOptions) -> None:
+    """Refuse, before any work, an ``out`` (:func:`check_dataset_path`) or a store (:func:`check_store`) that
+    could not be written, and a ``plot`` of an unknown format or resolution."""
+    if out is not None:
+        check_dataset_path(out)
+    if run.store is not None:
+        check_store(run.store, out, run.store_name)
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "plot")
         check_dpi(dpi)
+
+
+def check_dataset_path(path: str | Path, name: str = "out") -> Path:
+    """Refuse, before any work, a dataset output that could not be written, naming it ``name``.
+
+    Refused: an extension other than .nc or .zarr; a missing or unwritable
+    directory; for .nc an existing directory (or a read-only file); for
+    .zarr an existing file or directory that is not a Zarr store (an
+    existing Zarr store is replaced, as the sweep's store treats it:
+    :func:`~frictionflow.sweep.store.zarr_problem`).
+    """
+    p = Path(path)
+    if p.suffix.lower() not in DATASET_FORMATS:
+        raise ValueError(f"{name} must end in one of {', '.join(DATASET_FORMATS)}, got {str(path)!r}")
+    if p.suffix.lower() == ".nc":
+        return check_output_path(p, DATASET_FORMATS, name)
+    check_out(p, name)  # its directory
+    problem = zarr_problem(p) if p.exists() else None
+    if problem is not None:
+        raise ValueError(f"{name}: {str(path)!r} {problem}; it would be replaced: give another path or remove it")
+    return p
+
+
+def check_store(store: str | Path, out: str | Path | None, name: str = "store", out_name: str = "out") -> Path:
+    """Refuse, before any work, a sweep store (``name``) that is not a .zarr in a writable directory, or that is
+    the dataset output ``out`` (``out_name``) itself."""
+    p = Path(store)
+    if p.suffix.lower() != ".zarr":
+        raise ValueError(f"{name} must end in .zarr, got {str(store)!r}")
+    check_out(p, name)  # its directory
+    if out is not None and p.resolve() == Path(out).resolve():
+        raise ValueError(f"{name} must not be {out_name} ({str(out)!r}): the sweep's store and the labelled dataset "
+                         "are two outputs")
+    return p
+
+
+def store_path(store: str | Path | None, out: str | Path | None) -> Path | None:
+    """Where the sweep's store goes: ``store``, else beside ``out`` (``OUT.sweep.zarr``); None: a temporary
+    directory (removed whatever happens)."""
+    if store is not None:
+        return Path(store)
+    if out is not None:
+        return Path(out).with_name(Path(out).name + ".sweep.zarr")
+    return None
 
 
 def _sweep_options(given: SweepOptions | None, params: dict[str, Any]) -> SweepOptions:
@@ -271,14 +342,19 @@ def _estimate(cfg: SweepConfig, run: SweepOptions, out: str | Path | None) -> Es
     """The sweep's estimate with its store where :class:`_sweep_store` puts it, the results held in memory to
     be labelled, and ``out`` written from them."""
     results = float(cfg.size) * 8 * len(VARIABLES)
-    store = run.store or (Path(str(out) + ".sweep.zarr") if out is not None else Path(tempfile.gettempdir()) / "sweep.zarr")
-    return replace(sweep_estimate(cfg, store, "store"), memory=results).writing(out, results)
+    store = store_path(run.store, out) or Path(tempfile.gettempdir()) / "sweep.zarr"
+    return replace(sweep_estimate(cfg, store, _store_name(run)), memory=results).writing(out, results)
+
+
+def _store_name(run: SweepOptions) -> str:
+    """How messages name the sweep's store: as given, else by the output it goes beside (``out``)."""
+    return run.store_name if run.store is not None else "out"
 
 
 def _swept(cfg: SweepConfig, path: Path, run: SweepOptions):
     """The sweep computed (or resumed) into the store ``path``, loaded into memory."""
     lazy = run_sweep(cfg, path, restart=run.restart, client=run.client, scheduler=run.scheduler, chunk_size=run.chunk_size,
-                     progress=run.progress)
+                     progress=run.progress, name=_store_name(run))
     try:
         return _plain(lazy.load())
     finally:
@@ -311,19 +387,28 @@ def _real(name: str, v: Any) -> float:
     return check.number(name, v, "finite numbers")
 
 
-def _design(x0: Any, v0: Any, sample: int | None, seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
-    """The sweep's grid entries of the initial states, and the design as reported."""
+def _design(x0: Any, v0: Any, sample: int | None, seed: int,
+            names: Mapping[str, str] | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The sweep's grid entries of the initial states, and the design as reported; messages name x0, v0, sample
+    and seed as ``names`` does (the command line's options), else by themselves."""
+    name = {k: k for k in ("x0", "v0", "sample", "seed")} | dict(names or {})
     if sample is None:
-        (a, b, n), (c, d, m) = _range("x0", x0, True), _range("v0", v0, True)
+        (a, b, n), (c, d, m) = _range(name["x0"], x0, True), _range(name["v0"], v0, True)
         grid = {"x0": {"start": a, "stop": b, "num": n}, "v0": {"start": c, "stop": d, "num": m}}
         return grid, {"kind": "grid", "x0": [a, b, n], "v0": [c, d, m]}
     if isinstance(sample, bool) or not isinstance(sample, (int, np.integer)) or sample < 1:
-        raise ValueError(f"sample must be an integer >= 1, got {sample!r}")
-    (a, b, _), (c, d, _) = _range("x0", x0, False), _range("v0", v0, False)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise ValueError(f"seed must be an integer, got {seed!r}")
+        raise ValueError(f"{name['sample']} must be an integer >= 1, got {sample!r}")
+    (a, b, _), (c, d, _) = _range(name["x0"], x0, False), _range(name["v0"], v0, False)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2**63:
+        raise ValueError(f"{name['seed']} must be an integer in [0, 2^63), got {seed!r}")
     grid = {SAMPLE: {"num": int(sample), "seed": int(seed), "x0": [a, b], "v0": [c, d]}}
     return grid, {"kind": "sample", "x0": [a, b], "v0": [c, d], "sample": int(sample), "seed": int(seed)}
+
+
+def check_design(x0: Any, v0: Any, sample: int | None, seed: int, names: Mapping[str, str]) -> None:
+    """Refuse initial states :func:`basins` would refuse, naming them as ``names`` does (``{"x0": "--x0-range",
+    ...}``: the command line's options)."""
+    _design(x0, v0, sample, seed, names)
 
 
 def _vary(vary: Mapping[str, Any] | None, values: Mapping[str, Any], grid: dict[str, Any]) -> tuple[str | None, dict[str, Any]]:
@@ -375,13 +460,8 @@ class _sweep_store:
         self.tmp: str | None = None
 
     def __enter__(self):
-        if self.given is not None:
-            self.path = Path(self.given)
-            if self.path.suffix.lower() != ".zarr":
-                raise ValueError(f"store must end in .zarr, got {str(self.given)!r}")
-        elif self.out is not None:
-            self.path = Path(self.out).with_name(Path(self.out).name + ".sweep.zarr")
-        else:
+        self.path = store_path(self.given, self.out)
+        if self.path is None:
             self.tmp = tempfile.mkdtemp(prefix="frictionflow-basins-")
             self.path = Path(self.tmp) / "sweep.zarr"
         return self.path

@@ -15,12 +15,11 @@ from typing import Any, Optional
 from .._display import num
 from ..basins import Tolerances, basins as run_basins
 from ..basins.labels import check_tolerance
-from ..basins.study import DATASET_FORMATS, SweepOptions
+from ..basins.study import SweepOptions, check_dataset_path, check_design, check_store, store_path
 from ..io import check_output_path
 from ..plotting import FIGURE_FORMATS
 from ..sweep.config import NOT_IN_SWEEPS
 from ..sweep.runner import CHUNK_SIZE
-from ..sweep.store import check_out
 from ._app import Interrupted, app
 from .._ranges import parse_range as _parse_range
 from .options import CONFIG_OPTION, check_option, command_config, parameter_names, with_options, with_parameters
@@ -42,7 +41,8 @@ class BasinsOptions:
     seed: int = option("--seed")
     vary: Optional[str] = option("--vary", "Here: basin stability against one parameter (vb, zeta, fd, ...), the same "
                                  "initial states at each value; or NAME=V1,V2,..")
-    attractor_tol: Optional[float] = option("--attractor-tol")
+    attractor_tol: Optional[float] = option("--attractor-tol", "Here: in (0, 1); never finer than the solver resolves "
+                                            "(10 x its steady-state rtol, and 10 dt for RK4: 1e-2 at its default dt).")
     out: Optional[Path] = option("--out", "Here: the labelled dataset, .nc or .zarr.")
     plot: Optional[Path] = option("--plot", "Here: the basin map, or with --vary basin stability against the parameter.")
     dpi: float = option("--dpi")
@@ -70,29 +70,45 @@ def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
         check_option("--chunk-size", CHUNK_SIZE, opts.chunk_size)
     grid = opts.sample is None
     x, v = parse_range("--x0-range", opts.x0_range, grid), parse_range("--v0-range", opts.v0_range, grid)
-    _check_outputs(opts.out, opts.plot)
+    check_design(x, v, opts.sample, opts.seed, OPTION_NAMES)
+    _check_outputs(opts.out, opts.plot, opts.store)
     run = SweepOptions(store=opts.store, restart=opts.restart, chunk_size=opts.chunk_size, scheduler=opts.scheduler,
-                       progress=sys.stderr.isatty())
+                       progress=sys.stderr.isatty(), store_name="--store")
     try:
         result = run_basins(settings, x0=x, v0=v, sample=opts.sample, seed=opts.seed, vary=parse_vary(opts.vary), out=opts.out,
                             plot=opts.plot, dpi=opts.dpi, tolerances=tolerances, sweep_options=run)
     except KeyboardInterrupt:
-        raise Interrupted("interrupted: the sweep's store keeps the chunks finished so far; run the same command to "
-                          "resume") from None
+        raise _interrupted(opts.store, opts.out) from None
     if opts.as_json:
         print(json.dumps(result.to_dict(), allow_nan=False))
     else:
         _print(result, provenance(law, solver))
 
 
-def _check_outputs(out: Optional[Path], plot: Optional[Path]) -> None:
+#: how messages name the initial states' arguments here: by their options
+OPTION_NAMES = {"x0": "--x0-range", "v0": "--v0-range", "sample": "--sample", "seed": "--seed"}
+
+
+def _check_outputs(out: Optional[Path], plot: Optional[Path], store: Optional[Path]) -> None:
     """Refuse, before any work and naming the option, outputs that could not be written."""
     if out is not None:
-        if out.suffix.lower() not in DATASET_FORMATS:
-            raise ValueError(f"--out must end in one of {', '.join(DATASET_FORMATS)}, got {str(out)!r}")
-        check_out(out)  # its directory (a .zarr is a directory: an existing one is replaced)
+        check_dataset_path(out, "--out")  # (a .zarr is a directory: an existing Zarr store is replaced, nothing else)
+    if store is not None:
+        check_store(store, out, "--store", "--out")
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "--plot")
+
+
+def _interrupted(store: Optional[Path], out: Optional[Path]) -> Interrupted:
+    """The line for a run stopped by Ctrl-C or SIGTERM: what its sweep's store keeps, if anything."""
+    path = store_path(store, out)
+    if path is None:  # a temporary store, removed
+        return Interrupted("interrupted: nothing was kept (without --out or --store the sweep runs in a temporary "
+                           "store); give --out or --store to make a run resumable")
+    if path.exists():
+        return Interrupted(f"interrupted: the sweep's store {str(path)!r} keeps the chunks finished so far; run the "
+                           "same command to resume")
+    return Interrupted("interrupted before the sweep's store was made: nothing was written")
 
 
 def parse_range(name: str, text: str, with_count: bool) -> tuple:

@@ -83,6 +83,7 @@ def run_sweep(
     progress: bool = False,
     scheduler_timeout: float = SCHEDULER_TIMEOUT,
     lock_stale_after: float = STALE_AFTER,
+    name: str = "out",
 ):
     """Compute a sweep into ``out`` (.zarr or .nc) and return it as an :class:`xarray.Dataset`.
 
@@ -112,6 +113,8 @@ def run_sweep(
         Seconds after which another host's untouched lock on ``out`` counts as stale.
     progress:
         Draw a progress bar on stderr.
+    name:
+        How messages about ``out`` name it (``basins`` passes its store's option, ``--store``).
     """
 
     _check_run_arguments(out, restart, client, scheduler, progress)
@@ -119,21 +122,21 @@ def run_sweep(
     _seconds("lock_stale_after", lock_stale_after)
     cfg = _as_config(config)
     size = default_chunk_size(cfg) if chunk_size is None else CHUNK_SIZE.check(chunk_size)
-    target = check_out(out)
+    target = check_out(out, name)
     # within the limits in force (frictionflow.estimate.limited); a model sweep's probe runs only when they are
-    enforce((lambda: sweep_estimate(cfg, out)) if isinstance(cfg, ModelSweepConfig) else sweep_estimate(cfg, out))
+    enforce((lambda: sweep_estimate(cfg, out, name)) if isinstance(cfg, ModelSweepConfig) else sweep_estimate(cfg, out, name))
     with SweepLock(out, stale_after=lock_stale_after):
         own_client = _connect(scheduler, scheduler_timeout) if client is None and scheduler is not None else None
         try:
-            with writing(target), _quiet(own_client is not None):
-                store = SweepStore(out, cfg, chunk_shape(cfg.shape, size), restart=restart)
+            with writing(target, name), _quiet(own_client is not None):
+                store = SweepStore(out, cfg, chunk_shape(cfg.shape, size), restart=restart, name=name)
                 if store.resumed:
                     _report(store.verify(repair=True), store)
                 _compute(store, cfg, own_client or client, progress)
         finally:
             if own_client is not None:
                 own_client.close()
-        with writing(target):
+        with writing(target, name):
             return store.finish()  # still locked: a .nc is converted by this run only
 
 

@@ -111,7 +111,7 @@ def chunk_checksum(values: Sequence[np.ndarray]) -> int:
 
 
 @contextmanager
-def writing(target: Path) -> Iterator[None]:
+def writing(target: Path, name: str = "out") -> Iterator[None]:
     """A file-system failure while a run writes its store, as one line (:func:`~frictionflow.io.write_error`).
 
     Zarr writes each file under a temporary name and renames it, and a
@@ -123,7 +123,7 @@ def writing(target: Path) -> Iterator[None]:
     except OSError as e:
         if e.errno is None:  # not the file system's (a Dask connection closed, ...): raised as it is
             raise
-        raise write_error(e, "out", target, KEPT) from None
+        raise write_error(e, name, target, KEPT) from None
 
 
 def check_out(path: str | Path, name: str = "out") -> Path:
@@ -134,6 +134,19 @@ def check_out(path: str | Path, name: str = "out") -> Path:
     if problem is not None:
         raise ValueError(f"{name}: {problem}")
     return p
+
+
+def zarr_problem(path: Path) -> str | None:
+    """Why the existing ``path`` is not a Zarr store (a file, a directory zarr cannot open), or None."""
+    import zarr
+
+    if not path.is_dir():
+        return "exists and is not a Zarr store (it is a file)"
+    try:
+        zarr.open_group(str(path), mode="r", use_consolidated=False)
+    except Exception:
+        return "exists and is not a Zarr store"
+    return None
 
 
 def _sweep_path(path: str | Path, name: str) -> Path:
@@ -151,9 +164,9 @@ class RepairWarning(UserWarning):
 class DamagedStoreError(RuntimeError):
     """A store damaged beyond what a rerun repairs (its metadata, an unopenable file): ``--restart`` is needed."""
 
-    def __init__(self, target: Path, problem: str) -> None:
+    def __init__(self, target: Path, problem: str, name: str = "out") -> None:
         self.problem = problem
-        super().__init__(f"out: {str(target)!r} is damaged: {problem}; use --restart to start over")
+        super().__init__(f"{name}: {str(target)!r} is damaged: {problem}; use --restart to start over")
 
 
 class ChunkReadError(Exception):
@@ -236,8 +249,10 @@ class Verification:
 class SweepStore:
     """A sweep's Zarr store: created, or reopened to resume (or, with :meth:`existing`, to be checked)."""
 
-    def __init__(self, path: str | Path, cfg: SweepConfig, chunks: tuple[int, ...], restart: bool = False) -> None:
-        self._locate(check_out(path))
+    def __init__(self, path: str | Path, cfg: SweepConfig, chunks: tuple[int, ...], restart: bool = False,
+                 name: str = "out") -> None:
+        self._locate(check_out(path, name))
+        self.name = name
         self.cfg = cfg
         self.table = cfg.variables
         self.shape = cfg.shape
@@ -256,12 +271,12 @@ class SweepStore:
                 self.rebuilt = self._rebuild_metadata()
             self._reopen(mode="r+")
             if self.root.attrs.get("config_sha256") != cfg.fingerprint():
-                raise ValueError(f"out: {str(self.target)!r} holds a different sweep (its config changed); use --restart to start over")
+                raise ValueError(f"{self.name}: {str(self.target)!r} holds a different sweep (its config changed); use --restart to start over")
         elif self.target.exists():  # a finished NetCDF sweep
             self._open_nc()
             if self._nc.attrs.get("config_sha256") != cfg.fingerprint():
                 self.close()
-                raise ValueError(f"out: {str(self.target)!r} holds a different sweep (its config changed); use --restart to replace it")
+                raise ValueError(f"{self.name}: {str(self.target)!r} holds a different sweep (its config changed); use --restart to replace it")
         else:
             self.root = self._create_whole()
 
@@ -300,7 +315,7 @@ class SweepStore:
 
         shown = str(self.target)
         if not self.path.is_dir():
-            raise ValueError(f"{self.name}: {shown!r} exists and is not a Zarr store (it is a file); {self.advice}")
+            raise ValueError(f"{self.name}: {shown!r} {zarr_problem(self.path)}; {self.advice}")
         try:
             # the files themselves, not the consolidated snapshot: the bookkeeping may have changed or be damaged since
             root = zarr.open_group(str(self.path), mode=mode, use_consolidated=False)
@@ -324,7 +339,7 @@ class SweepStore:
             self._nc = xr.open_dataset(self.target, mask_and_scale=False, decode_times=False, cache=False)
         except Exception as e:
             if _nc_magic(self.target):  # ours or not, it claims to be NetCDF: damaged
-                raise DamagedStoreError(self.target, f"a NetCDF file that cannot be opened ({_short(e)})") from None
+                raise DamagedStoreError(self.target, f"a NetCDF file that cannot be opened ({_short(e)})", self.name) from None
             raise ValueError(f"{self.name}: {shown!r} exists and is not a NetCDF file; {self.advice}") from None
         attrs = self._nc.attrs
         if self.table is None:
@@ -343,7 +358,7 @@ class SweepStore:
             self.shape = tuple(first.shape)
             self.dims = tuple(getattr(first, "dims", None) or first.metadata.dimension_names)
         except Exception as e:
-            raise DamagedStoreError(self.target, f"its variable {self.table[0].name!r} cannot be read ({_short(e)})") from None
+            raise DamagedStoreError(self.target, f"its variable {self.table[0].name!r} cannot be read ({_short(e)})", self.name) from None
         self.grid = n_chunks(self.shape, self.chunks)
 
     def _create(self, path: Path | None = None):
@@ -431,7 +446,7 @@ class SweepStore:
         if identity is None:
             return []
         if identity["config_sha256"] != self.cfg.fingerprint():
-            raise ValueError(f"out: {str(self.target)!r} holds a different sweep (its config changed); use --restart to start over")
+            raise ValueError(f"{self.name}: {str(self.target)!r} holds a different sweep (its config changed); use --restart to start over")
         self.chunks = identity["chunk_shape"]
         self.grid = n_chunks(self.shape, self.chunks)
         with tempfile.TemporaryDirectory(prefix=f".{self.path.name}.rebuild-", dir=self.path.parent) as tmp:
@@ -471,7 +486,7 @@ class SweepStore:
                 try:
                     arrays.append(self.root[q.name].with_config({"write_empty_chunks": True}))
                 except Exception as e:
-                    raise DamagedStoreError(self.target, f"its variable {q.name!r} cannot be read ({_short(e)})") from None
+                    raise DamagedStoreError(self.target, f"its variable {q.name!r} cannot be read ({_short(e)})", self.name) from None
             self._vars = arrays
         return self._vars
 
