@@ -40,7 +40,8 @@ def test_at_a_stable_step_the_exponents_are_the_sliding_eigenvalues():
     """Steady sliding under Coulomb friction is linear: the exponents are the two real eigenvalues.
 
     The block is short (0.5) so that the fast direction keeps e^((lambda_2 - lambda_1) block) far above
-    rounding between two orthonormalisations; over 2 pi it would be lost (the kernel then reports -inf).
+    rounding between two orthonormalisations (over the default 2 pi the run renormalises several times per
+    block instead: tests/analysis/test_lyapunov_block.py).
     """
     zeta = 5.0
     r = lyapunov_exponents(BeltOscillator(zeta=zeta, vb=0.01), Coulomb(0.02), x0=0.02, v0=0.0,

@@ -11,9 +11,16 @@ RK4 inside the phases, switches located, saltation matrices across them) and
 are renormalised by QR at the end of every block -- every forcing period
 when forced, every period 2 pi / Omega_b of the belt's speed on a moving belt
 (V_b(tau) = V_b + A sin(Omega_b tau + phi_b); with an external force too the
-two periods are one), every ``block`` time units otherwise.  After
-``t_transient`` the mean logarithmic growth of the frame gives both exponents
-of the (X, X') part:
+two periods are one), every ``block`` time units otherwise.  Where an
+averaged block grew the two vectors apart by more than :data:`GROWTH_CHECK`
+(strongly overdamped sliding: (lambda_1 - lambda_2) block beyond ~23, the
+second vector's own direction sinks towards rounding and lambda_2 would read
+noise, or -inf), the run is repeated renormalising m times per block, m
+enough to keep that ratio within :data:`GROWTH_BOUND` both as measured and
+for the sliding linearisation (eigenvalues sqrt(c^2 - 4) apart,
+c = 2 zeta + F'(V_b)); blocks, sections and running estimates stay per block
+(``settings["qr_per_block"]`` says m).  After ``t_transient`` the mean
+logarithmic growth of the frame gives both exponents of the (X, X') part:
 
 * forced or on a moving belt: the trivial zero exponent of the time (phase)
   direction of the extended phase space is not among them;
@@ -24,7 +31,9 @@ A stick onset maps every perturbation of X' to 0 (saltation diag(1, 0)), so
 the tangent map loses a dimension: while the motion keeps sticking the second
 exponent is exactly ``-inf`` (and the volume contraction is total).  It is
 reported as such (``None`` in JSON, with ``collapsed`` true), not as the
-rounding noise that a floating-point frame would show.
+rounding noise that a floating-point frame would show.  ``collapsed`` needs
+a stick (a stick onset, or a start or hold in stick): a run that never sticks
+reports the exponent it measured.
 """
 
 from __future__ import annotations
@@ -50,6 +59,15 @@ DEFAULT_STEPS = 512
 #: the block of an unforced run: one natural period
 DEFAULT_UNFORCED_BLOCK = 2.0 * math.pi
 SWITCH_NAMES = ("stick_onsets", "slip_onsets", "slip_reversals", "held_at_limit", "grazing_touches")
+#: the switches that only a stick explains (a slip onset leaves one: a start in stick, if no stick onset)
+STICK_SWITCHES = ("stick_onsets", "slip_onsets", "held_at_limit")
+#: the largest ratio of the two tangent vectors' growth allowed between two renormalisations, a priori (rounding then
+#: leaves the second vector's direction about 1e-8 relative accuracy; e^36 ~ 1 / 2^-52 would leave none)
+GROWTH_BOUND = 1e8
+#: a ratio measured above this in one averaged renormalisation interval: the run repeated with shorter intervals
+GROWTH_CHECK = 1e10
+#: at most this many repeats
+MAX_REFINE = 2
 
 
 @dataclass(frozen=True, repr=False)
@@ -90,9 +108,15 @@ class LyapunovResult(Summarized):
     settings: dict[str, Any] = field(default_factory=dict)
 
     @property
+    def stuck(self) -> bool:
+        """Whether the run ever stuck (a stick onset, a start or hold in stick, a block ending in stick)."""
+        return any(self.switches.get(k, 0) for k in STICK_SWITCHES) or bool(np.any(self.sections[:, 2] == 0))
+
+    @property
     def collapsed(self) -> bool:
-        """The second exponent is -inf: the averaged motion sticks (the tangent map loses rank)."""
-        return self.exponents[1] == -math.inf
+        """The second exponent is -inf because the motion sticks (the stick onset's saltation: the tangent map
+        loses rank); never without a stick."""
+        return self.exponents[1] == -math.inf and self.stuck
 
     @property
     def spread(self) -> tuple[float, float]:
@@ -136,7 +160,10 @@ class LyapunovResult(Summarized):
                         f"Omega_b={num(self.model.vb_omega, 4)}")] if self.model.belt_varies else []),
             ("lambda_1", f"{num(l1, 8)} (spread {num(self.spread[0], 2)})"),
             ("lambda_2", "-inf (stick onsets collapse the tangent map)" if self.collapsed
+             else "-inf (no stick: the second tangent vector sank into rounding; max_memory limits the "
+                  "renormalisations)" if l2 == -math.inf
              else f"{num(l2, 8)} (spread {num(self.spread[1], 2)})"),
+            *([("renormalised", f"{s['qr_per_block']} times per block")] if s.get("qr_per_block", 1) > 1 else []),
             ("switches", ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in self.switches.items() if v)),
             ("averaged", f"tau {num(s['t_transient'])}..{num(s['t_end'])}, {s['blocks']} blocks of {num(s['block'])}, "
                          f"{s['steps_per_block']} RK4 steps each"),
@@ -154,24 +181,40 @@ def _check_law(friction: FrictionLaw) -> None:
 
 
 def _positive(name: str, value: float) -> float:
-    value = float(value)
-    if not (math.isfinite(value) and value > 0.0):
+    value = check.number(name, value, "finite and > 0")
+    if not value > 0.0:
         raise ValueError(f"{name} must be finite and > 0, got {value!r}")
     return value
+
+
+def _max_memory(value: float) -> float:
+    """``max_memory`` as a float: a number > 0 (inf: no limit)."""
+    if isinstance(value, (bool, str)) or value is None:
+        raise ValueError(f"max_memory must be a number of GiB > 0, got {value!r}")
+    try:
+        gib = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"max_memory must be a number of GiB > 0, got {value!r}") from None
+    if not gib > 0.0:  # (NaN too)
+        raise ValueError(f"max_memory must be > 0 (GiB), got {value!r}")
+    return gib
 
 
 #: what one block keeps (X, X', mode at its end; two running estimates), in bytes
 _BYTES_PER_BLOCK = (3 + 2) * 8
 
 
-def _check_size(n_transient: int, n_blocks: int, steps_per_block: int, t_end: float, max_memory: float) -> None:
-    """Refuse, before any work, a run whose per-block record exceeds ``max_memory`` GiB (its size and steps said)."""
+def _check_size(n_transient: int, n_blocks: int, steps_per_block: int, t_end: float, max_memory: float,
+                qr_per_block: int = 1) -> None:
+    """Refuse, before any work, a run whose per-block record (one per renormalisation: ``qr_per_block`` per block)
+    exceeds ``max_memory`` GiB (its size and steps said)."""
     blocks = n_transient + n_blocks
-    need = blocks * _BYTES_PER_BLOCK / 2**30
+    need = blocks * qr_per_block * _BYTES_PER_BLOCK / 2**30
     if not need <= max_memory:
         raise ValueError(f"t_end={t_end:g} makes {blocks:.3g} blocks ({blocks * steps_per_block:.3g} RK4 steps with their "
                          f"tangents), whose record needs {need:.3g} GiB but max_memory={max_memory:g} GiB: shorten t_end "
-                         "or raise max_memory")
+                         "or raise max_memory (the argument; on the command line a 'max_memory = <GiB>' line in the "
+                         "--config file)")
 
 
 def _check_stop(stop: tuple[int, int, float, float] | None) -> None:
@@ -187,18 +230,21 @@ def _check_stop(stop: tuple[int, int, float, float] | None) -> None:
         raise ValueError(f"stop must be (first >= 2, every >= 1, factor > 0, floor >= 0) or None, got {stop!r}")
 
 
-def _check_run(x0: float, v0: float, t_transient: float, t_end: float, steps_per_block: int) -> None:
-    """ValueError naming the first argument of :func:`lyapunov_exponents` out of its range."""
+def _check_run(x0: float, v0: float, t_transient: float, t_end: float, steps_per_block: int) -> tuple[float, float]:
+    """ValueError naming the first argument of :func:`lyapunov_exponents` out of its range (or of its type: text, a
+    boolean); returns (t_transient, t_end) as floats."""
     for name, value in (("x0", x0), ("v0", v0)):
-        if not math.isfinite(float(value)):
-            raise ValueError(f"{name} must be finite, got {value!r}")
-    if not (math.isfinite(t_transient) and t_transient >= 0.0):
+        check.number(name, value, "a finite real number")
+    t_transient = check.number("t_transient", t_transient, "finite and >= 0")
+    if not t_transient >= 0.0:
         raise ValueError(f"t_transient must be finite and >= 0, got {t_transient!r}")
-    _positive("t_end", t_end)
+    t_end = _positive("t_end", t_end)
     if not t_end > t_transient:
         raise ValueError(f"t_end ({t_end!r}) must exceed t_transient ({t_transient!r})")
-    if int(steps_per_block) != steps_per_block or steps_per_block < 4:
+    whole = isinstance(steps_per_block, (int, np.integer, float, np.floating)) and not isinstance(steps_per_block, bool)
+    if not (whole and math.isfinite(steps_per_block) and int(steps_per_block) == steps_per_block >= 4):
         raise ValueError(f"steps_per_block must be an integer >= 4, got {steps_per_block!r}")
+    return t_transient, t_end
 
 
 #: RK4's stability limit on the negative real axis: |1 + z + z^2/2 + z^3/6 + z^4/24| <= 1 for z in [-RK4_REAL_LIMIT, 0]
@@ -226,8 +272,10 @@ def _block(model: BeltOscillator, block: float | None) -> float:
     problem = model.section_problem()
     if problem is not None:
         raise ValueError(problem)
+    if block is not None:
+        block = _positive("block", block)
     if not model.driven:
-        return DEFAULT_UNFORCED_BLOCK if block is None else _positive("block", block)
+        return DEFAULT_UNFORCED_BLOCK if block is None else block
     period = model.drive_period
     if block is not None and not math.isclose(block, period, rel_tol=1e-12):
         what = "forcing period" if model.forced else "period of the belt's speed"
@@ -256,6 +304,82 @@ def _tangent_run(model: BeltOscillator, friction: FrictionLaw, start: tuple[floa
     if status == tangent.NOT_FINITE:
         raise RuntimeError("the tangent vectors left the floating-point range (a grazing switch?)")
     return s1, s2, n_done, strobe, est, counts
+
+
+def _slip_spread(model: BeltOscillator, friction: FrictionLaw) -> float:
+    """lambda_1 - lambda_2 of the slip field's linearisation at the sliding state (|V_r| = V_b, on a moving belt
+    V_b +- A too): the Jacobian [[0, 1], [-1, -c]], c = 2 zeta + F'(|V_r|), has sqrt(c^2 - 4) between its real
+    eigenvalues (0 for a complex pair: equal real parts)."""
+    vb, amp = abs(float(model.vb)), abs(float(model.vb_amplitude)) if model.belt_varies else 0.0
+    spread = 0.0
+    for speed in {vb, vb + amp, max(vb - amp, 0.0)}:
+        slope = friction.slip_slope(speed)
+        c = 2.0 * float(model.zeta) + (slope if math.isfinite(slope) else 0.0)
+        spread = max(spread, math.sqrt(c * c - 4.0) if abs(c) > 2.0 else 0.0)
+    return spread
+
+
+def _split(need: int, steps: int, most: float = math.inf) -> tuple[int, int]:
+    """(m, n): renormalise m >= ``need`` times per block, n RK4 steps each time: a divisor m of ``steps`` up to 2
+    ``need`` (the grid of one renormalisation per block, the steps the same), else ``need`` and n = ceil(steps /
+    need); at most one renormalisation per step, and at most ``most`` (>= 1) per block."""
+    need = int(min(max(1, need), steps, most))
+    for m in range(need, int(min(2 * need, steps, most)) + 1):
+        if steps % m == 0:
+            return m, steps // m
+    return need, math.ceil(steps / need)
+
+
+def _stuck(counts: np.ndarray, strobe: np.ndarray) -> bool:
+    """Whether a kernel run stuck: a switch only a stick explains (:data:`STICK_SWITCHES`) or an interval ending
+    in stick."""
+    return any(counts[SWITCH_NAMES.index(k)] for k in STICK_SWITCHES) or bool(np.any(strobe[:, 2] == 0))
+
+
+def _worst_growth(est: np.ndarray, interval: float) -> float:
+    """The largest log(r11 / |r22|) of the renormalisation intervals of ``est`` (running estimates, an interval of
+    length ``interval`` each), read back from their sums; inf where log |r22| is -inf (the second vector lost)."""
+    sums = est * (interval * np.arange(1, len(est) + 1))[:, None]
+    if not np.all(np.isfinite(sums)):
+        return math.inf
+    logs = np.diff(sums, axis=0, prepend=np.zeros((1, 2)))
+    return float(np.max(logs[:, 0] - logs[:, 1])) if len(logs) else 0.0
+
+
+def _more(model: BeltOscillator, friction: FrictionLaw, block: float, m: int, worst: float) -> int:
+    """Renormalisations per block for a repeat of a run of ``m`` whose worst interval grew the two vectors apart by
+    e^``worst``: enough to bring that within :data:`GROWTH_BOUND`, and the sliding linearisation's
+    (:func:`_slip_spread`) too; at least twice ``m``."""
+    bound = math.log(GROWTH_BOUND)
+    prior = math.ceil(_slip_spread(model, friction) * block / bound - 1e-9)
+    measured = 4 * m if math.isinf(worst) else m * math.ceil(worst / bound)
+    return max(2 * m, prior, measured)
+
+
+def _refined_run(model: BeltOscillator, friction: FrictionLaw, start: tuple[float, float, float, int],
+                 blocks: tuple[int, int], stop: tuple[int, int, float, float] | None, most: float) -> tuple:
+    """:func:`_tangent_run` from ``start`` = (x0, v0, block, steps per block), renormalising once per block, then,
+    if an averaged block grew the two tangent vectors apart by more than :data:`GROWTH_CHECK` (the second
+    vector's direction sinking into rounding; log |r22| = -inf without a stick counts as that), repeated m
+    times per block (:func:`_more`, :func:`_split`; m at most ``most``, the record's limit under max_memory): at
+    most :data:`MAX_REFINE` repeats.  A run that collapsed at a stick needs no repeat (lambda_2 is -inf whatever
+    the frame), nor does one with ``stop`` (the forced classifier's arithmetic, which
+    :mod:`frictionflow.core.batch_forced` reproduces).  Returns (m, RK4 steps per renormalisation, the last run)."""
+    x0, v0, block, steps = start
+    m, n_sub = 1, steps
+    for attempt in range(MAX_REFINE + 1):
+        run = _tangent_run(model, friction, (x0, v0, block / m, n_sub), (blocks[0] * m, blocks[1] * m), stop)
+        s2, n_done, strobe, est, counts = run[1:]
+        if stop is not None or attempt == MAX_REFINE or m >= steps or (s2 == -math.inf and _stuck(counts, strobe)):
+            break
+        worst = _worst_growth(est[:n_done], block / m)
+        if worst <= math.log(GROWTH_CHECK):
+            break
+        more, n_more = _split(_more(model, friction, block, m, worst), steps, most)
+        if not m < more <= most:
+            break
+        m, n_sub = more, n_more
+    return m, n_sub, run
 
 
 def lyapunov_exponents(
@@ -291,36 +415,58 @@ def lyapunov_exponents(
     block:
         Renormalisation interval: the forcing period 2 pi / Omega when forced,
         the belt's 2 pi / Omega_b on a moving belt alone (and then it must
-        be), 2 pi otherwise unless given.
+        be), 2 pi otherwise unless given.  A block over which the two
+        tangent vectors' growth parts by more than :data:`GROWTH_CHECK`
+        (strong overdamping) is renormalised m times instead, the run
+        repeated (see the module docstring; ``settings["qr_per_block"]``).
     max_memory:
-        GiB the per-block record (the section and the running estimates) may
-        take; a longer run is refused before any work, with its size and
-        its number of RK4 steps.
+        GiB (> 0) the per-block record (the section and the running
+        estimates) may take; a longer run is refused before any work, with
+        its size and its number of RK4 steps.
     stop:
         (first, every, factor, floor): end the averaging once lambda_1 is
         below -factor max(spread, floor) after first, first + every, ...
         blocks (:func:`frictionflow.core.tangent.run_until`; the forced
         classifier's rule).  ``running``, ``sections`` and the settings then
-        cover the blocks done.  None: every block.
+        cover the blocks done, renormalised once per block whatever the
+        growth (the classifier's arithmetic: lambda_1 is its aim; lambda_2
+        is then only reliable while (lambda_1 - lambda_2) block stays below
+        ~23).  None: every block.
+
+    Raises ``TypeError`` (model, friction) or ``ValueError`` naming the
+    argument out of its range or not a number (text, a boolean).
     """
     check.instance("model", model, BeltOscillator, "a BeltOscillator")
     check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
     _check_law(friction)
     block = _block(model, block)
-    _check_run(0.0 if x0 is None else x0, 0.0 if v0 is None else v0, t_transient, t_end, steps_per_block)
+    t_transient, t_end = _check_run(0.0 if x0 is None else x0, 0.0 if v0 is None else v0, t_transient, t_end,
+                                    steps_per_block)
     x0, v0 = friction.start(model.vb, x0, v0)
     _check_stop(stop)
-    _check_stable(float(model.zeta), block, int(steps_per_block))
+    max_memory = _max_memory(max_memory)
+    steps = int(steps_per_block)
+    _check_stable(float(model.zeta), block, steps)
     n_transient = math.ceil(t_transient / block - 1e-9)
     n_blocks = max(1, math.ceil((t_end - n_transient * block) / block - 1e-9))
-    _check_size(n_transient, n_blocks, int(steps_per_block), t_end, max_memory)
+    _check_size(n_transient, n_blocks, steps, t_end, max_memory)
     blocks = n_transient + n_blocks
-    run = located_run(float(blocks) * steps_per_block, blocks * block, "tangent_step",
-                      2.0 * math.pi / block if model.driven else 1.0)
+    run = located_run(float(blocks) * steps, blocks * block, "tangent_step", 2.0 * math.pi / block if model.driven else 1.0)
     enforce(replace(run, memory=blocks * _BYTES_PER_BLOCK))  # within the limits in force (frictionflow.estimate.limited)
-    start = (float(x0), float(v0), float(block), int(steps_per_block))
-    s1, s2, n_done, strobe, est, counts = _tangent_run(model, friction, start, (n_transient, n_blocks), stop)
-    elapsed = n_done * block
+    start = (float(x0), float(v0), float(block), steps)
+    most = max_memory * 2**30 / (blocks * _BYTES_PER_BLOCK)  # renormalisations per block the record has room for
+    refined = _refined_run(model, friction, start, (n_transient, n_blocks), stop, most)
+    return _result(model, friction, start, n_transient, refined)
+
+
+def _result(model: BeltOscillator, friction: FrictionLaw, start: tuple[float, float, float, int], n_transient: int,
+            refined: tuple) -> LyapunovResult:
+    """The :class:`LyapunovResult` of :func:`_refined_run`'s ``refined`` = (m, steps per renormalisation, run) from
+    ``start`` = (x0, v0, block, steps per block): the exponents over the time averaged, the records per block."""
+    x0, v0, block, _ = start
+    m, n_sub, (s1, s2, n_sub_done, strobe, est, counts) = refined
+    n_done = n_sub_done // m
+    elapsed = n_sub_done * (block / m)
     exps = (s1 / elapsed, s2 / elapsed)
     if exps[1] > exps[0]:  # only rounding can put them out of order (equal exponents)
         exps = (exps[1], exps[0])
@@ -328,11 +474,12 @@ def lyapunov_exponents(
         model=model,
         friction=friction,
         exponents=(float(exps[0]), float(exps[1])),
-        running=est[:n_done],
+        running=est[:n_done * m][m - 1::m],
         times=block * np.arange(1, n_done + 1),
         switches={name: int(c) for name, c in zip(SWITCH_NAMES, counts, strict=True)},
-        sections=strobe[:n_transient + n_done],
-        settings={"x0": float(x0), "v0": float(v0), "t_transient": n_transient * block,
+        sections=strobe[:(n_transient + n_done) * m][m - 1::m],
+        settings={"x0": x0, "v0": v0, "t_transient": n_transient * block,
                   "t_end": (n_transient + n_done) * block, "block": block, "blocks": n_done,
-                  "steps_per_block": int(steps_per_block), "method": "RK4 + located switches + saltation, QR per block"},
+                  "steps_per_block": m * n_sub, "qr_per_block": m,
+                  "method": "RK4 + located switches + saltation, QR " + ("per block" if m == 1 else f"{m} times per block")},
     )
