@@ -27,6 +27,13 @@ from .core.structure.run import advance
 MODE_NAMES = {-1: "slip-", 0: "stick", 1: "slip+"}
 
 
+#: the long names of :meth:`Motion.to_xarray`'s variables and coordinates
+DATASET_NAMES = {
+    "time": "time", "q": "generalised coordinate q", "v": "generalised velocity q'",
+    "force": "friction force along the contact's direction", "mode": "contact mode (0 stick, +-1 slip)",
+    "work": "work done since the start, per element channel (heat: dissipated at the contact)",
+}
+
 @dataclass(repr=False)
 class Motion:
     """Samples of one run of a structure, and the exact motion between them.
@@ -207,15 +214,20 @@ class Motion:
 
     def to_xarray(self):
         """An xarray Dataset: ``q`` and ``v`` over (time, dof), ``force`` and ``mode`` over (time, contact),
-        ``work`` over (time, channel); the switches as attributes."""
+        ``work`` over (time, channel), each with its ``long_name`` (the model file's units: numbers are used as
+        given); the switches and the whole run's energy residual (:attr:`energy_residual`) as attributes."""
         xr = lazy_module("xarray")  # slow to import: loaded when a dataset is first asked for
         n = self.n
-        return xr.Dataset(
-            {"q": (("time", "dof"), self.state[:n].T), "v": (("time", "dof"), self.state[n:].T),
-             "force": (("time", "contact"), self.force.T), "mode": (("time", "contact"), self.modes.T),
-             "work": (("time", "channel"), self.work.T)},
-            coords={"time": self.t, "dof": list(self.dof), "contact": list(self.contacts),
-                    "channel": list(self.channels)},
+        data = {"q": (("time", "dof"), self.state[:n].T), "v": (("time", "dof"), self.state[n:].T),
+                "force": (("time", "contact"), self.force.T), "mode": (("time", "contact"), self.modes.T),
+                "work": (("time", "channel"), self.work.T)}
+        ds = xr.Dataset(
+            data, coords={"time": self.t, "dof": list(self.dof), "contact": list(self.contacts),
+                          "channel": list(self.channels)},
             attrs={"status": self.status, "switch_times": self.switches, "switch_contact": self.switch_contact,
-                   "switch_mode": self.switch_mode, "energy_residual": self.energy_residual},
+                   "switch_mode": self.switch_mode, "energy_residual": self.energy_residual,
+                   "energy_residual_span": "the whole run (max over time of the balance, relative to the works)"},
         )
+        for name, long_name in DATASET_NAMES.items():
+            ds[name].attrs["long_name"] = long_name
+        return ds

@@ -18,6 +18,9 @@ CASES = [
     ("response", ["--fex", "0.1", "--vary", "omega=0.8:1.2:3"], "t_end = 50.0\n", "t_end"),
     ("map", ["--x", "vb=0.01:0.03", "--y", "zeta=0:0.5"], "window = \"0:1\"\n", "window"),
     ("lyapunov", [], "rtol = 1e-6\n", "rtol"),
+    # a command's own options (not the model's) are not config keys: the message said a config took them
+    ("orbit", [], "tol = 1e-10\n", "tol"),
+    ("lyapunov", [], "t_transient = 5.0\n", "t_transient"),
 ]
 
 
@@ -27,7 +30,8 @@ def test_a_config_key_the_command_does_not_take_is_refused(tmp_path, command, ar
     config.write_text('friction = "coulomb"\nfd = 0.02\nfs = 0.04\n' + text)
     code, out, err, _ = in_process(command, *args, "--config", str(config), "--json")
     assert code == 2 and out == ""
-    one_line(err, f"--config: key {key!r} is not used by {command}", f"frictionflow {command} --help")
+    one_line(err, f"--config: key {key!r} is not used by {command}", "holds the model's options",
+             f"frictionflow {command} --help")
 
 
 def test_a_config_of_the_command_s_own_keys_runs_as_the_options_do(tmp_path):

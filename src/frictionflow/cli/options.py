@@ -131,8 +131,9 @@ def command_config(command: str, config: Optional[Path], params: dict[str, Any],
         file_values = read_config(config)
         unused = [key for key in file_values if key not in params and key not in config_only]
         if unused:  # a key this command takes no option for would be ignored without a word
-            raise ValueError(f"--config: key {unused[0]!r} is not used by {command} (a config takes the keys of the "
-                             f"command's options: frictionflow {command} --help)")
+            raise ValueError(f"--config: key {unused[0]!r} is not used by {command} (a config holds the model's "
+                             f"options -- the system, its law and solver -- not the command's own: "
+                             f"frictionflow {command} --help)")
     given = dict(params)
     if given.get("friction") is None and "friction" not in file_values:
         given["friction"] = default_law(command)

@@ -95,6 +95,18 @@ def report_model(result: StructureAnalysis, system: System, path: Path, params: 
     return out
 
 
+def model_dataset(result: StructureAnalysis, report: dict[str, Any]):
+    """The run's dataset with what ``--json`` says of it: the model file, t_end, the solver, the steady state's
+    kind and window and the window's energy residual (the dataset's own ``energy_residual`` is the whole run's)."""
+    ds = result.motion.to_xarray()
+    ss = report["steady_state"]
+    ds.attrs.update(model_file=report["model"]["file"], t_end=report["params"]["t_end"], solver=result.motion.solver,
+                    steady_state=ss["kind"], window_energy_residual=report["energy_residual"])
+    if ss.get("window") is not None:
+        ds.attrs["window"] = list(ss["window"])
+    return ds
+
+
 def requested_t_end(params: dict[str, Any]) -> float:
     """The run's end time asked for: --t-end, or :data:`T_END`."""
     return T_END if params.get("t_end") is None else float(params["t_end"])
@@ -104,12 +116,12 @@ def simulate_model(path: Path, params: dict[str, Any], as_json: bool, outputs: d
     """The whole ``simulate --model`` command after option parsing."""
     result = run_model(path, params, outputs)
     system = result.motion.system
+    report = report_model(result, system, path, params)
     if outputs.get("out") is not None:
         with atomic_write(outputs["out"], "--out") as tmp:
-            result.motion.to_xarray().to_netcdf(tmp)
+            model_dataset(result, report).to_netcdf(tmp)
     if outputs.get("plot") is not None:
         plot_structure(result, outputs["plot"], name="--plot", dpi=outputs.get("dpi", 150.0))
-    report = report_model(result, system, path, params)
     if as_json:
         print(json.dumps(report, allow_nan=False))
     else:
