@@ -15,6 +15,10 @@ user chose that cannot be written (permission denied, a read-only file
 system, a directory in the way: :class:`ValueError`, bad input, exit code 2)
 or a file system failing under a good path (a full disk, an I/O error:
 :class:`OutputError`, exit code 1, the same command succeeds once it is fixed).
+
+A write is not interrupted half-way: Ctrl-C (and SIGTERM, which the command
+line turns into Ctrl-C) during :func:`atomic_write`'s block takes effect when
+the block returns, before the rename (see :func:`_signals_held`).
 """
 
 from __future__ import annotations
@@ -24,7 +28,10 @@ import os
 import re
 import secrets
 import shutil
+import signal
+import threading
 import tomllib
+import warnings
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -163,7 +170,7 @@ def _directory_problem(d: Path) -> str | None:
     """Why files cannot be created in directory ``d``, or None."""
     if d.is_dir():
         if os.access(d, os.W_OK | os.X_OK):
-            return None
+            return _probe_problem(d)  # the mode allows it; a pseudo file system (/proc, /sys) may still refuse
         why = "on a read-only file system" if _read_only(d) else "not writable (permission denied)"
         return f"directory {str(d)!r} is {why}"
     if d.exists():
@@ -172,6 +179,37 @@ def _directory_problem(d: Path) -> str | None:
     if blocker is not None:
         return f"{str(blocker)!r} is a file, not a directory"
     return f"directory {str(d)!r} does not exist"
+
+
+def _probe_problem(d: Path) -> str | None:
+    """Why no file can be created in directory ``d`` although its mode allows it, or None: an empty file is
+    created and removed to find out.
+
+    Root may write anywhere by mode, but a pseudo file system (/proc, /sys) refuses new files (ENOENT, EACCES)
+    and has no blocks at all, which a later check of free space would take for a full disk.  A failure that is
+    not the path's (no inodes left, an I/O error) is left to the space check and the write to report.
+    """
+    probe = d / f".frictionflow-probe.{secrets.token_hex(4)}"
+    try:
+        os.close(os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+    except OSError as e:
+        if e.errno not in PATH_ERRNOS or e.errno == errno.EEXIST:
+            return None
+        kind = "a virtual file system: " if _virtual(d) else ""
+        return f"cannot write files in directory {str(d)!r} ({kind}{_reason(e)})"
+    try:
+        os.unlink(probe)
+    except OSError:
+        pass
+    return None
+
+
+def _virtual(d: Path) -> bool:
+    """Whether ``d`` is on a file system without storage (/proc, /sys: no blocks at all)."""
+    try:
+        return os.statvfs(d).f_blocks == 0
+    except OSError:
+        return False
 
 
 def _file_ancestor(p: Path) -> Path | None:
@@ -234,16 +272,61 @@ def atomic_write(path: str | Path, name: str = "path", then: str = "") -> Iterat
     if target.is_symlink():
         target = target.resolve()  # replace the file it points to, as writing through it would, not the link
     tmp = temporary_path(target)
-    try:
-        yield tmp
-        _sync(tmp)  # the data on disk before the name: a crash cannot leave a named, empty file
-        os.replace(tmp, target)
-    except BaseException as e:
-        error = write_error(e, name, target, then)  # before removing: the disk is still full
-        _remove(tmp)
-        if error is None:
-            raise
-        raise error from None
+    with _signals_held() as deliver:  # Ctrl-C: once the write returns, then the temporary is removed
+        try:
+            yield tmp
+            _sync(tmp)  # the data on disk before the name: a crash cannot leave a named, empty file
+            deliver()  # a Ctrl-C during the write: the old file stays
+            os.replace(tmp, target)
+        except BaseException as e:
+            error = write_error(e, name, target, then)  # before removing: the disk is still full
+            _remove(tmp)
+            if error is None:
+                raise
+            raise error from None
+
+
+#: the signals a write holds back (SIGTERM: the command line raises KeyboardInterrupt for it, as for Ctrl-C)
+_HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+@contextmanager
+def _signals_held() -> Iterator[Callable[[], None]]:
+    """Ctrl-C and SIGTERM held back during the block and delivered after it, or when it calls the yielded function.
+
+    The libraries cannot be interrupted safely: xarray's NetCDF writer takes its locks in Python
+    (``with lock:``), and a Ctrl-C that arrives while the library writes is raised on entry to the lock's
+    ``__exit__``, before the release; the writer's own clean-up (``finally: store.close()``) then waits for
+    that lock forever.  Only signals whose handler is Python's (raising KeyboardInterrupt) are held, and only in
+    the main thread (the only one signals reach).  A block inside another delivers to the handler the outer one
+    held back (its temporary removed, not renamed), at the same safe point.
+    """
+    pending: list[tuple[int, Any]] = []
+    installed: dict[int, Callable] = {}  # the handlers to put back
+    originals: dict[int, Callable] = {}  # the handlers a held signal goes to (an outer block's, not its hold)
+
+    def hold(signum: int, frame: Any) -> None:
+        pending.append((signum, frame))
+
+    def deliver() -> None:
+        if pending:
+            signum, frame = pending[0]
+            pending.clear()
+            originals[signum](signum, frame)
+
+    hold.originals = originals  # type: ignore[attr-defined]
+    try:  # installing inside: a signal between two installs still puts the first handler back
+        for number in _HELD_SIGNALS if threading.current_thread() is threading.main_thread() else ():
+            handler = signal.getsignal(number)
+            if callable(handler):
+                installed[number] = handler
+                originals[number] = getattr(handler, "originals", {}).get(number, handler)
+                signal.signal(number, hold)
+        yield deliver
+    finally:
+        for number, handler in installed.items():
+            signal.signal(number, handler)
+        deliver()
 
 
 def write_error(e: BaseException, name: str, target: str | Path, then: str = "") -> Exception | None:
@@ -315,10 +398,12 @@ def _reason(e: OSError) -> str:
 
 
 def _full(directory: Path) -> bool:
+    """Whether the disk of ``directory`` is full (a pseudo file system such as /proc has no blocks: not a disk)."""
     try:
-        return os.statvfs(directory).f_bavail == 0
+        stat = os.statvfs(directory)
     except OSError:
         return False
+    return stat.f_bavail == 0 and stat.f_blocks > 0
 
 
 #: the figure formats the package writes, chosen by the file's suffix (PNG raster; PDF, SVG and EPS vector)
@@ -388,10 +473,23 @@ def write_trajectory(traj: Trajectory, path: str | Path, *, name: str = "out") -
         if p.suffix.lower() == ".nc":
             traj.to_xarray().to_netcdf(tmp)
         elif p.suffix.lower() == ".zarr":
-            traj.to_xarray().to_zarr(tmp, mode="w-", consolidated=False)
+            write_zarr(traj.to_xarray(), tmp)
         else:
             _write_csv(traj, tmp)
     return p
+
+
+def write_zarr(ds, path: str | Path, mode: str = "w-") -> None:
+    """``ds`` as a Zarr store at ``path`` with consolidated metadata, as the sweep, basins and map stores.
+
+    ``xr.open_zarr`` then reads every array's metadata from the root document at once, without its
+    RuntimeWarning about a store that is not consolidated.  zarr's note that Zarr v3 does not specify
+    consolidated metadata yet is silenced.  ``mode`` is :meth:`xarray.Dataset.to_zarr`'s (``"w-"``: refuse an
+    existing store).  Not atomic by itself: write to a temporary (:func:`atomic_write`).
+    """
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*[Cc]onsolidated metadata.*")
+        ds.to_zarr(path, mode=mode, consolidated=True)
 
 
 def _write_csv(traj: Trajectory, path: Path) -> None:

@@ -56,7 +56,7 @@ def test_a_sweep_of_1e10_points_is_refused_for_its_store_and_time(tmp_path):
     (tmp_path / "big.toml").write_text(BIG_GRID)
     line = refused(("sweep", "big.toml", "--out", "big.zarr"), "1e+10 points", "days", "TiB", "free",
                    "--no-limit", cwd=tmp_path)
-    assert line.startswith("error: out: 'big.zarr' would need about 1.16 TiB but its disk has ")
+    assert line.startswith("error: --out: 'big.zarr' would need about 1.16 TiB but its disk has ")
     assert not (tmp_path / "big.zarr").exists() and not list(tmp_path.glob("*.lock"))
 
 
@@ -121,7 +121,7 @@ def test_an_output_larger_than_its_disk_is_refused_before_any_work(tmp_path, ful
     out = full_dir / "r.zarr"
     assert main(["sweep", str(tmp_path / "s.toml"), "--out", str(out)]) == 2
     line = capsys.readouterr().err.strip()
-    assert line.startswith(f"error: out: {str(out)!r} would need about ") and "\n" not in line
+    assert line.startswith(f"error: --out: {str(out)!r} would need about ") and "\n" not in line
     assert " MiB but its disk has " in line and " KiB free" in line
     assert "no space left on device (estimated 5e+04 points" in line and line.endswith("--no-limit")
     assert list(full_dir.iterdir()) == []

@@ -275,7 +275,7 @@ def test_a_repair_on_a_full_disk_stops_in_one_line_and_the_store_still_repairs_a
         assert main(["sweep", "--verify", str(out), "--repair"]) == 1
     got = capsys.readouterr()
     assert got.out == "" and filler  # was: the generic line, without what is kept and how to go on
-    one_line(got.err, f"out: cannot write {str(out)!r}: no space left on device",
+    one_line(got.err, f"--verify: cannot write {str(out)!r}: no space left on device",
              "the chunks finished so far are kept: run the same command again to resume")
     assert listing(disk.where) == ["filler", out.name] and not leftovers(out)  # no lock, no temporary
     filler[0].unlink()

@@ -168,18 +168,18 @@ def test_orbit_and_continue_refuse_a_read_only_directory_before_any_work(capsys,
 def test_reproduce_refuses_an_output_it_cannot_write_before_any_work(capsys, cwd, no_work, out, path, words):
     if path == "report.html":
         (cwd / "out" / "report.html").mkdir(parents=True)
-    assert_refused(*run(capsys, "reproduce", "--out", out, "--quick"), "out", path, *words)
+    assert_refused(*run(capsys, "reproduce", "--out", out, "--quick"), "--out", path, *words)
 
 
 def test_reproduce_into_a_read_only_directory(capsys, no_work, readonly_dir):
-    assert_refused(*run(capsys, "reproduce", "--out", str(readonly_dir / "out"), "--quick"), "out", readonly_dir)
+    assert_refused(*run(capsys, "reproduce", "--out", str(readonly_dir / "out"), "--quick"), "--out", readonly_dir)
     assert listing(readonly_dir) == []
 
 
 def test_reproduce_on_a_full_disk_fails_in_one_line_and_leaves_no_partial_file(capsys, full_dir):
     out = full_dir / "out"
     code, err = run(capsys, "reproduce", "--out", str(out), "--quick", "--workers", "1")
-    assert_refused(code, err, "out", out, "no space left on device", expect=1)
+    assert_refused(code, err, "--out", out, "no space left on device", expect=1)
     assert not [p.name for p in out.iterdir() if p.name.startswith(".")]  # no temporary left either
 
 
@@ -198,7 +198,7 @@ def test_reproduce_failing_to_write_claims_or_report_leaves_no_such_file(capsys,
     monkeypatch.setattr(Path, "write_text", fails_for_name)
     out = tmp_path / "out"
     code, err = run(capsys, "reproduce", "--out", str(out), "--quick", "--workers", "1")
-    assert_refused(code, err, "out", out / name, "no space left on device", expect=1)
+    assert_refused(code, err, "--out", out / name, "no space left on device", expect=1)
     written = listing(out)
     assert name not in written and not [n for n in written if n.startswith(".")]
 

@@ -95,6 +95,6 @@ def test_out_must_be_a_directory_under_an_existing_parent(tmp_path, capsys):
     f = tmp_path / "file.txt"
     f.write_text("x")
     assert main(["reproduce", "--out", str(f)]) == 2
-    assert capsys.readouterr().err.startswith("error: out must be a directory")
+    assert capsys.readouterr().err.startswith("error: --out must be a directory")
     assert main(["reproduce", "--out", str(tmp_path / "no" / "such")]) == 2
     assert "parent directory" in capsys.readouterr().err

@@ -153,7 +153,8 @@ def test_verify_of_an_unfinished_store_and_of_an_unreadable_netcdf(tmp_path, cap
     nc.write_bytes(nc.read_bytes()[:3000])  # truncated: HDF5 signature, unreadable
     assert main(["sweep", "--verify", str(nc)]) == 1
     err = capsys.readouterr().err.strip()
-    assert err.startswith(f"error: {nc}: damaged: a NetCDF file that cannot be opened") and err.endswith("run the sweep again with --restart")
+    # (its attributes unread, it cannot be told a sweep's: --restart does not replace it)
+    assert err.startswith(f"error: {nc}: damaged: a NetCDF file that cannot be opened") and err.endswith("remove it yourself to start over")
 
 
 # -- one run at a time (example 10) ----------------------------------------------------------------
@@ -278,7 +279,9 @@ def _foreign_netcdf(p):
 def test_an_output_that_is_not_a_sweep_is_named_as_such(tmp_path, config_file, capsys, name, make, says):
     target = tmp_path / name
     make(target)
-    for argv, name, advice in ((["sweep", str(config_file), "--out", str(target)], "out", "use --restart to replace it"),
+    # (never "use --restart": a run replaces only what a sweep wrote)
+    keep = "frictionflow did not write it, so it is never replaced: give another --out or remove it yourself"
+    for argv, name, advice in ((["sweep", str(config_file), "--out", str(target)], "--out", keep),
                                (["sweep", "--verify", str(target)], "--verify",  # (--verify takes no --restart)
                                 "nothing to verify: give the .zarr or .nc a sweep wrote")):
         assert main(argv) == 2

@@ -164,8 +164,8 @@ class SweepOptions:
         (removed, not resumable) without ``out``.
     restart, chunk_size, client, scheduler, progress:
         As for :func:`~frictionflow.sweep.run_sweep`.
-    store_name:
-        How error messages name ``store`` (the command line passes ``--store``).
+    store_name, out_name:
+        How error messages name ``store`` and ``out`` (the command line passes ``--store``, ``--out``).
     """
 
     store: str | Path | None = None
@@ -175,6 +175,7 @@ class SweepOptions:
     scheduler: str | None = None
     progress: bool = False
     store_name: str = "store"
+    out_name: str = "out"
 
 
 def basins(
@@ -250,11 +251,11 @@ def basins(
         labelled, found = label_attractors(_swept(cfg, path, run), along, tol)
         labelled.attrs.update(_design_attrs(design, along))
         result = Basins(labelled, found, _codes(labelled), tol, design, along, time.perf_counter() - t0)
-        _write(result, out, plot, dpi)
+        _write(result, out, plot, dpi, run.out_name)
     return result
 
 
-def _write(result: Basins, out: str | Path | None, plot: str | Path | None, dpi: float) -> None:
+def _write(result: Basins, out: str | Path | None, plot: str | Path | None, dpi: float, out_name: str = "out") -> None:
     """The figure drawn first (a figure that cannot be drawn leaves nothing written), then ``out``, then the figure
     saved."""
     fig = None
@@ -263,7 +264,7 @@ def _write(result: Basins, out: str | Path | None, plot: str | Path | None, dpi:
         fig = result.plot(None, name="plot", dpi=dpi)
     if out is not None:
         try:
-            write_dataset(result.dataset, out)
+            write_dataset(result.dataset, out, out_name)
         except BaseException:
             if fig is not None:
                 plt.close(fig)
@@ -278,9 +279,9 @@ def _check_outputs(out: str | Path | None, plot: str | Path | None, dpi: float, 
     """Refuse, before any work, an ``out`` (:func:`check_dataset_path`) or a store (:func:`check_store`) that
     could not be written, and a ``plot`` of an unknown format or resolution."""
     if out is not None:
-        check_dataset_path(out)
+        check_dataset_path(out, run.out_name)
     if run.store is not None:
-        check_store(run.store, out, run.store_name)
+        check_store(run.store, out, run.store_name, run.out_name)
     if plot is not None:
         check_output_path(plot, FIGURE_FORMATS, "plot")
         check_dpi(dpi)
@@ -313,10 +314,10 @@ def check_store(store: str | Path, out: str | Path | None, name: str = "store", 
     p = Path(store)
     if p.suffix.lower() != ".zarr":
         raise ValueError(f"{name} must end in .zarr, got {str(store)!r}")
-    check_out(p, name)  # its directory
+    check_out(p, name, sidecars=True)  # its directory, and room for its lock's name
     if out is not None and p.resolve() == Path(out).resolve():
-        raise ValueError(f"{name} must not be {out_name} ({str(out)!r}): the sweep's store and the labelled dataset "
-                         "are two outputs")
+        raise ValueError(f"{name} must not be {out_name} ({str(out)!r}): the sweep's store and the dataset are two "
+                         "outputs")
     return p
 
 
@@ -348,7 +349,7 @@ def _estimate(cfg: SweepConfig, run: SweepOptions, out: str | Path | None) -> Es
 
 def _store_name(run: SweepOptions) -> str:
     """How messages name the sweep's store: as given, else by the output it goes beside (``out``)."""
-    return run.store_name if run.store is not None else "out"
+    return run.store_name if run.store is not None else run.out_name
 
 
 def _swept(cfg: SweepConfig, path: Path, run: SweepOptions):

@@ -73,7 +73,7 @@ def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
     check_design(x, v, opts.sample, opts.seed, OPTION_NAMES)
     _check_outputs(opts.out, opts.plot, opts.store)
     run = SweepOptions(store=opts.store, restart=opts.restart, chunk_size=opts.chunk_size, scheduler=opts.scheduler,
-                       progress=sys.stderr.isatty(), store_name="--store")
+                       progress=sys.stderr.isatty(), store_name="--store", out_name="--out")
     try:
         result = run_basins(settings, x0=x, v0=v, sample=opts.sample, seed=opts.seed, vary=parse_vary(opts.vary), out=opts.out,
                             plot=opts.plot, dpi=opts.dpi, tolerances=tolerances, sweep_options=run)

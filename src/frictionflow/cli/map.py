@@ -10,7 +10,7 @@ from typing import Any, Optional
 import numpy as np
 
 from .._ranges import Range, parse_named_range
-from ..basins.study import write_dataset
+from ..basins.study import check_store, write_dataset
 from ..friction.registry import switch_law_names
 from ..io import check_output_path
 from ..orbits.chart import CURVES, stability_map
@@ -104,7 +104,7 @@ def map_(params: dict[str, Any], opts: MapOptions) -> None:
     xs = np.linspace(plane.xs.start, plane.xs.stop, nx)
     chart = stability_map(model, law, plane.x, xs, plane.y, (plane.ys.start, plane.ys.stop), sweep_shape=shape,
                           sweep_out=opts.store, t_end=cfg.given.get("t_end", 500.0), heat=opts.heat,
-                          curves=curve_list, n_scan=n_scan, fold_every=opts.fold_every)
+                          sweep_name="--store", curves=curve_list, n_scan=n_scan, fold_every=opts.fold_every)
     _report(chart, opts, provenance(law, "auto"))
 
 
@@ -129,6 +129,8 @@ def _check_outputs(opts: MapOptions) -> None:
         check_output_path(opts.plot, FIGURE_FORMATS, "--plot")
     if opts.out is not None:
         check_output_path(opts.out, DATASET_FORMATS, "--out")
+    if opts.store is not None:  # the sweep's own store (resumable), never the chart's dataset
+        check_store(opts.store, opts.out, "--store", "--out")
 
 
 def _report(chart, opts: MapOptions, caption: str) -> None:  # noqa: ANN001

@@ -10,7 +10,10 @@ from typing import TYPE_CHECKING, Optional
 
 import typer
 
+from ..io import OutputError, check_output_dir, check_output_path
 from ..paper import Settings, reproduce as run_reproduction
+from ..paper.export import OPTION
+from ..paper.pipeline import output_names
 from ._app import app
 from .options import bounded
 from .vocabulary import option, parameter_help
@@ -40,12 +43,34 @@ def reproduce(
     if t_end is not None and t_end > base.window_t_end:
         changes["window_t_end"] = t_end  # the window study covers at least the run length
     settings = dataclasses.replace(base, **changes)  # validated by Settings
-    # reproduce() checks --out and --workers before it computes or writes anything
-    summary = run_reproduction(out, settings, workers=workers, progress=sys.stderr.isatty(), dpi=dpi)
+    _check_out(out)  # (reproduce() checks it too, and --workers, before it computes or writes anything)
+    try:
+        summary = run_reproduction(out, settings, workers=workers, progress=sys.stderr.isatty(), dpi=dpi)
+    except (ValueError, OutputError) as e:  # a write that failed on the way, said of the API's argument
+        raise _named(e) from None
     if as_json:
         print(json.dumps(summary.to_dict()))
     else:
         _print_summary(summary)
+
+
+def _check_out(out: Path) -> None:
+    """Refuse, naming --out, an output directory that could not be made or written, or a file reproduce writes
+    that is blocked (a directory in its place, a read-only file)."""
+    check_output_dir(out, "--out")
+    if out.is_dir():
+        for name in output_names():
+            check_output_path(out / name, None, "--out")
+
+
+def _named(e: Exception) -> Exception:
+    """``e`` with the API's name of the output (``out``) at the head of its message replaced by the option's."""
+    text = str(e)
+    for head in (f"{OPTION}: ", f"{OPTION} "):
+        if text.startswith(head):
+            text = "--out" + text[len(OPTION):]
+            return OutputError(text, e.errno) if isinstance(e, OutputError) else type(e)(text)
+    return e
 
 
 def _print_summary(summary: Summary) -> None:

@@ -92,7 +92,8 @@ def _print_summary(report: dict[str, Any], caption: str) -> None:
     if ss["period"] is not None:
         table.add_row("period", f"{ss['period']:.10g}")
     if ss["decay_rate"] is not None:
-        table.add_row("decay rate", f"{ss['decay_rate']:.6g} (heading: {ss['heading']})")
+        heading = f" (heading: {ss['heading']})" if ss["heading"] else ""  # only a run not settled heads somewhere
+        table.add_row("decay rate", f"{ss['decay_rate']:.6g}{heading}")
     for k, v in report["averages"].items():
         table.add_row(k, "n/a" if v is None else f"{v:.6e}")
     table.add_row("TR_B", "n/a" if report["TR_B"] is None else f"{report['TR_B']:.6g}")

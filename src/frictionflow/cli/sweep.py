@@ -72,7 +72,8 @@ def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeou
     ahead = first_use() if isinstance(cfg, ModelSweepConfig) and scheduler is None else nullcontext()
     with ahead:
         try:
-            ds = run_sweep(cfg, out, restart=restart, scheduler=scheduler, chunk_size=chunk_size, progress=sys.stderr.isatty(), scheduler_timeout=timeout)
+            ds = run_sweep(cfg, out, restart=restart, scheduler=scheduler, chunk_size=chunk_size, progress=sys.stderr.isatty(),
+                           scheduler_timeout=timeout, name="--out")
         except KeyboardInterrupt:  # the lock is released by now; the command ends with exit code 1
             raise _interrupted(out) from None
     elapsed = time.perf_counter() - t0

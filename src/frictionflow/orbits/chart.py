@@ -64,6 +64,9 @@ class StabilityChart(Chart):
     Its fields, shared by every chart, are listed below.
     """
 
+    FIELDS = {"hopf": {"l1": float, "criticality": str}, "grazing": {"stick_slip_below": bool},
+              "fold": {"X": float, "vr_min": float}, "fold_at_grazing": {"smooth": bool}}
+
     def _notes(self) -> list[Row]:
         return [("codim 2", "; ".join(f"{p.kind} at {self.x_param}={num(p.x)}, {self.y_param}={num(p.y)}"
                                       for p in self.codim2) or "none")]
@@ -450,6 +453,7 @@ def stability_map(
     sweep_out: Any = None,
     t_end: float = 500.0,
     heat: str = "R_c",
+    sweep_name: str = "sweep_out",
     **kw: Any,
 ) -> StabilityChart:
     """:func:`stability_chart` with a heat map from a sweep of simulations over the same plane.
@@ -467,11 +471,13 @@ def stability_map(
         Length of each simulation of the sweep.
     heat:
         The sweep variable drawn under the curves (R_c, TR_B, ...).
+    sweep_name:
+        How messages name ``sweep_out`` (the command line passes its option, ``--store``).
     **kw:
         Passed on to :func:`stability_chart`.
     """
     refuse_internal_state(law)  # before the sweep under the curves runs
-    heat_map, x_range = HeatMap(sweep_shape, sweep_out, t_end, heat), (x_values[0], x_values[-1])
+    heat_map, x_range = HeatMap(sweep_shape, sweep_out, t_end, heat, sweep_name), (x_values[0], x_values[-1])
     curves = chart_estimate(law, len(x_values), kw.get("n_scan", 201), kw.get("curves", CURVES), kw.get("fold_every", 2))
     sweep_cost = heat_map.estimate(model, law, x_param, x_range, y_param, y_range)
     enforce(curves if sweep_cost is None else curves.then(sweep_cost))  # within the limits in force, if any

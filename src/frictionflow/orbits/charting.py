@@ -20,10 +20,11 @@ simulations drawn under the curves.
 
 from __future__ import annotations
 
+import json
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol, Sequence
+from typing import Any, ClassVar, Protocol, Sequence
 
 import numpy as np
 
@@ -34,6 +35,7 @@ from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..sweep.compute import VARIABLES
 from ..estimate import Estimate
+from ..parameters import declared
 from ..sweep.config import parse_sweep
 from ..sweep.runner import run_sweep, sweep_estimate
 
@@ -123,6 +125,35 @@ def dedupe(points: list[CurvePoint], tol: float, grid_axis: str = "x") -> list[C
     return out
 
 
+#: what a point's field holds to be stored as a number
+NUMBERS = (bool, int, float, np.bool_, np.integer, np.floating)
+
+
+def _param_attrs(name: str) -> dict[str, str]:
+    """The units and long name of parameter ``name`` as declared (:mod:`frictionflow.parameters`), if it is."""
+    p = declared().get(name)
+    return dict(p.attrs) if p is not None else {"long_name": name}
+
+
+def _field_table(rows: list[list[CurvePoint]], n: int, key: str, kind: type | None = None) -> tuple[np.ndarray, dict]:
+    """Field ``key`` of the points (rows: per grid value, in root order) as an (n_grid, n) array and its attributes:
+    numbers (and flags, 1 true / 0 false) as floats, NaN where there is no value; text as text (variable-length),
+    "" there; anything else (lists) as its JSON.  ``kind`` (float, bool, str): the field's declared type, which
+    decides when no point has it."""
+    given = [p.detail[key] for row in rows for p in row if key in p.detail]
+    flags = kind is bool if not given else all(isinstance(v, (bool, np.bool_)) for v in given)
+    numbers = kind in (None, float, bool) if not given else all(isinstance(v, NUMBERS) for v in given)
+    if numbers:
+        table, fill, convert = np.full((len(rows), n), np.nan), np.nan, float
+    else:
+        table, fill = np.full((len(rows), n), "", dtype=object), ""
+        convert = str if all(isinstance(v, str) for v in given) else (lambda v: json.dumps(jsonable(v)))
+    for i, row in enumerate(rows):
+        for j, p in enumerate(row):
+            table[i, j] = convert(p.detail[key]) if key in p.detail else fill
+    return table, ({"flag_values": [0, 1], "flag_meanings": "false true"} if numbers and flags else {})
+
+
 # -- the chart ---------------------------------------------------------------------------------------
 @dataclass(repr=False)
 class Chart(Summarized):
@@ -158,6 +189,8 @@ class Chart(Summarized):
     grid_axis: str = "x"
     #: the parameter each grid value's continuation ran in, "" otherwise
     continued_in: str = ""
+    #: per curve kind, the fields its points carry (name: float, bool or str), in the dataset even without points
+    FIELDS: ClassVar[dict[str, dict[str, type]]] = {}
 
     @property
     def x_values(self) -> np.ndarray:
@@ -206,33 +239,49 @@ class Chart(Summarized):
 
     def to_xarray(self):
         """Each curve as its span parameter over (grid, root) -- the k-th root at each grid value, NaN where
-        fewer -- with the sweep's variables (on its own (x, y) grid) alongside."""
+        fewer -- and each field its points carry (``l1``, ``criticality``, ...) as a variable of the same shape
+        (``{curve}_{field}``: NaN, or "" for text, where a curve has no point), with the sweep's variables (on its
+        own (x, y) grid) alongside.  The grid's coordinate has its parameter's units and long name; the
+        attributes ``params`` and ``codim2`` are JSON."""
         import xarray as xr
 
         gp, sp = self._names()
-        on_grid, along = ("x", "y") if self.grid_axis == "x" else ("y", "x")
         data = {}
         for c in self.curves:
-            per_value: dict[float, list[float]] = {}
-            for p in c.points:
-                per_value.setdefault(getattr(p, on_grid), []).append(getattr(p, along))
-            n = max((len(v) for v in per_value.values()), default=0)
-            arr = np.full((len(self.grid), max(n, 1)), np.nan)
-            for i, g in enumerate(self.grid):
-                roots = sorted(per_value.get(float(g), []))
-                arr[i, :len(roots)] = roots
-            name = c.kind if c.m is None else f"{c.kind}_m{c.m}"
-            orbits = "" if c.m is None else f" of the m={c.m} orbits"
-            data[f"{name}_{sp}"] = ((gp, f"{name}_root"), arr, {"long_name": f"{sp} on the {c.kind} curve{orbits}"})
-        ds = xr.Dataset(data, coords={gp: np.asarray(self.grid, dtype=float)})
+            data.update(self._curve_variables(c, gp, sp))
+        ds = xr.Dataset(data, coords={gp: (gp, np.asarray(self.grid, dtype=float), _param_attrs(gp))})
+        along = "y" if self.grid_axis == "x" else "x"
         found = ({"continued_in": self.continued_in, f"{along}_range": list(self.span)} if self.continued_in
-                 else {"codim2": str([p.to_dict() for p in self.codim2])})
-        ds.attrs.update({"x_param": self.x_param, "y_param": self.y_param, **found, "params": str(self.params)})
+                 else {"codim2": json.dumps(jsonable([p.to_dict() for p in self.codim2]))})
+        ds.attrs.update({"x_param": self.x_param, "y_param": self.y_param, **found,
+                         "params": json.dumps(jsonable(self.params))})
         if self.sweep is not None:
             sw = self.sweep.rename({d: f"sweep_{d}" for d in self.sweep.dims})
             for k, v in sw.data_vars.items():
                 ds[f"sweep_{k}"] = v
         return ds
+
+    def _curve_variables(self, c: Curve, gp: str, sp: str) -> dict[str, tuple]:
+        """Curve ``c``'s variables over (grid, root): its span values and each field of its points, in root order."""
+        on_grid, along = ("x", "y") if self.grid_axis == "x" else ("y", "x")
+        per_value: dict[float, list[CurvePoint]] = {}
+        for p in c.points:
+            per_value.setdefault(getattr(p, on_grid), []).append(p)
+        rows = [sorted(per_value.get(float(g), []), key=lambda p: getattr(p, along)) for g in self.grid]
+        n = max([1, *(len(r) for r in rows)])
+        name = c.kind if c.m is None else f"{c.kind}_m{c.m}"
+        dims, orbits = (gp, f"{name}_root"), ("" if c.m is None else f" of the m={c.m} orbits")
+        span = np.full((len(rows), n), np.nan)
+        for i, row in enumerate(rows):
+            span[i, :len(row)] = [getattr(p, along) for p in row]
+        units = {"units": _param_attrs(sp)["units"]} if "units" in _param_attrs(sp) else {}
+        out = {f"{name}_{sp}": (dims, span, {"long_name": f"{sp} on the {c.kind} curve{orbits}", **units})}
+        declared_fields = self.FIELDS.get(c.kind, {})
+        for key in dict.fromkeys([*declared_fields, *(k for p in c.points for k in p.detail)]):
+            values, attrs = _field_table(rows, n, key, declared_fields.get(key))
+            out[f"{name}_{key}"] = (dims, values, {"long_name": f"{key} at each point of the {c.kind} curve{orbits}",
+                                                   **attrs})
+        return out
 
     def plot(self, path: Any = None, **options: Any):
         """The curves over the sweep heat map (:func:`~.chart_plot.plot_chart`).
@@ -258,13 +307,15 @@ class HeatMap:
 
     ``shape`` (n_x, n_y): its grid (None: no sweep); ``out``: where
     :func:`frictionflow.sweep.run_sweep` writes it (.zarr or .nc; None: a
-    temporary .nc); ``heat``: the sweep variable drawn (R_c, TR_B, ...).
+    temporary .nc); ``heat``: the sweep variable drawn (R_c, TR_B, ...); ``name``: how messages name ``out``
+    (the command line's option).
     """
 
     shape: tuple[int, int] | None = None
     out: Any = None
     t_end: float = 500.0
     heat: str = "R_c"
+    name: str = "sweep_out"
 
     def estimate(self, model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str,
                  y_range) -> Estimate | None:
@@ -273,7 +324,7 @@ class HeatMap:
             return None
         cfg = parse_sweep(sweep_config(model, law, x_param, x_range, y_param, y_range, self.shape, self.t_end))
         return sweep_estimate(cfg, self.out if self.out is not None else Path(tempfile.gettempdir()) / "sweep.nc",
-                              "sweep_out")
+                              self.name)
 
     def run(self, model: BeltOscillator, law: FrictionLaw, x_param: str, x_range, y_param: str, y_range):
         """The sweep over x_range by y_range (an xarray.Dataset, loaded), or None without a shape."""
@@ -284,7 +335,7 @@ class HeatMap:
             raise ValueError(f"heat must be a sweep variable ({', '.join(names)}), got {self.heat!r}")
         cfg = sweep_config(model, law, x_param, x_range, y_param, y_range, self.shape, self.t_end)
         if self.out is not None:
-            return run_sweep(cfg, self.out).load()
+            return run_sweep(cfg, self.out, name=self.name).load()
         with tempfile.TemporaryDirectory(prefix="ff_map_") as tmp:  # the store is the caller's only with out
             ds = run_sweep(cfg, Path(tmp) / "sweep.nc")
             loaded = ds.load()

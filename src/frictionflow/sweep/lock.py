@@ -94,8 +94,9 @@ class SweepLock:
     return, exception, KeyboardInterrupt).
     """
 
-    def __init__(self, out: str | Path, stale_after: float = STALE_AFTER) -> None:
+    def __init__(self, out: str | Path, stale_after: float = STALE_AFTER, name: str = "out") -> None:
         self.out = Path(out)
+        self.name = name  #: how messages name the output (the command line's option)
         self.path = lock_path(out)
         self.stale_after = stale_after
         self._fd: int | None = None
@@ -115,7 +116,7 @@ class SweepLock:
                 self._take(fd, flocked)
             except OSError as e:  # our record could not be written (a full disk): the file is ours to remove
                 self._abandon(fd, flocked)
-                raise write_error(e, "out", self.path, "nothing was computed or written") from None
+                raise write_error(e, self.name, self.path, "nothing was computed or written") from None
             except BaseException:
                 os.close(fd)
                 raise
@@ -128,7 +129,7 @@ class SweepLock:
         try:
             return os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
         except OSError as e:
-            raise write_error(e, "out", self.path, "nothing was computed or written") from None
+            raise write_error(e, self.name, self.path, "nothing was computed or written") from None
 
     def _abandon(self, fd: int, flocked: bool) -> None:
         """Give up a lock file we hold but could not write our record into."""

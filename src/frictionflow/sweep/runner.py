@@ -117,15 +117,15 @@ def run_sweep(
         How messages about ``out`` name it (``basins`` passes its store's option, ``--store``).
     """
 
-    _check_run_arguments(out, restart, client, scheduler, progress)
+    _check_run_arguments(out, restart, client, scheduler, progress, name)
     _seconds("scheduler_timeout", scheduler_timeout)
     _seconds("lock_stale_after", lock_stale_after)
     cfg = _as_config(config)
     size = default_chunk_size(cfg) if chunk_size is None else CHUNK_SIZE.check(chunk_size)
-    target = check_out(out, name)
+    target = check_out(out, name, sidecars=True)
     # within the limits in force (frictionflow.estimate.limited); a model sweep's probe runs only when they are
     enforce((lambda: sweep_estimate(cfg, out, name)) if isinstance(cfg, ModelSweepConfig) else sweep_estimate(cfg, out, name))
-    with SweepLock(out, stale_after=lock_stale_after):
+    with SweepLock(out, stale_after=lock_stale_after, name=name):
         own_client = _connect(scheduler, scheduler_timeout) if client is None and scheduler is not None else None
         try:
             with writing(target, name), _quiet(own_client is not None):
@@ -176,12 +176,12 @@ def repair_sweep(
 
     check.instance(name, out, (str, os.PathLike), PATH)
     _seconds("lock_stale_after", lock_stale_after)
-    target = check_out(out, name)
+    target = check_out(out, name, sidecars=True)
     if not (target.exists() or journal_path(target).exists()):
         raise ValueError(f"{name}: {str(target)!r} does not exist")
-    cfg = stored_config(target) if config is None else _as_config(config)
-    with SweepLock(target, stale_after=lock_stale_after), writing(target):  # a full disk: the sweep's own line
-        store = SweepStore(target, cfg, cfg.shape)  # (a resumed store keeps the chunks it was started with)
+    cfg = stored_config(target, name) if config is None else _as_config(config)
+    with SweepLock(target, stale_after=lock_stale_after, name=name), writing(target, name):  # a full disk: the sweep's own line
+        store = SweepStore(target, cfg, cfg.shape, name=name)  # (a resumed store keeps the chunks it was started with)
         try:
             return store.verify(repair=True)
         finally:
@@ -199,12 +199,12 @@ def _as_config(config: SweepConfig | ModelSweepConfig | dict[str, Any] | str | P
     return parse_sweep(config)
 
 
-def _check_run_arguments(out: Any, restart: Any, client: Any, scheduler: Any, progress: Any) -> None:
+def _check_run_arguments(out: Any, restart: Any, client: Any, scheduler: Any, progress: Any, name: str) -> None:
     """run_sweep's arguments of the wrong type, as one TypeError naming the argument, before anything is created.
 
     Flags must be booleans: a string is truthy, and restart="no" would discard an existing output.
     """
-    check.instance("out", out, (str, os.PathLike), PATH)
+    check.instance(name, out, (str, os.PathLike), PATH)
     check.instance("restart", restart, bool, "True or False")
     check.instance("progress", progress, bool, "True or False")
     check.instance("scheduler", scheduler, (str, type(None)), "a Dask scheduler's address (str) or None")

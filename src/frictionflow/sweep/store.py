@@ -52,16 +52,24 @@ import numpy as np
 
 from .. import _validate as check
 from .._version import __version__
-from ..io import _directory_problem, atomic_write, stale_temporaries, temporary_path, write_error
+from ..io import _directory_problem, _limit, atomic_write, stale_temporaries, temporary_path, write_error
 from .compute import chunk_slices
 from .config import SAMPLE, SINGLE_MASS, SweepConfig, Variable, n_chunks
+from .lock import lock_path
 from .model import config_from_source
 
 #: the sweep's bookkeeping group (not part of the dataset: xarray reads only the root's arrays)
 BOOK = "_sweep"
-#: what a message advises for an output that is not a sweep's: a run replaces it, a check has nothing to check
+#: what a message advises for an existing output: a run replaces what a sweep wrote (:func:`foreign`), a check has
+#: nothing to check
 REPLACE = "use --restart to replace it"
 NOT_TO_CHECK = "nothing to verify: give the .zarr or .nc a sweep wrote"
+#: what a message advises for a damaged output a sweep wrote
+RESTART = "use --restart to start over"
+#: what a run says of an existing path a sweep did not write: nothing replaces it (``{name}``: how it is given)
+KEEP = "frictionflow did not write it, so it is never replaced: give another {name} or remove it yourself"
+#: what a message advises for a damaged NetCDF file whose attributes cannot be read (a sweep's or not: not replaced)
+UNTOLD = "its attributes cannot be read to tell it a sweep's, so it is never replaced: remove it yourself to start over"
 #: what a path argument must be (a sweep's output, or the one to check)
 PATH = "a path (str or os.PathLike) ending in .zarr or .nc"
 #: per chunk: 0 while not done, then its checksum
@@ -126,14 +134,38 @@ def writing(target: Path, name: str = "out") -> Iterator[None]:
         raise write_error(e, name, target, KEPT) from None
 
 
-def check_out(path: str | Path, name: str = "out") -> Path:
-    """Refuse, before any work, an output that cannot be a sweep's: its extension, its directory (messages naming
-    it ``name``)."""
+def check_out(path: str | Path, name: str = "out", sidecars: bool = False) -> Path:
+    """Refuse, before any work, an output that cannot be a sweep's: its extension, its directory, and with
+    ``sidecars`` a name too long for the files a run writes beside it (:func:`sidecar_names`); messages naming it
+    ``name``."""
     p = _sweep_path(path, name)
     problem = _directory_problem(p.parent)
     if problem is not None:
         raise ValueError(f"{name}: {problem}")
+    if sidecars:
+        _check_name_lengths(p, name)
     return p
+
+
+def sidecar_names(target: Path) -> list[str]:
+    """The names a run on ``target`` gives the files beside it: its lock and, for a NetCDF output, its journal
+    (every temporary name is cut to fit wherever the target fits)."""
+    names = [lock_path(target).name]
+    if target.suffix.lower() == ".nc":
+        names.append(journal_path(target).name)
+    return names
+
+
+def _check_name_lengths(target: Path, name: str) -> None:
+    """ValueError naming ``name`` when ``target``'s name, or a name of its sidecars, is too long for its directory."""
+    longest = _limit(target.parent, "PC_NAME_MAX", 255)
+    size = len(os.fsencode(target.name))
+    if size > longest:
+        raise ValueError(f"{name}: the file name of {str(target)!r} is too long ({size} bytes; at most {longest} here)")
+    need = max(len(os.fsencode(n)) for n in sidecar_names(target)) - longest
+    if need > 0:
+        raise ValueError(f"{name}: the file name of {str(target)!r} is too long: its lock/partial files need {need} "
+                         f"more byte{'s' if need > 1 else ''} (at most {longest} bytes a name here; its own {size})")
 
 
 def zarr_problem(path: Path) -> str | None:
@@ -164,9 +196,10 @@ class RepairWarning(UserWarning):
 class DamagedStoreError(RuntimeError):
     """A store damaged beyond what a rerun repairs (its metadata, an unopenable file): ``--restart`` is needed."""
 
-    def __init__(self, target: Path, problem: str, name: str = "out") -> None:
+    def __init__(self, target: Path, problem: str, name: str = "out", advice: str = RESTART) -> None:
         self.problem = problem
-        super().__init__(f"{name}: {str(target)!r} is damaged: {problem}; use --restart to start over")
+        self.advice = advice  #: how to go on (--restart only for what a sweep is known to have written)
+        super().__init__(f"{name}: {str(target)!r} is damaged: {problem}; {advice}")
 
 
 class ChunkReadError(Exception):
@@ -198,6 +231,7 @@ class Verification:
     unknown: int = 0  #: chunks whose checksum was lost or never recorded, checked for complete data instead
     repairable: bool = True  #: whether running the sweep again repairs it (else ``--restart`` is needed)
     rebuilt: list[str] = field(default_factory=list)  #: metadata documents rebuilt from the settings (``root``, variables)
+    fix: str = ""  #: how to go on when not repairable, if not "run the sweep again with --restart"
 
     @property
     def intact(self) -> bool:
@@ -221,7 +255,7 @@ class Verification:
         if self.bad:
             kinds = ", ".join(f"{n} {k}" for k, n in self.counts().items())
             parts.append(f"{len(self.bad)} of {self.n_chunks} chunks bad ({kinds})")
-        fix = "run the same sweep again to recompute what is bad" if self.repairable else "run the sweep again with --restart"
+        fix = "run the same sweep again to recompute what is bad" if self.repairable else self.fix or "run the sweep again with --restart"
         return f"{self.path}: damaged: {'; '.join(parts)}; {fix}"
 
     def repair_line(self) -> str:
@@ -251,7 +285,7 @@ class SweepStore:
 
     def __init__(self, path: str | Path, cfg: SweepConfig, chunks: tuple[int, ...], restart: bool = False,
                  name: str = "out") -> None:
-        self._locate(check_out(path, name))
+        self._locate(check_out(path, name, sidecars=True))
         self.name = name
         self.cfg = cfg
         self.table = cfg.variables
@@ -260,13 +294,14 @@ class SweepStore:
         self.chunks = chunks
         self.grid = n_chunks(cfg.shape, chunks)
         if restart:
-            for p in (self.path, self.target):
-                _remove(p)
+            discard((self.path, self.target), name)
         for old in stale_temporaries(self.path):  # a creation killed half-way (under the lock: not a live one)
             shutil.rmtree(old, ignore_errors=True)
         #: an existing output: what it holds is checked (:meth:`verify`) before it is trusted
         self.resumed = self.path.exists() or self.target.exists()
         if self.path.exists():
+            if self.netcdf:  # the conversion at the end replaces the file: only a sweep's
+                self._refuse_foreign(self.target)
             if self.path.is_dir():
                 self.rebuilt = self._rebuild_metadata()
             self._reopen(mode="r+")
@@ -315,15 +350,15 @@ class SweepStore:
 
         shown = str(self.target)
         if not self.path.is_dir():
-            raise ValueError(f"{self.name}: {shown!r} {zarr_problem(self.path)}; {self.advice}")
+            raise ValueError(f"{self.name}: {shown!r} {zarr_problem(self.path)}; {self._advice(self.path)}")
         try:
             # the files themselves, not the consolidated snapshot: the bookkeeping may have changed or be damaged since
             root = zarr.open_group(str(self.path), mode=mode, use_consolidated=False)
             attrs = dict(root.attrs)
         except Exception:
-            raise ValueError(f"{self.name}: {shown!r} exists and is not a Zarr store; {self.advice}") from None
+            raise ValueError(f"{self.name}: {shown!r} exists and is not a Zarr store; {self._advice(self.path)}") from None
         if "config_sha256" not in attrs or "chunk_shape" not in attrs:
-            raise ValueError(f"{self.name}: {shown!r} is a Zarr store but not a frictionflow sweep; {self.advice}")
+            raise ValueError(f"{self.name}: {shown!r} is a Zarr store but not a frictionflow sweep; {self._advice(self.path)}")
         self.root = root
         self.chunks = tuple(int(c) for c in attrs["chunk_shape"])  # resume with the chunks it was started with
         self._layout_from(lambda name: self.root[name])
@@ -334,22 +369,36 @@ class SweepStore:
 
         shown = str(self.target)
         if self.target.is_dir():
-            raise ValueError(f"{self.name}: {shown!r} is a directory, not a NetCDF file; {self.advice}")
+            raise ValueError(f"{self.name}: {shown!r} is a directory, not a NetCDF file; {self._advice(self.target)}")
         try:
             self._nc = xr.open_dataset(self.target, mask_and_scale=False, decode_times=False, cache=False)
         except Exception as e:
             if _nc_magic(self.target):  # ours or not, it claims to be NetCDF: damaged
-                raise DamagedStoreError(self.target, f"a NetCDF file that cannot be opened ({_short(e)})", self.name) from None
-            raise ValueError(f"{self.name}: {shown!r} exists and is not a NetCDF file; {self.advice}") from None
+                problem = f"a NetCDF file that cannot be opened ({_short(e)})"  # (its attributes unread: maybe not a sweep's)
+                raise DamagedStoreError(self.target, problem, self.name, UNTOLD) from None
+            raise ValueError(f"{self.name}: {shown!r} exists and is not a NetCDF file; {self._advice(self.target)}") from None
         attrs = self._nc.attrs
         if self.table is None:
             self.table = _table_of(attrs.get("config"))
         if "config_sha256" not in attrs or "chunk_shape" not in attrs or self.table[0].name not in self._nc:
             self._nc.close()
-            raise ValueError(f"{self.name}: {shown!r} is a NetCDF file but not a frictionflow sweep; {self.advice}")
+            raise ValueError(f"{self.name}: {shown!r} is a NetCDF file but not a frictionflow sweep; {self._advice(self.target)}")
         self.complete = True
         self.chunks = tuple(int(c) for c in np.atleast_1d(attrs["chunk_shape"]))
         self._layout_from(lambda name: self._nc[name])
+
+    def _advice(self, path: Path) -> str:
+        """What a refusal of the existing ``path`` advises: a check's advice, else --restart only for what a sweep
+        wrote (:func:`foreign`)."""
+        if self.advice != REPLACE:
+            return self.advice
+        return REPLACE if foreign(path) is None else KEEP.format(name=self.name)
+
+    def _refuse_foreign(self, path: Path) -> None:
+        """ValueError naming ``path`` if it exists and a sweep did not write it (:func:`foreign`)."""
+        what = foreign(path)
+        if what is not None:
+            raise ValueError(f"{self.name}: {str(path)!r} {what}; {KEEP.format(name=self.name)}")
 
     def _layout_from(self, get) -> None:
         """Shape, dims and chunk grid from the stored ``kind`` variable."""
@@ -449,14 +498,15 @@ class SweepStore:
             raise ValueError(f"{self.name}: {str(self.target)!r} holds a different sweep (its config changed); use --restart to start over")
         self.chunks = identity["chunk_shape"]
         self.grid = n_chunks(self.shape, self.chunks)
-        with tempfile.TemporaryDirectory(prefix=f".{self.path.name}.rebuild-", dir=self.path.parent) as tmp:
+        short = os.fsdecode(os.fsencode(self.path.name)[:64])  # (fits wherever the store's name fits)
+        with tempfile.TemporaryDirectory(prefix=f".{short}.rebuild-", dir=self.path.parent) as tmp:
             template = Path(tmp) / "template.zarr"
             self._create(template)  # the layout a fresh run would write, with the store's chunks
             self._flag_array = None
             for name in broken:
                 doc = self.path / name / "zarr.json"
                 doc.parent.mkdir(parents=True, exist_ok=True)
-                with atomic_write(doc, "out") as part:
+                with atomic_write(doc, self.name) as part:
                     shutil.copyfile(template / name / "zarr.json", part)
         return ["root" if n == "" else n for n in broken]
 
@@ -716,12 +766,12 @@ class SweepStore:
         ds = xr.open_zarr(str(self.path), consolidated=False)
         try:
             kept = f"every chunk is kept in {str(self.path)!r}: run the same command again to convert it"
-            with atomic_write(self.target, "out", kept) as tmp:  # r.nc appears only complete
+            with atomic_write(self.target, self.name, kept) as tmp:  # r.nc appears only complete
                 ds.to_netcdf(tmp)
                 self._record_checksums(tmp)
         finally:
             ds.close()
-        shutil.rmtree(self.path)  # after the rename: a kill in between leaves the journal to convert again
+        discard([self.path], self.name)  # after the rename: a kill in between leaves the journal to convert again
         return xr.open_dataset(self.target)
 
     def _record_checksums(self, nc: Path) -> None:
@@ -809,7 +859,8 @@ def verify_sweep(path: str | Path, *, name: str = "path") -> Verification:
     try:
         store = SweepStore.existing(target, name)
     except DamagedStoreError as e:
-        return Verification(target, 0, problems=[e.problem], repairable=False)
+        fix = "" if e.advice == RESTART else e.advice
+        return Verification(target, 0, problems=[e.problem], repairable=False, fix=fix)
     try:
         return store.verify()
     finally:
@@ -864,41 +915,76 @@ def _broken_docs(store: Path) -> list[str]:
     return ["root" if n == "" else n for n in names if not _readable_doc(store / n / "zarr.json")]
 
 
-def stored_config(path: str | Path) -> SweepConfig:
-    """The settings a sweep output was written with (recorded in its attributes), to repair it without its config file."""
+def stored_config(path: str | Path, name: str = "out") -> SweepConfig:
+    """The settings a sweep output was written with (recorded in its attributes), to repair it without its config
+    file (messages naming it ``name``)."""
     target = Path(path)
     journal = journal_path(target)
     identity = _stored_identity(journal, spare_first=True) if journal.is_dir() else _nc_identity(target)
     if identity is None or "config" not in identity:
-        raise ValueError(f"out: {str(target)!r} records no readable settings (its metadata is damaged or it is not a sweep); "
+        raise ValueError(f"{name}: {str(target)!r} records no readable settings (its metadata is damaged or it is not a sweep); "
                          "give the sweep's CONFIG to repair it, or use --restart to start over")
     source = json.loads(identity["config"])
     dims = identity.get("dims") or (_stored_dims(journal) if journal.is_dir() else None) or []
     grid = {**{d: source["grid"][d] for d in dims if d in source["grid"]}, **source["grid"]}  # the axes in their order
     cfg = config_from_source({**source, "grid": grid}, str(target))
     if cfg.fingerprint() != identity["config_sha256"]:
-        raise ValueError(f"out: {str(target)!r}: its recorded settings do not match their fingerprint; give the sweep's CONFIG, or use --restart")
+        raise ValueError(f"{name}: {str(target)!r}: its recorded settings do not match their fingerprint; give the sweep's CONFIG, or use --restart")
     return cfg
 
 
-def _nc_identity(target: Path) -> dict | None:
-    """A finished NetCDF sweep's config and fingerprint (None if it cannot be read)."""
+def _nc_identity(target: Path, need_config: bool = True) -> dict | None:
+    """A finished NetCDF sweep's config and fingerprint (None if it cannot be read, or is not a sweep's: without
+    ``need_config``, its fingerprint and chunk shape suffice)."""
     import xarray as xr
 
+    keys = ("config", "config_sha256") if need_config else ("config_sha256", "chunk_shape")
     try:
-        with xr.open_dataset(target, cache=False) as ds:
+        with xr.open_dataset(target, cache=False, decode_times=False) as ds:
             first = _table_of(ds.attrs.get("config"))[0].name
-            return {**{k: ds.attrs[k] for k in ("config", "config_sha256")}, "dims": list(ds[first].dims)}
+            return {**{k: ds.attrs[k] for k in keys}, "dims": list(ds[first].dims)}
     except Exception:
         return None
 
 
-def _remove(p: Path) -> None:
-    """Remove a file or a directory tree, if there."""
-    if p.is_dir():
-        shutil.rmtree(p)
-    elif p.exists() or p.is_symlink():
-        p.unlink()
+def foreign(path: Path) -> str | None:
+    """Why the existing ``path`` is not an output a sweep wrote, or None: the one rule of what a sweep may remove.
+
+    A sweep wrote: a directory whose root or bookkeeping group records a
+    sweep's settings, or that holds a sweep's done-flags (its metadata
+    damaged) -- a Zarr output, or a NetCDF one's ``.partial.zarr`` journal;
+    a NetCDF file whose attributes record a sweep's settings.  Anything else
+    (a user's directory, a foreign Zarr store or NetCDF file, a file that
+    cannot be read) is never removed or replaced, ``--restart`` or not.
+    None too for a path that does not exist (nothing to lose).
+    """
+    if not (path.exists() or path.is_symlink()):
+        return None
+    if path.is_symlink():
+        return "is a symbolic link"
+    if path.is_dir():
+        if _stored_identity(path) is not None or (path / DONE).is_dir() or (path / LEGACY_DONE).is_dir():
+            return None
+        return "is a directory without a sweep's settings or bookkeeping"
+    if _nc_identity(path, need_config=False) is not None:
+        return None
+    if _nc_magic(path):
+        return "is a NetCDF file without a sweep's settings, or whose attributes cannot be read"
+    return "is a file without a sweep's settings (not a sweep's NetCDF output)"
+
+
+def discard(paths: Sequence[Path], name: str = "out") -> None:
+    """Remove ``paths`` (files or directory trees, where they exist) if a sweep wrote every one (:func:`foreign`),
+    else ValueError naming the first that it did not (messages naming it ``name``): nothing is removed then."""
+    for p in paths:
+        what = foreign(p)
+        if what is not None:
+            raise ValueError(f"{name}: {str(p)!r} {what}; {KEEP.format(name=name)}")
+    for p in paths:
+        if p.is_dir():
+            shutil.rmtree(p)
+        elif p.exists():
+            p.unlink()
 
 
 def _nc_magic(path: Path) -> bool:
