@@ -1,4 +1,4 @@
-"""Extremes and stick shares between samples (analysis.between_samples), against closed forms and against an
+"""Extremes, TR_B and stick shares between samples (analysis.between_samples), against closed forms and against an
 independent Radau integration with located events."""
 
 from __future__ import annotations
@@ -66,21 +66,25 @@ def _radau_cycle(state, period):
     level = LAW.stick_speed()
     cross = [lambda t, y, s=s: (MODEL.vb - y[1]) - s * level for s in (1.0, -1.0)]
     turn = lambda t, y: _rhs(t, y)[1]  # noqa: E731
-    sol = solve_ivp(_rhs, (0.0, period), state, method="Radau", rtol=1e-12, atol=1e-14, events=[*cross, turn],
-                    dense_output=True)
+    force_turn = lambda t, y: y[1] + 2.0 * MODEL.zeta * _rhs(t, y)[1]  # noqa: E731  (F_T' = X' + 2 zeta X'')
+    sol = solve_ivp(_rhs, (0.0, period), state, method="Radau", rtol=1e-12, atol=1e-14,
+                    events=[*cross, turn, force_turn], dense_output=True)
     times = np.sort(np.concatenate([[0.0, period], *sol.t_events[:2]]))
     inside = np.abs(MODEL.vb - sol.sol(0.5 * (times[:-1] + times[1:]))[1]) < level
     share = float(np.sum(np.diff(times)[inside]) / period)
     v_turns = sol.y_events[2][:, 1]
-    return share, float(v_turns.min()), float(v_turns.max())
+    peak = float(np.max(np.abs(sol.y_events[3][:, 0] + 2.0 * MODEL.zeta * sol.y_events[3][:, 1])))
+    return share, float(v_turns.min()), float(v_turns.max()), peak
 
 
 def test_stick_share_and_velocity_extremes_agree_with_located_events():
     orbit = find_orbit(MODEL, LAW, tol=1e-13)
-    share, vmin, vmax = _radau_cycle(np.asarray(orbit.state, dtype=float), orbit.period)
+    share, vmin, vmax, peak = _radau_cycle(np.asarray(orbit.state, dtype=float), orbit.period)
     run = analyze(simulate(MODEL, LAW, Stiff(rtol=1e-8), t_end=300.0))
     q = run.quantities()
     for got in (orbit.stick_fraction, q["stick_fraction"]):
         assert got == pytest.approx(share, rel=1e-6)  # the samples' own share was 2 % off
     for ext in (orbit.measures.extremes, q):
         assert ext["V_max"] == pytest.approx(vmax, rel=1e-8) and ext["V_min"] == pytest.approx(vmin, rel=1e-8)
+    for trb in (orbit.measures.TR_B, q["TR_B"]):  # max |X + 2 zeta X'| / F_d: the steps' was 1.4e-5 low
+        assert trb == pytest.approx(peak / LAW.fd, rel=1e-8)
