@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 
 def finite(name: str, value: float, allowed: str = "a finite real number") -> float:
     """Return ``value`` as a float; it must be a finite real number."""
@@ -52,10 +54,14 @@ def at_least(name: str, value: float, lower: float, lower_name: str) -> float:
 
 
 def positive_int(name: str, value: int) -> int:
-    """An integer >= 1."""
-    if isinstance(value, bool) or not float(value).is_integer() or int(value) < 1:
+    """An integer >= 1 (a whole float or a numpy integer too), returned as an int."""
+    try:
+        whole = not isinstance(value, (bool, np.bool_, str)) and float(value).is_integer()  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        whole = False
+    if not whole or int(value) < 1:  # type: ignore[arg-type]
         raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
-    return int(value)
+    return int(value)  # type: ignore[arg-type]
 
 
 def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:

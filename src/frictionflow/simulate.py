@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from . import _validate as check
 from .config import RUN_PARAMETERS
 from .estimate import enforce
@@ -52,8 +54,9 @@ def simulate(
     """
     check.instance("model", model, BeltOscillator, "a BeltOscillator")
     check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
-    t_end, x0, v0, max_memory = (RUN[k].check(v) if v is not None else None for k, v in
-                                 (("t_end", t_end), ("x0", x0), ("v0", v0), ("max_memory", max_memory)))
+    t_end, max_memory = RUN["t_end"].check(t_end), RUN["max_memory"].check(max_memory)  # None is no number here
+    x0, v0 = (RUN[k].check(v) if v is not None else None for k, v in (("x0", x0), ("v0", v0)))  # None: the default
+    check.instance("progress", progress, (bool, np.bool_), "True or False")
     x0, v0 = friction.start(model.vb, x0, v0)
     solver = resolved_solver(solver, friction, model)
     if not solver.supports(friction):

@@ -275,8 +275,7 @@ def classified_steady_state(traj: Trajectory, *, rtol: float = 1e-6, min_periods
     check.instance("traj", traj, Trajectory, "a Trajectory (from simulate)")
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 0.0 < rtol < 1.0:
         raise ValueError(f"rtol must be a number in (0, 1), got {rtol!r}")
-    if isinstance(min_periods, bool) or int(min_periods) != min_periods or min_periods < 1:
-        raise ValueError(f"min_periods must be an integer >= 1, got {min_periods!r}")
+    min_periods = check.positive_int("min_periods", min_periods)  # an int: the kernels compile for one type
     if window is not None:
         window = traj.checked_window(window)
     found, summary = _diverged(traj), None
