@@ -69,7 +69,8 @@ def frequency_response(
     periods:
         Forcing periods simulated at each frequency (the analysis reads the second half).
     directions:
-        ``"up"`` (increasing Omega), ``"down"``, or both (default): each sweep starts from (x0, v0).
+        ``"up"`` (increasing Omega), ``"down"``, or both (default), as a sequence or one bare string;
+        each sweep starts from (x0, v0).
     x0, v0:
         The state each sweep starts from, at its first frequency (default: the law's start,
         :meth:`FrictionLaw.start`, as the command's); every later frequency starts from the state the previous
@@ -88,9 +89,8 @@ def frequency_response(
         raise ValueError("fex must be > 0 for a frequency response (the forcing amplitude), got 0")
     if not (isinstance(periods, (int, np.integer)) and 8 <= periods <= 10**6):
         raise ValueError(f"periods must be an integer in [8, 1e6], got {periods!r}")
-    bad = [d for d in directions if d not in DIRECTIONS]
-    if bad or not directions:
-        raise ValueError(f"directions must be some of {DIRECTIONS}, got {list(directions)!r}")
+    directions = _checked_directions(directions)
+    check.instance("progress", progress, (bool, np.bool_), "True or False")
     solver = solver or auto_solver(friction)
     _check_forcing(solver, model, omegas)
     enforce(response_estimate(model, friction, solver, omegas, periods).times(len(directions)))
@@ -140,15 +140,37 @@ def _check_forcing(solver: Solver, model: BeltOscillator, omegas: np.ndarray) ->
             raise ValueError(problem)
 
 
+def _checked_directions(directions: str | Sequence[str]) -> tuple[str, ...]:
+    """``directions`` as a tuple: a bare ``"up"`` or ``"down"`` is one direction, not its letters."""
+    try:
+        found = (directions,) if isinstance(directions, str) else tuple(directions)
+    except TypeError:
+        raise ValueError(f"directions must be some of {DIRECTIONS}, got {directions!r}") from None
+    if not found or any(not isinstance(d, str) or d not in DIRECTIONS for d in found):
+        raise ValueError(f"directions must be some of {DIRECTIONS}, got {directions!r}")
+    return found
+
+
 def _checked_omegas(omegas: Sequence[float]) -> np.ndarray:
-    w = np.asarray(omegas, dtype=float)
-    if w.ndim != 1 or len(w) < 1:
-        raise ValueError("omega must be a non-empty list of frequencies")
+    w = _numbers(omegas)
+    if w is None or w.ndim != 1 or len(w) < 1:
+        raise ValueError(f"omegas must be a non-empty sequence of numbers (the frequencies), got {omegas!r}")
     for value in w:
         OMEGA.check(float(value))
     if np.any(np.diff(w) <= 0):
         raise ValueError("omega must be increasing (FROM < TO)")
     return w
+
+
+def _numbers(values: object) -> np.ndarray | None:
+    """``values`` as a float array when they are numbers (not text, booleans or None), else None."""
+    if values is None or isinstance(values, (str, bytes)):
+        return None
+    try:
+        arr = np.asarray(values)
+    except (TypeError, ValueError):  # ragged
+        return None
+    return arr.astype(float) if arr.dtype.kind in "iuf" else None
 
 
 def _dataset(out: dict, model: BeltOscillator, friction: FrictionLaw, solver: Solver, omegas: np.ndarray,

@@ -388,9 +388,15 @@ def scan_estimate(n: int, points: int) -> Estimate:
 
 
 def _checked_values(values: Sequence[float]) -> np.ndarray:
-    vals = np.asarray(values, dtype=float).reshape(-1)
+    try:  # text, booleans, None or a ragged list are not the parameter's values
+        vals = None if isinstance(values, (str, bytes)) else np.asarray(values)
+    except (TypeError, ValueError):
+        vals = None
+    if vals is None or vals.dtype.kind not in "iuf" or vals.ndim != 1:
+        raise ValueError(f"values must be a sequence of at least 2 finite numbers, got {values!r}")
+    vals = vals.astype(float)
     if vals.size < 2 or not np.all(np.isfinite(vals)):
-        raise ValueError(f"values must be at least 2 finite numbers, got {vals.size}")
+        raise ValueError(f"values must be at least 2 finite numbers, got {vals.size}: {values!r}")
     step = np.diff(vals)
     if not (np.all(step > 0) or np.all(step < 0)):
         raise ValueError("values must be strictly increasing or strictly decreasing")

@@ -111,6 +111,7 @@ class BranchPoint:
             "X_min": self.measures.extremes["X_min"],
             **{k: av[k] for k in POINT_POWER},
             "TR_B": self.measures.TR_B,
+            "energy_residual": self.measures.power.energy_residual,
             "stick_fraction": self.stick_fraction,
         }
         if self.kind == "periodic":

@@ -13,7 +13,7 @@ from typing import Any
 from ..analysis import analyze
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
-from ..simulate import simulate
+from ..simulate import RUN, simulate
 from ..solvers.base import Solver
 from .parameters import with_param
 
@@ -40,13 +40,13 @@ def sweep(
     values:
         Its values.
     t_end:
-        Length of each simulation.
+        Length of each simulation (finite, > 0; checked before any run).
     x0, v0:
         Initial state (default the paper's X(0) = F_d, X'(0) = V_b).
     solver:
         A solver (default: the law's).
     """
-
+    t_end = RUN["t_end"].check(t_end)  # before any run: None, text, inf or <= 0 name t_end
     out = []
     for lam in values:
         m, law = with_param(model, friction, param, float(lam))
@@ -63,6 +63,7 @@ def sweep(
                 "stick_fraction": ss.stick_fraction,
                 **{k: av[k] for k in ("P_fin", "P_df", "P_dv", "R_c", "R_f")},
                 "TR_B": res.TR_B,
+                "energy_residual": res.power.energy_residual,
             }
         )
     return out

@@ -56,7 +56,7 @@ optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the C
 CURVES = ("hopf", "grazing", "fold")
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class StabilityChart(Chart):
     """Curves in the (x, y) plane of two parameters (found in y at each x of a grid), codimension-two points,
     and optionally a sweep heat map.

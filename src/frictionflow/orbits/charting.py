@@ -155,7 +155,7 @@ def _field_table(rows: list[list[CurvePoint]], n: int, key: str, kind: type | No
 
 
 # -- the chart ---------------------------------------------------------------------------------------
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class Chart(Summarized):
     """Curves in the (x, y) plane of two parameters, traced over a grid of one of them, and optionally a heat map.
 

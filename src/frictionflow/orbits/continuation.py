@@ -95,6 +95,7 @@ def continuation(
     """
     check.instance("model", model, BeltOscillator, "a BeltOscillator")
     check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
+    start, stop = check.number("start", start), check.number("stop", stop)
     s = merged(ContinuationSettings, settings, options, "continuation")
     if friction.stick_rule == "state":  # internal states: steady sliding and cycles on the whole state
         return stateful_continuation(model, friction, param, start, stop, s)

@@ -66,10 +66,24 @@ def multipliers(monodromy: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     monodromy:
-        The monodromy matrix M (square).
+        The monodromy matrix M (square, finite real entries; a ValueError names it otherwise).
     """
-    mu = np.linalg.eigvals(np.asarray(monodromy, dtype=float)).astype(complex)
+    mu = np.linalg.eigvals(_monodromy(monodromy)).astype(complex)
     return mu[np.argsort(-np.abs(mu), kind="stable")]
+
+
+def _monodromy(monodromy: object) -> np.ndarray:
+    """``monodromy`` as a float array; a ValueError naming it unless it is a square matrix of finite numbers."""
+    allowed = "a square matrix (n x n, n >= 1) of finite real numbers"
+    try:
+        m = np.asarray(monodromy, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"monodromy must be {allowed}, got {monodromy!r}") from None
+    if m.ndim != 2 or m.shape[0] != m.shape[1] or m.shape[0] < 1:
+        raise ValueError(f"monodromy must be {allowed}, got shape {m.shape}")
+    if not np.all(np.isfinite(m)):
+        raise ValueError(f"monodromy must be {allowed}, got non-finite entries")
+    return m
 
 
 def nontrivial(monodromy: np.ndarray) -> complex:

@@ -56,7 +56,7 @@ def supports(law: FrictionLaw) -> bool:
     return law.has_tangent_kernel
 
 
-@dataclass
+@dataclass(eq=False)
 class SensitiveSegment(Segment):
     """A :class:`~.hybrid.Segment` with the parameter column, the work integrals and their derivatives."""
 

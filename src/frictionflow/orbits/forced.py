@@ -147,6 +147,14 @@ def _check_int(name: str, value: Any, lo: int, hi: int) -> int:
     return int(value)
 
 
+def _check_tol(tol: Any) -> float:
+    """Newton's relative tolerance: a finite number > 0 (a ValueError naming tol otherwise)."""
+    x = check.number("tol", tol, "a finite number > 0")
+    if x <= 0:
+        raise ValueError(f"tol must be a finite number > 0, got {tol!r}")
+    return x
+
+
 def flow_run(model: BeltOscillator, friction: FrictionLaw, state: Sequence[float], m: int = 1,
              steps: int = DEFAULT_STEPS) -> MapRun:
     """Phi over m forcing periods from ``state`` = (X, X') at tau = 0, with M, the work integrals and the extremes."""
@@ -235,7 +243,7 @@ def measures(model: BeltOscillator, friction: FrictionLaw, run: MapRun) -> dict[
 
 
 # -- the orbit ------------------------------------------------------------------------------------------------------
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class ForcedOrbit(Summarized):
     """A periodic orbit of the forced oscillator: a fixed point of the m-period stroboscopic map.
 
@@ -459,7 +467,7 @@ def find_forced_orbit(
     transient_periods:
         Forcing periods run from (x0, v0) before Newton starts (see ``x0, v0``).
     max_iter:
-        Newton iterations before giving up (a RuntimeError saying where it stopped).
+        Newton iterations before giving up (a RuntimeError saying where it stopped); an integer in [1, 10**6].
 
     """
     _check_model(model)
@@ -467,14 +475,11 @@ def find_forced_orbit(
     _check_measurable(model, friction)
     m = _check_int("m", m, 1, 1000)
     steps = _check_int("steps", steps, 4, 10**6)
-    for name, value in (("x0", x0), ("v0", v0)):
-        if value is not None and not math.isfinite(float(value)):
-            raise ValueError(f"{name} must be finite, got {value!r}")
+    x0, v0 = (None if value is None else check.number(name, value) for name, value in (("x0", x0), ("v0", v0)))
     if transient_periods is None:
         transient_periods = 0 if (x0 is not None and v0 is not None) else DEFAULT_TRANSIENT
     transient_periods = _check_int("transient_periods", transient_periods, 0, 10**7)
-    if not (math.isfinite(tol) and tol > 0):
-        raise ValueError(f"tol must be > 0, got {tol!r}")
+    tol, max_iter = _check_tol(tol), _check_int("max_iter", max_iter, 1, 10**6)
     # within the limits in force, if any: the transient and (a bound) max_iter Newton runs of m periods
     enforce(forced_estimate(model, transient_periods + m * max_iter, steps))
     guess = transient(model, friction, float(x0 or 0.0), float(v0 or 0.0), transient_periods, steps)
@@ -485,7 +490,7 @@ def find_forced_orbit(
 
 
 # -- continuation -------------------------------------------------------------------------------------------------
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class BranchPoint(Summarized):
     """One orbit on a branch: lambda, the state at tau = 0, the multipliers and the orbit's measures."""
 
@@ -530,7 +535,7 @@ class BranchPoint(Summarized):
                                ("stability", self.stability)]
 
 
-@dataclass
+@dataclass(eq=False)
 class BranchEvent:
     """A special point between two accepted points of a branch, refined to ~1e-8 in lambda."""
 
@@ -546,7 +551,7 @@ class BranchEvent:
                          "multipliers": [complex(z) for z in self.multipliers], **self.detail})
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class ForcedBranch(Summarized):
     """A branch of forced periodic orbits of period m 2 pi / Omega in lambda = Omega or F_ex.
 
@@ -1049,7 +1054,7 @@ def switch_period_doubling(branch: ForcedBranch, event: BranchEvent | None = Non
 
 
 # -- brute force ----------------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class StroboscopicSweep:
     """The stroboscopic X (and X') of the last ``keep`` forcing periods at each lambda of a sweep."""
 
@@ -1057,6 +1062,9 @@ class StroboscopicSweep:
     values: np.ndarray
     x: np.ndarray  # (len(values), keep)
     v: np.ndarray
+    #: at each value, the energy residual of the kept window (``keep`` forcing periods from its first section,
+    #: re-run by the package's solver); NaN where the run failed
+    energy_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def points(self) -> tuple[np.ndarray, np.ndarray]:
         """(lambda, X) pairs, flattened, for a scatter plot."""
@@ -1116,7 +1124,8 @@ def stroboscopic_sweep(model: BeltOscillator, friction: FrictionLaw, parameter: 
     Returns
     -------
     StroboscopicSweep
-        ``parameter``, ``values`` and the kept sections ``x``, ``v`` (one row per value).
+        ``parameter``, ``values``, the kept sections ``x``, ``v`` (one row per value) and the
+        ``energy_residual`` of each value's kept window.
     """
 
     _check_model(model)
@@ -1128,6 +1137,7 @@ def stroboscopic_sweep(model: BeltOscillator, friction: FrictionLaw, parameter: 
     transient_periods = _check_int("transient_periods", transient_periods, 0, 10**7)
     xs = np.full((len(values), keep), np.nan)
     vs = np.full((len(values), keep), np.nan)
+    res = np.full(len(values), np.nan)
     x, v = float(x0), float(v0)
     for j, lam in enumerate(values):
         mdl = replace(model, **{parameter: float(lam)})
@@ -1142,5 +1152,15 @@ def stroboscopic_sweep(model: BeltOscillator, friction: FrictionLaw, parameter: 
             continue
         xs[j] = strobe[transient_periods:, 0]
         vs[j] = strobe[transient_periods:, 1]
+        res[j] = _window_residual(mdl, friction, (xs[j, 0], vs[j, 0]), keep)
         x, v = float(strobe[-1, 0]), float(strobe[-1, 1])
-    return StroboscopicSweep(parameter, values, xs, vs)
+    return StroboscopicSweep(parameter, values, xs, vs, res)
+
+
+def _window_residual(model: BeltOscillator, friction: FrictionLaw, state: tuple[float, float], keep: int) -> float:
+    """The energy residual of ``keep`` forcing periods from ``state`` (a section at phase 0); NaN where the
+    measuring solver cannot run that forcing (see :func:`_check_measurable`)."""
+    if auto_solver(friction, model).forcing_problem(model.zeta, model.omega, model.fex):
+        return math.nan
+    traj = one_period(model, friction, state, keep * float(model.forcing_period))
+    return float(measures_of(traj).power.energy_residual)

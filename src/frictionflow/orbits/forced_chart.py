@@ -305,7 +305,7 @@ class GridRun:
                 "error": self.error or None}
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class ForcedChart(Chart):
     """Curves of forced special points in the (x, y) plane (continued in x at each y of a grid), and a heat map.
 

@@ -33,7 +33,7 @@ MAX_TIME = 1e4
 STICKING_MODES = ("stick", "band-sat+", "band-sat-", "edge-lo", "edge-hi")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Phase:
     """One smooth piece of motion in one friction mode."""
 
@@ -50,7 +50,7 @@ class Phase:
         return self.mode in STICKING_MODES
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Switch:
     """A mode change at state ``y`` and time ``t``, with its saltation matrix."""
 
@@ -91,7 +91,7 @@ def saltation(f_before: np.ndarray, f_after: np.ndarray, normal: np.ndarray) -> 
     return S
 
 
-@dataclass
+@dataclass(eq=False)
 class Segment:
     """Motion from ``y0`` to ``y1``: its phases and the switches between them.
 

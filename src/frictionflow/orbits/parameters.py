@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numpy as np
+
+from .. import _validate as check
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 
@@ -12,11 +15,25 @@ MODEL_PARAMS = tuple(p.name for p in BeltOscillator.parameters)
 
 def parameter_names(law: FrictionLaw) -> tuple[str, ...]:
     """The parameters that can be continued for this law: the oscillator's and the law's real ones (a law with
-    internal state: all of its real ones, the bristles' sigma0, sigma1, ... too, which sweeps do not batch yet)."""
+    internal state: all of its real ones, the bristles' sigma0, sigma1, ... too, which sweeps do not batch yet).
+
+    A ``law`` that is no :class:`FrictionLaw` is refused by a TypeError naming it."""
+    check.instance("law", law, FrictionLaw, "a FrictionLaw")
     own = law.parameters if law.configurable else ()  # a user law is rebuilt only by its author
     stateful = law.stick_rule == "state"
     return tuple(p.name for p in (*BeltOscillator.parameters, *own)
                  if p.kind == "real" and (p.sweepable or (stateful and p in own)))
+
+
+def real(name: str, value: object, allowed: str = "a real number") -> float:
+    """``value`` as a float (its range is the caller's to check: NaN and inf pass); a ValueError naming ``name``
+    for a boolean, text, None or anything else ``float`` refuses.  Numpy scalars and 0-d arrays are numbers."""
+    if isinstance(value, (bool, np.bool_, str)) or value is None:
+        raise ValueError(f"{name} must be {allowed}, got {value!r}")
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be {allowed}, got {value!r}") from None
 
 
 def _check(name: str, law: FrictionLaw) -> None:
@@ -33,8 +50,10 @@ def get_param(model: BeltOscillator, law: FrictionLaw, name: str) -> float:
 
 
 def with_param(model: BeltOscillator, law: FrictionLaw, name: str, value: float) -> tuple[BeltOscillator, FrictionLaw]:
-    """A copy of (model, law) with ``name`` set to ``value`` (validated by the constructors)."""
+    """A copy of (model, law) with ``name`` set to ``value`` (validated by the constructors; a boolean, text or
+    None refused by a ValueError naming ``value``)."""
     _check(name, law)
+    value = real("value", value, f"a real number ({name})")
     if name in MODEL_PARAMS:
-        return replace(model, **{name: float(value)}), law
-    return model, type(law).from_values({**law.values(), name: float(value)})
+        return replace(model, **{name: value}), law
+    return model, type(law).from_values({**law.values(), name: value})

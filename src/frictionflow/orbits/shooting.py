@@ -43,7 +43,7 @@ _MAX_HALVINGS = 12
 _MAX_DAMPED = 6
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class PeriodicOrbit(Summarized):
     """A periodic orbit, its Floquet multipliers and its power flow.
 
@@ -315,10 +315,9 @@ def orbit_from_segment(
 
 def check_shooting(transient: float, tol: float | None, returns: int, max_iter: int, name: str = "transient") -> None:
     """One line for a shooting setting out of range (every shooting function's, single mass or structure)."""
-    if isinstance(transient, bool) or not (isinstance(transient, (int, float)) and math.isfinite(transient)
-                                           and transient >= 0):
+    if check.number(name, transient, "a finite number >= 0") < 0:  # numpy scalars too; no bool, text or None
         raise ValueError(f"{name} must be a finite number >= 0, got {transient!r}")
-    if tol is not None and (isinstance(tol, bool) or not (isinstance(tol, (int, float)) and 0.0 < tol <= 1e-3)):
+    if tol is not None and not 0.0 < check.number("tol", tol, "in (0, 1e-3]") <= 1e-3:
         raise ValueError(f"tol must be in (0, 1e-3], got {tol!r}")
     if isinstance(returns, bool) or not isinstance(returns, (int, np.integer)) or not 1 <= returns <= 64:
         raise ValueError(f"returns must be an integer in [1, 64], got {returns!r}")
@@ -374,6 +373,7 @@ def find_orbit(
     check.instance("model", model, BeltOscillator, "a BeltOscillator")
     check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
     check_shooting(transient, tol, returns, max_iter)
+    x0, v0 = (None if u is None else check.number(n, u) for n, u in (("x0", x0), ("v0", v0)))
     if friction.stick_rule == "state":  # internal states (LuGre, ...): Newton on the whole state
         return find_stateful_orbit(model, friction, x0=x0, v0=v0, transient=transient, returns=returns, tol=tol,
                                    max_iter=max_iter, solver=solver)

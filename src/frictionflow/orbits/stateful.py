@@ -42,7 +42,7 @@ STATE_TOL = 1e-9
 GUESS_SPAN = 60.0
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class StatefulOrbit(floquet.MultiplierStability, Summarized):
     """A periodic orbit on the whole state (X, X', z ...), its Floquet multipliers and one period of it.
 

@@ -25,13 +25,13 @@ from ..analysis.equilibrium import sliding_equilibrium
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .equilibria import equilibrium_branch
-from .parameters import with_param
+from .parameters import real, with_param
 
 optimize = lazy_module("scipy.optimize")
 
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class StateEquilibrium:
     """Steady sliding on the whole state: y* = (X*, 0, z*), its Jacobian and eigenvalues (largest real part first)."""
 
@@ -73,8 +73,9 @@ def state_equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = ma
     model, law:
         The oscillator and a law with internal state.
     value:
-        The continued parameter's value, kept on the result.
+        The continued parameter's value, kept on the result (a real number; NaN: none).
     """
+    value = real("value", value, "a real number (NaN: none)")
     if model.vb == 0.0 or model.forced:
         return None
     eq = sliding_equilibrium(model, law, value)

@@ -52,7 +52,7 @@ MAX_HALVINGS = 12
 RETURN_LIMIT = 4.0
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class StructureOrbit(floquet.MultiplierStability, Summarized):
     """A periodic orbit of a structure, its Floquet multipliers and its power flow.
 

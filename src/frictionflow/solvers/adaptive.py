@@ -121,7 +121,7 @@ class Adaptive(Solver):
 
     def __init__(self, rtol: float = 1e-10, atol: float = 1e-13, max_steps: int = 10_000_000, dense_dt: float | None = None) -> None:
         self.rtol = replace(ODE_RTOL, name="rtol").check(rtol)  # the API calls it rtol, configs ode_rtol
-        self.atol = check.positive("atol", atol)
+        self.atol = check.positive("atol", check.number("atol", atol, "finite and > 0"))
         self.max_steps = MAX_STEPS.check(max_steps)
         self.dense_dt = None if dense_dt is None else DENSE_DT.check(dense_dt)
 

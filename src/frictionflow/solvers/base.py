@@ -15,6 +15,7 @@ from typing import Any, Callable, ClassVar, Mapping
 
 import numpy as np
 
+from .. import _validate as check
 from ..core.layout import FEX, N_WORK, OMEGA, PHI, VB_AMP, VB_OMEGA, VB_PHI
 from ..core.records import N_CONTACTS, N_STATE, Events, Samples, empty_events, empty_samples
 from ..estimate import SECONDS_PER, Estimate
@@ -43,6 +44,15 @@ def kernel_params(model: BeltOscillator, friction: FrictionLaw) -> np.ndarray:
     if model.belt_varies:
         p[VB_AMP], p[VB_OMEGA], p[VB_PHI] = model.vb_amplitude, model.vb_omega, model.vb_phi
     return p
+
+
+def flag(name: str, value: Any) -> bool:
+    """``value`` as a bool; it must be True or False (a numpy bool too): a TypeError naming ``name`` otherwise.
+
+    ``bool(value)`` would take "no", nan, [0.1] or -1 for True.
+    """
+    check.instance(name, value, (bool, np.bool_), "True or False")
+    return bool(value)
 
 
 def check_memory(samples: float, max_memory: float, what: str | Callable[[], str]) -> None:
@@ -174,7 +184,7 @@ class Solver(ABC):
         """
         if not self.supports(friction):
             raise ValueError(f"solver={self.name} does not support friction={friction.name}{self.refusal_reason}")
-        return self._solve(model, friction, x0, v0, t_end, progress, max_memory)
+        return self._solve(model, friction, x0, v0, t_end, flag("progress", progress), max_memory)
 
     @abstractmethod
     def _solve(self, model: BeltOscillator, friction: FrictionLaw, x0: float, v0: float, t_end: float,

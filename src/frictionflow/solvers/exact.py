@@ -17,7 +17,7 @@ from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from ..parameters import MODEL_MAX, SUBNORMAL_BELOW, Param
-from .base import kernel_params, Solver, run_growing, trajectory_from
+from .base import flag, kernel_params, Solver, run_growing, trajectory_from
 from .events import ADAPTIVE_EVENT_MODES, EXACT_EVENT_MODES
 
 #: the dense grid's step: from 1e-9 up, as RK4's step (finer ones make the sample count of any run beyond memory,
@@ -94,7 +94,7 @@ class Exact(Solver):
 
     def __init__(self, dense_dt: float | None = None, *, replicate: bool = True) -> None:
         self.dense_dt = None if dense_dt is None else DENSE_DT.check(dense_dt)
-        self.replicate = bool(replicate)
+        self.replicate = flag("replicate", replicate)
 
     def describe(self) -> dict[str, Any]:
         # not ``replicate``: it changes the cost, never the result

@@ -16,7 +16,7 @@ from ..parameters import MODEL_MAX, Param
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
 from .adaptive import MAX_STEPS, StepLimitError
-from .base import DEFAULT_MAX_MEMORY, Solver, check_memory, kernel_params
+from .base import DEFAULT_MAX_MEMORY, Solver, check_memory, flag, kernel_params
 
 # below 1e-13 the error estimate is rounding; above 1e-2 breakaway is not resolved
 STIFF_RTOL = Param("stiff_rtol", "", "stiff solver's relative tolerance (whole state)", "solver", 1e-8,
@@ -66,7 +66,7 @@ class Stiff(Solver):
 
     def __init__(self, rtol: float = 1e-8, atol: float = 1e-10, max_steps: int = 10_000_000, max_step: float = 0.5) -> None:
         self.rtol = STIFF_RTOL.check(rtol)
-        self.atol = check.positive("atol", atol)
+        self.atol = check.positive("atol", check.number("atol", atol, "finite and > 0"))
         self.max_steps = MAX_STEPS.check(max_steps)
         self.max_step = MAX_STEP.check(max_step)
 
@@ -100,7 +100,7 @@ class Stiff(Solver):
         q = kernel_params(model, friction)
         tol = np.concatenate([[self.atol, self.atol], self.atol * friction.internal_scale(), [self.rtol]])
         steps = np.array([min(1e-5, self.max_step), self.max_step, float(self.max_steps), period])
-        with progress_bar("stiff", 1, enabled=progress and t_end > 1e5) as advance:
+        with progress_bar("stiff", 1, enabled=flag("progress", progress) and t_end > 1e5) as advance:
             (n, status, t_stop, h), (t, y, w) = self._run(q, model, y0, t_end, tol, steps, max_memory)
             advance(1)
         if status in (kernel.STEP_CAP, kernel.TINY_STEP):

@@ -166,7 +166,20 @@ def _value(key: str, where: str, value: Any) -> float:
         raise ValueError(f"{where}: {e}") from None
 
 
+def _plain(value: Any) -> Any:
+    """A value from the Python API as TOML gives it: a tuple or an array a list, a numpy scalar a number
+    (a table's entries and a list's items too), so that every check and the recorded source see one form."""
+    if isinstance(value, Mapping):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, (np.ndarray, np.generic)):
+        return value.tolist()  # an array: nested lists of Python scalars; a numpy scalar: its Python scalar
+    return value
+
+
 def _count(where: str, value: Any) -> int:
+    value = _plain(value)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not float(value).is_integer() \
             or not 1 <= value <= MAX_AXIS:
         raise ValueError(f"{where} must be an integer in [1, {MAX_AXIS}], got {value!r}")
@@ -179,7 +192,7 @@ def _axis(key: str, value: Any, number: Callable[[str, str, Any], float] | None 
     ``number(key, where, value)`` checks one value (default: the declared parameter ``key``'s check).
     """
     check_value = _value if number is None else number
-    where = f"grid.{key}"
+    where, value = f"grid.{key}", _plain(value)
     if isinstance(value, str):
         r = parse_range(where, value)
         value = {"start": r.start, "stop": r.stop, "num": r.num}
@@ -229,7 +242,7 @@ def _sample(value: Any) -> dict[str, np.ndarray]:
     if "num" not in value or not set(SAMPLE_KEYS) & set(value):
         raise ValueError(f"{where}: needs num and at least one of {', '.join(SAMPLE_KEYS)}")
     num = _count(f"{where}.num", value["num"])
-    seed = value.get("seed", 0)
+    seed = _plain(value.get("seed", 0))
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
         raise ValueError(f"{where}.seed must be an integer in [0, 2^63), got {seed!r}")
     keys = [k for k in SAMPLE_KEYS if k in value]  # declaration order: the same draw whatever the table's order
@@ -237,7 +250,7 @@ def _sample(value: Any) -> dict[str, np.ndarray]:
     unit = (bits >> np.uint64(11)).astype(np.float64) * 2.0**-53  # uniform in [0, 1), from the raw stream only
     out = {}
     for j, key in enumerate(keys):
-        bounds = value[key]
+        bounds = _plain(value[key])
         if not isinstance(bounds, list) or len(bounds) != 2:
             raise ValueError(f"{where}.{key} must be a range [low, high], got {bounds!r}")
         low, high = (_value(key, f"{where}.{key}[{i}]", b) for i, b in enumerate(bounds))
@@ -267,7 +280,7 @@ def parse_sweep(values: Mapping[str, Any], source: str = "config", *, check_poin
         extremes, memory, step warnings): for the chunks of a validated sweep.
     """
     values = dict(values)
-    grid = values.pop("grid", None)
+    grid = _plain(values.pop("grid", None))
     if grid is None or not isinstance(grid, Mapping) or not grid:
         raise ValueError(f"{source}: a non-empty [grid] table of parameters to sweep is required")
     dimensional = values.get("dimensional")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _validate as check
 from ..core import layout
 from ..core.assembly import Assembly
 from .elements import vector
@@ -29,6 +30,7 @@ def assemble(system: System) -> Assembly:
         with the forcing slots 0; its normal row is [preload, n_1, ..., n_n] ([1, 0, ..., 0] without
         a normal load).
     """
+    check.instance("system", system, System, "a System (frictionflow.system.load_system(path) or System(...))")
     dof, n = system.dof, system.n
     spring_dir = _rows([s.on for s in system.springs], dof)
     spring_k = np.array([s.k for s in system.springs], dtype=np.float64)
