@@ -156,3 +156,10 @@ def test_state_equilibrium_names_value(value):
 
 def test_state_equilibrium_accepts_numpy_scalars():
     assert o.state_equilibrium(M, ff.LuGre(), np.float64(0.3)).value == 0.3
+
+
+@pytest.mark.parametrize("param", ["omega", "phi", "vb_omega", "vb_phi"])
+def test_continuation_refuses_a_parameter_the_autonomous_system_lacks(param):
+    """continue --vary omega=0.2:0.4 with fex = 0 ran: a flat branch over a parameter that does not enter."""
+    with pytest.raises(ValueError, match=f"param {param} does not enter the autonomous system"):
+        o.continuation(ff.BeltOscillator(zeta=0.05, vb=0.1), ff.Coulomb(0.2, 0.3), param, 0.2, 0.4)

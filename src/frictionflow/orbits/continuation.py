@@ -32,7 +32,7 @@ from .branches import Bifurcation, Branch, BranchPoint, ContinuationResult
 from .cycle_problem import CycleProblem, Solution
 from .equilibria import equilibrium, equilibrium_branch, hopf_points
 from .flow import flow_cost, make_flow
-from .parameters import with_param
+from .parameters import MODEL_PARAMS, with_param
 from .shooting import Shooting, ShootingError, find_orbit, orbit_from_segment, shooting_estimate
 from .stateful_continuation import stateful_continuation
 from .brute_force import sweep as brute_force_sweep
@@ -155,8 +155,12 @@ def _check(model: BeltOscillator, friction: FrictionLaw, param: str, ends: tuple
         raise ValueError(f"tol must be a number in (0, 1e-3], got {tol!r}")
     if start == stop:
         raise ValueError(f"from and to must differ, got {start!r} twice")
-    for v in (start, stop):
-        make_flow(*with_param(model, friction, param, v))  # validates both ends before any work
+    ends = [with_param(model, friction, param, v) for v in (start, stop)]
+    if param in MODEL_PARAMS and all(param not in m.report() for m, _ in ends):  # e.g. omega while fex = 0
+        raise ValueError(f"param {param} does not enter the autonomous system (its report: "
+                         f"{', '.join(model.report())}); a forced system's: forced-continue (continue_forced)")
+    for m, law in ends:
+        make_flow(m, law)  # validates both ends before any work
     for seed in s.seeds:
         if seed not in SEEDS:
             raise ValueError(f"seeds must be among {', '.join(SEEDS)}, got {seed!r}")
