@@ -49,3 +49,9 @@ def test_bad_input_exits_2_and_writes_nothing(capsys, tmp_path, monkeypatch, arg
 def test_unforced_is_refused(capsys):
     code, _, err = run(capsys, "response", "--omega", "0.5:1:3", "--solver", "rk4")
     assert code == 2 and "fex must be > 0" in err
+
+
+def test_an_end_out_of_range_is_named_as_typed(capsys):
+    """omega=0.5:2000:5 was refused for the grid point 1000.25, a value the user never typed."""
+    code, out, err = run(capsys, "response", "--fex", "0.1", "--vary", "omega=0.5:2000:5", "--json")
+    assert code == 2 and out == "" and err.strip() == "error: --vary TO: omega must be finite and in (0, 1000], got 2000.0"

@@ -12,6 +12,7 @@ from .. import quantities as Q
 from ..analysis.response import DIRECTIONS, frequency_response, response_bytes, response_estimate
 from ..estimate import enforce
 from ..io import atomic_write, check_output_path
+from ..orbits.forced import check_parameter
 from ..plotting import FIGURE_FORMATS, plot_response
 from ._app import app
 from .._ranges import parse_named_range
@@ -43,6 +44,8 @@ def response(
     if name != "omega":
         raise ValueError(f"--vary: response varies omega (the forcing frequency), got {name!r}")
     w0, w1, n = omega.start, omega.stop, omega.num
+    for end, value in (("FROM", w0), ("TO", w1)):  # the ends as typed (a grid point beyond one named nothing)
+        check_parameter("omega", value, f"--vary {end}")
     if not (1 <= n <= 100_000):
         raise ValueError(f"--vary: N must be in [1, 100000], got {n}")
     if direction not in (*DIRECTIONS, "both"):
