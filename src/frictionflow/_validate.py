@@ -29,6 +29,17 @@ def number(name: str, value: object, allowed: str = "a finite real number") -> f
     return finite(name, value, allowed)  # type: ignore[arg-type]
 
 
+def real(name: str, value: object, allowed: str = "a real number") -> float:
+    """``value`` as a float (its range is the caller's to check: NaN and inf pass); a ValueError naming ``name``
+    for a boolean, text, None or anything else ``float`` refuses.  Numpy scalars and 0-d arrays are numbers."""
+    if isinstance(value, (bool, np.bool_, str)) or value is None:
+        raise ValueError(f"{name} must be {allowed}, got {value!r}")
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be {allowed}, got {value!r}") from None
+
+
 def nonnegative(name: str, value: float) -> float:
     """A finite number >= 0."""
     x = finite(name, value, "finite and >= 0")

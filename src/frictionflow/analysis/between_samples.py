@@ -114,4 +114,4 @@ def stick_share(traj: Trajectory, s: slice) -> float:
     t = traj.t[s]
     vr = traj.model.belt_speed(t) - traj.v[s]
     dvr = traj.model.belt_accel(t) - traj.acceleration[s]
-    return share_below(t, np.broadcast_to(vr, t.shape), dvr, traj.friction.stick_speed())
+    return share_below(t, vr, dvr, traj.friction.stick_speed())

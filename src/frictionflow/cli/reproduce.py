@@ -10,10 +10,10 @@ from typing import TYPE_CHECKING, Optional
 
 import typer
 
-from ..io import OutputError, check_output_dir, check_output_path
+from ..io import OutputError
 from ..paper import Settings, reproduce as run_reproduction
 from ..paper.export import OPTION
-from ..paper.pipeline import output_names
+from ..paper.pipeline import check_out_dir
 from ._app import app
 from .options import bounded
 from .vocabulary import option, parameter_help
@@ -43,7 +43,7 @@ def reproduce(
     if t_end is not None and t_end > base.window_t_end:
         changes["window_t_end"] = t_end  # the window study covers at least the run length
     settings = dataclasses.replace(base, **changes)  # validated by Settings
-    _check_out(out)  # (reproduce() checks it too, and --workers, before it computes or writes anything)
+    check_out_dir(out, "--out")  # named as the option (reproduce() checks it again, and --workers, before any work)
     try:
         summary = run_reproduction(out, settings, workers=workers, progress=sys.stderr.isatty(), dpi=dpi)
     except (ValueError, OutputError) as e:  # a write that failed on the way, said of the API's argument
@@ -52,15 +52,6 @@ def reproduce(
         print(json.dumps(summary.to_dict()))
     else:
         _print_summary(summary)
-
-
-def _check_out(out: Path) -> None:
-    """Refuse, naming --out, an output directory that could not be made or written, or a file reproduce writes
-    that is blocked (a directory in its place, a read-only file)."""
-    check_output_dir(out, "--out")
-    if out.is_dir():
-        for name in output_names():
-            check_output_path(out / name, None, "--out")
 
 
 def _named(e: Exception) -> Exception:

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
-
 from .. import _validate as check
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
@@ -25,17 +23,6 @@ def parameter_names(law: FrictionLaw) -> tuple[str, ...]:
                  if p.kind == "real" and (p.sweepable or (stateful and p in own)))
 
 
-def real(name: str, value: object, allowed: str = "a real number") -> float:
-    """``value`` as a float (its range is the caller's to check: NaN and inf pass); a ValueError naming ``name``
-    for a boolean, text, None or anything else ``float`` refuses.  Numpy scalars and 0-d arrays are numbers."""
-    if isinstance(value, (bool, np.bool_, str)) or value is None:
-        raise ValueError(f"{name} must be {allowed}, got {value!r}")
-    try:
-        return float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be {allowed}, got {value!r}") from None
-
-
 def _check(name: str, law: FrictionLaw) -> None:
     allowed = parameter_names(law)
     if name not in allowed:
@@ -53,7 +40,7 @@ def with_param(model: BeltOscillator, law: FrictionLaw, name: str, value: float)
     """A copy of (model, law) with ``name`` set to ``value`` (validated by the constructors; a boolean, text or
     None refused by a ValueError naming ``value``)."""
     _check(name, law)
-    value = real("value", value, f"a real number ({name})")
+    value = check.real("value", value, f"a real number ({name})")
     if name in MODEL_PARAMS:
         return replace(model, **{name: value}), law
     return model, type(law).from_values({**law.values(), name: value})

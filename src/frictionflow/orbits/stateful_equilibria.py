@@ -20,12 +20,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _validate as check
 from .._lazy import lazy_module
 from ..analysis.equilibrium import sliding_equilibrium
 from ..friction.base import FrictionLaw
 from ..params import BeltOscillator
 from .equilibria import equilibrium_branch
-from .parameters import real, with_param
+from .parameters import with_param
 
 optimize = lazy_module("scipy.optimize")
 
@@ -75,7 +76,7 @@ def state_equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = ma
     value:
         The continued parameter's value, kept on the result (a real number; NaN: none).
     """
-    value = real("value", value, "a real number (NaN: none)")
+    value = check.real("value", value, "a real number (NaN: none)")
     if model.vb == 0.0 or model.forced:
         return None
     eq = sliding_equilibrium(model, law, value)

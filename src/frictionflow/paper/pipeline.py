@@ -237,17 +237,18 @@ def _worker_signals() -> None:
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
-def check_out_dir(out_dir: str | Path) -> Path:
+def check_out_dir(out_dir: str | Path, name: str = OPTION) -> Path:
     """The output directory, created if missing; its parent must exist.
 
     Checked before any work: the directory can be created or written, and no
     file :func:`reproduce` writes under a known name is blocked (a directory
-    in its place, a read-only file).
+    in its place, a read-only file).  Errors name it ``name`` (the command
+    line passes its option).
     """
-    out = check_output_dir(out_dir, OPTION)
+    out = check_output_dir(out_dir, name)
     if out.is_dir():
-        for name in output_names():
-            check_output_path(out / name, None, OPTION)
+        for file in output_names():
+            check_output_path(out / file, None, name)
     return out
 
 
