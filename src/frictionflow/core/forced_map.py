@@ -55,9 +55,10 @@ __all__ = ["flow_map", "map_out", "MapOut", "N_COUNTS", "N_STATS", "MAX_STICKS",
            "C_STICK", "C_SLIP", "C_REVERSAL", "C_HELD", "C_GRAZE"]
 
 #: stats slots: X_min, X_max, max |X + 2 zeta X'|, time sticking, smallest interior minimum of |V_r| in slip,
-#: smallest margin F_s - |F_e - f| at an interior maximum of the held force in a stick phase
-S_XMIN, S_XMAX, S_QMAX, S_STICK_TIME, S_GAP, S_HOLD = range(6)
-N_STATS = 6
+#: smallest margin F_s - |F_e - f| at an interior maximum of the held force in a stick phase, smallest overshoot
+#: |F_e - f| - F_s at the held force's first turn after a break-away (were the mass held on)
+S_XMIN, S_XMAX, S_QMAX, S_STICK_TIME, S_GAP, S_HOLD, S_EXIT = range(7)
+N_STATS = 7
 #: stick phases listed at most (more are counted but not listed)
 MAX_STICKS = 256
 #: pieces a stick interval is cut into when looking for sign changes of the held force
@@ -213,6 +214,22 @@ def _track_hold(x_s, t_s, a, b, zeta, vb, res, fs, p, stats):
         tm = next_turn(tm, vb, p)
 
 
+@njit(cache=True)
+def _track_exit(x_s, t_s, t, zeta, vb, res, fs, p, stats):
+    """The overshoot beyond F_s of the held force at its first turn after a break-away at ``t``.
+
+    The held force reaches F_s moving outwards and would turn at that turn;
+    as the overshoot goes to 0 the break-away becomes tangent and the stick's
+    end jumps to a later time (a grazing that ends a branch of orbits, with
+    multipliers growing as 1 / sqrt(overshoot)).  Nothing where it never turns.
+    """
+    tm = next_turn(t, vb, p)
+    if math.isfinite(tm):
+        side = 1.0 if held_along(x_s, t_s, t, zeta, vb, res, p) > 0.0 else -1.0
+        over = side * held_along(x_s, t_s, tm, zeta, vb, res, p) - fs
+        stats[S_EXIT] = min(stats[S_EXIT], max(over, 0.0))
+
+
 # -- the run ------------------------------------------------------------------------------------------------
 def map_out() -> MapOut:
     """Fresh :class:`MapOut` buffers for :func:`flow_map`."""
@@ -234,6 +251,7 @@ def _start(bl, p, x0, v0, y, out):
     stats[S_STICK_TIME] = 0.0
     stats[S_GAP] = math.inf
     stats[S_HOLD] = math.inf
+    stats[S_EXIT] = math.inf
     y[0], y[1] = x0, v0
     y[2], y[3], y[4], y[5] = 1.0, 0.0, 0.0, 1.0
     mode = start_mode(x0, v0, 0.0, bl.zeta, bl.vb, p)
@@ -335,6 +353,8 @@ def _walk(bl, p, y, mode, fresh, span, n_steps, out):
                 _track_point(y[0], y[1], zeta, stats)
                 if leaves:
                     mode, n_sticks = _slip_onset(bl, p, y, t, out, n_sticks)
+                    if mode != 0:
+                        _track_exit(x_s, t_s, t, zeta, vb, res, fs, p, stats)
                     if mode == 0:  # held at F_s: on, as a new phase past the monotone piece it holds on
                         phase = stick_phase(y[0], t, span, zeta, vb, p)
                     fresh = fresh or mode != 0

@@ -43,7 +43,9 @@ accepted points, each refined to ~1e-8 in lambda:
     the switch sequence over a period changes (a stick phase appears or
     vanishes, a slip reversal appears or vanishes): the orbit's smallest
     interior |V_r| or its shortest stick phase has reached 0.  Found by
-    bisection on the sequence.
+    bisection on the sequence.  A branch ends at a grazing where the map
+    jumps: a stick phase's held force touches F_s inside it, or a
+    break-away turns tangent (:meth:`_Problem.locate_breakaway`).
 
 Every point carries the multipliers, stability, amplitude (X_max -
 X_min) / 2, the power averages over one orbit period (the work integrals of
@@ -87,6 +89,8 @@ CONTINUED = {"omega": OMEGA, "fex": FEX}
 SWITCH_NAMES = ("stick_onsets", "slip_onsets", "slip_reversals", "held_at_limit", "grazing_touches")
 #: refine special points to this (absolute, in lambda)
 LAMBDA_TOL = 1e-8
+#: a break-away margin (:meth:`_Problem.margins`) below which the branch looks for its tangent break-away ahead
+BREAKAWAY_NEAR = 0.02
 
 
 class ForcedShootingError(RuntimeError):
@@ -659,6 +663,8 @@ class _Problem(ContinuationProblem):
         self.scale = np.array([scales[0], scales[0], scales[1]])
         self.lo, self.hi = min(interval), max(interval)
         self.tol = tol
+        self._last_exit = (math.nan, math.inf)  # (lambda, break-away margin) of the last point :meth:`stop` saw
+        self._retry_below = BREAKAWAY_NEAR  # after a failed search, the margin it must halve to before the next
 
     def model_at(self, lam: float) -> BeltOscillator:
         return replace(self.model, **{self.parameter: float(lam)})
@@ -777,7 +783,72 @@ class _Problem(ContinuationProblem):
             "stick_appears": float(st[fm.S_GAP]) / self.scale[0],
             # a stick phase shrinks to nothing
             "stick_vanishes": float(durations.min()) / s.run.span if len(durations) else math.inf,
+            # a break-away turns tangent (then the stick's end jumps): the held force's overshoot beyond F_s at its
+            # turn after the break-away, whose square root falls linearly along the branch (the multipliers as its
+            # inverse)
+            "breakaway_tangent": math.sqrt(float(st[fm.S_EXIT]) / max(self.friction.fs, 1e-300)),
         }
+
+    # -- a break-away turning tangent ends the branch, in a crawl at the smallest step ------------------------------
+    def stop(self, s: _Sol) -> Stop | None:
+        """The branch ends at a tangent break-away ahead of s, located (:meth:`locate_breakaway`) once s's
+        break-away margin is its smallest, below :data:`BREAKAWAY_NEAR` and falling along the branch.
+
+        Where a break-away turns tangent the orbit's multiplier grows without
+        bound and no step of the tracer reaches the end: it would crawl on at
+        the smallest step.
+        """
+        margins = self.margins(s)
+        g = margins["breakaway_tangent"]
+        lam_prev, g_prev = self._last_exit
+        self._last_exit = (s.lam, g)
+        if not (g < self._retry_below and g < g_prev and math.isfinite(lam_prev) and min(margins.values()) == g):
+            return None
+        ev = self.locate_breakaway(s, math.copysign(1.0, s.lam - lam_prev))
+        if ev is None:
+            self._retry_below = 0.5 * g
+            return None
+        return Stop("grazing", True, [ev])
+
+    def locate_breakaway(self, s: _Sol, direction: float) -> BranchEvent | None:
+        """lambda beyond s (going ``direction``) where its break-away turns tangent; None if it is not ahead.
+
+        The margin falls linearly in lambda, so the secant through the last
+        two orbits of s's switch sequence (:meth:`solve_at`) estimates where
+        it reaches 0.  Each new orbit is taken half way there, from the
+        side where the orbit exists: Newton's basin shrinks as the multiplier
+        grows, and past the grazing it finds other orbits or none.
+        """
+        sig = signature(s.run)
+        good = [(s.lam, self.margins(s)["breakaway_tangent"], s)]
+        lam, est, refined = s.lam + direction * 1e-6 * self.scale[2], math.nan, False
+        for _ in range(60):
+            (l0, _, s0), (l1, _, s1) = good[-2:] if len(good) > 1 else (good[0], good[0])
+            P = s1.P if len(good) < 2 else s1.P + (s1.P - s0.P) * (lam - l1) / (l1 - l0)
+            try:
+                new = self.solve_at(lam, P)
+                g = self.margins(new)["breakaway_tangent"] if signature(new.run) == sig else math.nan
+            except (RuntimeError, ValueError):
+                g = math.nan
+            if not 0.0 < g < math.inf:  # past the grazing, or outside Newton's basin: closer to the last orbit
+                lam = l1 + 0.5 * (lam - l1)
+                continue
+            good.append((lam, g, new))
+            (l0, g0, _), (l1, g1, _) = good[-2:]
+            if not g1 < g0:
+                return None  # the margin does not fall this way
+            previous, est = est, l1 - g1 * (l1 - l0) / (g1 - g0)
+            refined = abs(est - previous) <= LAMBDA_TOL * max(1.0, abs(est))
+            if refined:
+                break
+            lam = l1 + 0.5 * (est - l1)
+        if not (len(good) > 2 and (est - s.lam) * direction > 0.0 and self.lo <= est <= self.hi):
+            return None  # behind s, or beyond the interval's end (which the branch reaches first)
+        (l0, _, s0), (l1, g1, last) = good[-2:]
+        P = last.P + (last.P - s0.P) * (est - l1) / (l1 - l0)
+        return BranchEvent("grazing", float(est), P, multipliers(last.run.monodromy),
+                           {"at": "breakaway_tangent", "margin_at_last_point": g1, "refined": refined, "ends_branch": True},
+                           last.run.monodromy.copy())
 
     def cross_corner(self, tracer: Tracer, a: _Sol, t: np.ndarray, ev: BranchEvent) -> Crossing | None:
         """Step over a grazing corner of the branch, where it has no tangent.
