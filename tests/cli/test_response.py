@@ -55,3 +55,18 @@ def test_an_end_out_of_range_is_named_as_typed(capsys):
     """omega=0.5:2000:5 was refused for the grid point 1000.25, a value the user never typed."""
     code, out, err = run(capsys, "response", "--fex", "0.1", "--vary", "omega=0.5:2000:5", "--json")
     assert code == 2 and out == "" and err.strip() == "error: --vary TO: omega must be finite and in (0, 1000], got 2000.0"
+
+
+@pytest.mark.parametrize("periods", ["7", "100000000"])
+def test_periods_out_of_range_is_named_before_the_estimate(capsys, tmp_path, periods):
+    """--periods 1e8 was answered by the time estimate (a refusal about time, not about the option)."""
+    code, out, err = run(capsys, "response", "--fex", "0.1", "--vary", "omega=0.5:1.5:1000", "--periods", periods,
+                         "--out", str(tmp_path / "r.nc"))
+    assert code == 2 and out == ""
+    assert err.strip() == f"error: --periods must be an integer in [8, 1000000], got {periods}"
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_periods_range_is_in_the_help(capsys):
+    code, out, _ = run(capsys, "response", "--help")
+    assert code == 0 and "in [8," in " ".join(out.split())

@@ -18,7 +18,7 @@ every quantity of the table (:mod:`frictionflow.quantities`), the amplitude
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -39,6 +39,18 @@ EXTRA = {
     "amplitude": ("1", "steady-state amplitude (X_max - X_min) / 2"),
     "multiple": ("1", "period of the steady state in forcing periods (0 unless periodic)"),
 }
+
+
+#: forcing periods a response may run at each frequency
+PERIODS_RANGE = (8, 10**6)
+
+
+def check_periods(periods: Any, name: str = "periods") -> int:
+    """``periods`` if it is an integer in :data:`PERIODS_RANGE`, else ValueError naming it ``name``."""
+    lo, hi = PERIODS_RANGE
+    if not (isinstance(periods, (int, np.integer)) and not isinstance(periods, bool) and lo <= periods <= hi):
+        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {periods!r}")
+    return int(periods)
 
 
 def frequency_response(
@@ -87,8 +99,7 @@ def frequency_response(
     model.refuse_moving_belt("a frequency response")
     if not model.forced:
         raise ValueError("fex must be > 0 for a frequency response (the forcing amplitude), got 0")
-    if not (isinstance(periods, (int, np.integer)) and 8 <= periods <= 10**6):
-        raise ValueError(f"periods must be an integer in [8, 1e6], got {periods!r}")
+    check_periods(periods)
     directions = _checked_directions(directions)
     check.instance("progress", progress, (bool, np.bool_), "True or False")
     solver = solver or auto_solver(friction)

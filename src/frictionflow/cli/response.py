@@ -9,7 +9,7 @@ from typing import Any, Optional
 
 import numpy as np
 from .. import quantities as Q
-from ..analysis.response import DIRECTIONS, frequency_response, response_bytes, response_estimate
+from ..analysis.response import DIRECTIONS, check_periods, frequency_response, response_bytes, response_estimate
 from ..estimate import enforce
 from ..io import atomic_write, check_output_path
 from ..orbits.forced import check_parameter
@@ -48,6 +48,7 @@ def response(
         check_parameter("omega", value, f"--vary {end}")
     if not (1 <= n <= 100_000):
         raise ValueError(f"--vary: N must be in [1, 100000], got {n}")
+    check_periods(periods, "--periods")  # before its time estimate, which it sizes
     if direction not in (*DIRECTIONS, "both"):
         raise ValueError(f"--direction must be up, down or both, got {direction!r}")
     if out is not None:

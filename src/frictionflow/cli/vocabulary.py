@@ -22,6 +22,7 @@ from typing import Any, Callable, Optional
 import typer
 
 from .._display import spoken
+from ..analysis.response import PERIODS_RANGE
 from ..friction.registry import law_class, law_names
 from ..io import DEFAULT_DPI, DPI_RANGE, FIGURE_FORMATS
 from ..orbits.settings import DEFAULT_STEPS, MAX_POINTS
@@ -130,7 +131,8 @@ TERMS: dict[str, Term] = _terms(
          "fraction [1e-3].", Optional[float], None),
     Term("--tol", "Newton tolerance on each orbit's X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws].",
          Optional[float], None, "Solver"),
-    Term("--periods", "Forcing periods simulated at each frequency.", int, 300, "Window"),
+    Term("--periods", "Forcing periods simulated at each frequency, in [{}, {}].".format(*PERIODS_RANGE), int, 300,
+         "Window"),
     Term("--direction", "Sweep up, down or both (jumps and hysteresis show with both).", str, "both"),
     Term("--t-transient", "Time before the averaging starts (rounded up to whole blocks).", float, 1000.0, "Window"),
     Term("--transient-periods", "Forcing periods run from (x0, v0) before shooting (0: shoot from them).", int, 200,
