@@ -16,7 +16,8 @@
   direction (used by the adaptive kernel and the Python orbit flows).
 * :func:`band_force` / :func:`band_mode` / :func:`band_side`: Karnopp's stick
   band |V_r| <= V_d (fixed-step RK4; the exact kernel's fallback
-  :func:`~.exact.region_mode`), the law's parameters as one record (:func:`band_law`).
+  :func:`~.exact.region_mode`), the law's parameters as one record (:func:`band_law`);
+  for a law with Coulomb's rule the band holds the whole resultant (:func:`band_hold`).
 * :func:`external_force`: the harmonic force f(tau) = F_ex cos(Omega tau + phi);
   :func:`belt_speed` and its rates, the belt's V_b(tau) = V_b + A sin(Omega_b tau + phi_b);
   :func:`stick_load`: f - V_b', the external force as the stick rules see it (a belt
@@ -42,7 +43,7 @@ from numba import njit
 from . import curve_cubic as cubic
 from . import curve_stribeck as stribeck
 from .layout import (  # noqa: F401  (re-exported: the kernels import the layout from here)
-    COULOMB, CUBIC, FD, FEX, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, N_PARAMS, N_WORK, OMEGA, PHI, RESULTANT, SLIP_NEG,
+    BAND_LAWS, COULOMB, CUBIC, FD, FEX, FS, KARNOPP, LAW, LAW_A, LAW_B, LAW_C, N_PARAMS, N_WORK, OMEGA, PHI, RESULTANT, SLIP_NEG,
     SLIP_POS, SMOOTH_LAWS, STICK, STRIBECK, VB_AMP, VB_OMEGA, VB_PHI, VD,
 )
 
@@ -301,13 +302,17 @@ def rest_mode(x, zeta, vb, fs, resultant, f0, fext, dfext):
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def band_law(law, p):
-    """The band record of the force record ``p``: (law, F_d, F_s, V_d, resultant, a, b, c), built once per run.
+    """The band record of the force record ``p``: (law, F_d, F_s, V_d, resultant, a, b, c, switch), built once per run.
+
+    ``switch``: the law has Coulomb's stick rule (its band stands in for
+    V_r = 0; Coulomb runs with Karnopp's ``law`` code, their slip forces
+    being the same), so the band holds the whole resultant (:func:`band_hold`).
 
     ``law`` is passed apart (the kernels give ``code + 0``, a constant to LLVM,
     so that the other laws' branches fold away); a tuple of scalars costs
     nothing once inlined.
     """
-    return law, p[FD], p[FS], p[VD], p[RESULTANT] != 0.0, p[LAW_A], p[LAW_B], p[LAW_C]
+    return law, p[FD], p[FS], p[VD], p[RESULTANT] != 0.0, p[LAW_A], p[LAW_B], p[LAW_C], int(p[LAW]) not in BAND_LAWS
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
@@ -331,7 +336,7 @@ def band_force(lw, x, v, zeta, vb, fext):
     Branches, for one trajectory at a time: they are predicted well and keep
     the untaken side off the chain of dependent operations.
     """
-    law, fd, fs, vd, resultant, a, b, c = lw
+    law, fd, fs, vd, resultant, a, b, c, switch = lw
     vr = vb - v
     if vr > vd:
         return slip_magnitude(law, fd, fs, a, b, c, vr)
@@ -343,19 +348,29 @@ def band_force(lw, x, v, zeta, vb, fext):
         return fs
     if side < 0:
         return -fs
-    return fe
+    return band_hold(switch, fe, x, v, zeta, fext)
+
+
+@njit(cache=True, fastmath=FASTMATH, forceinline=True)
+def band_hold(switch, fe, x, v, zeta, fext):
+    """The friction force while the band holds: the held force ``fe`` for Karnopp's law, whose stick is the band
+    itself (with the spring rule the damper's force is left over, as in the paper), and the whole resultant for a
+    law with Coulomb's stick rule, whose band stands in for the constraint V_r = 0 that the rule holds (the spring
+    rule only decides when)."""
+    return held_force_fm(x, zeta, v, True, fext) if switch else fe
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
 def band_force_select(lw, x, v, zeta, vb, fext):
     """:func:`band_force` computing both sides and selecting one: for loops over many lanes, which it lets vectorise."""
-    law, fd, fs, vd, resultant, a, b, c = lw
+    law, fd, fs, vd, resultant, a, b, c, switch = lw
     vr = vb - v
     speed = abs(vr)
     mag = slip_magnitude(law, fd, fs, a, b, c, speed)
     slip = mag if vr > 0.0 else -mag
     fe = held_force_fm(x, zeta, v, resultant, fext)
-    hold = min(max(fe, -fs), fs)  # F_s sgn(F_e) once |F_e| >= F_s
+    held = band_hold(switch, fe, x, v, zeta, fext)
+    hold = held if abs(fe) < fs else math.copysign(fs, fe)  # F_s sgn(F_e) once |F_e| >= F_s
     return slip if speed > vd else hold
 
 

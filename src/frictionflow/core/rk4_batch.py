@@ -26,7 +26,7 @@ from numba import njit
 
 from . import sections as sec
 from ._vectorize import wide_vectors
-from .friction import COULOMB, CUBIC, FD, FS, KARNOPP, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, STRIBECK, VD
+from .friction import BAND_LAWS, COULOMB, CUBIC, FD, FS, KARNOPP, LAW_A, LAW_B, LAW_C, N_PARAMS, RESULTANT, STRIBECK, VD
 from .rk4 import FASTMATH, constant_drive, step
 from .threads import over_points
 
@@ -34,15 +34,16 @@ LANES = 64
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)
-def _lanes(law, st, w, dt, lane):
-    """One RK4 step of every lane (vectorised)."""
+def _lanes(law, switch, st, w, dt, lane):
+    """One RK4 step of every lane (vectorised); ``switch``: the law has Coulomb's stick rule (see
+    :func:`~.friction.band_law`)."""
     x, v, xo, vo = st
     w0, w1, w2, w3 = w
     zeta, vb, fd, fs, vd, res, la, lb, lc = lane
     for j in range(len(x)):
         xj = x[j]
         vj = v[j]
-        lw = (law, fd[j], fs[j], vd[j], res[j], la[j], lb[j], lc[j])
+        lw = (law, fd[j], fs[j], vd[j], res[j], la[j], lb[j], lc[j], switch)
         xn, vn, d0, d1, d2, d3, _ = step(xj, vj, dt, zeta[j], lw, True, constant_drive(vb[j]), False)
         w0[j] += d0
         w1[j] += d1
@@ -172,6 +173,7 @@ def _block(law, pts, run, out):
     lane = (zeta.copy(), vb.copy(), p[:, FD].copy(), p[:, FS].copy(), p[:, VD].copy(), p[:, RESULTANT] != 0.0,
             p[:, LAW_A].copy(), p[:, LAW_B].copy(), p[:, LAW_C].copy())
     zeta = lane[0]
+    switch = law not in BAND_LAWS
     st = (x0.copy(), v0.copy(), x0.copy(), v0.copy())
     x, v = st[0], st[1]
     w = (np.zeros(L), np.zeros(L), np.zeros(L), np.zeros(L))  # work of the running period
@@ -195,11 +197,11 @@ def _block(law, pts, run, out):
         # would keep every loop from vectorising.  (``+ 0`` and the branches: see
         # rk4.run; _lanes is inlined by LLVM, so numba types it once.)
         if law == KARNOPP or law == COULOMB:
-            _lanes(KARNOPP + 0, st, w, dt, lane)
+            _lanes(KARNOPP + 0, switch, st, w, dt, lane)
         elif law == STRIBECK:
-            _lanes(STRIBECK + 0, st, w, dt, lane)
+            _lanes(STRIBECK + 0, switch, st, w, dt, lane)
         elif law == CUBIC:
-            _lanes(CUBIC + 0, st, w, dt, lane)
+            _lanes(CUBIC + 0, switch, st, w, dt, lane)
         if _aggregates(dt, in_tail, st, lane, per, tl):
             _crossings(i, dt, in_tail, st, w, lane, per, sums, scratch, out)
         ti = (i + 1) * dt
