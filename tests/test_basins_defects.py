@@ -261,7 +261,7 @@ def test_a_zero_tolerance_is_refused(capsys, tmp_path, monkeypatch, no_compute):
     (["--x0-range=1:0:3", "--v0-range=-0.1:0.1:2"], "--x0-range: low 1 > high 0"),
     (["--x0-range=-0.1:0.1:2", "--v0-range=0.1:0.1:3"], "--v0-range: low == high with 3 points"),
     (["--x0-range=-0.1:0.1", "--v0-range=-0.1:0.1", "--sample", "0"], "--sample must be an integer >= 1, got 0"),
-    (["--x0-range=-0.1:0.1", "--v0-range=-0.1:0.1", "--sample", "3", "--seed", "-1"], "--seed must be an integer in [0, 2^63)"),
+    (["--x0-range=-0.1:0.1", "--v0-range=-0.1:0.1", "--sample", "3", "--seed", "-1"], "--seed must be an integer and in [0, 2^63)"),
 ])
 def test_initial_state_problems_name_the_options(args, words, tmp_path, monkeypatch, capsys, no_compute):
     monkeypatch.chdir(tmp_path)

@@ -38,7 +38,7 @@ HELPS = _helps()
 
 def _stated(flag: str, law: str) -> tuple[float, float, bool, bool]:
     """(lower, upper, lower open, upper open) the help of ``flag`` states for ``law``."""
-    text = HELPS[flag]
+    text = re.sub(r"\s\[[^\[\]]*\]\.?$", "", HELPS[flag])  # the default (per law, with "for ...") ends the help
     ranges = text.split("; ")
     own = [r for r in ranges[1:] if re.search(rf"\bfor (?:[a-z_]+, )*{law}\b", r)]
     m = RANGE.search(own[0] if own else ranges[0])

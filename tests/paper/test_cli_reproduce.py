@@ -77,9 +77,9 @@ def test_prints_the_verdicts_and_where_the_report_is(run):
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--t-end", "-1"], r"^error: t_end must be finite and > 0, got -1\.0$"),
-        (["--dt", "0"], r"^error: dt must be finite and > 0, got 0\.0$"),
-        (["--workers", "0"], r"^error: workers must be an integer >= 1, got 0$"),
+        (["--t-end", "-1"], r"^error: --t-end must be finite and in \(0, 1e\+12\], got -1\.0$"),
+        (["--dt", "0"], r"^error: --dt must be finite and in \[1e-09, 1000\], got 0\.0$"),
+        (["--workers", "0"], r"^error: --workers must be an integer and >= 1, got 0$"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2_before_any_work(tmp_path, capsys, args, message):

@@ -42,5 +42,5 @@ def test_reproduce_with_a_run_shorter_than_the_span_shown_names_the_option_given
     """``--t-end 20`` is refused naming t_end, the option the user gave, not the setting it meets (shown_span)."""
     assert main(["reproduce", "--t-end", "20", "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("error: t_end must be > 20 (shown_span: ") and err.count("\n") == 1, err
+    assert err.startswith("error: --t-end must be > 20 (shown_span: ") and err.count("\n") == 1, err
     assert not (tmp_path / "out").exists()

@@ -19,10 +19,9 @@ from ..basins.study import SweepOptions, check_dataset_path, check_design, check
 from ..io import check_output_path
 from ..plotting import FIGURE_FORMATS
 from ..sweep.config import NOT_IN_SWEEPS
-from ..sweep.runner import CHUNK_SIZE
 from ._app import Interrupted, app
 from .._ranges import parse_range as _parse_range
-from .options import CONFIG_OPTION, check_option, command_config, parameter_names, with_options, with_parameters
+from .options import CONFIG_OPTION, command_config, parameter_names, with_options, with_parameters
 from .output import provenance, show
 from .vocabulary import option, parameter_help
 
@@ -66,8 +65,6 @@ def basins(params: dict[str, Any], opts: BasinsOptions) -> None:
     if tol is not None:  # checked under the option's name: Tolerances would name its field (period), not the option
         check_tolerance("--attractor-tol", tol)
     tolerances = Tolerances() if tol is None else Tolerances(period=tol, amplitude=tol, stick=tol)
-    if opts.chunk_size is not None:
-        check_option("--chunk-size", CHUNK_SIZE, opts.chunk_size)
     grid = opts.sample is None
     x, v = parse_range("--x0-range", opts.x0_range, grid), parse_range("--v0-range", opts.v0_range, grid)
     check_design(x, v, opts.sample, opts.seed, OPTION_NAMES)

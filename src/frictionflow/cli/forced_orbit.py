@@ -18,33 +18,22 @@ from ..io import check_output_path
 from ..estimate import Estimate, enforce
 from ..orbits.forced import (DEFAULT_TRANSIENT, PARAMETERS, branch_estimate, check_parameter, continue_forced, find_forced_orbit,
                              stroboscopic_estimate, stroboscopic_sweep, switch_period_doubling)
-from ..orbits.settings import CONTINUATION_RANGES, DEFAULT_STEPS, ForcedContinuationSettings
+from ..orbits.settings import ForcedContinuationSettings
 from ..orbits.forced_plot import plot_forced_branches, plot_forced_orbit
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ._app import app
-from .options import (CONFIG_OPTION, command_config, parameter_names, refuse_fixed, start_state, with_options,
-                      with_parameters)
+from .options import (CONFIG_OPTION, check_option, command_config, parameter_names, refuse_fixed, start_state,
+                      with_options, with_parameters)
 from .output import FLOW_MAP, print_summary, provenance, write_json
-from .vocabulary import option, overlay_count, parameter_help
+from .vocabulary import check_term, option, overlay_count, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "friction", "dimensional"))
-COMMAND_PARAMETERS = {"max_points": CONTINUATION_RANGES["max_points"], **{p.name: p for p in (
-    Param("m", "", "period in forcing periods", "run", 1, kind="int", lower=1, upper=1000),
-    Param("steps_per_period", "", "RK4 steps per forcing period", "run", DEFAULT_STEPS, kind="int", lower=4,
-          upper=1_000_000),
-    Param("transient_periods", "", "forcing periods before shooting", "run", 200, kind="int", lower=0, upper=10_000_000),
-    Param("overlay", "", "brute-force parameter values", "run", 0, kind="int", lower=0, upper=10_000),
-)}}
+#: forced-continue's --overlay N (the options' numbers, --m's included, are checked by their vocabulary terms)
+OVERLAY = Param("overlay", "", "brute-force parameter values", "run", 0, kind="int", lower=0, upper=10_000)
 SHORT_HELP_ORBIT = "Periodic orbit of the forced oscillator and its Floquet multipliers."
 SHORT_HELP_CONTINUE = "Continue forced periodic orbits in Omega or F_ex, with bifurcations."
 OUT_FORMATS = (".json",)
-
-
-def _check(**values: Any) -> None:
-    for name, value in values.items():
-        if value is not None:
-            COMMAND_PARAMETERS[name].check(value)
 
 
 def _one_m(text: str) -> int:
@@ -53,7 +42,7 @@ def _one_m(text: str) -> int:
         m = int(text)
     except ValueError:
         raise ValueError(f"--m must be one integer here (the orbit's period in forcing periods), got {text!r}") from None
-    return _check(m=m) or m
+    return check_term("--m", m)
 
 
 def _build(command: str, config: Optional[Path], params: dict[str, Any]):
@@ -100,7 +89,6 @@ class ForcedOrbitOptions:
 def forced_orbit(params: dict[str, Any], opts: ForcedOrbitOptions) -> None:
     """Newton shooting for the orbit of period m 2 pi / Omega: state at tau = 0, multipliers, power and TR_B."""
     m = _one_m(opts.m)
-    _check(transient_periods=opts.transient_periods, steps_per_period=opts.steps_per_period)
     _check_outputs(opts.out, opts.plot)
     cfg, model, law = _build("forced-orbit", opts.config, params)
     x0, v0 = start_state(cfg, model, law)
@@ -157,7 +145,7 @@ def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None
     if start == stop:
         raise ValueError(f"--vary: TO must differ from FROM ({start!r})")
     m, overlay = _one_m(opts.m), overlay_count(opts.overlay)
-    _check(steps_per_period=opts.steps_per_period, max_points=opts.max_points, overlay=overlay)
+    check_option("--overlay", OVERLAY, overlay)
     _check_outputs(opts.out, opts.plot)
     cfg, model, law = _build("forced-continue", opts.config, params)
     refuse_fixed(parameter, "--vary", "along the branch", opts.config, params)

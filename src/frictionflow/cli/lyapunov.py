@@ -8,19 +8,13 @@ from typing import Any, Optional
 
 from ..analysis.lyapunov import lyapunov_exponents
 from ..io import check_output_path
-from ..parameters import Param
 from ._app import app
 from .options import CONFIG_OPTION, command_config, parameter_names, start_state, with_parameters
 from .output import FLOW_MAP, print_summary, provenance, write_json
 from .vocabulary import PARAMETER_DEFAULTS, option, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "dimensional"))
-#: the command's own settings, with their ranges (bounded: the cost grows with them)
-COMMAND_PARAMETERS = {p.name: p for p in (
-    Param("t_transient", "", "transient before averaging", "run", 1000.0, lower=0.0, upper=1e9),
-    Param("steps_per_period", "", "RK4 steps per block", "run", 512, kind="int", lower=4, upper=1_000_000),
-    Param("block", "", "renormalisation interval of an unforced run", "run", None, lower=0.0, lower_open=True, upper=1e6),
-)}
+#: (its own numbers, --t-transient, --steps-per-period and --block, are checked by their vocabulary terms)
 
 
 #: the command list's line (click would cut the docstring); cli.SHORT_HELP may name it too
@@ -40,9 +34,6 @@ def lyapunov(
     config: Optional[Path] = CONFIG_OPTION,
 ) -> None:
     """Lyapunov exponents of the stick-slip flow (switches located, saltation matrices, QR once per forcing period)."""
-    for name, value in (("t_transient", t_transient), ("steps_per_period", steps_per_period), ("block", block)):
-        if value is not None:
-            COMMAND_PARAMETERS[name].check(value)
     if out is not None:
         check_output_path(out, OUT_FORMATS, "--out")
     cfg = command_config("lyapunov", config, params, config_only=("max_memory",))

@@ -18,17 +18,18 @@ from ..orbits.chart_plot import plot_chart
 from ..orbits.forced_chart import FORCED_CURVES, forced_map
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
+from ..sweep.compute import VARIABLES
 from ._app import app
-from .options import CONFIG_OPTION, command_config, parameter_names, refuse_fixed, with_options, with_parameters
+from .options import (CONFIG_OPTION, check_varied, command_config, parameter_names, refuse_fixed, renamed,
+                      with_options, with_parameters)
 from .output import FLOW_MAP, print_summary, provenance, write_json
-from .vocabulary import option, overlay_shape, parameter_help
+from .vocabulary import ORDER, check_term, option, overlay_shape, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("t_end", "friction", "dimensional"))
 #: the command's own settings, with their ranges (bounded: the cost grows with them)
 COMMAND_PARAMETERS = {
     "x_points": Param("--x N", "", "values of the first parameter", "run", 41, kind="int", lower=2, upper=10_000),
     "scan": Param("--y N", "", "scan points of the second parameter", "run", 201, kind="int", lower=3, upper=1_000_000),
-    "fold_every": Param("fold_every", "", "x values between fold seeds", "run", 2, kind="int", lower=1, upper=10_000),
     "y_points": Param("--y N", "", "grid values of the second parameter (forced maps)", "run", 5, kind="int", lower=1,
                       upper=10_000),
 }
@@ -90,17 +91,18 @@ def map_(params: dict[str, Any], opts: MapOptions) -> None:
     plane = Plane.of(opts)
     for flag, name in (("--x", plane.x), ("--y", plane.y)):
         refuse_fixed(name, flag, "across the chart", opts.config, params)
-    COMMAND_PARAMETERS["fold_every"].check(opts.fold_every)
     nx = _count("x_points", plane.xs.num)
     if plane.forced:
         _forced_map(params, opts, plane, nx)
         return
     n_scan = _count("scan", plane.ys.num)
     curve_list = _curve_list(opts.curves, CURVES, "")
-    shape = overlay_shape(opts.overlay)
+    shape = _overlay(opts)
     _check_outputs(opts)
     cfg = command_config("map", opts.config, params)
     model, law, _ = cfg.build()
+    for flag, name in (("--x", plane.x), ("--y", plane.y)):
+        check_varied(flag, name, law)
     xs = np.linspace(plane.xs.start, plane.xs.stop, nx)
     chart = stability_map(model, law, plane.x, xs, plane.y, (plane.ys.start, plane.ys.stop), sweep_shape=shape,
                           sweep_out=opts.store, t_end=cfg.given.get("t_end", 500.0), heat=opts.heat,
@@ -148,14 +150,23 @@ def _report(chart, opts: MapOptions, caption: str) -> None:  # noqa: ANN001
 
 
 def _orders(text: str) -> tuple[int, ...]:
-    """``--m``: comma-separated periods in forcing periods, 1..1000."""
+    """``--m``: comma-separated periods in forcing periods, each in --m's range (:data:`~.vocabulary.ORDER`)."""
     try:
         out = tuple(int(v) for v in text.split(",") if v.strip())
     except ValueError:
         out = ()
-    if not out or not all(1 <= v <= 1000 for v in out):
-        raise ValueError(f"--m must be comma-separated integers in [1, 1000], got {text!r}")
-    return out
+    if not out:
+        raise ValueError(f"--m must be comma-separated integers, {ORDER.range_text}, got {text!r}")
+    return tuple(check_term("--m", v) for v in out)
+
+
+def _overlay(opts: MapOptions) -> tuple[int, int] | None:
+    """``--overlay NXxNY`` (None: none), and ``--heat`` checked with it: a variable of the sweep (unused without)."""
+    shape = overlay_shape(opts.overlay)
+    names = [v[0] for v in VARIABLES]
+    if shape is not None and opts.heat not in names:
+        raise ValueError(f"--heat must be a sweep variable ({', '.join(names)}), got {opts.heat!r}")
+    return shape
 
 
 def _check_forced_plane(plane: Plane) -> None:
@@ -179,7 +190,7 @@ def _forced_map(params: dict[str, Any], opts: MapOptions, plane: Plane, nx: int)
     ny = _count("y_points", plane.ys.num)
     curve_list = _curve_list(opts.curves, FORCED_CURVES, " for a forced map")
     orders = _orders(opts.m)
-    shape = overlay_shape(opts.overlay)
+    shape = _overlay(opts)
     _check_outputs(opts)
     cfg = command_config("map", opts.config, params)
     model, law, _ = cfg.build()
@@ -188,9 +199,12 @@ def _forced_map(params: dict[str, Any], opts: MapOptions, plane: Plane, nx: int)
     x, y, (x0, x1), (y0, y1) = plane.x, plane.y, (plane.xs.start, plane.xs.stop), (plane.ys.start, plane.ys.stop)
     model = replace(model, **{x: float(x0), y: float(y0)})
     ys = np.linspace(y0, y1, ny) if ny > 1 else np.array([float(y0)])
-    chart = forced_map(model, law, x, (x0, x1), y, ys, sweep_shape=shape, sweep_out=opts.store,
-                       t_end=cfg.given.get("t_end", 500.0), heat=opts.heat, sweep_y_range=(y0, y1),
-                       m=orders, x_start=float(x0), curves=curve_list)
+    try:
+        chart = forced_map(model, law, x, (x0, x1), y, ys, sweep_shape=shape, sweep_out=opts.store,
+                           t_end=cfg.given.get("t_end", 500.0), heat=opts.heat, sweep_y_range=(y0, y1),
+                           m=orders, x_start=float(x0), curves=curve_list)
+    except (ValueError, RuntimeError) as e:  # forced_map names its store by the API's argument
+        raise renamed(e, "sweep_out", "--store", everywhere=True) from None
     _report(chart, opts, provenance(law, FLOW_MAP))
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import inspect
+import re
 import typing
 from pathlib import Path
 from typing import Any, Callable, Optional
@@ -23,7 +24,8 @@ import typer
 from ..config import RunConfig
 from ..estimate import Limits, limited
 from ..friction import FrictionLaw
-from ..io import check_input_path, read_config
+from ..io import OutputError, check_input_path, read_config
+from ..orbits.parameters import parameter_names as varied_names
 from ..params import BeltOscillator
 from ..parameters import Param, declared
 from .vocabulary import PATH_METAVAR, check_law, default_law, option, panel_of, path_text  # noqa: F401 (re-exported)
@@ -167,3 +169,31 @@ def refuse_fixed(parameter: str, flag: str, where: str, config: Optional[Path], 
 def check_option(flag: str, param: Param, value: Any) -> Any:
     """``param.check(value)`` in a line naming the command-line option ``flag`` (not the API's argument)."""
     return dataclasses.replace(param, name=flag).check(value)
+
+
+def check_varied(flag: str, name: str, law: FrictionLaw) -> None:
+    """Refuse, naming ``flag``, a parameter ``name`` that a continuation cannot vary with ``law`` (the API's check
+    would name its argument, ``param``)."""
+    allowed = varied_names(law)
+    if name not in allowed:
+        raise ValueError(f"{flag}: NAME must be one of {', '.join(allowed)} for friction={law.name}, got {name!r}")
+
+
+def renamed(error: Exception, old: str, new: str, *, everywhere: bool = False) -> Exception:
+    """``error`` with the API's name ``old`` at the head of its message (``everywhere``: wherever it stands as a
+    word; for a name no sentence uses otherwise, such as ``sweep_out``) replaced by the option ``new``: the same
+    type, and for an :class:`~frictionflow.io.OutputError` the same errno; ``error`` itself otherwise."""
+    text = str(error)
+    if everywhere:
+        new_text = re.sub(rf"(?<![\w-]){re.escape(old)}(?![\w-])", new, text)
+    else:
+        head = next((h for h in (f"{old}: ", f"{old} ") if text.startswith(h)), None)
+        new_text = text if head is None else new + text[len(old):]
+    if new_text == text:
+        return error
+    if isinstance(error, OutputError):
+        return OutputError(new_text, error.errno)
+    try:
+        return type(error)(new_text)
+    except TypeError:  # an error that takes other arguments: left as it is
+        return error

@@ -23,7 +23,8 @@ from ..plotting import FIGURE_FORMATS
 from ..solvers.registry import solver_names_where
 from .._ranges import parse_named_range
 from ._app import app
-from .options import CONFIG_OPTION, command_config, parameter_names, refuse_fixed, with_options, with_parameters
+from .options import (CONFIG_OPTION, check_option, check_varied, command_config, parameter_names, refuse_fixed,
+                      with_options, with_parameters)
 from .output import provenance, show, write_json
 from .structure_orbit import ModelOrbitOptions, orbit_model
 from .vocabulary import option, overlay_count, parameter_help
@@ -35,20 +36,11 @@ SOLVER_HELP = f"Here: the transient's and the power-flow period's, {spoken(LOCAT
 OUT_FORMATS = (".json",)
 
 
-#: the orbit commands' own settings, with their ranges (bounded: each point costs a shooting or a simulation)
-COMMAND_PARAMETERS = {
-    **{name: CONTINUATION_RANGES[name] for name in ("returns", "tol", "sweep", "max_period", "step", "max_points")},
-    **{p.name: p for p in (
-        Param("points", "", "N of --vary: grid points of the equilibrium branch", "run", 101, kind="int", lower=2,
-              upper=100_000),
-    )},
-}
-
-
-def _check(**values: Any) -> None:
-    for name, value in values.items():
-        if value is not None:
-            COMMAND_PARAMETERS[name].check(value)
+#: N of continue's --vary: the grid points of the equilibrium branch (the options' own numbers are checked by
+#: their vocabulary terms as the command line is read: --returns, --tol, --max-points, --max-period, --step)
+POINTS = Param("points", "", "N of --vary: grid points of the equilibrium branch", "run", 101, kind="int", lower=2,
+               upper=100_000)
+POINTS_NAME = "--vary N (grid points of the equilibrium branch)"
 
 
 def _config(command: str, config: Optional[Path], params: dict[str, Any]) -> RunConfig:
@@ -83,7 +75,6 @@ class OrbitOptions:
 @with_options(OrbitOptions)
 def orbit(params: dict[str, Any], opts: OrbitOptions) -> None:
     """Find a periodic orbit by Newton shooting; report its Floquet multipliers, power flow and TR_B."""
-    _check(returns=opts.returns, tol=opts.tol)
     if opts.model is not None:
         model_opts = ModelOrbitOptions(opts.guess, opts.returns, opts.tol, opts.fd_check, opts.as_json, opts.out)
         return orbit_model(opts.model, params, model_opts, opts.config, opts.plot)
@@ -158,10 +149,11 @@ def continue_(params: dict[str, Any], opts: ContinueOptions) -> None:
     overlay = overlay_count(opts.overlay)
     cfg = _config("continue", opts.config, params)
     seed_list = tuple(s.strip() for s in opts.seeds.split(",") if s.strip())
-    points = COMMAND_PARAMETERS["points"].default if span.num is None else span.num
-    _check(points=points, max_points=opts.max_points, sweep=overlay, max_period=opts.max_period, step=opts.step, tol=opts.tol)
+    points = POINTS.default if span.num is None else check_option(POINTS_NAME, POINTS, span.num)
+    check_option("--overlay", CONTINUATION_RANGES["sweep"], overlay)  # (the API's sweep: brute-force simulations)
     _check_outputs(opts.out, opts.plot)  # before any work: a bad path writes nothing
     model, law, solv = cfg.build()
+    check_varied("--vary", param, law)
     # (unset: F_d and V_b at each parameter value, as start_state says at one)
     settings = ContinuationSettings(seeds=seed_list, transient=cfg.t_end, n_equilibria=points, max_points=opts.max_points,
                                     max_period=opts.max_period, step=opts.step, sweep=overlay, solver=solv, x0=cfg.x0,

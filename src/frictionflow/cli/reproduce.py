@@ -15,12 +15,15 @@ from ..paper import Settings, reproduce as run_reproduction
 from ..paper.export import OPTION
 from ..paper.pipeline import check_out_dir
 from ._app import app
-from .options import bounded
-from .vocabulary import option, parameter_help
+from ..parameters import declared
+from .options import bounded, renamed
+from .vocabulary import checked_by, option, parameter_help
 
-#: the declared parameters reproduce takes (with the paper's defaults), by name
-HELP = parameter_help("reproduce", ("t_end", "dt"), {"t_end": "Here: the run length of Figs. 2-6.",
-                                                      "dt": "Here: the step of the paper's method."})
+#: the declared parameters reproduce takes (with the paper's defaults), by name; their ranges are the declared ones
+#: (checked as the command line is read, as simulate's), t_end's narrowed by the span the time histories show
+HELP = parameter_help("reproduce", ("t_end", "dt"), {
+    "t_end": f"Here: the run length of Figs. 2-6, > {Settings.shown_span:g} (the span its time histories show).",
+    "dt": "Here: the step of the paper's method."})
 
 if TYPE_CHECKING:
     from ..paper import Summary
@@ -30,8 +33,10 @@ if TYPE_CHECKING:
 @bounded
 def reproduce(
     out: Path = option("--out", "Here: a directory (created if missing; its parent must exist).", required=True),
-    t_end: Optional[float] = typer.Option(None, "--t-end", help=HELP["t_end"], rich_help_panel="Window"),
-    dt: Optional[float] = typer.Option(None, "--dt", help=HELP["dt"], rich_help_panel="Solver"),
+    t_end: Optional[float] = typer.Option(None, "--t-end", help=HELP["t_end"], rich_help_panel="Window",
+                                          callback=checked_by("--t-end", declared()["t_end"])),
+    dt: Optional[float] = typer.Option(None, "--dt", help=HELP["dt"], rich_help_panel="Solver",
+                                       callback=checked_by("--dt", declared()["dt"])),
     workers: Optional[int] = option("--workers"),
     quick: bool = option("--quick"),
     as_json: bool = option("--json", "Here: the verdicts, files and timings."),
@@ -42,26 +47,21 @@ def reproduce(
     changes = {k: v for k, v in (("t_end", t_end), ("dt", dt)) if v is not None}
     if t_end is not None and t_end > base.window_t_end:
         changes["window_t_end"] = t_end  # the window study covers at least the run length
-    settings = dataclasses.replace(base, **changes)  # validated by Settings
-    check_out_dir(out, "--out")  # named as the option (reproduce() checks it again, and --workers, before any work)
+    try:  # validated by Settings (t_end beyond the span shown), named as the option
+        settings = dataclasses.replace(base, **changes)
+    except ValueError as e:
+        raise renamed(e, "t_end", "--t-end") from None
+    # every option is checked by now (the numbers as the command line was read): --out is the last, and is created
+    # only once the work is accepted
+    check_out_dir(out, "--out")  # named as the option (reproduce() checks it again before any work)
     try:
         summary = run_reproduction(out, settings, workers=workers, progress=sys.stderr.isatty(), dpi=dpi)
     except (ValueError, OutputError) as e:  # a write that failed on the way, said of the API's argument
-        raise _named(e) from None
+        raise renamed(e, OPTION, "--out") from None
     if as_json:
         print(json.dumps(summary.to_dict()))
     else:
         _print_summary(summary)
-
-
-def _named(e: Exception) -> Exception:
-    """``e`` with the API's name of the output (``out``) at the head of its message replaced by the option's."""
-    text = str(e)
-    for head in (f"{OPTION}: ", f"{OPTION} "):
-        if text.startswith(head):
-            text = "--out" + text[len(OPTION):]
-            return OutputError(text, e.errno) if isinstance(e, OutputError) else type(e)(text)
-    return e
 
 
 def _print_summary(summary: Summary) -> None:

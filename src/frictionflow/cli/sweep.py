@@ -21,10 +21,9 @@ import typer
 from ..solvers.structure_precompile import first_use
 from ..sweep import repair_sweep, run_sweep
 from ..sweep.model import ModelSweepConfig, load_any_sweep
-from ..sweep.runner import CHUNK_SIZE
 from ..sweep.store import journal_path, verify_sweep
 from ._app import Interrupted, app
-from .options import bounded, check_option
+from .options import bounded
 from .vocabulary import option
 
 
@@ -62,11 +61,7 @@ def sweep(
 
 def _run(config: Path, out: str, restart: bool, scheduler: Optional[str], timeout: float, chunk_size: Optional[int], as_json: bool) -> None:
     """Compute (or resume) the sweep and print its summary."""
-    cfg = load_any_sweep(str(config))
-    if chunk_size is not None:
-        check_option("--chunk-size", CHUNK_SIZE, chunk_size)
-    if not (timeout > 0 and np.isfinite(timeout)):
-        raise ValueError(f"--scheduler-timeout must be a number of seconds > 0, got {timeout}")
+    cfg = load_any_sweep(str(config))  # (--chunk-size and --scheduler-timeout: checked by their terms, as read)
     t0 = time.perf_counter()
     # a local model sweep compiles the structure engine here on a first use (a cluster's workers compile their own)
     ahead = first_use() if isinstance(cfg, ModelSweepConfig) and scheduler is None else nullcontext()

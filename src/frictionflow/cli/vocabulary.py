@@ -15,7 +15,7 @@ stderr, before the command line is parsed.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable, Optional
 
@@ -25,8 +25,9 @@ from .._display import spoken
 from ..analysis.response import PERIODS_RANGE
 from ..friction.registry import law_class, law_names
 from ..io import DEFAULT_DPI, DPI_RANGE, FIGURE_FORMATS
-from ..orbits.settings import DEFAULT_STEPS, MAX_POINTS
-from ..parameters import Param, declared
+from ..orbits.settings import CONTINUATION_RANGES, DEFAULT_STEPS, MAX_POINTS
+from ..parameters import Param, declared, positive_real
+from ..sweep.runner import CHUNK_SIZE
 
 #: the help panels, in the order --help shows them (options without one come last, under "Options")
 PANELS = ("Model", "Forcing", "Friction", "Solver", "Window", "Study", "Run", "Output")
@@ -71,8 +72,9 @@ class Term:
     panel: str = "Study"
     metavar: Optional[str] = None
     path: bool = False
-    #: (lowest, highest) value, checked by click before the command runs
-    bounds: Optional[tuple[float, float]] = None
+    #: the declaration whose range the option's value must be in: stated in the help (:func:`ranged`) and, for a
+    #: number, checked as the command line is read, in the line every check gives ("--X must be ..., got ...")
+    limits: Optional[Param] = None
 
     @property
     def name(self) -> str:
@@ -80,8 +82,56 @@ class Term:
         return "as_json" if self.flag == "--json" else self.flag[2:].replace("-", "_")
 
 
+def ranged(meaning: str, limits: Optional[Param]) -> str:
+    """``meaning`` with the allowed range of ``limits`` said at its end, before the default it states if any, as a
+    declared parameter's help says it ("Crossings of ... per period, in [1, 64]."; "Processes to use, >= 1 [up to
+    2].")."""
+    words = None if limits is None else limits.range_text
+    if not words:
+        return meaning
+    text = meaning.removesuffix(".")
+    head, bracket, default = text.rpartition(" [")
+    if bracket and default.endswith("]"):
+        return f"{head}, {words} [{default}."
+    return f"{text}, {words}."
+
+
+def _states_default(t: Term) -> bool:
+    """Whether ``t``'s meaning states its default itself ("[up to 2]"), apart from its range."""
+    words = None if t.limits is None else t.limits.range_text
+    return "[" in (t.meaning.replace(f", {words}", "") if words else t.meaning)
+
+
 def _terms(*terms: Term) -> dict[str, Term]:
-    return {t.flag: t for t in terms}
+    return {t.flag: replace(t, meaning=ranged(t.meaning, t.limits)) for t in terms}
+
+
+class _Seed(Param):
+    """A seed's declaration: its upper end 2^63 said as such (``:g`` would round it to 9.22337e+18)."""
+
+    @property
+    def allowed(self) -> str:
+        return f"an integer and in [{self.lower:g}, 2^{int(self.upper).bit_length() - 1})"
+
+
+# -- the ranges of the commands' own numbers (each checked by its declaration here, its help saying the range) -----
+#: the figures' resolution (the range is the writers', :data:`frictionflow.io.DPI_RANGE`)
+DPI = Param("dpi", "", "resolution of the figures", "run", DEFAULT_DPI, lower=DPI_RANGE[0], upper=DPI_RANGE[1])
+SCHEDULER_TIMEOUT = positive_real("scheduler_timeout", "", "seconds to wait for the scheduler", "run", 5.0)
+#: --sample's seed: numpy's seeds (the range :func:`frictionflow.basins.basins` checks)
+SEED = _Seed("seed", "", "seed of the sample", "run", 0, kind="int", lower=0, upper=2**63, upper_open=True)
+#: an orbit's period in forcing periods
+ORDER = Param("m", "", "period in forcing periods", "run", 1, kind="int", lower=1, upper=1000)
+STEPS_PER_PERIOD = Param("steps_per_period", "", "RK4 steps per forcing period", "run", DEFAULT_STEPS, kind="int",
+                         lower=4, upper=1_000_000)
+TRANSIENT_PERIODS = Param("transient_periods", "", "forcing periods before shooting", "run", 200, kind="int", lower=0,
+                          upper=10_000_000)
+T_TRANSIENT = Param("t_transient", "", "transient before averaging", "run", 1000.0, lower=0.0, upper=1e9)
+BLOCK = Param("block", "", "renormalisation interval of an unforced run", "run", None, lower=0.0, lower_open=True,
+              upper=1e6)
+#: processes of a command that spreads its work (reproduce): at least one
+WORKERS = Param("workers", "", "processes to use", "run", None, kind="int", lower=1)
+FOLD_EVERY = Param("fold_every", "", "x values between fold seeds", "run", 2, kind="int", lower=1, upper=10_000)
 
 
 OPT_PATH = Optional[Path]
@@ -92,8 +142,7 @@ TERMS: dict[str, Term] = _terms(
     Term("--out", "Write the results (the format by the suffix).", OPT_PATH, None, "Output", PATH_METAVAR, True),
     Term("--plot", f"Draw the results ({', '.join(FIGURE_FORMATS)}).", OPT_PATH, None, "Output", PATH_METAVAR, True),
     # (the range is click's, from bounds; the format is the figure file's suffix, which --plot's help names)
-    Term("--dpi", "Resolution of the figures in dots per inch.", float, DEFAULT_DPI, "Output", "<float>",
-         bounds=DPI_RANGE),
+    Term("--dpi", "Resolution of the figures in dots per inch.", float, DEFAULT_DPI, "Output", "<float>", limits=DPI),
     Term("--store", "Keep the sweep's resumable store here.", OPT_PATH, None, "Output", "PATH.zarr", True),
     Term("--config", "TOML file with any of the model's options (names with underscores).", OPT_PATH, None, "Model",
          PATH_METAVAR, True),
@@ -102,13 +151,15 @@ TERMS: dict[str, Term] = _terms(
     # -- running ----------------------------------------------------------------
     Term("--restart", "Discard an existing sweep output or store (needed when the settings changed).", bool, False, "Run"),
     Term("--scheduler", "Dask scheduler address tcp://HOST:PORT; default: this machine's cores.", Optional[str], None, "Run"),
-    Term("--scheduler-timeout", "Seconds to wait for the scheduler to answer.", float, 5.0, "Run", "SECONDS"),
-    Term("--chunk-size", "Points per chunk of a sweep (a task and a unit of commit).", Optional[int], None, "Run"),
+    Term("--scheduler-timeout", "Seconds to wait for the scheduler to answer.", float, 5.0, "Run", "SECONDS",
+         limits=SCHEDULER_TIMEOUT),
+    Term("--chunk-size", "Points per chunk of a sweep (a task and a unit of commit).", Optional[int], None, "Run",
+         limits=CHUNK_SIZE),
     Term("--verify", "Check the sweep output OUT without computing: each bad chunk, then a summary; exit code 1 if "
          "damaged.", Optional[str], None, "Run", "OUT"),
     Term("--repair", "With --verify: rebuild damaged metadata from the sweep's settings (recorded, or CONFIG) and keep "
          "every chunk that verifies; computes nothing.", bool, False, "Run"),
-    Term("--workers", "Processes to use [up to 2].", Optional[int], None, "Run"),
+    Term("--workers", "Processes to use [up to 2].", Optional[int], None, "Run", limits=WORKERS),
     Term("--no-limit", "Run even when the work is estimated above an hour of computing or an output above the free "
          "space of its disk.", bool, False, "Run"),
     Term("--quick", "Reduced grids and shorter auxiliary runs: a smoke test, not the published figures.", bool, False),
@@ -122,7 +173,7 @@ TERMS: dict[str, Term] = _terms(
          "FROM:TO[:N]"),
     Term("--v0-range", "Range of X'(0), as --x0-range.", Optional[str], None, "Study", "FROM:TO[:N]"),
     Term("--sample", "N random initial states in the ranges instead of a grid.", Optional[int], None, "Study", "N"),
-    Term("--seed", "Seed of --sample (the same points for a seed on every machine).", int, 0),
+    Term("--seed", "Seed of --sample (the same points for a seed on every machine).", int, 0, limits=SEED),
     Term("--overlay", "Brute-force simulations drawn under the curves: N along the range, NXxNY over a plane (0: none).",
          str, "0", "Study", "N|NXxNY"),
     Term("--heat", "Sweep variable of the --overlay heat map (R_c, TR_B, P_fin, ...).", str, "R_c"),
@@ -130,38 +181,45 @@ TERMS: dict[str, Term] = _terms(
     Term("--attractor-tol", "Tolerance telling attractors apart: relative on period and amplitude, absolute on stick "
          "fraction [1e-3].", Optional[float], None),
     Term("--tol", "Newton tolerance on each orbit's X relative to max(F_s, |V_b|) [1e-12 exact, 1e-9 smooth laws].",
-         Optional[float], None, "Solver"),
+         Optional[float], None, "Solver", limits=CONTINUATION_RANGES["tol"]),
     Term("--periods", "Forcing periods simulated at each frequency, in [{}, {}].".format(*PERIODS_RANGE), int, 300,
          "Window"),
     Term("--direction", "Sweep up, down or both (jumps and hysteresis show with both).", str, "both"),
-    Term("--t-transient", "Time before the averaging starts (rounded up to whole blocks).", float, 1000.0, "Window"),
+    Term("--t-transient", "Time before the averaging starts (rounded up to whole blocks).", float, 1000.0, "Window",
+         limits=T_TRANSIENT),
     Term("--transient-periods", "Forcing periods run from (x0, v0) before shooting (0: shoot from them).", int, 200,
-         "Window"),
+         "Window", limits=TRANSIENT_PERIODS),
     Term("--steps-per-period", "RK4 steps per forcing period (per block when unforced); switches are located "
-         "whatever it is.", int, DEFAULT_STEPS, "Solver"),
+         "whatever it is.", int, DEFAULT_STEPS, "Solver", limits=STEPS_PER_PERIOD),
     Term("--block", "Renormalisation interval when unforced [2 pi]; forced: the forcing period.", Optional[float], None,
-         "Window"),
+         "Window", limits=BLOCK),
     Term("--guess", "Shoot from the start state itself, without a transient (to reach unstable orbits).", bool, False),
-    Term("--returns", "Crossings of the section X'=0 per period (2: period-2 orbit).", int, 1),
+    Term("--returns", "Crossings of the section X'=0 per period (2: period-2 orbit).", int, 1,
+         limits=CONTINUATION_RANGES["returns"]),
     Term("--fd-check", "Also report the monodromy matrix by finite differences of simulations.", bool, False),
     Term("--m", "Period of the orbit(s) in forcing periods (1 harmonic, > 1 subharmonic); comma-separated where a "
-         "command follows several (map).", str, "1", "Study", "M[,M..]"),
+         "command follows several (map).", str, "1", "Study", "M[,M..]", limits=ORDER),
     Term("--seeds", "Where orbit branches start: hopf, start, stop (comma-separated).", str, "hopf,start,stop"),
-    Term("--max-points", "Points per orbit branch at most.", int, MAX_POINTS),
-    Term("--max-period", "A branch ends (period_blowup) once its period exceeds this.", float, 500.0),
-    Term("--step", "First arclength step, relative to the interval.", float, 0.02),
+    Term("--max-points", "Points per orbit branch at most.", int, MAX_POINTS, limits=CONTINUATION_RANGES["max_points"]),
+    Term("--max-period", "A branch ends (period_blowup) once its period exceeds this.", float, 500.0,
+         limits=CONTINUATION_RANGES["max_period"]),
+    Term("--step", "First arclength step, relative to the interval.", float, 0.02, limits=CONTINUATION_RANGES["step"]),
     Term("--switch-pd", "Also continue the 2m branch born at the first period doubling.", bool, False),
     Term("--monitor", "Locate the extrema of these per-orbit quantities along the branches (comma-separated: P_fin, "
          "P_dv, P_df, R_c, R_f, P_belt, P_heat, TR_B, amplitude, stick_fraction, period).", str, ""),
     Term("--curves", "Curves to compute (comma-separated): hopf, grazing, fold [all]; forced (--x/--y omega, fex): "
          "fold, period_doubling, neimark_sacker, grazing [all].", Optional[str], None),
-    Term("--fold-every", "A continuation in y seeds fold curves at every n-th x value.", int, 2),
+    Term("--fold-every", "A continuation in y seeds fold curves at every n-th x value.", int, 2, limits=FOLD_EVERY),
 )
 
 #: declared parameters whose default differs on a command, with the reason (shown in its help)
+#: (None: no default on it, the reason says what to give)
 PARAMETER_DEFAULTS: dict[tuple[str, str], tuple[Any, str]] = {
     ("lyapunov", "t_end"): (6000.0, "the averaging needs long runs; transient included, rounded up to whole blocks"),
     ("reproduce", "t_end"): (600.0, "the paper's run length; averages over the last cycle before it"),
+    ("forced-orbit", "fex"): (None, "none: give it, > 0 (a forced orbit needs a forcing)"),
+    ("response", "fex"): (None, "none: give it, > 0 (a frequency response needs a forcing)"),
+    ("forced-continue", "fex"): (None, "none: give it, > 0, unless --vary fex (a forced orbit needs a forcing)"),
 }
 
 
@@ -171,13 +229,27 @@ def option(flag: str, detail: str | None = None, *, required: bool = False) -> A
     t = TERMS[flag]
     default = ... if required else t.default
     text = t.meaning if detail is None else f"{t.meaning} {detail}"
-    if not required and default is not None and default is not False and default != "" and "[" not in t.meaning:
+    if not required and default is not None and default is not False and default != "" and not _states_default(t):
         text += f" [{default}]"  # as the declared parameters show theirs
     extra: dict[str, Any] = {"parser": path_text} if t.path else {}
-    if t.bounds is not None:
-        extra.update(min=t.bounds[0], max=t.bounds[1])
+    if t.limits is not None and t.annotation in (int, float, Optional[int], Optional[float]):
+        extra["callback"] = checked_by(flag, t.limits)
     return typer.Option(default, flag, help=text, metavar=t.metavar, rich_help_panel=t.panel, show_default=False,
                         **extra)
+
+
+def checked_by(flag: str, limits: Param) -> Callable[[Any], Any]:
+    """The click callback of a number option: its value (None: not given) checked by ``limits``, ValueError naming
+    ``flag`` ("--returns must be an integer and in [1, 64], got 0") as the command line is read -- before anything
+    is computed or written."""
+    named = replace(limits, name=flag)
+    return lambda value: None if value is None else named.check(value)
+
+
+def check_term(flag: str, value: Any) -> Any:
+    """``value`` checked by the range of option ``flag`` (:data:`TERMS`), in the line naming the option (for an
+    option read as text, such as ``--m 1,2``, whose numbers are checked once parsed)."""
+    return checked_by(flag, TERMS[flag].limits)(value)
 
 
 def parameter_help(command: str, names: tuple[str, ...], detail: dict[str, str] | None = None) -> dict[str, str]:
@@ -190,7 +262,9 @@ def parameter_help(command: str, names: tuple[str, ...], detail: dict[str, str] 
             p = p.with_default(default_law(command))
         if (command, name) in PARAMETER_DEFAULTS:
             value, reason = PARAMETER_DEFAULTS[command, name]
-            p = p.with_default(value, f"{value:g}: {reason}")
+            p = p.with_default(value, reason if value is None else f"{value:g}: {reason}")
+        elif p.owner == "law":
+            p = p.with_default(p.default, law_defaults(p))
         text = p.help()
         wants = LAW_NEEDS.get(command, ()) + LAW_WANTS.get(command, ())
         if name == "friction" and wants:
@@ -199,6 +273,28 @@ def parameter_help(command: str, names: tuple[str, ...], detail: dict[str, str] 
             text += " " + detail[name]
         out[name] = text
     return out
+
+
+def _default_text(p: Param) -> str | None:
+    """How ``p``'s default reads in a help text (as :meth:`Param.help` says it)."""
+    if p.default_text is not None:
+        return p.default_text
+    if p.default is None or callable(p.default):
+        return None
+    return f"{p.default:g}" if isinstance(p.default, float) else str(p.default)
+
+
+def law_defaults(p: Param) -> str | None:
+    """The default of the law parameter ``p`` as each registered law declares it: the shared declaration's, then
+    every other one with the laws that have it ("F_d; 2 F_d for stribeck; 0.04 for cubic")."""
+    first = _default_text(p)
+    others: dict[str, list[str]] = {}
+    for name in law_names():
+        own = next((q for q in law_class(name).parameters if q.name == p.name), None)
+        text = None if own is None else _default_text(own)
+        if text is not None and text != first:
+            others.setdefault(text, []).append(name)
+    return "; ".join([*([first] if first is not None else []), *(f"{t} for {', '.join(n)}" for t, n in others.items())]) or None
 
 
 def overlay_count(text: str) -> int:

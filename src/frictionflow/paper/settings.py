@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .. import _validate as check
+from ..parameters import declared
 
 #: The paper's Karnopp band half-width (Sec. 4).
 PAPER_VD = 1e-3
@@ -75,6 +76,8 @@ class Settings:
         for name in ("dt", "t_end", "vd", "exact_dense_dt", "shown_span", "shown_dt", "window_t_end", "window_step",
                      "band_t_end", "band_history_t_end"):
             check.positive(name, getattr(self, name))
+        for name in ("dt", "t_end"):  # and within the ranges simulate's --dt and --t-end enforce (RK4's step, a run's)
+            declared()[name].check(getattr(self, name))
         if self.shown_span >= self.t_end:  # named by t_end: what a command line can change (reproduce --t-end)
             raise ValueError(f"t_end must be > {self.shown_span:g} (shown_span: the end of each run the time histories "
                              f"and phase portraits show), got {self.t_end!r}")
