@@ -158,10 +158,10 @@ def test_the_single_mass_is_the_belt_oscillators_numbers(fex):
 def test_the_single_mass_file_is_the_single_mass_system(tmp_path):
     path = tmp_path / "one.toml"
     path.write_text('dof = ["x"]\nmass = [1.0]\n[[spring]]\non = { x = 1.0 }\nk = 1.0\n[[damper]]\non = { x = 1.0 }\n'
-                    'c = 0.1\n[[contact]]\non = { x = 1.0 }\nbelt = 0.01\nfriction = "karnopp"\nfd = 0.02\n'
-                    'stick_force = "spring"\n')
+                    'c = 0.1\n[[contact]]\non = { x = 1.0 }\nbelt = 0.01\nfriction = "coulomb"\nfd = 0.02\n'
+                    'fs = 0.03\nstick_force = "spring"\n')
     from_file = load_system(path)
-    built = System.single_mass(BeltOscillator(zeta=0.05, vb=0.01), Karnopp(0.02, stick_force="spring"))
+    built = System.single_mass(BeltOscillator(zeta=0.05, vb=0.01), Coulomb(0.02, 0.03, stick_force="spring"))
     assert from_file == built
     for x, y in zip(assemble(from_file), assemble(built)):
         np.testing.assert_array_equal(x, y)

@@ -38,6 +38,7 @@ from ..core.assembly import Assembly
 from ..core.layout import LAW, STICK
 from ..estimate import enforce, enforce_stage
 from ..friction.registry import law_classes
+from ..solvers.registry import solver_names_where
 from ..solvers.structure import run_estimate, supported_laws
 from ..system import assemble
 from . import floquet
@@ -73,7 +74,7 @@ class StructureOrbit(floquet.MultiplierStability, Summarized):
     stick_fraction:
         Per contact, the share of the period it spends stuck.
     elements:
-        Element name -> its average powers over one period (:meth:`Motion.element_power`).
+        Element name -> its average powers over one period (:meth:`~frictionflow.motion.Motion.element_power`).
     energy_residual:
         The relative residual of the energy balance over one period.
     residual, iterations:
@@ -174,12 +175,14 @@ def _setup(system_or_assembly: Any) -> Setup:
 def _check_laws(asm: Assembly, contacts: tuple[str, ...]) -> None:
     """One line when a contact's law is not the exact engine's: the shooting and its monodromy are that engine's."""
     runs = supported_laws()
-    names = {cls.code: cls.name for cls in sorted(law_classes(), key=lambda cls: cls.configurable)}  # a built-in's name
+    classes = {cls.code: cls for cls in sorted(law_classes(), key=lambda cls: cls.configurable)}  # a built-in's
     for contact, code in zip(contacts, np.asarray(asm.law)[:, LAW]):
         if int(code) not in runs:
+            cls = classes[int(code)]
+            others = solver_names_where(lambda s: s.structure_laws is not None and bool(s.structure_laws(cls)))
+            where = f"simulate runs it on the {' or '.join(others)} solver" if others else "no structure solver runs it"
             raise ValueError(f"a structure's periodic orbits are shot with the exact engine, which runs contacts with "
-                             f"the laws {', '.join(runs.values())}; {contact} has friction={names[int(code)]} "
-                             "(simulate runs it on the adaptive solver)")
+                             f"the laws {', '.join(runs.values())}; {contact} has friction={cls.name} ({where})")
 
 
 def _row(flow: Flow, motion: Any, section: Any, dof: tuple[str, ...]) -> int:
@@ -346,7 +349,7 @@ def find_structure_orbit(
         whose velocity varies most over the transient's second half.  Forced: None (the section is
         stroboscopic).
     max_iter:
-        Newton iterations before :class:`~frictionflow.orbits.shooting.ShootingError`.
+        Newton iterations before :class:`~frictionflow.orbits.ShootingError`.
     """
     check_shooting(t_transient, tol, returns, max_iter, "t_transient")
     setup = _setup(system_or_assembly)

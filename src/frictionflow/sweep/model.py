@@ -148,12 +148,24 @@ def _unknown_entry(source: str, key: str, system: System) -> ValueError:
     sweep names it."""
     valid = system.entries()
     entry, _, last = key.rpartition(".")
-    if entry in valid:
+    if not last.isdigit() and is_entry(system, entry):  # a digit is an index (mass.0.5), never a range key
         return ValueError(f"{source}: grid.{entry}: unknown key {last!r}; allowed: num, scale, start, stop")
     near = difflib.get_close_matches(key, valid, n=4, cutoff=0.5)
     shown = list(dict.fromkeys([*near, *valid]))[:6]
     return ValueError(f"{source}: unknown grid key {key!r}: not an entry of the model; its entries include "
                       f"{', '.join(shown)} ({len(valid)} in all: System.entries())")
+
+
+def is_entry(system: System, address: str) -> bool:
+    """Whether ``address`` is a numeric entry :meth:`System.with_entry <frictionflow.system.System.with_entry>` sets:
+    the addresses :meth:`System.entry <frictionflow.system.System.entry>` reads (``stability --vary``'s test), with
+    a number there.  That is more than :meth:`~frictionflow.system.System.entries` lists: ``mass.0.1`` of a diagonal
+    mass (it makes the mass a full matrix), a direction's or a normal load's dof it does not give yet."""
+    try:
+        value = system.entry(address)
+    except (ValueError, TypeError):
+        return False
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 def _number(source: str):
@@ -205,8 +217,7 @@ def parse_model_sweep(values: Mapping[str, Any], system: System, source: str = "
         raise ValueError(f"{source}: a non-empty [grid] table of model entries to sweep is required")
     t_end, rtol = _settings(values, source)
     grid = flat_grid(grid)
-    valid = set(system.entries())
-    unknown = [k for k in grid if k not in valid]
+    unknown = [k for k in grid if not is_entry(system, k)]
     if unknown:
         raise _unknown_entry(source, unknown[0], system)
     number = _number(source) if check_points else (lambda key, where, value: float(value))

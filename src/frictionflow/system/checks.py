@@ -11,11 +11,20 @@ from __future__ import annotations
 
 import math
 import re
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from ..parameters import STATE_MAX, Param
 
 #: a dof name: an identifier (addresses are dotted, and ``preload`` is the normal load's own key)
 DOF_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 RESERVED = ("preload",)
+#: the initial state's entries, bounded by STATE_MAX as the single mass's x0 and v0 are
+INITIAL_BOUNDS = {"q": "initial displacement", "v": "initial velocity"}
+#: contact directions are dependent when the smallest singular value of their unit vectors is below this share
+#: of the largest (a relative tolerance: rounding in the written coefficients is far above it)
+DEPENDENT_RTOL = 1e-9
 
 
 def number(address: str, value: Any, allowed: str = "a finite number") -> float:
@@ -178,3 +187,64 @@ def direction(address: str, value: Any, dof: tuple[str, ...]) -> tuple[tuple[str
         raise ValueError(f"{address}.on must have a nonzero entry over the dof ({', '.join(dof)}): a zero-length "
                          f"direction, got {dict(pairs)!r}")
     return pairs
+
+
+def initial(address: str, key: str, pairs: tuple[tuple[str, float], ...]) -> tuple[tuple[str, float], ...]:
+    """The initial state's entries of ``key`` (``q`` or ``v``) within [-STATE_MAX, STATE_MAX], the range of the
+    single mass's own initial state (``x0``, ``v0``), each refused by its address.
+
+    Parameters
+    ----------
+    address:
+        ``initial``, for the message (``initial.v.x1 must be ...``).
+    key:
+        ``q`` or ``v``.
+    pairs:
+        The (dof, value) pairs, already finite numbers (:func:`coefficients`).
+    """
+    what = INITIAL_BOUNDS[key]
+    return tuple((name, Param(f"{address}.{key}.{name}", "", what, "run", 0.0, lower=-STATE_MAX, upper=STATE_MAX,
+                              subnormal_ok=True).check(x)) for name, x in pairs)
+
+
+def independent(named: Sequence[tuple[str, np.ndarray]], what: str = "contacts") -> None:
+    """Refuse directions that are linearly dependent, naming the first one that is a combination of earlier ones.
+
+    Two stuck contacts along dependent directions hold forces that no equation fixes (only their combination
+    is), so the switching engines cannot hold them; the rank is judged on unit vectors with
+    :data:`DEPENDENT_RTOL`.
+
+    Parameters
+    ----------
+    named:
+        (address, direction over the dof) per element, in file order (directions nonzero).
+    what:
+        The elements in words, for the message.
+    """
+    units = [v / np.linalg.norm(v) for _, v in named]
+    if not units:
+        return
+    s = np.linalg.svd(np.array(units), compute_uv=False)
+    tol = DEPENDENT_RTOL * s[0]
+    if np.count_nonzero(s > tol) == len(units):  # the usual case: one decomposition
+        return
+    basis: list[int] = []
+    for j, (address, v) in enumerate(named):
+        if _rank(np.array([units[i] for i in basis] + [units[j]]), tol) > len(basis):
+            basis.append(j)
+            continue
+        weights = np.linalg.lstsq(np.array([named[i][1] for i in basis]).T, v, rcond=None)[0]
+        used = [named[i][0] for i, w in zip(basis, weights) if abs(w) > DEPENDENT_RTOL * np.abs(weights).max()]
+        of = f"{used[0]}'s" if len(used) == 1 else f"those of {', '.join(used[:-1])} and {used[-1]}"
+        raise ValueError(f"{address}: its direction is {'a multiple' if len(used) == 1 else 'a combination'} of {of}: "
+                         f"{what} along dependent directions are not supported (stuck together, their forces are "
+                         f"indeterminate); merge them into one contact (e.g. two Coulomb contacts along one direction on one "
+                         f"belt: fd = fd0 + fd1, fs = fs0 + fs1)")
+    names = ", ".join(address for address, _ in named)  # dependent as a whole only (at the tolerance's edge)
+    raise ValueError(f"the directions of {names} are nearly dependent: {what} along dependent directions are not "
+                     f"supported (stuck together, their forces are indeterminate)")
+
+
+def _rank(rows: np.ndarray, tol: float) -> int:
+    """The rank of ``rows``: their singular values above ``tol``."""
+    return int(np.count_nonzero(np.linalg.svd(rows, compute_uv=False) > tol))

@@ -52,9 +52,10 @@ class System:
         The mass matrix: its diagonal (n numbers > 0) or the full matrix (n rows of n numbers,
         symmetric positive definite).
     springs, dampers, contacts, forces:
-        The elements, in file order (their names are ``spring.0``, ``damper.0``, ...).
+        The elements, in file order (their names are ``spring.0``, ``damper.0``, ...).  The contacts' directions
+        must be linearly independent (two stuck contacts along dependent directions hold indeterminate forces).
     initial:
-        The initial state (missing entries 0).
+        The initial state (missing entries 0), each entry in the range of the single mass's ``x0`` / ``v0``.
     source:
         The file the model was read from, for messages (None: built in Python).
     """
@@ -92,8 +93,9 @@ class System:
                               for a, f in _elements(self.forces, "force", Force))
         if not isinstance(self.initial, Initial):
             raise TypeError(f"initial must be an Initial, got {self.initial!r}")
-        out["initial"] = Initial(*(_full(checks.coefficients("initial", pairs, dof, key), dof)
-                                   for key, pairs in (("q", self.initial.q), ("v", self.initial.v))))
+        checks.independent([(f"contact.{j}", vector(c.on, dof)) for j, c in enumerate(out["contacts"])])
+        out["initial"] = Initial(*(_full(checks.initial("initial", key, checks.coefficients("initial", pairs, dof, key)),
+                                         dof) for key, pairs in (("q", self.initial.q), ("v", self.initial.v))))
         q0 = vector(out["initial"].q, dof)
         for j, contact in enumerate(out["contacts"]):
             _loaded(f"contact.{j}", contact.normal, q0, dof)

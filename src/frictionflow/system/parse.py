@@ -12,6 +12,7 @@ from __future__ import annotations
 from typing import Any, Mapping
 
 from ..friction import FrictionLaw
+from ..friction.base import STICK_RULE_WORDS
 from ..friction.registry import law_class, law_names
 from . import checks
 from .elements import Contact, Damper, Force, Initial, Normal, Spring
@@ -96,8 +97,13 @@ def _contact(address: str, t: Mapping[str, Any]) -> Contact:
 
 
 def _law_class(address: str, friction: Any) -> type[FrictionLaw]:
-    """The law's class from its registry name (or from a law object given through the API): one without an internal
-    state (a structure's state is its coordinates and velocities only)."""
+    """The law's class from its registry name (or from a law object given through the API).
+
+    A name must be one of :func:`structure_laws`: a law with an internal state has no place in a structure's state
+    (its coordinates and velocities only), and one without Coulomb's stick rule (Karnopp's stick band) no
+    structure solver runs: it would be refused only when the model runs.  A law object is the Python API's:
+    it must be without an internal state (a solver that does not run it names the contact when the model runs).
+    """
     cls = None
     if isinstance(friction, FrictionLaw):
         cls = type(friction)
@@ -105,13 +111,25 @@ def _law_class(address: str, friction: Any) -> type[FrictionLaw]:
         raise ValueError(f"{address}: missing friction (required: {', '.join(CONTACT_KEYS[:3])})")
     elif isinstance(friction, str) and friction in law_names():
         cls = law_class(friction)
-    stateless = law_names(where=lambda c: not c.internal_names)
+    runnable = ", ".join(structure_laws())
     if cls is None:
-        raise ValueError(f"{address}.friction must be one of {', '.join(stateless)}, got {friction!r}")
+        raise ValueError(f"{address}.friction must be one of {runnable} (the laws a structure's contacts take), "
+                         f"got {friction!r}")
     if cls.internal_names:
         raise ValueError(f"{address}.friction: {cls.name} has an internal state ({', '.join(cls.internal_names)}); "
-                         f"a structure's contacts take the laws without one: {', '.join(stateless)}")
+                         f"a structure's contacts take the laws without one, with Coulomb's stick rule: {runnable}")
+    if not isinstance(friction, FrictionLaw) and cls.stick_rule != "switch":
+        raise ValueError(f"{address}.friction: {cls.name} has {STICK_RULE_WORDS[cls.stick_rule]}, which no structure "
+                         f"solver runs; a structure's contacts take the laws with Coulomb's stick rule: {runnable}")
     return cls
+
+
+def structure_laws() -> tuple[str, ...]:
+    """The registered laws a model's contact may name (registry order): those with Coulomb's stick rule and no
+    internal state -- a stuck contact is the constraint V_r = 0 the structure engines switch on, and a structure's
+    state is its coordinates and velocities only.  (The structure solvers declare the laws they run,
+    ``Solver.structure_laws``; a test holds this rule to them.)"""
+    return law_names(where=lambda c: c.stick_rule == "switch" and not c.internal_names)
 
 
 def _law(address: str, cls: type[FrictionLaw], given: Mapping[str, Any]) -> FrictionLaw:
