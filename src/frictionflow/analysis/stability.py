@@ -30,6 +30,24 @@ frequencies coalesce there and the real parts split; with damping that is
 not proportional the crossing can come before the frequencies meet, and C_eff
 positive definite still feeds nothing), ``divergence`` for a real eigenvalue
 through zero (no frequency).
+
+Where steady sliding does not exist at a value -- a normal load N_j* <= 0 at
+the equilibrium (the contact is lost) or K_eff singular (no isolated
+equilibrium) -- the scan goes on: the value is marked
+(:attr:`StabilityScan.lost`; its eigenvalues NaN, ``stable`` False), the
+eigenvalues are tracked and the critical points searched on each connected
+stretch of values where it exists, and the boundary between a stretch and
+values where a contact is lost is located by ``brentq`` on the smallest
+normal load at steady sliding, min_j N_j*, between the last value with
+sliding and the first without: a ``contact_loss`` point (no mode: its
+frequency is NaN, null in JSON; ``unstable_above`` True where the contact is
+lost above it).  The load changes sign either through zero or through
+infinity, where K_eff turns singular on the way (q* runs off to infinity
+and comes back on the other side: that value is also a divergence, a real
+eigenvalue through zero); the root is that value in both cases.  A run of
+singular values alone (loads > 0 on both sides: a divergence that the grid
+hit) is marked but not located.  A scan without steady sliding at any value
+is refused.
 """
 
 from __future__ import annotations
@@ -53,12 +71,25 @@ from ..friction.registry import law_classes
 
 optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
-#: critical point kinds, in the order the docs list them
-KINDS = ("mode_coupling", "negative_damping", "divergence")
+#: critical point kinds, in the order the docs list them (``contact_loss``: the end of the values where steady
+#: sliding keeps every contact closed, no mode's crossing)
+KINDS = ("mode_coupling", "negative_damping", "divergence", "contact_loss")
 #: a real part below this times the spectrum's size is taken as zero (undamped modes: rounding, not damping)
 ZERO_REAL = 1e-8
 #: evaluations a scan's estimate allows for locating its critical points (brentq: about 60 for each of two)
 REFINE_EVALUATIONS = 120
+
+
+class NoSteadySliding(ValueError):
+    """Steady sliding does not exist: K_eff singular or a normal load <= 0 at the equilibrium.
+
+    ``reason`` is ``"singular"`` or ``"contact_lost"``; the message is one line.  A ``ValueError``, as the
+    other refusals of :func:`steady_sliding`.
+    """
+
+    def __init__(self, message: str, reason: str) -> None:
+        super().__init__(message)
+        self.reason = reason
 
 
 @dataclass(frozen=True, repr=False)
@@ -100,7 +131,7 @@ class SteadySliding(Summarized):
 
     @property
     def stable(self) -> bool:
-        """No eigenvalue in the right half plane (a real part within :data:`ZERO_REAL` of the spectrum's size is
+        """No eigenvalue in the right half plane (a real part within ``ZERO_REAL`` of the spectrum's size is
         zero: undamped modes count as stable, marginally)."""
         lam = self.eigenvalues
         return not bool(np.any(lam.real > ZERO_REAL * np.abs(lam).max()))
@@ -194,27 +225,35 @@ def steady_sliding(assembly: Assembly, laws: Sequence[FrictionLaw] | None = None
     Raises
     ------
     ValueError
-        One line: a belt at rest, a belt inside a stick band, K_eff singular (no isolated
-        equilibrium) or a normal load <= 0 at the equilibrium (the contact is lost).
+        One line: a belt at rest, a belt inside a stick band; :class:`NoSteadySliding` (a ``ValueError``)
+        for K_eff singular (no isolated equilibrium) or a normal load <= 0 at the equilibrium (the contact
+        is lost).
     """
     check.instance("assembly", assembly, Assembly, "an Assembly (frictionflow.system.assemble(system))")
     mass = np.asarray(assembly.mass, dtype=float)
-    e, preload, coef = _contacts(assembly)
+    e, _, _ = _contacts(assembly)
     mu, slope = contact_slip(assembly, laws)
     k_eff = effective_stiffness(assembly, mu)
     if np.linalg.cond(k_eff) * np.finfo(float).eps > 1e-6:
-        raise ValueError("no steady-sliding equilibrium: K_eff = K - sum_j mu_j e_j n_j^T is singular "
-                         "(a direction without stiffness, or the friction cancels it)")
-    q = np.linalg.solve(k_eff, e.T @ (mu * preload))
-    loads = preload + coef @ q
+        raise NoSteadySliding("no steady-sliding equilibrium: K_eff = K - sum_j mu_j e_j n_j^T is singular "
+                              "(a direction without stiffness, or the friction cancels it)", "singular")
+    q, loads = _equilibrium(assembly, mu, k_eff)
     lost = np.flatnonzero(~(loads > 0.0))
     if lost.size:
         j = int(lost[0])
-        raise ValueError(f"contact.{j}: the normal load at steady sliding is N = {loads[j]:g} <= 0: the contact is lost")
+        raise NoSteadySliding(f"contact.{j}: the normal load at steady sliding is N = {loads[j]:g} <= 0: "
+                              "the contact is lost", "contact_lost")
     c_eff = np.asarray(assembly.damping, dtype=float) + (e * (loads * slope)[:, None]).T @ e
     a = first_order(mass, c_eff, k_eff)
     lam, vec = np.linalg.eig(a)
     return SteadySliding(q, loads, mu, slope, mass, k_eff, c_eff, a, lam, vec)
+
+
+def _equilibrium(assembly: Assembly, mu: np.ndarray, k_eff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(q*, N*): the steady-sliding displacements K_eff^-1 sum_j e_j mu_j P_j and the normal loads P_j + n_j . q*."""
+    e, preload, coef = _contacts(assembly)
+    q = np.linalg.solve(k_eff, e.T @ (mu * preload))
+    return q, preload + coef @ q
 
 
 def _contacts(assembly: Assembly) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -245,18 +284,19 @@ def first_order(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray) ->
 
 @dataclass(frozen=True)
 class Critical:
-    """A value of the parameter where a mode's real part changes sign.
+    """A value of the parameter where a mode's real part changes sign, or where steady sliding loses a contact.
 
     Attributes
     ----------
     value:
         The parameter value (refined by ``brentq``).
     kind:
-        ``mode_coupling``, ``negative_damping`` or ``divergence`` (:data:`KINDS`).
+        ``mode_coupling``, ``negative_damping``, ``divergence`` or ``contact_loss`` (``KINDS``).
     frequency:
-        The mode's frequency Im(lambda) there (0 for a divergence).
+        The mode's frequency Im(lambda) there (0 for a divergence, NaN for a contact loss: no mode).
     unstable_above:
-        True where the mode is unstable on the side of larger values.
+        True where the mode is unstable on the side of larger values; for a contact loss, where the contact
+        is lost (no steady sliding) on the side of larger values.
     """
 
     value: float
@@ -265,8 +305,8 @@ class Critical:
     unstable_above: bool
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: value, kind, frequency, unstable_above."""
-        return {"value": self.value, "kind": self.kind, "frequency": self.frequency,
+        """JSON-ready: value, kind, frequency (null for a contact loss), unstable_above."""
+        return {"value": self.value, "kind": self.kind, "frequency": _finite_or_none(self.frequency),
                 "unstable_above": self.unstable_above}
 
 
@@ -281,9 +321,12 @@ class StabilityScan(Summarized):
     values:
         (P,) its values.
     eigenvalues:
-        (P, 2n) complex; column i is one eigenvalue followed from value to value.
+        (P, 2n) complex; column i is one eigenvalue followed from value to value (within each stretch of
+        values with steady sliding; every stretch starts in the same order: upper half plane first, by
+        frequency).  NaN + NaN j on the whole row at a value without steady sliding (:attr:`lost`).
     critical:
-        The values where a mode's real part changes sign, in the order of ``values``.
+        The values where a mode's real part changes sign, and the ``contact_loss`` boundaries, in the order
+        of ``values``.
     """
 
     param: str
@@ -292,17 +335,28 @@ class StabilityScan(Summarized):
     critical: tuple[Critical, ...] = field(default=())
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: ``param``, ``values``, ``eigenvalues`` (per value a list of {re, im}) and ``critical``."""
+        """JSON-ready: ``param``, ``values``, ``eigenvalues`` (per value a list of {re, im}; null at a value
+        without steady sliding), ``lost`` (per value: no steady sliding there) and ``critical``."""
         return {"param": self.param, "values": [float(v) for v in self.values],
-                "eigenvalues": [[{"re": float(z.real), "im": float(z.imag)} for z in row] for row in self.eigenvalues],
-                "critical": [c.to_dict() for c in self.critical]}
+                "eigenvalues": [[{"re": _finite_or_none(z.real), "im": _finite_or_none(z.imag)} for z in row]
+                                for row in self.eigenvalues],
+                "lost": self.lost.tolist(), "critical": [c.to_dict() for c in self.critical]}
+
+    @property
+    def lost(self) -> np.ndarray:
+        """(P,) bool: no steady sliding at that value (a normal load <= 0 at the equilibrium: the contact is lost;
+        or K_eff singular: no isolated equilibrium); its eigenvalues are NaN."""
+        return np.all(np.isnan(self.eigenvalues), axis=1)
 
     @property
     def stable(self) -> np.ndarray:
-        """(P,) bool: no eigenvalue in the right half plane at that value (a real part within :data:`ZERO_REAL`
-        of the spectrum's size is zero: undamped modes count as stable, marginally, as for the critical points)."""
+        """(P,) bool: no eigenvalue in the right half plane at that value (a real part within ``ZERO_REAL``
+        of the spectrum's size is zero: undamped modes count as stable, marginally, as for the critical points);
+        False where steady sliding does not exist (:attr:`lost`)."""
         lam = self.eigenvalues
-        return ~np.any(lam.real > ZERO_REAL * np.abs(lam).max(axis=1, keepdims=True), axis=1)
+        with np.errstate(invalid="ignore"):
+            unstable = np.any(lam.real > ZERO_REAL * np.abs(lam).max(axis=1, keepdims=True), axis=1)
+        return ~unstable & ~self.lost
 
     def plot(self, path: Any = None, **kwargs: Any) -> Any:
         """The eigenvalue loci (:func:`frictionflow.stability_plot.plot_stability`); saved to ``path`` if given."""
@@ -311,7 +365,12 @@ class StabilityScan(Summarized):
     def _summary(self) -> tuple[str, list[Row]]:
         span = f"{num(self.values[0])} .. {num(self.values[-1])} ({len(self.values)} values)"
         rows = [(self.param, span), ("stable at", f"{int(np.sum(self.stable))} of {len(self.values)} values (Re <= 0)")]
-        rows += [(f"critical {num(c.value, 8)}", f"{c.kind}, frequency {num(c.frequency, 6)}, unstable "
+        lost = int(np.sum(self.lost))
+        if lost:
+            rows.append(("no steady sliding at", f"{lost} of {len(self.values)} values (a contact lost, N* <= 0, "
+                         "or K_eff singular)"))
+        rows += [(f"critical {num(c.value, 8)}", f"{c.kind}, contact lost {'above' if c.unstable_above else 'below'}"
+                  if c.kind == "contact_loss" else f"{c.kind}, frequency {num(c.frequency, 6)}, unstable "
                   f"{'above' if c.unstable_above else 'below'}") for c in self.critical]
         if not self.critical:
             rows.append(("critical", "none in the range"))
@@ -329,8 +388,22 @@ class _Spectrum:
         try:
             laws = None if self.laws_at is None else self.laws_at(value)
             return steady_sliding(self.assembly_at(value), laws)
+        except NoSteadySliding as e:
+            raise NoSteadySliding(f"{self.param} = {float(value)!r}: {e}", e.reason) from None
         except ValueError as e:
             raise ValueError(f"{self.param} = {float(value)!r}: {e}") from None  # the value checked, every digit
+
+    def smallest_load(self, value: float) -> float:
+        """min_j N_j* at steady sliding at ``value``, whether or not it is > 0 (0 where K_eff is exactly singular:
+        the equilibrium's loads change sign through infinity there)."""
+        laws = None if self.laws_at is None else self.laws_at(value)
+        assembly = self.assembly_at(value)
+        mu = contact_slip(assembly, laws)[0]
+        try:
+            loads = _equilibrium(assembly, mu, effective_stiffness(assembly, mu))[1]
+        except np.linalg.LinAlgError:
+            return 0.0
+        return float(np.min(loads)) if loads.size else math.inf
 
     def __call__(self, value: float) -> np.ndarray:
         return self.sliding(value).eigenvalues
@@ -360,15 +433,79 @@ def stability_scan(assembly_at: Callable[[float], Assembly], values: Sequence[fl
     Returns
     -------
     StabilityScan
-        The tracked eigenvalues and the critical points (see the module's docstring).
+        The tracked eigenvalues and the critical points (see the module's docstring); values without steady
+        sliding marked (:attr:`StabilityScan.lost`) and the boundaries where a contact is lost located.
+
+    Raises
+    ------
+    ValueError
+        One line: bad values, a value where a contact cannot slide (a belt at rest or inside a stick band),
+        or no steady sliding at any value (nothing to show).
     """
     vals = _checked_values(values)
     spectrum = _Spectrum(assembly_at, laws_at, param)
-    slides = [spectrum.sliding(float(v)) for v in vals]
-    if len({s.eigenvalues.size for s in slides}) != 1:
+    slides: list[SteadySliding | None] = []
+    reasons: list[str | None] = []
+    first: NoSteadySliding | None = None
+    for v in vals:
+        try:
+            slides.append(spectrum.sliding(float(v)))
+            reasons.append(None)
+        except NoSteadySliding as e:
+            slides.append(None)
+            reasons.append(e.reason)
+            first = first or e
+    found = [s for s in slides if s is not None]
+    if not found:
+        raise ValueError(f"{first}; and at every other value of the scan ({len(vals)} from {vals[0]:g} to "
+                         f"{vals[-1]:g}): no steady sliding to analyse")
+    if len({s.eigenvalues.size for s in found}) != 1:
         raise ValueError(f"{param}: the number of degrees of freedom changes along the values")
-    lam = _track(vals, slides)
-    return StabilityScan(param, vals, lam, tuple(_critical_points(vals, lam, spectrum)))
+    lam = np.full((len(vals), found[0].eigenvalues.size), complex(math.nan, math.nan))
+    critical: list[Critical] = []
+    for run in _stretches([s is not None for s in slides]):
+        lam[run] = _track(vals[run], [slides[i] for i in run])
+        critical += _critical_points(vals[run], lam[run], spectrum)
+    critical += _contact_losses(vals, reasons, spectrum)
+    critical.sort(key=lambda c: c.value if vals[-1] > vals[0] else -c.value)
+    return StabilityScan(param, vals, lam, tuple(critical))
+
+
+def _stretches(valid: Sequence[bool]) -> list[list[int]]:
+    """The runs of consecutive indices where ``valid`` is True."""
+    runs: list[list[int]] = []
+    for i, ok in enumerate(valid):
+        if ok:
+            if runs and runs[-1][-1] == i - 1:
+                runs[-1].append(i)
+            else:
+                runs.append([i])
+    return runs
+
+
+def _contact_losses(values: np.ndarray, reasons: Sequence[str | None], spectrum: _Spectrum) -> list[Critical]:
+    """The ``contact_loss`` points: on each side of a run of values without steady sliding that borders one with
+    it, the root of the smallest normal load between that neighbour and the nearest value of the run where a
+    load is <= 0 (none if the run's values are all singular ones)."""
+    out = []
+    for run in _stretches([r is not None for r in reasons]):
+        loads_lost = [i for i in run if reasons[i] == "contact_lost"]
+        if not loads_lost:
+            continue
+        for valid, lost in ((run[0] - 1, loads_lost[0]), (run[-1] + 1, loads_lost[-1])):
+            if not 0 <= valid < len(values):
+                continue
+            a, b = float(values[valid]), float(values[lost])
+            root = _root(spectrum.smallest_load, a, b)
+            if root is not None:  # always: N > 0 at a and <= 0 at b
+                out.append(Critical(float(root), "contact_loss", math.nan, bool(b > a)))
+    return out
+
+
+def _finite_or_none(x: float) -> float | None:
+    """``x`` as a float, None (JSON null) if NaN or infinite."""
+    x = float(x)
+    return x if math.isfinite(x) else None
 
 
 def scan_estimate(n: int, points: int) -> Estimate:
@@ -454,7 +591,7 @@ class _Bracket:
 def _critical_points(values: np.ndarray, lam: np.ndarray, spectrum: _Spectrum) -> list[Critical]:
     """Each change of sign of a tracked eigenvalue's real part in the upper half plane, located and classified.
 
-    A real part within :data:`ZERO_REAL` of the spectrum's size is zero (an undamped mode): stable, marginally.
+    A real part within ``ZERO_REAL`` of the spectrum's size is zero (an undamped mode): stable, marginally.
     """
     tol = ZERO_REAL * np.maximum(np.abs(lam).max(axis=1), np.finfo(float).tiny)
     unstable = lam.real > tol[:, None]

@@ -21,6 +21,7 @@ import numpy as np
 
 from .._display import Row, Summarized, num
 from .._figures import draw
+from .._json import jsonable
 from .._progress import progress_bar
 from ..core.assembly import Assembly
 from ..estimate import Estimate
@@ -59,12 +60,13 @@ class StabilityChart(Summarized):
     x_values, y_values:
         (P,) and (Q,) their values.
     growth:
-        (Q, P) the largest real part of the eigenvalues at each grid point (row: a value of y).
+        (Q, P) the largest real part of the eigenvalues at each grid point (row: a value of y); NaN where
+        steady sliding is lost (a contact's normal load <= 0, or no isolated equilibrium).
     frequency:
-        (Q, P) the imaginary part (>= 0) of that eigenvalue.
+        (Q, P) the imaginary part (>= 0) of that eigenvalue; NaN where steady sliding is lost.
     stable:
-        (Q, P) bool: no eigenvalue in the right half plane (a real part within :data:`~.stability.ZERO_REAL` of
-        the spectrum's size is zero, as on one line).
+        (Q, P) bool: no eigenvalue in the right half plane (a real part within ``stability.ZERO_REAL`` of
+        the spectrum's size is zero, as on one line); False where steady sliding is lost.
     boundary:
         The critical points of every line along x, in the order of ``y_values`` then ``x_values``.
     """
@@ -79,11 +81,11 @@ class StabilityChart(Summarized):
     boundary: tuple[BoundaryPoint, ...] = field(default=())
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: names, values, ``growth``, ``frequency``, ``stable`` (rows over y) and ``boundary``."""
-        return {"x": self.x, "y": self.y, "x_values": [float(v) for v in self.x_values],
-                "y_values": [float(v) for v in self.y_values], "growth": self.growth.tolist(),
-                "frequency": self.frequency.tolist(), "stable": self.stable.tolist(),
-                "boundary": [b.to_dict() for b in self.boundary]}
+        """JSON-ready: names, values, ``growth``, ``frequency``, ``stable`` (rows over y) and ``boundary``; null
+        growth and frequency where steady sliding is lost."""
+        return jsonable({"x": self.x, "y": self.y, "x_values": self.x_values, "y_values": self.y_values,
+                         "growth": self.growth, "frequency": self.frequency, "stable": self.stable,
+                         "boundary": [b.to_dict() for b in self.boundary]})
 
     def plot(self, path: Any = None, **kwargs: Any) -> Any:
         """The growth-rate chart with the boundary (:func:`frictionflow.stability_plot.plot_stability_chart`)."""
