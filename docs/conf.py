@@ -64,6 +64,24 @@ napoleon_google_docstring = False
 napoleon_use_rtype = False
 # the docstrings name parameters such as "t, x, v, fc:" that are not cross-reference targets
 nitpicky = False
+# Types of other packages and of the standard library: no intersphinx (the build needs no network), so
+# these cannot resolve; every other unresolved reference (``sphinx-build -n``) is the project's own.
+nitpick_ignore = [
+    ("py:class", "numpy.ndarray"),
+    ("py:class", "pathlib.Path"),
+    ("py:class", "Path"),  # pathlib.Path in the short form of the type hints
+    ("py:class", "xarray.Dataset"),
+    ("py:class", "xarray.core.dataset.Dataset"),
+    ("py:class", "collections.abc.Sequence"),
+    ("py:class", "collections.abc.Iterable"),
+    ("py:class", "collections.abc.Callable"),
+    ("py:class", "collections.abc.Mapping"),
+    ("py:class", "enum.IntEnum"),
+    ("py:class", "abc.ABC"),
+]
+nitpick_ignore_regex = [
+    (r"py:class", r"(numpy|xarray|pandas|matplotlib|distributed|dask|typing|collections\.abc|pathlib)\..*"),
+]
 
 # -- the gallery: every example runs at each build, so none can rot --------------------------------
 sphinx_gallery_conf = {
@@ -128,6 +146,12 @@ def _plain_docstrings(app, what, name, obj, options, lines):  # noqa: ANN001 - S
     lines[:] = out
 
 
+def _public_bases(app, name, obj, options, bases):  # noqa: ANN001 - Sphinx's hook signature
+    """"Bases:" names public classes only: a private helper (``frictionflow._display.Summarized``) has no page."""
+    bases[:] = [b for b in bases if not getattr(b, "__module__", "").startswith("frictionflow._")] or [object]
+
+
 def setup(app):  # noqa: ANN001, ANN201
     app.connect("autodoc-process-docstring", _plain_docstrings)
+    app.connect("autodoc-process-bases", _public_bases)
 

@@ -60,4 +60,4 @@ print(ds.sizes["tau"], "points,", int(ds.is_sample.sum()), "of them samples,", i
 switches = ds.where(ds.switch, drop=True)
 ax = ds.X.plot(figsize=(8, 3), lw=0.8)
 ax[0].axes.plot(switches.tau, switches.X, "k.", ms=4, label="switches")
-ax[0].axes.legend()
+_ = ax[0].axes.legend()

@@ -42,7 +42,7 @@ print(f"[{c.verdict}] {c.quote}\n\n{c.evidence}")
 # %%
 # Fig. 2: friction power in Case I
 # --------------------------------
-# Solid lines are the paper's method, dotted the exact solver.
+# Solid lines are the paper's method, dashed the exact solver.
 fig = fig2.plot(summary.data["fig2"])
 
 # %%
@@ -53,4 +53,6 @@ fig = fig3.plot(summary.data["fig3"])
 # %%
 # Fig. 5: dissipation ratios against damping
 # ------------------------------------------
+# Dots joined by lines are the paper's method, crosses the exact solver over
+# the same window.
 fig = fig5.plot(summary.data["fig5"], summary.settings.t_end)

@@ -30,7 +30,7 @@ for name, law in laws.items():
     ax.plot(speed, law.slip_magnitude(speed), label=name)
 ax.plot([0, 0], [0, 0.04], "k:", lw=0.8)
 ax.set(xlabel="slip speed |V_r|", ylabel="|F_c|", title="slip force (static level F_s = 0.04 at rest)")
-ax.legend()
+_ = ax.legend()
 
 # %%
 # A naive integrator chatters
@@ -75,7 +75,7 @@ ax[1].plot(tn, vn, lw=0.6, color="C3")
 ax[1].plot(paper.t, paper.v, lw=1.0, color="C1")
 ax[1].plot(exact.t, exact.v, lw=1.4, color="k", ls="--")
 ax[1].axhline(model.vb, color="0.5", lw=0.6)
-ax[1].set(xlabel=r"$\tau$", ylabel="X'")
+_ = ax[1].set(xlabel=r"$\tau$", ylabel="X'")
 
 # %%
 # Count the sign flips of the force: the naive run flips again and again
@@ -98,7 +98,7 @@ for t, y, style in ((tn, fcn, dict(lw=0.8, color="C3", label="naive RK4")),
     near = (t > t0) & (t < t0 + 0.5)
     ax.plot(t[near], y[near], **style)
 ax.set(xlabel=r"$\tau$", ylabel="F_c", title="inside a stick phase")
-ax.legend(fontsize=8)
+_ = ax.legend(fontsize=8)
 
 # %%
 # Smooth slip laws: the adaptive solver

@@ -55,7 +55,7 @@ ax[2].plot(cycle.t, p["P_heat"], color="C3", label=r"heat $P_{heat}$")
 ax[2].plot(cycle.t, p["P_f"], color="k", lw=0.8, label=r"$P_f = P_{belt} - P_{heat}$")
 ax[2].set(xlabel=r"$\tau$", ylabel="power")
 ax[2].ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
-ax[2].legend(fontsize=8, ncol=3)
+_ = ax[2].legend(fontsize=8, ncol=3)
 
 # %%
 # The balance, integrated

@@ -68,9 +68,10 @@ print(f"second call: {time.perf_counter() - start:.2f} s, identical: {again.iden
 # On a Dask cluster
 # -----------------
 # The same sweep runs on a cluster by giving the scheduler's address (or a
-# ``dask.distributed.Client``); each chunk is one task, committed to the
-# shared output by the worker that computed it.  Not run here, as it needs a
-# cluster:
+# ``dask.distributed.Client``); each chunk is one task, whose worker returns
+# its results to the process that called ``run_sweep`` (the driver), which
+# commits each chunk to the output as it arrives: workers never write.  Not
+# run here, as it needs a cluster:
 #
 # .. code-block:: python
 #
@@ -85,5 +86,6 @@ print(f"second call: {time.perf_counter() - start:.2f} s, identical: {again.iden
 #
 #    frictionflow sweep sweep.toml --out /shared/results.zarr --scheduler tcp://scheduler.example:8786
 #
-# The output must be on storage every worker can write to.  ``pip install
-# "frictionflow[dask]"`` brings the Dask dependencies.
+# The output path is on the machine running ``run_sweep`` (or ``frictionflow
+# sweep``): it need not be shared with the workers.  ``pip install
+# "frictionflow[dask]"`` on every machine brings the Dask dependencies.

@@ -152,6 +152,14 @@ class RunConfig:
     Attribute access gives a setting's value (``cfg.t_end``): the value given,
     else its declared default (None for a default that depends on other
     values, such as F_s = F_d).
+
+    Parameters
+    ----------
+    given:
+        The values given, by declared name (``t_end``, not ``t-end``); a value of
+        None counts as not given and is dropped.  Kept as they are, unchecked:
+        :meth:`from_mapping` checks and validates them.  The attribute
+        ``given`` holds them afterwards.
     """
 
     def __init__(self, given: Mapping[str, Any] | None = None) -> None:

@@ -20,7 +20,7 @@ counts: a study's estimate covers the runs it makes, which are not checked
 again.  A stage whose cost is known only once earlier work is done (the
 Newton shooting after the transient that finds its period) is left open by
 that first estimate (``enforce(..., open_stage=...)``) and estimated when it
-is known (:func:`enforce_stage`), under the same limits.
+is known (``enforce_stage``), under the same limits.
 """
 
 from __future__ import annotations
@@ -185,7 +185,7 @@ class Limits:
 class _State:
     limits: Limits | None
     accepted: Estimate | None = None
-    #: the stage the accepted estimate leaves out, to be estimated once it is known (:func:`enforce_stage`)
+    #: the stage the accepted estimate leaves out, to be estimated once it is known (``enforce_stage``)
     open_stage: str | None = None
 
 
@@ -255,7 +255,7 @@ def enforce(estimate: Estimate | Callable[[], Estimate] | None, open_stage: str 
         The cost, a callable that computes it, or None (not known).
     open_stage:
         The name of a later stage of the same work that ``estimate`` leaves
-        out because its cost is not known yet; :func:`enforce_stage` checks
+        out because its cost is not known yet; ``enforce_stage`` checks
         it when it is (only if this estimate is the one accepted).
     """
     state = _STATE.get()

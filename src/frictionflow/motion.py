@@ -43,7 +43,7 @@ class Motion:
     t:
         (T,) sample times: the start, every switch, the dense grid if asked, the end.
     state:
-        (2n, T): rows q (named by :attr:`dof`) then q'.
+        (2n, T): rows q (named by ``dof``) then q'.
     force:
         (k, T): each contact's friction force on the structure.
     modes:

@@ -55,6 +55,9 @@ class Param:
         The allowed range of a ``real`` or ``int`` (None: unbounded; ``real`` is always finite).
     kind:
         ``real``, ``int``, ``choice`` (one of ``choices``) or ``text`` (free text, parsed by its owner).
+    choices:
+        For a ``choice``, the values allowed (a law's or a solver's registry names, ...), as the help lists
+        them; empty for the other kinds.
     sweepable:
         Whether it can be a sweep axis (every ``real`` of the oscillator, a law or the initial state).
     report:
@@ -84,12 +87,12 @@ class Param:
     subnormal_ok: bool = False
     #: for ``text``: turns the given value (text, or a TOML list/table) into the setting
     parse: Callable[[Any], Any] | None = None
-    #: one of :data:`DIMENSIONS`
+    #: one of ``DIMENSIONS``
     dimension: str = "none"
     #: its key in a ``dimensional`` table (default: ``name``; ``v_b`` for ``vb``)
     dimensional_name: str | None = None
     #: the other ranges declared under this name, (range, owners), that the help states beside this one
-    #: (:func:`declared` fills it; not part of the parameter's identity)
+    #: (``declared()`` fills it; not part of the parameter's identity)
     variants: tuple[tuple[str, tuple[str, ...]], ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:

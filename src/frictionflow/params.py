@@ -207,7 +207,7 @@ class DimensionalParams:
         frequency (default omega0) and phase.
     law:
         Any other parameter with a dimension, by its key (``sigma0``, ``sigma1``, ``dc``, ``normal``, ...;
-        :func:`~frictionflow.parameters.dimensional_parameters`).
+        ``frictionflow.parameters.dimensional_parameters``).
     """
 
     m: float
@@ -266,7 +266,7 @@ class DimensionalParams:
         return math.sqrt(self.k / self.m)
 
     def unit(self, dimension: str) -> float:
-        """What one non-dimensional unit of a quantity of ``dimension`` is in these units (:func:`unit_of`)."""
+        """What one non-dimensional unit of a quantity of ``dimension`` is in these units (``unit_of``)."""
         return unit_of(dimension, self.m, self.k, self.l_0)
 
     def nondimensional(self) -> dict[str, float]:

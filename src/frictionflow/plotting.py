@@ -19,7 +19,7 @@ from .io import DEFAULT_DPI, FIGURE_FORMATS, write_figure  # noqa: F401  (FIGURE
 from .trajectory import Trajectory
 
 MAX_POINTS = 20_000
-#: a time history longer than this many periods is drawn over its last :data:`SHOWN_PERIODS` only: more
+#: a time history longer than this many periods is drawn over its last ``SHOWN_PERIODS`` only: more
 #: periods than this across a panel merge into a solid band
 LONG_PERIODS = 20
 SHOWN_PERIODS = 10
@@ -30,8 +30,8 @@ def _thin(n: int, max_points: int = MAX_POINTS) -> slice:
 
 
 def shown_span(t0: float, t1: float, period: float | None) -> tuple[float, float]:
-    """The part of [t0, t1] a time history shows: all of it, or its last :data:`SHOWN_PERIODS` periods when it
-    is longer than :data:`LONG_PERIODS` (``period`` None: the natural period 2 pi)."""
+    """The part of [t0, t1] a time history shows: all of it, or its last ``SHOWN_PERIODS`` periods when it
+    is longer than ``LONG_PERIODS`` (``period`` None: the natural period 2 pi)."""
     period = period if period else 2 * np.pi
     if t1 - t0 <= LONG_PERIODS * period:
         return t0, t1
@@ -57,8 +57,8 @@ def _system_title(traj: Trajectory) -> str:
 def plot_run(result: Analysis, path: str | Path | None = None, *, name: str = "path", dpi: float = DEFAULT_DPI):
     """Draw X(tau), X'(tau), the phase portrait and the power flow of the steady window.
 
-    A run longer than :data:`LONG_PERIODS` periods shows the last
-    :data:`SHOWN_PERIODS` periods of its steady-state window in the time
+    A run longer than ``LONG_PERIODS`` periods shows the last
+    ``SHOWN_PERIODS`` periods of its steady-state window in the time
     history (the phase portrait still shows the whole run).  Returns the
     matplotlib figure; saves it to ``path`` (PNG, PDF, SVG or EPS by the
     suffix, ``dpi`` dots per inch) when given.
@@ -139,8 +139,8 @@ def _history_panel(ax, traj: Trajectory, ss) -> None:
 def plot_trajectory(traj, path: str | Path | None = None, *, name: str = "path", dpi: float = DEFAULT_DPI):
     """X and X' against tau, and the phase portrait, on the true curve; the switches marked.
 
-    A run longer than :data:`LONG_PERIODS` natural periods shows its last
-    :data:`SHOWN_PERIODS` in the time history.
+    A run longer than ``LONG_PERIODS`` natural periods shows its last
+    ``SHOWN_PERIODS`` in the time history.
     Returns the matplotlib figure; saves it to ``path`` (PNG, PDF, SVG or EPS by
     its suffix, ``dpi`` dots per inch) when given.
 

@@ -36,10 +36,10 @@ def simulate(
         The oscillator (zeta, V_b) and the friction law (F_d, F_s, ...).
     solver:
         A solver object, or a solver's name (``"auto"``, ``"exact"``, ... with its default settings); default
-        (None or ``"auto"``): :class:`~frictionflow.solvers.Exact` for
+        (None or ``"auto"``): :class:`~frictionflow.Exact` for
         piecewise-constant laws (Karnopp, Coulomb), else
-        :class:`~frictionflow.solvers.Adaptive`; for laws with internal state (LuGre)
-        :class:`~frictionflow.solvers.Stiff`.
+        :class:`~frictionflow.Adaptive`; for laws with internal state (LuGre)
+        :class:`~frictionflow.Stiff`.
     t_end:
         Non-dimensional end time, > 0.
     x0, v0:

@@ -12,7 +12,7 @@ difference of two large running totals would keep nothing.
 A trajectory is also a continuous object: ``traj(t)`` (or :meth:`Trajectory.at`)
 gives (X, X') at any time of its span -- in closed form for the exact solver,
 by Hermite interpolation of the steps for the others (see
-:mod:`frictionflow._continuous`) -- :meth:`Trajectory.sample` resamples it,
+``frictionflow._continuous``) -- :meth:`Trajectory.sample` resamples it,
 and :meth:`Trajectory.dense`, :meth:`Trajectory.to_xarray` and the figures show
 the true curve between the samples, with the samples and switches marked.
 """
@@ -75,7 +75,7 @@ class Trajectory(Summarized):
     t:
         Time tau of each sample, ascending.
     state:
-        (n, len(t)): the state's components, named by :attr:`state_names`
+        (n, len(t)): the state's components, named by ``state_names``
         (the single mass: displacement X and velocity X').
     force:
         (k, len(t)): the friction force of each contact (the single mass:
@@ -85,7 +85,7 @@ class Trajectory(Summarized):
         slip+ (V_r > 0), 0 stick, -1 slip-.
     dwork:
         (len(t), 5) integrals over (t[i-1], t[i]] (row 0 is zero), columns
-        :data:`WORK_NAMES`: ``W_dv`` = int 2 zeta X'^2, ``W_fin`` =
+        ``WORK_NAMES``: ``W_dv`` = int 2 zeta X'^2, ``W_fin`` =
         int max(P_f, 0), ``W_fout`` = int max(-P_f, 0), ``W_heat`` =
         int F_c V_r over slip (P_f = X' F_c), ``W_ex`` = int X' f(tau).
     model, friction:
@@ -199,7 +199,7 @@ class Trajectory(Summarized):
         Closed form for the exact solver (to rounding), quintic Hermite on
         the steps for the adaptive one (error O(h^6), below its tolerance),
         cubic Hermite between samples for RK4 (O(h^4)); see
-        :mod:`frictionflow._continuous`.  ValueError outside the span.
+        ``frictionflow._continuous``.  ValueError outside the span.
         """
         ts = np.asarray(t, dtype=float)
         x, v = cont.interpolant(self).state(ts.ravel())
@@ -215,7 +215,7 @@ class Trajectory(Summarized):
         X, X', F_c and the mode come from :meth:`at` and the law; the work
         integrals are the solver's over whole sample intervals and a
         Gauss-Legendre quadrature of the interpolated integrands over parts
-        of one (:func:`frictionflow._continuous.dwork_at`).
+        of one (``frictionflow._continuous.dwork_at``).
         """
         if not dt > 0:
             raise ValueError(f"dt must be > 0, got {dt!r}")
@@ -304,7 +304,7 @@ class Trajectory(Summarized):
         return InterfaceBalance(belt, friction, heat, stored, belt - friction - heat - stored)
 
     def window_work(self, i0: int, i1: int) -> np.ndarray:
-        """The work integrals (:data:`WORK_NAMES`) over samples (i0, i1]."""
+        """The work integrals (``WORK_NAMES``) over samples (i0, i1]."""
         return self.dwork[i0 + 1 : i1 + 1].sum(axis=0)
 
     @property
@@ -389,7 +389,7 @@ class Trajectory(Summarized):
 
 
 class InterfaceBalance(NamedTuple):
-    """The belt's work on the contact over a window and where it went (:meth:`Trajectory.interface_balance`).
+    """The belt's work on the contact over a window and where it went (:meth:`frictionflow.Trajectory.interface_balance`).
 
     ``belt`` = int F_c V_b, ``friction`` = int X' F_c (into the mass), ``heat`` = int (F_c V_r - dE_s/dtau),
     ``stored`` = the change of the stored energy E_s, ``residual`` = belt - friction - heat - stored.

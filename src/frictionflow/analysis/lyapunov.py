@@ -12,7 +12,7 @@ are renormalised by QR at the end of every block -- every forcing period
 when forced, every period 2 pi / Omega_b of the belt's speed on a moving belt
 (V_b(tau) = V_b + A sin(Omega_b tau + phi_b); with an external force too the
 two periods are one), every ``block`` time units otherwise.  Where an
-averaged block grew the two vectors apart by more than :data:`GROWTH_CHECK`
+averaged block grew the two vectors apart by more than ``GROWTH_CHECK``
 (strongly overdamped sliding: (lambda_1 - lambda_2) block beyond ~23, the
 second vector's own direction sinks towards rounding and lambda_2 would read
 noise, or -inf), the run is repeated renormalising m times per block, m
@@ -359,12 +359,12 @@ def _more(model: BeltOscillator, friction: FrictionLaw, block: float, m: int, wo
 def _refined_run(model: BeltOscillator, friction: FrictionLaw, start: tuple[float, float, float, int],
                  blocks: tuple[int, int], stop: tuple[int, int, float, float] | None, most: float) -> tuple:
     """:func:`_tangent_run` from ``start`` = (x0, v0, block, steps per block), renormalising once per block, then,
-    if an averaged block grew the two tangent vectors apart by more than :data:`GROWTH_CHECK` (the second
+    if an averaged block grew the two tangent vectors apart by more than ``GROWTH_CHECK`` (the second
     vector's direction sinking into rounding; log |r22| = -inf without a stick counts as that), repeated m
     times per block (:func:`_more`, :func:`_split`; m at most ``most``, the record's limit under max_memory): at
     most :data:`MAX_REFINE` repeats.  A run that collapsed at a stick needs no repeat (lambda_2 is -inf whatever
     the frame), nor does one with ``stop`` (the forced classifier's arithmetic, which
-    :mod:`frictionflow.core.batch_forced` reproduces).  Returns (m, RK4 steps per renormalisation, the last run)."""
+    ``frictionflow.core.batch_forced`` reproduces).  Returns (m, RK4 steps per renormalisation, the last run)."""
     x0, v0, block, steps = start
     m, n_sub = 1, steps
     for attempt in range(MAX_REFINE + 1):
@@ -416,7 +416,7 @@ def lyapunov_exponents(
         Renormalisation interval: the forcing period 2 pi / Omega when forced,
         the belt's 2 pi / Omega_b on a moving belt alone (and then it must
         be), 2 pi otherwise unless given.  A block over which the two
-        tangent vectors' growth parts by more than :data:`GROWTH_CHECK`
+        tangent vectors' growth parts by more than ``GROWTH_CHECK``
         (strong overdamping) is renormalised m times instead, the run
         repeated (see the module docstring; ``settings["qr_per_block"]``).
     max_memory:
@@ -426,7 +426,7 @@ def lyapunov_exponents(
     stop:
         (first, every, factor, floor): end the averaging once lambda_1 is
         below -factor max(spread, floor) after first, first + every, ...
-        blocks (:func:`frictionflow.core.tangent.run_until`; the forced
+        blocks (``frictionflow.core.tangent.run_until``; the forced
         classifier's rule).  ``running``, ``sections`` and the settings then
         cover the blocks done, renormalised once per block whatever the
         growth (the classifier's arithmetic: lambda_1 is its aim; lambda_2

@@ -50,15 +50,15 @@ class PowerFlow(Summarized):
     """Average power flow over a window, and the residual of the power balance.
 
     Its fields after ``window`` are the quantities ``simulate --json`` reports
-    in ``averages`` (:data:`frictionflow.quantities.AVERAGES`: P_dv, P_df,
+    in ``averages`` (``frictionflow.quantities.AVERAGES``: P_dv, P_df,
     P_fin, R_c, R_f, P_belt, P_heat, P_f), in the table's order.
     ``energy_residual`` is |Delta(K+U) + W_dv - W_f| over the window relative
     to the friction input W_fin; when W_fin is below 1e-12 of the stored
     energy times the window length (an equilibrium), relative to the latter
-    (see :func:`frictionflow.core.sections.averages`).
+    (see ``frictionflow.core.sections.averages``).
 
     Its ``repr`` (and ``_repr_html_`` in a notebook) shows the averages in
-    significant digits; :meth:`to_dict` has them exactly.
+    significant digits; ``to_dict()`` has them exactly.
 
     Attributes
     ----------
@@ -87,7 +87,7 @@ class PowerFlow(Summarized):
 
     @classmethod
     def from_row(cls, window: tuple[float, float], row: np.ndarray) -> PowerFlow:
-        """The power flow held by ``row``, a row of the table's layout (:mod:`frictionflow.quantities`)."""
+        """The power flow held by ``row``, a row of the table's layout (``frictionflow.quantities``)."""
         values = {n: float(row[Q.INDEX[n]]) for n in (*Q.FORCED_AVERAGES, "energy_residual")}
         return cls(window=window, **values)
 
@@ -117,9 +117,9 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
     ``window`` = (t0, t1), any times of the run's span with t0 < t1: the
 
     averages are over exactly that window.  Where an end falls between
-    samples, the motion is evaluated there (:meth:`Trajectory.at`) and the
+    samples, the motion is evaluated there (:meth:`frictionflow.Trajectory.at`) and the
     work of the partial sample interval integrated on the interpolant
-    (:func:`frictionflow._continuous.dwork_at`); windows that start and end
+    (``frictionflow._continuous.dwork_at``); windows that start and end
     on samples sum the solver's own work integrals.
 
     Parameters

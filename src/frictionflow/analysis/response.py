@@ -2,7 +2,7 @@
 
 At each frequency Omega of the sweep the oscillator runs ``periods`` forcing
 periods and the end of the run is analysed as any forced run
-(:func:`frictionflow.analysis.analyze`: the stroboscopic steady state, the
+(:func:`frictionflow.analyze`: the stroboscopic steady state, the
 power averages over whole forcing periods, TR_B = max|X + 2 zeta X'| / F_ex).
 The next frequency starts from the state the previous one ended in -- at the
 same forcing phase, since every run spans whole periods -- so that sweeping
@@ -11,7 +11,7 @@ exists: the jumps between branches, and the hysteresis between them, appear
 where a branch ends.
 
 The result is an :class:`xarray.Dataset` over (``direction``, ``omega``) with
-every quantity of the table (:mod:`frictionflow.quantities`), the amplitude
+every quantity of the table (``frictionflow.quantities``), the amplitude
 (X_max - X_min) / 2, and the period in forcing periods.
 """
 
@@ -88,7 +88,7 @@ def frequency_response(
         :meth:`FrictionLaw.start`, as the command's); every later frequency starts from the state the previous
         one ended in.
     rtol:
-        Steady-state tolerance (default: the solver's, as :func:`~frictionflow.analysis.analyze`).
+        Steady-state tolerance (default: the solver's, as :func:`~frictionflow.analyze`).
     progress:
         Draw a progress bar on stderr.
     """

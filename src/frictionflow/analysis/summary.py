@@ -85,7 +85,7 @@ class Analysis(Summarized):
         return draw(self, path, **options)
 
     def quantities(self) -> dict[str, float]:
-        """Every quantity of the table (:mod:`frictionflow.quantities`) by name, ``kind`` as its code."""
+        """Every quantity of the table (``frictionflow.quantities``) by name, ``kind`` as its code."""
         ss = self.steady_state
         values = {"kind": Q.KINDS.index(ss.kind), "period": ss.period, "TR_B": self.TR_B,
                   "stick_fraction": ss.stick_fraction, "energy_residual": self.energy_residual,

@@ -30,7 +30,7 @@ def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None
     """TR_B = max |F_tB| / F_ex over the window, F_tB = X + 2 zeta X' (Eq. 6; F_ex = F_d unforced).
 
     NaN when the reference force is 0 (no excitation level to refer to).  The peak between samples too where
-    the run's solver leaves it there (:func:`.between_samples.refines`).
+    the run's solver leaves it there (``between_samples.refines``).
 
     Parameters
     ----------
@@ -50,7 +50,7 @@ def transmissibility(traj: Trajectory, window: tuple[float, float] | None = None
 
 def amplitude(traj: Trajectory, window: tuple[float, float] | None = None) -> dict[str, float]:
     """Extremes of X and X' over the window (the table's ``amplitude`` quantities, in its order); X''s between
-    samples too where the run's solver leaves them there (:func:`.between_samples.refines`).
+    samples too where the run's solver leaves them there (``between_samples.refines``).
 
     Parameters
     ----------

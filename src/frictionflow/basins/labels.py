@@ -14,7 +14,7 @@ What counts as one attractor
   ``slip_cycle``; several of one sort are numbered by amplitude
   (``stick_slip_cycle``, ``stick_slip_cycle_2``, ...);
 * the other kinds are outcomes, not attractors, each with its own negative
-  code (:data:`OUTCOMES`): ``not_settled`` -1 (also a periodic point or an
+  code (``OUTCOMES``): ``not_settled`` -1 (also a periodic point or an
   equilibrium without finite values), ``diverged`` -2, ``quasi_periodic`` -3
   and ``chaotic`` -4 (forced runs).  Every point has exactly one outcome, so
   the basin stabilities add up to 1.
@@ -221,7 +221,7 @@ def codes(groups: list[list[Attractor]]) -> dict[str, int]:
     """One code per attractor name over all groups: 0, 1, ... by amplitude (averaged where it exists), then name.
 
     The equilibrium (amplitude 0) comes first; the outcomes that are not
-    attractors have their negative codes (:data:`OUTCOMES`).
+    attractors have their negative codes (``OUTCOMES``).
     """
     amps: dict[str, list[float]] = {}
     for found in groups:
@@ -232,7 +232,7 @@ def codes(groups: list[list[Attractor]]) -> dict[str, int]:
 
 
 def labels_of(kind: np.ndarray, found: list[Attractor], code: dict[str, int]) -> np.ndarray:
-    """Per point (flat): the code of its attractor, else of its outcome (:data:`OUTCOMES`); a periodic point or an
+    """Per point (flat): the code of its attractor, else of its outcome (``OUTCOMES``); a periodic point or an
     equilibrium that no attractor holds (without finite values) is not settled."""
     out = np.full(kind.shape, NOT_SETTLED, dtype=np.int8)
     for code_, name in OUTCOMES.items():
@@ -278,7 +278,7 @@ def label_attractors(ds, along: str | None = None, tolerances: Tolerances | None
     swept parameter, when given: a basin-stability study against it) and
     share one set of codes.  Adds ``label`` (the sweep's dims), an
     ``outcome`` dimension (the codes: attractors 0.., -1 not settled, -2
-    diverged, -3 quasi-periodic, -4 chaotic) and the :data:`TABLES` over
+    diverged, -3 quasi-periodic, -4 chaotic) and the ``TABLES`` over
     ([``along``,] ``outcome``); every point has one outcome, so each group's
     ``basin_stability`` adds up to 1.
     Returns the new dataset and, per group, the attractors found.
@@ -326,7 +326,7 @@ def label_attractors(ds, along: str | None = None, tolerances: Tolerances | None
 
 
 def _tables(labels: list[np.ndarray], found: list[list[Attractor]], values: list[int], names: list[str]) -> list[np.ndarray]:
-    """The :data:`TABLES` as arrays (group, outcome), counted from the labels: every point in exactly one outcome."""
+    """The ``TABLES`` as arrays (group, outcome), counted from the labels: every point in exactly one outcome."""
     shape = (len(labels), len(values))
     count = np.array([[np.count_nonzero(label == v) for v in values] for label in labels], dtype=np.int64).reshape(shape)
     props = [np.full(shape, np.nan) for _ in range(4)]

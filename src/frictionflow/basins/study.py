@@ -44,7 +44,7 @@ class Basins(Summarized):
 
     ``dataset`` holds every point's steady-state quantities, its ``label`` and
     the per-outcome tables (``basin_stability``, ``basin_stability_stderr``,
-    ``attractor_period``, ...; see :data:`~frictionflow.basins.labels.TABLES`).
+    ``attractor_period``, ...; see ``frictionflow.basins.labels.TABLES``).
     ``attractors`` lists, per value of the varied parameter (one entry
     without ``vary``), the attractors found there.
 
@@ -56,10 +56,10 @@ class Basins(Summarized):
         Per value of the varied parameter, the :class:`Attractor` s found.
     codes:
         The code of every attractor by name (0, 1, ...; the other outcomes
-        have the negative codes of :data:`~frictionflow.basins.labels.OUTCOMES`).
+        have the negative codes of ``frictionflow.basins.labels.OUTCOMES``).
     tolerances:
         The :class:`Tolerances` the labels were given with, its ``resolution``
-        the solver's (:func:`~frictionflow.basins.labels.resolution`).
+        the solver's (``frictionflow.basins.labels.resolution``).
     design:
         How the initial states were chosen: the grid or the random sample
         (ranges, number, seed).
@@ -153,7 +153,7 @@ class Basins(Summarized):
 
 @dataclass(frozen=True)
 class SweepOptions:
-    """How :func:`basins` runs its sweep, and where the sweep's resumable store lives.
+    """How :func:`~frictionflow.basins.basins` runs its sweep, and where the sweep's resumable store lives.
 
     Attributes
     ----------
@@ -218,11 +218,11 @@ def basins(
     tolerances:
         How close steady states must be to be one attractor (:class:`Tolerances`);
         never finer than the solver resolves (its ``resolution`` is raised to
-        :func:`~frictionflow.basins.labels.resolution` of the run's solver).
+        ``frictionflow.basins.labels.resolution`` of the run's solver).
     dpi:
         Resolution of ``plot`` in dots per inch.
     sweep_options:
-        How the sweep runs and where its store lives (:class:`SweepOptions`).
+        How the sweep runs and where its store lives (:class:`~frictionflow.basins.study.SweepOptions`).
         Its fields are also taken as keywords among ``params``, replacing the
         record's: ``store`` (the sweep's resumable ``.zarr`` store, not
         ``out``; default beside ``out``, removed once ``out`` is written), ``restart``,

@@ -30,7 +30,22 @@ CODIM2 = {"bautin": dict(marker="o", color="black", label="Bautin (Hopf changes 
 def plot_chart(chart, path: str | Path | None = None, *, name: str = "path", dpi: float = DEFAULT_DPI):
     """Curves of ``chart`` (a :class:`~.charting.Chart`: stability or forced) over its sweep's heat map, if it has one.
 
-    Saved to ``path`` (PNG, PDF, SVG or EPS by the suffix, ``dpi`` dots per inch) when given.
+    Returns the matplotlib figure; saves it to ``path`` (PNG, PDF, SVG or EPS
+    by the suffix) when given.
+
+    Parameters
+    ----------
+    chart:
+        The chart to draw: what :func:`~frictionflow.orbits.stability_chart` or
+        :func:`~frictionflow.orbits.forced_chart` returned.  Its sweep variable
+        ``heat``, if it has a sweep, is drawn as a heat map under the curves
+        (at the first value of any other sweep axis).
+    path:
+        A file to save the figure to, or None.
+    name:
+        How error messages name ``path`` (the command line passes its option).
+    dpi:
+        Dots per inch of a raster file (PNG); default 150.
     """
     plt = pyplot(path)
 

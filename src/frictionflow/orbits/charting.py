@@ -13,7 +13,7 @@ and :func:`trace` collects them, one source at a time over the whole grid
   forced orbits in ``x`` at each value; its continuation's events are the points.
 
 :class:`Chart` is the result of both (with its summary, JSON, dataset and
-figure, :func:`~.chart_plot.plot_chart`), :func:`dedupe` drops a point
+figure, :func:`~frictionflow.orbits.chart_plot.plot_chart`), :func:`dedupe` drops a point
 found twice at one grid value, and :class:`HeatMap` runs the sweep of
 simulations drawn under the curves.
 """
@@ -42,7 +42,29 @@ from ..sweep.runner import run_sweep, sweep_estimate
 
 @dataclass
 class CurvePoint:
-    """One point of a curve: (x, y) and what else is known there."""
+    """One point of a curve: (x, y) and what else is known there.
+
+    Attributes
+    ----------
+    x:
+        The value of the chart's x parameter (:attr:`Chart.x_param`) at the point.
+    y:
+        The value of the chart's y parameter (:attr:`Chart.y_param`) at the point.
+    detail:
+        What else was found there, by name; written beside ``x`` and ``y``
+        into the chart's JSON and dataset (the fields :attr:`Chart.FIELDS`
+        declares for the curve's kind, and any others).  On the autonomous
+        chart: ``l1`` (the first Lyapunov coefficient) and ``criticality``
+        (``supercritical`` or ``subcritical``) on a Hopf curve;
+        ``stick_slip_below`` (whether the period-1 stick-slip cycle exists
+        just below the point in y) on a grazing curve; ``X`` and ``vr_min``
+        (the fold cycle's X and smallest V_r) on a fold curve; the
+        continuation's details (``smooth``: False) at a fold at a grazing
+        corner.  On the forced chart: the orbits' period ``m``, the state
+        ``X``, ``V`` (X') at tau = 0, the Floquet ``multipliers`` as [re, im]
+        pairs, and the event's own details (``smooth``, ``angle``,
+        ``stick_phase``, ``slip_reversal``, ``at``) where it has them.
+    """
 
     x: float
     y: float
@@ -51,7 +73,22 @@ class CurvePoint:
 
 @dataclass
 class Curve:
-    """A codimension-one curve in the (x, y) parameter plane."""
+    """A codimension-one curve in the (x, y) parameter plane.
+
+    Attributes
+    ----------
+    kind:
+        What happens on the curve: ``hopf``, ``grazing``, ``fold`` or
+        ``fold_at_grazing`` on the autonomous chart; ``fold``,
+        ``period_doubling``, ``neimark_sacker`` or ``grazing`` (of the
+        m-period orbits) on the forced chart.
+    points:
+        The points found, in grid order (several at one grid value where the
+        curve crosses the span more than once).
+    m:
+        For a forced chart's curve, the period of its orbits in forcing
+        periods; None on the autonomous chart.
+    """
 
     kind: str
     points: list[CurvePoint]
@@ -69,7 +106,26 @@ class Curve:
 
 @dataclass
 class Codim2:
-    """A codimension-two point: ``bautin`` (a Hopf point changing criticality) or ``fold_grazing``."""
+    """A codimension-two point: ``bautin`` (a Hopf point changing criticality) or ``fold_grazing``.
+
+    Attributes
+    ----------
+    kind:
+        ``bautin`` (the first Lyapunov coefficient of the Hopf curve changes
+        sign) or ``fold_grazing`` (the fold of cycles meets the grazing: the
+        fold cycle's smallest V_r reaches 0).
+    x:
+        The value of the chart's x parameter at the point.
+    y:
+        The value of the chart's y parameter at the point.
+    detail:
+        What else is known there, by name, written beside ``x`` and ``y``
+        into the chart's JSON: for ``bautin``, ``criticality_below`` (the
+        Hopf criticality at the smaller x); for ``fold_grazing``,
+        ``located`` (whether it was refined by root finding) with the fold
+        cycle's ``X`` there, or, when not located, ``between`` (the two grid
+        values of x it lies between; x and y are then the midpoints).
+    """
 
     kind: str
     x: float
@@ -189,7 +245,7 @@ class Chart(Summarized):
     grid_axis: str = "x"
     #: the parameter each grid value's continuation ran in, "" otherwise
     continued_in: str = ""
-    #: per curve kind, the fields its points carry (name: float, bool or str), in the dataset even without points
+    #: per curve kind, the fields its points carry (by name; each a float, bool or str), in the dataset even without points
     FIELDS: ClassVar[dict[str, dict[str, type]]] = {}
 
     @property
@@ -284,7 +340,7 @@ class Chart(Summarized):
         return out
 
     def plot(self, path: Any = None, **options: Any):
-        """The curves over the sweep heat map (:func:`~.chart_plot.plot_chart`).
+        """The curves over the sweep heat map (:func:`~frictionflow.orbits.chart_plot.plot_chart`).
 
         ``options``: the figure function's keywords (``dpi``: dots per inch, ``name``).
         """

@@ -90,7 +90,7 @@ def continuation(
     Notes
     -----
     A law with internal state is continued on its whole state by
-    :func:`~.stateful_continuation.stateful_continuation` (``returns`` 1, no
+    ``stateful_continuation.stateful_continuation`` (``returns`` 1, no
     ``sweep``).
     """
     check.instance("model", model, BeltOscillator, "a BeltOscillator")
@@ -132,7 +132,7 @@ def continuation_estimate(model: BeltOscillator, friction: FrictionLaw, s: Conti
 
     A flow's cost (:func:`~.flow.flow_cost`) is that of ``returns`` periods of ``max_period``, where a branch ends:
     a bound known before any work (the orbits' periods are found only as the branch is traced), at most
-    :data:`~.hybrid.MAX_TIME`, where every flow stops.
+    ``hybrid.MAX_TIME``, where every flow stops.
     """
     solver = s.solver or auto_solver(friction)
     runs = 2 * ("start" in s.seeds or "stop" in s.seeds) + s.sweep

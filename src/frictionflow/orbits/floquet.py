@@ -52,7 +52,7 @@ class MultiplierStability:
 
     @property
     def stability(self) -> str:
-        """``stable``, ``unstable`` or ``neutral`` (:func:`classify`)."""
+        """``stable``, ``unstable`` or ``neutral`` (``classify``)."""
         return classify(self.multiplier)
 
     @property

@@ -496,7 +496,57 @@ def find_forced_orbit(
 # -- continuation -------------------------------------------------------------------------------------------------
 @dataclass(frozen=True, repr=False, eq=False)
 class BranchPoint(Summarized):
-    """One orbit on a branch: lambda, the state at tau = 0, the multipliers and the orbit's measures."""
+    """One orbit on a branch: lambda, the state at tau = 0, the multipliers and the orbit's measures.
+
+    The extremes, TR_B, stick fraction, averages and energy residual are those
+    of the package's solver over one orbit period from ``state``; the
+    distances to grazing (``shortest_stick``, ``min_gap``, ``hold_margin``)
+    come from the flow map's run.
+
+    Attributes
+    ----------
+    lam:
+        lambda, the continued parameter's value (the branch's ``parameter``:
+        Omega or F_ex).
+    state:
+        P = (X, X') at the forcing phase tau = 0 (mod 2 pi / Omega), shape (2,).
+    multipliers:
+        The Floquet multipliers, the eigenvalues of ``monodromy`` (complex),
+        largest modulus first.
+    amplitude, X_min, X_max:
+        (X_max - X_min) / 2 and the extremes of X over one orbit period.
+    V_min, V_max:
+        The extremes of X' over one orbit period.
+    TR_B:
+        The force transmissibility over one orbit period (relative to F_ex).
+    stick_fraction:
+        The fraction of the orbit period spent sticking.
+    averages:
+        The power averages over one orbit period, by name (P_dv, P_df, P_fin,
+        R_c, R_f, P_belt, P_heat, P_f, P_ex).
+    energy_residual:
+        The power balance's relative residual over the orbit period.
+    stick_phases:
+        The number of stick phases in one orbit period.
+    shortest_stick:
+        The duration (tau) of the shortest stick phase (NaN without one): a
+        distance to grazing.
+    min_gap:
+        The smallest interior minimum of |V_r| inside a slip phase (inf if
+        none): a distance to grazing.
+    hold_margin:
+        The smallest margin F_s - |held force| inside a stick phase (inf if
+        none): how close sticking comes to breaking away early.
+    residual:
+        max|Phi(P) - P| at ``state``: how closely it is a fixed point of the
+        m-period stroboscopic map.
+    signature:
+        The switch sequence's counts over the orbit period: (stick phases,
+        slip onsets, slip reversals); a change between points is a grazing.
+    monodromy:
+        M, the 2 x 2 Jacobian of the m-period stroboscopic map at ``state``
+        (saltation matrices included).
+    """
 
     lam: float
     state: np.ndarray
@@ -541,7 +591,47 @@ class BranchPoint(Summarized):
 
 @dataclass(eq=False)
 class BranchEvent:
-    """A special point between two accepted points of a branch, refined to ~1e-8 in lambda."""
+    """A special point between two accepted points of a branch, refined to ~1e-8 in lambda.
+
+    Each field below is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    type:
+        ``fold``, ``period_doubling``, ``neimark_sacker``, ``grazing``,
+        ``branch_end`` (the corrector fails beyond the last point, with no
+        grazing near) or ``branch_point`` (the first event of a period-doubled
+        branch: the period doubling it was born at, with that point's state
+        and multipliers on the parent branch).
+    lam:
+        lambda, the continued parameter's value at the event (for a grazing
+        found by bisection the middle of its final bracket; for one that
+        ends the branch, extrapolated from the last points where it could be).
+    state:
+        P = (X, X') at tau = 0 of the orbit at the event (for a grazing, of
+        the orbit next to it, or extrapolated), shape (2,).
+    multipliers:
+        The Floquet multipliers there, the eigenvalues of ``monodromy``
+        (complex), largest modulus first.
+    detail:
+        What else is known, by name (in the JSON beside type, lambda, X, V).
+        A fold, period doubling or Neimark-Sacker point: ``refined`` (whether
+        the secant search converged; else the point is the later accepted
+        orbit); a fold also ``smooth`` (a multiplier passes +1; False at a
+        grazing corner), a Neimark-Sacker point ``angle`` (arg mu of the
+        complex pair, radians).  A grazing: the switch-sequence signatures
+        ``before`` and ``after``, whether a ``stick_phase`` or a
+        ``slip_reversal`` ``appears`` or ``vanishes``, the bisection's
+        ``lambda_bracket``, ``corner`` where the branch was continued past
+        it; where it ends the branch, ``at`` (which margin reached 0:
+        ``stick_splits``, ``stick_appears``, ``stick_vanishes`` or
+        ``breakaway_tangent``), ``margin_at_last_point``, ``extrapolated``
+        or ``refined``, and ``ends_branch``.  A branch end: ``reason`` and the ``margins`` at
+        the last point.  A branch point: ``from``.
+    monodromy:
+        The 2 x 2 Jacobian of the m-period stroboscopic map there, or None
+        (a ``branch_point`` carries none).
+    """
 
     type: str
     lam: float
@@ -1127,7 +1217,22 @@ def switch_period_doubling(branch: ForcedBranch, event: BranchEvent | None = Non
 # -- brute force ----------------------------------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
 class StroboscopicSweep:
-    """The stroboscopic X (and X') of the last ``keep`` forcing periods at each lambda of a sweep."""
+    """The stroboscopic X (and X') of the last ``keep`` forcing periods at each lambda of a sweep.
+
+    Attributes
+    ----------
+    parameter:
+        lambda: ``omega`` or ``fex``.
+    values:
+        Its values, in the order they were run (each starting from the
+        state the previous one ended in).
+    x:
+        X at the forcing phase tau = 0 at the end of each of the last
+        ``keep`` forcing periods, shape (len(values), keep); a row of NaN
+        where the run failed.
+    v:
+        X' at the same instants, shape (len(values), keep).
+    """
 
     parameter: str
     values: np.ndarray

@@ -10,7 +10,7 @@
 ('max', 1.0)
 
 **Monitors.**  Every per-orbit quantity of a forced branch point is a
-monitor (:data:`FORCED_MONITORS`): the power averages over one orbit period
+monitor (``FORCED_MONITORS``): the power averages over one orbit period
 (P_ex, P_dv, P_fin, P_df, R_c, R_f, P_belt, P_heat), TR_B, the amplitude and
 the stick fraction.  :func:`forced_branch_extrema` finds where one turns along
 a traced :class:`~.forced.ForcedBranch` (its discrete slope in lambda changes
@@ -187,16 +187,16 @@ def _interpolator(branch: ForcedBranch, i: int):
 def forced_branch_extrema(branch: ForcedBranch, monitor: str, *, refine: bool = True) -> list[Extremum]:
     """Extrema of ``monitor`` along a forced branch, refined by Brent on the re-shot orbits unless ``refine`` is False.
 
-    Each :class:`~.monitors.Extremum` carries lambda (``value``), the monitor
+    Each :class:`~frictionflow.orbits.Extremum` carries lambda (``value``), the monitor
     there, X (``x``) and, in ``extra``, X' (``V``), m and ``at``: ``grazing
     corner`` where the stick-phase count changes across the extremum.
 
     Parameters
     ----------
     branch:
-        A branch from :func:`~.forced.continue_forced`.
+        A branch from :func:`~frictionflow.orbits.continue_forced`.
     monitor:
-        The quantity (``P_fin``, ``P_ex``, ``R_c``, ``TR_B``, ``amplitude``, ...; see :data:`FORCED_MONITORS`).
+        The quantity (``P_fin``, ``P_ex``, ``R_c``, ``TR_B``, ``amplitude``, ...; see ``FORCED_MONITORS``).
     refine:
         Refine each extremum on re-shot orbits (False: the best branch point).
     """
@@ -437,7 +437,7 @@ def forced_chart(
 
     At each y of ``y_values`` the m-period orbit (for each m given) is found
     at x = ``x_start`` (default: the end of ``x_range`` nearer ``model``'s x)
-    and continued by :func:`~.forced.continue_forced` in x to both ends of
+    and continued by :func:`~frictionflow.orbits.continue_forced` in x to both ends of
     ``x_range``; the special points it refines are the curves' points.
 
     Parameters

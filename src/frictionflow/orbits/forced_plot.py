@@ -1,6 +1,6 @@
 """Bifurcation diagrams of forced periodic orbits, with the stroboscopic brute-force overlay.
 
-:func:`plot_forced_branches` draws branches of :func:`~.forced.continue_forced`
+:func:`plot_forced_branches` draws branches of :func:`~frictionflow.orbits.continue_forced`
 against lambda (Omega or F_ex): the amplitude (or the stroboscopic X at
 tau = 0), stable pieces solid and unstable ones dashed, bifurcation points
 marked, and beside it the power along the branch (P_ex, P_dv, P_fin, P_df)

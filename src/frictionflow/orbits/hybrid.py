@@ -35,7 +35,27 @@ STICKING_MODES = ("stick", "band-sat+", "band-sat-", "edge-lo", "edge-hi")
 
 @dataclass(frozen=True, eq=False)
 class Phase:
-    """One smooth piece of motion in one friction mode."""
+    """One smooth piece of motion in one friction mode.
+
+    Attributes
+    ----------
+    mode:
+        The friction mode: ``slip+``, ``slip-`` (V_r = V_b - X' positive or
+        negative), ``stick``, or one of Karnopp's band modes ``band-sat+``,
+        ``band-sat-``, ``edge-lo``, ``edge-hi`` (:data:`STICKING_MODES` hold the mass).
+    t0:
+        When the phase starts, in dimensionless time tau from the start of
+        its :class:`Segment`.
+    duration:
+        How long it lasts (tau).
+    y0:
+        The state (X, X') at its start, shape (2,).
+    y1:
+        The state (X, X') at its end, shape (2,).
+    jacobian:
+        d y1 / d y0 along this phase at fixed duration, 2 x 2 (no saltation:
+        the switches' matrices are on the :class:`Switch` between phases).
+    """
 
     mode: str
     t0: float
@@ -52,7 +72,31 @@ class Phase:
 
 @dataclass(frozen=True, eq=False)
 class Switch:
-    """A mode change at state ``y`` and time ``t``, with its saltation matrix."""
+    """A mode change at state ``y`` and time ``t``, with its saltation matrix.
+
+    Attributes
+    ----------
+    t:
+        When it happens, in dimensionless time tau from the start of its
+        :class:`Segment` (the end of the phase before it).
+    y:
+        The state (X, X') on the switching surface, shape (2,) (X' = V_b
+        exactly on a switch into ``stick``).
+    before:
+        The friction mode before the switch (a :attr:`Phase.mode`).
+    after:
+        The friction mode after it.
+    normal:
+        A normal of the switching surface h(X, X') = 0 at ``y`` (grad h, up
+        to its scale), shape (2,).
+    f_before:
+        The vector field (X', X'') of the mode before, at ``y``, shape (2,).
+    f_after:
+        The vector field (X', X'') of the mode after, at ``y``, shape (2,).
+    saltation:
+        The saltation matrix S = I + (f+ - f-) n^T / (n . f-), 2 x 2: how a
+        perturbation just before the switch maps to one just after it.
+    """
 
     t: float
     y: np.ndarray
@@ -98,6 +142,25 @@ class Segment:
     ``len(switches) == len(phases) - 1``; phase k ends where switch k happens.
     ``returns`` counts the crossings of the Poincare section X' = 0 (X'' < 0)
     on the way; a segment that stopped on the section ends exactly there.
+
+    Attributes
+    ----------
+    y0:
+        The start state (X, X'), shape (2,).
+    y1:
+        The end state (X, X'), shape (2,).
+    duration:
+        The time flowed from ``y0`` to ``y1`` (dimensionless tau).
+    phases:
+        The smooth phases, in order (:class:`Phase`).
+    switches:
+        The mode changes between consecutive phases, in order (:class:`Switch`).
+    returns:
+        The crossings of the section X' = 0 with X'' < 0 on the way.
+    f_end:
+        The vector field (X', X'') of the last phase's mode at ``y1``, shape
+        (2,), for the projection onto the section (:meth:`section_jacobian`);
+        None if not known.
     """
 
     y0: np.ndarray

@@ -28,7 +28,22 @@ POWER_KEYS = Q.PAPER_AVERAGES
 
 @dataclass(frozen=True)
 class OrbitMeasures:
-    """Averages over one period, TR_B and the extremes of X and X'."""
+    """Averages over one period, TR_B and the extremes of X and X'.
+
+    Attributes
+    ----------
+    power:
+        The power flow averaged over the period (a :class:`~frictionflow.PowerFlow`:
+        P_dv, P_df, P_fin, R_c, R_f, P_belt, P_heat, P_f, P_ex and the energy
+        residual of the period's power balance); at an equilibrium, the
+        table's values there (no vibration power; R_c, R_f undefined).
+    TR_B:
+        The force transmissibility max |X + 2 zeta X'| / F_ex over the period
+        (F_ex = F_d unforced); NaN when the reference force is 0.
+    extremes:
+        The extremes of X and X' over the period, by name: ``X_min``,
+        ``X_max``, ``V_min``, ``V_max`` (V: X').
+    """
 
     power: PowerFlow
     TR_B: float

@@ -2,7 +2,7 @@
 
 A *monitor* is one number per orbit of a branch: the averages P_fin, P_dv,
 P_df, R_c, R_f, P_belt, P_heat, TR_B, the amplitude, the stick fraction or
-the period (:data:`MONITORS`).  :func:`branch_extrema` finds where a monitor
+the period (``MONITORS``).  :func:`branch_extrema` finds where a monitor
 is extreme along a traced branch (a sign change of its discrete slope where
 the parameter runs one way) and refines the point:
 
@@ -21,7 +21,7 @@ codimension-one condition dM/dlambda = 0).
 
 Forced branches (:class:`~.forced.ForcedBranch`) are monitored the same way
 -- :func:`monitor_value` and :func:`branch_extrema` take their points and
-branches too, with P_ex among the monitors (:data:`FORCED_MONITORS`); the
+branches too, with P_ex among the monitors (``FORCED_MONITORS``); the
 work is done by :mod:`.forced_chart` (Brent on re-shot orbits), where
 :func:`~.forced_chart.continue_forced_extremum` follows a forced extremum in
 the second forcing parameter.
@@ -153,9 +153,9 @@ def branch_extrema(result, monitor: str, model: BeltOscillator | None = None, la
     result:
         A :class:`ContinuationResult`, or a forced branch
         (:class:`~.forced.ForcedBranch`, which carries its system:
-        :func:`~.forced_chart.forced_branch_extrema`).
+        :func:`~frictionflow.orbits.forced_branch_extrema`).
     monitor:
-        The quantity (``P_fin``, ``P_dv``, ``R_c``, ``TR_B``, ``amplitude``, ...; see :data:`MONITORS`).
+        The quantity (``P_fin``, ``P_dv``, ``R_c``, ``TR_B``, ``amplitude``, ...; see ``MONITORS``).
     model, law:
         The system the continuation ran on (its other parameters).
     refine:

@@ -362,13 +362,13 @@ def find_orbit(
     Notes
     -----
     A law with internal state (LuGre, Dahl, elasto-plastic, ...) is shot on
-    its whole state by :func:`~.stateful.find_stateful_orbit`, which returns a
+    its whole state by :func:`~frictionflow.orbits.find_stateful_orbit`, which returns a
     :class:`~.stateful.StatefulOrbit`.
     Inside :func:`frictionflow.estimate.limited` the transient is estimated
     before it runs and the shooting once the transient has found its period
-    (:func:`shooting_estimate` over :func:`section_span`), each refused
+    (``shooting_estimate`` over ``section_span``), each refused
     (ValueError) above the limits; without a transient, the shooting is
-    estimated before any work, each flow bounded by :data:`~.hybrid.MAX_TIME`.
+    estimated before any work, each flow bounded by ``hybrid.MAX_TIME``.
     """
     check.instance("model", model, BeltOscillator, "a BeltOscillator")
     check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
@@ -425,7 +425,7 @@ def shooting_estimate(shooting: Shooting, span: float) -> Estimate:
     shooting:
         The system and the shooting's settings.
     span:
-        A bound on one flow's length (e.g. :func:`section_span`; at most :data:`~.hybrid.MAX_TIME`).
+        A bound on one flow's length (e.g. ``section_span``; at most ``hybrid.MAX_TIME``).
     """
     span = min(span, MAX_TIME)
     flows = shooting_flows(shooting.max_iter)
@@ -441,7 +441,7 @@ SPAN_MARGIN = 2.0
 
 def section_span(traj: Trajectory, returns: int = 1) -> float:
     """A bound on the length of a shooting's flows after the transient ``traj``: :data:`SPAN_MARGIN` times the time
-    of its last ``returns`` returns to the section X' = 0 (X' falling through zero), or :data:`~.hybrid.MAX_TIME`
+    of its last ``returns`` returns to the section X' = 0 (X' falling through zero), or ``hybrid.MAX_TIME``
     (where every flow stops) if it crossed fewer times."""
     v = np.asarray(traj.v)
     down = np.flatnonzero((v[:-1] > 0.0) & (v[1:] <= 0.0)) + 1

@@ -241,11 +241,11 @@ def find_stateful_orbit(model: BeltOscillator, friction: FrictionLaw, *, x0: flo
         Start state (default X = F_d, X' = V_b; the internal states relaxed).
     transient:
         First simulate this long (> 0: towards an attractor; 0: the first section crossings of a run of
-        :data:`GUESS_SPAN` give the guess).
+        ``GUESS_SPAN`` give the guess).
     returns:
         Section crossings per period (unforced) or forcing periods per period (forced), in [1, 64].
     tol:
-        Newton tolerance on the return's miss, relative to each state's scale (default :data:`STATE_TOL`).
+        Newton tolerance on the return's miss, relative to each state's scale (default ``STATE_TOL``).
     max_iter:
         Newton iterations before giving up (:class:`~.errors.ShootingError`).
     solver:

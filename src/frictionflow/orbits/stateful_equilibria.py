@@ -3,7 +3,7 @@
 At steady sliding X' = 0, the states rest where their rates vanish at
 V_r = V_b, r(V_b, z*) = 0 (found by Newton with the law's exact dr/dz), and
 X* = F(V_b, z*), computed once by
-:func:`frictionflow.analysis.equilibrium.sliding_equilibrium`; the Jacobian there is the stiff
+:func:`frictionflow.sliding_equilibrium`; the Jacobian there is the stiff
 engine's exact one, n x n.  A Hopf point is where
 a complex pair crosses the imaginary axis: there the product of all pairwise
 sums of eigenvalues, prod_{i<j} (l_i + l_j) (the determinant of the
@@ -34,7 +34,22 @@ optimize = lazy_module("scipy.optimize")
 
 @dataclass(frozen=True, eq=False)
 class StateEquilibrium:
-    """Steady sliding on the whole state: y* = (X*, 0, z*), its Jacobian and eigenvalues (largest real part first)."""
+    """Steady sliding on the whole state: y* = (X*, 0, z*), its Jacobian and eigenvalues (largest real part first).
+
+    Attributes
+    ----------
+    value:
+        The continued parameter's value it was computed at (NaN: none).
+    state:
+        y* = (X*, 0, z*): the displacement X* = F(V_b, z*), X' = 0, and the
+        law's internal states at rest; shape (2 + number of states,).
+    jacobian:
+        The whole state's Jacobian at y* (the stiff engine's exact one), n x n
+        with n = 2 + the number of internal states, in the order of ``state``.
+    eigenvalues:
+        The eigenvalues of ``jacobian`` (complex, n of them), largest real
+        part first.
+    """
 
     value: float
     state: np.ndarray
@@ -66,7 +81,7 @@ class StateEquilibrium:
 def state_equilibrium(model: BeltOscillator, law: FrictionLaw, value: float = math.nan) -> StateEquilibrium | None:
     """Steady sliding of (model, law), or None where there is none (V_b = 0, forced, or the states do not rest).
 
-    The one computation of :func:`frictionflow.analysis.equilibrium.sliding_equilibrium` (the states at
+    The one computation of :func:`frictionflow.sliding_equilibrium` (the states at
     rest by Newton on the law's exact rates, the whole state's Jacobian), kept with the continued value.
 
     Parameters
@@ -93,7 +108,7 @@ def state_equilibrium_branch(model: BeltOscillator, law: FrictionLaw, param: str
 
 def state_hopf_points(model: BeltOscillator, law: FrictionLaw, param: str, values: np.ndarray) -> list[float]:
     """Parameter values in the span of ``values`` where steady sliding has a Hopf point, refined by brentq on
-    :attr:`StateEquilibrium.hopf_test` (a sign change with a complex pair on the axis).
+    :attr:`~frictionflow.orbits.stateful_equilibria.StateEquilibrium.hopf_test` (a sign change with a complex pair on the axis).
 
     Parameters
     ----------

@@ -95,7 +95,7 @@ class Solver(ABC):
     """Base class of solvers.
 
     What a solver is and supports it declares here: nothing outside
-    :mod:`frictionflow.solvers` compares solver names.
+    ``frictionflow.solvers`` compares solver names.
 
     Class attributes a solver sets
     ------------------------------
@@ -104,8 +104,8 @@ class Solver(ABC):
     refusal_reason:
         Why it refuses the laws it does not support, appended to :meth:`solve`'s one line ("" for none).
     interpolant:
-        How :meth:`Trajectory.at <frictionflow.trajectory.Trajectory.at>` evaluates its runs between
-        samples: a key of :data:`frictionflow._continuous.FORMS` (the closed form, quintic or cubic Hermite).
+        How :meth:`Trajectory.at <frictionflow.Trajectory.at>` evaluates its runs between
+        samples: a key of ``frictionflow._continuous.FORMS`` (the closed form, quintic or cubic Hermite).
     steady_rtol:
         The steady-state classification's default ``rtol`` for its runs (what it resolves orbits to).
     fixed_step:
@@ -114,11 +114,11 @@ class Solver(ABC):
     refine_between_samples:
         Its samples need not hold the turns of X', of the transmitted force or a threshold stick's boundaries
         (its laws are smooth): the analysis finds V's extremes, TR_B and the stick share between them on the
-        cubic Hermite interpolant (:mod:`frictionflow.analysis.between_samples`).
+        cubic Hermite interpolant (``frictionflow.analysis.between_samples``).
     default_chunk:
         Points per sweep chunk (about 0.2 s of work on a core); see :meth:`chunk_points`.
     batched:
-        The batched kernel of :mod:`frictionflow.core.batch` sweeps run unforced points through
+        The batched kernel of ``frictionflow.core.batch`` sweeps run unforced points through
         (:meth:`run_points`), or None: a sweep then takes only laws with internal states, each point
         one ``simulate`` and ``analyze`` on numba's threads.
     batched_forced:
@@ -136,7 +136,7 @@ class Solver(ABC):
         a test of a law class, true for the laws this solver runs at a structure's contacts; None: it
         does not run structures.
     step_cost, point_cost_per:
-        Its cost model: the keys of :data:`frictionflow.estimate.SECONDS_PER` of a step of a
+        Its cost model: the keys of ``frictionflow.estimate.SECONDS_PER`` of a step of a
         single run, and of a sweep point's work per unit of time (:meth:`cost`, :meth:`point_cost`).
     """
 
@@ -180,7 +180,7 @@ class Solver(ABC):
         """Integrate from (x0, v0) at tau = 0 to ``t_end``, keeping at most ``max_memory`` GiB of samples.
 
         Every solver's: the law is refused here, in one line, when the solver does not declare it
-        (:meth:`supports`); :meth:`_solve` integrates.
+        (:meth:`supports`); ``_solve`` integrates.
         """
         if not self.supports(friction):
             raise ValueError(f"solver={self.name} does not support friction={friction.name}{self.refusal_reason}")
@@ -211,12 +211,12 @@ class Solver(ABC):
 
     def run_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
                    t_end: float, rtol: float, min_periods: int, out: np.ndarray) -> None:
-        """Fill ``out`` (a row per point) through :attr:`batched` with this solver's settings."""
+        """Fill ``out`` (a row per point) through ``batched`` with this solver's settings."""
         raise NotImplementedError(f"solver={self.name} has no batched kernel for sweeps")
 
     def run_forced_points(self, p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndarray, v0: np.ndarray,
                           t_end: float, rtol: float, friction: FrictionLaw, out: np.ndarray) -> np.ndarray:
-        """Fill ``out`` for forced points through :attr:`batched_forced`; returns which points it left to
+        """Fill ``out`` for forced points through ``batched_forced``; returns which points it left to
         the façade (all of them without a batched kernel)."""
         return np.ones(len(zeta), dtype=bool)
 

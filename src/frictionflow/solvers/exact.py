@@ -77,7 +77,7 @@ class Exact(Solver):
         Copy a stretch of switches that repeats bit for bit (an unforced
         stick-slip cycle, from a release state equal to an earlier one)
         instead of integrating it again: the same samples, bit for bit
-        (:func:`frictionflow.core.exact.run`).  False: integrate every
+        (``frictionflow.core.exact.run``).  False: integrate every
         switch (for timing; the result is the same).
     """
 

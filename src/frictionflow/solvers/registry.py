@@ -51,8 +51,8 @@ def solver_class(name: str, friction: FrictionLaw, model: BeltOscillator | None 
 
 
 def auto_solver(friction: FrictionLaw, model: BeltOscillator | None = None) -> Solver:
-    """The default solver for ``friction``: :class:`Stiff` for laws with internal state, :class:`Exact` for
-    piecewise-constant laws, else :class:`Adaptive`; on a moving belt (``model.belt_varies``) the first of these
+    """The default solver for ``friction``: :class:`~frictionflow.Stiff` for laws with internal state, :class:`~frictionflow.Exact` for
+    piecewise-constant laws, else :class:`~frictionflow.Adaptive`; on a moving belt (``model.belt_varies``) the first of these
     that runs one, else the first solver that runs it and the law.
 
     Parameters

@@ -212,7 +212,7 @@ class RK4(Solver):
         return period / per, per
 
     def steps(self, t_end: float, dt: float | None = None) -> int:
-        """Steps to reach ``t_end``; ValueError when that is none or more than :data:`MAX_STEPS`."""
+        """Steps to reach ``t_end``; ValueError when that is none or more than ``MAX_STEPS``."""
         dt = self.dt if dt is None else dt
         if dt > t_end:
             raise ValueError(f"dt must be <= t_end = {t_end:g}, got {dt:g}")

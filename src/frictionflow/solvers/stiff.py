@@ -33,7 +33,7 @@ class Stiff(Solver):
     integrated with the state, and ``traj(t)`` interpolates the steps
     (quintic Hermite in X, cubic in the internal states).  No switch is
     located: the law's states carry stick and slip (see
-    :mod:`frictionflow.core.stiff`).  A step ends on every zero of X' (X'
+    ``frictionflow.core.stiff``).  A step ends on every zero of X' (X'
     exactly 0 there: the downward ones are the section the other solvers
     sample, so an unforced steady-state window is whole periods) and of the
     friction power X' F (the kink of its split into input and output).  The
@@ -92,7 +92,7 @@ class Stiff(Solver):
 
     def solve_state(self, model: BeltOscillator, friction: FrictionLaw, y0: np.ndarray, t_end: float,
                     progress: bool = False, max_memory: float = DEFAULT_MAX_MEMORY) -> Trajectory:
-        """As :meth:`solve`, from the whole state ``y0`` = (X, X', internal states) (an orbit's point, say)."""
+        """As :meth:`~frictionflow.Solver.solve`, from the whole state ``y0`` = (X, X', internal states) (an orbit's point, say)."""
         y0 = np.asarray(y0, dtype=float)
         if y0.shape != (2 + len(friction.internal_names),) or not np.all(np.isfinite(y0)):
             raise ValueError(f"y0 must be {2 + len(friction.internal_names)} finite numbers (X, X', the internal states), got {y0!r}")

@@ -222,10 +222,10 @@ class BadChunk(NamedTuple):
 class Verification:
     """What checking a sweep store found (:meth:`SweepStore.verify`, :func:`verify_sweep`)."""
 
-    path: Path
-    n_chunks: int
+    path: Path  #: the sweep output checked (its ``.zarr`` or ``.nc`` path, also while a ``.nc`` is in its journal)
+    n_chunks: int  #: chunks in the sweep's grid (0 when the store could not be opened)
     done: int = 0  #: committed chunks found intact
-    bad: list[BadChunk] = field(default_factory=list)
+    bad: list[BadChunk] = field(default_factory=list)  #: committed chunks that cannot be kept, each with where and why
     problems: list[str] = field(default_factory=list)  #: damage beyond single chunks (the done-flags, ...)
     unrecorded: bool = False  #: no checksums at all (an older store): data checked for completeness only
     unknown: int = 0  #: chunks whose checksum was lost or never recorded, checked for complete data instead
