@@ -74,7 +74,9 @@ class SteadyState(Summarized):
         Not settled: the rate at which the amplitude decays (negative: grows).
     heading:
         Not settled: where the motion is heading (``equilibrium``,
-        ``periodic``, ``growing``), or None.
+        ``periodic``, ``growing``), or None: also for a decay too slow for
+        its last amplitudes to tell (a limit cycle would lie beyond ten
+        times their own change; near a Hopf point, say).
     limit:
         Where it is heading or resting: ``{"x": X*}`` for an equilibrium,
         ``{"amplitude", "x_center"}`` of the limit cycle by Aitken

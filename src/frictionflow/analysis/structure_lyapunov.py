@@ -47,6 +47,9 @@ from ..solvers.structure import run_assembly
 DELTA = 1e-7
 #: the flow vector is the reference's backward difference over this share of a block
 FLOW_STEP = 1e-6
+#: a contact whose |V_r| at a block's start is below this share of its terms' size is stuck there (its
+#: velocity is put on its belt: a change far below the pair's separation, DELTA)
+STUCK_SHARE = 1e-11
 
 
 def restart(assembly: Any, state: np.ndarray, t: float) -> Any:
@@ -63,6 +66,31 @@ def _flow(reference: Any, t: float, span: float) -> np.ndarray:
     f = (3.0 * s[:, 2] - 4.0 * s[:, 1] + s[:, 0]) / (2.0 * h)
     size = float(np.linalg.norm(f))
     return f / size if size > 0.0 else f
+
+
+def on_stick(assembly: Any, state: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(``state`` with its stuck contacts exactly on their belts, ``d`` along their stick): the pair's start.
+
+    A contact stuck in the reference (|V_r| within :data:`STUCK_SHARE` of its
+    terms) stays stuck in the perturbed run only if the perturbation keeps
+    e . dq' = 0: a velocity kicked off the stick surface starts a slip, an
+    O(1) departure that is no exponential growth.  So the states' velocities
+    are put on the stuck contacts' belts (least-squares corrections, as the
+    engine holds them) and ``d``'s velocity part projected onto e . dq' = 0.
+    """
+    n = len(state) // 2
+    e, belt = np.asarray(assembly.contact_dir, dtype=float).reshape(-1, n), np.asarray(assembly.belt, dtype=float)
+    v = state[n:]
+    vr = belt - e @ v
+    stuck = np.abs(vr) <= STUCK_SHARE * (np.abs(belt) + np.abs(e) @ np.abs(v))
+    if not stuck.any():
+        return state, d
+    es = e[stuck]
+    pinv = np.linalg.pinv(es)  # (n, s): the least-squares solution of es . x = r
+    fixed, dd = state.copy(), d.copy()
+    fixed[n:] = v + pinv @ vr[stuck]
+    dd[n:] = d[n:] - pinv @ (es @ d[n:])
+    return fixed, dd
 
 
 def _transverse(d: np.ndarray, flow: np.ndarray | None) -> np.ndarray:
@@ -125,7 +153,14 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
 
 def _one_block(reference: Any, a: Any, start: np.ndarray, t: float, d: np.ndarray, block: float,
                end: np.ndarray, autonomous: bool, b: int) -> tuple[np.ndarray, float] | None:
-    """(the separation's new direction, its growth over the block) for the pair started ``d`` apart at ``t``."""
+    """(the separation's new direction, its growth over the block) for the pair started ``d`` apart at ``t``
+    (``d`` along the stick of the contacts stuck there: :func:`on_stick`)."""
+    size = float(np.linalg.norm(d))
+    start, d = on_stick(a, start, d)
+    norm_d = float(np.linalg.norm(d))
+    if not norm_d > 0.0:
+        return None
+    d = d * (size / norm_d)
     try:
         other = run_assembly(restart(a, start + d, t), block, solver=reference.solver, settings=reference.settings)
     except RuntimeError:

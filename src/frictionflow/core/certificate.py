@@ -48,6 +48,9 @@ if TYPE_CHECKING:
     from ..friction.base import FrictionLaw
 
 N_GRID = 512
+#: grids tried, each over the first step of the one before where that step fails (the finest step, the room /
+#: N_GRID^ZOOMS, keeps the secants far above their rounding)
+ZOOMS = 3
 
 
 @njit(cache=True)
@@ -61,13 +64,31 @@ def secant_margin(p, zeta, speed, u):
 
 @njit(cache=True)
 def certified_radius(p, zeta, vb):
-    """The largest r with (a) and (b) of the module docstring; 0 when there is none."""
+    """The largest r with (a) and (b) of the module docstring; 0 when there is none.
+
+    Near a Hopf point (2 zeta + F'(V_b) just above 0) the disc is far
+    smaller than the grid's step over the room: where the first step fails
+    already, the search zooms into it (a grid of ``N_GRID`` over that step),
+    up to ``ZOOMS`` times.
+    """
     speed = abs(vb)
     room = speed - (p[VD] if int(p[LAW]) == KARNOPP else 0.0)  # (a): stay off the stick boundary
     if room <= 0.0 or not secant_margin(p, zeta, speed, 0.0) > 0.0:
         return 0.0
-    h = room / N_GRID
-    r = room
+    span = room
+    for _ in range(ZOOMS):
+        r = _grid_radius(p, zeta, speed, span)
+        if r > 0.0:
+            return r * (1.0 - 1e-9)
+        span /= N_GRID
+    return 0.0
+
+
+@njit(cache=True)
+def _grid_radius(p, zeta, speed, span):
+    """The largest r <= ``span`` with (b) on a grid of ``N_GRID`` steps over [0, span] (0: the first step fails)."""
+    h = span / N_GRID
+    r = span
     for side in (1.0, -1.0):
         prev = secant_margin(p, zeta, speed, 0.0)
         for i in range(1, N_GRID + 1):
@@ -77,7 +98,7 @@ def certified_radius(p, zeta, vb):
                 r = min(r, (i - 1) * h)
                 break
             prev = m
-    return r * (1.0 - 1e-9)
+    return r
 
 
 @njit(cache=True)
@@ -108,4 +129,5 @@ def radius(law: "FrictionLaw", zeta: float, vb: float) -> float:
 def _user_radius(force: Callable) -> Callable:
     import sys
 
-    return rebind(sys.modules[__name__], ("secant_margin", "certified_radius"), slip_magnitude_of=force)["certified_radius"]
+    return rebind(sys.modules[__name__], ("secant_margin", "_grid_radius", "certified_radius"),
+                  slip_magnitude_of=force)["certified_radius"]

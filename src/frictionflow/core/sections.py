@@ -50,6 +50,9 @@ MAX_RECORDS = 32
 
 PERIODIC, EQUILIBRIUM, NOT_SETTLED, DIVERGED = (Q.KINDS.index(k) for k in ("periodic", "equilibrium", "not_settled", "diverged"))
 HEAD_NONE, HEAD_EQUILIBRIUM, HEAD_PERIODIC, HEAD_GROWING = 0, 1, 2, 3
+#: a limit cycle is named as the heading only when it lies within this many times the last three records'
+#: change of the last amplitude (a geometric approach with ratio r per record: r^2 / (1 - r^2), 10 at r ~ 0.95)
+EXTRAPOLATION = 10.0
 
 # what classify returns, per run
 (
@@ -430,10 +433,13 @@ def _heading(out, rec, tol, slope):
         if a_inf <= max(tol, 1e-3 * amp[2]):
             out[C_HEAD] = HEAD_EQUILIBRIUM
             out[C_LIMX] = c_inf
-        else:
+        elif amp[2] - a_inf <= EXTRAPOLATION * abs(amp[0] - amp[2]):
             out[C_HEAD] = HEAD_PERIODIC
             out[C_LIMX] = c_inf
             out[C_LIMA] = a_inf
+        # else a limit far beyond the records' own change (a slow decay, amplitude ratio above ~0.95 a period):
+        # unresolved -- the second differences are then the rounding of the extrema or a weak nonlinearity
+        # (a supercritical Hopf point's cubic damping reads as a limit cycle of a few % of the amplitude)
     else:
         out[C_HEAD] = HEAD_GROWING
 

@@ -104,7 +104,7 @@ def continuation(
     branches: list[Branch] = []
     hopfs = _equilibria(branches, model, friction, param, np.linspace(start, stop, max(2, s.n_equilibria)), stop < start)
     problem = CycleProblem(model, friction, param, start, stop, returns=s.returns, tol=s.tol, max_period=s.max_period)
-    tracer = Tracer(problem, StepControl(h0=s.step, h_max=s.max_step, max_points=s.max_points))
+    tracer = Tracer(problem, StepControl(h0=s.step, h_max=s.max_step, max_points=s.max_points), progress=s.progress)
     found = _Found(model, friction, param, s, tracer, branches)
     found.from_hopfs(hopfs)
     found.from_ends(start, stop)

@@ -1068,8 +1068,8 @@ def continue_forced(
     ``steps`` (RK4 grid steps per forcing period [512]), ``h0``, ``h_max``,
     ``h_min`` (first, largest and smallest step [0.01, 0.04, 1e-6], in scaled
     arclength: lambda over |stop - start|, the state over the first orbit's
-    size), ``max_points`` [400], ``detect`` (locate the special points [True])
-    and ``tol`` (Newton tolerance [1e-11]).
+    size), ``max_points`` [400], ``detect`` (locate the special points [True]),
+    ``tol`` (Newton tolerance [1e-11]) and ``progress`` (a bar on stderr [False]).
 
     Parameters
     ----------
@@ -1144,7 +1144,7 @@ def _trace_forced(pb: _Problem, state: np.ndarray, interval: tuple[float, float]
         first = pb.solve_at(start, state)
     except (RuntimeError, ValueError):
         raise ForcedShootingError(f"no orbit to start from at {parameter}={start}") from None
-    tracer = Tracer(pb, _steps(s.h0, s.h_max, s.h_min, s.max_points, s.detect))
+    tracer = Tracer(pb, _steps(s.h0, s.h_max, s.h_min, s.max_points, s.detect), progress=s.progress)
     trace = tracer.trace(first, tracer.start(first, stop))
     return ForcedBranch(model=pb.model, friction=pb.friction, parameter=parameter, m=pb.m,
                         points=[_point(pb, sol) for sol in trace.solutions], events=trace.events, end=trace.end,

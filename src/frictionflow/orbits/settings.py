@@ -18,6 +18,9 @@ from __future__ import annotations
 from dataclasses import dataclass, fields, replace
 from typing import Any, Mapping, TypeVar
 
+import numpy as np
+
+from .. import _validate as check
 from ..parameters import Param
 from ..solvers.base import Solver
 
@@ -78,6 +81,8 @@ class ContinuationSettings:
         piecewise-constant laws, 1e-9 otherwise).  It bounds the error in X,
         |G / (1 - mu)|, not the residual G: near a Hopf point (mu -> 1) every
         branch point is as accurate as a single orbit.
+    progress:
+        A progress bar on stderr per branch traced (its points, of at most ``max_points``).
     """
 
     seeds: tuple[str, ...] = SEEDS
@@ -93,11 +98,13 @@ class ContinuationSettings:
     x0: float | None = None
     v0: float | None = None
     tol: float | None = None
+    progress: bool = False
 
     def __post_init__(self) -> None:
         for name, param in CONTINUATION_RANGES.items():  # one line naming the setting, before any work
             if getattr(self, name) is not None:
                 param.check(getattr(self, name))
+        check.instance("progress", self.progress, (bool, np.bool_), "True or False")
 
 
 @dataclass(frozen=True)
@@ -119,6 +126,8 @@ class ForcedContinuationSettings:
         grazings) between accepted points.
     tol:
         Newton tolerance of each orbit.
+    progress:
+        A progress bar on stderr while the branch is traced (its points, of at most ``max_points``).
     """
 
     steps: int = DEFAULT_STEPS
@@ -128,6 +137,10 @@ class ForcedContinuationSettings:
     max_points: int = MAX_POINTS
     detect: bool = True
     tol: float = 1e-11
+    progress: bool = False
+
+    def __post_init__(self) -> None:
+        check.instance("progress", self.progress, (bool, np.bool_), "True or False")
 
 
 def merged(kind: type[R], given: R | None, options: Mapping[str, Any], where: str, name: str = "settings") -> R:

@@ -28,6 +28,7 @@ from typing import Any, Callable, Protocol
 
 import numpy as np
 
+from .._progress import progress_bar
 from ..core import roots
 
 #: more unknowns than this: the tangent by SVD, not by cofactors (whose cost grows as n!)
@@ -249,9 +250,10 @@ def null_vector(a: np.ndarray) -> np.ndarray:
 class Tracer:
     """Follows one branch of a :class:`ContinuationProblem` with adaptive steps."""
 
-    def __init__(self, problem: ContinuationProblem, steps: StepControl | None = None) -> None:
+    def __init__(self, problem: ContinuationProblem, steps: StepControl | None = None, progress: bool = False) -> None:
         self.p = problem
         self.steps = StepControl() if steps is None else steps
+        self.progress = progress  # a bar on stderr per branch: its points of at most max_points
 
     def w(self, s: Any) -> np.ndarray:
         """Scaled coordinates of a solution."""
@@ -341,6 +343,10 @@ class Tracer:
     # -- the branch -------------------------------------------------------------------------------------------------
     def trace(self, first: Any, t: np.ndarray) -> Trace:
         """Follow the branch from ``first`` in direction ``t`` until it ends, leaves [lo, hi] or has max_points."""
+        with progress_bar("branch", self.steps.max_points, enabled=self.progress, unit="points") as advance:
+            return self._trace(first, t, advance)
+
+    def _trace(self, first: Any, t: np.ndarray, advance: Callable[[float], None]) -> Trace:
         p, c = self.p, self.steps
         sols, events = [first], []
         h, end = c.h0, "max_points"
@@ -358,6 +364,7 @@ class Tracer:
                     end = way.reason
                     break
                 sols.append(way.solution)
+                advance(1)
                 t, h = way.tangent, c.h0
                 continue
             outside = not (p.lo <= s.lam <= p.hi)
@@ -374,6 +381,7 @@ class Tracer:
             if c.detect:
                 events += p.events(self, Step(a, s, t, t_new, h))
             sols.append(s)
+            advance(1)
             if halt is not None and halt.keep:
                 events += halt.events
                 end = halt.reason

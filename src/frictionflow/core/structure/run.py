@@ -19,7 +19,7 @@ from numba import njit
 from .. import codes
 from ..layout import STICK
 from .combo import N_SLOTS, build, build_from, find, keep, lookup, new_cache, same_modes
-from .events import Room, new_room as new_walk_room, values, walk
+from .events import EPS, ROUNDING, Room, new_room as new_walk_room, values, walk
 from ..options import NO_RUNTIME
 from .phase import (Mags, abs_into, fastest_rate, modal_into, size_of, start, start_in, start_room, state_at,
                     state_fill)
@@ -170,14 +170,22 @@ def record_switches(events, nsw, t, old, new):
 @njit(cache=True)
 def starting_modes(asm, q, v):
     """(modes, contact lost or -1) at the start, before the stick rule: slipping by the sign of V_r, 0 where
-    it is 0 (every engine starts so)."""
+    it is 0 to the rounding of its terms (every engine starts so).
+
+    V_r = belt - e . q' of a start meant to stick is rarely 0 in binary
+    (3 x -0.1 is not -0.3): within ROUNDING EPS of its terms' size it is
+    taken as 0 and the stick rule decides, as it would have for the exact
+    decimals; the run then holds the stuck contacts' velocities on their belts.
+    """
     k = len(asm.belt)
     modes = np.zeros(k, dtype=np.int8)
     for j in range(k):
         if normal_load(asm, j, q) <= 0.0:
             return modes, j
-        vr = asm.belt[j] - asm.contact_dir[j] @ v
-        modes[j] = 1 if vr > 0.0 else (-1 if vr < 0.0 else 0)
+        e = asm.contact_dir[j]
+        vr = asm.belt[j] - e @ v
+        size = abs(asm.belt[j]) + np.abs(e) @ np.abs(v)
+        modes[j] = 0 if abs(vr) <= ROUNDING * EPS * size else (1 if vr > 0.0 else -1)
     return modes, -1
 
 
