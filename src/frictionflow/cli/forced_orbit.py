@@ -6,6 +6,7 @@ Registered by importing this module in :mod:`frictionflow.cli` (``from . import 
 from __future__ import annotations
 
 import json
+import sys
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Optional
@@ -155,7 +156,7 @@ def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None
     first = find_forced_orbit(replace(model, **{parameter: start}), law, m=m, x0=x0, v0=v0,
                               transient_periods=DEFAULT_TRANSIENT, steps=opts.steps_per_period)
     branch = continue_forced(model, law, parameter, start, stop, m=m, orbit=first, steps=opts.steps_per_period,
-                             max_points=opts.max_points)
+                             max_points=opts.max_points, progress=sys.stderr.isatty())
     branches = [branch]
     if opts.switch_pd and branch.events_of("period_doubling"):
         branches.append(switch_period_doubling(branch))

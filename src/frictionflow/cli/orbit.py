@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Optional
@@ -157,7 +158,7 @@ def continue_(params: dict[str, Any], opts: ContinueOptions) -> None:
     # (unset: F_d and V_b at each parameter value, as start_state says at one)
     settings = ContinuationSettings(seeds=seed_list, transient=cfg.t_end, n_equilibria=points, max_points=opts.max_points,
                                     max_period=opts.max_period, step=opts.step, sweep=overlay, solver=solv, x0=cfg.x0,
-                                    v0=cfg.v0, tol=opts.tol)
+                                    v0=cfg.v0, tol=opts.tol, progress=sys.stderr.isatty())
     result = continuation(model, law, param, span.start, span.stop, settings=settings)
     if opts.plot is not None:
         plot_bifurcation(result, opts.plot, name="--plot", dpi=opts.dpi)
