@@ -21,9 +21,11 @@ import pytest
 
 from frictionflow.friction.registry import law_class, law_names
 from frictionflow.parameters import declared
-from frictionflow.solvers.structure import structure_solvers, supported_laws
+from frictionflow.analysis.stability import stability_scan
+from frictionflow.orbits import find_structure_orbit
+from frictionflow.solvers.structure import simulate_system, structure_solvers, supported_laws
 from frictionflow.sweep.model import load_model_sweep, parse_model_sweep
-from frictionflow.system import System, load_system
+from frictionflow.system import System, assemble, checks, load_system
 
 from ..cli.processes import in_process, one_line
 
@@ -79,39 +81,55 @@ def refused_by_cli(tmp_path: Path, path: Path, *words: str, command: str = "simu
     (("x1 = 1.0", "x2 = 1.0", "x1 = 0.5, x2 = -0.5"), "contact.2", ("contact.0", "contact.1")),  # e2 = (e0 - e1)/2
     (("x2 = 1.0", "x1 = 1.0", "x1 = 3.0"), "contact.2", ("contact.1",)),  # a multiple of a later-listed one alone
 ])
-def test_contacts_along_dependent_directions_are_refused_naming_them(tmp_path, ons, bad, of):
+def test_contacts_along_dependent_directions_are_refused_by_the_engines_naming_them(tmp_path, ons, bad, of):
     """The directions' dependence is built into the cases (a multiple, a combination), independently of the code:
-    the file is refused when loaded, naming the dependent contact and the ones it combines (and no other)."""
-    path = model(tmp_path, *(contact(on) for on in ons))
-    with pytest.raises(ValueError) as info:
-        load_system(path)
-    message = str(info.value)
-    assert "\n" not in message and message.startswith(f"model {path}: {bad}: its direction is")
-    assert "dependent directions" in message and "merge them into one contact" in message
-    others = {f"contact.{i}" for i in range(len(ons))} - {bad}
-    assert {c for c in others if c in message} == set(of)
-    # through the API as well (the same check on System's construction)
-    with pytest.raises(ValueError, match=rf"^model: {bad}: its direction is"):
-        System.from_dict(tomllib.loads(path.read_text()))
+    the model loads (it is one: steady sliding needs no stick), and a run is refused before it starts, naming the
+    dependent contact and the ones it combines (and no other)."""
+    system = load_system(model(tmp_path, *(contact(on) for on in ons)))
+    for solver in ("exact", "adaptive"):
+        with pytest.raises(ValueError) as info:
+            simulate_system(system, 10.0, solver=solver)
+        message = str(info.value)
+        assert "\n" not in message and message.startswith(f"{bad}: its direction is")
+        assert "dependent directions" in message and "merge them into one contact" in message
+        others = {f"contact.{i}" for i in range(len(ons))} - {bad}
+        assert {c for c in others if c in message} == set(of)
 
 
-def test_contacts_along_independent_directions_still_load(tmp_path):
-    """Nearly parallel but independent directions (1e-3 apart: far above rounding) and two contacts on two dof load;
+def test_contacts_along_independent_directions_run(tmp_path):
+    """Nearly parallel but independent directions (1e-3 apart: far above rounding) and two contacts on two dof run;
     three contacts on two dof cannot be independent (the rank is at most 2)."""
-    assert len(load_system(model(tmp_path, contact("x1 = 1.0"), contact("x1 = 1.0, x2 = 1e-3"))).contacts) == 2
-    assert len(load_system(model(tmp_path, contact("x1 = 1.0"), contact("x2 = 1.0"))).contacts) == 2
+    for ons in (("x1 = 1.0", "x1 = 1.0, x2 = 1e-3"), ("x1 = 1.0", "x2 = 1.0")):
+        system = load_system(model(tmp_path, *(contact(on) for on in ons)))
+        assert simulate_system(system, 1.0).status == "ok"
     three = (contact("x1 = 1.0"), contact("x2 = 1.0"), contact("x1 = 1.0, x2 = 1.0"))
     assert np.linalg.matrix_rank(np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])) == 2
     with pytest.raises(ValueError, match="contact.2: its direction is a combination of those of contact.0 and contact.1"):
-        load_system(model(tmp_path, *three))
+        simulate_system(load_system(model(tmp_path, *three)), 1.0)
+
+
+def test_the_check_takes_coefficients_whose_norm_under_or_overflows():
+    """|v| of 1e-200 or 1e200 entries under- or overflows: the check failed with numpy's "SVD did not converge"."""
+    checks.independent([("contact.0", np.array([1e-200, 0.0])), ("contact.1", np.array([0.0, 1e200]))])
+    with pytest.raises(ValueError, match=r"^contact.1: its direction is a multiple of contact.0's"):
+        checks.independent([("contact.0", np.array([1e-200, 0.0])), ("contact.1", np.array([-3e-200, 0.0]))])
 
 
 def test_dependent_contacts_are_refused_by_simulate_model_exit_2_nothing_written(tmp_path):
     """The QA's R.toml crashed ``simulate --model`` with "Matrix is singular to machine precision" (exit 2 from a
-    numerical failure after loading); now the loader refuses it, naming both contacts."""
+    numerical failure after loading); now the run is refused before it starts, naming both contacts."""
     path = model(tmp_path, contact("x1 = 1.0", 0.1, 0.2), contact("x1 = 1.0", 0.05, 0.1))
     line = refused_by_cli(tmp_path, path, "contact.1", "contact.0", "dependent directions")
     assert "singular" not in line
+
+
+def test_a_stability_scan_passes_through_dependent_directions(tmp_path):
+    """Steady sliding holds no contact stuck: a scan of a direction that makes two contacts parallel at one value
+    (contact.1 along (1, x2) with x2 = 0) runs there too, as it did before the engines' check existed."""
+    system = load_system(model(tmp_path, contact("x1 = 1.0"), contact("x1 = 1.0, x2 = 0.5")))
+    scan = stability_scan(lambda v: assemble(system.with_entry("contact.1.on.x2", v)), [-1.0, -0.5, 0.0, 0.5, 1.0],
+                          param="contact.1.on.x2")
+    assert not scan.lost.any() and np.all(np.isfinite(scan.eigenvalues))
 
 
 # -- 2. laws no structure solver runs ------------------------------------------------------------------------------
@@ -224,3 +242,9 @@ def test_a_huge_initial_velocity_is_refused_by_simulate_model_exit_2_nothing_wri
     p = declared()["v0"]
     path = model(tmp_path, contact("x1 = 1.0"), contact("x2 = 1.0"), v=1e200)
     refused_by_cli(tmp_path, path, "initial.v.x1", f"{p.upper:g}", "got 1e+200")
+
+
+def test_orbit_refuses_dependent_contacts_before_shooting(tmp_path):
+    system = load_system(model(tmp_path, contact("x1 = 1.0", 0.1, 0.2), contact("x1 = 1.0", 0.05, 0.1)))
+    with pytest.raises(ValueError, match=r"^contact.1: its direction is a multiple of contact.0's"):
+        find_structure_orbit(system, t_transient=10.0)

@@ -39,7 +39,7 @@ from ..core.layout import LAW, STICK
 from ..estimate import enforce, enforce_stage
 from ..friction.registry import law_classes
 from ..solvers.registry import solver_names_where
-from ..solvers.structure import run_estimate, supported_laws
+from ..solvers.structure import check_switchable, run_estimate, supported_laws
 from ..system import assemble
 from . import floquet
 from .shooting import ShootingError, check_shooting
@@ -169,6 +169,7 @@ def _setup(system_or_assembly: Any) -> Setup:
     if len(asm.belt) == 0:
         raise ValueError("find_structure_orbit: the model has no contact (a linear structure has no isolated orbit)")
     _check_laws(asm, contacts)
+    check_switchable(asm, contacts)
     return Setup(Flow(asm, {"dof": dof}), dof, contacts, system)
 
 

@@ -23,6 +23,7 @@ from ..estimate import SECONDS_PER, Estimate
 from ..friction.registry import law_classes
 from ..motion import Motion
 from ..system import System, assemble
+from ..system.checks import independent
 from . import structure_adaptive
 from .registry import solver_named, solver_names_where
 from .structure_motion import buffers, first_capacity, motion, row_bytes, run_growing
@@ -120,6 +121,15 @@ def _check(assembly: Assembly, t_end: float, dense_dt: float | None, contacts: t
         if code not in laws:
             known = {cls.code: cls.name for cls in law_classes() if cls.configurable}
             raise ValueError(_law_message(solver, contacts[j], known.get(code, f"(law code {code})")))
+    check_switchable(assembly, contacts)
+
+
+def check_switchable(assembly: Assembly, contacts: tuple[str, ...]) -> None:
+    """Refuse contacts along dependent directions, naming them: the switching engines hold stuck contacts as
+    constraints, and along dependent directions their forces are indeterminate (the model itself is fine: steady
+    sliding and its eigenvalues need no stick)."""
+    rows = np.asarray(assembly.contact_dir, dtype=float).reshape(len(contacts), -1)
+    independent(list(zip(contacts, rows)), "the switching engines cannot hold contacts along dependent directions")
 
 
 def _channels(names: dict[str, tuple[str, ...]]) -> tuple[str, ...]:

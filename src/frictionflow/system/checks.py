@@ -207,7 +207,8 @@ def initial(address: str, key: str, pairs: tuple[tuple[str, float], ...]) -> tup
                               subnormal_ok=True).check(x)) for name, x in pairs)
 
 
-def independent(named: Sequence[tuple[str, np.ndarray]], what: str = "contacts") -> None:
+def independent(named: Sequence[tuple[str, np.ndarray]],
+                reason: str = "contacts along dependent directions are not supported") -> None:
     """Refuse directions that are linearly dependent, naming the first one that is a combination of earlier ones.
 
     Two stuck contacts along dependent directions hold forces that no equation fixes (only their combination
@@ -218,10 +219,10 @@ def independent(named: Sequence[tuple[str, np.ndarray]], what: str = "contacts")
     ----------
     named:
         (address, direction over the dof) per element, in file order (directions nonzero).
-    what:
-        The elements in words, for the message.
+    reason:
+        Why dependence is refused, for the message.
     """
-    units = [v / np.linalg.norm(v) for _, v in named]
+    units = [_unit(np.asarray(v, dtype=float)) for _, v in named]
     if not units:
         return
     s = np.linalg.svd(np.array(units), compute_uv=False)
@@ -237,12 +238,17 @@ def independent(named: Sequence[tuple[str, np.ndarray]], what: str = "contacts")
         used = [named[i][0] for i, w in zip(basis, weights) if abs(w) > DEPENDENT_RTOL * np.abs(weights).max()]
         of = f"{used[0]}'s" if len(used) == 1 else f"those of {', '.join(used[:-1])} and {used[-1]}"
         raise ValueError(f"{address}: its direction is {'a multiple' if len(used) == 1 else 'a combination'} of {of}: "
-                         f"{what} along dependent directions are not supported (stuck together, their forces are "
-                         f"indeterminate); merge them into one contact (e.g. two Coulomb contacts along one direction on one "
-                         f"belt: fd = fd0 + fd1, fs = fs0 + fs1)")
+                         f"{reason} (stuck together, their forces are indeterminate); merge them into one contact "
+                         f"(e.g. two Coulomb contacts along one direction on one belt: fd = fd0 + fd1, fs = fs0 + fs1)")
     names = ", ".join(address for address, _ in named)  # dependent as a whole only (at the tolerance's edge)
-    raise ValueError(f"the directions of {names} are nearly dependent: {what} along dependent directions are not "
-                     f"supported (stuck together, their forces are indeterminate)")
+    raise ValueError(f"the directions of {names} are nearly dependent: {reason} (stuck together, their forces are "
+                     f"indeterminate)")
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    """``v`` / |v|, scaled by its largest entry first (|v| of 1e-200 or 1e200 entries under- or overflows)."""
+    scaled = v / np.max(np.abs(v))
+    return scaled / np.linalg.norm(scaled)
 
 
 def _rank(rows: np.ndarray, tol: float) -> int:
