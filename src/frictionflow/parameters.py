@@ -17,6 +17,7 @@ arrays of a sweep alike.
 from __future__ import annotations
 
 import math
+import numbers
 import sys
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Mapping
@@ -143,6 +144,8 @@ class Param:
     def _number(self, value: Any) -> float | int:
         if isinstance(value, (bool, str)) or value is None:
             raise self._bad(value)  # true/"10" in a config are mistakes, not numbers
+        if self.kind == "int" and isinstance(value, numbers.Integral):
+            return int(value)  # exactly: through a float, 2^63 - 1 would be 2^63 and 2^53 + 1 would be 2^53
         try:
             x = float(value)
         except (TypeError, ValueError):

@@ -76,7 +76,7 @@ from ..solvers.auto import auto_solver
 from ..solvers.base import kernel_params
 from ..analysis.steady_state import stick_fraction
 from .measures import measures_of, one_period
-from .settings import DEFAULT_STEPS, MAX_POINTS, ForcedContinuationSettings, merged
+from .settings import CONTINUATION_RANGES, DEFAULT_STEPS, MAX_POINTS, ForcedContinuationSettings, merged
 from .tracing import ContinuationProblem, Corrector, Crossing, StepControl, Step, Stop, Tracer
 
 #: forcing periods of the transient that gives the first guess
@@ -1102,7 +1102,8 @@ def continue_forced(
     if stop == start:
         raise ValueError(f"stop must differ from start ({start!r})")
     m = _check_int("m", m, 1, 1000)
-    s = replace(s, steps=_check_int("steps", s.steps, 4, 10**6), max_points=_check_int("max_points", s.max_points, 2, 10**6))
+    s = replace(s, steps=_check_int("steps", s.steps, 4, 10**6),
+                max_points=CONTINUATION_RANGES["max_points"].check(s.max_points))  # the CLI's range too
     if not (0 < s.h_min <= s.h0 <= s.h_max):
         raise ValueError(f"steps must satisfy 0 < h_min <= h0 <= h_max, got {s.h_min!r}, {s.h0!r}, {s.h_max!r}")
     base = replace(model, **{parameter: start})

@@ -348,7 +348,7 @@ def _warm_up(settings: Settings) -> None:
     law = paper_law(0.02, settings)
     # the solvers, both RK4 output paths (every step, thinned) and the analysis the jobs use
     for solver in (RK4(dt=settings.dt), RK4(dt=settings.dt, record_every=2), Exact(dense_dt=settings.exact_dense_dt)):
-        analyze(simulate(BeltOscillator(zeta=0.01, vb=0.01), law, solver, t_end=1.0))
+        analyze(simulate(BeltOscillator(zeta=0.01, vb=0.01), law, solver, t_end=max(1.0, 4.0 * settings.dt)))
     plt = pyplot()
     fig, ax = plt.subplots()
     ax.set(xlabel=r"$\tau$", ylabel=r"$X'$")
