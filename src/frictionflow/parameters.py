@@ -22,6 +22,8 @@ import sys
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Mapping
 
+import numpy as np
+
 OWNERS = ("oscillator", "law", "solver", "run")
 #: The model is non-dimensional (natural frequency 1, forces in units of k l_0):
 #: coefficients beyond MODEL_MAX and states beyond STATE_MAX describe nothing
@@ -142,7 +144,7 @@ class Param:
         return x
 
     def _number(self, value: Any) -> float | int:
-        if isinstance(value, (bool, str)) or value is None:
+        if isinstance(value, (bool, np.bool_, str)) or value is None:
             raise self._bad(value)  # true/"10" in a config are mistakes, not numbers
         if self.kind == "int" and isinstance(value, numbers.Integral):
             return int(value)  # exactly: through a float, 2^63 - 1 would be 2^63 and 2^53 + 1 would be 2^53

@@ -25,7 +25,7 @@ from .._display import spoken
 from ..analysis.response import PERIODS_RANGE
 from ..friction.registry import law_class, law_names
 from ..io import DEFAULT_DPI, DPI_RANGE, FIGURE_FORMATS
-from ..orbits.settings import CONTINUATION_RANGES, DEFAULT_STEPS, MAX_POINTS
+from ..orbits.settings import CONTINUATION_RANGES, DEFAULT_STEPS, FORCED_RANGES, MAX_POINTS
 from ..parameters import Param, declared, positive_real
 from ..sweep.runner import CHUNK_SIZE
 
@@ -120,12 +120,10 @@ DPI = Param("dpi", "", "resolution of the figures", "run", DEFAULT_DPI, lower=DP
 SCHEDULER_TIMEOUT = positive_real("scheduler_timeout", "", "seconds to wait for the scheduler", "run", 5.0)
 #: --sample's seed: numpy's seeds (the range :func:`frictionflow.basins.basins` checks)
 SEED = _Seed("seed", "", "seed of the sample", "run", 0, kind="int", lower=0, upper=2**63, upper_open=True)
-#: an orbit's period in forcing periods
-ORDER = Param("m", "", "period in forcing periods", "run", 1, kind="int", lower=1, upper=1000)
-STEPS_PER_PERIOD = Param("steps_per_period", "", "RK4 steps per forcing period", "run", DEFAULT_STEPS, kind="int",
-                         lower=4, upper=1_000_000)
-TRANSIENT_PERIODS = Param("transient_periods", "", "forcing periods before shooting", "run", 200, kind="int", lower=0,
-                          upper=10_000_000)
+#: an orbit's period in forcing periods, its RK4 steps per period and its transient (the API's ranges)
+ORDER = FORCED_RANGES["m"]
+STEPS_PER_PERIOD = FORCED_RANGES["steps"]
+TRANSIENT_PERIODS = FORCED_RANGES["transient_periods"]
 T_TRANSIENT = Param("t_transient", "", "transient before averaging", "run", 1000.0, lower=0.0, upper=1e9)
 BLOCK = Param("block", "", "renormalisation interval of an unforced run", "run", None, lower=0.0, lower_open=True,
               upper=1e6)

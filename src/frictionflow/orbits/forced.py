@@ -76,7 +76,7 @@ from ..solvers.auto import auto_solver
 from ..solvers.base import kernel_params
 from ..analysis.steady_state import stick_fraction
 from .measures import measures_of, one_period
-from .settings import CONTINUATION_RANGES, DEFAULT_STEPS, MAX_POINTS, ForcedContinuationSettings, merged
+from .settings import CONTINUATION_RANGES, DEFAULT_STEPS, FORCED_RANGES, MAX_POINTS, ForcedContinuationSettings, merged
 from .tracing import ContinuationProblem, Corrector, Crossing, StepControl, Step, Stop, Tracer
 
 #: forcing periods of the transient that gives the first guess
@@ -477,12 +477,11 @@ def find_forced_orbit(
     _check_model(model)
     _check_law(friction)
     _check_measurable(model, friction)
-    m = _check_int("m", m, 1, 1000)
-    steps = _check_int("steps", steps, 4, 10**6)
+    m, steps = FORCED_RANGES["m"].check(m), FORCED_RANGES["steps"].check(steps)
     x0, v0 = (None if value is None else check.number(name, value) for name, value in (("x0", x0), ("v0", v0)))
     if transient_periods is None:
         transient_periods = 0 if (x0 is not None and v0 is not None) else DEFAULT_TRANSIENT
-    transient_periods = _check_int("transient_periods", transient_periods, 0, 10**7)
+    transient_periods = FORCED_RANGES["transient_periods"].check(transient_periods)
     tol, max_iter = _check_tol(tol), _check_int("max_iter", max_iter, 1, 10**6)
     # within the limits in force, if any: the transient and (a bound) max_iter Newton runs of m periods
     enforce(forced_estimate(model, transient_periods + m * max_iter, steps))
@@ -1101,8 +1100,8 @@ def continue_forced(
     stop = check_parameter(parameter, stop, "stop")
     if stop == start:
         raise ValueError(f"stop must differ from start ({start!r})")
-    m = _check_int("m", m, 1, 1000)
-    s = replace(s, steps=_check_int("steps", s.steps, 4, 10**6),
+    m = FORCED_RANGES["m"].check(m)
+    s = replace(s, steps=FORCED_RANGES["steps"].check(s.steps),
                 max_points=CONTINUATION_RANGES["max_points"].check(s.max_points))  # the CLI's range too
     if not (0 < s.h_min <= s.h0 <= s.h_max):
         raise ValueError(f"steps must satisfy 0 < h_min <= h0 <= h_max, got {s.h_min!r}, {s.h0!r}, {s.h_max!r}")
@@ -1311,7 +1310,7 @@ def stroboscopic_sweep(model: BeltOscillator, friction: FrictionLaw, parameter: 
         raise ValueError(f"parameter must be one of {PARAMETERS}, got {parameter!r}")
     values = np.asarray(values, dtype=float)
     keep = _check_int("keep", keep, 1, 10**6)
-    transient_periods = _check_int("transient_periods", transient_periods, 0, 10**7)
+    transient_periods = FORCED_RANGES["transient_periods"].check(transient_periods)
     xs = np.full((len(values), keep), np.nan)
     vs = np.full((len(values), keep), np.nan)
     res = np.full(len(values), np.nan)

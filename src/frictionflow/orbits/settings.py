@@ -43,6 +43,14 @@ CONTINUATION_RANGES = {p.name: p for p in (
 )}
 #: RK4 grid steps per forcing period unless told
 DEFAULT_STEPS = 512
+#: the ranges of the forced orbits' integers (find_forced_orbit, continue_forced, stroboscopic_sweep and their
+#: command-line options check these)
+FORCED_RANGES = {p.name: p for p in (
+    Param("m", "", "period in forcing periods", "run", 1, kind="int", lower=1, upper=1000),
+    Param("steps", "", "RK4 steps per forcing period", "run", DEFAULT_STEPS, kind="int", lower=4, upper=1_000_000),
+    Param("transient_periods", "", "forcing periods before shooting", "run", 200, kind="int", lower=0,
+          upper=10_000_000),
+)}
 
 R = TypeVar("R")
 
