@@ -60,6 +60,7 @@ import numpy as np
 
 from .. import _validate as check
 from .._display import Row, Summarized, num
+from .._json import jsonable
 from .._figures import draw
 from .._lazy import lazy_module
 from ..core.assembly import Assembly
@@ -306,7 +307,7 @@ class Critical:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: value, kind, frequency (null for a contact loss), unstable_above."""
-        return {"value": self.value, "kind": self.kind, "frequency": _finite_or_none(self.frequency),
+        return {"value": self.value, "kind": self.kind, "frequency": jsonable(float(self.frequency)),
                 "unstable_above": self.unstable_above}
 
 
@@ -338,7 +339,7 @@ class StabilityScan(Summarized):
         """JSON-ready: ``param``, ``values``, ``eigenvalues`` (per value a list of {re, im}; null at a value
         without steady sliding), ``lost`` (per value: no steady sliding there) and ``critical``."""
         return {"param": self.param, "values": [float(v) for v in self.values],
-                "eigenvalues": [[{"re": _finite_or_none(z.real), "im": _finite_or_none(z.imag)} for z in row]
+                "eigenvalues": [[{"re": jsonable(float(z.real)), "im": jsonable(float(z.imag))} for z in row]
                                 for row in self.eigenvalues],
                 "lost": self.lost.tolist(), "critical": [c.to_dict() for c in self.critical]}
 
@@ -500,12 +501,6 @@ def _contact_losses(values: np.ndarray, reasons: Sequence[str | None], spectrum:
             if root is not None:  # always: N > 0 at a and <= 0 at b
                 out.append(Critical(float(root), "contact_loss", math.nan, bool(b > a)))
     return out
-
-
-def _finite_or_none(x: float) -> float | None:
-    """``x`` as a float, None (JSON null) if NaN or infinite."""
-    x = float(x)
-    return x if math.isfinite(x) else None
 
 
 def scan_estimate(n: int, points: int) -> Estimate:
