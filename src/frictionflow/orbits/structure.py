@@ -38,8 +38,7 @@ from ..core.assembly import Assembly
 from ..core.layout import LAW, STICK
 from ..estimate import enforce, enforce_stage
 from ..friction.registry import law_classes
-from ..solvers.registry import solver_names_where
-from ..solvers.structure import check_switchable, run_estimate, supported_laws
+from ..solvers.structure import check_switchable, run_estimate, solvers_running, supported_laws
 from ..system import assemble
 from . import floquet
 from .shooting import ShootingError, check_shooting
@@ -180,7 +179,7 @@ def _check_laws(asm: Assembly, contacts: tuple[str, ...]) -> None:
     for contact, code in zip(contacts, np.asarray(asm.law)[:, LAW]):
         if int(code) not in runs:
             cls = classes[int(code)]
-            others = solver_names_where(lambda s: s.structure_laws is not None and bool(s.structure_laws(cls)))
+            others = solvers_running(cls)
             where = f"simulate runs it on the {' or '.join(others)} solver" if others else "no structure solver runs it"
             raise ValueError(f"a structure's periodic orbits are shot with the exact engine, which runs contacts with "
                              f"the laws {', '.join(runs.values())}; {contact} has friction={cls.name} ({where})")

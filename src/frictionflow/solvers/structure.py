@@ -88,10 +88,14 @@ def _structure_solver(solver: Any) -> Any:
     return cls
 
 
+def solvers_running(law: type) -> tuple[str, ...]:
+    """The structure solvers that run the law class ``law`` at a structure's contacts (their ``structure_laws``)."""
+    return solver_names_where(lambda cls: cls.structure_laws is not None and bool(cls.structure_laws(law)))
+
+
 def _law_message(solver: str, contact: str, law: str) -> str:
     """One line: ``solver`` does not run ``law`` at ``contact``; the structure solvers that would."""
-    runs = solver_names_where(lambda cls: cls.structure_laws is not None
-                              and any(cls.structure_laws(c) for c in law_classes() if c.name == law))
+    runs = tuple(dict.fromkeys(name for c in law_classes() if c.name == law for name in solvers_running(c)))
     use = f"; use solver={' or '.join(runs)}" if runs else ""
     return (f"solver={solver} runs structures whose contacts' laws are {', '.join(supported_laws(solver).values())}; "
             f"{contact} has friction={law}{use}")
