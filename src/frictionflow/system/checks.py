@@ -25,6 +25,10 @@ INITIAL_BOUNDS = {"q": "initial displacement", "v": "initial velocity"}
 #: contact directions are dependent when the smallest singular value of their unit vectors is below this share
 #: of the largest (a relative tolerance: rounding in the written coefficients is far above it)
 DEPENDENT_RTOL = 1e-9
+#: a direction's nonzero coefficients lie within [1 / DIRECTION_MAX, DIRECTION_MAX] in magnitude: a contact along
+#: 1e16 sticks within ~1e-33 of its start, far below the switch times' rounding (its mass then ends up 3e-9 from
+#: where it stuck, not 4e-16), and below 1e-154 the products e M^-1 e underflow to zero
+DIRECTION_MAX = 1e12
 
 
 def number(address: str, value: Any, allowed: str = "a finite number") -> float:
@@ -171,7 +175,8 @@ def _as_table(address: str, value: Any) -> Mapping[str, Any]:
 
 
 def direction(address: str, value: Any, dof: tuple[str, ...]) -> tuple[tuple[str, float], ...]:
-    """An element's direction ``on``: :func:`coefficients` of which at least one is nonzero.
+    """An element's direction ``on``: :func:`coefficients` of which at least one is nonzero, each nonzero one
+    within [1 / :data:`DIRECTION_MAX`, :data:`DIRECTION_MAX`] in magnitude.
 
     Parameters
     ----------
@@ -186,6 +191,10 @@ def direction(address: str, value: Any, dof: tuple[str, ...]) -> tuple[tuple[str
     if not any(c != 0.0 for _, c in pairs):
         raise ValueError(f"{address}.on must have a nonzero entry over the dof ({', '.join(dof)}): a zero-length "
                          f"direction, got {dict(pairs)!r}")
+    for name, c in pairs:
+        if c != 0.0 and not 1.0 / DIRECTION_MAX <= abs(c) <= DIRECTION_MAX:
+            raise ValueError(f"{address}.on.{name} must be 0 or within {1.0 / DIRECTION_MAX:g} <= |value| <= "
+                             f"{DIRECTION_MAX:g} (beyond, switch times lose the motion to rounding), got {c!r}")
     return pairs
 
 
