@@ -8,6 +8,7 @@ import pytest
 import xarray as xr
 
 from frictionflow.cli import main
+from frictionflow.quantities import KINDS
 
 BASE = ["response", "--fex", "0.3", "--zeta", "0.1", "--vb", "0", "--friction", "karnopp", "--fd", "0.05",
         "--solver", "rk4", "--dt", "5e-3", "--periods", "20"]
@@ -25,7 +26,8 @@ def test_json_dataset_and_figure(capsys, tmp_path):
     assert code == 0
     d = json.loads(out)
     assert d["omega"] == pytest.approx([0.8, 1.0, 1.2])
-    assert set(d) == {"params", "omega", "up", "down"}
+    assert set(d) == {"params", "omega", "kinds", "up", "down"}
+    assert d["kinds"] == list(KINDS) and d["kinds"][d["up"]["kind"][0]] == "periodic"  # the codes' legend
     assert len(d["up"]["amplitude"]) == 3 and "P_ex" in d["down"]
     with xr.open_dataset(tmp_path / "r.nc") as ds:
         assert ds.sizes == {"direction": 2, "omega": 3}

@@ -108,3 +108,13 @@ def test_a_huge_grid_is_never_materialised(tmp_path):
 def test_values_beyond_the_model_range_are_refused_in_grids():
     with pytest.raises(ValueError, match=r"grid.vb\[0\]: vb must be finite and in \[-1000, 1000\], got 1e\+300"):
         parse_sweep({"grid": {"vb": [1e300, 0.01]}})
+
+
+@pytest.mark.parametrize("entry, message", [
+    ("abc", 'grid.vb must be a number, a list, a {start, stop, num, scale} table or "FROM:TO:N", got \'abc\''),
+    ("0.01:0.02", "grid.vb must be FROM:TO:N, got '0.01:0.02'"),  # a range meant: its own syntax
+])
+def test_a_grid_entry_text_names_the_forms_it_may_take(entry, message):
+    with pytest.raises(ValueError) as err:
+        parse_sweep({"friction": "coulomb", "fd": 0.02, "grid": {"vb": entry}})
+    assert str(err.value) == message

@@ -76,11 +76,13 @@ def response(
 
 
 def _as_json(ds) -> dict[str, Any]:
-    """Parameters, frequencies and each variable per direction (NaN as null)."""
+    """Parameters, frequencies, the kinds' names by code (``kind`` holds codes, as the dataset's) and each
+    variable per direction (NaN as null)."""
     def plain(a: np.ndarray) -> list:
         return [None if isinstance(x, float) and not np.isfinite(x) else x for x in a.tolist()]
 
     return {"params": dict(ds.attrs), "omega": plain(ds["omega"].values),
+            "kinds": ds["kind"].attrs["flag_meanings"].split(),
             **{str(d): {v: plain(ds[v].sel(direction=d).values) for v in ds.data_vars} for d in ds["direction"].values}}
 
 

@@ -194,6 +194,9 @@ def _axis(key: str, value: Any, number: Callable[[str, str, Any], float] | None 
     check_value = _value if number is None else number
     where, value = f"grid.{key}", _plain(value)
     if isinstance(value, str):
+        if ":" not in value:  # no range meant: name every form a grid entry takes
+            raise ValueError(f"{where} must be a number, a list, a {{start, stop, num, scale}} table or "
+                             f"\"FROM:TO:N\", got {value!r}")
         r = parse_range(where, value)
         value = {"start": r.start, "stop": r.stop, "num": r.num}
     if isinstance(value, bool):
