@@ -13,12 +13,15 @@ the pages need no network.
 
 from __future__ import annotations
 
+import builtins
+import inspect
 import re
 import sys
 from importlib.metadata import version as _version
 from pathlib import Path
 
 import sphinx.ext.autosummary
+from sphinx.addnodes import pending_xref
 
 import matplotlib
 
@@ -78,6 +81,11 @@ nitpick_ignore = [
     ("py:class", "collections.abc.Mapping"),
     ("py:class", "enum.IntEnum"),
     ("py:class", "abc.ABC"),
+    # The compiled core (frictionflow.core) is private and has no API page (tests/test_docs.py keeps it off
+    # them), yet the type hints of public functions name its records: the structure's arrays that
+    # frictionflow.system.assemble returns, and the step control of the adaptive sweep kernel.
+    ("py:class", "frictionflow.core.assembly.Assembly"),
+    ("py:class", "frictionflow.core.batch.Ode"),
 ]
 nitpick_ignore_regex = [
     (r"py:class", r"(numpy|xarray|pandas|matplotlib|distributed|dask|typing|collections\.abc|pathlib)\..*"),
@@ -151,7 +159,36 @@ def _public_bases(app, name, obj, options, bases):  # noqa: ANN001 - Sphinx's ho
     bases[:] = [b for b in bases if not getattr(b, "__module__", "").startswith("frictionflow._")] or [object]
 
 
+def _quoted_forward_ref(app, env, node, contnode):  # noqa: ANN001, ANN202 - Sphinx's hook signature
+    """Link a forward reference quoted inside a type hint (``type["FrictionLaw"]``) as the name it quotes.
+
+    A module that imports a class for type checking only names it in quotes inside a subscript; autodoc
+    keeps the quotes, so the target is ``'FrictionLaw'``.  Resolved like the bare name, or left missing.
+    """
+    target = node.get("reftarget", "")
+    if node.get("refdomain") != "py" or len(target) < 3 or target[0] not in "'\"" or target[-1] != target[0]:
+        return None
+    bare = node.deepcopy()
+    bare["reftarget"] = target[1:-1]
+    return env.domains["py"].resolve_xref(env, node["refdoc"], app.builder, node["reftype"], target[1:-1],
+                                          bare, contnode)
+
+
+def _builtin_hints(app, doctree):  # noqa: ANN001, ANN202 - Sphinx's hook signature
+    """A built-in class named in a type hint (``type``, ``dict[str, type]``) is Python's: plain text, as ``int`` is.
+
+    Sphinx looks a hint's name up in every namespace and falls back to attributes, so without this ``type`` would
+    link to the attribute ``Bifurcation.type``.
+    """
+    for node in list(doctree.findall(pending_xref)):
+        if (node.get("refdomain") == "py" and node.get("reftype") in ("class", "obj")
+                and inspect.isclass(getattr(builtins, node.get("reftarget", ""), None))):
+            node.replace_self(node.children)
+
+
 def setup(app):  # noqa: ANN001, ANN201
     app.connect("autodoc-process-docstring", _plain_docstrings)
+    app.connect("missing-reference", _quoted_forward_ref)
+    app.connect("doctree-read", _builtin_hints)
     app.connect("autodoc-process-bases", _public_bases)
 

@@ -116,7 +116,7 @@ class Estimate:
 
     @property
     def wall(self) -> float:
-        """Seconds of the run's wall clock: its CPU seconds over its cores."""
+        """Seconds of the run's wall clock, its CPU seconds over its cores."""
         return self.seconds / max(self.cores, 1)
 
     def then(self, other: "Estimate") -> "Estimate":

@@ -88,11 +88,11 @@ class Param:
     sweepable: bool = False
     report: bool = True
     subnormal_ok: bool = False
-    #: for ``text``: turns the given value (text, or a TOML list/table) into the setting
+    #: for ``text``, turns the given value (text, or a TOML list/table) into the setting
     parse: Callable[[Any], Any] | None = None
     #: one of ``DIMENSIONS``
     dimension: str = "none"
-    #: its key in a ``dimensional`` table (default: ``name``; ``v_b`` for ``vb``)
+    #: its key in a ``dimensional`` table (by default ``name``; ``v_b`` for ``vb``)
     dimensional_name: str | None = None
     #: the other ranges declared under this name, (range, owners), that the help states beside this one
     #: (``declared()`` fills it; not part of the parameter's identity)

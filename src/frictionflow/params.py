@@ -115,12 +115,12 @@ class BeltOscillator:
 
     @property
     def driven(self) -> bool:
-        """Whether the flow depends on time: an external force or a moving belt."""
+        """Whether the flow depends on time (an external force or a moving belt)."""
         return self.forced or self.belt_varies
 
     @property
     def drive_period(self) -> float:
-        """The stroboscopic section's spacing the solvers sample: 2 pi / Omega with an external force, else
+        """The stroboscopic section's spacing the solvers sample, 2 pi / Omega with an external force, else
         2 pi / Omega_b (a moving belt alone)."""
         if self.forced or not self.belt_varies:
             return self.forcing_period

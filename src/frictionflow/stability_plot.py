@@ -26,7 +26,7 @@ def plot_stability(scan: StabilityScan, path: str | Path | None = None, *, name:
 
     Each tracked eigenvalue is one colour in both panels, so that two frequencies that coalesce and the
     real parts that split there read as one event; the critical points are marked by kind.  Values without
-    steady sliding (:attr:`~frictionflow.analysis.stability.StabilityScan.lost`) break the loci and are
+    steady sliding (:attr:`~frictionflow.StabilityScan.lost`) break the loci and are
     shaded, up to the located ``contact_loss`` boundary (marked at Re = 0 in the upper panel only: it has
     no frequency).  Returns the
     matplotlib figure; saves it to ``path`` (PNG, PDF, SVG or EPS by its suffix, ``dpi`` dots per inch) when given.

@@ -88,7 +88,7 @@ class SlidingEquilibrium:
 
     @property
     def decay_rate(self) -> float:
-        """-max Re(lambda): how fast perturbations decay (negative: grow)."""
+        """How fast perturbations decay, -max Re(lambda) (negative when they grow)."""
         return -max(l.real for l in self.eigenvalues)
 
     @property

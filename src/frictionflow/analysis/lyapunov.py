@@ -114,13 +114,13 @@ class LyapunovResult(Summarized):
 
     @property
     def collapsed(self) -> bool:
-        """The second exponent is -inf because the motion sticks (the stick onset's saltation: the tangent map
-        loses rank); never without a stick."""
+        """Whether the second exponent is -inf because the motion sticks (the stick onset's saltation makes the
+        tangent map lose rank); never without a stick."""
         return self.exponents[1] == -math.inf and self.stuck
 
     @property
     def spread(self) -> tuple[float, float]:
-        """max - min of each running estimate over the second half of the averaging: a convergence check."""
+        """A convergence check, max - min of each running estimate over the second half of the averaging."""
         half = self.running[len(self.running) // 2:]
         out = []
         for i in range(2):
@@ -433,8 +433,12 @@ def lyapunov_exponents(
         is then only reliable while (lambda_1 - lambda_2) block stays below
         ~23).  None: every block.
 
-    Raises ``TypeError`` (model, friction) or ``ValueError`` naming the
-    argument out of its range or not a number (text, a boolean).
+    Raises
+    ------
+    TypeError
+        A ``model`` or ``friction`` of the wrong type.
+    ValueError
+        Naming the argument out of its range or not a number (text, a boolean).
     """
     check.instance("model", model, BeltOscillator, "a BeltOscillator")
     check.instance("friction", friction, FrictionLaw, "a FrictionLaw")

@@ -85,7 +85,7 @@ class NoSteadySliding(ValueError):
     """Steady sliding does not exist: K_eff singular or a normal load <= 0 at the equilibrium.
 
     ``reason`` is ``"singular"`` or ``"contact_lost"``; the message is one line.  A ``ValueError``, as the
-    other refusals of :func:`steady_sliding`.
+    other refusals of :func:`~frictionflow.steady_sliding`.
     """
 
     def __init__(self, message: str, reason: str) -> None:
@@ -226,9 +226,9 @@ def steady_sliding(assembly: Assembly, laws: Sequence[FrictionLaw] | None = None
     Raises
     ------
     ValueError
-        One line: a belt at rest, a belt inside a stick band; :class:`NoSteadySliding` (a ``ValueError``)
-        for K_eff singular (no isolated equilibrium) or a normal load <= 0 at the equilibrium (the contact
-        is lost).
+        One line: a belt at rest, a belt inside a stick band;
+        :class:`~frictionflow.analysis.stability.NoSteadySliding` (a ``ValueError``) for K_eff singular (no
+        isolated equilibrium) or a normal load <= 0 at the equilibrium (the contact is lost).
     """
     check.instance("assembly", assembly, Assembly, "an Assembly (frictionflow.system.assemble(system))")
     mass = np.asarray(assembly.mass, dtype=float)
@@ -345,13 +345,13 @@ class StabilityScan(Summarized):
 
     @property
     def lost(self) -> np.ndarray:
-        """(P,) bool: no steady sliding at that value (a normal load <= 0 at the equilibrium: the contact is lost;
-        or K_eff singular: no isolated equilibrium); its eigenvalues are NaN."""
+        """Per value (shape (P,), bool), whether steady sliding is missing there; its eigenvalues are then NaN
+        (a normal load <= 0 at the equilibrium: the contact is lost; or K_eff singular: no isolated equilibrium)."""
         return np.all(np.isnan(self.eigenvalues), axis=1)
 
     @property
     def stable(self) -> np.ndarray:
-        """(P,) bool: no eigenvalue in the right half plane at that value (a real part within ``ZERO_REAL``
+        """Per value (shape (P,), bool), no eigenvalue in the right half plane there (a real part within ``ZERO_REAL``
         of the spectrum's size is zero: undamped modes count as stable, marginally, as for the critical points);
         False where steady sliding does not exist (:attr:`lost`)."""
         lam = self.eigenvalues

@@ -134,6 +134,7 @@ class SteadyState(Summarized):
         return "SteadyState", rows
 
     def to_dict(self) -> dict[str, Any]:
+        """Every field exactly, JSON-ready (the window a list)."""
         d = asdict(self)
         d["window"] = [float(self.window[0]), float(self.window[1])]
         del d["forced"]

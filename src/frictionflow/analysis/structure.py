@@ -69,7 +69,7 @@ class StructureSteadyState(Summarized):
     Attributes
     ----------
     kind:
-        One of :data:`STRUCTURE_KINDS`.
+        One of ``STRUCTURE_KINDS``.
     period:
         The period (periodic only, else NaN).
     window:

@@ -118,7 +118,7 @@ class Tolerances:
     amplitude: float = 1e-3  #: relative, on the amplitude X_max - X_min and on the equilibrium's X*
     stick: float = 1e-3  #: absolute, on the stick fraction (and the least stick fraction of a stick-slip cycle)
     floor: float = 1e-9  #: absolute floor of the amplitude and position comparisons (solver noise)
-    #: what the runs resolve (:func:`resolution`, set by :func:`~frictionflow.basins.basins`): period, amplitude
+    #: what the runs resolve (``resolution()``, set by :func:`~frictionflow.basins.basins`); period, amplitude
     #: and stick are never finer
     resolution: float = 0.0
 
@@ -144,7 +144,7 @@ class Attractor:
     period: float  #: the median period of its points (NaN for the equilibrium)
     amplitude: float  #: the median amplitude X_max - X_min of its points
     stick_fraction: float  #: the median stick fraction of its points
-    x_mid: float  #: (X_max + X_min) / 2: X* for the equilibrium
+    x_mid: float  #: the middle (X_max + X_min) / 2, X* for the equilibrium
 
 
 def _relative(rel: float, floor: float) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:

@@ -82,8 +82,8 @@ class Basins(Summarized):
 
     @property
     def names(self) -> list[str]:
-        """Every outcome by code: the attractors (0, 1, ...), then ``not_settled``, ``diverged``, ``quasi_periodic``
-        and ``chaotic``."""
+        """Every outcome by code, the attractors (0, 1, ...) first, then ``not_settled``, ``diverged``,
+        ``quasi_periodic`` and ``chaotic``."""
         return str(self.dataset["outcome"].attrs["flag_meanings"]).split()
 
     @property

@@ -4,7 +4,7 @@ A law is a small immutable object whose parameters are declared once
 (:class:`~frictionflow.parameters.Param`, the class attribute ``parameters``)
 and validated in ``__init__``.  It hands the compiled kernels a flat float
 array (:meth:`FrictionLaw.kernel_params`, layout in
-:mod:`frictionflow.core.layout`); the same mapping from parameter values to
+``frictionflow.core.layout``); the same mapping from parameter values to
 kernel slots (:meth:`FrictionLaw.kernel_columns`) fills the per-point rows of a
 sweep.  Kernels know nothing of these classes.
 
@@ -13,8 +13,8 @@ its capabilities -- ``stick_rule``, ``piecewise_constant``, ``compiled_slip`` --
 and, for a smooth slip curve, compiled ``magnitude``/``slope`` functions),
 decorated with :func:`~frictionflow.friction.registry.register`, imported in
 ``friction/__init__.py``; a compiled law also gets a code in
-:mod:`frictionflow.core.layout` and a line in each dispatcher of
-:mod:`frictionflow.core.friction`.  Solvers, engines and messages read the
+``frictionflow.core.layout`` and a line in each dispatcher of
+``frictionflow.core.friction``.  Solvers, engines and messages read the
 capabilities, never the law's name.
 """
 
@@ -54,7 +54,7 @@ class FrictionLaw:
     name:
         Registry name (``--friction NAME``).
     code:
-        Law code of its compiled slip force (:mod:`frictionflow.core.layout`).
+        Law code of its compiled slip force (``frictionflow.core.layout``).
     parameters:
         Its parameters, in the order of the JSON ``params``.
     kernel_slots:
@@ -62,10 +62,10 @@ class FrictionLaw:
     piecewise_constant:
         The slip force is constant (the exact event-driven solver applies).
     stick_rule:
-        One of :data:`STICK_RULES`: ``"band"`` (Karnopp's velocity band) or ``"switch"``
+        One of ``STICK_RULES``: ``"band"`` (Karnopp's velocity band) or ``"switch"``
         (Coulomb's set-valued rule at V_r = 0).
     compiled_slip:
-        The kernels' own force dispatch (:mod:`frictionflow.core.friction`, by ``code``) evaluates its
+        The kernels' own force dispatch (``frictionflow.core.friction``, by ``code``) evaluates its
         slip force.  False for a user's function: only the adaptive kernel, rebuilt around it, runs it.
     internal_names:
         Names of its internal states; a law with any (:class:`~frictionflow.friction.stateful.StatefulLaw`)
@@ -83,7 +83,7 @@ class FrictionLaw:
     stick_rule: ClassVar[str] = "switch"
     compiled_slip: ClassVar[bool] = True
     has_tangent_kernel: ClassVar[bool] = True
-    #: names of its internal states (LuGre: ``("z",)``); empty for a static law F(V_r)
+    #: names of its internal states, ``("z",)`` for LuGre; empty for a static law F(V_r)
     internal_names: ClassVar[tuple[str, ...]] = ()
     #: buildable by name from a config (user laws need a function)
     configurable: ClassVar[bool] = True
@@ -128,7 +128,7 @@ class FrictionLaw:
     # -- what the kernels see -------------------------------------------------
     @property
     def band(self) -> float | None:
-        """Half-width of the velocity band that fixed-step RK4 treats as stick (None: RK4 cannot run the law)."""
+        """Half-width of the velocity band that fixed-step RK4 treats as stick (None if RK4 cannot run the law)."""
         return getattr(self, "rk4_band", None)
 
     @classmethod
@@ -140,7 +140,7 @@ class FrictionLaw:
         return cols
 
     def kernel_params(self) -> np.ndarray:
-        """Flat float64 array in the layout of :mod:`~frictionflow.core.layout` (a copy: the law is immutable)."""
+        """Flat float64 array in the layout of ``frictionflow.core.layout`` (a copy: the law is immutable)."""
         p = self.__dict__.get("_kernel_params")
         if p is None:
             p = np.zeros(layout.N_PARAMS)

@@ -37,6 +37,8 @@ def minimum(mu_s: Any, k1: Any, k3: Any) -> Any:
 class Cubic(FrictionLaw):
     """Coulomb's stick rule with the cubic slip curve mu_s - k_1 |V_r| + k_3 |V_r|^3.
 
+    ``fd`` is not a parameter: it is the curve's minimum F_min (the kinetic level).
+
     Parameters
     ----------
     fs:
@@ -50,8 +52,6 @@ class Cubic(FrictionLaw):
         ``"resultant"`` (default) or ``"spring"``.
     rk4_band:
         Stick band for the fixed-step RK4 solver only.
-
-    ``fd`` is not a parameter: it is the curve's minimum F_min (the kinetic level).
     """
 
     name = "cubic"

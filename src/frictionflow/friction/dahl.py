@@ -49,7 +49,7 @@ class Dahl(StatefulLaw):
 
     @property
     def fs(self) -> float:
-        """The static level: Dahl's force never exceeds F_C."""
+        """The static level F_C, which Dahl's force never exceeds."""
         return self.fd
 
     def slip_magnitude(self, speed: Any) -> np.ndarray:

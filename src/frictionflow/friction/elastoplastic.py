@@ -33,7 +33,7 @@ class ElastoPlastic(LuGre):
     Parameters
     ----------
     fd, fs, vs, delta, sigma0, sigma1, sigma2:
-        As :class:`~frictionflow.friction.LuGre`.
+        As :class:`~frictionflow.LuGre`.
     z_ba:
         Break-away deflection, 0 < z_ba < F_C / sigma0.
     """

@@ -89,7 +89,7 @@ class RateState(StatefulLaw):
 
     @property
     def state_law_code(self) -> float:
-        """The state law in the engine's record: 0 aging, 1 slip."""
+        """The state law in the engine's record (0 aging, 1 slip)."""
         return float(STATE_LAWS.index(self.state_law))
 
     @property
@@ -99,7 +99,7 @@ class RateState(StatefulLaw):
 
     @property
     def fs(self) -> float:
-        """No static level of its own: that of :attr:`fd`."""
+        """No static level of its own, so that of :attr:`fd`."""
         return self.fd
 
     def theta(self, psi: Any) -> np.ndarray:

@@ -40,7 +40,7 @@ class StatefulLaw(FrictionLaw):
         Its parameters in the order of its record's slots after the kernels' force record.
     stiff_at_rest:
         Whether its force can move by more than its tolerance across the rounding of V_r at V_r = 0
-        (rate-and-state): :func:`frictionflow.solvers.stiff.check_resolved` then checks each run.
+        (rate-and-state): ``frictionflow.solvers.stiff.check_resolved`` then checks each run.
     """
 
     stick_rule = "state"

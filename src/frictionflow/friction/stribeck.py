@@ -25,7 +25,7 @@ class Stribeck(FrictionLaw):
         F(V_r) = sgn(V_r) [F_d + (F_s - F_d) exp(-(|V_r| / V_s)^delta) + c_v |V_r|]
 
     While V_r = 0 the mass sticks as long as |F_e| <= F_s (as for
-    :class:`~frictionflow.friction.Coulomb`).
+    :class:`~frictionflow.Coulomb`).
 
     Parameters
     ----------

@@ -137,7 +137,7 @@ class SlipLaw(FrictionLaw):
         self._assign(fd=float(func(1e2)) if fd is None else fd, fs=f0 if fs is None else fs, stick_force=stick_force)
 
     def kernel_force(self) -> Callable[[np.ndarray, float], float] | None:
-        """:func:`user_slip_force` (the same for every user law), or None if numba cannot compile ``func``."""
+        """``user_slip_force`` (the same for every user law), or None if numba cannot compile ``func``."""
         return None if self._compiled() is None else user_slip_force
 
     def kernel_params(self) -> np.ndarray:

@@ -241,7 +241,7 @@ class Chart(Summarized):
     sweep: Any = None
     #: the sweep variable drawn under the curves ("" without a sweep)
     heat: str = ""
-    #: ``x`` or ``y``: which parameter ``grid`` holds
+    #: which parameter ``grid`` holds, ``x`` or ``y``
     grid_axis: str = "x"
     #: the parameter each grid value's continuation ran in, "" otherwise
     continued_in: str = ""

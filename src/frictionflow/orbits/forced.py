@@ -339,7 +339,7 @@ class ForcedOrbit(Summarized):
 
     @property
     def exponents(self) -> np.ndarray:
-        """log|mu| / period: the Lyapunov exponents of the orbit (-inf for a multiplier 0)."""
+        """The Lyapunov exponents of the orbit, log|mu| / period (-inf for a multiplier 0)."""
         with np.errstate(divide="ignore"):
             return np.log(np.abs(self.multipliers)) / self.period
 
@@ -462,7 +462,7 @@ def find_forced_orbit(
     x0, v0:
         The start (X, X') at tau = 0.  Unless ``transient_periods`` says
         otherwise, given both they are Newton's first guess; else (missing
-        ones 0) the motion runs :data:`DEFAULT_TRANSIENT` forcing periods
+        ones 0) the motion runs ``DEFAULT_TRANSIENT`` forcing periods
         from them first.
     steps:
         RK4 grid steps per forcing period (switches are located whatever it is).
@@ -1277,7 +1277,7 @@ def stroboscopic_sweep(model: BeltOscillator, friction: FrictionLaw, parameter: 
 
     Each value starts from the state the previous one ended in (state
     continuation, so a sweep up follows the branch it is on until it ends).
-    Integrated by :func:`frictionflow.core.tangent.run` (RK4, located
+    Integrated by ``frictionflow.core.tangent.run`` (RK4, located
     switches); a run that fails leaves NaN.
 
     Parameters

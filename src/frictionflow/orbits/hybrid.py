@@ -42,7 +42,7 @@ class Phase:
     mode:
         The friction mode: ``slip+``, ``slip-`` (V_r = V_b - X' positive or
         negative), ``stick``, or one of Karnopp's band modes ``band-sat+``,
-        ``band-sat-``, ``edge-lo``, ``edge-hi`` (:data:`STICKING_MODES` hold the mass).
+        ``band-sat-``, ``edge-lo``, ``edge-hi`` (``STICKING_MODES`` hold the mass).
     t0:
         When the phase starts, in dimensionless time tau from the start of
         its :class:`Segment`.
@@ -122,7 +122,7 @@ class Switch:
 
     @property
     def transversality(self) -> float:
-        """|grad h . f-| relative to |grad h| |f-|: near 0 the switch is a grazing touch."""
+        """|grad h . f-| relative to |grad h| |f-|, near 0 when the switch is a grazing touch."""
         den = float(np.linalg.norm(self.normal) * np.linalg.norm(self.f_before))
         return abs(float(self.normal @ self.f_before)) / den if den > 0 else 0.0
 

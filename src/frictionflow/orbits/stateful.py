@@ -95,7 +95,7 @@ class StatefulOrbit(floquet.MultiplierStability, Summarized):
 
     @property
     def stick_fraction(self) -> float:
-        """The fraction of the period the law counts as stuck (``mode_of``: |V_r| below its creep speed)."""
+        """The fraction of the period the law counts as stuck (``mode_of``, |V_r| below its creep speed)."""
         return stick_fraction(self.trajectory)
 
     def _summary(self) -> tuple[str, list[Row]]:

@@ -69,7 +69,8 @@ class StateEquilibrium:
 
     @property
     def hopf_test(self) -> float:
-        """prod_{i<j} Re(l_i + l_j): zero where a complex pair has real part 0 (or a neutral saddle)."""
+        """The Hopf test function prod_{i<j} Re(l_i + l_j), zero where a complex pair has real part 0 (or a
+        neutral saddle)."""
         lam = self.eigenvalues
         out = 1.0 + 0.0j
         for i in range(len(lam)):

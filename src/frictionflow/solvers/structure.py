@@ -237,7 +237,7 @@ def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None
 
 def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None, solver: str = NAME,
                     **settings: Any) -> Motion:
-    """Run the model ``system`` to ``t_end``: assemble it, then :func:`run_assembly`.
+    """Run the model ``system`` to ``t_end``: assemble it, then :func:`~frictionflow.solvers.structure.run_assembly`.
 
     Parameters
     ----------

@@ -110,7 +110,7 @@ class SweepConfig(Grid):
     axes: dict[str, np.ndarray]  #: the swept parameters and their values, in the grid's order
     fixed: dict[str, float] = field(default_factory=dict)  #: parameters given one value in the grid
     source: dict[str, Any] = field(default_factory=dict)  #: the settings and the grid it was parsed from (recorded in the output)
-    #: per point of the ``sample`` axis: the drawn values of each sampled parameter
+    #: the drawn values of each sampled parameter, per point of the ``sample`` axis
     sample: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
@@ -120,7 +120,7 @@ class SweepConfig(Grid):
 
     @property
     def labels(self) -> dict[str, tuple[str, ...]]:
-        """The labels of the variables' dims beyond the grid's (none: every variable is one number per point)."""
+        """The labels of the variables' dims beyond the grid's (empty when every variable is one number per point)."""
         return {}
 
     def axis_attrs(self, name: str) -> dict[str, str]:

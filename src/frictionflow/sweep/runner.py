@@ -154,7 +154,8 @@ def repair_sweep(
     settings the output records -- then every committed chunk is verified
     against its checksum: those that verify are kept, the flags of the others
     cleared, so that running the sweep again computes only them.  Returns
-    the findings (:attr:`Verification.rebuilt`, :meth:`Verification.repair_line`).
+    the findings (:attr:`~frictionflow.sweep.store.Verification.rebuilt`,
+    :meth:`~frictionflow.sweep.store.Verification.repair_line`).
     Raises ValueError for an output that is missing, not a sweep, or holds
     another sweep; :class:`~frictionflow.sweep.store.DamagedStoreError` when
     only ``--restart`` helps; :class:`~frictionflow.io.OutputError` when the

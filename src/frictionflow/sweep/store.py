@@ -220,14 +220,14 @@ class BadChunk(NamedTuple):
 
 @dataclass
 class Verification:
-    """What checking a sweep store found (:meth:`SweepStore.verify`, :func:`verify_sweep`)."""
+    """What checking a sweep store found (``SweepStore.verify``, :func:`~frictionflow.sweep.verify_sweep`)."""
 
     path: Path  #: the sweep output checked (its ``.zarr`` or ``.nc`` path, also while a ``.nc`` is in its journal)
     n_chunks: int  #: chunks in the sweep's grid (0 when the store could not be opened)
     done: int = 0  #: committed chunks found intact
     bad: list[BadChunk] = field(default_factory=list)  #: committed chunks that cannot be kept, each with where and why
     problems: list[str] = field(default_factory=list)  #: damage beyond single chunks (the done-flags, ...)
-    unrecorded: bool = False  #: no checksums at all (an older store): data checked for completeness only
+    unrecorded: bool = False  #: no checksums at all, as in an older store; data checked for completeness only
     unknown: int = 0  #: chunks whose checksum was lost or never recorded, checked for complete data instead
     repairable: bool = True  #: whether running the sweep again repairs it (else ``--restart`` is needed)
     rebuilt: list[str] = field(default_factory=list)  #: metadata documents rebuilt from the settings (``root``, variables)
@@ -235,6 +235,7 @@ class Verification:
 
     @property
     def intact(self) -> bool:
+        """Whether all is well (no bad chunk and no damage beyond single chunks)."""
         return not self.bad and not self.problems
 
     def counts(self) -> dict[str, int]:
@@ -836,9 +837,9 @@ def verify_sweep(path: str | Path, *, name: str = "path") -> Verification:
     """Check a sweep output (``.zarr``, ``.nc``, or a ``.nc`` still in its journal) without computing.
 
     Every committed chunk is read back and compared with its checksum.  The
-    result lists each bad chunk and why (:attr:`Verification.bad`), and
-    damage beyond single chunks (:attr:`Verification.problems`);
-    :attr:`Verification.intact` says whether all is well.  Raises ValueError
+    result lists each bad chunk and why (:attr:`~frictionflow.sweep.store.Verification.bad`), and
+    damage beyond single chunks (:attr:`~frictionflow.sweep.store.Verification.problems`);
+    :attr:`~frictionflow.sweep.store.Verification.intact` says whether all is well.  Raises ValueError
     for a path that is not a sweep output at all.
 
     Parameters

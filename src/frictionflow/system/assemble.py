@@ -26,7 +26,7 @@ def assemble(system: System) -> Assembly:
     -------
     Assembly
         Every array float64 and C-contiguous; a kind with no element has shape (0, n) or (0,).
-        A contact's law row is its law's :meth:`~frictionflow.friction.FrictionLaw.kernel_params`
+        A contact's law row is its law's :meth:`~frictionflow.FrictionLaw.kernel_params`
         with the forcing slots 0; its normal row is [preload, n_1, ..., n_n] ([1, 0, ..., 0] without
         a normal load).
     """

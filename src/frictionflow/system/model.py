@@ -188,7 +188,7 @@ class System:
 
     @property
     def element_names(self) -> tuple[str, ...]:
-        """Every element's name: the springs, dampers, contacts and forces, each kind in file order."""
+        """Every element's name (the springs, dampers, contacts and forces), each kind in file order."""
         return self.spring_names + self.damper_names + self.contact_names + self.force_names
 
     @property
