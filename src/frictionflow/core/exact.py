@@ -813,7 +813,9 @@ def run(run, p, samples, events, t_mode, replicate, periodic_stop):
         if never and t_terminal < 0.0:
             t_terminal = t
             t_mode[0] = FRICTION_MODE[mode]
-            if s.stop_terminal and zeta > 0.0:  # undamped, a final slip phase circles X* for ever: periodic
+            # undamped, a final slip phase circles X* for ever: periodic; a band held against the spring alone
+            # (Karnopp's spring rule) still moves, the damper braking X' to 0: the run goes on, judged as simulate's
+            if s.stop_terminal and zeta > 0.0 and (FRICTION_MODE[mode] != 0 or v == 0.0):
                 return k, ne, DONE, t_terminal, t
         tz, tt, src, n_rel = _phase_sources(ph, T, s, n_rel)  # the samples inside, each with the work since the last
         ta, xa, va = 0.0, x, v
