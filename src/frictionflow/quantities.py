@@ -96,7 +96,8 @@ TABLE = (
     Quantity("energy_residual", "relative residual of the power balance over the window", "energy_residual", "resid"),
     # not stored by sweeps: over whole periods it equals P_dv
     Quantity("P_f", "time-averaged net power of friction X' F_c = P_belt - P_heat", "averages", "zero", swept=False),
-    # not stored by batched sweeps (they run the unforced system); forced sweeps add it
+    # not stored by sweeps, forced ones included (their rows are the kernels' NR entries): simulate --json,
+    # response and the forced orbits report it
     Quantity("P_ex", "time-averaged power put in by the external force X' F_ex cos(Omega tau + phi)", "averages", "zero",
              swept=False, forced_only=True),
 )

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from frictionflow.analysis.structure import analyze_structure
-from frictionflow.analysis.structure_lyapunov import contracting
+from frictionflow.analysis.structure_lyapunov import closing_in
 from frictionflow.orbits import find_structure_orbit
 from frictionflow.solvers.structure import simulate_system
 from frictionflow.system import System
@@ -40,6 +40,6 @@ def test_contracting_tells_a_spiral_from_a_closed_curve():
     k = np.arange(400)
     angle = 2.0 * np.pi * k * (np.sqrt(5.0) - 1.0) / 2.0  # an irrational rotation: a curve filled evenly
     curve = np.vstack([np.cos(angle), 0.5 * np.sin(angle)])
-    assert not contracting(curve)
-    assert contracting(curve * np.exp(-1e-3 * k))  # 0.67 of its size over the run
-    assert not contracting(curve * np.exp(-1e-5 * k))  # 0.996: within the torus's own spread
+    assert not closing_in(curve)
+    assert closing_in(curve * np.exp(-1e-3 * k))  # 0.67 of its size over the run
+    assert not closing_in(curve * np.exp(-1e-5 * k))  # 0.996: within the torus's own spread

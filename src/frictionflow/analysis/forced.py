@@ -23,7 +23,10 @@ forced.  The kinds:
     No repetition, a largest exponent indistinguishable from 0, and a section
     that has stopped drifting: the points fill a closed curve (an invariant
     torus of the flow), which the second half of the tail revisits (each of
-    its points lies close to a point of the first half).
+    its points lies close to a point of the first half), without closing in
+    on a point or a cycle of up to 1024 points (the extents, or the m-step
+    differences, of the tail's quarters falling: a slowly attracting cycle,
+    whose exponent is within its uncertainty of 0 too).
 ``not_settled``
     None of these: still converging (a negative exponent: the run is too
     short for the repetition to show), or drifting.
@@ -115,6 +118,11 @@ def revisits(x: np.ndarray, v: np.ndarray, tol: float) -> bool:
     return bool(strobe.revisits(np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(v, dtype=float), float(tol)))
 
 
+def closing_in(x: np.ndarray, v: np.ndarray) -> bool:
+    """Whether the section (X, X') closes in on a point or a cycle (:func:`frictionflow.core.strobe.closing_in`)."""
+    return bool(strobe.closing_in(np.ascontiguousarray(np.vstack([x, v]), dtype=float)))
+
+
 def _step_jitter(traj: Trajectory, i0: int) -> float:
     """How far a fixed-step run's section may wander: a few steps' travel at the tail's largest speed.
 
@@ -194,7 +202,7 @@ def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: 
     out["lyapunov"] = lam
     if lam > spread:
         out["kind"] = "chaotic"
-    elif abs(lam) <= spread and revisits(xs, vs, REVISIT_SHARE * scale):
+    elif abs(lam) <= spread and revisits(xs, vs, REVISIT_SHARE * scale) and not closing_in(xs, vs):
         out["kind"] = "quasi_periodic"
     else:
         out["kind"] = "not_settled"

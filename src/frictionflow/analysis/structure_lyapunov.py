@@ -11,7 +11,7 @@ with the same constants (:mod:`frictionflow.core.strobe`):
     stopped drifting: every point of the second half lies within
     :data:`~frictionflow.core.strobe.REVISIT_SHARE` of the section's scale of
     a point of the first half (a closed curve, revisited), and they do not
-    close in on a point (:func:`contracting`: a focus spiralling in too slowly
+    close in on a point (:func:`closing_in`: a focus spiralling in too slowly
     for the exponent to tell, |mu| = 0.999 a period, revisits itself too);
 ``not_settled``
     otherwise (a negative exponent: still converging; or drifting).
@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core import strobe
 from ..core.strobe import (LYAPUNOV_PERIODS, LYAPUNOV_SPREAD_FLOOR, LYAPUNOV_STOP, LYAPUNOV_TRANSIENT,
                            REVISIT_SHARE)
 from ..core.tangent import _negative
@@ -49,9 +50,6 @@ from ..solvers.structure import run_assembly
 DELTA = 1e-7
 #: the flow vector is the reference's backward difference over this share of a block
 FLOW_STEP = 1e-6
-#: a section whose last quarter spans less than this share of its first (each quarter less than the one before)
-#: closes in on a point
-CONTRACTION = 0.9
 #: a contact whose |V_r| at a block's start is below this share of its terms' size is stuck there (its
 #: velocity is put on its belt: a change far below the pair's separation, DELTA)
 STUCK_SHARE = 1e-11
@@ -199,15 +197,10 @@ def revisits(points: np.ndarray, tol: float) -> bool:
     return True
 
 
-def contracting(points: np.ndarray) -> bool:
-    """Whether the section's points (columns, in time order) close in on a point: the extents (the largest range
-    of a component) of its four quarters fall, each below the one before, the last below :data:`CONTRACTION` of
-    the first.  A torus's quarters cover the same closed curve; at least 4 points a quarter."""
-    q = points.shape[1] // 4
-    if q < 4:
-        return False
-    extents = [float(np.max(np.ptp(points[:, i * q:(i + 1) * q], axis=1))) for i in range(4)]
-    return all(b < a for a, b in zip(extents, extents[1:])) and extents[3] < CONTRACTION * extents[0]
+def closing_in(points: np.ndarray) -> bool:
+    """Whether the section's points (columns, in time order) close in on a point or a cycle
+    (:func:`frictionflow.core.strobe.closing_in`, the single mass's test too)."""
+    return bool(strobe.closing_in(np.ascontiguousarray(points, dtype=float)))
 
 
 def beyond_periodic(motion: Any, section: np.ndarray, block: float, autonomous: bool,
@@ -217,7 +210,7 @@ def beyond_periodic(motion: Any, section: np.ndarray, block: float, autonomous: 
     The single mass's rule (:func:`frictionflow.analysis.forced.classify_forced`): ``chaotic`` if the
     exponent exceeds its uncertainty, ``quasi_periodic`` if it is within it and the section revisits
     itself to :data:`~frictionflow.core.strobe.REVISIT_SHARE` of ``scale`` without closing in on a point
-    (:func:`contracting`), else ``not_settled``.
+    (:func:`closing_in`), else ``not_settled``.
 
     Parameters
     ----------
@@ -238,6 +231,6 @@ def beyond_periodic(motion: Any, section: np.ndarray, block: float, autonomous: 
     lam, spread = found
     if lam > spread:
         return "chaotic", lam
-    if abs(lam) <= spread and revisits(section, REVISIT_SHARE * scale) and not contracting(section):
+    if abs(lam) <= spread and revisits(section, REVISIT_SHARE * scale) and not closing_in(section):
         return "quasi_periodic", lam
     return "not_settled", lam

@@ -91,7 +91,12 @@ def _judge(samples, k, p, zeta, vb, settings, out, aux):
     out[strobe.R_PERIOD] = m * period if m else np.nan
     aux[A_STATUS] = DONE if m else LYAPUNOV
     aux[A_X], aux[A_V] = x[last], v[last]
-    aux[A_REVISITS] = 1.0 if not m and strobe.revisits(xs, vs, strobe.REVISIT_SHARE * scale) else 0.0
+    torus = not m and strobe.revisits(xs, vs, strobe.REVISIT_SHARE * scale)
+    if torus:
+        points = np.empty((2, len(xs)))
+        points[0], points[1] = xs, vs
+        torus = not strobe.closing_in(points)
+    aux[A_REVISITS] = 1.0 if torus else 0.0
 
 
 # Flags arrive as arguments from Python, never as constants written in a kernel: numba would compile the

@@ -813,7 +813,8 @@ def run(run, p, samples, events, t_mode, replicate, periodic_stop):
         if never and t_terminal < 0.0:
             t_terminal = t
             t_mode[0] = FRICTION_MODE[mode]
-            if s.stop_terminal and zeta > 0.0:  # undamped, a final slip phase circles X* for ever: periodic
+            # undamped, a final slip circles X* (periodic); a spring-rule band still moves (X'' = -2 zeta X')
+            if s.stop_terminal and zeta > 0.0 and (FRICTION_MODE[mode] != 0 or v == 0.0):
                 return k, ne, DONE, t_terminal, t
         tz, tt, src, n_rel = _phase_sources(ph, T, s, n_rel)  # the samples inside, each with the work since the last
         ta, xa, va = 0.0, x, v

@@ -7,8 +7,8 @@ window values are line-by-line ports of the numpy they mirror, with the same
 floating-point operations in the same order (so the results are the same
 bits, not only close):
 
-* :func:`section_indices`, :func:`repeat_multiple`, :func:`revisits` -- the
-  section and its repetition test, which :mod:`frictionflow.analysis.forced`
+* :func:`section_indices`, :func:`repeat_multiple`, :func:`revisits`,
+  :func:`closing_in` -- the section and its repetition and torus tests, which :mod:`frictionflow.analysis.forced`
   calls too (stated once, here);
 * :func:`window_row` -- what :func:`frictionflow.analysis.analyze` reports over
   a window that starts and ends on samples: ``power_flow`` (its sums of the
@@ -51,6 +51,13 @@ LYAPUNOV_SPREAD_FLOOR = 1e-4
 LYAPUNOV_STOP = (60, 20, 2.0, LYAPUNOV_SPREAD_FLOOR)
 #: a non-repeating section is quasi-periodic only if its second half revisits the first to this share of its scale
 REVISIT_SHARE = 0.05
+#: ... and does not close in on a point: its quarters' extents fall, the last below this share of the first's
+CONTRACTION = 0.9
+#: ... nor on a cycle of m points (m up to a quarter of the section, at most CYCLE_MAX): the largest m-step
+#: difference |P_{k+m} - P_k| of each quarter falls, the last below CYCLE_FALL of the first's (a torus's
+#: differences are one smooth function of its angle, which each quarter samples alike)
+CYCLE_MAX = 1024
+CYCLE_FALL = 0.5
 
 # Positions in the result row (the quantities table's first NR entries).
 R_KIND, R_PERIOD, R_TR_B, R_X_MIN, R_X_MAX, R_V_MIN, R_V_MAX, R_STICK = (Q.index(n) for n in (
@@ -155,6 +162,70 @@ def revisits(x, v, tol):
         if not near <= tol:
             return False
     return True
+
+
+@njit(cache=True)
+def contracting(points):
+    """Whether the section's points (the columns of ``points``, one row per component, in time order) close in
+    on a point: the extents (a component's largest range) of its four quarters fall, each below the one before,
+    the last below :data:`CONTRACTION` of the first.  A torus's quarters cover one closed curve; a slowly
+    attracting cycle's section spirals in (its multipliers near the unit circle: the exponent alone, within its
+    uncertainty of 0, cannot tell it from a torus).  At least 4 points a quarter."""
+    q = points.shape[1] // 4
+    if q < 4:
+        return False
+    before = np.inf
+    first = 0.0
+    for j in range(4):
+        extent = 0.0
+        for c in range(points.shape[0]):
+            lo, hi = np.inf, -np.inf
+            for i in range(j * q, (j + 1) * q):
+                lo, hi = min(lo, points[c, i]), max(hi, points[c, i])
+            extent = max(extent, hi - lo)
+        if not extent < before:
+            return False
+        if j == 0:
+            first = extent
+        before = extent
+    return before < CONTRACTION * first
+
+
+@njit(cache=True)
+def converging_cycle(points):
+    """Whether the section's points (columns, in time order) close in on a cycle of m points, for some m up to
+    a quarter of them (at most :data:`CYCLE_MAX`): the largest m-step difference (max-norm) of each quarter
+    falls, each below the one before, the last below :data:`CYCLE_FALL` of the first.  A slowly attracting
+    long cycle (a phase lock of hundreds of forcing periods) revisits like a torus, with an exponent within
+    its uncertainty of 0; only its returns shrinking tell it apart.  At least 16 points a quarter."""
+    n = points.shape[1]
+    for m in range(1, min((n - 1) // 4, CYCLE_MAX) + 1):
+        q = (n - m) // 4
+        if q < 16:
+            return False
+        before, first = np.inf, 0.0
+        falls = True
+        for j in range(4):
+            largest = 0.0
+            for i in range(j * q, (j + 1) * q):
+                for c in range(points.shape[0]):
+                    largest = max(largest, abs(points[c, i + m] - points[c, i]))
+            if not largest < before:
+                falls = False
+                break
+            if j == 0:
+                first = largest
+            before = largest
+        if falls and before < CYCLE_FALL * first:
+            return True
+    return False
+
+
+@njit(cache=True)
+def closing_in(points):
+    """Whether the section closes in on a point (:func:`contracting`) or on a cycle (:func:`converging_cycle`):
+    a slowly attracting cycle, not a torus."""
+    return contracting(points) or converging_cycle(points)
 
 
 @njit(cache=True)
