@@ -66,7 +66,7 @@ napoleon_numpy_docstring = True
 napoleon_google_docstring = False
 napoleon_use_rtype = False
 # the docstrings name parameters such as "t, x, v, fc:" that are not cross-reference targets
-nitpicky = False
+nitpicky = True
 # Types of other packages and of the standard library: no intersphinx (the build needs no network), so
 # these cannot resolve; every other unresolved reference (``sphinx-build -n``) is the project's own.
 nitpick_ignore = [

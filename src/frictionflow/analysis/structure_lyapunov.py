@@ -9,7 +9,7 @@ with the same constants (:mod:`frictionflow.core.strobe`):
 ``quasi_periodic``
     the exponent is indistinguishable from 0 and the section's points have
     stopped drifting: every point of the second half lies within
-    :data:`~frictionflow.core.strobe.REVISIT_SHARE` of the section's scale of
+    ``REVISIT_SHARE`` (``frictionflow.core.strobe``) of the section's scale of
     a point of the first half (a closed curve, revisited), and they do not
     close in on a point (:func:`closing_in`: a focus spiralling in too slowly
     for the exponent to tell, |mu| = 0.999 a period, revisits itself too);
@@ -107,7 +107,7 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
     """(largest exponent, its uncertainty) of the structure's flow from the end of ``motion``; None if unavailable.
 
     The uncertainty is the range of the running estimate over the second half
-    of the averaged blocks, at least :data:`~frictionflow.core.strobe.LYAPUNOV_SPREAD_FLOOR`.
+    of the averaged blocks, at least ``LYAPUNOV_SPREAD_FLOOR`` (``frictionflow.core.strobe``).
     None when a run of the pair loses a contact or the engine cannot go on.
 
     Parameters
@@ -121,7 +121,7 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
     blocks:
         (transient blocks, averaged blocks).
     stop:
-        The single mass's early end (:data:`~frictionflow.core.strobe.LYAPUNOV_STOP`): once the running
+        The single mass's early end (``LYAPUNOV_STOP`` of ``frictionflow.core.strobe``): once the running
         estimate is below -factor times its uncertainty the kind is settled as not chaotic.
     """
     a, t0 = motion.assembly, float(motion.t[-1])
@@ -207,10 +207,10 @@ def beyond_periodic(motion: Any, section: np.ndarray, block: float, autonomous: 
                     scale: float) -> tuple[str, float | None]:
     """(kind, largest exponent or None) of a run whose section ``section`` (states as columns) does not repeat.
 
-    The single mass's rule (:func:`frictionflow.analysis.forced.classify_forced`): ``chaotic`` if the
+    The single mass's rule (``frictionflow.analysis.forced.classify_forced``): ``chaotic`` if the
     exponent exceeds its uncertainty, ``quasi_periodic`` if it is within it and the section revisits
-    itself to :data:`~frictionflow.core.strobe.REVISIT_SHARE` of ``scale`` without closing in on a point
-    (:func:`closing_in`), else ``not_settled``.
+    itself to ``REVISIT_SHARE`` (``frictionflow.core.strobe``) of ``scale`` without closing in on a point or a cycle
+    (``closing_in``), else ``not_settled``.
 
     Parameters
     ----------

@@ -182,7 +182,7 @@ def adaptive_points(p: np.ndarray, zeta: np.ndarray, vb: np.ndarray, x0: np.ndar
                     cap: int | None = None) -> None:
     """Adaptive Dormand-Prince for every point (built-in slip laws), parallel over the cores.
 
-    ``ode``: the step control, an :class:`Ode` (rtol, atol, max_steps).
+    ``ode``: the step control, an ``Ode`` (rtol, atol, max_steps).
     ``cap``: the samples each point has room for at first (default: about 64 per time unit up to
     t_end, at most 2^15, 2.4 MB a thread: a point that fills it runs again from the start, so the
     room is given once -- each thread reuses its buffers from point to point).
