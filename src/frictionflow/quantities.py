@@ -94,12 +94,12 @@ TABLE = (
     Quantity("V_max", "maximum velocity over the steady-state window", "amplitude", "zero"),
     Quantity("stick_fraction", "share of the steady-state window spent sticking", "steady_state", "stick"),
     Quantity("energy_residual", "relative residual of the power balance over the window", "energy_residual", "resid"),
-    # not stored by sweeps: over whole periods it equals P_dv
-    Quantity("P_f", "time-averaged net power of friction X' F_c = P_belt - P_heat", "averages", "zero", swept=False),
-    # not stored by sweeps, forced ones included (their rows are the kernels' NR entries): simulate --json,
-    # response and the forced orbits report it
+    # stored by every sweep (0 without a force), so that a forced point's balance closes from the dataset:
+    # P_dv + P_df = P_fin + P_ex over whole periods; simulate --json reports it for forced runs only
     Quantity("P_ex", "time-averaged power put in by the external force X' F_ex cos(Omega tau + phi)", "averages", "zero",
-             swept=False, forced_only=True),
+             forced_only=True),
+    # not stored by sweeps: over whole periods it equals P_dv - P_ex
+    Quantity("P_f", "time-averaged net power of friction X' F_c = P_belt - P_heat", "averages", "zero", swept=False),
 )
 
 NAMES = tuple(q.name for q in TABLE)
