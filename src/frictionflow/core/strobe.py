@@ -53,11 +53,14 @@ LYAPUNOV_STOP = (60, 20, 2.0, LYAPUNOV_SPREAD_FLOOR)
 REVISIT_SHARE = 0.05
 #: ... and does not close in on a point: its quarters' extents fall, the last below this share of the first's
 CONTRACTION = 0.9
-#: ... nor on a cycle of m points (m up to a quarter of the section, at most CYCLE_MAX): the largest m-step
-#: difference |P_{k+m} - P_k| of each quarter falls, the last below CYCLE_FALL of the first's (a torus's
-#: differences are one smooth function of its angle, which each quarter samples alike)
+#: ... nor on a cycle of m points (m up to a quarter of the section, at most CYCLE_MAX): the largest and the mean
+#: m-step difference |P_{k+m} - P_k| of each quarter fall, the last below CYCLE_FALL of the first's (a torus's
+#: differences are one function of its angle, which each quarter samples alike)
 CYCLE_MAX = 1024
 CYCLE_FALL = 0.5
+#: ... each quarter's below CYCLE_STEP of the one before (a torus whose rotation is within ~1e-4 of p/m drifts
+#: its m-step differences once, then holds them: a fall that stops is no convergence)
+CYCLE_STEP = 0.9
 
 # Positions in the result row (the quantities table's first NR entries).
 R_KIND, R_PERIOD, R_TR_B, R_X_MIN, R_X_MAX, R_V_MIN, R_V_MAX, R_STICK = (Q.index(n) for n in (
@@ -192,31 +195,47 @@ def contracting(points):
 
 
 @njit(cache=True)
+def _quarter_differences(points, m, q, j):
+    """(largest, mean) m-step difference |P_{i+m} - P_i| (max-norm) over quarter ``j`` (q points) of ``points``."""
+    largest, total = 0.0, 0.0
+    for i in range(j * q, (j + 1) * q):
+        d = 0.0
+        for c in range(points.shape[0]):
+            d = max(d, abs(points[c, i + m] - points[c, i]))
+        largest = max(largest, d)
+        total += d
+    return largest, total / q
+
+
+@njit(cache=True)
+def _differences_fall(points, m, q):
+    """Whether the largest and the mean m-step differences of the four quarters both fall, each below
+    :data:`CYCLE_STEP` of the quarter's before, the last below :data:`CYCLE_FALL` of the first's."""
+    first_max, first_mean = _quarter_differences(points, m, q, 0)
+    last_max, last_mean = first_max, first_mean
+    for j in range(1, 4):
+        big, mean = _quarter_differences(points, m, q, j)
+        if not (big < CYCLE_STEP * last_max and mean < CYCLE_STEP * last_mean):
+            return False
+        last_max, last_mean = big, mean
+    return last_max < CYCLE_FALL * first_max and last_mean < CYCLE_FALL * first_mean
+
+
+@njit(cache=True)
 def converging_cycle(points):
     """Whether the section's points (columns, in time order) close in on a cycle of m points, for some m up to
-    a quarter of them (at most :data:`CYCLE_MAX`): the largest m-step difference (max-norm) of each quarter
-    falls, each below the one before, the last below :data:`CYCLE_FALL` of the first.  A slowly attracting
-    long cycle (a phase lock of hundreds of forcing periods) revisits like a torus, with an exponent within
-    its uncertainty of 0; only its returns shrinking tell it apart.  At least 16 points a quarter."""
+    a quarter of them (at most :data:`CYCLE_MAX`): the m-step differences |P_{k+m} - P_k| of each quarter fall,
+    their largest and their mean alike (:func:`_differences_fall`).  A slowly attracting long cycle (a phase
+    lock of hundreds of forcing periods) revisits like a torus, with an exponent within its uncertainty of 0;
+    only its returns shrinking tell it apart.  A torus's differences are one function of its angle, which
+    each quarter samples alike: a narrow peak may be missed by a quarter, its mean not.  At least 16 points a
+    quarter."""
     n = points.shape[1]
     for m in range(1, min((n - 1) // 4, CYCLE_MAX) + 1):
         q = (n - m) // 4
         if q < 16:
             return False
-        before, first = np.inf, 0.0
-        falls = True
-        for j in range(4):
-            largest = 0.0
-            for i in range(j * q, (j + 1) * q):
-                for c in range(points.shape[0]):
-                    largest = max(largest, abs(points[c, i + m] - points[c, i]))
-            if not largest < before:
-                falls = False
-                break
-            if j == 0:
-                first = largest
-            before = largest
-        if falls and before < CYCLE_FALL * first:
+        if _differences_fall(points, m, q):
             return True
     return False
 
