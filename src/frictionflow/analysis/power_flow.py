@@ -21,7 +21,10 @@ X' f(tau) enters the balance: K' + P_dv + U' = P_f + X' f.
 Beyond the paper, P_f = P_belt - P_heat with P_belt = F_c V_b the power the
 belt delivers and P_heat = F_c V_r >= 0 the heat generated at the interface
 while slipping (0 while sticking, where V_r is taken as 0 -- inside
-Karnopp's band this makes P_belt = F_c X' there).
+Karnopp's band this makes P_belt = F_c X' there).  A law with internal
+state stores energy E_s in the contact (its bristles): its heat is F_c V_r
+less E_s', so P_belt = P_f + P_heat + Delta E_s / span (the last term 0
+over whole periods).
 
 The averages are sums of the work integrals the solver integrated between
 samples (all >= 0, so accurate to rounding of the window's own size, even
@@ -135,13 +138,25 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
     # the first sample at t0 and the last at t1 (a switch can leave two samples at one time)
     i0, i1 = int(np.searchsorted(traj.t, t0)), int(np.searchsorted(traj.t, t1, side="right")) - 1
     if traj.t[i0] == t0 and traj.t[i1] == t1:  # on samples: the solver's own integrals
-        return PowerFlow.from_row((t0, t1), sec.averages(*traj.window_work(i0, i1), *traj.energy[[i0, i1]], t1 - t0))
+        row = sec.averages(*traj.window_work(i0, i1), *traj.energy[[i0, i1]], t1 - t0)
+        stored = traj.stored_energy[[i0, i1]] if traj.internal is not None else None
+        return PowerFlow.from_row((t0, t1), _with_stored(row, stored, t1 - t0))
     ends = np.array([t0, t1])
     interp = cont.interpolant(traj)
     x, v = interp.state(ends)
     dw = cont.dwork_at(traj, interp, ends)[1]
     e = 0.5 * (x * x + v * v)
-    return PowerFlow.from_row((t0, t1), sec.averages(*dw, e[0], e[1], t1 - t0))
+    stored = traj.friction.stored_energy(interp.internal(ends)) if traj.internal is not None else None
+    return PowerFlow.from_row((t0, t1), _with_stored(sec.averages(*dw, e[0], e[1], t1 - t0), stored, t1 - t0))
+
+
+def _with_stored(row: np.ndarray, stored: np.ndarray | None, span: float) -> np.ndarray:
+    """``row`` with P_belt the belt's whole input F_c V_b for a law with internal state: its heat is F_c V_r
+    less what the contact stores, so the belt also pays the change of the stored energy (``stored``: at
+    the window's ends; None for a static law, whose row is left as it is)."""
+    if stored is not None:
+        row[sec.P_BELT] += (float(stored[1]) - float(stored[0])) / span
+    return row
 
 
 def instantaneous_power(traj: Trajectory) -> dict[str, np.ndarray]:
