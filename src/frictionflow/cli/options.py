@@ -27,7 +27,7 @@ from ..friction import FrictionLaw
 from ..io import OutputError, check_input_path, read_config
 from ..orbits.parameters import parameter_names as varied_names
 from ..params import BeltOscillator
-from ..parameters import Param, declared
+from ..parameters import Param, declared, dimensional_parameters
 from .vocabulary import PATH_METAVAR, check_law, default_law, option, panel_of, path_text  # noqa: F401 (re-exported)
 
 #: the run's parameters every model command takes (the others are command-specific)
@@ -161,9 +161,30 @@ def refuse_fixed(parameter: str, flag: str, where: str, config: Optional[Path], 
     if params.get(parameter) is not None:
         raise ValueError(f"{option_name} {params[parameter]:g} conflicts with {flag} {parameter}=FROM:TO, which sets "
                          f"{parameter} {where}: give one of them")
-    if config is not None and parameter in (values := read_config(config, "--config")):
+    values = read_config(config, "--config") if config is not None else {}
+    if parameter in values:
         raise ValueError(f"--config: {parameter} = {values[parameter]!r} conflicts with {flag} {parameter}=FROM:TO, "
                          f"which sets {parameter} {where}: remove it from {str(config)!r}")
+    table = params.get("dimensional") or values.get("dimensional")
+    table = declared()["dimensional"].parse(table) if isinstance(table, str) else table
+    keys = _dimensional_keys(parameter, table)
+    if keys:  # the range is non-dimensional: the table's value would be dropped, or the range read in its units
+        given = ", ".join(f"{k}={table[k]:g}" for k in keys)
+        raise ValueError(f"{flag} {parameter}: the dimensional table sets {parameter} ({given}), and "
+                         f"{flag} gives non-dimensional values {where}: give the model without the dimensional table"
+                         f"{'' if parameter in REQUIRED_BY_TABLE else f' or leave {keys[0]} out of it'}")
+
+
+#: the non-dimensional parameters a dimensional table always sets (from its required m, c, k, v_b)
+REQUIRED_BY_TABLE = ("zeta", "vb")
+
+
+def _dimensional_keys(parameter: str, table: Any) -> list[str]:
+    """The keys of a dimensional ``table`` (None: none given) that set the non-dimensional ``parameter``."""
+    if not table:
+        return []
+    known = {key: p.name for key, p in dimensional_parameters().items()}
+    return [k for k in table if known.get(k) == parameter or (parameter == "zeta" and k == "c")]
 
 
 def check_option(flag: str, param: Param, value: Any) -> Any:

@@ -1,0 +1,43 @@
+"""A parameter a study varies, set by the dimensional table too, is refused in one line.
+
+``continue --dimensional '...,sigma0=180,...' --vary sigma0=90:360:4`` ran over non-dimensional sigma0 = 90..360
+(the table's 180 means 10 non-dimensionally: the range was read in other units than the table's) and dropped the
+table's value without a word, while ``--sigma0 10 --vary sigma0=...`` is refused as a conflict.  The dimensional
+table's v_b and c are required, so with it vb and zeta cannot be varied: the message says to give the model
+non-dimensionally.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from .processes import in_process, one_line
+
+TABLE = "m=2,k=18,l_0=0.1,v_b=0.015,f_d=0.54,f_ms=0.9,vs=0.015,sigma1=3,c=12"
+
+
+@pytest.mark.parametrize("argv, words", [
+    (("continue", "--friction", "lugre", "--dimensional", TABLE + ",sigma0=180", "--vary", "sigma0=90:360:4"),
+     ("--vary sigma0", "sigma0=180", "or leave sigma0 out of it")),
+    (("continue", "--friction", "lugre", "--dimensional", TABLE, "--vary", "zeta=0.5:1:4"),
+     ("--vary zeta", "c=12", "without the dimensional table")),
+    (("continue", "--friction", "coulomb", "--dimensional", "m=1,k=1,c=0.1,v_b=0.01,f_d=0.02", "--vary",
+      "vb=0.01:0.02:4"), ("--vary vb", "v_b=0.01")),
+    (("forced-continue", "--friction", "coulomb", "--dimensional", "m=1,k=1,c=0.1,v_b=0,f_d=0.05,f_ex=0.3,w_ex=0.8",
+      "--vary", "omega=0.7:0.9"), ("--vary omega", "w_ex=0.8")),
+    (("map", "--friction", "stribeck", "--dimensional", "m=1,k=1,c=0.1,v_b=0.01,f_d=0.02,f_ms=0.04",
+      "--x", "vb=0.004:0.03:4", "--y", "zeta=0:0.1:4"), ("--x vb", "v_b=0.01")),
+])
+def test_a_varied_parameter_the_table_sets_is_refused(tmp_path, argv, words) -> None:
+    code, out, err, _ = in_process(*argv, "--json", cwd=tmp_path)
+    assert code == 2, err
+    one_line(err, *words)
+    assert out == "" and list(tmp_path.iterdir()) == []
+
+
+def test_a_parameter_the_table_leaves_out_is_varied(tmp_path) -> None:
+    """sigma0 not in the table: the law's non-dimensional default stands, and the range is non-dimensional."""
+    code, out, err, _ = in_process("continue", "--friction", "lugre", "--dimensional", TABLE, "--vary",
+                                   "sigma0=5:20:4", "--seeds", "hopf", "--max-points", "5", "--json", cwd=tmp_path)
+    assert code == 0, err
+    assert '"param": "sigma0"' in out
