@@ -6,6 +6,8 @@ import pytest
 from frictionflow.cli import main
 from frictionflow.sweep import parse_sweep
 from frictionflow.sweep.config import chunk_shape
+from frictionflow.sweep.compute import _friction_rows
+from frictionflow.core import layout
 
 BASE = {"friction": "coulomb", "fs": 0.04, "grid": {"zeta": [0.0, 0.05]}}
 
@@ -118,3 +120,18 @@ def test_a_grid_entry_text_names_the_forms_it_may_take(entry, message):
     with pytest.raises(ValueError) as err:
         parse_sweep({"friction": "coulomb", "fd": 0.02, "grid": {"vb": entry}})
     assert str(err.value) == message
+
+
+def test_a_default_that_follows_an_axis_is_not_recorded_as_fixed():
+    """Stribeck's F_s defaults to 2 F_d: over an fd axis it differs per point (fd = 0.01 runs with fs = 0.02, as
+    simulate --fd 0.01 does), so no ``fixed_fs`` (it said 0.04, the base point's)."""
+    over_fd = parse_sweep({"friction": "stribeck", "t_end": 100.0, "grid": {"fd": [0.02, 0.01], "zeta": [0.1]}})
+    attrs = over_fd.attributes()
+    assert "fixed_fs" not in attrs and attrs["fixed_vs"] == 0.01
+    _, law, _ = over_fd.run.build()
+    rows = _friction_rows(over_fd, law, over_fd.point_params((np.array([0, 1]), np.array([0, 0]))))
+    assert rows[:, layout.FS].tolist() == [0.04, 0.02]  # what the points ran with
+    fixed_fd = parse_sweep({"friction": "stribeck", "fd": 0.02, "t_end": 100.0, "grid": {"zeta": [0.1, 0.2]}})
+    assert fixed_fd.attributes()["fixed_fs"] == 0.04
+    given = parse_sweep({"friction": "stribeck", "fs": 0.05, "t_end": 100.0, "grid": {"fd": [0.02, 0.01]}})
+    assert given.attributes()["fixed_fs"] == 0.05

@@ -42,7 +42,7 @@ from .._ranges import parse_range
 from ..config import DIMENSIONAL_REQUIRED, RunConfig, nondimensional_values, refuse_mixing, set_by_dimensional
 from ..friction import law_class
 from ..io import read_config
-from ..parameters import declared, dimensional_parameters, sweep_axes
+from ..parameters import declared, dimensional_parameters, sweep_axes, with_defaults
 from ..params import SCALE_KEYS, unit_of
 from ..solvers.base import CoarseStepWarning, check_memory
 from ..solvers.registry import belt_motion_refusal
@@ -134,13 +134,24 @@ class SweepConfig(Grid):
         fixed = dict(self.fixed)
         model, law, _ = self.run.build()  # every setting of a point, defaults resolved
         settings = {**model.as_dict(), **law.values(), "x0": self.run.x0, "v0": self.run.v0}
+        per_point = self._defaults_per_point(law)
         for key, value in settings.items():
-            if key in GRID_KEYS and key not in self.axes and value is not None:
+            if key in GRID_KEYS and key not in self.axes and key not in per_point and value is not None:
                 fixed.setdefault(key, value)
         attrs: dict[str, Any] = {f"fixed_{k}": float(v) for k, v in fixed.items()}
         attrs.update({"friction": self.run.friction, "solver": self.run.solver, "stick_force": self.run.stick_force,
                       "t_end": self.run.t_end})
         return attrs
+
+    def _defaults_per_point(self, law: Any) -> set[str]:
+        """The law's parameters left to defaults that follow an axis (Stribeck's F_s = 2 F_d over an ``fd`` axis):
+        no fixed value to record."""
+        values = self.run.values()
+        out: set[str] = set()
+        for axis, grid in self.axes.items():
+            resolved = with_defaults(law.parameters, {**values, axis: np.asarray(grid, dtype=float)})
+            out |= {k for k, v in resolved.items() if k != axis and np.ndim(v) and np.ptp(np.asarray(v, dtype=float)) > 0}
+        return out
 
     def point_params(self, index: tuple[np.ndarray, ...]) -> dict[str, np.ndarray]:
         """Per-point parameter arrays for grid indices (one index array per axis)."""
