@@ -14,7 +14,7 @@ from scipy.optimize import brentq
 
 from frictionflow import BeltOscillator, simulate
 from frictionflow.cli import main
-from frictionflow.friction import Coulomb, Dahl, ElastoPlastic, LuGre
+from frictionflow.friction import Coulomb, Dahl, ElastoPlastic, LuGre, RateState
 from frictionflow.orbits import ShootingError, continuation, find_orbit
 from frictionflow.orbits.flow_stiff import StiffFlow
 from frictionflow.orbits.stateful import (ShootingMap, StatefulOrbit, fd_state_monodromy, find_stateful_orbit, newton,
@@ -305,3 +305,15 @@ def test_the_shooting_is_generic_over_stateful_laws_elastoplastic():
     down = np.flatnonzero((traj.v[:-1] > 0) & (traj.v[1:] == 0.0)) + 1
     assert np.allclose(np.diff(traj.t[down]), orbit.period, rtol=1e-8)
     assert np.allclose(traj.x[down], orbit.state[0], rtol=1e-8)
+
+
+def test_a_start_on_an_equilibrium_is_named_as_such_not_settled():
+    """Rate-and-state at its defaults (V_b = V_0): the default start is steady sliding itself, unstable for
+    D_c = 0.005 (k = 1 below Rice-Ruina's k_c = 3), so the run never moves.  It said "it settled"; a start off
+    it finds the stable cycle (period 10.7442, a QA's own integration)."""
+    law = RateState(dc=0.005)
+    model = BeltOscillator()
+    with pytest.raises(ShootingError, match=r"stayed where it started .* an equilibrium, stable or not"):
+        find_stateful_orbit(model, law)
+    orbit = find_stateful_orbit(model, law, x0=0.61)
+    assert orbit.period == pytest.approx(10.7442197, rel=1e-6)

@@ -221,6 +221,10 @@ def section_guess(traj: Trajectory, last: bool, returns: int = 1) -> tuple[np.nd
     v = traj.v
     down = np.flatnonzero((v[:-1] > 0.0) & (v[1:] == 0.0)) + 1
     if len(down) < returns + 1:
+        if np.ptp(traj.x) == 0.0 and np.ptp(v) == 0.0:  # an equilibrium, which a run from it never leaves
+            raise ShootingError(f"the run stayed where it started (X = {traj.x[0]:.6g}, X' = {v[0]:.6g}): an "
+                                "equilibrium, stable or not, which a run from it never leaves; start off it "
+                                "(x0 or v0) to find an orbit around it")
         raise ShootingError(f"the run crossed X' = 0 downward {len(down)} times in tau <= {traj.t[-1]:.6g}: "
                             "it settled (no orbit to shoot from there)")
     i, j = (down[-1 - returns], down[-1]) if last else (down[0], down[returns])
