@@ -135,6 +135,7 @@ def test_mixing_nondimensional_and_dimensional_values_is_refused(args, message, 
     ("m=1,c=0.1,k=4,v_b=0.02", "missing f_d"),
     ("m=1,c=0.1,k=4,v_b=0.02,f_d=0.08,bogus=1", "unknown key 'bogus'"),
     ("m=1,c=0.1,k=4,v_b=0.02,f_d=0.08,sigma1=nan", "dimensional sigma1"),
+    ("m=1,c=0.1,k=4,v_b=0.02,f_d=0.08,m=2", "dimensional: m is given twice (1 and 2)"),  # the last won before
 ])
 def test_bad_dimensional_tables_exit_2_with_one_line(table, message, capsys):
     code = main(["simulate", "--t-end", "1", "--friction", "lugre", "--dimensional", table])

@@ -62,6 +62,8 @@ def parse_dimensional(value: Any) -> dict[str, float]:
         key, sep, val = item.partition("=")
         if not sep:
             raise ValueError(f"dimensional must be KEY=VALUE pairs separated by commas, got {item!r}")
+        if key.strip() in out:  # (a TOML table cannot repeat a key: its reader refuses it)
+            raise ValueError(f"dimensional: {key.strip()} is given twice ({out[key.strip()]} and {val.strip()})")
         out[key.strip()] = val.strip()
     return _dimensional_table(out)
 
