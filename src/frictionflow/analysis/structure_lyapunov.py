@@ -11,8 +11,9 @@ with the same constants (:mod:`frictionflow.core.strobe`):
     stopped drifting: every point of the second half lies within
     ``REVISIT_SHARE`` (``frictionflow.core.strobe``) of the section's scale of
     a point of the first half (a closed curve, revisited), and they do not
-    close in on a point (:func:`closing_in`: a focus spiralling in too slowly
-    for the exponent to tell, |mu| = 0.999 a period, revisits itself too);
+    close in on a point or a cycle (:func:`closing_in`: a focus spiralling in
+    too slowly for the exponent to tell, |mu| = 0.999 a period, revisits
+    itself too);
 ``not_settled``
     otherwise (a negative exponent: still converging; or drifting).
 
