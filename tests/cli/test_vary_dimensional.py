@@ -1,4 +1,5 @@
-"""A parameter a study varies, set by the dimensional table too, is refused in one line.
+"""The dimensional table in the studies: a parameter a study varies and the table sets is refused in one line,
+and orbit and continue report the table as simulate does.
 
 ``continue --dimensional '...,sigma0=180,...' --vary sigma0=90:360:4`` ran over non-dimensional sigma0 = 90..360
 (the table's 180 means 10 non-dimensionally: the range was read in other units than the table's) and dropped the
@@ -8,6 +9,9 @@ non-dimensionally.
 """
 
 from __future__ import annotations
+
+import json
+import math
 
 import pytest
 
@@ -41,3 +45,18 @@ def test_a_parameter_the_table_leaves_out_is_varied(tmp_path) -> None:
                                    "sigma0=5:20:4", "--seeds", "hopf", "--max-points", "5", "--json", cwd=tmp_path)
     assert code == 0, err
     assert '"param": "sigma0"' in out
+
+
+@pytest.mark.parametrize("argv", [
+    ("orbit", "--friction", "coulomb"),
+    ("continue", "--friction", "stribeck", "--vary", "vs=0.005:0.02:5", "--max-points", "10"),
+])
+def test_orbit_and_continue_echo_the_dimensional_table(tmp_path, argv) -> None:
+    """As simulate --json does: the results are non-dimensional, and omega0 = sqrt(k/m) converts their times."""
+    table = "m=2,k=18,c=1.2,v_b=0.03,f_d=0.36,f_ms=0.72,l_0=0.1"
+    code, out, err, _ = in_process(*argv, "--dimensional", table, "--json", cwd=tmp_path)
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["dimensional"] == {"m": 2.0, "k": 18.0, "c": 1.2, "v_b": 0.03, "f_d": 0.36, "f_ms": 0.72,
+                                     "l_0": 0.1, "omega0": pytest.approx(3.0, rel=1e-15)}
+    assert report["params"]["zeta"] == pytest.approx(1.2 / (2 * math.sqrt(2 * 18)), rel=1e-14)

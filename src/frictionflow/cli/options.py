@@ -26,7 +26,7 @@ from ..estimate import Limits, limited
 from ..friction import FrictionLaw
 from ..io import OutputError, check_input_path, read_config
 from ..orbits.parameters import parameter_names as varied_names
-from ..params import BeltOscillator
+from ..params import BeltOscillator, DimensionalParams
 from ..parameters import Param, declared, dimensional_parameters
 from .vocabulary import PATH_METAVAR, check_law, default_law, option, panel_of, path_text  # noqa: F401 (re-exported)
 
@@ -142,6 +142,14 @@ def command_config(command: str, config: Optional[Path], params: dict[str, Any],
     cfg = merged_config(config, given)
     check_law(command, cfg.friction)
     return cfg
+
+
+def with_dimensional(report: dict[str, Any], cfg: RunConfig) -> dict[str, Any]:
+    """``report`` with the dimensional table the run was given and its omega0 (``dimensional``), if any: the
+    results are non-dimensional, and these convert them back (time by omega0, length by l_0)."""
+    if cfg.dimensional is not None:
+        report["dimensional"] = cfg.dimensional | {"omega0": DimensionalParams.from_table(cfg.dimensional).omega0}
+    return report
 
 
 def start_state(cfg: RunConfig, model: BeltOscillator, law: FrictionLaw) -> tuple[float, float]:

@@ -25,7 +25,7 @@ from ..solvers.registry import solver_names_where
 from .._ranges import parse_named_range
 from ._app import app
 from .options import (CONFIG_OPTION, check_option, check_varied, command_config, parameter_names, refuse_fixed,
-                      with_options, with_parameters)
+                      with_dimensional, with_options, with_parameters)
 from .output import provenance, show, write_json
 from .structure_orbit import ModelOrbitOptions, orbit_model
 from .vocabulary import option, overlay_count, parameter_help
@@ -84,7 +84,7 @@ def orbit(params: dict[str, Any], opts: OrbitOptions) -> None:
     model, law, solv = cfg.build()
     found = find_orbit(model, law, x0=cfg.x0, v0=cfg.v0, transient=0.0 if opts.guess else cfg.t_end, returns=opts.returns,
                        tol=opts.tol, solver=solv)
-    report = found.to_dict()
+    report = with_dimensional(found.to_dict(), cfg)
     stateful = isinstance(found, StatefulOrbit)
     if opts.fd_check:
         M = fd_state_monodromy(found) if stateful else fd_monodromy(model, law, found.state, found.period, solver=solv)
@@ -162,7 +162,7 @@ def continue_(params: dict[str, Any], opts: ContinueOptions) -> None:
     result = continuation(model, law, param, span.start, span.stop, settings=settings)
     if opts.plot is not None:
         plot_bifurcation(result, opts.plot, name="--plot", dpi=opts.dpi)
-    report = result.to_dict()
+    report = with_dimensional(result.to_dict(), cfg)
     if monitors:
         report["extrema"] = [e.to_dict() for m in monitors for e in branch_extrema(result, m, model, law)]
     _report(report, opts.out, opts.as_json, lambda: _print_continuation(report, provenance(law, solv)))

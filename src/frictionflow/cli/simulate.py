@@ -10,14 +10,12 @@ from pathlib import Path
 from typing import Any, Optional
 
 from ..analysis import analyze, precompile
-from ..config import RunConfig
 from ..estimate import enforce
 from ..io import TRAJECTORY_FORMATS, check_output_path, trajectory_bytes, write_trajectory
-from ..params import DimensionalParams
 from ..plotting import FIGURE_FORMATS, plot_run
 from ..simulate import simulate as run_simulation
 from ._app import app
-from .options import CONFIG_OPTION, command_config, parameter_names, with_parameters
+from .options import CONFIG_OPTION, command_config, parameter_names, with_dimensional, with_parameters
 from .output import provenance, show
 from .structure import simulate_model
 from .vocabulary import option, parameter_help
@@ -64,9 +62,7 @@ def simulate(
     if result.steady_state.kind == "diverged":
         warnings.warn(f"the motion left the floating-point range at tau={result.steady_state.window[0]:.6g}: "
                       "steady state 'diverged', no averages")
-    report = result.to_dict()
-    if cfg.dimensional is not None:
-        report["dimensional"] = cfg.dimensional | {"omega0": model_omega0(cfg)}
+    report = with_dimensional(result.to_dict(), cfg)
     if out is not None:
         write_trajectory(traj, out, name="--out")
     if plot is not None:
@@ -75,10 +71,6 @@ def simulate(
         print(json.dumps(report))
     else:
         _print_summary(report, provenance(law, solv))
-
-
-def model_omega0(cfg: RunConfig) -> float:
-    return DimensionalParams.from_table(cfg.dimensional).omega0
 
 
 def _print_summary(report: dict[str, Any], caption: str) -> None:
