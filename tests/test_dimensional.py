@@ -180,3 +180,15 @@ def test_a_dimensional_sweep_computes_the_nondimensional_points():
                       "grid": {"vb": [_speed(0.02), _speed(0.04)]}})
     a, b = compute_chunk(dim.source, (0,), (2,)), compute_chunk(nd.source, (0,), (2,))
     np.testing.assert_allclose(a, b, rtol=1e-13, equal_nan=True)
+
+
+def test_a_dimensional_sweep_over_f_d_takes_the_tables_f_ms():
+    """f_ms in the table and f_d a grid axis: it was refused ("f_ms needs f_d ... alone")."""
+    cfg = parse_sweep({"friction": "stribeck", "t_end": 100.0, "grid": {"f_d": [0.08, 0.04]},
+                       "dimensional": {"m": 1, "k": 4, "c": 0.4, "v_b": 0.02, "f_ms": 0.16}})
+    _, law, _ = cfg.run.build()
+    assert law.fs == pytest.approx(0.04)  # 0.16 / (k l_0)
+    assert cfg.axes["fd"].tolist() == pytest.approx([0.02, 0.01])
+    with pytest.raises(ValueError, match="fs must be >= fd"):  # f_ms below an axis value: refused per point
+        parse_sweep({"friction": "stribeck", "t_end": 100.0, "grid": {"f_d": [0.08, 0.2]},
+                     "dimensional": {"m": 1, "k": 4, "c": 0.4, "v_b": 0.02, "f_ms": 0.1}})

@@ -360,7 +360,8 @@ def _dimensionless(values: Mapping[str, Any], grid: Mapping[str, Any], source: s
                                                                                table.get("l_0", 1.0)))
            if k in axes else v for k, v in grid.items()}
     friction = given.get("friction", declared()["friction"].default)
-    filled = {**table, **{k: 0.0 for k in DIMENSIONAL_REQUIRED if k in axes}}  # an axis's key: any value, dropped
+    # an axis's key: any value, dropped (f_d too: the table's f_ms is checked against it per point)
+    filled = {**table, **{k: 0.0 for k in (*DIMENSIONAL_REQUIRED, "f_d") if k in axes}}
     nd = nondimensional_values({**given, "dimensional": filled}, friction, present=tuple(axes))
     swept = {p.name for p in axes.values()}
     return {k: v for k, v in nd.items() if k != "dimensional" and k not in swept}, out
