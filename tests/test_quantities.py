@@ -22,7 +22,7 @@ from frictionflow.sweep import KIND_NAMES, VARIABLES, run_sweep
 FD, FS = 0.02, 0.04
 #: what the golden outputs recorded: the order of the sweep variables / kernel row and of the JSON objects
 RECORDED_ROW = ("kind", "period", "P_dv", "P_df", "P_fin", "R_c", "R_f", "P_belt", "P_heat", "TR_B",
-                "X_min", "X_max", "V_min", "V_max", "stick_fraction", "energy_residual")
+                "X_min", "X_max", "V_min", "V_max", "stick_fraction", "energy_residual", "P_ex")
 RECORDED_AVERAGES = ("P_dv", "P_df", "P_fin", "R_c", "R_f", "P_belt", "P_heat", "P_f")
 RECORDED_AMPLITUDE = ("X_min", "X_max", "V_min", "V_max")
 
@@ -31,6 +31,8 @@ def json_value(d: dict, q: Q.Quantity):
     """Quantity ``q`` in a ``simulate --json`` dict, where the table says it is reported (kinds as codes)."""
     if q.report == q.name:
         value = d[q.name]
+    elif q.forced_only and q.name not in d[q.report]:  # an unforced report leaves it out: no force, no work
+        value = 0.0
     else:
         value = d[q.report][q.name]
     if q.name == "kind":

@@ -119,8 +119,8 @@ def reported_in(report: str, forced: bool = False) -> tuple[str, ...]:
 
 
 AVERAGES = reported_in("averages")
-#: with an external force: P_ex too (the fields of PowerFlow)
-FORCED_AVERAGES = reported_in("averages", forced=True)
+#: with an external force: P_ex too, after the others (the fields of PowerFlow, the forced JSON's order)
+FORCED_AVERAGES = AVERAGES + tuple(n for n in reported_in("averages", forced=True) if n not in AVERAGES)
 AMPLITUDE = reported_in("amplitude")
 #: the orbit and continuation reports list the averages in the paper's order
 #: (Eq. 9: P_fin, P_df, P_dv), as their recorded outputs do
