@@ -139,7 +139,7 @@ def power_flow(traj: Trajectory, window: tuple[float, float] | None = None) -> P
     i0, i1 = int(np.searchsorted(traj.t, t0)), int(np.searchsorted(traj.t, t1, side="right")) - 1
     if traj.t[i0] == t0 and traj.t[i1] == t1:  # on samples: the solver's own integrals
         row = sec.averages(*traj.window_work(i0, i1), *traj.energy[[i0, i1]], t1 - t0)
-        stored = traj.stored_energy[[i0, i1]] if traj.internal is not None else None
+        stored = traj.friction.stored_energy(traj.internal[:, [i0, i1]]) if traj.internal is not None else None
         return PowerFlow.from_row((t0, t1), _with_stored(row, stored, t1 - t0))
     ends = np.array([t0, t1])
     interp = cont.interpolant(traj)
