@@ -160,10 +160,9 @@ def _exact_points(j0, j1, todo, cap, full, points, t_end, judge, out, stop_early
         fd = p[j, FD]
         if status == exact.STUCK:
             _not_settled(out[j])
-        elif t_term >= 0.0 and zeta[j] > 0.0 and (t_mode[0] != 0 or y[1, k - 1] == 0.0):
+        elif t_term >= 0.0 and zeta[j] > 0.0 and exact.settles_analytically(t_mode[0], y[1, k - 1]):
             # a final phase: a slip decays onto X* = F(V_b), sliding; a stick rests where it holds, stuck for
-            # good (the stick fraction simulate's window gives it); the residual is the run's.  A band held against
-            # the spring alone still moves (X' braked to 0 by the damper): judged on its samples, as simulate's
+            # good (the stick fraction simulate's window gives it); the residual is the run's
             tot = np.zeros(N_WORK)
             for i in range(k):  # (a loop: sum(axis=0) compiles its own implementation)
                 for q in range(N_WORK):

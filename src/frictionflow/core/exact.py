@@ -136,6 +136,14 @@ def dynamics(mode, zeta, fd, fs, res):
     return cf.LIN, 0.0, FC_RES
 
 
+@njit(cache=True, inline="always")
+def settles_analytically(fmode, v):
+    """Whether a final phase (friction mode ``fmode``, from velocity ``v``) has a known end: a slip decays onto
+    the sliding equilibrium, a stick at rest stays; a band held against the spring alone (Karnopp's spring
+    rule) still moves, its damper braking X' to 0, and is judged on its samples."""
+    return fmode != 0 or v == 0.0
+
+
 @njit(cache=True)
 def closed_form_law(p):
     """The law code of the force record ``p``: COULOMB (the switch rule) or KARNOPP (the band); any other
@@ -814,7 +822,7 @@ def run(run, p, samples, events, t_mode, replicate, periodic_stop):
             t_terminal = t
             t_mode[0] = FRICTION_MODE[mode]
             # undamped, a final slip circles X* (periodic); a spring-rule band still moves (X'' = -2 zeta X')
-            if s.stop_terminal and zeta > 0.0 and (FRICTION_MODE[mode] != 0 or v == 0.0):
+            if s.stop_terminal and zeta > 0.0 and settles_analytically(FRICTION_MODE[mode], v):
                 return k, ne, DONE, t_terminal, t
         tz, tt, src, n_rel = _phase_sources(ph, T, s, n_rel)  # the samples inside, each with the work since the last
         ta, xa, va = 0.0, x, v
