@@ -60,3 +60,36 @@ def test_orbit_and_continue_echo_the_dimensional_table(tmp_path, argv) -> None:
     assert report["dimensional"] == {"m": 2.0, "k": 18.0, "c": 1.2, "v_b": 0.03, "f_d": 0.36, "f_ms": 0.72,
                                      "l_0": 0.1, "omega0": pytest.approx(3.0, rel=1e-15)}
     assert report["params"]["zeta"] == pytest.approx(1.2 / (2 * math.sqrt(2 * 18)), rel=1e-14)
+
+
+FORCED = "m=2,k=18,c=1.2,v_b=0,f_d=0.36,f_ex=1.8,w_ex=2.4,l_0=0.1"
+
+
+@pytest.mark.parametrize("argv, table", [
+    (("simulate", "--friction", "coulomb", "--t-end", "50"), "m=2,k=18,c=1.2,v_b=0.03,f_d=0.36,f_ms=0.72,l_0=0.1"),
+    (("orbit", "--friction", "coulomb"), "m=2,k=18,c=1.2,v_b=0.03,f_d=0.36,f_ms=0.72,l_0=0.1"),
+    (("forced-orbit", "--friction", "coulomb"), FORCED),
+    (("lyapunov", "--friction", "coulomb", "--t-end", "60", "--t-transient", "30"), FORCED),
+])
+def test_a_table_of_results_from_a_dimensional_table_says_they_are_non_dimensional(tmp_path, argv, table) -> None:
+    """The printed table carries no units: its caption says the results are non-dimensional and gives the scales
+    (omega0 = sqrt(k/m) = 3, l_0 = 0.1); the same run without the table says nothing of the kind."""
+    code, out, err, _ = in_process(*argv, "--dimensional", table, cwd=tmp_path)
+    assert code == 0, err
+    assert "results non-dimensional: time tau = omega0 t (omega0 = 3)" in out and "(l_0 = 0.1)" in out, out
+    params = {"--zeta": "0.1", "--fd": "0.2"} | ({"--vb": "0.0166667", "--fs": "0.4"} if "f_ms" in table else
+                                                 {"--vb": "0", "--fex": "1", "--omega": "0.8"})
+    code, out, err, _ = in_process(*argv, *(x for kv in params.items() for x in kv), cwd=tmp_path)
+    assert code == 0, err
+    assert "non-dimensional" not in out
+
+
+@pytest.mark.parametrize("argv", [("forced-orbit", "--friction", "coulomb"),
+                                  ("lyapunov", "--friction", "coulomb", "--t-end", "60", "--t-transient", "30")])
+def test_forced_orbit_and_lyapunov_echo_the_dimensional_table(tmp_path, argv) -> None:
+    """As simulate, orbit and continue do: the table and omega0 in the JSON; Omega = w_ex / omega0 = 0.8."""
+    code, out, err, _ = in_process(*argv, "--dimensional", FORCED, "--json", cwd=tmp_path)
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["dimensional"]["omega0"] == pytest.approx(3.0, rel=1e-15)
+    assert report["dimensional"]["w_ex"] == 2.4 and report["dimensional"]["l_0"] == 0.1

@@ -24,7 +24,7 @@ from ..orbits.forced_plot import plot_forced_branches, plot_forced_orbit
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ._app import app
-from .options import (CONFIG_OPTION, check_option, command_config, parameter_names, refuse_fixed, start_state,
+from .options import (CONFIG_OPTION, check_option, command_config, parameter_names, refuse_fixed, start_state, with_dimensional,
                       with_options, with_parameters)
 from .output import FLOW_MAP, print_summary, provenance, write_json
 from .vocabulary import check_term, option, overlay_count, parameter_help
@@ -97,7 +97,7 @@ def forced_orbit(params: dict[str, Any], opts: ForcedOrbitOptions) -> None:
                               steps=opts.steps_per_period)
     if opts.plot is not None:
         plot_forced_orbit(orbit, opts.plot, name="--plot", dpi=opts.dpi)
-    _report(orbit.as_dict(), opts.out, opts.as_json, [orbit], provenance(law, FLOW_MAP))
+    _report(with_dimensional(orbit.as_dict(), cfg), opts.out, opts.as_json, [orbit], provenance(law, FLOW_MAP, cfg.dimensional))
 
 
 def _job(model, parameter: str, interval: tuple[float, float], m: int, opts: "ForcedContinueOptions",  # noqa: ANN001
@@ -170,4 +170,4 @@ def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None
     report: dict[str, Any] = {"branches": [b.as_dict() for b in branches]}
     if brute is not None:
         report["brute_force"] = jsonable({"values": brute.values, "X": brute.x, "V": brute.v})
-    _report(report, opts.out, opts.as_json, branches, provenance(law, FLOW_MAP))
+    _report(with_dimensional(report, cfg), opts.out, opts.as_json, branches, provenance(law, FLOW_MAP, cfg.dimensional))

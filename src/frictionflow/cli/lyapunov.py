@@ -9,7 +9,7 @@ from typing import Any, Optional
 from ..analysis.lyapunov import lyapunov_exponents
 from ..io import check_output_path
 from ._app import app
-from .options import CONFIG_OPTION, command_config, parameter_names, start_state, with_parameters
+from .options import CONFIG_OPTION, command_config, parameter_names, start_state, with_dimensional, with_parameters
 from .output import FLOW_MAP, print_summary, provenance, write_json
 from .vocabulary import PARAMETER_DEFAULTS, option, parameter_help
 
@@ -42,10 +42,10 @@ def lyapunov(
     t_end = cfg.given.get("t_end", PARAMETER_DEFAULTS["lyapunov", "t_end"][0])
     result = lyapunov_exponents(model, law, x0=x0, v0=v0, t_transient=t_transient, t_end=t_end,
                                 steps_per_block=steps_per_period, block=block, max_memory=cfg.max_memory)
-    report = result.as_dict()
+    report = with_dimensional(result.as_dict(), cfg)
     if out is not None:
         write_json(out, report)
     if as_json:
         print(json.dumps(report, allow_nan=False))
     else:
-        print_summary(result, provenance(law, FLOW_MAP))
+        print_summary(result, provenance(law, FLOW_MAP, cfg.dimensional))

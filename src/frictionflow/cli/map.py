@@ -107,7 +107,7 @@ def map_(params: dict[str, Any], opts: MapOptions) -> None:
     chart = stability_map(model, law, plane.x, xs, plane.y, (plane.ys.start, plane.ys.stop), sweep_shape=shape,
                           sweep_out=opts.store, t_end=cfg.given.get("t_end", 500.0), heat=opts.heat,
                           sweep_name="--store", curves=curve_list, n_scan=n_scan, fold_every=opts.fold_every)
-    _report(chart, opts, provenance(law, "auto"))
+    _report(chart, opts, provenance(law, "auto", cfg.dimensional))
 
 
 def _count(name: str, given: int | None) -> int:
@@ -205,7 +205,7 @@ def _forced_map(params: dict[str, Any], opts: MapOptions, plane: Plane, nx: int)
                            m=orders, x_start=float(x0), curves=curve_list)
     except (ValueError, RuntimeError) as e:  # forced_map names its store by the API's argument
         raise renamed(e, "sweep_out", "--store", everywhere=True) from None
-    _report(chart, opts, provenance(law, FLOW_MAP))
+    _report(chart, opts, provenance(law, FLOW_MAP, cfg.dimensional))
 
 
 def _write_dataset(ds, path: Path) -> None:

@@ -95,7 +95,7 @@ def orbit(params: dict[str, Any], opts: OrbitOptions) -> None:
             raise ValueError(f"--plot: the orbit figure draws orbits of the section map, not of friction={law.name} (use --out)")
         plot_orbit(found, opts.plot, name="--plot", dpi=opts.dpi)
     printer = _print_stateful_orbit if stateful else _print_orbit
-    _report(report, opts.out, opts.as_json, lambda: printer(report, provenance(law, solv)))
+    _report(report, opts.out, opts.as_json, lambda: printer(report, provenance(law, solv, cfg.dimensional)))
 
 
 def _check_outputs(out: Optional[Path], plot: Optional[Path]) -> None:
@@ -165,7 +165,7 @@ def continue_(params: dict[str, Any], opts: ContinueOptions) -> None:
     report = with_dimensional(result.to_dict(), cfg)
     if monitors:
         report["extrema"] = [e.to_dict() for m in monitors for e in branch_extrema(result, m, model, law)]
-    _report(report, opts.out, opts.as_json, lambda: _print_continuation(report, provenance(law, solv)))
+    _report(report, opts.out, opts.as_json, lambda: _print_continuation(report, provenance(law, solv, cfg.dimensional)))
 
 
 def _fmt(v: Any, spec: str = ".6g") -> str:

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping, Optional
 
 from ..io import atomic_write
+from ..params import DimensionalParams
 
 #: how each stick rule reads in the output
 STICK_RULES = {"switch": "Coulomb's stick rule", "band": "a stick band |V_rel| < V_d"}
@@ -14,11 +15,17 @@ STICK_RULES = {"switch": "Coulomb's stick rule", "band": "a stick band |V_rel| <
 FLOW_MAP = "RK4 flow map with located switches"
 
 
-def provenance(law: Any, solver: Any) -> str:
-    """One line: the law, its stick rule and the solver (a registered solver, or words) that produced a result."""
+def provenance(law: Any, solver: Any, dimensional: Optional[Mapping[str, Any]] = None) -> str:
+    """One line: the law, its stick rule and the solver (a registered solver, or words) that produced a result; with
+    the run's ``dimensional`` table, that the results are non-dimensional and the scales that convert them back."""
     rule = STICK_RULES.get(law.stick_rule, law.stick_rule)
     name = solver if isinstance(solver, str) else solver.name
-    return f"law {law.name} ({rule}), solver {name}"
+    line = f"law {law.name} ({rule}), solver {name}"
+    if dimensional:
+        scales = DimensionalParams.from_table(dimensional)
+        line += (f"; results non-dimensional: time tau = omega0 t (omega0 = {scales.omega0:.6g}), "
+                 f"X = x / l_0 (l_0 = {scales.l_0:.6g}), forces f / (k l_0)")
+    return line
 
 
 def print_summary(result: Any, caption: str) -> None:

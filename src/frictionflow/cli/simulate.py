@@ -70,7 +70,7 @@ def simulate(
     if as_json:
         print(json.dumps(report))
     else:
-        _print_summary(report, provenance(law, solv))
+        _print_summary(report, provenance(law, solv, cfg.dimensional))
 
 
 def _print_summary(report: dict[str, Any], caption: str) -> None:
