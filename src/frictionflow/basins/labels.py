@@ -9,7 +9,7 @@ What counts as one attractor
 * **equilibrium** -- points of kind ``equilibrium``, told apart by their
   position X* (one for a single-valued slip law at V_b != 0);
 * **periodic orbits** -- points of kind ``periodic``, told apart by their
-  period T, amplitude A = X_max - X_min and stick fraction s.  An orbit that
+  period T, amplitude A = (X_max - X_min) / 2 and stick fraction s.  An orbit that
   sticks (s > ``Tolerances.stick``) is a ``stick_slip_cycle``, else a
   ``slip_cycle``; several of one sort are numbered by amplitude
   (``stick_slip_cycle``, ``stick_slip_cycle_2``, ...);
@@ -115,7 +115,7 @@ class Tolerances:
     """How close two points' steady states must be to count as one attractor (see the module docstring)."""
 
     period: float = 1e-3  #: relative, on the period T
-    amplitude: float = 1e-3  #: relative, on the amplitude X_max - X_min and on the equilibrium's X*
+    amplitude: float = 1e-3  #: relative, on the amplitude (X_max - X_min) / 2 and on the equilibrium's X*
     stick: float = 1e-3  #: absolute, on the stick fraction (and the least stick fraction of a stick-slip cycle)
     floor: float = 1e-9  #: absolute floor of the amplitude and position comparisons (solver noise)
     #: what the runs resolve (``resolution()``, set by :func:`~frictionflow.basins.basins`); period, amplitude
@@ -142,7 +142,7 @@ class Attractor:
     kind: str  #: ``equilibrium`` or ``periodic``
     members: np.ndarray  #: flat indices of its points
     period: float  #: the median period of its points (NaN for the equilibrium)
-    amplitude: float  #: the median amplitude X_max - X_min of its points
+    amplitude: float  #: the median amplitude (X_max - X_min) / 2 of its points
     stick_fraction: float  #: the median stick fraction of its points
     x_mid: float  #: the middle (X_max + X_min) / 2, X* for the equilibrium
 
@@ -182,7 +182,7 @@ def clusters(idx: np.ndarray, features: list[np.ndarray], gaps: list[Callable]) 
 def find_attractors(q: dict[str, np.ndarray], tol: Tolerances) -> list[Attractor]:
     """The attractors among points with flat quantities ``q`` (kind, period, X_min, X_max, stick_fraction)."""
     kind = q["kind"]
-    amp = q["X_max"] - q["X_min"]
+    amp = 0.5 * (q["X_max"] - q["X_min"])  # half the range, as the orbits and continuation report it
     mid = 0.5 * (q["X_max"] + q["X_min"])
     found: list[Attractor] = []
     # (a point without finite values cannot be told apart: it stays unlabelled, i.e. not settled)
@@ -252,7 +252,7 @@ def describe(tol: Tolerances) -> dict[str, Any]:
     """Dataset attributes saying how the labels were made."""
     return {
         "labels": "attractors found over the whole dataset after the sweep; periodic orbits told apart by period "
-        "(relative tolerance label_tol_period), amplitude X_max - X_min (relative, label_tol_amplitude, floor label_tol_floor) "
+        "(relative tolerance label_tol_period), amplitude (X_max - X_min) / 2 (relative, label_tol_amplitude, floor label_tol_floor) "
         "and stick fraction (absolute, label_tol_stick), none finer than the runs resolve (label_tol_resolution); "
         "equilibria by position; codes 0.. ordered by amplitude, -1 not settled, -2 diverged, -3 quasi-periodic, -4 chaotic",
         **{f"label_tol_{k}": float(v) for k, v in tol.as_dict().items()},
@@ -265,7 +265,7 @@ TABLES = (
     ("basin_stability", "basin stability: fraction of the initial states ending on this outcome", "1"),
     ("basin_stability_stderr", "binomial standard error of the basin stability sqrt(p (1 - p) / N)", "1"),
     ("attractor_period", "period of the attractor (median over its points; NaN unless periodic)", "1"),
-    ("attractor_amplitude", "amplitude X_max - X_min of the attractor (median over its points)", "1"),
+    ("attractor_amplitude", "amplitude (X_max - X_min) / 2 of the attractor (median over its points)", "1"),
     ("attractor_stick_fraction", "stick fraction of the attractor (median over its points)", "1"),
     ("attractor_x_mid", "middle (X_max + X_min) / 2 of the attractor: X* for the equilibrium", "1"),
 )

@@ -32,7 +32,7 @@ from ..estimate import Estimate, enforce
 from ..sweep.compute import VARIABLES
 from ..sweep.runner import run_sweep, sweep_estimate
 from ..sweep.store import check_out, zarr_problem
-from .labels import OUTCOMES, Attractor, Tolerances, label_attractors, resolution
+from .labels import NOT_SETTLED, OUTCOMES, Attractor, Tolerances, label_attractors, resolution
 
 #: what an output dataset can be
 DATASET_FORMATS = (".nc", ".zarr")
@@ -252,7 +252,18 @@ def basins(
         labelled.attrs.update(_design_attrs(design, along))
         result = Basins(labelled, found, _codes(labelled), tol, design, along, time.perf_counter() - t0)
         _write(result, out, plot, dpi, run.out_name)
+    _warn_unsettled(labelled["label"].values, cfg.run.t_end)
     return result
+
+
+def _warn_unsettled(label: np.ndarray, t_end: float) -> None:
+    """Say when points did not settle: each is its own outcome (``not_settled``), but it may belong to any basin,
+    so every other fraction is only a lower bound (a slow transient, or a torus whose exponent is still unsure)."""
+    n = int(np.count_nonzero(label == NOT_SETTLED))
+    if n:
+        warnings.warn(f"{n} of {label.size} initial states did not settle by t_end = {t_end:g} (not_settled): where "
+                      "they go is unknown, so the other outcomes' fractions are lower bounds; a longer t_end settles "
+                      "them", stacklevel=3)
 
 
 def _write(result: Basins, out: str | Path | None, plot: str | Path | None, dpi: float, out_name: str = "out") -> None:
