@@ -68,6 +68,10 @@ GROWTH_BOUND = 1e8
 GROWTH_CHECK = 1e10
 #: at most this many repeats
 MAX_REFINE = 2
+#: batches of consecutive blocks the standard error is estimated from (batch means), and the fewest blocks a batch
+#: needs for it to be given
+BATCHES = 10
+BATCH_BLOCKS = 4
 
 
 @dataclass(frozen=True, repr=False)
@@ -120,12 +124,36 @@ class LyapunovResult(Summarized):
 
     @property
     def spread(self) -> tuple[float, float]:
-        """A convergence check, max - min of each running estimate over the second half of the averaging."""
+        """A convergence check, max - min of each running estimate over the second half of the averaging (not an
+        error bar: :attr:`stderr`)."""
         half = self.running[len(self.running) // 2:]
         out = []
         for i in range(2):
             col = half[:, i]
             out.append(float(np.ptp(col)) if np.all(np.isfinite(col)) else math.nan)
+        return out[0], out[1]
+
+    @property
+    def stderr(self) -> tuple[float, float]:
+        """Each exponent's standard error by batch means (the average cut into ``BATCHES`` runs of consecutive
+        blocks, each batch's own exponent, their standard deviation over sqrt(BATCHES)).
+
+        A statistical error bar, where the spread is a convergence check (the running estimate's range, which
+        need not match the uncertainty either way); it holds while a batch outlasts the motion's correlation time.  NaN for an exponent that is not finite or with fewer than BATCHES * BATCH_BLOCKS blocks.
+        """
+        n = len(self.running) // BATCHES * BATCHES
+        if n < BATCHES * BATCH_BLOCKS:
+            return math.nan, math.nan
+        last = slice(n // BATCHES - 1, n, n // BATCHES)  # each batch's last block
+        spans = np.diff(self.times[last], prepend=0.0)
+        out = []
+        for i in range(2):
+            grown = self.running[last, i] * self.times[last]  # the log growth since the transient, at each batch's end
+            if not np.all(np.isfinite(grown)):
+                out.append(math.nan)
+                continue
+            each = np.diff(grown, prepend=0.0) / spans
+            out.append(float(np.std(each, ddof=1) / math.sqrt(BATCHES)))
         return out[0], out[1]
 
     @property
@@ -141,6 +169,7 @@ class LyapunovResult(Summarized):
             "minus_infinity": [e == -math.inf for e in self.exponents],
             "collapsed": self.collapsed,
             "spread": list(self.spread),
+            "stderr": list(self.stderr),
             "switches": dict(self.switches),
             "settings": dict(self.settings),
             "final_state": {"X": float(self.sections[-1, 0]), "V": float(self.sections[-1, 1])},
@@ -158,11 +187,11 @@ class LyapunovResult(Summarized):
             ("forcing", f"F_ex={num(self.model.fex, 4)}, Omega={num(self.model.omega, 4)}" if self.model.forced else "none"),
             *([("belt", f"V_b + A sin(Omega_b tau + phi_b), A={num(self.model.vb_amplitude, 4)}, "
                         f"Omega_b={num(self.model.vb_omega, 4)}")] if self.model.belt_varies else []),
-            ("lambda_1", f"{num(l1, 8)} (spread {num(self.spread[0], 2)})"),
+            ("lambda_1", f"{num(l1, 8)} (standard error {num(self.stderr[0], 2)}, spread {num(self.spread[0], 2)})"),
             ("lambda_2", "-inf (stick onsets collapse the tangent map)" if self.collapsed
              else "-inf (no stick: the second tangent vector sank into rounding; max_memory limits the "
                   "renormalisations)" if l2 == -math.inf
-             else f"{num(l2, 8)} (spread {num(self.spread[1], 2)})"),
+             else f"{num(l2, 8)} (standard error {num(self.stderr[1], 2)}, spread {num(self.spread[1], 2)})"),
             *([("renormalised", f"{s['qr_per_block']} times per block")] if s.get("qr_per_block", 1) > 1 else []),
             ("switches", ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in self.switches.items() if v)),
             ("averaged", f"tau {num(s['t_transient'])}..{num(s['t_end'])}, {s['blocks']} blocks of {num(s['block'])}, "
