@@ -88,7 +88,7 @@ nitpick_ignore = [
     ("py:class", "frictionflow.core.batch.Ode"),
 ]
 nitpick_ignore_regex = [
-    (r"py:class", r"(numpy|xarray|pandas|matplotlib|distributed|dask|typing|collections\.abc|pathlib)\..*"),
+    (r"py:class", r"(numpy|xarray|pandas|matplotlib|distributed|dask|typing|collections\.abc|pathlib|dataclasses)\..*"),
 ]
 
 # -- the gallery: every example runs at each build, so none can rot --------------------------------

@@ -225,3 +225,20 @@ def test_bad_chart_input_is_refused_in_one_line_with_nothing_written(models, cap
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and words in err[0], err
     assert not (models / "written.json").exists()
+
+
+def test_the_initial_state_plays_no_part_in_a_scan(models, capsys):
+    """Steady sliding alone: an [initial] state whose normal load P + 2 x2 is <= 0 at the smaller preloads (x2 = -0.3:
+    P <= 0.6) no longer refuses the scan (QA: the whole scan failed on the file's start at one value).  With Coulomb
+    and N linear in q, K_eff = K - mu e n^T does not depend on P: every row is +-i sqrt of K_eff's eigenvalues, and
+    N* = P / (1 + 2 mu 0.15625) > 0 everywhere (K^-1's (2, 1) entry is -0.5 / 3.2)."""
+    (models / "start.toml").write_text(HOFFMANN + "[initial]\nq = { x2 = -0.3 }\n")
+    report, err = run_json(capsys, "--model", str(models / "start.toml"), "--vary", "contact.0.normal.preload=0.1:1:10")
+    assert err == "" and not any(report["lost"]) and report["critical"] == []
+    k_eff = [[1.5, 0.5 - 2.0 * 0.3], [0.5, 2.3]]
+    half = (k_eff[0][0] + k_eff[1][1]) / 2
+    root = math.sqrt(half ** 2 - (k_eff[0][0] * k_eff[1][1] - k_eff[0][1] * k_eff[1][0]))
+    expected = sorted(math.sqrt(lam) for lam in (half - root, half + root))
+    for row in report["eigenvalues"]:
+        assert all(abs(e["re"]) < 1e-12 for e in row)
+        assert sorted(abs(e["im"]) for e in row) == pytest.approx(sorted(expected * 2), rel=1e-12)

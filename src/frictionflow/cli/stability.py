@@ -86,7 +86,8 @@ def _check_study(vary: str | None, x: str | None, y: str | None) -> None:
 def _scan(system: System, vary: str) -> StabilityScan:
     entry, values = entry_values(system, vary)
     enforce(scan_estimate(system.n, len(values)))
-    at = functools.lru_cache(maxsize=4)(lambda value: system.with_entry(entry, value))
+    # steady sliding alone: the file's initial state is no start here, so its normal loads are not checked
+    at = functools.lru_cache(maxsize=4)(lambda value: system.with_entry(entry, value, start=False))
     return stability_scan(lambda value: assemble(at(value)), values, param=entry)
 
 
@@ -97,7 +98,7 @@ def _chart(system: System, x: str, y: str) -> StabilityChart:
         raise ValueError(f"--x and --y name the same entry {xe}: give two different ones")
     enforce(chart_estimate(system.n, len(xs), len(ys)))
     # both entries set at once: they may bound each other (a contact's fd and fs)
-    return stability_chart(lambda a, b: assemble(system.with_entries({xe: a, ye: b})), xs, ys, x=xe, y=ye,
+    return stability_chart(lambda a, b: assemble(system.with_entries({xe: a, ye: b}, start=False)), xs, ys, x=xe, y=ye,
                            progress=sys.stderr.isatty())
 
 

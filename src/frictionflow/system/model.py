@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import tomllib
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import InitVar, dataclass, field
 from pathlib import Path
 from typing import Any, Iterator, Mapping
 
@@ -59,6 +59,9 @@ class System:
         The initial state (missing entries 0), each entry in the range of the single mass's ``x0`` / ``v0``.
     source:
         The file the model was read from, for messages (None: built in Python).
+    start:
+        Check the initial state as a start, every normal load > 0 there (not kept; False for a study that never
+        runs from it, :meth:`with_entries`).
     """
 
     dof: tuple[str, ...]
@@ -69,10 +72,13 @@ class System:
     forces: tuple[Force, ...] = ()
     initial: Initial = field(default_factory=Initial)
     source: str | None = field(default=None, compare=False, repr=False)
+    # (not kept) whether the initial state must be a start (every normal load > 0 there); False for a study that
+    # never runs from it (the stability of steady sliding)
+    start: InitVar[bool] = True
 
-    def __post_init__(self) -> None:
+    def __post_init__(self, start: bool = True) -> None:
         with labelled(self.label):
-            for name, value in self._validated().items():
+            for name, value in self._validated(start).items():
                 object.__setattr__(self, name, value)
 
     @property
@@ -80,7 +86,7 @@ class System:
         """Names the model in messages (``model FILE``, or ``model`` when it was built in Python)."""
         return "model" if self.source is None else f"model {self.source}"
 
-    def _validated(self) -> dict[str, Any]:
+    def _validated(self, start: bool) -> dict[str, Any]:
         """Every field checked and converted (floats, (dof, value) pairs in dof order)."""
         dof = checks.dof_names(self.dof)
         out: dict[str, Any] = {"dof": dof, "mass": _mass(self.mass, dof)}
@@ -98,12 +104,13 @@ class System:
                                          dof) for key, pairs in (("q", self.initial.q), ("v", self.initial.v))))
         q0 = vector(out["initial"].q, dof)
         for j, contact in enumerate(out["contacts"]):
-            _loaded(f"contact.{j}", contact.normal, q0, dof)
+            if start:
+                _loaded(f"contact.{j}", contact.normal, q0, dof)
         return out
 
     # -- construction --------------------------------------------------------
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any], *, source: str | None = None) -> "System":
+    def from_dict(cls, data: Mapping[str, Any], *, source: str | None = None, start: bool = True) -> "System":
         """The system a mapping describes (the tables of a model file; see :doc:`/guide/models`).
 
         Parameters
@@ -114,10 +121,13 @@ class System:
             the law's own parameters beside it.
         source:
             The file it was read from, for messages.
+        start:
+            Check the initial state as a start (every normal load > 0 there); False for a study that
+            never runs from it.
         """
         with labelled("model" if source is None else f"model {source}"):
             values = parse.fields(data)
-        return cls(**values, source=source)
+        return cls(**values, source=source, start=start)
 
     @classmethod
     def single_mass(cls, oscillator: BeltOscillator, friction: FrictionLaw | None = None, *, x0: float = 0.0,
@@ -229,7 +239,7 @@ class System:
         with labelled(self.label):
             return entries.value(self, address)
 
-    def with_entry(self, address: str, value: Any) -> "System":
+    def with_entry(self, address: str, value: Any, *, start: bool = True) -> "System":
         """A new system with the entry at ``address`` set to ``value``, validated like a file's.
 
         Parameters
@@ -238,10 +248,12 @@ class System:
             As for :meth:`entry`; ``mass.i.j`` sets both M_ij and M_ji.
         value:
             The new value.
+        start:
+            As for :meth:`from_dict`.
         """
-        return self.with_entries({address: value})
+        return self.with_entries({address: value}, start=start)
 
-    def with_entries(self, values: Mapping[str, Any]) -> "System":
+    def with_entries(self, values: Mapping[str, Any], *, start: bool = True) -> "System":
         """A new system with each entry of ``values`` (address -> value) set, validated together like a file's
         (entries that bound each other, such as a contact's ``fd`` and ``fs``, move at once).
 
@@ -249,10 +261,13 @@ class System:
         ----------
         values:
             Addresses as for :meth:`entry`, and their new values.
+        start:
+            As for :meth:`from_dict`: False where the study never runs from the initial state (a normal
+            load the new values leave <= 0 there is then no error).
         """
         with labelled(self.label):
             data = entries.replaced_all(self, values)
-        return type(self).from_dict(data, source=self.source)
+        return type(self).from_dict(data, source=self.source, start=start)
 
 
 def load_system(path: str | Path) -> System:
