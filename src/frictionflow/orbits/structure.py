@@ -438,6 +438,17 @@ def _orbit(setup: Setup, ret: Return, row: int | None, returns: int, iterations:
     )
 
 
+def fd_deviation(system_or_assembly: Any, orbit: StructureOrbit, fd: np.ndarray) -> float:
+    """max |(M_fd - M) B| over B, an orthonormal basis of the perturbations that keep the contacts stuck at the
+    orbit's start stuck (e_j . dq' = 0).
+
+    Across such a constraint the two differ by convention, not error: the exact monodromy holds the contact, the
+    differences start it slipping or (a full mass matrix) spread the velocity kick to the other dof by M^-1.
+    """
+    A, _ = _constraints(_setup(system_or_assembly).flow, orbit.motion.modes[:, 0], None)
+    return float(np.max(np.abs((np.asarray(fd) - orbit.monodromy) @ _basis(A))))
+
+
 def fd_structure_monodromy(system_or_assembly: Any, state: Any, period: float, eps: float | None = None) -> np.ndarray:
     """The monodromy by central differences of the time-``period`` map, each end from a run of the exact engine.
 
