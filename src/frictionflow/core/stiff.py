@@ -462,26 +462,30 @@ def step_from(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, fresh):
 def _rodas(q, zeta, vb, t, y, h, ynew, wnew, tol, ws, n, fresh):
     """:func:`step_from` for a state of ``n`` components."""
     dy, dw, jac, jw, a, piv, k, kw, yi, d, ft, dy0, dw0 = ws
-    if fresh:  # the later stages leave jac, jw and ft as the first one set them
-        evaluate_n(q, zeta, vb, t, y, dy0, dw0, (jac, jw, ft, d), True, n)
-    for i in range(n):
-        dy[i] = dy0[i]
-    for c in range(N_CHANNELS):
-        dw[c] = dw0[c]
-    for i in range(n):
-        for j in range(n):
-            a[i, j] = -jac[i, j]  # jac stays for the quadratures
-        a[i, i] += 1.0 / (GAMMA * h)
-    if not lu_factor_n(a, piv, n):
-        return np.inf
     for st in range(6):
-        if st > 0:
-            for c in range(n):
-                acc = y[c]
-                for j in range(st):
-                    acc += A_TAB[st, j] * k[j, c]
-                yi[c] = acc
-            evaluate_n(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, (jac, jw, ft, d), False, n)
+        for c in range(n):
+            acc = y[c]
+            for j in range(st):
+                acc += A_TAB[st, j] * k[j, c]
+            yi[c] = acc  # (stage 0: y itself)
+        # one call site, so that the law's code is compiled into the step once (a fifth less compiling); the
+        # first stage's call also brings J, jw and ft, which the later stages keep (and a step that is not
+        # ``fresh`` keeps from the last one)
+        if st > 0 or fresh:
+            first = st == 0
+            evaluate_n(q, zeta, vb, t + C_NODE[st] * h, yi, dy0 if first else dy, dw0 if first else dw,
+                       (jac, jw, ft, d), first, n)
+        if st == 0:
+            for i in range(n):
+                dy[i] = dy0[i]
+            for c in range(N_CHANNELS):
+                dw[c] = dw0[c]
+            for i in range(n):
+                for j in range(n):
+                    a[i, j] = -jac[i, j]  # jac stays for the quadratures
+                a[i, i] += 1.0 / (GAMMA * h)
+            if not lu_factor_n(a, piv, n):
+                return np.inf
         hd = h * D_TAB[st]
         for c in range(n):
             acc = dy[c]
