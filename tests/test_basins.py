@@ -347,7 +347,7 @@ def test_points_that_did_not_settle_are_said_to_leave_the_fractions_lower_bounds
     count; at the module's t_end every point settles and nothing is said (QA: a forced torus's points split 61/39
     between quasi_periodic and not_settled, read as two basins)."""
     grid = dict(x0=(X_STAR - 0.2, X_STAR + 0.2, 3), v0=(-0.2, 0.2, 3))
-    with pytest.warns(UserWarning, match=r"^(\d) of 9 initial states did not settle by t_end = 20 ") as seen:
+    with pytest.warns(UserWarning, match=r"^(\d) of 9 runs did not settle by t_end = 20 ") as seen:
         short = basins({**SETTINGS, "t_end": 20.0}, **grid)
     n = int(np.count_nonzero(short.dataset["label"].values == -1))
     assert n > 0 and str(seen[0].message).startswith(f"{n} of 9 ")

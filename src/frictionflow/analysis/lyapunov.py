@@ -139,7 +139,8 @@ class LyapunovResult(Summarized):
         blocks, each batch's own exponent, their standard deviation over sqrt(BATCHES)).
 
         A statistical error bar, where the spread is a convergence check (the running estimate's range, which
-        need not match the uncertainty either way); it holds while a batch outlasts the motion's correlation time.  NaN for an exponent that is not finite or with fewer than BATCHES * BATCH_BLOCKS blocks.
+        need not match the uncertainty either way); it holds while a batch outlasts the motion's correlation
+        time.  NaN for an exponent that is not finite or with fewer than BATCHES * BATCH_BLOCKS blocks.
         """
         n = len(self.running) // BATCHES * BATCHES
         if n < BATCHES * BATCH_BLOCKS:

@@ -261,7 +261,7 @@ def _warn_unsettled(label: np.ndarray, t_end: float) -> None:
     so every other fraction is only a lower bound (a slow transient, or a torus whose exponent is still unsure)."""
     n = int(np.count_nonzero(label == NOT_SETTLED))
     if n:
-        warnings.warn(f"{n} of {label.size} initial states did not settle by t_end = {t_end:g} (not_settled): where "
+        warnings.warn(f"{n} of {label.size} runs did not settle by t_end = {t_end:g} (not_settled): where "
                       "they go is unknown, so the other outcomes' fractions are lower bounds; a longer t_end settles "
                       "them", stacklevel=3)
 

@@ -24,8 +24,8 @@ from ..orbits.forced_plot import plot_forced_branches, plot_forced_orbit
 from ..parameters import Param
 from ..plotting import FIGURE_FORMATS
 from ._app import app
-from .options import (CONFIG_OPTION, check_option, command_config, parameter_names, refuse_fixed, start_state, with_dimensional,
-                      with_options, with_parameters)
+from .options import (CONFIG_OPTION, check_option, command_config, parameter_names, refuse_fixed, start_state,
+                      with_dimensional, with_options, with_parameters)
 from .output import FLOW_MAP, print_summary, provenance, write_json
 from .vocabulary import check_term, option, overlay_count, parameter_help
 
