@@ -96,3 +96,19 @@ def test_the_estimate_is_one_line_scan_per_value_of_y():
     one = chart_estimate(2, 41, 1)
     assert chart_estimate(2, 41, 10).seconds == pytest.approx(10 * one.seconds)
     assert chart_estimate(2, 41, 10).work == 10 * one.work
+
+
+def test_an_undamped_stable_cell_gives_its_lowest_frequency_not_the_one_rounding_picks():
+    """Undamped and below the threshold, both modes sit on the axis (real parts +-1e-17): their growth is one tie,
+    and the frequency is the lower sqrt of K_eff's eigenvalues (QA: cells jumped between the two modes).  Beyond
+    the threshold it is the growing pair's, as numpy's largest real part says."""
+    mu_c, _ = hoffmann_threshold()
+    mus = np.linspace(0.1, 1.2, 23)
+    chart = stability_chart(hoffmann, mus, [0.0])
+    for j, mu in enumerate(mus):
+        lam = np.linalg.eigvals(first_order(mu, 0.0))
+        if mu < mu_c:
+            low = math.sqrt(min(np.linalg.eigvals(-first_order(mu, 0.0)[2:, :2]).real))
+            assert chart.stable[0, j] and chart.frequency[0, j] == pytest.approx(low, rel=1e-12)
+        else:
+            assert chart.frequency[0, j] == pytest.approx(abs(lam[np.argmax(lam.real)].imag), rel=1e-10)

@@ -26,7 +26,7 @@ from .._progress import progress_bar
 from ..core.assembly import Assembly
 from ..estimate import Estimate
 from ..friction.base import FrictionLaw
-from .stability import Critical, StabilityScan, scan_estimate, stability_scan
+from .stability import ZERO_REAL, Critical, StabilityScan, scan_estimate, stability_scan
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,8 @@ class StabilityChart(Summarized):
         (Q, P) the largest real part of the eigenvalues at each grid point (row: a value of y); NaN where
         steady sliding is lost (a contact's normal load <= 0, or no isolated equilibrium).
     frequency:
-        (Q, P) the imaginary part (>= 0) of that eigenvalue; NaN where steady sliding is lost.
+        (Q, P) the imaginary part (>= 0) of that eigenvalue (the lowest of the modes tied with it at rounding,
+        as the undamped modes of a stable undamped model are); NaN where steady sliding is lost.
     stable:
         (Q, P) bool: no eigenvalue in the right half plane (a real part within ``stability.ZERO_REAL`` of
         the spectrum's size is zero, as on one line); False where steady sliding is lost.
@@ -103,11 +104,19 @@ class StabilityChart(Summarized):
 
 
 def _line_summary(scan: StabilityScan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(growth, frequency, stable) along one line: the largest real part, its eigenvalue's |Im|, the scan's verdict."""
+    """(growth, frequency, stable) along one line: the largest real part, its eigenvalue's |Im|, the scan's verdict.
+
+    Modes whose real parts are that largest one within ``ZERO_REAL`` of the spectrum's size (the undamped modes of
+    a stable undamped model, all at 0 up to rounding) are one tie: the lowest of their frequencies is given, not
+    the one rounding happened to put first."""
     lam = scan.eigenvalues
     top = np.argmax(lam.real, axis=1)
     worst = lam[np.arange(len(lam)), top]
-    return worst.real, np.abs(worst.imag), scan.stable
+    with np.errstate(invalid="ignore"):  # (rows without steady sliding: NaN throughout, and they stay so)
+        tied = lam.real >= worst.real[:, None] - ZERO_REAL * np.abs(lam).max(axis=1, keepdims=True)
+        frequency = np.where(tied, np.abs(lam.imag), np.inf).min(axis=1)
+    frequency[np.isnan(worst.real)] = np.nan
+    return worst.real, frequency, scan.stable
 
 
 def stability_chart(assembly_at: Callable[[float, float], Assembly], x_values: Sequence[float],
