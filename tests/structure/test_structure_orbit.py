@@ -23,10 +23,13 @@ from frictionflow.orbits.shooting import ShootingError
 from frictionflow.orbits.structure import find_structure_orbit
 from frictionflow.solvers.structure import run_assembly, simulate_system
 from frictionflow.system import System, load_system
+from frictionflow.cli.structure_orbit import DEFAULT_TRANSIENT, orbit_report
 from tests.cli.processes import cli, in_process, one_line
 from tests.golden.cases import ORBIT
 
 from .builders import assembly, chain, single_mass
+
+EXAMPLES = Path(__file__).parents[2] / "examples" / "models"
 
 #: two-mass chains with stick-slip orbits: (fs, belts, damper c, coupling k, section crossings per period)
 CHAINS = {
@@ -307,51 +310,17 @@ def test_a_contact_the_exact_engine_does_not_run_is_refused_without_advice_that_
     assert "solver=" not in one_line(err, "contact.0 has friction=stribeck")
 
 
-FULL_MASS = """
-dof = ["x1", "x2"]
-mass = [[1.0, 0.2], [0.2, 1.5]]
-[[spring]]
-on = { x1 = 1.0 }
-k = 1.0
-[[spring]]
-on = { x1 = 1.0, x2 = -1.0 }
-k = 0.5
-[[spring]]
-on = { x2 = 1.0 }
-k = 0.8
-[[damper]]
-on = { x1 = 1.0 }
-c = 0.02
-[[damper]]
-on = { x2 = 1.0 }
-c = 0.01
-[[contact]]
-on = { x1 = 1.0 }
-belt = 0.05
-friction = "coulomb"
-fd = 0.1
-fs = 0.3
-normal = { preload = 1.0, x1 = 0.5, x2 = -1.0 }
-[[contact]]
-on = { x2 = 1.0 }
-belt = 0.05
-friction = "coulomb"
-fd = 0.15
-fs = 0.25
-[initial]
-v = { x1 = 0.05, x2 = 0.05 }
-"""
 
-
-def test_the_fd_check_compares_along_the_stuck_contacts_constraints(tmp_path):
-    """A full mass matrix, x2 stuck at the section (QA): a kick to x2' across its stick constraint is held by the exact
-    monodromy (a zero column) and spread to x1' by M^-1 in the differences (0.2 of x1''s column), a convention, not
-    an error: --fd-check reported 0.06.  Along the constraint the two agree to the differences' accuracy."""
-    path = tmp_path / "full.toml"
-    path.write_text(FULL_MASS, encoding="utf-8")
-    code, out, err, _ = in_process("orbit", "--model", str(path), "--json", "--fd-check")
-    assert code == 0, err
-    report = json.loads(out)
+def test_the_fd_check_compares_along_the_stuck_contacts_constraints():
+    """A full mass matrix, x2 stuck at the section (QA: stick_slip_chain with these entries): a kick to x2' across its
+    stick constraint is held by the exact monodromy (a zero column) and spread to x1' by M^-1 in the differences
+    (0.2 of x1''s column), a convention, not an error: --fd-check reported 0.06.  Along the constraint the two agree
+    to the differences' accuracy."""
+    system = load_system(EXAMPLES / "stick_slip_chain.toml").with_entries({
+        "mass.0.1": 0.2, "mass.1": 1.5, "contact.0.normal.preload": 1.0, "contact.0.normal.x1": 0.5,
+        "contact.0.normal.x2": -1.0})
+    found = find_structure_orbit(system, t_transient=DEFAULT_TRANSIENT)
+    report = orbit_report(found, EXAMPLES / "stick_slip_chain.toml", DEFAULT_TRANSIENT, fd_check=True)  # --fd-check's
     M, fd = np.array(report["monodromy"]), np.array(report["fd_monodromy"])
     assert report["stick_fraction"][1] > 0 and report["fd_deviation"] < 1e-6
     across = np.abs(fd - M).max(axis=0)  # by column: (q1, q2, q1', q2')
