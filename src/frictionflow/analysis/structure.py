@@ -40,8 +40,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.optimize import brentq
 
+from .._lazy import lazy_module
 from ..motion import Motion
 from .. import _validate as check
 from .. import quantities as Q
@@ -52,6 +52,8 @@ from ..core.layout import LAW
 from ..friction.registry import law_classes
 from .stability import ZERO_REAL, steady_sliding
 from .structure_lyapunov import beyond_periodic
+
+optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
 #: the kinds a structure's run is given: the shared ones (:data:`frictionflow.quantities.KINDS`) but
 #: ``diverged`` (an exact linear run stays finite), and ``contact_lost``; the first four keep their codes
@@ -360,7 +362,7 @@ def _refine(motion: Any, row: int, a: float, b: float) -> float:
         return b
     if fa * fb > 0.0:  # a tangency the grid brackets from one side: take the grid point
         return b
-    return brentq(lambda s: float(motion.states([s])[row, 0]), a, b, xtol=1e-14, rtol=4 * np.finfo(float).eps)
+    return optimize.brentq(lambda s: float(motion.states([s])[row, 0]), a, b, xtol=1e-14, rtol=4 * np.finfo(float).eps)
 
 
 def stick_fractions(motion: Any, window: tuple[float, float]) -> tuple[float, ...]:

@@ -59,8 +59,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from scipy.integrate._ivp import dop853_coefficients as _dop
-
+from .._lazy import module_alone
 from . import codes
 from . import saltation as salt
 from .friction import (FD, FS, LAW_A, LAW_B, LAW_C, RESULTANT, rest_mode, slip_partial_of, slip_terms_of,
@@ -70,6 +69,7 @@ from .roots import RUNNING, bracket, steer, tolerance, update
 from .tangent import slip_force, slip_slope
 
 # -- DOP853 coefficients (Hairer's, as SciPy stores them) --------------------------
+_dop = module_alone("scipy.integrate._ivp.dop853_coefficients")  # scipy.integrate's __init__ costs ~0.4 s
 N_STAGES = 12
 A = np.ascontiguousarray(_dop.A[:N_STAGES, :N_STAGES])
 B = np.ascontiguousarray(_dop.B)

@@ -21,7 +21,6 @@ import math
 from collections.abc import Callable
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .._lazy import lazy_module
 from ..core.friction import rest_mode, slip_magnitude_of, slip_slope_of, stick_duration
@@ -30,6 +29,7 @@ from ..params import BeltOscillator
 from .hybrid import MAX_TIME, Phase, Segment, Switch, saltation
 
 optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
+integrate = lazy_module("scipy.integrate")
 
 SLIP_NAMES = {1: "slip+", -1: "slip-", 0: "stick"}
 _MAX_ZERO_PHASES = 8
@@ -115,7 +115,7 @@ class SmoothFlow:
         while True:
             events = [switch] + ([(down if armed else up)] if need else []) + [extreme]
             y0 = [x, v, 1.0, 0.0, 0.0, 1.0]
-            sol = solve_ivp(rhs, (0.0, t_left - T), y0, method="DOP853", rtol=self.rtol, atol=self.atol, events=events, dense_output=True)
+            sol = integrate.solve_ivp(rhs, (0.0, t_left - T), y0, method="DOP853", rtol=self.rtol, atol=self.atol, events=events, dense_output=True)
             if sol.status < 0:
                 raise RuntimeError(f"slip phase integration failed at X={x:.6g}, X'={v:.6g}: {sol.message}")
             t_c = self._missed_switch(sol, d)

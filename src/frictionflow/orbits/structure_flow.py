@@ -34,8 +34,8 @@ import math
 from typing import Any, NamedTuple
 
 import numpy as np
-from scipy.optimize import brentq
 
+from .._lazy import lazy_module
 from ..core import saltation
 from ..core.assembly import natural_frequencies
 from ..core.layout import STICK
@@ -44,6 +44,8 @@ from ..core.structure.phase import start, state_at
 from ..core.structure.stick import acceleration
 from ..core.structure.work import n_channels
 from ..solvers.structure import run_assembly
+
+optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
 #: grid points per fastest natural period when looking for section crossings
 GRID_PER_PERIOD = 64
@@ -185,7 +187,7 @@ def _locate(flow: Flow, motion: Any, row: int, a: float, b: float) -> float:
 
     if value(b) == 0.0:
         return b
-    t = brentq(value, a, b, xtol=1e-15, rtol=4.0 * np.finfo(float).eps)
+    t = optimize.brentq(value, a, b, xtol=1e-15, rtol=4.0 * np.finfo(float).eps)
     i = int(np.searchsorted(motion.t, t, side="right")) - 1
     y = flow.states(motion, np.array([t]))[0]
     rate = flow.field(motion.modes[:, i], y, t)[row]
