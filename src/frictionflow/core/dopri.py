@@ -424,6 +424,11 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
             if ga[0] * gb[0] < 0.0 or ga[1] * gb[1] < 0.0 or ga[2] * gb[2] < 0.0:
                 best, kind = _first_event((ga, gb), y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
             best, kind, tt, cur = _next_sample(best, kind, (t, h), s, cur)
+            if 0 < kind < 4 and tt <= outs[0][k - 1]:
+                # an event function within rounding of 0 where the phase began (X'' at a break-away where the slip
+                # curve starts at F_s): its time is the last sample's, which holds it; a second row would repeat t
+                th = best
+                continue
             dense(y, K, h, best, ys, ny)
             vbt = belt_speed(p, vb, t + best * h) if forced == MOVING else vb
             if kind == 1 or (switched and kind == -1):
