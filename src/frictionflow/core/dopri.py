@@ -376,11 +376,9 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
     reference counting.  Inlined by LLVM into the variant, where :func:`rhs` is inlined in turn (called, the step
     is slower).  Returns (status, at, switched, cur) where it ended.
     """
-    t, x, v, mode, h, k, steps, n_max, n_min = at
-    K, y, yn, ys, tmp = scr
+    (t, x, v, mode, h, k, steps, n_max, n_min), (K, y, yn, ys, tmp) = at, scr
     zeta, vb, d, rtol, atol = s.zeta, s.vb, float(mode), s.rtol, s.atol
-    ny = NY_FORCED if forced else NY  # a constant: the loops over the state unrolled
-    ph = (zeta, vb, d)
+    ny, ph = (NY_FORCED if forced else NY), (zeta, vb, d)  # ny a constant: the loops over the state unrolled
     h = _slip_start(y, K, (t, x, v, h), ph, p, forced)
     last, switched = (0.0, 0.0, 0.0, 0.0), False  # the phase's integrals W_dv, W_f, W_heat, W_ex (from ys) at the last sample
     while t < s.t_end and not switched:
@@ -424,17 +422,14 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
             if ga[0] * gb[0] < 0.0 or ga[1] * gb[1] < 0.0 or ga[2] * gb[2] < 0.0:
                 best, kind = _first_event((ga, gb), y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
             best, kind, tt, cur = _next_sample(best, kind, (t, h), s, cur)
-            if 0 < kind < 4 and tt <= outs[0][k - 1]:
-                # an event function within rounding of 0 where the phase began (X'' at a break-away where the slip
-                # curve starts at F_s): its time is the last sample's, which holds it; a second row would repeat t
-                th = best
+            if 0 < kind < 4 and tt <= outs[0][k - 1]:  # at the last sample's time (X'' ~ 0 where a slip starts at F_s)
+                th = best  # that sample holds the event: a second row would repeat its time
                 continue
             dense(y, K, h, best, ys, ny)
             vbt = belt_speed(p, vb, t + best * h) if forced == MOVING else vb
             if kind == 1 or (switched and kind == -1):
                 ys[1] = 0.0 if kind == 1 else vbt  # exactly: the section crossing is a sample; the switch
-            # works since the phase began, split at the zeros of X'
-            last = _add_works(w, ys, last, s.forced)
+            last = _add_works(w, ys, last, s.forced)  # the works since the phase began, split at the zeros of X'
             if not emit(outs, k, tt, ys[0], ys[1], d * slip_force(p, abs(vbt - ys[1])), mode, w):
                 return FULL, (t, x, v, h, k, steps, n_max, n_min), False, cur
             k += 1
