@@ -24,10 +24,11 @@ import time
 
 from _common import header
 
-HEAVY = ("xarray", "pandas", "matplotlib", "dask", "scipy.optimize", "scipy.integrate", "scipy.linalg",
-         "scipy.sparse", "scipy.special")
+from frictionflow._lazy import DEFERRED
+
+#: which of the deferred modules a tree's start-up loads (the list is this tree's: an old tree may lack it)
 LOADED = ("import sys, frictionflow.cli; print(' '.join(m for m in %r if type(sys.modules.get(m)).__name__ == "
-          "'module'))" % (HEAVY,))
+          "'module'))" % (DEFERRED,))
 
 
 def _env(src: str | None) -> dict[str, str]:

@@ -17,6 +17,11 @@ import sys
 from pathlib import Path
 from types import ModuleType
 
+#: the heavy modules no command needs before it has read its options: loaded where first used, never by
+#: importing the package or its command line (a test and ``benchmarks/bench_startup.py`` check it)
+DEFERRED = ("xarray", "pandas", "matplotlib", "dask", "distributed", "scipy.optimize", "scipy.integrate",
+            "scipy.linalg", "scipy.sparse", "scipy.special")
+
 
 def lazy_module(name: str) -> ModuleType:
     """The module ``name``: already imported, or registered now and executed on first attribute access."""
