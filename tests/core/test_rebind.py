@@ -15,7 +15,6 @@ the process had compiled before and on which process wrote the cache.
 from __future__ import annotations
 
 import json
-import math
 import subprocess
 import sys
 from pathlib import Path
@@ -24,9 +23,10 @@ import numpy as np
 import pytest
 from numba import njit
 
-from frictionflow import BeltOscillator, analyze, simulate
+from frictionflow import BeltOscillator, SlipLaw, analyze, simulate
 from frictionflow.core import certificate, dopri, layout
-from frictionflow.core._rebind import REBOUND, rebind
+from frictionflow.core._rebind import REBOUND, binding_tag, rebind
+from frictionflow.friction.user import user_slip_force
 from frictionflow.sweep import run_sweep
 from frictionflow.sweep.config import parse_sweep
 
@@ -78,3 +78,42 @@ def test_a_user_law_compiled_first_does_not_change_a_cached_sweep_point(tmp_path
     child = json.loads(out.read_text())
     assert child["uid"] == uid  # the cached kernel was loaded, carrying the counter value the copy was given
     assert child["P_belt"] == pytest.approx(ref, rel=1e-9), "the sweep point ran the user's slip law"
+
+
+def test_copies_bound_to_the_package_s_kernels_are_cached_under_the_binding_s_name():
+    law = SlipLaw(user_law)
+    args = (np.zeros(dopri.NY_FORCED), 0.0, 1.0, 0.05, 0.1, law.kernel_params(), np.zeros(dopri.NY_FORCED), False)
+    kept = rebind(dopri, ("slip_force_at", "rhs"), slip_force=user_slip_force)["rhs"]
+    fresh = rebind(dopri, ("slip_force_at", "rhs"), slip_force=njit(lambda p, speed: 0.03))["rhs"]
+    kept(*args), fresh(*args)
+    original = dopri.rhs.py_func.__qualname__
+    assert kept.py_func.__qualname__ == f"{REBOUND}[slip_force=friction.user.user_slip_force].{original}"
+    assert fresh.py_func.__qualname__ == f"{REBOUND}.{original}"
+    assert kept.stats.cache_path is not None and fresh.stats.cache_path is None  # a lambda's copy is never cached
+    assert binding_tag({"slip_force": njit(lambda p, speed: 0.0)}) is None
+    assert binding_tag({"slip_force": dopri.rhs, "other": None}) is None
+
+
+def test_a_second_process_runs_a_user_law_without_compiling_its_kernels():
+    # this process: the user law's kernels compiled (or loaded) into the shared on-disk cache
+    run = simulate(BeltOscillator(0.03, 0.12), SlipLaw(user_law), t_end=20.0)
+    here = analyze(run)
+    child = (
+        "import json, sys\n"
+        "from numba.core import event\n"
+        "from frictionflow import BeltOscillator, SlipLaw, analyze, simulate\n"
+        "from tests.core.rebind_child import user_law\n"
+        "compiled = []\n"
+        "class L(event.Listener):\n"
+        "    def on_start(self, ev): compiled.append(ev.data['dispatcher'].py_func.__qualname__)\n"
+        "    def on_end(self, ev): pass\n"
+        "event.register('numba:compile', L())\n"
+        "r = analyze(simulate(BeltOscillator(0.03, 0.12), SlipLaw(user_law), t_end=20.0))\n"
+        "print(json.dumps({'compiled': compiled, 'P_belt': r.power.P_belt, 'residual': r.energy_residual}))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True, timeout=300,
+                          cwd=Path(__file__).parents[2])
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout.splitlines()[-1])
+    assert not [name for name in out["compiled"] if name.startswith(REBOUND)]
+    assert out["P_belt"] == here.power.P_belt and out["residual"] == here.energy_residual

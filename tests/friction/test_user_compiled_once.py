@@ -1,4 +1,4 @@
-"""A SlipLaw's kernels are compiled once per process, not once per user function.
+"""A SlipLaw's kernels are compiled once, not once per user function (kept in the cache: tests/core/test_rebind.py).
 
 Every compiled user function runs in the same rebuilt kernel, which calls the
 function whose address the law's force record carries.  What must hold: the

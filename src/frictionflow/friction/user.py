@@ -42,7 +42,7 @@ def user_slip_force(p, speed):
     """The slip force of the user function whose address ``p[ADDRESS]`` holds (the kernels' ``(p, speed)``).
 
     One function for every user law: the kernels rebuilt around it are
-    compiled once per process, not once per user function.
+    compiled once and cached (:mod:`frictionflow.core._rebind`), not once per user function.
     """
     return _call_at(p[ADDRESS], speed)
 
@@ -94,10 +94,11 @@ class SlipLaw(FrictionLaw):
         relative speed ``speed`` > 0.  A numba-compilable function (plain
         ``math``/``numpy`` code, or already ``numba.njit``-ed) runs compiled;
         anything else runs in the Python version of the adaptive solver.
-        The adaptive solver's kernels for user laws are compiled once per
-        process (about 6 s of CPU on first use), and each new function
-        then only compiles itself (about 0.1-0.4 s): they call the
-        function whose address the law's force record carries.  An
+        The adaptive solver's kernels for user laws are compiled on the
+        first use (about 10 s of CPU) and kept in numba's cache like the
+        built-in ones; each new function, in each process, then only
+        compiles itself (about 0.1-0.4 s): they call the function whose
+        address the law's force record carries.  An
         exception ``func`` raises in compiled code becomes NaN, which ends
         the run (no exception crosses compiled code).
     fs:
