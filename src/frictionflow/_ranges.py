@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 #: whether a range's N is ``required``, ``optional`` or refused (``none``)
 COUNTS = ("required", "optional", "none")
 
@@ -26,6 +28,15 @@ class Range:
     def text(self) -> str:
         """The range as it is written."""
         return f"{self.start:g}:{self.stop:g}" + ("" if self.num is None else f":{self.num}")
+
+    def grid(self, num: int) -> np.ndarray:
+        """``num`` evenly spaced values from FROM to TO, each within two units in the last place of a decimal of
+        12 digits taken as that decimal (0.5:0.8:7 holds 0.7, not 0.7000000000000001, which a bound such as
+        F_s = 0.7 would refuse; 0:1:4 keeps 1/3's nearest float)."""
+        values = np.linspace(self.start, self.stop, num)
+        snapped = np.array([float(f"{v:.12g}") for v in values])
+        close = np.abs(snapped - values) <= 2.0 * np.spacing(np.abs(values))
+        return np.where(close, snapped, values)
 
 
 def syntax(count: str) -> str:

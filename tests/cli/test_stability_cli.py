@@ -9,8 +9,10 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
 import pytest
 
+from frictionflow._ranges import Range
 from frictionflow.cli import main
 
 # Hoffmann's minimal model: x1 tangential, x2 normal, M = I; springs k1 on x1, k2 on x2, k3 along (1, 1); one
@@ -121,8 +123,8 @@ def test_out_writes_what_json_prints_and_plot_draws(models, capsys):
     (["--vary", "contact.0.fd=0.1:0.8:0"], "--vary contact.0.fd: N must be >= 2"),  # one bound, not ">= 1" here
     (["--vary", "contact.0.fd=0.3:0.3"], "FROM and TO must differ"),
     (["--vary", "contact.0.belt=-0.5:0.5:3"], "contact.0.belt = 0.0: contact.0.belt must be nonzero"),
-    # the value refused with every digit, as the check names it (it said "fd = 2.1" beside "fd = 2.0999999999999996")
-    (["--vary", "contact.0.fd=0.1:3.9:20"], "contact.0.fd = 2.0999999999999996: "),
+    # the grid's value as the range implies it (linspace gives 2.0999999999999996) and as the check names it
+    (["--vary", "contact.0.fd=0.1:3.9:20"], "contact.0.fd = 2.1: model "),
     (["--vary", "contact.0.fd=0.1:0.8", "--param", "contact.0.fd", "--from", "0.1", "--to", "0.2"], "not both"),
     (["--param", "contact.0.fd", "--from", "0.1"], "--param, --from and --to go together"),
     (["--vary", "contact.0.fd=0.1:0.8", "--out", "{dir}/s.txt"], "--out must end in"),
@@ -242,3 +244,11 @@ def test_the_initial_state_plays_no_part_in_a_scan(models, capsys):
     for row in report["eigenvalues"]:
         assert all(abs(e["re"]) < 1e-12 for e in row)
         assert sorted(abs(e["im"]) for e in row) == pytest.approx(sorted(expected * 2), rel=1e-12)
+
+
+def test_a_scan_s_values_are_the_decimals_its_range_implies():
+    # linspace's 0.7000000000000001 would be refused beside F_s = 0.7; a value that is no short decimal is kept
+    values = Range(0.5, 0.8).grid(7)
+    assert values.tolist() == [0.5, 0.55, 0.6, 0.65, 0.7, 0.75, 0.8]
+    assert np.abs(values - np.linspace(0.5, 0.8, 7)).max() <= 2 * np.spacing(0.8)
+    assert Range(0.0, 1.0).grid(4).tolist() == np.linspace(0.0, 1.0, 4).tolist()

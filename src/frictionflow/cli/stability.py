@@ -113,7 +113,7 @@ def entry_values(system: System, text: str, flag: str = "--vary",
         raise ValueError(f"{flag} {key}: N must be in [2, {MAX_POINTS}], got {num}")
     if rng.start == rng.stop:
         raise ValueError(f"{flag} {key}: FROM and TO must differ, got {rng.start:g} twice")
-    return entry, np.linspace(rng.start, rng.stop, num)
+    return entry, rng.grid(num)
 
 
 def caption(system: System, model: Path, result: StabilityScan | StabilityChart) -> str:
