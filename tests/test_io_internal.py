@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from frictionflow import BeltOscillator, simulate
+from frictionflow import BeltOscillator, Coulomb, simulate
 from frictionflow.friction import Dahl, LuGre
 from frictionflow.io import check_output_path, write_trajectory
 
@@ -67,9 +67,19 @@ def test_csv_holds_the_internal_states_by_name(run, tmp_path):
     np.testing.assert_array_equal(data["X"], run.x)
 
 
-def test_an_existing_zarr_store_is_refused_in_one_line(run, tmp_path):
+def test_an_existing_zarr_store_is_replaced_and_anything_else_refused_in_one_line(run, tmp_path):
+    # as basins and map treat their stores: the new store in place once complete, the old one gone
     path = write_trajectory(run, tmp_path / "t.zarr")
-    with pytest.raises(ValueError, match=r"^out: '.+t\.zarr' exists \(a Zarr store is a directory, not replaced"):
-        write_trajectory(run, path)
+    shorter = simulate(BeltOscillator(zeta=0.05, vb=0.1), Coulomb(), t_end=5.0)
+    assert write_trajectory(shorter, path) == path
+    with xr.open_zarr(path) as ds:
+        np.testing.assert_array_equal(ds["X"].values, shorter.to_xarray()["X"].values)
+    (tmp_path / "plain.zarr").mkdir()
+    (tmp_path / "plain.zarr" / "notes.txt").write_text("mine")
+    (tmp_path / "file.zarr").write_text("mine")
+    for other in ("plain.zarr", "file.zarr"):
+        with pytest.raises(ValueError, match=rf"^out: '.+{other}' exists and is not a Zarr store.*it would be replaced"):
+            write_trajectory(run, tmp_path / other)
+    assert (tmp_path / "plain.zarr" / "notes.txt").read_text() == "mine" and (tmp_path / "file.zarr").read_text() == "mine"
     assert check_output_path(tmp_path / "other.zarr", (".zarr",), "out") == tmp_path / "other.zarr"
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary left behind

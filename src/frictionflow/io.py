@@ -39,7 +39,10 @@ from typing import Any
 
 import numpy as np
 
+from ._lazy import lazy_module
 from .trajectory import WORK_NAMES, Trajectory
+
+zarr = lazy_module("zarr")  # (its import is heavy: loaded when a store is first read)
 
 TRAJECTORY_FORMATS = (".csv", ".nc", ".zarr")
 #: errors of a write that mean the path itself cannot be written (bad input); any other error of the file
@@ -157,9 +160,10 @@ def _name_problem(p: Path) -> str | None:
 
 def _target_problem(p: Path) -> str | None:
     """An existing directory, or a read-only file, where the file should go."""
+    if p.suffix.lower() == ".zarr" and p.exists():  # an existing store is replaced (:func:`atomic_write`), nothing else
+        problem = zarr_problem(p)
+        return None if problem is None else f"{str(p)!r} {problem}; it would be replaced: give another path or remove it"
     if p.is_dir():
-        if p.suffix.lower() == ".zarr":
-            return f"{str(p)!r} exists (a Zarr store is a directory, not replaced: remove it or choose another name)"
         return f"{str(p)!r} is a directory"
     if p.exists() and not os.access(p, os.W_OK):
         return f"{str(p)!r} exists and is read-only"
@@ -277,13 +281,40 @@ def atomic_write(path: str | Path, name: str = "path", then: str = "") -> Iterat
             yield tmp
             _sync(tmp)  # the data on disk before the name: a crash cannot leave a named, empty file
             deliver()  # a Ctrl-C during the write: the old file stays
-            os.replace(tmp, target)
+            _replace(tmp, target)
         except BaseException as e:
             error = write_error(e, name, target, then)  # before removing: the disk is still full
             _remove(tmp)
             if error is None:
                 raise
             raise error from None
+
+
+def _replace(tmp: Path, target: Path) -> None:
+    """Rename ``tmp`` to ``target``; an existing Zarr store there (a directory, which a rename cannot replace) is
+    moved aside first, put back if the rename fails, and removed after it."""
+    if not (target.is_dir() and tmp.is_dir() and zarr_problem(target) is None):
+        os.replace(tmp, target)
+        return
+    old = temporary_path(target)
+    os.replace(target, old)
+    try:
+        os.replace(tmp, target)
+    except BaseException:
+        os.replace(old, target)
+        raise
+    shutil.rmtree(old, ignore_errors=True)
+
+
+def zarr_problem(path: Path) -> str | None:
+    """Why the existing ``path`` is not a Zarr store (a file, a directory zarr cannot open), or None."""
+    if not path.is_dir():
+        return "exists and is not a Zarr store (it is a file)"
+    try:
+        zarr.open_group(str(path), mode="r", use_consolidated=False)
+    except Exception:
+        return "exists and is not a Zarr store"
+    return None
 
 
 #: the signals a write holds back (SIGTERM: the command line raises KeyboardInterrupt for it, as for Ctrl-C)
@@ -464,7 +495,7 @@ def write_trajectory(traj: Trajectory, path: str | Path, *, name: str = "out") -
         ``*.csv`` (one row per sample: tau, X, V, F_c, mode and the work integrals; a law's internal states
         by their names, the stored energy ``E_s`` and the belt's work ``W_belt`` where the run has them), or
         ``*.nc`` / ``*.zarr`` (the dataset of :meth:`~frictionflow.Trajectory.to_xarray`; a Zarr store is a
-        directory).
+        directory: an existing store is replaced once the new one is complete, anything else there is refused).
     name:
         How error messages name ``path`` (the command line passes its option, such as ``--out``).
     """

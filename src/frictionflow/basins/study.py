@@ -11,7 +11,6 @@ resumable, local or Dask); then labels the attractors over the whole dataset
 from __future__ import annotations
 
 import math
-import os
 import shutil
 import tempfile
 import time
@@ -25,13 +24,12 @@ import numpy as np
 from .. import _validate as check
 from .._display import Summarized, num
 from .._figures import draw, pyplot
-from ..io import (DEFAULT_DPI, FIGURE_FORMATS, atomic_write, check_dpi, check_output_path, temporary_path, write_error,
-                  write_figure)
+from ..io import DEFAULT_DPI, FIGURE_FORMATS, atomic_write, check_dpi, check_output_path, write_figure, write_zarr
 from ..sweep.config import GRID_KEYS, SAMPLE, SAMPLE_KEYS, SweepConfig, parse_sweep
 from ..estimate import Estimate, enforce
 from ..sweep.compute import VARIABLES
 from ..sweep.runner import run_sweep, sweep_estimate
-from ..sweep.store import check_out, zarr_problem
+from ..sweep.store import check_out
 from .labels import NOT_SETTLED, OUTCOMES, Attractor, Tolerances, label_attractors, resolution
 
 #: what an output dataset can be
@@ -305,18 +303,9 @@ def check_dataset_path(path: str | Path, name: str = "out") -> Path:
     directory; for .nc an existing directory (or a read-only file); for
     .zarr an existing file or directory that is not a Zarr store (an
     existing Zarr store is replaced, as the sweep's store treats it:
-    :func:`~frictionflow.sweep.store.zarr_problem`).
+    :func:`~frictionflow.io.zarr_problem`).
     """
-    p = Path(path)
-    if p.suffix.lower() not in DATASET_FORMATS:
-        raise ValueError(f"{name} must end in one of {', '.join(DATASET_FORMATS)}, got {str(path)!r}")
-    if p.suffix.lower() == ".nc":
-        return check_output_path(p, DATASET_FORMATS, name)
-    check_out(p, name)  # its directory
-    problem = zarr_problem(p) if p.exists() else None
-    if problem is not None:
-        raise ValueError(f"{name}: {str(path)!r} {problem}; it would be replaced: give another path or remove it")
-    return p
+    return check_output_path(path, DATASET_FORMATS, name)
 
 
 def check_store(store: str | Path, out: str | Path | None, name: str = "store", out_name: str = "out") -> Path:
@@ -499,27 +488,9 @@ def write_dataset(ds, path: str | Path, name: str = "out") -> Path:
     """
 
     p = Path(path)
-    if p.suffix.lower() == ".nc":
-        with atomic_write(p, name) as tmp:
+    with atomic_write(p, name) as tmp:  # (an existing Zarr store is replaced only once the new one is complete)
+        if p.suffix.lower() == ".nc":
             ds.to_netcdf(tmp)
-        return p
-    tmp, old = temporary_path(p), None
-    try:
-        with warnings.catch_warnings():  # zarr's note that Zarr v3 does not specify consolidated metadata yet
-            warnings.filterwarnings("ignore", message=".*[Cc]onsolidated metadata.*")
-            ds.to_zarr(tmp, mode="w", consolidated=True)
-        old = temporary_path(p) if p.exists() else None
-        if old is not None:
-            os.replace(p, old)  # a directory cannot be renamed over a non-empty one: move the old one aside
-        os.replace(tmp, p)
-    except OSError as e:
-        if old is not None and not p.exists():
-            os.replace(old, p)  # the previous output back in place: complete or not at all
-        raise write_error(e, name, p) from None  # bad input (a read-only directory) or a failure (a full disk)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    if old is not None and old.is_dir():
-        shutil.rmtree(old, ignore_errors=True)
-    elif old is not None:
-        old.unlink(missing_ok=True)
+        else:
+            write_zarr(ds, tmp)
     return p

@@ -52,7 +52,7 @@ import numpy as np
 
 from .. import _validate as check
 from .._version import __version__
-from ..io import _directory_problem, _limit, atomic_write, stale_temporaries, temporary_path, write_error
+from ..io import _directory_problem, _limit, atomic_write, stale_temporaries, temporary_path, write_error, zarr_problem
 from .compute import chunk_slices
 from .config import SAMPLE, SINGLE_MASS, SweepConfig, Variable, n_chunks
 from .lock import lock_path
@@ -166,19 +166,6 @@ def _check_name_lengths(target: Path, name: str) -> None:
     if need > 0:
         raise ValueError(f"{name}: the file name of {str(target)!r} is too long: its lock/partial files need {need} "
                          f"more byte{'s' if need > 1 else ''} (at most {longest} bytes a name here; its own {size})")
-
-
-def zarr_problem(path: Path) -> str | None:
-    """Why the existing ``path`` is not a Zarr store (a file, a directory zarr cannot open), or None."""
-    import zarr
-
-    if not path.is_dir():
-        return "exists and is not a Zarr store (it is a file)"
-    try:
-        zarr.open_group(str(path), mode="r", use_consolidated=False)
-    except Exception:
-        return "exists and is not a Zarr store"
-    return None
 
 
 def _sweep_path(path: str | Path, name: str) -> Path:
