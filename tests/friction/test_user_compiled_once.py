@@ -9,6 +9,7 @@ that raises in compiled code ends the run instead of returning a made-up force.
 
 from __future__ import annotations
 
+import functools
 import math
 import pickle
 
@@ -71,3 +72,23 @@ def test_a_function_that_raises_in_compiled_code_ends_the_run():
 
     traj = simulate(M, SlipLaw(refuses_fast, fd=0.02), Adaptive(), t_end=30, x0=0.0, v0=0.0)
     assert np.isnan(traj.x[-1])  # not the 0.0 a C callback returns when its exception is dropped
+
+
+class _Bump:
+    """A callable object: what numba cannot compile as a function."""
+
+    def __call__(self, s):
+        return gaussian_bump(s)
+
+
+def _shaped(s, base, height):
+    return base + height * math.exp(-((s / 0.02) ** 2))
+
+
+@pytest.mark.parametrize("func", [_Bump(), functools.partial(_shaped, base=0.02, height=0.02)], ids=["object", "partial"])
+def test_any_callable_runs_in_python_with_the_plain_function_s_numbers(func):
+    # "any Python callable" (the guide): not compiled, run by the Python version of the same kernel
+    assert compiled_function(func) is None
+    plain = simulate(M, SlipLaw(gaussian_bump), Adaptive(), t_end=20)
+    other = simulate(M, SlipLaw(func), Adaptive(), t_end=20)
+    assert np.array_equal(other.x, plain.x) and np.array_equal(other.mode, plain.mode)

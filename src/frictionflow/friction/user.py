@@ -59,23 +59,29 @@ def compiled_function(func: Callable[[float], float]) -> Any | None:
         return _COMPILED[func]
     except (KeyError, TypeError):
         pass
-    jitted = func if isinstance(func, CPUDispatcher) else njit(func)
-
-    def slip(speed):
-        try:
-            return jitted(speed)
-        except Exception:  # noqa: BLE001  (nothing can be raised through the C boundary)
-            return np.nan
-
     try:
-        compiled = cfunc(SLIP_SIGNATURE)(slip)
-    except Exception:  # not numba-compilable: the kernels run it in Python
+        compiled = cfunc(SLIP_SIGNATURE)(_guarded(func))
+    except Exception:  # not numba-compilable (or no plain function: a partial, a callable object): run in Python
         compiled = None
     try:
         _COMPILED[func] = compiled
     except TypeError:  # not weakly referable: compiled again for the next law
         pass
     return compiled
+
+
+def _guarded(func: Callable[[float], float]) -> Callable[[float], float]:
+    """``func`` compiled, returning NaN where it raises (nothing can be raised through the C boundary);
+    TypeError for a callable that is not a plain function."""
+    jitted = func if isinstance(func, CPUDispatcher) else njit(func)
+
+    def slip(speed):
+        try:
+            return jitted(speed)
+        except Exception:  # noqa: BLE001
+            return np.nan
+
+    return slip
 
 
 def address_bits(compiled: Any) -> float:
