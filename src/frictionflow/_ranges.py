@@ -33,10 +33,16 @@ class Range:
         """``num`` evenly spaced values from FROM to TO, each within two units in the last place of a decimal of
         12 digits taken as that decimal (0.5:0.8:7 holds 0.7, not 0.7000000000000001, which a bound such as
         F_s = 0.7 would refuse; 0:1:4 keeps 1/3's nearest float)."""
-        values = np.linspace(self.start, self.stop, num)
-        snapped = np.array([float(f"{v:.12g}") for v in values])
-        close = np.abs(snapped - values) <= 2.0 * np.spacing(np.abs(values))
-        return np.where(close, snapped, values)
+        return decimal_values(np.linspace(self.start, self.stop, num))
+
+
+def decimal_values(values: np.ndarray) -> np.ndarray:
+    """``values`` with each one within two units in the last place of a decimal of 12 digits replaced by that
+    decimal: a grid's values as its range implies them (:meth:`Range.grid`; the sweep's axes alike)."""
+    values = np.asarray(values, dtype=float)
+    snapped = np.array([float(f"{v:.12g}") for v in values.ravel()]).reshape(values.shape)
+    close = np.abs(snapped - values) <= 2.0 * np.spacing(np.abs(values))
+    return np.where(close, snapped, values)
 
 
 def syntax(count: str) -> str:

@@ -135,3 +135,17 @@ def test_a_default_that_follows_an_axis_is_not_recorded_as_fixed():
     assert fixed_fd.attributes()["fixed_fs"] == 0.04
     given = parse_sweep({"friction": "stribeck", "fs": 0.05, "t_end": 100.0, "grid": {"fd": [0.02, 0.01]}})
     assert given.attributes()["fixed_fs"] == 0.05
+
+
+@pytest.mark.parametrize("axis", ["0.1:0.2:1", {"start": 0.1, "stop": 0.2, "num": 1}], ids=["text", "table"])
+def test_a_one_value_range_with_two_ends_is_refused(axis):
+    # linspace(0.1, 0.2, 1) is [0.1]: the stop would be dropped without a word
+    with pytest.raises(ValueError, match=r"grid.vb: num = 1 holds one value, but start 0.1 and stop 0.2 differ"):
+        parse_sweep({"grid": {"vb": axis}})
+    assert parse_sweep({"grid": {"vb": {"start": 0.1, "stop": 0.1, "num": 1}}}).axes["vb"].tolist() == [0.1]
+
+
+def test_an_axis_holds_the_decimals_its_range_implies_as_stability_s_scan_does():
+    # "0.6:0.7:3": linspace gives 0.6499999999999999
+    assert parse_sweep({"grid": {"vb": "0.6:0.7:3"}}).axes["vb"].tolist() == [0.6, 0.65, 0.7]
+    assert parse_sweep({"grid": {"vb": {"start": 0.6, "stop": 0.7, "num": 3}}}).axes["vb"].tolist() == [0.6, 0.65, 0.7]

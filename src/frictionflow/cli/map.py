@@ -103,7 +103,7 @@ def map_(params: dict[str, Any], opts: MapOptions) -> None:
     model, law, _ = cfg.build()
     for flag, name in (("--x", plane.x), ("--y", plane.y)):
         check_varied(flag, name, law)
-    xs = np.linspace(plane.xs.start, plane.xs.stop, nx)
+    xs = plane.xs.grid(nx)
     chart = stability_map(model, law, plane.x, xs, plane.y, (plane.ys.start, plane.ys.stop), sweep_shape=shape,
                           sweep_out=opts.store, t_end=cfg.given.get("t_end", 500.0), heat=opts.heat,
                           sweep_name="--store", curves=curve_list, n_scan=n_scan, fold_every=opts.fold_every)
@@ -198,7 +198,7 @@ def _forced_map(params: dict[str, Any], opts: MapOptions, plane: Plane, nx: int)
         raise ValueError(f"--friction: forced maps need Coulomb's stick rule ({', '.join(switch_law_names())}), got {law.name}")
     x, y, (x0, x1), (y0, y1) = plane.x, plane.y, (plane.xs.start, plane.xs.stop), (plane.ys.start, plane.ys.stop)
     model = replace(model, **{x: float(x0), y: float(y0)})
-    ys = np.linspace(y0, y1, ny) if ny > 1 else np.array([float(y0)])
+    ys = plane.ys.grid(ny) if ny > 1 else np.array([float(y0)])
     try:
         chart = forced_map(model, law, x, (x0, x1), y, ys, sweep_shape=shape, sweep_out=opts.store,
                            t_end=cfg.given.get("t_end", 500.0), heat=opts.heat, sweep_y_range=(y0, y1),

@@ -58,7 +58,7 @@ def response(
     cfg = command_config("response", config, params, config_only=("rtol",))
     model, law, solver = cfg.build()
     x0, v0 = start_state(cfg, model, law)
-    omegas, directions = np.linspace(w0, w1, n) if n > 1 else np.array([w0]), DIRECTIONS if direction == "both" else (direction,)
+    omegas, directions = omega.grid(n) if n > 1 else np.array([w0]), DIRECTIONS if direction == "both" else (direction,)
     if out is not None and model.forced:  # the file joins the runs' estimate (the first accepted is the command's)
         runs = response_estimate(model, law, solver, omegas, periods).times(len(directions))
         enforce(runs.writing(out, response_bytes(len(directions), len(omegas)), "--out"))

@@ -38,7 +38,7 @@ import numpy as np
 
 from .. import _validate as check
 from .. import quantities as Q
-from .._ranges import parse_range
+from .._ranges import decimal_values, parse_range
 from ..config import DIMENSIONAL_REQUIRED, RunConfig, nondimensional_values, refuse_mixing, set_by_dimensional
 from ..friction import law_class
 from ..io import read_config
@@ -237,11 +237,14 @@ def _axis(key: str, value: Any, number: Callable[[str, str, Any], float] | None 
         scale = check.choice(f"{where}.scale", value.get("scale", "linear"), ("linear", "log"))
         if num > 1 and start == stop:
             raise ValueError(f"{where}: start == stop with num > 1 gives repeated values")
+        if num == 1 and start != stop:  # (linspace would keep start and drop stop without a word)
+            raise ValueError(f"{where}: num = 1 holds one value, but start {start:g} and stop {stop:g} differ; "
+                             "give num >= 2, or the value alone")
         if scale == "log":
             if start <= 0 or stop <= 0:
                 raise ValueError(f"{where}: a log axis needs start > 0 and stop > 0, got {start:g}, {stop:g}")
-            return np.geomspace(start, stop, num)
-        return np.linspace(start, stop, num)
+            return decimal_values(np.geomspace(start, stop, num))
+        return decimal_values(np.linspace(start, stop, num))
     raise ValueError(f"{where} must be a number, a list or a {{start, stop, num, scale}} table, got {value!r}")
 
 
