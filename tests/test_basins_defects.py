@@ -21,7 +21,7 @@ CHAOS = ["basins", "--friction", "coulomb", "--fex", "0.5", "--omega", "1", "--z
          "--fs", "1.0", "--t-end", "1000"]
 #: a cheap unforced Karnopp case (two points) for the path checks
 CHEAP = ["basins", "--fd", "0.02", "--fs", "0.04", "--zeta", "0.05", "--vb", "0.01", "--t-end", "50",
-         "--x0-range=-0.1:0.1:2", "--v0-range=-0.1:0.1:1"]
+         "--x0-range=-0.1:0.1:2", "--v0-range=-0.1:-0.1:1"]
 _KINDS = ("periodic", "equilibrium", "not_settled", "diverged", "quasi_periodic", "chaotic")
 
 
@@ -85,7 +85,7 @@ def test_a_periodic_point_without_values_is_counted_as_not_settled():
 
 def test_cli_chaotic_case_counts_every_point_and_draws_the_map(tmp_path, capsys):
     out, fig = tmp_path / "chaos.nc", tmp_path / "chaos.png"
-    code = main([*CHAOS, "--x0-range=-1:1:2", "--v0-range=-1:1:1", "--out", str(out), "--plot", str(fig), "--json"])
+    code = main([*CHAOS, "--x0-range=-1:1:2", "--v0-range=-1:-1:1", "--out", str(out), "--plot", str(fig), "--json"])
     assert code == 0, capsys.readouterr().err
     report = json.loads(capsys.readouterr().out)
     assert sum(o["count"] for o in report["outcomes"]) == 2
@@ -196,7 +196,7 @@ def test_out_zarr_does_not_replace_a_directory_that_is_not_a_zarr_store(tmp_path
     assert (tmp_path / "out2.zarr" / "notes.txt").read_text() == "precious"
     assert [p.name for p in tmp_path.iterdir()] == ["out2.zarr"]
     with pytest.raises(ValueError, match="out: .* exists and is not a Zarr store"):  # the API alike
-        basins(fd=0.02, fs=0.04, zeta=0.05, vb=0.01, t_end=50.0, x0=(-0.1, 0.1, 2), v0=(-0.1, 0.1, 1), out=tmp_path / "out2.zarr")
+        basins(fd=0.02, fs=0.04, zeta=0.05, vb=0.01, t_end=50.0, x0=(-0.1, 0.1, 2), v0=(-0.1, -0.1, 1), out=tmp_path / "out2.zarr")
 
 
 def test_out_zarr_still_replaces_a_previous_output(tmp_path, monkeypatch):
@@ -268,3 +268,11 @@ def test_initial_state_problems_name_the_options(args, words, tmp_path, monkeypa
     base = [a for a in CHEAP if not a.startswith(("--x0-range", "--v0-range"))]
     assert main([*base, *args]) == 2
     assert words in _one_line(capsys)
+
+
+def test_a_one_point_range_with_two_ends_is_refused_as_a_sweep_axis_is(capsys):
+    # one point would keep low and drop high without a word (a sweep's axis refuses it alike)
+    with pytest.raises(ValueError, match=r"v0: 1 point holds one value, but low -0.1 and high 0.1 differ"):
+        basins(fd=0.02, fs=0.04, zeta=0.05, vb=0.01, t_end=50.0, x0=(-0.1, 0.1, 2), v0=(-0.1, 0.1, 1))
+    assert main([*CHEAP[:-1], "--v0-range=-0.1:0.1:1"]) == 2
+    assert "--v0-range: 1 point holds one value" in _one_line(capsys)

@@ -22,7 +22,7 @@ TOML = 'friction = "coulomb"\nfd = 0.02\nfs = 0.04\nt_end = 50.0\n[grid]\nvb = [
 CFG = {"friction": "coulomb", "fd": 0.02, "fs": 0.04, "t_end": 50.0, "grid": {"vb": [0.01, 0.02]}}
 #: a cheap unforced Karnopp case (two points) for the basins paths
 BASINS = ["basins", "--fd", "0.02", "--fs", "0.04", "--zeta", "0.05", "--vb", "0.01", "--t-end", "50",
-          "--x0-range=-0.1:0.1:2", "--v0-range=-0.1:0.1:1"]
+          "--x0-range=-0.1:0.1:2", "--v0-range=-0.1:-0.1:1"]
 MAP = ["map", "--x", "vb=0.004:0.03:3", "--y", "zeta=0:1:11", "--overlay", "2x2", "--t-end", "50"]
 
 

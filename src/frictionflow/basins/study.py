@@ -381,6 +381,9 @@ def _range(name: str, value: Any, with_count: bool) -> tuple[float, float, int |
         raise ValueError(f"{name}: the number of points must be an integer >= 1, got {n!r}")
     if n > 1 and low == high:
         raise ValueError(f"{name}: low == high with {n} points")
+    if n == 1 and low != high:  # (as a sweep's axis: one point would keep low and drop high without a word)
+        raise ValueError(f"{name}: 1 point holds one value, but low {low:g} and high {high:g} differ; "
+                         "give 2 points or more, or low == high")
     return low, high, int(n)
 
 
