@@ -326,9 +326,9 @@ def test_estimate_before_any_work(two_dof, tmp_path):
     cfg = load_model_sweep(two_dof / "sweep.toml")
     est = runner.sweep_estimate(cfg, tmp_path / "r.zarr")
     assert est.work == 4 and est.seconds > 0
-    # per point: kind, period, energy_residual; stick_fraction, P_belt, P_heat over 2 contacts; P over 5 elements;
-    # X_max, X_min over 2 dof
-    assert est.outputs == (("out", str(tmp_path / "r.zarr"), 4 * 8.0 * (3 + 3 * 2 + 5 + 2 * 2)),)
+    # per point: kind, period, energy_residual; stick_fraction, P_belt, P_heat, t_lost over 2 contacts; P over 5
+    # elements; X_max, X_min over 2 dof
+    assert est.outputs == (("out", str(tmp_path / "r.zarr"), 4 * 8.0 * (3 + 4 * 2 + 5 + 2 * 2)),)
     with limited(Limits(seconds=1e-9)), pytest.raises(ValueError) as e:
         run_sweep(cfg, tmp_path / "r.zarr")
     assert "\n" not in str(e.value)
@@ -377,7 +377,9 @@ def test_a_lost_contact_is_its_own_kind(tmp_path):
     direct = analyze_structure(simulate_system(system.with_entry("contact.0.normal.x", -5.0), 50.0))
     assert direct.steady_state.kind == "contact_lost" and direct.steady_state.window[1] == motion.lost[1]
     assert float(lost["energy_residual"]) == direct.energy_residual < 1e-12
+    assert lost["t_lost"].sel(contact="contact.0").item() == motion.lost[1]  # where simulate --model says it stopped
     kept = ds.isel({"contact.0.normal.x": 1})
+    assert np.isnan(kept["t_lost"].values).all()
     want = point_values(system.with_entry("contact.0.normal.x", -0.5), 50.0)
     assert int(kept["kind"]) == want["kind"] and STRUCTURE_KINDS[want["kind"]] != "contact_lost"
     np.testing.assert_array_equal(kept["P_heat"].values, want["P_heat"])

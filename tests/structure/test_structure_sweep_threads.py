@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import tomllib
 
 import numpy as np
@@ -47,7 +49,9 @@ def alone(system: System, solver: str = "exact") -> dict:
             "P_belt": [a.elements[c]["P_belt"] for c in system.contact_names],
             "P_heat": [a.elements[c]["P_heat"] for c in system.contact_names],
             "X_max": [a.amplitude["X_max"][d] for d in system.dof], "X_min": [a.amplitude["X_min"][d] for d in system.dof],
-            "energy_residual": a.energy_residual}
+            "energy_residual": a.energy_residual,
+            "t_lost": [a.motion.lost[1] if a.motion.lost is not None and a.motion.lost[0] == c else math.nan
+                       for c in system.contact_names]}
 
 
 @pytest.mark.parametrize("n_threads", [1, 3])
@@ -57,7 +61,8 @@ def test_a_threaded_chunk_equals_each_point_run_alone(cfg, monkeypatch, n_thread
     monkeypatch.setattr(threads.numba, "get_num_threads", lambda: n_threads)
     got = compute_model_chunk(cfg.source, (0, 0), cfg.shape)
     names = [v.name for v in cfg.variables]
-    assert names == ["kind", "period", "stick_fraction", "P", "P_belt", "P_heat", "X_max", "X_min", "energy_residual"]
+    assert names == ["kind", "period", "stick_fraction", "P", "P_belt", "P_heat", "X_max", "X_min", "energy_residual",
+                     "t_lost"]
     for index in np.ndindex(*cfg.shape):
         want = alone(cfg.point_system(index))
         for name, arr in zip(names, got):

@@ -105,6 +105,8 @@ class ModelSweepConfig(Grid):
             Variable("X_max", "", "maximum of the coordinate over the steady-state window", dims=("dof",)),
             Variable("X_min", "", "minimum of the coordinate over the steady-state window", dims=("dof",)),
             Variable("energy_residual", "1", "relative residual of the energy balance over the window"),
+            Variable("t_lost", "", "time the contact's normal load reached zero, ending the run (NaN unless this "
+                     "contact was lost)", dims=("contact",)),
         ]
         labels = self.labels
         return tuple(v for v in table if all(d in labels for d in v.dims))
@@ -352,6 +354,7 @@ def point_rows(cfg: ModelSweepConfig, system: System) -> list[np.ndarray]:
     """One point's values, one array per variable of ``cfg.variables`` (over its extra dims)."""
     result = analyze_structure(simulate_system(system, cfg.t_end, solver=cfg.solver), rtol=cfg.rtol)
     ss = result.steady_state
+    lost = result.motion.lost  # (contact name, time) where a normal load reached zero, else None
     labels = cfg.labels
     elements = result.elements
     amp = result.amplitude
@@ -369,6 +372,8 @@ def point_rows(cfg: ModelSweepConfig, system: System) -> list[np.ndarray]:
         "X_max": over("dof", lambda d: amp.get("X_max", {}).get(d, math.nan)),
         "X_min": over("dof", lambda d: amp.get("X_min", {}).get(d, math.nan)),
         "energy_residual": np.array(result.energy_residual),
+        "t_lost": over("contact", lambda c: lost[1] if lost is not None and lost[0] == c else math.nan)
+        if "contact" in labels else None,
     }
     return [values[v.name] for v in cfg.variables]
 
