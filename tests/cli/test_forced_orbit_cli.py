@@ -52,6 +52,25 @@ def test_forced_continue_json_and_plot(tmp_path, capsys):
     assert path.stat().st_size > 1000
 
 
+def test_forced_continue_in_fex_runs_from_the_command_line(capsys):
+    """``--vary fex=FROM:TO`` is the only way to give F_ex to forced-continue (a --fex beside it is refused), so the
+    model is built at FROM; it was built at F_ex = 0 and refused as unforced, and no command line could run.
+    Both ends of the branch are the orbits forced-orbit's API finds at those amplitudes."""
+    from frictionflow import BeltOscillator, Coulomb
+    from frictionflow.orbits.forced import find_forced_orbit
+
+    system = ["--friction", "coulomb", "--zeta", "0.03", "--vb", "0.05", "--fd", "0.02", "--fs", "0.04", "--omega", "0.9"]
+    assert main(["forced-continue", *system, "--vary", "fex=0.02:0.03", "--json"]) == 0
+    branch = json.loads(capsys.readouterr().out)["branches"][0]
+    assert branch["parameter"] == "fex" and branch["end"] == "interval end"
+    for point, fex in ((branch["points"][0], 0.02), (branch["points"][-1], 0.03)):
+        assert point["lambda"] == pytest.approx(fex, abs=1e-14)
+        o = find_forced_orbit(BeltOscillator(zeta=0.03, vb=0.05, fex=fex, omega=0.9), Coulomb(0.02, 0.04), m=1,
+                              x0=point["X"], v0=point["V"])
+        assert (point["X"], point["V"]) == pytest.approx(tuple(o.state[:2]), abs=1e-10)
+        assert point["amplitude"] == pytest.approx(o.amplitude, rel=1e-10)
+
+
 @pytest.mark.parametrize("args, name", [
     (["forced-continue", *SUB3, "--parameter", "zeta", "--from", "0.1", "--to", "0.2"], "--vary"),
     (["forced-continue", *SUB3, "--from", "-1", "--to", "0.2"], "--vary FROM"),

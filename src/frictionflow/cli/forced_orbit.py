@@ -148,8 +148,9 @@ def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None
     m, overlay = _one_m(opts.m), overlay_count(opts.overlay)
     check_option("--overlay", OVERLAY, overlay)
     _check_outputs(opts.out, opts.plot)
-    cfg, model, law = _build("forced-continue", opts.config, params)
     refuse_fixed(parameter, "--vary", "along the branch", opts.config, params)
+    # the model at FROM: the varied parameter is given by --vary alone (--fex has no default a forced model accepts)
+    cfg, model, law = _build("forced-continue", opts.config, {**params, parameter: start})
     x0, v0 = start_state(cfg, model, law)
     enforce(_job(model, parameter, (start, stop), m, opts, overlay))  # the whole command, before its first run
     # the first orbit as forced-orbit finds it: DEFAULT_TRANSIENT forcing periods from the start, then Newton
