@@ -256,3 +256,28 @@ def test_model_netcdf_carries_what_the_json_says(tmp_path):
         assert ds.attrs["model_file"] == str(path) and ds.attrs["solver"] == "exact"
         assert ds.attrs["energy_residual"] < 1e-12 and "whole run" in ds.attrs["energy_residual_span"]
         assert all(ds[k].attrs.get("long_name") for k in ("q", "v", "force", "mode", "work"))
+
+
+def test_model_json_names_its_solver_and_settings_as_the_single_mass_does(tmp_path):
+    """docs/citation.md: "the JSON output records both [solver and sticking force] under ``solver`` and
+    ``params``": the single mass's report had ``solver``, the model's had none.  It gives the solver's name, its
+    settings (the adaptive one's by keyword, defaults included) and the sample step the run used (None: the
+    switches only; the file's step with --out), the same numbers the NetCDF's samples are spaced by."""
+    path = tmp_path / "one.toml"
+    path.write_text(ONE_DOF.format(c=0.1, vb=0.01, stick="resultant"))
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--t-end", "50", "--json")
+    assert code == 0, err
+    assert json.loads(out)["solver"] == {"name": "exact", "dense_dt": None}
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--t-end", "50", "--solver", "adaptive",
+                                   "--ode-rtol", "1e-8", "--json")
+    assert code == 0, err
+    solver = json.loads(out)["solver"]
+    assert solver["name"] == "adaptive" and solver["rtol"] == 1e-8 and solver["dense_dt"] is None
+    assert solver["atol"] > 0 and solver["max_steps"] >= 1  # the defaults the run used, not only what was given
+    nc = tmp_path / "run.nc"
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--t-end", "50", "--out", str(nc), "--json")
+    assert code == 0, err
+    step = json.loads(out)["solver"]["dense_dt"]
+    with xr.open_dataset(nc) as ds:
+        gaps = np.diff(ds["time"].values)
+    assert step > 0 and gaps.max() == pytest.approx(step, rel=1e-12)  # no two samples further apart than the step

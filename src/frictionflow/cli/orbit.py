@@ -27,7 +27,7 @@ from ._app import app
 from .options import (CONFIG_OPTION, check_option, check_varied, command_config, parameter_names, refuse_fixed,
                       with_dimensional, with_options, with_parameters)
 from .output import provenance, show, write_json
-from .structure_orbit import ModelOrbitOptions, orbit_model
+from .structure_orbit import DEFAULT_TRANSIENT as MODEL_TRANSIENT, ModelOrbitOptions, orbit_model
 from .vocabulary import option, overlay_count, parameter_help
 
 MODEL = parameter_names(("oscillator", "law"), run=("x0", "v0", "t_end", "friction", "solver", "dimensional"))
@@ -71,8 +71,13 @@ class OrbitOptions:
     model: Optional[Path] = option("--model", "Here: its periodic orbit, Floquet multipliers and element powers.")
 
 
+#: what orbit's --solver and --t-end do here
+ORBIT_DETAIL = {"solver": SOLVER_HELP,
+                "t_end": f"Here: the transient before shooting (with --model: {MODEL_TRANSIENT:g} unless given)."}
+
+
 @app.command()
-@with_parameters(MODEL, parameter_help("orbit", MODEL, {"solver": SOLVER_HELP, "t_end": "Here: the transient before shooting."}))
+@with_parameters(MODEL, parameter_help("orbit", MODEL, ORBIT_DETAIL))
 @with_options(OrbitOptions)
 def orbit(params: dict[str, Any], opts: OrbitOptions) -> None:
     """Find a periodic orbit by Newton shooting; report its Floquet multipliers, power flow and TR_B."""

@@ -17,14 +17,14 @@ from ..simulate import simulate as run_simulation
 from ._app import app
 from .options import CONFIG_OPTION, command_config, parameter_names, with_dimensional, with_parameters
 from .output import provenance, show
-from .structure import simulate_model
+from .structure import T_END as MODEL_T_END, simulate_model
 from .vocabulary import option, parameter_help
 
 NAMES = parameter_names(("oscillator", "law", "solver", "run"))
 
 
 @app.command()
-@with_parameters(NAMES, parameter_help("simulate", NAMES))
+@with_parameters(NAMES, parameter_help("simulate", NAMES, {"t_end": f"With --model: {MODEL_T_END:g} unless given."}))
 def simulate(
     params: dict[str, Any],
     as_json: bool = option("--json"),

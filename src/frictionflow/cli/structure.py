@@ -58,15 +58,22 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     settings = solver_settings(solver, params)
     _refuse_others(solver, params)
     asm = assemble(system)
-    dense_dt = params.get("dense_dt")
-    if dense_dt is None and outputs.get("out") is not None:  # a file wants the curve, not just its switches
-        dense_dt = file_dense_dt(asm)
+    dense_dt = run_dense_dt(asm, params, outputs)
     enforce(run_estimate(asm, t_end, dense_dt, solver=solver))
     window = _window(params.get("window"))
     rtol = 1e-6 if params.get("rtol") is None else float(params["rtol"])
     with structure_precompile.first_use() if solver == EXACT else nullcontext():
         motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=solver, **settings)
         return analyze_structure(motion, rtol=rtol, window=window)
+
+
+def run_dense_dt(asm: Any, params: dict[str, Any], outputs: dict[str, Any]) -> Optional[float]:
+    """The run's sample step: --dense-dt, else the file's default step when --out writes the curve, else None
+    (the switches only)."""
+    dense_dt = params.get("dense_dt")
+    if dense_dt is None and outputs.get("out") is not None:  # a file wants the curve, not just its switches
+        dense_dt = file_dense_dt(asm)
+    return dense_dt
 
 
 def _refuse_others(solver: str, params: dict[str, Any]) -> None:
@@ -87,11 +94,15 @@ def _window(text: Any) -> Optional[tuple[float, float]]:
     return float(text[0]), float(text[1])
 
 
-def report_model(result: StructureAnalysis, system: System, path: Path, params: dict[str, Any]) -> dict[str, Any]:
-    """The ``--json`` object: the analysis, the model file and the run's settings."""
+def report_model(result: StructureAnalysis, system: System, path: Path, params: dict[str, Any],
+                 dense_dt: Optional[float] = None) -> dict[str, Any]:
+    """The ``--json`` object: the analysis, the model file and the run's settings (``solver``: its name and
+    settings, as the single mass's report gives them; ``dense_dt`` the run's sample step)."""
     out = result.to_dict()
     out["model"] = {"file": str(path), "dof": list(system.dof), "elements": list(system.element_names)}
     out["params"] = {"t_end": requested_t_end(params)}  # a run that lost a contact ends before it (``lost``)
+    motion = result.motion
+    out["solver"] = {"name": motion.solver, **motion.settings, "dense_dt": dense_dt}
     return out
 
 
@@ -116,7 +127,7 @@ def simulate_model(path: Path, params: dict[str, Any], as_json: bool, outputs: d
     """The whole ``simulate --model`` command after option parsing."""
     result = run_model(path, params, outputs)
     system = result.motion.system
-    report = report_model(result, system, path, params)
+    report = report_model(result, system, path, params, run_dense_dt(result.motion.assembly, params, outputs))
     if outputs.get("out") is not None:
         with atomic_write(outputs["out"], "--out") as tmp:
             model_dataset(result, report).to_netcdf(tmp)

@@ -23,8 +23,8 @@ from .events import ADAPTIVE_EVENT_MODES, EXACT_EVENT_MODES
 #: the dense grid's step: from 1e-9 up, as RK4's step (finer ones make the sample count of any run beyond memory,
 #: and a subnormal one made it inf)
 DENSE_DT = Param("dense_dt", "", "exact/adaptive: also sample every DENSE_DT", "solver", None, lower=1e-9, upper=MODEL_MAX,
-                 default_text="only switches and sections; 2pi/200 with --out/--plot, with --model and --out 200 per "
-                              "period of its fastest mode")
+                 default_text="only switches and sections; 2pi/200 with --out/--plot, with --model and --out at least 200 "
+                              "per period of its fastest mode")
 
 
 def resonance_problem(zeta: float, omega: float, fex: float) -> str | None:
