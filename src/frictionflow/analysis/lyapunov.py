@@ -52,10 +52,10 @@ from ..estimate import enforce, located_run
 from ..friction.base import STICK_RULE_WORDS, FrictionLaw
 from ..friction.registry import tangent_law_names
 from ..params import BeltOscillator
-from ..solvers.base import DEFAULT_MAX_MEMORY, kernel_params
+from ..solvers.base import DEFAULT_MAX_MEMORY, RK4_STEPS, kernel_params, rk4_steps
 
-#: RK4 steps per block unless told (the convergence test halves it)
-DEFAULT_STEPS = 512
+#: RK4 steps per block unless told (doubled for a block longer than 16 pi: ``solvers.base.rk4_steps``)
+DEFAULT_STEPS = RK4_STEPS
 #: the block of an unforced run: one natural period
 DEFAULT_UNFORCED_BLOCK = 2.0 * math.pi
 SWITCH_NAMES = ("stick_onsets", "slip_onsets", "slip_reversals", "held_at_limit", "grazing_touches")
@@ -420,7 +420,7 @@ def lyapunov_exponents(
     t_transient: float = 1000.0,
     t_end: float = 6000.0,
     *,
-    steps_per_block: int = DEFAULT_STEPS,
+    steps_per_block: int | None = None,
     block: float | None = None,
     max_memory: float = DEFAULT_MAX_MEMORY,
     stop: tuple[int, int, float, float] | None = None,
@@ -441,7 +441,7 @@ def lyapunov_exponents(
         both are rounded up to whole blocks.
     steps_per_block:
         RK4 steps per block (the slip phases' accuracy; switches are located
-        whatever it is).
+        whatever it is); None: 512, doubled while a step would exceed 2 pi / 64.
     block:
         Renormalisation interval: the forcing period 2 pi / Omega when forced,
         the belt's 2 pi / Omega_b on a moving belt alone (and then it must
@@ -474,6 +474,7 @@ def lyapunov_exponents(
     check.instance("friction", friction, FrictionLaw, "a FrictionLaw")
     _check_law(friction)
     block = _block(model, block)
+    steps_per_block = rk4_steps(block, steps_per_block)
     t_transient, t_end = _check_run(0.0 if x0 is None else x0, 0.0 if v0 is None else v0, t_transient, t_end,
                                     steps_per_block)
     x0, v0 = friction.start(model.vb, x0, v0)

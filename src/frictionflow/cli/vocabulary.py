@@ -188,7 +188,8 @@ TERMS: dict[str, Term] = _terms(
     Term("--transient-periods", "Forcing periods run from (x0, v0) before shooting (0: shoot from them).", int, 200,
          "Window", limits=TRANSIENT_PERIODS),
     Term("--steps-per-period", "RK4 steps per forcing period (per block when unforced); switches are located "
-         "whatever it is.", int, DEFAULT_STEPS, "Solver", limits=STEPS_PER_PERIOD),
+         f"whatever it is [{DEFAULT_STEPS}, doubled while a step exceeds 2 pi/64: Omega < 1/8].",
+         Optional[int], None, "Solver", limits=STEPS_PER_PERIOD),
     Term("--block", "Renormalisation interval when unforced [2 pi]; forced: the forcing period.", Optional[float], None,
          "Window", limits=BLOCK),
     Term("--guess", "Shoot from the start state itself, without a transient (to reach unstable orbits).", bool, False),

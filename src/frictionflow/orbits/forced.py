@@ -73,7 +73,7 @@ from ..friction.base import STICK_RULE_WORDS, FrictionLaw
 from ..friction.registry import tangent_law_names
 from ..params import FEX, OMEGA, BeltOscillator
 from ..solvers.auto import auto_solver
-from ..solvers.base import kernel_params
+from ..solvers.base import kernel_params, rk4_steps
 from ..analysis.steady_state import stick_fraction
 from .measures import measures_of, one_period
 from .settings import CONTINUATION_RANGES, DEFAULT_STEPS, FORCED_RANGES, MAX_POINTS, ForcedContinuationSettings, merged
@@ -149,6 +149,18 @@ def _check_int(name: str, value: Any, lo: int, hi: int) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
         raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
     return int(value)
+
+
+def _given_steps(steps: Any) -> int | None:
+    """``steps`` checked by its range, or None (the default: ``solvers.base.rk4_steps``)."""
+    return None if steps is None else FORCED_RANGES["steps"].check(steps)
+
+
+def branch_steps(base: BeltOscillator, parameter: str, interval: tuple[float, float], steps: Any) -> int:
+    """RK4 steps per forcing period of a branch over ``interval`` (``steps`` if given): the default fits the
+    slowest forcing the branch meets (the grid is one along the branch)."""
+    slowest = min(interval) if parameter == "omega" else base.omega
+    return rk4_steps(2.0 * math.pi / slowest, _given_steps(steps))
 
 
 def _check_tol(tol: Any) -> float:
@@ -447,7 +459,7 @@ def find_forced_orbit(
     v0: float | None = None,
     *,
     transient_periods: int | None = None,
-    steps: int = DEFAULT_STEPS,
+    steps: int | None = None,
     tol: float = 1e-11,
     max_iter: int = 40,
 ) -> ForcedOrbit:
@@ -465,7 +477,8 @@ def find_forced_orbit(
         ones 0) the motion runs ``DEFAULT_TRANSIENT`` forcing periods
         from them first.
     steps:
-        RK4 grid steps per forcing period (switches are located whatever it is).
+        RK4 grid steps per forcing period (switches are located whatever it is); None: 512,
+        doubled while a step would exceed 2 pi / 64 (``solvers.base.rk4_steps``).
     tol:
         |Phi(P) - P| relative to the motion's scale.
     transient_periods:
@@ -477,7 +490,7 @@ def find_forced_orbit(
     _check_model(model)
     _check_law(friction)
     _check_measurable(model, friction)
-    m, steps = FORCED_RANGES["m"].check(m), FORCED_RANGES["steps"].check(steps)
+    m, steps = FORCED_RANGES["m"].check(m), rk4_steps(model.forcing_period, _given_steps(steps))
     x0, v0 = (None if value is None else check.number(name, value) for name, value in (("x0", x0), ("v0", v0)))
     if transient_periods is None:
         transient_periods = 0 if (x0 is not None and v0 is not None) else DEFAULT_TRANSIENT
@@ -1101,7 +1114,7 @@ def continue_forced(
     if stop == start:
         raise ValueError(f"stop must differ from start ({start!r})")
     m = FORCED_RANGES["m"].check(m)
-    s = replace(s, steps=FORCED_RANGES["steps"].check(s.steps),
+    s = replace(s, steps=branch_steps(model, parameter, (start, stop), s.steps),
                 max_points=CONTINUATION_RANGES["max_points"].check(s.max_points))  # the CLI's range too
     if not (0 < s.h_min <= s.h0 <= s.h_max):
         raise ValueError(f"steps must satisfy 0 < h_min <= h0 <= h_max, got {s.h_min!r}, {s.h0!r}, {s.h_max!r}")
@@ -1133,7 +1146,7 @@ def branch_estimate(base: BeltOscillator, parameter: str, interval: tuple[float,
     lo, hi = min(interval), max(interval)
     slowest = replace(base, omega=(hi - lo) / math.log(hi / lo)) if parameter == "omega" else base
     periods = s.max_points * _RUNS_PER_POINT * m + (DEFAULT_TRANSIENT + 40 * m if first else 0)
-    return forced_estimate(slowest, periods, s.steps)
+    return forced_estimate(slowest, periods, branch_steps(base, parameter, interval, s.steps))
 
 
 def _trace_forced(pb: _Problem, state: np.ndarray, interval: tuple[float, float], sx: float,

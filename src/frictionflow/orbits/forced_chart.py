@@ -56,6 +56,7 @@ from .forced import (
     PARAMETERS,
     ForcedBranch,
     branch_estimate,
+    branch_steps,
     ForcedShootingError,
     continue_forced,
     find_forced_orbit,
@@ -471,6 +472,7 @@ def forced_chart(
     sweep, heat = options.pop("sweep", None), options.pop("heat", "TR_B")
     settings = merged(ForcedContinuationSettings, continuation, options, "forced_chart", "continuation")
     (lo, hi), ys = _check_plane(x_param, x_range, y_param, y_values, curves)
+    settings = chart_settings(model, (x_param, (lo, hi)), (y_param, ys), settings)
     ms = (m,) if isinstance(m, (int, np.integer)) else tuple(m)
     enforce(forced_chart_estimate(model, (x_param, (lo, hi)), (y_param, ys), ms, settings))  # within the limits in force
     if x_start is None:
@@ -486,10 +488,20 @@ def forced_chart(
                        sweep=sweep, heat=heat if sweep is not None else "", continued_in=x_param)
 
 
+def chart_settings(model: BeltOscillator, x: tuple[str, tuple[float, float]], y: tuple[str, Sequence[float]],
+                   settings: ForcedContinuationSettings) -> ForcedContinuationSettings:
+    """``settings`` with one RK4 grid for the whole chart: the given steps, else the default that fits the
+    slowest forcing on the plane (every branch and start orbit then shares it)."""
+    (x_param, x_range), (y_param, ys) = x, y
+    slowest = min(x_range) if x_param == "omega" else (float(np.min(ys)) if y_param == "omega" else model.omega)
+    return replace(settings, steps=branch_steps(model, "omega", (slowest, slowest), settings.steps))
+
+
 def forced_chart_estimate(model: BeltOscillator, x: tuple[str, tuple[float, float]], y: tuple[str, Sequence[float]],
                           ms: Sequence[int], settings: ForcedContinuationSettings) -> Estimate:
     """A branch over the x interval (``x``: its name and ends) at each y value (``y``: its name and values) and
     each m of ``ms``, as :func:`~.forced.branch_estimate` estimates one."""
+    settings = chart_settings(model, x, y, settings)
     (x_param, x_range), (y_param, ys) = x, y
     runs = [branch_estimate(replace(model, **{y_param: float(v)}), x_param, x_range, mm, settings, True)
             for v in ys for mm in ms]

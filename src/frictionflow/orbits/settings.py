@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import _validate as check
 from ..parameters import Param
-from ..solvers.base import Solver
+from ..solvers.base import RK4_STEPS, Solver
 
 #: where orbit branches of :func:`~frictionflow.orbits.continuation` can start
 SEEDS = ("hopf", "start", "stop")
@@ -41,13 +41,15 @@ CONTINUATION_RANGES = {p.name: p for p in (
     Param("sweep", "", "brute-force simulations", "run", 0, kind="int", lower=0, upper=10_000),
     Param("tol", "", "Newton tolerance", "run", None, lower=0.0, lower_open=True, upper=1e-3),
 )}
-#: RK4 grid steps per forcing period unless told
-DEFAULT_STEPS = 512
+#: RK4 grid steps per forcing period unless told (doubled below Omega = 1/8, where they would be longer than
+#: 2 pi / 64: ``solvers.base.rk4_steps``)
+DEFAULT_STEPS = RK4_STEPS
 #: the ranges of the forced orbits' integers (find_forced_orbit, continue_forced, stroboscopic_sweep and their
 #: command-line options check these)
 FORCED_RANGES = {p.name: p for p in (
     Param("m", "", "period in forcing periods", "run", 1, kind="int", lower=1, upper=1000),
-    Param("steps", "", "RK4 steps per forcing period", "run", DEFAULT_STEPS, kind="int", lower=4, upper=1_000_000),
+    Param("steps", "", "RK4 steps per forcing period", "run", None, kind="int", lower=4, upper=1_000_000,
+          default_text=f"{DEFAULT_STEPS}, doubled while a step exceeds 2 pi/64 (Omega < 1/8)"),
     Param("transient_periods", "", "forcing periods before shooting", "run", 200, kind="int", lower=0,
           upper=10_000_000),
 )}
@@ -122,7 +124,8 @@ class ForcedContinuationSettings:
     Attributes
     ----------
     steps:
-        RK4 grid steps per forcing period.
+        RK4 grid steps per forcing period (None: 512, doubled while a step of the interval's
+        slowest forcing would exceed 2 pi / 64: ``solvers.base.rk4_steps``).
     h0, h_max, h_min:
         First, largest and smallest step in scaled arclength (lambda over
         the interval's length, the state over the first orbit's size);
@@ -138,7 +141,7 @@ class ForcedContinuationSettings:
         A progress bar on stderr while the branch is traced (its points, of at most ``max_points``).
     """
 
-    steps: int = DEFAULT_STEPS
+    steps: int | None = None
     h0: float = 0.01
     h_max: float = 0.04
     h_min: float = 1e-6
