@@ -56,3 +56,20 @@ def test_a_branch_takes_the_grid_of_its_slowest_forcing():
     assert branch.settings["steps_per_period"] == rk4_steps(2 * math.pi / 0.09) == 2 * RK4_STEPS
     told = continue_forced(model, LAW, "omega", 0.2, 0.09, max_points=6, steps=300)
     assert told.settings["steps_per_period"] == 300
+
+
+def test_forced_continue_finds_its_first_orbit_on_the_branchs_grid(capsys):
+    """The command's branch down to Omega = 0.09 runs on 1,024 steps a period (512 before), its first orbit too
+    (at FROM, Omega = 0.2, where an orbit found alone takes 512); the branch's first point is the orbit
+    find_forced_orbit finds there on that grid."""
+    from frictionflow.cli import main
+    import json
+
+    args = ["forced-continue", "--friction", "coulomb", "--fd", "0.02", "--fs", "0.04", "--zeta", str(ZETA), "--vb",
+            "0.05", "--fex", "0.02", "--vary", "omega=0.2:0.09", "--max-points", "6", "--json"]
+    assert main(args) == 0
+    branch = json.loads(capsys.readouterr().out)["branches"][0]
+    assert branch["settings"]["steps_per_period"] == 2 * RK4_STEPS
+    first = find_forced_orbit(BeltOscillator(zeta=ZETA, vb=0.05, fex=0.02, omega=0.2), LAW, m=1,
+                              steps=2 * RK4_STEPS, transient_periods=200)
+    assert (branch["points"][0]["X"], branch["points"][0]["V"]) == pytest.approx(tuple(first.state), abs=1e-12)

@@ -17,8 +17,8 @@ from .._json import jsonable
 from .._ranges import parse_named_range
 from ..io import check_output_path
 from ..estimate import Estimate, enforce
-from ..orbits.forced import (DEFAULT_TRANSIENT, PARAMETERS, branch_estimate, check_parameter, continue_forced, find_forced_orbit,
-                             stroboscopic_estimate, stroboscopic_sweep, switch_period_doubling)
+from ..orbits.forced import (DEFAULT_TRANSIENT, PARAMETERS, branch_estimate, branch_steps, check_parameter, continue_forced,
+                             find_forced_orbit, stroboscopic_estimate, stroboscopic_sweep, switch_period_doubling)
 from ..orbits.settings import ForcedContinuationSettings
 from ..orbits.forced_plot import plot_forced_branches, plot_forced_orbit
 from ..parameters import Param
@@ -153,10 +153,12 @@ def forced_continue(params: dict[str, Any], opts: ForcedContinueOptions) -> None
     cfg, model, law = _build("forced-continue", opts.config, {**params, parameter: start})
     x0, v0 = start_state(cfg, model, law)
     enforce(_job(model, parameter, (start, stop), m, opts, overlay))  # the whole command, before its first run
-    # the first orbit as forced-orbit finds it: DEFAULT_TRANSIENT forcing periods from the start, then Newton
+    # the first orbit as forced-orbit finds it: DEFAULT_TRANSIENT forcing periods from the start, then Newton, on
+    # the branch's grid
+    steps = branch_steps(model, parameter, (start, stop), opts.steps_per_period)
     first = find_forced_orbit(replace(model, **{parameter: start}), law, m=m, x0=x0, v0=v0,
-                              transient_periods=DEFAULT_TRANSIENT, steps=opts.steps_per_period)
-    branch = continue_forced(model, law, parameter, start, stop, m=m, orbit=first, steps=opts.steps_per_period,
+                              transient_periods=DEFAULT_TRANSIENT, steps=steps)
+    branch = continue_forced(model, law, parameter, start, stop, m=m, orbit=first, steps=steps,
                              max_points=opts.max_points, progress=sys.stderr.isatty())
     branches = [branch]
     if opts.switch_pd and branch.events_of("period_doubling"):
