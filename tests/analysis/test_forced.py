@@ -204,3 +204,23 @@ def test_a_subharmonic_is_periodic_with_its_multiple_and_matches_the_shot_orbit(
     idx = section_indices(tr)[-3:]
     assert min(abs(tr.x[i] - orbit.state[0]) + abs(tr.v[i] - orbit.state[1]) for i in idx) < 1e-7
     assert an.power.P_ex == pytest.approx(orbit.averages["P_ex"], rel=1e-6)
+
+
+def test_a_fixed_steps_own_cycle_is_not_reported_as_a_subharmonic():
+    """RK4 through Coulomb's stick band: its discrete run repeats exactly after 9 forcing periods (the step grid's
+    own cycle), while the period-to-period spread of the section is within a few steps' travel.  The motion is
+    the harmonic orbit every event-located solver finds (m = 1); RK4 reported m = 9 (QA)."""
+    model, law = BeltOscillator(zeta=0.03, vb=0.05, fex=0.02, omega=0.9), Coulomb(0.02, 0.04)
+    with pytest.warns(UserWarning):  # (dt = 1e-3 crosses the band in one step: warned, as any such run)
+        traj = simulate(model, law, RK4(), t_end=3000.0)
+    idx = section_indices(traj)
+    tail = idx[len(idx) // 2:]
+    xs, vs = traj.x[tail], traj.v[tail]
+    scale = max(np.ptp(traj.x[tail[0]:]), 1e-300)
+    assert repeat_multiple(xs, vs, 1e-12 * scale, 3)[0] == 9  # the discrete run's exact cycle
+    rk4 = analyze(traj).steady_state
+    exact = analyze(simulate(model, law, Exact(), t_end=3000.0)).steady_state
+    assert exact.kind == rk4.kind == "periodic"
+    assert exact.forcing_multiple == rk4.forcing_multiple == 1
+    assert rk4.period == exact.period == pytest.approx(2 * math.pi / 0.9, rel=1e-12)
+    assert rk4.jitter is not None and rk4.jitter < 0.01  # within the tolerance a fixed step is given

@@ -33,7 +33,9 @@ forced.  The kinds:
 
 A fixed-step run through a stick band (RK4) leaves the band up to a step
 late, differently in each period: its section repeats only to a few steps'
-travel, which the tolerance then allows.
+travel, which the tolerance then allows.  The discrete run may still repeat
+exactly after several periods (the step grid's own cycle: 9 forcing periods
+for a harmonic orbit, QA); the smallest m within that travel is the one taken.
 
 The window is a whole number of forcing periods ending at the last section
 sample: m periods repeated ``n_periods`` times when periodic, else the tail
@@ -171,10 +173,13 @@ def classify_forced(traj: Trajectory, rtol: float, min_periods: int = 3, noise: 
     else:  # the internal states are part of the state the section repeats
         m, reps = state_repeat_multiple(np.vstack([xs, vs, internal_scaled(traj)[:, tail]]),
                                         max(rtol, noise) * scale, min_periods)
-    jitter = _step_jitter(traj, tail[0]) if not m else 0.0
-    if jitter:
-        m = jittered_multiple(xs, vs, jitter)
-        reps = JITTER_REPEATS - 1
+    jitter = _step_jitter(traj, tail[0])
+    if jitter:  # a fixed step through a stick band: its own exact cycle may be a multiple of the motion's
+        found = jittered_multiple(xs, vs, jitter)
+        if found and (not m or found < m):
+            m, reps = found, JITTER_REPEATS - 1
+        elif m:
+            jitter = 0.0  # the exact repetition is the smallest
     period = traj.model.drive_period
     out = {"multiple": None, "lyapunov": None, "n_periods": 0, "jitter": None}
     if len(tail) < 2:  # shorter than two forcing periods: no section to judge; the run itself is the window
