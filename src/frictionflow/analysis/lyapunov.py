@@ -52,10 +52,8 @@ from ..estimate import enforce, located_run
 from ..friction.base import STICK_RULE_WORDS, FrictionLaw
 from ..friction.registry import tangent_law_names
 from ..params import BeltOscillator
-from ..solvers.base import DEFAULT_MAX_MEMORY, RK4_STEPS, kernel_params, rk4_steps
+from ..solvers.base import DEFAULT_MAX_MEMORY, kernel_params, rk4_steps
 
-#: RK4 steps per block unless told (doubled for a block longer than 16 pi: ``solvers.base.rk4_steps``)
-DEFAULT_STEPS = RK4_STEPS
 #: the block of an unforced run: one natural period
 DEFAULT_UNFORCED_BLOCK = 2.0 * math.pi
 SWITCH_NAMES = ("stick_onsets", "slip_onsets", "slip_reversals", "held_at_limit", "grazing_touches")

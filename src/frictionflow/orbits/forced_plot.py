@@ -128,7 +128,8 @@ def plot_forced_orbit(orbit: ForcedOrbit, path: str | Path | None = None, *, nam
 
     n = 200 * orbit.m
     ts = np.linspace(0.0, orbit.period, n + 1)[1:]
-    pts = np.array([orbit.state, *(_state_at(orbit, t, DEFAULT_STEPS) for t in ts)])
+    steps = int(orbit.settings.get("steps_per_period", DEFAULT_STEPS))  # the grid the orbit was found on
+    pts = np.array([orbit.state, *(_state_at(orbit, t, steps) for t in ts)])
     tt = np.concatenate([[0.0], ts])
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
     ax[0].plot(pts[:, 0], pts[:, 1], lw=1.2)
