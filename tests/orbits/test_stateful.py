@@ -97,6 +97,23 @@ def test_variational_monodromy_matches_differences_of_radau(p, model, y0, period
     assert np.max(np.abs(end.jacobian - m_fd) / col) < 1e-5
 
 
+def test_two_returns_of_the_stick_slip_cycle_at_the_default_stiff_tolerance():
+    """Stiff()'s rtol 1e-8: the second period's stick onset (V_r -> 0) ended the variational flow at a vanishing
+    step (every step onto the kink was rejected: its last stages took J at V_r = 0, neither side's)."""
+    law = LuGre(**STICK)
+    one = find_stateful_orbit(STICK_MODEL, law, x0=0.02, v0=0.01, transient=500.0, solver=Stiff())
+    two = find_stateful_orbit(STICK_MODEL, law, x0=0.02, v0=0.01, transient=500.0, returns=2, solver=Stiff())
+    assert two.period == pytest.approx(2.0 * one.period, rel=1e-9)
+    assert two.state == pytest.approx(one.state, rel=1e-9, abs=1e-14)
+    mu = two.multipliers  # the superstable cycle twice: 1 and ~0, as once
+    assert abs(mu[0] - 1.0) < 1e-6 and np.all(np.abs(mu[1:]) < 1e-6)
+    # the monodromy through the second stick onset (tau ~ 12.25) at rtol 1e-8, against differences of Radau
+    y0 = radau_end(STICK, STICK_MODEL, two.state, 11.7)
+    end = StiffFlow(STICK_MODEL, law, rtol=1e-8).run(y0, 1.0)
+    m_fd = radau_monodromy(STICK, STICK_MODEL, y0, 1.0)
+    assert np.max(np.abs(end.jacobian - m_fd) / np.max(np.abs(m_fd), axis=0)) < 1e-6
+
+
 # -- shooting -----------------------------------------------------------------------------------------------------
 def test_shooting_converges_onto_the_lugre_stick_slip_cycle():
     law = LuGre(**STICK)

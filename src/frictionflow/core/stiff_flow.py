@@ -13,7 +13,10 @@ the state's increment k_y, then each column of Phi's with the coupling
 d(J Phi)/dy k_y on the right.  That coupling (the law's second derivatives)
 is the one term taken by differences, of the exact Jacobian: Rosenbrock
 methods keep their order with it.  At the kink of |V_r| (V_r = 0) the
-difference is one-sided, both points on V_r's side, so it never spans the jump of J.
+difference is one-sided, both points on V_r's side, so it never spans the jump of J;
+and a stage that reaches or passes V_r = 0 (the step that ends on the kink) takes
+the start side's J continued to it: Phi' = J Phi is that side's motion up to the
+kink, and J of the other side at a stage would make the step first order.
 
 The error is controlled on y and on Phi (entry (i, j) against its own scale,
 size_i / size_j of the state's scales, and the relative tolerance).  J does
@@ -108,14 +111,17 @@ def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
 
     ``tols``: (the state's absolute scales then rtol (as :func:`.stiff.rodas_step`), Phi's absolute scales
     (n x n), the state's scales for the differences); ``ws``: :func:`.stiff.scratch`;
-    ``vs``: (Phi's stage increments (6, n, n), stage Phi, dJ/dy (n, n, n), a column, J at the start)."""
+    ``vs``: (Phi's stage increments (6, n, n), stage Phi, dJ/dy (n, n, n), a column, J at the start, an
+    n x n room)."""
     n = len(y)
     tol, ptol, size = tols
     dy, dw, jac, jw, a, piv, k, kw, yi, d, ft = ws[:11]
-    kp, phii, dj, col, jn = vs
+    kp, phii, dj, col, jn = vs[:5]
     coupling(q, zeta, vb, t, y, size, ws, dj, jn)
     evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, False, d)
     jac[:, :] = jn
+    s = vb - y[1]
+    side = 1.0 if (s if s != 0.0 else -dy[1]) >= 0.0 else -1.0  # V_r's side over the step, as coupling's
     fr = external_force_rate(q, t)
     for i in range(n):
         for j in range(n):
@@ -131,6 +137,8 @@ def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
             phii += A_TAB[st, j] * kp[j]
         if st > 0:
             evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, ft, True, d)
+            if (vb - yi[1]) * side <= 0.0:
+                _side_jacobian(q, zeta, vb, t + C_NODE[st] * h, yi, side, size[1], ws, vs)
         for c in range(n):
             acc = dy[c]
             for j in range(st):
@@ -143,6 +151,30 @@ def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
             lu_solve(a, piv, col, 0)
             kp[st, :, cc] = col[0]
     return _finish(y, phi, yi, phii, k, kp, ynew, phinew, tol, ptol)
+
+
+@njit(cache=True)
+def _side_jacobian(q, zeta, vb, t, yi, side, size, ws, vs):
+    """``jac`` at a stage point on or past V_r = 0: the J of V_r's ``side`` (+1, -1) continued to it, linear in
+    V_r through two points on that side (V_r = side dl, 2 side dl); ``dy`` is left the stage's own (the
+    field is continuous across the kink)."""
+    dy, dw, jac, jw, d, ft = ws[0], ws[1], ws[2], ws[3], ws[9], ws[10]
+    jn, j2 = vs[4], vs[5]
+    n = len(yi)
+    dl = DIFF_STEP * (abs(yi[1]) + size)
+    v = yi[1]
+    yi[1] = vb - side * dl
+    evaluate(q, zeta, vb, t, yi, dy, dw, jac, jw, ft, True, d)
+    jn[:, :] = jac
+    yi[1] = vb - 2.0 * side * dl
+    evaluate(q, zeta, vb, t, yi, dy, dw, jac, jw, ft, True, d)
+    j2[:, :] = jac
+    yi[1] = v
+    evaluate(q, zeta, vb, t, yi, dy, dw, jac, jw, ft, False, d)
+    w = (vb - v - side * dl) / (side * dl)  # V_r's distance from the first point in steps of the second's
+    for r in range(n):
+        for c in range(n):
+            jac[r, c] = jn[r, c] + w * (j2[r, c] - jn[r, c])
 
 
 @njit(cache=True)
@@ -193,7 +225,8 @@ def flow_variational(q, zeta, vb, y0, t0, duration, tol, ptol, size, steps):
     y, ynew = y0.copy(), np.empty(n)
     phi, phinew = np.eye(n), np.empty((n, n))
     ws = scratch(n)
-    vs = (np.zeros((6, n, n)), np.empty((n, n)), np.empty((n, n, n)), np.empty((1, n)), np.empty((n, n)))
+    vs = (np.zeros((6, n, n)), np.empty((n, n)), np.empty((n, n, n)), np.empty((1, n)), np.empty((n, n)),
+          np.empty((n, n)))
     t, t_end = t0, t0 + duration
     tols = (tol, ptol, size)
     taken, rejected = 0, False
