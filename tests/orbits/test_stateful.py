@@ -162,6 +162,17 @@ def test_forced_orbit_is_a_fixed_point_of_the_stroboscopic_map():
                     rtol=1e-12, atol=1e-14)
     assert np.max(np.abs(sol.y[:, -1] - orbit.state)) < 1e-8
     assert len(orbit.nontrivial) == 3 and orbit.stable  # no trivial multiplier of a forced orbit
+    # the report carries the external force's power and the period's energy residual: P_ex against the mean
+    # of F_ex cos(Omega tau) X' over Radau's period (Gauss-Legendre on its dense output)
+    d = orbit.to_dict()
+    nodes, weights = np.polynomial.legendre.leggauss(64)
+    edges = np.linspace(0.0, orbit.period, 33)
+    dense = solve_ivp(lugre_rhs(p, 0.2, 0.5, 0.1, 0.9, 0.0), (0.0, orbit.period), orbit.state, method="Radau",
+                      rtol=1e-12, atol=1e-14, dense_output=True).sol
+    work = sum(0.5 * (b - a) * np.sum(weights * 0.1 * np.cos(0.9 * t) * dense(t)[1])
+               for a, b in zip(edges[:-1], edges[1:]) for t in [0.5 * (b - a) * nodes + 0.5 * (a + b)])
+    assert d["averages"]["P_ex"] == pytest.approx(work / orbit.period, rel=1e-7)
+    assert d["energy_residual"] < 1e-9
 
 
 # -- steady sliding and Hopf points -----------------------------------------------------------------------------

@@ -54,8 +54,10 @@ class OrbitMeasures:
         """Half the peak-to-peak displacement, (X_max - X_min) / 2."""
         return 0.5 * (self.extremes["X_max"] - self.extremes["X_min"])
 
-    def averages(self) -> dict[str, float]:
-        return {k: getattr(self.power, k) for k in POWER_KEYS}
+    def averages(self, forced: bool = False) -> dict[str, float]:
+        """The averages by name in the paper's order; with ``forced``, the external force's ``P_ex`` after them."""
+        extra = tuple(k for k in Q.FORCED_AVERAGES if k not in POWER_KEYS) if forced else ()
+        return {k: getattr(self.power, k) for k in (*POWER_KEYS, *extra)}
 
 
 def one_period(

@@ -126,8 +126,9 @@ class StatefulOrbit(floquet.MultiplierStability, Summarized):
             "stick_fraction": self.stick_fraction,
             "amplitude": self.amplitude,
             "interface_balance": bal._asdict(),
-            "averages": self.measures.averages(),
+            "averages": self.measures.averages(forced=self.model.forced),
             "TR_B": self.measures.TR_B,
+            "energy_residual": self.measures.power.energy_residual,
             "monodromy": self.monodromy,
             "newton": {"iterations": self.iterations, "residual": self.residual},
         })
