@@ -6,6 +6,8 @@ psi = ln(V_0 theta / D_c)), independently of the package's.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -256,5 +258,17 @@ def test_a_run_held_at_v_r_zero_is_refused_not_dragged_along():
     from frictionflow.solvers.stiff import ResolutionError
 
     law = RateState(normal=N, mu0=MU0, a=A, b=B, dc=0.03, vref=V0)
-    with pytest.raises(ResolutionError, match="V_r = V_b - X' reached the rounding of V_b"):
-        simulate(BeltOscillator(zeta=0.1, vb=VB), law, t_end=200.0, v0=VB)
+    with pytest.raises(ResolutionError, match=r"V_r = V_b - X' reached the rounding of V_b at tau=0 \(and at \d+ "
+                                              r"samples up to tau=200\)"):
+        simulate(BeltOscillator(zeta=0.1, vb=VB), law, t_end=200.0, v0=VB)  # held from the start, not at the end
+
+
+def test_the_summary_names_an_unstable_equilibrium(capsys):
+    # at the defaults V_b = V_0, so the default start is steady sliding itself, unstable for D_c = 0.005 (k_c = 3
+    # > k = 1): the run stays there, and the table said only "equilibrium"
+    assert main(["simulate", "--friction", "rate_state", "--dc", "0.005", "--t-end", "50"]) == 0
+    out = capsys.readouterr().out
+    assert "steady state: equilibrium" in out and re.search(r"│ stability +│ +unstable │", out)
+    assert main(["simulate", "--friction", "rate_state", "--dc", "0.05", "--t-end", "50", "--x0", "0.61"]) == 0
+    out = capsys.readouterr().out
+    assert "steady state: equilibrium" in out and re.search(r"│ stability +│ +stable │", out)

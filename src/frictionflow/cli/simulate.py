@@ -86,6 +86,8 @@ def _print_summary(report: dict[str, Any], caption: str) -> None:
     if ss["decay_rate"] is not None:
         heading = f" (heading: {ss['heading']})" if ss["heading"] else ""  # only a run not settled heads somewhere
         table.add_row("decay rate", f"{ss['decay_rate']:.6g}{heading}")
+    if ss.get("stability"):  # an equilibrium the run stayed on may be unstable (a start exactly on it)
+        table.add_row("stability", ss["stability"])
     for k, v in report["averages"].items():
         table.add_row(k, "n/a" if v is None else f"{v:.6e}")
     table.add_row("TR_B", "n/a" if report["TR_B"] is None else f"{report['TR_B']:.6g}")

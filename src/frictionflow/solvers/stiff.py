@@ -162,11 +162,13 @@ def check_resolved(model: BeltOscillator, friction: FrictionLaw, t: np.ndarray, 
         return
     z = y[2:, near]
     jump = np.abs(np.asarray(friction.force(res[near], z)) - np.asarray(friction.force(np.zeros(len(near)), z)))
-    worst = int(np.argmax(jump))
-    if jump[worst] > RESOLVED_FORCE * max(abs(float(friction.fs)), np.finfo(float).tiny):
+    bad = np.flatnonzero(jump > RESOLVED_FORCE * max(abs(float(friction.fs)), np.finfo(float).tiny))
+    if len(bad):  # the first such sample: where the run stopped being the law's motion
+        first, last = t[near[bad[0]]], t[near[bad[-1]]]
+        held = f" (and at {len(bad)} samples up to tau={last:.6g})" if len(bad) > 1 else ""
         raise ResolutionError(
-            f"stiff: V_r = V_b - X' reached the rounding of V_b at tau={t[near[worst]]:.6g}, where friction="
-            f"{friction.name}'s force moves by {jump[worst]:.3g} across it: the run is not resolved there; "
+            f"stiff: V_r = V_b - X' reached the rounding of V_b at tau={first:.6g}{held}, where friction="
+            f"{friction.name}'s force moves by {jump[bad[0]]:.3g} across it: the run is not resolved there; "
             f"start it off V_r = 0 (the law's stiffness at rest is beyond the belt frame's reach)")
 
 
