@@ -235,6 +235,29 @@ def with_defaults(params: tuple[Param, ...], values: Mapping[str, Any]) -> dict[
     return out
 
 
+class Sealed:
+    """An object whose parameters are checked once, when it is built: setting one afterwards is refused.
+
+    A changed value would skip its range check, and a friction law's kernel parameters are computed once and
+    kept.  The constructor calls ``_seal`` when every value is set; pickling and copying restore the
+    object's ``__dict__`` directly, so copies are sealed too.
+    """
+
+    def _seal(self) -> None:
+        self.__dict__["_sealed"] = True
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if self.__dict__.get("_sealed"):
+            raise AttributeError(f"{type(self).__name__} cannot change {name} after it is built: make a new one "
+                                 f"with {name}={value!r}")
+        object.__setattr__(self, name, value)
+
+    def __delattr__(self, name: str) -> None:
+        if self.__dict__.get("_sealed"):
+            raise AttributeError(f"{type(self).__name__} cannot remove {name} after it is built")
+        object.__delattr__(self, name)
+
+
 def params_by_name(params: tuple[Param, ...]) -> dict[str, Param]:
     return {p.name: p for p in params}
 

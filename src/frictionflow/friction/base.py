@@ -26,7 +26,7 @@ import numpy as np
 
 from ..core import layout
 from ..core.friction import slip_magnitude_of
-from ..parameters import MODEL_MAX, Param, nonnegative_real, positive_real, resolve
+from ..parameters import MODEL_MAX, Param, Sealed, nonnegative_real, positive_real, resolve
 
 STICK_FORCES = ("resultant", "spring")
 #: what a law does at V_r = 0: Coulomb's set-valued switch, Karnopp's velocity band |V_r| <= V_d, or nothing
@@ -46,7 +46,7 @@ RK4_BAND = positive_real("rk4_band", "", "stick band half width of fixed-step RK
                          upper=MODEL_MAX, report=False)
 
 
-class FrictionLaw:
+class FrictionLaw(Sealed):
     """Base class of friction laws F_c(X, X') acting on the mass.
 
     Class attributes a law sets
@@ -110,6 +110,7 @@ class FrictionLaw:
         for key, value in values.items():
             setattr(self, key, value)
         self._check_values()
+        self._seal()  # its kernel parameters are computed once (kernel_params): no value may change after
 
     def _check_values(self) -> None:
         """Rules between parameters (F_s >= F_d)."""

@@ -124,6 +124,7 @@ class Adaptive(Solver):
         self.atol = check.positive("atol", check.number("atol", atol, "finite and > 0"))
         self.max_steps = MAX_STEPS.check(max_steps)
         self.dense_dt = None if dense_dt is None else DENSE_DT.check(dense_dt)
+        self._seal()
 
     def describe(self) -> dict[str, Any]:
         return {"name": self.name, "rtol": self.rtol, "atol": self.atol, "max_steps": self.max_steps, "dense_dt": self.dense_dt}

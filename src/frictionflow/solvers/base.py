@@ -21,7 +21,7 @@ from ..core.layout import FEX, N_WORK, OMEGA, PHI, VB_AMP, VB_OMEGA, VB_PHI
 from ..core.records import N_CONTACTS, N_STATE, Events, Samples, empty_events, empty_samples
 from ..estimate import SECONDS_PER, Estimate
 from ..friction.base import FrictionLaw
-from ..parameters import Param, resolve
+from ..parameters import Param, Sealed, resolve
 from ..modes import SwitchMode
 from ..params import BeltOscillator
 from ..trajectory import Trajectory
@@ -111,7 +111,7 @@ class CoarseStepWarning(UserWarning):
     """The fixed step is too coarse for the stick band or for RK4's stability."""
 
 
-class Solver(ABC):
+class Solver(Sealed, ABC):
     """Base class of solvers.
 
     What a solver is and supports it declares here: nothing outside

@@ -95,6 +95,7 @@ class Exact(Solver):
     def __init__(self, dense_dt: float | None = None, *, replicate: bool = True) -> None:
         self.dense_dt = None if dense_dt is None else DENSE_DT.check(dense_dt)
         self.replicate = flag("replicate", replicate)
+        self._seal()
 
     def describe(self) -> dict[str, Any]:
         # not ``replicate``: it changes the cost, never the result

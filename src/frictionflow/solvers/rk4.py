@@ -109,6 +109,7 @@ class RK4(Solver):
     def __init__(self, dt: float = 1e-3, record_every: int | None = None) -> None:
         self.dt = DT.check(dt)
         self.record_every = None if record_every is None else RECORD_EVERY.check(record_every)
+        self._seal()
 
     def describe(self) -> dict[str, Any]:
         return {"name": self.name, "dt": self.dt, "record_every": self.record_every}

@@ -69,6 +69,7 @@ class Stiff(Solver):
         self.atol = check.positive("atol", check.number("atol", atol, "finite and > 0"))
         self.max_steps = MAX_STEPS.check(max_steps)
         self.max_step = MAX_STEP.check(max_step)
+        self._seal()
 
     def describe(self) -> dict[str, Any]:
         return {"name": self.name, "rtol": self.rtol, "atol": self.atol, "max_steps": self.max_steps,
