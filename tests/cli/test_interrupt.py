@@ -74,3 +74,50 @@ def test_a_signal_to_a_running_command_ends_it_with_exit_code_1(sig):
     out, err = p.communicate(timeout=120)
     assert p.returncode == 1 and out == ""
     one_line(err, "interrupted (Ctrl-C or SIGTERM)")
+
+
+def test_an_interrupt_dropped_in_a_callback_from_c_is_raised_again():
+    """A signal can land in Python code that C calls back (llvmlite's hooks while numba loads kernels): the
+    caller prints the KeyboardInterrupt and drops it, and the command ran on to exit 0 with its output.  Here
+    libc's qsort calls back a comparator that raises, as the signal would."""
+    import ctypes
+    import ctypes.util
+
+    from frictionflow.cli._app import sigterm_as_interrupt
+
+    compare = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_int))
+
+    def interrupted(a, b):
+        raise KeyboardInterrupt
+
+    libc = ctypes.CDLL(ctypes.util.find_library("c"))
+    values = (ctypes.c_int * 3)(3, 2, 1)
+    dropped = []
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda args: dropped.append(args.exc_type)  # the context keeps it as the one to pass on
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with sigterm_as_interrupt():
+                libc.qsort(values, 3, ctypes.sizeof(ctypes.c_int), compare(interrupted))
+                time.sleep(5.0)  # the command's further work: the interrupt ends it
+    finally:
+        sys.unraisablehook = hook
+    assert dropped == [] and sys.unraisablehook is hook
+
+
+def test_an_interrupt_caught_after_it_left_generated_code_exits_1(tmp_path):
+    """CPython marks a KeyboardInterrupt that leaves an exec() of a string as unhandled even once caught, and
+    then ends ``python -m`` by SIGINT (130) whatever its exit code: under load a signal landed in numba's
+    generated code and ``simulate`` printed its one line and ended with -2 instead of 1."""
+    (tmp_path / "entry.py").write_text(
+        "import frictionflow.cli as cli\n"
+        "def main():\n"
+        "    try:\n"
+        "        exec('raise KeyboardInterrupt')\n"
+        "    except KeyboardInterrupt:\n"
+        "        return 1\n"
+        "cli.main = main\n"
+        "cli.run()\n")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(SRC), str(tmp_path)]))
+    done = subprocess.run([sys.executable, "-m", "entry"], env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1, done.stderr

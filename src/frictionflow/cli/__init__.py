@@ -151,4 +151,9 @@ def _missing(error: Exception, argv: list[str]) -> list[str]:
 
 
 def run() -> None:  # pragma: no cover - console script
-    sys.exit(main())
+    code = main()
+    # CPython marks a KeyboardInterrupt that leaves an exec() of a string as unhandled even when it is caught
+    # later (numba runs generated code so, and Ctrl-C or SIGTERM can land there): the process would end by
+    # SIGINT (130), not with main's code.  The next exec() of a string clears that mark.
+    exec("pass")
+    sys.exit(code)

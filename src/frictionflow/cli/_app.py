@@ -6,7 +6,9 @@ here, not from the package that imports them.
 
 from __future__ import annotations
 
+import _thread
 import signal
+import sys
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any, Iterator
 
@@ -31,14 +33,28 @@ def sigterm_as_interrupt() -> Iterator[None]:
     def interrupt(signum, frame):  # noqa: ANN001
         raise KeyboardInterrupt
 
+    hook = sys.unraisablehook
+
+    def swallowed(args):  # noqa: ANN001
+        # A signal that lands in Python code called back from C (llvmlite's hooks while numba loads or links
+        # kernels) raises there, and the callback's caller prints and drops it: the command would run on and
+        # exit 0.  Raise it again from another thread, so that the main thread takes it where it is next
+        # checked -- outside this hook, whose own exceptions are dropped too.
+        if isinstance(args.exc_value, KeyboardInterrupt):
+            _thread.start_new_thread(_thread.interrupt_main, (signal.SIGTERM,))
+        else:
+            hook(args)
+
     try:
         previous = signal.signal(signal.SIGTERM, interrupt)
     except ValueError:  # not the main thread: leave signals alone
         yield
         return
+    sys.unraisablehook = swallowed
     try:
         yield
     finally:
+        sys.unraisablehook = hook
         signal.signal(signal.SIGTERM, previous)
 
 
