@@ -81,3 +81,39 @@ def test_a_mass_stuck_at_rest_is_an_equilibrium_however_short_the_run(t_end):
                                     t_end=t_end, x0=0.01, v0=0.0))
     assert single.steady_state.kind == "equilibrium"
     assert a.steady_state.kind == "equilibrium"
+
+
+def test_a_lasting_oscillation_on_a_fast_belt_is_periodic_not_an_equilibrium():
+    """Undamped, 5e-4 off steady sliding x* = F_d = 0.1 on a belt at 1000: slipping for good, the motion is
+    x* + 5e-4 cos t for ever (period 2 pi).  The at-rest test took the belt speed as the motion's scale, so its
+    tolerance (1e-6 x 1000) swallowed the oscillation and said "equilibrium"; the single mass says periodic."""
+    model = {"dof": ["x"], "mass": [1.0], "spring": [{"on": {"x": 1.0}, "k": 1.0}],
+             "contact": [{"on": {"x": 1.0}, "belt": 1000.0, "friction": "coulomb", "fd": 0.1, "fs": 0.2}],
+             "initial": {"q": {"x": 0.1005}}}
+    a = analyze_structure(simulate_system(System.from_dict(model, source=None), 300.0))
+    single = ff.analyze(ff.simulate(ff.BeltOscillator(zeta=0.0, vb=1000.0), ff.Coulomb(0.1, 0.2), ff.Exact(),
+                                    t_end=300.0, x0=0.1005, v0=0.0))
+    assert single.steady_state.kind == "periodic"
+    assert a.steady_state.kind == "periodic" and a.steady_state.period == pytest.approx(2.0 * math.pi, rel=1e-9)
+    assert a.amplitude["X_max"]["x"] == pytest.approx(0.1005, rel=1e-9)
+    assert a.amplitude["X_min"]["x"] == pytest.approx(0.0995, rel=1e-9)
+
+
+def test_a_structure_without_contacts_runs_as_its_linear_closed_form():
+    """Contacts are optional: two masses on springs and dampers alone.  The run crashed on numpy's "cannot
+    reshape array of size 0" (the check of the contacts' directions); it is exp(A t) q0, and settles at rest."""
+    model = {"dof": ["x1", "x2"], "mass": [1.0, 2.0],
+             "spring": [{"on": {"x1": 1.0}, "k": 1.0}, {"on": {"x1": 1.0, "x2": -1.0}, "k": 0.5}],
+             "damper": [{"on": {"x2": 1.0}, "c": 0.3}], "initial": {"q": {"x1": 0.2}}}
+    motion = simulate_system(System.from_dict(model, source=None), 200.0)
+    k = np.array([[1.5, -0.5], [-0.5, 0.5]])
+    c = np.array([[0.0, 0.0], [0.0, 0.3]])
+    m_inv = np.diag([1.0, 0.5])
+    a = np.block([[np.zeros((2, 2)), np.eye(2)], [-m_inv @ k, -m_inv @ c]])
+    times = np.linspace(0.0, 30.0, 61)
+    closed = np.stack([expm(a * t) @ np.array([0.2, 0.0, 0.0, 0.0]) for t in times], axis=1)
+    np.testing.assert_allclose(motion.states(times), closed, atol=1e-12)
+    # every root decays (the slowest at -0.0048, the damper on x2 alone): certified to come to rest, as a
+    # structure sliding for good is (the state is still 0.075 at tau = 200)
+    assert np.linalg.eigvals(a).real.max() < 0.0
+    assert analyze_structure(motion).steady_state.kind == "equilibrium"

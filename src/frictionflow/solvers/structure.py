@@ -132,6 +132,8 @@ def check_switchable(assembly: Assembly, contacts: tuple[str, ...]) -> None:
     """Refuse contacts along dependent directions, naming them: the switching engines hold stuck contacts as
     constraints, and along dependent directions their forces are indeterminate (the model itself is fine: steady
     sliding and its eigenvalues need no stick)."""
+    if not contacts:  # a linear structure: nothing to switch
+        return
     rows = np.asarray(assembly.contact_dir, dtype=float).reshape(len(contacts), -1)
     independent(list(zip(contacts, rows)), "the switching engines cannot hold contacts along dependent directions")
 
