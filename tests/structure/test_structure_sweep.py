@@ -265,6 +265,10 @@ def test_entries_that_bound_each_other_are_swept_together(two_dof, tmp_path):
                                                               "spring.0.k must be >= 0"]),
     ('"contact.0.belt" = [0.01, 0.02]\n"contact.0.fd" = 0.05\n"contact.0.fs" = 0.045',
      ["fixed entries (contact.0.fd = 0.05, contact.0.fs = 0.045)", "fs must be >= fd"]),
+    # contact.1 along (1, 0), contact.0's direction, at the grid's middle point only: the engines cannot hold both
+    # stuck; it ran the other points first, then stopped with exit 2 and left a partial store (QA)
+    ('"contact.1.on.x1" = 1.0\n"contact.1.on.x2" = [1.0, 0.0, -1.0]',
+     ["grid point (contact.1.on.x2 = 0)", "its direction is a multiple of contact.0's"]),
 ])
 def test_grids_whose_entries_do_not_fit_together_are_refused_in_one_line(two_dof, tmp_path, grid, words):
     refused_grid(two_dof, tmp_path, grid, words)

@@ -42,8 +42,8 @@ from ..core.threads import over_points
 from ..estimate import Estimate
 from ..io import read_config
 from ..solvers import structure_precompile
-from ..solvers.structure import simulate_system, structure_solver_for
-from ..system import System, load_system
+from ..solvers.structure import check_switchable, simulate_system, structure_solver_for
+from ..system import System, assemble, load_system
 from .compute import chunk_slices
 from .config import MAX_POINTS, Grid, Variable, _axis, parse_sweep
 
@@ -244,7 +244,24 @@ def parse_model_sweep(values: Mapping[str, Any], system: System, source: str = "
             if key in axes:
                 _check_values(cfg, key, _checked_places(key, val, axes[key]), source)
         _check_corners(cfg, source)
+        _check_switchable(cfg, source)
     return cfg
+
+
+def _check_switchable(cfg: ModelSweepConfig, source: str) -> None:
+    """Contacts along dependent directions at any grid point, refused before anything runs (the engines cannot
+    hold them stuck, :func:`~frictionflow.solvers.structure.check_switchable`): every point when an axis moves a
+    contact's direction (directions are few values), else the fixed entries' model once."""
+    moving = [k for k in cfg.axes if k.startswith("contact.") and ".on." in k]
+    points = np.ndindex(*(len(a) for a in cfg.axes.values())) if moving else [None]
+    for index in points:
+        system = cfg.system if index is None else cfg.point_system(index)
+        try:
+            check_switchable(assemble(system), system.contact_names)
+        except ValueError as e:
+            at = "" if index is None else "grid point (" + ", ".join(
+                f"{k} = {float(a[i]):g}" for (k, a), i in zip(cfg.axes.items(), index)) + "): "
+            raise ValueError(f"{source}: {at}{e}") from None
 
 
 def _with_fixed(system: System, fixed: Mapping[str, float], source: str) -> System:
