@@ -284,6 +284,10 @@ def test_cli_orbit_model_refuses_single_mass_options(tmp_path):
     code, out, err, _ = in_process("orbit", "--model", str(path), "--plot", str(tmp_path / "o.png"))
     assert code == 2 and not (tmp_path / "o.png").exists()
     one_line(err, "--plot")
+    for bad in ("-5", "nan"):  # named as the option's t_end (it said the API's "t_transient must be ...")
+        code, out, err, _ = in_process("orbit", "--model", str(path), "--t-end", bad)
+        assert code == 2 and out == ""
+        one_line(err, "t_end must be a finite number > 0 (the transient before shooting)")
 
 
 def test_cli_orbit_model_estimated_before_work(tmp_path):

@@ -8,6 +8,7 @@ transient before shooting); so are ``--config`` and ``--plot``.
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Any, NamedTuple, Optional
 
@@ -63,7 +64,10 @@ def orbit_model(path: Path, params: dict[str, Any], opts: ModelOrbitOptions, con
     system = load_system(path)
     if opts.out is not None:
         check_output_path(opts.out, (".json",), "--out")
-    transient = 0.0 if opts.guess else float(params.get("t_end") or DEFAULT_TRANSIENT)
+    given = params.get("t_end")
+    if given is not None and not (math.isfinite(given) and given > 0):  # the option's own name, not the API's
+        raise ValueError(f"t_end must be a finite number > 0 (the transient before shooting), got {given!r}")
+    transient = 0.0 if opts.guess else float(given or DEFAULT_TRANSIENT)
     with first_use():  # an empty cache: part of the engine compiles on another core meanwhile
         found = find_structure_orbit(system, t_transient=transient, tol=opts.tol, returns=opts.returns)
         report = orbit_report(found, path, transient, opts.fd_check)
