@@ -53,7 +53,8 @@ def field_at(q, zeta, vb, t, y):
 
 @njit(cache=True)
 def coupling(q, zeta, vb, t, y, size, ws, dj, jn):
-    """dj[j] = dJ/dy_j at (t, y) by central differences of the exact Jacobian, and ``jn`` = J at (t, y).
+    """dj[j] = dJ/dy_j at (t, y) by central differences of the exact Jacobian, and ``jn`` = J at (t, y); returns
+    the side of V_r = 0 the step is on (+1, -1: V_r's sign, or where it is heading from V_r = 0).
 
     Within a difference step of V_r = 0 (the kink of |V_r|, where J jumps) both are one-sided, on the side
     V_r is heading for (V_r' = -X''): the difference never spans the jump, and J there is its limit from
@@ -67,12 +68,13 @@ def coupling(q, zeta, vb, t, y, size, ws, dj, jn):
     jp = np.empty((n, n))
     s = vb - y[1]
     toward = s if s != 0.0 else -dy[1]
+    side = 1.0 if toward >= 0.0 else -1.0
     for j in range(n):
         dl = DIFF_STEP * (abs(y[j]) + size[j])
         near = j == 1 and abs(s) < dl
         lo, hi = -dl, dl
         if near:  # X' - dl, X' - 2 dl lie on V_r > 0
-            lo, hi = (-2.0 * dl, -dl) if toward >= 0.0 else (dl, 2.0 * dl)
+            lo, hi = (-2.0 * dl, -dl) if side > 0.0 else (dl, 2.0 * dl)
         yp[j] = y[j] + hi
         evaluate(q, zeta, vb, t, yp, dy, dw, jac, jw, ft, True, d)
         jp[:, :] = jac
@@ -84,6 +86,7 @@ def coupling(q, zeta, vb, t, y, size, ws, dj, jn):
                 dj[j, r, c] = (jp[r, c] - jac[r, c]) / (hi - lo)
                 if near:  # the one-sided limit at V_r = 0
                     jn[r, c] = jac[r, c] - lo * dj[j, r, c]
+    return side
 
 
 @njit(cache=True)
@@ -117,11 +120,9 @@ def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
     tol, ptol, size = tols
     dy, dw, jac, jw, a, piv, k, kw, yi, d, ft = ws[:11]
     kp, phii, dj, col, jn = vs[:5]
-    coupling(q, zeta, vb, t, y, size, ws, dj, jn)
+    side = coupling(q, zeta, vb, t, y, size, ws, dj, jn)
     evaluate(q, zeta, vb, t, y, dy, dw, jac, jw, ft, False, d)
     jac[:, :] = jn
-    s = vb - y[1]
-    side = 1.0 if (s if s != 0.0 else -dy[1]) >= 0.0 else -1.0  # V_r's side over the step, as coupling's
     fr = external_force_rate(q, t)
     for i in range(n):
         for j in range(n):
@@ -135,10 +136,10 @@ def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
         for j in range(st):
             yi += A_TAB[st, j] * k[j]
             phii += A_TAB[st, j] * kp[j]
-        if st > 0:
+        if st > 0 and (vb - yi[1]) * side <= 0.0:  # on or past the kink: the start side's J continued
+            _side_jacobian(q, zeta, vb, t + C_NODE[st] * h, yi, side, size[1], ws, vs)
+        elif st > 0:
             evaluate(q, zeta, vb, t + C_NODE[st] * h, yi, dy, dw, jac, jw, ft, True, d)
-            if (vb - yi[1]) * side <= 0.0:
-                _side_jacobian(q, zeta, vb, t + C_NODE[st] * h, yi, side, size[1], ws, vs)
         for c in range(n):
             acc = dy[c]
             for j in range(st):
@@ -156,8 +157,8 @@ def variational_step(q, zeta, vb, t, y, phi, h, ynew, phinew, tols, ws, vs):
 @njit(cache=True)
 def _side_jacobian(q, zeta, vb, t, yi, side, size, ws, vs):
     """``jac`` at a stage point on or past V_r = 0: the J of V_r's ``side`` (+1, -1) continued to it, linear in
-    V_r through two points on that side (V_r = side dl, 2 side dl); ``dy`` is left the stage's own (the
-    field is continuous across the kink)."""
+    V_r through two points on that side (V_r = side dl, 2 side dl), and ``dy`` the stage's own (the field is
+    continuous across the kink)."""
     dy, dw, jac, jw, d, ft = ws[0], ws[1], ws[2], ws[3], ws[9], ws[10]
     jn, j2 = vs[4], vs[5]
     n = len(yi)
