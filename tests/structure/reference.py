@@ -391,11 +391,11 @@ def sample_grid(t_end: float, t_eval=None, dense_dt=None) -> np.ndarray:
 
 
 def integrate(asm, t_end: float, *, t_eval=None, dense_dt=None, rtol: float = 1e-12, atol: float = 1e-14,
-              work: bool = False, max_switches: int = 1_000_000) -> Reference:
-    """Integrate the structure from t = 0 to ``t_end`` phase by phase with DOP853 and events.
+              work: bool = False, max_switches: int = 1_000_000, method: str = "DOP853") -> Reference:
+    """Integrate the structure from t = 0 to ``t_end`` phase by phase with DOP853 (or ``method``) and events.
 
     Samples at ``t_eval`` (ascending, within [0, t_end]) or every ``dense_dt``
-    (default: 0 and t_end only).  ``rtol``/``atol`` are solve_ivp's.
+    (default: 0 and t_end only).  ``rtol``/``atol`` are solve_ivp's; ``method="Radau"`` for a stiff damper.
     """
     asm = as_arrays(asm)
     check(asm)
@@ -410,7 +410,7 @@ def integrate(asm, t_end: float, *, t_eval=None, dense_dt=None, rtol: float = 1e
         status, lost, t_end = "contact_lost", (j, 0.0), 0.0
     while t < t_end and len(run.switches) <= max_switches:
         sel = grid[run.next:]
-        sol = solve_ivp(rhs(asm, ph, work), (t, t_end), y, method="DOP853", rtol=rtol, atol=atol,
+        sol = solve_ivp(rhs(asm, ph, work), (t, t_end), y, method=method, rtol=rtol, atol=atol,
                         events=events(asm, ph), t_eval=sel[sel <= t_end])
         if sol.status < 0:
             raise RuntimeError(f"reference: solve_ivp failed at t = {t!r}: {sol.message}")

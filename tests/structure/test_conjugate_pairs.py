@@ -123,7 +123,8 @@ def test_paired_second_derivative_bound_holds():
     q0, v0 = start_state(asm, modes, 5)
     ph = start(cb, asm, q0, v0, T0)
     om, a, h, d = asm.force_omega, 0.4, 0.5, 1e-3
-    mg = Mags(np.abs(modal_at(cb, ph, om, a)), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam))
+    mg = Mags(np.abs(modal_at(cb, ph, om, a)), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam),
+              np.zeros(len(cb.lam)), np.zeros(len(cb.lam)))  # no mode dies here: |z'(0)|, |z''(0)| unread
     taus = np.arange(a + d, a + h - d / 2, d)
     grid = reference_states(asm, modes, q0, v0, np.concatenate((taus - d, taus, taus + d)))
     g = np.array([cb.D @ np.concatenate(s) + cb.dc for s in grid])

@@ -180,7 +180,8 @@ def test_the_third_derivative_bound_holds(seed):
     cb, ph = phase_of([(1.0, amp, w, p)])
     a, h = rng.uniform(0.0, 3.0), rng.uniform(0.01, 1.0)
     za = ph.z0 * np.exp(cb.lam * a)
-    mg = Mags(np.abs(za), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam))
+    mg = Mags(np.abs(za), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam),
+              np.zeros(len(cb.lam)), np.zeros(len(cb.lam)))  # no mode dies here: |z'(0)|, |z''(0)| unread
     tau = np.linspace(a, a + h, 10_001)
     g3 = np.abs(np.sin(np.outer(tau, w) + p) @ (amp * w**3)).max()
     assert g3 <= bound(cb, np.zeros(0), 0, a, h, mg, 3)

@@ -59,8 +59,8 @@ from numba import njit
 
 from ..roots import RUNNING, bracket, update_halley
 from ..options import NO_RUNTIME
-from .phase import (Mags, abs_into, bound, bound_of, event_rate, event_raw, magnitudes_into, modal_raw,
-                    mode_bounds, size_of)
+from .phase import (Mags, abs_into, bound, bound_of, event_rate, event_raw, longest, magnitudes_into,
+                    modal_raw, mode_bounds, next_death, rates_into, size_of)
 
 EPS = 2.220446049250313e-16
 #: a function within this many EPS of the size of its terms of 0 counts as touching 0
@@ -261,21 +261,23 @@ Room = namedtuple("Room", "za zb ga gb dz clear dep zr mg open")
 def new_room(m, k, nf, departing):
     """A :data:`Room` for ``m`` modes, ``k`` event slots and ``nf`` forces, its arrays views of three
     allocations (a record taken here would be reference-counted: the records' parts are filled by :func:`walk`)."""
-    zs, xs, bh = np.empty(3 * m, dtype=np.complex128), np.empty(3 * k + 5 * m), np.empty((m, nf))
+    zs, xs, bh = np.empty(3 * m, dtype=np.complex128), np.empty(3 * k + 7 * m), np.empty((m, nf))
     g = 3 * k
-    mg = Mags(xs[g + m:g + 2 * m], xs[g + 2 * m:g + 3 * m], xs[g + 3 * m:g + 4 * m], bh, xs[g + 4 * m:])
+    mg = Mags(xs[g + m:g + 2 * m], xs[g + 2 * m:g + 3 * m], xs[g + 3 * m:g + 4 * m], bh, xs[g + 4 * m:g + 5 * m],
+              xs[g + 5 * m:g + 6 * m], xs[g + 6 * m:])
     return Room(zs[:m], zs[m:2 * m], xs[:k], xs[k:2 * k], xs[g:g + m], xs[2 * k:g], departing.copy(), zs[2 * m:], mg,
                 np.zeros(k, dtype=np.bool_))
 
 
 @njit(cache=True, inline="always")
-def prepare(cb, ph, om, room):
+def prepare(cb, ph, om, tau_end, room):
     """Fill ``room`` at tau = 0: z(0) (the phase's z0: the closed form at 0 is z0 exactly), |z(0)|, the phase's
-    moduli, the functions (0 where departing: a function within rounding of 0 departs too), no function proven
-    clear yet."""
+    moduli (with the rates of the modes that die before ``tau_end``), the functions (0 where departing: a
+    function within rounding of 0 departs too), no function proven clear yet."""
     za, ga, dep, az = room.za, room.ga, room.dep, room.mg.z
     copy(ph.z0, za)
     magnitudes_into(cb, ph, room.mg)
+    rates_into(cb, ph, om, tau_end, room.mg)
     copy(ph.e0, ga)
     for e in range(len(ga)):
         room.clear[e] = -1.0
@@ -293,11 +295,14 @@ def walk(cb, ph, om, tau_end, h0, floor, room):
     """(tau, slot, graze): the phase's first event in (0, tau_end]; slot -1: none (tau = tau_end).
 
     ``room``: a :data:`Room` (:func:`new_room`) with the departing flags set, the rest filled here; ``h0`` the
-    longest interval, ``floor`` the shortest.
+    longest interval while every mode lives, ``floor`` the shortest.  Once a fast decaying mode has died
+    (:data:`.phase.DEAD`) the longest interval follows the modes left: a stiff damper's mode would otherwise hold
+    every interval of a long phase to its own time constant (the bounds allow longer ones by then).
     """
     za, zb, ga, gb, az = room.za, room.zb, room.ga, room.gb, room.mg.z
-    prepare(cb, ph, om, room)
+    prepare(cb, ph, om, tau_end, room)
     a, h = 0.0, h0
+    until = next_death(cb.lam, 0.0)
     copy(ga, gb)
     lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta
     while a < tau_end:
@@ -315,6 +320,8 @@ def walk(cb, ph, om, tau_end, h0, floor, room):
             tau, slot = nearest_zero(a, b, room)
             if slot >= 0:
                 return tau, slot, True
+        if b >= until:
+            h0, until = max(h0, longest(cb.lam, om, b, tau_end)), next_death(cb.lam, b)
         a, h = b, min(2.0 * h, h0)
         copy(zb, za)
         abs_into(za, az)

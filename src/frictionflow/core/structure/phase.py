@@ -34,8 +34,9 @@ from .spectral import expint, phis
 
 Phase = namedtuple("Phase", "t0 z0 b0 b1 bh theta e0 e1 u0 bs")
 #: the moduli the walk's bounds take, as real arrays: |z(a)| at the current interval's start (rewritten per
-#: interval) and the phase's |b0|, |b1|, |bh|, |lam| (complex moduli are hypot calls: not in the loops)
-Mags = namedtuple("Mags", "z b0 b1 bh lam")
+#: interval) and the phase's |b0|, |b1|, |bh|, |lam| (complex moduli are hypot calls: not in the loops); |z'(0)|
+#: and |z''(0)| of the modes that die within the walk (:func:`dead_bound`; the others' entries are not read)
+Mags = namedtuple("Mags", "z b0 b1 bh lam w u")
 
 
 @njit(cache=True)
@@ -231,9 +232,12 @@ def bound(cb, om, e, a, h, mg, order):
         if w == 0.0:
             continue
         b0, b1, b2 = beta_bounds(mg, om, m, tmax)
-        zb = growth(cb.lam[m].real, h) * (mg.z[m] + h * b0)
+        lam = cb.lam[m]
+        zb = growth(lam.real, h) * (mg.z[m] + h * b0)
         al = mg.lam[m]
         dz = al * al * zb + al * b0 + b1 if order == 2 else al ** 3 * zb + al * al * b0 + al * b1 + b2
+        if a >= lifetime(lam.real):
+            dz = min(dz, dead_bound(lam, al, mg.w[m], b1) if order == 2 else dead_bound(lam, al, mg.u[m], b2))
         s += w * dz
     return s
 
@@ -248,6 +252,8 @@ def mode_bounds(cb, om, a, h, mg, out):
         zb = growth(lams[m].real, h) * (mg.z[m] + h * b0)
         al = mg.lam[m]
         out[m] = al * al * zb + al * b0 + b1
+        if a >= lifetime(lams[m].real):
+            out[m] = min(out[m], dead_bound(lams[m], al, mg.w[m], b1))
 
 
 @njit(cache=True, inline="always")
@@ -285,19 +291,75 @@ def size_of(cb, ph, e, tau, az):
     return s
 
 
+#: a decaying mode whose factor e^{Re(lam) tau} has fallen below e^-DEAD (1.3e-24) no longer sets a time scale:
+#: its terms are that far below what they were at the phase's start (a stiff damper's overdamped mode dies
+#: within a few of its own time constants, while the phase runs on at the slow modes' pace)
+DEAD = 55.0
+#: e^{Re(lam) tau} from a mode's death on, bounded with room for the rounding of :func:`lifetime`
+FADE = 2.0 * math.exp(-DEAD)
+
+
 @njit(cache=True, inline="always")
-def fastest_rate(lam, om):
-    """max |lam| + max Omega (0 for none of either): the phase's fastest time scale's rate, without numba's
-    runtime (the walk's longest interval and the work quadrature's node count both follow it)."""
+def lifetime(re):
+    """When a mode of rate Re(lam) = ``re`` dies (:data:`DEAD`): alive at tau < lifetime; inf: never."""
+    return -DEAD / re if re < 0.0 else math.inf
+
+
+@njit(cache=True, inline="always")
+def live_rate(lam, om, tau):
+    """max |lam| over the modes alive at ``tau`` (:func:`lifetime`) + max Omega (0 for none of either): the
+    phase's fastest time scale's rate there, without numba's runtime (the walk's longest interval and the work
+    quadrature's node count both follow it)."""
     m = 0.0
     for i in range(len(lam)):
-        m = max(m, abs(lam[i]))
+        if tau < lifetime(lam[i].real):
+            m = max(m, abs(lam[i]))
     if len(om) == 0:
         return m + 0.0
     w = om[0]
     for i in range(1, len(om)):
         w = max(w, om[i])
     return m + w
+
+
+@njit(cache=True, inline="always")
+def longest(lam, om, tau, span):
+    """The walk's longest interval from ``tau`` on: 1 / :func:`live_rate`, at most ``span``."""
+    rate = live_rate(lam, om, tau)
+    return span if rate == 0.0 else min(span, 1.0 / rate)
+
+
+@njit(cache=True, inline="always")
+def next_death(lam, tau):
+    """The time after ``tau`` when the next mode alive at ``tau`` dies (:func:`lifetime`); inf: none."""
+    until = math.inf
+    for i in range(len(lam)):
+        life = lifetime(lam[i].real)
+        if tau < life:
+            until = min(until, life)
+    return until
+
+
+@njit(cache=True, inline="always")
+def rates_into(cb, ph, om, span, mg):
+    """|z'(0)| and |z''(0)| into ``mg.w``, ``mg.u`` for the modes that die before ``span`` (:func:`dead_bound`)."""
+    for m in range(len(mg.w)):
+        lam = cb.lam[m]
+        if lifetime(lam.real) < span:
+            b, db = beta_mode(ph, om, m, 0.0)
+            d = lam * ph.z0[m] + b
+            mg.w[m], mg.u[m] = abs(d), abs(lam * d + db)
+
+
+@njit(cache=True, inline="always")
+def dead_bound(lam, al, y0, bk):
+    """A bound on |z^(k+1)| from tau = lifetime(Re ``lam``) on, for a mode dead there: y = z^(k) solves
+    y' = lam y + beta^(k), so |y(s)| <= e^{Re(lam) s} |y(0)| + max|beta^(k)| / |Re(lam)| and
+    |y'| <= |lam| |y| + |beta^(k)| (``al`` = |lam|, ``y0`` = |y(0)|, ``bk`` bounds |beta^(k)|).
+
+    The bound from |z(a)| multiplies the mode's forced value by |lam|^2: an overdamped mode that has settled on
+    its forcing has |z''| near 0, and a stiff damper's |lam| would hold the walk's intervals to its time scale."""
+    return al * (FADE * y0 + bk / -lam.real) + bk
 
 
 #: room for :func:`start_in`, made once per run (:func:`start_room`): the phase's z0, b0 (room for 2n modes),

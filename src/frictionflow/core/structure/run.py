@@ -21,7 +21,7 @@ from ..layout import STICK
 from .combo import N_SLOTS, build, build_from, find, keep, lookup, new_cache, same_modes
 from .events import EPS, ROUNDING, Room, new_room as new_walk_room, values, walk
 from ..options import NO_RUNTIME
-from .phase import (Mags, abs_into, fastest_rate, modal_into, size_of, start, start_in, start_room, state_at,
+from .phase import (Mags, abs_into, longest, modal_into, size_of, start, start_in, start_room, state_at,
                     state_fill)
 from .stick import decide_in, friction_forces_into, hold_velocity_into, new_room, normal_load
 from .work import accumulate, integrate, new_room as new_work_room
@@ -82,8 +82,7 @@ def next_event(cb, ph, om, span, floor, leaving, room):
         room.dep[e] = False
     for j in range(len(leaving)):  # a contact that left V_r = 0 and slips: its V_r starts from 0
         room.dep[N_SLOTS * j] = leaving[j] and cb.modes[j] != STICK
-    rate = fastest_rate(cb.lam, om)  # the walk's longest interval: a fraction of the fastest time scale
-    tau, slot, _ = walk(cb, ph, om, span, span if rate == 0.0 else min(span, 1.0 / rate), floor, room)
+    tau, slot, _ = walk(cb, ph, om, span, longest(cb.lam, om, 0.0, span), floor, room)
     return tau, slot
 
 
@@ -92,7 +91,7 @@ def phase_room(walk_room, m):
     """The walk's :data:`~.events.Room` for a phase of ``m`` modal coordinates: views of the run's."""
     w, g = walk_room, walk_room.mg
     return Room(w.za[:m], w.zb[:m], w.ga, w.gb, w.dz[:m], w.clear, w.dep, w.zr[:m],
-                Mags(g.z[:m], g.b0[:m], g.b1[:m], g.bh[:m], g.lam[:m]), w.open)
+                Mags(g.z[:m], g.b0[:m], g.b1[:m], g.bh[:m], g.lam[:m], g.w[:m], g.u[:m]), w.open)
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted

@@ -1,0 +1,87 @@
+"""A stiff damper: an overdamped mode that dies within a phase no longer sets the walk's or the quadrature's pace.
+
+Damper c on a unit mass makes one mode of rate about c and one of about k / c.
+The fast one settles on its forcing within a few 1 / c; from then on its
+z'' is near 0 while |lam|^2 |z| is not, and bounds taken from |z| held every
+interval of the walk (and the work quadrature's node count) to the time scale
+1 / c: the run's time grew as c (1e4: 31 s, 1e6: over 200 s for 300 time units).
+Here: the run against an independent stiff integrator (scipy's Radau, the
+reference's event loop), and the walk's bound on |g''| of a settled mode
+against the true g'' and against its size.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from frictionflow import Coulomb
+from frictionflow.core.structure.combo import build as build_combo
+from frictionflow.core.structure.phase import DEAD, Mags, beta_mode, bound, lifetime, modal_at, start
+from frictionflow.solvers.structure import run_assembly
+
+from . import reference as ref
+from .chains import Elements, build
+from .test_chain_vs_reference import spread, switch_times
+from .test_conjugate_pairs import T0, reference_states
+
+T_END = 40.0
+EPS = np.finfo(float).eps
+
+
+def stiff_chain(c: float) -> Elements:
+    """x1 on a damper ``c`` to the ground, x2 stick-slipping and forced, springs to the walls and between."""
+    springs = ([[1.0, 0.0], [1.0, -1.0], [0.0, 1.0]], [1.0, 0.5, 1.0])
+    dampers = ([[1.0, 0.0], [0.0, 1.0]], [c, 0.04])
+    contacts = ([[1.0, 0.0], [0.0, 1.0]], [0.1, 0.1], [Coulomb(0.1, 0.15), Coulomb(0.1, 0.2)], None)
+    return Elements(np.eye(2), springs, dampers, contacts, ([[0.0, 1.0]], [0.2], [0.7], [0.3]), [0.0, -0.3],
+                    [0.0, 0.0])
+
+
+@pytest.mark.parametrize("c", [1e4, 1e6])
+def test_a_stiff_damper_chain_against_an_independent_radau_run(c):
+    """Switch times, states and every element's work against Radau at rtol 1e-12 (tolerance: its difference
+    from Radau at rtol 1e-10, and the modal basis's rounding, ~c EPS); the energy balance closes as well."""
+    asm = build(stiff_chain(c))
+    motion = run_assembly(asm, T_END, dense_dt=0.5)
+    times, inverse = np.unique(motion.t, return_inverse=True)
+    fine, coarse = (ref.integrate(asm, T_END, t_eval=times, rtol=r, atol=1e-3 * r, work=True, method="Radau")
+                    for r in (1e-12, 1e-10))
+    assert len(fine.switches) >= 8 and len(coarse.switches) == len(fine.switches)
+    switches = switch_times(motion)
+    assert len(switches) == len(fine.switches)
+    basis = 4.0 * c * EPS  # the modal basis of rates 1 / c .. c is known to about c EPS (its condition number)
+    np.testing.assert_allclose(switches, fine.switches, rtol=0, atol=spread(coarse.switches, fine.switches) + basis)
+    np.testing.assert_allclose(motion.state, fine.state[:, inverse], rtol=0,
+                               atol=spread(coarse.state, fine.state) + basis)
+    np.testing.assert_allclose(motion.work, fine.work[:, inverse], rtol=0, atol=spread(coarse.work, fine.work) + basis)
+    assert motion.energy_residual < basis
+
+
+def test_a_settled_stiff_modes_bound_follows_its_rate_not_its_size():
+    """|g''| over an interval after the fast mode has died: the walk's bound holds (g'' from expm of the full
+    first-order system) and is within 100x of the largest |g''| there; from |z| alone (the bound before) it is
+    over 1e6 times that for the stiff mass's contact."""
+    asm = build(stiff_chain(1e6))
+    modes = np.array([1, 1], dtype=np.int8)
+    cb = build_combo(asm, np.linalg.inv(asm.mass), modes)
+    q0, v0 = np.array([0.01, 0.2]), np.array([0.0, -0.1])
+    ph = start(cb, asm, q0, v0, T0)
+    om = asm.force_omega
+    a, h, d = 2.0 * DEAD / 1e6, 0.5, 1e-3
+    assert min(lifetime(x) for x in cb.lam.real) < a  # the fast mode is dead from a on
+    b = np.array([beta_mode(ph, om, m, 0.0) for m in range(len(cb.lam))])
+    w0 = cb.lam * ph.z0 + b[:, 0]
+    mg = Mags(np.abs(modal_at(cb, ph, om, a)), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam),
+              np.abs(w0), np.abs(cb.lam * w0 + b[:, 1]))
+    taus = np.arange(a + d, a + h - d / 2, d)
+    grid = reference_states(asm, modes, q0, v0, np.concatenate((taus - d, taus, taus + d)))
+    g = np.array([cb.D @ np.concatenate(s) + cb.dc for s in grid])
+    g += np.cos(np.outer(T0 + np.concatenate((taus - d, taus, taus + d)), om) + asm.force_phi) @ cb.Dh.T
+    m = len(taus)
+    g2 = np.abs(g[:m] - 2.0 * g[m:2 * m] + g[2 * m:]).max(axis=0) / d ** 2
+    from_size = mg._replace(w=np.full(len(cb.lam), np.inf), u=np.full(len(cb.lam), np.inf))  # min(.., inf)
+    for e in np.nonzero(cb.active)[0]:
+        m2 = bound(cb, om, e, a, h, mg, 2)
+        assert g2[e] <= m2 <= 100.0 * g2[e] + 1e-9
+    assert bound(cb, om, 0, a, h, from_size, 2) > 1e6 * g2[0]  # the stiff mass's contact: what it would cost
