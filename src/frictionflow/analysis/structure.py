@@ -14,13 +14,16 @@ located to rounding on the exact solution (:meth:`Motion.at`).
     Every state component has stopped moving over the tail (the last tenth of
     the run, at least 4 pi of the slowest natural period's scale) and every
     velocity is zero, to ``rtol`` of the motion's scale (the ranges of its
-    states and the belt speeds); or the run's end is certified to slide into
+    states); or the run's end is certified to slide into
     the steady-sliding equilibrium (:func:`certified_sliding`).
 ``chaotic``, ``quasi_periodic``
     The section does not repeat, and the largest Lyapunov exponent (two
     nearby exact runs) and the section's revisits tell these apart as the
     single mass's forced runs are told (:mod:`.structure_lyapunov`); the
-    window is the tail.
+    window is the tail.  Only for a run longer than the structure's slowest
+    time scale (:func:`slowest_period`): within it a slow mode's drift is
+    neither told from a growth (a heavy mass's linear drift gave a positive
+    exponent) nor from a torus (a stiff damper's creep revisited the section).
 ``not_settled``
     None of these; the window is the tail.
 ``contact_lost``
@@ -228,7 +231,7 @@ def _not_periodic(motion: Any) -> tuple[str, float]:
     a = motion.assembly
     forced = np.flatnonzero(np.asarray(a.force_amp) != 0.0)
     times = section_times(motion)
-    if len(times) < 2:
+    if len(times) < 2 or float(motion.t[-1] - motion.t[0]) < slowest_period(a):
         return "not_settled", math.nan
     block = 2.0 * math.pi / float(a.force_omega[forced[0]]) if len(forced) else float(np.mean(np.diff(times)))
     section = states_at(motion, times)
@@ -236,6 +239,18 @@ def _not_periodic(motion: Any) -> tuple[str, float]:
                 float(np.max(np.abs(a.force_amp), initial=0.0)), 1e-300)
     kind, lam = beyond_periodic(motion, section, block, not len(forced), scale)
     return kind, math.nan if lam is None else lam
+
+
+def slowest_period(assembly: Any) -> float:
+    """2 pi / the least |lambda| of the structure's own motion (masses, springs, dampers; no contacts), its zero
+    eigenvalues left out (a free position and a free drift, as many as the null spaces of K and of [K; C] hold);
+    0 for none.  A stiff damper's creep (|lambda| ~ k / c) and a heavy mass's swing set it."""
+    m, k, c = (np.asarray(x, dtype=float) for x in (assembly.mass, assembly.stiffness, assembly.damping))
+    n = len(m)
+    zeros = (n - np.linalg.matrix_rank(k)) + (n - np.linalg.matrix_rank(np.vstack((k, c))))
+    first = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(m, k), -np.linalg.solve(m, c)]])
+    rates = np.sort(np.abs(np.linalg.eigvals(first)))[zeros:]
+    return 2.0 * math.pi / float(rates[0]) if len(rates) and rates[0] > 0.0 else 0.0
 
 
 def certified_sliding(motion: Any) -> bool:
