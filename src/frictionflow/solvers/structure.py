@@ -181,8 +181,10 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
         records = buffers(assembly, cap)
         return run(assembly, minv, float(t_end), float(dense_dt or 0.0), *records), *records
 
-    first = first_capacity(assembly, samples_bound(assembly, t_end, dense_dt, fastest_bound(assembly, minv)), FIRST_CAP)
-    res, *records = run_growing(float(t_end), first, attempt)
+    omega = fastest_bound(assembly, minv)
+    first = first_capacity(assembly, samples_bound(assembly, t_end, dense_dt, omega), FIRST_CAP)
+    seconds = switch_bound(assembly, t_end, omega) * SECONDS_PER["structure_switch"]
+    res, *records = run_growing(float(t_end), first, attempt, seconds)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"solver={NAME}: the run ended with status '{codes.NAMES[res.status]}'")
     return motion(res, records, assembly, nm, _channels(nm), system)

@@ -80,7 +80,7 @@ def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str
         der = empty_derivatives(cap, len(assembly.q0), n_channels(assembly))
         return run_kernel(assembly, minv, opts, *records, der), *records, der
 
-    res, *records, der = run_growing(float(t_end), FIRST_CAP, attempt)
+    res, *records, der = run_growing(float(t_end), FIRST_CAP, attempt, step_estimate(assembly, t_end).seconds)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"solver={settings.name}: the structure's run ended with status "
                            f"'{codes.NAMES[res.status]}' at sample {res.n_samples} (max_steps={settings.max_steps})")
