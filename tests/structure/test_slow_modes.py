@@ -41,7 +41,8 @@ def pencil_period(system: System) -> float:
     a = assemble(system)
     n = len(a.mass)
     eye, zero = np.eye(n), np.zeros((n, n))
-    lam = scipy.linalg.eigvals(np.block([[zero, eye], [-a.stiffness, -a.damping]]), np.block([[eye, zero], [zero, a.mass]]))
+    lam = scipy.linalg.eigvals(np.block([[zero, eye], [-a.stiffness, -a.damping]]),
+                               np.block([[eye, zero], [zero, a.mass]]))
     rates = np.abs(lam[np.abs(lam) > 1e-9])
     return 2.0 * math.pi / rates.min()
 

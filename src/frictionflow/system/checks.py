@@ -29,10 +29,15 @@ DEPENDENT_RTOL = 1e-9
 #: 1e16 sticks within ~1e-33 of its start, far below the switch times' rounding (its mass then ends up 3e-9 from
 #: where it stuck, not 4e-16), and below 1e-154 the products e M^-1 e underflow to zero
 DIRECTION_MAX = 1e12
+#: every number of a model file is at most this in magnitude (any consistent units: SI's stiffest contacts are
+#: ~1e10 N/m).  Beyond, products the engine forms overflow (a preload or force of 1e300 stopped the run "stuck")
+#: or the modes' scales part by more than double resolves (masses 1e30 and 1 made a mode defective)
+MAGNITUDE_MAX = 1e15
 
 
 def number(address: str, value: Any, allowed: str = "a finite number") -> float:
-    """``value`` as a float; it must be a finite number (not text, a boolean or None).
+    """``value`` as a float; it must be a finite number (not text, a boolean or None) of magnitude at most
+    :data:`MAGNITUDE_MAX`.
 
     Parameters
     ----------
@@ -51,6 +56,9 @@ def number(address: str, value: Any, allowed: str = "a finite number") -> float:
         raise ValueError(f"{address} must be {allowed}, got {value!r}") from None
     if not math.isfinite(x):
         raise ValueError(f"{address} must be finite, got {value!r}")
+    if abs(x) > MAGNITUDE_MAX:
+        raise ValueError(f"{address} must be at most {MAGNITUDE_MAX:g} in magnitude (a model's numbers, in any "
+                         f"consistent units), got {value!r}")
     return x
 
 
