@@ -125,14 +125,20 @@ def test_paired_second_derivative_bound_holds():
     om, a, h, d = asm.force_omega, 0.4, 0.5, 1e-3
     mg = Mags(np.abs(modal_at(cb, ph, om, a)), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam),
               np.zeros(len(cb.lam)), np.zeros(len(cb.lam)))  # no mode dies here: |z'(0)|, |z''(0)| unread
-    taus = np.arange(a + d, a + h - d / 2, d)
-    grid = reference_states(asm, modes, q0, v0, np.concatenate((taus - d, taus, taus + d)))
-    g = np.array([cb.D @ np.concatenate(s) + cb.dc for s in grid])
-    g += np.cos(np.outer(T0 + np.concatenate((taus - d, taus, taus + d)), om) + asm.force_phi) @ cb.Dh.T
-    m = len(taus)
-    g2 = np.abs(g[:m] - 2.0 * g[m:2 * m] + g[2 * m:]).max(axis=0) / d ** 2
+    g2 = second_derivative_maxima(asm, cb, modes, (q0, v0), a, h, d)
     for e in np.nonzero(cb.active)[0]:
         assert g2[e] <= bound(cb, om, e, a, h, mg, 2)
+
+
+def second_derivative_maxima(asm, cb, modes, start, a, h, d=1e-3):
+    """max |g_e''| over [a, a + h] for every event function: central differences (step ``d``) of g from
+    :func:`reference_states` (expm of the full first-order system) from the phase's ``start`` = (q0, q0')."""
+    taus = np.arange(a + d, a + h - d / 2, d)
+    grid = reference_states(asm, modes, *start, np.concatenate((taus - d, taus, taus + d)))
+    g = np.array([cb.D @ np.concatenate(s) + cb.dc for s in grid])
+    g += np.cos(np.outer(T0 + np.concatenate((taus - d, taus, taus + d)), asm.force_omega) + asm.force_phi) @ cb.Dh.T
+    m = len(taus)
+    return np.abs(g[:m] - 2.0 * g[m:2 * m] + g[2 * m:]).max(axis=0) / d ** 2
 
 
 def test_the_general_route_keeps_every_root():

@@ -23,7 +23,7 @@ from frictionflow.solvers.structure import run_assembly
 from . import reference as ref
 from .chains import Elements, build
 from .test_chain_vs_reference import spread, switch_times
-from .test_conjugate_pairs import T0, reference_states
+from .test_conjugate_pairs import T0, second_derivative_maxima
 
 T_END = 40.0
 EPS = np.finfo(float).eps
@@ -74,12 +74,7 @@ def test_a_settled_stiff_modes_bound_follows_its_rate_not_its_size():
     w0 = cb.lam * ph.z0 + b[:, 0]
     mg = Mags(np.abs(modal_at(cb, ph, om, a)), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam),
               np.abs(w0), np.abs(cb.lam * w0 + b[:, 1]))
-    taus = np.arange(a + d, a + h - d / 2, d)
-    grid = reference_states(asm, modes, q0, v0, np.concatenate((taus - d, taus, taus + d)))
-    g = np.array([cb.D @ np.concatenate(s) + cb.dc for s in grid])
-    g += np.cos(np.outer(T0 + np.concatenate((taus - d, taus, taus + d)), om) + asm.force_phi) @ cb.Dh.T
-    m = len(taus)
-    g2 = np.abs(g[:m] - 2.0 * g[m:2 * m] + g[2 * m:]).max(axis=0) / d ** 2
+    g2 = second_derivative_maxima(asm, cb, modes, (q0, v0), a, h, d)
     from_size = mg._replace(w=np.full(len(cb.lam), np.inf), u=np.full(len(cb.lam), np.inf))  # min(.., inf)
     for e in np.nonzero(cb.active)[0]:
         m2 = bound(cb, om, e, a, h, mg, 2)

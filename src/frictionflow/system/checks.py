@@ -35,9 +35,9 @@ DIRECTION_MAX = 1e12
 MAGNITUDE_MAX = 1e15
 
 
-def number(address: str, value: Any, allowed: str = "a finite number") -> float:
+def number(address: str, value: Any, allowed: str = "a finite number", limit: float | None = MAGNITUDE_MAX) -> float:
     """``value`` as a float; it must be a finite number (not text, a boolean or None) of magnitude at most
-    :data:`MAGNITUDE_MAX`.
+    ``limit``.
 
     Parameters
     ----------
@@ -47,6 +47,8 @@ def number(address: str, value: Any, allowed: str = "a finite number") -> float:
         The given value.
     allowed:
         The allowed values in words, for the message of a value that is no number at all.
+    limit:
+        The largest magnitude (None: the caller's own, narrower check follows and names the entry's range).
     """
     if isinstance(value, (bool, str)) or value is None:
         raise ValueError(f"{address} must be {allowed}, got {value!r}")
@@ -56,8 +58,8 @@ def number(address: str, value: Any, allowed: str = "a finite number") -> float:
         raise ValueError(f"{address} must be {allowed}, got {value!r}") from None
     if not math.isfinite(x):
         raise ValueError(f"{address} must be finite, got {value!r}")
-    if abs(x) > MAGNITUDE_MAX:
-        raise ValueError(f"{address} must be at most {MAGNITUDE_MAX:g} in magnitude (a model's numbers, in any "
+    if limit is not None and abs(x) > limit:
+        raise ValueError(f"{address} must be at most {limit:g} in magnitude (a model's numbers, in any "
                          f"consistent units), got {value!r}")
     return x
 
@@ -151,8 +153,10 @@ def dof_names(value: Any) -> tuple[str, ...]:
     return tuple(value)
 
 
-def coefficients(address: str, value: Any, dof: tuple[str, ...], where: str) -> tuple[tuple[str, float], ...]:
-    """A table dof -> finite coefficient as (dof, value) pairs in dof order.
+def coefficients(address: str, value: Any, dof: tuple[str, ...], where: str,
+                 limit: float | None = MAGNITUDE_MAX) -> tuple[tuple[str, float], ...]:
+    """A table dof -> finite coefficient as (dof, value) pairs in dof order, each at most ``limit`` in magnitude
+    (:func:`number`).
 
     Parameters
     ----------
@@ -164,12 +168,14 @@ def coefficients(address: str, value: Any, dof: tuple[str, ...], where: str) -> 
         The system's dof names.
     where:
         The entry the table is (``on``, ``normal``, ``initial.q``), for the message.
+    limit:
+        The largest magnitude of a coefficient (None: the caller checks its own range).
     """
     given = _as_table(f"{address}.{where}", value)
     for key in given:
         if key not in dof:
             raise ValueError(f"{address}: unknown dof {key!r} (dof: {', '.join(dof)}) in {where}")
-    return tuple((name, number(f"{address}.{where}.{name}", given[name])) for name in dof if name in given)
+    return tuple((name, number(f"{address}.{where}.{name}", given[name], limit=limit)) for name in dof if name in given)
 
 
 def _as_table(address: str, value: Any) -> Mapping[str, Any]:
@@ -195,7 +201,7 @@ def direction(address: str, value: Any, dof: tuple[str, ...]) -> tuple[tuple[str
     dof:
         The system's dof names.
     """
-    pairs = coefficients(address, value, dof, "on")
+    pairs = coefficients(address, value, dof, "on", limit=None)  # DIRECTION_MAX below
     if not any(c != 0.0 for _, c in pairs):
         raise ValueError(f"{address}.on must have a nonzero entry over the dof ({', '.join(dof)}): a zero-length "
                          f"direction, got {dict(pairs)!r}")

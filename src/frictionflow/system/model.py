@@ -100,8 +100,9 @@ class System:
                               for a, f in _elements(self.forces, "force", Force))
         if not isinstance(self.initial, Initial):
             raise TypeError(f"initial must be an Initial, got {self.initial!r}")
-        out["initial"] = Initial(*(_full(checks.initial("initial", key, checks.coefficients("initial", pairs, dof, key)),
-                                         dof) for key, pairs in (("q", self.initial.q), ("v", self.initial.v))))
+        given = {key: checks.coefficients("initial", pairs, dof, key, limit=None)  # checks.initial's range below
+                 for key, pairs in (("q", self.initial.q), ("v", self.initial.v))}
+        out["initial"] = Initial(*(_full(checks.initial("initial", key, pairs), dof) for key, pairs in given.items()))
         q0 = vector(out["initial"].q, dof)
         for j, contact in enumerate(out["contacts"]):
             if start:
