@@ -19,7 +19,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
         "frictionflow.core", "frictionflow.modes", "frictionflow.quantities", "frictionflow.parameters",
         "frictionflow._validate", "frictionflow._progress", "frictionflow.estimate", "frictionflow._display", "frictionflow._layers",
         "frictionflow._figures", "frictionflow._json", "frictionflow._version", "frictionflow._lazy",
-        "frictionflow._ranges", "frictionflow._compile_ahead",
+        "frictionflow._ranges", "frictionflow._compile_ahead", "frictionflow._interrupt",
     )),
     ("laws", ("frictionflow.friction",)),
     ("model", ("frictionflow.params", "frictionflow.system")),

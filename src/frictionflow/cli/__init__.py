@@ -14,11 +14,13 @@ a directory in the way), refused before anything is computed or written.
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 import warnings
 
 import typer
 
+from .._interrupt import abandoned
 from ..io import PATH_ERRNOS
 from ._app import PanelledCommand, app
 from .vocabulary import rewrite
@@ -152,6 +154,10 @@ def _missing(error: Exception, argv: list[str]) -> list[str]:
 
 def run() -> None:  # pragma: no cover - console script
     code = main()
+    if abandoned():  # an interrupted run's thread is still at work: end without finalising under it
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
     # CPython marks a KeyboardInterrupt that leaves an exec() of a string as unhandled even when it is caught
     # later (numba runs generated code so, and Ctrl-C or SIGTERM can land there): the process would end by
     # SIGINT (130), not with main's code.  The next exec() of a string clears that mark.

@@ -13,7 +13,7 @@ A run that fills its records is run again from the start with larger ones
 one's bits): :func:`first_capacity` sizes the first attempt from an estimate
 of the samples, :func:`regrow` the next from the pace the full one kept.
 A run estimated to take more than :data:`INTERRUPT_AFTER` seconds runs on a
-thread of its own (:func:`interruptible`): a compiled run never returns to
+thread of its own (``frictionflow._interrupt.interruptible``): a compiled run never returns to
 Python before its end, so Ctrl-C and SIGTERM would wait for it (minutes for
 a large model).  Shorter ones do not pay the thread (~0.15 ms a run: a
 Lyapunov exponent's hundreds of short runs would).
@@ -22,8 +22,7 @@ Lyapunov exponent's hundreds of short runs would).
 from __future__ import annotations
 
 import math
-import threading
-from typing import Any, Callable, TypeVar
+from typing import Any, Callable
 
 import numpy as np
 
@@ -32,6 +31,7 @@ from ..core.assembly import Assembly
 from ..core.records import Derivatives, Events, Samples, empty_events, empty_samples
 from ..core.structure.run import Result
 from ..core.structure.work import n_channels
+from .._interrupt import interruptible
 from ..motion import Motion
 
 
@@ -67,33 +67,8 @@ def regrow(res: Result, records: tuple[Samples, Events], t_end: float, cap: int)
     return int(max(2 * cap, res.n_switches + 1, math.ceil(PACE_MARGIN * pace)))
 
 
-T = TypeVar("T")
-#: seconds between the waiting thread's checks for a signal
-POLL = 0.05
 #: a run estimated (by its solver's own estimate, an upper bound) to take longer goes on its own thread
 INTERRUPT_AFTER = 0.1
-
-
-def interruptible(call: Callable[[], T]) -> T:
-    """``call()`` on a daemon thread while this one waits: the structure kernels release the GIL (``nogil``), so
-    this thread's signal handlers run at once and a KeyboardInterrupt (Ctrl-C, or SIGTERM as the CLI maps it)
-    is raised here.  The abandoned run goes on until its end or the process's; ``call``'s own exception is
-    raised here as it was raised there."""
-    box: dict[str, Any] = {}
-
-    def target() -> None:
-        try:
-            box["value"] = call()
-        except BaseException as exc:  # noqa: BLE001 - handed to the waiting thread, which raises it
-            box["error"] = exc
-
-    worker = threading.Thread(target=target, name="frictionflow-run", daemon=True)
-    worker.start()
-    while worker.is_alive():
-        worker.join(POLL)
-    if "error" in box:
-        raise box["error"]
-    return box["value"]
 
 
 def run_growing(t_end: float, cap: int, attempt: Callable[[int], tuple], seconds: float = 0.0) -> tuple:
@@ -101,7 +76,7 @@ def run_growing(t_end: float, cap: int, attempt: Callable[[int], tuple], seconds
 
     ``attempt`` runs a kernel from the start on new records of ``cap`` rows
     and returns (its Result, the Samples, the Events, any further records); each attempt runs
-    :func:`interruptible` when the run's estimate ``seconds`` exceeds :data:`INTERRUPT_AFTER`.
+    ``interruptible`` when the run's estimate ``seconds`` exceeds :data:`INTERRUPT_AFTER`.
     """
     while True:
         out = interruptible(lambda: attempt(cap)) if seconds > INTERRUPT_AFTER else attempt(cap)
