@@ -221,9 +221,23 @@ def beta_bounds(mg, om, m, tmax):
 
 
 @njit(cache=True, inline="always")
+def mode_term(cb, om, mg, m, a, h, order):
+    """Mode m's term of :func:`bound` of ``order`` over [a, a + h], before the weight |W[e, m]|: from |z(a)|, or
+    for a mode dead by ``a`` the smaller of that and :func:`dead_bound`."""
+    b0, b1, b2 = beta_bounds(mg, om, m, abs(a) + h)
+    lam = cb.lam[m]
+    zb = growth(lam.real, h) * (mg.z[m] + h * b0)
+    al = mg.lam[m]
+    if order == 2:
+        dz, y0, bk = al * al * zb + al * b0 + b1, mg.w[m], b1
+    else:
+        dz, y0, bk = al ** 3 * zb + al * al * b0 + al * b1 + b2, mg.u[m], b2
+    return min(dz, dead_bound(lam, al, y0, bk)) if a >= lifetime(lam.real) else dz
+
+
+@njit(cache=True, inline="always")
 def bound(cb, om, e, a, h, mg, order):
     """A bound on |g_e^(order)| over [a, a + h] (order 2 or 3) from the modal amplitudes ``mg.z`` = |z(a)|."""
-    tmax = abs(a) + h
     s = 0.0
     for f in range(len(om)):
         s += abs(cb.Dh[e, f]) * om[f] ** order
@@ -231,29 +245,15 @@ def bound(cb, om, e, a, h, mg, order):
         w = cb.WA[e, m]
         if w == 0.0:
             continue
-        b0, b1, b2 = beta_bounds(mg, om, m, tmax)
-        lam = cb.lam[m]
-        zb = growth(lam.real, h) * (mg.z[m] + h * b0)
-        al = mg.lam[m]
-        dz = al * al * zb + al * b0 + b1 if order == 2 else al ** 3 * zb + al * al * b0 + al * b1 + b2
-        if a >= lifetime(lam.real):
-            dz = min(dz, dead_bound(lam, al, mg.w[m], b1) if order == 2 else dead_bound(lam, al, mg.u[m], b2))
-        s += w * dz
+        s += w * mode_term(cb, om, mg, m, a, h, order)
     return s
 
 
 @njit(cache=True, inline="always")
 def mode_bounds(cb, om, a, h, mg, out):
     """Each mode's term of :func:`bound` of order 2 (before the weight |W[e, m]|) into ``out``: once per interval."""
-    tmax = abs(a) + h
-    lams = cb.lam
     for m in range(len(out)):
-        b0, b1, _ = beta_bounds(mg, om, m, tmax)
-        zb = growth(lams[m].real, h) * (mg.z[m] + h * b0)
-        al = mg.lam[m]
-        out[m] = al * al * zb + al * b0 + b1
-        if a >= lifetime(lams[m].real):
-            out[m] = min(out[m], dead_bound(lams[m], al, mg.w[m], b1))
+        out[m] = mode_term(cb, om, mg, m, a, h, 2)
 
 
 @njit(cache=True, inline="always")
