@@ -17,7 +17,7 @@ from frictionflow import Coulomb
 from frictionflow.core.layout import FD, STICK
 from frictionflow.core.structure.combo import build
 from frictionflow.core.structure.events import values
-from frictionflow.core.structure.phase import Mags, bound, modal_at, start, state_at
+from frictionflow.core.structure.phase import Mags, bound, modal_at, rates_into, start, state_at
 
 from .builders import assembly
 
@@ -123,11 +123,19 @@ def test_paired_second_derivative_bound_holds():
     q0, v0 = start_state(asm, modes, 5)
     ph = start(cb, asm, q0, v0, T0)
     om, a, h, d = asm.force_omega, 0.4, 0.5, 1e-3
-    mg = Mags(np.abs(modal_at(cb, ph, om, a)), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam),
-              np.zeros(len(cb.lam)), np.zeros(len(cb.lam)))  # no mode dies here: |z'(0)|, |z''(0)| unread
+    mg = moduli(cb, ph, om, a)
     g2 = second_derivative_maxima(asm, cb, modes, (q0, v0), a, h, d)
     for e in np.nonzero(cb.active)[0]:
         assert g2[e] <= bound(cb, om, e, a, h, mg, 2)
+
+
+def moduli(cb, ph, om: np.ndarray, a: float) -> Mags:
+    """The walk's moduli for an interval from ``a``: |z(a)|, the phase's, and its decaying modes' rates at 0."""
+    m = len(cb.lam)
+    mg = Mags(np.abs(modal_at(cb, ph, om, a)), np.abs(ph.b0), np.abs(ph.b1), np.abs(ph.bh), np.abs(cb.lam),
+              np.zeros(m), np.zeros(m))
+    rates_into(cb, ph, om, mg)
+    return mg
 
 
 def second_derivative_maxima(asm, cb, modes, start, a, h, d=1e-3):

@@ -105,3 +105,17 @@ def test_fastest_bound_bounds_the_natural_frequencies():
         asm = bench_chain(n)
         bound = structure.fastest_bound(asm, np.linalg.inv(asm.mass))
         assert natural_frequencies(asm).max() <= bound * (1 + 1e-12)
+
+
+def test_a_run_that_stopped_says_when_and_which_contact_flipped():
+    """The line for a stopped run names the last sample's time, the status and, for zero-length phases in a row,
+    the contact whose mode changed last (a line without them left the user to guess where to look)."""
+    samples, events = structure_motion.buffers(bench_chain(2), 10)
+    samples.t[:3] = [0.0, 1.5, 15.673552831]
+    events.contact[:2] = [0, 1]
+    names = {"contact": ("contact.0", "contact.1")}
+    stuck = structure_motion.stopped(Result(codes.STUCK, 3, 2, -1, np.nan), (samples, events), names, "exact")
+    assert stuck == ("solver=exact: the run stopped at t=15.673552831 with status 'stuck' "
+                     "(contact.1 switched without time passing)")
+    capped = structure_motion.stopped(Result(codes.STEP_CAP, 2, 2, -1, np.nan), (samples, events), names, "adaptive")
+    assert capped == "solver=adaptive: the run stopped at t=1.5 with status 'step cap'"

@@ -26,7 +26,7 @@ from ..system import System, assemble
 from ..system.checks import independent
 from . import structure_adaptive
 from .registry import solver_named, solver_names_where
-from .structure_motion import buffers, first_capacity, motion, row_bytes, run_growing
+from .structure_motion import buffers, first_capacity, motion, row_bytes, run_growing, stopped
 
 #: the solver's name in messages
 NAME = "exact"
@@ -186,7 +186,7 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
     seconds = switch_bound(assembly, t_end, omega) * SECONDS_PER["structure_switch"]
     res, *records = run_growing(float(t_end), first, attempt, seconds)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
-        raise RuntimeError(f"solver={NAME}: the run ended with status '{codes.NAMES[res.status]}'")
+        raise RuntimeError(stopped(res, records, nm, NAME))
     return motion(res, records, assembly, nm, _channels(nm), system)
 
 

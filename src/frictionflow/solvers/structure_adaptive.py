@@ -22,7 +22,7 @@ from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
 from ..motion import Motion
 from .adaptive import Adaptive
-from .structure_motion import buffers, motion, run_growing
+from .structure_motion import buffers, motion, run_growing, stopped
 
 #: the longest step, as a fraction of the fastest period's 1/(2 pi) (the single mass's 0.25): the event
 #: functions are watched at the step ends only
@@ -82,7 +82,6 @@ def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str
 
     res, *records, der = run_growing(float(t_end), FIRST_CAP, attempt, step_estimate(assembly, t_end).seconds)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
-        raise RuntimeError(f"solver={settings.name}: the structure's run ended with status "
-                           f"'{codes.NAMES[res.status]}' at sample {res.n_samples} (max_steps={settings.max_steps})")
+        raise RuntimeError(f"{stopped(res, records, elements, settings.name)} (max_steps={settings.max_steps})")
     own = {"rtol": settings.rtol, "atol": settings.atol, "max_steps": settings.max_steps}
     return motion(res, records, assembly, elements, channels, system, der, settings.name, own)

@@ -92,6 +92,17 @@ def buffers(assembly: Assembly, cap: int) -> tuple[Samples, Events]:
     return empty_samples(cap, 2 * n, k, n_channels(assembly)), empty_events(cap)
 
 
+def stopped(res: Result, records: tuple[Samples, Events], names: dict[str, tuple[str, ...]], solver: str) -> str:
+    """The one line for a run that stopped before its end: the solver, when, the status, and for repeated
+    zero-length phases the contact whose mode flipped last."""
+    out, events = records
+    t = float(out.t[res.n_samples - 1]) if res.n_samples > 0 else 0.0
+    text = f"solver={solver}: the run stopped at t={t:.12g} with status '{codes.NAMES[res.status]}'"
+    if res.status == codes.STUCK and 0 < res.n_switches <= len(events.t):
+        text += f" ({names['contact'][events.contact[res.n_switches - 1]]} switched without time passing)"
+    return text
+
+
 def motion(res: Result, records: tuple[Samples, Events], assembly: Assembly, names: dict[str, tuple[str, ...]],
            channels: tuple[str, ...], system: Any = None, derivatives: Derivatives | None = None,
            solver: str = "exact", settings: dict[str, Any] | None = None) -> Motion:

@@ -28,10 +28,12 @@ The sharper M2 (:func:`sharper_m2`): with M3 a bound on |g'''| over [a, b]
 |g''(s)| <= |g''(b)| + M3 (b - s), so by the same mean
 |g''| <= (|g''(a)| + |g''(b)| + M3 h) / 2 throughout.  g'' at the ends is
 computed from z there; its rounding is less than ROUNDING EPS of the sum of
-its terms' moduli, which M2 bounds, so that much of M2 is added.  The crude
-M2 sums the modes' moduli; g''(a) and g''(b) keep their cancellations, so on
-an interval short beside the modes' time scales the sharper bound is far
-below it and fewer intervals are halved.
+its terms' moduli, which M2 taken from |z| alone bounds, so that much of it
+is added.  The crude M2 sums the modes' moduli (a decaying mode's term at
+most a bound from its rates at the phase's start, :func:`.phase.rates_into`);
+g''(a) and g''(b) keep their cancellations, so on an interval short beside
+the modes' time scales the sharper bound is far below it and fewer intervals
+are halved.
 
 When every function is decided, the earliest root is the event.  The
 candidate whose chord crosses 0 first is located in its proven bracket
@@ -133,13 +135,13 @@ def certify(cb, ph, om, e, a, h, room, start, m2):
 
 
 @njit(cache=True, inline="always")
-def sharper_m2(cb, ph, om, e, a, h, room, m2):
-    """(|g''(a)| + |g''(b)| + M3 h) / 2 + ROUNDING EPS ``m2``: a bound on |g_e''| over [a, b = a + h] from g'' at
-    its ends (the module's docstring; ``m2``: the crude bound)."""
+def sharper_m2(cb, ph, om, e, a, h, room):
+    """(|g''(a)| + |g''(b)| + M3 h) / 2 + ROUNDING EPS times M2 from |z| alone (``room.dzc``): a bound on |g_e''|
+    over [a, b = a + h] from g'' at its ends (the module's docstring)."""
     m3 = bound(cb, om, e, a, h, room.mg, 3)
     d2a = event_rate(cb, ph, om, e, a, room.za, 2)
     d2b = event_rate(cb, ph, om, e, a + h, room.zb, 2)
-    return 0.5 * (abs(d2a) + abs(d2b) + m3 * h) + ROUNDING * EPS * m2
+    return 0.5 * (abs(d2a) + abs(d2b) + m3 * h) + ROUNDING * EPS * bound_of(cb, om, e, room.dzc)
 
 
 @njit(cache=True, inline="always")
@@ -154,7 +156,7 @@ def verdict(cb, ph, om, e, a, h, room, start, m2):
         v = certify(cb, ph, om, e, a, h, room, start, m2)
         if v != 0 or sharper:
             return v
-        m2s = sharper_m2(cb, ph, om, e, a, h, room, m2)
+        m2s = sharper_m2(cb, ph, om, e, a, h, room)
         if m2s >= m2:
             return 0
         m2 = m2s
@@ -167,12 +169,13 @@ def decide_interval(cb, ph, om, a, h, room):
 
     ``room.clear[e]``: function e is proven root-free up to there (an interval
     that was halved for another function's sake needs no second proof);
-    ``room.dz``: room for the modes' terms of the bounds, shared by all functions;
+    ``room.dz``, ``room.dzc``: room for the modes' terms of the bounds (:func:`.phase.mode_bounds`), shared by
+    all functions;
     ``room.open[e]``: set where function e is left undecided (what :func:`nearest_zero` reads).
     """
     decided, root = True, False
     gb, departing, clear, dz, open_ = room.gb, room.dep, room.clear, room.dz, room.open
-    mode_bounds(cb, om, a, h, room.mg, dz)
+    mode_bounds(cb, om, a, h, room.mg, dz, room.dzc)
     for e in range(len(gb)):
         open_[e] = False
         if not cb.active[e] or clear[e] >= a + h:
@@ -252,32 +255,32 @@ def copy(src, dst):
 
 
 #: the walk's room: z at both ends, the functions at both ends, the modes' bound terms, how far each function
-#: is proven clear, the departing flags, z for the root finder, the moduli (:data:`.phase.Mags`) and the functions
-#: the last interval left undecided
-Room = namedtuple("Room", "za zb ga gb dz clear dep zr mg open")
+#: is proven clear, the departing flags, z for the root finder, the moduli (:data:`.phase.Mags`), the functions
+#: the last interval left undecided and the modes' bound terms from |z| alone
+Room = namedtuple("Room", "za zb ga gb dz clear dep zr mg open dzc")
 
 
 @njit(cache=True)
 def new_room(m, k, nf, departing):
     """A :data:`Room` for ``m`` modes, ``k`` event slots and ``nf`` forces, its arrays views of three
     allocations (a record taken here would be reference-counted: the records' parts are filled by :func:`walk`)."""
-    zs, xs, bh = np.empty(3 * m, dtype=np.complex128), np.empty(3 * k + 7 * m), np.empty((m, nf))
+    zs, xs, bh = np.empty(3 * m, dtype=np.complex128), np.empty(3 * k + 8 * m), np.empty((m, nf))
     g = 3 * k
     mg = Mags(xs[g + m:g + 2 * m], xs[g + 2 * m:g + 3 * m], xs[g + 3 * m:g + 4 * m], bh, xs[g + 4 * m:g + 5 * m],
-              xs[g + 5 * m:g + 6 * m], xs[g + 6 * m:])
+              xs[g + 5 * m:g + 6 * m], xs[g + 6 * m:g + 7 * m])
     return Room(zs[:m], zs[m:2 * m], xs[:k], xs[k:2 * k], xs[g:g + m], xs[2 * k:g], departing.copy(), zs[2 * m:], mg,
-                np.zeros(k, dtype=np.bool_))
+                np.zeros(k, dtype=np.bool_), xs[g + 7 * m:])
 
 
 @njit(cache=True, inline="always")
-def prepare(cb, ph, om, tau_end, room):
+def prepare(cb, ph, om, room):
     """Fill ``room`` at tau = 0: z(0) (the phase's z0: the closed form at 0 is z0 exactly), |z(0)|, the phase's
-    moduli (with the rates of the modes that die before ``tau_end``), the functions (0 where departing: a
+    moduli (with the decaying modes' rates at 0), the functions (0 where departing: a
     function within rounding of 0 departs too), no function proven clear yet."""
     za, ga, dep, az = room.za, room.ga, room.dep, room.mg.z
     copy(ph.z0, za)
     magnitudes_into(cb, ph, room.mg)
-    rates_into(cb, ph, om, tau_end, room.mg)
+    rates_into(cb, ph, om, room.mg)
     copy(ph.e0, ga)
     for e in range(len(ga)):
         room.clear[e] = -1.0
@@ -300,7 +303,7 @@ def walk(cb, ph, om, tau_end, h0, floor, room):
     every interval of a long phase to its own time constant (the bounds allow longer ones by then).
     """
     za, zb, ga, gb, az = room.za, room.zb, room.ga, room.gb, room.mg.z
-    prepare(cb, ph, om, tau_end, room)
+    prepare(cb, ph, om, room)
     a, h = 0.0, h0
     until = next_death(cb.lam, 0.0)
     copy(ga, gb)

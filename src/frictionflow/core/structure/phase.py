@@ -15,7 +15,8 @@ these real parts and the bounds below, sums of |W_m| |z_m|, count the pair.
 
 :func:`bound` bounds |g^(p)| (p = 2, 3) on [a, a + h] from the modal amplitudes:
 |z_m(s)| <= e^{max(Re lam, 0) h} (|z_m(a)| + h max|beta_m|), and
-z^(p) = lam^p z + sum_{i < p} lam^(p-1-i) beta^(i).
+z^(p) = lam^p z + sum_{i < p} lam^(p-1-i) beta^(i); for a decaying mode also
+from its rates at the phase's start (:func:`rates_into`), whichever is less.
 """
 
 from __future__ import annotations
@@ -35,7 +36,8 @@ from .spectral import expint, phis
 Phase = namedtuple("Phase", "t0 z0 b0 b1 bh theta e0 e1 u0 bs")
 #: the moduli the walk's bounds take, as real arrays: |z(a)| at the current interval's start (rewritten per
 #: interval) and the phase's |b0|, |b1|, |bh|, |lam| (complex moduli are hypot calls: not in the loops); |z'(0)|
-#: and |z''(0)| of the modes that die within the walk (:func:`dead_bound`; the others' entries are not read)
+#: and |z''(0)| of the decaying modes, each less its forcing's part (:func:`rates_into`; the others' entries are
+#: not read)
 Mags = namedtuple("Mags", "z b0 b1 bh lam w u")
 
 
@@ -212,27 +214,31 @@ def growth(rate, h):
 
 @njit(cache=True, inline="always")
 def beta_bounds(mg, om, m, tmax):
-    """(|beta_m|, |beta_m'|, |beta_m''|) bounded over [0, tmax] from the phase's magnitudes ``mg``."""
-    b0, b1, b2 = mg.b0[m] + mg.b1[m] * tmax, mg.b1[m], 0.0
+    """(|beta_m|, |beta_m'|, |beta_m''|, |beta_m'''|) bounded over [0, tmax] from the phase's magnitudes ``mg``."""
+    b0, b1, b2, b3 = mg.b0[m] + mg.b1[m] * tmax, mg.b1[m], 0.0, 0.0
     for f in range(len(om)):
         c = mg.bh[m, f]
-        b0, b1, b2 = b0 + c, b1 + c * om[f], b2 + c * om[f] ** 2
-    return b0, b1, b2
+        b0, b1, b2, b3 = b0 + c, b1 + c * om[f], b2 + c * om[f] ** 2, b3 + c * om[f] ** 3
+    return b0, b1, b2, b3
 
 
 @njit(cache=True, inline="always")
 def mode_term(cb, om, mg, m, a, h, order):
-    """Mode m's term of :func:`bound` of ``order`` over [a, a + h], before the weight |W[e, m]|: from |z(a)|, or
-    for a mode dead by ``a`` the smaller of that and :func:`dead_bound`."""
-    b0, b1, b2 = beta_bounds(mg, om, m, abs(a) + h)
+    """Mode m's term of :func:`bound` of ``order`` over [a, a + h], before the weight |W[e, m]|, and the same from
+    |z(a)| alone (the size of the terms g^(order) is computed from, for its rounding): for a decaying mode the
+    smaller of that and the bound from its start (:func:`rates_into`)."""
+    b0, b1, b2, b3 = beta_bounds(mg, om, m, abs(a) + h)
     lam = cb.lam[m]
     zb = growth(lam.real, h) * (mg.z[m] + h * b0)
     al = mg.lam[m]
     if order == 2:
-        dz, y0, bk = al * al * zb + al * b0 + b1, mg.w[m], b1
+        dz, w0, bk = al * al * zb + al * b0 + b1, mg.w[m], b2
     else:
-        dz, y0, bk = al ** 3 * zb + al * al * b0 + al * b1 + b2, mg.u[m], b2
-    return min(dz, dead_bound(lam, al, y0, bk)) if a >= lifetime(lam.real) else dz
+        dz, w0, bk = al ** 3 * zb + al * al * b0 + al * b1 + b2, mg.u[m], b3
+    if lam.real >= 0.0:
+        return dz, dz
+    fade = FADE if a >= lifetime(lam.real) else 1.0
+    return min(dz, al * fade * w0 + bk / -lam.real), dz
 
 
 @njit(cache=True, inline="always")
@@ -245,15 +251,16 @@ def bound(cb, om, e, a, h, mg, order):
         w = cb.WA[e, m]
         if w == 0.0:
             continue
-        s += w * mode_term(cb, om, mg, m, a, h, order)
+        s += w * mode_term(cb, om, mg, m, a, h, order)[0]
     return s
 
 
 @njit(cache=True, inline="always")
-def mode_bounds(cb, om, a, h, mg, out):
-    """Each mode's term of :func:`bound` of order 2 (before the weight |W[e, m]|) into ``out``: once per interval."""
+def mode_bounds(cb, om, a, h, mg, out, crude):
+    """Each mode's terms of :func:`bound` of order 2 (before the weight |W[e, m]|) into ``out``, and from |z(a)|
+    alone into ``crude`` (:func:`mode_term`): once per interval."""
     for m in range(len(out)):
-        out[m] = mode_term(cb, om, mg, m, a, h, 2)
+        out[m], crude[m] = mode_term(cb, om, mg, m, a, h, 2)
 
 
 @njit(cache=True, inline="always")
@@ -341,25 +348,27 @@ def next_death(lam, tau):
 
 
 @njit(cache=True, inline="always")
-def rates_into(cb, ph, om, span, mg):
-    """|z'(0)| and |z''(0)| into ``mg.w``, ``mg.u`` for the modes that die before ``span`` (:func:`dead_bound`)."""
+def rates_into(cb, ph, om, mg):
+    """|w_1(0)| and |w_2(0)| into ``mg.w``, ``mg.u`` for the decaying modes, w_k = z^(k) + beta^(k) / lam: what
+    bounds their z^(k+1) over the phase (:func:`mode_term`).
+
+    y = z^(k) solves y' = lam y + beta^(k), so w_k solves w' = lam w + beta^(k+1) / lam and z^(k+1) = y' = lam w_k:
+    |z^(k+1)(s)| <= |lam| e^{Re(lam) s} |w_k(0)| + max|beta^(k+1)| / |Re(lam)|, the factor e^{Re(lam) s} at most 1,
+    or :data:`FADE` once the mode is dead.  The bound from |z(a)| multiplies the mode's forced value by |lam|^2:
+    a fast overdamped mode on its forcing (a stiff damper's, from a phase's start when the stiff element barely
+    moves, or once it has settled) has |z''| far below that, and a bound |lam| / |Re(lam)| times its size would hold
+    the walk's intervals to its time scale, or below the shortest one (a run then ended "stuck" on a touch that
+    never was).
+    """
     for m in range(len(mg.w)):
         lam = cb.lam[m]
-        if lifetime(lam.real) < span:
+        if lam.real < 0.0:
             b, db = beta_mode(ph, om, m, 0.0)
+            d2b = 0.0j
+            for f in range(len(om)):
+                d2b -= ph.bh[m, f] * om[f] ** 2 * math.cos(ph.theta[f])
             d = lam * ph.z0[m] + b
-            mg.w[m], mg.u[m] = abs(d), abs(lam * d + db)
-
-
-@njit(cache=True, inline="always")
-def dead_bound(lam, al, y0, bk):
-    """A bound on |z^(k+1)| from tau = lifetime(Re ``lam``) on, for a mode dead there: y = z^(k) solves
-    y' = lam y + beta^(k), so |y(s)| <= e^{Re(lam) s} |y(0)| + max|beta^(k)| / |Re(lam)| and
-    |y'| <= |lam| |y| + |beta^(k)| (``al`` = |lam|, ``y0`` = |y(0)|, ``bk`` bounds |beta^(k)|).
-
-    The bound from |z(a)| multiplies the mode's forced value by |lam|^2: an overdamped mode that has settled on
-    its forcing has |z''| near 0, and a stiff damper's |lam| would hold the walk's intervals to its time scale."""
-    return al * (FADE * y0 + bk / -lam.real) + bk
+            mg.w[m], mg.u[m] = abs(d + db / lam), abs(lam * d + db + d2b / lam)
 
 
 #: room for :func:`start_in`, made once per run (:func:`start_room`): the phase's z0, b0 (room for 2n modes),

@@ -91,7 +91,7 @@ def phase_room(walk_room, m):
     """The walk's :data:`~.events.Room` for a phase of ``m`` modal coordinates: views of the run's."""
     w, g = walk_room, walk_room.mg
     return Room(w.za[:m], w.zb[:m], w.ga, w.gb, w.dz[:m], w.clear, w.dep, w.zr[:m],
-                Mags(g.z[:m], g.b0[:m], g.b1[:m], g.bh[:m], g.lam[:m], g.w[:m], g.u[:m]), w.open)
+                Mags(g.z[:m], g.b0[:m], g.b1[:m], g.bh[:m], g.lam[:m], g.w[:m], g.u[:m]), w.open, w.dzc[:m])
 
 
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
