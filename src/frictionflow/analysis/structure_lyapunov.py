@@ -108,7 +108,7 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
     """(largest exponent, its uncertainty) of the structure's flow from the end of ``motion``; None if unavailable.
 
     The uncertainty is the range of the running estimate over the second half
-    of the averaged blocks, at least ``LYAPUNOV_SPREAD_FLOOR`` (``frictionflow.core.strobe``).
+    of the averaged blocks, at least :func:`spread_floor` of ``block``.
     None when a run of the pair loses a contact or the engine cannot go on.
 
     Parameters
@@ -127,6 +127,8 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
     """
     a, t0 = motion.assembly, float(motion.t[-1])
     n_transient, n_blocks = blocks
+    floor = spread_floor(block)
+    stop = (*stop[:3], stop[3] * floor / LYAPUNOV_SPREAD_FLOOR)
     try:  # the run's own solver and tolerances: its laws, its accuracy
         reference = run_assembly(restart(a, motion.state[:, -1], t0), (n_transient + n_blocks) * block,
                                  dense_dt=block, solver=motion.solver, settings=motion.settings)
@@ -151,8 +153,8 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
             total += math.log(gain)
             est[k, 0] = total / ((k + 1) * block)
             if _negative(est, k + 1, stop):
-                return _result(est[:k + 1, 0])
-    return _result(est[:, 0])
+                return _result(est[:k + 1, 0], floor)
+    return _result(est[:, 0], floor)
 
 
 def _one_block(reference: Any, a: Any, start: np.ndarray, t: float, d: np.ndarray, block: float,
@@ -179,9 +181,18 @@ def _one_block(reference: Any, a: Any, start: np.ndarray, t: float, d: np.ndarra
     return sep / norm, norm / float(np.linalg.norm(d))
 
 
-def _result(running: np.ndarray) -> tuple[float, float]:
+def spread_floor(block: float) -> float:
+    """The least uncertainty of an exponent measured over blocks of ``block``: ``LYAPUNOV_SPREAD_FLOOR``
+    (``frictionflow.core.strobe``, the single mass's, whose forcing period is about 2 pi) per 2 pi of
+    ``block``.  A rate in the model's own time: the same structure in other units of time (masses times s^2,
+    dampers times s, belts and frequencies over s) has its exponents over s and is told the same way; an absolute
+    floor called a chaotic chain of masses 1e6 not settled."""
+    return LYAPUNOV_SPREAD_FLOOR * 2.0 * math.pi / block
+
+
+def _result(running: np.ndarray, floor: float) -> tuple[float, float]:
     half = running[len(running) // 2:]
-    return float(running[-1]), max(float(np.ptp(half)), LYAPUNOV_SPREAD_FLOOR)
+    return float(running[-1]), max(float(np.ptp(half)), floor)
 
 
 def revisits(points: np.ndarray, tol: float) -> bool:
