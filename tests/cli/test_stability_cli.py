@@ -123,8 +123,9 @@ def test_out_writes_what_json_prints_and_plot_draws(models, capsys):
     (["--vary", "contact.0.fd=0.1:0.8:0"], "--vary contact.0.fd: N must be >= 2"),  # one bound, not ">= 1" here
     (["--vary", "contact.0.fd=0.3:0.3"], "FROM and TO must differ"),
     (["--vary", "contact.0.belt=-0.5:0.5:3"], "contact.0.belt = 0.0: contact.0.belt must be nonzero"),
-    # the grid's value as the range implies it (linspace gives 2.0999999999999996) and as the check names it
-    (["--vary", "contact.0.fd=0.1:3.9:20"], "contact.0.fd = 2.1: model "),
+    # a bad end is named before the values between are computed (the scan named the first bad one: 2.1 here)
+    (["--vary", "contact.0.fd=0.1:3.9:20"], "contact.0.fd = 3.9: model "),
+    (["--param", "spring.0.k", "--from", "0.5", "--to", "1e20"], "spring.0.k = 1e+20: model "),
     (["--vary", "contact.0.fd=0.1:0.8", "--param", "contact.0.fd", "--from", "0.1", "--to", "0.2"], "not both"),
     (["--param", "contact.0.fd", "--from", "0.1"], "--param, --from and --to go together"),
     (["--vary", "contact.0.fd=0.1:0.8", "--out", "{dir}/s.txt"], "--out must end in"),
@@ -220,6 +221,7 @@ def test_the_chart_writes_its_json_and_figure(models, capsys):
     (["--x", "contact.0.fd=0.1:0.8", "--y", "contact.0.fd=0.2:0.3"], "the same entry"),
     (["--x", "contact.0.fd=0.1:0.8", "--y", "spring.9.k=1:2"], "spring.9"),
     (["--x", "contact.0.fd=0.1:0.8", "--y", "spring.1.k=1:2:1"], "--y spring.1.k: N must be >= 2"),
+    (["--x", "spring.0.k=0.5:2:5", "--y", "spring.1.k=0.1:1e20:5"], "spring.1.k = 1e+20, spring.0.k = 0.5: model "),
 ])
 def test_bad_chart_input_is_refused_in_one_line_with_nothing_written(models, capsys, args, words):
     argv = ["stability", "--model", str(models / "hoffmann.toml"), *args, "--out", str(models / "written.json")]

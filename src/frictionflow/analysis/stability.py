@@ -378,6 +378,20 @@ class StabilityScan(Summarized):
         return "StabilityScan", rows
 
 
+def check_ends(assembly_at: Callable[[float], Assembly], values: Sequence[float], param: str,
+               laws_at: Callable[[float], Sequence[FrictionLaw]] | None = None) -> None:
+    """Refuse bad ``values`` (:func:`stability_scan`'s rules) or a range whose first or last value is no valid
+    model (ValueError naming that value), before any value between is computed: a scan to 1e20 was refused at
+    the first point past the model's bounds."""
+    vals = _checked_values(values)
+    spectrum = _Spectrum(assembly_at, laws_at, param)
+    for end in (vals[0], vals[-1]):
+        try:
+            spectrum.sliding(float(end))
+        except NoSteadySliding:  # no steady sliding there: a point of the scan like any other
+            pass
+
+
 class _Spectrum:
     """value -> eigenvalues of steady sliding there, errors naming the value."""
 
@@ -445,6 +459,7 @@ def stability_scan(assembly_at: Callable[[float], Assembly], values: Sequence[fl
     """
     vals = _checked_values(values)
     spectrum = _Spectrum(assembly_at, laws_at, param)
+    check_ends(assembly_at, vals, param, laws_at)
     slides: list[SteadySliding | None] = []
     reasons: list[str | None] = []
     first: NoSteadySliding | None = None

@@ -26,7 +26,7 @@ from .._progress import progress_bar
 from ..core.assembly import Assembly
 from ..estimate import Estimate
 from ..friction.base import FrictionLaw
-from .stability import ZERO_REAL, Critical, StabilityScan, scan_estimate, stability_scan
+from .stability import ZERO_REAL, Critical, StabilityScan, check_ends, scan_estimate, stability_scan
 
 
 @dataclass(frozen=True)
@@ -148,9 +148,12 @@ def stability_chart(assembly_at: Callable[[float, float], Assembly], x_values: S
     ys = np.asarray(y_values, dtype=float).reshape(-1)
     if ys.size < 1 or not np.all(np.isfinite(ys)):
         raise ValueError(f"y_values must be at least 1 finite number, got {ys.size}")
+    for yv in (float(ys[0]), float(ys[-1])):  # a bad end of y named before any line runs (a line checks x's)
+        check_ends(lambda v, yv=yv: assembly_at(v, yv), x_values, f"{y} = {yv!r}, {x}",
+                   None if laws_at is None else (lambda v, yv=yv: laws_at(v, yv)))
     scans = []
     with progress_bar(f"stability over {x} x {y}", len(ys), enabled=progress, unit="lines") as advance:
-        for yv in ys:
+        for yv in map(float, ys):
             laws = None if laws_at is None else (lambda v, yv=yv: laws_at(v, yv))
             scans.append(stability_scan(lambda v, yv=yv: assembly_at(v, yv), x_values, param=x, laws_at=laws))
             advance(1)
