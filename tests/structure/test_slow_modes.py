@@ -18,7 +18,8 @@ import pytest
 import scipy.linalg
 
 from frictionflow.analysis.structure import analyze_structure, slowest_period
-from frictionflow.solvers.structure import simulate_system
+from frictionflow.analysis.stability import steady_sliding
+from frictionflow.solvers.structure import run_assembly, simulate_system
 from frictionflow.system import System, assemble
 
 SPRINGS = [{"on": {"x1": 1.0}, "k": 1.0}, {"on": {"x1": 1.0, "x2": -1.0}, "k": 0.5}, {"on": {"x2": 1.0}, "k": 1.0}]
@@ -66,3 +67,29 @@ def test_a_run_shorter_than_the_slowest_mode_is_not_settled(system):
     ss = analyze_structure(simulate_system(system, 300.0)).steady_state
     assert ss.kind == "not_settled" and not math.isfinite(ss.lyapunov)
 
+
+
+def _sliding_pair(c: float) -> System:
+    """Two masses sliding steadily (fs above the springs' pull), a damper ``c`` between them."""
+    contacts = [{"on": {x: 1.0}, "belt": 0.1, "friction": "coulomb", "fd": 0.1, "fs": fs}
+                for x, fs in (("x1", 0.2), ("x2", 0.25))]
+    dampers = [{"on": {"x1": 1.0}, "c": 0.02}, {"on": {"x2": 1.0}, "c": 0.02}, {"on": {"x1": 1.0, "x2": -1.0}, "c": c}]
+    return System.from_dict({**CHAIN, "damper": dampers, "contact": contacts})
+
+
+@pytest.mark.parametrize("c", [1e4, 1e6])
+def test_steady_sliding_behind_a_stiff_damper_is_proven(c):
+    """A damper of c between two sliding masses leaves a slow mode of rate about 1 / c: its real part is far
+    below 1e-8 of the spectrum's size (2c), the old floor of rounding, though known to far better than that, so
+    the proof that the run slides on for ever failed and the run was not settled however long it ran.  Now the
+    run to 300 is an equilibrium, and the proof's claim holds: run on to 20 slow time constants, no switch comes
+    and the state has closed in on the steady-sliding equilibrium (its distance shrunk by e^-20)."""
+    system = _sliding_pair(c)
+    assert analyze_structure(simulate_system(system, 300.0)).steady_state.kind == "equilibrium"
+    slow = 2.0 * math.pi / slowest_period(assemble(system))
+    assert slow < 1e-8 * 2.0 * c  # what the old floor could not tell from 0
+    far = run_assembly(assemble(system), 20.0 / slow)  # (the start, the end and any switch)
+    assert len(far.switches) == 0
+    rest = steady_sliding(assemble(system)).q
+    start = np.abs(far.state[:2, 0] - rest).max()
+    assert np.abs(far.state[:2, -1] - rest).max() < 1e-6 * start

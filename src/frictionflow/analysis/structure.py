@@ -53,7 +53,7 @@ from .._display import Row, Summarized, num
 from ..core.assembly import natural_frequencies
 from ..core.layout import LAW
 from ..friction.registry import law_classes
-from .stability import ZERO_REAL, steady_sliding
+from .stability import steady_sliding
 from .structure_lyapunov import beyond_periodic
 
 optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
@@ -65,6 +65,9 @@ STRUCTURE_KINDS = (*Q.KINDS[:3], "contact_lost", *(k for k in Q.KINDS[3:] if k !
 MAX_CROSSINGS = 12
 #: grid points per shortest natural period when looking for section crossings
 GRID_PER_PERIOD = 64
+#: Wilkinson's first-order eigenvalue bound, EPS ||A|| kappa_i, times this for the eigen-solver's own rounding
+EIGEN_ROUNDING = 64.0
+EPS = float(np.finfo(float).eps)
 
 
 @dataclass(frozen=True, repr=False)
@@ -258,8 +261,7 @@ def certified_sliding(motion: Any) -> bool:
 
     With every contact slipping the way its belt drives it and no force, the
     motion is the linearisation's: x(t) = x* + sum_i c_i v_i e^{lambda_i t}.
-    If every Re lambda_i < 0 (beyond rounding: :data:`~.stability.ZERO_REAL` of the
-    spectrum's size), each contact's relative velocity stays within
+    If every Re lambda_i < 0 (beyond rounding: :func:`decay_floor`), each contact's relative velocity stays within
     sum_i |(e_j . v_i) c_i| of b_j (and each normal load within the same bound
     of its equilibrium value) for all later times; below |b_j| (and N_j*) no
     switch can come.  The single mass's certificate
@@ -278,15 +280,31 @@ def certified_sliding(motion: Any) -> bool:
         eq = steady_sliding(a)
     except ValueError:
         return False
-    lam = eq.eigenvalues
-    if not np.all(lam.real < -ZERO_REAL * np.abs(lam).max(initial=0.0)):  # an undamped mode circles for ever
+    lam, vec = eq.eigenvalues, eq.eigenvectors
+    try:
+        inv = np.linalg.inv(vec)
+    except np.linalg.LinAlgError:  # a defective spectrum: no modal amplitudes to bound
+        return False
+    if not np.all(lam.real < -decay_floor(eq.jacobian, vec, inv)):  # an undamped mode circles for ever
         return False
     n = len(eq.q)
-    c = np.linalg.solve(eq.eigenvectors, np.asarray(motion.state)[:, -1] - np.concatenate((eq.q, np.zeros(n))))
-    speed = np.abs(np.asarray(a.contact_dir) @ eq.eigenvectors[n:]) @ np.abs(c)
-    load = np.abs(np.asarray(a.normal)[:, 1:] @ eq.eigenvectors[:n]) @ np.abs(c)
-    margin = 1.0 - 1e-9  # rounding of the bound itself
+    c = inv @ (np.asarray(motion.state)[:, -1] - np.concatenate((eq.q, np.zeros(n))))
+    speed = np.abs(np.asarray(a.contact_dir) @ vec[n:]) @ np.abs(c)
+    load = np.abs(np.asarray(a.normal)[:, 1:] @ vec[:n]) @ np.abs(c)
+    # rounding of the bound itself, and of the amplitudes through the eigenvectors' condition number
+    margin = 1.0 - max(1e-9, EIGEN_ROUNDING * EPS * np.linalg.norm(vec, 1) * np.linalg.norm(inv, 1))
     return bool(np.all(speed < margin * np.abs(a.belt)) and np.all(load < margin * eq.normal))
+
+
+def decay_floor(jacobian: np.ndarray, vec: np.ndarray, inv: np.ndarray) -> np.ndarray:
+    """Per eigenvalue, how far below 0 its real part must lie to be negative beyond rounding: ``EIGEN_ROUNDING``
+    EPS ||A|| kappa_i, with kappa_i = ||left_i|| ||right_i|| / |left_i . right_i| its condition number (the
+    rows of V^-1 are the left eigenvectors): Wilkinson's first-order bound on the eigen-solver's error.
+
+    Not a share of the spectrum's size: a stiff damper's slow mode (rate k / c, 1e-4 beside the damper's 2e4)
+    is known to far better than 1e-8 of the largest |lambda|, and a floor that size called it undamped."""
+    kappa = np.linalg.norm(inv, axis=1) * np.linalg.norm(vec, axis=0)
+    return EIGEN_ROUNDING * EPS * np.linalg.norm(jacobian, 1) * kappa
 
 
 def _at_sliding_equilibrium(motion: Any, ss: StructureSteadyState) -> StructureAnalysis:
