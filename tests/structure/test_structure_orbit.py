@@ -329,3 +329,22 @@ def test_the_fd_check_compares_along_the_stuck_contacts_constraints():
     assert report["stick_fraction"][1] > 0 and report["fd_deviation"] < 1e-6
     across = np.abs(fd - M).max(axis=0)  # by column: (q1, q2, q1', q2')
     assert across[3] > 1e-2 and np.all(M[:, 3] == 0.0) and max(across[:3]) < 1e-6
+
+
+def test_a_stiff_dampers_creep_multiplier_is_told_from_the_trivial_one():
+    """m1 on a damper c to the ground: the orbit has a creep multiplier 1 - O(T / c) beside the trivial 1.  At
+    c = 1e9 the monodromy's rounding (~c EPS) moved the trivial one to 1 + 2.4e-7, farther from 1 than the creep
+    one, so dropping the multiplier nearest 1 kept it and called the orbit unstable.  Now the nontrivial
+    multipliers are M's across the flow vector: at c = 1e7 the same as dropping the one nearest 1; the creep
+    multiplier scales as 1 / c (c (1 - mu) the same at 1e7 and 1e9, measured 10.11); the orbit is not unstable."""
+    base = load_system(EXAMPLES / "stick_slip_chain.toml")
+    orbits = {c: find_structure_orbit(base.with_entry("damper.0.c", c)) for c in (1e7, 1e9)}
+    low = orbits[1e7]
+    mu = low.multipliers
+    np.testing.assert_allclose(low.nontrivial, np.delete(mu, np.argmin(np.abs(mu - 1.0))), rtol=0, atol=1e-9)
+    creep = {c: c * (1.0 - o.multiplier.real) for c, o in orbits.items()}
+    assert creep[1e7] > 1.0 and creep[1e9] == pytest.approx(creep[1e7], rel=1e-3)
+    assert orbits[1e9].stability != "unstable" and abs(orbits[1e9].multiplier.imag) == 0.0
+    f = orbits[1e9].tangent
+    # M f = f to the monodromy's rounding, ~c EPS (its modal basis's condition number; measured 7 c EPS)
+    assert np.abs(orbits[1e9].monodromy @ f - f).max() < 16.0 * 1e9 * np.finfo(float).eps * np.abs(f).max()

@@ -87,6 +87,8 @@ class StructureOrbit(floquet.MultiplierStability, Summarized):
     autonomous:
         False for a forced structure's stroboscopic orbit: its period is the forcing's and no multiplier is
         trivial.
+    tangent:
+        (2n,) the vector field at :attr:`state` (an autonomous orbit's; None when forced): M maps it to itself.
     """
 
     state: np.ndarray
@@ -105,6 +107,20 @@ class StructureOrbit(floquet.MultiplierStability, Summarized):
     contacts: tuple[str, ...]
     system: Any = field(default=None)
     autonomous: bool = True
+    tangent: np.ndarray | None = field(default=None)
+
+    @property
+    def nontrivial(self) -> np.ndarray:
+        """The multipliers without the trivial one, largest modulus first: for an autonomous orbit the eigenvalues
+        of B^T M B, B an orthonormal basis across :attr:`tangent` f.  M f = f, so in the basis (f, B) M is block
+        triangular and these are M's other eigenvalues, without saying which of two multipliers near 1 is the
+        trivial one (a stiff damper's creep, 1 - k T / c, beside the trivial one moved by the monodromy's
+        rounding: the one nearest 1 was dropped and the orbit called unstable)."""
+        if not self.autonomous or self.tangent is None:
+            return super().nontrivial
+        B = _basis(self.tangent[None, :])
+        mu = np.linalg.eigvals(B.T @ self.monodromy @ B).astype(complex)
+        return mu[np.argsort(-np.abs(mu), kind="stable")]
 
     def _summary(self) -> tuple[str, list[Row]]:
         n = len(self.dof)
@@ -435,6 +451,7 @@ def _orbit(setup: Setup, ret: Return, row: int | None, returns: int, iterations:
         stick_fraction=stick_fractions(one, (0.0, T)), elements=one.element_power(0.0, T),
         energy_residual=one.energy_residual, residual=float(np.max(np.abs(_residual(ret)))),
         iterations=iterations, motion=one, dof=setup.dof, contacts=setup.contacts, system=setup.system,
+        tangent=None if row is None else flow.field(ret.modes, ret.start, 0.0),
     )
 
 
