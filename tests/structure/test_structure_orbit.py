@@ -348,3 +348,20 @@ def test_a_stiff_dampers_creep_multiplier_is_told_from_the_trivial_one():
     f = orbits[1e9].tangent
     # M f = f to the monodromy's rounding, ~c EPS (its modal basis's condition number; measured 7 c EPS)
     assert np.abs(orbits[1e9].monodromy @ f - f).max() < 16.0 * 1e9 * np.finfo(float).eps * np.abs(f).max()
+
+
+def test_newton_from_a_transient_shorter_than_the_slowest_time_scale_says_so():
+    """A damper of 1e4 between the stick-slip chain's masses: a creep of multiplier 0.99955 a period (time scale
+    2 pi / |lambda| = 6.65e4).  From the default transient (300) Newton's steps along it are long and it does not
+    converge in 40 iterations: the line now names the time scale and what to change; from a transient of 2e4 it
+    converges onto an orbit that one period maps onto itself."""
+    system = load_system(EXAMPLES / "stick_slip_chain.toml")
+    system = System.from_dict({**system.to_dict(),
+                               "damper": [*system.to_dict()["damper"], {"on": {"x1": 1.0, "x2": -1.0}, "c": 1e4}]})
+    with pytest.raises(ShootingError, match=r"slowest time scale, 2 pi / its least \|lambda\| = 6\.65e\+04, is longer "
+                                            r"than the transient \(300\): a longer one"):
+        find_structure_orbit(system)
+    orbit = find_structure_orbit(system, t_transient=2e4)
+    end = orbit.motion.states(np.array([orbit.period]))[:, 0]
+    assert np.abs(end - orbit.state).max() < 1e-9 and orbit.stability == "stable"
+    assert 0.999 < orbit.multiplier.real < 1.0  # the creep

@@ -33,7 +33,7 @@ import numpy as np
 
 from .._display import Row, Summarized, num
 from .._json import jsonable
-from ..analysis.structure import certified_sliding, stick_fractions
+from ..analysis.structure import certified_sliding, slowest_period, stick_fractions
 from ..core.assembly import Assembly
 from ..core.layout import LAW, STICK
 from ..estimate import enforce, enforce_stage
@@ -385,8 +385,22 @@ def find_structure_orbit(
     def again(s: np.ndarray, last: Return) -> Return:
         return return_map(flow, s, row, int(returns), 1.5 * last.time, limit=RETURN_LIMIT * last.time)
 
-    ret, iterations = _newton(flow, ret, row, again, (DEFAULT_TOL if tol is None else tol) * scale, int(max_iter))
+    try:
+        ret, iterations = _newton(flow, ret, row, again, (DEFAULT_TOL if tol is None else tol) * scale, int(max_iter))
+    except ShootingError as e:
+        raise ShootingError(f"{e}{_slow_hint(asm, float(t_transient))}") from None
     return _orbit(setup, ret, row, int(returns), iterations, scale)
+
+
+def _slow_hint(asm: Assembly, t_transient: float) -> str:
+    """What to add to Newton's failure when the transient was shorter than the structure's slowest time scale
+    (a stiff damper's creep or a heavy mass's swing: the start is then far from the orbit along a direction of
+    multiplier near 1, where Newton's steps are long and crossing a switch turns them back)."""
+    slow = slowest_period(asm)
+    if not 0.0 < t_transient < slow:
+        return ""
+    return (f"; the structure's slowest time scale, 2 pi / its least |lambda| = {slow:.3g}, is longer than the "
+            f"transient ({t_transient:g}): a longer one (t_transient; orbit --model: --t-end) starts nearer the orbit")
 
 
 def forcing_period(assembly: Assembly) -> float:
