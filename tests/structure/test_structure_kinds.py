@@ -187,3 +187,26 @@ def test_a_chaotic_chain_in_other_units_of_time_is_chaotic(s):
     other = structure_steady_state(simulate_system(_in_time_units(unit, s), 300.0 * s))
     assert base.kind == other.kind == "chaotic"
     assert 0.5 < other.lyapunov * s / base.lyapunov < 2.0
+
+
+def test_a_free_chain_carried_along_by_the_belt_is_periodic():
+    """Two masses joined by a spring, none to the ground, the first on the belt, the second forced at 0.8: a
+    period-5 subharmonic while the belt carries the pair along (13 units in 300).  Its section states repeat up to
+    a shift along the free translation (1, 1), which no spring, damper, contact or force sees: it is periodic
+    (it was not_settled however long it ran).  The period is five forcing periods; one period later the
+    velocities are the same and the positions shifted alike."""
+    omega = 0.8
+    system = System.from_dict({
+        "dof": ["x1", "x2"], "mass": [1.0, 1.0], "spring": [{"on": {"x1": 1.0, "x2": -1.0}, "k": 1.0}],
+        "damper": [{"on": {"x1": 1.0}, "c": 0.05}],
+        "contact": [{"on": {"x1": 1.0}, "belt": 0.05, "friction": "coulomb", "fd": 0.1, "fs": 0.3}],
+        "force": [{"on": {"x2": 1.0}, "amplitude": 0.3, "omega": omega}], "initial": {"q": {"x2": 0.2}}})
+    motion = simulate_system(system, 600.0)
+    ss = structure_steady_state(motion)
+    assert ss.kind == "periodic"
+    assert ss.period == pytest.approx(5 * 2.0 * math.pi / omega, rel=1e-9)
+    t0 = ss.window[0]
+    a, b = (motion.states([t])[:, 0] for t in (t0, t0 + ss.period))
+    np.testing.assert_allclose(b[2:], a[2:], rtol=0, atol=1e-9)
+    shift = b[:2] - a[:2]
+    assert shift[0] > 1e-3 and shift[1] == pytest.approx(shift[0], abs=1e-9)

@@ -358,7 +358,7 @@ def _periodic(motion: Any, rtol: float, min_periods: int) -> tuple[float, tuple[
     need = min_periods + 1
     if len(times) < need:
         return None
-    states = states_at(motion, (times))
+    states = without_drift(motion.assembly, states_at(motion, (times)))
     scale = float(np.max(np.abs(states))) + 1e-300
     for p in range(1, MAX_CROSSINGS + 1):
         last = len(times) - 1
@@ -371,6 +371,24 @@ def _periodic(motion: Any, rtol: float, min_periods: int) -> tuple[float, tuple[
             if np.ptp(periods) <= rtol * max(float(np.mean(periods)), 1e-300) * 10.0 + 1e-9 * periods[0]:
                 return float(np.mean(periods)), (float(times[first]), float(times[last])), p
     return None
+
+
+def without_drift(assembly: Any, states: np.ndarray) -> np.ndarray:
+    """``states`` (2n, m) with each position's component along the structure's free translations removed: the
+    directions d with K d = 0 and n_j . d = 0 for every contact's normal load, along which no spring, damper,
+    contact or force depends on the position.  A structure free to move (no spring to the ground) can repeat
+    its motion shifted along them every period (a free chain forced into a subharmonic while the belt carries it
+    along): the same cycle, periodic in everything its forces see."""
+    n = states.shape[0] // 2
+    rows = np.vstack((np.asarray(assembly.stiffness, dtype=float), np.asarray(assembly.normal, dtype=float)[:, 1:]))
+    _, sv, vt = np.linalg.svd(rows)
+    rank = int(np.sum(sv > 1e-12 * max(float(sv.max(initial=0.0)), 1e-300)))
+    free = vt[rank:].T  # (n, r) orthonormal
+    if free.shape[1] == 0:
+        return states
+    out = np.array(states, dtype=float)
+    out[:n] -= free @ (free.T @ out[:n])
+    return out
 
 
 def section_times(motion: Any) -> np.ndarray:
