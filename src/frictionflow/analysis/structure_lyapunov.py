@@ -108,7 +108,7 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
     """(largest exponent, its uncertainty) of the structure's flow from the end of ``motion``; None if unavailable.
 
     The uncertainty is the range of the running estimate over the second half
-    of the averaged blocks, at least :func:`spread_floor` of ``block``.
+    of the averaged blocks, at least ``spread_floor(block)``.
     None when a run of the pair loses a contact or the engine cannot go on.
 
     Parameters

@@ -111,11 +111,13 @@ class StructureOrbit(floquet.MultiplierStability, Summarized):
 
     @property
     def nontrivial(self) -> np.ndarray:
-        """The multipliers without the trivial one, largest modulus first: for an autonomous orbit the eigenvalues
-        of B^T M B, B an orthonormal basis across :attr:`tangent` f.  M f = f, so in the basis (f, B) M is block
-        triangular and these are M's other eigenvalues, without saying which of two multipliers near 1 is the
-        trivial one (a stiff damper's creep, 1 - k T / c, beside the trivial one moved by the monodromy's
-        rounding: the one nearest 1 was dropped and the orbit called unstable)."""
+        """The multipliers without the trivial one, largest modulus first.
+
+        For an autonomous orbit the eigenvalues of B^T M B, B an orthonormal basis across :attr:`tangent` f.
+        M f = f, so in the basis (f, B) M is block triangular and these are M's other eigenvalues, without
+        saying which of two multipliers near 1 is the trivial one (a stiff damper's creep, 1 - k T / c, beside
+        the trivial one moved by the monodromy's rounding: the one nearest 1 was dropped and the orbit called
+        unstable)."""
         if not self.autonomous or self.tangent is None:
             return super().nontrivial
         B = _basis(self.tangent[None, :])
