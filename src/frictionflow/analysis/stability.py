@@ -383,13 +383,7 @@ def check_ends(assembly_at: Callable[[float], Assembly], values: Sequence[float]
     """Refuse bad ``values`` (:func:`stability_scan`'s rules) or a range whose first or last value is no valid
     model (ValueError naming that value), before any value between is computed: a scan to 1e20 was refused at
     the first point past the model's bounds."""
-    vals = _checked_values(values)
-    spectrum = _Spectrum(assembly_at, laws_at, param)
-    for end in (vals[0], vals[-1]):
-        try:
-            spectrum.sliding(float(end))
-        except NoSteadySliding:  # no steady sliding there: a point of the scan like any other
-            pass
+    _Spectrum(assembly_at, laws_at, param).ends(_checked_values(values))
 
 
 class _Spectrum:
@@ -398,6 +392,18 @@ class _Spectrum:
     def __init__(self, assembly_at: Callable[[float], Assembly], laws_at: Callable[[float], Sequence[FrictionLaw]] | None,
                  param: str) -> None:
         self.assembly_at, self.laws_at, self.param = assembly_at, laws_at, param
+
+    def attempt(self, value: float) -> SteadySliding | NoSteadySliding:
+        """:meth:`sliding` at ``value``, or why there is none (a point of a scan like any other)."""
+        try:
+            return self.sliding(value)
+        except NoSteadySliding as e:
+            return e
+
+    def ends(self, vals: np.ndarray) -> dict[int, SteadySliding | NoSteadySliding]:
+        """:meth:`attempt` at the first and last of ``vals``, by index: a bad end raises before any value
+        between is computed."""
+        return {i: self.attempt(float(vals[i])) for i in (0, len(vals) - 1)}
 
     def sliding(self, value: float) -> SteadySliding:
         try:
@@ -459,18 +465,19 @@ def stability_scan(assembly_at: Callable[[float], Assembly], values: Sequence[fl
     """
     vals = _checked_values(values)
     spectrum = _Spectrum(assembly_at, laws_at, param)
-    check_ends(assembly_at, vals, param, laws_at)
+    ends = spectrum.ends(vals)
     slides: list[SteadySliding | None] = []
     reasons: list[str | None] = []
     first: NoSteadySliding | None = None
-    for v in vals:
-        try:
-            slides.append(spectrum.sliding(float(v)))
-            reasons.append(None)
-        except NoSteadySliding as e:
+    for i, v in enumerate(vals):
+        got = ends[i] if i in ends else spectrum.attempt(float(v))
+        if isinstance(got, NoSteadySliding):
             slides.append(None)
-            reasons.append(e.reason)
-            first = first or e
+            reasons.append(got.reason)
+            first = first or got
+        else:
+            slides.append(got)
+            reasons.append(None)
     found = [s for s in slides if s is not None]
     if not found:
         raise ValueError(f"{first}; and at every other value of the scan ({len(vals)} from {vals[0]:g} to "
