@@ -199,37 +199,52 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
     t_start, t_end = float(motion.t[0]), float(motion.t[-1])
     if motion.status != "ok":
         return StructureSteadyState("contact_lost", math.nan, (t_start, t_end), (math.nan,) * _contacts(motion))
-    tail = (max(t_start, t_end - max(0.1 * (t_end - t_start), 4.0 * math.pi)), t_end)
+    tail = (max(t_start, t_end - max(0.1 * (t_end - t_start), 2.0 * _slowest_swing(motion))), t_end)
     grid = np.linspace(tail[0], t_end, _grid_size(motion, tail))
     states = states_at(motion, (grid))
     if _at_rest(motion, tail, states, rtol) or certified_sliding(motion):
         return StructureSteadyState("equilibrium", math.nan, tail, stick_fractions(motion, tail))
-    found = _periodic(motion, rtol, min_periods)
+    states = without_drift(motion.assembly, states)
+    found = _periodic(motion, rtol, min_periods, np.max(np.abs(states), axis=1))
     if found is not None:
         period, window, p = found
         return StructureSteadyState("periodic", period, window, stick_fractions(motion, window), min_periods)
-    kind, lam = _not_periodic(motion)
+    kind, lam = _not_periodic(motion, np.ptp(states, axis=1))
     return StructureSteadyState(kind, math.nan, tail, stick_fractions(motion, tail), lyapunov=lam)
 
 
 def _at_rest(motion: Any, span: tuple[float, float], tail: np.ndarray, rtol: float) -> bool:
     """Nothing moves over the tail (``span``; ``tail``: its states on a grid) and every velocity is zero, to ``rtol``
-    of the motion's scale: the ranges of the run's states.  Not the belt speeds: a fast belt made a lasting
-    oscillation of a stuck-free mass "at rest" (amplitude 5e-4 at belt 1000).  A tail shorter than the fastest natural period has its
-    changes stretched to that period: an unbalanced force moves a short run's velocities a little, but not nothing."""
+    of the motion's scale: the ranges of the run's states, positions' and velocities' each (:func:`_grouped`).
+    Not the belt speeds: a fast belt made a lasting oscillation of a stuck-free mass "at rest" (amplitude 5e-4
+    at belt 1000).  A tail shorter than the fastest natural period has its changes stretched to that period: an
+    unbalanced force moves a short run's velocities a little, but not nothing."""
     stretch = max(1.0, 2.0 * math.pi / _fastest(motion) / max(span[1] - span[0], 1e-300))
     n = _n(motion)
     recorded = np.asarray(motion.state)
-    scale = max(float(np.max(np.ptp(recorded, axis=1), initial=0.0)), float(np.max(np.ptp(tail, axis=1))), 1e-300)
-    tol = rtol * scale
-    return bool(np.all(stretch * np.ptp(tail, axis=1) <= tol) and np.all(np.abs(tail[n:]) <= tol))
+    ranges = np.ptp(tail, axis=1)
+    if recorded.shape[1]:
+        ranges = np.maximum(ranges, np.ptp(recorded, axis=1))
+    tol = rtol * _grouped(ranges)
+    return bool(np.all(stretch * np.ptp(tail, axis=1) <= tol) and np.all(np.abs(tail[n:]) <= tol[n:]))
 
 
-def _not_periodic(motion: Any) -> tuple[str, float]:
+def _grouped(size: np.ndarray) -> np.ndarray:
+    """Per state row, the largest of ``size`` (per row) over the row's group, the positions or the velocities
+    (at least 1e-300): a tolerance in each group's own units.  One scale over both made a test depend on the
+    unit of time (velocities scale by 1 / s, positions do not): a forced slider was periodic in seconds and
+    not settled in milliseconds."""
+    n = len(size) // 2
+    return np.repeat([max(float(np.max(size[:n])), 1e-300), max(float(np.max(size[n:])), 1e-300)], n)
+
+
+def _not_periodic(motion: Any, ranges: np.ndarray) -> tuple[str, float]:
     """(kind, largest exponent or NaN) of a run whose section does not repeat (:mod:`.structure_lyapunov`).
 
     The exponent's block: the first force's period when forced, else the
     section's mean return time; fewer than two crossings: ``not_settled``.
+    The section goes to the revisit test in units of the motion's size: its positions' and its velocities'
+    largest ``ranges`` (per state row, over the tail) each (:func:`_grouped`).
     """
     a = motion.assembly
     forced = np.flatnonzero(np.asarray(a.force_amp) != 0.0)
@@ -237,10 +252,9 @@ def _not_periodic(motion: Any) -> tuple[str, float]:
     if len(times) < 2 or float(motion.t[-1] - motion.t[0]) < slowest_period(a):
         return "not_settled", math.nan
     block = 2.0 * math.pi / float(a.force_omega[forced[0]]) if len(forced) else float(np.mean(np.diff(times)))
-    section = states_at(motion, times)
-    scale = max(float(np.max(np.ptp(section, axis=1))), float(np.max(np.abs(a.belt), initial=0.0)),
-                float(np.max(np.abs(a.force_amp), initial=0.0)), 1e-300)
-    kind, lam = beyond_periodic(motion, section, block, not len(forced), scale)
+    section = without_drift(a, states_at(motion, times))
+    size = _grouped(np.maximum(ranges, np.ptp(section, axis=1)))
+    kind, lam = beyond_periodic(motion, section, size, block, not len(forced))
     return kind, math.nan if lam is None else lam
 
 
@@ -342,8 +356,25 @@ def _n(motion: Any) -> int:
 
 
 def _fastest(motion: Any) -> float:
-    """The fastest natural frequency of the structure (at least 1e-3: a structure without springs has none)."""
-    return max(float(natural_frequencies(motion.assembly).max(initial=0.0)), 1e-3)
+    """The structure's fastest rate: its fastest natural frequency or forcing frequency; without either (no
+    springs, no force), its fastest own rate (a damper over a mass); without that, one cycle over the run."""
+    a = motion.assembly
+    omega = max(float(natural_frequencies(a).max(initial=0.0)), float(np.max(np.abs(a.force_omega), initial=0.0)))
+    if omega > 0.0:
+        return omega
+    rates = np.abs(np.linalg.eigvals(np.linalg.solve(np.asarray(a.mass, dtype=float),
+                                                     np.asarray(a.damping, dtype=float))))
+    if float(rates.max(initial=0.0)) > 0.0:
+        return float(rates.max())
+    return 2.0 * math.pi / max(float(motion.t[-1] - motion.t[0]), 1e-300)
+
+
+def _slowest_swing(motion: Any) -> float:
+    """The structure's slowest natural period (its zero frequencies left out), else the fastest rate's period:
+    the least tail a kind is judged on (two of them; 4 pi for the nondimensional single mass)."""
+    omega = natural_frequencies(motion.assembly)
+    omega = omega[omega > 0.0]
+    return 2.0 * math.pi / (float(omega.min()) if len(omega) else _fastest(motion))
 
 
 def _grid_size(motion: Any, span: tuple[float, float]) -> int:
@@ -352,21 +383,24 @@ def _grid_size(motion: Any, span: tuple[float, float]) -> int:
     return max(64, int(math.ceil((span[1] - span[0]) * omega / (2.0 * math.pi) * GRID_PER_PERIOD)) + 1)
 
 
-def _periodic(motion: Any, rtol: float, min_periods: int) -> tuple[float, tuple[float, float], int] | None:
-    """(period, window, crossings per period) if the section states repeat, else None."""
+def _periodic(motion: Any, rtol: float, min_periods: int,
+              size: np.ndarray) -> tuple[float, tuple[float, float], int] | None:
+    """(period, window, crossings per period) if the section states repeat to ``rtol`` of the motion's size, else
+    None.  ``size``: per state row, its largest magnitude over the tail; with the section's, a scale per group
+    (:func:`_grouped`: the section's velocities alone would be none for one coordinate, zero there)."""
     times = section_times(motion)
     need = min_periods + 1
     if len(times) < need:
         return None
     states = without_drift(motion.assembly, states_at(motion, (times)))
-    scale = float(np.max(np.abs(states))) + 1e-300
+    scale = _grouped(np.maximum(size, np.max(np.abs(states), axis=1)))[:, None]
     for p in range(1, MAX_CROSSINGS + 1):
         last = len(times) - 1
         first = last - min_periods * p
         if first < 0:
             return None
-        gaps = np.max(np.abs(states[:, first + p:last + 1] - states[:, first:last + 1 - p]), axis=0)
-        if np.all(gaps <= rtol * scale):
+        gaps = np.max(np.abs(states[:, first + p:last + 1] - states[:, first:last + 1 - p]) / scale, axis=0)
+        if np.all(gaps <= rtol):
             periods = np.diff(times[first:last + 1:p])
             if np.ptp(periods) <= rtol * max(float(np.mean(periods)), 1e-300) * 10.0 + 1e-9 * periods[0]:
                 return float(np.mean(periods)), (float(times[first]), float(times[last])), p
@@ -412,7 +446,8 @@ def _refine(motion: Any, row: int, a: float, b: float) -> float:
         return b
     if fa * fb > 0.0:  # a tangency the grid brackets from one side: take the grid point
         return b
-    return optimize.brentq(lambda s: float(motion.states([s])[row, 0]), a, b, xtol=1e-14, rtol=4 * np.finfo(float).eps)
+    return optimize.brentq(lambda s: float(motion.states([s])[row, 0]), a, b, xtol=4.0 * EPS * abs(b) + 1e-300,
+                           rtol=4.0 * EPS)  # to rounding in any unit of time
 
 
 def stick_fractions(motion: Any, window: tuple[float, float]) -> tuple[float, ...]:

@@ -9,8 +9,8 @@ with the same constants (:mod:`frictionflow.core.strobe`):
 ``quasi_periodic``
     the exponent is indistinguishable from 0 and the section's points have
     stopped drifting: every point of the second half lies within
-    ``REVISIT_SHARE`` (``frictionflow.core.strobe``) of the section's scale of
-    a point of the first half (a closed curve, revisited), and they do not
+    ``REVISIT_SHARE`` (``frictionflow.core.strobe``) of the motion's size
+    (positions and velocities each in their own units) of a point of the first half (a closed curve, revisited), and they do not
     close in on a point or a cycle (:func:`closing_in`: a focus spiralling in
     too slowly for the exponent to tell, |mu| = 0.999 a period, revisits
     itself too);
@@ -21,6 +21,9 @@ The exponent is Benettin's: a second run starts ``DELTA`` (relative to the
 motion's size) away from the reference, both are run by the exact engine
 for one block, the separation's growth is logged and the separation
 renormalised back to ``DELTA`` along its own direction, block after block.
+Separations are measured with positions and velocities each in units of
+their own size (``size``), so that the pair of runs in other units of time
+is the same pair and its exponent the same rate.
 An autonomous structure's flow has a zero exponent along the motion itself
 (a shift in time neither grows nor decays), which would hide a converging
 transient and mimic a torus: there the separation's component along the
@@ -63,11 +66,12 @@ def restart(assembly: Any, state: np.ndarray, t: float) -> Any:
                              force_phi=np.asarray(assembly.force_phi) + np.asarray(assembly.force_omega) * t)
 
 
-def _flow(reference: Any, t: float, span: float) -> np.ndarray:
-    """The unit flow vector (q', q'') of the reference run at ``t``: a second-order backward difference."""
+def _flow(reference: Any, t: float, span: float, size: np.ndarray) -> np.ndarray:
+    """The unit flow vector (q', q'') of the reference run at ``t`` in units of ``size``: a second-order backward
+    difference."""
     h = FLOW_STEP * span
     s = reference.states(np.array([t - 2.0 * h, t - h, t]))
-    f = (3.0 * s[:, 2] - 4.0 * s[:, 1] + s[:, 0]) / (2.0 * h)
+    f = (3.0 * s[:, 2] - 4.0 * s[:, 1] + s[:, 0]) / (2.0 * h) / size
     size = float(np.linalg.norm(f))
     return f / size if size > 0.0 else f
 
@@ -102,7 +106,7 @@ def _transverse(d: np.ndarray, flow: np.ndarray | None) -> np.ndarray:
     return d if flow is None else d - (flow @ d) * flow
 
 
-def largest_exponent(motion: Any, block: float, autonomous: bool,
+def largest_exponent(motion: Any, block: float, autonomous: bool, size: np.ndarray,
                      blocks: tuple[int, int] = (LYAPUNOV_TRANSIENT, LYAPUNOV_PERIODS),
                      stop: tuple = LYAPUNOV_STOP) -> tuple[float, float] | None:
     """(largest exponent, its uncertainty) of the structure's flow from the end of ``motion``; None if unavailable.
@@ -119,6 +123,8 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
         The time between renormalisations (a forcing period, or the section's mean return time).
     autonomous:
         No force: the separation along the flow is removed at every block end (see the module's description).
+    size:
+        (2n,) per state row, the motion's size in the row's units (> 0): separations are measured in them.
     blocks:
         (transient blocks, averaged blocks).
     stop:
@@ -134,17 +140,16 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
                                  dense_dt=block, solver=motion.solver, settings=motion.settings)
     except RuntimeError:
         return None
-    size = float(np.max(np.abs(motion.state[:, -1]))) + float(np.max(np.abs(a.belt), initial=0.0))
-    delta = DELTA * size
-    if reference.status != "ok" or not delta > 0.0:
+    size = np.asarray(size, dtype=float)
+    if reference.status != "ok" or not np.all(size > 0.0):
         return None
     est = np.full((n_blocks, 1), np.nan)
     ends = reference.states(block * np.arange(n_transient + n_blocks + 1))
-    u = _transverse(np.ones(ends.shape[0]), _flow(reference, block, block) if autonomous else None)
+    u = _transverse(np.ones(ends.shape[0]), _flow(reference, block, block, size) if autonomous else None)
     total = 0.0
     for b in range(n_transient + n_blocks):
-        grown = _one_block(reference, a, ends[:, b], t0 + b * block, u * (delta / np.linalg.norm(u)), block,
-                           ends[:, b + 1], autonomous, b)
+        grown = _one_block(reference, a, (ends[:, b], ends[:, b + 1], size), t0 + b * block,
+                           u * (DELTA / np.linalg.norm(u)), block, autonomous, b)
         if grown is None:
             return None
         u, gain = grown
@@ -157,24 +162,28 @@ def largest_exponent(motion: Any, block: float, autonomous: bool,
     return _result(est[:, 0], floor)
 
 
-def _one_block(reference: Any, a: Any, start: np.ndarray, t: float, d: np.ndarray, block: float,
-               end: np.ndarray, autonomous: bool, b: int) -> tuple[np.ndarray, float] | None:
+def _one_block(reference: Any, a: Any, states: tuple[np.ndarray, np.ndarray, np.ndarray], t: float, d: np.ndarray,
+               block: float, autonomous: bool, b: int) -> tuple[np.ndarray, float] | None:
     """(the separation's new direction, its growth over the block) for the pair started ``d`` apart at ``t``
-    (``d`` along the stick of the contacts stuck there: :func:`on_stick`)."""
-    size = float(np.linalg.norm(d))
-    start, d = on_stick(a, start, d)
+    (``d`` along the stick of the contacts stuck there: :func:`on_stick`); ``states``: the reference's states
+    at the block's start and end and the size separations are measured in (``d`` is in its units)."""
+    start, end, scale = states
+    length = float(np.linalg.norm(d))
+    start, d = on_stick(a, start, d * scale)  # the stick's projection acts on velocities alone: one unit
+    d = d / scale
     norm_d = float(np.linalg.norm(d))
     if not norm_d > 0.0:
         return None
-    d = d * (size / norm_d)
+    d = d * (length / norm_d)
     try:
-        other = run_assembly(restart(a, start + d, t), block, solver=reference.solver, settings=reference.settings)
+        other = run_assembly(restart(a, start + d * scale, t), block, solver=reference.solver,
+                             settings=reference.settings)
     except RuntimeError:
         return None
     if other.status != "ok":
         return None
-    flow = _flow(reference, (b + 1) * block, block) if autonomous else None
-    sep = _transverse(other.state[:, -1] - end, flow)
+    flow = _flow(reference, (b + 1) * block, block, scale) if autonomous else None
+    sep = _transverse((other.state[:, -1] - end) / scale, flow)
     norm = float(np.linalg.norm(sep))
     if not (math.isfinite(norm) and norm > 0.0):
         return None
@@ -215,13 +224,13 @@ def closing_in(points: np.ndarray) -> bool:
     return bool(strobe.closing_in(np.ascontiguousarray(points, dtype=float)))
 
 
-def beyond_periodic(motion: Any, section: np.ndarray, block: float, autonomous: bool,
-                    scale: float) -> tuple[str, float | None]:
+def beyond_periodic(motion: Any, section: np.ndarray, size: np.ndarray, block: float,
+                    autonomous: bool) -> tuple[str, float | None]:
     """(kind, largest exponent or None) of a run whose section ``section`` (states as columns) does not repeat.
 
     The single mass's rule (``frictionflow.analysis.forced.classify_forced``): ``chaotic`` if the
     exponent exceeds its uncertainty, ``quasi_periodic`` if it is within it and the section revisits
-    itself to ``REVISIT_SHARE`` (``frictionflow.core.strobe``) of ``scale`` without closing in on a point or a cycle
+    itself to ``REVISIT_SHARE`` (``frictionflow.core.strobe``) of its size without closing in on a point or a cycle
     (``closing_in``), else ``not_settled``.
 
     Parameters
@@ -230,19 +239,20 @@ def beyond_periodic(motion: Any, section: np.ndarray, block: float, autonomous: 
         The run (:class:`~frictionflow.motion.Motion`, ended ``ok``).
     section:
         (2n, m): the states at the section's crossings, in time order.
+    size:
+        (2n,) per state row, the motion's size in its units (> 0): the revisit test's tolerance is a share of
+        it, and the exponent's separations are measured in it.
     block:
         The exponent's renormalisation time (:func:`largest_exponent`).
     autonomous:
         No force acts: the exponent is the transverse one.
-    scale:
-        The motion's size on the section (the revisit test's tolerance is a share of it).
     """
-    found = largest_exponent(motion, block, autonomous)
+    found = largest_exponent(motion, block, autonomous, size)
     if found is None:
         return "not_settled", None
     lam, spread = found
     if lam > spread:
         return "chaotic", lam
-    if abs(lam) <= spread and revisits(section, REVISIT_SHARE * scale) and not closing_in(section):
+    if abs(lam) <= spread and revisits(section / size[:, None], REVISIT_SHARE) and not closing_in(section / size[:, None]):
         return "quasi_periodic", lam
     return "not_settled", lam

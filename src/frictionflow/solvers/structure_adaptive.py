@@ -52,16 +52,17 @@ def step_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = Non
                     memory=samples * row)
 
 
-def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str, tuple[str, ...]],
+def run(assembly: Assembly, span: tuple[float, float | None], settings: Adaptive, elements: dict[str, tuple[str, ...]],
         channels: tuple[str, ...], system: Any = None) -> Motion:
-    """Run ``assembly`` to ``t_end`` with the adaptive solver's ``settings`` (rtol, atol, max_steps, dense_dt).
+    """Run ``assembly`` to t_end with the adaptive solver's ``settings`` (rtol, atol, max_steps).
 
     Parameters
     ----------
     assembly:
         The structure, its laws checked by the caller.
-    t_end:
-        The end time, > 0.
+    span:
+        (t_end > 0, dense_dt or None): the end time and the sampling step, in the model's units of time
+        (checked by the caller: the solver's own ``dense_dt`` range is the single mass's).
     settings:
         The solver (:class:`~frictionflow.solvers.adaptive.Adaptive`) with its tolerances.
     elements:
@@ -71,8 +72,9 @@ def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str
     system:
         The model object the assembly came from, kept on the result.
     """
+    t_end, dense_dt = span
     opts = Opts(float(t_end), float(settings.rtol), float(settings.atol), h_max(assembly),
-                float(settings.dense_dt or 0.0), int(settings.max_steps))
+                float(dense_dt or 0.0), int(settings.max_steps))
     minv = np.linalg.inv(assembly.mass)
 
     def attempt(cap: int) -> tuple:
@@ -80,7 +82,7 @@ def run(assembly: Assembly, t_end: float, settings: Adaptive, elements: dict[str
         der = empty_derivatives(cap, len(assembly.q0), n_channels(assembly))
         return run_kernel(assembly, minv, opts, *records, der), *records, der
 
-    res, *records, der = run_growing(float(t_end), FIRST_CAP, attempt, step_estimate(assembly, t_end).seconds)
+    res, *records, der = run_growing(float(t_end), FIRST_CAP, attempt, step_estimate(assembly, t_end, dense_dt).seconds)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"{stopped(res, records, elements, settings.name)} (max_steps={settings.max_steps})")
     own = {"rtol": settings.rtol, "atol": settings.atol, "max_steps": settings.max_steps}
