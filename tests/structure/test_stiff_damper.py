@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.linalg import eigvals
 
 from frictionflow import Coulomb
 from frictionflow.core.structure.combo import build as build_combo
@@ -145,3 +146,27 @@ def test_a_stiff_damper_between_a_stuck_and_a_slipping_mass_runs_as_radau():
     np.testing.assert_allclose(motion.work[:, kept], fine.work[:, inverse], rtol=0,
                                atol=spread(coarse.work, fine.work) + basis)
     assert motion.energy_residual < basis
+
+
+def test_a_damper_too_stiff_for_double_precision_is_named_with_the_rates_it_spans():
+    """A damper of 5e10 to the ground on unit masses: its mode's rate 5e10 beside the creep k / c, 2e-11; the
+    engine cannot resolve a mode basis over that span.  The line said "a mode combination's matrix is defective
+    (e.g. an undamped rigid mode)": no mode of this structure is rigid.  Now it names the damper, its rate and
+    the structure's slowest rate (here from the generalised eigenproblem of the quadratic pencil, QZ: its
+    smallest finite root).  An undamped free structure (no spring or damper holds its translation) still gets
+    the engine's own line, which is right there."""
+    a = build(stiff_chain(5e10))
+    n = 2
+    pencil = (np.block([[np.zeros((n, n)), np.eye(n)], [-a.stiffness, -a.damping]]),
+              np.block([[np.eye(n), np.zeros((n, n))], [np.zeros((n, n)), a.mass]]))
+    slowest = float(np.abs(eigvals(*pencil)).min())
+    assert 1e-11 < slowest < 1e-10  # about k / c
+    with pytest.raises(ValueError) as err:
+        run_assembly(a, 40.0)
+    line = str(err.value)
+    assert f"damper.0's rate 5e+10 (alone) beside its slowest rate {slowest:.3g}" in line, line
+    assert "defective" not in line
+    free = a._replace(stiffness=np.zeros((n, n)), damping=np.zeros((n, n)), spring_k=np.zeros(3),
+                      damper_c=np.zeros(2))
+    with pytest.raises(ValueError, match="defective"):
+        run_assembly(free, 10.0)

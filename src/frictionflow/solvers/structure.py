@@ -186,10 +186,46 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
     omega = fastest_bound(assembly, minv)
     first = first_capacity(assembly, samples_bound(assembly, t_end, dense_dt, omega), FIRST_CAP)
     seconds = switch_bound(assembly, t_end, omega) * SECONDS_PER["structure_switch"]
-    res, *records = run_growing(float(t_end), first, attempt, seconds)
+    try:
+        res, *records = run_growing(float(t_end), first, attempt, seconds)
+    except ValueError as e:
+        raise _in_model_terms(e, assembly, nm) from None
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(stopped(res, records, nm, NAME))
     return motion(res, records, assembly, nm, _channels(nm), system)
+
+
+#: how the engine (``core.structure.combo.decompose``) refuses a mode combination whose eigenvectors double
+#: precision cannot resolve
+DEFECTIVE = "structure: a mode combination's matrix is defective"
+
+
+def _in_model_terms(error: ValueError, assembly: Assembly, nm: dict[str, tuple[str, ...]]) -> ValueError:
+    """The engine's refusal of an unresolvable mode combination, said in the model's terms where it can be.
+
+    With no direction free of every spring and damper (an undamped rigid mode: the engine's own message), the
+    cause is the structure's rates spanning too far: an element far stiffer than the masses (a damper of 2e10
+    on unit masses: rates 5e-11 to 2e10).  The line names the fastest element (its rate alone:
+    c e.M^-1.e for a damper, sqrt(k e.M^-1.e) for a spring) and, where K is invertible, the slowest rate (the
+    largest root of the reversed problem mu^2 K + mu C + M: the forward one gets the smallest only to rounding
+    of the largest)."""
+    k, c = np.asarray(assembly.stiffness, dtype=float), np.asarray(assembly.damping, dtype=float)
+    n = len(k)
+    if not str(error).startswith(DEFECTIVE) or np.linalg.matrix_rank(np.vstack((k, c))) < n:
+        return error
+    minv = np.linalg.inv(assembly.mass)
+    on = [float(e @ minv @ e) for e in np.asarray(assembly.damper_dir, dtype=float).reshape(-1, n)]
+    rates = [(nm["damper"][i], cv * on[i]) for i, cv in enumerate(np.asarray(assembly.damper_c, dtype=float))]
+    on = [float(e @ minv @ e) for e in np.asarray(assembly.spring_dir, dtype=float).reshape(-1, n)]
+    rates += [(nm["spring"][i], math.sqrt(kv * on[i])) for i, kv in enumerate(np.asarray(assembly.spring_k, dtype=float))]
+    name, fastest = max(rates, key=lambda r: r[1])
+    slowest = ""
+    if np.linalg.matrix_rank(k) == n:
+        kinv = np.linalg.inv(k)
+        reversed_ = np.block([[np.zeros((n, n)), np.eye(n)], [-kinv @ assembly.mass, -kinv @ c]])
+        slowest = f" beside its slowest rate {1.0 / float(np.abs(np.linalg.eigvals(reversed_)).max()):.3g}"
+    return ValueError(f"structure: {name}'s rate {fastest:.3g} (alone){slowest} spans more than one "
+                      "double-precision mode basis resolves; soften it, or leave out the motion it holds")
 
 
 #: switches per natural period per contact assumed by :func:`run_estimate`: a stick-slip cycle has two,
