@@ -51,6 +51,7 @@ from .. import quantities as Q
 from .._json import jsonable
 from .._display import Row, Summarized, num
 from ..core.assembly import natural_frequencies
+from ..system.assemble import free_directions
 from ..core.layout import LAW
 from ..friction.registry import law_classes
 from .stability import steady_sliding
@@ -215,18 +216,20 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
 
 def _at_rest(motion: Any, span: tuple[float, float], tail: np.ndarray, rtol: float) -> bool:
     """Nothing moves over the tail (``span``; ``tail``: its states on a grid) and every velocity is zero, to ``rtol``
-    of the motion's scale: the ranges of the run's states, positions' and velocities' each (:func:`_grouped`).
+    of the motion's scale -- but for a steady drift along the free translations (:func:`without_drift`: a
+    structure no spring holds, carried along by the belt at a constant speed is at rest relative to it): the ranges of the run's states, positions' and velocities' each (:func:`_grouped`).
     Not the belt speeds: a fast belt made a lasting oscillation of a stuck-free mass "at rest" (amplitude 5e-4
     at belt 1000).  A tail shorter than the fastest natural period has its changes stretched to that period: an
     unbalanced force moves a short run's velocities a little, but not nothing."""
-    stretch = max(1.0, 2.0 * math.pi / _fastest(motion) / max(span[1] - span[0], 1e-300))
-    n = _n(motion)
-    recorded = np.asarray(motion.state)
-    ranges = np.ptp(tail, axis=1)
-    if recorded.shape[1]:
-        ranges = np.maximum(ranges, np.ptp(recorded, axis=1))
+    omega = _fastest(motion)
+    stretch = max(1.0, 2.0 * math.pi / omega / max(span[1] - span[0], 1e-300)) if omega > 0.0 else 1.0
+    n, a = _n(motion), motion.assembly
+    held = without_drift(a, tail)
+    free = free_directions(a)
+    moving = held[n:] - free @ (free.T @ held[n:])  # velocities off the free translations: none at rest
+    ranges = np.maximum(np.ptp(held, axis=1), np.ptp(without_drift(a, np.asarray(motion.state)), axis=1))
     tol = rtol * _grouped(ranges)
-    return bool(np.all(stretch * np.ptp(tail, axis=1) <= tol) and np.all(np.abs(tail[n:]) <= tol[n:]))
+    return bool(np.all(stretch * np.ptp(held, axis=1) <= tol) and np.all(np.abs(moving) <= tol[n:, None]))
 
 
 def _grouped(size: np.ndarray) -> np.ndarray:
@@ -357,24 +360,26 @@ def _n(motion: Any) -> int:
 
 def _fastest(motion: Any) -> float:
     """The structure's fastest rate: its fastest natural frequency or forcing frequency; without either (no
-    springs, no force), its fastest own rate (a damper over a mass); without that, one cycle over the run."""
+    springs, no force), its fastest own rate (a damper over a mass); without that (masses on belts alone), 0:
+    the structure has no time scale of its own."""
     a = motion.assembly
     omega = max(float(natural_frequencies(a).max(initial=0.0)), float(np.max(np.abs(a.force_omega), initial=0.0)))
     if omega > 0.0:
         return omega
     rates = np.abs(np.linalg.eigvals(np.linalg.solve(np.asarray(a.mass, dtype=float),
                                                      np.asarray(a.damping, dtype=float))))
-    if float(rates.max(initial=0.0)) > 0.0:
-        return float(rates.max())
-    return 2.0 * math.pi / max(float(motion.t[-1] - motion.t[0]), 1e-300)
+    return float(rates.max(initial=0.0))
 
 
 def _slowest_swing(motion: Any) -> float:
-    """The structure's slowest natural period (its zero frequencies left out), else the fastest rate's period:
-    the least tail a kind is judged on (two of them; 4 pi for the nondimensional single mass)."""
+    """The structure's slowest natural period (its zero frequencies left out), else the fastest rate's period
+    (0 without any): the least tail a kind is judged on (two of them; 4 pi for the nondimensional single mass)."""
     omega = natural_frequencies(motion.assembly)
     omega = omega[omega > 0.0]
-    return 2.0 * math.pi / (float(omega.min()) if len(omega) else _fastest(motion))
+    if len(omega):
+        return 2.0 * math.pi / float(omega.min())
+    fastest = _fastest(motion)
+    return 2.0 * math.pi / fastest if fastest > 0.0 else 0.0
 
 
 def _grid_size(motion: Any, span: tuple[float, float]) -> int:
@@ -414,10 +419,7 @@ def without_drift(assembly: Any, states: np.ndarray) -> np.ndarray:
     its motion shifted along them every period (a free chain forced into a subharmonic while the belt carries it
     along): the same cycle, periodic in everything its forces see."""
     n = states.shape[0] // 2
-    rows = np.vstack((np.asarray(assembly.stiffness, dtype=float), np.asarray(assembly.normal, dtype=float)[:, 1:]))
-    _, sv, vt = np.linalg.svd(rows)
-    rank = int(np.sum(sv > 1e-12 * max(float(sv.max(initial=0.0)), 1e-300)))
-    free = vt[rank:].T  # (n, r) orthonormal
+    free = free_directions(assembly)  # (n, r) orthonormal
     if free.shape[1] == 0:
         return states
     out = np.array(states, dtype=float)
@@ -442,12 +444,25 @@ def _refine(motion: Any, row: int, a: float, b: float) -> float:
     """The crossing of state row ``row`` through 0 in [a, b], to rounding."""
     fa = float(states_at(motion, a)[row])
     fb = float(states_at(motion, b)[row])
-    if fb == 0.0:
-        return b
+    if fb == 0.0:  # stuck at b (a contact holds it on a fixed surface): the crossing is where it stuck
+        return _first_zero(motion, row, a, b)
     if fa * fb > 0.0:  # a tangency the grid brackets from one side: take the grid point
         return b
     return optimize.brentq(lambda s: float(motion.states([s])[row, 0]), a, b, xtol=4.0 * EPS * abs(b) + 1e-300,
                            rtol=4.0 * EPS)  # to rounding in any unit of time
+
+
+def _first_zero(motion: Any, row: int, a: float, b: float) -> float:
+    """The first time in [a, b] at which state row ``row`` (> 0 at a, 0 at b) is 0: bisection to rounding.  A
+    grid point after a stick is no section point: the rest of the structure moves on while it is stuck, so the
+    states there depend on the grid's phase."""
+    while b - a > 4.0 * EPS * abs(b):
+        mid = 0.5 * (a + b)
+        if float(states_at(motion, mid)[row]) > 0.0:
+            a = mid
+        else:
+            b = mid
+    return b
 
 
 def stick_fractions(motion: Any, window: tuple[float, float]) -> tuple[float, ...]:

@@ -114,6 +114,7 @@ class Adaptive(Solver):
     interpolant = "quintic_hermite"  # it samples every step: X'' at both ends is known
     #: in a structure: every switch-rule law with a compiled slip curve (a user's function is not reached there)
     structure_laws = staticmethod(lambda law: law.stick_rule == "switch" and law.compiled_slip)
+    structure_free_motion = True  # its steps need no modes
     steady_rtol = 1e-8  # resolves orbits to about its rtol
     default_chunk = 256
     batched = staticmethod(batch.adaptive_points)

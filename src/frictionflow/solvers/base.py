@@ -155,6 +155,9 @@ class Solver(Sealed, ABC):
         For linear structures with friction contacts (:func:`frictionflow.solvers.structure.simulate_system`):
         a test of a law class, true for the laws this solver runs at a structure's contacts; None: it
         does not run structures.
+    structure_free_motion:
+        It runs a structure with an undamped free motion: a direction no spring, damper or normal load holds
+        (a mass on a belt without a spring), whose motion is polynomial in time, not exponential.
     step_cost, point_cost_per:
         Its cost model: the keys of ``frictionflow.estimate.SECONDS_PER`` of a step of a
         single run, and of a sweep point's work per unit of time (:meth:`cost`, :meth:`point_cost`).
@@ -178,6 +181,7 @@ class Solver(Sealed, ABC):
     step_cost: ClassVar[str] = "adaptive_step"
     point_cost_per: ClassVar[str] = "adaptive_point_time"
     structure_laws: ClassVar[Callable[[type[FrictionLaw]], bool] | None] = None
+    structure_free_motion: ClassVar[bool] = False
 
     def belt_motion_problem(self, friction: FrictionLaw) -> str | None:
         """Why it cannot run a belt whose speed varies under ``friction``, or None (the one line of every refusal)."""

@@ -23,6 +23,7 @@ from ..estimate import SECONDS_PER, Estimate
 from ..friction.registry import law_classes
 from ..motion import Motion
 from ..system import System, assemble
+from ..system.assemble import free_directions
 from ..system.checks import independent
 from . import structure_adaptive
 from .registry import solver_named, solver_names_where
@@ -48,7 +49,8 @@ def structure_solvers() -> tuple[str, ...]:
 
 
 def structure_solver_for(system: Any, solver: str = "auto") -> str:
-    """``solver``, or for ``"auto"`` the first structure solver (registry order) that runs every contact's law.
+    """``solver``, or for ``"auto"`` the first structure solver (registry order) that runs every contact's law
+    (and, where the structure has an undamped free motion, runs those: ``structure_free_motion``).
 
     Parameters
     ----------
@@ -61,8 +63,10 @@ def structure_solver_for(system: Any, solver: str = "auto") -> str:
         _structure_solver(solver)
         return solver
     laws = [type(c.law) for c in system.contacts]
+    free = free_directions(assemble(system), undamped=True).shape[1] > 0
     for name in structure_solvers():
-        if all(solver_named(name).structure_laws(law) for law in laws):
+        cls = solver_named(name)
+        if all(cls.structure_laws(law) for law in laws) and (cls.structure_free_motion or not free):
             return name
     return NAME  # none runs them all: the exact solver's message names the contact
 
@@ -209,10 +213,13 @@ def _in_model_terms(error: ValueError, assembly: Assembly, nm: dict[str, tuple[s
     c e.M^-1.e for a damper, sqrt(k e.M^-1.e) for a spring) and, where K is invertible, the slowest rate (the
     largest root of the reversed problem mu^2 K + mu C + M: the forward one gets the smallest only to rounding
     of the largest)."""
+    if not str(error).startswith(DEFECTIVE):
+        return error
+    free = free_directions(assembly, undamped=True)
+    if free.shape[1]:
+        return ValueError(_free_motion_message(free, nm["dof"]))
     k, c = np.asarray(assembly.stiffness, dtype=float), np.asarray(assembly.damping, dtype=float)
     n = len(k)
-    if not str(error).startswith(DEFECTIVE) or np.linalg.matrix_rank(np.vstack((k, c))) < n:
-        return error
     minv = np.linalg.inv(assembly.mass)
     on = [float(e @ minv @ e) for e in np.asarray(assembly.damper_dir, dtype=float).reshape(-1, n)]
     rates = [(nm["damper"][i], cv * on[i]) for i, cv in enumerate(np.asarray(assembly.damper_c, dtype=float))]
@@ -226,6 +233,20 @@ def _in_model_terms(error: ValueError, assembly: Assembly, nm: dict[str, tuple[s
         slowest = f" beside its slowest rate {1.0 / float(np.abs(np.linalg.eigvals(reversed_)).max()):.3g}"
     return ValueError(f"structure: {name}'s rate {fastest:.3g} (alone){slowest} spans more than one "
                       "double-precision mode basis resolves; soften it, or leave out the motion it holds")
+
+
+def _free_motion_message(free: np.ndarray, dof: tuple[str, ...]) -> str:
+    """One line: the exact engine does not run the undamped free motion along ``free``'s first column (named
+    over ``dof``); the structure solvers that do."""
+    d = free[:, 0] / free[np.argmax(np.abs(free[:, 0])), 0]
+    terms = [(f"{abs(x):.3g} " if not math.isclose(abs(x), 1.0) else "") + name
+             for x, name in zip(d, dof) if abs(x) > 1e-9]
+    signs = ["-" if x < 0 else "+" for x in d if abs(x) > 1e-9]
+    along = terms[0] + "".join(f" {sign} {term}" for sign, term in zip(signs[1:], terms[1:]))
+    runs = solver_names_where(lambda cls: cls.structure_laws is not None and cls.structure_free_motion)
+    return (f"solver={NAME} runs structures whose every motion a spring, damper or normal load holds; along "
+            f"{along} none does (an undamped free motion: polynomial in time, not a sum of its modes)"
+            + (f"; use solver={' or '.join(runs)}" if runs else ""))
 
 
 #: switches per natural period per contact assumed by :func:`run_estimate`: a stick-slip cycle has two,

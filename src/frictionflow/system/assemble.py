@@ -68,3 +68,19 @@ def _rows(directions: list, dof: tuple[str, ...]) -> np.ndarray:
     for i, on in enumerate(directions):
         out[i] = vector(on, dof)
     return out
+
+
+def free_directions(assembly: Assembly, undamped: bool = False) -> np.ndarray:
+    """(n, r) orthonormal columns: the directions d along which no spring (K d = 0) and no contact's normal
+    load (n_j . d = 0) depends on the position -- and with ``undamped``, no damper acts either (C d = 0).
+
+    A structure may repeat its motion shifted along the first (the belt carrying it along); along the second
+    its motion is polynomial in time (x'' constant while the contacts slip), which no sum of exponentials
+    describes."""
+    n = len(assembly.q0)
+    parts = [np.asarray(assembly.stiffness, dtype=float), np.asarray(assembly.normal, dtype=float)[:, 1:]]
+    if undamped:
+        parts.append(np.asarray(assembly.damping, dtype=float))
+    _, sv, vt = np.linalg.svd(np.vstack(parts).reshape(-1, n))
+    rank = int(np.sum(sv > 1e-12 * max(float(sv.max(initial=0.0)), 1e-300)))
+    return vt[rank:].T

@@ -1,0 +1,80 @@
+"""Structures with an undamped free motion: a direction no spring, damper or normal load holds.
+
+Along such a direction the motion is polynomial in time while the contacts slip (x'' constant), not a sum of
+exponentials: the exact engine's modes refused it with "a mode combination's matrix is defective (e.g. an
+undamped rigid mode)", and ``solver="auto"`` chose it anyway.  The adaptive solver runs them (its
+``structure_free_motion``), and ``auto`` now picks it there.  The kinds of such a structure are told up to its
+free translations: carried along by the belt at a constant speed it is at rest relative to it.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+import frictionflow as ff
+from frictionflow.analysis.structure import analyze_structure, structure_steady_state
+from frictionflow.solvers.structure import simulate_system, structure_solver_for
+from frictionflow.system import System
+
+#: a mass on a belt, nothing else: it catches up with the belt and rides on it
+RIDER = {"dof": ["x"], "mass": [1.0],
+         "contact": [{"on": {"x": 1.0}, "belt": 0.1, "friction": "coulomb", "fd": 0.1, "fs": 0.2}]}
+B, C, K, FD, FS = 0.05, 0.02, 1.0, 0.12, 0.25
+
+
+def _pair() -> System:
+    """Two masses joined by a spring and a damper, nothing to the ground: x1 on a belt at B (it sticks there
+    for good: the held force stays below its F_s 0.3), x2 on a fixed surface."""
+    return System.from_dict({
+        "dof": ["x1", "x2"], "mass": [1.0, 1.0], "spring": [{"on": {"x1": 1.0, "x2": -1.0}, "k": K}],
+        "damper": [{"on": {"x1": 1.0, "x2": -1.0}, "c": C}],
+        "contact": [{"on": {"x1": 1.0}, "belt": B, "friction": "coulomb", "fd": 0.1, "fs": 0.3},
+                    {"on": {"x2": 1.0}, "belt": 0.0, "friction": "coulomb", "fd": FD, "fs": FS}],
+        "initial": {"v": {"x1": B}}}, source=None)
+
+
+def _two_belts() -> System:
+    """The pair on two belts, both contacts slipping at times: the phase where both slip has x1 + x2 free."""
+    return _pair().with_entry("contact.0.belt", -0.055).with_entry("contact.1.belt", -0.05)
+
+
+def test_the_exact_engine_names_the_free_motion_and_auto_picks_the_adaptive_solver():
+    for model, along in ((System.from_dict(RIDER, source=None), "along x none does"),
+                         (_two_belts(), "along x1 \\+ x2 none does")):
+        with pytest.raises(ValueError, match=f"solver=exact runs structures whose every motion .*{along}.*"
+                                             "use solver=adaptive"):
+            simulate_system(model, 50.0, solver="exact")
+        assert structure_solver_for(model) == "adaptive"
+    assert simulate_system(_two_belts(), 50.0, solver="adaptive").status == "ok"
+    held = System.from_dict({**RIDER, "damper": [{"on": {"x": 1.0}, "c": 0.1}]}, source=None)
+    assert structure_solver_for(held) == "exact"  # the damper holds it: exponential modes
+
+
+def test_a_mass_riding_on_the_belt_is_at_rest_relative_to_it():
+    """From rest it slips at F_d (x'' = 0.1) and catches the belt at t = 1; from then on it rides at 0.1 with no
+    force: an equilibrium up to the free translation, every element's power 0, the balance closed."""
+    motion = simulate_system(System.from_dict(RIDER, source=None), 50.0, solver=structure_solver_for(
+        System.from_dict(RIDER, source=None)))
+    result = analyze_structure(motion)
+    assert result.steady_state.kind == "equilibrium"
+    assert result.steady_state.stick_fraction == (1.0,)
+    assert motion.states([50.0])[:, 0] == pytest.approx([0.05 + 0.1 * 49.0, 0.1], rel=1e-9)  # 0.05 by t = 1
+    assert result.elements["contact.0"] == {"P_belt": 0.0, "P_heat": 0.0}
+    assert abs(result.energy_residual) < 1e-12
+
+
+def test_a_free_pair_dragged_by_one_belt_is_the_single_mass_in_the_belt_s_frame():
+    """x1 rides on its belt, so y = x2 - x1 obeys y'' + C y' + K y = F(V_r) with V_r = 0 - x2' = -B - y': the
+    single mass on a belt at -B (mirrored: at +B).  The structure's kind, period and x2's stick fraction are
+    the single mass's (exact solver), within the adaptive solver's tolerance.  Its section is x2' falling to 0,
+    where x2 sticks: the grid point after the stick was taken for the crossing, so the states (x1 moving on)
+    depended on the grid's phase and the cycle was never periodic."""
+    single = ff.analyze(ff.simulate(ff.BeltOscillator(zeta=C / 2.0, vb=B), ff.Coulomb(FD, FS), t_end=600.0,
+                                    x0=0.0, v0=0.0)).steady_state
+    assert structure_solver_for(_pair()) == "adaptive"  # the free motion could be met: auto cannot know
+    for solver, rtol in (("adaptive", 1e-9), ("exact", 1e-12)):  # x1 never slips: the exact engine runs it
+        ss = structure_steady_state(simulate_system(_pair(), 300.0, solver=solver))
+        assert single.kind == ss.kind == "periodic"
+        assert ss.period == pytest.approx(single.period, rel=rtol)
+        assert ss.stick_fraction[0] == 1.0
+        assert ss.stick_fraction[1] == pytest.approx(single.stick_fraction, abs=10 * rtol)
