@@ -106,7 +106,10 @@ class FrictionLaw(Sealed):
 
     def _assign(self, **given: Any) -> None:
         """Validate and set every declared parameter (defaults from the declarations)."""
-        values = resolve(self.parameters, given)
+        self._assign_checked(resolve(self.parameters, given))
+
+    def _assign_checked(self, values: Mapping[str, Any]) -> None:
+        """Set every parameter from ``values`` (each checked against its range), then the rules between them."""
         for key, value in values.items():
             setattr(self, key, value)
         self._check_values()
@@ -118,9 +121,16 @@ class FrictionLaw(Sealed):
             raise ValueError(f"fs must be >= fd = {self.fd!r}, got {self.fs!r}")
 
     @classmethod
-    def from_values(cls, values: Mapping[str, Any]) -> "FrictionLaw":
-        """Build from a mapping of parameter values (missing or None: the defaults)."""
-        return cls(**{p.name: values.get(p.name) for p in cls.parameters if values.get(p.name) is not None})
+    def from_values(cls, values: Mapping[str, Any], ranges: tuple[Param, ...] | None = None) -> "FrictionLaw":
+        """Build from a mapping of parameter values (missing or None: the defaults).
+
+        ``ranges``: the parameters' declarations to check the values against in place of the law's own (the
+        same names; a structure's contacts take values in the model's units: ``frictionflow.system``)."""
+        if ranges is None:
+            return cls(**{p.name: values.get(p.name) for p in cls.parameters if values.get(p.name) is not None})
+        law = cls.__new__(cls)
+        law._assign_checked(resolve(ranges, {k: v for k, v in values.items() if v is not None}))
+        return law
 
     def values(self) -> dict[str, Any]:
         """Every declared parameter's value, in declaration order."""

@@ -9,11 +9,13 @@ address; the system puts the file in front.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any, Mapping
 
 from ..friction import FrictionLaw
 from ..friction.base import STICK_RULE_WORDS
 from ..friction.registry import law_class, law_names
+from ..parameters import MODEL_MAX, Param
 from . import checks
 from .elements import Contact, Damper, Force, Initial, Normal, Spring
 
@@ -137,11 +139,20 @@ def _law(address: str, cls: type[FrictionLaw], given: Mapping[str, Any]) -> Fric
     if not cls.configurable:
         raise ValueError(f"{address}: the law {cls.name!r} is built from a function: give its object as friction")
     try:
-        return cls.from_values(given)
+        return cls.from_values(given, in_model_units(cls.parameters))
     except (ValueError, TypeError) as e:
         text = str(e)
         first = text.split(" ", 1)[0]
         raise type(e)(f"{address}.{text}" if first in {p.name for p in cls.parameters} else f"{address}: {text}") from None
+
+
+def in_model_units(params: tuple[Param, ...]) -> tuple[Param, ...]:
+    """A law's parameter declarations for a model file's values: a number capped by the nondimensional single
+    mass's :data:`~frictionflow.parameters.MODEL_MAX` (a force, a speed, a coefficient) may reach the model's
+    :data:`~.checks.MAGNITUDE_MAX` (any consistent units: 1e5 N of friction); narrower caps (an exponent's)
+    and every lower end are kept."""
+    return tuple(replace(p, upper=checks.MAGNITUDE_MAX) if p.kind == "real" and p.upper is not None
+                 and p.upper >= MODEL_MAX else p for p in params)
 
 
 def _normal(address: str, t: Any) -> Normal | None:
