@@ -13,8 +13,11 @@ import pytest
 
 import frictionflow as ff
 from frictionflow.analysis.structure import analyze_structure, structure_steady_state
+from frictionflow.orbits.structure import find_structure_orbit
 from frictionflow.solvers.structure import simulate_system, structure_solver_for
 from frictionflow.system import System
+
+from ..cli.processes import in_process, one_line
 
 #: a mass on a belt, nothing else: it catches up with the belt and rides on it
 RIDER = {"dof": ["x"], "mass": [1.0],
@@ -78,3 +81,27 @@ def test_a_free_pair_dragged_by_one_belt_is_the_single_mass_in_the_belt_s_frame(
         assert ss.period == pytest.approx(single.period, rel=rtol)
         assert ss.stick_fraction[0] == 1.0
         assert ss.stick_fraction[1] == pytest.approx(single.stick_fraction, abs=10 * rtol)
+
+
+def test_orbits_say_they_follow_the_exact_engine_where_a_free_motion_is_met():
+    """``orbit --model`` on the free pair on two belts stopped with the engine's "defective" line and two numpy
+    warnings: now one line naming the free motion and the command that runs it."""
+    with pytest.raises(ValueError, match="orbits follow the exact engine's phases.*along x1 \\+ x2 no spring.*"
+                                         "simulate runs it with solver=adaptive"):
+        find_structure_orbit(_two_belts(), t_transient=50.0)
+
+
+def test_an_option_refused_beside_a_model_names_the_ones_the_command_takes(tmp_path):
+    """The refusal said "(set them in the model file)" for --solver with orbit and --dt with simulate, which
+    are no model file's entries: now it lists the options the command takes beside --model."""
+    path = tmp_path / "m.toml"
+    path.write_text('dof = ["x"]\nmass = [1.0]\n[[spring]]\non = { x = 1.0 }\nk = 1.0\n[[contact]]\n'
+                    'on = { x = 1.0 }\nbelt = 0.1\nfriction = "coulomb"\nfd = 0.1\nfs = 0.2\n')
+    code, out, err, _ = in_process("orbit", "--model", str(path), "--solver", "adaptive")
+    assert code == 2 and out == ""
+    one_line(err, "--solver cannot be given with it (with --model this command takes --t-end; the model's own "
+                  "entries are in its file)")
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--dt", "0.1")
+    assert code == 2 and out == ""
+    one_line(err, "--dt cannot be given with it (with --model this command takes --t-end, --window, --rtol, "
+                  "--solver")

@@ -38,8 +38,9 @@ def refuse_single_mass(params: dict[str, Any], keeps: tuple[str, ...] = MODEL_KE
     given = sorted(k for k, v in params.items() if v is not None and k not in keeps)
     if given:
         flags = ", ".join("--" + k.replace("_", "-") for k in given)
-        raise ValueError(f"--model describes the whole system: {flags} cannot be given with it "
-                         "(set them in the model file)")
+        taken = ", ".join("--" + k.replace("_", "-") for k in keeps if k in params)  # those the command has
+        raise ValueError(f"--model describes the whole system: {flags} cannot be given with it (with --model "
+                         f"this command takes {taken}; the model's own entries are in its file)")
 
 
 def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> StructureAnalysis:

@@ -43,7 +43,8 @@ from ..core.structure.combo import N_SLOTS, build
 from ..core.structure.phase import start, state_at
 from ..core.structure.stick import acceleration
 from ..core.structure.work import n_channels
-from ..solvers.structure import run_assembly
+from ..solvers.structure import free_direction_text, free_motion_solvers, run_assembly
+from ..system.assemble import free_directions
 
 optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
@@ -91,14 +92,32 @@ class Flow:
         modes = np.ascontiguousarray(modes, dtype=np.int8)
         key = modes.tobytes()
         if key not in self._combos:
-            self._combos[key] = build(self.assembly, self.minv, modes)
+            try:
+                self._combos[key] = build(self.assembly, self.minv, modes)
+            except ValueError as e:
+                raise self._in_orbit_terms(e) from None
         return self._combos[key]
 
     def run(self, y0: np.ndarray, t_end: float) -> Any:
         """The engine's :class:`~frictionflow.motion.Motion` from state ``y0`` (2n,) at t = 0 to ``t_end``."""
         n = self.n
         asm = self.assembly._replace(q0=np.array(y0[:n], dtype=float), v0=np.array(y0[n:], dtype=float))
-        return run_assembly(asm, t_end, names=self.names)
+        try:
+            return run_assembly(asm, t_end, names=self.names)
+        except ValueError as e:
+            raise self._in_orbit_terms(e) from None
+
+    def _in_orbit_terms(self, error: ValueError) -> ValueError:
+        """An undamped free motion met by the flow's phases, said for orbits (no other solver gives their
+        monodromy; ``simulate`` runs such a structure with one that runs it); any other error as it is."""
+        free = free_directions(self.assembly, undamped=True)
+        if not free.shape[1]:
+            return error
+        dof = (self.names or {}).get("dof") or tuple(f"q{i}" for i in range(self.n))
+        runs = " or ".join(free_motion_solvers())
+        return ValueError(f"orbits follow the exact engine's phases, which do not describe an undamped free motion: "
+                          f"along {free_direction_text(free, dof)} no spring, damper or normal load holds the "
+                          f"structure; simulate runs it with solver={runs}")
 
     def advance(self, modes: np.ndarray, y: np.ndarray, t0: float, tau: float) -> np.ndarray:
         """y(t0 + tau) from y at t0 in the modes ``modes`` (no switch between): the phase's closed form."""

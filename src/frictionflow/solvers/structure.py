@@ -235,18 +235,27 @@ def _in_model_terms(error: ValueError, assembly: Assembly, nm: dict[str, tuple[s
                       "double-precision mode basis resolves; soften it, or leave out the motion it holds")
 
 
-def _free_motion_message(free: np.ndarray, dof: tuple[str, ...]) -> str:
-    """One line: the exact engine does not run the undamped free motion along ``free``'s first column (named
-    over ``dof``); the structure solvers that do."""
+def free_direction_text(free: np.ndarray, dof: tuple[str, ...]) -> str:
+    """``free``'s first column (a direction over ``dof``) as text, its largest coefficient 1: ``x1 + x2``."""
     d = free[:, 0] / free[np.argmax(np.abs(free[:, 0])), 0]
     terms = [(f"{abs(x):.3g} " if not math.isclose(abs(x), 1.0) else "") + name
              for x, name in zip(d, dof) if abs(x) > 1e-9]
     signs = ["-" if x < 0 else "+" for x in d if abs(x) > 1e-9]
-    along = terms[0] + "".join(f" {sign} {term}" for sign, term in zip(signs[1:], terms[1:]))
-    runs = solver_names_where(lambda cls: cls.structure_laws is not None and cls.structure_free_motion)
+    return terms[0] + "".join(f" {sign} {term}" for sign, term in zip(signs[1:], terms[1:]))
+
+
+def free_motion_solvers() -> tuple[str, ...]:
+    """The structure solvers that run an undamped free motion (``structure_free_motion``)."""
+    return solver_names_where(lambda cls: cls.structure_laws is not None and cls.structure_free_motion)
+
+
+def _free_motion_message(free: np.ndarray, dof: tuple[str, ...]) -> str:
+    """One line: the exact engine does not run the undamped free motion along ``free``'s first column (named
+    over ``dof``); the structure solvers that do."""
+    runs = free_motion_solvers()
     return (f"solver={NAME} runs structures whose every motion a spring, damper or normal load holds; along "
-            f"{along} none does (an undamped free motion: polynomial in time, not a sum of its modes)"
-            + (f"; use solver={' or '.join(runs)}" if runs else ""))
+            f"{free_direction_text(free, dof)} none does (an undamped free motion: polynomial in time, not a sum "
+            "of its modes)" + (f"; use solver={' or '.join(runs)}" if runs else ""))
 
 
 #: switches per natural period per contact assumed by :func:`run_estimate`: a stick-slip cycle has two,
