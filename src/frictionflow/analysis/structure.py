@@ -44,7 +44,6 @@ from typing import Any
 
 import numpy as np
 
-from .._lazy import lazy_module
 from ..motion import Motion
 from .. import _validate as check
 from .. import quantities as Q
@@ -57,7 +56,6 @@ from ..friction.registry import law_classes
 from .stability import steady_sliding
 from .structure_lyapunov import beyond_periodic
 
-optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
 #: the kinds a structure's run is given: the shared ones (:data:`frictionflow.quantities.KINDS`) but
 #: ``diverged`` (an exact linear run stays finite), and ``contact_lost``; the first four keep their codes
@@ -66,6 +64,8 @@ STRUCTURE_KINDS = (*Q.KINDS[:3], "contact_lost", *(k for k in Q.KINDS[3:] if k !
 MAX_CROSSINGS = 12
 #: grid points per shortest natural period when looking for section crossings
 GRID_PER_PERIOD = 64
+#: evaluations a crossing's refinement takes at most, for estimates (measured: about 24 steps at t_end 1e5)
+REFINE_STEPS = 32
 #: Wilkinson's first-order eigenvalue bound, EPS ||A|| kappa_i, times this for the eigen-solver's own rounding
 EIGEN_ROUNDING = 64.0
 EPS = float(np.finfo(float).eps)
@@ -382,6 +382,18 @@ def _slowest_swing(motion: Any) -> float:
     return 2.0 * math.pi / fastest if fastest > 0.0 else 0.0
 
 
+def evaluations(motion: Any, t_end: float) -> tuple[int, int]:
+    """(on grids, scattered): how many states the classification of a run of ``motion``'s structure from t = 0
+    to ``t_end`` evaluates -- on its grids (the tail's, the section's over the second half, the amplitudes'
+    window about the tail) and, at most, in refining crossings (one a fastest period on the section, two per
+    coordinate in the window, each up to REFINE_STEPS evaluations): the part of the analysis that grows with
+    the run (a sweep's estimate times both on a short probe; scattered times cost a phase's setup each)."""
+    tail = min(max(0.1 * t_end, 2.0 * _slowest_swing(motion)), t_end)
+    window, section = _grid_size(motion, (0.0, tail)), _grid_size(motion, (0.0, 0.5 * t_end))
+    crossings = (section + 2 * _n(motion) * window) / GRID_PER_PERIOD
+    return 2 * window + section, int(math.ceil(REFINE_STEPS * crossings))
+
+
 def _grid_size(motion: Any, span: tuple[float, float]) -> int:
     """Grid points over ``span`` resolving the fastest natural period (GRID_PER_PERIOD each)."""
     omega = _fastest(motion)
@@ -437,31 +449,37 @@ def section_times(motion: Any) -> np.ndarray:
     row = n + int(np.argmax(np.ptp(states[n:], axis=1)))
     v = states[row]
     hits = np.flatnonzero((v[:-1] > 0.0) & (v[1:] <= 0.0))
-    return np.array([_refine(motion, row, grid[i], grid[i + 1]) for i in hits])
+    return _falls(motion, row, grid[hits], grid[hits + 1])
 
 
-def _refine(motion: Any, row: int, a: float, b: float) -> float:
-    """The crossing of state row ``row`` through 0 in [a, b], to rounding."""
-    fa = float(states_at(motion, a)[row])
-    fb = float(states_at(motion, b)[row])
-    if fb == 0.0:  # stuck at b (a contact holds it on a fixed surface): the crossing is where it stuck
-        return _first_zero(motion, row, a, b)
-    if fa * fb > 0.0:  # a tangency the grid brackets from one side: take the grid point
+def _falls(motion: Any, row: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Per bracket [a_i, b_i] (disjoint, ascending) of state row ``row``, the first time its sign is no longer
+    the one at a_i, to rounding of the time: all brackets at once (one evaluation of the motion per step, not
+    one per crossing and step: a run to 1e5 spent 3 s in single-time evaluations), by the Illinois rule where
+    the row crosses 0 and by bisection where it reaches 0 and stays there -- a contact holding it on a fixed
+    surface: the stick time, not a grid point after it (the rest of the structure moves on while it is stuck,
+    so the states there would depend on the grid's phase)."""
+    a, b = np.array(a, dtype=float), np.array(b, dtype=float)
+    if not len(a):
         return b
-    return optimize.brentq(lambda s: float(motion.states([s])[row, 0]), a, b, xtol=4.0 * EPS * abs(b) + 1e-300,
-                           rtol=4.0 * EPS)  # to rounding in any unit of time
-
-
-def _first_zero(motion: Any, row: int, a: float, b: float) -> float:
-    """The first time in [a, b] at which state row ``row`` (> 0 at a, 0 at b) is 0: bisection to rounding.  A
-    grid point after a stick is no section point: the rest of the structure moves on while it is stuck, so the
-    states there depend on the grid's phase."""
-    while b - a > 4.0 * EPS * abs(b):
-        mid = 0.5 * (a + b)
-        if float(states_at(motion, mid)[row]) > 0.0:
-            a = mid
-        else:
-            b = mid
+    fa, fb = states_at(motion, a)[row], states_at(motion, b)[row]
+    side = np.sign(fa)
+    bisect = fb == 0.0
+    for _ in range(200):
+        wide = np.flatnonzero(b - a > 4.0 * EPS * np.abs(b))
+        if not len(wide):
+            break
+        x = np.where(bisect[wide], 0.5 * (a[wide] + b[wide]),
+                     b[wide] - fb[wide] * (b[wide] - a[wide]) / (fb[wide] - fa[wide]))
+        x = np.clip(x, a[wide], b[wide])
+        fx = states_at(motion, np.sort(x))[row][np.argsort(np.argsort(x))]
+        kept = np.sign(fx) == side[wide]
+        lo, hi = wide[kept], wide[~kept]
+        fb[lo] *= 0.5  # Illinois: the end kept twice has its value halved
+        fa[hi] *= 0.5
+        a[lo], fa[lo] = x[kept], fx[kept]
+        b[hi], fb[hi] = x[~kept], fx[~kept]
+        bisect[hi] |= fx[~kept] == 0.0
     return b
 
 
@@ -487,8 +505,8 @@ def amplitudes(motion: Any, window: tuple[float, float]) -> dict[str, dict[str, 
     for i, name in enumerate(motion.dof):
         v = states[n + i]
         hits = np.flatnonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0.0)
-        times = [window[0], window[1], *(_refine(motion, n + i, grid[j], grid[j + 1]) for j in hits)]
-        values = states_at(motion, (np.asarray(times)))[i]
+        times = np.concatenate(([window[0], window[1]], _falls(motion, n + i, grid[hits], grid[hits + 1])))
+        values = states_at(motion, np.sort(times))[i]
         out_max[name], out_min[name] = float(np.max(values)), float(np.min(values))
     return {"X_max": out_max, "X_min": out_min}
 

@@ -37,11 +37,10 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..analysis.structure import STRUCTURE_KINDS, analyze_structure
+from ..analysis.structure import STRUCTURE_KINDS, analyze_structure, evaluations
 from ..core.threads import over_points
 from ..estimate import Estimate
 from ..io import read_config
-from ..solvers import structure_precompile
 from ..solvers.structure import check_switchable, simulate_system, structure_solver_for
 from ..system import System, assemble, load_system
 from .compute import chunk_slices
@@ -56,8 +55,10 @@ RTOL = 1e-6
 CHECK_EACH = 1000
 #: up to this many axes, every corner of the grid is checked as a whole system (entries checked together)
 CHECK_CORNERS = 6
-#: the model-sweep's probe run for the estimate: at most this long (its cost is scaled to t_end)
+#: the model-sweep's probe run for the estimate: at most this long (its run's cost is scaled to t_end)
 PROBE_T = 50.0
+#: the most states the estimate evaluates to time the analysis's grids
+GRID_PROBE = 20_000
 #: points per chunk (a chunk is a unit of commit and a Dask task)
 CHUNK_POINTS = 8
 #: pieces per thread in a chunk: one point each (a point costs milliseconds to seconds: the threads
@@ -423,9 +424,12 @@ def compute_model_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: 
 
 
 def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, name: str = "out") -> Estimate:
-    """The sweep's cost from a probe: the grid's first point run to min(t_end, PROBE_T), scaled to t_end.
+    """The sweep's cost from a probe: the grid's first point run to min(t_end, PROBE_T), the run scaled to t_end,
+    its analysis counted once and the analysis's grids timed at t_end's size (:func:`_grid_seconds`).
 
-    On an empty numba cache the probe runs twice and the cheaper run counts: the first one also compiles.
+    The probe runs twice and the cheaper run counts: a process's first run also loads the kernels from numba's
+    cache and imports the analysis's modules (most of a second probe's cost: the 600-point sweep of the
+    stick-slip chain to t_end 1000, 50 s, was estimated at 1.4 h), and on an empty cache compiles them.
 
     A bound in the sense of the single-mass sweep's (the points run to
     t_end), counted on one core: a chunk's points share the cores, but their Python parts take turns.
@@ -433,15 +437,35 @@ def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, n
     probe_t = min(cfg.t_end, PROBE_T)
     system = cfg.point_system((0,) * len(cfg.axes))
     seconds = []
-    for _ in range(1 if structure_precompile.cached() else 2):  # a first use's first run also compiles (minutes)
+    for _ in range(2):  # a process's first run also loads its kernels (seconds) or compiles them (minutes)
         start = time.process_time()
-        analyze_structure(simulate_system(system, probe_t, solver=cfg.solver), rtol=cfg.rtol)
-        seconds.append(time.process_time() - start)
-    per_point = min(seconds) * cfg.t_end / probe_t
+        motion = simulate_system(system, probe_t, solver=cfg.solver)
+        ran = time.process_time()
+        analyze_structure(motion, rtol=cfg.rtol)
+        seconds.append((ran - start, time.process_time() - ran))
+    run, analysis = min(seconds, key=sum)
+    per_point = run * cfg.t_end / probe_t + analysis + _grid_seconds(motion, cfg.t_end)
     work = Estimate(float(cfg.size), f"model points of t_end {cfg.t_end:g} (probe: {probe_t:g})",
                     per_point * cfg.size, cores=1)
     cells = sum(math.prod(len(cfg.labels[d]) for d in v.dims) for v in cfg.variables)
     return work.writing(out, float(cfg.size) * 8 * cells, name)
+
+
+def _grid_seconds(motion: Any, t_end: float) -> float:
+    """CPU seconds the analysis's evaluations of a run to ``t_end`` take (:func:`~frictionflow.analysis.
+    structure.evaluations`), timed on at most GRID_PROBE states of the probe's ``motion``, on a grid and at
+    scattered times, and scaled: the probe's own analysis is counted as it is, not scaled to t_end -- most of
+    it, where the probe has not settled, is the largest Lyapunov exponent, a fixed number of blocks (scaling it
+    made a sweep of points periodic by t_end 1000 look 200 times its cost)."""
+    seconds = 0.0
+    t0, t1 = float(motion.t[0]), float(motion.t[-1])
+    for count, spread in zip(evaluations(motion, t_end), (False, True)):
+        probe = max(1, min(count, GRID_PROBE if not spread else GRID_PROBE // 100))
+        times = np.linspace(t0, t1, probe)  # scattered: a few per probe, each in a phase of its own
+        start = time.process_time()
+        motion.states(times)
+        seconds += (time.process_time() - start) * count / probe
+    return seconds
 
 
 def default_model_chunk(cfg: ModelSweepConfig) -> int:
