@@ -10,6 +10,7 @@ the engine from the orbit's state returning to it.
 from __future__ import annotations
 
 import json
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +18,7 @@ import pytest
 
 from frictionflow import BeltOscillator, Coulomb
 from frictionflow.core.layout import FD
-from frictionflow.analysis.structure import analyze_structure, section_times
+from frictionflow.analysis.structure import analyze_structure, section_times, structure_steady_state
 from frictionflow.orbits import find_orbit
 from frictionflow.orbits.shooting import ShootingError
 from frictionflow.orbits.structure import find_structure_orbit
@@ -365,3 +366,58 @@ def test_newton_from_a_transient_shorter_than_the_slowest_time_scale_says_so():
     end = orbit.motion.states(np.array([orbit.period]))[:, 0]
     assert np.abs(end - orbit.state).max() < 1e-9 and orbit.stability == "stable"
     assert 0.999 < orbit.multiplier.real < 1.0  # the creep
+
+
+#: three masses, a q-dependent normal load: a stick-slip cycle that crosses x2' = 0 twice a period
+THREE_TWICE = """
+dof = ["x1", "x2", "x3"]
+mass = [1.0, 0.8, 1.2]
+[[spring]]
+on = { x1 = 1.0 }
+k = 1.0
+[[spring]]
+on = { x1 = 1.0, x2 = -1.0 }
+k = 0.6
+[[spring]]
+on = { x2 = 1.0, x3 = -1.0 }
+k = 0.4
+[[spring]]
+on = { x3 = 1.0 }
+k = 0.9
+[[damper]]
+on = { x1 = 1.0 }
+c = 0.02
+[[damper]]
+on = { x2 = 1.0, x3 = -1.0 }
+c = 0.015
+[[contact]]
+on = { x1 = 1.0 }
+belt = 0.05
+friction = "coulomb"
+fd = 0.1
+fs = 0.3
+normal = { preload = 1.0, x3 = 0.2 }
+[[contact]]
+on = { x3 = 1.0 }
+belt = 0.05
+friction = "coulomb"
+fd = 0.12
+fs = 0.25
+[initial]
+v = { x1 = 0.05, x3 = 0.05 }
+"""
+
+
+def test_newton_stalled_on_a_cycle_crossing_its_section_twice_says_how_many_returns():
+    """The default section (x2, whose velocity varies most) is crossed twice a period by this chain's cycle,
+    so the one-return map jumps between the two crossings and Newton stalled with "no periodic orbit near this
+    start" (QA).  The line now says the transient settles on a cycle (simulate's analysis) crossing the section
+    twice; with returns=2 the orbit is found, its period simulate's."""
+    system = System.from_dict(tomllib.loads(THREE_TWICE), source=None)
+    ss = structure_steady_state(simulate_system(system, 4000.0))
+    assert ss.kind == "periodic"
+    with pytest.raises(ShootingError, match="stalled.*settles on a cycle of period 9.386.* crosses the section "
+                                            "x2' = 0 2 times a period: returns=2"):
+        find_structure_orbit(system, t_transient=4000.0)
+    found = find_structure_orbit(system, t_transient=4000.0, returns=2)
+    assert found.period == pytest.approx(ss.period, rel=1e-9)

@@ -33,7 +33,7 @@ import numpy as np
 
 from .._display import Row, Summarized, num
 from .._json import jsonable
-from ..analysis.structure import certified_sliding, slowest_period, stick_fractions
+from ..analysis.structure import certified_sliding, slowest_period, stick_fractions, structure_steady_state
 from ..core.assembly import Assembly
 from ..core.layout import LAW, STICK
 from ..estimate import enforce, enforce_stage
@@ -390,7 +390,8 @@ def find_structure_orbit(
     try:
         ret, iterations = _newton(flow, ret, row, again, (DEFAULT_TOL if tol is None else tol) * scale, int(max_iter))
     except ShootingError as e:
-        raise ShootingError(f"{e}{_slow_hint(asm, float(t_transient))}") from None
+        hint = _slow_hint(asm, float(t_transient)) or _returns_hint(setup, guess, float(t_transient), row, returns)
+        raise ShootingError(f"{e}{hint}") from None
     return _orbit(setup, ret, row, int(returns), iterations, scale)
 
 
@@ -403,6 +404,27 @@ def _slow_hint(asm: Assembly, t_transient: float) -> str:
         return ""
     return (f"; the structure's slowest time scale, 2 pi / its least |lambda| = {slow:.3g}, is longer than the "
             f"transient ({t_transient:g}): a longer one (t_transient; orbit --model: --t-end) starts nearer the orbit")
+
+
+def _returns_hint(setup: Setup, guess: np.ndarray, t_transient: float, row: int, returns: int) -> str:
+    """What to add to Newton's failure when the transient settles on a cycle (simulate's analysis of it) that
+    crosses the section another number of times a period than ``returns``: the return map then jumps between
+    the cycle's crossings, and Newton stalls far from any fixed point (QA: a 3-mass chain's cycle crossing x2'
+    = 0 twice a period, "no periodic orbit near this start")."""
+    if t_transient <= 0.0:
+        return ""
+    motion = setup.flow.run(guess, t_transient)
+    ss = structure_steady_state(motion)
+    if ss.kind != "periodic" or ss.periods < 1:
+        return ""
+    times = crossings(setup.flow, motion, row, ss.window[0])
+    inside = np.sum((times >= ss.window[0]) & (times < ss.window[1] - 1e-9 * ss.period))
+    m = int(round(float(inside) / ss.periods))
+    if m < 1 or m == returns:
+        return ""
+    return (f"; the transient settles on a cycle of period {ss.period:.6g} (as simulate --model finds it) that "
+            f"crosses the section {setup.dof[row - setup.flow.n]}' = 0 {m} times a period: returns={m} (orbit "
+            f"--model: --returns {m}) shoots for it")
 
 
 def forcing_period(assembly: Assembly) -> float:
