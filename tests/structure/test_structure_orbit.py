@@ -29,6 +29,7 @@ from tests.cli.processes import cli, in_process, one_line
 from tests.golden.cases import ORBIT
 
 from .builders import assembly, chain, single_mass
+from .test_structure_kinds import _in_time_units
 
 EXAMPLES = Path(__file__).parents[2] / "examples" / "models"
 
@@ -421,3 +422,17 @@ def test_newton_stalled_on_a_cycle_crossing_its_section_twice_says_how_many_retu
         find_structure_orbit(system, t_transient=4000.0)
     found = find_structure_orbit(system, t_transient=4000.0, returns=2)
     assert found.period == pytest.approx(ss.period, rel=1e-9)
+
+
+@pytest.mark.parametrize("s", [1e-6, 1e6])
+def test_an_orbit_in_other_units_of_time_is_the_same_orbit(s):
+    """The stick-slip chain with time measured in units s times shorter: its period is the unit chain's times s
+    and its Floquet multipliers (dimensionless) the same.  Newton's tolerance was one scale over positions and
+    velocities: in microseconds the belt's speed (5e4) set the positions' tolerance and the period came out
+    1.3e-7 off."""
+    unit_system = load_system(Path(__file__).parents[2] / "examples" / "models" / "stick_slip_chain.toml")
+    unit = find_structure_orbit(unit_system)
+    other = find_structure_orbit(_in_time_units(unit_system, s), t_transient=300.0 * s)
+    assert other.period / s == pytest.approx(unit.period, rel=1e-12)
+    np.testing.assert_allclose(np.sort_complex(other.multipliers), np.sort_complex(unit.multipliers), atol=1e-8)
+    assert other.stable and unit.stable

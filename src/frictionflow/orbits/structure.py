@@ -44,7 +44,7 @@ from . import floquet
 from .shooting import ShootingError, check_shooting
 from .structure_flow import Flow, Return, crossings, return_map
 
-#: Newton's default tolerance on |P(s) - s|, relative to the orbit's scale
+#: Newton's default tolerance on |P(s) - s|, relative to the orbit's size (:func:`orbit_scales`)
 DEFAULT_TOL = 1e-11
 #: backtracking halvings before Newton gives up
 MAX_HALVINGS = 12
@@ -291,11 +291,12 @@ def _step(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray,
     raise ShootingError(f"Newton stalled at residual {size:.3g}: no periodic orbit near this start")
 
 
-def _newton(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray, Return], Return], tol_abs: float,
-            max_iter: int) -> tuple[Return, int]:
-    """Newton on P(s) - s = 0 from ``ret`` (``again``: the map, as :func:`_step`); the return and the iterations."""
+def _newton(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray, Return], Return],
+            tol_abs: np.ndarray, max_iter: int) -> tuple[Return, int]:
+    """Newton on P(s) - s = 0 from ``ret`` (``again``: the map, as :func:`_step`) until every component is
+    within its ``tol_abs``; the return and the iterations."""
     for it in range(max_iter + 1):
-        if float(np.max(np.abs(_residual(ret)))) <= tol_abs:
+        if np.all(np.abs(_residual(ret)) <= tol_abs):
             return ret, it
         if it < max_iter:
             ret = _step(flow, ret, row, again)
@@ -358,8 +359,8 @@ def find_structure_orbit(
         Simulate this long first and shoot from the last section crossing of its second half (> 0: an
         attracting orbit); 0 shoots from the guess's first crossing (an unstable orbit near the guess).
     tol:
-        Newton's tolerance on max |P(s) - s| relative to the orbit's scale (the largest of |s| and the
-        belt speeds); default 1e-11, at most 1e-3.
+        Newton's tolerance on |P(s) - s| relative to the orbit's size, positions' and velocities' each
+        (:func:`orbit_scales`); default 1e-11, at most 1e-3.
     returns:
         Section crossings per period (2 for a period-2 orbit), 1 to 64; forced, forcing periods per period.
     section:
@@ -383,7 +384,7 @@ def find_structure_orbit(
     enforce(lambda: run_estimate(asm, transient), open_stage="shooting")
     ret, row = _start(setup, guess, float(t_transient), section, int(returns))
     enforce_stage("shooting", lambda: run_estimate(asm, SHOOTING_FLOWS * (int(max_iter) + 1) * 4.0 * ret.time))
-    scale = max(float(np.max(np.abs(ret.start))), float(np.max(np.abs(asm.belt))), 1e-12)
+    scale = orbit_scales(flow, ret.start)
     def again(s: np.ndarray, last: Return) -> Return:
         return return_map(flow, s, row, int(returns), 1.5 * last.time, limit=RETURN_LIMIT * last.time)
 
@@ -468,19 +469,31 @@ def _forced_orbit(setup: Setup, guess: np.ndarray, t_transient: float, section: 
     except RuntimeError as e:
         raise ShootingError(f"from the start: {e}") from None
     enforce_stage("shooting", lambda: run_estimate(asm, SHOOTING_FLOWS * (max_iter + 1) * T))
-    scale = max(float(np.max(np.abs(ret.start))), float(np.max(np.abs(asm.belt))), 1e-12)
+    scale = orbit_scales(flow, ret.start)
     ret, iterations = _newton(flow, ret, None, lambda s, last: strobe(flow, s, T),
                               (DEFAULT_TOL if tol is None else tol) * scale, max_iter)
     return _orbit(setup, ret, None, periods, iterations, scale)
 
 
-def _orbit(setup: Setup, ret: Return, row: int | None, returns: int, iterations: int, scale: float) -> StructureOrbit:
+def orbit_scales(flow: Flow, state: np.ndarray) -> np.ndarray:
+    """Per state component, the orbit's size in its own units: the largest |q| for positions (at least the
+    velocities' over the fastest natural frequency), the largest of |q'| and the belt speeds for velocities.
+    One scale over both made Newton's tolerance and the difference step depend on the unit of time (in
+    microseconds the belt's speed set the positions' tolerance: the period off by 1.3e-7)."""
+    n = flow.n
+    v = max(float(np.max(np.abs(state[n:]))), float(np.max(np.abs(flow.assembly.belt), initial=0.0)), 1e-300)
+    q = max(float(np.max(np.abs(state[:n]))), v / flow.omega_max)
+    return np.repeat([q, v], n)
+
+
+def _orbit(setup: Setup, ret: Return, row: int | None, returns: int, iterations: int,
+           scale: np.ndarray) -> StructureOrbit:
     """The :class:`StructureOrbit` of a converged return (``row`` None: stroboscopic); ShootingError if it is
     an equilibrium."""
     flow, T = setup.flow, ret.time
     # the stroboscopic map's run is exactly one period from the start; a return map's runs past it
     one = ret.motion if row is None else flow.run(ret.start, T)
-    if row is not None and float(np.max(np.ptp(flow.states(one, np.linspace(0.0, T, 65)), axis=0))) <= 1e-9 * scale:
+    if row is not None and np.all(np.ptp(flow.states(one, np.linspace(0.0, T, 65)), axis=0) <= 1e-9 * scale):
         raise ShootingError("shooting converged onto an equilibrium: no periodic orbit near this start")
     return StructureOrbit(
         state=ret.start.copy(), period=T, section="stroboscopic" if row is None else setup.dof[row - flow.n],
@@ -519,14 +532,13 @@ def fd_structure_monodromy(system_or_assembly: Any, state: Any, period: float, e
     period:
         The time the map integrates over.
     eps:
-        The difference step (default 1e-6 of the state's scale).
+        The difference step (default 1e-6 of each component's scale, :func:`orbit_scales`).
     """
     flow = _setup(system_or_assembly).flow
     y = np.asarray(state, dtype=float)
-    scale = max(float(np.max(np.abs(y))), float(np.max(np.abs(flow.assembly.belt))), 1e-12)
-    h = 1e-6 * scale if eps is None else float(eps)
+    steps = 1e-6 * orbit_scales(flow, y) if eps is None else np.full(len(y), float(eps))
     cols = []
-    for e in np.eye(len(y)):
+    for h, e in zip(steps, np.eye(len(y))):
         ends = [flow.run(y + sign * h * e, float(period)).state[:, -1] for sign in (1.0, -1.0)]
         cols.append((ends[0] - ends[1]) / (2.0 * h))
     return np.column_stack(cols)
