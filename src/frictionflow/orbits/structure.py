@@ -360,7 +360,7 @@ def find_structure_orbit(
         attracting orbit); 0 shoots from the guess's first crossing (an unstable orbit near the guess).
     tol:
         Newton's tolerance on |P(s) - s| relative to the orbit's size, positions' and velocities' each
-        (:func:`orbit_scales`); default 1e-11, at most 1e-3.
+        (``orbit_scales``); default 1e-11, at most 1e-3.
     returns:
         Section crossings per period (2 for a period-2 orbit), 1 to 64; forced, forcing periods per period.
     section:
@@ -532,7 +532,7 @@ def fd_structure_monodromy(system_or_assembly: Any, state: Any, period: float, e
     period:
         The time the map integrates over.
     eps:
-        The difference step (default 1e-6 of each component's scale, :func:`orbit_scales`).
+        The difference step (default 1e-6 of each component's scale, ``orbit_scales``).
     """
     flow = _setup(system_or_assembly).flow
     y = np.asarray(state, dtype=float)
