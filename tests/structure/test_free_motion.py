@@ -9,12 +9,15 @@ free translations: carried along by the belt at a constant speed it is at rest r
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import frictionflow as ff
-from frictionflow.analysis.structure import analyze_structure, structure_steady_state
+from frictionflow.analysis.structure import STRUCTURE_KINDS, analyze_structure, structure_steady_state
 from frictionflow.orbits.structure import find_structure_orbit
-from frictionflow.solvers.structure import simulate_system, structure_solver_for
+from frictionflow.solvers.structure import free_direction_text, simulate_system, structure_solver_for
+from frictionflow.sweep import run_sweep
+from frictionflow.sweep.model import parse_model_sweep
 from frictionflow.system import System
 
 from ..cli.processes import in_process, one_line
@@ -93,15 +96,52 @@ def test_orbits_say_they_follow_the_exact_engine_where_a_free_motion_is_met():
 
 def test_an_option_refused_beside_a_model_names_the_ones_the_command_takes(tmp_path):
     """The refusal said "(set them in the model file)" for --solver with orbit and --dt with simulate, which
-    are no model file's entries: now it lists the options the command takes beside --model."""
+    are no model file's entries: now it lists the single-mass options the command takes beside --model."""
     path = tmp_path / "m.toml"
     path.write_text('dof = ["x"]\nmass = [1.0]\n[[spring]]\non = { x = 1.0 }\nk = 1.0\n[[contact]]\n'
                     'on = { x = 1.0 }\nbelt = 0.1\nfriction = "coulomb"\nfd = 0.1\nfs = 0.2\n')
     code, out, err, _ = in_process("orbit", "--model", str(path), "--solver", "adaptive")
     assert code == 2 and out == ""
-    one_line(err, "--solver cannot be given with it (with --model this command takes --t-end; the model's own "
-                  "entries are in its file)")
+    one_line(err, "--solver cannot be given with it (of the single-mass options only --t-end apply beside it; "
+                  "the model's own entries are in its file)")
     code, out, err, _ = in_process("simulate", "--model", str(path), "--dt", "0.1")
     assert code == 2 and out == ""
-    one_line(err, "--dt cannot be given with it (with --model this command takes --t-end, --window, --rtol, "
+    one_line(err, "--dt cannot be given with it (of the single-mass options only --t-end, --window, --rtol, "
                   "--solver")
+
+
+def test_a_free_chain_riding_its_belt_is_an_equilibrium():
+    """Two masses (2 and 0.7) joined by a spring of 5, both on a belt at 0.1, nothing to the ground: they catch
+    the belt and ride on it.  The rigid mode's natural frequency comes out 3e-8, not 0, and was taken for the
+    slowest natural period (2e8): the tail the kind is judged on was the whole run, transient included, and the
+    run not_settled (auto runs it on the adaptive solver: the pair is free as a whole)."""
+    system = System.from_dict({
+        "dof": ["x1", "x2"], "mass": [2.0, 0.7], "spring": [{"on": {"x1": 1.0, "x2": -1.0}, "k": 5.0}],
+        "contact": [{"on": {d: 1.0}, "belt": 0.1, "friction": "coulomb", "fd": 0.3, "fs": 0.4} for d in ("x1", "x2")],
+        "initial": {"q": {"x2": 0.05}}}, source=None)
+    motion = simulate_system(system, 200.0, solver=structure_solver_for(system))
+    ss = structure_steady_state(motion)
+    assert ss.kind == "equilibrium" and ss.window[0] > 100.0
+    assert motion.states([200.0])[2:, 0] == pytest.approx([0.1, 0.1], rel=1e-9)
+
+
+def test_the_free_direction_is_written_with_its_signs():
+    assert free_direction_text(np.array([[-0.5], [1.0]]), ("x1", "x2")) == "-0.5 x1 + x2"
+    assert free_direction_text(np.array([[1.0], [-1.0]]), ("x1", "x2")) == "x1 - x2"
+    assert free_direction_text(np.array([[-1.0], [-0.2]]), ("x1", "x2")) == "x1 + 0.2 x2"
+
+
+def test_a_sweep_point_that_frees_a_motion_runs_on_the_solver_that_runs_it(tmp_path):
+    """A mass on a belt held by a damper to the ground (the exact engine runs it) swept over the damper down
+    to 0, where nothing holds it: the sweep ran every point on the base model's solver, and the point c = 0
+    failed the whole sweep.  Each point now takes simulate's choice at that point, and equals its run."""
+    system = System.from_dict({**RIDER, "damper": [{"on": {"x": 1.0}, "c": 0.1}]}, source=None)
+    ds = run_sweep(parse_model_sweep({"t_end": 60.0, "grid": {"damper.0.c": [0.1, 0.0]}}, system),
+                   tmp_path / "r.nc").load()
+    for i, c in enumerate((0.1, 0.0)):
+        point = system.with_entry("damper.0.c", c)
+        own = analyze_structure(simulate_system(point, 60.0, solver=structure_solver_for(point)))
+        got = ds.isel({"damper.0.c": i})
+        assert STRUCTURE_KINDS[int(got["kind"])] == own.steady_state.kind
+        assert float(got["P_heat"].sel(contact="contact.0")) == own.elements["contact.0"]["P_heat"]
+    assert structure_solver_for(system.with_entry("damper.0.c", 0.0)) == "adaptive"

@@ -64,6 +64,8 @@ STRUCTURE_KINDS = (*Q.KINDS[:3], "contact_lost", *(k for k in Q.KINDS[3:] if k !
 MAX_CROSSINGS = 12
 #: grid points per shortest natural period when looking for section crossings
 GRID_PER_PERIOD = 64
+#: natural frequencies below this share of the fastest are a rigid mode's (computed at rounding, not 0)
+RIGID = 1e-6
 #: evaluations a crossing's refinement takes at most, for estimates (measured: about 24 steps at t_end 1e5)
 REFINE_STEPS = 32
 #: Wilkinson's first-order eigenvalue bound, EPS ||A|| kappa_i, times this for the eigen-solver's own rounding
@@ -200,7 +202,7 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
     t_start, t_end = float(motion.t[0]), float(motion.t[-1])
     if motion.status != "ok":
         return StructureSteadyState("contact_lost", math.nan, (t_start, t_end), (math.nan,) * _contacts(motion))
-    tail = (max(t_start, t_end - max(0.1 * (t_end - t_start), 2.0 * _slowest_swing(motion))), t_end)
+    tail = _tail(motion)
     grid = np.linspace(tail[0], t_end, _grid_size(motion, tail))
     states = states_at(motion, (grid))
     if _at_rest(motion, tail, states, rtol) or certified_sliding(motion):
@@ -212,6 +214,21 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
         return StructureSteadyState("periodic", period, window, stick_fractions(motion, window), min_periods)
     kind, lam = _not_periodic(motion, np.ptp(states, axis=1))
     return StructureSteadyState(kind, math.nan, tail, stick_fractions(motion, tail), lyapunov=lam)
+
+
+def _tail(motion: Any) -> tuple[float, float]:
+    """The span a kind is judged on: the run's last tenth, at least two of the structure's slowest natural
+    periods (:func:`_slowest_swing`; all of a shorter run)."""
+    t_start, t_end = float(motion.t[0]), float(motion.t[-1])
+    return max(t_start, t_end - max(0.1 * (t_end - t_start), 2.0 * _slowest_swing(motion))), t_end
+
+
+def repeating(motion: Any, rtol: float = 1e-6, min_periods: int = 3) -> tuple[float, tuple[float, float], int] | None:
+    """(period, window, section crossings per period) if the run's section states repeat (the periodic kind's
+    test alone, as :func:`structure_steady_state` makes it: no rest test, no exponent), else None."""
+    tail = _tail(motion)
+    states = without_drift(motion.assembly, states_at(motion, np.linspace(*tail, _grid_size(motion, tail))))
+    return _periodic(motion, rtol, min_periods, np.max(np.abs(states), axis=1))
 
 
 def _at_rest(motion: Any, span: tuple[float, float], tail: np.ndarray, rtol: float) -> bool:
@@ -375,7 +392,7 @@ def _slowest_swing(motion: Any) -> float:
     """The structure's slowest natural period (its zero frequencies left out), else the fastest rate's period
     (0 without any): the least tail a kind is judged on (two of them; 4 pi for the nondimensional single mass)."""
     omega = natural_frequencies(motion.assembly)
-    omega = omega[omega > 0.0]
+    omega = omega[omega > RIGID * float(omega.max(initial=0.0))]  # a rigid mode's comes out ~1e-8, not 0
     if len(omega):
         return 2.0 * math.pi / float(omega.min())
     fastest = _fastest(motion)
@@ -465,6 +482,7 @@ def _falls(motion: Any, row: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     fa, fb = states_at(motion, a)[row], states_at(motion, b)[row]
     side = np.sign(fa)
     bisect = fb == 0.0
+    moved = np.zeros(len(a), dtype=np.int8)  # which end the last step moved: +1 a, -1 b, 0 none yet
     for _ in range(200):
         wide = np.flatnonzero(b - a > 4.0 * EPS * np.abs(b))
         if not len(wide):
@@ -475,10 +493,10 @@ def _falls(motion: Any, row: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         fx = states_at(motion, np.sort(x))[row][np.argsort(np.argsort(x))]
         kept = np.sign(fx) == side[wide]
         lo, hi = wide[kept], wide[~kept]
-        fb[lo] *= 0.5  # Illinois: the end kept twice has its value halved
-        fa[hi] *= 0.5
-        a[lo], fa[lo] = x[kept], fx[kept]
-        b[hi], fb[hi] = x[~kept], fx[~kept]
+        fb[lo[moved[lo] == 1]] *= 0.5  # Illinois: the end kept twice in a row has its value halved
+        fa[hi[moved[hi] == -1]] *= 0.5
+        a[lo], fa[lo], moved[lo] = x[kept], fx[kept], 1
+        b[hi], fb[hi], moved[hi] = x[~kept], fx[~kept], -1
         bisect[hi] |= fx[~kept] == 0.0
     return b
 

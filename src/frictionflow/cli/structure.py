@@ -39,8 +39,8 @@ def refuse_single_mass(params: dict[str, Any], keeps: tuple[str, ...] = MODEL_KE
     if given:
         flags = ", ".join("--" + k.replace("_", "-") for k in given)
         taken = ", ".join("--" + k.replace("_", "-") for k in keeps if k in params)  # those the command has
-        raise ValueError(f"--model describes the whole system: {flags} cannot be given with it (with --model "
-                         f"this command takes {taken}; the model's own entries are in its file)")
+        raise ValueError(f"--model describes the whole system: {flags} cannot be given with it (of the "
+                         f"single-mass options only {taken} apply beside it; the model's own entries are in its file)")
 
 
 def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> StructureAnalysis:

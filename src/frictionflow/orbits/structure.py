@@ -33,8 +33,8 @@ import numpy as np
 
 from .._display import Row, Summarized, num
 from .._json import jsonable
-from ..analysis.structure import certified_sliding, slowest_period, stick_fractions, structure_steady_state
-from ..core.assembly import Assembly
+from ..analysis.structure import certified_sliding, repeating, slowest_period, stick_fractions
+from ..core.assembly import Assembly, natural_frequencies
 from ..core.layout import LAW, STICK
 from ..estimate import enforce, enforce_stage
 from ..friction.registry import law_classes
@@ -77,7 +77,8 @@ class StructureOrbit(floquet.MultiplierStability, Summarized):
     energy_residual:
         The relative residual of the energy balance over one period.
     residual, iterations:
-        max |P(s) - s| at the returned state and Newton's iterations.
+        max |P(s) - s| at the returned state, each component relative to its group's size (``orbit_scales``:
+        positions, velocities), and Newton's iterations.
     motion:
         One period run from :attr:`state` by the exact engine.
     dof, contacts:
@@ -259,8 +260,10 @@ def _residual(ret: Return) -> np.ndarray:
     return ret.end - ret.start
 
 
-def _step(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray, Return], Return]) -> Return:
-    """One Newton step from ``ret`` with backtracking on max |P(s) - s|; ShootingError if it stalls.
+def _step(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray, Return], Return],
+          scale: np.ndarray) -> Return:
+    """One Newton step from ``ret`` with backtracking on max |P(s) - s| / ``scale`` (per component: positions'
+    and velocities' own sizes); ShootingError if it stalls.
 
     ``again(s, ret)``: the map from the trial point ``s`` (RuntimeError if it does not return); ``row``: the
     section's state row (None: stroboscopic, no row pinned).
@@ -274,7 +277,7 @@ def _step(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray,
     except np.linalg.LinAlgError:
         raise ShootingError("the return map's Jacobian minus I is singular: Newton cannot proceed "
                             "(a fold, or a family of neutral orbits)") from None
-    size = float(np.max(np.abs(r)))
+    size = float(np.max(np.abs(r) / scale))
     end = ret.end.copy()
     if row is not None:
         end[row] = 0.0
@@ -286,26 +289,30 @@ def _step(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray,
             new = again(s, ret)
         except RuntimeError:
             continue
-        if float(np.max(np.abs(_residual(new)))) < size:
+        if float(np.max(np.abs(_residual(new)) / scale)) < size:
             return new
-    raise ShootingError(f"Newton stalled at residual {size:.3g}: no periodic orbit near this start")
+    raise ShootingError(f"Newton stalled at residual {size:.3g} (of the orbit's size): no periodic orbit near "
+                        "this start")
 
 
 def _newton(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray, Return], Return],
-            tol_abs: np.ndarray, max_iter: int) -> tuple[Return, int]:
-    """Newton on P(s) - s = 0 from ``ret`` (``again``: the map, as :func:`_step`) until every component is
-    within its ``tol_abs``; the return and the iterations."""
+            tol: tuple[float, np.ndarray], max_iter: int) -> tuple[Return, int]:
+    """Newton on P(s) - s = 0 from ``ret`` (``again``: the map, as :func:`_step`) until every component is within
+    ``tol`` = (relative tolerance, per-component scale) of its size; the return and the iterations."""
+    rel, scale = tol
     for it in range(max_iter + 1):
-        if np.all(np.abs(_residual(ret)) <= tol_abs):
+        if float(np.max(np.abs(_residual(ret)) / scale)) <= rel:
             return ret, it
         if it < max_iter:
-            ret = _step(flow, ret, row, again)
+            ret = _step(flow, ret, row, again, scale)
     raise ShootingError(f"Newton did not converge in {max_iter} iterations "
-                        f"(residual {float(np.max(np.abs(_residual(ret)))):.3g})")
+                        f"(residual {float(np.max(np.abs(_residual(ret)) / scale)):.3g} of the orbit's size)")
 
 
-def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any, returns: int) -> tuple[Return, int]:
-    """The first return map: from the transient's last section crossing (or the guess's first), and the row."""
+def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any,
+           returns: int) -> tuple[Return, int, Any]:
+    """The first return map: from the transient's last section crossing (or the guess's first), the row, and
+    the transient's run (None without one)."""
     flow = setup.flow
     slow = 2.0 * math.pi / flow.omega_min
     length = t_transient if t_transient > 0 else 2.0 * slow * (returns + 1)
@@ -325,7 +332,7 @@ def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any, re
     s = flow.states(motion, np.array([tc]))[0]
     s[row] = 0.0
     try:
-        return return_map(flow, s, row, returns, 1.5 * returns * gap), row
+        return return_map(flow, s, row, returns, 1.5 * returns * gap), row, motion if t_transient > 0 else None
     except RuntimeError as e:
         raise ShootingError(f"from the section point at t={tc:.6g}: {e}") from None
 
@@ -382,16 +389,16 @@ def find_structure_orbit(
     slow = 2.0 * math.pi / flow.omega_min
     transient = float(t_transient) if t_transient > 0 else 2.0 * slow * (int(returns) + 1)
     enforce(lambda: run_estimate(asm, transient), open_stage="shooting")
-    ret, row = _start(setup, guess, float(t_transient), section, int(returns))
+    ret, row, transient_run = _start(setup, guess, float(t_transient), section, int(returns))
     enforce_stage("shooting", lambda: run_estimate(asm, SHOOTING_FLOWS * (int(max_iter) + 1) * 4.0 * ret.time))
     scale = orbit_scales(flow, ret.start)
     def again(s: np.ndarray, last: Return) -> Return:
         return return_map(flow, s, row, int(returns), 1.5 * last.time, limit=RETURN_LIMIT * last.time)
 
     try:
-        ret, iterations = _newton(flow, ret, row, again, (DEFAULT_TOL if tol is None else tol) * scale, int(max_iter))
+        ret, iterations = _newton(flow, ret, row, again, (DEFAULT_TOL if tol is None else tol, scale), int(max_iter))
     except ShootingError as e:
-        hint = _slow_hint(asm, float(t_transient)) or _returns_hint(setup, guess, float(t_transient), row, returns)
+        hint = _slow_hint(asm, float(t_transient)) or _returns_hint(setup, transient_run, row, int(returns))
         raise ShootingError(f"{e}{hint}") from None
     return _orbit(setup, ret, row, int(returns), iterations, scale)
 
@@ -407,23 +414,20 @@ def _slow_hint(asm: Assembly, t_transient: float) -> str:
             f"transient ({t_transient:g}): a longer one (t_transient; orbit --model: --t-end) starts nearer the orbit")
 
 
-def _returns_hint(setup: Setup, guess: np.ndarray, t_transient: float, row: int, returns: int) -> str:
-    """What to add to Newton's failure when the transient settles on a cycle (simulate's analysis of it) that
-    crosses the section another number of times a period than ``returns``: the return map then jumps between
-    the cycle's crossings, and Newton stalls far from any fixed point (QA: a 3-mass chain's cycle crossing x2'
-    = 0 twice a period, "no periodic orbit near this start")."""
-    if t_transient <= 0.0:
+def _returns_hint(setup: Setup, transient: Any, row: int, returns: int) -> str:
+    """What to add to Newton's failure when the ``transient`` (None: none was run) settles on a cycle (the
+    periodic test of simulate's analysis) that crosses the section another number of times a period than
+    ``returns``: the return map then jumps between the cycle's crossings, and Newton stalls far from any fixed
+    point (QA: a 3-mass chain's cycle crossing x2' = 0 twice a period, "no periodic orbit near this start")."""
+    found = None if transient is None else repeating(transient)
+    if found is None:
         return ""
-    motion = setup.flow.run(guess, t_transient)
-    ss = structure_steady_state(motion)
-    if ss.kind != "periodic" or ss.periods < 1:
-        return ""
-    times = crossings(setup.flow, motion, row, ss.window[0])
-    inside = np.sum((times >= ss.window[0]) & (times < ss.window[1] - 1e-9 * ss.period))
-    m = int(round(float(inside) / ss.periods))
+    period, (t0, t1), _ = found
+    times = crossings(setup.flow, transient, row, t0)
+    m = int(round(float(np.sum((times >= t0) & (times < t1 - 1e-9 * period))) * period / (t1 - t0)))
     if m < 1 or m == returns:
         return ""
-    return (f"; the transient settles on a cycle of period {ss.period:.6g} (as simulate --model finds it) that "
+    return (f"; the transient settles on a cycle of period {period:.6g} (as simulate --model finds it) that "
             f"crosses the section {setup.dof[row - setup.flow.n]}' = 0 {m} times a period: returns={m} (orbit "
             f"--model: --returns {m}) shoots for it")
 
@@ -471,18 +475,20 @@ def _forced_orbit(setup: Setup, guess: np.ndarray, t_transient: float, section: 
     enforce_stage("shooting", lambda: run_estimate(asm, SHOOTING_FLOWS * (max_iter + 1) * T))
     scale = orbit_scales(flow, ret.start)
     ret, iterations = _newton(flow, ret, None, lambda s, last: strobe(flow, s, T),
-                              (DEFAULT_TOL if tol is None else tol) * scale, max_iter)
+                              (DEFAULT_TOL if tol is None else tol, scale), max_iter)
     return _orbit(setup, ret, None, periods, iterations, scale)
 
 
 def orbit_scales(flow: Flow, state: np.ndarray) -> np.ndarray:
     """Per state component, the orbit's size in its own units: the largest |q| for positions (at least the
-    velocities' over the fastest natural frequency), the largest of |q'| and the belt speeds for velocities.
+    velocities' over the fastest natural or forcing frequency), the largest of |q'| and the belt speeds for
+    velocities.
     One scale over both made Newton's tolerance and the difference step depend on the unit of time (in
     microseconds the belt's speed set the positions' tolerance: the period off by 1.3e-7)."""
-    n = flow.n
-    v = max(float(np.max(np.abs(state[n:]))), float(np.max(np.abs(flow.assembly.belt), initial=0.0)), 1e-300)
-    q = max(float(np.max(np.abs(state[:n]))), v / flow.omega_max)
+    n, asm = flow.n, flow.assembly
+    v = max(float(np.max(np.abs(state[n:]))), float(np.max(np.abs(asm.belt), initial=0.0)), 1e-300)
+    omega = max(float(natural_frequencies(asm).max(initial=0.0)), float(np.max(np.abs(asm.force_omega), initial=0.0)))
+    q = max(float(np.max(np.abs(state[:n]))), v / omega if omega > 0.0 else 0.0, 1e-300)
     return np.repeat([q, v], n)
 
 
@@ -500,7 +506,7 @@ def _orbit(setup: Setup, ret: Return, row: int | None, returns: int, iterations:
         returns=returns, autonomous=row is not None,
         monodromy=ret.monodromy, multipliers=floquet.multipliers(ret.monodromy),
         stick_fraction=stick_fractions(one, (0.0, T)), elements=one.element_power(0.0, T),
-        energy_residual=one.energy_residual, residual=float(np.max(np.abs(_residual(ret)))),
+        energy_residual=one.energy_residual, residual=float(np.max(np.abs(_residual(ret)) / scale)),
         iterations=iterations, motion=one, dof=setup.dof, contacts=setup.contacts, system=setup.system,
         tangent=None if row is None else flow.field(ret.modes, ret.start, 0.0),
     )

@@ -43,7 +43,8 @@ from ..core.structure.combo import N_SLOTS, build
 from ..core.structure.phase import start, state_at
 from ..core.structure.stick import acceleration
 from ..core.structure.work import n_channels
-from ..solvers.structure import free_direction_text, free_motion_solvers, run_assembly
+from ..solvers.structure import (free_direction_text, free_motion_solvers, in_model_terms, is_free_motion,
+                                 run_assembly)
 from ..system.assemble import free_directions
 
 optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
@@ -109,11 +110,16 @@ class Flow:
 
     def _in_orbit_terms(self, error: ValueError) -> ValueError:
         """An undamped free motion met by the flow's phases, said for orbits (no other solver gives their
-        monodromy; ``simulate`` runs such a structure with one that runs it); any other error as it is."""
-        free = free_directions(self.assembly, undamped=True)
-        if not free.shape[1]:
-            return error
+        monodromy; ``simulate`` runs such a structure with one that runs it); an element too stiff for the
+        modes said in the model's terms (:func:`~frictionflow.solvers.structure.in_model_terms`); any other
+        error as it is."""
         dof = (self.names or {}).get("dof") or tuple(f"q{i}" for i in range(self.n))
+        free = free_directions(self.assembly, undamped=True)
+        if not (free.shape[1] and is_free_motion(error)):
+            names = {kind: (self.names or {}).get(kind) or tuple(f"{kind}.{i}" for i in range(count))
+                     for kind, count in (("spring", len(self.assembly.spring_k)),
+                                         ("damper", len(self.assembly.damper_c)))}
+            return in_model_terms(error, self.assembly, {"dof": dof, **names})
         runs = " or ".join(free_motion_solvers())
         return ValueError(f"orbits follow the exact engine's phases, which do not describe an undamped free motion: "
                           f"along {free_direction_text(free, dof)} no spring, damper or normal load holds the "

@@ -193,7 +193,7 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
     try:
         res, *records = run_growing(float(t_end), first, attempt, seconds)
     except ValueError as e:
-        raise _in_model_terms(e, assembly, nm) from None
+        raise in_model_terms(e, assembly, nm) from None
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(stopped(res, records, nm, NAME))
     return motion(res, records, assembly, nm, _channels(nm), system)
@@ -204,7 +204,7 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
 DEFECTIVE = "structure: a mode combination's matrix is defective"
 
 
-def _in_model_terms(error: ValueError, assembly: Assembly, nm: dict[str, tuple[str, ...]]) -> ValueError:
+def in_model_terms(error: ValueError, assembly: Assembly, nm: dict[str, tuple[str, ...]]) -> ValueError:
     """The engine's refusal of an unresolvable mode combination, said in the model's terms where it can be.
 
     With no direction free of every spring and damper (an undamped rigid mode: the engine's own message), the
@@ -225,6 +225,8 @@ def _in_model_terms(error: ValueError, assembly: Assembly, nm: dict[str, tuple[s
     rates = [(nm["damper"][i], cv * on[i]) for i, cv in enumerate(np.asarray(assembly.damper_c, dtype=float))]
     on = [float(e @ minv @ e) for e in np.asarray(assembly.spring_dir, dtype=float).reshape(-1, n)]
     rates += [(nm["spring"][i], math.sqrt(kv * on[i])) for i, kv in enumerate(np.asarray(assembly.spring_k, dtype=float))]
+    if not rates:  # nothing stiff to name
+        return error
     name, fastest = max(rates, key=lambda r: r[1])
     slowest = ""
     if np.linalg.matrix_rank(k) == n:
@@ -241,7 +243,8 @@ def free_direction_text(free: np.ndarray, dof: tuple[str, ...]) -> str:
     terms = [(f"{abs(x):.3g} " if not math.isclose(abs(x), 1.0) else "") + name
              for x, name in zip(d, dof) if abs(x) > 1e-9]
     signs = ["-" if x < 0 else "+" for x in d if abs(x) > 1e-9]
-    return terms[0] + "".join(f" {sign} {term}" for sign, term in zip(signs[1:], terms[1:]))
+    return ("-" if signs[0] == "-" else "") + terms[0] + "".join(f" {sign} {term}"
+                                                                for sign, term in zip(signs[1:], terms[1:]))
 
 
 def free_motion_solvers() -> tuple[str, ...]:
@@ -249,12 +252,22 @@ def free_motion_solvers() -> tuple[str, ...]:
     return solver_names_where(lambda cls: cls.structure_laws is not None and cls.structure_free_motion)
 
 
+def is_free_motion(error: Exception) -> bool:
+    """Whether ``error`` is the exact engine's refusal of an undamped free motion (raw, or said by
+    :func:`in_model_terms`)."""
+    return str(error).startswith(DEFECTIVE) or FREE_MOTION in str(error)
+
+
+#: what the refusal of an undamped free motion says
+FREE_MOTION = "an undamped free motion"
+
+
 def _free_motion_message(free: np.ndarray, dof: tuple[str, ...]) -> str:
     """One line: the exact engine does not run the undamped free motion along ``free``'s first column (named
     over ``dof``); the structure solvers that do."""
     runs = free_motion_solvers()
     return (f"solver={NAME} runs structures whose every motion a spring, damper or normal load holds; along "
-            f"{free_direction_text(free, dof)} none does (an undamped free motion: polynomial in time, not a sum "
+            f"{free_direction_text(free, dof)} none does ({FREE_MOTION}: polynomial in time, not a sum "
             "of its modes)" + (f"; use solver={' or '.join(runs)}" if runs else ""))
 
 

@@ -81,8 +81,10 @@ class ModelSweepConfig(Grid):
 
     @property
     def solver(self) -> str:
-        """The structure solver every point runs on: ``simulate --model``'s choice (``auto``: the first that runs
-        every contact's law; the grid's entries are numbers, so it is the same at every point)."""
+        """The structure solver the base model runs on: ``simulate --model``'s choice (``auto``: the first that
+        runs every contact's law and, where the structure has an undamped free motion, that too).  Each point
+        takes its own (:func:`point_rows`): a point whose entries free a motion (a damper of 0) runs on the
+        solver that runs it, as ``simulate --model`` at that point does."""
         return structure_solver_for(self.system)
 
     @property
@@ -370,7 +372,8 @@ def config_from_source(source: Mapping[str, Any], name: str = "config"):
 
 def point_rows(cfg: ModelSweepConfig, system: System) -> list[np.ndarray]:
     """One point's values, one array per variable of ``cfg.variables`` (over its extra dims)."""
-    result = analyze_structure(simulate_system(system, cfg.t_end, solver=cfg.solver), rtol=cfg.rtol)
+    result = analyze_structure(simulate_system(system, cfg.t_end, solver=structure_solver_for(system)),
+                               rtol=cfg.rtol)
     ss = result.steady_state
     lost = result.motion.lost  # (contact name, time) where a normal load reached zero, else None
     labels = cfg.labels
