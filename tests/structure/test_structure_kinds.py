@@ -12,14 +12,15 @@ import pytest
 
 import frictionflow as ff
 from frictionflow import quantities as Q
-from frictionflow.analysis.structure import MAX_CROSSINGS, STRUCTURE_KINDS, structure_steady_state
+from frictionflow.analysis.structure import MAX_CROSSINGS, STRUCTURE_KINDS, certified_sliding, structure_steady_state
 from frictionflow.analysis import structure_lyapunov
 from frictionflow.analysis.structure_lyapunov import revisits
 from frictionflow.core import strobe
 from frictionflow.friction import law_classes
 from frictionflow.solvers import RK4, Adaptive, Exact
 from frictionflow.solvers.structure import simulate_system
-from frictionflow.system import System
+from frictionflow.sweep.model import probe_length
+from frictionflow.system import System, assemble
 
 from .test_structure_sweep import TWO
 
@@ -281,3 +282,29 @@ def test_a_free_chain_carried_along_by_the_belt_is_periodic():
     np.testing.assert_allclose(b[2:], a[2:], rtol=0, atol=1e-9)
     shift = b[:2] - a[:2]
     assert shift[0] > 1e-3 and shift[1] == pytest.approx(shift[0], abs=1e-9)
+
+
+@pytest.mark.parametrize("s", [1e-6, 1e7])
+def test_steady_sliding_is_proven_in_any_unit_of_time(s):
+    """The two-mass chain slides into steady sliding, proven from the linearisation's modes.  The proof's
+    rounding floor and the eigenvectors' condition number were taken on the state in its own units: in
+    microseconds the velocity rows (10^6 larger) made cond(V) 2.4e6 instead of 4.45, the floor (2e4) exceeded
+    the decay rate (2e4) and the run was not_settled (QA).  Now velocities count over the fastest rate, as
+    lengths."""
+    unit_system = System.from_dict(_model("two_mass_chain"), source=None)
+    unit = simulate_system(unit_system, 300.0)
+    other = simulate_system(_in_time_units(unit_system, s), 300.0 * s)
+    assert certified_sliding(unit) and certified_sliding(other)
+    assert structure_steady_state(other).kind == structure_steady_state(unit).kind == "equilibrium"
+
+
+def test_a_sweep_s_probe_is_a_number_of_natural_periods():
+    """The estimate's probe ran 50 time units whatever the units: 5e-6 of a period in units of time 1e7 (a 5 s
+    sweep estimated at 78 days) and 5e7 periods in microseconds (a probe running for minutes) (QA).  Now it
+    runs the same number of the structure's slowest natural periods in any unit of time."""
+    unit_system = System.from_dict(_model("stick_slip_chain"), source=None)
+    unit = probe_length(assemble(unit_system), 1e12)
+    assert 20.0 < unit < 100.0  # about the 50 time units it was for unit masses and springs
+    for s in (1e-6, 1e7):
+        assert probe_length(assemble(_in_time_units(unit_system, s)), 1e12 * s) == pytest.approx(s * unit, rel=1e-12)
+    assert probe_length(assemble(unit_system), 10.0) == 10.0

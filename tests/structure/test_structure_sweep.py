@@ -16,7 +16,7 @@ from frictionflow.solvers.structure import simulate_system
 from frictionflow.sweep import repair_sweep, run_sweep, verify_sweep
 from frictionflow.sweep import model as model_module, runner
 from frictionflow.sweep.model import load_model_sweep, parse_model_sweep
-from frictionflow.system import System, load_system
+from frictionflow.system import System, assemble, load_system
 
 from ..cli.processes import in_process
 
@@ -361,7 +361,7 @@ def test_the_estimate_leaves_out_a_first_use_compile(two_dof, monkeypatch):
     calls, burn = _burning(model_module.analyze_structure, 1.0, lambda k: k == 0)
     monkeypatch.setattr(model_module, "analyze_structure", burn)
     est = model_module.model_sweep_estimate(cfg)
-    assert calls == [min(cfg.t_end, model_module.PROBE_T)] * 2
+    assert calls == [model_module.probe_length(assemble(cfg.point_system((0, 0))), cfg.t_end)] * 2
     assert est.seconds / est.work < 1.0  # the burnt second is not in it
 
 
@@ -372,14 +372,15 @@ def test_the_estimate_counts_the_probe_s_analysis_once(two_dof, monkeypatch):
     in for by 0.3 s of CPU in every probe's analysis, at t_end 20 times the probe's: the estimate holds it
     once.  The part of the analysis that does grow with t_end (its grids, its crossings) is counted at t_end's
     size: twice the run, twice those evaluations."""
-    (two_dof / "long.toml").write_text(SWEEP.replace("t_end = 150.0", f"t_end = {20.0 * model_module.PROBE_T}"))
+    probe = model_module.probe_length(assemble(load_model_sweep(two_dof / "sweep.toml").point_system((0, 0))), 1e9)
+    (two_dof / "long.toml").write_text(SWEEP.replace("t_end = 150.0", f"t_end = {20.0 * probe!r}"))
     cfg = load_model_sweep(two_dof / "long.toml")
-    assert cfg.t_end == 20.0 * model_module.PROBE_T
+    assert model_module.probe_length(assemble(cfg.point_system((0, 0))), cfg.t_end) == pytest.approx(probe)
     _, burn = _burning(model_module.analyze_structure, 0.3, lambda k: True)
     monkeypatch.setattr(model_module, "analyze_structure", burn)
     per_point = model_module.model_sweep_estimate(cfg).seconds / cfg.size
     assert 0.3 <= per_point < 0.3 * 2.0
-    motion = simulate_system(cfg.point_system((0,) * len(cfg.axes)), model_module.PROBE_T)
+    motion = simulate_system(cfg.point_system((0,) * len(cfg.axes)), probe)
     one, two = evaluations(motion, 1000.0), evaluations(motion, 2000.0)
     assert 1.9 < two[0] / one[0] < 2.1 and 1.9 < two[1] / one[1] < 2.1
 

@@ -50,7 +50,7 @@ from .. import quantities as Q
 from .._json import jsonable
 from .._display import Row, Summarized, num
 from ..core.assembly import natural_frequencies
-from ..system.assemble import free_directions
+from ..system.assemble import fastest_rate, free_directions
 from ..core.layout import LAW
 from ..friction.registry import law_classes
 from .stability import steady_sliding
@@ -64,6 +64,8 @@ STRUCTURE_KINDS = (*Q.KINDS[:3], "contact_lost", *(k for k in Q.KINDS[3:] if k !
 MAX_CROSSINGS = 12
 #: grid points per shortest natural period when looking for section crossings
 GRID_PER_PERIOD = 64
+#: the rounding the removal of a free drift leaves in the positions, in EPS of their size
+DRIFT_ROUNDING = 64.0
 #: natural frequencies below this share of the fastest are a rigid mode's (computed at rounding, not 0)
 RIGID = 1e-6
 #: evaluations a crossing's refinement takes at most, for estimates (measured: about 24 steps at t_end 1e5)
@@ -234,7 +236,10 @@ def repeating(motion: Any, rtol: float = 1e-6, min_periods: int = 3) -> tuple[fl
 def _at_rest(motion: Any, span: tuple[float, float], tail: np.ndarray, rtol: float) -> bool:
     """Nothing moves over the tail (``span``; ``tail``: its states on a grid) and every velocity is zero, to ``rtol``
     of the motion's scale -- but for a steady drift along the free translations (:func:`without_drift`: a
-    structure no spring holds, carried along by the belt at a constant speed is at rest relative to it): the ranges of the run's states, positions' and velocities' each (:func:`_grouped`).
+    structure no spring holds, carried along by the belt at a constant speed is at rest relative to it): the
+    ranges of the run's states, positions' and velocities' each (:func:`_grouped`); with a free translation at
+    least the velocities' size (a structure riding its belt from the start has no range) and the positions'
+    rounding (``DRIFT_ROUNDING`` EPS of the drifting q: what the drift's removal leaves).
     Not the belt speeds: a fast belt made a lasting oscillation of a stuck-free mass "at rest" (amplitude 5e-4
     at belt 1000).  A tail shorter than the fastest natural period has its changes stretched to that period: an
     unbalanced force moves a short run's velocities a little, but not nothing."""
@@ -246,6 +251,9 @@ def _at_rest(motion: Any, span: tuple[float, float], tail: np.ndarray, rtol: flo
     moving = held[n:] - free @ (free.T @ held[n:])  # velocities off the free translations: none at rest
     ranges = np.maximum(np.ptp(held, axis=1), np.ptp(without_drift(a, np.asarray(motion.state)), axis=1))
     tol = rtol * _grouped(ranges)
+    if free.shape[1]:  # riding on a belt from the start: no range, but a speed; and q's rounding left in held
+        tol = np.maximum(tol, np.concatenate((np.full(n, DRIFT_ROUNDING * EPS * float(np.max(np.abs(tail[:n])))),
+                                              rtol * np.full(n, float(np.max(np.abs(tail[n:])))))))
     return bool(np.all(stretch * np.ptp(held, axis=1) <= tol) and np.all(np.abs(moving) <= tol[n:, None]))
 
 
@@ -319,14 +327,18 @@ def certified_sliding(motion: Any) -> bool:
         inv = np.linalg.inv(vec)
     except np.linalg.LinAlgError:  # a defective spectrum: no modal amplitudes to bound
         return False
-    if not np.all(lam.real < -decay_floor(eq.jacobian, vec, inv)):  # an undamped mode circles for ever
-        return False
     n = len(eq.q)
+    # conditions measured with velocities over the fastest rate, as lengths: the same in any unit of time
+    # (in microseconds the velocity rows' size made cond(V) 2.4e6 instead of 4.45 and the floor above the decay)
+    unit = np.concatenate((np.ones(n), np.full(n, max(_fastest(motion), 1e-300))))
+    vb, ib = vec / unit[:, None], inv * unit[None, :]
+    if not np.all(lam.real < -decay_floor(unit[:, None] ** -1 * eq.jacobian * unit[None, :], vb, ib)):
+        return False  # an undamped mode circles for ever
     c = inv @ (np.asarray(motion.state)[:, -1] - np.concatenate((eq.q, np.zeros(n))))
     speed = np.abs(np.asarray(a.contact_dir) @ vec[n:]) @ np.abs(c)
     load = np.abs(np.asarray(a.normal)[:, 1:] @ vec[:n]) @ np.abs(c)
     # rounding of the bound itself, and of the amplitudes through the eigenvectors' condition number
-    margin = 1.0 - max(1e-9, EIGEN_ROUNDING * EPS * np.linalg.norm(vec, 1) * np.linalg.norm(inv, 1))
+    margin = 1.0 - max(1e-9, EIGEN_ROUNDING * EPS * np.linalg.norm(vb, 1) * np.linalg.norm(ib, 1))
     return bool(np.all(speed < margin * np.abs(a.belt)) and np.all(load < margin * eq.normal))
 
 
@@ -376,26 +388,24 @@ def _n(motion: Any) -> int:
 
 
 def _fastest(motion: Any) -> float:
-    """The structure's fastest rate: its fastest natural frequency or forcing frequency; without either (no
-    springs, no force), its fastest own rate (a damper over a mass); without that (masses on belts alone), 0:
-    the structure has no time scale of its own."""
-    a = motion.assembly
-    omega = max(float(natural_frequencies(a).max(initial=0.0)), float(np.max(np.abs(a.force_omega), initial=0.0)))
-    if omega > 0.0:
-        return omega
-    rates = np.abs(np.linalg.eigvals(np.linalg.solve(np.asarray(a.mass, dtype=float),
-                                                     np.asarray(a.damping, dtype=float))))
-    return float(rates.max(initial=0.0))
+    """:func:`fastest_rate` of ``motion``'s structure."""
+    return fastest_rate(motion.assembly)
 
 
 def _slowest_swing(motion: Any) -> float:
+    """:func:`swing_period` of ``motion``'s structure."""
+    return swing_period(motion.assembly)
+
+
+def swing_period(assembly: Any) -> float:
     """The structure's slowest natural period (its zero frequencies left out), else the fastest rate's period
-    (0 without any): the least tail a kind is judged on (two of them; 4 pi for the nondimensional single mass)."""
-    omega = natural_frequencies(motion.assembly)
+    (0 without any): the least tail a kind is judged on (two of them; 4 pi for the nondimensional single mass),
+    and a sweep's probe's unit of time."""
+    omega = natural_frequencies(assembly)
     omega = omega[omega > RIGID * float(omega.max(initial=0.0))]  # a rigid mode's comes out ~1e-8, not 0
     if len(omega):
         return 2.0 * math.pi / float(omega.min())
-    fastest = _fastest(motion)
+    fastest = fastest_rate(assembly)
     return 2.0 * math.pi / fastest if fastest > 0.0 else 0.0
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any, Optional
 
 from ..analysis.structure import StructureAnalysis, analyze_structure
+from ..config import parse_window
 from ..io import atomic_write, check_input_path, check_output_path
 from ..plotting import FIGURE_FORMATS
 from ..estimate import enforce
@@ -87,12 +88,8 @@ def _refuse_others(solver: str, params: dict[str, Any]) -> None:
 
 
 def _window(text: Any) -> Optional[tuple[float, float]]:
-    if text is None:
-        return None
-    if isinstance(text, str):
-        a, b = text.split(":")
-        return float(a), float(b)
-    return float(text[0]), float(text[1])
+    """``--window`` as the single mass reads it (one line for a bad one, naming the form)."""
+    return None if text is None else parse_window(text)
 
 
 def report_model(result: StructureAnalysis, system: System, path: Path, params: dict[str, Any],

@@ -15,26 +15,32 @@ from typing import Any
 import numpy as np
 
 from ..core import codes
-from ..core.assembly import Assembly, natural_frequencies
+from ..core.assembly import Assembly
 from ..core.records import empty_derivatives
 from ..core.structure.adaptive import Opts, run as run_kernel
 from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
 from ..motion import Motion
+from ..system.assemble import fastest_rate
 from .adaptive import Adaptive
 from .structure_motion import buffers, motion, run_growing, stopped
 
 #: the longest step, as a fraction of the fastest period's 1/(2 pi) (the single mass's 0.25): the event
 #: functions are watched at the step ends only
 H_MAX = 0.25
+#: ... and without any rate of its own, this share of the run
+H_SHARE = 1e-3
 #: the first buffer size; doubled while the run reports FULL
 FIRST_CAP = 4096
 
 
-def h_max(assembly: Assembly) -> float:
-    """The longest step: :data:`H_MAX` over the fastest natural or forcing frequency (H_MAX without one)."""
-    rate = max(float(natural_frequencies(assembly).max(initial=0.0)), float(np.max(assembly.force_omega, initial=0.0)))
-    return H_MAX / rate if rate > 0.0 else H_MAX
+def h_max(assembly: Assembly, t_end: float) -> float:
+    """The longest step: :data:`H_MAX` over the structure's fastest rate (its fastest natural, forcing or own
+    rate: :func:`~frictionflow.system.assemble.fastest_rate`); without any (masses on belts alone, moving as
+    polynomials between switches) ``H_SHARE`` of the run.  H_MAX alone, in the model's units of time, made a
+    free mass in units 1e5 times longer take ten million steps."""
+    rate = fastest_rate(assembly)
+    return H_MAX / rate if rate > 0.0 else H_SHARE * t_end
 
 
 #: steps per longest step's span the estimate assumes (tight tolerances take shorter steps than h_max)
@@ -45,7 +51,7 @@ def step_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = Non
     """What an adaptive run of ``assembly`` to ``t_end`` costs: :data:`STEPS_PER_H_MAX` steps per
     :func:`h_max`, each the single mass's step cost times the stages' n^2 work (and a sample each)."""
     n, k = assembly.mass.shape[0], len(assembly.belt)
-    steps = STEPS_PER_H_MAX * (t_end / h_max(assembly) + 1.0)
+    steps = STEPS_PER_H_MAX * (t_end / h_max(assembly, t_end) + 1.0)
     samples = steps + (0.0 if not dense_dt else t_end / dense_dt)
     row = 8.0 * (4 * n + 2 * k + n_channels(assembly))
     return Estimate(steps, f"steps of a {n}-dof structure", steps * SECONDS_PER["adaptive_step"] * max(n, 1) ** 2,
@@ -73,7 +79,7 @@ def run(assembly: Assembly, span: tuple[float, float | None], settings: Adaptive
         The model object the assembly came from, kept on the result.
     """
     t_end, dense_dt = span
-    opts = Opts(float(t_end), float(settings.rtol), float(settings.atol), h_max(assembly),
+    opts = Opts(float(t_end), float(settings.rtol), float(settings.atol), h_max(assembly, t_end),
                 float(dense_dt or 0.0), int(settings.max_steps))
     minv = np.linalg.inv(assembly.mass)
 

@@ -37,7 +37,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..analysis.structure import STRUCTURE_KINDS, analyze_structure, evaluations
+from ..analysis.structure import STRUCTURE_KINDS, analyze_structure, evaluations, swing_period
 from ..core.threads import over_points
 from ..estimate import Estimate
 from ..io import read_config
@@ -55,8 +55,11 @@ RTOL = 1e-6
 CHECK_EACH = 1000
 #: up to this many axes, every corner of the grid is checked as a whole system (entries checked together)
 CHECK_CORNERS = 6
-#: the model-sweep's probe run for the estimate: at most this long (its run's cost is scaled to t_end)
-PROBE_T = 50.0
+#: the model-sweep's probe run for the estimate: at most this many of the structure's slowest natural periods
+#: (its run's cost is scaled to t_end) -- about 50 time units for unit masses and springs
+PROBE_SWINGS = 8.0
+#: ... or, for a structure without a time scale of its own (masses on belts alone), this share of t_end
+PROBE_SHARE = 0.05
 #: the most states the estimate evaluates to time the analysis's grids
 GRID_PROBE = 20_000
 #: points per chunk (a chunk is a unit of commit and a Dask task)
@@ -427,7 +430,7 @@ def compute_model_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: 
 
 
 def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, name: str = "out") -> Estimate:
-    """The sweep's cost from a probe: the grid's first point run to min(t_end, PROBE_T), the run scaled to t_end,
+    """The sweep's cost from a probe: the grid's first point run for :func:`probe_length`, the run scaled to t_end,
     its analysis counted once and the analysis's grids timed at t_end's size (:func:`_grid_seconds`).
 
     The probe runs twice and the cheaper run counts: a process's first run also loads the kernels from numba's
@@ -437,8 +440,8 @@ def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, n
     A bound in the sense of the single-mass sweep's (the points run to
     t_end), counted on one core: a chunk's points share the cores, but their Python parts take turns.
     """
-    probe_t = min(cfg.t_end, PROBE_T)
     system = cfg.point_system((0,) * len(cfg.axes))
+    probe_t = probe_length(assemble(system), cfg.t_end)
     seconds = []
     for _ in range(2):  # a process's first run also loads its kernels (seconds) or compiles them (minutes)
         start = time.process_time()
@@ -452,6 +455,16 @@ def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, n
                     per_point * cfg.size, cores=1)
     cells = sum(math.prod(len(cfg.labels[d]) for d in v.dims) for v in cfg.variables)
     return work.writing(out, float(cfg.size) * 8 * cells, name)
+
+
+def probe_length(assembly: Any, t_end: float) -> float:
+    """How long the estimate's probe runs: ``PROBE_SWINGS`` of the structure's slowest natural periods
+    (:func:`~frictionflow.analysis.structure.swing_period`), at most t_end; ``PROBE_SHARE`` of t_end without
+    any.  A length in its own units of time: 50 time units were 8 periods of a unit chain but 5e-6 of one in
+    units of time 1e7 (a 5 s sweep estimated at 78 days) and 5e7 of them in microseconds (a probe running for
+    minutes)."""
+    swing = swing_period(assembly)
+    return min(t_end, PROBE_SWINGS * swing if swing > 0.0 else PROBE_SHARE * t_end)
 
 
 def _grid_seconds(motion: Any, t_end: float) -> float:

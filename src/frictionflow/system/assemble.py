@@ -6,7 +6,7 @@ import numpy as np
 
 from .. import _validate as check
 from ..core import layout
-from ..core.assembly import Assembly
+from ..core.assembly import Assembly, natural_frequencies
 from .elements import vector
 from .model import System
 
@@ -68,6 +68,19 @@ def _rows(directions: list, dof: tuple[str, ...]) -> np.ndarray:
     for i, on in enumerate(directions):
         out[i] = vector(on, dof)
     return out
+
+
+def fastest_rate(assembly: Assembly) -> float:
+    """The structure's fastest rate: its fastest natural frequency or forcing frequency; without either (no
+    springs, no force), its fastest own rate (a damper over a mass); without that (masses on belts alone), 0:
+    the structure has no time scale of its own."""
+    a = assembly
+    omega = max(float(natural_frequencies(a).max(initial=0.0)), float(np.max(np.abs(a.force_omega), initial=0.0)))
+    if omega > 0.0:
+        return omega
+    rates = np.abs(np.linalg.eigvals(np.linalg.solve(np.asarray(a.mass, dtype=float),
+                                                     np.asarray(a.damping, dtype=float))))
+    return float(rates.max(initial=0.0))
 
 
 def free_directions(assembly: Assembly, undamped: bool = False) -> np.ndarray:
