@@ -222,7 +222,12 @@ def _tail(motion: Any) -> tuple[float, float]:
     """The span a kind is judged on: the run's last tenth, at least two of the structure's slowest natural
     periods (:func:`_slowest_swing`; all of a shorter run)."""
     t_start, t_end = float(motion.t[0]), float(motion.t[-1])
-    return max(t_start, t_end - max(0.1 * (t_end - t_start), 2.0 * _slowest_swing(motion))), t_end
+    return max(t_start, t_end - _tail_length(motion, t_end - t_start)), t_end
+
+
+def _tail_length(motion: Any, span: float) -> float:
+    """The tail's length for a run of ``span``, before it is cut to the run (:func:`_tail`)."""
+    return max(0.1 * span, 2.0 * _slowest_swing(motion))
 
 
 def repeating(motion: Any, rtol: float = 1e-6, min_periods: int = 3) -> tuple[float, tuple[float, float], int] | None:
@@ -415,7 +420,7 @@ def evaluations(motion: Any, t_end: float) -> tuple[int, int]:
     window about the tail) and, at most, in refining crossings (one a fastest period on the section, two per
     coordinate in the window, each up to REFINE_STEPS evaluations): the part of the analysis that grows with
     the run (a sweep's estimate times both on a short probe; scattered times cost a phase's setup each)."""
-    tail = min(max(0.1 * t_end, 2.0 * _slowest_swing(motion)), t_end)
+    tail = min(_tail_length(motion, t_end), t_end)
     window, section = _grid_size(motion, (0.0, tail)), _grid_size(motion, (0.0, 0.5 * t_end))
     crossings = (section + 2 * _n(motion) * window) / GRID_PER_PERIOD
     return 2 * window + section, int(math.ceil(REFINE_STEPS * crossings))
