@@ -451,15 +451,31 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
 
 
 @njit(cache=True, forceinline=True)
+def _local(h, K, i):
+    """Component ``i`` of the step's local error estimate: the 5th-order solution less the embedded 4th-order one."""
+    return h * (E1 * K[0, i] + E3 * K[2, i] + E4 * K[3, i] + E5 * K[4, i] + E6 * K[5, i] + E7 * K[6, i])
+
+
+@njit(cache=True, forceinline=True)
 def _error(h, K, y, yn, tol, ny):
     """The step's error norm (above 1: rejected) with ``tol`` = (rtol, atol), over the first ``ny`` components: the
     work integrals too, their dense output is what the samples see.  (No call, no view: nothing to count references of.)"""
     rtol, atol = tol
     err = 0.0
     for i in range(ny):
-        e = h * (E1 * K[0, i] + E3 * K[2, i] + E4 * K[3, i] + E5 * K[4, i] + E6 * K[5, i] + E7 * K[6, i])
         sc = atol + rtol * max(abs(y[i]), abs(yn[i]))
-        err = max(err, abs(e) / sc)
+        err = max(err, abs(_local(h, K, i)) / sc)
+    return err
+
+
+@njit(cache=True, forceinline=True)
+def _error_each(h, K, y, yn, rtol, atol):
+    """:func:`_error` with an absolute tolerance per component (``atol``, one entry per component of y): a
+    structure's positions, velocities and works each in their own units."""
+    err = 0.0
+    for i in range(len(atol)):
+        sc = atol[i] + rtol * max(abs(y[i]), abs(yn[i]))
+        err = max(err, abs(_local(h, K, i)) / sc)
     return err
 
 

@@ -21,7 +21,7 @@ from ..core.structure.adaptive import Opts, run as run_kernel
 from ..core.structure.work import n_channels
 from ..estimate import SECONDS_PER, Estimate
 from ..motion import Motion
-from ..system.assemble import fastest_rate
+from ..system.assemble import fastest_rate, state_scales
 from .adaptive import Adaptive
 from .structure_motion import buffers, motion, run_growing, stopped
 
@@ -41,6 +41,15 @@ def h_max(assembly: Assembly, t_end: float) -> float:
     free mass in units 1e5 times longer take ten million steps."""
     rate = fastest_rate(assembly)
     return H_MAX / rate if rate > 0.0 else H_SHARE * t_end
+
+
+def tolerances(assembly: Assembly, t_end: float, atol: float) -> np.ndarray:
+    """The absolute tolerance of each component of the state (q, q', works): ``atol`` times the structure's
+    size of positions, velocities and works (:func:`~frictionflow.system.assemble.state_scales`), so that the
+    solver's accuracy does not depend on the model's units."""
+    _, position, velocity, work = state_scales(assembly, t_end)
+    n = len(assembly.q0)
+    return atol * np.concatenate([np.full(n, position), np.full(n, velocity), np.full(n_channels(assembly), work)])
 
 
 #: steps per longest step's span the estimate assumes (tight tolerances take shorter steps than h_max)
@@ -79,8 +88,8 @@ def run(assembly: Assembly, span: tuple[float, float | None], settings: Adaptive
         The model object the assembly came from, kept on the result.
     """
     t_end, dense_dt = span
-    opts = Opts(float(t_end), float(settings.rtol), float(settings.atol), h_max(assembly, t_end),
-                float(dense_dt or 0.0), int(settings.max_steps))
+    opts = Opts(float(t_end), float(settings.rtol), tolerances(assembly, t_end, settings.atol), h_max(assembly, t_end),
+                float(dense_dt or 0.0), int(settings.max_steps), state_scales(assembly, t_end)[0])
     minv = np.linalg.inv(assembly.mass)
 
     def attempt(cap: int) -> tuple:

@@ -83,6 +83,27 @@ def fastest_rate(assembly: Assembly) -> float:
     return float(rates.max(initial=0.0))
 
 
+def state_scales(assembly: Assembly, t_end: float) -> tuple[float, float, float, float]:
+    """(time, position, velocity, work): the sizes the structure's motion is measured in, from its elements alone.
+
+    Time is 1 / :func:`fastest_rate` (``t_end`` without one); a force F is the largest static friction level
+    at the start or force amplitude; velocity the largest of the belt speeds, |q'(0)|, |q(0)| / time and the
+    speed F gives the lightest mode over that time; position the largest of |q(0)| and velocity x time; work
+    the largest of the heaviest mode's kinetic energy at that velocity and F x position.  Each scales with
+    the model's units as its quantity does, so a tolerance in these sizes means the same in any units (an
+    absolute 1e-13 on lengths in metres of a nanometre motion was a relative 1e-4)."""
+    a = assembly
+    rate = fastest_rate(a)
+    time = 1.0 / rate if rate > 0.0 else float(t_end)
+    normal = np.abs(a.normal[:, 0] + a.normal[:, 1:] @ a.q0)
+    force = max(float(np.max(a.law[:, layout.FS] * normal, initial=0.0)), float(np.max(np.abs(a.force_amp), initial=0.0)))
+    heavy = np.linalg.eigvalsh(np.asarray(a.mass, dtype=float))
+    q0, v0 = float(np.max(np.abs(a.q0), initial=0.0)), float(np.max(np.abs(a.v0), initial=0.0))
+    velocity = max(float(np.max(np.abs(a.belt), initial=0.0)), v0, q0 / time, force * time / heavy[0], 1e-300)
+    position = max(q0, velocity * time)
+    return time, position, velocity, max(heavy[-1] * velocity * velocity, force * position)
+
+
 def free_directions(assembly: Assembly, undamped: bool = False) -> np.ndarray:
     """(n, r) orthonormal columns: the directions d along which no spring (K d = 0) and no contact's normal
     load (n_j . d = 0) depends on the position -- and with ``undamped``, no damper acts either (C d = 0).

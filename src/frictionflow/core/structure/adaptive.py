@@ -31,7 +31,7 @@ from numba import njit
 from .. import codes, roots
 from ..assembly import Assembly
 from ..dopri import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65, B1, B3, B4, B5, B6,
-                     C2, C3, C4, C5, _error, dense)
+                     C2, C3, C4, C5, _error_each, dense)
 from ..friction import slip_magnitude_of
 from ..layout import FD, FS, STICK
 from .combo import N_SLOTS, Split, split
@@ -39,8 +39,10 @@ from .run import MAX_ZERO, Result, record_switches, starting_modes, switch_modes
 from .stick import acceleration, decide, hold_velocity, held, normal_load
 from .work import contact_powers, element_powers
 
-#: the run's settings
-Opts = namedtuple("Opts", "t_end rtol atol h_max dense_dt max_steps")
+#: the run's settings: ``atol`` one absolute tolerance per component of y = (q, q', W) (the structure's own
+#: scales of positions, velocities and works times the solver's atol), ``time`` the structure's own time scale
+#: (what a step or a phase too short to resolve is measured against)
+Opts = namedtuple("Opts", "t_end rtol atol h_max dense_dt max_steps time")
 #: scratch: the stages K (7, m), y, y_new, a stage's input, the dense output, the contacts' forces, the
 #: event values at the step's start and end, where each slot was last seen positive (armed) and the
 #: cumulative work at the last sample written (the samples keep each sample's share)
@@ -272,10 +274,10 @@ def one_step(asm, sp, t, h, scr, n, opts):
     while True:
         tries += 1
         h = min(h, opts.h_max, opts.t_end - t)
-        if h < 1e-14 * (1.0 + abs(t)):
+        if h < 1e-14 * (opts.time + abs(t)):
             return h, h, 0.0, -1, codes.TINY_STEP, tries
         stages(asm, sp, t, h, scr, n)
-        err = _error(h, scr.K, scr.y, scr.yn, (opts.rtol, opts.atol), len(scr.y))
+        err = _error_each(h, scr.K, scr.y, scr.yn, opts.rtol, opts.atol)
         if not np.isfinite(err):
             return h, h, 0.0, -1, codes.NOT_FINITE, tries
         if err <= 1.0:
@@ -348,7 +350,7 @@ def run(asm, minv, opts, out, events, der):
     for j in range(k):
         leaving[j] = modes[j] != STICK and asm.belt[j] - asm.contact_dir[j] @ v == 0.0
     t, h, i, nsw, zeros, steps = 0.0, 0.01 * opts.h_max, 1, 0, 0, 0
-    grid, floor = (opts.dense_dt, opts.dense_dt), 1e-13 * max(1.0, opts.t_end)
+    grid, floor = (opts.dense_dt, opts.dense_dt), 1e-13 * max(opts.time, opts.t_end)
     start_phase(asm, sp, t, scr, n, leaving)
     while True:
         hs, h, theta, slot, status, tries = one_step(asm, sp, t, h, scr, n, opts)

@@ -1,0 +1,75 @@
+"""The adaptive structure solver's accuracy does not depend on the model's units.
+
+Its absolute tolerance was one number (1e-13) over positions, velocities and
+works in the model's own units: the Stribeck chain with lengths in units a
+billion times longer (a nanometre motion in metres) had an energy residual of
+3e-5 instead of 4e-12 and its last switch 1.6e-3 late, as the error test
+admitted errors of a thousandth of the motion.  Now each group's tolerance is
+the solver's atol in the structure's own sizes
+(:func:`frictionflow.system.assemble.state_scales`), and a step too short to
+take is measured against the structure's time, not one unit of it.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from frictionflow.friction import law_classes
+from frictionflow.solvers.structure import simulate_system
+from frictionflow.system import System, assemble
+from frictionflow.system.assemble import state_scales
+
+from .test_structure_kinds import _in_time_units
+
+MODELS = Path(__file__).parents[2] / "examples" / "models"
+#: a law parameter's name -> its dimension
+LAW_DIMENSION = {p.name: p.dimension for cls in law_classes() for p in getattr(cls, "parameters", ())}
+#: the dimensions that scale with the unit of length when forces are measured in the same factor (stiffness and
+#: damping, force over length and over velocity, then keep their numbers; so do masses)
+WITH_LENGTH = {"force", "velocity", "length"}
+
+
+def _in_length_units(system: System, f: float) -> System:
+    """``system`` with lengths and forces both measured in units ``f`` times smaller: positions, velocities, belts,
+    friction levels and force amplitudes times f (masses, stiffnesses and dampers unchanged): q(t) becomes f q(t)."""
+    def scaled(entry: str) -> bool:
+        kind, *_, last = entry.split(".")
+        return (entry.startswith("initial.") or (kind == "contact" and (last == "belt" or LAW_DIMENSION.get(last) in WITH_LENGTH))
+                or (kind == "force" and last == "amplitude"))
+
+    return system.with_entries({e: system.entry(e) * f for e in system.entries() if scaled(e)})
+
+
+def _stribeck_chain() -> System:
+    return System.from_dict(tomllib.loads((MODELS / "stribeck_chain.toml").read_text()), source=None)
+
+
+@pytest.mark.parametrize("length, time", [(1e-9, 1.0), (1e-12, 1.0), (1e6, 1.0), (1.0, 1e-6), (1e-9, 1e-9)])
+def test_the_stribeck_chain_runs_alike_in_any_units(length, time):
+    """The same motion in other units: every switch (its time over the unit of time) and the end state (over its
+    units) equal to the unit run's to 1e-9, and the energy balance closed as well as there (a residual of 3e-5
+    in nanometre units before)."""
+    unit_system = _stribeck_chain()
+    unit = simulate_system(unit_system, 300.0, solver="adaptive")
+    other = simulate_system(_in_time_units(_in_length_units(unit_system, length), time), 300.0 * time, solver="adaptive")
+    assert len(other.switches) == len(unit.switches) > 100
+    np.testing.assert_allclose(other.switches / time, unit.switches, rtol=0, atol=1e-9)
+    n = len(unit.dof)
+    np.testing.assert_allclose(other.state[:n, -1] / length, unit.state[:n, -1], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(other.state[n:, -1] * time / length, unit.state[n:, -1], rtol=0, atol=1e-9)
+    assert unit.energy_residual < 1e-10 and other.energy_residual < 1e-10
+
+
+def test_the_sizes_scale_as_their_quantities():
+    """state_scales in other units of length and time: time by s, positions by f, velocities by f / s, works by
+    f^2 (forces and lengths both by f), each from the same elements."""
+    unit_system = _stribeck_chain()
+    base = np.array(state_scales(assemble(unit_system), 300.0))
+    f, s = 1e-7, 1e3
+    other = np.array(state_scales(assemble(_in_time_units(_in_length_units(unit_system, f), s)), 300.0 * s))
+    np.testing.assert_allclose(other / base, [s, f, f / s, f * f], rtol=1e-12)
+    assert np.all(base > 0.0)
