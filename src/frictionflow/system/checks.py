@@ -15,12 +15,12 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ..parameters import STATE_MAX, Param
+from ..parameters import Param
 
 #: a dof name: an identifier (addresses are dotted, and ``preload`` is the normal load's own key)
 DOF_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 RESERVED = ("preload",)
-#: the initial state's entries, bounded by STATE_MAX as the single mass's x0 and v0 are
+#: the initial state's entries, by key, in words for the messages
 INITIAL_BOUNDS = {"q": "initial displacement", "v": "initial velocity"}
 #: contact directions are dependent when the smallest singular value of their unit vectors is below this share
 #: of the largest (a relative tolerance: rounding in the written coefficients is far above it)
@@ -213,8 +213,9 @@ def direction(address: str, value: Any, dof: tuple[str, ...]) -> tuple[tuple[str
 
 
 def initial(address: str, key: str, pairs: tuple[tuple[str, float], ...]) -> tuple[tuple[str, float], ...]:
-    """The initial state's entries of ``key`` (``q`` or ``v``) within [-STATE_MAX, STATE_MAX], the range of the
-    single mass's own initial state (``x0``, ``v0``), each refused by its address.
+    """The initial state's entries of ``key`` (``q`` or ``v``) within [-MAGNITUDE_MAX, MAGNITUDE_MAX], the range of
+    every number of a model file, each refused by its address.  (The single mass's own range, 1e6, refused a
+    start the model's belts could reach: a chain in nanoseconds rides its belt at 5e7.)
 
     Parameters
     ----------
@@ -226,8 +227,8 @@ def initial(address: str, key: str, pairs: tuple[tuple[str, float], ...]) -> tup
         The (dof, value) pairs, already finite numbers (:func:`coefficients`).
     """
     what = INITIAL_BOUNDS[key]
-    return tuple((name, Param(f"{address}.{key}.{name}", "", what, "run", 0.0, lower=-STATE_MAX, upper=STATE_MAX,
-                              subnormal_ok=True).check(x)) for name, x in pairs)
+    return tuple((name, Param(f"{address}.{key}.{name}", "", what, "run", 0.0, lower=-MAGNITUDE_MAX,
+                              upper=MAGNITUDE_MAX, subnormal_ok=True).check(x)) for name, x in pairs)
 
 
 def independent(named: Sequence[tuple[str, np.ndarray]],

@@ -56,7 +56,7 @@ class System:
         directions are a model, but the switching engines cannot run it (two stuck contacts along dependent
         directions hold indeterminate forces): ``simulate``, ``orbit`` and sweeps refuse it, ``stability`` takes it.
     initial:
-        The initial state (missing entries 0), each entry in the range of the single mass's ``x0`` / ``v0``.
+        The initial state (missing entries 0), each entry of magnitude at most 1e15 as every number of a model.
     source:
         The file the model was read from, for messages (None: built in Python).
     start:

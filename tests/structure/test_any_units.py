@@ -1,13 +1,14 @@
-"""The adaptive structure solver's accuracy does not depend on the model's units.
+"""Runs of structures do not depend on the model's units.
 
-Its absolute tolerance was one number (1e-13) over positions, velocities and
+The adaptive solver's absolute tolerance was one number (1e-13) over positions, velocities and
 works in the model's own units: the Stribeck chain with lengths in units a
 billion times longer (a nanometre motion in metres) had an energy residual of
 3e-5 instead of 4e-12 and its last switch 1.6e-3 late, as the error test
 admitted errors of a thousandth of the motion.  Now each group's tolerance is
 the solver's atol in the structure's own sizes
 (:func:`frictionflow.system.assemble.state_scales`), and a step too short to
-take is measured against the structure's time, not one unit of it.
+take is measured against the structure's time, not one unit of it.  A
+model's initial state takes the range of its other numbers.
 """
 
 from __future__ import annotations
@@ -73,3 +74,15 @@ def test_the_sizes_scale_as_their_quantities():
     other = np.array(state_scales(assemble(_in_time_units(_in_length_units(unit_system, f), s)), 300.0 * s))
     np.testing.assert_allclose(other / base, [s, f, f / s, f * f], rtol=1e-12)
     assert np.all(base > 0.0)
+
+
+def test_a_chain_in_nanoseconds_starts_on_its_belt():
+    """The stick-slip chain in nanoseconds: its masses start riding belts at 5e7 units a unit of time, which the
+    initial state's range (the single mass's 1e6) refused while the belts were taken.  The same switches over
+    the unit of time as in seconds (exact engine)."""
+    unit_system = System.from_dict(tomllib.loads((MODELS / "stick_slip_chain.toml").read_text()), source=None)
+    nano = _in_time_units(unit_system, 1e-9)
+    assert nano.entry("initial.v.x1") == pytest.approx(5e7, rel=1e-12)
+    unit, other = simulate_system(unit_system, 300.0), simulate_system(nano, 300.0 * 1e-9)
+    assert len(other.switches) == len(unit.switches) > 100
+    np.testing.assert_allclose(other.switches / 1e-9, unit.switches, rtol=0, atol=1e-9)
