@@ -103,7 +103,7 @@ class Adaptive(Solver):
     rtol, atol:
         Error tolerances on X and X' per step.  In a structure (``simulate --model``) ``atol`` is in the
         structure's own sizes of positions, velocities and works
-        (:func:`~frictionflow.system.assemble.state_scales`), so that a run means the same in any units.
+        (``frictionflow.system.assemble.state_scales``), so that a run means the same in any units.
     max_steps:
         Step cap; when hit the run stops with :class:`StepLimitError` saying where.
     dense_dt:

@@ -273,8 +273,9 @@ def one_step(asm, sp, t, h, scr, n, opts):
     tries = 0
     while True:
         tries += 1
-        h = min(h, opts.h_max, opts.t_end - t)
-        if h < 1e-14 * (opts.time + abs(t)):
+        left = opts.t_end - t
+        h = min(h, opts.h_max, left)
+        if h < 1e-14 * (opts.time + abs(t)) and h < left:  # (the run's last sliver is no collapse of the step)
             return h, h, 0.0, -1, codes.TINY_STEP, tries
         stages(asm, sp, t, h, scr, n)
         err = _error_each(h, scr.K, scr.y, scr.yn, opts.rtol, opts.atol)
@@ -388,4 +389,6 @@ def run(asm, minv, opts, out, events, der):
         if not emit(out, der, i, asm, sp, te, scr.y, n, scr):
             return Result(codes.FULL, i, nsw, -1, np.nan)
         i, t, h = i + 1, te, hs
+        if t >= opts.t_end:  # a switch at the end: nothing is left to run
+            return Result(codes.OK, i, nsw, -1, np.nan)
         start_phase(asm, sp, t, scr, n, leaving)

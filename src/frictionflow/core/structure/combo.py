@@ -341,26 +341,40 @@ def decompose(m, c, k, z, sel, rows, eigs=None):
         vb = mm(np.ascontiguousarray(vi[:, r:]), mri.astype(np.complex128))
         c_ = np.ascontiguousarray
         md = Modes(c_(lam), c_(v), c_(vi), c_(vb), False, np.zeros((0, 0)), np.arange(2 * r))
-    fv, fvi = full_norms(md)
+    fv, fvi = full_norms(md, rate_scale(mr, kr, cr))
     if math.sqrt(fv * fvi) > COND_MAX * 2 * r:
         raise ValueError("structure: a mode combination's matrix is defective (e.g. an undamped rigid mode)")
     return md
 
 
+@njit(cache=True)
+def rate_scale(mr, kr, cr):
+    """A rate of the reduced structure from its diagonals: sqrt(max K_ii / M_ii), else max C_ii / M_ii, else 1.
+    The velocities are measured over it when the basis's condition is judged (:func:`full_norms`)."""
+    k2, c1 = 0.0, 0.0
+    for i in range(mr.shape[0]):
+        k2 = max(k2, abs(kr[i, i]) / mr[i, i])
+        c1 = max(c1, abs(cr[i, i]) / mr[i, i])
+    return math.sqrt(k2) if k2 > 0.0 else (c1 if c1 > 0.0 else 1.0)
+
+
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the record's arrays are not reference-counted
-def full_norms(md):
+def full_norms(md, rate):
     """(sum |V_ij|^2, sum |V^-1_ij|^2) of the full first-order decomposition (every root's column and row) from
     :data:`Modes` that keep one root of a pair: its partner's column and row are the conjugates, and the kept column
-    of V is doubled."""
+    of V is doubled.  The velocity rows of V count over ``rate`` (and V^-1's velocity columns times it): the
+    condition of the basis in the structure's own time, the same in any unit of time (in picoseconds a chain's
+    velocity rows, 1e12 times its position rows, made a well-resolved basis look defective)."""
     fv, fvi = 0.0, 0.0
     v, vi = md.V, md.Vi
+    r = v.shape[0] // 2
     for c in range(len(md.lam)):
         s = pair_scale(md.lam[c]) if md.real else 1.0
         sv, svi = 0.0, 0.0
         for i in range(v.shape[0]):
-            sv += v[i, c].real ** 2 + v[i, c].imag ** 2
+            sv += (v[i, c].real ** 2 + v[i, c].imag ** 2) * (1.0 if i < r else 1.0 / (rate * rate))
         for i in range(vi.shape[1]):
-            svi += vi[c, i].real ** 2 + vi[c, i].imag ** 2
+            svi += (vi[c, i].real ** 2 + vi[c, i].imag ** 2) * (1.0 if i < r else rate * rate)
         fv += sv / s
         fvi += svi * s
     return fv, fvi

@@ -257,7 +257,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
     if lost >= 0:
         return Result(codes.CONTACT_LOST, 1, 0, lost, 0.0)
     i, nsw, zeros, next_t = np.int64(1), 0, 0, dense_dt  # (a literal 1 would compile to_event twice)
-    floor = 1e-13 * max(1.0, t_end)
+    floor = 1e-13 * t_end  # (an absolute floor of 1e-13 took a femtosecond structure's phases for no time at all)
     while True:
         tau, slot, lost, i, next_t, ok = to_event(asm, cb, t, t_end - t, floor, dense_dt, next_t, out, i, acc, scr)
         if not ok:
