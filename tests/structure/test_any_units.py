@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 from frictionflow.friction import law_classes
+from frictionflow.orbits import find_structure_orbit
 from frictionflow.solvers.structure import simulate_system
 from frictionflow.system import System, assemble
 from frictionflow.system.assemble import state_scales
@@ -90,3 +91,18 @@ def test_a_chain_in_tiny_units_of_time_starts_on_its_belt_and_runs_alike(s):
     unit, other = simulate_system(unit_system, 300.0), simulate_system(tiny, 300.0 * s)
     assert len(other.switches) == len(unit.switches) > 100
     np.testing.assert_allclose(other.switches / s, unit.switches, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("length, time", [(1.0, 1e-12), (1e-9, 1e-15), (1e-12, 1.0)])
+def test_the_chain_s_orbit_is_the_same_in_any_units(length, time):
+    """Shooting the stick-slip chain's cycle in picoseconds stalled at a residual of 1.9e-9 of the orbit's size
+    (the section's crossing was located to 1e-15 time units, a ten-thousandth of the period there); with that
+    mended the trivial multiplier came out 1.00005 (the phase matrices' unit steps moved the positions by 1e-12
+    of their size).  Now the same period (over the unit of time), stick fractions and multipliers in any units."""
+    unit_system = System.from_dict(tomllib.loads((MODELS / "stick_slip_chain.toml").read_text()), source=None)
+    unit = find_structure_orbit(unit_system, t_transient=1500.0)
+    other = find_structure_orbit(_in_time_units(_in_length_units(unit_system, length), time), t_transient=1500.0 * time)
+    assert other.period / time == pytest.approx(unit.period, rel=1e-12)
+    np.testing.assert_allclose(other.stick_fraction, unit.stick_fraction, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.sort(np.abs(other.multipliers)), np.sort(np.abs(unit.multipliers)), rtol=0, atol=1e-9)
+    assert np.max(np.abs(other.multipliers)) == pytest.approx(1.0, abs=1e-9)  # the autonomous cycle's own

@@ -269,11 +269,13 @@ def _step(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray,
     section's state row (None: stroboscopic, no row pinned).
     """
     A, c = _constraints(flow, ret.modes, row)
-    B = _basis(A)
+    # Newton's linear step in units of each component's size: in the model's units the monodromy's
+    # position-velocity blocks part by the unit of time squared (1e24 in picoseconds: a step of rounding)
+    B = _basis(A * scale)
     r = _residual(ret)
-    J = B.T @ (ret.jacobian - np.eye(len(r))) @ B
+    J = B.T @ (ret.jacobian * scale / scale[:, None] - np.eye(len(r))) @ B
     try:
-        step = B @ np.linalg.solve(J, -(B.T @ r))
+        step = scale * (B @ np.linalg.solve(J, -(B.T @ (r / scale))))
     except np.linalg.LinAlgError:
         raise ShootingError("the return map's Jacobian minus I is singular: Newton cannot proceed "
                             "(a fold, or a family of neutral orbits)") from None

@@ -45,7 +45,7 @@ from ..core.structure.stick import acceleration
 from ..core.structure.work import n_channels
 from ..solvers.structure import (free_direction_text, free_motion_solvers, in_model_terms, is_free_motion,
                                  run_assembly)
-from ..system.assemble import free_directions
+from ..system.assemble import free_directions, state_scales
 
 optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
 
@@ -87,6 +87,9 @@ class Flow:
         omega = natural_frequencies(assembly)
         self.omega_max = max(float(omega.max(initial=0.0)), 1e-6)
         self.omega_min = max(float(omega.min(initial=1.0)), 1e-6)
+        _, position, velocity, _ = state_scales(assembly, 2.0 * math.pi / self.omega_min)
+        #: the state's sizes, per component: the phase matrix's differences are taken over steps of these
+        self.sizes = np.repeat([position, velocity], self.n)
 
     def combo(self, modes: np.ndarray) -> Any:
         """The engine's combination record of ``modes`` (cached)."""
@@ -148,8 +151,10 @@ class Flow:
         size = 2 * self.n
         if tau == 0.0:
             return np.eye(size)
+        # steps of the state's own sizes: a unit step in picoseconds (a velocity of 1e-12 natural units) moved
+        # the positions by 1e-12 of theirs, and the difference kept 4 digits (a multiplier 5e-5 off)
         base = self.advance(modes, np.zeros(size), t0, tau)
-        return np.column_stack([self.advance(modes, e, t0, tau) - base for e in np.eye(size)])
+        return np.column_stack([(self.advance(modes, d * e, t0, tau) - base) / d for d, e in zip(self.sizes, np.eye(size))])
 
     def event_normal(self, modes: np.ndarray, j: int, y: np.ndarray, t: float) -> tuple[np.ndarray, float]:
         """(gradient, time derivative) of the event function of contact ``j`` that ends its mode at (y, t)."""
@@ -212,7 +217,7 @@ def _locate(flow: Flow, motion: Any, row: int, a: float, b: float) -> float:
 
     if value(b) == 0.0:
         return b
-    t = optimize.brentq(value, a, b, xtol=1e-15, rtol=4.0 * np.finfo(float).eps)
+    t = optimize.brentq(value, a, b, xtol=1e-15 * max(abs(a), abs(b)), rtol=4.0 * np.finfo(float).eps)
     i = int(np.searchsorted(motion.t, t, side="right")) - 1
     y = flow.states(motion, np.array([t]))[0]
     rate = flow.field(motion.modes[:, i], y, t)[row]
