@@ -20,6 +20,7 @@ from frictionflow import Coulomb
 from frictionflow.core.structure.combo import build as build_combo
 from frictionflow.core.structure.phase import DEAD, bound, lifetime, start
 from frictionflow.solvers.structure import run_assembly
+from frictionflow.system.assemble import free_directions
 
 from . import reference as ref
 from .chains import Elements, build
@@ -170,3 +171,16 @@ def test_a_damper_too_stiff_for_double_precision_is_named_with_the_rates_it_span
                       damper_c=np.zeros(2))
     with pytest.raises(ValueError, match="along q. none does .*use solver=adaptive"):
         run_assembly(free, 10.0)
+
+
+@pytest.mark.parametrize("elements", [stiff_chain, stiff_pair, stuck_chain], ids=["to_ground", "between", "three"])
+@pytest.mark.parametrize("c", [1e12, 1e14])
+def test_a_sprung_structure_beside_a_huge_damper_is_not_taken_for_a_free_one(elements, c):
+    """Dampers of 1e12 and 1e14 on sprung unit masses: the line said "along q1 none does (an undamped free
+    motion ...); use solver=adaptive", since the free directions were found from one rank over the springs and
+    the dampers together, in which springs of 1 beside a damper of 1e12 were rounding.  Each part is now ranked
+    in its own size: no direction is free, and the line names the damper too stiff for the modes."""
+    a = build(elements(c))
+    assert free_directions(a, undamped=True).shape[1] == 0
+    with pytest.raises(ValueError, match=r"damper\.\d's rate .* spans more than one double-precision mode basis"):
+        run_assembly(a, 40.0)

@@ -115,6 +115,11 @@ def free_directions(assembly: Assembly, undamped: bool = False) -> np.ndarray:
     parts = [np.asarray(assembly.stiffness, dtype=float), np.asarray(assembly.normal, dtype=float)[:, 1:]]
     if undamped:
         parts.append(np.asarray(assembly.damping, dtype=float))
+    # each part over its own size: stiffnesses and dampings are in different units, and one rank over both
+    # took the springs beside a damper of 1e12 for rounding (a sprung structure "free along q1")
+    parts = [p / np.abs(p).max() for p in parts if p.size and np.abs(p).max() > 0.0]
+    if not parts:
+        return np.eye(n)
     _, sv, vt = np.linalg.svd(np.vstack(parts).reshape(-1, n))
     rank = int(np.sum(sv > 1e-12 * max(float(sv.max(initial=0.0)), 1e-300)))
     return vt[rank:].T
