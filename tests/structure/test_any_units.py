@@ -106,3 +106,20 @@ def test_the_chain_s_orbit_is_the_same_in_any_units(length, time):
     np.testing.assert_allclose(other.stick_fraction, unit.stick_fraction, rtol=0, atol=1e-12)
     np.testing.assert_allclose(np.sort(np.abs(other.multipliers)), np.sort(np.abs(unit.multipliers)), rtol=0, atol=1e-9)
     assert np.max(np.abs(other.multipliers)) == pytest.approx(1.0, abs=1e-9)  # the autonomous cycle's own
+
+
+@pytest.mark.parametrize("s", [1e-9, 3e-12, 1e-12])
+def test_the_orbit_s_nontrivial_multiplier_is_its_multiplier_in_any_units(s):
+    """The nontrivial multipliers are M's eigenvalues across the tangent f (B^T M B).  In short units of time M's
+    position and velocity blocks part by 1/s^2 and the product, taken in the model's units, rounded: in units
+    3e-12 the stability-deciding multiplier came out -0.727429 while M's own eigenvalues (balanced by LAPACK)
+    held -0.727532 (found by hand: orbit --json's "multiplier" beside its "multipliers"); 8.5e-11 off in
+    nanoseconds.  Now both agree with the run in seconds to 1e-12."""
+    unit_system = System.from_dict(tomllib.loads((MODELS / "stick_slip_chain.toml").read_text()), source=None)
+    unit = find_structure_orbit(unit_system, t_transient=1500.0)
+    other = find_structure_orbit(_in_time_units(unit_system, s), t_transient=1500.0 * s)
+    for orbit in (unit, other):
+        listed = [m for m in orbit.multipliers if abs(m - 1.0) > 1e-6]
+        assert abs(orbit.multiplier - listed[0]) < 1e-12
+    assert abs(other.multiplier - unit.multiplier) < 1e-12
+    assert -0.73 < unit.multiplier.real < -0.72

@@ -90,6 +90,9 @@ class StructureOrbit(floquet.MultiplierStability, Summarized):
         trivial.
     tangent:
         (2n,) the vector field at :attr:`state` (an autonomous orbit's; None when forced): M maps it to itself.
+    scale:
+        (2n,) per state component, the orbit's size in its units (``orbit_scales``), or None: the nontrivial
+        multipliers are taken in these units.
     """
 
     state: np.ndarray
@@ -109,6 +112,7 @@ class StructureOrbit(floquet.MultiplierStability, Summarized):
     system: Any = field(default=None)
     autonomous: bool = True
     tangent: np.ndarray | None = field(default=None)
+    scale: np.ndarray | None = field(default=None)
 
     @property
     def nontrivial(self) -> np.ndarray:
@@ -118,11 +122,13 @@ class StructureOrbit(floquet.MultiplierStability, Summarized):
         M f = f, so in the basis (f, B) M is block triangular and these are M's other eigenvalues, without
         saying which of two multipliers near 1 is the trivial one (a stiff damper's creep, 1 - k T / c, beside
         the trivial one moved by the monodromy's rounding: the one nearest 1 was dropped and the orbit called
-        unstable)."""
+        unstable).  In units of :attr:`scale` (D^-1 M D across D^-1 f): in the model's units M's position and
+        velocity blocks part by the unit of time squared, and B^T M B rounded to 1e-4 in picoseconds."""
         if not self.autonomous or self.tangent is None:
             return super().nontrivial
-        B = _basis(self.tangent[None, :])
-        mu = np.linalg.eigvals(B.T @ self.monodromy @ B).astype(complex)
+        d = np.ones(len(self.tangent)) if self.scale is None else np.asarray(self.scale, dtype=float)
+        B = _basis((self.tangent / d)[None, :])
+        mu = np.linalg.eigvals(B.T @ (self.monodromy * d / d[:, None]) @ B).astype(complex)
         return mu[np.argsort(-np.abs(mu), kind="stable")]
 
     def _summary(self) -> tuple[str, list[Row]]:
@@ -510,7 +516,7 @@ def _orbit(setup: Setup, ret: Return, row: int | None, returns: int, iterations:
         stick_fraction=stick_fractions(one, (0.0, T)), elements=one.element_power(0.0, T),
         energy_residual=one.energy_residual, residual=float(np.max(np.abs(_residual(ret)) / scale)),
         iterations=iterations, motion=one, dof=setup.dof, contacts=setup.contacts, system=setup.system,
-        tangent=None if row is None else flow.field(ret.modes, ret.start, 0.0),
+        tangent=None if row is None else flow.field(ret.modes, ret.start, 0.0), scale=scale,
     )
 
 
