@@ -130,6 +130,10 @@ def test_out_writes_what_json_prints_and_plot_draws(models, capsys):
     (["--param", "contact.0.fd", "--from", "0.1"], "--param, --from and --to go together"),
     (["--vary", "contact.0.fd=0.1:0.8", "--out", "{dir}/s.txt"], "--out must end in"),
     (["--vary", "contact.0.fd=0.1:0.8", "--plot", "{dir}/s.txt"], "--plot must end in"),
+    # an entry that is no number, and the initial state, which steady sliding does not depend on (both were
+    # taken: the first failed at its first value, the second scanned the same eigenvalues at every value)
+    (["--vary", "contact.0.stick_force=0:1"], "--vary contact.0.stick_force: not a numeric entry"),
+    (["--vary", "initial.q.x1=0:1"], "--vary initial.q.x1: steady sliding and its eigenvalues do not depend"),
 ])
 def test_bad_input_is_refused_in_one_line_with_nothing_written(models, capsys, args, words):
     argv = ["stability", "--model", str(models / "hoffmann.toml"), *[a.format(dir=models) for a in args]]
@@ -222,6 +226,7 @@ def test_the_chart_writes_its_json_and_figure(models, capsys):
     (["--x", "contact.0.fd=0.1:0.8", "--y", "spring.9.k=1:2"], "spring.9"),
     (["--x", "contact.0.fd=0.1:0.8", "--y", "spring.1.k=1:2:1"], "--y spring.1.k: N must be >= 2"),
     (["--x", "spring.0.k=0.5:2:5", "--y", "spring.1.k=0.1:1e20:5"], "spring.1.k = 1e+20, spring.0.k = 0.5: model "),
+    (["--x", "contact.0.fd=0.1:0.8", "--y", "initial.v.x2=0:1"], "--y initial.v.x2: steady sliding"),
 ])
 def test_bad_chart_input_is_refused_in_one_line_with_nothing_written(models, capsys, args, words):
     argv = ["stability", "--model", str(models / "hoffmann.toml"), *args, "--out", str(models / "written.json")]

@@ -106,12 +106,13 @@ def test_an_option_refused_beside_a_model_names_the_ones_the_command_takes(tmp_p
                     'on = { x = 1.0 }\nbelt = 0.1\nfriction = "coulomb"\nfd = 0.1\nfs = 0.2\n')
     code, out, err, _ = in_process("orbit", "--model", str(path), "--solver", "adaptive")
     assert code == 2 and out == ""
-    one_line(err, "--solver cannot be given with it (of the single-mass options only --t-end apply beside it; "
-                  "the model's own entries are in its file)")
+    one_line(err, "--solver cannot be given with it (beside it only --t-end, --tol, --returns, --guess, --fd-check, "
+                  "--json, --out apply; the model's own entries are in its file)")
     code, out, err, _ = in_process("simulate", "--model", str(path), "--dt", "0.1")
     assert code == 2 and out == ""
-    one_line(err, "--dt cannot be given with it (of the single-mass options only --t-end, --window, --rtol, "
-                  "--solver")
+    one_line(err, "--dt cannot be given with it (beside it only --t-end, --window, --rtol, --solver")
+    for flag in ("--max-memory", "--json", "--out", "--plot"):  # the command's own options beside the model
+        assert flag in err
 
 
 def test_a_free_chain_riding_its_belt_is_an_equilibrium():

@@ -274,6 +274,9 @@ def test_model_json_names_its_solver_and_settings_as_the_single_mass_does(tmp_pa
     solver = json.loads(out)["solver"]
     assert solver["name"] == "adaptive" and solver["rtol"] == 1e-8 and solver["dense_dt"] is None
     assert solver["atol"] > 0 and solver["max_steps"] >= 1  # the defaults the run used, not only what was given
+    # a setting out of its range is refused under the option's own name (it was the solver's keyword, rtol)
+    code, out, err, _ = in_process("simulate", "--model", str(path), "--solver", "adaptive", "--ode-rtol", "1")
+    assert code == 2 and out == "" and err.startswith("error: ode_rtol must be finite and in [1e-14, 0.01]"), err
     nc = tmp_path / "run.nc"
     code, out, err, _ = in_process("simulate", "--model", str(path), "--t-end", "50", "--out", str(nc), "--json")
     assert code == 0, err
@@ -281,3 +284,20 @@ def test_model_json_names_its_solver_and_settings_as_the_single_mass_does(tmp_pa
     with xr.open_dataset(nc) as ds:
         gaps = np.diff(ds["time"].values)
     assert step > 0 and gaps.max() == pytest.approx(step, rel=1e-12)  # no two samples further apart than the step
+
+
+def test_the_help_gives_the_defaults_a_model_run_takes(capsys):
+    """``simulate --help`` gave only the single-mass solvers' --rtol defaults (1e-6 to 1e-10) and --dense-dt range
+    ([1e-9, 1000]); beside --model the steady-state tolerance is 1e-6 and the step any time > 0 in the model's
+    units.  The run without --rtol is the run with --rtol 1e-6."""
+    code, out, err, _ = in_process("simulate", "--help")
+    assert code == 0, err
+    text = " ".join(out.split())
+    assert "[rk4 1e-6, adaptive 1e-8, exact 1e-10]. With --model: 1e-06 unless given." in text
+    assert "With --model: any step > 0 in the model's units of time." in text
+    path = Path(__file__).resolve().parents[2] / "examples" / "models" / "stick_slip_chain.toml"
+    runs = [in_process("simulate", "--model", str(path), "--t-end", "100", "--json", *extra)
+            for extra in ((), ("--rtol", "1e-6"), ("--rtol", "0.1"))]
+    assert all(run[0] == 0 for run in runs), runs
+    default, given, other = (json.loads(run[1]) for run in runs)
+    assert default == given and default["steady_state"] != other["steady_state"]

@@ -17,14 +17,17 @@ from ..simulate import simulate as run_simulation
 from ._app import app
 from .options import CONFIG_OPTION, command_config, parameter_names, with_dimensional, with_parameters
 from .output import provenance, show
-from .structure import T_END as MODEL_T_END, simulate_model
+from .structure import RTOL as MODEL_RTOL, T_END as MODEL_T_END, simulate_model
 from .vocabulary import option, parameter_help
 
 NAMES = parameter_names(("oscillator", "law", "solver", "run"))
 
 
 @app.command()
-@with_parameters(NAMES, parameter_help("simulate", NAMES, {"t_end": f"With --model: {MODEL_T_END:g} unless given."}))
+@with_parameters(NAMES, parameter_help("simulate", NAMES, {
+    "t_end": f"With --model: {MODEL_T_END:g} unless given.",
+    "rtol": f"With --model: {MODEL_RTOL:g} unless given.",
+    "dense_dt": "With --model: any step > 0 in the model's units of time."}))
 def simulate(
     params: dict[str, Any],
     as_json: bool = option("--json"),

@@ -107,7 +107,12 @@ def entry_values(system: System, text: str, flag: str = "--vary",
     """``ENTRY=FROM:TO[:N]`` -> (ENTRY, its N values); one line if the entry is not the model's or the range is bad."""
     key, rng = parse_named_range(flag, text, "optional", least=2)
     entry = text.partition("=")[0].strip()  # the address as written (parse_named_range spells names with _)
-    system.entry(entry)  # an unknown address: the model's own one-line error
+    value = system.entry(entry)  # an unknown address: the model's own one-line error
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{flag} {entry}: not a numeric entry (it is {value!r}): vary a number of the model")
+    if entry.split(".")[0] == "initial":
+        raise ValueError(f"{flag} {entry}: steady sliding and its eigenvalues do not depend on the initial state: "
+                         "vary an element's or the mass's entry")
     num = default_points if rng.num is None else rng.num
     if num > MAX_POINTS:
         raise ValueError(f"{flag} {key}: N must be in [2, {MAX_POINTS}], got {num}")

@@ -29,24 +29,30 @@ from .output import print_summary
 MODEL_KEEPS = ("t_end", "window", "rtol")
 #: the run's end time when --t-end is not given
 T_END = 300.0
-#: ... and beside ``simulate --model``: the solver and the structure solvers' own settings too
-SIMULATE_KEEPS = (*MODEL_KEEPS, "solver", *structure_parameters())
+#: the steady-state tolerance when --rtol is not given (the structure analysis's)
+RTOL = 1e-6
+#: ... and beside ``simulate --model``: the solver, the structure solvers' own settings and the memory bound too
+SIMULATE_KEEPS = (*MODEL_KEEPS, "solver", *structure_parameters(), "max_memory")
+#: ``simulate``'s own options that apply beside a model file (said when refusing the others)
+SIMULATE_OPTIONS = ("--json", "--out", "--plot", "--dpi")
 MODEL_FORMATS = (".nc",)
 
 
-def refuse_single_mass(params: dict[str, Any], keeps: tuple[str, ...] = MODEL_KEEPS) -> None:
-    """One line if a single-mass option other than ``keeps`` is given with ``--model``."""
+def refuse_single_mass(params: dict[str, Any], keeps: tuple[str, ...] = MODEL_KEEPS,
+                       own: tuple[str, ...] = ()) -> None:
+    """One line if a single-mass option other than ``keeps`` is given with ``--model``; the line names those
+    that apply: ``keeps`` the command has and its ``own`` options (flags, e.g. ``--returns``)."""
     given = sorted(k for k, v in params.items() if v is not None and k not in keeps)
     if given:
         flags = ", ".join("--" + k.replace("_", "-") for k in given)
-        taken = ", ".join("--" + k.replace("_", "-") for k in keeps if k in params)  # those the command has
-        raise ValueError(f"--model describes the whole system: {flags} cannot be given with it (of the "
-                         f"single-mass options only {taken} apply beside it; the model's own entries are in its file)")
+        taken = ", ".join(["--" + k.replace("_", "-") for k in keeps if k in params] + list(own))
+        raise ValueError(f"--model describes the whole system: {flags} cannot be given with it (beside it only "
+                         f"{taken} apply; the model's own entries are in its file)")
 
 
 def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> StructureAnalysis:
     """Load, check the outputs, run and analyse the model file at ``path`` (``outputs``: out, plot, dpi)."""
-    refuse_single_mass(params, SIMULATE_KEEPS)
+    refuse_single_mass(params, SIMULATE_KEEPS, own=SIMULATE_OPTIONS)
     check_input_path(path, "--model")
     system = load_system(path)
     if outputs.get("out") is not None:
@@ -63,9 +69,10 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     dense_dt = run_dense_dt(asm, params, outputs)
     enforce(run_estimate(asm, t_end, dense_dt, solver=solver))
     window = _window(params.get("window"))
-    rtol = 1e-6 if params.get("rtol") is None else float(params["rtol"])
+    rtol = RTOL if params.get("rtol") is None else float(params["rtol"])
+    memory = {} if params.get("max_memory") is None else {"max_memory": params["max_memory"]}
     with structure_precompile.first_use() if solver == EXACT else nullcontext():
-        motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=solver, **settings)
+        motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=solver, **memory, **settings)
         return analyze_structure(motion, rtol=rtol, window=window)
 
 

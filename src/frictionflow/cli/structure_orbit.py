@@ -35,8 +35,12 @@ class ModelOrbitOptions(NamedTuple):
     out: Optional[Path]
 
 
+#: the orbit command's own options that apply beside a model file (said when refusing the others)
+MODEL_OPTIONS = ("--tol", "--returns", "--guess", "--fd-check", "--json", "--out")
+
+
 def _refuse(params: dict[str, Any], config: Optional[Path], plot: Optional[Path]) -> None:
-    refuse_single_mass(params)
+    refuse_single_mass(params, own=MODEL_OPTIONS)
     if config is not None:
         raise ValueError("--model describes the whole system: --config cannot be given with it")
     if plot is not None:

@@ -75,13 +75,14 @@ def flag(name: str, value: Any) -> bool:
     return bool(value)
 
 
-def check_memory(samples: float, max_memory: float, what: str | Callable[[], str]) -> None:
+def check_memory(samples: float, max_memory: float, what: str | Callable[[], str],
+                 row: float = BYTES_PER_SAMPLE) -> None:
     """Refuse, with the numbers and the settings that would fix it, a run whose samples exceed ``max_memory`` GiB.
 
     ``what`` names the run by the settings its size follows (:meth:`Solver.sized`; a callable is
-    called only to say so).
+    called only to say so); ``row`` is the bytes of one sample (the single mass's by default).
     """
-    need = samples * BYTES_PER_SAMPLE / 2**30
+    need = samples * row / 2**30
     if need > max_memory:
         raise ValueError(
             f"{what() if callable(what) else what} needs about {samples:.3g} samples ({need:.3g} GiB) "

@@ -26,8 +26,9 @@ from ..system import System, assemble
 from ..system.assemble import free_directions
 from ..system.checks import independent
 from . import structure_adaptive
+from .base import DEFAULT_MAX_MEMORY
 from .registry import solver_named, solver_names_where
-from .structure_motion import buffers, first_capacity, motion, row_bytes, run_growing, stopped
+from .structure_motion import buffers, first_capacity, memory_room, motion, row_bytes, run_growing, stopped
 
 #: the solver's name in messages
 NAME = "exact"
@@ -73,9 +74,10 @@ def structure_solver_for(system: Any, solver: str = "auto") -> str:
 
 def solver_settings(solver: str, values: Mapping[str, Any]) -> dict[str, Any]:
     """The settings of structure solver ``solver`` given in ``values`` (its declared parameters, not None),
-    by its keywords; ``dense_dt`` stays the run's."""
+    each checked in its declared range (a one-line ValueError naming the parameter as given), by its
+    keywords; ``dense_dt`` stays the run's."""
     cls = _structure_solver(solver)
-    return {cls.keywords.get(p.name, p.name): values[p.name] for p in cls.parameters
+    return {cls.keywords.get(p.name, p.name): p.check(values[p.name]) for p in cls.parameters
             if values.get(p.name) is not None and p.name != "dense_dt"}
 
 
@@ -149,7 +151,7 @@ def _channels(names: dict[str, tuple[str, ...]]) -> tuple[str, ...]:
 
 def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = None,
                  names: Mapping[str, Any] | None = None, system: Any = None, solver: str = NAME,
-                 settings: Mapping[str, Any] | None = None) -> Motion:
+                 settings: Mapping[str, Any] | None = None, max_memory: float = DEFAULT_MAX_MEMORY) -> Motion:
     """Run the structure ``assembly`` from t = 0 to ``t_end`` with the exact event-driven engine (or ``solver``).
 
     Parameters
@@ -170,17 +172,22 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
         ``"adaptive"`` (every switch-rule law with a compiled slip curve).
     settings:
         The solver's own settings by keyword (the adaptive one's ``rtol``, ``atol``, ``max_steps``).
+    max_memory:
+        GiB the run's records may take: a run sampled too densely is refused before it starts, one whose
+        switches outgrow it when its records would (as the single mass's ``max_memory``).
     """
     nm = _names(assembly, names)
     cls = _structure_solver(solver)
     _check(assembly, t_end, dense_dt, nm["contact"], solver)
+    check.positive("max_memory", check.number("max_memory", max_memory))
     if solver != NAME:
         # the solver's own checks are the single mass's (nondimensional time); a structure's sampling step is
         # checked above in its own units and handed over apart
         settings = cls(**(settings or {}))
-        return structure_adaptive.run(assembly, (t_end, dense_dt), settings, nm, _channels(nm), system)
+        return structure_adaptive.run(assembly, (t_end, dense_dt), settings, nm, _channels(nm), system, max_memory)
     if settings:
         raise ValueError(f"solver={NAME} takes no settings, got {', '.join(sorted(settings))}")
+    room = memory_room(assembly, (float(t_end), dense_dt), max_memory)
     minv = np.linalg.inv(assembly.mass)
 
     def attempt(cap: int) -> tuple:
@@ -191,7 +198,7 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
     first = first_capacity(assembly, samples_bound(assembly, t_end, dense_dt, omega), FIRST_CAP)
     seconds = switch_bound(assembly, t_end, omega) * SECONDS_PER["structure_switch"]
     try:
-        res, *records = run_growing(float(t_end), first, attempt, seconds)
+        res, *records = run_growing(float(t_end), first, attempt, seconds, room)
     except ValueError as e:
         raise in_model_terms(e, assembly, nm) from None
     if res.status not in (codes.OK, codes.CONTACT_LOST):
@@ -321,7 +328,7 @@ def run_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None
 
 
 def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None, solver: str = NAME,
-                    **settings: Any) -> Motion:
+                    max_memory: float = DEFAULT_MAX_MEMORY, **settings: Any) -> Motion:
     """Run the model ``system`` to ``t_end``: assemble it, then :func:`~frictionflow.solvers.structure.run_assembly`.
 
     Parameters
@@ -336,6 +343,8 @@ def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None,
     solver:
         ``"exact"`` (the default; Coulomb's law), or ``"adaptive"`` for every switch-rule law with a
         compiled slip curve (Stribeck, cubic, Coulomb): see :func:`structure_solvers`.
+    max_memory:
+        GiB the run's records may take (4 by default): a run sampled too densely is refused before it starts.
     settings:
         The solver's settings, e.g. ``rtol=1e-10, atol=1e-13`` for the adaptive solver.
     """
@@ -345,4 +354,4 @@ def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None,
         if not test(type(contact.law)):
             raise ValueError(_law_message(solver, name, contact.law.name))
     return run_assembly(assemble(system), t_end, dense_dt=dense_dt, names={"dof": system.dof}, system=system,
-                        solver=solver, settings=settings)
+                        solver=solver, settings=settings, max_memory=max_memory)

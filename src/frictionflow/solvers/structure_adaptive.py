@@ -23,7 +23,8 @@ from ..estimate import SECONDS_PER, Estimate
 from ..motion import Motion
 from ..system.assemble import fastest_rate, state_scales
 from .adaptive import Adaptive
-from .structure_motion import buffers, motion, run_growing, stopped
+from .base import DEFAULT_MAX_MEMORY
+from .structure_motion import buffers, memory_room, motion, row_bytes, run_growing, stopped
 
 #: the longest step, as a fraction of the fastest period's 1/(2 pi) (the single mass's 0.25): the event
 #: functions are watched at the step ends only
@@ -59,16 +60,15 @@ STEPS_PER_H_MAX = 8.0
 def step_estimate(assembly: Assembly, t_end: float, dense_dt: float | None = None) -> Estimate:
     """What an adaptive run of ``assembly`` to ``t_end`` costs: :data:`STEPS_PER_H_MAX` steps per
     :func:`h_max`, each the single mass's step cost times the stages' n^2 work (and a sample each)."""
-    n, k = assembly.mass.shape[0], len(assembly.belt)
+    n = assembly.mass.shape[0]
     steps = STEPS_PER_H_MAX * (t_end / h_max(assembly, t_end) + 1.0)
     samples = steps + (0.0 if not dense_dt else t_end / dense_dt)
-    row = 8.0 * (4 * n + 2 * k + n_channels(assembly))
     return Estimate(steps, f"steps of a {n}-dof structure", steps * SECONDS_PER["adaptive_step"] * max(n, 1) ** 2,
-                    memory=samples * row)
+                    memory=samples * row_bytes(assembly, derivatives=True))
 
 
 def run(assembly: Assembly, span: tuple[float, float | None], settings: Adaptive, elements: dict[str, tuple[str, ...]],
-        channels: tuple[str, ...], system: Any = None) -> Motion:
+        channels: tuple[str, ...], system: Any = None, max_memory: float = DEFAULT_MAX_MEMORY) -> Motion:
     """Run ``assembly`` to t_end with the adaptive solver's ``settings`` (rtol, atol, max_steps).
 
     Parameters
@@ -86,8 +86,11 @@ def run(assembly: Assembly, span: tuple[float, float | None], settings: Adaptive
         The work channels' names.
     system:
         The model object the assembly came from, kept on the result.
+    max_memory:
+        GiB the run's records may take (:func:`~.structure_motion.memory_room`).
     """
     t_end, dense_dt = span
+    room = memory_room(assembly, (float(t_end), dense_dt), max_memory, derivatives=True)
     opts = Opts(float(t_end), float(settings.rtol), tolerances(assembly, t_end, settings.atol), h_max(assembly, t_end),
                 float(dense_dt or 0.0), int(settings.max_steps), state_scales(assembly, t_end)[0])
     minv = np.linalg.inv(assembly.mass)
@@ -97,7 +100,8 @@ def run(assembly: Assembly, span: tuple[float, float | None], settings: Adaptive
         der = empty_derivatives(cap, len(assembly.q0), n_channels(assembly))
         return run_kernel(assembly, minv, opts, *records, der), *records, der
 
-    res, *records, der = run_growing(float(t_end), FIRST_CAP, attempt, step_estimate(assembly, t_end, dense_dt).seconds)
+    res, *records, der = run_growing(float(t_end), FIRST_CAP, attempt, step_estimate(assembly, t_end, dense_dt).seconds,
+                                     room)
     if res.status not in (codes.OK, codes.CONTACT_LOST):
         raise RuntimeError(f"{stopped(res, records, elements, settings.name)} (max_steps={settings.max_steps})")
     own = {"rtol": settings.rtol, "atol": settings.atol, "max_steps": settings.max_steps}

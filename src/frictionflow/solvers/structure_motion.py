@@ -28,11 +28,12 @@ import numpy as np
 
 from ..core import codes
 from ..core.assembly import Assembly
-from ..core.records import Derivatives, Events, Samples, empty_events, empty_samples
+from ..core.records import Derivatives, Events, Samples, empty_derivatives, empty_events, empty_samples
 from ..core.structure.run import Result
 from ..core.structure.work import n_channels
 from .._interrupt import interruptible
 from ..motion import Motion
+from .base import check_memory
 
 
 #: bytes the records of a first attempt may take; a run that needs more grows them from its own pace
@@ -41,9 +42,29 @@ FIRST_BYTES = 32_000_000
 PACE_MARGIN = 1.25
 
 
-def row_bytes(assembly: Assembly) -> int:
-    """Bytes of one sample and one switch in :func:`buffers` (read off records of one row)."""
-    return sum(part.nbytes for record in buffers(assembly, 1) for part in record)
+def row_bytes(assembly: Assembly, derivatives: bool = False) -> int:
+    """Bytes of one sample and one switch in :func:`buffers` (read off records of one row), with the
+    adaptive solver's :data:`~frictionflow.core.records.Derivatives` if ``derivatives``."""
+    records = buffers(assembly, 1)
+    if derivatives:
+        records = (*records, empty_derivatives(1, len(assembly.q0), n_channels(assembly)))
+    return sum(part.nbytes for record in records for part in record)
+
+
+def memory_room(assembly: Assembly, span: tuple[float, float | None], max_memory: float,
+                derivatives: bool = False) -> Callable[[float], None]:
+    """A check that records of so many rows fit ``max_memory`` GiB (a one-line ValueError otherwise), for
+    :func:`run_growing`'s attempts; the dense grid's samples of ``span`` = (t_end, dense_dt), a bound from
+    below on every run's, are checked at once, before any work.  ``derivatives``: as :func:`row_bytes`."""
+    t_end, dense_dt = span
+    row = row_bytes(assembly, derivatives)
+    what = f"a run to t_end={t_end:g}" + (f" sampled every dense_dt={dense_dt:g}" if dense_dt else "")
+
+    def room(rows: float) -> None:
+        check_memory(rows, max_memory, what, row)
+
+    room(t_end / dense_dt + 1.0 if dense_dt else 1.0)
+    return room
 
 
 def first_capacity(assembly: Assembly, expected: float, floor: int) -> int:
@@ -71,14 +92,17 @@ def regrow(res: Result, records: tuple[Samples, Events], t_end: float, cap: int)
 INTERRUPT_AFTER = 0.1
 
 
-def run_growing(t_end: float, cap: int, attempt: Callable[[int], tuple], seconds: float = 0.0) -> tuple:
+def run_growing(t_end: float, cap: int, attempt: Callable[[int], tuple], seconds: float,
+                room: Callable[[float], None]) -> tuple:
     """``attempt(cap)``'s answer once its records hold the whole run, :func:`regrow` between attempts.
 
     ``attempt`` runs a kernel from the start on new records of ``cap`` rows
     and returns (its Result, the Samples, the Events, any further records); each attempt runs
     ``interruptible`` when the run's estimate ``seconds`` exceeds :data:`INTERRUPT_AFTER`.
+    ``room(cap)`` (:func:`memory_room`) refuses records too large before each attempt.
     """
     while True:
+        room(cap)
         out = interruptible(lambda: attempt(cap)) if seconds > INTERRUPT_AFTER else attempt(cap)
         res = out[0]
         if res.status != codes.FULL and res.n_switches <= cap:
