@@ -7,14 +7,18 @@ silently with 143.
 
 from __future__ import annotations
 
+import importlib
 import os
 import signal
 import subprocess
 import sys
 import time
+import tomllib
+from pathlib import Path
 
 import pytest
 
+import frictionflow.cli as frictionflow_cli
 from frictionflow.cli import simulate as simulate_cli, sweep as sweep_cli
 
 from .processes import SRC, in_process, one_line
@@ -121,3 +125,36 @@ def test_an_interrupt_caught_after_it_left_generated_code_exits_1(tmp_path):
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(SRC), str(tmp_path)]))
     done = subprocess.run([sys.executable, "-m", "entry"], env=env, capture_output=True, text=True, timeout=120)
     assert done.returncode == 1, done.stderr
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_at_any_moment_of_the_start_ends_in_one_line(sig):
+    """Before, a Ctrl-C in the first second (the package loading, a command's modules, its options read) printed
+    a 20-40 line traceback (exit by SIGINT) or ended with exit code 0 and no output (typer returned its 130 for
+    an interrupt outside the command's run, and it was dropped); SIGTERM then ended the process with no word.
+    The console script (``_frictionflow_launch``, outside the package) holds both signals while the package
+    loads.  Signals sent from 0.05 s to 2 s after the start of a run that would take hours: each ends with exit
+    code 1 and the one line."""
+    env = dict(os.environ, PYTHONPATH=str(SRC))
+    # the child says when the interpreter's own start-up (site) is over: a signal before it is no program's
+    start = ("import runpy, sys; sys.argv[1:] = ['simulate', '--t-end', '1e7', '--json']; print('started', "
+             "file=sys.stderr, flush=True); runpy.run_module('_frictionflow_launch', run_name='__main__')")
+    for delay in (0.1, 0.2, 0.4, 0.6, 0.8, 1.0, 1.3, 2.0):  # (runpy reads the launcher in the first ms)
+        p = subprocess.Popen([sys.executable, "-c", start], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True, env=env, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+        assert p.stderr.readline() == "started\n"
+        time.sleep(delay)
+        p.send_signal(sig)
+        out, err = p.communicate(timeout=120)
+        assert p.returncode == 1 and out == "", (delay, p.returncode, err)
+        one_line(err, "interrupted (Ctrl-C or SIGTERM)")
+
+
+def test_the_console_script_is_the_launcher():
+    """The installed ``frictionflow`` command starts in the module that holds the signals, not in the package."""
+    with open(Path(SRC).parent / "pyproject.toml", "rb") as f:
+        scripts = tomllib.load(f)["project"]["scripts"]
+    assert scripts == {"frictionflow": "_frictionflow_launch:run"}
+    launcher = importlib.import_module("_frictionflow_launch")
+    assert launcher.run is frictionflow_cli.run

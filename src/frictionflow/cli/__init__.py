@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import importlib
 import os
+import signal
 import sys
 import warnings
 
@@ -22,9 +23,12 @@ import typer
 
 from .._interrupt import abandoned
 from ..io import PATH_ERRNOS
-from ._app import PanelledCommand, app
+from ._app import INTERRUPTED, Interrupted, PanelledCommand, app
 from .vocabulary import rewrite
 
+#: what typer's ``main`` returns, without a word, for a KeyboardInterrupt outside a command's run (in the run,
+#: ``PanelledCommand`` raises :class:`~frictionflow.cli._app.Interrupted` first)
+TYPER_INTERRUPTED = 130
 #: the exit codes of every command (documented in the README's "Exit codes")
 EXIT_CODES = {0: "done", 1: "failed, not for the command line's fault: run it again once the cause is gone", 2: "bad input"}
 
@@ -107,12 +111,18 @@ def main(argv: list[str] | None = None) -> int:
 def _main(argv: list[str] | None, deprecations: list[str]) -> int:
     warnings.showwarning = _one_line_warning
     argv = sys.argv[1:] if argv is None else list(argv)
-    load_commands(argv)
+    try:
+        load_commands(argv)  # a command's modules: a Ctrl-C while they load is an interrupt like any other
+    except KeyboardInterrupt:
+        print(f"error: {INTERRUPTED}", file=sys.stderr)
+        return 1
     command = typer.main.get_command(app)
     try:
         argv, lines = rewrite(argv)
         deprecations.extend(lines)
-        command.main(args=argv, prog_name="frictionflow", standalone_mode=False)
+        returned = command.main(args=argv, prog_name="frictionflow", standalone_mode=False)
+        if returned == TYPER_INTERRUPTED:  # a Ctrl-C outside a command's run (reading its options)
+            raise Interrupted(INTERRUPTED)
     except typer.Exit as e:
         return e.exit_code
     except typer.Abort:
@@ -154,6 +164,8 @@ def _missing(error: Exception, argv: list[str]) -> list[str]:
 
 def run() -> None:  # pragma: no cover - console script
     code = main()
+    for sig in (signal.SIGINT, signal.SIGTERM):  # the command has ended: a signal now would only hide its code
+        signal.signal(sig, signal.SIG_IGN)
     if abandoned():  # an interrupted run's thread is still at work: end without finalising under it
         sys.stdout.flush()
         sys.stderr.flush()

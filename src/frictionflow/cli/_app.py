@@ -22,6 +22,10 @@ from .._version import __version__
 from .vocabulary import PANELS
 
 
+#: what an interrupted command says (after ``error:``), where nothing was kept to name
+INTERRUPTED = "interrupted (Ctrl-C or SIGTERM)"
+
+
 class Interrupted(RuntimeError):
     """Ctrl-C or SIGTERM during a command: exit code 1 with one ``error:`` line (what was kept, where it matters)."""
 
@@ -70,7 +74,7 @@ class PanelledCommand(typer.core.TyperCommand):
             try:
                 return super().invoke(ctx)
             except KeyboardInterrupt:
-                raise Interrupted("interrupted (Ctrl-C or SIGTERM)") from None
+                raise Interrupted(INTERRUPTED) from None
 
     def format_options(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
         groups: dict[str, list[tuple[str, str]]] = {}
