@@ -10,17 +10,20 @@ from __future__ import annotations
 import json
 import math
 import warnings
+from contextlib import contextmanager
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 import xarray as xr
 from PIL import Image
 
+import frictionflow.cli.structure as cli_structure
 from frictionflow.analysis.structure import analyze_structure
-from frictionflow.solvers.structure import simulate_system
+from frictionflow.solvers.structure import run_estimate, simulate_system
 from frictionflow.structure_plot import energy_budget, mode_steps, plot_structure
-from frictionflow.system import load_system
+from frictionflow.system import assemble, load_system
 
 from ..cli.processes import cli, in_process, one_line
 
@@ -301,3 +304,26 @@ def test_the_help_gives_the_defaults_a_model_run_takes(capsys):
     assert all(run[0] == 0 for run in runs), runs
     default, given, other = (json.loads(run[1]) for run in runs)
     assert default == given and default["steady_state"] != other["steady_state"]
+
+
+def test_a_long_model_run_shows_a_bar_on_a_terminal(monkeypatch):
+    """A structure run of half a minute was silent on a terminal (the single mass's long runs show a bar with the
+    time so far): the bar shows for a run estimated above ``PROGRESS_AFTER`` seconds, on a terminal only, and the
+    run's report is the same with it."""
+    shown = []
+
+    @contextmanager
+    def recorder(description, total, enabled=True, **kwargs):
+        shown.append((description, enabled))
+        yield lambda n: None
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "models" / "stick_slip_chain.toml"
+    wall = run_estimate(assemble(load_system(path)), 100.0).wall
+    plain = in_process("simulate", "--model", str(path), "--t-end", "100", "--json")
+    monkeypatch.setattr(cli_structure, "progress_bar", recorder)
+    for terminal in (False, True):
+        monkeypatch.setattr(cli_structure, "sys", SimpleNamespace(stderr=SimpleNamespace(isatty=lambda: terminal)))
+        for after in (2 * wall, wall / 2):
+            monkeypatch.setattr(cli_structure, "PROGRESS_AFTER", after)
+            assert in_process("simulate", "--model", str(path), "--t-end", "100", "--json")[:3] == plain[:3]
+    assert shown == [("exact run", False)] * 3 + [("exact run", True)]

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 from contextlib import nullcontext
 from pathlib import Path
 from typing import Any, Optional
@@ -18,6 +19,7 @@ from ..config import parse_window
 from ..io import atomic_write, check_input_path, check_output_path
 from ..plotting import FIGURE_FORMATS
 from ..estimate import enforce
+from .._progress import progress_bar
 from ..solvers import structure_precompile
 from ..solvers.structure import (HOW, NAME as EXACT, file_dense_dt, run_estimate, simulate_system, solver_settings,
                                  structure_parameters, structure_solver_for)
@@ -29,6 +31,9 @@ from .output import print_summary
 MODEL_KEEPS = ("t_end", "window", "rtol")
 #: the run's end time when --t-end is not given
 T_END = 300.0
+#: a run estimated above so many seconds shows a bar with its time so far (the estimate bounds it from above,
+#: ~100x at the example chains: the bar then shows for runs of a fraction of a second and more)
+PROGRESS_AFTER = 30.0
 #: the steady-state tolerance when --rtol is not given (the structure analysis's)
 RTOL = 1e-6
 #: ... and beside ``simulate --model``: the solver, the structure solvers' own settings and the memory bound too
@@ -67,12 +72,16 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     _refuse_others(solver, params)
     asm = assemble(system)
     dense_dt = run_dense_dt(asm, params, outputs)
-    enforce(run_estimate(asm, t_end, dense_dt, solver=solver))
+    estimate = run_estimate(asm, t_end, dense_dt, solver=solver)
+    enforce(estimate)
     window = _window(params.get("window"))
     rtol = RTOL if params.get("rtol") is None else float(params["rtol"])
     memory = {} if params.get("max_memory") is None else {"max_memory": params["max_memory"]}
+    shown = sys.stderr.isatty() and estimate.wall > PROGRESS_AFTER
     with structure_precompile.first_use() if solver == EXACT else nullcontext():
-        motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=solver, **memory, **settings)
+        with progress_bar(f"{solver} run", 1, enabled=shown) as advance:  # the run's time so far, as it goes
+            motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=solver, **memory, **settings)
+            advance(1)
         return analyze_structure(motion, rtol=rtol, window=window)
 
 
