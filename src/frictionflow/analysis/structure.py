@@ -60,8 +60,9 @@ from .structure_lyapunov import beyond_periodic
 #: the kinds a structure's run is given: the shared ones (:data:`frictionflow.quantities.KINDS`) but
 #: ``diverged`` (an exact linear run stays finite), and ``contact_lost``; the first four keep their codes
 STRUCTURE_KINDS = (*Q.KINDS[:3], "contact_lost", *(k for k in Q.KINDS[3:] if k != "diverged"))
-#: largest number of section crossings in one period that is looked for
-MAX_CROSSINGS = 12
+#: largest number of section crossings in one period that is looked for (the orbit command's --returns range: a
+#: chain's cycle of several stick episodes crosses it 17 times and more)
+MAX_CROSSINGS = 64
 #: grid points per shortest natural period when looking for section crossings
 GRID_PER_PERIOD = 64
 #: the rounding the removal of a free drift leaves in the positions, in EPS of their size
