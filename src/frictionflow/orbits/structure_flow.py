@@ -44,7 +44,7 @@ from ..core.structure.phase import start, state_at
 from ..core.structure.stick import acceleration
 from ..core.structure.work import n_channels
 from ..solvers.structure import (free_direction_text, free_motion_solvers, in_model_terms, is_free_motion,
-                                 run_assembly)
+                                 is_repeated_root, run_assembly)
 from ..system.assemble import free_directions, state_scales
 
 optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the CLI stays quick
@@ -118,12 +118,16 @@ class Flow:
         error as it is."""
         dof = (self.names or {}).get("dof") or tuple(f"q{i}" for i in range(self.n))
         free = free_directions(self.assembly, undamped=True)
+        runs = " or ".join(free_motion_solvers())
         if not (free.shape[1] and is_free_motion(error)):
             names = {kind: (self.names or {}).get(kind) or tuple(f"{kind}.{i}" for i in range(count))
                      for kind, count in (("spring", len(self.assembly.spring_k)),
                                          ("damper", len(self.assembly.damper_c)))}
-            return in_model_terms(error, self.assembly, {"dof": dof, **names})
-        runs = " or ".join(free_motion_solvers())
+            said = in_model_terms(error, self.assembly, {"dof": dof, **names})
+            if not is_repeated_root(said):
+                return said
+            return ValueError(f"orbits follow the exact engine's phases: "
+                              f"{str(said).split('; use')[0].split(': ', 1)[1]}; simulate runs it with solver={runs}")
         return ValueError(f"orbits follow the exact engine's phases, which do not describe an undamped free motion: "
                           f"along {free_direction_text(free, dof)} no spring, damper or normal load holds the "
                           f"structure; simulate runs it with solver={runs}")

@@ -10,6 +10,7 @@ laws, each solver class declares (``structure_laws``); nothing here names a law.
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any, Mapping
 
 import numpy as np
@@ -49,7 +50,11 @@ def structure_solvers() -> tuple[str, ...]:
     return solver_names_where(lambda cls: cls.structure_laws is not None)
 
 
-def structure_solver_for(system: Any, solver: str = "auto") -> str:
+#: the solver name that picks one (:func:`structure_solver_for`)
+AUTO = "auto"
+
+
+def structure_solver_for(system: Any, solver: str = AUTO) -> str:
     """``solver``, or for ``"auto"`` the first structure solver (registry order) that runs every contact's law
     (and, where the structure has an undamped free motion, runs those: ``structure_free_motion``).
 
@@ -60,7 +65,7 @@ def structure_solver_for(system: Any, solver: str = "auto") -> str:
     solver:
         A name of :func:`structure_solvers` or ``"auto"``.
     """
-    if solver != "auto":
+    if solver != AUTO:
         _structure_solver(solver)
         return solver
     laws = [type(c.law) for c in system.contacts]
@@ -209,6 +214,11 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
 #: how the engine (``core.structure.combo.decompose``) refuses a mode combination whose eigenvectors double
 #: precision cannot resolve
 DEFECTIVE = "structure: a mode combination's matrix is defective"
+#: ... and one with a (nearly) defective double root, resolved only to ~1e-8
+REPEATED = "structure: a mode combination has a repeated root"
+#: the rates of a structure whose defective combination is blamed on its stiffest element span at least this
+#: much; closer rates mean a double root (equal modes coupled through a normal load)
+RATES_SPREAD = 1e4
 
 
 def in_model_terms(error: ValueError, assembly: Assembly, nm: dict[str, tuple[str, ...]]) -> ValueError:
@@ -220,6 +230,8 @@ def in_model_terms(error: ValueError, assembly: Assembly, nm: dict[str, tuple[st
     c e.M^-1.e for a damper, sqrt(k e.M^-1.e) for a spring) and, where K is invertible, the slowest rate (the
     largest root of the reversed problem mu^2 K + mu C + M: the forward one gets the smallest only to rounding
     of the largest)."""
+    if str(error).startswith(REPEATED):
+        return ValueError(repeated_message())
     if not str(error).startswith(DEFECTIVE):
         return error
     free = free_directions(assembly, undamped=True)
@@ -239,9 +251,26 @@ def in_model_terms(error: ValueError, assembly: Assembly, nm: dict[str, tuple[st
     if np.linalg.matrix_rank(k) == n:
         kinv = np.linalg.inv(k)
         reversed_ = np.block([[np.zeros((n, n)), np.eye(n)], [-kinv @ assembly.mass, -kinv @ c]])
-        slowest = f" beside its slowest rate {1.0 / float(np.abs(np.linalg.eigvals(reversed_)).max()):.3g}"
+        rate = 1.0 / float(np.abs(np.linalg.eigvals(reversed_)).max())
+        if fastest < RATES_SPREAD * rate:  # nothing stiff: a double root without a basis of modes
+            return ValueError(repeated_message())
+        slowest = f" beside its slowest rate {rate:.3g}"
     return ValueError(f"structure: {name}'s rate {fastest:.3g} (alone){slowest} spans more than one "
                       "double-precision mode basis resolves; soften it, or leave out the motion it holds")
+
+
+def repeated_message() -> str:
+    """One line: the exact engine does not resolve a combination with a (nearly) defective double root; the
+    solvers that integrate the motion instead of summing its modes."""
+    runs = free_motion_solvers()
+    return (f"solver={NAME}: a combination of contact modes has a repeated root (a critically damped mode, or equal "
+            "modes coupled through a normal load), whose modes double precision resolves only to ~1e-8"
+            + (f"; use solver={' or '.join(runs)}" if runs else ""))
+
+
+def is_repeated_root(error: Exception) -> bool:
+    """Whether ``error`` is the exact engine's refusal of a repeated root (:func:`repeated_message`)."""
+    return str(error).startswith(f"solver={NAME}: a combination of contact modes has a repeated root")
 
 
 def free_direction_text(free: np.ndarray, dof: tuple[str, ...]) -> str:
@@ -341,17 +370,38 @@ def simulate_system(system: Any, t_end: float, *, dense_dt: float | None = None,
         Also sample every ``dense_dt`` (None: the switches and the ends only; between samples
         :meth:`~frictionflow.motion.Motion.at` evaluates the exact motion anyway).
     solver:
-        ``"exact"`` (the default; Coulomb's law), or ``"adaptive"`` for every switch-rule law with a
-        compiled slip curve (Stribeck, cubic, Coulomb): see :func:`structure_solvers`.
+        ``"exact"`` (the default; Coulomb's law), ``"adaptive"`` for every switch-rule law with a
+        compiled slip curve (Stribeck, cubic, Coulomb): see :func:`structure_solvers`; or ``"auto"``:
+        :func:`structure_solver_for`'s choice, and when the exact engine meets a repeated root it does not
+        resolve, the run made again with the first solver that integrates the motion (a warning says so).
     max_memory:
         GiB the run's records may take (4 by default): a run sampled too densely is refused before it starts.
     settings:
         The solver's settings, e.g. ``rtol=1e-10, atol=1e-13`` for the adaptive solver.
     """
     check.instance("system", system, System, "a frictionflow.system.System (load_system, System.from_dict)")
+    if solver == AUTO:
+        return _auto(system, t_end, dense_dt, max_memory, settings)
     test = _structure_solver(solver).structure_laws
     for contact, name in zip(system.contacts, system.contact_names):
         if not test(type(contact.law)):
             raise ValueError(_law_message(solver, name, contact.law.name))
     return run_assembly(assemble(system), t_end, dense_dt=dense_dt, names={"dof": system.dof}, system=system,
                         solver=solver, settings=settings, max_memory=max_memory)
+
+
+def _auto(system: System, t_end: float, dense_dt: float | None, max_memory: float,
+          settings: Mapping[str, Any]) -> Motion:
+    """:func:`simulate_system` with ``solver="auto"``: on :func:`structure_solver_for`'s choice, and again on the
+    first solver that integrates the motion where the exact engine met a repeated root (found only running: the
+    combinations a run enters are not known before)."""
+    solver = structure_solver_for(system)
+    try:
+        return simulate_system(system, t_end, dense_dt=dense_dt, solver=solver, max_memory=max_memory, **settings)
+    except ValueError as e:
+        if solver != NAME or not is_repeated_root(e):
+            raise
+        said = str(e).split("; use")[0].removeprefix(f"solver={NAME}: ")
+    other = free_motion_solvers()[0]
+    warnings.warn(f"solver=auto ran the model with solver={other} (with solver={NAME}, {said})")
+    return simulate_system(system, t_end, dense_dt=dense_dt, solver=other, max_memory=max_memory)

@@ -91,6 +91,12 @@ SYM_TOL = 1e-13
 NEAR_DOUBLE = 1e-6
 #: an eigenvector basis this ill-conditioned is refused (a defective matrix: an undamped rigid mode)
 COND_MAX = 1e10
+#: ... and above this one where two roots coincide to :data:`REPEATED_APART` of their size: a (nearly) defective
+#: double root (a critically damped mode) whose two computed roots part by ~sqrt(EPS) and whose basis loses
+#: ~cond EPS: the motion ~1e-8 off (a one-dof model at zeta = 1 ended 1.1e-9 from its rest position).  A root
+#: pair apart by 1e-6 of its size has a basis of condition ~1e6 and keeps its motion to ~1e-10.
+COND_REPEATED = 1e6
+REPEATED_APART = 1e-5
 
 
 @njit(cache=True)
@@ -344,7 +350,20 @@ def decompose(m, c, k, z, sel, rows, eigs=None):
     fv, fvi = full_norms(md, rate_scale(mr, kr, cr))
     if math.sqrt(fv * fvi) > COND_MAX * 2 * r:
         raise ValueError("structure: a mode combination's matrix is defective (e.g. an undamped rigid mode)")
+    if math.sqrt(fv * fvi) > COND_REPEATED * 2 * r and repeated_root(md.lam):
+        raise ValueError("structure: a mode combination has a repeated root (e.g. a critically damped mode)")
     return md
+
+
+@njit(cache=True)
+def repeated_root(lam):
+    """Whether two of ``lam`` coincide to :data:`REPEATED_APART` of the larger's modulus (both nonzero)."""
+    for i in range(len(lam)):
+        for j in range(i):
+            size = max(abs(lam[i]), abs(lam[j]))
+            if size > 0.0 and abs(lam[i] - lam[j]) <= REPEATED_APART * size:
+                return True
+    return False
 
 
 @njit(cache=True)
