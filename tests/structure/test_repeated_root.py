@@ -124,3 +124,21 @@ def test_a_sweep_point_at_critical_damping_is_the_simulate_run(tmp_path):
     assert float(point["X_max"].sel(dof="x")) == run.amplitude["X_max"]["x"]
     assert float(point["X_min"].sel(dof="x")) == run.amplitude["X_min"]["x"]
     assert float(point["energy_residual"]) == run.energy_residual
+
+
+def test_equal_roots_of_independent_modes_beside_a_stiff_damper_stay_on_the_exact_engine():
+    """x2 and x3 are equal undamped oscillators (the same roots +-i, independent modes) beside a damper of 1e8 on
+    x1 (a basis of condition ~1e8 over the whole combination): not a repeated root.  x3 and x1's creep are
+    the closed forms'.  (Refused as a repeated root by the first version of the check, which took the whole
+    basis's condition.)"""
+    system = System.from_dict({
+        "dof": ["x1", "x2", "x3"], "mass": [1.0, 1.0, 1.0],
+        "spring": [{"on": {d: 1.0}, "k": 1.0} for d in ("x1", "x2", "x3")],
+        "damper": [{"on": {"x1": 1.0}, "c": 1e8}],
+        "contact": [{"on": {"x2": 1.0}, "belt": 0.1, "friction": "coulomb", "fd": 0.2, "fs": 0.3}],
+        "initial": {"q": {"x1": 0.2, "x2": 0.5, "x3": 0.3}}}, source=None)
+    exact = simulate_system(system, 20.0)
+    assert exact.solver == "exact" and len(exact.switches) > 4
+    x3 = 0.3 * np.cos(20.0)  # x3 is a free undamped oscillator
+    assert exact.at(20.0)[2] == pytest.approx(x3, abs=1e-12)
+    assert exact.at(20.0)[0] == pytest.approx(0.2 * math.exp(-20.0 / 1e8), rel=1e-6)  # x1 creeps at k / c

@@ -350,20 +350,38 @@ def decompose(m, c, k, z, sel, rows, eigs=None):
     fv, fvi = full_norms(md, rate_scale(mr, kr, cr))
     if math.sqrt(fv * fvi) > COND_MAX * 2 * r:
         raise ValueError("structure: a mode combination's matrix is defective (e.g. an undamped rigid mode)")
-    if math.sqrt(fv * fvi) > COND_REPEATED * 2 * r and repeated_root(md.lam):
+    if math.sqrt(fv * fvi) > COND_REPEATED * 2 * r and repeated_root(md, rate_scale(mr, kr, cr)):
         raise ValueError("structure: a mode combination has a repeated root (e.g. a critically damped mode)")
     return md
 
 
 @njit(cache=True)
-def repeated_root(lam):
-    """Whether two of ``lam`` coincide to :data:`REPEATED_APART` of the larger's modulus (both nonzero)."""
+def repeated_root(md, rate):
+    """Whether two roots coincide to :data:`REPEATED_APART` of the larger's modulus (both nonzero), each ill
+    conditioned beyond :data:`COND_REPEATED` (:func:`root_condition`): a defective pair.  Equal roots of
+    independent modes (two equal masses) have well-conditioned columns and pass."""
+    lam = md.lam
     for i in range(len(lam)):
         for j in range(i):
             size = max(abs(lam[i]), abs(lam[j]))
             if size > 0.0 and abs(lam[i] - lam[j]) <= REPEATED_APART * size:
-                return True
+                if min(root_condition(md, rate, i), root_condition(md, rate, j)) > COND_REPEATED:
+                    return True
     return False
+
+
+@njit(cache=True)
+def root_condition(md, rate, c):
+    """|V e_c| |e_c^T V^-1| of root ``c``, velocities over ``rate`` (as :func:`full_norms`): its eigenvalue's
+    condition number, ~1 / the distance to its partner in a defective pair."""
+    v, vi = md.V, md.Vi
+    r = v.shape[0] // 2
+    sv, svi = 0.0, 0.0
+    for i in range(v.shape[0]):
+        sv += (v[i, c].real ** 2 + v[i, c].imag ** 2) * (1.0 if i < r else 1.0 / (rate * rate))
+    for i in range(vi.shape[1]):
+        svi += (vi[c, i].real ** 2 + vi[c, i].imag ** 2) * (1.0 if i < r else rate * rate)
+    return math.sqrt(sv * svi)
 
 
 @njit(cache=True)
