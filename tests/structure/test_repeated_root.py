@@ -128,9 +128,7 @@ def test_a_sweep_point_at_critical_damping_is_the_simulate_run(tmp_path):
 
 def test_equal_roots_of_independent_modes_beside_a_stiff_damper_stay_on_the_exact_engine():
     """x2 and x3 are equal undamped oscillators (the same roots +-i, independent modes) beside a damper of 1e8 on
-    x1 (a basis of condition ~1e8 over the whole combination): not a repeated root.  x3 and x1's creep are
-    the closed forms'.  (Refused as a repeated root by the first version of the check, which took the whole
-    basis's condition.)"""
+    x1 (roots -1e-8 and -1e8): equal roots, not a repeated root.  x3 and x1's creep are the closed forms'."""
     system = System.from_dict({
         "dof": ["x1", "x2", "x3"], "mass": [1.0, 1.0, 1.0],
         "spring": [{"on": {d: 1.0}, "k": 1.0} for d in ("x1", "x2", "x3")],
