@@ -8,6 +8,7 @@ silently with 143.
 from __future__ import annotations
 
 import importlib
+import importlib.metadata
 import os
 import signal
 import subprocess
@@ -134,13 +135,13 @@ def test_a_signal_at_any_moment_of_the_start_ends_in_one_line(sig):
     a 20-40 line traceback (exit by SIGINT) or ended with exit code 0 and no output (typer returned its 130 for
     an interrupt outside the command's run, and it was dropped); SIGTERM then ended the process with no word.
     The console script (``_frictionflow_launch``, outside the package) holds both signals while the package
-    loads.  Signals sent from 0.05 s to 2 s after the start of a run that would take hours: each ends with exit
+    loads.  Signals sent from 0.1 s to 2 s after the start of a run that would take hours: each ends with exit
     code 1 and the one line."""
     env = dict(os.environ, PYTHONPATH=str(SRC))
     # the child says when the interpreter's own start-up (site) is over: a signal before it is no program's
     start = ("import runpy, sys; sys.argv[1:] = ['simulate', '--t-end', '1e7', '--json']; print('started', "
              "file=sys.stderr, flush=True); runpy.run_module('_frictionflow_launch', run_name='__main__')")
-    for delay in (0.1, 0.2, 0.4, 0.6, 0.8, 1.0, 1.3, 2.0):  # (runpy reads the launcher in the first ms)
+    for delay in (0.1, 0.4, 0.7, 1.0, 1.5, 2.0):  # (runpy reads the launcher in the first ms)
         p = subprocess.Popen([sys.executable, "-c", start], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True, env=env, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
         assert p.stderr.readline() == "started\n"
@@ -153,8 +154,10 @@ def test_a_signal_at_any_moment_of_the_start_ends_in_one_line(sig):
 
 def test_the_console_script_is_the_launcher():
     """The installed ``frictionflow`` command starts in the module that holds the signals, not in the package."""
-    with open(Path(SRC).parent / "pyproject.toml", "rb") as f:
+    with open(Path(__file__).resolve().parents[2] / "pyproject.toml", "rb") as f:
         scripts = tomllib.load(f)["project"]["scripts"]
     assert scripts == {"frictionflow": "_frictionflow_launch:run"}
+    installed = importlib.metadata.entry_points(group="console_scripts", name="frictionflow")
+    assert [e.value for e in installed] == ["_frictionflow_launch:run"]  # what pip made of it
     launcher = importlib.import_module("_frictionflow_launch")
     assert launcher.run is frictionflow_cli.run
