@@ -263,14 +263,17 @@ def repeated_message() -> str:
     """One line: the exact engine does not resolve a combination with a (nearly) defective double root; the
     solvers that integrate the motion instead of summing its modes."""
     runs = free_motion_solvers()
-    return (f"solver={NAME}: a combination of contact modes has a repeated root (a critically damped mode, or equal "
-            "modes coupled through a normal load), whose modes double precision resolves only to ~1e-8"
-            + (f"; use solver={' or '.join(runs)}" if runs else ""))
+    return (f"{REPEATED_SAID} (a critically damped mode, or equal modes coupled through a normal load), whose modes "
+            "double precision resolves only to ~1e-8" + (f"; use solver={' or '.join(runs)}" if runs else ""))
+
+
+#: how :func:`repeated_message` begins
+REPEATED_SAID = f"solver={NAME}: a combination of contact modes has a repeated root"
 
 
 def is_repeated_root(error: Exception) -> bool:
     """Whether ``error`` is the exact engine's refusal of a repeated root (:func:`repeated_message`)."""
-    return str(error).startswith(f"solver={NAME}: a combination of contact modes has a repeated root")
+    return str(error).startswith(REPEATED_SAID)
 
 
 def free_direction_text(free: np.ndarray, dof: tuple[str, ...]) -> str:
