@@ -67,7 +67,8 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     t_end = requested_t_end(params)
     if not (math.isfinite(t_end) and t_end > 0.0):
         raise ValueError(f"--t-end must be a finite time > 0, got {t_end!r}")
-    solver = structure_solver_for(system, params.get("solver") or AUTO)
+    requested = params.get("solver") or AUTO  # auto's own choice is the run's: it may change solver on the way
+    solver = structure_solver_for(system, requested)
     settings = solver_settings(solver, params)
     _refuse_others(solver, params)
     asm = assemble(system)
@@ -78,11 +79,9 @@ def run_model(path: Path, params: dict[str, Any], outputs: dict[str, Any]) -> St
     rtol = RTOL if params.get("rtol") is None else float(params["rtol"])
     memory = {} if params.get("max_memory") is None else {"max_memory": params["max_memory"]}
     shown = sys.stderr.isatty() and estimate.wall > PROGRESS_AFTER
-    given = params.get("solver") or AUTO  # auto's own choice is the run's: it may change solver on the way
     with structure_precompile.first_use() if solver == EXACT else nullcontext():
         with progress_bar(f"{solver} run", 1, enabled=shown) as advance:  # the run's time so far, as it goes
-            motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=solver if given != AUTO else AUTO,
-                                     **memory, **settings)
+            motion = simulate_system(system, t_end, dense_dt=dense_dt, solver=requested, **memory, **settings)
             advance(1)
         return analyze_structure(motion, rtol=rtol, window=window)
 

@@ -372,15 +372,9 @@ def repeated_root(md, rate):
 
 @njit(cache=True)
 def root_condition(md, rate, c):
-    """|V e_c| |e_c^T V^-1| of root ``c``, velocities over ``rate`` (as :func:`full_norms`): its eigenvalue's
+    """|V e_c| |e_c^T V^-1| of root ``c``, velocities over ``rate`` (:func:`root_norms`): its eigenvalue's
     condition number, ~1 / the distance to its partner in a defective pair."""
-    v, vi = md.V, md.Vi
-    r = v.shape[0] // 2
-    sv, svi = 0.0, 0.0
-    for i in range(v.shape[0]):
-        sv += (v[i, c].real ** 2 + v[i, c].imag ** 2) * (1.0 if i < r else 1.0 / (rate * rate))
-    for i in range(vi.shape[1]):
-        svi += (vi[c, i].real ** 2 + vi[c, i].imag ** 2) * (1.0 if i < r else rate * rate)
+    sv, svi = root_norms(md, rate, c)
     return math.sqrt(sv * svi)
 
 
@@ -403,18 +397,26 @@ def full_norms(md, rate):
     condition of the basis in the structure's own time, the same in any unit of time (in picoseconds a chain's
     velocity rows, 1e12 times its position rows, made a well-resolved basis look defective)."""
     fv, fvi = 0.0, 0.0
-    v, vi = md.V, md.Vi
-    r = v.shape[0] // 2
     for c in range(len(md.lam)):
         s = pair_scale(md.lam[c]) if md.real else 1.0
-        sv, svi = 0.0, 0.0
-        for i in range(v.shape[0]):
-            sv += (v[i, c].real ** 2 + v[i, c].imag ** 2) * (1.0 if i < r else 1.0 / (rate * rate))
-        for i in range(vi.shape[1]):
-            svi += (vi[c, i].real ** 2 + vi[c, i].imag ** 2) * (1.0 if i < r else rate * rate)
+        sv, svi = root_norms(md, rate, c)
         fv += sv / s
         fvi += svi * s
     return fv, fvi
+
+
+@njit(cache=True, inline="always")
+def root_norms(md, rate, c):
+    """(|V e_c|^2, |e_c^T V^-1|^2) of root ``c``, V's velocity rows over ``rate`` and V^-1's velocity columns
+    times it (:func:`full_norms`)."""
+    v, vi = md.V, md.Vi
+    r = v.shape[0] // 2
+    sv, svi = 0.0, 0.0
+    for i in range(v.shape[0]):
+        sv += (v[i, c].real ** 2 + v[i, c].imag ** 2) * (1.0 if i < r else 1.0 / (rate * rate))
+    for i in range(vi.shape[1]):
+        svi += (vi[c, i].real ** 2 + vi[c, i].imag ** 2) * (1.0 if i < r else rate * rate)
+    return sv, svi
 
 
 @njit(cache=True)
