@@ -124,6 +124,10 @@ def test_a_sweep_point_at_critical_damping_is_the_simulate_run(tmp_path):
     assert float(point["X_max"].sel(dof="x")) == run.amplitude["X_max"]["x"]
     assert float(point["X_min"].sel(dof="x")) == run.amplitude["X_min"]["x"]
     assert float(point["energy_residual"]) == run.energy_residual
+    # each point says which solver ran it (the dataset's attribute gave the base model's, exact, for both)
+    meanings = ds["solver"].attrs["flag_meanings"].split()
+    ran = [meanings[int(code)] for code in ds["solver"].values]
+    assert ran == ["exact", "adaptive"] and ds.attrs["solver"] == "exact"
 
 
 def test_equal_roots_of_independent_modes_beside_a_stiff_damper_stay_on_the_exact_engine():

@@ -330,9 +330,9 @@ def test_estimate_before_any_work(two_dof, tmp_path):
     cfg = load_model_sweep(two_dof / "sweep.toml")
     est = runner.sweep_estimate(cfg, tmp_path / "r.zarr")
     assert est.work == 4 and est.seconds > 0
-    # per point: kind, period, energy_residual; stick_fraction, P_belt, P_heat, t_lost over 2 contacts; P over 5
+    # per point: kind, solver, period, energy_residual; stick_fraction, P_belt, P_heat, t_lost over 2 contacts; P over 5
     # elements; X_max, X_min over 2 dof
-    assert est.outputs == (("out", str(tmp_path / "r.zarr"), 4 * 8.0 * (3 + 4 * 2 + 5 + 2 * 2)),)
+    assert est.outputs == (("out", str(tmp_path / "r.zarr"), 4 * 8.0 * (4 + 4 * 2 + 5 + 2 * 2)),)
     with limited(Limits(seconds=1e-9)), pytest.raises(ValueError) as e:
         run_sweep(cfg, tmp_path / "r.zarr")
     assert "\n" not in str(e.value)

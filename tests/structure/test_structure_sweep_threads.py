@@ -11,7 +11,7 @@ import pytest
 
 from frictionflow.analysis.structure import STRUCTURE_KINDS, analyze_structure
 from frictionflow.core import threads
-from frictionflow.solvers.structure import simulate_system
+from frictionflow.solvers.structure import simulate_system, structure_solvers
 from frictionflow.sweep.model import compute_model_chunk, parse_model_sweep
 from frictionflow.system import System
 
@@ -44,7 +44,7 @@ def alone(system: System, solver: str = "exact") -> dict:
     a = analyze_structure(simulate_system(system, T_END, solver=solver))
     ss = a.steady_state
     elements = (*system.spring_names, *system.damper_names, *system.force_names)
-    return {"kind": STRUCTURE_KINDS.index(ss.kind), "period": ss.period, "stick_fraction": list(ss.stick_fraction),
+    return {"kind": STRUCTURE_KINDS.index(ss.kind), "solver": structure_solvers().index(solver), "period": ss.period, "stick_fraction": list(ss.stick_fraction),
             "P": [a.elements[e]["P"] for e in elements],
             "P_belt": [a.elements[c]["P_belt"] for c in system.contact_names],
             "P_heat": [a.elements[c]["P_heat"] for c in system.contact_names],
@@ -61,7 +61,7 @@ def test_a_threaded_chunk_equals_each_point_run_alone(cfg, monkeypatch, n_thread
     monkeypatch.setattr(threads.numba, "get_num_threads", lambda: n_threads)
     got = compute_model_chunk(cfg.source, (0, 0), cfg.shape)
     names = [v.name for v in cfg.variables]
-    assert names == ["kind", "period", "stick_fraction", "P", "P_belt", "P_heat", "X_max", "X_min", "energy_residual",
+    assert names == ["kind", "solver", "period", "stick_fraction", "P", "P_belt", "P_heat", "X_max", "X_min", "energy_residual",
                      "t_lost"]
     for index in np.ndindex(*cfg.shape):
         want = alone(cfg.point_system(index))

@@ -41,7 +41,7 @@ from ..analysis.structure import STRUCTURE_KINDS, analyze_structure, evaluations
 from ..core.threads import over_points
 from ..estimate import Estimate
 from ..io import read_config
-from ..solvers.structure import AUTO, check_switchable, simulate_system, structure_solver_for
+from ..solvers.structure import AUTO, check_switchable, simulate_system, structure_solver_for, structure_solvers
 from ..system import System, assemble, load_system
 from .compute import chunk_slices
 from .config import MAX_POINTS, Grid, Variable, _axis, parse_sweep
@@ -101,8 +101,10 @@ class ModelSweepConfig(Grid):
     def variables(self) -> tuple[Variable, ...]:
         """The result variables, in the order :func:`compute_model_chunk` returns them."""
         kinds = ", ".join(f"{i} {k.replace('_', ' ')}" for i, k in enumerate(STRUCTURE_KINDS))
+        solvers = ", ".join(f"{i} {k}" for i, k in enumerate(structure_solvers()))
         table = [
             Variable("kind", "1", f"steady state: {kinds}", "i1", STRUCTURE_KINDS),
+            Variable("solver", "1", f"the solver that ran the point: {solvers}", "i1", structure_solvers()),
             Variable("period", "", "period of the periodic steady state (NaN unless periodic)"),
             Variable("stick_fraction", "1", "share of the steady-state window the contact spends stuck", dims=("contact",)),
             Variable("P", "", "time-averaged power the element puts into the structure", dims=("element",)),
@@ -387,6 +389,7 @@ def point_rows(cfg: ModelSweepConfig, system: System) -> list[np.ndarray]:
 
     values = {
         "kind": np.array(STRUCTURE_KINDS.index(ss.kind)),
+        "solver": np.array(structure_solvers().index(result.motion.solver)),  # auto may rerun a point elsewhere
         "period": np.array(ss.period),
         "stick_fraction": np.array(ss.stick_fraction, dtype=float),
         "P": over("element", lambda e: elements.get(e, {}).get("P", math.nan)) if "element" in labels else None,
