@@ -9,6 +9,7 @@ free translations: carried along by the belt at a constant speed it is at rest r
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +21,7 @@ from frictionflow.orbits.structure import find_structure_orbit
 from frictionflow.solvers.structure import free_direction_text, simulate_system, structure_solver_for
 from frictionflow.sweep import run_sweep
 from frictionflow.sweep.model import parse_model_sweep
-from frictionflow.system import System
+from frictionflow.system import System, load_system
 
 from ..cli.processes import in_process, one_line
 from .test_structure_kinds import _in_time_units
@@ -175,6 +176,23 @@ def test_a_bad_window_beside_a_model_is_the_single_mass_s_line(tmp_path):
                                           bad, "--out", str(out))
         assert code == 2 and stdout == "" and not out.exists()
         one_line(err, line)
+
+
+def test_a_window_given_beside_a_model_is_said_to_be_set_by_hand():
+    """``--window A:B`` beside ``--model`` gave the window's averages without the single mass's ``manual_window``
+    flag, so a report could not tell a window set by hand from one detected; the averages are the window's."""
+    args = ("simulate", "--model", str(MODELS / "stick_slip_chain.toml"), "--t-end", "60", "--json")
+    code, stdout, err, _ = in_process(*args, "--window", "20:40")
+    assert code == 0, err
+    ss = json.loads(stdout)["steady_state"]
+    assert ss["window"] == [20.0, 40.0] and ss["manual_window"] is True
+    code, stdout, err, _ = in_process(*args)
+    assert code == 0, err
+    assert json.loads(stdout)["steady_state"]["manual_window"] is False
+    motion = simulate_system(load_system(MODELS / "stick_slip_chain.toml"), 60.0)
+    by_hand = analyze_structure(motion, window=(20.0, 40.0))
+    assert by_hand.steady_state.manual_window and "window set by hand" in str(by_hand.steady_state)
+    assert by_hand.elements == motion.element_power(20.0, 40.0)
 
 
 @pytest.mark.parametrize("s", [1e-5, 1e5])

@@ -39,7 +39,7 @@ there, and the stick fraction is given per contact.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -94,6 +94,8 @@ class StructureSteadyState(Summarized):
         How many periods the window holds (periodic only, else 0).
     lyapunov:
         The largest Lyapunov exponent where the section did not repeat and it was measured, else NaN.
+    manual_window:
+        True when the window was given (``window=``), not detected (as the single mass's steady state says).
     """
 
     kind: str
@@ -102,9 +104,11 @@ class StructureSteadyState(Summarized):
     stick_fraction: tuple[float, ...]
     periods: int = 0
     lyapunov: float = math.nan
+    manual_window: bool = False
 
     def _summary(self) -> tuple[str, list[Row]]:
-        rows = [("kind", self.kind), ("period", num(self.period)),
+        rows = [("kind", self.kind + (" (window set by hand)" if self.manual_window else "")),
+                ("period", num(self.period)),
                 ("window", f"{num(self.window[0])} .. {num(self.window[1])}"),
                 ("stick fraction", ", ".join(num(s, 4) for s in self.stick_fraction))]
         if math.isfinite(self.lyapunov):
@@ -115,7 +119,7 @@ class StructureSteadyState(Summarized):
         """JSON-ready: an undefined value (a period or stick fraction where none settled) is None."""
         return jsonable({"kind": self.kind, "period": self.period, "window": list(self.window),
                          "stick_fraction": list(self.stick_fraction), "periods": self.periods,
-                         "lyapunov": self.lyapunov})
+                         "lyapunov": self.lyapunov, "manual_window": self.manual_window})
 
 
 @dataclass(frozen=True, repr=False)
@@ -188,8 +192,7 @@ def analyze_structure(motion: Any, rtol: float = 1e-6, min_periods: int = 3,
         t0, t1 = float(window[0]), float(window[1])
         if not motion.t[0] <= t0 < t1 <= motion.t[-1]:
             raise ValueError(f"window must lie in [{motion.t[0]:g}, {motion.t[-1]:g}] with t0 < t1, got {window!r}")
-        ss = StructureSteadyState(ss.kind, ss.period, (t0, t1), stick_fractions(motion, (t0, t1)), ss.periods,
-                                  ss.lyapunov)
+        ss = replace(ss, window=(t0, t1), stick_fraction=stick_fractions(motion, (t0, t1)), manual_window=True)
     if ss.kind == "contact_lost":  # a transient: nothing averaged, but the run up to the loss is still checked
         t0, t1 = ss.window
         return StructureAnalysis(motion, ss, energy_residual=window_residual(motion, ss.window) if t1 > t0 else 0.0)
