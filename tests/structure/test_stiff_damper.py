@@ -40,24 +40,28 @@ def stiff_chain(c: float) -> Elements:
                     [0.0, 0.0])
 
 
-@pytest.mark.parametrize("c", [1e4, 1e6])
+@pytest.mark.parametrize("c", [1e4, 1e6, 1e8, 1e10])
 def test_a_stiff_damper_chain_against_an_independent_radau_run(c):
-    """Switch times, states and every element's work against Radau at rtol 1e-12 (tolerance: its difference
-    from Radau at rtol 1e-10, and the modal basis's rounding, ~c EPS); the energy balance closes as well."""
+    """Switch times, states and every element's work against Radau at rtol 1e-13, to its difference from Radau at
+    rtol 1e-11 and rounding: not to the stiff rate times EPS.  The decomposition of the first-order matrix (norm ~c)
+    left the oscillating pair ~c EPS off (3e-8 of its size at c = 1e9) and the creep root k / c 4e-7 off: at
+    c = 1e8 the switch times were 1.2e-7 off, at 1e10 the states 3.4e-7, while the energy residual said 2e-8.  The
+    general route's roots are now refined on the quadratic pencil (:mod:`frictionflow.core.structure.pencil`)."""
     asm = build(stiff_chain(c))
     motion = run_assembly(asm, T_END, dense_dt=0.5)
     times, inverse = np.unique(motion.t, return_inverse=True)
     fine, coarse = (ref.integrate(asm, T_END, t_eval=times, rtol=r, atol=1e-3 * r, work=True, method="Radau")
-                    for r in (1e-12, 1e-10))
+                    for r in (1e-13, 1e-11))
     assert len(fine.switches) >= 8 and len(coarse.switches) == len(fine.switches)
     switches = switch_times(motion)
     assert len(switches) == len(fine.switches)
-    basis = 4.0 * c * EPS  # the modal basis of rates 1 / c .. c is known to about c EPS (its condition number)
-    np.testing.assert_allclose(switches, fine.switches, rtol=0, atol=spread(coarse.switches, fine.switches) + basis)
+    rounding = 1e3 * EPS  # the run's own rounding over 40 time units and 11 switches, whatever c
+    np.testing.assert_allclose(switches, fine.switches, rtol=0, atol=spread(coarse.switches, fine.switches) + rounding)
     np.testing.assert_allclose(motion.state, fine.state[:, inverse], rtol=0,
-                               atol=spread(coarse.state, fine.state) + basis)
-    np.testing.assert_allclose(motion.work, fine.work[:, inverse], rtol=0, atol=spread(coarse.work, fine.work) + basis)
-    assert motion.energy_residual < basis
+                               atol=spread(coarse.state, fine.state) + rounding)
+    np.testing.assert_allclose(motion.work, fine.work[:, inverse], rtol=0,
+                               atol=spread(coarse.work, fine.work) + rounding)
+    assert motion.energy_residual < 100 * EPS
 
 
 def test_a_settled_stiff_modes_bound_follows_its_rate_not_its_size():
