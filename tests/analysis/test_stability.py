@@ -126,6 +126,27 @@ def test_the_flutter_threshold_of_hoffmanns_undamped_model_is_the_discriminants_
     assert np.all(scan.eigenvalues.real.max(axis=1)[values > mu_c] > 1e-3)
 
 
+@pytest.mark.parametrize("c", [1e6, 1e9])
+def test_a_stiff_damper_on_a_third_dof_leaves_the_flutter_pair_unstable_and_exact(c):
+    """Hoffmann's pair beside a third dof held by a damper ``c``, coupled to x1 by a spring of 0.01: over the
+    pair's period the damper holds x3 at 0, so the pair is that of Hoffmann's model with 0.01 added to K11 (numpy
+    on that 2-dof matrix), up to x3's own dynamic stiffness, 0.01^2 / (i omega c) ~ 1e-4 / c.  Its growth rate 0.075 at mu = 0.7 counted as zero beside
+    the damper's rate 1e9 (zero was 1e-8 of the spectrum's size), so the state was called stable; and the pair
+    was ~c EPS off (3e-8 of its size at c = 1e9)."""
+    k = KH + np.diag([0.01, 0.0])
+    for mu in (0.2, 0.7):
+        k_eff = k - mu * CN * np.array([[0.0, 1.0], [0.0, 0.0]])  # K - mu e n^T, e = (1, 0), n = (0, CN)
+        pair = np.linalg.eigvals(np.block([[np.zeros((2, 2)), np.eye(2)], [-k_eff, np.zeros((2, 2))]]))
+        stiff = np.array([[K1 + K3 + 0.01, K3, -0.01], [K3, K2 + K3, 0.0], [-0.01, 0.0, 1.01]])
+        s = steady_sliding(assembly(np.eye(3), stiff, np.diag([0.0, 0.0, c]), [[1.0, 0.0, 0.0]], [0.5],
+                                    [Coulomb(fd=mu, fs=mu)], normal=[[PRELOAD, 0.0, CN, 0.0]]))
+        near = s.eigenvalues[np.abs(s.eigenvalues) < 10.0]
+        near = near[np.abs(near.imag) > 0.1]  # the pair (the damper's creep root -1/c and fast root -c apart)
+        assert same_spectrum(near, pair, 1e-4 / c + 1e-13)
+        unstable = pair.real.max() > 1e-3
+        assert unstable == (mu == 0.7) and s.stable == (not unstable)
+
+
 def test_with_proportional_damping_the_flutter_starts_where_the_closed_form_says():
     c = 0.05
     values = np.linspace(0.1, 0.8, 15)

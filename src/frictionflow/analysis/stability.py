@@ -66,6 +66,7 @@ from .._lazy import lazy_module
 from ..core.assembly import Assembly
 from ..core.friction import slip_magnitude_of, slip_slope_of
 from ..core.layout import LAW, VD
+from ..core.structure.pencil import refine_right
 from ..estimate import SECONDS_PER, Estimate
 from ..friction.base import FrictionLaw
 from ..friction.registry import law_classes
@@ -75,8 +76,20 @@ optimize = lazy_module("scipy.optimize")  # loaded on first use: importing the C
 #: critical point kinds, in the order the docs list them (``contact_loss``: the end of the values where steady
 #: sliding keeps every contact closed, no mode's crossing)
 KINDS = ("mode_coupling", "negative_damping", "divergence", "contact_loss")
-#: a real part below this times the spectrum's size is taken as zero (undamped modes: rounding, not damping)
+#: a real part below this times its root's modulus is taken as zero (undamped modes: rounding, not damping) ...
 ZERO_REAL = 1e-8
+#: ... and below this times the spectrum's size (the rounding of the roots of a decomposition of that norm)
+ROUNDING_FLOOR = 1e3 * np.finfo(float).eps
+
+
+def zero_tolerance(lam: np.ndarray) -> np.ndarray:
+    """Per eigenvalue (``lam``: one spectrum per row of its last axis), the real part below which it is zero:
+    :data:`ZERO_REAL` of its own modulus, never under :data:`ROUNDING_FLOOR` of the spectrum's size.  (Of the
+    spectrum's size alone, a stiff element's rate hid every other mode: with a damper of 1e9 on a third dof the
+    Hoffmann pair's growth rate 0.075 counted as zero.)"""
+    size = np.abs(lam)
+    with np.errstate(invalid="ignore"):
+        return ZERO_REAL * size + ROUNDING_FLOOR * size.max(axis=-1, keepdims=True)
 #: evaluations a scan's estimate allows for locating its critical points (brentq: about 60 for each of two)
 REFINE_EVALUATIONS = 120
 
@@ -132,10 +145,10 @@ class SteadySliding(Summarized):
 
     @property
     def stable(self) -> bool:
-        """No eigenvalue in the right half plane (a real part within ``ZERO_REAL`` of the spectrum's size is
-        zero: undamped modes count as stable, marginally)."""
+        """No eigenvalue in the right half plane (a real part within :func:`zero_tolerance` is zero: undamped modes
+        count as stable, marginally)."""
         lam = self.eigenvalues
-        return not bool(np.any(lam.real > ZERO_REAL * np.abs(lam).max()))
+        return not bool(np.any(lam.real > zero_tolerance(lam)))
 
     def growth_parts(self) -> tuple[np.ndarray, np.ndarray]:
         """Each eigenvalue's real part split into what the damping and the circulatory forces contribute.
@@ -246,8 +259,19 @@ def steady_sliding(assembly: Assembly, laws: Sequence[FrictionLaw] | None = None
                               "the contact is lost", "contact_lost")
     c_eff = np.asarray(assembly.damping, dtype=float) + (e * (loads * slope)[:, None]).T @ e
     a = first_order(mass, c_eff, k_eff)
-    lam, vec = np.linalg.eig(a)
+    lam, vec = _refined(mass, c_eff, k_eff, *np.linalg.eig(a))
     return SteadySliding(q, loads, mu, slope, mass, k_eff, c_eff, a, lam, vec)
+
+
+def _refined(mass: np.ndarray, c_eff: np.ndarray, k_eff: np.ndarray, lam: np.ndarray,
+             vec: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``eig``'s roots and unit eigenvectors with those a stiff element's rate left ~its rate x EPS off refined on
+    the pencil (:func:`~frictionflow.core.structure.pencil.refine_right`); a real spectrum stays real."""
+    lam_c, vec_c = lam.astype(complex), vec.astype(complex)
+    if not refine_right(mass, c_eff, k_eff, lam_c, vec_c):
+        return lam, vec
+    vec_c /= np.linalg.norm(vec_c, axis=0)
+    return (lam_c, vec_c) if np.iscomplexobj(lam) else (lam_c.real, vec_c.real)
 
 
 def _equilibrium(assembly: Assembly, mu: np.ndarray, k_eff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -351,12 +375,12 @@ class StabilityScan(Summarized):
 
     @property
     def stable(self) -> np.ndarray:
-        """Per value (shape (P,), bool), no eigenvalue in the right half plane there (a real part within ``ZERO_REAL``
-        of the spectrum's size is zero: undamped modes count as stable, marginally, as for the critical points);
+        """Per value (shape (P,), bool), no eigenvalue in the right half plane there (a real part within
+        :func:`zero_tolerance` is zero: undamped modes count as stable, marginally, as for the critical points);
         False where steady sliding does not exist (:attr:`lost`)."""
         lam = self.eigenvalues
         with np.errstate(invalid="ignore"):
-            unstable = np.any(lam.real > ZERO_REAL * np.abs(lam).max(axis=1, keepdims=True), axis=1)
+            unstable = np.any(lam.real > zero_tolerance(lam), axis=1)
         return ~unstable & ~self.lost
 
     def plot(self, path: Any = None, **kwargs: Any) -> Any:
@@ -608,15 +632,15 @@ class _Bracket:
 def _critical_points(values: np.ndarray, lam: np.ndarray, spectrum: _Spectrum) -> list[Critical]:
     """Each change of sign of a tracked eigenvalue's real part in the upper half plane, located and classified.
 
-    A real part within ``ZERO_REAL`` of the spectrum's size is zero (an undamped mode): stable, marginally.
+    A real part within :func:`zero_tolerance` is zero (an undamped mode): stable, marginally.
     """
-    tol = ZERO_REAL * np.maximum(np.abs(lam).max(axis=1), np.finfo(float).tiny)
-    unstable = lam.real > tol[:, None]
+    tol = np.maximum(zero_tolerance(lam), np.finfo(float).tiny)
+    unstable = lam.real > tol
     found = []
     for i in range(len(values) - 1):
-        t = max(tol[i], tol[i + 1])
         flips = np.flatnonzero(unstable[i] != unstable[i + 1])
         for k in flips:
+            t = max(tol[i, k], tol[i + 1, k])
             s, u = (i, i + 1) if unstable[i + 1, k] else (i + 1, i)
             if lam[u, k].imag < -t or (lam[s, k].imag < -t and _conjugate_flips(lam[s], k, flips)):
                 continue  # the conjugate of a mode of the upper half plane: counted there (also where the pair is

@@ -26,7 +26,7 @@ from .._progress import progress_bar
 from ..core.assembly import Assembly
 from ..estimate import Estimate
 from ..friction.base import FrictionLaw
-from .stability import ZERO_REAL, Critical, StabilityScan, check_ends, scan_estimate, stability_scan
+from .stability import Critical, StabilityScan, check_ends, scan_estimate, stability_scan, zero_tolerance
 
 
 @dataclass(frozen=True)
@@ -66,8 +66,9 @@ class StabilityChart(Summarized):
         (Q, P) the imaginary part (>= 0) of that eigenvalue (the lowest of the modes tied with it at rounding,
         as the undamped modes of a stable undamped model are); NaN where steady sliding is lost.
     stable:
-        (Q, P) bool: no eigenvalue in the right half plane (a real part within ``stability.ZERO_REAL`` of
-        the spectrum's size is zero, as on one line); False where steady sliding is lost.
+        (Q, P) bool: no eigenvalue in the right half plane (a real part within
+        :func:`~frictionflow.analysis.stability.zero_tolerance` is zero, as on one line); False where steady
+        sliding is lost.
     boundary:
         The critical points of every line along x, in the order of ``y_values`` then ``x_values``.
     """
@@ -106,14 +107,14 @@ class StabilityChart(Summarized):
 def _line_summary(scan: StabilityScan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(growth, frequency, stable) along one line: the largest real part, its eigenvalue's |Im|, the scan's verdict.
 
-    Modes whose real parts are that largest one within ``ZERO_REAL`` of the spectrum's size (the undamped modes of
+    Modes whose real parts are that largest one within :func:`~.stability.zero_tolerance` (the undamped modes of
     a stable undamped model, all at 0 up to rounding) are one tie: the lowest of their frequencies is given, not
     the one rounding happened to put first."""
     lam = scan.eigenvalues
     top = np.argmax(lam.real, axis=1)
     worst = lam[np.arange(len(lam)), top]
     with np.errstate(invalid="ignore"):  # (rows without steady sliding: NaN throughout, and they stay so)
-        tied = lam.real >= worst.real[:, None] - ZERO_REAL * np.abs(lam).max(axis=1, keepdims=True)
+        tied = lam.real >= worst.real[:, None] - zero_tolerance(lam)
         frequency = np.where(tied, np.abs(lam.imag), np.inf).min(axis=1)
     frequency[np.isnan(worst.real)] = np.nan
     return worst.real, frequency, scan.stable

@@ -68,7 +68,34 @@ def a_norm(mr, cr, kr):
     """||A||_inf of the first-order matrix, from M_r^-1 K_r and M_r^-1 C_r."""
     mri = np.linalg.inv(mr)
     low = np.abs(mri @ kr) + np.abs(mri @ cr)
-    return max(1.0, np.max(low.sum(axis=1))) if low.size else 1.0
+    return np.max(low.sum(axis=1)) if low.size else 0.0
+
+
+@njit(cache=True)
+def refined_root(mr, cr, kr, lam, phi, bound):
+    """(ok, root, right vector) of ``lam`` with start vector ``phi`` after :func:`newton`; ok False where it did not
+    converge near ``lam`` (``bound``: EPS ||A||, the size below which a root is rounding)."""
+    lr, x = newton(mr, cr, kr, lam, phi, False)
+    size = max(abs(lr), bound)
+    return np.isfinite(lr) and abs(lr - lam) <= 1e-4 * size, lr, x
+
+
+@njit(cache=True)
+def refine_right(mr, cr, kr, lam, v):
+    """Refine in place the roots ``lam`` and the columns [phi; lam phi] of ``v`` (2 r rows) whose backward error
+    bound is above :data:`REFINE_ABOVE` of their size (each column then has phi's largest entry 1); how many."""
+    r = mr.shape[0]
+    bound = EPS * a_norm(mr, cr, kr)
+    done = 0
+    for i in range(len(lam)):
+        if bound <= REFINE_ABOVE * abs(lam[i]):
+            continue
+        ok, lr, phi = refined_root(mr, cr, kr, lam[i], np.ascontiguousarray(v[:r, i]), bound)
+        if ok:
+            lam[i] = lr
+            v[:r, i], v[r:, i] = phi, lr * phi
+            done += 1
+    return done
 
 
 @njit(cache=True)
@@ -80,15 +107,16 @@ def refine(mr, cr, kr, lam, v, vi):
     regular bordered system: it stays as ``eig`` gave it, and the caller's repeated-root check decides)."""
     r = mr.shape[0]
     bound = EPS * a_norm(mr, cr, kr)
+    mri = np.linalg.inv(mr).astype(np.complex128)
     done = 0
     for i in range(len(lam)):
         if bound <= REFINE_ABOVE * abs(lam[i]):
             continue
-        lr, phi = newton(mr, cr, kr, lam[i], np.ascontiguousarray(v[:r, i]), False)
-        psi_start = np.ascontiguousarray(vi[i, r:]) @ np.linalg.inv(mr).astype(np.complex128)  # psi^T M_r / d
-        ll, psi = newton(mr, cr, kr, lr, psi_start, True)
-        size = max(abs(lr), bound)
-        if not (np.isfinite(lr) and abs(ll - lr) <= 1e3 * EPS * size and abs(lr - lam[i]) <= 1e-4 * size):
+        ok, lr, phi = refined_root(mr, cr, kr, lam[i], np.ascontiguousarray(v[:r, i]), bound)
+        if not ok:
+            continue
+        ll, psi = newton(mr, cr, kr, lr, np.ascontiguousarray(vi[i, r:]) @ mri, True)  # vi's row: psi^T M_r / d
+        if not abs(ll - lr) <= 1e3 * EPS * max(abs(lr), bound):
             continue
         d = psi @ (((2.0 * lr) * mr + cr).astype(np.complex128) @ phi)
         if d == 0.0:
