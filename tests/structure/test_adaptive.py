@@ -297,3 +297,45 @@ def test_dense_grid_samples_equal_the_exact_motion_and_the_step_cap_is_one_line(
     with pytest.raises(RuntimeError, match=r"^solver=adaptive: the run stopped at t=[0-9.e-]+ with status 'step cap' "
                                            r"\(max_steps=10\)$"):
         simulate_system(system, 20.0, solver="adaptive", max_steps=10)
+
+
+def test_a_stick_reached_at_a_graze_within_one_step_is_found_at_any_tolerance():
+    """An undamped mass whose normal load follows x (N = 1 + 1.78 x), F_s barely above F_d: each slip ends with
+    V_r crossing 0 shallowly, and on the step's dense output V_r dips below 0 and back within one step.  The
+    adaptive solver watched the signs at the step ends only: at rtol 1e-6 to 1e-10 it found 3 of the exact
+    engine's 15 switches over t = 60 (no stick after t = 1.9), at 1e-12 it found 7.  A slipping contact's V_r
+    (and a normal load) now also has its Hermite cubic from the ends' values and slopes looked at, and a dip's
+    bottom searched on the dense output."""
+    system = System.from_dict(
+        {"dof": ["x"], "mass": [2.54], "spring": [{"on": {"x": 1.0}, "k": 1.39}],
+         "contact": [{"on": {"x": 1.0}, "belt": 0.19, "friction": "coulomb", "fd": 0.1005, "fs": 0.1011,
+                      "normal": {"preload": 1.0, "x": 1.78}}],
+         "initial": {"q": {"x": -0.25}, "v": {"x": 0.1}}}, source=None)
+    exact = simulate_system(system, 60.0, solver="exact")
+    assert len(exact.switches) == 15
+    for rtol, close in ((1e-6, 1e-3), (1e-10, 1e-7)):
+        run = simulate_system(system, 60.0, solver="adaptive", rtol=rtol, atol=1e-2 * rtol)
+        assert np.array_equal(run.switch_mode, exact.switch_mode), rtol
+        np.testing.assert_allclose(run.switches, exact.switches, rtol=0, atol=close)
+        assert np.abs(run.at(60.0) - exact.at(60.0)).max() < close
+
+
+@pytest.mark.parametrize("excess", [1e-7, 1e-10])
+def test_a_held_force_touching_its_limit_within_one_step_breaks_the_stick_at_any_tolerance(excess):
+    """A mass stuck on a belt at 1e-9, a harmonic force whose peak at t = pi - 3 exceeds F_s by ``excess``: the
+    held force passes its limit and back within a fraction of a step.  The adaptive solver (end signs only)
+    kept the mass stuck to t = 20 (no switch) where the exact engine breaks away at 0.14 and then switches 12
+    times more.  A held-force slot's dip is now looked for on the parabola through the step's ends and its
+    middle (its rate is not among the step's), then on the dense output."""
+    system = System.from_dict(
+        {"dof": ["x"], "mass": [1.0], "spring": [{"on": {"x": 1.0}, "k": 1.0}],
+         "damper": [{"on": {"x": 1.0}, "c": 0.1}],
+         "contact": [{"on": {"x": 1.0}, "belt": 1e-9, "friction": "coulomb", "fd": 0.4, "fs": 0.5}],
+         "force": [{"on": {"x": 1.0}, "amplitude": 0.5 + excess, "omega": 1.0, "phi": 3.0}],
+         "initial": {"v": {"x": 1e-9}}}, source=None)
+    exact = simulate_system(system, 20.0, solver="exact")
+    assert len(exact.switches) == 13 and abs(exact.switches[0] - (math.pi - 3.0)) < 1e-3
+    for rtol, close in ((1e-6, 1e-3), (1e-10, 1e-6)):
+        run = simulate_system(system, 20.0, solver="adaptive", rtol=rtol, atol=1e-2 * rtol)
+        assert np.array_equal(run.switch_mode, exact.switch_mode), rtol
+        np.testing.assert_allclose(run.switches, exact.switches, rtol=0, atol=close)

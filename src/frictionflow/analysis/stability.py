@@ -145,7 +145,7 @@ class SteadySliding(Summarized):
 
     @property
     def stable(self) -> bool:
-        """No eigenvalue in the right half plane (a real part within :func:`zero_tolerance` is zero: undamped modes
+        """No eigenvalue in the right half plane (a real part within ``zero_tolerance`` is zero: undamped modes
         count as stable, marginally)."""
         lam = self.eigenvalues
         return not bool(np.any(lam.real > zero_tolerance(lam)))
@@ -376,7 +376,7 @@ class StabilityScan(Summarized):
     @property
     def stable(self) -> np.ndarray:
         """Per value (shape (P,), bool), no eigenvalue in the right half plane there (a real part within
-        :func:`zero_tolerance` is zero: undamped modes count as stable, marginally, as for the critical points);
+        ``zero_tolerance`` is zero: undamped modes count as stable, marginally, as for the critical points);
         False where steady sliding does not exist (:attr:`lost`)."""
         lam = self.eigenvalues
         with np.errstate(invalid="ignore"):
@@ -632,7 +632,7 @@ class _Bracket:
 def _critical_points(values: np.ndarray, lam: np.ndarray, spectrum: _Spectrum) -> list[Critical]:
     """Each change of sign of a tracked eigenvalue's real part in the upper half plane, located and classified.
 
-    A real part within :func:`zero_tolerance` is zero (an undamped mode): stable, marginally.
+    A real part within ``zero_tolerance`` is zero (an undamped mode): stable, marginally.
     """
     tol = np.maximum(zero_tolerance(lam), np.finfo(float).tiny)
     unstable = lam.real > tol

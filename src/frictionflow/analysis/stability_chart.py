@@ -67,7 +67,7 @@ class StabilityChart(Summarized):
         as the undamped modes of a stable undamped model are); NaN where steady sliding is lost.
     stable:
         (Q, P) bool: no eigenvalue in the right half plane (a real part within
-        :func:`~frictionflow.analysis.stability.zero_tolerance` is zero, as on one line); False where steady
+        ``analysis.stability.zero_tolerance`` is zero, as on one line); False where steady
         sliding is lost.
     boundary:
         The critical points of every line along x, in the order of ``y_values`` then ``x_values``.
@@ -107,7 +107,7 @@ class StabilityChart(Summarized):
 def _line_summary(scan: StabilityScan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(growth, frequency, stable) along one line: the largest real part, its eigenvalue's |Im|, the scan's verdict.
 
-    Modes whose real parts are that largest one within :func:`~.stability.zero_tolerance` (the undamped modes of
+    Modes whose real parts are that largest one within ``stability.zero_tolerance`` (the undamped modes of
     a stable undamped model, all at 0 up to rounding) are one tie: the lowest of their frequencies is given, not
     the one rounding happened to put first."""
     lam = scan.eigenvalues

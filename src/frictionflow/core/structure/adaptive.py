@@ -14,7 +14,11 @@ so a stuck contact stays on its belt to rounding.
 Events (the exact engine's slots, :data:`~.combo.N_SLOTS` per contact):
 sigma_j V_r,j of a slipping contact, F_s,j N_j -+ lambda_j of a stuck one and
 N_j (contact lost).  Each is watched at the step ends (steps are at most
-``h_max``, a fraction of the fastest period), and the first crossing is located
+``h_max``, a fraction of the fastest period), and also inside a step where its
+ends have one sign: a cubic from the ends' values and slopes (a held force's
+slopes from a parabola through the step before) that dips near 0 has its
+bottom searched on the dense output, so that two crossings within one step (a
+grazing stick) are not missed.  The first crossing is located
 on the dense output with the bracketed root finder (:mod:`..roots`); the
 contacts' new modes come from the stick rule (:func:`.stick.decide`) with every
 contact's slip level taken at its speed of the moment, so that a Coulomb
@@ -33,6 +37,7 @@ from ..assembly import Assembly
 from ..dopri import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65, B1, B3, B4, B5, B6,
                      C2, C3, C4, C5, _error_each, dense)
 from ..friction import slip_magnitude_of
+from ..hermite import hermite_min
 from ..layout import FD, FS, STICK
 from .combo import N_SLOTS, Split, split
 from .run import MAX_ZERO, Result, record_switches, starting_modes, switch_modes
@@ -45,10 +50,17 @@ from .work import contact_powers, element_powers
 Opts = namedtuple("Opts", "t_end rtol atol h_max dense_dt max_steps time")
 #: scratch: the stages K (7, m), y, y_new, a stage's input, the dense output, the contacts' forces, the
 #: event values at the step's start and end, where each slot was last seen positive (armed) and the
-#: cumulative work at the last sample written (the samples keep each sample's share)
-Scratch = namedtuple("Scratch", "K y yn tmp ys f g0 g1 armed w_last")
+#: cumulative work at the last sample written (the samples keep each sample's share); the event values a step
+#: before the step's start and that step's length (``hp[0]``, 0 at a phase's first step)
+Scratch = namedtuple("Scratch", "K y yn tmp ys f g0 g1 armed w_last gp hp")
 #: an event value this close to 0 (relative to its size over the step) at a located switch is reached too
 SIMULTANEOUS = 1e-12
+#: a watched slot's Hermite cubic over a step dipping below this share of its smaller end value: its bottom is
+#: looked for on the dense output (the cubic only sketches it)
+DIP_SHARE = 0.05
+#: golden-section steps at most for a dip's bottom (theta to ~1e-9)
+DIP_STEPS = 45
+GOLDEN = 0.3819660112501051
 
 
 @njit(cache=True)
@@ -123,28 +135,125 @@ def events(asm, sp, t, y, n, g, f):
 @njit(cache=True)
 def slot_at(asm, sp, t, h, scr, n, theta, e):
     """Event slot ``e`` on the dense output of the step (t, h) at ``theta`` (the state left in ``scr.ys``)."""
+    return slots_at(asm, sp, t, h, scr, n, theta)[e]
+
+
+@njit(cache=True, inline="always")
+def slot_slopes(asm, sp, scr, n, h, e, mid):
+    """(g'(0), g'(1)) per unit theta of slot ``e`` over the step: a slipping contact's V_r and a normal load from
+    q'' and q' at the ends (K[0], K[6]); a stuck contact's held-force slots (whose rate the step does not give)
+    from the parabola through the ends and the previous step's start, or at a phase's first step through the
+    ends and ``mid``, every slot's value at theta = 1/2."""
+    j, kind = e // N_SLOTS, e % N_SLOTS
+    if kind == 0 and sp.modes[j] != STICK:  # -sigma e . q''
+        return -sp.modes[j] * h * ends_dot(asm.contact_dir, j, 0, scr.K, n), \
+            -sp.modes[j] * h * ends_dot(asm.contact_dir, j, 0, scr.K, n, 6)
+    if kind == 2:  # n . q'
+        return h * ends_dot(asm.normal, j, 1, scr.K, 0), h * ends_dot(asm.normal, j, 1, scr.K, 0, 6)
+    g0, g1 = scr.g0[e], scr.g1[e]
+    if scr.hp[0] > 0.0:  # g0 + (g1 - g0) x + c x (x - 1) through theta = -r as well
+        r = scr.hp[0] / h
+        c = (scr.gp[e] - g0 + (g1 - g0) * r) / (r * (r + 1.0))
+        return g1 - g0 - c, g1 - g0 + c
+    gm = mid[e]
+    return -3.0 * g0 + 4.0 * gm - g1, g0 - 4.0 * gm + 3.0 * g1
+
+
+@njit(cache=True, inline="always")
+def ends_dot(rows, j, skip, K, first, stage=0):
+    """rows[j, skip:] . K[stage, first:first + len]: a slot's rate from a stage's slope (loops: no array views in
+    the step's hot path)."""
+    acc = 0.0
+    for a in range(rows.shape[1] - skip):
+        acc += rows[j, skip + a] * K[stage, first + a]
+    return acc
+
+
+@njit(cache=True, inline="always")
+def is_held(sp, e):
+    """Whether slot ``e`` is a stuck contact's held-force slot."""
+    return e % N_SLOTS < 2 and sp.modes[e // N_SLOTS] == STICK
+
+
+@njit(cache=True, inline="always")  # per slot and step: no call taking the records (each of their arrays counted)
+def suspect(asm, sp, h, scr, n, e, mid):
+    """Whether slot ``e``, positive at both ends of the step, may dip to 0 inside it: two crossings within one step
+    (V_r touching 0 and back at a grazing stick, a held force touching its limit) leave the ends' signs alike.
+    The cubic from the ends' values and slopes (:func:`slot_slopes`) has an interior minimum below
+    :data:`DIP_SHARE` of the smaller end."""
+    g0, g1 = scr.g0[e], scr.g1[e]
+    if not (np.isfinite(g0) and np.isfinite(g1)):
+        return False
+    m0, m1 = slot_slopes(asm, sp, scr, n, h, e, mid)
+    if not m0 < 0.0 < m1:  # no interior minimum
+        return False
+    s, val = hermite_min(g0, g1, m0, m1)
+    return s >= 0.0 and val < DIP_SHARE * min(g0, g1)
+
+
+@njit(cache=True)
+def dip_bottom(asm, sp, t, h, scr, n, e):
+    """(theta, g) of the first point found <= 0 of slot ``e`` inside the step, searching its minimum on the dense
+    output by golden section (the first root lies before that point); (-1, 0) where the minimum stays > 0."""
+    a, b = 0.0, 1.0
+    x1, x2 = a + GOLDEN * (b - a), b - GOLDEN * (b - a)
+    f1, f2 = slot_at(asm, sp, t, h, scr, n, x1, e), slot_at(asm, sp, t, h, scr, n, x2, e)
+    for _ in range(DIP_STEPS):
+        if f1 <= 0.0:
+            return x1, f1
+        if f2 <= 0.0:
+            return x2, f2
+        if f1 < f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = a + GOLDEN * (b - a)
+            f1 = slot_at(asm, sp, t, h, scr, n, x1, e)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = b - GOLDEN * (b - a)
+            f2 = slot_at(asm, sp, t, h, scr, n, x2, e)
+    return -1.0, 0.0
+
+
+@njit(cache=True)
+def slots_at(asm, sp, t, h, scr, n, theta):
+    """Every event slot on the dense output of the step (t, h) at ``theta``."""
     dense(scr.y, scr.K, h, theta, scr.ys, 2 * n)
     g = np.empty(len(scr.g0))
     events(asm, sp, t + theta * h, scr.ys, n, g, scr.f)
-    return g[e]
+    return g
 
 
 @njit(cache=True)
 def first_root(asm, sp, t, h, scr, n):
-    """(theta, slot) of the step's first event (armed slots that ended <= 0), located on the dense output.
+    """(theta, slot) of the step's first event (armed slots that ended <= 0, or dipped to 0 inside the step:
+    :func:`suspect`, :func:`dip_bottom`), located on the dense output.
 
     A slot that never was positive since the phase began (a contact leaving V_r = 0) and ends <= 0 is
     taken at the step's end; (1.0, -1) when no slot crossed.
     """
     best, slot = 1.0, -1
+    mid = np.empty(0)  # every slot at theta = 1/2, taken once a held-force slot needs it
     for e in range(len(scr.g1)):
-        if scr.g1[e] > 0.0:
-            continue
-        if not scr.armed[e]:
+        hi, ghi = 1.0, scr.g1[e]
+        if ghi > 0.0:
+            if not (scr.armed[e] and scr.g0[e] > 0.0):
+                continue
+            held_slot = is_held(sp, e)
+            if held_slot and scr.hp[0] == 0.0 and len(mid) == 0:
+                mid = slots_at(asm, sp, t, h, scr, n, 0.5)
+            if held_slot and len(mid) and mid[e] <= 0.0:
+                hi, ghi = 0.5, mid[e]
+            elif suspect(asm, sp, h, scr, n, e, mid):
+                hi, ghi = dip_bottom(asm, sp, t, h, scr, n, e)
+                if hi < 0.0:
+                    continue
+            else:
+                continue
+        elif not scr.armed[e]:
             if slot < 0:
                 slot = e
             continue
-        b = roots.bracket(0.0, 1.0, scr.g0[e], scr.g1[e], 0.0, 4.0 * roots.EPS, 0.0, 200)
+        b = roots.bracket(0.0, hi, scr.g0[e], ghi, 0.0, 4.0 * roots.EPS, 0.0, 200)
         while b.status == roots.RUNNING:
             b = roots.update(b, b.x, slot_at(asm, sp, t, h, scr, n, b.x, e))
         if b.hi < best or slot < 0 or not scr.armed[slot]:
@@ -238,6 +347,7 @@ def start_phase(asm, sp, t, scr, n, leaving):
     """K[0] and the event values at the phase's start; a slot is armed where it is > 0 (not a leaving contact's V_r)."""
     rhs(asm, sp, t, scr.y, n, scr.K[0], scr.f)
     events(asm, sp, t, scr.y, n, scr.g0, scr.f)
+    scr.hp[0] = 0.0  # no step before this one in the phase
     for e in range(len(scr.g0)):
         scr.armed[e] = scr.g0[e] > 0.0 and not (e % N_SLOTS == 0 and leaving[e // N_SLOTS] and sp.modes[e // N_SLOTS] != STICK)
 
@@ -290,12 +400,14 @@ def one_step(asm, sp, t, h, scr, n, opts):
 
 
 @njit(cache=True)
-def after_step(scr):
-    """Move to the step's end (FSAL) and arm every slot now positive."""
+def after_step(scr, h):
+    """Move to the end (FSAL) of the step of length ``h`` and arm every slot now positive."""
     for i in range(len(scr.y)):
         scr.y[i] = scr.yn[i]
         scr.K[0, i] = scr.K[6, i]
+    scr.hp[0] = h
     for e in range(len(scr.g0)):
+        scr.gp[e] = scr.g0[e]
         scr.g0[e] = scr.g1[e]
         scr.armed[e] = scr.armed[e] or scr.g1[e] > 0.0
 
@@ -305,7 +417,8 @@ def scratch(asm, n, nw):
     """The run's :data:`Scratch` for ``n`` coordinates and ``nw`` work channels (a state of 2n + nw)."""
     k, m = len(asm.belt), 2 * n + nw
     return Scratch(np.zeros((7, m)), np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(k),
-                   np.zeros(N_SLOTS * k), np.zeros(N_SLOTS * k), np.zeros(N_SLOTS * k, dtype=np.bool_), np.zeros(nw))
+                   np.zeros(N_SLOTS * k), np.zeros(N_SLOTS * k), np.zeros(N_SLOTS * k, dtype=np.bool_), np.zeros(nw),
+                   np.zeros(N_SLOTS * k), np.zeros(1))
 
 
 @njit(cache=True)
@@ -372,7 +485,7 @@ def run(asm, minv, opts, out, events, der):
             i += 1
             if t >= opts.t_end:
                 return Result(codes.OK, i, nsw, -1, np.nan)
-            after_step(scr)
+            after_step(scr, hs)
             continue
         dense(scr.y, scr.K, hs, theta, scr.ys, len(scr.y))
         te = t + theta * hs
