@@ -66,7 +66,7 @@ from .._lazy import lazy_module
 from ..core.assembly import Assembly
 from ..core.friction import slip_magnitude_of, slip_slope_of
 from ..core.layout import LAW, VD
-from ..core.structure.pencil import refine_right
+from ..core.structure.pencil import refine
 from ..estimate import SECONDS_PER, Estimate
 from ..friction.base import FrictionLaw
 from ..friction.registry import law_classes
@@ -259,16 +259,16 @@ def steady_sliding(assembly: Assembly, laws: Sequence[FrictionLaw] | None = None
                               "the contact is lost", "contact_lost")
     c_eff = np.asarray(assembly.damping, dtype=float) + (e * (loads * slope)[:, None]).T @ e
     a = first_order(mass, c_eff, k_eff)
-    lam, vec = _refined(mass, c_eff, k_eff, *np.linalg.eig(a))
+    lam, vec = _refined(mass, c_eff, k_eff, a, *np.linalg.eig(a))
     return SteadySliding(q, loads, mu, slope, mass, k_eff, c_eff, a, lam, vec)
 
 
-def _refined(mass: np.ndarray, c_eff: np.ndarray, k_eff: np.ndarray, lam: np.ndarray,
+def _refined(mass: np.ndarray, c_eff: np.ndarray, k_eff: np.ndarray, a: np.ndarray, lam: np.ndarray,
              vec: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``eig``'s roots and unit eigenvectors with those a stiff element's rate left ~its rate x EPS off refined on
-    the pencil (:func:`~frictionflow.core.structure.pencil.refine_right`); a real spectrum stays real."""
+    the pencil (``core.structure.pencil.refine``, right vectors only); a real spectrum stays real."""
     lam_c, vec_c = lam.astype(complex), vec.astype(complex)
-    if not refine_right(mass, c_eff, k_eff, lam_c, vec_c):
+    if not refine(mass, c_eff, k_eff, a, lam_c, vec_c, np.zeros((0, 0), dtype=complex)):
         return lam, vec
     vec_c /= np.linalg.norm(vec_c, axis=0)
     return (lam_c, vec_c) if np.iscomplexobj(lam) else (lam_c.real, vec_c.real)

@@ -345,7 +345,7 @@ def decompose(m, c, k, z, sel, rows, eigs=None):
         a[r:, r:] = -mm(mri, cr)
         lam, v = np.linalg.eig(a.astype(np.complex128))
         vi = np.linalg.inv(v)
-        refine(mr, cr, kr, lam, v, vi)  # roots a stiff element's rate would leave ~its rate x EPS off
+        refine(mr, cr, kr, a, lam, v, vi)  # roots a stiff element's rate would leave ~its rate x EPS off
         vb = mm(np.ascontiguousarray(vi[:, r:]), mri.astype(np.complex128))
         c_ = np.ascontiguousarray
         md = Modes(c_(lam), c_(v), c_(vi), c_(vb), False, np.zeros((0, 0)), np.arange(2 * r))

@@ -64,14 +64,6 @@ def newton(mr, cr, kr, lam, x, transpose):
 
 
 @njit(cache=True)
-def a_norm(mr, cr, kr):
-    """||A||_inf of the first-order matrix, from M_r^-1 K_r and M_r^-1 C_r."""
-    mri = np.linalg.inv(mr)
-    low = np.abs(mri @ kr) + np.abs(mri @ cr)
-    return np.max(low.sum(axis=1)) if low.size else 0.0
-
-
-@njit(cache=True)
 def refined_root(mr, cr, kr, lam, phi, bound):
     """(ok, root, right vector) of ``lam`` with start vector ``phi`` after :func:`newton`; ok False where it did not
     converge near ``lam`` (``bound``: EPS ||A||, the size below which a root is rounding)."""
@@ -81,49 +73,39 @@ def refined_root(mr, cr, kr, lam, phi, bound):
 
 
 @njit(cache=True)
-def refine_right(mr, cr, kr, lam, v):
-    """Refine in place the roots ``lam`` and the columns [phi; lam phi] of ``v`` (2 r rows) whose backward error
-    bound is above :data:`REFINE_ABOVE` of their size (each column then has phi's largest entry 1); how many."""
+def left_row(mr, cr, kr, lr, start, bound):
+    """(ok, psi): the left vector of the root ``lr`` (psi^T P(lr) = 0) from ``start`` (psi^T up to scale), which makes
+    V^-1's row [psi^T (l M_r + C_r), psi^T M_r] / (psi^T P'(l) phi); ok False where it converged elsewhere."""
+    ll, psi = newton(mr, cr, kr, lr, start, True)
+    return abs(ll - lr) <= 1e3 * EPS * max(abs(lr), bound), psi
+
+
+@njit(cache=True)
+def refine(mr, cr, kr, a, lam, v, vi):
+    """Refine in place the roots ``lam``, the columns [phi; lam phi] of ``v`` (2 r rows) and, where ``vi`` has rows
+    (V^-1 of the general route; none: the right vectors only), its rows, of the roots whose backward error bound
+    EPS ||A|| (``a``: the first-order matrix) is above :data:`REFINE_ABOVE` of their size; how many were refined.
+
+    A refinement is kept only where the vectors converged to the same root (a defective, repeated root has no
+    regular bordered system: it stays as ``eig`` gave it, and the caller's repeated-root check decides)."""
     r = mr.shape[0]
-    bound = EPS * a_norm(mr, cr, kr)
+    bound = EPS * np.max(np.abs(a).sum(axis=1)) if a.size else 0.0
+    rows = vi.shape[0] > 0
+    mri = np.linalg.inv(mr).astype(np.complex128)  # vi's velocity columns over it: a left vector's start
     done = 0
     for i in range(len(lam)):
         if bound <= REFINE_ABOVE * abs(lam[i]):
             continue
         ok, lr, phi = refined_root(mr, cr, kr, lam[i], np.ascontiguousarray(v[:r, i]), bound)
+        if rows and ok:  # vi's row is psi^T M_r / d at the start
+            ok, psi = left_row(mr, cr, kr, lr, np.ascontiguousarray(vi[i, r:]) @ mri, bound)
+            d = psi @ (((2.0 * lr) * mr + cr).astype(np.complex128) @ phi) if ok else 0j
+            ok = d != 0.0
+            if ok:
+                vi[i, :r] = (psi @ (lr * mr + cr).astype(np.complex128)) / d
+                vi[i, r:] = (psi @ mr.astype(np.complex128)) / d
         if ok:
             lam[i] = lr
             v[:r, i], v[r:, i] = phi, lr * phi
             done += 1
-    return done
-
-
-@njit(cache=True)
-def refine(mr, cr, kr, lam, v, vi):
-    """Refine in place the roots ``lam``, columns of ``v`` (2 r, 2 r) and rows of ``vi`` of the general route whose
-    backward error bound is above :data:`REFINE_ABOVE` of their size; how many were refined.
-
-    A refinement is kept only where both vectors converged to the same root (a defective, repeated root has no
-    regular bordered system: it stays as ``eig`` gave it, and the caller's repeated-root check decides)."""
-    r = mr.shape[0]
-    bound = EPS * a_norm(mr, cr, kr)
-    mri = np.linalg.inv(mr).astype(np.complex128)
-    done = 0
-    for i in range(len(lam)):
-        if bound <= REFINE_ABOVE * abs(lam[i]):
-            continue
-        ok, lr, phi = refined_root(mr, cr, kr, lam[i], np.ascontiguousarray(v[:r, i]), bound)
-        if not ok:
-            continue
-        ll, psi = newton(mr, cr, kr, lr, np.ascontiguousarray(vi[i, r:]) @ mri, True)  # vi's row: psi^T M_r / d
-        if not abs(ll - lr) <= 1e3 * EPS * max(abs(lr), bound):
-            continue
-        d = psi @ (((2.0 * lr) * mr + cr).astype(np.complex128) @ phi)
-        if d == 0.0:
-            continue
-        lam[i] = lr
-        v[:r, i], v[r:, i] = phi, lr * phi
-        vi[i, :r] = (psi @ (lr * mr + cr).astype(np.complex128)) / d
-        vi[i, r:] = (psi @ mr.astype(np.complex128)) / d
-        done += 1
     return done
