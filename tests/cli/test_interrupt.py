@@ -135,17 +135,21 @@ def test_a_signal_at_any_moment_of_the_start_ends_in_one_line(sig):
     a 20-40 line traceback (exit by SIGINT) or ended with exit code 0 and no output (typer returned its 130 for
     an interrupt outside the command's run, and it was dropped); SIGTERM then ended the process with no word.
     The console script (``_frictionflow_launch``, outside the package) holds both signals while the package
-    loads.  Signals sent from 0.1 s to 2 s after the start of a run that would take hours: each ends with exit
+    loads.  Signals sent from 0.1 s to 2 s after the start of a run that would take minutes: each ends with exit
     code 1 and the one line."""
     env = dict(os.environ, PYTHONPATH=str(SRC))
-    # the child says when the interpreter's own start-up (site) is over: a signal before it is no program's
-    start = ("import runpy, sys; sys.argv[1:] = ['simulate', '--t-end', '1e7', '--json']; print('started', "
+    # the child says when the interpreter's own start-up (site) is over: a signal before it is no program's.  Its
+    # run is 1e10 RK4 steps (minutes, 5e5 samples, no warning): the default solver settles ``--t-end 1e7`` in 3
+    # switches, and a warm run ended before a signal sent at 2 s (exit 0, its result on stdout)
+    command = ['simulate', '--solver', 'rk4', '--dt', '1e-5', '--t-end', '1e5', '--record-every', '100000', '--json']
+    start = (f"import runpy, sys; sys.argv[1:] = {command!r}; print('started', "
              "file=sys.stderr, flush=True); runpy.run_module('_frictionflow_launch', run_name='__main__')")
     for delay in (0.1, 0.4, 0.7, 1.0, 1.5, 2.0):  # (runpy reads the launcher in the first ms)
         p = subprocess.Popen([sys.executable, "-c", start], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True, env=env, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
         assert p.stderr.readline() == "started\n"
         time.sleep(delay)
+        assert p.poll() is None, (delay, "the run ended before the signal", p.communicate())
         p.send_signal(sig)
         out, err = p.communicate(timeout=120)
         assert p.returncode == 1 and out == "", (delay, p.returncode, err)
