@@ -352,6 +352,39 @@ def test_a_stiff_dampers_creep_multiplier_is_told_from_the_trivial_one():
     assert np.abs(orbits[1e9].monodromy @ f - f).max() < 16.0 * 1e9 * np.finfo(float).eps * np.abs(f).max()
 
 
+def _frozen_third(c: float | None):
+    """The stick-slip pair of ``CHAINS["both_stick"]`` with x1 sprung (0.01) to a third mass held by a damper ``c``
+    and a spring to the ground; None: the third mass frozen, its spring added to x1's ground spring."""
+    law = Coulomb(fd=0.1, fs=0.2).kernel_params()
+    n = 2 if c is None else 3
+    e = np.eye(n)
+    springs = [(e[0], 1.0 if c else 1.01), (e[1], 1.0), (e[0] - e[1], 0.5)]
+    dampers = [(e[0], 0.3), (e[1], 0.3)]
+    if c is not None:
+        springs += [(e[0] - e[2], 0.01), (e[2], 1.0)]
+        dampers += [(e[2], c)]
+    return assembly(np.ones(n), springs=springs, dampers=dampers,
+                    contacts=[(e[0], 0.02, law, None), (e[1], 0.026, law, None)], q0=[0.0, 0.5, 0.0][:n])
+
+
+@pytest.mark.parametrize("c", [1e4, 1e6, 1e9])
+def test_an_orbit_beside_a_stiff_damper_is_the_frozen_models_orbit(c):
+    """A third mass held by a damper c moves by O(1/c) a period: the orbit is the 2-dof model's with that mass
+    frozen (an independent run on well-scaled matrices) to O(1/c) -- period (measured 2.84e-4 / c) and its
+    nontrivial multiplier -- plus a creep multiplier 1 - (k + 0.01) T / c and one fast multiplier near 0.  The
+    creep's 1 - mu is measured to 1e-4 of itself up to c = 1e6; beyond, it sinks into the monodromy's rounding
+    (~c EPS, as above: 3 % off at c = 1e9, measured), which the bound allows."""
+    frozen = find_structure_orbit(_frozen_third(None))
+    orbit = find_structure_orbit(_frozen_third(c), section=0)
+    assert abs(orbit.period - frozen.period) < 1e-3 / c + 1e-11
+    mu = np.sort(np.abs(orbit.multipliers))
+    slow = np.sort(np.abs(frozen.multipliers))
+    assert mu[3] == pytest.approx(slow[2], abs=1e-3 / c + 1e-9)  # the pair's nontrivial multiplier
+    creep = 1.01 * orbit.period / c  # the third mass's: rate (k + 0.01) / c, back-coupling O(1e-4) of it
+    assert abs((1.0 - mu[4]) - creep) <= 1e-3 * creep + c * np.finfo(float).eps
+    assert mu[5] == pytest.approx(1.0, abs=1e-9) and max(mu[:3]) < 1e-12  # trivial; the fast root's and the stuck
+
+
 def test_newton_from_a_transient_shorter_than_the_slowest_time_scale_says_so():
     """A damper of 1e4 between the stick-slip chain's masses: a creep of multiplier 0.99955 a period (time scale
     2 pi / |lambda| = 6.65e4).  From the default transient (300) Newton's steps along it are long and it does not
