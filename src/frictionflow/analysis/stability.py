@@ -267,7 +267,8 @@ def _refined(mass: np.ndarray, c_eff: np.ndarray, k_eff: np.ndarray, a: np.ndarr
              vec: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``eig``'s roots and unit eigenvectors with those a stiff element's rate left ~its rate x EPS off refined on
     the pencil (``core.structure.pencil.refine``, right vectors only); a real spectrum stays real."""
-    lam_c, vec_c = lam.astype(complex), vec.astype(complex)
+    # the layouts the engine's combination builder passes (eig's vectors in Fortran order): one compiled refine
+    lam_c, vec_c = lam.astype(complex), np.asfortranarray(vec, dtype=complex)
     if not refine(mass, c_eff, k_eff, a, lam_c, vec_c, np.zeros((0, 0), dtype=complex)):
         return lam, vec
     vec_c /= np.linalg.norm(vec_c, axis=0)

@@ -344,7 +344,7 @@ def decompose(m, c, k, z, sel, rows, eigs=None):
         a[r:, :r] = -mm(mri, kr)
         a[r:, r:] = -mm(mri, cr)
         lam, v = np.linalg.eig(a.astype(np.complex128))
-        vi = np.linalg.inv(v)
+        vi = np.ascontiguousarray(np.linalg.inv(v))  # C order, as the stability analysis's: one compiled refine
         refine(mr, cr, kr, a, lam, v, vi)  # roots a stiff element's rate would leave ~its rate x EPS off
         vb = mm(np.ascontiguousarray(vi[:, r:]), mri.astype(np.complex128))
         c_ = np.ascontiguousarray
