@@ -18,7 +18,6 @@ from scipy.linalg import eigvals
 
 from frictionflow import Coulomb
 from frictionflow.core.structure.combo import build as build_combo
-from frictionflow.core.structure.pencil import solve_in_place
 from frictionflow.core.structure.phase import DEAD, bound, lifetime, start
 from frictionflow.solvers.structure import run_assembly
 from frictionflow.system.assemble import free_directions
@@ -190,17 +189,3 @@ def test_a_sprung_structure_beside_a_huge_damper_is_not_taken_for_a_free_one(ele
     with pytest.raises(ValueError, match=r"damper\.\d's rate .* spans more than one double-precision mode basis"):
         run_assembly(a, 40.0)
 
-
-def test_the_pencil_s_bordered_solve_is_numpy_s_and_says_when_a_pivot_is_zero():
-    """The refinement's own elimination (``pencil.solve_in_place``, kept out of LAPACK for the compile time) against
-    ``np.linalg.solve`` on random complex systems, a pivot swap forced; a singular matrix answers False."""
-    rng = np.random.default_rng(7)
-    for m in (2, 3, 7):
-        b = rng.normal(size=(m, m)) + 1j * rng.normal(size=(m, m))
-        b[0, 0] = 0.0  # the first column's pivot must be taken from another row
-        rhs = rng.normal(size=m) + 1j * rng.normal(size=m)
-        got = rhs.copy()
-        assert solve_in_place(b.copy(), got)
-        np.testing.assert_allclose(got, np.linalg.solve(b, rhs), rtol=0, atol=1e-12 * np.abs(got).max())
-    singular = np.array([[1.0, 2.0], [2.0, 4.0]], dtype=complex)
-    assert not solve_in_place(singular, np.ones(2, dtype=complex))

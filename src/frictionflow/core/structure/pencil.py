@@ -18,6 +18,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..stiff import lu_factor, lu_solve
+
 #: refine a root when EPS ||A|| is above this fraction of its modulus (rates spread beyond about 500)
 REFINE_ABOVE = 1e-13
 #: Newton steps at most per vector (each converges quadratically from eig's answer; two reach rounding)
@@ -36,37 +38,6 @@ def pencil(mr, cr, kr, lam, transpose):
 
 
 @njit(cache=True)
-def solve_in_place(b, rhs):
-    """Solve b d = rhs by Gaussian elimination with partial pivoting, d into ``rhs`` (``b`` is overwritten); False
-    for a zero pivot.  Not ``np.linalg.solve``: its compiled form (with the ``try`` it needs for a singular matrix),
-    linked into every caller of the engine's combination builder and optimised again in each, made the first
-    structure run compile about 17 s longer."""
-    m = len(rhs)
-    for col in range(m):
-        piv = col
-        for row in range(col + 1, m):
-            if abs(b[row, col]) > abs(b[piv, col]):
-                piv = row
-        if b[piv, col] == 0.0:
-            return False
-        if piv != col:
-            for j in range(col, m):
-                b[col, j], b[piv, j] = b[piv, j], b[col, j]
-            rhs[col], rhs[piv] = rhs[piv], rhs[col]
-        for row in range(col + 1, m):
-            f = b[row, col] / b[col, col]
-            for j in range(col + 1, m):
-                b[row, j] -= f * b[col, j]
-            rhs[row] -= f * rhs[col]
-    for row in range(m - 1, -1, -1):
-        acc = rhs[row]
-        for j in range(row + 1, m):
-            acc -= b[row, j] * rhs[j]
-        rhs[row] = acc / b[row, row]
-    return True
-
-
-@njit(cache=True)
 def newton(mr, cr, kr, lam, x, transpose):
     """(lam, x) after Newton's steps on P(lam) x = 0 (P^T for a left vector), x scaled to 1 at its largest entry
     (the bordered system of a simple root is regular); the steps stop once the root no longer moves."""
@@ -74,18 +45,23 @@ def newton(mr, cr, kr, lam, x, transpose):
     k = np.argmax(np.abs(x))
     x = x / x[k]
     b = np.zeros((r + 1, r + 1), dtype=np.complex128)
-    rhs = np.zeros(r + 1, dtype=np.complex128)
+    rhs = np.zeros((1, r + 1), dtype=np.complex128)  # one row: lu_solve's layout
+    piv = np.zeros(r + 1, dtype=np.int64)
     for _ in range(STEPS):
         p, dp = pencil(mr, cr, kr, lam, transpose)
         b[:r, :r] = p
         b[:r, r] = dp @ x
         b[r, :] = 0.0
         b[r, k] = 1.0
-        rhs[:r] = -(p @ x)
-        rhs[r] = 0.0
-        if not solve_in_place(b, rhs):  # singular to rounding: a defective root, left to the caller's check
+        rhs[0, :r] = -(p @ x)
+        rhs[0, r] = 0.0
+        # LU, not np.linalg.solve: its compiled form (and the try a singular matrix needs), linked into every
+        # caller of the combination builder and optimised again in each, made the first structure run compile
+        # about 17 s longer
+        if not lu_factor(b, piv):  # singular to rounding: a defective root, left to the caller's check
             return complex(np.nan, 0.0), x
-        d = rhs
+        lu_solve(b, piv, rhs, 0)
+        d = rhs[0]
         x = x + d[:r]
         lam = lam + d[r]
         if abs(d[r]) <= EPS * abs(lam):
