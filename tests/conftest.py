@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import signal
 import subprocess
 
 import numpy as np
@@ -37,6 +38,18 @@ def no_compile_ahead():
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv(_compile_ahead.ENV, "0")
         yield
+
+
+@pytest.fixture(autouse=True)
+def signals_restored():
+    """Each test leaves SIGINT's and SIGTERM's handlers as it found them.  ``frictionflow.cli.run`` ignores both once
+    its command has ended, and a test that called it in-process left its worker ignoring SIGTERM: every later
+    child of that worker inherited it, and a test signalling a child waited 120 s for an exit that never came."""
+    handlers = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
+    yield
+    for sig, handler in handlers.items():
+        if handler is not None:
+            signal.signal(sig, handler)
 
 
 class Spawned:

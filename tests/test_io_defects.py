@@ -28,7 +28,7 @@ from frictionflow.cli import simulate as simulate_cli
 from frictionflow.cli.output import write_json
 from frictionflow.io import atomic_write, check_output_path, stale_temporaries, write_error, write_trajectory
 
-from .cli.processes import SRC, in_process, one_line
+from .cli.processes import SRC, default_signals, in_process, one_line
 
 # -- 1. Ctrl-C during a NetCDF write -----------------------------------------------------------------
 
@@ -67,9 +67,8 @@ def test_a_signal_during_a_netcdf_write_ends_the_command_with_exit_1_and_keeps_t
     out.write_text("OLD")
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH")])))
     argv = [sys.executable, str(script), sig, str(fired), "simulate", "--t-end", "20", "--out", str(out), "--json"]
-    # Ctrl-C's default action in the child (a test worker may ignore SIGINT, and an ignored signal stays ignored)
     p = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path,
-                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                         preexec_fn=default_signals)
     try:
         stdout, stderr = p.communicate(timeout=90)
     except subprocess.TimeoutExpired:

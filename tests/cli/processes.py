@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -20,6 +21,14 @@ from frictionflow.cli import main
 
 #: the source tree under test, put first on the child's path (the installed package may be another tree)
 SRC = str(Path(frictionflow.__file__).resolve().parents[1])
+
+
+def default_signals() -> None:
+    """A child's ``preexec_fn``: Ctrl-C and SIGTERM with their default actions, as a terminal starts a command.  A
+    test worker may ignore either (and an ignored signal stays ignored across exec: the launcher then keeps it so,
+    as a shell's background job does), so a test that signals its child sets them first."""
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, signal.SIG_DFL)
 
 
 def cli(*argv: str, cwd: Path | None = None, timeout: float = 300) -> tuple[int, str, str, float]:

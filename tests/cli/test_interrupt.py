@@ -7,6 +7,8 @@ silently with 143.
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import importlib
 import importlib.metadata
 import os
@@ -18,11 +20,14 @@ import tomllib
 from pathlib import Path
 
 import pytest
+import typer
+import typer.main
 
 import frictionflow.cli as frictionflow_cli
 from frictionflow.cli import simulate as simulate_cli, sweep as sweep_cli
+from frictionflow.cli._app import Interrupted, PanelledCommand, sigterm_as_interrupt
 
-from .processes import SRC, in_process, one_line
+from .processes import SRC, default_signals, in_process, one_line
 
 SIMULATE = ("simulate", "--friction", "coulomb", "--fd", "0.02", "--fs", "0.04", "--zeta", "0.05", "--t-end", "50")
 
@@ -68,10 +73,8 @@ def test_a_signal_to_a_running_command_ends_it_with_exit_code_1(sig):
     env = dict(os.environ, PYTHONPATH=str(SRC))
     argv = [sys.executable, "-m", "frictionflow", "simulate", "--solver", "rk4", "--dt", "0.002", "--friction",
             "karnopp", "--fd", "0.02", "--t-end", "1e5", "--json"]
-    # Ctrl-C's default action in the child: a test worker may ignore SIGINT, and an ignored signal stays ignored across
-    # exec (Python then installs no KeyboardInterrupt for it, as a shell's background job does not get one)
     p = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
-                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                         preexec_fn=default_signals)
     first = p.stderr.readline()  # the run has begun: the warning is written just before it
     assert "warning" in first, first
     time.sleep(0.5)
@@ -81,15 +84,9 @@ def test_a_signal_to_a_running_command_ends_it_with_exit_code_1(sig):
     one_line(err, "interrupted (Ctrl-C or SIGTERM)")
 
 
-def test_an_interrupt_dropped_in_a_callback_from_c_is_raised_again():
-    """A signal can land in Python code that C calls back (llvmlite's hooks while numba loads kernels): the
-    caller prints the KeyboardInterrupt and drops it, and the command ran on to exit 0 with its output.  Here
-    libc's qsort calls back a comparator that raises, as the signal would."""
-    import ctypes
-    import ctypes.util
-
-    from frictionflow.cli._app import sigterm_as_interrupt
-
+def drop_an_interrupt() -> None:
+    """A KeyboardInterrupt raised in Python code that C calls back, as a signal landing in llvmlite's hooks while
+    numba loads kernels raises it: libc's qsort calls back a comparator that raises, and the caller drops it."""
     compare = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_int))
 
     def interrupted(a, b):
@@ -97,17 +94,48 @@ def test_an_interrupt_dropped_in_a_callback_from_c_is_raised_again():
 
     libc = ctypes.CDLL(ctypes.util.find_library("c"))
     values = (ctypes.c_int * 3)(3, 2, 1)
+    libc.qsort(values, 3, ctypes.sizeof(ctypes.c_int), compare(interrupted))
+
+
+def test_an_interrupt_dropped_in_a_callback_from_c_is_raised_again():
+    """The caller of the callback prints the KeyboardInterrupt and drops it, and the command ran on to exit 0 with
+    its output."""
     dropped = []
     hook = sys.unraisablehook
     sys.unraisablehook = lambda args: dropped.append(args.exc_type)  # the context keeps it as the one to pass on
     try:
         with pytest.raises(KeyboardInterrupt):
             with sigterm_as_interrupt():
-                libc.qsort(values, 3, ctypes.sizeof(ctypes.c_int), compare(interrupted))
+                drop_an_interrupt()
                 time.sleep(5.0)  # the command's further work: the interrupt ends it
     finally:
         sys.unraisablehook = hook
     assert dropped == [] and sys.unraisablehook is hook
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+def test_a_failure_after_a_dropped_interrupt_is_the_interrupt_and_nothing_follows_it():
+    """A SIGTERM dropped in numba's object-cache hook left the kernel without its compiled object: numba raised
+    "no compiled object yet for <Library '_sample'>", the command printed that as its error, and the interrupt
+    raised again then reached the handler outside the command, which wrote a second line (found by signalling
+    a first run on an empty cache 12 s after its start, under load).  The command now ends as interrupted, and the
+    interrupt on its way is taken inside it: the handler in place afterwards sees no signal."""
+    app = typer.Typer()
+
+    @app.command(cls=PanelledCommand)
+    def fail() -> None:
+        drop_an_interrupt()
+        raise RuntimeError("no compiled object yet for <Library '_sample'>")  # what numba raised next
+
+    after: list[int] = []
+    previous = signal.signal(signal.SIGTERM, lambda signum, frame: after.append(signum))
+    try:
+        with pytest.raises(Interrupted, match="interrupted"):
+            typer.main.get_command(app).main(args=[], standalone_mode=False)
+        time.sleep(0.5)  # time for a signal still on its way
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert after == []
 
 
 def test_an_interrupt_caught_after_it_left_generated_code_exits_1(tmp_path):
@@ -146,7 +174,7 @@ def test_a_signal_at_any_moment_of_the_start_ends_in_one_line(sig):
              "file=sys.stderr, flush=True); runpy.run_module('_frictionflow_launch', run_name='__main__')")
     for delay in (0.1, 0.4, 0.7, 1.0, 1.5, 2.0):  # (runpy reads the launcher in the first ms)
         p = subprocess.Popen([sys.executable, "-c", start], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                             text=True, env=env, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                             text=True, env=env, preexec_fn=default_signals)
         assert p.stderr.readline() == "started\n"
         time.sleep(delay)
         assert p.poll() is None, (delay, "the run ended before the signal", p.communicate())

@@ -26,7 +26,7 @@ import frictionflow.cli as cli
 from frictionflow._interrupt import abandoned, interruptible
 from frictionflow.system import System
 
-from ..cli.processes import SRC
+from ..cli.processes import SRC, default_signals
 
 N = 10
 DOF = [f"x{i}" for i in range(N)]
@@ -68,9 +68,8 @@ def test_a_run_on_its_thread_gives_the_same_motion_and_raises_its_errors():
 def test_a_signal_during_a_long_run_interrupts_it_before_its_end():
     """The interrupt is raised while the run's thread is still at work (before, only once the run had ended)."""
     env = dict(os.environ, PYTHONPATH=str(SRC))
-    # Ctrl-C's default action in the child (a test worker may ignore SIGINT, and that survives exec)
     p = subprocess.Popen([sys.executable, "-c", SCRIPT], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         env=env, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                         env=env, preexec_fn=default_signals)
     assert p.stdout.readline().strip() == "running"
     time.sleep(0.3)
     p.send_signal(signal.SIGINT)

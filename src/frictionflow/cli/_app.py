@@ -9,6 +9,7 @@ from __future__ import annotations
 import _thread
 import signal
 import sys
+import threading
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any, Iterator
 
@@ -31,35 +32,58 @@ class Interrupted(RuntimeError):
 
 
 @contextmanager
-def sigterm_as_interrupt() -> Iterator[None]:
-    """SIGTERM handled like Ctrl-C, so that ``kill`` ends a command as Ctrl-C does (a sweep's lock released too)."""
+def sigterm_as_interrupt() -> Iterator[list[bool]]:
+    """SIGTERM handled like Ctrl-C, so that ``kill`` ends a command as Ctrl-C does (a sweep's lock released too).
+
+    Yields a list that holds an entry for each interrupt a C callback dropped (see ``swallowed``): a failure after
+    one is the interrupt's doing (numba's kernel left without its compiled object), not the command's.
+    """
 
     def interrupt(signum, frame):  # noqa: ANN001
         raise KeyboardInterrupt
 
     hook = sys.unraisablehook
+    dropped: list[bool] = []
+    on_its_way = threading.Lock()  # held while an interrupt raised again has not reached the main thread's flags
+
+    def raise_again() -> None:
+        try:
+            _thread.interrupt_main(signal.SIGTERM)
+        finally:
+            on_its_way.release()
 
     def swallowed(args):  # noqa: ANN001
         # A signal that lands in Python code called back from C (llvmlite's hooks while numba loads or links
         # kernels) raises there, and the callback's caller prints and drops it: the command would run on and
         # exit 0.  Raise it again from another thread, so that the main thread takes it where it is next
-        # checked -- outside this hook, whose own exceptions are dropped too.
+        # checked -- outside this hook, whose own exceptions are dropped too.  Once for a burst of drops (a
+        # callback called again and again): the main thread's flag is one.
         if isinstance(args.exc_value, KeyboardInterrupt):
-            _thread.start_new_thread(_thread.interrupt_main, (signal.SIGTERM,))
+            dropped.append(True)
+            if on_its_way.acquire(blocking=False):
+                _thread.start_new_thread(raise_again, ())
         else:
             hook(args)
 
     try:
         previous = signal.signal(signal.SIGTERM, interrupt)
     except ValueError:  # not the main thread: leave signals alone
-        yield
+        yield dropped
         return
     sys.unraisablehook = swallowed
     try:
-        yield
+        yield dropped
     finally:
+        if dropped:  # the interrupt raised again may still be on its way: taken here, not by the handler after us
+            signal.signal(signal.SIGTERM, signal.SIG_IGN if previous is signal.SIG_IGN else _ignore)
+            if on_its_way.acquire(timeout=5.0):  # signal.signal below runs the handler for a flag set by then
+                on_its_way.release()
         sys.unraisablehook = hook
         signal.signal(signal.SIGTERM, previous)
+
+
+def _ignore(signum, frame) -> None:  # noqa: ANN001
+    """A signal that was already taken (:func:`sigterm_as_interrupt`)."""
 
 
 class PanelledCommand(typer.core.TyperCommand):
@@ -70,11 +94,15 @@ class PanelledCommand(typer.core.TyperCommand):
     """
 
     def invoke(self, ctx: click.Context) -> Any:
-        with sigterm_as_interrupt():
+        with sigterm_as_interrupt() as dropped:
             try:
                 return super().invoke(ctx)
             except KeyboardInterrupt:
                 raise Interrupted(INTERRUPTED) from None
+            except Exception:
+                if dropped:  # what the dropped interrupt broke (a kernel half-compiled): the command was interrupted
+                    raise Interrupted(INTERRUPTED) from None
+                raise
 
     def format_options(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
         groups: dict[str, list[tuple[str, str]]] = {}
