@@ -424,9 +424,10 @@ def root_norms(md, rate, c):
 @njit(cache=True)
 def modal(m, c, k, z):
     """(lam, V, V^-1, V^-1 B) of the reduced first-order matrix (B = [0; M_r^-1]), every root's (pairs expanded:
-    :func:`expanded`)."""
+    :func:`expanded`).  With an :data:`Eigs` of its own, as a run's builder passes one: ``decompose`` is then the
+    run's compilation (without one, a second of its whole tree)."""
     sel, rows = selected(z)
-    return expanded(decompose(m, c, k, z, sel, rows))
+    return expanded(decompose(m, c, k, z, sel, rows, new_eigs()))
 
 
 @njit(cache=True)
