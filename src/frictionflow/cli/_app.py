@@ -99,6 +99,8 @@ class PanelledCommand(typer.core.TyperCommand):
                 return super().invoke(ctx)
             except KeyboardInterrupt:
                 raise Interrupted(INTERRUPTED) from None
+            except Interrupted:  # the command's own words for it (what a sweep kept)
+                raise
             except Exception:
                 if dropped:  # what the dropped interrupt broke (a kernel half-compiled): the command was interrupted
                     raise Interrupted(INTERRUPTED) from None
