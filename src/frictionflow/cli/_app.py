@@ -32,18 +32,18 @@ class Interrupted(RuntimeError):
 
 
 @contextmanager
-def sigterm_as_interrupt() -> Iterator[list[bool]]:
+def sigterm_as_interrupt() -> Iterator[threading.Event]:
     """SIGTERM handled like Ctrl-C, so that ``kill`` ends a command as Ctrl-C does (a sweep's lock released too).
 
-    Yields a list that holds an entry for each interrupt a C callback dropped (see ``swallowed``): a failure after
-    one is the interrupt's doing (numba's kernel left without its compiled object), not the command's.
+    Yields an event set once a C callback has dropped an interrupt (see ``swallowed``): a failure after one is the
+    interrupt's doing (numba's kernel left without its compiled object), not the command's.
     """
 
     def interrupt(signum, frame):  # noqa: ANN001
         raise KeyboardInterrupt
 
     hook = sys.unraisablehook
-    dropped: list[bool] = []
+    dropped = threading.Event()
     on_its_way = threading.Lock()  # held while an interrupt raised again has not reached the main thread's flags
 
     def raise_again() -> None:
@@ -59,7 +59,7 @@ def sigterm_as_interrupt() -> Iterator[list[bool]]:
         # checked -- outside this hook, whose own exceptions are dropped too.  Once for a burst of drops (a
         # callback called again and again): the main thread's flag is one.
         if isinstance(args.exc_value, KeyboardInterrupt):
-            dropped.append(True)
+            dropped.set()
             if on_its_way.acquire(blocking=False):
                 _thread.start_new_thread(raise_again, ())
         else:
@@ -74,16 +74,12 @@ def sigterm_as_interrupt() -> Iterator[list[bool]]:
     try:
         yield dropped
     finally:
-        if dropped:  # the interrupt raised again may still be on its way: taken here, not by the handler after us
-            signal.signal(signal.SIGTERM, signal.SIG_IGN if previous is signal.SIG_IGN else _ignore)
-            if on_its_way.acquire(timeout=5.0):  # signal.signal below runs the handler for a flag set by then
+        if dropped.is_set():  # the interrupt raised again may still be on its way: let it come while SIGTERM is
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)  # ignored (it then does nothing), not under the handler
+            if on_its_way.acquire(timeout=5.0):  # in place after us
                 on_its_way.release()
         sys.unraisablehook = hook
         signal.signal(signal.SIGTERM, previous)
-
-
-def _ignore(signum, frame) -> None:  # noqa: ANN001
-    """A signal that was already taken (:func:`sigterm_as_interrupt`)."""
 
 
 class PanelledCommand(typer.core.TyperCommand):
@@ -102,7 +98,7 @@ class PanelledCommand(typer.core.TyperCommand):
             except Interrupted:  # the command's own words for it (what a sweep kept)
                 raise
             except Exception:
-                if dropped:  # what the dropped interrupt broke (a kernel half-compiled): the command was interrupted
+                if dropped.is_set():  # what the dropped interrupt broke (a kernel half-compiled): the command was interrupted
                     raise Interrupted(INTERRUPTED) from None
                 raise
 
