@@ -12,6 +12,8 @@ import pytest
 from frictionflow import BeltOscillator, Karnopp, RK4, simulate
 from frictionflow import _compile_ahead
 
+from . import scheduling
+
 
 def slip_solution(t, x0, v0, force, zeta):
     """Closed form of X'' + 2 zeta X' + X = force (underdamped, zeta < 1)."""
@@ -23,6 +25,13 @@ def slip_solution(t, x0, v0, force, zeta):
     x = force + e * (y0 * c + b * s)
     v = e * ((-zeta * y0 + w * b) * c + (-zeta * b - w * y0) * s)
     return x, v
+
+
+def pytest_xdist_make_scheduler(config, log):
+    """``--dist loadfile`` with the workers taking the files from two ends (:mod:`tests.scheduling`)."""
+    if config.getvalue("dist") == "loadfile" and scheduling.usable():
+        return scheduling.TwoEnded(config, log)
+    return None
 
 
 @pytest.fixture(scope="session")
