@@ -5,6 +5,11 @@ called with a literal at one place and a value at another compiles twice (or thr
 engine's Rodas step did, about 20 s each (a first LuGre ``simulate`` on an empty cache: 50 s, 31 s without).  The
 callers pass ``np.bool_(...)``/``np.int64(...)``.
 
+A counter or flag that starts as a literal and changes in a loop does the same without any literal at the call:
+numba types the loop's body first with the start's literal type, compiles the callee for it, and then again for
+``int64`` once the loop's type is settled (at most 5 s a kernel on the structure engine's first run: its root
+finder ``locate``, the pencil's Newton steps).  Such a variable starts as ``np.int64(...)``/``np.bool_(...)``.
+
 Which signatures a process holds depends on the cache (a caller loaded from it does not load its callees'
 dispatchers), so the check reads the calls in the sources: it fails when a literal comes back at one of them.
 """
@@ -63,3 +68,96 @@ def test_the_stick_rule_alone_and_with_directions_share_one_active_set_loop():
         assert modes[0] == STICK  # its held force, about 0.21, is within F_s = 0.4: it stays stuck
     without_cache = [sig for sig in stick.decide_in.signatures if str(sig[7]) == "none"]
     assert len(without_cache) <= 1, without_cache
+
+
+PACKAGE = Path(ff.__file__).parent
+KERNEL_SOURCES = sorted((PACKAGE / "core").rglob("*.py"))
+
+
+def decorator_kind(fn: ast.FunctionDef) -> str | None:
+    """"inline" (numba inlines its IR), "compiled" (a kernel of its own), or None (not compiled)."""
+    for d in fn.decorator_list:
+        target = d.func if isinstance(d, ast.Call) else d
+        if ast.unparse(target).rsplit(".", 1)[-1] not in ("njit", "jit"):
+            continue
+        keywords = d.keywords if isinstance(d, ast.Call) else []
+        inline = any(k.arg == "inline" and getattr(k.value, "value", None) == "always" for k in keywords)
+        return "inline" if inline else "compiled"
+    return None
+
+
+def bindings(fn: ast.FunctionDef) -> list[tuple[str, ast.expr | None]]:
+    """Every (name, value bound or None when not known) in ``fn``, in the order of the source."""
+    found = []
+    for node in ast.walk(fn):
+        if isinstance(node, ast.Assign):
+            for target in node.targets:
+                pairs = (zip(target.elts, node.value.elts) if isinstance(target, ast.Tuple)
+                         and isinstance(node.value, ast.Tuple) else
+                         [(e, None) for e in target.elts] if isinstance(target, ast.Tuple) else [(target, node.value)])
+                found += [(t.id, v, t.lineno) for t, v in pairs if isinstance(t, ast.Name)]
+        elif isinstance(node, (ast.AugAssign, ast.For)) and isinstance(node.target, ast.Name):
+            found.append((node.target.id, None, node.lineno))
+    return [(name, value) for name, value, _ in sorted(found, key=lambda b: b[2])]
+
+
+def literal_starts(fn: ast.FunctionDef) -> set[str]:
+    """The names in ``fn`` first bound to an int or bool literal (``-1`` too) and bound again later."""
+    first: dict[str, ast.expr | None] = {}
+    times: dict[str, int] = {}
+    for name, value in bindings(fn):
+        first.setdefault(name, value)
+        times[name] = times.get(name, 0) + 1
+    def literal(v):
+        v = v.operand if isinstance(v, ast.UnaryOp) else v
+        return isinstance(v, ast.Constant) and type(v.value) in (int, bool)
+    return {name for name, value in first.items() if times[name] > 1 and literal(value)}
+
+
+def literal_flows(trees: dict[str, ast.Module]) -> list[str]:
+    """Each place a kernel passes such a name to a compiled kernel, or an inlined one returns it to its caller."""
+    kernels = {fn.name for t in trees.values() for fn in ast.walk(t)
+               if isinstance(fn, ast.FunctionDef) and decorator_kind(fn) == "compiled"}
+    found = []
+    for path, tree in trees.items():
+        for fn in (f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and decorator_kind(f)):
+            names = literal_starts(fn)
+            for node in ast.walk(fn):
+                callee = getattr(node.func, "id", getattr(node.func, "attr", None)) if isinstance(node, ast.Call) else None
+                passed = node.args if callee in kernels else []
+                if isinstance(node, ast.Return) and decorator_kind(fn) == "inline" and node.value is not None:
+                    passed = node.value.elts if isinstance(node.value, ast.Tuple) else [node.value]
+                    callee = "its caller"
+                found += [f"{path}:{node.lineno} {fn.name} gives {a.id} to {callee}"
+                          for a in passed if isinstance(a, ast.Name) and a.id in names]
+    return found
+
+
+#: inlined kernels returning a loop's literal-started result whose callers use it only in arithmetic and tests
+INLINE_RESULTS_NOT_PASSED_ON = {"_sections_at", "_aggregates", "nonzeros", "decide_interval", "phi2_terms",
+                                "element_powers", "sparse_element_powers"}
+
+
+def test_no_kernel_passes_a_loop_variable_that_starts_as_a_literal():
+    trees = {str(p.relative_to(PACKAGE)): ast.parse(p.read_text(encoding="utf-8")) for p in KERNEL_SOURCES}
+    found = [f for f in literal_flows(trees) if f.split()[1] not in INLINE_RESULTS_NOT_PASSED_ON]
+    assert not found, "compiled once more for the start's literal type:\n" + "\n".join(found)
+
+
+def test_the_flow_check_sees_a_counter_started_as_a_literal():
+    """Not vacuous: the pattern numba compiles twice is found, and the fix is not."""
+    source = """
+@njit(cache=True)
+def kernel(a):
+    n = {start}
+    for i in range(3):
+        n = count(n, a)
+    return n
+
+@njit(cache=True)
+def count(n, a):
+    return n + len(a)
+"""
+    found = literal_flows({"m.py": ast.parse(source.format(start="0"))})
+    assert found == ["m.py:6 kernel gives n to count"]
+    assert literal_flows({"m.py": ast.parse(source.format(start="np.int64(0)"))}) == []

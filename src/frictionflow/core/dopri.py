@@ -418,7 +418,7 @@ def _slip(forced, s, p, at, cur, scr, ring, outs, w):
         while True:
             # at the step's start the dense output is y itself, with X'' = K[0]: no evaluation
             ga = (y[1], K[0, 1], y[1] + 2.0 * zeta * K[0, 1]) if th == 0.0 else _events_at(y, K, (t, h), th, ph, p, ys, tmp, forced)
-            best, kind = theta_end, -1
+            best, kind = theta_end, np.int64(-1)  # (a literal -1 would compile _next_sample once more)
             if ga[0] * gb[0] < 0.0 or ga[1] * gb[1] < 0.0 or ga[2] * gb[2] < 0.0:
                 best, kind = _first_event((ga, gb), y, K, (t, h), (th, theta_end), ph, p, ys, tmp, forced)
             best, kind, tt, cur = _next_sample(best, kind, (t, h), s, cur)

@@ -1292,7 +1292,9 @@ def run_forced(run, p, samples, events, t_mode):
     w = np.zeros(N_WORK)
     t, x = 0.0, run[X0]
     mode, v = _enter_forced(s, x, run[V0], fex * math.cos(phi), -fex * om * math.sin(phi), -om * om * fex * math.cos(phi), 0.0)
-    k, ne, zero_len, strobe = 0, 0, 0, 1  # strobe: the next stroboscopic index (k = 0 is the start)
+    # strobe: the next stroboscopic index (k = 0 is the start); not literals: emit and _forced_start would
+    # compile once more for them
+    k, ne, zero_len, strobe = np.int64(0), 0, 0, np.int64(1)
     while True:
         dyn, force, fck = dynamics(mode, zeta, s.fd, s.fs, s.res)
         theta = om * t + phi

@@ -758,7 +758,7 @@ def flow_map(x0, v0, flow, returns, horizon, quads, ph, sw, tot):
     armed, fresh = v > 0.0, v == vb
     # (not literals: _record_phase, _zero_of_v and _finish compile once)
     nph, nsw, count = np.int64(0), np.int64(0), np.int64(0)
-    zero_run = new = 0
+    zero_run, new = 0, np.int64(0)  # (a literal 0: _slip_exit compiled once more)
     h = 0.0
     tph, xph, vph = t, x, v
     while True:

@@ -337,7 +337,7 @@ def _walk(bl, p, y, mode, fresh, span, n_steps, out):
     h = span / n_steps
     t = 0.0
     phase = stick_phase(y[0], 0.0, span, zeta, vb, p) if mode == 0 else (y[0], 0.0, span)
-    n_sticks = zero_run = 0
+    n_sticks, zero_run = np.int64(0), 0  # (a literal 0: _slip_onset, _on_switch compiled once more)
     for j in range(1, n_steps + 1):
         target = span if j == n_steps else j * h
         while t < target:

@@ -357,7 +357,7 @@ def band_hold(switch, fe, x, v, zeta, fext):
     itself (with the spring rule the damper's force is left over, as in the paper), and the whole resultant for a
     law with Coulomb's stick rule, whose band stands in for the constraint V_r = 0 that the rule holds (the spring
     rule only decides when)."""
-    return held_force_fm(x, zeta, v, True, fext) if switch else fe
+    return held_force_fm(x, zeta, v, switch, fext) if switch else fe  # (switch, True there: a literal compiles twice)
 
 
 @njit(cache=True, fastmath=FASTMATH, forceinline=True)

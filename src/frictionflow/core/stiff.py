@@ -534,7 +534,7 @@ def earliest_mark(fa, fb, skip):
     """The function (not ``skip``) whose sign changes between ``fa`` and ``fb`` with the earliest chord root; -1:
     none.  A start within :data:`MARK_FLOOR` of 0 is the zero the last step ended on, not a new one (X' needs no
     floor: a located zero of it is set to 0 exactly)."""
-    best, which = 2.0, -1
+    best, which = 2.0, np.int64(-1)  # (a literal -1 would compile to_mark once more for it)
     for i in range(N_MARKS):
         if i != skip and fa[i] * fb[i] < 0.0 and (i == 0 or abs(fa[i]) > MARK_FLOOR * abs(fb[i])):
             x = fa[i] / (fa[i] - fb[i])

@@ -550,7 +550,7 @@ def run_until(x0, v0, zeta, vb, p, block, n_sub, blocks, stop, strobe, est, coun
     s1 = 0.0
     s2 = 0.0
     collapsed = mode == 0
-    j = 0
+    j = np.int64(0)  # (a literal 0 would compile _grid_time once more for it)
     for blk in range(n_transient + n_blocks):
         for _ in range(n_sub):
             j += 1

@@ -463,7 +463,7 @@ def run(asm, minv, opts, out, events, der):
     leaving = np.zeros(k, dtype=np.bool_)
     for j in range(k):
         leaving[j] = modes[j] != STICK and asm.belt[j] - asm.contact_dir[j] @ v == 0.0
-    t, h, i, nsw, zeros, steps = 0.0, 0.01 * opts.h_max, 1, 0, 0, 0
+    t, h, i, nsw, zeros, steps = 0.0, 0.01 * opts.h_max, np.int64(1), np.int64(0), 0, 0  # (literals: callees twice)
     grid, floor = (opts.dense_dt, opts.dense_dt), 1e-13 * max(opts.time, opts.t_end)
     start_phase(asm, sp, t, scr, n, leaving)
     while True:

@@ -504,7 +504,7 @@ def block_eigh(sym, eigs=None):
     r = sym.shape[0]
     w2, u = np.empty(r), np.zeros((r, r))
     order, first = block_order(label, count)
-    col = 0
+    col = np.int64(0)  # (a literal 0 would compile eigs_into once more for it)
     for b in range(count):
         idx = order[first[b]:first[b + 1]]
         if len(idx) == 1:
@@ -659,7 +659,7 @@ def classical(mr, kr, cr, eigs=None):
         return refused()
     lam2 = np.empty(2 * r, dtype=np.complex128)  # both roots of each mode: l1 at a, l2 at r + a
     scale_l = math.sqrt(abs_max(w2)) + abs_max(cd)
-    pairs = 0
+    pairs = np.int64(0)  # (a literal 0 would compile kept_roots once more for it)
     for a in range(r):
         lam2[a], lam2[r + a] = roots(cd[a], w2[a])
         if abs(lam2[r + a] - lam2[a]) <= NEAR_DOUBLE * scale_l:  # (nearly) a double root: the general route decides

@@ -91,7 +91,7 @@ def locate(cb, ph, om, e, a, b, ga, gb, room):
     z = room.zr
     lam, z0, b0, b1, bh, theta = cb.lam, ph.z0, ph.b0, ph.b1, ph.bh, ph.theta  # no record passed in the loop
     e0, e1, dh, w = ph.e0, ph.e1, cb.Dh, cb.W
-    spare = True
+    spare = np.bool_(True)  # (a literal True would compile update_halley once more for it)
     while br.status == RUNNING:
         x = br.x
         modal_raw(lam, z0, b0, b1, bh, theta, om, x, z)
@@ -192,7 +192,7 @@ def decide_interval(cb, ph, om, a, h, room):
 @njit(cache=True, inline="always")
 def first_crossing(cb, ga, gb):
     """The slot, among the active functions with g(a) > 0 >= g(b), whose chord crosses 0 first; -1: none."""
-    best, slot = 2.0, -1
+    best, slot = 2.0, np.int64(-1)  # (a literal -1 would compile locate once more for it)
     for e in range(len(ga)):
         if cb.active[e] and gb[e] <= 0.0 < ga[e]:
             x = ga[e] / (ga[e] - gb[e])

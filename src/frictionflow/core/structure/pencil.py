@@ -73,7 +73,7 @@ def newton(mr, cr, kr, lam, x, transpose):
 def refined_root(mr, cr, kr, lam, phi, bound):
     """(ok, root, right vector) of ``lam`` with start vector ``phi`` after :func:`newton`; ok False where it did not
     converge near ``lam`` (``bound``: EPS ||A||, the size below which a root is rounding)."""
-    lr, x = newton(mr, cr, kr, lam, phi, False)
+    lr, x = newton(mr, cr, kr, lam, phi, np.bool_(False))
     size = max(abs(lr), bound)
     return np.isfinite(lr) and abs(lr - lam) <= 1e-4 * size, lr, x
 
@@ -82,7 +82,7 @@ def refined_root(mr, cr, kr, lam, phi, bound):
 def left_row(mr, cr, kr, lr, start, bound):
     """(ok, psi): the left vector of the root ``lr`` (psi^T P(lr) = 0) from ``start`` (psi^T up to scale), which makes
     V^-1's row [psi^T (l M_r + C_r), psi^T M_r] / (psi^T P'(l) phi); ok False where it converged elsewhere."""
-    ll, psi = newton(mr, cr, kr, lr, start, True)
+    ll, psi = newton(mr, cr, kr, lr, start, np.bool_(True))
     return abs(ll - lr) <= 1e3 * EPS * max(abs(lr), bound), psi
 
 

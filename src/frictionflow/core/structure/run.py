@@ -256,7 +256,7 @@ def run(asm, minv, t_end, dense_dt, out, events):
         return Result(codes.FULL, 0, 0, -1, np.nan)
     if lost >= 0:
         return Result(codes.CONTACT_LOST, 1, 0, lost, 0.0)
-    i, nsw, zeros, next_t = np.int64(1), 0, 0, dense_dt  # (a literal 1 would compile to_event twice)
+    i, nsw, zeros, next_t = np.int64(1), np.int64(0), 0, dense_dt  # (literals: to_event, record_switches twice)
     floor = 1e-13 * t_end  # (an absolute floor of 1e-13 took a femtosecond structure's phases for no time at all)
     while True:
         tau, slot, lost, i, next_t, ok = to_event(asm, cb, t, t_end - t, floor, dense_dt, next_t, out, i, acc, scr)

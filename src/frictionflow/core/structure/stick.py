@@ -77,14 +77,14 @@ def held_into(asm, cb, q, v, t, room):
     """:func:`held` into the first entries of ``room.rule`` and ``room.fr`` (``room``: a :data:`Room`)."""
     ns = len(cb.stuck)
     rule, fr = room.rule[:ns], room.fr[:ns]
-    rest_into(asm, cb, q, v, t, True, room.f, room.tmp)
+    rest_into(asm, cb, q, v, t, np.bool_(True), room.f, room.tmp)
     matvec(cb.HE, room.f, fr)
     spring = False  # the spring rule's force only where some stuck contact reads it
     for i in range(ns):
         fr[i] = -fr[i]
         spring = spring or asm.law[cb.stuck[i], RESULTANT] == 0.0
     if spring:
-        rest_into(asm, cb, q, v, t, False, room.f, room.tmp)
+        rest_into(asm, cb, q, v, t, np.bool_(False), room.f, room.tmp)
         matvec(cb.HE, room.f, rule)
     for i in range(ns):
         rule[i] = -rule[i] if spring and asm.law[cb.stuck[i], RESULTANT] == 0.0 else fr[i]
@@ -137,7 +137,7 @@ def acceleration(asm, cb, q, v, t):
 @njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
 def acceleration_into(asm, cb, minv, q, v, t, room):
     """:func:`acceleration` into ``room.acc`` with M^-1 given (``minv``): a product instead of a solve."""
-    rest_into(asm, cb, q, v, t, True, room.f, room.tmp)
+    rest_into(asm, cb, q, v, t, np.bool_(True), room.f, room.tmp)
     matvec(minv, room.f, room.acc)
     constrained(asm, cb, room.acc)
 

@@ -139,7 +139,7 @@ def new_room(n_work, k, m, n):
     return Room(np.empty(n_work), np.empty(k), np.empty(m, dtype=np.complex128),
                 np.empty((len(NODES32), m), dtype=np.complex128), np.empty(n), np.empty(n),
                 np.empty(n), np.zeros(1, dtype=np.int8), new_pattern(n_work, n), new_pattern(k, n),
-                new_pattern(k, n), new_pattern(n, n), new_pattern(k, n), new_pattern(1, n))
+                new_pattern(k, n), new_pattern(n, n), new_pattern(k, n), new_pattern(np.int64(1), n))
 
 
 @njit(cache=True, inline="always")
