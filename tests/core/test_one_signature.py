@@ -133,7 +133,8 @@ def literal_flows(trees: dict[str, ast.Module]) -> list[str]:
     return found
 
 
-#: inlined kernels returning a loop's literal-started result whose callers use it only in arithmetic and tests
+#: inlined kernels returning a loop's literal-started result that their callers only test, compute with or hand
+#: to other inlined kernels (no compiled kernel receives it)
 INLINE_RESULTS_NOT_PASSED_ON = {"_sections_at", "_aggregates", "nonzeros", "decide_interval", "phi2_terms",
                                 "element_powers", "sparse_element_powers"}
 
