@@ -52,7 +52,8 @@ import numpy as np
 
 from .. import _validate as check
 from .._version import __version__
-from ..io import _directory_problem, _limit, atomic_write, stale_temporaries, temporary_path, write_error, zarr_problem
+from ..io import (_directory_problem, _limit, atomic_write, remove_store, stale_temporaries, temporary_path,
+                  write_error, zarr_problem)
 from .compute import chunk_slices
 from .config import SAMPLE, SINGLE_MASS, SweepConfig, Variable, n_chunks
 from .lock import lock_path
@@ -443,7 +444,7 @@ class SweepStore:
             self._create(tmp)
             os.replace(tmp, self.path)
         except BaseException:
-            shutil.rmtree(tmp, ignore_errors=True)
+            remove_store(tmp)
             raise
         self._flag_array = None  # (opened under the temporary name)
         return zarr.open_group(str(self.path), mode="r+", use_consolidated=False)
