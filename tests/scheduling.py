@@ -43,10 +43,9 @@ class TwoEnded(LoadFileScheduling):
             self.workqueue.clear()
             self.workqueue.update(reordered)
             self.ordered = True
-        scope, unit = self.workqueue.popitem(last=self.nodes.index(node) % 2 == 1)
-        self.assigned_work.setdefault(node, {})[scope] = unit
-        collection = self.registered_collections[node]
-        node.send_runtest_some([collection.index(nodeid) for nodeid, done in unit.items() if not done])
+        if self.nodes.index(node) % 2 == 1:  # xdist hands out the front: bring the back there
+            self.workqueue.move_to_end(next(reversed(self.workqueue)), last=False)
+        super()._assign_work_unit(node)
 
 
 def usable() -> bool:

@@ -398,10 +398,10 @@ def _sync_one(path: Path) -> None:
         os.close(fd)
 
 
-def remove_store(path: str | Path) -> None:
+def remove_store(path: str | Path, ignore_errors: bool = True) -> None:
     """Remove a Zarr store written only in part, after the writes zarr still has in flight (:func:`settle_zarr`)."""
     settle_zarr()
-    shutil.rmtree(path, ignore_errors=True)
+    shutil.rmtree(path, ignore_errors=ignore_errors)
 
 
 def settle_zarr(timeout: float = 30.0) -> None:
@@ -429,8 +429,7 @@ def settle_zarr(timeout: float = 30.0) -> None:
 def _remove(path: Path) -> None:
     try:
         if path.is_dir() and not path.is_symlink():  # a Zarr store written only in part
-            settle_zarr()
-            shutil.rmtree(path)
+            remove_store(path, ignore_errors=False)
         else:
             os.unlink(path)
     except FileNotFoundError:
