@@ -206,7 +206,9 @@ def test_a_store_the_disk_cannot_hold_even_empty_is_not_left_half_created(tmpfs,
     (tmp_path / "s.toml").write_text(CFG_TOML)
     out = disk.where / "r.zarr"
     assert main(["sweep", str(tmp_path / "s.toml"), "--out", str(out), *SWEEP]) == 1
-    one_line(capsys.readouterr().err, "no space left on device")
+    err = capsys.readouterr().err
+    one_line(err, f"out: cannot write {str(out)!r}: no space left on device; nothing was written")
+    assert "kept" not in err  # no chunk was finished: there is nothing to resume from
     assert listing(disk.where) == []  # a half-made store could not say which sweep it is: only --restart would help
     disk.resize("2m")
     assert main(["sweep", str(tmp_path / "s.toml"), "--out", str(out), *SWEEP]) == 0  # no --restart needed

@@ -83,6 +83,7 @@ _BOOK_ATTRS = {
 }
 #: what a run that failed to write says it leaves (its lock held: nothing else writes the store meanwhile)
 KEPT = "the chunks finished so far are kept: run the same command again to resume"
+NOT_CREATED = "nothing was written: run the same command again"
 #: the first bytes of a NetCDF-4 (HDF5) and of a classic NetCDF file
 _NC_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
 
@@ -443,9 +444,13 @@ class SweepStore:
         try:
             self._create(tmp)
             os.replace(tmp, self.path)
-        except BaseException:
+        except BaseException as e:
             remove_store(tmp)
-            raise
+            # not KEPT (``writing``'s): no chunk was finished, and there is no store to resume from
+            failed = write_error(e, self.name, self.path, NOT_CREATED) if isinstance(e, OSError) and e.errno else None
+            if failed is None:
+                raise
+            raise failed from None
         self._flag_array = None  # (opened under the temporary name)
         return zarr.open_group(str(self.path), mode="r+", use_consolidated=False)
 
