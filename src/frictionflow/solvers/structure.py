@@ -207,7 +207,7 @@ def run_assembly(assembly: Assembly, t_end: float, *, dense_dt: float | None = N
     except ValueError as e:
         raise in_model_terms(e, assembly, nm) from None
     if res.status not in (codes.OK, codes.CONTACT_LOST):
-        raise RuntimeError(stopped(res, records, nm, NAME))
+        raise RuntimeError(stopped(res, records, nm, NAME, assembly))
     return motion(res, records, assembly, nm, _channels(nm), system)
 
 

@@ -28,8 +28,12 @@ import numpy as np
 
 from ..core import codes
 from ..core.assembly import Assembly
+from ..core.friction import ON_LIMIT
+from ..core.layout import FD, FS, RESULTANT, STICK
 from ..core.records import Derivatives, Events, Samples, empty_derivatives, empty_events, empty_samples
+from ..core.structure.combo import split
 from ..core.structure.run import Result
+from ..core.structure.stick import held
 from ..core.structure.work import n_channels
 from .._interrupt import interruptible
 from ..motion import Motion
@@ -116,15 +120,45 @@ def buffers(assembly: Assembly, cap: int) -> tuple[Samples, Events]:
     return empty_samples(cap, 2 * n, k, n_channels(assembly)), empty_events(cap)
 
 
-def stopped(res: Result, records: tuple[Samples, Events], names: dict[str, tuple[str, ...]], solver: str) -> str:
+def stopped(res: Result, records: tuple[Samples, Events], names: dict[str, tuple[str, ...]], solver: str,
+            assembly: Assembly | None = None) -> str:
     """The one line for a run that stopped before its end: the solver, when, the status, and for repeated
-    zero-length phases the contact whose mode flipped last."""
+    zero-length phases the contact whose mode flipped last (with ``assembly``: why, where :func:`sliding_hint` can
+    tell)."""
     out, events = records
     t = float(out.t[res.n_samples - 1]) if res.n_samples > 0 else 0.0
     text = f"solver={solver}: the run stopped at t={t:.12g} with status '{codes.NAMES[res.status]}'"
-    if res.status == codes.STUCK and 0 < res.n_switches <= len(events.t):
-        text += f" ({names['contact'][events.contact[res.n_switches - 1]]} switched without time passing)"
+    if res.status == codes.STUCK and 0 < res.n_switches <= len(events.t) and res.n_samples > 0:
+        j = int(events.contact[res.n_switches - 1])
+        text += f" ({names['contact'][j]} switched without time passing)"
+        if assembly is not None:
+            i = res.n_samples - 1
+            text += sliding_hint(assembly, (out.y[:, i], t, out.mode[:, i]), j)
     return text
+
+
+def sliding_hint(assembly: Assembly, at: tuple[np.ndarray, float, np.ndarray], j: int) -> str:
+    """Why contact ``j`` flipped without time passing at ``at`` = (state (q, q'), t, modes), where the reason is the
+    "spring" stick rule's: it says let go (its held force without the dampers' is on or over F_s N), but the whole
+    held force is below F_d N, so slipping either way turns V_r straight back to 0 -- a sliding motion the switch model
+    cannot represent (the single mass's exact solver says the same).  "" when that is not the reason."""
+    if assembly.law[j, RESULTANT] != 0.0:
+        return ""
+    n = len(assembly.q0)
+    y, t, modes = at
+    q, v = np.ascontiguousarray(y[:n]), np.ascontiguousarray(y[n:2 * n])
+    stuck = np.array(modes, dtype=np.int8)  # (int8, as the engine's: the split and held forces compiled once)
+    stuck[j] = STICK
+    cb = split(assembly, np.linalg.inv(assembly.mass), stuck)
+    rule, whole = held(assembly, cb, q, v, float(t))
+    i = int(np.flatnonzero(cb.stuck == j)[0])
+    load = float(assembly.normal[j, 0] + assembly.normal[j, 1:] @ q)
+    if abs(rule[i]) < assembly.law[j, FS] * load * (1.0 - ON_LIMIT) or abs(whole[i]) >= assembly.law[j, FD] * load:
+        return ""
+    return (f": its stick rule (stick_force \"spring\") says slip (held force without the dampers' {abs(rule[i]):.6g} "
+            f">= F_s N = {assembly.law[j, FS] * load:.6g}) but both slip directions return it to its belt (the whole "
+            f"held force {abs(whole[i]):.6g} < F_d N = {assembly.law[j, FD] * load:.6g}), a sliding motion the switch "
+            "model cannot represent; use stick_force = \"resultant\"")
 
 
 def motion(res: Result, records: tuple[Samples, Events], assembly: Assembly, names: dict[str, tuple[str, ...]],
