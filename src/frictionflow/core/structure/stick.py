@@ -9,7 +9,11 @@ F_s N_j; otherwise it slips in the direction of its held force, provided
 that direction makes V_r leave 0 on the right side (else the other one; if
 neither, it sticks).  Several contacts at once: an active-set loop releases
 the contact most over its limit and computes the others' held forces again,
-until every stuck contact holds.
+until every stuck contact holds.  A flip or a stick of the direction check
+moves the others' held forces and directions: the modes it ends with are
+checked, and where they do not hold, the modes that do and change the fewest
+contacts are searched among the contacts at V_r = 0
+(:func:`nearest_consistent`).
 
 A held force within ``ON_LIMIT`` of F_s N_j is on the limit: then its rate
 decides (:func:`held_rates`, lambda_S' from the combination's matrices and
@@ -33,6 +37,8 @@ from .combo import Split, contacts_of, slip_into, split
 
 #: a relative rate this close to 0 counts as 0
 RATE_TOL = 1e-12
+#: contacts at V_r = 0 beyond which no consistent modes are searched (3^n candidates)
+SEARCH_MAX = 6
 
 
 #: the stick rule's room, made once per run (:func:`new_room`): the forces on the structure, a product, the forces'
@@ -298,7 +304,8 @@ def decide_in(asm, minv, q, v, t, modes, leaving, cache, room, directions):
     be None would compile every function it is passed to once more).  The directions may change the modes after it:
     a caller compares its modes with theirs.
 
-    After that loop each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it.  Both loops
+    After that loop each contact leaving V_r = 0 must see sigma V_r' >= 0: flip it once, then stick it (then the
+    modes are checked: :func:`nearest_consistent`).  Both loops
     are written here and run their passes in kernels without numba's runtime: each call of a function with the
     runtime (or inlined in one) counts references to every array of the records it takes.
     """
@@ -310,11 +317,63 @@ def decide_in(asm, minv, q, v, t, modes, leaving, cache, room, directions):
         first = candidate(ct, minv, modes, cache)
     if not directions or not any_slipping(modes, leaving):  # no direction to check: no acceleration to compute
         return first
+    changed = False
     for attempt in range(2):
         cb = first if attempt == 0 else candidate(ct, minv, modes, cache)
         if not flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
             break
+        changed = True
+    if changed:  # a flip or a stick changes the others' held forces and directions: checked, and searched if wrong
+        nearest_consistent(asm, ct, minv, (q, v, t), modes, leaving, cache, room)
     return first
+
+
+@njit(cache=True, **NO_RUNTIME)  # allocates nothing: the records' arrays are not reference-counted
+def consistent(asm, cb, minv, state, free, room):
+    """Whether the modes of the :data:`Split` ``cb`` hold at ``state`` = (q, q', t): every stuck contact within its
+    limit (:func:`most_over`), every slipping contact marked in ``free`` leaving V_r = 0 the way it slips."""
+    q, v, t = state
+    if len(cb.stuck) and most_over(asm, cb, minv, q, v, t, room) >= 0:
+        return False
+    acceleration_into(asm, cb, minv, q, v, t, room)
+    acc, mi = room.acc, 0.0
+    for a in range(minv.shape[0]):
+        mi = max(mi, abs_max(minv[a]))
+    tol = RATE_TOL * (abs_max(acc) + mi * abs_max(cb.f0) + 1e-300)
+    for j in range(len(cb.modes)):
+        if free[j] and cb.modes[j] != STICK and -cb.modes[j] * (asm.contact_dir[j] @ acc) < -tol:
+            return False
+    return True
+
+
+@njit(cache=True)
+def nearest_consistent(asm, ct, minv, state, modes, leaving, cache, room):
+    """``modes`` as they are when they hold (:func:`consistent`), else the modes that hold nearest to them (fewest
+    contacts changed; the first in a fixed order among as near), each contact at V_r = 0 (stuck or ``leaving``) free
+    to stick or slip either way; as they are when none holds or more than :data:`SEARCH_MAX` are free.
+
+    The direction check sticks every contact it cannot flip, at once: two contacts each stuck because of the
+    other's slip can hold forces far over their limits while one of them stuck alone lets the other slip (a
+    zero-length phase, then the next, until the run stops)."""
+    free = leaving.copy()
+    for j in range(len(modes)):
+        free[j] = free[j] or modes[j] == STICK
+    if consistent(asm, candidate(ct, minv, modes, cache), minv, state, free, room):
+        return
+    index = np.flatnonzero(free)
+    m = len(index)
+    if m > SEARCH_MAX:
+        return
+    trial, best, near = modes.copy(), modes.copy(), m + 1
+    for code in range(3 ** m):
+        c, changed = code, 0
+        for i in range(m):
+            trial[index[i]] = c % 3 - 1  # -1, 0 (STICK), +1
+            changed += trial[index[i]] != modes[index[i]]
+            c //= 3
+        if changed < near and consistent(asm, candidate(ct, minv, trial, cache), minv, state, free, room):
+            best[:], near = trial, changed
+    modes[:] = best
 
 
 @njit(cache=True)
