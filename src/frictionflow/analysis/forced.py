@@ -104,12 +104,14 @@ def state_repeat_multiple(cols: np.ndarray, tol: float, min_periods: int,
         same = ~np.any(np.abs(cols[:, m:] - cols[:, :-m]) > tol, axis=0)  # P_{i+m} = P_i, i = 0 .. n-m-1 (as strobe's)
         run = n - m if same.all() else n - m - 1 - int(np.flatnonzero(~same)[-1])
         if run >= min_periods * m:
-            return (0, 0) if _state_subcycle(cols, m, SUBCYCLE_SPREAD * tol) else (m, run // m)
+            return (0, 0) if state_subcycle(cols, m, SUBCYCLE_SPREAD * tol) else (m, run // m)
     return 0, 0
 
 
-def _state_subcycle(cols: np.ndarray, m: int, tol: float) -> bool:
-    """:func:`frictionflow.core.strobe.converging_subcycle` on the whole state."""
+def state_subcycle(cols: np.ndarray, m: int, tol: float) -> bool:
+    """:func:`frictionflow.core.strobe.converging_subcycle` on the whole state: whether the last ``m`` columns of
+    ``cols`` (one row per coordinate, one column per section sample) repeat after a divisor of ``m`` to ``tol`` (a
+    cycle of that divisor still converging, not an m-cycle; the structures' section uses it too)."""
     last = cols[:, cols.shape[1] - m:]
     return any(not np.any(np.abs(last[:, d:] - last[:, :-d]) > tol) for d in range(1, m) if m % d == 0)
 

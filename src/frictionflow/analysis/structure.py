@@ -9,7 +9,12 @@ located to rounding on the exact solution (:meth:`Motion.at`).
 ``periodic``
     The state at the section has repeated with some period p (in section
     crossings) for ``min_periods`` periods, to ``rtol`` of the state's size.
-    The window is those whole periods.
+    The window is those whole periods.  As for the single mass's forced runs
+    (:mod:`.forced`), a p whose last period repeats after a divisor d of p to
+    a hundred times ``rtol`` is a d-cycle still converging, not a p-cycle: a
+    multiplier near a root of unity makes the state repeat after p crossings
+    before it does after d (a cycle of 3.32 time units with multipliers
+    0.92 e^(+-2.4i) was reported with the period 9.96): ``not_settled``.
 ``equilibrium``
     Every state component has stopped moving over the tail (the last tenth of
     the run, at least 4 pi of the slowest natural period's scale) and every
@@ -52,7 +57,9 @@ from .._display import Row, Summarized, num
 from ..core.assembly import natural_frequencies
 from ..system.assemble import fastest_rate, free_directions
 from ..core.layout import LAW
+from ..core.strobe import SUBCYCLE_SPREAD
 from ..friction.registry import law_classes
+from .forced import state_subcycle
 from .stability import steady_sliding
 from .structure_lyapunov import beyond_periodic
 
@@ -454,6 +461,8 @@ def _periodic(motion: Any, rtol: float, min_periods: int,
             return None
         gaps = np.max(np.abs(states[:, first + p:last + 1] - states[:, first:last + 1 - p]) / scale, axis=0)
         if np.all(gaps <= rtol):
+            if state_subcycle(states[:, :last + 1] / scale, p, SUBCYCLE_SPREAD * rtol):
+                return None  # a cycle of fewer crossings still converging (the single mass's forced rule)
             periods = np.diff(times[first:last + 1:p])
             if np.ptp(periods) <= rtol * max(float(np.mean(periods)), 1e-300) * 10.0 + 1e-9 * periods[0]:
                 return float(np.mean(periods)), (float(times[first]), float(times[last])), p
