@@ -33,7 +33,7 @@ from ..core.layout import FD, FS, RESULTANT, STICK
 from ..core.records import Derivatives, Events, Samples, empty_derivatives, empty_events, empty_samples
 from ..core.structure.combo import split
 from ..core.structure.run import Result
-from ..core.structure.stick import held
+from ..core.structure.stick import held, normal_load
 from ..core.structure.work import n_channels
 from .._interrupt import interruptible
 from ..motion import Motion
@@ -152,7 +152,7 @@ def sliding_hint(assembly: Assembly, at: tuple[np.ndarray, float, np.ndarray], j
     cb = split(assembly, np.linalg.inv(assembly.mass), stuck)
     rule, whole = held(assembly, cb, q, v, float(t))
     i = int(np.flatnonzero(cb.stuck == j)[0])
-    load = float(assembly.normal[j, 0] + assembly.normal[j, 1:] @ q)
+    load = float(normal_load(assembly, j, q))
     if abs(rule[i]) < assembly.law[j, FS] * load * (1.0 - ON_LIMIT) or abs(whole[i]) >= assembly.law[j, FD] * load:
         return ""
     return (f": its stick rule (stick_force \"spring\") says slip (held force without the dampers' {abs(rule[i]):.6g} "

@@ -283,17 +283,31 @@ def any_slipping(modes, leaving):
 def flip(asm, cb, minv, q, v, t, modes, leaving, attempt, room):
     """One pass of :func:`decide_in`'s direction check with q'' of ``cb``: flip (``attempt`` 0) or stick (1) each
     contact leaving V_r = 0 the wrong way; whether one was."""
-    acceleration_into(asm, cb, minv, q, v, t, room)
-    acc, mi = room.acc, 0.0
-    for a in range(minv.shape[0]):
-        mi = max(mi, abs_max(minv[a]))
-    tol = RATE_TOL * (abs_max(acc) + mi * abs_max(cb.f0) + 1e-300)
+    tol = acceleration_and_tol(asm, cb, minv, (q, v, t), room)
     changed = False
     for j in range(len(modes)):
-        if leaving[j] and modes[j] != STICK and -modes[j] * (asm.contact_dir[j] @ acc) < -tol:
+        if leaving[j] and wrong_way(asm, room.acc, j, modes[j], tol):
             modes[j] = -modes[j] if attempt == 0 else STICK
             changed = True
     return changed
+
+
+@njit(cache=True, inline="always")
+def acceleration_and_tol(asm, cb, minv, state, room):
+    """q'' of ``cb`` at ``state`` = (q, q', t) into ``room.acc``, and the tolerance below which a contact's V_r' counts
+    as 0 (:data:`RATE_TOL` of q'' and of M^-1 f0's size)."""
+    q, v, t = state
+    acceleration_into(asm, cb, minv, q, v, t, room)
+    mi = 0.0
+    for a in range(minv.shape[0]):
+        mi = max(mi, abs_max(minv[a]))
+    return RATE_TOL * (abs_max(room.acc) + mi * abs_max(cb.f0) + 1e-300)
+
+
+@njit(cache=True, inline="always")
+def wrong_way(asm, acc, j, mode, tol):
+    """Contact ``j`` slipping in ``mode`` with q'' ``acc`` drives V_r back towards 0 (beyond ``tol``)."""
+    return mode != STICK and -mode * (asm.contact_dir[j] @ acc) < -tol
 
 
 @njit(cache=True)
@@ -335,13 +349,9 @@ def consistent(asm, cb, minv, state, free, room):
     q, v, t = state
     if len(cb.stuck) and most_over(asm, cb, minv, q, v, t, room) >= 0:
         return False
-    acceleration_into(asm, cb, minv, q, v, t, room)
-    acc, mi = room.acc, 0.0
-    for a in range(minv.shape[0]):
-        mi = max(mi, abs_max(minv[a]))
-    tol = RATE_TOL * (abs_max(acc) + mi * abs_max(cb.f0) + 1e-300)
+    tol = acceleration_and_tol(asm, cb, minv, state, room)
     for j in range(len(cb.modes)):
-        if free[j] and cb.modes[j] != STICK and -cb.modes[j] * (asm.contact_dir[j] @ acc) < -tol:
+        if free[j] and wrong_way(asm, room.acc, j, cb.modes[j], tol):
             return False
     return True
 
