@@ -50,6 +50,8 @@ DEFAULT_TOL = 1e-11
 MAX_HALVINGS = 12
 #: a Newton trial must return to the section within this many current periods
 RETURN_LIMIT = 4.0
+#: the looser repetition test of the hint after a stall: a transient nearing its cycle
+NEARING_RTOL = 1e-4
 
 
 @dataclass(frozen=True, repr=False, eq=False)
@@ -262,6 +264,21 @@ def _project(y: np.ndarray, A: np.ndarray, c: np.ndarray, row: int | None) -> np
     return out
 
 
+def on_section(flow: Flow, motion: Any, t: float, row: int | None) -> np.ndarray:
+    """The state of ``motion`` at ``t`` put on the section (q'_row = 0; ``row`` None: stroboscopic) and on the
+    constraints of the contacts stuck there (e_j . q' = b_j), so that a run from it starts in the same modes.
+
+    The crossing is located to rounding, not exactly, and zeroing q'_row alone moves V_r of a stuck contact
+    along that dof by that rounding, past the engine's test for V_r = 0: the run would start the contact
+    slipping.  Where its held force lies between F_d N and F_s N that slip is self-consistent and never comes
+    back, so the map's point would not continue the motion it came from, and Newton could converge on that
+    branch to a "fixed point" ending stuck where it began slipping.
+    """
+    i = int(np.searchsorted(motion.t, t, side="right")) - 1
+    A, c = _constraints(flow, np.asarray(motion.modes)[:, max(i, 0)], row)
+    return _project(flow.states(motion, np.array([t]))[0], A, c, row)
+
+
 def _residual(ret: Return) -> np.ndarray:
     return ret.end - ret.start
 
@@ -286,9 +303,7 @@ def _step(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarray,
         raise ShootingError("the return map's Jacobian minus I is singular: Newton cannot proceed "
                             "(a fold, or a family of neutral orbits)") from None
     size = float(np.max(np.abs(r) / scale))
-    end = ret.end.copy()
-    if row is not None:
-        end[row] = 0.0
+    end = on_section(flow, ret.motion, ret.time, row)
     # far from the orbit the stuck set at P(s) may differ from s's, which Newton's coordinates cannot follow:
     # after the halvings, one plain return (s -> P(s)) still gets closer to an attracting orbit
     trials = [_project(ret.start + 0.5 ** i * step, A, c, row) for i in range(MAX_HALVINGS)] + [end]
@@ -337,8 +352,7 @@ def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any,
                             f"in t={length:.6g} (it settled on an equilibrium, or the transient is too short)")
     tc = float(times[-1] if t_transient > 0 else times[0])
     gap = float(np.diff(times)[-1]) if len(times) > 1 else slow
-    s = flow.states(motion, np.array([tc]))[0]
-    s[row] = 0.0
+    s = on_section(flow, motion, tc, row)
     try:
         return return_map(flow, s, row, returns, 1.5 * returns * gap), row, motion if t_transient > 0 else None
     except RuntimeError as e:
@@ -426,18 +440,29 @@ def _returns_hint(setup: Setup, transient: Any, row: int, returns: int) -> str:
     """What to add to Newton's failure when the ``transient`` (None: none was run) settles on a cycle (the
     periodic test of simulate's analysis) that crosses the section another number of times a period than
     ``returns``: the return map then jumps between the cycle's crossings, and Newton stalls far from any fixed
-    point (QA: a 3-mass chain's cycle crossing x2' = 0 twice a period, "no periodic orbit near this start")."""
-    found = None if transient is None else repeating(transient)
-    if found is None:
+    point (QA: a 3-mass chain's cycle crossing x2' = 0 twice a period, "no periodic orbit near this start").
+
+    A transient still converging (a multiplier near 1) repeats only to :data:`NEARING_RTOL`; its count is
+    said too.  The map of the wrong count has no fixed point, and Newton can creep towards a switch's boundary
+    there down to a residual of 1e-9 before it stalls (a random 3-dof structure, its cycle crossing twice).
+    """
+    if transient is None:
+        return ""
+    for rtol, how in ((1e-6, "settles on a cycle of period {} (as simulate --model finds it)"),
+                      (NEARING_RTOL, f"nears a cycle of period {{}} (its section states repeat to {NEARING_RTOL:g})")):
+        found = repeating(transient, rtol=rtol)
+        if found is not None:
+            break
+    else:
         return ""
     period, (t0, t1), _ = found
     times = crossings(setup.flow, transient, row, t0)
     m = int(round(float(np.sum((times >= t0) & (times < t1 - 1e-9 * period))) * period / (t1 - t0)))
     if m < 1 or m == returns:
         return ""
-    return (f"; the transient settles on a cycle of period {period:.6g} (as simulate --model finds it) that "
-            f"crosses the section {setup.dof[row - setup.flow.n]}' = 0 {m} times a period: returns={m} (orbit "
-            f"--model: --returns {m}) shoots for it")
+    return (f"; the transient {how.format(f'{period:.6g}')} that crosses the section "
+            f"{setup.dof[row - setup.flow.n]}' = 0 {m} times a period: returns={m} (orbit --model: --returns {m}) "
+            "shoots for it")
 
 
 def forcing_period(assembly: Assembly) -> float:

@@ -1,0 +1,180 @@
+"""The structure's shooting starts from section points that continue the motion, and says which return count to use.
+
+Two random structures of the fuzzing against independent paths (their
+numbers rounded):
+
+* OBLIQUE: 2 dof, two oblique contacts.  Its cycle (period 15.50) passes the
+  section x1' = 0 while contact.1, oblique to x1, is stuck with a held force
+  between F_d N and F_s N.  Zeroing x1' of the located crossing moved that
+  contact's V_r by its rounding, past the engine's test for V_r = 0: the run
+  from the point began slipping, a branch on which the motion leaves the
+  stuck state for good, and Newton converged there to a "period 5.157" that
+  ended stuck where it began slipping and did not repeat after one period.
+* NEARING: 3 dof, full mass matrix.  Its cycle crosses the section twice a
+  period, and at t = 300 the transient repeats to 1e-4 but not to simulate's
+  1e-6.  The one-return map has no fixed point: Newton crept towards a
+  switch's boundary down to a residual of 5e-10 and stalled without saying
+  that two returns find the orbit.
+
+The references are the exact engine's own continuous runs and simulate's
+analysis; the orbits found must repeat over several periods when run again.
+"""
+
+from __future__ import annotations
+
+import tomllib
+
+import numpy as np
+import pytest
+
+from frictionflow.analysis.structure import structure_steady_state
+from frictionflow.core.layout import STICK
+from frictionflow.orbits.shooting import ShootingError
+from frictionflow.orbits.structure import find_structure_orbit, on_section
+from frictionflow.orbits.structure_flow import Flow, crossings
+from frictionflow.solvers.structure import simulate_system
+from frictionflow.system import System, assemble
+
+OBLIQUE = """
+dof = ["x1", "x2"]
+mass = [[0.515, 0.0], [0.0, 0.7984]]
+[[spring]]
+on = { x1 = 1.0 }
+k = 0.9397
+[[spring]]
+on = { x2 = 1.0 }
+k = 1.9151
+[[spring]]
+on = { x1 = -0.4695, x2 = -1.1968 }
+k = 0.8743
+[[spring]]
+on = { x1 = -0.1456, x2 = 0.3983 }
+k = 0.4197
+[[damper]]
+on = { x1 = 0.2552, x2 = 0.1732 }
+c = 0.0506
+[[contact]]
+on = { x1 = 0.9441, x2 = 0.1299 }
+belt = -0.1589
+friction = "coulomb"
+fd = 0.2804
+fs = 0.3116
+[[contact]]
+on = { x1 = -0.3862, x2 = 1.115 }
+belt = -0.1059
+friction = "coulomb"
+fd = 0.2047
+fs = 0.3888
+[initial]
+q = { x1 = 0.1416, x2 = -0.1351 }
+"""
+
+NEARING = """
+dof = ["x1", "x2", "x3"]
+mass = [[1.086, 0.007, 0.098], [0.007, 1.107, -0.014], [0.098, -0.014, 1.218]]
+[[spring]]
+on = { x1 = 1.0 }
+k = 0.918
+[[spring]]
+on = { x2 = 1.0 }
+k = 0.882
+[[spring]]
+on = { x3 = 1.0 }
+k = 1.168
+[[spring]]
+on = { x1 = -0.029, x2 = 0.695, x3 = -1.344 }
+k = 0.813
+[[damper]]
+on = { x1 = -1.29, x2 = -1.842, x3 = -0.235 }
+c = 0.065
+[[damper]]
+on = { x1 = 0.271, x2 = 0.157, x3 = -0.187 }
+c = 0.052
+[[damper]]
+on = { x1 = -0.539, x2 = -0.049, x3 = 0.113 }
+c = 0.055
+[[contact]]
+on = { x1 = 0.147, x2 = -0.979, x3 = -0.809 }
+belt = -0.262
+friction = "coulomb"
+fd = 0.349
+fs = 0.403
+[[contact]]
+on = { x1 = 1.061, x2 = -0.808, x3 = -0.033 }
+belt = 0.177
+friction = "coulomb"
+fd = 0.292
+fs = 0.508
+[initial]
+q = { x1 = 1.0, x2 = 0.381, x3 = -0.6 }
+"""
+
+
+def _system(text):
+    return System.from_dict(tomllib.loads(text), source=None)
+
+
+def _repeats(system, orbit, periods):
+    """Largest deviation of the exact engine's run from the orbit's state after 1..``periods`` periods, each
+    component relative to the orbit's scale (the engine run once over the whole span: no restart at the section)."""
+    flow = Flow(assemble(system))
+    run = flow.run(orbit.state, periods * orbit.period + 1.0)
+    ends = flow.states(run, orbit.period * np.arange(1, periods + 1))
+    return float(np.max(np.abs(ends - orbit.state) / orbit.scale))
+
+
+def test_a_run_from_a_section_point_continues_the_motion_through_a_stuck_contact():
+    """Every downward crossing of x1' = 0 in the transient's second half while contact.1 (oblique to x1) is
+    stuck: the engine run from the section point starts in the transient's modes and follows the transient
+    over the next 20 time units (the transient's own states, 1e-9)."""
+    system = _system(OBLIQUE)
+    flow = Flow(assemble(system), {"dof": tuple(system.dof)})
+    motion = flow.run(np.concatenate((flow.assembly.q0, flow.assembly.v0)), 300.0)
+    row = flow.n  # x1'
+    checked = 0
+    for tc in crossings(flow, motion, row, 150.0):
+        modes = np.asarray(motion.modes)[:, int(np.searchsorted(motion.t, tc, side="right")) - 1]
+        if modes[1] != STICK or tc > 280.0:
+            continue
+        point = on_section(flow, motion, tc, row)
+        assert point[row] == 0.0
+        run = flow.run(point, 20.0)
+        np.testing.assert_array_equal(np.asarray(run.modes)[:, 0], modes)
+        tau = np.linspace(0.0, 20.0, 41)
+        scale = np.max(np.abs(flow.states(motion, 150.0 + tau * 7.0)), axis=0)
+        assert np.max(np.abs(flow.states(run, tau) - flow.states(motion, tc + tau)) / scale) < 1e-9
+        checked += 1
+    assert checked >= 5
+
+
+def test_an_orbit_shot_through_a_stuck_contact_is_the_cycle_simulate_finds():
+    """With one return the map jumps between the cycle's three crossings: Newton stalls and says returns=3 (it
+    used to return a "period 5.157" ending in other modes than it began); with three, the orbit is simulate's
+    cycle, its multipliers hold the autonomous orbit's trivial 1, and it repeats over three periods."""
+    system = _system(OBLIQUE)
+    ss = structure_steady_state(simulate_system(system, 600.0))
+    assert ss.kind == "periodic"
+    with pytest.raises(ShootingError, match=r"settles on a cycle of period 15\.50.* x1' = 0 3 times a period: "
+                                            "returns=3"):
+        find_structure_orbit(system, t_transient=300.0)
+    orbit = find_structure_orbit(system, t_transient=300.0, returns=3)
+    assert orbit.period == pytest.approx(ss.period, rel=1e-9)
+    assert orbit.stick_fraction == pytest.approx(ss.stick_fraction, abs=1e-6)
+    assert np.min(np.abs(orbit.multipliers - 1.0)) < 1e-8
+    assert _repeats(system, orbit, 3) < 1e-9
+
+
+def test_newton_stalled_beside_a_cycle_still_converging_says_how_many_returns():
+    """At t = 300 simulate's analysis does not call the run periodic yet (its section states repeat to 1e-4, not
+    1e-6); the stall's line still names the cycle's two crossings a period, and two returns find it: simulate's
+    period at t = 1200, repeating over three periods."""
+    system = _system(NEARING)
+    assert structure_steady_state(simulate_system(system, 300.0)).kind == "not_settled"
+    settled = structure_steady_state(simulate_system(system, 1200.0))
+    assert settled.kind == "periodic"
+    with pytest.raises(ShootingError, match=r"stalled.*nears a cycle of period 7\.9615.*repeat to 0\.0001\) that "
+                                            "crosses the section x3' = 0 2 times a period: returns=2"):
+        find_structure_orbit(system, t_transient=300.0)
+    orbit = find_structure_orbit(system, t_transient=300.0, returns=2)
+    assert orbit.period == pytest.approx(settled.period, rel=1e-9)
+    assert _repeats(system, orbit, 3) < 1e-9
