@@ -16,13 +16,24 @@ numbers rounded):
   switch's boundary down to a residual of 5e-10 and stalled without saying
   that two returns find the orbit.
 
+* FORCED: 2 dof, a harmonic force and a state-dependent normal load.  Its
+  attractor is a cycle of two forcing periods with a multiplier 0.93 (the
+  one-period orbit is unstable, 1.012): after t = 300 Newton stalled at a
+  residual of 1.5e-3 with nothing to say.
+
 The references are the exact engine's own continuous runs and simulate's
 analysis; the orbits found must repeat over several periods when run again.
+The section's crossings are also checked on a closed-form velocity whose
+zero sits next to a grid point of their search (a trial return's run is 1.5
+times the last return, so the crossing near that time is often on the grid:
+a random 2-dof structure stalled at a residual of 4e-11 there).
 """
 
 from __future__ import annotations
 
+import math
 import tomllib
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -30,8 +41,9 @@ import pytest
 from frictionflow.analysis.structure import structure_steady_state
 from frictionflow.core.layout import STICK
 from frictionflow.orbits.shooting import ShootingError
+from frictionflow.orbits import structure as shooting
 from frictionflow.orbits.structure import find_structure_orbit, on_section
-from frictionflow.orbits.structure_flow import Flow, crossings
+from frictionflow.orbits.structure_flow import GRID_PER_PERIOD, NOISE, Flow, crossings
 from frictionflow.solvers.structure import simulate_system
 from frictionflow.system import System, assemble
 
@@ -109,6 +121,43 @@ fs = 0.508
 q = { x1 = 1.0, x2 = 0.381, x3 = -0.6 }
 """
 
+FORCED = """
+dof = ["x1", "x2"]
+mass = [[0.7077, 0.0], [0.0, 0.7295]]
+[[spring]]
+on = { x1 = 1.0 }
+k = 1.2331
+[[spring]]
+on = { x2 = 1.0 }
+k = 0.9979
+[[spring]]
+on = { x1 = 1.3122, x2 = 1.5108 }
+k = 0.5429
+[[damper]]
+on = { x1 = 0.3487, x2 = -1.0582 }
+c = 0.0207
+[[contact]]
+on = { x1 = 1.2051, x2 = 0.058 }
+belt = -0.1661
+friction = "coulomb"
+fd = 0.3341
+fs = 0.5197
+normal = { preload = 1.0, x1 = 0.0415, x2 = -0.676 }
+[[contact]]
+on = { x1 = 0.2209, x2 = 1.2384 }
+belt = -0.0622
+friction = "coulomb"
+fd = 0.3854
+fs = 0.4989
+[[force]]
+on = { x1 = -0.6307, x2 = -0.093 }
+amplitude = 0.2659
+omega = 1.2158
+phi = 1.1193
+[initial]
+q = { x1 = -0.6385, x2 = -0.7862 }
+"""
+
 
 def _system(text):
     return System.from_dict(tomllib.loads(text), source=None)
@@ -164,17 +213,88 @@ def test_an_orbit_shot_through_a_stuck_contact_is_the_cycle_simulate_finds():
     assert _repeats(system, orbit, 3) < 1e-9
 
 
+def test_a_fixed_point_whose_run_is_not_the_motion_ending_there_is_refused(monkeypatch):
+    """The section points as they were made before (only q'_row zeroed): Newton converges on the slipping branch
+    to the "period 5.157", and the returned orbit's check refuses it -- its monodromy carries the vector field
+    at its start 0.79 of its size away from itself, where an orbit's carries it to itself."""
+    def zeroed(flow, motion, t, row):
+        y = flow.states(motion, np.array([t]))[0]
+        y[row] = 0.0
+        return y
+
+    monkeypatch.setattr(shooting, "on_section", zeroed)
+    with pytest.raises(ShootingError, match=r"fixed point is not a periodic orbit: the monodromy carries the vector "
+                                            r"field at its start 0\.\d+ of its size away"):
+        find_structure_orbit(_system(OBLIQUE), t_transient=300.0)
+
+
 def test_newton_stalled_beside_a_cycle_still_converging_says_how_many_returns():
-    """At t = 300 simulate's analysis does not call the run periodic yet (its section states repeat to 1e-4, not
+    """At t = 300 simulate's analysis does not call the run periodic yet (its section states repeat to 1e-3, not
     1e-6); the stall's line still names the cycle's two crossings a period, and two returns find it: simulate's
-    period at t = 1200, repeating over three periods."""
+    period at t = 1200, repeating over three periods.  After a transient of 50 the line says it is too short."""
     system = _system(NEARING)
     assert structure_steady_state(simulate_system(system, 300.0)).kind == "not_settled"
     settled = structure_steady_state(simulate_system(system, 1200.0))
     assert settled.kind == "periodic"
-    with pytest.raises(ShootingError, match=r"stalled.*nears a cycle of period 7\.9615.*repeat to 0\.0001\) that "
+    with pytest.raises(ShootingError, match=r"stalled.*nears a cycle of period 7\.9615.*repeat to 0\.001\) that "
                                             "crosses the section x3' = 0 2 times a period: returns=2"):
         find_structure_orbit(system, t_transient=300.0)
     orbit = find_structure_orbit(system, t_transient=300.0, returns=2)
     assert orbit.period == pytest.approx(settled.period, rel=1e-9)
     assert _repeats(system, orbit, 3) < 1e-9
+    with pytest.raises(ShootingError, match=r"stalled.*the transient has not settled \(its section states do not "
+                                            r"repeat to 0\.001 over its second half\): a longer one"):
+        find_structure_orbit(system, t_transient=50.0)
+
+
+class _Sine:
+    """A flow of one dof with q = cos(c - t), q' = sin(c - t): q' crosses 0 downwards at t = c (+ 2 pi k)."""
+
+    def __init__(self, c, amplitude=1.0):
+        self.c, self.amplitude = c, amplitude
+        self.omega_max, self.assembly = 1.0, SimpleNamespace(belt=np.array([0.1]))
+
+    def states(self, motion, times):
+        times = np.asarray(times, dtype=float)
+        return self.amplitude * np.column_stack((np.cos(self.c - times), np.sin(self.c - times)))
+
+    def field(self, modes, y, t):
+        return self.amplitude * np.array([np.sin(self.c - t), -np.cos(self.c - t)])
+
+
+def test_a_crossing_next_to_a_grid_point_of_the_search_is_found():
+    """q' = sin(c - t) with c 1e-13 after a point of the search's grid (its value there positive, far below the
+    noise floor): the one crossing in [0, 10] is found at c; a velocity of rounding size still has none."""
+    t_end = 10.0
+    count = math.ceil(t_end / (2.0 * math.pi) * GRID_PER_PERIOD) + 2  # the search's grid over [0, t_end]
+    grid = np.linspace(0.0, t_end, count)
+    motion = SimpleNamespace(t=np.array([0.0, t_end]), modes=np.zeros((1, 2), dtype=np.int8))
+    for i in (40, 50, 60):
+        flow = _Sine(grid[i] + 1e-13)
+        assert 0.0 < flow.states(motion, grid[i:i + 1])[0, 1] <= NOISE * 0.1  # within the floor, above 0
+        found = crossings(flow, motion, 1)
+        assert len(found) == 1 and abs(found[0] - flow.c) < 1e-14
+    assert len(crossings(_Sine(grid[50] + 0.01, amplitude=1e-13), motion, 1)) == 0
+
+
+def test_newton_stalled_on_a_forced_structure_says_what_its_transient_does():
+    """FORCED after t = 300 (simulate: not settled): the stall's line says the transient is too short; after 600
+    two forcing periods find the cycle simulate settles on.  That transient, shot for one forcing period, is
+    said to near a cycle of two."""
+    system = _system(FORCED)
+    assert structure_steady_state(simulate_system(system, 300.0)).kind == "not_settled"
+    settled = structure_steady_state(simulate_system(system, 600.0))
+    forcing = 2.0 * math.pi / 1.2158
+    assert settled.kind == "periodic" and settled.period == pytest.approx(2.0 * forcing, rel=1e-12)
+    with pytest.raises(ShootingError, match=r"stalled.*the transient has not settled \(its states every forcing "
+                                            r"period do not repeat to 0\.001 over its second half\): a longer one"):
+        find_structure_orbit(system, t_transient=300.0, returns=2)
+    orbit = find_structure_orbit(system, t_transient=600.0, returns=2)
+    assert orbit.period == pytest.approx(settled.period, rel=1e-12)
+    assert orbit.stick_fraction == pytest.approx(settled.stick_fraction, abs=1e-6)
+    assert orbit.stable and _repeats(system, orbit, 3) < 1e-9
+    flow = Flow(assemble(system))
+    transient = flow.run(np.concatenate((flow.assembly.q0, flow.assembly.v0)), 600.0)
+    hint = shooting._strobe_hint(flow, transient, forcing, 1)
+    assert "nears a cycle of 2 forcing periods" in hint and "returns=2" in hint
+    assert shooting._strobe_hint(flow, transient, forcing, 2) == ""

@@ -50,8 +50,10 @@ DEFAULT_TOL = 1e-11
 MAX_HALVINGS = 12
 #: a Newton trial must return to the section within this many current periods
 RETURN_LIMIT = 4.0
+#: largest |M f - f| / |f| (scaled units) of an autonomous orbit returned; rounding leaves 1e-15 to 1e-11
+CARRIED_TOL = 1e-6
 #: the looser repetition test of the hint after a stall: a transient nearing its cycle
-NEARING_RTOL = 1e-4
+NEARING_RTOL = 1e-3
 
 
 @dataclass(frozen=True, repr=False, eq=False)
@@ -420,7 +422,7 @@ def find_structure_orbit(
     try:
         ret, iterations = _newton(flow, ret, row, again, (DEFAULT_TOL if tol is None else tol, scale), int(max_iter))
     except ShootingError as e:
-        hint = _slow_hint(asm, float(t_transient)) or _returns_hint(setup, transient_run, row, int(returns))
+        hint = _slow_hint(asm, float(t_transient)) or _transient_hint(setup, transient_run, row, int(returns))
         raise ShootingError(f"{e}{hint}") from None
     return _orbit(setup, ret, row, int(returns), iterations, scale)
 
@@ -436,15 +438,16 @@ def _slow_hint(asm: Assembly, t_transient: float) -> str:
             f"transient ({t_transient:g}): a longer one (t_transient; orbit --model: --t-end) starts nearer the orbit")
 
 
-def _returns_hint(setup: Setup, transient: Any, row: int, returns: int) -> str:
-    """What to add to Newton's failure when the ``transient`` (None: none was run) settles on a cycle (the
-    periodic test of simulate's analysis) that crosses the section another number of times a period than
+def _transient_hint(setup: Setup, transient: Any, row: int, returns: int) -> str:
+    """What to add to Newton's failure about the ``transient`` (None: none was run): when it settles on a cycle
+    (the periodic test of simulate's analysis) that crosses the section another number of times a period than
     ``returns``: the return map then jumps between the cycle's crossings, and Newton stalls far from any fixed
     point (QA: a 3-mass chain's cycle crossing x2' = 0 twice a period, "no periodic orbit near this start").
 
-    A transient still converging (a multiplier near 1) repeats only to :data:`NEARING_RTOL`; its count is
-    said too.  The map of the wrong count has no fixed point, and Newton can creep towards a switch's boundary
-    there down to a residual of 1e-9 before it stalls (a random 3-dof structure, its cycle crossing twice).
+    A transient still converging repeats only to :data:`NEARING_RTOL`; its count is said too.  The map of the
+    wrong count has no fixed point, and Newton can creep towards a switch's boundary there down to a residual
+    of 1e-9 before it stalls (a random 3-dof structure, its cycle crossing twice).  A transient that does not
+    repeat even so is said to be too short.
     """
     if transient is None:
         return ""
@@ -454,7 +457,8 @@ def _returns_hint(setup: Setup, transient: Any, row: int, returns: int) -> str:
         if found is not None:
             break
     else:
-        return ""
+        return (f"; the transient has not settled (its section states do not repeat to {NEARING_RTOL:g} over its "
+                "second half): a longer one (t_transient; orbit --model: --t-end) starts nearer a cycle")
     period, (t0, t1), _ = found
     times = crossings(setup.flow, transient, row, t0)
     m = int(round(float(np.sum((times >= t0) & (times < t1 - 1e-9 * period))) * period / (t1 - t0)))
@@ -495,7 +499,7 @@ def _forced_orbit(setup: Setup, guess: np.ndarray, t_transient: float, section: 
     T = periods * forcing_period(asm)
     settle = math.ceil(t_transient / T) * T  # a whole number of periods: the map's phase
     enforce(lambda: run_estimate(asm, settle + T), open_stage="shooting")
-    start = guess
+    start, motion = guess, None
     if settle > 0:
         motion = flow.run(guess, settle)
         if motion.status != "ok":
@@ -507,9 +511,33 @@ def _forced_orbit(setup: Setup, guess: np.ndarray, t_transient: float, section: 
         raise ShootingError(f"from the start: {e}") from None
     enforce_stage("shooting", lambda: run_estimate(asm, SHOOTING_FLOWS * (max_iter + 1) * T))
     scale = orbit_scales(flow, ret.start)
-    ret, iterations = _newton(flow, ret, None, lambda s, last: strobe(flow, s, T),
-                              (DEFAULT_TOL if tol is None else tol, scale), max_iter)
+    try:
+        ret, iterations = _newton(flow, ret, None, lambda s, last: strobe(flow, s, T),
+                                  (DEFAULT_TOL if tol is None else tol, scale), max_iter)
+    except ShootingError as e:
+        raise ShootingError(f"{e}{_strobe_hint(flow, motion, T / periods, periods)}") from None
     return _orbit(setup, ret, None, periods, iterations, scale)
+
+
+def _strobe_hint(flow: Flow, transient: Any, forcing: float, periods: int) -> str:
+    """What to add to Newton's failure on a forced structure about its ``transient`` (None: none was run): its
+    states every ``forcing`` period over the second half repeating to :data:`NEARING_RTOL` after another number
+    of periods than ``periods`` (then that count), or not repeating after up to 64 (then too short)."""
+    if transient is None:
+        return ""
+    t_end = float(transient.t[-1])
+    count = int(0.5 * t_end / forcing)
+    states = flow.states(transient, t_end - forcing * np.arange(count, -1, -1))
+    scale = orbit_scales(flow, states[-1])
+    for m in range(1, min(64, count // 3) + 1):
+        tail = states[-(3 * m + 1):]
+        if np.all(np.abs(tail[m:] - tail[:-m]) <= NEARING_RTOL * scale):
+            if m == periods:
+                return ""
+            return (f"; the transient nears a cycle of {m} forcing periods (its states every forcing period repeat "
+                    f"to {NEARING_RTOL:g} after {m}): returns={m} (orbit --model: --returns {m}) shoots for it")
+    return (f"; the transient has not settled (its states every forcing period do not repeat to {NEARING_RTOL:g} "
+            "over its second half): a longer one (t_transient; orbit --model: --t-end) starts nearer a cycle")
 
 
 def orbit_scales(flow: Flow, state: np.ndarray) -> np.ndarray:
@@ -534,6 +562,9 @@ def _orbit(setup: Setup, ret: Return, row: int | None, returns: int, iterations:
     one = ret.motion if row is None else flow.run(ret.start, T)
     if row is not None and np.all(np.ptp(flow.states(one, np.linspace(0.0, T, 65)), axis=0) <= 1e-9 * scale):
         raise ShootingError("shooting converged onto an equilibrium: no periodic orbit near this start")
+    tangent = None if row is None else flow.field(ret.modes, ret.start, 0.0)
+    if tangent is not None:
+        _check_carried(ret.monodromy, tangent, scale)
     return StructureOrbit(
         state=ret.start.copy(), period=T, section="stroboscopic" if row is None else setup.dof[row - flow.n],
         returns=returns, autonomous=row is not None,
@@ -541,8 +572,24 @@ def _orbit(setup: Setup, ret: Return, row: int | None, returns: int, iterations:
         stick_fraction=stick_fractions(one, (0.0, T)), elements=one.element_power(0.0, T),
         energy_residual=one.energy_residual, residual=float(np.max(np.abs(_residual(ret)) / scale)),
         iterations=iterations, motion=one, dof=setup.dof, contacts=setup.contacts, system=setup.system,
-        tangent=None if row is None else flow.field(ret.modes, ret.start, 0.0), scale=scale,
+        tangent=tangent, scale=scale,
     )
+
+
+def _check_carried(monodromy: np.ndarray, tangent: np.ndarray, scale: np.ndarray) -> None:
+    """ShootingError unless the monodromy carries the vector field f at the start to itself (M f = f, each
+    component in units of ``scale``, to :data:`CARRIED_TOL` of |f|).
+
+    Along a periodic orbit of an autonomous system this holds exactly; it fails where the run from the start
+    is not the motion that ends there -- a run beginning in other contact modes than the period ends in
+    (the return map's fixed point is then one of a branch the motion does not follow).
+    """
+    f = tangent / scale
+    drift = float(np.linalg.norm((monodromy @ tangent - tangent) / scale) / max(float(np.linalg.norm(f)), 1e-300))
+    if not drift <= CARRIED_TOL:
+        raise ShootingError(f"Newton's fixed point is not a periodic orbit: the monodromy carries the vector field "
+                            f"at its start {drift:.3g} of its size away from itself (M f = f on an orbit), so the "
+                            "run from it is not the motion that ends there")
 
 
 def fd_deviation(system_or_assembly: Any, orbit: StructureOrbit, fd: np.ndarray) -> float:

@@ -208,10 +208,15 @@ def crossings(flow: Flow, motion: Any, row: int, t0: float = 0.0) -> np.ndarray:
     grid = np.union1d(np.linspace(t0, t_end, count), knots[(knots > t0) & (knots < t_end)])
     values = flow.states(motion, grid)[:, row]
     values[0] = 0.0 if t0 == 0.0 else values[0]  # the start lies on the section: not a crossing
-    # a motion settled on an equilibrium has velocities of rounding size: their sign changes are no crossings
+    # a motion settled on an equilibrium has velocities of rounding size: their sign changes are no crossings.
+    # Grid points whose value lies in (0, floor] are passed over, not taken as the end of a descent: a trial
+    # return's run is 1.5 times the last return time, so the crossing near that time is often a grid point
+    # itself, of rounding size: ending the descent there would miss the crossing.
     floor = NOISE * max(float(np.max(np.abs(values))), float(np.max(np.abs(flow.assembly.belt), initial=0.0)))
-    hits = np.flatnonzero((values[:-1] > floor) & (values[1:] <= 0.0))
-    return np.array([_locate(flow, motion, row, grid[i], grid[i + 1]) for i in hits])
+    keep = np.flatnonzero((values <= 0.0) | (values > floor))
+    kept = values[keep]
+    hits = np.flatnonzero((kept[:-1] > floor) & (kept[1:] <= 0.0))
+    return np.array([_locate(flow, motion, row, grid[keep[i]], grid[keep[i + 1]]) for i in hits])
 
 
 def _locate(flow: Flow, motion: Any, row: int, a: float, b: float) -> float:
