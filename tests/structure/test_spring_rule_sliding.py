@@ -106,3 +106,16 @@ def test_simulate_model_says_it_in_one_line(tmp_path):
     code, stdout, err, _ = cli("simulate", "--model", str(tmp_path / "m.toml"), "--t-end", "100")
     assert code == 1 and stdout == ""
     one_line(err, "contact.0 switched without time passing", 'stick_force "spring"', 'use stick_force = "resultant"')
+
+
+@pytest.mark.parametrize("order", [(0.5, FS), (FS, 0.5)])
+def test_a_sweep_says_at_which_grid_point_the_run_stopped(tmp_path, order):
+    """F_s = 0.5 runs on (the damper's share 0.04 cannot bridge F_s - F_d = 0.2), F_s = 0.32 stops: the sweep's line
+    names that point, whether it stops in a chunk or in the estimate's probe (the grid's first point), and
+    carries the run's own reason."""
+    (tmp_path / "m.toml").write_text(MODEL)
+    (tmp_path / "s.toml").write_text(f'model = "m.toml"\nt_end = 100.0\n[grid]\n"contact.0.fs" = {list(order)}\n')
+    code, stdout, err, _ = cli("sweep", str(tmp_path / "s.toml"), "--out", str(tmp_path / "o.nc"), "--chunk-size", "1")
+    assert code == 1 and stdout == ""
+    one_line(err, f"grid point (contact.0.fs = {FS:g}): solver=exact: the run stopped", 'stick_force "spring"',
+             'use stick_force = "resultant"')

@@ -31,9 +31,10 @@ import itertools
 import json
 import math
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Iterator, Mapping
 
 import numpy as np
 
@@ -135,6 +136,10 @@ class ModelSweepConfig(Grid):
     def point_system(self, index: tuple[int, ...]) -> System:
         """The system at grid index ``index`` (one integer per axis)."""
         return self.system.with_entries({a: float(values[i]) for (a, values), i in zip(self.axes.items(), index)})
+
+    def point_text(self, index: tuple[int, ...]) -> str:
+        """The grid point at ``index`` in a line: ``grid point (entry = value, ...)``."""
+        return "grid point (" + ", ".join(f"{k} = {float(a[i]):g}" for (k, a), i in zip(self.axes.items(), index)) + ")"
 
 
 def flat_grid(grid: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
@@ -267,8 +272,7 @@ def _check_switchable(cfg: ModelSweepConfig, source: str) -> None:
         try:
             check_switchable(assemble(system), system.contact_names)
         except ValueError as e:
-            at = "" if index is None else "grid point (" + ", ".join(
-                f"{k} = {float(a[i]):g}" for (k, a), i in zip(cfg.axes.items(), index)) + "): "
+            at = "" if index is None else f"{cfg.point_text(index)}: "
             raise ValueError(f"{source}: {at}{e}") from None
 
 
@@ -404,6 +408,17 @@ def point_rows(cfg: ModelSweepConfig, system: System) -> list[np.ndarray]:
     return [values[v.name] for v in cfg.variables]
 
 
+@contextmanager
+def said_at(cfg: ModelSweepConfig, index: tuple[int, ...]) -> Iterator[None]:
+    """A run at grid ``index`` that raises (ValueError, RuntimeError: a model the solver refuses, a run that
+    stops) says at which point, one of thousands: its line begins with :meth:`ModelSweepConfig.point_text`."""
+    try:
+        yield
+    except (ValueError, RuntimeError) as e:
+        e.args = (f"{cfg.point_text(index)}: {e}", *e.args[1:])
+        raise
+
+
 def compute_model_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: tuple[int, ...]) -> list[np.ndarray]:
     """Results of one chunk of the model sweep ``source``: per variable, (*chunk's shape, *its extra dims).
 
@@ -424,7 +439,9 @@ def compute_model_chunk(source: dict[str, Any], chunk: tuple[int, ...], chunks: 
     def some(start: int, stop: int) -> None:  # each thread writes its own points' cells only
         for local in points[start:stop]:
             index = tuple(i + s.start for i, s in zip(local, sl))
-            for arr, row in zip(out, point_rows(cfg, cfg.point_system(index))):
+            with said_at(cfg, index):
+                rows = point_rows(cfg, cfg.point_system(index))
+            for arr, row in zip(out, rows):
                 arr[local] = row
 
     over_points(some, len(points), per_thread=POINTS_PER_PIECE)
@@ -442,12 +459,14 @@ def model_sweep_estimate(cfg: ModelSweepConfig, out: str | Path | None = None, n
     A bound in the sense of the single-mass sweep's (the points run to
     t_end), counted on one core: a chunk's points share the cores, but their Python parts take turns.
     """
-    system = cfg.point_system((0,) * len(cfg.axes))
+    first = (0,) * len(cfg.axes)
+    system = cfg.point_system(first)
     probe_t = probe_length(assemble(system), cfg.t_end)
     seconds = []
     for _ in range(2):  # a process's first run also loads its kernels (seconds) or compiles them (minutes)
         start = time.process_time()
-        motion = simulate_system(system, probe_t, solver=AUTO)  # as the points run
+        with said_at(cfg, first):
+            motion = simulate_system(system, probe_t, solver=AUTO)  # as the points run
         ran = time.process_time()
         analyze_structure(motion, rtol=cfg.rtol)
         seconds.append((ran - start, time.process_time() - ran))
