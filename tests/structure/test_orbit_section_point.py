@@ -16,6 +16,11 @@ numbers rounded):
   switch's boundary down to a residual of 5e-10 and stalled without saying
   that two returns find the orbit.
 
+* TWO_ORBITS: 2 dof, one contact.  From its start it settles on a cycle of
+  period 18.69 crossing the section twice; one return finds another stable
+  orbit (period 9.32), so shooting with one return by default reported an
+  orbit that is not the one simulate finds.  The default count is now the
+  transient's cycle's.
 * FORCED: 2 dof, a harmonic force and a state-dependent normal load.  Its
   attractor is a cycle of two forcing periods with a multiplier 0.93 (the
   one-period orbit is unstable, 1.012): after t = 300 Newton stalled at a
@@ -31,6 +36,7 @@ a random 2-dof structure stalled at a residual of 4e-11 there).
 
 from __future__ import annotations
 
+import json
 import math
 import tomllib
 from types import SimpleNamespace
@@ -46,6 +52,8 @@ from frictionflow.orbits.structure import find_structure_orbit, on_section
 from frictionflow.orbits.structure_flow import GRID_PER_PERIOD, NOISE, Flow, crossings
 from frictionflow.solvers.structure import simulate_system
 from frictionflow.system import System, assemble
+
+from ..cli.processes import cli
 
 OBLIQUE = """
 dof = ["x1", "x2"]
@@ -121,6 +129,28 @@ fs = 0.508
 q = { x1 = 1.0, x2 = 0.381, x3 = -0.6 }
 """
 
+TWO_ORBITS = """
+dof = ["x1", "x2"]
+mass = [[1.245, 0.0], [0.0, 0.756]]
+[[spring]]
+on = { x1 = 1.0 }
+k = 0.568
+[[spring]]
+on = { x2 = 1.0 }
+k = 1.564
+[[damper]]
+on = { x1 = -0.483, x2 = 0.639 }
+c = 0.023
+[[contact]]
+on = { x1 = -1.493, x2 = -1.92 }
+belt = 0.296
+friction = "coulomb"
+fd = 0.34
+fs = 0.411
+[initial]
+q = { x1 = -0.458, x2 = 0.988 }
+"""
+
 FORCED = """
 dof = ["x1", "x2"]
 mass = [[0.7077, 0.0], [0.0, 0.7295]]
@@ -172,6 +202,13 @@ def _repeats(system, orbit, periods):
     return float(np.max(np.abs(ends - orbit.state) / orbit.scale))
 
 
+def _same(a, b):
+    """Two orbits found the same way: the same numbers, bit for bit."""
+    assert a.returns == b.returns and a.period == b.period
+    np.testing.assert_array_equal(a.state, b.state)
+    np.testing.assert_array_equal(a.monodromy, b.monodromy)
+
+
 def test_a_run_from_a_section_point_continues_the_motion_through_a_stuck_contact():
     """Every downward crossing of x1' = 0 in the transient's second half while contact.1 (oblique to x1) is
     stuck: the engine run from the section point starts in the transient's modes and follows the transient
@@ -205,8 +242,9 @@ def test_an_orbit_shot_through_a_stuck_contact_is_the_cycle_simulate_finds():
     assert ss.kind == "periodic"
     with pytest.raises(ShootingError, match=r"settles on a cycle of period 15\.50.* x1' = 0 3 times a period: "
                                             "returns=3"):
-        find_structure_orbit(system, t_transient=300.0)
+        find_structure_orbit(system, t_transient=300.0, returns=1)
     orbit = find_structure_orbit(system, t_transient=300.0, returns=3)
+    _same(find_structure_orbit(system, t_transient=300.0), orbit)  # by default, the transient's count
     assert orbit.period == pytest.approx(ss.period, rel=1e-9)
     assert orbit.stick_fraction == pytest.approx(ss.stick_fraction, abs=1e-6)
     assert np.min(np.abs(orbit.multipliers - 1.0)) < 1e-8
@@ -225,7 +263,7 @@ def test_a_fixed_point_whose_run_is_not_the_motion_ending_there_is_refused(monke
     monkeypatch.setattr(shooting, "on_section", zeroed)
     with pytest.raises(ShootingError, match=r"fixed point is not a periodic orbit: the monodromy carries the vector "
                                             r"field at its start 0\.\d+ of its size away"):
-        find_structure_orbit(_system(OBLIQUE), t_transient=300.0)
+        find_structure_orbit(_system(OBLIQUE), t_transient=300.0, returns=1)
 
 
 def test_newton_stalled_beside_a_cycle_still_converging_says_how_many_returns():
@@ -238,8 +276,9 @@ def test_newton_stalled_beside_a_cycle_still_converging_says_how_many_returns():
     assert settled.kind == "periodic"
     with pytest.raises(ShootingError, match=r"stalled.*nears a cycle of period 7\.9615.*repeat to 0\.001\) that "
                                             "crosses the section x3' = 0 2 times a period: returns=2"):
-        find_structure_orbit(system, t_transient=300.0)
+        find_structure_orbit(system, t_transient=300.0, returns=1)
     orbit = find_structure_orbit(system, t_transient=300.0, returns=2)
+    _same(find_structure_orbit(system, t_transient=300.0), orbit)
     assert orbit.period == pytest.approx(settled.period, rel=1e-9)
     assert _repeats(system, orbit, 3) < 1e-9
     with pytest.raises(ShootingError, match=r"stalled.*the transient has not settled \(its section states do not "
@@ -279,18 +318,20 @@ def test_a_crossing_next_to_a_grid_point_of_the_search_is_found():
 
 def test_newton_stalled_on_a_forced_structure_says_what_its_transient_does():
     """FORCED after t = 300 (simulate: not settled): the stall's line says the transient is too short; after 600
-    two forcing periods find the cycle simulate settles on.  That transient, shot for one forcing period, is
-    said to near a cycle of two."""
+    two forcing periods find the cycle simulate settles on, as does the default count (the transient's).  That
+    transient, shot for one forcing period, is said to near a cycle of two."""
     system = _system(FORCED)
     assert structure_steady_state(simulate_system(system, 300.0)).kind == "not_settled"
     settled = structure_steady_state(simulate_system(system, 600.0))
     forcing = 2.0 * math.pi / 1.2158
     assert settled.kind == "periodic" and settled.period == pytest.approx(2.0 * forcing, rel=1e-12)
-    with pytest.raises(ShootingError, match=r"stalled.*the transient has not settled \(its states every forcing "
-                                            r"period do not repeat to 0\.001 over its second half\): a longer one"):
+    with pytest.raises(ShootingError, match=r"stalled.*the transient has not settled on a cycle of whole forcing "
+                                            r"periods \(its section states do not repeat to 0\.001 over its second "
+                                            r"half\): a longer one"):
         find_structure_orbit(system, t_transient=300.0, returns=2)
     orbit = find_structure_orbit(system, t_transient=600.0, returns=2)
     assert orbit.period == pytest.approx(settled.period, rel=1e-12)
+    _same(find_structure_orbit(system, t_transient=600.0), orbit)  # by default, the transient's two periods
     assert orbit.stick_fraction == pytest.approx(settled.stick_fraction, abs=1e-6)
     assert orbit.stable and _repeats(system, orbit, 3) < 1e-9
     flow = Flow(assemble(system))
@@ -298,3 +339,25 @@ def test_newton_stalled_on_a_forced_structure_says_what_its_transient_does():
     hint = shooting._strobe_hint(flow, transient, forcing, 1)
     assert "nears a cycle of 2 forcing periods" in hint and "returns=2" in hint
     assert shooting._strobe_hint(flow, transient, forcing, 2) == ""
+    assert shooting.strobe_count(transient, forcing) == 2
+
+
+def test_by_default_the_orbit_is_the_cycle_the_transient_nears_not_another_one(tmp_path):
+    """TWO_ORBITS after t = 300 (not yet periodic to simulate's 1e-6, its section states repeating to 1e-3 after
+    two crossings): one return reaches another stable orbit, a real one (it repeats when run on); the default
+    count, two, gives the cycle simulate settles on by t = 600: its period and stick fraction; so does
+    ``orbit --model`` without ``--returns``."""
+    system = _system(TWO_ORBITS)
+    assert structure_steady_state(simulate_system(system, 300.0)).kind == "not_settled"
+    settled = structure_steady_state(simulate_system(system, 600.0))
+    assert settled.kind == "periodic"
+    other = find_structure_orbit(system, returns=1)
+    assert other.stable and other.period == pytest.approx(9.3238, abs=1e-4) and _repeats(system, other, 3) < 1e-9
+    orbit = find_structure_orbit(system)
+    assert orbit.returns == 2 and orbit.period == pytest.approx(settled.period, rel=1e-8)
+    assert orbit.stick_fraction == pytest.approx(settled.stick_fraction, abs=1e-6)
+    assert orbit.stable and _repeats(system, orbit, 3) < 1e-9
+    (tmp_path / "m.toml").write_text(TWO_ORBITS)
+    code, stdout, _, _ = cli("orbit", "--model", str(tmp_path / "m.toml"), "--json")
+    report = json.loads(stdout)
+    assert code == 0 and report["returns"] == 2 and report["period"] == orbit.period

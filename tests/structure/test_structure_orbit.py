@@ -446,15 +446,18 @@ def test_newton_stalled_on_a_cycle_crossing_its_section_twice_says_how_many_retu
     """The default section (x2, whose velocity varies most) is crossed twice a period by this chain's cycle,
     so the one-return map jumps between the two crossings and Newton stalled with "no periodic orbit near this
     start" (QA).  The line now says the transient settles on a cycle (simulate's analysis) crossing the section
-    twice; with returns=2 the orbit is found, its period simulate's."""
+    twice; with returns=2 the orbit is found, its period simulate's, and by default (the transient's count)
+    the same orbit."""
     system = System.from_dict(tomllib.loads(THREE_TWICE), source=None)
     ss = structure_steady_state(simulate_system(system, 4000.0))
     assert ss.kind == "periodic"
     with pytest.raises(ShootingError, match="stalled.*settles on a cycle of period 9.386.* crosses the section "
                                             "x2' = 0 2 times a period: returns=2"):
-        find_structure_orbit(system, t_transient=4000.0)
+        find_structure_orbit(system, t_transient=4000.0, returns=1)
     found = find_structure_orbit(system, t_transient=4000.0, returns=2)
     assert found.period == pytest.approx(ss.period, rel=1e-9)
+    default = find_structure_orbit(system, t_transient=4000.0)  # the transient's count: the same orbit
+    assert default.returns == 2 and default.period == found.period
 
 
 @pytest.mark.parametrize("s", [1e-6, 1e6])

@@ -60,7 +60,7 @@ class OrbitOptions:
     """The orbit command's own options (the model's come as ``params``)."""
 
     guess: bool = option("--guess")
-    returns: int = option("--returns")
+    returns: Optional[int] = option("--returns")
     tol: Optional[float] = option("--tol")
     fd_check: bool = option("--fd-check")
     as_json: bool = option("--json")
@@ -87,7 +87,8 @@ def orbit(params: dict[str, Any], opts: OrbitOptions) -> None:
     cfg = _config("orbit", opts.config, params)
     _check_outputs(opts.out, opts.plot)  # before any work: a bad path writes nothing
     model, law, solv = cfg.build()
-    found = find_orbit(model, law, x0=cfg.x0, v0=cfg.v0, transient=0.0 if opts.guess else cfg.t_end, returns=opts.returns,
+    found = find_orbit(model, law, x0=cfg.x0, v0=cfg.v0, transient=0.0 if opts.guess else cfg.t_end,
+                       returns=1 if opts.returns is None else opts.returns,
                        tol=opts.tol, solver=solv)
     report = with_dimensional(found.to_dict(), cfg)
     stateful = isinstance(found, StatefulOrbit)

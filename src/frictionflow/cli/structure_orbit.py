@@ -28,7 +28,7 @@ class ModelOrbitOptions(NamedTuple):
     """The orbit command's options that apply to a model file."""
 
     guess: bool
-    returns: int
+    returns: Optional[int]
     tol: Optional[float]
     fd_check: bool
     as_json: bool

@@ -193,7 +193,8 @@ TERMS: dict[str, Term] = _terms(
     Term("--block", "Renormalisation interval when unforced [2 pi]; forced: the forcing period.", Optional[float], None,
          "Window", limits=BLOCK),
     Term("--guess", "Shoot from the start state itself, without a transient (to reach unstable orbits).", bool, False),
-    Term("--returns", "Crossings of the section X'=0 per period (2: period-2 orbit).", int, 1,
+    Term("--returns", "Crossings of the section X'=0 per period (2: period-2 orbit); default 1, with --model the "
+         "count of the cycle the transient settles on or nears (forced: forcing periods).", Optional[int], None,
          limits=CONTINUATION_RANGES["returns"]),
     Term("--fd-check", "Also report the monodromy matrix by finite differences of simulations.", bool, False),
     Term("--m", "Period of the orbit(s) in forcing periods (1 harmonic, > 1 subharmonic); comma-separated where a "

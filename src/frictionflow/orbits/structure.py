@@ -335,12 +335,13 @@ def _newton(flow: Flow, ret: Return, row: int | None, again: Callable[[np.ndarra
 
 
 def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any,
-           returns: int) -> tuple[Return, int, Any]:
-    """The first return map: from the transient's last section crossing (or the guess's first), the row, and
-    the transient's run (None without one)."""
+           returns: int | None) -> tuple[Return, int, Any, int]:
+    """The first return map: from the transient's last section crossing (or the guess's first), the row, the
+    transient's run (None without one) and the crossings per period (``returns``; None: the count of the cycle
+    the transient settles on or nears, :func:`cycle_count`, else 1)."""
     flow = setup.flow
     slow = 2.0 * math.pi / flow.omega_min
-    length = t_transient if t_transient > 0 else 2.0 * slow * (returns + 1)
+    length = t_transient if t_transient > 0 else 2.0 * slow * ((returns or 1) + 1)
     motion = flow.run(guess, length)
     if motion.status != "ok":
         raise ShootingError(f"{motion.lost[0]} lost its normal load at t={motion.lost[1]:.6g} in the transient")
@@ -348,6 +349,9 @@ def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any,
         raise ShootingError(f"the motion settles on the steady-sliding equilibrium (certified from t={length:.6g} on, "
                             "as simulate --model finds it): no periodic orbit to shoot for from this start")
     row = _row(flow, motion, section, setup.dof)
+    if returns is None:
+        found = cycle_count(setup, motion, row) if t_transient > 0 else None
+        returns = min(max(found[1], 1), 64) if found is not None else 1
     times = crossings(flow, motion, row, 0.5 * length if t_transient > 0 else 0.0)
     if len(times) == 0:
         raise ShootingError(f"the motion does not cross the section {setup.dof[row - flow.n]}' = 0 downwards "
@@ -356,7 +360,8 @@ def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any,
     gap = float(np.diff(times)[-1]) if len(times) > 1 else slow
     s = on_section(flow, motion, tc, row)
     try:
-        return return_map(flow, s, row, returns, 1.5 * returns * gap), row, motion if t_transient > 0 else None
+        ret = return_map(flow, s, row, returns, 1.5 * returns * gap)
+        return ret, row, motion if t_transient > 0 else None, returns
     except RuntimeError as e:
         raise ShootingError(f"from the section point at t={tc:.6g}: {e}") from None
 
@@ -372,7 +377,7 @@ def find_structure_orbit(
     *,
     t_transient: float = 300.0,
     tol: float | None = None,
-    returns: int = 1,
+    returns: int | None = None,
     section: Any = None,
     max_iter: int = 40,
 ) -> StructureOrbit:
@@ -394,6 +399,9 @@ def find_structure_orbit(
         (``orbit_scales``); default 1e-11, at most 1e-3.
     returns:
         Section crossings per period (2 for a period-2 orbit), 1 to 64; forced, forcing periods per period.
+        Default: the count of the cycle the transient settles on (its section states repeat to 1e-6, as
+        simulate's analysis finds it) or nears (to 1e-3), so that the orbit is that cycle
+        rather than another one Newton reaches from its crossing; 1 without a transient or a cycle.
     section:
         The dof (name or index) whose velocity's downward zero crossing is the section; default the one
         whose velocity varies most over the transient's second half.  Forced: None (the section is
@@ -401,7 +409,7 @@ def find_structure_orbit(
     max_iter:
         Newton iterations before :class:`~frictionflow.orbits.ShootingError`.
     """
-    check_shooting(t_transient, tol, returns, max_iter, "t_transient")
+    check_shooting(t_transient, tol, 1 if returns is None else returns, max_iter, "t_transient")
     setup = _setup(system_or_assembly)
     flow, n = setup.flow, setup.flow.n
     asm = flow.assembly
@@ -409,11 +417,11 @@ def find_structure_orbit(
     if guess.shape != (2 * n,) or not np.all(np.isfinite(guess)):
         raise ValueError(f"guess_state must be {2 * n} finite numbers (q then q'), got shape {guess.shape}")
     if len(asm.force_amp):
-        return _forced_orbit(setup, guess, float(t_transient), section, (tol, int(returns), int(max_iter)))
+        return _forced_orbit(setup, guess, float(t_transient), section, (tol, returns, int(max_iter)))
     slow = 2.0 * math.pi / flow.omega_min
-    transient = float(t_transient) if t_transient > 0 else 2.0 * slow * (int(returns) + 1)
+    transient = float(t_transient) if t_transient > 0 else 2.0 * slow * ((returns or 1) + 1)
     enforce(lambda: run_estimate(asm, transient), open_stage="shooting")
-    ret, row, transient_run = _start(setup, guess, float(t_transient), section, int(returns))
+    ret, row, transient_run, returns = _start(setup, guess, float(t_transient), section, returns)
     enforce_stage("shooting", lambda: run_estimate(asm, SHOOTING_FLOWS * (int(max_iter) + 1) * 4.0 * ret.time))
     scale = orbit_scales(flow, ret.start)
     def again(s: np.ndarray, last: Return) -> Return:
@@ -451,22 +459,30 @@ def _transient_hint(setup: Setup, transient: Any, row: int, returns: int) -> str
     """
     if transient is None:
         return ""
+    found = cycle_count(setup, transient, row)
+    if found is None:
+        return (f"; the transient has not settled (its section states do not repeat to {NEARING_RTOL:g} over its "
+                "second half): a longer one (t_transient; orbit --model: --t-end) starts nearer a cycle")
+    _, m, said = found
+    if m < 1 or m == returns:
+        return ""
+    return (f"; the transient {said} that crosses the section "
+            f"{setup.dof[row - setup.flow.n]}' = 0 {m} times a period: returns={m} (orbit --model: --returns {m}) "
+            "shoots for it")
+
+
+def cycle_count(setup: Setup, transient: Any, row: int) -> tuple[float, int, str] | None:
+    """(period, downward crossings of q'_row = 0 a period, what the transient does in words) of the cycle the
+    ``transient`` settles on (simulate's periodic test, 1e-6) or nears (:data:`NEARING_RTOL`), else None."""
     for rtol, how in ((1e-6, "settles on a cycle of period {} (as simulate --model finds it)"),
                       (NEARING_RTOL, f"nears a cycle of period {{}} (its section states repeat to {NEARING_RTOL:g})")):
         found = repeating(transient, rtol=rtol)
         if found is not None:
-            break
-    else:
-        return (f"; the transient has not settled (its section states do not repeat to {NEARING_RTOL:g} over its "
-                "second half): a longer one (t_transient; orbit --model: --t-end) starts nearer a cycle")
-    period, (t0, t1), _ = found
-    times = crossings(setup.flow, transient, row, t0)
-    m = int(round(float(np.sum((times >= t0) & (times < t1 - 1e-9 * period))) * period / (t1 - t0)))
-    if m < 1 or m == returns:
-        return ""
-    return (f"; the transient {how.format(f'{period:.6g}')} that crosses the section "
-            f"{setup.dof[row - setup.flow.n]}' = 0 {m} times a period: returns={m} (orbit --model: --returns {m}) "
-            "shoots for it")
+            period, (t0, t1), _ = found
+            times = crossings(setup.flow, transient, row, t0)
+            m = int(round(float(np.sum((times >= t0) & (times < t1 - 1e-9 * period))) * period / (t1 - t0)))
+            return period, m, how.format(f"{period:.6g}")
+    return None
 
 
 def forcing_period(assembly: Assembly) -> float:
@@ -490,13 +506,20 @@ def strobe(flow: Flow, start: np.ndarray, T: float) -> Return:
 
 
 def _forced_orbit(setup: Setup, guess: np.ndarray, t_transient: float, section: Any,
-                  settings: tuple[float | None, int, int]) -> StructureOrbit:
-    """Newton on the stroboscopic map of a forced structure: (tol, forcing periods, max_iter) in ``settings``."""
+                  settings: tuple[float | None, int | None, int]) -> StructureOrbit:
+    """Newton on the stroboscopic map of a forced structure: (tol, forcing periods, max_iter) in ``settings``;
+    forcing periods None: those after which the transient's states repeat (:func:`strobe_count`), else 1."""
     tol, periods, max_iter = settings
     if section is not None:
         raise ValueError(f"section must be None for a forced structure (its section is stroboscopic), got {section!r}")
     flow, asm = setup.flow, setup.flow.assembly
-    T = periods * forcing_period(asm)
+    forcing = forcing_period(asm)
+    if periods is None:
+        settle = math.ceil(t_transient / forcing) * forcing
+        enforce(lambda: run_estimate(asm, settle), open_stage="shooting")
+        counted = strobe_count(flow.run(guess, settle), forcing) if settle > 0 else None
+        periods = 1 if counted is None else counted
+    T = periods * forcing
     settle = math.ceil(t_transient / T) * T  # a whole number of periods: the map's phase
     enforce(lambda: run_estimate(asm, settle + T), open_stage="shooting")
     start, motion = guess, None
@@ -520,24 +543,32 @@ def _forced_orbit(setup: Setup, guess: np.ndarray, t_transient: float, section: 
 
 
 def _strobe_hint(flow: Flow, transient: Any, forcing: float, periods: int) -> str:
-    """What to add to Newton's failure on a forced structure about its ``transient`` (None: none was run): its
-    states every ``forcing`` period over the second half repeating to :data:`NEARING_RTOL` after another number
-    of periods than ``periods`` (then that count), or not repeating after up to 64 (then too short)."""
+    """What to add to Newton's failure on a forced structure about its ``transient`` (None: none was run): the
+    cycle it settles on or nears lasting another number of forcing periods than ``periods`` (:func:`strobe_count`:
+    then that count), or none (then too short)."""
     if transient is None:
         return ""
-    t_end = float(transient.t[-1])
-    count = int(0.5 * t_end / forcing)
-    states = flow.states(transient, t_end - forcing * np.arange(count, -1, -1))
-    scale = orbit_scales(flow, states[-1])
-    for m in range(1, min(64, count // 3) + 1):
-        tail = states[-(3 * m + 1):]
-        if np.all(np.abs(tail[m:] - tail[:-m]) <= NEARING_RTOL * scale):
-            if m == periods:
-                return ""
-            return (f"; the transient nears a cycle of {m} forcing periods (its states every forcing period repeat "
-                    f"to {NEARING_RTOL:g} after {m}): returns={m} (orbit --model: --returns {m}) shoots for it")
-    return (f"; the transient has not settled (its states every forcing period do not repeat to {NEARING_RTOL:g} "
-            "over its second half): a longer one (t_transient; orbit --model: --t-end) starts nearer a cycle")
+    m = strobe_count(transient, forcing)
+    if m is None:
+        return (f"; the transient has not settled on a cycle of whole forcing periods (its section states do not "
+                f"repeat to {NEARING_RTOL:g} over its second half): a longer one (t_transient; orbit --model: "
+                "--t-end) starts nearer a cycle")
+    if m == periods:
+        return ""
+    return (f"; the transient nears a cycle of {m} forcing periods (its section states repeat to "
+            f"{NEARING_RTOL:g}): returns={m} (orbit --model: --returns {m}) shoots for it")
+
+
+def strobe_count(transient: Any, forcing: float) -> int | None:
+    """The forcing periods (1 to 64) of the cycle a forced ``transient`` settles on (simulate's periodic test,
+    1e-6) or nears (:data:`NEARING_RTOL`), as simulate's analysis finds its period; None if it has none, or
+    one that is not a whole number of forcing periods."""
+    for rtol in (1e-6, NEARING_RTOL):
+        found = repeating(transient, rtol=rtol)
+        if found is not None:
+            m = int(round(found[0] / forcing))
+            return m if 1 <= m <= 64 and abs(found[0] / forcing - m) <= 1e-2 else None
+    return None
 
 
 def orbit_scales(flow: Flow, state: np.ndarray) -> np.ndarray:
