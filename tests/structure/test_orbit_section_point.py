@@ -44,7 +44,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from frictionflow.analysis.structure import structure_steady_state
+from frictionflow.analysis.structure import repeating, structure_steady_state
 from frictionflow.core.layout import STICK
 from frictionflow.orbits.shooting import ShootingError
 from frictionflow.orbits import structure as shooting
@@ -186,6 +186,55 @@ omega = 1.2158
 phi = 1.1193
 [initial]
 q = { x1 = -0.6385, x2 = -0.7862 }
+"""
+
+#: a forced 3-dof structure whose run to t = 600 just passes simulate's periodic test (one forcing period)
+DRIFTING = """
+dof = ["x1", "x2", "x3"]
+mass = [[1.6553908768712984, -0.3792701753407138, -0.32330943666292594], [-0.3792701753407138, 1.3982601107723585, 0.07294729882073195], [-0.32330943666292594, 0.07294729882073195, 1.2324740192122572]]
+[[spring]]
+on = { x1 = 1.0 }
+k = 1.0172645904721178
+[[spring]]
+on = { x2 = 1.0 }
+k = 0.828455072162267
+[[spring]]
+on = { x3 = 1.0 }
+k = 0.8385852092952841
+[[spring]]
+on = { x1 = -1.1050464100827455, x2 = -0.6922059642247175, x3 = 0.6222206124353614 }
+k = 0.663784859704292
+[[spring]]
+on = { x1 = -1.218957865341841, x2 = 0.08074577287047363, x3 = -0.26683072489114207 }
+k = 0.5940057439169026
+[[damper]]
+on = { x1 = 0.590188658364506, x2 = -0.19347900495752512, x3 = -0.12056107598100044 }
+c = 0.019808364264335483
+[[damper]]
+on = { x1 = 0.12721857150834673, x2 = -1.266926823660342, x3 = -0.1723316093578593 }
+c = 0.05144025168686072
+[[damper]]
+on = { x1 = 0.06382043234650693, x2 = 0.5609928456656607, x3 = -1.276752562937137 }
+c = 0.011209895688342512
+[[contact]]
+on = { x1 = -0.45440546650687597, x2 = -0.4264536594840153, x3 = 1.2290645801080327 }
+belt = 0.23172417200951473
+friction = "coulomb"
+fd = 0.3216905908861164
+fs = 0.5446734358630064
+[[contact]]
+on = { x1 = 0.5001004823410974, x2 = -1.1128215773823462, x3 = 0.7674470410749694 }
+belt = 0.1273332868457499
+friction = "coulomb"
+fd = 0.34040859676232565
+fs = 0.5303259192140778
+[[force]]
+on = { x1 = -1.112391631758333, x2 = 0.8010547859906434, x3 = -0.20631149102531054 }
+amplitude = 0.11580265081665313
+omega = 0.7891068020047274
+phi = 4.736097567342702
+[initial]
+q = { x1 = -0.20876169883862944, x2 = -0.41300947637144547, x3 = -0.32202355903923824 }
 """
 
 
@@ -361,3 +410,18 @@ def test_by_default_the_orbit_is_the_cycle_the_transient_nears_not_another_one(t
     code, stdout, _, _ = cli("orbit", "--model", str(tmp_path / "m.toml"), "--json")
     report = json.loads(stdout)
     assert code == 0 and report["returns"] == 2 and report["period"] == orbit.period
+
+
+def test_a_forced_cycle_lasts_whole_forcing_periods_as_its_orbit():
+    """simulate's period of a forced cycle is m 2 pi / Omega, bit for bit the orbit's: DRIFTING's crossings at
+    t = 600 still give a mean 4e-8 longer than one forcing period (within simulate's 1e-6), FORCED's two
+    periods to rounding."""
+    system = _system(DRIFTING)
+    motion = simulate_system(system, 600.0)
+    forcing = 2.0 * math.pi / float(assemble(system).force_omega[0])
+    assert abs(repeating(motion)[0] / forcing - 1.0) > 1e-8  # what the crossings measure
+    ss = structure_steady_state(motion)
+    assert ss.kind == "periodic" and ss.period == forcing
+    system = _system(FORCED)
+    ss = structure_steady_state(simulate_system(system, 600.0))
+    assert ss.period == find_structure_orbit(system, t_transient=600.0).period

@@ -15,6 +15,10 @@ located to rounding on the exact solution (:meth:`Motion.at`).
     multiplier near a root of unity makes the state repeat after p crossings
     before it does after d (a cycle of 3.32 time units with multipliers
     0.92 e^(+-2.4i) was reported with the period 9.96): ``not_settled``.
+    With harmonic forces of one frequency Omega, a period within ten times
+    ``rtol`` of m 2 pi / Omega is that (as the single mass's forced runs
+    report it): a forced cycle lasts a whole number of forcing periods, and
+    the crossings' mean still carries the transient's last drift.
 ``equilibrium``
     Every state component has stopped moving over the tail (the last tenth of
     the run, at least 4 pi of the slowest natural period's scale) and every
@@ -224,9 +228,21 @@ def structure_steady_state(motion: Any, rtol: float = 1e-6, min_periods: int = 3
     found = _periodic(motion, rtol, min_periods, np.max(np.abs(states), axis=1))
     if found is not None:
         period, window, p = found
-        return StructureSteadyState("periodic", period, window, stick_fractions(motion, window), min_periods)
+        return StructureSteadyState("periodic", _whole_forcing(motion.assembly, period, rtol), window,
+                                    stick_fractions(motion, window), min_periods)
     kind, lam = _not_periodic(motion, np.ptp(states, axis=1))
     return StructureSteadyState(kind, math.nan, tail, stick_fractions(motion, tail), lyapunov=lam)
+
+
+def _whole_forcing(assembly: Any, period: float, rtol: float) -> float:
+    """``period`` as m 2 pi / Omega where the structure's forces share one frequency Omega and it lies within
+    10 ``rtol`` of such a multiple (the tolerance of the periods' spread in :func:`_periodic`); else as measured."""
+    omega = np.unique(np.asarray(assembly.force_omega)[np.asarray(assembly.force_amp) != 0.0])
+    if len(omega) != 1:
+        return period
+    forcing = 2.0 * math.pi / float(omega[0])
+    m = int(round(period / forcing))
+    return m * forcing if m >= 1 and abs(period - m * forcing) <= 10.0 * rtol * period else period
 
 
 def _tail(motion: Any) -> tuple[float, float]:
