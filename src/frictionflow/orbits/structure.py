@@ -461,8 +461,7 @@ def _transient_hint(setup: Setup, transient: Any, row: int, returns: int) -> str
         return ""
     found = cycle_count(setup, transient, row)
     if found is None:
-        return (f"; the transient has not settled (its section states do not repeat to {NEARING_RTOL:g} over its "
-                "second half): a longer one (t_transient; orbit --model: --t-end) starts nearer a cycle")
+        return _too_short("")
     _, m, said = found
     if m < 1 or m == returns:
         return ""
@@ -508,26 +507,26 @@ def strobe(flow: Flow, start: np.ndarray, T: float) -> Return:
 def _forced_orbit(setup: Setup, guess: np.ndarray, t_transient: float, section: Any,
                   settings: tuple[float | None, int | None, int]) -> StructureOrbit:
     """Newton on the stroboscopic map of a forced structure: (tol, forcing periods, max_iter) in ``settings``;
-    forcing periods None: those after which the transient's states repeat (:func:`strobe_count`), else 1."""
+    forcing periods None: the period of the cycle the transient settles on or nears, in forcing periods
+    (:func:`strobe_count`), else 1."""
     tol, periods, max_iter = settings
     if section is not None:
         raise ValueError(f"section must be None for a forced structure (its section is stroboscopic), got {section!r}")
     flow, asm = setup.flow, setup.flow.assembly
     forcing = forcing_period(asm)
-    if periods is None:
-        settle = math.ceil(t_transient / forcing) * forcing
-        enforce(lambda: run_estimate(asm, settle), open_stage="shooting")
-        counted = strobe_count(flow.run(guess, settle), forcing) if settle > 0 else None
+    motion = None
+    if periods is None:  # the transient to whole forcing periods, counted; rerun below only if m does not divide it
+        length = math.ceil(t_transient / forcing) * forcing
+        enforce(lambda: run_estimate(asm, 2.0 * length + 2.0 * forcing), open_stage="shooting")
+        motion = _transient(flow, guess, length)
+        counted = None if motion is None else strobe_count(motion, forcing)
         periods = 1 if counted is None else counted
     T = periods * forcing
     settle = math.ceil(t_transient / T) * T  # a whole number of periods: the map's phase
     enforce(lambda: run_estimate(asm, settle + T), open_stage="shooting")
-    start, motion = guess, None
-    if settle > 0:
-        motion = flow.run(guess, settle)
-        if motion.status != "ok":
-            raise ShootingError(f"{motion.lost[0]} lost its normal load at t={motion.lost[1]:.6g} in the transient")
-        start = flow.states(motion, np.array([settle]))[0]
+    if motion is None or float(motion.t[-1]) != settle:
+        motion = _transient(flow, guess, settle)
+    start = guess if motion is None else flow.states(motion, np.array([settle]))[0]
     try:
         ret = strobe(flow, start, T)
     except RuntimeError as e:
@@ -542,6 +541,22 @@ def _forced_orbit(setup: Setup, guess: np.ndarray, t_transient: float, section: 
     return _orbit(setup, ret, None, periods, iterations, scale)
 
 
+def _transient(flow: Flow, guess: np.ndarray, length: float) -> Any:
+    """The run from ``guess`` over ``length`` (None for 0); ShootingError if it loses a contact."""
+    if length <= 0:
+        return None
+    motion = flow.run(guess, length)
+    if motion.status != "ok":
+        raise ShootingError(f"{motion.lost[0]} lost its normal load at t={motion.lost[1]:.6g} in the transient")
+    return motion
+
+
+def _too_short(what: str) -> str:
+    """The stall's hint for a transient that does not repeat even to :data:`NEARING_RTOL`."""
+    return (f"; the transient has not settled{what} (its section states do not repeat to {NEARING_RTOL:g} over its "
+            "second half): a longer one (t_transient; orbit --model: --t-end) starts nearer a cycle")
+
+
 def _strobe_hint(flow: Flow, transient: Any, forcing: float, periods: int) -> str:
     """What to add to Newton's failure on a forced structure about its ``transient`` (None: none was run): the
     cycle it settles on or nears lasting another number of forcing periods than ``periods`` (:func:`strobe_count`:
@@ -550,9 +565,7 @@ def _strobe_hint(flow: Flow, transient: Any, forcing: float, periods: int) -> st
         return ""
     m = strobe_count(transient, forcing)
     if m is None:
-        return (f"; the transient has not settled on a cycle of whole forcing periods (its section states do not "
-                f"repeat to {NEARING_RTOL:g} over its second half): a longer one (t_transient; orbit --model: "
-                "--t-end) starts nearer a cycle")
+        return _too_short(" on a cycle of whole forcing periods")
     if m == periods:
         return ""
     return (f"; the transient nears a cycle of {m} forcing periods (its section states repeat to "
