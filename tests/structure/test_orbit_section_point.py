@@ -1,7 +1,7 @@
 """The structure's shooting starts from section points that continue the motion, and says which return count to use.
 
-Two random structures of the fuzzing against independent paths (their
-numbers rounded):
+Random structures of the fuzzing against independent paths (their numbers
+rounded but for DRIFTING's):
 
 * OBLIQUE: 2 dof, two oblique contacts.  Its cycle (period 15.50) passes the
   section x1' = 0 while contact.1, oblique to x1, is stuck with a held force
@@ -11,11 +11,10 @@ numbers rounded):
   stuck state for good, and Newton converged there to a "period 5.157" that
   ended stuck where it began slipping and did not repeat after one period.
 * NEARING: 3 dof, full mass matrix.  Its cycle crosses the section twice a
-  period, and at t = 300 the transient repeats to 1e-4 but not to simulate's
+  period, and at t = 300 the transient repeats to 1e-3 but not to simulate's
   1e-6.  The one-return map has no fixed point: Newton crept towards a
   switch's boundary down to a residual of 5e-10 and stalled without saying
   that two returns find the orbit.
-
 * TWO_ORBITS: 2 dof, one contact.  From its start it settles on a cycle of
   period 18.69 crossing the section twice; one return finds another stable
   orbit (period 9.32), so shooting with one return by default reported an
@@ -25,6 +24,8 @@ numbers rounded):
   attractor is a cycle of two forcing periods with a multiplier 0.93 (the
   one-period orbit is unstable, 1.012): after t = 300 Newton stalled at a
   residual of 1.5e-3 with nothing to say.
+* DRIFTING: 3 dof, forced; its run to t = 600 is just periodic, the mean of
+  its crossings 4e-8 off the forcing period it reports.
 
 The references are the exact engine's own continuous runs and simulate's
 analysis; the orbits found must repeat over several periods when run again.
@@ -276,7 +277,7 @@ def test_a_run_from_a_section_point_continues_the_motion_through_a_stuck_contact
         run = flow.run(point, 20.0)
         np.testing.assert_array_equal(np.asarray(run.modes)[:, 0], modes)
         tau = np.linspace(0.0, 20.0, 41)
-        scale = np.max(np.abs(flow.states(motion, 150.0 + tau * 7.0)), axis=0)
+        scale = np.max(np.abs(flow.states(motion, 150.0 + tau * 7.0)), axis=0)  # each component's size, t 150-290
         assert np.max(np.abs(flow.states(run, tau) - flow.states(motion, tc + tau)) / scale) < 1e-9
         checked += 1
     assert checked >= 5
