@@ -426,3 +426,22 @@ def test_a_forced_cycle_lasts_whole_forcing_periods_as_its_orbit():
     system = _system(FORCED)
     ss = structure_steady_state(simulate_system(system, 600.0))
     assert ss.period == find_structure_orbit(system, t_transient=600.0).period
+
+
+def test_a_stall_on_a_chaotic_motion_does_not_promise_a_cycle():
+    """Five masses stick-slipping chaotically (simulate: chaotic at t = 300, the chain of test_structure_kinds):
+    the stall's line says a longer transient helps only if the motion settles on a cycle, and that simulate
+    tells whether it does."""
+    springs = [{"on": {"x1": 1.0}, "k": 1.0}, *({"on": {f"x{i}": 1.0, f"x{i + 1}": -1.0}, "k": 0.5}
+                                                for i in range(1, 5)), {"on": {"x5": 1.0}, "k": 1.0}]
+    chain = System.from_dict({
+        "dof": [f"x{i}" for i in range(1, 6)], "mass": [1.0] * 5, "spring": springs,
+        "damper": [{"on": {f"x{i}": 1.0}, "c": 0.01} for i in range(1, 6)],
+        "contact": [{"on": {f"x{i}": 1.0}, "belt": 0.05, "friction": "coulomb", "fd": 0.1,
+                     "fs": 0.3 if i % 2 else 0.35} for i in range(1, 6)],
+        "initial": {"q": {"x5": 0.2}}})
+    assert structure_steady_state(simulate_system(chain, 300.0)).kind == "chaotic"
+    with pytest.raises(ShootingError, match=r"stalled.*has not settled .*starts nearer a cycle if the motion "
+                                            r"settles on one \(simulate --model says whether it does: "
+                                            r"quasi-periodic and chaotic motions do not\)"):
+        find_structure_orbit(chain)

@@ -552,9 +552,11 @@ def _transient(flow: Flow, guess: np.ndarray, length: float) -> Any:
 
 
 def _too_short(what: str) -> str:
-    """The stall's hint for a transient that does not repeat even to :data:`NEARING_RTOL`."""
+    """The stall's hint for a transient that does not repeat even to :data:`NEARING_RTOL`: too short, or a motion
+    that never settles on a cycle (chaotic and quasi-periodic ones; a longer transient would not help there)."""
     return (f"; the transient has not settled{what} (its section states do not repeat to {NEARING_RTOL:g} over its "
-            "second half): a longer one (t_transient; orbit --model: --t-end) starts nearer a cycle")
+            "second half): a longer one (t_transient; orbit --model: --t-end) starts nearer a cycle if the motion "
+            "settles on one (simulate --model says whether it does: quasi-periodic and chaotic motions do not)")
 
 
 def _strobe_hint(flow: Flow, transient: Any, forcing: float, periods: int) -> str:
