@@ -51,6 +51,7 @@ from frictionflow.orbits.shooting import ShootingError
 from frictionflow.orbits import structure as shooting
 from frictionflow.orbits.structure import find_structure_orbit, on_section
 from frictionflow.orbits.structure_flow import GRID_PER_PERIOD, NOISE, Flow, crossings
+from frictionflow.orbits.structure_transient import strobe_count, strobe_hint
 from frictionflow.solvers.structure import simulate_system
 from frictionflow.system import System, assemble
 
@@ -386,10 +387,10 @@ def test_newton_stalled_on_a_forced_structure_says_what_its_transient_does():
     assert orbit.stable and _repeats(system, orbit, 3) < 1e-9
     flow = Flow(assemble(system))
     transient = flow.run(np.concatenate((flow.assembly.q0, flow.assembly.v0)), 600.0)
-    hint = shooting._strobe_hint(flow, transient, forcing, 1)
+    hint = strobe_hint(transient, forcing, 1)
     assert "nears a cycle of 2 forcing periods" in hint and "returns=2" in hint
-    assert shooting._strobe_hint(flow, transient, forcing, 2) == ""
-    assert shooting.strobe_count(transient, forcing) == 2
+    assert strobe_hint(transient, forcing, 2) == ""
+    assert strobe_count(transient, forcing) == 2
 
 
 def test_by_default_the_orbit_is_the_cycle_the_transient_nears_not_another_one(tmp_path):

@@ -33,7 +33,7 @@ import numpy as np
 
 from .._display import Row, Summarized, num
 from .._json import jsonable
-from ..analysis.structure import certified_sliding, repeating, slowest_period, stick_fractions
+from ..analysis.structure import certified_sliding, stick_fractions
 from ..core.assembly import Assembly, natural_frequencies
 from ..core.layout import LAW, STICK
 from ..estimate import enforce, enforce_stage
@@ -43,6 +43,7 @@ from ..system import assemble
 from . import floquet
 from .shooting import ShootingError, check_shooting
 from .structure_flow import Flow, Return, crossings, return_map
+from .structure_transient import cycle_count, slow_hint, strobe_count, strobe_hint, transient_hint
 
 #: Newton's default tolerance on |P(s) - s|, relative to the orbit's size (:func:`orbit_scales`)
 DEFAULT_TOL = 1e-11
@@ -52,8 +53,6 @@ MAX_HALVINGS = 12
 RETURN_LIMIT = 4.0
 #: largest |M f - f| / |f| (scaled units) of an autonomous orbit returned; rounding leaves 1e-15 to 1e-11
 CARRIED_TOL = 1e-6
-#: the looser repetition test of the hint after a stall: a transient nearing its cycle
-NEARING_RTOL = 1e-3
 
 
 @dataclass(frozen=True, repr=False, eq=False)
@@ -350,7 +349,7 @@ def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any,
                             "as simulate --model finds it): no periodic orbit to shoot for from this start")
     row = _row(flow, motion, section, setup.dof)
     if returns is None:
-        found = cycle_count(setup, motion, row) if t_transient > 0 else None
+        found = cycle_count(flow, motion, row) if t_transient > 0 else None
         returns = min(max(found[1], 1), 64) if found is not None else 1
     times = crossings(flow, motion, row, 0.5 * length if t_transient > 0 else 0.0)
     if len(times) == 0:
@@ -430,58 +429,9 @@ def find_structure_orbit(
     try:
         ret, iterations = _newton(flow, ret, row, again, (DEFAULT_TOL if tol is None else tol, scale), int(max_iter))
     except ShootingError as e:
-        hint = _slow_hint(asm, float(t_transient)) or _transient_hint(setup, transient_run, row, int(returns))
+        hint = slow_hint(asm, float(t_transient)) or transient_hint(flow, setup.dof, transient_run, row, int(returns))
         raise ShootingError(f"{e}{hint}") from None
     return _orbit(setup, ret, row, int(returns), iterations, scale)
-
-
-def _slow_hint(asm: Assembly, t_transient: float) -> str:
-    """What to add to Newton's failure when the transient was shorter than the structure's slowest time scale
-    (a stiff damper's creep or a heavy mass's swing: the start is then far from the orbit along a direction of
-    multiplier near 1, where Newton's steps are long and crossing a switch turns them back)."""
-    slow = slowest_period(asm)
-    if not 0.0 < t_transient < slow:
-        return ""
-    return (f"; the structure's slowest time scale, 2 pi / its least |lambda| = {slow:.3g}, is longer than the "
-            f"transient ({t_transient:g}): a longer one (t_transient; orbit --model: --t-end) starts nearer the orbit")
-
-
-def _transient_hint(setup: Setup, transient: Any, row: int, returns: int) -> str:
-    """What to add to Newton's failure about the ``transient`` (None: none was run): when it settles on a cycle
-    (the periodic test of simulate's analysis) that crosses the section another number of times a period than
-    ``returns``: the return map then jumps between the cycle's crossings, and Newton stalls far from any fixed
-    point (QA: a 3-mass chain's cycle crossing x2' = 0 twice a period, "no periodic orbit near this start").
-
-    A transient still converging repeats only to :data:`NEARING_RTOL`; its count is said too.  The map of the
-    wrong count has no fixed point, and Newton can creep towards a switch's boundary there down to a residual
-    of 1e-9 before it stalls (a random 3-dof structure, its cycle crossing twice).  A transient that does not
-    repeat even so is said to be too short.
-    """
-    if transient is None:
-        return ""
-    found = cycle_count(setup, transient, row)
-    if found is None:
-        return _too_short("")
-    _, m, said = found
-    if m < 1 or m == returns:
-        return ""
-    return (f"; the transient {said} that crosses the section "
-            f"{setup.dof[row - setup.flow.n]}' = 0 {m} times a period: returns={m} (orbit --model: --returns {m}) "
-            "shoots for it")
-
-
-def cycle_count(setup: Setup, transient: Any, row: int) -> tuple[float, int, str] | None:
-    """(period, downward crossings of q'_row = 0 a period, what the transient does in words) of the cycle the
-    ``transient`` settles on (simulate's periodic test, 1e-6) or nears (:data:`NEARING_RTOL`), else None."""
-    for rtol, how in ((1e-6, "settles on a cycle of period {} (as simulate --model finds it)"),
-                      (NEARING_RTOL, f"nears a cycle of period {{}} (its section states repeat to {NEARING_RTOL:g})")):
-        found = repeating(transient, rtol=rtol)
-        if found is not None:
-            period, (t0, t1), _ = found
-            times = crossings(setup.flow, transient, row, t0)
-            m = int(round(float(np.sum((times >= t0) & (times < t1 - 1e-9 * period))) * period / (t1 - t0)))
-            return period, m, how.format(f"{period:.6g}")
-    return None
 
 
 def forcing_period(assembly: Assembly) -> float:
@@ -537,7 +487,7 @@ def _forced_orbit(setup: Setup, guess: np.ndarray, t_transient: float, section: 
         ret, iterations = _newton(flow, ret, None, lambda s, last: strobe(flow, s, T),
                                   (DEFAULT_TOL if tol is None else tol, scale), max_iter)
     except ShootingError as e:
-        raise ShootingError(f"{e}{_strobe_hint(flow, motion, T / periods, periods)}") from None
+        raise ShootingError(f"{e}{strobe_hint(motion, forcing, periods)}") from None
     return _orbit(setup, ret, None, periods, iterations, scale)
 
 
@@ -549,41 +499,6 @@ def _transient(flow: Flow, guess: np.ndarray, length: float) -> Any:
     if motion.status != "ok":
         raise ShootingError(f"{motion.lost[0]} lost its normal load at t={motion.lost[1]:.6g} in the transient")
     return motion
-
-
-def _too_short(what: str) -> str:
-    """The stall's hint for a transient that does not repeat even to :data:`NEARING_RTOL`: too short, or a motion
-    that never settles on a cycle (chaotic and quasi-periodic ones; a longer transient would not help there)."""
-    return (f"; the transient has not settled{what} (its section states do not repeat to {NEARING_RTOL:g} over its "
-            "second half): a longer one (t_transient; orbit --model: --t-end) starts nearer a cycle if the motion "
-            "settles on one (simulate --model says whether it does: quasi-periodic and chaotic motions do not)")
-
-
-def _strobe_hint(flow: Flow, transient: Any, forcing: float, periods: int) -> str:
-    """What to add to Newton's failure on a forced structure about its ``transient`` (None: none was run): the
-    cycle it settles on or nears lasting another number of forcing periods than ``periods`` (:func:`strobe_count`:
-    then that count), or none (then too short)."""
-    if transient is None:
-        return ""
-    m = strobe_count(transient, forcing)
-    if m is None:
-        return _too_short(" on a cycle of whole forcing periods")
-    if m == periods:
-        return ""
-    return (f"; the transient nears a cycle of {m} forcing periods (its section states repeat to "
-            f"{NEARING_RTOL:g}): returns={m} (orbit --model: --returns {m}) shoots for it")
-
-
-def strobe_count(transient: Any, forcing: float) -> int | None:
-    """The forcing periods (1 to 64) of the cycle a forced ``transient`` settles on (simulate's periodic test,
-    1e-6) or nears (:data:`NEARING_RTOL`), as simulate's analysis finds its period; None if it has none, or
-    one that is not a whole number of forcing periods."""
-    for rtol in (1e-6, NEARING_RTOL):
-        found = repeating(transient, rtol=rtol)
-        if found is not None:
-            m = int(round(found[0] / forcing))
-            return m if 1 <= m <= 64 and abs(found[0] / forcing - m) <= 1e-2 else None
-    return None
 
 
 def orbit_scales(flow: Flow, state: np.ndarray) -> np.ndarray:
