@@ -56,6 +56,7 @@ from frictionflow.solvers.structure import simulate_system
 from frictionflow.system import System, assemble
 
 from ..cli.processes import cli
+from .test_structure_kinds import chaotic_chain
 
 OBLIQUE = """
 dof = ["x1", "x2"]
@@ -430,17 +431,10 @@ def test_a_forced_cycle_lasts_whole_forcing_periods_as_its_orbit():
 
 
 def test_a_stall_on_a_chaotic_motion_does_not_promise_a_cycle():
-    """Five masses stick-slipping chaotically (simulate: chaotic at t = 300, the chain of test_structure_kinds):
+    """Five masses stick-slipping chaotically (simulate: chaotic at t = 300, test_structure_kinds' chain):
     the stall's line says a longer transient helps only if the motion settles on a cycle, and that simulate
     tells whether it does."""
-    springs = [{"on": {"x1": 1.0}, "k": 1.0}, *({"on": {f"x{i}": 1.0, f"x{i + 1}": -1.0}, "k": 0.5}
-                                                for i in range(1, 5)), {"on": {"x5": 1.0}, "k": 1.0}]
-    chain = System.from_dict({
-        "dof": [f"x{i}" for i in range(1, 6)], "mass": [1.0] * 5, "spring": springs,
-        "damper": [{"on": {f"x{i}": 1.0}, "c": 0.01} for i in range(1, 6)],
-        "contact": [{"on": {f"x{i}": 1.0}, "belt": 0.05, "friction": "coulomb", "fd": 0.1,
-                     "fs": 0.3 if i % 2 else 0.35} for i in range(1, 6)],
-        "initial": {"q": {"x5": 0.2}}})
+    chain = chaotic_chain()
     assert structure_steady_state(simulate_system(chain, 300.0)).kind == "chaotic"
     with pytest.raises(ShootingError, match=r"stalled.*has not settled .*starts nearer a cycle if the motion "
                                             r"settles on one \(simulate --model says whether it does: "

@@ -185,6 +185,18 @@ def _in_time_units(system: System, s: float) -> System:
     return out
 
 
+def chaotic_chain() -> System:
+    """Five unit masses on springs and light dampers, stick-slipping chaotically on one belt (exponent ~0.01)."""
+    springs = [{"on": {"x1": 1.0}, "k": 1.0}, *({"on": {f"x{i}": 1.0, f"x{i + 1}": -1.0}, "k": 0.5}
+                                                for i in range(1, 5)), {"on": {"x5": 1.0}, "k": 1.0}]
+    return System.from_dict({
+        "dof": [f"x{i}" for i in range(1, 6)], "mass": [1.0] * 5, "spring": springs,
+        "damper": [{"on": {f"x{i}": 1.0}, "c": 0.01} for i in range(1, 6)],
+        "contact": [{"on": {f"x{i}": 1.0}, "belt": 0.05, "friction": "coulomb", "fd": 0.1,
+                     "fs": 0.3 if i % 2 else 0.35} for i in range(1, 6)],
+        "initial": {"q": {"x5": 0.2}}})
+
+
 @pytest.mark.parametrize("s", [1e3, 1e-3])
 def test_a_chaotic_chain_in_other_units_of_time_is_chaotic(s):
     """Five masses stick-slipping chaotically (exponent ~0.01) told in units of time 1000 times longer and shorter:
@@ -192,14 +204,7 @@ def test_a_chaotic_chain_in_other_units_of_time_is_chaotic(s):
     finite run's estimate of a chaotic flow moves by tens of per cent with rounding).  The exponent's least
     uncertainty was an absolute 1e-4 a unit of time: with masses of 1e6 the chain (exponent 1e-5) was not
     settled however long it ran."""
-    springs = [{"on": {"x1": 1.0}, "k": 1.0}, *({"on": {f"x{i}": 1.0, f"x{i + 1}": -1.0}, "k": 0.5}
-                                                for i in range(1, 5)), {"on": {"x5": 1.0}, "k": 1.0}]
-    unit = System.from_dict({
-        "dof": [f"x{i}" for i in range(1, 6)], "mass": [1.0] * 5, "spring": springs,
-        "damper": [{"on": {f"x{i}": 1.0}, "c": 0.01} for i in range(1, 6)],
-        "contact": [{"on": {f"x{i}": 1.0}, "belt": 0.05, "friction": "coulomb", "fd": 0.1,
-                     "fs": 0.3 if i % 2 else 0.35} for i in range(1, 6)],
-        "initial": {"q": {"x5": 0.2}}})
+    unit = chaotic_chain()
     base = structure_steady_state(simulate_system(unit, 300.0))
     other = structure_steady_state(simulate_system(_in_time_units(unit, s), 300.0 * s))
     assert base.kind == other.kind == "chaotic"
