@@ -341,9 +341,7 @@ def _start(setup: Setup, guess: np.ndarray, t_transient: float, section: Any,
     flow = setup.flow
     slow = 2.0 * math.pi / flow.omega_min
     length = t_transient if t_transient > 0 else 2.0 * slow * ((returns or 1) + 1)
-    motion = flow.run(guess, length)
-    if motion.status != "ok":
-        raise ShootingError(f"{motion.lost[0]} lost its normal load at t={motion.lost[1]:.6g} in the transient")
+    motion = _transient(flow, guess, length)
     if t_transient > 0 and certified_sliding(motion):  # proven: no switch after it, a spiral into steady sliding
         raise ShootingError(f"the motion settles on the steady-sliding equilibrium (certified from t={length:.6g} on, "
                             "as simulate --model finds it): no periodic orbit to shoot for from this start")
