@@ -1,4 +1,4 @@
-"""An independent event-driven integrator for a linear structure with Coulomb contacts (issue 22's reference).
+"""An independent event-driven integrator for a linear structure with friction contacts (issue 22's reference).
 
 Written for the tests and the benchmark from the equations alone, without the
 package's engine: scipy's ``solve_ivp`` (DOP853) integrates each phase of
@@ -8,7 +8,10 @@ phase are decided here.  The model (:class:`frictionflow.core.assembly.Assembly`
     M q'' + C q' + K q = sum_j e_j F_j + sum_i g_i A_i cos(Omega_i t + phi_i)
 
 with V_r,j = b_j - e_j . q', the normal load N_j = P_j + n_j . q and, while
-contact j slips, F_j = s_j F_d,j N_j (s_j = sgn V_r,j).
+contact j slips, F_j = s_j mu_j(|V_r,j|) N_j (s_j = sgn V_r,j): Coulomb's
+mu = F_d, Stribeck's F_d + (F_s - F_d) exp(-(v / v_s)^delta) + c_v v, the
+cubic law's F_s - k_1 v + k_3 v^3 (each starts at F_s: mu(0) = F_s for the
+last two, so a contact leaving a stick slips without a jump in its force).
 
 Stuck contacts S are constraints E_S q' = b_S.  With r(q, q', t) every force
 but theirs (springs, dampers, applied forces, slipping contacts), Lagrange's
@@ -23,24 +26,30 @@ Contact j stays stuck while |held_j| < F_s,j N_j; on reaching the limit it
 slips with s_j = sgn held_j.  A slipping contact reaching V_r,j = 0 is tried
 stuck together with the stuck ones; the worst violator of the rule is
 released (slipping towards its held force's sign) and the others are
-re-judged until none violates (the active-set loop: simultaneous contacts).
+re-judged until none violates (the active-set loop: simultaneous contacts);
+where that leaves a contact slipping back into V_r = 0, the assignment of
+the contacts at V_r = 0 that holds and changes the fewest is taken.
 N_j reaching 0 stops the run (contact lost).
 
 In every phase the motion is linear in the state, y' = J y + c + D f(t) with
-f_i(t) = A_i cos(Omega_i t + phi_i); J, c and D are formed once per phase, as
-a careful scipy user would.  The work each element does on the structure is
+f_i(t) = A_i cos(Omega_i t + phi_i), but for the slip forces of contacts with
+a smooth law, added through their own columns: y' += S F_smooth(y); J, c, D
+and S are formed once per phase, as a careful scipy user would.  The work each element does on the structure is
 integrated alongside when asked (``work=True``): springs, dampers, forces,
 then each contact's belt input F_j b_j, then its heat F_j V_r,j.
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+import itertools
+from typing import Callable, NamedTuple
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from frictionflow.core import layout
+
+EPS = np.finfo(float).eps
 
 
 class Reference(NamedTuple):
@@ -74,7 +83,10 @@ class Phase(NamedTuple):
     State y = (q, q').  y' = ``jac`` y + ``const`` + ``drive`` f(t).  The
     friction forces are F = ``fy`` y + ``f0`` + ``ff`` f(t) (slip: s F_d N;
     stick: lam); the stuck contacts' held forces (per their stick rule) are
-    ``hy`` y + ``h0`` + ``hf`` f(t), one row per entry of ``stuck``.
+    ``hy`` y + ``h0`` + ``hf`` f(t), one row per entry of ``stuck``.  The
+    slipping contacts with a smooth law (``smooth``) add their slip forces
+    ``slip(y)``: ``sy`` slip(y) to y', ``sl`` slip(y) to the stuck contacts'
+    lam and held forces (the "spring" rule leaves out the dampers only).
     """
 
     modes: np.ndarray
@@ -88,13 +100,31 @@ class Phase(NamedTuple):
     hy: np.ndarray
     h0: np.ndarray
     hf: np.ndarray
+    smooth: np.ndarray
+    sy: np.ndarray
+    sl: np.ndarray
+    slip: Callable[[np.ndarray], np.ndarray]
+
+
+#: the laws the reference models, by their kernel code
+LAWS = (layout.COULOMB, layout.STRIBECK, layout.CUBIC)
 
 
 def check(asm) -> None:
-    """Refuse what the reference does not model: laws other than Coulomb."""
+    """Refuse what the reference does not model: laws other than Coulomb, Stribeck and the cubic law."""
     codes = np.asarray(asm.law)[:, layout.LAW] if len(asm.belt) else np.zeros(0)
-    if np.any(codes != layout.COULOMB):
-        raise ValueError("reference: every contact's law must be Coulomb")
+    if not np.all(np.isin(codes, LAWS)):
+        raise ValueError("reference: every contact's law must be Coulomb, Stribeck or the cubic law")
+
+
+def slip_level(p: np.ndarray, speed: np.ndarray) -> np.ndarray:
+    """mu(|V_r|), the slip force per unit normal load, of the law rows ``p`` (kernel layout) at ``speed``."""
+    code = p[:, layout.LAW]
+    stribeck = p[:, layout.FD] + (p[:, layout.FS] - p[:, layout.FD]) * np.exp(
+        -(speed / np.where(code == layout.STRIBECK, p[:, layout.LAW_A], 1.0)) ** p[:, layout.LAW_B]) \
+        + p[:, layout.LAW_C] * speed
+    cubic = p[:, layout.FS] - p[:, layout.LAW_A] * speed + p[:, layout.LAW_B] * speed ** 3
+    return np.where(code == layout.STRIBECK, stribeck, np.where(code == layout.CUBIC, cubic, p[:, layout.FD]))
 
 
 def forcing(asm, t: float) -> np.ndarray:
@@ -108,9 +138,22 @@ def normal_load(asm, q: np.ndarray) -> np.ndarray:
 
 
 def _slip_rows(asm, modes: np.ndarray):
-    """The slipping contacts' forces s F_d (P + n.q) as Fq q + F0, one row per contact (0 for stuck)."""
-    s = modes.astype(float) * asm.law[:, layout.FD]  # 0 for the stuck ones
+    """The slipping Coulomb contacts' forces s F_d (P + n.q) as Fq q + F0, one row per contact (0 for the others)."""
+    coulomb = asm.law[:, layout.LAW] == layout.COULOMB
+    s = modes.astype(float) * np.where(coulomb, asm.law[:, layout.FD], 0.0)  # 0 for the stuck ones
     return s[:, None] * asm.normal[:, 1:], s * asm.normal[:, 0]
+
+
+def _smooth_slip(asm, smooth: np.ndarray, modes: np.ndarray):
+    """y -> the slip forces s_j mu_j(|V_r,j|) N_j(q) of the contacts ``smooth`` (slipping, smooth laws)."""
+    n = asm.mass.shape[0]
+    e, b, p, nr = asm.contact_dir[smooth], asm.belt[smooth], asm.law[smooth], asm.normal[smooth]
+    s = modes[smooth].astype(float)
+
+    def slip(y: np.ndarray) -> np.ndarray:
+        return s * slip_level(p, np.abs(b - e @ y[n:2 * n])) * (nr[:, 0] + nr[:, 1:] @ y[:n])
+
+    return slip
 
 
 def phase(asm, modes: np.ndarray) -> Phase:
@@ -147,17 +190,33 @@ def phase(asm, modes: np.ndarray) -> Phase:
     spring = asm.law[stuck, layout.RESULTANT] == 0.0
     hy = lam_y.copy()
     hy[spring, n:] = 0.0
-    return Phase(modes.copy(), stuck, jac, const, drive, fy, f0, ff, hy, lam_0, lam_f)
+    smooth = np.flatnonzero((modes != 0) & (asm.law[:, layout.LAW] != layout.COULOMB))
+    sy = np.vstack((np.zeros((n, len(smooth))), proj @ e[smooth].T))
+    sl = -lmat @ e[smooth].T
+    return Phase(modes.copy(), stuck, jac, const, drive, fy, f0, ff, hy, lam_0, lam_f, smooth, sy, sl,
+                 _smooth_slip(asm, smooth, modes))
 
 
 def friction(ph: Phase, y: np.ndarray, f: np.ndarray) -> np.ndarray:
     """Each contact's friction force on the structure at state ``y`` with forcing ``f``."""
-    return ph.fy @ y + ph.f0 + ph.ff @ f
+    out = ph.fy @ y + ph.f0 + ph.ff @ f
+    if len(ph.smooth):
+        slip = ph.slip(y)
+        out[ph.stuck] += ph.sl @ slip
+        out[ph.smooth] = slip
+    return out
 
 
 def held(ph: Phase, y: np.ndarray, f: np.ndarray) -> np.ndarray:
     """The stuck contacts' held forces (per their stick rule), in the order of ``ph.stuck``."""
-    return ph.hy @ y + ph.h0 + ph.hf @ f
+    out = ph.hy @ y + ph.h0 + ph.hf @ f
+    return out + ph.sl @ ph.slip(y) if len(ph.smooth) else out
+
+
+def rate(asm, ph: Phase, t: float, y: np.ndarray) -> np.ndarray:
+    """y' of the phase at (t, y) (y = (q, q'))."""
+    out = ph.jac @ y + ph.const + ph.drive @ forcing(asm, t)
+    return out + ph.sy @ ph.slip(y) if len(ph.smooth) else out
 
 
 def relative_velocity(asm, y: np.ndarray) -> np.ndarray:
@@ -187,6 +246,7 @@ def decide(asm, modes: np.ndarray, t: float, y: np.ndarray, release: dict) -> Ph
     direction (they slip whatever the rounding of their held force says).
     """
     n = asm.mass.shape[0]
+    zero = np.array([j for j in np.flatnonzero(modes == 0) if j not in release], dtype=int)
     modes = modes.copy()
     for j, s in release.items():
         modes[j] = s
@@ -195,9 +255,48 @@ def decide(asm, modes: np.ndarray, t: float, y: np.ndarray, release: dict) -> Ph
         ph = phase(asm, modes)
         j, h = _violation(asm, ph, y, f, y[:n])
         if j is None:
-            return ph
+            _check_released(asm, ph, t, y, release)
+            return ph if holds(asm, ph, t, y, zero) else _search(asm, ph, t, y, zero)
         modes[j] = 1 if h > 0.0 else -1
     raise RuntimeError(f"reference: no consistent modes at t = {t!r}")
+
+
+def _check_released(asm, ph: Phase, t: float, y: np.ndarray, release: dict) -> None:
+    """Refuse a released contact whose slip turns V_r straight back to 0 (the "spring" rule can release a contact
+    whose true force, the dampers' share with it, is below its slip force): it can neither stick nor slip."""
+    n = asm.mass.shape[0]
+    acc = rate(asm, ph, t, y)[n:]
+    for j in release:
+        if ph.modes[j] * (-asm.contact_dir[j] @ acc) < -1e-10 * (1.0 + np.max(np.abs(acc))):
+            raise RuntimeError(f"reference: contact {j} can neither stick nor slip at t = {t!r}")
+
+
+def holds(asm, ph: Phase, t: float, y: np.ndarray, zero: np.ndarray) -> bool:
+    """Whether the phase's modes hold at (t, y): no stuck contact past its limit, and each contact of ``zero``
+    (at V_r = 0) that slips does not turn straight back into V_r = 0 (s V_r' >= 0 to rounding)."""
+    n = asm.mass.shape[0]
+    if _violation(asm, ph, y, forcing(asm, t), y[:n])[0] is not None:
+        return False
+    slip = zero[ph.modes[zero] != 0]
+    acc = rate(asm, ph, t, y)[n:]
+    return bool(np.all(ph.modes[slip] * (-asm.contact_dir[slip] @ acc) >= -1e-10 * (1.0 + np.max(np.abs(acc)))))
+
+
+def _search(asm, ph: Phase, t: float, y: np.ndarray, zero: np.ndarray) -> Phase:
+    """The active-set loop's modes slip a contact back into V_r = 0: every assignment of the contacts ``zero``
+    (at V_r = 0, not just released) that holds, the one closest to the loop's (fewest contacts changed).  None
+    holds where the "spring" rule releases a contact whose true force is below its slip force: refused."""
+    best, changed = None, len(zero) + 1
+    for trial in itertools.product((-1, 0, 1), repeat=len(zero)):
+        modes = ph.modes.copy()
+        modes[zero] = trial
+        cand = phase(asm, modes)
+        count = int(np.sum(modes != ph.modes))
+        if count < changed and holds(asm, cand, t, y, zero):
+            best, changed = cand, count
+    if best is None:
+        raise RuntimeError(f"reference: contacts {zero.tolist()} can neither stick nor slip at t = {t!r}")
+    return best
 
 
 def project(asm, y: np.ndarray, zero: np.ndarray) -> np.ndarray:
@@ -218,14 +317,37 @@ def _event(fn, direction: float, tag: tuple):
     return fn
 
 
-def events(asm, ph: Phase) -> list:
-    """The events ending the phase: V_r,j = 0 (slipping j), |held_j| = F_s,j N_j (stuck j), N_j = 0."""
+def departing(asm, ph: Phase, y: np.ndarray) -> np.ndarray:
+    """The slipping contacts at V_r = 0 (to rounding) in state ``y``: the phase starts them slipping from there."""
+    n = asm.mass.shape[0]
+    scale = np.abs(asm.belt) + np.abs(asm.contact_dir) @ np.abs(y[n:2 * n])
+    return np.flatnonzero((ph.modes != 0) & (np.abs(relative_velocity(asm, y[:2 * n])) <= 8.0 * EPS * scale))
+
+
+def events(asm, ph: Phase, t0: float = 0.0, y0: np.ndarray | None = None) -> list:
+    """The events ending the phase: V_r,j = 0 (slipping j), |held_j| = F_s,j N_j (stuck j), N_j = 0.
+
+    A contact the phase starts slipping from V_r = 0 (at ``t0``, ``y0``) in
+    its slip's direction has V_r / (t - t0) as its event function instead (its
+    departure slope at t0): solve_ivp looks for sign changes between steps, and
+    V_r = 0 at the start would take a slip that ends within the first step for
+    an event at t0, or miss it.  One starting against its slip's direction
+    keeps V_r, whose event at t0 has its modes decided again.
+    """
     n = asm.mass.shape[0]
     out = []
     e, b = asm.contact_dir, asm.belt
+    leaving_zero = set() if y0 is None else set(departing(asm, ph, y0).tolist())
     for j in np.flatnonzero(ph.modes != 0):
         s = float(ph.modes[j])
-        out.append(_event(lambda t, y, j=j: b[j] - e[j] @ y[n:2 * n], -s, ("stick", int(j))))
+        slope = float(-e[j] @ rate(asm, ph, t0, y0[:2 * n])[n:]) if j in leaving_zero else 0.0
+        if s * slope > 0.0:
+            def fn(t, y, j=j, slope=slope):
+                return (b[j] - e[j] @ y[n:2 * n]) / (t - t0) if t > t0 else slope
+        else:
+            def fn(t, y, j=j):
+                return b[j] - e[j] @ y[n:2 * n]
+        out.append(_event(fn, -s, ("stick", int(j))))
     for i, j in enumerate(ph.stuck):
         fs, hy, h0, hf = asm.law[j, layout.FS], ph.hy[i], ph.h0[i], ph.hf[i]
         pj, nj = asm.normal[j, 0], asm.normal[j, 1:]
@@ -233,7 +355,10 @@ def events(asm, ph: Phase) -> list:
         def limit(t, y, hy=hy, h0=h0, hf=hf, fs=fs, pj=pj, nj=nj):
             return fs * (pj + nj @ y[:n]) - abs(hy @ y[:2 * n] + h0 + hf @ forcing(asm, t))
 
-        out.append(_event(limit, -1.0, ("slip", int(j))))
+        def smooth_limit(t, y, i=i, fs=fs, pj=pj, nj=nj):
+            return fs * (pj + nj @ y[:n]) - abs(held(ph, y[:2 * n], forcing(asm, t))[i])
+
+        out.append(_event(smooth_limit if len(ph.smooth) else limit, -1.0, ("slip", int(j))))
     for j in np.flatnonzero(np.any(asm.normal[:, 1:] != 0.0, axis=1)):
         pj, nj = asm.normal[j, 0], asm.normal[j, 1:]
         out.append(_event(lambda t, y, pj=pj, nj=nj: pj + nj @ y[:n], -1.0, ("lost", int(j))))
@@ -266,6 +391,10 @@ def rhs(asm, ph: Phase, work: bool):
     n2 = 2 * asm.mass.shape[0]
     jac, const, drive = ph.jac, ph.const, ph.drive
     forced = len(asm.force_amp) > 0
+    if len(ph.smooth):
+        if not work:
+            return lambda t, y: rate(asm, ph, t, y)
+        return lambda t, y: np.concatenate((rate(asm, ph, t, y[:n2]), powers(asm, ph, t, y)))
     if not work:
         if not forced:
             return lambda t, y: jac @ y + const
@@ -339,7 +468,7 @@ def _tie_window(t: float) -> float:
 def arriving(asm, ph: Phase, t: float, y: np.ndarray) -> np.ndarray:
     """The slipping contacts reaching V_r = 0 within the tie window of t (approaching it, and that near)."""
     n = asm.mass.shape[0]
-    acc = (ph.jac @ y + ph.const + ph.drive @ forcing(asm, t))[n:]
+    acc = rate(asm, ph, t, y)[n:]
     vr, dvr = relative_velocity(asm, y), -asm.contact_dir @ acc
     s = ph.modes.astype(float)
     return np.flatnonzero((s != 0.0) & (s * dvr < 0.0) & (s * vr <= -s * dvr * _tie_window(t)))
@@ -353,7 +482,11 @@ def leaving(asm, ph: Phase, t: float, y: np.ndarray) -> dict:
     f = forcing(asm, t)
     df = -asm.force_amp * asm.force_omega * np.sin(asm.force_omega * t + asm.force_phi)
     h = held(ph, y, f)
-    dh = ph.hy @ (ph.jac @ y + ph.const + ph.drive @ f) + ph.hf @ df
+    dy = rate(asm, ph, t, y)
+    dh = ph.hy @ dy + ph.hf @ df
+    if len(ph.smooth):  # the smooth slip forces' share, by a central difference along y'
+        step = 1e-7 / max(1e-300, float(np.max(np.abs(dy))))
+        dh += ph.sl @ (ph.slip(y + step * dy) - ph.slip(y - step * dy)) / (2.0 * step)
     fs = asm.law[ph.stuck, layout.FS]
     g = fs * normal_load(asm, y[:n])[ph.stuck] - np.abs(h)
     dg = fs * (asm.normal[ph.stuck, 1:] @ y[n:]) - np.sign(h) * dh
@@ -391,11 +524,15 @@ def sample_grid(t_end: float, t_eval=None, dense_dt=None) -> np.ndarray:
 
 
 def integrate(asm, t_end: float, *, t_eval=None, dense_dt=None, rtol: float = 1e-12, atol: float = 1e-14,
-              work: bool = False, max_switches: int = 1_000_000, method: str = "DOP853") -> Reference:
+              work: bool = False, max_switches: int = 1_000_000, method: str = "DOP853",
+              max_step: float = np.inf) -> Reference:
     """Integrate the structure from t = 0 to ``t_end`` phase by phase with DOP853 (or ``method``) and events.
 
     Samples at ``t_eval`` (ascending, within [0, t_end]) or every ``dense_dt``
     (default: 0 and t_end only).  ``rtol``/``atol`` are solve_ivp's; ``method="Radau"`` for a stiff damper.
+    solve_ivp finds an event where its function changes sign between steps, so
+    a V_r that dips through 0 and back within one step is missed: a
+    ``max_step`` shorter than such dips finds them.
     """
     asm = as_arrays(asm)
     check(asm)
@@ -411,7 +548,7 @@ def integrate(asm, t_end: float, *, t_eval=None, dense_dt=None, rtol: float = 1e
     while t < t_end and len(run.switches) <= max_switches:
         sel = grid[run.next:]
         sol = solve_ivp(rhs(asm, ph, work), (t, t_end), y, method=method, rtol=rtol, atol=atol,
-                        events=events(asm, ph), t_eval=sel[sel <= t_end])
+                        events=events(asm, ph, t, y), t_eval=sel[sel <= t_end], max_step=max_step)
         if sol.status < 0:
             raise RuntimeError(f"reference: solve_ivp failed at t = {t!r}: {sol.message}")
         run.record(ph, sol)

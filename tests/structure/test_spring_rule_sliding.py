@@ -25,6 +25,7 @@ from frictionflow.solvers.structure import run_assembly
 from frictionflow.solvers.structure_motion import sliding_hint
 
 from ..cli.processes import cli, one_line
+from . import reference as ref
 from .builders import single_mass
 
 # zeta, V_b, F_d, F_s, F_ex, Omega: the damper's share 2 zeta V_b = 0.04 exceeds F_s - F_d = 0.02
@@ -77,6 +78,17 @@ def test_the_exact_engine_stops_where_the_single_mass_does_and_says_why():
     assert (limit, level) == (pytest.approx(FS), pytest.approx(FD))
     assert rule == pytest.approx(abs(x - f), rel=1e-5) and rule >= FS * (1 - 1e-9)
     assert whole == pytest.approx(abs(x + 2 * ZETA * VB - f), rel=1e-5) and whole < FD
+
+
+def test_the_reference_stops_at_the_same_instant():
+    """The scipy reference (tests/structure/reference.py) refuses the same release: it used to loop there for ever."""
+    asm = single_mass(ZETA, VB, law(), FD, VB, force=(FEX, OMEGA, 0.0))
+    with pytest.raises(RuntimeError) as structure:
+        run_assembly(asm, 100.0)
+    t = float(re.search(rf"stopped at t={NUMBER}", str(structure.value)).group(1))
+    with pytest.raises(RuntimeError, match="contact 0 can neither stick nor slip") as reference:
+        ref.integrate(asm, 100.0, rtol=1e-12, atol=1e-14)
+    assert float(re.search(rf"at t = {NUMBER}", str(reference.value)).group(1)) == pytest.approx(t, abs=1e-9)
 
 
 def test_with_the_whole_force_as_its_rule_the_same_structure_runs_on():
