@@ -87,3 +87,17 @@ def test_the_reference_switches_alike_at_any_tolerance_and_step(rtol, max_step):
     other = ref.integrate(asm, T_END, rtol=rtol, atol=rtol * 1e-2, max_step=max_step)
     np.testing.assert_array_equal(other.switch_modes, base.switch_modes)
     np.testing.assert_allclose(other.switches, base.switches, rtol=0, atol=1e-7)
+
+
+def test_a_slip_that_ends_within_the_adaptive_solver_s_step_ends_where_the_reference_says():
+    """A contact leaving V_r = 0 and back within one step of the adaptive solver (a slip of 4.96e-3, V_r dipping
+    2.5e-6, its start second order: mu(0) = F_s): the stick was taken at the step's end, 0.04 late at rtol 1e-8
+    and 7e-4 at 1e-12; it is now located inside the step."""
+    system = load_system(MODELS / "return_within_a_step.toml")
+    reference = ref.integrate(assemble(system), 40.0, rtol=1e-12, atol=1e-14, max_step=MAX_STEP)
+    for rtol in (1e-8, 1e-10):  # measured 3.1e-8 and 6.4e-10 off the reference
+        times, modes = engine_switches(simulate_system(system, 40.0, solver="adaptive", rtol=rtol, atol=rtol * 1e-2))
+        np.testing.assert_array_equal(modes, reference.switch_modes)
+        np.testing.assert_allclose(times, reference.switches, rtol=0, atol=10 * rtol)
+        slips = np.diff(times)[(modes[:-1, 1] != 0) & (modes[1:, 1] == 0)]  # contact 1's slips that end in a stick
+        assert slips.min() < 5e-3

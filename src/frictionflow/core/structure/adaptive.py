@@ -215,6 +215,31 @@ def dip_bottom(asm, sp, t, h, scr, n, e):
 
 
 @njit(cache=True)
+def bump_top(asm, sp, t, h, scr, n, e):
+    """(theta, g) of a point found > 0 of slot ``e`` inside the step, searching its maximum on the dense output by
+    golden section: a contact that left V_r = 0 its way and came back within the step (-1, 0: it stayed <= 0
+    beyond rounding, the contact left the wrong way)."""
+    floor = SIMULTANEOUS * (abs(scr.g1[e]) + abs(asm.belt[e // N_SLOTS]))
+    a, b = 0.0, 1.0
+    x1, x2 = a + GOLDEN * (b - a), b - GOLDEN * (b - a)
+    f1, f2 = slot_at(asm, sp, t, h, scr, n, x1, e), slot_at(asm, sp, t, h, scr, n, x2, e)
+    for _ in range(DIP_STEPS):
+        if f1 > floor:
+            return x1, f1
+        if f2 > floor:
+            return x2, f2
+        if f1 > f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = a + GOLDEN * (b - a)
+            f1 = slot_at(asm, sp, t, h, scr, n, x1, e)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = b - GOLDEN * (b - a)
+            f2 = slot_at(asm, sp, t, h, scr, n, x2, e)
+    return -1.0, 0.0
+
+
+@njit(cache=True)
 def slots_at(asm, sp, t, h, scr, n, theta):
     """Every event slot on the dense output of the step (t, h) at ``theta``."""
     dense(scr.y, scr.K, h, theta, scr.ys, 2 * n)
@@ -229,13 +254,20 @@ def first_root(asm, sp, t, h, scr, n):
     :func:`suspect`, :func:`dip_bottom`), located on the dense output.
 
     A slot that never was positive since the phase began (a contact leaving V_r = 0) and ends <= 0 is
-    taken at the step's end; (1.0, -1) when no slot crossed.
+    located after its bump inside the step where it has one (the contact left its way and came back:
+    :func:`bump_top`), else taken at the step's end (it left the wrong way); (1.0, -1) when no slot crossed.
     """
-    best, slot = 1.0, -1
+    best, slot, located = 1.0, -1, False  # located: ``slot``'s time is a root (not a step's end)
     mid = np.empty(0)  # every slot at theta = 1/2, taken once a held-force slot needs it
     for e in range(len(scr.g1)):
-        hi, ghi = 1.0, scr.g1[e]
-        if ghi > 0.0:
+        lo, glo, hi, ghi = 0.0, scr.g0[e], 1.0, scr.g1[e]
+        if not scr.armed[e] and ghi <= 0.0 and e % N_SLOTS == 0 and sp.modes[e // N_SLOTS] != STICK:
+            lo, glo = bump_top(asm, sp, t, h, scr, n, e)
+            if lo < 0.0:
+                if slot < 0:
+                    slot = e
+                continue
+        elif ghi > 0.0:
             if not (scr.armed[e] and scr.g0[e] > 0.0):
                 continue
             held_slot = is_held(sp, e)
@@ -253,11 +285,11 @@ def first_root(asm, sp, t, h, scr, n):
             if slot < 0:
                 slot = e
             continue
-        b = roots.bracket(0.0, hi, scr.g0[e], ghi, 0.0, 4.0 * roots.EPS, 0.0, 200)
+        b = roots.bracket(lo, hi, glo, ghi, 0.0, 4.0 * roots.EPS, 0.0, 200)
         while b.status == roots.RUNNING:
             b = roots.update(b, b.x, slot_at(asm, sp, t, h, scr, n, b.x, e))
-        if b.hi < best or slot < 0 or not scr.armed[slot]:
-            best, slot = min(b.hi, best), e
+        if b.hi < best or not located:
+            best, slot, located = min(b.hi, best), e, True
     return best, slot
 
 
