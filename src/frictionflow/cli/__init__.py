@@ -174,4 +174,10 @@ def run() -> None:  # pragma: no cover - console script
     # later (numba runs generated code so, and Ctrl-C or SIGTERM can land there): the process would end by
     # SIGINT (130), not with main's code.  The next exec() of a string clears that mark.
     exec("pass")
+    if code != 0:  # its one line is said; an interrupt can leave objects half built (llvmlite's, while numba
+        sys.unraisablehook = _quiet  # loads a kernel), whose finalisers would print a traceback after it
     sys.exit(code)
+
+
+def _quiet(unraisable: object) -> None:
+    """Say nothing of an exception raised where it cannot be (a finaliser's, at exit)."""
