@@ -657,9 +657,11 @@ def _conjugate_flips(lam: np.ndarray, k: int, flips: np.ndarray) -> bool:
 
 
 def _partner(b: _Bracket) -> int | None:
-    """The mode ``b.k`` coalesced with: nearest in frequency at the unstable end, their frequencies closer than
+    """The mode ``b.k`` coalesced with: not unstable at the stable end (a mode already in the right half plane
+    there is another instability), nearest in frequency at the unstable end, their frequencies closer than
     their real parts there (merged), and its real part falling while ``b.k``'s rises (split); None if none."""
-    others = [l for l in range(b.lam_u.size) if l != b.k and min(b.lam_s[l].imag, b.lam_u[l].imag) >= -b.tol]
+    others = [l for l in range(b.lam_u.size) if l != b.k and min(b.lam_s[l].imag, b.lam_u[l].imag) >= -b.tol
+              and b.lam_s[l].real <= b.tol]
     if not others:
         return None
     u = b.lam_u
