@@ -192,26 +192,33 @@ def suspect(asm, sp, h, scr, n, e, mid):
 
 
 @njit(cache=True)
-def dip_bottom(asm, sp, t, h, scr, n, e):
-    """(theta, g) of the first point found <= 0 of slot ``e`` inside the step, searching its minimum on the dense
-    output by golden section (the first root lies before that point); (-1, 0) where the minimum stays > 0."""
+def golden_reach(asm, sp, t, h, scr, n, e, sigma, level):
+    """(theta, g) of the first point found inside the step where slot ``e`` has sigma g <= ``level``, searching
+    the minimum of sigma g on the dense output by golden section; (-1, 0) where it stays above."""
     a, b = 0.0, 1.0
     x1, x2 = a + GOLDEN * (b - a), b - GOLDEN * (b - a)
-    f1, f2 = slot_at(asm, sp, t, h, scr, n, x1, e), slot_at(asm, sp, t, h, scr, n, x2, e)
+    f1, f2 = sigma * slot_at(asm, sp, t, h, scr, n, x1, e), sigma * slot_at(asm, sp, t, h, scr, n, x2, e)
     for _ in range(DIP_STEPS):
-        if f1 <= 0.0:
-            return x1, f1
-        if f2 <= 0.0:
-            return x2, f2
+        if f1 <= level:
+            return x1, sigma * f1
+        if f2 <= level:
+            return x2, sigma * f2
         if f1 < f2:
             b, x2, f2 = x2, x1, f1
             x1 = a + GOLDEN * (b - a)
-            f1 = slot_at(asm, sp, t, h, scr, n, x1, e)
+            f1 = sigma * slot_at(asm, sp, t, h, scr, n, x1, e)
         else:
             a, x1, f1 = x1, x2, f2
             x2 = b - GOLDEN * (b - a)
-            f2 = slot_at(asm, sp, t, h, scr, n, x2, e)
+            f2 = sigma * slot_at(asm, sp, t, h, scr, n, x2, e)
     return -1.0, 0.0
+
+
+@njit(cache=True)
+def dip_bottom(asm, sp, t, h, scr, n, e):
+    """(theta, g) of the first point found <= 0 of slot ``e`` inside the step, searching its minimum on the dense
+    output by golden section (the first root lies before that point); (-1, 0) where the minimum stays > 0."""
+    return golden_reach(asm, sp, t, h, scr, n, e, 1.0, 0.0)
 
 
 @njit(cache=True)
@@ -220,23 +227,7 @@ def bump_top(asm, sp, t, h, scr, n, e):
     golden section: a contact that left V_r = 0 its way and came back within the step (-1, 0: it stayed <= 0
     beyond rounding, the contact left the wrong way)."""
     floor = SIMULTANEOUS * (abs(scr.g1[e]) + abs(asm.belt[e // N_SLOTS]))
-    a, b = 0.0, 1.0
-    x1, x2 = a + GOLDEN * (b - a), b - GOLDEN * (b - a)
-    f1, f2 = slot_at(asm, sp, t, h, scr, n, x1, e), slot_at(asm, sp, t, h, scr, n, x2, e)
-    for _ in range(DIP_STEPS):
-        if f1 > floor:
-            return x1, f1
-        if f2 > floor:
-            return x2, f2
-        if f1 > f2:
-            b, x2, f2 = x2, x1, f1
-            x1 = a + GOLDEN * (b - a)
-            f1 = slot_at(asm, sp, t, h, scr, n, x1, e)
-        else:
-            a, x1, f1 = x1, x2, f2
-            x2 = b - GOLDEN * (b - a)
-            f2 = slot_at(asm, sp, t, h, scr, n, x2, e)
-    return -1.0, 0.0
+    return golden_reach(asm, sp, t, h, scr, n, e, -1.0, -floor)
 
 
 @njit(cache=True)
