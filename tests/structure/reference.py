@@ -255,20 +255,21 @@ def decide(asm, modes: np.ndarray, t: float, y: np.ndarray, release: dict) -> Ph
         ph = phase(asm, modes)
         j, h = _violation(asm, ph, y, f, y[:n])
         if j is None:
-            _check_released(asm, ph, t, y, release)
-            return ph if holds(asm, ph, t, y, zero) else _search(asm, ph, t, y, zero)
+            acc = rate(asm, ph, t, y)[n:]
+            back = _turning_back(asm, ph, acc, np.array(list(release), dtype=int))  # the "spring" rule's release
+            if len(back):
+                raise RuntimeError(f"reference: contact {back[0]} can neither stick nor slip at t = {t!r}")
+            return _search(asm, ph, t, y, zero) if len(_turning_back(asm, ph, acc, zero)) else ph
         modes[j] = 1 if h > 0.0 else -1
     raise RuntimeError(f"reference: no consistent modes at t = {t!r}")
 
 
-def _check_released(asm, ph: Phase, t: float, y: np.ndarray, release: dict) -> None:
-    """Refuse a released contact whose slip turns V_r straight back to 0 (the "spring" rule can release a contact
-    whose true force, the dampers' share with it, is below its slip force): it can neither stick nor slip."""
-    n = asm.mass.shape[0]
-    acc = rate(asm, ph, t, y)[n:]
-    for j in release:
-        if ph.modes[j] * (-asm.contact_dir[j] @ acc) < -1e-10 * (1.0 + np.max(np.abs(acc))):
-            raise RuntimeError(f"reference: contact {j} can neither stick nor slip at t = {t!r}")
+def _turning_back(asm, ph: Phase, acc: np.ndarray, contacts: np.ndarray) -> np.ndarray:
+    """Of ``contacts`` (at V_r = 0), those the phase slips straight back into V_r = 0 (s V_r' < 0 beyond rounding;
+    ``acc`` the phase's q'').  The "spring" rule can release a contact whose true force, the dampers' share with
+    it, is below its slip force: it can neither stick nor slip."""
+    slip = contacts[ph.modes[contacts] != 0]
+    return slip[ph.modes[slip] * (-asm.contact_dir[slip] @ acc) < -1e-10 * (1.0 + np.max(np.abs(acc)))]
 
 
 def holds(asm, ph: Phase, t: float, y: np.ndarray, zero: np.ndarray) -> bool:
@@ -277,9 +278,7 @@ def holds(asm, ph: Phase, t: float, y: np.ndarray, zero: np.ndarray) -> bool:
     n = asm.mass.shape[0]
     if _violation(asm, ph, y, forcing(asm, t), y[:n])[0] is not None:
         return False
-    slip = zero[ph.modes[zero] != 0]
-    acc = rate(asm, ph, t, y)[n:]
-    return bool(np.all(ph.modes[slip] * (-asm.contact_dir[slip] @ acc) >= -1e-10 * (1.0 + np.max(np.abs(acc)))))
+    return not len(_turning_back(asm, ph, rate(asm, ph, t, y)[n:], zero))
 
 
 def _search(asm, ph: Phase, t: float, y: np.ndarray, zero: np.ndarray) -> Phase:

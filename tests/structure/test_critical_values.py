@@ -15,6 +15,7 @@ from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from frictionflow.analysis.stability import stability_scan, steady_sliding, zero_tolerance
 from frictionflow.system import assemble, load_system
@@ -33,8 +34,12 @@ def at(value: float):
     return assemble(system().with_entry(ENTRY, value, start=False))
 
 
-def test_each_crossing_is_where_its_mode_s_real_part_is_zero():
-    scan = stability_scan(at, np.linspace(0.05, 0.7, 101), param=ENTRY)
+@pytest.fixture(scope="module")
+def scan():
+    return stability_scan(at, np.linspace(0.05, 0.7, 101), param=ENTRY)
+
+
+def test_each_crossing_is_where_its_mode_s_real_part_is_zero(scan):
     crossings = [c for c in scan.critical if c.kind in ("mode_coupling", "negative_damping")]
     assert len(crossings) >= 4
     beside = 0
@@ -46,10 +51,9 @@ def test_each_crossing_is_where_its_mode_s_real_part_is_zero():
     assert beside >= 2  # the case is what the test is for
 
 
-def test_the_unstable_count_changes_only_at_the_critical_values():
+def test_the_unstable_count_changes_only_at_the_critical_values(scan):
     """On a grid 40 times finer than the scan's, the number of unstable eigenvalues changes only next to a
     critical value."""
-    scan = stability_scan(at, np.linspace(0.05, 0.7, 101), param=ENTRY)
     fine = np.linspace(0.05, 0.7, 4001)
     count = np.array([np.sum(steady_sliding(at(v)).eigenvalues.real > 0.0) for v in fine])
     changes = 0.5 * (fine[1:] + fine[:-1])[np.diff(count) != 0]

@@ -11,6 +11,7 @@ between a run at rtol 1e-10 and one at 1e-12 bounds the 1e-12 run's error.
 
 from __future__ import annotations
 
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -40,6 +41,7 @@ def engine_switches(motion) -> tuple[np.ndarray, np.ndarray]:
     return t[last], np.array(entered, dtype=np.int8).reshape(len(t), -1)[last]
 
 
+@lru_cache(maxsize=None)  # the short slip's runs serve two tests
 def runs(name: str):
     """The adaptive solver and the reference, each at rtol 1e-12 and 1e-10."""
     system = load_system(MODELS / f"{name}.toml")
